@@ -1,0 +1,4 @@
+//! One module per subcommand: its clap arguments (whose doc comments are the help text and man
+//! page) and its `run`.
+pub mod eval;
+pub mod train;

@@ -1,0 +1,82 @@
+//! Reading inputs and writing outputs safely: an output is written to a temporary file beside
+//! it and renamed into place, so a failed run leaves no partial file.
+
+use anyhow::{bail, Context, Result};
+use spectral::SpectralTable;
+use std::path::Path;
+
+/// Reads a spectra CSV file.
+pub fn read_spectra(path: &Path) -> Result<SpectralTable> {
+    let text = std::fs::read_to_string(path)
+        .with_context(|| format!("cannot read spectra file {}", path.display()))?;
+    let name = path.file_name().map_or_else(
+        || path.display().to_string(),
+        |n| n.to_string_lossy().into_owned(),
+    );
+    Ok(SpectralTable::parse(&name, &text)?)
+}
+
+/// Writes `bytes` to `path` atomically, refusing to write over any of `inputs`.
+pub fn write_atomically(path: &Path, bytes: &[u8], inputs: &[&Path]) -> Result<()> {
+    for input in inputs {
+        if same_file(path, input) {
+            bail!(
+                "the output {} is also an input; choose another output path",
+                path.display()
+            );
+        }
+    }
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    let name = path
+        .file_name()
+        .with_context(|| format!("{} is not a file path", path.display()))?;
+    let tmp = dir.join(format!(
+        ".{}.specconv-{}.tmp",
+        name.to_string_lossy(),
+        std::process::id()
+    ));
+    let result = std::fs::write(&tmp, bytes)
+        .and_then(|()| std::fs::rename(&tmp, path))
+        .with_context(|| format!("cannot write {}", path.display()));
+    if result.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    result
+}
+
+fn same_file(a: &Path, b: &Path) -> bool {
+    match (a.canonicalize(), b.canonicalize()) {
+        (Ok(a), Ok(b)) => a == b,
+        _ => false,
+    }
+}
+
+/// The model from `--model FILE`, or the built-in one.
+pub fn load_model(path: Option<&Path>) -> Result<spectral::Model> {
+    let Some(path) = path else {
+        return Ok(spectral::Model::builtin().clone());
+    };
+    let text = std::fs::read_to_string(path)
+        .with_context(|| format!("cannot read model file {}", path.display()))?;
+    Ok(spectral::Model::from_json(
+        &path.display().to_string(),
+        &text,
+    )?)
+}
+
+/// A model's one-line description for reports.
+pub fn describe_model(path: Option<&Path>, m: &spectral::Model) -> String {
+    format!(
+        "{} ({} clusters, {}, {}, {} nm, trained on {} spectra from {})",
+        path.map_or_else(|| "built-in".to_string(), |p| p.display().to_string()),
+        m.leaves.len(),
+        m.observer,
+        m.illuminant,
+        m.grid,
+        m.training.count,
+        m.training.sources.join(", ")
+    )
+}

@@ -1,0 +1,221 @@
+//! Tabulated spectra in the CSV layout of `../shared/spectra` and `../shared/cie`: a header row,
+//! a wavelength column first, then one column per named sample.
+
+use crate::{Error, Grid};
+
+/// A table of spectra sampled at common wavelengths.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SpectralTable {
+    /// Where the table came from (a file name), used in errors and recorded in models.
+    pub source: String,
+    pub wavelengths: Vec<f64>,
+    /// Sample names, one per column after the wavelength column.
+    pub names: Vec<String>,
+    /// `columns[k][i]` is sample `k` at `wavelengths[i]`.
+    pub columns: Vec<Vec<f64>>,
+}
+
+impl SpectralTable {
+    /// Parses CSV text. `source` names the text in error messages.
+    pub fn parse(source: &str, text: &str) -> Result<SpectralTable, Error> {
+        let err = |line: usize, msg: String| Error::Csv {
+            file: source.to_string(),
+            line,
+            msg,
+        };
+        let mut lines = text
+            .lines()
+            .enumerate()
+            .map(|(i, l)| (i + 1, l.trim_end_matches('\r')))
+            .filter(|(_, l)| !l.trim().is_empty());
+        let Some((hline, header)) = lines.next() else {
+            return Err(err(
+                1,
+                "the file is empty; expected a header row `wavelength_nm,<sample>,…`".into(),
+            ));
+        };
+        let header = split_row(header).map_err(|m| err(hline, m))?;
+        if header.len() < 2 {
+            return Err(err(
+                hline,
+                "the header has no sample columns; expected `wavelength_nm,<sample>,…`".into(),
+            ));
+        }
+        let names: Vec<String> = header[1..].to_vec();
+        if let Some(i) = names.iter().position(|n| n.trim().is_empty()) {
+            return Err(err(hline, format!("column {} has an empty name", i + 2)));
+        }
+        let mut wavelengths = Vec::new();
+        let mut columns = vec![Vec::new(); names.len()];
+        for (ln, line) in lines {
+            let cells = split_row(line).map_err(|m| err(ln, m))?;
+            if cells.len() != header.len() {
+                return Err(err(
+                    ln,
+                    format!(
+                        "ragged row: {} cells where the header has {}",
+                        cells.len(),
+                        header.len()
+                    ),
+                ));
+            }
+            let mut values = cells.iter().enumerate().map(|(c, cell)| {
+                let column = if c == 0 {
+                    header[0].as_str()
+                } else {
+                    names[c - 1].as_str()
+                };
+                match cell.trim().parse::<f64>() {
+                    Ok(v) if v.is_finite() => Ok(v),
+                    _ => Err(err(
+                        ln,
+                        format!("'{cell}' in column '{column}' is not a finite number"),
+                    )),
+                }
+            });
+            let wl = values.next().expect("row has at least two cells")?;
+            if let Some(&prev) = wavelengths.last() {
+                if wl == prev {
+                    return Err(err(ln, format!("wavelength {wl} nm appears twice")));
+                }
+                if wl < prev {
+                    return Err(err(
+                        ln,
+                        format!("wavelengths must increase, but {wl} nm follows {prev} nm"),
+                    ));
+                }
+            }
+            if wl <= 0.0 {
+                return Err(err(ln, format!("wavelength {wl} nm is not positive")));
+            }
+            wavelengths.push(wl);
+            for (col, v) in columns.iter_mut().zip(values) {
+                col.push(v?);
+            }
+        }
+        if wavelengths.len() < 2 {
+            return Err(err(
+                hline,
+                "the table needs at least two wavelength rows".into(),
+            ));
+        }
+        Ok(SpectralTable {
+            source: source.to_string(),
+            wavelengths,
+            names,
+            columns,
+        })
+    }
+
+    /// Every sample resampled onto `grid` (see [`Grid::resample`]).
+    pub fn resampled(&self, grid: &Grid) -> Result<Vec<Vec<f64>>, Error> {
+        self.columns
+            .iter()
+            .map(|c| grid.resample(&self.source, &self.wavelengths, c))
+            .collect()
+    }
+
+    /// One named column, for tables with fixed column names (observers, illuminants).
+    pub fn column(&self, name: &str) -> Option<&[f64]> {
+        self.names
+            .iter()
+            .position(|n| n == name)
+            .map(|k| self.columns[k].as_slice())
+    }
+}
+
+/// Splits one CSV row. Cells may be double-quoted (with `""` for a quote inside), so sample
+/// names may contain commas.
+fn split_row(line: &str) -> Result<Vec<String>, String> {
+    let mut cells = Vec::new();
+    let mut cell = String::new();
+    let mut chars = line.chars().peekable();
+    let mut quoted = false;
+    while let Some(ch) = chars.next() {
+        match (quoted, ch) {
+            (false, ',') => cells.push(std::mem::take(&mut cell)),
+            (false, '"') if cell.trim().is_empty() => {
+                cell.clear();
+                quoted = true;
+            }
+            (true, '"') if chars.peek() == Some(&'"') => {
+                chars.next();
+                cell.push('"');
+            }
+            (true, '"') => quoted = false,
+            (_, c) => cell.push(c),
+        }
+    }
+    if quoted {
+        return Err("a quoted cell is not closed".into());
+    }
+    cells.push(cell);
+    Ok(cells.into_iter().map(|c| c.trim().to_string()).collect())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn parse(text: &str) -> Result<SpectralTable, Error> {
+        SpectralTable::parse("t.csv", text)
+    }
+
+    #[test]
+    fn reads_named_columns() {
+        let t = parse("wavelength_nm,a,\"b, quoted\"\r\n400,0.1,0.2\r\n410,0.3,0.4\r\n\n").unwrap();
+        assert_eq!(t.wavelengths, vec![400.0, 410.0]);
+        assert_eq!(t.names, vec!["a", "b, quoted"]);
+        assert_eq!(t.columns, vec![vec![0.1, 0.3], vec![0.2, 0.4]]);
+        assert_eq!(t.column("b, quoted"), Some(&[0.2, 0.4][..]));
+    }
+
+    #[test]
+    fn malformed_tables_say_what_and_where() {
+        let cases = [
+            ("", "empty"),
+            ("wavelength_nm\n400\n410\n", "no sample columns"),
+            (
+                "wavelength_nm,a\n400,0.1\n410\n",
+                "line 3: ragged row: 1 cells where the header has 2",
+            ),
+            (
+                "wavelength_nm,a\n400,0.1\n410,x\n",
+                "line 3: 'x' in column 'a' is not a finite number",
+            ),
+            ("wavelength_nm,a\n400,0.1\n410,NaN\n", "not a finite number"),
+            (
+                "wavelength_nm,a\n400,0.1\n400,0.2\n",
+                "line 3: wavelength 400 nm appears twice",
+            ),
+            (
+                "wavelength_nm,a\n410,0.1\n400,0.2\n",
+                "must increase, but 400 nm follows 410 nm",
+            ),
+            ("wavelength_nm,a\n400,0.1\n", "at least two wavelength rows"),
+            (
+                "wavelength_nm,a,\n400,0.1,1\n410,0.1,1\n",
+                "column 3 has an empty name",
+            ),
+            ("wavelength_nm,\"a\n400,0.1\n", "not closed"),
+        ];
+        for (text, want) in cases {
+            let got = parse(text).unwrap_err().to_string();
+            assert!(got.contains(want), "{text:?}: got {got:?}, want {want:?}");
+            assert!(got.contains("t.csv"), "{got}");
+        }
+    }
+
+    #[test]
+    fn resampling_refuses_uncovered_bands() {
+        let t = parse("wavelength_nm,a\n400,0.1\n700,0.2\n").unwrap();
+        assert!(t
+            .resampled(&Grid::PAPER)
+            .unwrap_err()
+            .to_string()
+            .contains("does not cover"));
+        let g = Grid::new(400.0, 700.0, 100.0).unwrap();
+        let r = t.resampled(&g).unwrap();
+        assert!((r[0][1] - 0.13333333333333333).abs() < 1e-15);
+    }
+}

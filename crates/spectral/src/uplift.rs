@@ -1,0 +1,142 @@
+//! The runtime: r = T_leaf·c + o_leaf, one small matrix multiply per pixel (Eq. 7–8 folded).
+
+use crate::model::{Axis, Node};
+use crate::{Error, Model};
+
+/// A model prepared for uplifting: per leaf, T = B·M⁻¹ (n×3) and o = μ − T·c_μ, in f64 and f32.
+///
+/// Leaf choice: the kd-tree on the colour's xy. A colour without a chromaticity (X+Y+Z ≤ 0,
+/// which includes black, or a NaN or infinite component) takes the leaf of the model's white
+/// point. The affine map then runs as for any colour, so the round trip XYZ(r) = c still holds:
+/// black gives o of that leaf, a spectrum whose XYZ is zero; NaN in any component gives NaN in
+/// every band (the product propagates it).
+#[derive(Debug, Clone)]
+pub struct Uplifter {
+    bands: usize,
+    white: [f64; 2],
+    /// (axis, value, below, above) per node; leaves have below = above = leaf index | LEAF.
+    nodes: Vec<(usize, f64, u32, u32)>,
+    /// Per leaf: columns T·x̂, T·ŷ, T·ẑ and o, each `bands` long, contiguous.
+    f64s: Vec<Vec<f64>>,
+    f32s: Vec<Vec<f32>>,
+}
+
+const LEAF: u32 = 1 << 31;
+
+impl Uplifter {
+    pub fn new(model: &Model) -> Result<Uplifter, Error> {
+        let n = model.grid.len();
+        let white = model.colorimetry()?.white_xy();
+        let nodes = model
+            .tree
+            .iter()
+            .map(|node| match *node {
+                Node::Split {
+                    axis,
+                    value,
+                    below,
+                    above,
+                } => {
+                    let ax = if axis == Axis::X { 0 } else { 1 };
+                    let child = |c: usize| match model.tree[c] {
+                        Node::Leaf { leaf } => leaf as u32 | LEAF,
+                        Node::Split { .. } => c as u32,
+                    };
+                    (ax, value, child(below), child(above))
+                }
+                Node::Leaf { leaf } => {
+                    (0, f64::NEG_INFINITY, leaf as u32 | LEAF, leaf as u32 | LEAF)
+                }
+            })
+            .collect();
+        let f64s: Vec<Vec<f64>> = model
+            .leaves
+            .iter()
+            .map(|leaf| {
+                let mut t = vec![0.0; 4 * n];
+                for b in 0..n {
+                    let mut o = leaf.mean[b];
+                    for col in 0..3 {
+                        // T[b][col] = Σ_k B[b][k]·M⁻¹[k][col]
+                        let v: f64 = (0..3).map(|k| leaf.basis[k][b] * leaf.m_inv[k][col]).sum();
+                        t[col * n + b] = v;
+                        o -= v * leaf.c_mean[col];
+                    }
+                    t[3 * n + b] = o;
+                }
+                t
+            })
+            .collect();
+        let f32s = f64s
+            .iter()
+            .map(|t| t.iter().map(|&v| v as f32).collect())
+            .collect();
+        Ok(Uplifter {
+            bands: n,
+            white,
+            nodes,
+            f64s,
+            f32s,
+        })
+    }
+
+    pub fn bands(&self) -> usize {
+        self.bands
+    }
+
+    /// The leaf a colour is uplifted by.
+    #[inline]
+    pub fn leaf(&self, xyz: [f64; 3]) -> usize {
+        let xy = crate::colorimetry::xy(xyz).unwrap_or(self.white);
+        let mut node = 0u32;
+        loop {
+            let (ax, value, below, above) = self.nodes[node as usize];
+            node = if xy[ax] >= value { above } else { below };
+            if node & LEAF != 0 {
+                return (node & !LEAF) as usize;
+            }
+        }
+    }
+
+    /// Uplifts colours `xyz` (X, Y, Z per pixel) into `out` (`bands` values per pixel).
+    pub fn uplift_f64(&self, xyz: &[f64], out: &mut [f64]) {
+        let n = self.bands;
+        assert_eq!(
+            xyz.len() / 3 * n,
+            out.len(),
+            "out must hold `bands` values per colour"
+        );
+        for (c, r) in xyz.chunks_exact(3).zip(out.chunks_exact_mut(n)) {
+            let t = &self.f64s[self.leaf([c[0], c[1], c[2]])];
+            kernel(t, n, [c[0], c[1], c[2]], r);
+        }
+    }
+
+    /// As [`Uplifter::uplift_f64`] in single precision; the leaf is chosen in double precision,
+    /// so both precisions agree on it.
+    pub fn uplift_f32(&self, xyz: &[f32], out: &mut [f32]) {
+        let n = self.bands;
+        assert_eq!(
+            xyz.len() / 3 * n,
+            out.len(),
+            "out must hold `bands` values per colour"
+        );
+        for (c, r) in xyz.chunks_exact(3).zip(out.chunks_exact_mut(n)) {
+            let t = &self.f32s[self.leaf([c[0] as f64, c[1] as f64, c[2] as f64])];
+            kernel(t, n, [c[0], c[1], c[2]], r);
+        }
+    }
+}
+
+#[inline(always)]
+fn kernel<T>(t: &[T], n: usize, c: [T; 3], r: &mut [T])
+where
+    T: Copy + std::ops::Mul<Output = T> + std::ops::Add<Output = T>,
+{
+    let (tx, rest) = t.split_at(n);
+    let (ty, rest) = rest.split_at(n);
+    let (tz, o) = rest.split_at(n);
+    for b in 0..n {
+        r[b] = o[b] + tx[b] * c[0] + ty[b] * c[1] + tz[b] * c[2];
+    }
+}
