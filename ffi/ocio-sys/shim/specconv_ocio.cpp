@@ -1,0 +1,239 @@
+// specconv_ocio.cpp - the OpenColorIO side of specconv_ocio.h.
+//
+// Every entry point runs inside guard(): OCIO reports nearly everything by throwing
+// OCIO::Exception, which here becomes a status code and a per-thread message.
+
+#include "specconv_ocio.h"
+
+#include <OpenColorIO/OpenColorIO.h>
+
+#include <exception>
+#include <sstream>
+#include <string>
+
+namespace OCIO = OCIO_NAMESPACE;
+
+namespace {
+
+thread_local std::string last_error;
+
+int32_t fail(int32_t status, std::string message) {
+    last_error = std::move(message);
+    return status;
+}
+
+template <typename F> int32_t guard(int32_t on_exception, F &&body) noexcept {
+    try {
+        last_error.clear();
+        return body();
+    } catch (const std::exception &e) {
+        return fail(on_exception, e.what());
+    } catch (...) {
+        return fail(SPECCONV_OCIO_ERR_EXCEPTION, "OpenColorIO raised an unknown C++ exception");
+    }
+}
+
+} // namespace
+
+struct specconv_ocio_config {
+    OCIO::ConstConfigRcPtr config;
+};
+
+struct specconv_ocio_processor {
+    OCIO::ConstProcessorRcPtr processor;
+    OCIO::ConstCPUProcessorRcPtr cpu;
+};
+
+namespace {
+
+int32_t adopt_config(OCIO::ConstConfigRcPtr config, specconv_ocio_config **out) {
+    // Catch dangling references (roles to missing spaces, bad transforms) now rather
+    // than halfway through a batch.
+    config->validate();
+    *out = new specconv_ocio_config{std::move(config)};
+    return SPECCONV_OCIO_OK;
+}
+
+void describe(const OCIO::ColorSpace &cs, specconv_ocio_color_space *out) {
+    out->name = cs.getName();
+    out->family = cs.getFamily();
+    out->encoding = cs.getEncoding();
+    out->description = cs.getDescription();
+    out->num_aliases = static_cast<int32_t>(cs.getNumAliases());
+    out->is_data = cs.isData() ? 1 : 0;
+    out->is_display = cs.getReferenceSpaceType() == OCIO::REFERENCE_SPACE_DISPLAY ? 1 : 0;
+}
+
+} // namespace
+
+extern "C" {
+
+const char *specconv_ocio_last_error(void) { return last_error.c_str(); }
+
+const char *specconv_ocio_version(void) { return OCIO::GetVersion(); }
+
+int32_t specconv_ocio_config_from_file(const char *path, specconv_ocio_config **out) {
+    return guard(SPECCONV_OCIO_ERR_CONFIG, [&]() -> int32_t {
+        if (path == nullptr || out == nullptr)
+            return fail(SPECCONV_OCIO_ERR_ARGUMENT, "null argument");
+        *out = nullptr;
+        return adopt_config(OCIO::Config::CreateFromFile(path), out);
+    });
+}
+
+int32_t specconv_ocio_config_from_yaml(const char *yaml, const char *working_dir,
+                                       specconv_ocio_config **out) {
+    return guard(SPECCONV_OCIO_ERR_CONFIG, [&]() -> int32_t {
+        if (yaml == nullptr || out == nullptr)
+            return fail(SPECCONV_OCIO_ERR_ARGUMENT, "null argument");
+        *out = nullptr;
+        std::istringstream stream{std::string(yaml)};
+        OCIO::ConstConfigRcPtr config = OCIO::Config::CreateFromStream(stream);
+        if (working_dir != nullptr) {
+            OCIO::ConfigRcPtr editable = config->createEditableCopy();
+            editable->setWorkingDir(working_dir);
+            config = editable;
+        }
+        return adopt_config(std::move(config), out);
+    });
+}
+
+void specconv_ocio_config_free(specconv_ocio_config *config) {
+    try {
+        delete config;
+    } catch (...) {
+    }
+}
+
+int32_t specconv_ocio_num_color_spaces(const specconv_ocio_config *config) {
+    if (config == nullptr)
+        return 0;
+    try {
+        return config->config->getNumColorSpaces(OCIO::SEARCH_REFERENCE_SPACE_ALL,
+                                                 OCIO::COLORSPACE_ACTIVE);
+    } catch (...) {
+        return 0;
+    }
+}
+
+int32_t specconv_ocio_color_space_at(const specconv_ocio_config *config, int32_t index,
+                                     specconv_ocio_color_space *out) {
+    return guard(SPECCONV_OCIO_ERR_EXCEPTION, [&]() -> int32_t {
+        if (config == nullptr || out == nullptr)
+            return fail(SPECCONV_OCIO_ERR_ARGUMENT, "null argument");
+        const char *name = config->config->getColorSpaceNameByIndex(
+            OCIO::SEARCH_REFERENCE_SPACE_ALL, OCIO::COLORSPACE_ACTIVE, index);
+        OCIO::ConstColorSpaceRcPtr cs =
+            (name && *name) ? config->config->getColorSpace(name) : nullptr;
+        if (!cs)
+            return fail(SPECCONV_OCIO_ERR_ARGUMENT, "no colour space at index " +
+                                                        std::to_string(index));
+        describe(*cs, out);
+        return SPECCONV_OCIO_OK;
+    });
+}
+
+int32_t specconv_ocio_color_space_named(const specconv_ocio_config *config, const char *name,
+                                        specconv_ocio_color_space *out) {
+    return guard(SPECCONV_OCIO_ERR_EXCEPTION, [&]() -> int32_t {
+        if (config == nullptr || name == nullptr || out == nullptr)
+            return fail(SPECCONV_OCIO_ERR_ARGUMENT, "null argument");
+        OCIO::ConstColorSpaceRcPtr cs = config->config->getColorSpace(name);
+        if (!cs)
+            return fail(SPECCONV_OCIO_ERR_NOT_FOUND,
+                        std::string("no colour space named '") + name + "'");
+        describe(*cs, out);
+        return SPECCONV_OCIO_OK;
+    });
+}
+
+int32_t specconv_ocio_color_space_alias(const specconv_ocio_config *config, const char *name,
+                                        int32_t index, const char **out) {
+    return guard(SPECCONV_OCIO_ERR_EXCEPTION, [&]() -> int32_t {
+        if (config == nullptr || name == nullptr || out == nullptr)
+            return fail(SPECCONV_OCIO_ERR_ARGUMENT, "null argument");
+        OCIO::ConstColorSpaceRcPtr cs = config->config->getColorSpace(name);
+        if (!cs)
+            return fail(SPECCONV_OCIO_ERR_NOT_FOUND,
+                        std::string("no colour space named '") + name + "'");
+        if (index < 0 || static_cast<size_t>(index) >= cs->getNumAliases())
+            return fail(SPECCONV_OCIO_ERR_ARGUMENT, "no alias " + std::to_string(index));
+        *out = cs->getAlias(static_cast<size_t>(index));
+        return SPECCONV_OCIO_OK;
+    });
+}
+
+int32_t specconv_ocio_role(const specconv_ocio_config *config, const char *role,
+                           const char **out) {
+    return guard(SPECCONV_OCIO_ERR_EXCEPTION, [&]() -> int32_t {
+        if (config == nullptr || role == nullptr || out == nullptr)
+            return fail(SPECCONV_OCIO_ERR_ARGUMENT, "null argument");
+        *out = nullptr;
+        if (!config->config->hasRole(role))
+            return SPECCONV_OCIO_OK;
+        OCIO::ConstColorSpaceRcPtr cs = config->config->getColorSpace(role);
+        if (!cs)
+            return fail(SPECCONV_OCIO_ERR_NOT_FOUND, std::string("role '") + role +
+                                                         "' names a missing colour space");
+        *out = cs->getName();
+        return SPECCONV_OCIO_OK;
+    });
+}
+
+int32_t specconv_ocio_processor_new(const specconv_ocio_config *config, const char *src,
+                                    const char *dst, const char *post_builtin,
+                                    specconv_ocio_processor **out) {
+    return guard(SPECCONV_OCIO_ERR_PROCESSOR, [&]() -> int32_t {
+        if (config == nullptr || src == nullptr || dst == nullptr || out == nullptr)
+            return fail(SPECCONV_OCIO_ERR_ARGUMENT, "null argument");
+        *out = nullptr;
+        const OCIO::Config &cfg = *config->config;
+        if (!cfg.getColorSpace(src))
+            return fail(SPECCONV_OCIO_ERR_NOT_FOUND,
+                        std::string("no colour space named '") + src + "'");
+        if (!cfg.getColorSpace(dst))
+            return fail(SPECCONV_OCIO_ERR_NOT_FOUND,
+                        std::string("no colour space named '") + dst + "'");
+        OCIO::ConstProcessorRcPtr processor;
+        if (post_builtin == nullptr) {
+            processor = cfg.getProcessor(src, dst);
+        } else {
+            OCIO::GroupTransformRcPtr group = OCIO::GroupTransform::Create();
+            OCIO::ColorSpaceTransformRcPtr cst = OCIO::ColorSpaceTransform::Create();
+            cst->setSrc(src);
+            cst->setDst(dst);
+            group->appendTransform(cst);
+            OCIO::BuiltinTransformRcPtr builtin = OCIO::BuiltinTransform::Create();
+            builtin->setStyle(post_builtin); // throws on an unknown style
+            group->appendTransform(builtin);
+            processor = cfg.getProcessor(group);
+        }
+        OCIO::ConstCPUProcessorRcPtr cpu = processor->getDefaultCPUProcessor();
+        *out = new specconv_ocio_processor{std::move(processor), std::move(cpu)};
+        return SPECCONV_OCIO_OK;
+    });
+}
+
+void specconv_ocio_processor_free(specconv_ocio_processor *processor) {
+    try {
+        delete processor;
+    } catch (...) {
+    }
+}
+
+int32_t specconv_ocio_processor_apply(const specconv_ocio_processor *processor, float *data,
+                                      size_t npixels, int32_t nchannels) {
+    return guard(SPECCONV_OCIO_ERR_PROCESSOR, [&]() -> int32_t {
+        if (processor == nullptr || (data == nullptr && npixels > 0))
+            return fail(SPECCONV_OCIO_ERR_ARGUMENT, "null argument");
+        if (nchannels != 3 && nchannels != 4)
+            return fail(SPECCONV_OCIO_ERR_ARGUMENT, "pixels must have 3 or 4 channels");
+        if (npixels == 0)
+            return SPECCONV_OCIO_OK;
+        OCIO::PackedImageDesc desc(data, static_cast<long>(npixels), 1, nchannels);
+        processor->cpu->apply(desc);
+        return SPECCONV_OCIO_OK;
+    });
+}
+
+} // extern "C"

@@ -1,0 +1,259 @@
+// specconv_oiio.cpp - the OpenImageIO side of specconv_oiio.h.
+//
+// Every entry point runs inside guard(): C++ exceptions become a status code and a
+// per-thread message, so nothing unwinds into Rust.
+
+#include "specconv_oiio.h"
+
+#include <OpenImageIO/imageio.h>
+
+#include <cstring>
+#include <exception>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace {
+
+thread_local std::string last_error;
+
+int32_t fail(int32_t status, std::string message) {
+    last_error = std::move(message);
+    return status;
+}
+
+template <typename F> int32_t guard(F &&body) noexcept {
+    try {
+        last_error.clear();
+        return body();
+    } catch (const std::exception &e) {
+        return fail(SPECCONV_OIIO_ERR_EXCEPTION, std::string("OpenImageIO raised: ") + e.what());
+    } catch (...) {
+        return fail(SPECCONV_OIIO_ERR_EXCEPTION, "OpenImageIO raised an unknown C++ exception");
+    }
+}
+
+// OIIO keeps errors on the ImageInput; fetching them also clears them, which stops OIIO
+// from printing "pending error" warnings when the input is destroyed.
+std::string input_error(OIIO::ImageInput &in, const char *fallback) {
+    std::string msg = in.geterror();
+    return msg.empty() ? std::string(fallback) : msg;
+}
+
+} // namespace
+
+struct specconv_oiio_input {
+    std::unique_ptr<OIIO::ImageInput> in;
+    std::string format_name;
+    int32_t num_subimages = 1;
+    // Full spec of every MIP level of subimage 0, read once at open.
+    std::vector<OIIO::ImageSpec> levels;
+    std::vector<std::string> channel_formats;
+};
+
+extern "C" {
+
+const char *specconv_oiio_last_error(void) { return last_error.c_str(); }
+
+int32_t specconv_oiio_version(void) { return OIIO::openimageio_version(); }
+
+int32_t specconv_oiio_open(const char *path, specconv_oiio_input **out) {
+    return guard([&]() -> int32_t {
+        if (path == nullptr || out == nullptr)
+            return fail(SPECCONV_OIIO_ERR_ARGUMENT, "null argument");
+        *out = nullptr;
+        auto handle = std::make_unique<specconv_oiio_input>();
+        handle->in = OIIO::ImageInput::open(path);
+        if (!handle->in) {
+            std::string msg = OIIO::geterror();
+            return fail(SPECCONV_OIIO_ERR_OPEN,
+                        msg.empty() ? std::string("OpenImageIO could not open the file") : msg);
+        }
+        OIIO::ImageInput &in = *handle->in;
+        // Parallelism comes from one reader per worker; OIIO's own pool would oversubscribe.
+        in.threads(1);
+        handle->format_name = in.format_name();
+        // spec(0, level) is not a reliable probe (the TIFF plugin answers for any level);
+        // seek_subimage fails past the last level. The cap guards against a plugin that
+        // never fails: 64 levels would be a 2^63-pixel-wide image.
+        for (int level = 0; level < 64 && in.seek_subimage(0, level); ++level)
+            handle->levels.push_back(in.spec());
+        in.geterror(); // seeking past the last level leaves an error behind; it is expected
+        if (handle->levels.empty())
+            return fail(SPECCONV_OIIO_ERR_OPEN, input_error(in, "the file has no readable image"));
+        const OIIO::ImageSpec &top = handle->levels[0];
+        if (top.deep)
+            return fail(SPECCONV_OIIO_ERR_UNSUPPORTED, "deep images are not supported");
+        if (top.depth > 1)
+            return fail(SPECCONV_OIIO_ERR_UNSUPPORTED, "volume (3D) images are not supported");
+        while (in.seek_subimage(handle->num_subimages, 0))
+            ++handle->num_subimages;
+        in.geterror();
+        for (int c = 0; c < top.nchannels; ++c)
+            handle->channel_formats.emplace_back(top.channelformat(c).c_str());
+        *out = handle.release();
+        return SPECCONV_OIIO_OK;
+    });
+}
+
+void specconv_oiio_close(specconv_oiio_input *input) {
+    // Destructors of OIIO inputs close files; keep any exception inside the shim.
+    try {
+        delete input;
+    } catch (...) {
+    }
+}
+
+const char *specconv_oiio_format_name(const specconv_oiio_input *input) {
+    return input ? input->format_name.c_str() : "";
+}
+
+int32_t specconv_oiio_num_subimages(const specconv_oiio_input *input) {
+    return input ? input->num_subimages : 0;
+}
+
+int32_t specconv_oiio_num_levels(const specconv_oiio_input *input) {
+    return input ? static_cast<int32_t>(input->levels.size()) : 0;
+}
+
+int32_t specconv_oiio_level_info(const specconv_oiio_input *input, int32_t level,
+                                 specconv_oiio_level *out) {
+    return guard([&]() -> int32_t {
+        if (input == nullptr || out == nullptr)
+            return fail(SPECCONV_OIIO_ERR_ARGUMENT, "null argument");
+        if (level < 0 || level >= static_cast<int32_t>(input->levels.size()))
+            return fail(SPECCONV_OIIO_ERR_ARGUMENT,
+                        "MIP level " + std::to_string(level) + " does not exist (the file has " +
+                            std::to_string(input->levels.size()) + ")");
+        const OIIO::ImageSpec &s = input->levels[level];
+        out->x = s.x;
+        out->y = s.y;
+        out->width = s.width;
+        out->height = s.height;
+        out->full_x = s.full_x;
+        out->full_y = s.full_y;
+        out->full_width = s.full_width;
+        out->full_height = s.full_height;
+        out->tile_width = s.tile_width;
+        out->tile_height = s.tile_height;
+        out->nchannels = s.nchannels;
+        out->alpha_channel = s.alpha_channel;
+        return SPECCONV_OIIO_OK;
+    });
+}
+
+int32_t specconv_oiio_channel_name(const specconv_oiio_input *input, int32_t channel,
+                                   const char **out) {
+    return guard([&]() -> int32_t {
+        if (input == nullptr || out == nullptr)
+            return fail(SPECCONV_OIIO_ERR_ARGUMENT, "null argument");
+        const OIIO::ImageSpec &s = input->levels[0];
+        if (channel < 0 || channel >= s.nchannels)
+            return fail(SPECCONV_OIIO_ERR_ARGUMENT, "no channel " + std::to_string(channel));
+        *out = s.channelnames[channel].c_str();
+        return SPECCONV_OIIO_OK;
+    });
+}
+
+int32_t specconv_oiio_channel_format(const specconv_oiio_input *input, int32_t channel,
+                                     const char **out) {
+    return guard([&]() -> int32_t {
+        if (input == nullptr || out == nullptr)
+            return fail(SPECCONV_OIIO_ERR_ARGUMENT, "null argument");
+        if (channel < 0 || channel >= static_cast<int32_t>(input->channel_formats.size()))
+            return fail(SPECCONV_OIIO_ERR_ARGUMENT, "no channel " + std::to_string(channel));
+        *out = input->channel_formats[channel].c_str();
+        return SPECCONV_OIIO_OK;
+    });
+}
+
+int32_t specconv_oiio_string_attribute(const specconv_oiio_input *input, const char *name,
+                                       char *buf, size_t buf_len, int64_t *len) {
+    return guard([&]() -> int32_t {
+        if (input == nullptr || name == nullptr || len == nullptr)
+            return fail(SPECCONV_OIIO_ERR_ARGUMENT, "null argument");
+        *len = -1;
+        const OIIO::ParamValue *p = input->levels[0].find_attribute(name, OIIO::TypeString);
+        if (p == nullptr)
+            return SPECCONV_OIIO_OK;
+        std::string value = p->get_string();
+        *len = static_cast<int64_t>(value.size());
+        if (buf != nullptr && buf_len > 0) {
+            size_t n = value.size() < buf_len - 1 ? value.size() : buf_len - 1;
+            std::memcpy(buf, value.data(), n);
+            buf[n] = '\0';
+        }
+        return SPECCONV_OIIO_OK;
+    });
+}
+
+namespace {
+
+// Checks a request against the level and the caller's buffer; returns OK or an error.
+int32_t check_region(const specconv_oiio_input *input, int32_t level, int32_t xbegin,
+                     int32_t xend, int32_t ybegin, int32_t yend, int32_t chbegin, int32_t chend,
+                     const float *out, size_t out_len) {
+    if (input == nullptr || out == nullptr)
+        return fail(SPECCONV_OIIO_ERR_ARGUMENT, "null argument");
+    if (level < 0 || level >= static_cast<int32_t>(input->levels.size()))
+        return fail(SPECCONV_OIIO_ERR_ARGUMENT, "MIP level " + std::to_string(level) +
+                                                    " does not exist");
+    const OIIO::ImageSpec &s = input->levels[level];
+    if (xbegin < 0 || xend > s.width || xbegin >= xend || ybegin < 0 || yend > s.height ||
+        ybegin >= yend)
+        return fail(SPECCONV_OIIO_ERR_ARGUMENT, "region outside MIP level " +
+                                                    std::to_string(level));
+    if (chbegin < 0 || chend > s.nchannels || chbegin >= chend)
+        return fail(SPECCONV_OIIO_ERR_ARGUMENT, "channel range outside the image");
+    uint64_t need = uint64_t(xend - xbegin) * uint64_t(yend - ybegin) * uint64_t(chend - chbegin);
+    if (need > out_len)
+        return fail(SPECCONV_OIIO_ERR_ARGUMENT, "output buffer too small");
+    return SPECCONV_OIIO_OK;
+}
+
+} // namespace
+
+int32_t specconv_oiio_read_tiles(specconv_oiio_input *input, int32_t level, int32_t xbegin,
+                                 int32_t xend, int32_t ybegin, int32_t yend, int32_t chbegin,
+                                 int32_t chend, float *out, size_t out_len) {
+    return guard([&]() -> int32_t {
+        int32_t st = check_region(input, level, xbegin, xend, ybegin, yend, chbegin, chend, out,
+                                  out_len);
+        if (st != SPECCONV_OIIO_OK)
+            return st;
+        const OIIO::ImageSpec &s = input->levels[level];
+        if (s.tile_width == 0)
+            return fail(SPECCONV_OIIO_ERR_ARGUMENT, "the image is stored as scanlines, not tiles");
+        if (!input->in->read_tiles(0, level, s.x + xbegin, s.x + xend, s.y + ybegin, s.y + yend,
+                                   s.z, s.z + 1, chbegin, chend, OIIO::TypeFloat, out))
+            return fail(SPECCONV_OIIO_ERR_READ, input_error(*input->in, "reading tiles failed"));
+        return SPECCONV_OIIO_OK;
+    });
+}
+
+int32_t specconv_oiio_read_scanlines(specconv_oiio_input *input, int32_t level, int32_t ybegin,
+                                     int32_t yend, int32_t chbegin, int32_t chend, float *out,
+                                     size_t out_len) {
+    return guard([&]() -> int32_t {
+        if (input == nullptr || level < 0 || level >= static_cast<int32_t>(input->levels.size()))
+            return fail(SPECCONV_OIIO_ERR_ARGUMENT, "MIP level " + std::to_string(level) +
+                                                        " does not exist");
+        const OIIO::ImageSpec &s = input->levels[level];
+        int32_t st = check_region(input, level, 0, s.width, ybegin, yend, chbegin, chend, out,
+                                  out_len);
+        if (st != SPECCONV_OIIO_OK)
+            return st;
+        // OIIO 2.4.7's read_scanlines on a tiled TIFF dies with SIGFPE for row ranges that
+        // do not cover whole tile rows, so tiled levels are read through read_tiles only.
+        if (s.tile_width != 0)
+            return fail(SPECCONV_OIIO_ERR_ARGUMENT,
+                        "the image is tiled; read it by tiles (scanline reads are refused)");
+        if (!input->in->read_scanlines(0, level, s.y + ybegin, s.y + yend, s.z, chbegin, chend,
+                                       OIIO::TypeFloat, out))
+            return fail(SPECCONV_OIIO_ERR_READ,
+                        input_error(*input->in, "reading scanlines failed"));
+        return SPECCONV_OIIO_OK;
+    });
+}
+
+} // extern "C"

@@ -1,0 +1,91 @@
+/*
+ * specconv_oiio.h - the C interface specconv uses to read images through OpenImageIO.
+ *
+ * Every function returns a status (0 = success). On failure the message is kept per
+ * thread and read with specconv_oiio_last_error() on the same thread. No C++ exception
+ * leaves the shim. A handle is used by one thread at a time; open one per worker.
+ * Pixel coordinates are relative to the data window origin of the MIP level.
+ */
+#ifndef SPECCONV_OIIO_H
+#define SPECCONV_OIIO_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef enum specconv_oiio_status {
+    SPECCONV_OIIO_OK = 0,
+    /* The file could not be opened or its header could not be read. */
+    SPECCONV_OIIO_ERR_OPEN = 1,
+    /* Pixel data could not be read (corrupt or truncated file, I/O error). */
+    SPECCONV_OIIO_ERR_READ = 2,
+    /* The caller passed an invalid argument (level, region, buffer size, NULL). */
+    SPECCONV_OIIO_ERR_ARGUMENT = 3,
+    /* The image is valid but of a kind specconv does not handle (deep, volume). */
+    SPECCONV_OIIO_ERR_UNSUPPORTED = 4,
+    /* A C++ exception was caught; the message says which. */
+    SPECCONV_OIIO_ERR_EXCEPTION = 5
+} specconv_oiio_status;
+
+typedef struct specconv_oiio_input specconv_oiio_input;
+
+/* Geometry and storage of one MIP level of subimage 0. */
+typedef struct specconv_oiio_level {
+    int32_t x, y;            /* data window origin */
+    int32_t width, height;   /* data window size */
+    int32_t full_x, full_y;  /* display window origin */
+    int32_t full_width, full_height;
+    int32_t tile_width, tile_height; /* 0 when stored as scanlines */
+    int32_t nchannels;
+    int32_t alpha_channel;   /* -1 when none */
+} specconv_oiio_level;
+
+/* The message of the last failure on this thread ("" if none). Valid until the next call. */
+const char *specconv_oiio_last_error(void);
+
+/* The OpenImageIO version the program runs against, e.g. 20407 for 2.4.7. */
+int32_t specconv_oiio_version(void);
+
+/* Opens `path` (UTF-8) with whichever format plugin reads it. */
+int32_t specconv_oiio_open(const char *path, specconv_oiio_input **out);
+void specconv_oiio_close(specconv_oiio_input *input);
+
+/* The plugin's format name ("openexr", "tiff", ...). Valid while the input is open. */
+const char *specconv_oiio_format_name(const specconv_oiio_input *input);
+int32_t specconv_oiio_num_subimages(const specconv_oiio_input *input);
+int32_t specconv_oiio_num_levels(const specconv_oiio_input *input);
+int32_t specconv_oiio_level_info(const specconv_oiio_input *input, int32_t level,
+                                 specconv_oiio_level *out);
+
+/* Name and stored data type ("uint8", "half", ...) of channel `channel` of level 0.
+ * Valid while the input is open. */
+int32_t specconv_oiio_channel_name(const specconv_oiio_input *input, int32_t channel,
+                                   const char **out);
+int32_t specconv_oiio_channel_format(const specconv_oiio_input *input, int32_t channel,
+                                     const char **out);
+
+/* Copies string attribute `name` of level 0 into buf (NUL-terminated, truncated to
+ * buf_len). *len receives the full length without the NUL, or -1 when the attribute is
+ * absent or not a string. buf may be NULL to ask for the length. */
+int32_t specconv_oiio_string_attribute(const specconv_oiio_input *input, const char *name,
+                                       char *buf, size_t buf_len, int64_t *len);
+
+/* Reads channels [chbegin, chend) of the pixels [xbegin, xend) x [ybegin, yend) of
+ * `level` as f32, interleaved, rows top to bottom, into out (out_len floats at least).
+ * read_tiles needs a tiled level and a region on tile boundaries (or the image edge);
+ * read_scanlines reads whole rows of a scanline level (tiled levels are refused). */
+int32_t specconv_oiio_read_tiles(specconv_oiio_input *input, int32_t level, int32_t xbegin,
+                                 int32_t xend, int32_t ybegin, int32_t yend, int32_t chbegin,
+                                 int32_t chend, float *out, size_t out_len);
+int32_t specconv_oiio_read_scanlines(specconv_oiio_input *input, int32_t level, int32_t ybegin,
+                                     int32_t yend, int32_t chbegin, int32_t chend, float *out,
+                                     size_t out_len);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

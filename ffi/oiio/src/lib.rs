@@ -1,0 +1,652 @@
+//! Reading images through OpenImageIO: any format OIIO has a plugin for (OpenEXR, TIFF
+//! and `.tx`, PNG, JPEG, Radiance HDR, ...), any MIP level, by tile or by rows, always
+//! converted to `f32`.
+//!
+//! An [`ImageReader`] owns one OIIO `ImageInput`. It is `Send` but not `Sync`: each
+//! worker opens its own (see [`ImageReader::reopen`]), so tiles decode in parallel
+//! without contending for one file handle. The header (every MIP level's geometry,
+//! channels, declared colour space) is read once at open and kept in [`ImageInfo`].
+//!
+//! Coordinates are pixel offsets from the data window origin of the level, so `(0, 0)` is
+//! the first stored pixel whatever the file's data window is.
+//!
+//! All `unsafe` is in this file and only calls the C shim of `oiio-sys`, which catches
+//! every C++ exception and reports failures as status codes.
+
+use std::ffi::{CStr, CString};
+use std::fmt;
+use std::ops::Range;
+use std::path::{Path, PathBuf};
+use std::ptr::NonNull;
+
+use oiio_sys as sys;
+
+/// What can go wrong opening or reading an image.
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    #[error("{}: no such file", path.display())]
+    NotFound { path: PathBuf },
+    #[error("{}: cannot be read as an image: {message}", path.display())]
+    Open { path: PathBuf, message: String },
+    #[error("{}: {message}", path.display())]
+    Unsupported { path: PathBuf, message: String },
+    #[error("{}: reading pixels failed (is the file truncated or corrupt?): {message}", path.display())]
+    Read { path: PathBuf, message: String },
+    #[error("{}: {message}", path.display())]
+    InvalidRequest { path: PathBuf, message: String },
+    #[error("{}: {width}x{height}x{channels} pixels do not fit in memory", path.display())]
+    TooLarge {
+        path: PathBuf,
+        width: u32,
+        height: u32,
+        channels: usize,
+    },
+    #[error("{}: OpenImageIO failed unexpectedly: {message}", path.display())]
+    Internal { path: PathBuf, message: String },
+}
+
+pub type Result<T, E = Error> = std::result::Result<T, E>;
+
+/// The stored data type of a channel, as OIIO names it.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum PixelFormat {
+    U8,
+    I8,
+    U16,
+    I16,
+    U32,
+    I32,
+    Half,
+    Float,
+    Double,
+    Other(String),
+}
+
+impl PixelFormat {
+    fn from_oiio(name: &str) -> Self {
+        match name {
+            "uint8" => Self::U8,
+            "int8" => Self::I8,
+            "uint16" => Self::U16,
+            "int16" => Self::I16,
+            "uint" | "uint32" => Self::U32,
+            "int" | "int32" => Self::I32,
+            "half" => Self::Half,
+            "float" => Self::Float,
+            "double" => Self::Double,
+            other => Self::Other(other.to_owned()),
+        }
+    }
+
+    /// Integer formats store display-referred code values; float formats scene values.
+    pub fn is_integer(&self) -> bool {
+        matches!(
+            self,
+            Self::U8 | Self::I8 | Self::U16 | Self::I16 | Self::U32 | Self::I32
+        )
+    }
+}
+
+impl fmt::Display for PixelFormat {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Self::U8 => "uint8",
+            Self::I8 => "int8",
+            Self::U16 => "uint16",
+            Self::I16 => "int16",
+            Self::U32 => "uint32",
+            Self::I32 => "int32",
+            Self::Half => "half",
+            Self::Float => "float",
+            Self::Double => "double",
+            Self::Other(s) => s,
+        })
+    }
+}
+
+/// One channel of the image.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Channel {
+    pub name: String,
+    pub format: PixelFormat,
+}
+
+/// Geometry of one MIP level (level 0 is full resolution).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Level {
+    pub width: u32,
+    pub height: u32,
+    /// Data window origin in the file's pixel space.
+    pub x: i32,
+    pub y: i32,
+    /// Tile width and height, `None` for scanline storage.
+    pub tile: Option<(u32, u32)>,
+}
+
+impl Level {
+    /// Number of tiles across and down (`None` for scanline storage).
+    pub fn tile_count(&self) -> Option<(u32, u32)> {
+        self.tile
+            .map(|(tw, th)| (self.width.div_ceil(tw), self.height.div_ceil(th)))
+    }
+}
+
+/// Everything the reader learns from the header.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct ImageInfo {
+    pub path: PathBuf,
+    /// OIIO's name of the format plugin ("openexr", "tiff", "png", ...).
+    pub format_name: String,
+    pub channels: Vec<Channel>,
+    /// Index of the alpha channel, if the file marks one.
+    pub alpha_channel: Option<usize>,
+    /// Every MIP level; a plain image has one.
+    pub levels: Vec<Level>,
+    /// Subimages (parts) in the file; only the first is read.
+    pub subimages: u32,
+    /// The colour space the file declares (`oiio:ColorSpace`), if any.
+    pub declared_color_space: Option<String>,
+}
+
+impl ImageInfo {
+    pub fn width(&self) -> u32 {
+        self.levels[0].width
+    }
+    pub fn height(&self) -> u32 {
+        self.levels[0].height
+    }
+    /// The pixel format of the first channel; see [`ImageInfo::channels`] for mixed files.
+    pub fn pixel_format(&self) -> &PixelFormat {
+        &self.channels[0].format
+    }
+    pub fn tile_size(&self) -> Option<(u32, u32)> {
+        self.levels[0].tile
+    }
+}
+
+/// A rectangle of pixels `[x0, x1) × [y0, y1)` of one level.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Region {
+    pub x0: u32,
+    pub y0: u32,
+    pub x1: u32,
+    pub y1: u32,
+}
+
+impl Region {
+    pub fn width(&self) -> u32 {
+        self.x1 - self.x0
+    }
+    pub fn height(&self) -> u32 {
+        self.y1 - self.y0
+    }
+}
+
+/// Pixels read from a level: `width × height × channels` interleaved `f32`, rows top down.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Pixels {
+    pub width: u32,
+    pub height: u32,
+    pub channels: usize,
+    pub data: Vec<f32>,
+}
+
+impl Pixels {
+    /// The channel values of pixel `(x, y)` of this block.
+    pub fn pixel(&self, x: u32, y: u32) -> &[f32] {
+        let i = (y as usize * self.width as usize + x as usize) * self.channels;
+        &self.data[i..i + self.channels]
+    }
+
+    /// Copies `region` (in this block's coordinates) out into a new block.
+    pub fn crop(&self, region: Region) -> Pixels {
+        let row = region.width() as usize * self.channels;
+        let mut data = Vec::with_capacity(row * region.height() as usize);
+        for y in region.y0..region.y1 {
+            let start = (y as usize * self.width as usize + region.x0 as usize) * self.channels;
+            data.extend_from_slice(&self.data[start..start + row]);
+        }
+        Pixels {
+            width: region.width(),
+            height: region.height(),
+            channels: self.channels,
+            data,
+        }
+    }
+}
+
+/// An open image file. Closing happens on drop.
+pub struct ImageReader {
+    raw: NonNull<sys::specconv_oiio_input>,
+    info: ImageInfo,
+}
+
+// SAFETY: the shim's handle owns its OIIO ImageInput and nothing thread-bound; it may move
+// between threads. It is not Sync: reads take &mut self, one thread at a time.
+unsafe impl Send for ImageReader {}
+
+impl Drop for ImageReader {
+    fn drop(&mut self) {
+        // SAFETY: raw came from specconv_oiio_open and is freed exactly once, here.
+        unsafe { sys::specconv_oiio_close(self.raw.as_ptr()) }
+    }
+}
+
+impl fmt::Debug for ImageReader {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("ImageReader")
+            .field("info", &self.info)
+            .finish()
+    }
+}
+
+/// The shim's message for the last failure on this thread.
+fn last_error() -> String {
+    // SAFETY: the shim returns a NUL-terminated thread-local string, valid until the next
+    // shim call on this thread; it is copied at once.
+    unsafe { CStr::from_ptr(sys::specconv_oiio_last_error()) }
+        .to_string_lossy()
+        .trim()
+        .to_owned()
+}
+
+/// Borrows a NUL-terminated string that the shim keeps alive as long as the input.
+fn shim_str(ptr: *const std::os::raw::c_char) -> String {
+    if ptr.is_null() {
+        return String::new();
+    }
+    // SAFETY: non-null pointers from the shim point at NUL-terminated strings owned by an
+    // open input, which outlives this call; the contents are copied.
+    unsafe { CStr::from_ptr(ptr) }
+        .to_string_lossy()
+        .into_owned()
+}
+
+#[cfg(unix)]
+fn path_to_cstring(path: &Path) -> Option<CString> {
+    use std::os::unix::ffi::OsStrExt;
+    CString::new(path.as_os_str().as_bytes()).ok()
+}
+
+#[cfg(not(unix))]
+fn path_to_cstring(path: &Path) -> Option<CString> {
+    CString::new(path.to_str()?).ok()
+}
+
+/// Runtime OpenImageIO version as (major, minor, patch).
+pub fn oiio_version() -> (u32, u32, u32) {
+    // SAFETY: a plain query without arguments.
+    let v = unsafe { sys::specconv_oiio_version() }.max(0) as u32;
+    (v / 10000, v / 100 % 100, v % 100)
+}
+
+impl ImageReader {
+    /// Opens `path` and reads its header.
+    pub fn open(path: impl AsRef<Path>) -> Result<Self> {
+        let path = path.as_ref().to_path_buf();
+        // OIIO's message for a missing file varies by plugin; say it plainly ourselves.
+        if !path.exists() {
+            return Err(Error::NotFound { path });
+        }
+        if path.is_dir() {
+            return Err(Error::Open {
+                path,
+                message: "it is a directory".into(),
+            });
+        }
+        let Some(c_path) = path_to_cstring(&path) else {
+            return Err(Error::Open {
+                path,
+                message: "the path contains a NUL byte".into(),
+            });
+        };
+        let mut raw = std::ptr::null_mut();
+        // SAFETY: c_path is a valid C string for the call; raw receives an owned handle.
+        let status = unsafe { sys::specconv_oiio_open(c_path.as_ptr(), &mut raw) } as u32;
+        if status != sys::SPECCONV_OIIO_OK {
+            let message = last_error();
+            return Err(match status {
+                sys::SPECCONV_OIIO_ERR_UNSUPPORTED => Error::Unsupported { path, message },
+                sys::SPECCONV_OIIO_ERR_OPEN => Error::Open { path, message },
+                _ => Error::Internal { path, message },
+            });
+        }
+        let Some(raw) = NonNull::new(raw) else {
+            return Err(Error::Internal {
+                path,
+                message: "the shim returned no handle".into(),
+            });
+        };
+        let mut reader = ImageReader {
+            raw,
+            info: ImageInfo {
+                path,
+                format_name: String::new(),
+                channels: Vec::new(),
+                alpha_channel: None,
+                levels: Vec::new(),
+                subimages: 1,
+                declared_color_space: None,
+            },
+        };
+        reader.info = reader.read_info()?;
+        Ok(reader)
+    }
+
+    /// Opens the same file again: a second, independent reader for another worker.
+    pub fn reopen(&self) -> Result<Self> {
+        Self::open(&self.info.path)
+    }
+
+    pub fn info(&self) -> &ImageInfo {
+        &self.info
+    }
+
+    fn status_error(&self, status: u32) -> Error {
+        let path = self.info.path.clone();
+        let message = last_error();
+        match status {
+            sys::SPECCONV_OIIO_ERR_READ => Error::Read { path, message },
+            sys::SPECCONV_OIIO_ERR_ARGUMENT => Error::InvalidRequest { path, message },
+            sys::SPECCONV_OIIO_ERR_UNSUPPORTED => Error::Unsupported { path, message },
+            _ => Error::Internal { path, message },
+        }
+    }
+
+    fn check(&self, status: i32) -> Result<()> {
+        // The C enum's values are small and non-negative; the functions return int32_t.
+        match status as u32 {
+            sys::SPECCONV_OIIO_OK => Ok(()),
+            other => Err(self.status_error(other)),
+        }
+    }
+
+    fn read_info(&self) -> Result<ImageInfo> {
+        let raw = self.raw.as_ptr();
+        // SAFETY (this block): raw is a live handle; out-pointers point at locals; strings
+        // returned are owned by the handle and copied before it can go away.
+        let format_name = shim_str(unsafe { sys::specconv_oiio_format_name(raw) });
+        let subimages = unsafe { sys::specconv_oiio_num_subimages(raw) }.max(1) as u32;
+        let nlevels = unsafe { sys::specconv_oiio_num_levels(raw) };
+        let mut levels = Vec::with_capacity(nlevels.max(0) as usize);
+        let mut top = None;
+        for level in 0..nlevels {
+            let mut l = std::mem::MaybeUninit::<sys::specconv_oiio_level>::zeroed();
+            self.check(unsafe { sys::specconv_oiio_level_info(raw, level, l.as_mut_ptr()) })?;
+            // SAFETY: the shim filled every field on success (and zeroed() covers the rest).
+            let l = unsafe { l.assume_init() };
+            if l.width <= 0 || l.height <= 0 || l.nchannels <= 0 {
+                return Err(Error::Unsupported {
+                    path: self.info.path.clone(),
+                    message: format!(
+                        "MIP level {level} is empty ({}x{}, {} channels)",
+                        l.width, l.height, l.nchannels
+                    ),
+                });
+            }
+            let tile = (l.tile_width > 0 && l.tile_height > 0)
+                .then_some((l.tile_width as u32, l.tile_height as u32));
+            levels.push(Level {
+                width: l.width as u32,
+                height: l.height as u32,
+                x: l.x,
+                y: l.y,
+                tile,
+            });
+            top.get_or_insert(l);
+        }
+        let Some(top) = top else {
+            return Err(Error::Open {
+                path: self.info.path.clone(),
+                message: "the file holds no image".into(),
+            });
+        };
+        let mut channels = Vec::with_capacity(top.nchannels as usize);
+        for c in 0..top.nchannels {
+            let mut name = std::ptr::null();
+            let mut format = std::ptr::null();
+            self.check(unsafe { sys::specconv_oiio_channel_name(raw, c, &mut name) })?;
+            self.check(unsafe { sys::specconv_oiio_channel_format(raw, c, &mut format) })?;
+            channels.push(Channel {
+                name: shim_str(name),
+                format: PixelFormat::from_oiio(&shim_str(format)),
+            });
+        }
+        let alpha_channel = usize::try_from(top.alpha_channel)
+            .ok()
+            .filter(|&a| a < channels.len());
+        Ok(ImageInfo {
+            path: self.info.path.clone(),
+            format_name,
+            channels,
+            alpha_channel,
+            levels,
+            subimages,
+            declared_color_space: self
+                .string_attribute("oiio:ColorSpace")?
+                .filter(|s| !s.is_empty()),
+        })
+    }
+
+    /// A string attribute of the file's header (top level), if present.
+    pub fn string_attribute(&self, name: &str) -> Result<Option<String>> {
+        let Ok(c_name) = CString::new(name) else {
+            return Ok(None);
+        };
+        let raw = self.raw.as_ptr();
+        let mut len = -1i64;
+        // SAFETY: live handle, valid C string; a null buffer only asks for the length.
+        self.check(unsafe {
+            sys::specconv_oiio_string_attribute(
+                raw,
+                c_name.as_ptr(),
+                std::ptr::null_mut(),
+                0,
+                &mut len,
+            )
+        })?;
+        let Ok(n) = usize::try_from(len) else {
+            return Ok(None);
+        };
+        let mut buf = vec![0u8; n + 1];
+        // SAFETY: buf holds n + 1 bytes, as told to the shim.
+        self.check(unsafe {
+            sys::specconv_oiio_string_attribute(
+                raw,
+                c_name.as_ptr(),
+                buf.as_mut_ptr().cast(),
+                buf.len(),
+                &mut len,
+            )
+        })?;
+        buf.truncate(n);
+        Ok(Some(String::from_utf8_lossy(&buf).into_owned()))
+    }
+
+    fn level(&self, level: usize) -> Result<Level> {
+        self.info
+            .levels
+            .get(level)
+            .copied()
+            .ok_or_else(|| Error::InvalidRequest {
+                path: self.info.path.clone(),
+                message: format!(
+                    "MIP level {level} does not exist; the file has {} (0 to {})",
+                    self.info.levels.len(),
+                    self.info.levels.len() - 1
+                ),
+            })
+    }
+
+    fn invalid(&self, message: String) -> Error {
+        Error::InvalidRequest {
+            path: self.info.path.clone(),
+            message,
+        }
+    }
+
+    /// A zeroed buffer for a block, refusing (rather than aborting) when it cannot exist.
+    fn buffer(&self, width: u32, height: u32) -> Result<Pixels> {
+        let channels = self.info.channels.len();
+        let too_large = || Error::TooLarge {
+            path: self.info.path.clone(),
+            width,
+            height,
+            channels,
+        };
+        let len = (width as usize)
+            .checked_mul(height as usize)
+            .and_then(|n| n.checked_mul(channels))
+            .ok_or_else(too_large)?;
+        let mut data = Vec::new();
+        data.try_reserve_exact(len).map_err(|_| too_large())?;
+        data.resize(len, 0.0);
+        Ok(Pixels {
+            width,
+            height,
+            channels,
+            data,
+        })
+    }
+
+    /// Reads tile `(tx, ty)` (tile indices, not pixels) of a tiled level. Edge tiles are
+    /// cut to the image.
+    pub fn read_tile(&mut self, level: usize, tx: u32, ty: u32) -> Result<Pixels> {
+        let l = self.level(level)?;
+        let Some((tw, th)) = l.tile else {
+            return Err(self.invalid(
+                "the image is stored as scanlines, not tiles; read rows or regions instead".into(),
+            ));
+        };
+        let (nx, ny) = l.tile_count().unwrap_or((0, 0));
+        if tx >= nx || ty >= ny {
+            return Err(self.invalid(format!(
+                "tile ({tx}, {ty}) is outside MIP level {level}, which has {nx}x{ny} tiles"
+            )));
+        }
+        let region = Region {
+            x0: tx * tw,
+            y0: ty * th,
+            x1: ((tx + 1) * tw).min(l.width),
+            y1: ((ty + 1) * th).min(l.height),
+        };
+        self.read_tiles_aligned(level, region)
+    }
+
+    fn read_tiles_aligned(&mut self, level: usize, r: Region) -> Result<Pixels> {
+        let mut px = self.buffer(r.width(), r.height())?;
+        let nch = px.channels as i32;
+        // SAFETY: live handle; px.data holds exactly width*height*channels floats, the
+        // length passed, and the shim writes no more than the region asks for.
+        let status = unsafe {
+            sys::specconv_oiio_read_tiles(
+                self.raw.as_ptr(),
+                level as i32,
+                r.x0 as i32,
+                r.x1 as i32,
+                r.y0 as i32,
+                r.y1 as i32,
+                0,
+                nch,
+                px.data.as_mut_ptr(),
+                px.data.len(),
+            )
+        };
+        self.check(status)?;
+        Ok(px)
+    }
+
+    /// Reads whole rows `rows` of a level (tiled levels too, through their tiles).
+    pub fn read_scanlines(&mut self, level: usize, rows: Range<u32>) -> Result<Pixels> {
+        let l = self.level(level)?;
+        if rows.start >= rows.end || rows.end > l.height {
+            return Err(self.invalid(format!(
+                "rows {}..{} are outside MIP level {level}, which has {} rows",
+                rows.start, rows.end, l.height
+            )));
+        }
+        if l.tile.is_some() {
+            let region = Region {
+                x0: 0,
+                y0: rows.start,
+                x1: l.width,
+                y1: rows.end,
+            };
+            return self.read_region(level, region);
+        }
+        let mut px = self.buffer(l.width, rows.end - rows.start)?;
+        let nch = px.channels as i32;
+        // SAFETY: as in read_tiles_aligned; the buffer covers full rows of the level.
+        let status = unsafe {
+            sys::specconv_oiio_read_scanlines(
+                self.raw.as_ptr(),
+                level as i32,
+                rows.start as i32,
+                rows.end as i32,
+                0,
+                nch,
+                px.data.as_mut_ptr(),
+                px.data.len(),
+            )
+        };
+        self.check(status)?;
+        Ok(px)
+    }
+
+    /// Reads any rectangle of a level, from whole tiles or whole rows as the file is
+    /// stored, cropped to `region`.
+    pub fn read_region(&mut self, level: usize, region: Region) -> Result<Pixels> {
+        let l = self.level(level)?;
+        if region.x0 >= region.x1
+            || region.y0 >= region.y1
+            || region.x1 > l.width
+            || region.y1 > l.height
+        {
+            return Err(self.invalid(format!(
+                "region [{}, {}) x [{}, {}) is outside MIP level {level} ({}x{})",
+                region.x0, region.x1, region.y0, region.y1, l.width, l.height
+            )));
+        }
+        let covering = match l.tile {
+            Some((tw, th)) => Region {
+                x0: region.x0 / tw * tw,
+                y0: region.y0 / th * th,
+                x1: region.x1.div_ceil(tw).saturating_mul(tw).min(l.width),
+                y1: region.y1.div_ceil(th).saturating_mul(th).min(l.height),
+            },
+            None => Region {
+                x0: 0,
+                y0: region.y0,
+                x1: l.width,
+                y1: region.y1,
+            },
+        };
+        let block = match l.tile {
+            Some(_) => self.read_tiles_aligned(level, covering)?,
+            None => self.read_scanlines(level, covering.y0..covering.y1)?,
+        };
+        if covering == region {
+            return Ok(block);
+        }
+        Ok(block.crop(Region {
+            x0: region.x0 - covering.x0,
+            y0: region.y0 - covering.y0,
+            x1: region.x1 - covering.x0,
+            y1: region.y1 - covering.y0,
+        }))
+    }
+
+    /// Reads a whole level.
+    pub fn read_level(&mut self, level: usize) -> Result<Pixels> {
+        let l = self.level(level)?;
+        self.read_region(
+            level,
+            Region {
+                x0: 0,
+                y0: 0,
+                x1: l.width,
+                y1: l.height,
+            },
+        )
+    }
+}
