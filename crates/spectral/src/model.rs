@@ -108,8 +108,15 @@ impl Model {
             format: Option<String>,
             version: Option<u32>,
         }
-        let header: Header = serde_json::from_str(text)
-            .map_err(|e| bad(format!("not a specconv model (JSON: {e})")))?;
+        let header: Header = serde_json::from_str(text).map_err(|e| {
+            if e.is_data() {
+                bad(format!("not a specconv model ({e})"))
+            } else {
+                bad(format!(
+                    "not valid JSON ({e}): the file is truncated, damaged or not a specconv model"
+                ))
+            }
+        })?;
         if header.format.as_deref() != Some(FORMAT) {
             return Err(bad(format!(
                 "not a specconv model (its \"format\" is not \"{FORMAT}\")"

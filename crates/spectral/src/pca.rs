@@ -119,13 +119,22 @@ pub enum Unfit {
 }
 
 /// PCA of a cluster from its scatter matrix `c` (n×n, row-major), with its error.
+pub fn fit(c: &[f64], a: &Colorimetry, max_condition: f64) -> Result<Fit, Unfit> {
+    fit_basis(c, a, max_condition, top_three(c, a.bands()))
+}
+
+/// As [`fit`] with the basis given: the exact eigenvectors, or a tracker's converged estimate.
 ///
 /// With r = B·M⁻¹·A·(s − μ) + μ, s − r = (I − B·M⁻¹·A)(s − μ) = P·(s − μ), so the summed error
-/// is tr(P·C·Pᵀ). Since C·B = B·Λ and BᵀB = I this is tr(C) − 2·tr(Λ) + tr(M⁻¹·G·M⁻ᵀ) with
-/// G = A·C·Aᵀ (3×3): a few 3×3 products once the eigenvectors are known.
-pub fn fit(c: &[f64], a: &Colorimetry, max_condition: f64) -> Result<Fit, Unfit> {
+/// is tr(P·C·Pᵀ) = tr(C) − 2·tr(M⁻¹·A·C·B) + tr(M⁻¹·G·M⁻ᵀ) with G = A·C·Aᵀ, using BᵀB = I:
+/// a few 3×n products, no pass over the spectra. (For exact eigenvectors A·C·B = M·Λ.)
+pub fn fit_basis(
+    c: &[f64],
+    a: &Colorimetry,
+    max_condition: f64,
+    basis: [Vec<f64>; 3],
+) -> Result<Fit, Unfit> {
     let n = a.bands();
-    let (values, basis) = top_three(c, n);
     let m = std::array::from_fn(|i| std::array::from_fn(|j| dot(&a.weights[i], &basis[j])));
     let mm = Matrix3::from_fn(|i, j| m[i][j]);
     let sv = mm.singular_values();
@@ -135,19 +144,20 @@ pub fn fit(c: &[f64], a: &Colorimetry, max_condition: f64) -> Result<Fit, Unfit>
     } else {
         f64::INFINITY
     };
-    if !(condition <= max_condition) {
+    if condition.is_nan() || condition > max_condition {
         return Err(Unfit::IllConditioned(condition));
     }
     let inv = mm.try_inverse().ok_or(Unfit::IllConditioned(condition))?;
-    // G = A·C·Aᵀ
+    // Rows of A·C (C is symmetric, so its rows are its columns).
     let ac: [Vec<f64>; 3] = std::array::from_fn(|i| {
         (0..n)
             .map(|j| dot(&a.weights[i], &c[j * n..(j + 1) * n]))
             .collect()
     });
     let g = Matrix3::from_fn(|i, j| dot(&ac[i], &a.weights[j]));
+    let acb = Matrix3::from_fn(|i, j| dot(&ac[i], &basis[j]));
     let trace_c: f64 = (0..n).map(|i| c[i * n + i]).sum();
-    let error = trace_c - 2.0 * values.iter().sum::<f64>() + (inv * g * inv.transpose()).trace();
+    let error = trace_c - 2.0 * (inv * acb).trace() + (inv * g * inv.transpose()).trace();
     Ok(Fit {
         basis,
         m,
@@ -158,9 +168,134 @@ pub fn fit(c: &[f64], a: &Colorimetry, max_condition: f64) -> Result<Fit, Unfit>
     })
 }
 
-/// The three largest eigenpairs of a symmetric matrix, signs fixed so that each vector's
-/// largest-magnitude component is positive (PCA leaves the sign free; a model must not).
-fn top_three(c: &[f64], n: usize) -> ([f64; 3], [Vec<f64>; 3]) {
+/// Follows the top three eigenvectors of a scatter matrix that changes a little at a time (one
+/// spectrum moves across a candidate split), by block orthogonal iteration with Rayleigh–Ritz
+/// started from the previous answer: a few n×n×P products instead of a full decomposition.
+/// The block is wider than three (P = 6) so that the top three converge at the rate λ₇/λ₃, not
+/// λ₄/λ₃. Falls back to the full decomposition when it does not converge.
+#[derive(Debug, Default)]
+pub struct Tracker {
+    /// The block, row-major n×P: q[b·P + k] is vector k at band b.
+    q: Vec<f64>,
+    /// Iterations run and full decompositions fallen back to, for tests and benchmarks.
+    pub iterations: usize,
+    pub fallbacks: usize,
+}
+
+const P: usize = 6;
+
+impl Tracker {
+    /// Residual bound ‖C·v − θ·v‖ ≤ TOL·θ₁ on each of the top three Ritz pairs: the basis is
+    /// then exact to about TOL/(relative eigengap), far below what changes a split decision.
+    const TOL: f64 = 1e-10;
+    const MAX_ITERATIONS: usize = 50;
+
+    pub fn top_three(&mut self, c: &[f64], n: usize) -> [Vec<f64>; 3] {
+        if n >= P && self.q.len() == n * P {
+            if let Some(top) = self.iterate(c, n) {
+                return top;
+            }
+            self.fallbacks += 1;
+        }
+        let v = top_eigenvectors(c, n, P.min(n));
+        if n >= P {
+            self.q = (0..n * P).map(|i| v[i % P][i / P]).collect();
+        }
+        std::array::from_fn(|k| v[k].clone())
+    }
+
+    fn iterate(&mut self, c: &[f64], n: usize) -> Option<[Vec<f64>; 3]> {
+        let mut z = vec![0.0; n * P];
+        for _ in 0..Self::MAX_ITERATIONS {
+            self.iterations += 1;
+            // Z = C·Q
+            for (i, row) in c.chunks_exact(n).enumerate() {
+                let mut acc = [0.0; P];
+                for (cij, qj) in row.iter().zip(self.q.chunks_exact(P)) {
+                    for k in 0..P {
+                        acc[k] += cij * qj[k];
+                    }
+                }
+                z[i * P..(i + 1) * P].copy_from_slice(&acc);
+            }
+            // Rayleigh–Ritz: H = Qᵀ·C·Q, symmetrised.
+            let mut h = nalgebra::SMatrix::<f64, P, P>::zeros();
+            for (qb, zb) in self.q.chunks_exact(P).zip(z.chunks_exact(P)) {
+                for i in 0..P {
+                    for j in 0..P {
+                        h[(i, j)] += qb[i] * zb[j];
+                    }
+                }
+            }
+            let h = (h + h.transpose()) * 0.5;
+            let eig = SymmetricEigen::new(h);
+            let mut order: [usize; P] = std::array::from_fn(|i| i);
+            order.sort_by(|&i, &j| eig.eigenvalues[j].total_cmp(&eig.eigenvalues[i]));
+            let w = nalgebra::SMatrix::<f64, P, P>::from_fn(|i, k| eig.eigenvectors[(i, order[k])]);
+            // Ritz vectors Y = Q·W and C·Y = Z·W.
+            let (mut y, mut cy) = (vec![0.0; n * P], vec![0.0; n * P]);
+            for b in 0..n {
+                for k in 0..P {
+                    let (mut sy, mut sz) = (0.0, 0.0);
+                    for i in 0..P {
+                        sy += self.q[b * P + i] * w[(i, k)];
+                        sz += z[b * P + i] * w[(i, k)];
+                    }
+                    y[b * P + k] = sy;
+                    cy[b * P + k] = sz;
+                }
+            }
+            let theta: [f64; P] = std::array::from_fn(|k| eig.eigenvalues[order[k]]);
+            let converged = (0..3).all(|k| {
+                let r2: f64 = (0..n)
+                    .map(|b| (cy[b * P + k] - theta[k] * y[b * P + k]).powi(2))
+                    .sum();
+                r2.sqrt() <= Self::TOL * theta[0].abs()
+            });
+            if converged {
+                self.q = y;
+                return Some(std::array::from_fn(|k| {
+                    (0..n).map(|b| self.q[b * P + k]).collect()
+                }));
+            }
+            self.q = cy;
+            if !orthonormalise(&mut self.q, n) {
+                return None;
+            }
+        }
+        None
+    }
+}
+
+/// Modified Gram–Schmidt on the columns of a row-major n×P block, twice for orthogonality to
+/// working precision; false when they are (numerically) dependent.
+fn orthonormalise(v: &mut [f64], n: usize) -> bool {
+    for _ in 0..2 {
+        for k in 0..P {
+            for j in 0..k {
+                let d: f64 = (0..n).map(|b| v[b * P + k] * v[b * P + j]).sum();
+                (0..n).for_each(|b| v[b * P + k] -= d * v[b * P + j]);
+            }
+            let norm = (0..n).map(|b| v[b * P + k].powi(2)).sum::<f64>().sqrt();
+            if !(norm > 0.0 && norm.is_finite()) {
+                return false;
+            }
+            (0..n).for_each(|b| v[b * P + k] /= norm);
+        }
+    }
+    true
+}
+
+/// The eigenvectors of the three largest eigenvalues of a symmetric matrix, signs fixed so
+/// that each vector's largest-magnitude component is positive (PCA leaves the sign free; a
+/// model must not).
+fn top_three(c: &[f64], n: usize) -> [Vec<f64>; 3] {
+    let mut v = top_eigenvectors(c, n, 3).into_iter();
+    std::array::from_fn(|_| v.next().expect("three eigenvectors"))
+}
+
+/// The eigenvectors of the `k` largest eigenvalues, by decreasing eigenvalue, signs fixed.
+fn top_eigenvectors(c: &[f64], n: usize, k: usize) -> Vec<Vec<f64>> {
     let eig = SymmetricEigen::new(DMatrix::from_row_slice(n, n, c));
     let mut order: Vec<usize> = (0..n).collect();
     order.sort_by(|&i, &j| {
@@ -168,19 +303,20 @@ fn top_three(c: &[f64], n: usize) -> ([f64; 3], [Vec<f64>; 3]) {
             .total_cmp(&eig.eigenvalues[i])
             .then(i.cmp(&j))
     });
-    let values = std::array::from_fn(|k| eig.eigenvalues[order[k]]);
-    let vectors = std::array::from_fn(|k| {
-        let mut v: Vec<f64> = eig.eigenvectors.column(order[k]).iter().copied().collect();
-        let peak = v
-            .iter()
-            .copied()
-            .fold(0.0f64, |p, x| if x.abs() > p.abs() { x } else { p });
-        if peak < 0.0 {
-            v.iter_mut().for_each(|x| *x = -*x);
-        }
-        v
-    });
-    (values, vectors)
+    order[..k]
+        .iter()
+        .map(|&col| {
+            let mut v: Vec<f64> = eig.eigenvectors.column(col).iter().copied().collect();
+            let peak = v
+                .iter()
+                .copied()
+                .fold(0.0f64, |p, x| if x.abs() > p.abs() { x } else { p });
+            if peak < 0.0 {
+                v.iter_mut().for_each(|x| *x = -*x);
+            }
+            v
+        })
+        .collect()
 }
 
 pub(crate) fn dot(a: &[f64], b: &[f64]) -> f64 {
@@ -281,6 +417,35 @@ mod tests {
                     .fold(0.0f64, |p, x| if x.abs() > p.abs() { x } else { p });
             assert!(peak > 0.0);
         }
+    }
+
+    #[test]
+    fn tracker_follows_the_exact_subspace_as_spectra_are_added() {
+        let data = spectra(120, 36);
+        let mut m = Moments::zero(36);
+        let mut tracker = Tracker::default();
+        for (k, s) in data.iter().enumerate() {
+            m.add(s);
+            if k < 10 {
+                continue;
+            }
+            let c = m.scatter();
+            let tracked = tracker.top_three(&c, 36);
+            let exact = top_three(&c, 36);
+            // Same subspace: the projectors B·Bᵀ agree.
+            for i in 0..36 {
+                for j in 0..36 {
+                    let p = |b: &[Vec<f64>; 3]| (0..3).map(|k| b[k][i] * b[k][j]).sum::<f64>();
+                    assert!((p(&tracked) - p(&exact)).abs() < 1e-7, "step {k}");
+                }
+            }
+        }
+        assert_eq!(tracker.fallbacks, 0);
+        assert!(
+            tracker.iterations < 10 * 110,
+            "{} iterations",
+            tracker.iterations
+        );
     }
 
     #[test]

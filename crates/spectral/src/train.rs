@@ -8,7 +8,7 @@
 //! and M's condition number within `max_condition`.
 
 use crate::model::{Axis, Leaf, Node, Training, FORMAT, VERSION};
-use crate::pca::{centred_scatter, fit, Moments};
+use crate::pca::{centred_scatter, fit, fit_basis, Moments, Tracker};
 use crate::{Colorimetry, Error, Model};
 
 /// The smallest cluster that has three principal components.
@@ -70,7 +70,7 @@ pub fn train(set: &TrainingSet, a: &Colorimetry, opts: &TrainOptions) -> Result<
             "the minimum cluster size must be at least {SMALLEST_CLUSTER}: three principal components need four spectra"
         ));
     }
-    if !(opts.max_condition >= 1.0) {
+    if opts.max_condition.is_nan() || opts.max_condition < 1.0 {
         return invalid("the condition bound must be at least 1".into());
     }
     if set.spectra.len() < opts.min_cluster_size {
@@ -238,17 +238,20 @@ fn best_split(
     let mut best: Option<(f64, usize, usize, f64)> = None;
     for (ax, order) in orders.iter().enumerate() {
         let mut below = Moments::zero(n);
+        let (mut track_below, mut track_above) = (Tracker::default(), Tracker::default());
         for k in 1..order.len() {
             below.add(&set.spectra[order[k - 1]]);
             let (lo, hi) = (xy[order[k - 1]][ax], xy[order[k]][ax]);
             if k < min || order.len() - k < min || lo >= hi {
                 continue;
             }
-            let above = total.minus(&below);
-            let Ok(f1) = fit(&below.scatter(), a, opts.max_condition) else {
+            let (c1, c2) = (below.scatter(), total.minus(&below).scatter());
+            let Ok(f1) = fit_basis(&c1, a, opts.max_condition, track_below.top_three(&c1, n))
+            else {
                 continue;
             };
-            let Ok(f2) = fit(&above.scatter(), a, opts.max_condition) else {
+            let Ok(f2) = fit_basis(&c2, a, opts.max_condition, track_above.top_three(&c2, n))
+            else {
                 continue;
             };
             let sum = f1.error + f2.error;

@@ -189,7 +189,7 @@ fn corrupt_model_files_are_refused() {
         m.to_json()
     };
     let cases: Vec<(String, &str)> = vec![
-        (String::new(), "not a specconv model"),
+        (String::new(), "not valid JSON"),
         ("[1,2]".into(), "not a specconv model"),
         (
             json.replace("specconv-model", "other"),
@@ -199,7 +199,10 @@ fn corrupt_model_files_are_refused() {
             json.replace("\"version\": 1", "\"version\": 99"),
             "version Some(99) is not supported",
         ),
-        (json[..json.len() / 2].to_string(), "malformed model"),
+        (
+            json[..json.len() / 2].to_string(),
+            "truncated, damaged or not a specconv model",
+        ),
         (
             json.replace("\"observer\": \"cie1931\"", "\"observer\": \"cie2000\""),
             "malformed model",
@@ -232,8 +235,15 @@ fn corrupt_model_files_are_refused() {
             edit(&|m| m.leaves[0].basis[0][3] = f64::NAN),
             "malformed model",
         ),
-        (edit(&|m| m.grid.step = 7.0), "bad wavelength grid"),
-        (edit(&|m| m.tree.truncate(1)), "not used by the tree"),
+        (edit(&|m| m.grid.step = 7.5), "bad wavelength grid"),
+        (
+            edit(&|m| m.tree.truncate(1)),
+            "refers to node 2, which does not exist",
+        ),
+        (
+            edit(&|m| m.tree = vec![Node::Leaf { leaf: 0 }]),
+            "leaf 1 is not used by the tree",
+        ),
         (
             edit(&|m| m.tree[0] = Node::Leaf { leaf: 40 }),
             "does not exist",
