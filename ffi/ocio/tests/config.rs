@@ -1,0 +1,238 @@
+//! Config selection, the built-in ACES config, input colour-space rules and every failure
+//! the issue lists: each an error value with a message that says what to do.
+
+use std::ffi::OsString;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use specconv_ocio::{ChoiceReason, Config, ConfigSource, Error};
+
+fn testdata(rel: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../testdata")
+        .join(rel)
+}
+
+fn aces_file() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("config/aces.ocio")
+}
+
+#[test]
+fn builtin_aces_config_passes_ociocheck() {
+    let out = Command::new("ociocheck")
+        .arg("--iconfig")
+        .arg(aces_file())
+        .output()
+        .expect("ociocheck not found on PATH (Debian: opencolorio-tools)");
+    let text =
+        String::from_utf8_lossy(&out.stdout).into_owned() + &String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{text}");
+    assert!(text.contains("** Validation **\npassed"), "{text}");
+    assert!(!text.contains("ERROR"), "{text}");
+}
+
+#[test]
+fn builtin_aces_config_is_what_the_script_generates() {
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("config/make_aces_config.py");
+    let out = Command::new("python3")
+        .arg(&script)
+        .output()
+        .expect("python3 not found");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert_eq!(
+        String::from_utf8(out.stdout).unwrap(),
+        specconv_ocio::ACES_CONFIG_YAML,
+        "config/aces.ocio is stale: python3 config/make_aces_config.py > config/aces.ocio"
+    );
+}
+
+#[test]
+fn builtin_aces_config_has_the_aces_cg_names_aliases_and_roles() {
+    let config = Config::builtin_aces().unwrap();
+    let names: Vec<String> = config
+        .color_spaces()
+        .unwrap()
+        .into_iter()
+        .map(|c| c.name)
+        .collect();
+    for name in [
+        "ACES2065-1",
+        "ACEScg",
+        "ACEScct",
+        "ACEScc",
+        "Linear Rec.709 (sRGB)",
+        "sRGB - Texture",
+        "Linear Rec.2020",
+        "Linear P3-D65",
+        "Rec.1886 Rec.709 - Display",
+        "Raw",
+        "CIE-XYZ-D65",
+    ] {
+        assert!(
+            names.iter().any(|n| n == name),
+            "{name} missing from {names:?}"
+        );
+    }
+    for (alias, canonical) in [
+        ("lin_rec709", "Linear Rec.709 (sRGB)"),
+        ("lin_srgb", "Linear Rec.709 (sRGB)"),
+        ("srgb_tx", "sRGB - Texture"),
+        ("srgb_texture", "sRGB - Texture"),
+        ("sRGB Encoded Rec.709 (sRGB)", "sRGB - Texture"),
+        ("acescg", "ACEScg"),
+        ("scene_linear", "ACEScg"),
+    ] {
+        assert_eq!(
+            config.color_space(alias).unwrap().name,
+            canonical,
+            "{alias}"
+        );
+    }
+    for (role, space) in [
+        ("scene_linear", "ACEScg"),
+        ("aces_interchange", "ACES2065-1"),
+        ("cie_xyz_d65_interchange", "CIE-XYZ-D65"),
+        ("color_picking", "sRGB - Texture"),
+        ("data", "Raw"),
+    ] {
+        assert_eq!(config.role(role).unwrap().as_deref(), Some(space), "{role}");
+    }
+    assert_eq!(config.role("no_such_role").unwrap(), None);
+    assert!(config.color_space("Raw").unwrap().is_data);
+    assert!(config.color_space("CIE-XYZ-D65").unwrap().is_display);
+}
+
+#[test]
+fn config_resolution_order() {
+    let file = aces_file();
+    let file_str = file.to_str().unwrap();
+    let env = || Some(OsString::from(testdata("ocio/no_interchange.ocio")));
+    // --ocio FILE beats $OCIO.
+    let c = Config::resolve_with_env(Some(file_str), env()).unwrap();
+    assert_eq!(c.source(), &ConfigSource::File(file.clone()));
+    // --ocio aces is the built-in config, whatever $OCIO says.
+    let c = Config::resolve_with_env(Some("aces"), env()).unwrap();
+    assert_eq!(c.source(), &ConfigSource::BuiltinAces);
+    // Then $OCIO.
+    let c = Config::resolve_with_env(None, env()).unwrap();
+    assert!(matches!(c.source(), ConfigSource::Env(_)));
+    assert_eq!(c.role("scene_linear").unwrap().as_deref(), Some("linear"));
+    // Then the built-in config; an empty $OCIO counts as unset.
+    for unset in [None, Some(OsString::new())] {
+        let c = Config::resolve_with_env(None, unset).unwrap();
+        assert_eq!(c.source(), &ConfigSource::BuiltinAces);
+    }
+}
+
+#[test]
+fn missing_config_file_is_reported_plainly() {
+    let err = Config::resolve_with_env(Some("/no/such/config.ocio"), None).unwrap_err();
+    assert!(matches!(err, Error::ConfigNotFound { .. }), "{err:?}");
+    assert_eq!(
+        err.to_string(),
+        "OCIO config /no/such/config.ocio: no such file"
+    );
+    let err = Config::resolve_with_env(None, Some("/no/such/env.ocio".into())).unwrap_err();
+    assert!(matches!(err, Error::ConfigNotFound { .. }), "{err:?}");
+}
+
+#[test]
+fn configs_that_fail_to_load_say_why() {
+    for (name, expect) in [
+        ("ocio/broken_yaml.ocio", "end of sequence flow not found"),
+        ("ocio/dangling_role.ocio", "no_such_space"),
+        ("images/srgb8.png", "failed to load"),
+    ] {
+        let err = Config::from_file(testdata(name)).unwrap_err();
+        assert!(matches!(err, Error::ConfigLoad { .. }), "{name}: {err:?}");
+        let msg = err.to_string();
+        assert!(
+            msg.contains("failed to load") && msg.contains(expect),
+            "{name}: {msg}"
+        );
+        assert!(!msg.contains('\n'), "one line: {msg}");
+    }
+}
+
+#[test]
+fn config_without_interchange_roles_is_refused() {
+    let config = Config::from_file(testdata("ocio/no_interchange.ocio")).unwrap();
+    let err = config.processor_to_xyz("linear").unwrap_err();
+    assert!(matches!(err, Error::NoInterchangeRole { .. }), "{err:?}");
+    assert!(err
+        .to_string()
+        .contains("neither a cie_xyz_d65_interchange nor an aces_interchange role"));
+}
+
+#[test]
+fn unknown_colour_space_lists_close_names() {
+    let config = Config::builtin_aces().unwrap();
+    let err = config.processor_to_xyz("ACEScgg").unwrap_err();
+    let msg = err.to_string();
+    assert!(matches!(err, Error::UnknownColorSpace { .. }), "{err:?}");
+    assert!(
+        msg.contains("unknown colour space 'ACEScgg'") && msg.contains("'ACEScg'"),
+        "{msg}"
+    );
+    let Error::UnknownColorSpace { close, .. } = config.color_space("srgb").unwrap_err() else {
+        panic!("expected UnknownColorSpace")
+    };
+    assert!(close.contains(&"sRGB - Texture".to_string()), "{close:?}");
+    let msg = config.color_space("zzzzzzzzzzzz").unwrap_err().to_string();
+    assert!(msg.contains("specconv colorspaces"), "{msg}");
+}
+
+#[test]
+fn raw_is_refused_for_uplifting() {
+    let config = Config::builtin_aces().unwrap();
+    for name in ["Raw", "raw", "data"] {
+        let err = config.processor_to_xyz(name).unwrap_err();
+        assert!(
+            matches!(err, Error::DataColorSpace { .. }),
+            "{name}: {err:?}"
+        );
+        assert!(err.to_string().contains("holds data, not colour"), "{err}");
+    }
+}
+
+#[test]
+fn input_colour_space_rules() {
+    let config = Config::builtin_aces().unwrap();
+    let choose = |flag, declared, integer| config.choose_input(flag, declared, integer).unwrap();
+
+    // --colorspace wins over the file and the default, and is canonicalised.
+    let c = choose(Some("lin_srgb"), Some("sRGB"), true);
+    assert_eq!(
+        (c.name.as_str(), &c.reason),
+        ("Linear Rec.709 (sRGB)", &ChoiceReason::Flag)
+    );
+    // The file's declaration, including OIIO's conventional names.
+    let c = choose(None, Some("sRGB"), true);
+    assert_eq!(c.name, "sRGB - Texture");
+    assert_eq!(c.reason, ChoiceReason::Declared("sRGB".into()));
+    assert_eq!(choose(None, Some("Linear"), false).name, "ACEScg");
+    assert_eq!(choose(None, Some("ACES2065-1"), false).name, "ACES2065-1");
+    // Defaults by pixel type.
+    assert_eq!(choose(None, None, true).name, "sRGB - Texture");
+    assert_eq!(choose(None, None, false).name, "ACEScg");
+    // A declaration the config does not know falls back to the default, and says so.
+    let c = choose(None, Some("Gamma2.2"), true);
+    assert_eq!(c.name, "sRGB - Texture");
+    assert_eq!(
+        c.to_string(),
+        "sRGB - Texture (default for integer pixels; the file declares 'Gamma2.2', which the config does not know)"
+    );
+    // An unknown --colorspace is an error, never a silent fallback.
+    assert!(matches!(
+        config.choose_input(Some("nope"), None, true),
+        Err(Error::UnknownColorSpace { .. })
+    ));
+    // A config with no scene_linear role and no sRGB texture space has no defaults.
+    let bare = Config::from_file(testdata("ocio/aces_interchange_only.ocio")).unwrap();
+    let err = bare.choose_input(None, None, true).unwrap_err();
+    assert!(err.to_string().contains("pass --colorspace"), "{err}");
+}
