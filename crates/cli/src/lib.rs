@@ -22,6 +22,8 @@ pub struct Cli {
 enum Command {
     Train(cmd::train::Args),
     Eval(cmd::eval::Args),
+    Info(cmd::info::Args),
+    Colorspaces(cmd::colorspaces::Args),
 }
 
 /// Runs the command line and returns the process exit code.
@@ -36,6 +38,8 @@ pub fn main() -> i32 {
     let result = match cli.command {
         Command::Train(args) => cmd::train::run(args),
         Command::Eval(args) => cmd::eval::run(args),
+        Command::Info(args) => cmd::info::run(args),
+        Command::Colorspaces(args) => cmd::colorspaces::run(args),
     };
     match result {
         Ok(()) => 0,

@@ -1,6 +1,6 @@
 //! How well a model reproduces measured spectra from their own colours (the paper's Table 1).
 
-use crate::{Colorimetry, Uplifter};
+use crate::{Colorimetry, Method};
 use serde::Serialize;
 
 /// One measured spectrum's outcome.
@@ -12,7 +12,8 @@ pub struct Outcome {
     pub roundtrip: f64,
     /// Every band of r within [0, 1].
     pub in_unit_range: bool,
-    pub leaf: usize,
+    /// The cluster used, for methods with clusters.
+    pub leaf: Option<usize>,
 }
 
 /// Mean, median and maximum.
@@ -33,9 +34,13 @@ pub struct Summary {
 }
 
 /// Uplifts every spectrum's XYZ (f64) and compares the result with the spectrum.
-pub fn evaluate(a: &Colorimetry, up: &Uplifter, spectra: &[Vec<f64>]) -> Vec<Outcome> {
-    let n = a.bands();
-    let mut r = vec![0.0; n];
+pub fn evaluate(a: &Colorimetry, up: &dyn Method, spectra: &[Vec<f64>]) -> Vec<Outcome> {
+    assert_eq!(
+        up.grid(),
+        a.grid,
+        "the method and the colorimetry must share a grid"
+    );
+    let mut r = vec![0.0; a.bands()];
     spectra
         .iter()
         .map(|s| {
@@ -49,7 +54,7 @@ pub fn evaluate(a: &Colorimetry, up: &Uplifter, spectra: &[Vec<f64>]) -> Vec<Out
                     .map(|k| (back[k] - c[k]).abs() / scale)
                     .fold(0.0, f64::max),
                 in_unit_range: r.iter().all(|v| (0.0..=1.0).contains(v)),
-                leaf: up.leaf(c),
+                leaf: up.cluster_of(c),
             }
         })
         .collect()
@@ -93,7 +98,7 @@ mod tests {
             delta_e,
             roundtrip: delta_e / 10.0,
             in_unit_range,
-            leaf: 0,
+            leaf: None,
         }
     }
 

@@ -31,7 +31,7 @@ pub use model::Model;
 pub use observer::{Illuminant, Observer};
 pub use table::SpectralTable;
 pub use train::{train, TrainOptions, TrainingSet};
-pub use uplift::Uplifter;
+pub use uplift::{Method, Uplifter};
 
 /// Everything that can go wrong in the science, with what to do about it in the message.
 #[derive(Debug, thiserror::Error)]

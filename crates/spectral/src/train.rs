@@ -47,7 +47,9 @@ pub struct TrainingSet {
 
 struct Cluster {
     members: Vec<usize>,
-    best: Option<Candidate>,
+    error: f64,
+    /// The best split once searched (searched only when a split may still follow).
+    best: Option<Option<Candidate>>,
 }
 
 struct Candidate {
@@ -95,7 +97,7 @@ pub fn train(set: &TrainingSet, a: &Colorimetry, opts: &TrainOptions) -> Result<
         }
     }
 
-    let root = cluster(set, &xy, a, opts, (0..set.spectra.len()).collect()).map_err(|cond| {
+    let root = cluster(set, a, opts, (0..set.spectra.len()).collect()).map_err(|cond| {
         Error::Training(format!(
             "the training spectra do not make a usable PCA: M's condition number is {cond:.3e} (bound {}); \
              the set is too small or too uniform (identical spectra?), or the bound too tight",
@@ -107,10 +109,15 @@ pub fn train(set: &TrainingSet, a: &Colorimetry, opts: &TrainOptions) -> Result<
     let mut clusters = vec![Some(root)];
     let mut live = 1;
     while live < opts.clusters {
+        for c in clusters.iter_mut().flatten() {
+            if c.best.is_none() {
+                c.best = Some(best_split(set, &xy, a, opts, &c.members, c.error));
+            }
+        }
         let pick = clusters
             .iter()
             .enumerate()
-            .filter_map(|(k, c)| Some((k, c.as_ref()?.best.as_ref()?.gain)))
+            .filter_map(|(k, c)| Some((k, c.as_ref()?.best.as_ref()?.as_ref()?.gain)))
             .fold(None, |best: Option<(usize, f64)>, (k, g)| match best {
                 Some((_, bg)) if bg >= g => best,
                 _ => Some((k, g)),
@@ -118,7 +125,7 @@ pub fn train(set: &TrainingSet, a: &Colorimetry, opts: &TrainOptions) -> Result<
         let Some((k, _)) = pick else { break };
         let split = clusters[k]
             .take()
-            .and_then(|c| c.best)
+            .and_then(|c| c.best.flatten())
             .expect("picked cluster has a split");
         let node = tree
             .iter()
@@ -136,7 +143,7 @@ pub fn train(set: &TrainingSet, a: &Colorimetry, opts: &TrainOptions) -> Result<
                 leaf: clusters.len(),
             });
             // The split search already checked both sides' conditioning.
-            let c = cluster(set, &xy, a, opts, members)
+            let c = cluster(set, a, opts, members)
                 .map_err(|_| Error::Training("internal: a split side lost its fit".into()))?;
             clusters.push(Some(c));
         }
@@ -180,10 +187,9 @@ fn refs<'a>(set: &'a TrainingSet, members: &[usize]) -> Vec<&'a [f64]> {
     members.iter().map(|&i| set.spectra[i].as_slice()).collect()
 }
 
-/// A cluster with its exact error and its best split; Err(condition) when it cannot be fitted.
+/// A cluster with its exact error; Err(condition) when it cannot be fitted.
 fn cluster(
     set: &TrainingSet,
-    xy: &[[f64; 2]],
     a: &Colorimetry,
     opts: &TrainOptions,
     members: Vec<usize>,
@@ -193,8 +199,11 @@ fn cluster(
         Ok(f) => f.error,
         Err(crate::pca::Unfit::IllConditioned(cond)) => return Err(cond),
     };
-    let best = best_split(set, xy, a, opts, &members, error);
-    Ok(Cluster { members, best })
+    Ok(Cluster {
+        members,
+        error,
+        best: None,
+    })
 }
 
 fn leaf(set: &TrainingSet, a: &Colorimetry, members: &[usize]) -> Leaf {

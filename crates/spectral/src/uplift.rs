@@ -1,7 +1,25 @@
 //! The runtime: r = T_leaf·c + o_leaf, one small matrix multiply per pixel (Eq. 7–8 folded).
 
 use crate::model::{Axis, Node};
-use crate::{Error, Model};
+use crate::{Error, Grid, Model};
+
+/// One way of turning XYZ colours into spectra: the clustered PCA and the baselines alike, so
+/// that evaluation, conversion and reports treat them the same.
+pub trait Method: Send + Sync {
+    /// The name used on the command line and in reports (`otsu2018`, …).
+    fn name(&self) -> &str;
+    /// The grid of the spectra it makes.
+    fn grid(&self) -> Grid;
+    /// Uplifts colours `xyz` (X, Y, Z per colour, white Y = 1) into `out` (one spectrum of
+    /// `grid().len()` values per colour).
+    fn uplift_f64(&self, xyz: &[f64], out: &mut [f64]);
+    /// As `uplift_f64`, in single precision.
+    fn uplift_f32(&self, xyz: &[f32], out: &mut [f32]);
+    /// The cluster a colour is uplifted by, for methods that have clusters.
+    fn cluster_of(&self, _xyz: [f64; 3]) -> Option<usize> {
+        None
+    }
+}
 
 /// A model prepared for uplifting: per leaf, T = B·M⁻¹ (n×3) and o = μ − T·c_μ, in f64 and f32.
 ///
@@ -12,6 +30,7 @@ use crate::{Error, Model};
 /// every band (the product propagates it).
 #[derive(Debug, Clone)]
 pub struct Uplifter {
+    grid: Grid,
     bands: usize,
     white: [f64; 2],
     /// (axis, value, below, above) per node; leaves have below = above = leaf index | LEAF.
@@ -72,6 +91,7 @@ impl Uplifter {
             .map(|t| t.iter().map(|&v| v as f32).collect())
             .collect();
         Ok(Uplifter {
+            grid: model.grid,
             bands: n,
             white,
             nodes,
@@ -97,9 +117,23 @@ impl Uplifter {
             }
         }
     }
+}
+
+impl Method for Uplifter {
+    fn name(&self) -> &str {
+        "otsu2018"
+    }
+
+    fn grid(&self) -> Grid {
+        self.grid
+    }
+
+    fn cluster_of(&self, xyz: [f64; 3]) -> Option<usize> {
+        Some(self.leaf(xyz))
+    }
 
     /// Uplifts colours `xyz` (X, Y, Z per pixel) into `out` (`bands` values per pixel).
-    pub fn uplift_f64(&self, xyz: &[f64], out: &mut [f64]) {
+    fn uplift_f64(&self, xyz: &[f64], out: &mut [f64]) {
         let n = self.bands;
         assert_eq!(
             xyz.len() / 3 * n,
@@ -112,9 +146,8 @@ impl Uplifter {
         }
     }
 
-    /// As [`Uplifter::uplift_f64`] in single precision; the leaf is chosen in double precision,
-    /// so both precisions agree on it.
-    pub fn uplift_f32(&self, xyz: &[f32], out: &mut [f32]) {
+    /// The leaf is chosen in double precision, so both precisions agree on it.
+    fn uplift_f32(&self, xyz: &[f32], out: &mut [f32]) {
         let n = self.bands;
         assert_eq!(
             xyz.len() / 3 * n,

@@ -4,6 +4,7 @@ mod common;
 use common::*;
 use proptest::prelude::*;
 use spectral::model::Node;
+use spectral::Method;
 use spectral::{
     eval, train, Colorimetry, Grid, Illuminant, Model, Observer, TrainOptions, Uplifter,
 };

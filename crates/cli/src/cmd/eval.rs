@@ -79,7 +79,7 @@ pub fn run(args: Args) -> Result<()> {
             println!(
                 "{:<12.6} {:>5} {:>9.1e} {:>7}  {}",
                 r.outcome.delta_e,
-                r.outcome.leaf,
+                r.outcome.leaf.map_or("-".into(), |l| l.to_string()),
                 r.outcome.roundtrip,
                 r.outcome.in_unit_range,
                 r.name
