@@ -1,0 +1,574 @@
+//! Spectral OpenEXR in the layout of Fichet, Pacanowski and Wilkie, "An OpenEXR Layout for
+//! Spectral Images" (JCGT 10(3), 2021), on the `exr` crate.
+//!
+//! Reflective bands are channels `T.<wavelength>nm`, emissive bands `S0.<wavelength>nm` with an
+//! `emissiveUnits` attribute; the wavelength is written with a comma as decimal separator and
+//! six decimals (`T.380,000000nm`), and the header carries `spectralLayoutVersion` = "1.0".
+//! Alpha passes through as `A`. OpenEXR sorts channels by name, so `T.1000,…` comes before
+//! `T.380,…`: this crate maps bands to channels by name, never by position, in both directions.
+//!
+//! Writing streams: [`SpectralFile::blocks`] lists the file's tiles (or scanline blocks) of
+//! every level; callers fill any block from any thread, [`SpectralFile::encode`] turns it into a
+//! compressed chunk, and [`SpectralFile::write`] writes chunks as they come. Nothing holds the
+//! whole image.
+#![forbid(unsafe_code)]
+
+use exr::block::chunk::Chunk;
+use exr::block::{BlockIndex, UncompressedBlock};
+use exr::math::{RoundingMode, Vec2};
+use exr::meta::attribute::{
+    AttributeValue, ChannelDescription, LevelMode, LineOrder, SampleType, Text, TileDescription,
+};
+use exr::meta::header::Header;
+use exr::meta::BlockDescription;
+use std::io::{Seek, Write};
+
+pub use exr::compression::Compression;
+
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    #[error("{0}")]
+    Invalid(String),
+    #[error("OpenEXR: {0}")]
+    Exr(#[from] exr::error::Error),
+}
+
+pub type Result<T> = std::result::Result<T, Error>;
+
+/// Reflectance (`T.` channels) or emission (`S0.` channels with their units).
+#[derive(Debug, Clone, PartialEq)]
+pub enum Kind {
+    Reflective,
+    Emissive { units: String },
+}
+
+/// How each sample is stored.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Sample {
+    Half,
+    Float,
+}
+
+/// Scanline blocks, or tiles with or without MIP levels.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Blocks {
+    Scanlines,
+    Tiles {
+        width: usize,
+        height: usize,
+        mip_levels: bool,
+    },
+}
+
+/// Everything about a spectral file but its pixels.
+#[derive(Debug, Clone)]
+pub struct Spec {
+    pub width: usize,
+    pub height: usize,
+    /// Band wavelengths in nm, in the order callers pass band values.
+    pub wavelengths: Vec<f64>,
+    pub kind: Kind,
+    pub alpha: bool,
+    pub sample: Sample,
+    pub compression: Compression,
+    pub blocks: Blocks,
+    /// Extra string attributes (names prefixed `specconv` by convention).
+    pub attributes: Vec<(String, String)>,
+}
+
+/// The channel name of a band: `T.550,000000nm` or `S0.550,000000nm`.
+pub fn channel_name(kind: &Kind, wavelength_nm: f64) -> String {
+    let prefix = match kind {
+        Kind::Reflective => "T",
+        Kind::Emissive { .. } => "S0",
+    };
+    format!(
+        "{prefix}.{}nm",
+        format!("{wavelength_nm:.6}").replace('.', ",")
+    )
+}
+
+/// The band a channel name denotes: (emissive?, wavelength in nm). Accepts the reference
+/// reader's forms: a comma or point as decimal separator, an exponent, an SI prefix on the unit
+/// (`nm`, `um`, `m`, …) and Hz for frequencies. Polarised S1–S3 channels are not bands here.
+pub fn parse_channel_name(name: &str) -> Option<(bool, f64)> {
+    let (emissive, rest) = if let Some(r) = name.strip_prefix("T.") {
+        (false, r)
+    } else if let Some(r) = name.strip_prefix("S0.") {
+        (true, r)
+    } else {
+        return None;
+    };
+    let (number, unit) =
+        rest.split_at(rest.find(|c: char| c.is_ascii_alphabetic() && c != 'e' && c != 'E')?);
+    let value: f64 = number.replace(',', ".").parse().ok()?;
+    let to_nm = match unit {
+        "nm" => 1.0,
+        "um" => 1e3,
+        "mm" => 1e6,
+        "m" => 1e9,
+        "pm" => 1e-3,
+        "Hz" | "kHz" | "MHz" | "GHz" | "THz" | "PHz" => {
+            let scale = match unit {
+                "Hz" => 1.0,
+                "kHz" => 1e3,
+                "MHz" => 1e6,
+                "GHz" => 1e9,
+                "THz" => 1e12,
+                _ => 1e15,
+            };
+            // λ = c / ν
+            return (value > 0.0).then(|| (emissive, 299_792_458.0 / (value * scale) * 1e9));
+        }
+        _ => return None,
+    };
+    (value.is_finite() && value > 0.0).then_some((emissive, value * to_nm))
+}
+
+/// One block of the file: a tile or scanline block of one MIP level.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Block {
+    /// Index of the chunk in the file, in increasing-y order within the header.
+    pub chunk: usize,
+    pub level: usize,
+    /// Position and size in pixels, within the level.
+    pub x: usize,
+    pub y: usize,
+    pub width: usize,
+    pub height: usize,
+}
+
+/// A spectral file being written: its header and how to encode blocks.
+#[derive(Debug)]
+pub struct SpectralFile {
+    spec: Spec,
+    header: Header,
+    /// For each header channel (sorted by name), where its value sits among a pixel's inputs:
+    /// band index, or `bands` for alpha.
+    source: Vec<usize>,
+}
+
+impl SpectralFile {
+    pub fn new(spec: Spec) -> Result<SpectralFile> {
+        if spec.width == 0 || spec.height == 0 {
+            return Err(Error::Invalid(format!(
+                "an image of {}×{} pixels has nothing to write",
+                spec.width, spec.height
+            )));
+        }
+        if spec.wavelengths.is_empty() {
+            return Err(Error::Invalid(
+                "a spectral image needs at least one band".into(),
+            ));
+        }
+        let sample_type = match spec.sample {
+            Sample::Half => SampleType::F16,
+            Sample::Float => SampleType::F32,
+        };
+        let mut named: Vec<(String, usize)> = spec
+            .wavelengths
+            .iter()
+            .enumerate()
+            .map(|(i, &w)| (channel_name(&spec.kind, w), i))
+            .collect();
+        if spec.alpha {
+            named.push(("A".into(), spec.wavelengths.len()));
+        }
+        named.sort();
+        if named.windows(2).any(|w| w[0].0 == w[1].0) {
+            return Err(Error::Invalid(
+                "two bands have the same wavelength to six decimals".into(),
+            ));
+        }
+        let channels = named
+            .iter()
+            .map(|(name, _)| {
+                ChannelDescription::new(Text::new_or_panic(name), sample_type, name == "A")
+            })
+            .collect();
+        let blocks = match spec.blocks {
+            Blocks::Scanlines => BlockDescription::ScanLines,
+            Blocks::Tiles {
+                width,
+                height,
+                mip_levels,
+            } => {
+                if width == 0 || height == 0 {
+                    return Err(Error::Invalid("tiles must be at least 1×1".into()));
+                }
+                BlockDescription::Tiles(TileDescription {
+                    tile_size: Vec2(width, height),
+                    level_mode: if mip_levels {
+                        LevelMode::MipMap
+                    } else {
+                        LevelMode::Singular
+                    },
+                    rounding_mode: RoundingMode::Down,
+                })
+            }
+        };
+        let mut header = Header::new(
+            Text::new_or_panic("spectral"),
+            Vec2(spec.width, spec.height),
+            channels,
+        )
+        .with_encoding(spec.compression, blocks, LineOrder::Increasing);
+        header.own_attributes.layer_name = None;
+        let mut text = |name: &str, value: &str| {
+            // EXR text is Latin-1; anything else is replaced rather than refused.
+            let value: String = value
+                .chars()
+                .map(|c| if (c as u32) < 256 { c } else { '?' })
+                .collect();
+            header.own_attributes.other.insert(
+                Text::new_or_panic(name),
+                AttributeValue::Text(Text::new_or_panic(value)),
+            );
+        };
+        text("spectralLayoutVersion", "1.0");
+        if let Kind::Emissive { units } = &spec.kind {
+            text("emissiveUnits", units);
+        }
+        for (k, v) in &spec.attributes {
+            if Text::new_or_none(k).is_none() || k.is_empty() {
+                return Err(Error::Invalid(format!(
+                    "attribute name '{k}' is not plain text"
+                )));
+            }
+            text(k, v);
+        }
+        let source = named.into_iter().map(|(_, i)| i).collect();
+        Ok(SpectralFile {
+            spec,
+            header,
+            source,
+        })
+    }
+
+    pub fn spec(&self) -> &Spec {
+        &self.spec
+    }
+
+    /// Values per pixel that [`SpectralFile::encode`] expects: the bands, then alpha if any.
+    pub fn values_per_pixel(&self) -> usize {
+        self.spec.wavelengths.len() + usize::from(self.spec.alpha)
+    }
+
+    /// Number of MIP levels the file has (1 unless MIP-mapped): ⌊log₂ max(w, h)⌋ + 1.
+    pub fn levels(&self) -> usize {
+        match self.spec.blocks {
+            Blocks::Tiles {
+                mip_levels: true, ..
+            } => (usize::BITS - self.spec.width.max(self.spec.height).leading_zeros()) as usize,
+            _ => 1,
+        }
+    }
+
+    /// Size of a MIP level (rounding down, as OpenImageIO's maketx does).
+    pub fn level_size(&self, level: usize) -> (usize, usize) {
+        (
+            (self.spec.width >> level).max(1),
+            (self.spec.height >> level).max(1),
+        )
+    }
+
+    /// Every block of the file, in the order of chunk indices.
+    pub fn blocks(&self) -> Vec<Block> {
+        exr::block::enumerate_ordered_header_block_indices(std::slice::from_ref(&self.header))
+            .map(|(chunk, b)| Block {
+                chunk,
+                level: b.level.x(),
+                x: b.pixel_position.x(),
+                y: b.pixel_position.y(),
+                width: b.pixel_size.x(),
+                height: b.pixel_size.y(),
+            })
+            .collect()
+    }
+
+    /// Encodes and compresses one block. `pixels` holds the block's pixels row by row, each
+    /// [`SpectralFile::values_per_pixel`] values. Values are stored as given (half rounds to
+    /// nearest; beyond ±65504 becomes ±infinity, NaN stays NaN).
+    pub fn encode(&self, block: &Block, pixels: &[f32]) -> Result<Chunk> {
+        let vpp = self.values_per_pixel();
+        if pixels.len() != block.width * block.height * vpp {
+            return Err(Error::Invalid(format!(
+                "block {}×{} needs {} values, got {}",
+                block.width,
+                block.height,
+                block.width * block.height * vpp,
+                pixels.len()
+            )));
+        }
+        let bytes = match self.spec.sample {
+            Sample::Half => 2,
+            Sample::Float => 4,
+        };
+        let mut data = Vec::with_capacity(pixels.len() * bytes);
+        for row in pixels.chunks_exact(block.width * vpp) {
+            for &src in &self.source {
+                for px in row.chunks_exact(vpp) {
+                    match self.spec.sample {
+                        Sample::Half => {
+                            data.extend_from_slice(&half::f16::from_f32(px[src]).to_ne_bytes())
+                        }
+                        Sample::Float => data.extend_from_slice(&px[src].to_ne_bytes()),
+                    }
+                }
+            }
+        }
+        let block = UncompressedBlock {
+            index: BlockIndex {
+                layer: 0,
+                pixel_position: Vec2(block.x, block.y),
+                pixel_size: Vec2(block.width, block.height),
+                level: Vec2(block.level, block.level),
+            },
+            data,
+        };
+        Ok(block.compress_to_chunk(std::slice::from_ref(&self.header))?)
+    }
+
+    /// Writes the header, then every chunk that `produce` hands to its callback (any order,
+    /// each exactly once), then completes the offset table. `out` should be buffered.
+    pub fn write<W, F>(&self, out: W, produce: F) -> Result<()>
+    where
+        W: Write + Seek,
+        F: FnOnce(&mut dyn FnMut(usize, Chunk) -> Result<()>) -> Result<()>,
+    {
+        use exr::block::writer::ChunksWriter;
+        let mut failure = None;
+        let written = exr::block::write(
+            out,
+            smallvec::smallvec![self.header.clone()],
+            true,
+            |_meta, writer| {
+                let mut sink = |index: usize, chunk: Chunk| -> Result<()> {
+                    Ok(writer.write_chunk(index, chunk)?)
+                };
+                if let Err(e) = produce(&mut sink) {
+                    failure = Some(e);
+                    // Abort the file: the caller discards it.
+                    return Err(exr::error::Error::Aborted);
+                }
+                Ok(())
+            },
+        );
+        match (failure, written) {
+            (Some(e), _) => Err(e),
+            (None, r) => Ok(r?),
+        }
+    }
+}
+
+/// A spectral image read whole (for previews, conversion back to colour and tests).
+#[derive(Debug, Clone)]
+pub struct SpectralImage {
+    pub width: usize,
+    pub height: usize,
+    /// Band wavelengths in nm, increasing; `bands[i]` is the plane of `wavelengths[i]`.
+    pub wavelengths: Vec<f64>,
+    pub kind: Kind,
+    /// One plane per band, row-major.
+    pub bands: Vec<Vec<f32>>,
+    pub alpha: Option<Vec<f32>>,
+    /// Text attributes of the header.
+    pub attributes: Vec<(String, String)>,
+}
+
+/// Reads the largest level of a spectral EXR. Files with both reflective and emissive bands
+/// are read as reflective.
+pub fn read(path: &std::path::Path) -> Result<SpectralImage> {
+    let image = exr::image::read::read_first_flat_layer_from_file(path)?;
+    let layer = image.layer_data;
+    let (width, height) = (layer.size.x(), layer.size.y());
+    let attributes: Vec<(String, String)> = layer
+        .attributes
+        .other
+        .iter()
+        .filter_map(|(k, v)| match v {
+            AttributeValue::Text(t) => Some((k.to_string(), t.to_string())),
+            _ => None,
+        })
+        .collect();
+    let plane = |c: &exr::image::AnyChannel<exr::image::FlatSamples>| -> Vec<f32> {
+        c.sample_data.values_as_f32().collect()
+    };
+    let mut bands: Vec<(bool, f64, Vec<f32>)> = Vec::new();
+    let mut alpha = None;
+    for c in &layer.channel_data.list {
+        let name = c.name.to_string();
+        if name == "A" {
+            alpha = Some(plane(c));
+        } else if let Some((emissive, nm)) = parse_channel_name(&name) {
+            bands.push((emissive, nm, plane(c)));
+        }
+    }
+    if bands.is_empty() {
+        return Err(Error::Invalid(format!(
+            "{} is not a spectral EXR: it has no T.<wavelength>nm or S0.<wavelength>nm channels",
+            path.display()
+        )));
+    }
+    let reflective = bands.iter().any(|b| !b.0);
+    bands.retain(|b| b.0 != reflective);
+    bands.sort_by(|a, b| a.1.total_cmp(&b.1));
+    let kind = if reflective {
+        Kind::Reflective
+    } else {
+        let units = attributes
+            .iter()
+            .find(|(k, _)| k == "emissiveUnits")
+            .map_or("", |(_, v)| v.as_str());
+        Kind::Emissive {
+            units: units.to_string(),
+        }
+    };
+    Ok(SpectralImage {
+        width,
+        height,
+        wavelengths: bands.iter().map(|b| b.1).collect(),
+        kind,
+        bands: bands.into_iter().map(|b| b.2).collect(),
+        alpha,
+        attributes,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn channel_names_follow_the_layout() {
+        assert_eq!(channel_name(&Kind::Reflective, 380.0), "T.380,000000nm");
+        assert_eq!(
+            channel_name(
+                &Kind::Emissive {
+                    units: "W.m^-2.sr^-1".into()
+                },
+                552.5
+            ),
+            "S0.552,500000nm"
+        );
+        assert_eq!(parse_channel_name("T.380,000000nm"), Some((false, 380.0)));
+        assert_eq!(parse_channel_name("S0.552,5nm"), Some((true, 552.5)));
+        assert_eq!(parse_channel_name("T.0,55um"), Some((false, 550.0)));
+        assert_eq!(parse_channel_name("T.5.5e2nm"), Some((false, 550.0)));
+        let (_, nm) = parse_channel_name("T.545,077196THz").unwrap();
+        assert!((nm - 550.0).abs() < 1e-3, "{nm}");
+        for bad in ["R", "A", "T.nm", "T.-5nm", "S1.500nm", "T.500", "T.500xm"] {
+            assert_eq!(parse_channel_name(bad), None, "{bad}");
+        }
+    }
+
+    fn spec(blocks: Blocks, alpha: bool) -> Spec {
+        Spec {
+            width: 37,
+            height: 21,
+            wavelengths: vec![380.0, 550.0, 1000.0],
+            kind: Kind::Reflective,
+            alpha,
+            sample: Sample::Float,
+            compression: Compression::ZIP16,
+            blocks,
+            attributes: vec![("specconvMethod".into(), "otsu2018".into())],
+        }
+    }
+
+    #[test]
+    fn blocks_cover_every_level_once() {
+        let f = SpectralFile::new(spec(
+            Blocks::Tiles {
+                width: 8,
+                height: 8,
+                mip_levels: true,
+            },
+            false,
+        ))
+        .unwrap();
+        assert_eq!(f.levels(), 6);
+        for level in 0..f.levels() {
+            let (w, h) = f.level_size(level);
+            let area: usize = f
+                .blocks()
+                .iter()
+                .filter(|b| b.level == level)
+                .map(|b| b.width * b.height)
+                .sum();
+            assert_eq!(area, w * h, "level {level}");
+        }
+        let chunks: Vec<usize> = f.blocks().iter().map(|b| b.chunk).collect();
+        assert_eq!(chunks, (0..chunks.len()).collect::<Vec<_>>());
+    }
+
+    #[test]
+    fn written_files_read_back_band_by_band_whatever_the_channel_order() {
+        for (blocks, alpha) in [
+            (Blocks::Scanlines, true),
+            (
+                Blocks::Tiles {
+                    width: 16,
+                    height: 8,
+                    mip_levels: false,
+                },
+                false,
+            ),
+        ] {
+            let f = SpectralFile::new(spec(blocks, alpha)).unwrap();
+            let vpp = f.values_per_pixel();
+            // Band b of pixel (x, y) holds b + x/100 + y/10000; alpha is 0.5.
+            let value = |x: usize, y: usize, b: usize| {
+                if b == 3 {
+                    0.5
+                } else {
+                    b as f32 + x as f32 / 100.0 + y as f32 / 10000.0
+                }
+            };
+            let mut buf = std::io::Cursor::new(Vec::new());
+            f.write(&mut buf, |sink| {
+                for b in f.blocks() {
+                    let px: Vec<f32> = (0..b.height)
+                        .flat_map(|y| {
+                            (0..b.width).flat_map(move |x| {
+                                (0..vpp).map(move |c| value(b.x + x, b.y + y, c))
+                            })
+                        })
+                        .collect();
+                    sink(b.chunk, f.encode(&b, &px)?)?;
+                }
+                Ok(())
+            })
+            .unwrap();
+            let path = std::env::temp_dir()
+                .join(format!("specconv-exr-{}-{alpha}.exr", std::process::id()));
+            std::fs::write(&path, buf.into_inner()).unwrap();
+            let img = read(&path).unwrap();
+            std::fs::remove_file(&path).unwrap();
+            assert_eq!((img.width, img.height), (37, 21));
+            assert_eq!(img.wavelengths, vec![380.0, 550.0, 1000.0]);
+            for (b, plane) in img.bands.iter().enumerate() {
+                assert_eq!(plane[5 * 37 + 7], value(7, 5, b));
+            }
+            assert_eq!(img.alpha.is_some(), alpha);
+            assert!(img
+                .attributes
+                .contains(&("spectralLayoutVersion".into(), "1.0".into())));
+            assert!(img
+                .attributes
+                .contains(&("specconvMethod".into(), "otsu2018".into())));
+        }
+    }
+
+    #[test]
+    fn a_failing_producer_aborts_the_write_with_its_error() {
+        let f = SpectralFile::new(spec(Blocks::Scanlines, false)).unwrap();
+        let mut buf = std::io::Cursor::new(Vec::new());
+        let err = f
+            .write(&mut buf, |_| Err(Error::Invalid("input went away".into())))
+            .unwrap_err();
+        assert_eq!(err.to_string(), "input went away");
+        let bad = f.encode(&f.blocks()[0], &[0.0; 3]).unwrap_err();
+        assert!(bad.to_string().contains("needs"), "{bad}");
+    }
+}
