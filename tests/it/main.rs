@@ -1,4 +1,5 @@
 //! Integration tests of the `specconv` binary: one test crate, modules per command.
 
+mod info;
 mod runner;
 mod train_eval;

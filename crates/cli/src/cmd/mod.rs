@@ -1,4 +1,6 @@
 //! One module per subcommand: its clap arguments (whose doc comments are the help text and man
 //! page) and its `run`.
+pub mod colorspaces;
 pub mod eval;
+pub mod info;
 pub mod train;

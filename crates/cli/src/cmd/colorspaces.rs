@@ -1,0 +1,114 @@
+//! `specconv colorspaces`: the colour spaces of an OCIO config.
+
+use anyhow::Result;
+use serde::Serialize;
+use specconv_ocio::Config;
+
+/// List the colour spaces of an OCIO config, with their aliases and the roles specconv
+/// uses.
+///
+/// Any name or alias listed can be given to --colorspace. Data spaces (such as Raw) are
+/// listed but cannot be uplifted.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// OCIO config file, or `aces` for the built-in ACES config [default: $OCIO, else aces].
+    #[arg(long, value_name = "CONFIG")]
+    ocio: Option<String>,
+    /// Print one JSON object instead of text.
+    #[arg(long)]
+    json: bool,
+}
+
+/// Roles that decide how specconv reads and converts colours.
+const ROLES: [&str; 5] = [
+    "scene_linear",
+    "cie_xyz_d65_interchange",
+    "aces_interchange",
+    "color_picking",
+    "data",
+];
+
+#[derive(Serialize)]
+struct Report {
+    config: String,
+    roles: Vec<Role>,
+    color_spaces: Vec<Space>,
+}
+
+#[derive(Serialize)]
+struct Role {
+    role: &'static str,
+    color_space: Option<String>,
+}
+
+#[derive(Serialize)]
+struct Space {
+    name: String,
+    aliases: Vec<String>,
+    family: String,
+    encoding: String,
+    reference: &'static str,
+    is_data: bool,
+}
+
+pub fn run(args: Args) -> Result<()> {
+    let config = Config::resolve(args.ocio.as_deref())?;
+    let mut roles = Vec::new();
+    for role in ROLES {
+        roles.push(Role {
+            role,
+            color_space: config.role(role)?,
+        });
+    }
+    let report = Report {
+        config: config.source().to_string(),
+        roles,
+        color_spaces: config
+            .color_spaces()?
+            .into_iter()
+            .map(|c| Space {
+                name: c.name,
+                aliases: c.aliases,
+                family: c.family,
+                encoding: c.encoding,
+                reference: if c.is_display { "display" } else { "scene" },
+                is_data: c.is_data,
+            })
+            .collect(),
+    };
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&report)?);
+        return Ok(());
+    }
+    println!("config: {}", report.config);
+    println!();
+    println!("roles:");
+    for r in &report.roles {
+        println!(
+            "  {:<24} {}",
+            r.role,
+            r.color_space.as_deref().unwrap_or("(not defined)")
+        );
+    }
+    println!();
+    println!("colour spaces:");
+    for c in &report.color_spaces {
+        let mut notes = Vec::new();
+        if c.is_data {
+            notes.push("data, cannot be uplifted".to_owned());
+        }
+        if c.reference == "display" {
+            notes.push("display-referred".to_owned());
+        }
+        let notes = if notes.is_empty() {
+            String::new()
+        } else {
+            format!("  [{}]", notes.join("; "))
+        };
+        println!("  {}{notes}", c.name);
+        if !c.aliases.is_empty() {
+            println!("      aliases: {}", c.aliases.join(", "));
+        }
+    }
+    Ok(())
+}

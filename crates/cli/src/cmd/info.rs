@@ -1,0 +1,198 @@
+//! `specconv info`: what the image reader sees in a file, and which colour space specconv
+//! would read it in.
+
+use anyhow::Result;
+use serde::Serialize;
+use specconv_ocio::{ChoiceReason, Config, XyzRoute};
+use specconv_oiio::{ImageInfo, ImageReader};
+use std::path::PathBuf;
+
+/// Show an image as specconv reads it: size, channels, pixel format, tiles, MIP levels,
+/// the colour space the file declares and the one specconv would use, and for spectral
+/// EXRs the wavelength bands.
+///
+/// The input colour space follows the rules of the conversion: --colorspace, else the
+/// file's declaration if the OCIO config knows it, else sRGB - Texture for integer pixels
+/// and the config's scene_linear role for float pixels. The route to CIE XYZ is checked
+/// too, so `info` fails, saying why, where a conversion would (a data colour space such as
+/// Raw, a config without an interchange role).
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// Image file, in any format OpenImageIO reads (EXR, TIFF/.tx, PNG, JPEG, HDR, ...).
+    file: PathBuf,
+    /// OCIO config file, or `aces` for the built-in ACES config [default: $OCIO, else aces].
+    #[arg(long, value_name = "CONFIG")]
+    ocio: Option<String>,
+    /// Colour space to read the file in, overriding its declaration.
+    #[arg(long, visible_alias = "iscolorspace", value_name = "NAME")]
+    colorspace: Option<String>,
+    /// Print one JSON object instead of text.
+    #[arg(long)]
+    json: bool,
+}
+
+#[derive(Serialize)]
+struct Report<'a> {
+    file: String,
+    format: &'a str,
+    width: u32,
+    height: u32,
+    channels: Vec<Channel<'a>>,
+    alpha_channel: Option<usize>,
+    pixel_format: String,
+    tile_size: Option<[u32; 2]>,
+    mip_levels: Vec<[u32; 2]>,
+    subimages: u32,
+    declared_color_space: Option<&'a str>,
+    color_space: ColorSpace,
+    /// How the colour space reaches CIE XYZ (D65).
+    to_xyz: String,
+    spectral: Option<Spectral>,
+}
+
+#[derive(Serialize)]
+struct Channel<'a> {
+    name: &'a str,
+    format: String,
+}
+
+#[derive(Serialize)]
+struct ColorSpace {
+    name: String,
+    /// "colorspace option", "declared" or "default"
+    chosen_by: &'static str,
+    description: String,
+}
+
+/// Wavelengths (nm) of the spectral channels, by the Fichet 2021 EXR layout.
+#[derive(Serialize)]
+struct Spectral {
+    reflective_nm: Vec<f64>,
+    emissive_nm: Vec<f64>,
+}
+
+/// Parses `T.<wl>nm` / `S0.<wl>nm` channel names (comma decimal separator) into
+/// wavelengths in nm. Other units of the layout are not written by specconv.
+fn spectral_bands(info: &ImageInfo) -> Option<Spectral> {
+    let parse = |prefix: &str| -> Vec<f64> {
+        let mut v: Vec<f64> = info
+            .channels
+            .iter()
+            .filter_map(|c| c.name.strip_prefix(prefix)?.strip_suffix("nm"))
+            .filter_map(|wl| wl.replace(',', ".").parse().ok())
+            .collect();
+        // EXR sorts channels by name, so order by wavelength here.
+        v.sort_by(f64::total_cmp);
+        v
+    };
+    let s = Spectral {
+        reflective_nm: parse("T."),
+        emissive_nm: parse("S0."),
+    };
+    (!s.reflective_nm.is_empty() || !s.emissive_nm.is_empty()).then_some(s)
+}
+
+pub fn run(args: Args) -> Result<()> {
+    let reader = ImageReader::open(&args.file)?;
+    let info = reader.info();
+    let config = Config::resolve(args.ocio.as_deref())?;
+    let choice = config.choose_input(
+        args.colorspace.as_deref(),
+        info.declared_color_space.as_deref(),
+        info.pixel_format().is_integer(),
+    )?;
+    let to_xyz = match config.processor_to_xyz(&choice.name)?.route() {
+        XyzRoute::CieXyzD65Interchange(cs) => format!("through cie_xyz_d65_interchange ({cs})"),
+        XyzRoute::AcesInterchange(cs) => format!(
+            "through aces_interchange ({cs}) and OCIO's UTILITY - ACES-AP0_to_CIE-XYZ-D65_BFD"
+        ),
+        XyzRoute::Direct(cs) => format!("directly to {cs}"),
+    };
+    let chosen_by = match choice.reason {
+        ChoiceReason::Flag => "colorspace option",
+        ChoiceReason::Declared(_) => "declared",
+        ChoiceReason::Default { .. } => "default",
+    };
+    let report = Report {
+        file: args.file.display().to_string(),
+        format: &info.format_name,
+        width: info.width(),
+        height: info.height(),
+        channels: info
+            .channels
+            .iter()
+            .map(|c| Channel {
+                name: &c.name,
+                format: c.format.to_string(),
+            })
+            .collect(),
+        alpha_channel: info.alpha_channel,
+        pixel_format: info.pixel_format().to_string(),
+        tile_size: info.tile_size().map(|(w, h)| [w, h]),
+        mip_levels: info.levels.iter().map(|l| [l.width, l.height]).collect(),
+        subimages: info.subimages,
+        declared_color_space: info.declared_color_space.as_deref(),
+        color_space: ColorSpace {
+            name: choice.name.clone(),
+            chosen_by,
+            description: choice.to_string(),
+        },
+        to_xyz,
+        spectral: spectral_bands(info),
+    };
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&report)?);
+        return Ok(());
+    }
+    let r = &report;
+    println!("file:         {}", r.file);
+    println!("format:       {}", r.format);
+    println!("size:         {} x {}", r.width, r.height);
+    let names: Vec<String> = r
+        .channels
+        .iter()
+        .map(|c| {
+            if c.format == r.pixel_format {
+                c.name.to_owned()
+            } else {
+                format!("{} ({})", c.name, c.format)
+            }
+        })
+        .collect();
+    println!("channels:     {} ({})", r.channels.len(), names.join(", "));
+    if let Some(a) = r.alpha_channel {
+        println!("alpha:        {}", r.channels[a].name);
+    }
+    println!("pixel format: {}", r.pixel_format);
+    match r.tile_size {
+        Some([w, h]) => println!("storage:      tiles of {w} x {h}"),
+        None => println!("storage:      scanlines"),
+    }
+    let levels: Vec<String> = r
+        .mip_levels
+        .iter()
+        .map(|[w, h]| format!("{w}x{h}"))
+        .collect();
+    println!("MIP levels:   {} ({})", levels.len(), levels.join(" "));
+    if r.subimages > 1 {
+        println!("subimages:    {} (only the first is read)", r.subimages);
+    }
+    println!(
+        "declared:     {}",
+        r.declared_color_space
+            .unwrap_or("(no colour space declared)")
+    );
+    println!("colour space: {}", r.color_space.description);
+    println!("to XYZ:       {}", r.to_xyz);
+    if let Some(s) = &r.spectral {
+        for (kind, bands) in [
+            ("reflective", &s.reflective_nm),
+            ("emissive", &s.emissive_nm),
+        ] {
+            if let (Some(first), Some(last)) = (bands.first(), bands.last()) {
+                println!("{kind}:   {} bands, {first} to {last} nm", bands.len());
+            }
+        }
+    }
+    Ok(())
+}

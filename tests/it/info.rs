@@ -1,0 +1,233 @@
+//! `specconv info` and `specconv colorspaces` from the command line, and every input
+//! failure of issue 3: one `specconv: error:` line, exit 1, no panic.
+
+use crate::runner::*;
+use std::path::{Path, PathBuf};
+
+fn testdata(rel: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("testdata")
+        .join(rel)
+}
+
+fn arg(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
+
+fn json(s: &str) -> serde_json::Value {
+    serde_json::from_str(s).unwrap_or_else(|e| panic!("not JSON ({e}):\n{s}"))
+}
+
+#[test]
+fn info_describes_a_mipmapped_texture() {
+    let tx = testdata("images/srgba8.tx");
+    let out = specconv(["info", arg(&tx)]);
+    let text = out.ok();
+    for line in [
+        "format:       tiff",
+        "size:         61 x 47",
+        "channels:     4 (R, G, B, A)",
+        "alpha:        A",
+        "pixel format: uint8",
+        "storage:      tiles of 16 x 16",
+        "MIP levels:   6 (61x47 30x23 15x11 7x5 3x2 1x1)",
+        "declared:     sRGB",
+        "colour space: sRGB - Texture (declared by the file as 'sRGB')",
+        "to XYZ:       through cie_xyz_d65_interchange (CIE-XYZ-D65)",
+    ] {
+        assert!(text.contains(line), "missing {line:?} in\n{text}");
+    }
+}
+
+#[test]
+fn info_json_reports_what_the_reader_sees_and_the_colour_space_choice() {
+    let v = json(
+        specconv([
+            "info",
+            "--json",
+            arg(&testdata("images/half_tiled_alpha.exr")),
+        ])
+        .ok(),
+    );
+    assert_eq!(v["format"], "openexr");
+    assert_eq!(
+        (v["width"].as_u64(), v["height"].as_u64()),
+        (Some(61), Some(47))
+    );
+    assert_eq!(v["pixel_format"], "half");
+    assert_eq!(v["tile_size"], serde_json::json!([16, 16]));
+    assert_eq!(v["mip_levels"], serde_json::json!([[61, 47]]));
+    assert_eq!(v["channels"].as_array().unwrap().len(), 4);
+    assert_eq!(v["alpha_channel"], 3);
+    // OIIO's EXR reader says "Linear", which means the config's scene_linear.
+    assert_eq!(v["color_space"]["name"], "ACEScg");
+    assert_eq!(v["color_space"]["chosen_by"], "declared");
+    assert!(v["spectral"].is_null());
+
+    // No declaration and integer pixels: sRGB - Texture by default.
+    let v = json(specconv(["info", "--json", arg(&testdata("images/rgb16.tif"))]).ok());
+    assert_eq!(v["declared_color_space"], serde_json::Value::Null);
+    assert_eq!(v["color_space"]["name"], "sRGB - Texture");
+    assert_eq!(v["color_space"]["chosen_by"], "default");
+
+    // --colorspace (or oiiotool's --iscolorspace) wins, by name or alias.
+    for flag in ["--colorspace", "--iscolorspace"] {
+        let v = json(
+            specconv([
+                "info",
+                "--json",
+                flag,
+                "lin_rec2020",
+                arg(&testdata("images/srgb8.png")),
+            ])
+            .ok(),
+        );
+        assert_eq!(v["color_space"]["name"], "Linear Rec.2020");
+        assert_eq!(v["color_space"]["chosen_by"], "colorspace option");
+    }
+}
+
+#[test]
+fn info_reads_every_testdata_image() {
+    let mut n = 0;
+    for entry in std::fs::read_dir(testdata("images")).unwrap() {
+        let path = entry.unwrap().path();
+        let v = json(specconv(["info", "--json", arg(&path)]).ok());
+        assert!(v["width"].as_u64().unwrap() > 0, "{}", path.display());
+        n += 1;
+    }
+    assert!(n >= 10);
+}
+
+#[test]
+fn colorspaces_lists_names_aliases_and_roles() {
+    let text = specconv(["colorspaces"]).ok().to_owned();
+    assert!(text.starts_with("config: 'aces' (built in)"), "{text}");
+    for needle in [
+        "scene_linear             ACEScg",
+        "cie_xyz_d65_interchange  CIE-XYZ-D65",
+        "  sRGB - Texture\n      aliases: srgb_tx, srgb_texture, sRGB Encoded Rec.709 (sRGB)",
+        "  Raw  [data, cannot be uplifted]",
+        "  CIE-XYZ-D65  [display-referred]",
+    ] {
+        assert!(text.contains(needle), "missing {needle:?} in\n{text}");
+    }
+    let v = json(specconv(["colorspaces", "--json", "--ocio", "aces"]).ok());
+    let names: Vec<&str> = v["color_spaces"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| c["name"].as_str().unwrap())
+        .collect();
+    assert!(
+        names.contains(&"ACEScct") && names.contains(&"Linear P3-D65"),
+        "{names:?}"
+    );
+}
+
+#[test]
+fn colorspaces_reads_a_config_file_and_ocio_from_the_environment() {
+    let cfg = testdata("ocio/aces_interchange_only.ocio");
+    let text = specconv(["colorspaces", "--ocio", arg(&cfg)])
+        .ok()
+        .to_owned();
+    assert!(
+        text.contains("cie_xyz_d65_interchange  (not defined)"),
+        "{text}"
+    );
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_specconv"))
+        .arg("colorspaces")
+        .env("OCIO", &cfg)
+        .output()
+        .unwrap();
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(out.status.success());
+    assert!(
+        text.contains("(from $OCIO)") && text.contains("aces_interchange         ACES2065-1"),
+        "{text}"
+    );
+}
+
+#[test]
+fn info_uses_the_aces_interchange_route_when_there_is_no_xyz_role() {
+    let cfg = testdata("ocio/aces_interchange_only.ocio");
+    let exr = testdata("images/float_scanline.exr");
+    let text = specconv(["info", "--ocio", arg(&cfg), arg(&exr)])
+        .ok()
+        .to_owned();
+    assert!(
+        text.contains("through aces_interchange (ACES2065-1)"),
+        "{text}"
+    );
+}
+
+/// One error line (libpng may add its own diagnostics for broken PNGs), exit 1.
+#[track_caller]
+fn fails_clearly(args: &[&str], needles: &[&str]) {
+    let out = specconv(args);
+    out.fails(1, needles);
+    let ours: Vec<&str> = out
+        .stderr
+        .lines()
+        .filter(|l| l.starts_with("specconv:"))
+        .collect();
+    assert_eq!(ours.len(), 1, "{}", out.stderr);
+    assert!(ours[0].starts_with("specconv: error: "), "{}", out.stderr);
+}
+
+#[test]
+fn bad_images_fail_with_one_clear_line() {
+    let missing = testdata("images/missing.exr");
+    fails_clearly(&["info", arg(&missing)], &["missing.exr: no such file"]);
+    for (name, needle) in [
+        ("broken/truncated.exr", "Unexpected end of file"),
+        ("broken/truncated.png", "end of file"),
+        ("broken/not_an_image.png", "Not a PNG file"),
+        ("broken/unknown.format", "could not find a format reader"),
+    ] {
+        let p = testdata(name);
+        fails_clearly(
+            &["info", arg(&p)],
+            &[name.rsplit('/').next().unwrap(), needle],
+        );
+    }
+}
+
+#[test]
+fn bad_colour_management_fails_with_one_clear_line() {
+    let png = testdata("images/srgb8.png");
+    fails_clearly(
+        &["info", "--colorspace", "ACEScgg", arg(&png)],
+        &["unknown colour space 'ACEScgg'", "did you mean 'ACEScg'"],
+    );
+    fails_clearly(
+        &["info", "--colorspace", "Raw", arg(&png)],
+        &["holds data, not colour"],
+    );
+    fails_clearly(
+        &["colorspaces", "--ocio", "/no/such.ocio"],
+        &["/no/such.ocio: no such file"],
+    );
+    for (cfg, needle) in [
+        ("ocio/broken_yaml.ocio", "end of sequence flow not found"),
+        ("ocio/dangling_role.ocio", "no_such_space"),
+    ] {
+        let c = testdata(cfg);
+        fails_clearly(
+            &["colorspaces", "--ocio", arg(&c)],
+            &["failed to load", needle],
+        );
+    }
+    let c = testdata("ocio/no_interchange.ocio");
+    fails_clearly(
+        &[
+            "info",
+            "--ocio",
+            arg(&c),
+            "--colorspace",
+            "linear",
+            arg(&png),
+        ],
+        &["neither a cie_xyz_d65_interchange nor an aces_interchange role"],
+    );
+}
