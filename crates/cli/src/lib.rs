@@ -11,19 +11,32 @@ mod files;
 
 /// Turn textures in any colour space into spectral reflectance images, with the clustered-PCA
 /// uplift of Otsu, Yamamoto and Hachisuka 2018.
+///
+/// `specconv [OPTIONS] INPUT OUTPUT` converts a texture (see `specconv convert --help`); the
+/// other commands train and evaluate models and inspect files and colour configs.
 #[derive(Debug, Parser)]
-#[command(name = "specconv", version, max_term_width = 100)]
+#[command(
+    name = "specconv",
+    version,
+    max_term_width = 100,
+    args_conflicts_with_subcommands = true,
+    subcommand_negates_reqs = true
+)]
 pub struct Cli {
     #[command(subcommand)]
-    command: Command,
+    command: Option<Command>,
+    #[command(flatten)]
+    convert: cmd::convert::Args,
 }
 
 #[derive(Debug, Subcommand)]
 enum Command {
+    Convert(cmd::convert::Args),
     Train(cmd::train::Args),
     Eval(cmd::eval::Args),
     Info(cmd::info::Args),
     Colorspaces(cmd::colorspaces::Args),
+    ToRgb(cmd::to_rgb::Args),
 }
 
 /// Runs the command line and returns the process exit code.
@@ -36,17 +49,27 @@ pub fn main() -> i32 {
         }
     };
     let result = match cli.command {
-        Command::Train(args) => cmd::train::run(args),
-        Command::Eval(args) => cmd::eval::run(args),
-        Command::Info(args) => cmd::info::run(args),
-        Command::Colorspaces(args) => cmd::colorspaces::run(args),
+        None => cmd::convert::run(cli.convert),
+        Some(Command::Convert(args)) => cmd::convert::run(args),
+        Some(command) => run(command).map(|()| 0),
     };
     match result {
-        Ok(()) => 0,
+        Ok(code) => code,
         Err(e) => {
             report(&e);
             1
         }
+    }
+}
+
+fn run(command: Command) -> anyhow::Result<()> {
+    match command {
+        Command::Convert(_) => unreachable!("dispatched above"),
+        Command::Train(args) => cmd::train::run(args),
+        Command::Eval(args) => cmd::eval::run(args),
+        Command::Info(args) => cmd::info::run(args),
+        Command::Colorspaces(args) => cmd::colorspaces::run(args),
+        Command::ToRgb(args) => cmd::to_rgb::run(args),
     }
 }
 

@@ -13,7 +13,6 @@
 //! whole image.
 #![forbid(unsafe_code)]
 
-use exr::block::chunk::Chunk;
 use exr::block::{BlockIndex, UncompressedBlock};
 use exr::math::{RoundingMode, Vec2};
 use exr::meta::attribute::{
@@ -23,6 +22,7 @@ use exr::meta::header::Header;
 use exr::meta::BlockDescription;
 use std::io::{Seek, Write};
 
+pub use exr::block::chunk::Chunk;
 pub use exr::compression::Compression;
 
 #[derive(Debug, thiserror::Error)]
@@ -249,7 +249,7 @@ impl SpectralFile {
         &self.spec
     }
 
-    /// Values per pixel that [`SpectralFile::encode`] expects: the bands, then alpha if any.
+    /// Values stored per pixel: the bands, and alpha if any.
     pub fn values_per_pixel(&self) -> usize {
         self.spec.wavelengths.len() + usize::from(self.spec.alpha)
     }
@@ -286,34 +286,50 @@ impl SpectralFile {
             .collect()
     }
 
-    /// Encodes and compresses one block. `pixels` holds the block's pixels row by row, each
-    /// [`SpectralFile::values_per_pixel`] values. Values are stored as given (half rounds to
-    /// nearest; beyond ±65504 becomes ±infinity, NaN stays NaN).
-    pub fn encode(&self, block: &Block, pixels: &[f32]) -> Result<Chunk> {
-        let vpp = self.values_per_pixel();
-        if pixels.len() != block.width * block.height * vpp {
+    /// Encodes and compresses one block. `bands` holds the block's pixels row by row, one
+    /// spectrum (in the order of `Spec::wavelengths`) per pixel; `alpha` one value per pixel,
+    /// when the file has alpha. Values are stored as given (half rounds to nearest; beyond
+    /// ±65504 becomes ±infinity, NaN stays NaN).
+    pub fn encode(&self, block: &Block, bands: &[f32], alpha: Option<&[f32]>) -> Result<Chunk> {
+        let n = self.spec.wavelengths.len();
+        let pixels = block.width * block.height;
+        if bands.len() != pixels * n || alpha.map(<[f32]>::len) != self.spec.alpha.then_some(pixels)
+        {
             return Err(Error::Invalid(format!(
-                "block {}×{} needs {} values, got {}",
+                "block {}×{} needs {} band values{}, got {}{}",
                 block.width,
                 block.height,
-                block.width * block.height * vpp,
-                pixels.len()
+                pixels * n,
+                if self.spec.alpha {
+                    format!(" and {pixels} alpha values")
+                } else {
+                    String::new()
+                },
+                bands.len(),
+                alpha.map_or(String::new(), |a| format!(" and {} alpha values", a.len()))
             )));
         }
         let bytes = match self.spec.sample {
             Sample::Half => 2,
             Sample::Float => 4,
         };
-        let mut data = Vec::with_capacity(pixels.len() * bytes);
-        for row in pixels.chunks_exact(block.width * vpp) {
+        let mut data = Vec::with_capacity(pixels * self.values_per_pixel() * bytes);
+        let mut put = |v: f32| match self.spec.sample {
+            Sample::Half => data.extend_from_slice(&half::f16::from_f32(v).to_ne_bytes()),
+            Sample::Float => data.extend_from_slice(&v.to_ne_bytes()),
+        };
+        for row in 0..block.height {
+            let first = row * block.width;
             for &src in &self.source {
-                for px in row.chunks_exact(vpp) {
-                    match self.spec.sample {
-                        Sample::Half => {
-                            data.extend_from_slice(&half::f16::from_f32(px[src]).to_ne_bytes())
-                        }
-                        Sample::Float => data.extend_from_slice(&px[src].to_ne_bytes()),
-                    }
+                if src == n {
+                    let a = alpha.expect("checked above");
+                    a[first..first + block.width].iter().for_each(|&v| put(v));
+                } else {
+                    bands[first * n..(first + block.width) * n]
+                        .iter()
+                        .skip(src)
+                        .step_by(n)
+                        .for_each(|&v| put(v));
                 }
             }
         }
@@ -435,6 +451,21 @@ pub fn read(path: &std::path::Path) -> Result<SpectralImage> {
     })
 }
 
+/// The text attributes of a file's first header, without reading its pixels.
+pub fn read_attributes(path: &std::path::Path) -> Result<Vec<(String, String)>> {
+    let meta = exr::meta::MetaData::read_from_file(path, false)?;
+    Ok(meta.headers.first().map_or_else(Vec::new, |h| {
+        h.own_attributes
+            .other
+            .iter()
+            .filter_map(|(k, v)| match v {
+                AttributeValue::Text(t) => Some((k.to_string(), t.to_string())),
+                _ => None,
+            })
+            .collect()
+    }))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -516,26 +547,20 @@ mod tests {
             ),
         ] {
             let f = SpectralFile::new(spec(blocks, alpha)).unwrap();
-            let vpp = f.values_per_pixel();
             // Band b of pixel (x, y) holds b + x/100 + y/10000; alpha is 0.5.
-            let value = |x: usize, y: usize, b: usize| {
-                if b == 3 {
-                    0.5
-                } else {
-                    b as f32 + x as f32 / 100.0 + y as f32 / 10000.0
-                }
-            };
+            let value =
+                |x: usize, y: usize, b: usize| b as f32 + x as f32 / 100.0 + y as f32 / 10000.0;
             let mut buf = std::io::Cursor::new(Vec::new());
             f.write(&mut buf, |sink| {
                 for b in f.blocks() {
                     let px: Vec<f32> = (0..b.height)
                         .flat_map(|y| {
-                            (0..b.width).flat_map(move |x| {
-                                (0..vpp).map(move |c| value(b.x + x, b.y + y, c))
-                            })
+                            (0..b.width)
+                                .flat_map(move |x| (0..3).map(move |c| value(b.x + x, b.y + y, c)))
                         })
                         .collect();
-                    sink(b.chunk, f.encode(&b, &px)?)?;
+                    let a = vec![0.5; b.width * b.height];
+                    sink(b.chunk, f.encode(&b, &px, alpha.then_some(a.as_slice()))?)?;
                 }
                 Ok(())
             })
@@ -550,7 +575,7 @@ mod tests {
             for (b, plane) in img.bands.iter().enumerate() {
                 assert_eq!(plane[5 * 37 + 7], value(7, 5, b));
             }
-            assert_eq!(img.alpha.is_some(), alpha);
+            assert_eq!(img.alpha.map(|a| a[100]), alpha.then_some(0.5));
             assert!(img
                 .attributes
                 .contains(&("spectralLayoutVersion".into(), "1.0".into())));
@@ -568,7 +593,7 @@ mod tests {
             .write(&mut buf, |_| Err(Error::Invalid("input went away".into())))
             .unwrap_err();
         assert_eq!(err.to_string(), "input went away");
-        let bad = f.encode(&f.blocks()[0], &[0.0; 3]).unwrap_err();
+        let bad = f.encode(&f.blocks()[0], &[0.0; 3], None).unwrap_err();
         assert!(bad.to_string().contains("needs"), "{bad}");
     }
 }

@@ -1,6 +1,8 @@
 //! One module per subcommand: its clap arguments (whose doc comments are the help text and man
 //! page) and its `run`.
 pub mod colorspaces;
+pub mod convert;
 pub mod eval;
 pub mod info;
+pub mod to_rgb;
 pub mod train;

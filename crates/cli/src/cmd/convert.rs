@@ -1,0 +1,399 @@
+//! `specconv [convert] INPUT… OUTPUT`: the main job.
+
+use crate::files;
+use anyhow::{bail, Context, Result};
+use serde::Serialize;
+use specconv_pipeline::{convert, Job, Mip, Settings};
+use spectral::{Method, Uplifter};
+use spectral_exr::{Compression, Sample};
+use std::io::{BufRead, IsTerminal, Write};
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+use std::time::Instant;
+
+/// Convert textures to spectral OpenEXR images (the default command).
+///
+/// Reads each INPUT through OpenImageIO (any format it reads, every MIP level), converts it to
+/// CIE XYZ (D65) through OpenColorIO, uplifts every pixel to a reflectance spectrum with the
+/// model, and writes a spectral OpenEXR in the layout of Fichet et al. 2021 (`T.380,000000nm`
+/// … channels, alpha as `A`). Outputs are written to a temporary file and renamed into place,
+/// so a failed or interrupted run leaves no partial file; inputs are never overwritten.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// Input textures, then the output file when converting one; `-` reads input paths from
+    /// standard input, one per line.
+    #[arg(value_name = "INPUT… [OUTPUT]", required = true)]
+    paths: Vec<PathBuf>,
+    /// Write every output into this directory, as STEM_spectral.exr.
+    #[arg(short, long, value_name = "DIR", conflicts_with = "output_template")]
+    output: Option<PathBuf>,
+    /// Output path for each input; {dir}, {stem} and {name} are the input's directory, name
+    /// without extension and file name.
+    #[arg(long, value_name = "TEMPLATE")]
+    output_template: Option<String>,
+    /// OCIO config: a file, or `aces` for the built-in ACES config. Default: $OCIO, else aces.
+    #[arg(long, value_name = "CONFIG")]
+    ocio: Option<String>,
+    /// The input's colour space, overriding what the file declares.
+    #[arg(long, visible_alias = "iscolorspace", value_name = "NAME")]
+    colorspace: Option<String>,
+    /// Model file from `specconv train`; the built-in model when absent.
+    #[arg(long, value_name = "MODEL")]
+    model: Option<PathBuf>,
+    /// Sample type of the output.
+    #[arg(short = 'd', long = "data-type", value_name = "TYPE", default_value = "half", value_parser = ["half", "float"])]
+    data_type: String,
+    /// Output compression.
+    #[arg(long, default_value = "zip", value_parser = ["none", "rle", "zips", "zip", "piz", "pxr24", "b44"])]
+    compression: String,
+    /// Tile width and height of the output.
+    #[arg(long, num_args = 2, value_names = ["W", "H"], default_values_t = [64usize, 64])]
+    tile: Vec<usize>,
+    /// Write scanlines instead of tiles (no MIP levels).
+    #[arg(long, conflicts_with = "tile")]
+    scanline: bool,
+    /// `all`: every MIP level the input has, each uplifted from its own level; `0`: the full
+    /// resolution only.
+    #[arg(long, default_value = "all", value_parser = ["all", "0"])]
+    mip: String,
+    /// Worker threads (default: one per core).
+    #[arg(short = 'j', long, value_name = "N")]
+    threads: Option<usize>,
+    /// Replace existing outputs.
+    #[arg(long)]
+    force: bool,
+    /// Skip inputs whose output is newer than the input and was made with the same settings.
+    #[arg(short, long)]
+    update: bool,
+    /// Print one JSON object per input on standard output (input, output, seconds, pixels,
+    /// status, error).
+    #[arg(long)]
+    json: bool,
+    /// Print nothing but errors.
+    #[arg(short, long)]
+    quiet: bool,
+    /// Say more: the colour space chosen and why, the config, the model.
+    #[arg(short, long)]
+    verbose: bool,
+}
+
+#[derive(Serialize)]
+struct FileReport {
+    input: PathBuf,
+    output: Option<PathBuf>,
+    status: &'static str,
+    seconds: f64,
+    pixels: u64,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    colorspace: Option<String>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    error: Option<String>,
+}
+
+/// Runs the conversion of every input; returns the exit code (0 all done, 1 any failed).
+pub fn run(args: Args) -> Result<i32> {
+    let (inputs, outputs) = plan(&args)?;
+    if let Some(n) = args.threads {
+        if n == 0 {
+            bail!("-j/--threads must be at least 1");
+        }
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build_global()
+            .context("cannot start worker threads")?;
+    }
+    let config = specconv_ocio::Config::resolve(args.ocio.as_deref())?;
+    let model = files::load_model(args.model.as_deref())?;
+    let method = Uplifter::new(&model)?;
+    let settings_tag = format!(
+        "model={} method={} data-type={} compression={} tile={} mip={} colorspace={} config={}",
+        files::describe_model(args.model.as_deref(), &model),
+        method.name(),
+        args.data_type,
+        args.compression,
+        if args.scanline {
+            "scanline".to_string()
+        } else {
+            format!("{}x{}", args.tile[0], args.tile[1])
+        },
+        args.mip,
+        args.colorspace.as_deref().unwrap_or("auto"),
+        config.source()
+    );
+    let settings = Settings {
+        colorspace: args.colorspace.clone(),
+        sample: if args.data_type == "float" {
+            Sample::Float
+        } else {
+            Sample::Half
+        },
+        compression: compression(&args.compression),
+        tile: (!args.scanline).then(|| (args.tile[0], args.tile[1])),
+        mip: if args.mip == "0" { Mip::Base } else { Mip::All },
+        overwrite: args.force || args.update,
+        attributes: vec![
+            (
+                "specconvModel".into(),
+                files::describe_model(args.model.as_deref(), &model),
+            ),
+            ("specconvMethod".into(), method.name().into()),
+            ("specconvObserver".into(), model.observer.to_string()),
+            ("specconvIlluminant".into(), model.illuminant.to_string()),
+            ("specconvSettings".into(), settings_tag.clone()),
+            ("specconvVersion".into(), env!("CARGO_PKG_VERSION").into()),
+        ],
+    };
+    if args.verbose && !args.quiet {
+        eprintln!("config: {}", config.source());
+        eprintln!(
+            "model:  {}",
+            files::describe_model(args.model.as_deref(), &model)
+        );
+    }
+
+    let cancel = Arc::new(AtomicBool::new(false));
+    {
+        let cancel = cancel.clone();
+        // SIGINT and SIGTERM stop the job between windows; its temporary file is removed.
+        let _ = ctrlc::set_handler(move || cancel.store(true, Ordering::SeqCst));
+    }
+    let terminal = std::io::stderr().is_terminal() && !args.quiet;
+    let mut failed = 0;
+    for (input, output) in inputs.iter().zip(&outputs) {
+        if cancel.load(Ordering::SeqCst) {
+            break;
+        }
+        let start = Instant::now();
+        if args.update && up_to_date(input, output, &settings_tag) {
+            emit(
+                &args,
+                FileReport {
+                    input: input.clone(),
+                    output: Some(output.clone()),
+                    status: "skipped",
+                    seconds: 0.0,
+                    pixels: 0,
+                    colorspace: None,
+                    error: None,
+                },
+                "up to date",
+            );
+            continue;
+        }
+        let job = Job {
+            input,
+            output,
+            config: &config,
+            method: &method,
+            settings: &settings,
+            cancel: &cancel,
+        };
+        let name = input.display().to_string();
+        let mut last = Instant::now();
+        let mut progress = |done: u64, total: u64| {
+            if terminal && (last.elapsed().as_millis() >= 100 || done == total) {
+                last = Instant::now();
+                let secs = start.elapsed().as_secs_f64();
+                let rate = done as f64 / secs.max(1e-9);
+                let eta = (total - done) as f64 / rate.max(1e-9);
+                eprint!(
+                    "\r{name}: {:3.0} %  {:.1} Mpixel/s  ETA {eta:.0} s   ",
+                    100.0 * done as f64 / total as f64,
+                    rate / 1e6
+                );
+                let _ = std::io::stderr().flush();
+            }
+        };
+        let result = convert(&job, &mut progress);
+        if terminal {
+            eprint!("\r\x1b[2K");
+        }
+        let seconds = start.elapsed().as_secs_f64();
+        match result {
+            Ok(r) => {
+                let line = format!(
+                    "{}×{}, {} level{}, {} bands, colour space {}{}, {seconds:.2} s",
+                    r.width,
+                    r.height,
+                    r.levels,
+                    if r.levels == 1 { "" } else { "s" },
+                    method.grid().len(),
+                    r.colorspace,
+                    if r.non_finite > 0 {
+                        format!(", {} pixels NaN or infinite (written as NaN)", r.non_finite)
+                    } else {
+                        String::new()
+                    }
+                );
+                emit(
+                    &args,
+                    FileReport {
+                        input: input.clone(),
+                        output: Some(output.clone()),
+                        status: "ok",
+                        seconds,
+                        pixels: r.pixels,
+                        colorspace: Some(r.colorspace),
+                        error: None,
+                    },
+                    &line,
+                );
+            }
+            Err(e) => {
+                failed += 1;
+                let msg = format!("{}: {e}", input.display());
+                if !args.json {
+                    eprintln!("specconv: error: {msg}");
+                }
+                emit(
+                    &args,
+                    FileReport {
+                        input: input.clone(),
+                        output: Some(output.clone()),
+                        status: "failed",
+                        seconds,
+                        pixels: 0,
+                        colorspace: None,
+                        error: Some(e.to_string()),
+                    },
+                    "",
+                );
+            }
+        }
+    }
+    if cancel.load(Ordering::SeqCst) {
+        eprintln!("specconv: error: interrupted; no partial output was left");
+        return Ok(130);
+    }
+    Ok(if failed > 0 { 1 } else { 0 })
+}
+
+fn emit(args: &Args, report: FileReport, line: &str) {
+    if args.json {
+        println!(
+            "{}",
+            serde_json::to_string(&report).expect("a report serialises")
+        );
+    } else if !args.quiet && report.status != "failed" {
+        let out = report
+            .output
+            .as_deref()
+            .map(|p| p.display().to_string())
+            .unwrap_or_default();
+        eprintln!(
+            "{} → {out}: {}{line}",
+            report.input.display(),
+            if report.status == "skipped" {
+                "skipped, "
+            } else {
+                ""
+            }
+        );
+    }
+}
+
+/// Inputs and their outputs, from the positional paths, `-o DIR` or `--output-template`.
+fn plan(args: &Args) -> Result<(Vec<PathBuf>, Vec<PathBuf>)> {
+    let mut paths = args.paths.clone();
+    let single = args.output.is_none() && args.output_template.is_none();
+    let explicit_output = if single {
+        if paths.len() != 2 {
+            bail!(
+                "give INPUT OUTPUT, or several inputs with -o DIR or --output-template (got {} path{})",
+                paths.len(),
+                if paths.len() == 1 { "" } else { "s" }
+            );
+        }
+        paths.pop()
+    } else {
+        None
+    };
+    let mut inputs = Vec::new();
+    for p in paths {
+        if p.as_os_str() == "-" {
+            for line in std::io::stdin().lock().lines() {
+                let line = line.context("cannot read input paths from standard input")?;
+                if !line.trim().is_empty() {
+                    inputs.push(PathBuf::from(line.trim_end()));
+                }
+            }
+        } else {
+            inputs.push(p);
+        }
+    }
+    let outputs: Vec<PathBuf> = match (&explicit_output, &args.output, &args.output_template) {
+        (Some(o), _, _) => vec![o.clone()],
+        (None, Some(dir), _) => {
+            if !dir.is_dir() {
+                bail!(
+                    "the output directory {} does not exist; create it first",
+                    dir.display()
+                );
+            }
+            inputs
+                .iter()
+                .map(|i| dir.join(format!("{}_spectral.exr", stem(i))))
+                .collect()
+        }
+        (None, None, Some(t)) => inputs
+            .iter()
+            .map(|i| {
+                let dir = i
+                    .parent()
+                    .filter(|d| !d.as_os_str().is_empty())
+                    .unwrap_or(Path::new("."));
+                PathBuf::from(
+                    t.replace("{dir}", &dir.display().to_string())
+                        .replace("{stem}", &stem(i))
+                        .replace(
+                            "{name}",
+                            &i.file_name()
+                                .map(|n| n.to_string_lossy().into_owned())
+                                .unwrap_or_default(),
+                        ),
+                )
+            })
+            .collect(),
+        (None, None, None) => unreachable!("single conversions have an explicit output"),
+    };
+    let mut seen = std::collections::HashSet::new();
+    for o in &outputs {
+        if !seen.insert(o.clone()) {
+            bail!("two inputs would both be written to {}; use a template with {{dir}} or rename them", o.display());
+        }
+    }
+    Ok((inputs, outputs))
+}
+
+fn stem(p: &Path) -> String {
+    p.file_stem()
+        .map_or_else(|| "output".into(), |s| s.to_string_lossy().into_owned())
+}
+
+fn compression(name: &str) -> Compression {
+    match name {
+        "none" => Compression::Uncompressed,
+        "rle" => Compression::RLE,
+        "zips" => Compression::ZIP1,
+        "piz" => Compression::PIZ,
+        "pxr24" => Compression::PXR24,
+        "b44" => Compression::B44,
+        _ => Compression::ZIP16,
+    }
+}
+
+/// An output newer than its input, written with the same settings (as `maketx -u`).
+fn up_to_date(input: &Path, output: &Path, settings: &str) -> bool {
+    let modified = |p: &Path| std::fs::metadata(p).and_then(|m| m.modified()).ok();
+    match (modified(input), modified(output)) {
+        (Some(i), Some(o)) if o >= i => spectral_exr::read_attributes(output)
+            .map(|attrs| {
+                attrs
+                    .iter()
+                    .any(|(k, v)| k == "specconvSettings" && v == settings)
+            })
+            .unwrap_or(false),
+        _ => false,
+    }
+}

@@ -1,0 +1,139 @@
+//! `specconv to-rgb`: integrate a spectral EXR back to a colour image, for checks and previews.
+
+use anyhow::{bail, Context, Result};
+use spectral::{Colorimetry, Grid, Illuminant, Observer};
+use std::path::PathBuf;
+
+/// Integrate a spectral OpenEXR back to colour: XYZ under an illuminant, then a colour space.
+///
+/// Each pixel's reflectance r gives XYZ = Σ r·I·x̄ / Σ I·ȳ under the file's illuminant and
+/// observer (its `specconvIlluminant` and `specconvObserver` attributes, else D65 and CIE
+/// 1931), converted through OpenColorIO from CIE-XYZ-D65 to --colorspace. Written as a float
+/// RGB(A) OpenEXR.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// A spectral OpenEXR (Fichet et al. 2021 layout), e.g. written by specconv.
+    input: PathBuf,
+    /// The colour image to write (.exr).
+    output: PathBuf,
+    /// Colour space of the output; default: the config's scene_linear role.
+    #[arg(long, value_name = "NAME")]
+    colorspace: Option<String>,
+    /// Light the reflectances under this illuminant instead of the file's.
+    #[arg(long)]
+    illuminant: Option<Illuminant>,
+    /// OCIO config: a file, or `aces` for the built-in ACES config. Default: $OCIO, else aces.
+    #[arg(long, value_name = "CONFIG")]
+    ocio: Option<String>,
+    /// Replace an existing output.
+    #[arg(long)]
+    force: bool,
+}
+
+pub fn run(args: Args) -> Result<()> {
+    if args
+        .output
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase)
+        .as_deref()
+        != Some("exr")
+    {
+        bail!(
+            "to-rgb writes OpenEXR: give an output ending in .exr (oiiotool converts it further)"
+        );
+    }
+    if args.output.exists() && !args.force {
+        bail!(
+            "{} exists; pass --force to replace it",
+            args.output.display()
+        );
+    }
+    let img = spectral_exr::read(&args.input)
+        .with_context(|| format!("cannot read {}", args.input.display()))?;
+    let attr = |name: &str| {
+        img.attributes
+            .iter()
+            .find(|(k, _)| k == name)
+            .map(|(_, v)| v.clone())
+    };
+    let observer: Observer =
+        attr("specconvObserver").map_or(Ok(Observer::Cie1931), |s| s.parse())?;
+    let illuminant = match args.illuminant {
+        Some(i) => i,
+        None => attr("specconvIlluminant").map_or(Ok(Illuminant::D65), |s| s.parse())?,
+    };
+    let grid = uniform_grid(&img.wavelengths)?;
+    let a = Colorimetry::new(grid, observer, illuminant)?;
+
+    let config = specconv_ocio::Config::resolve(args.ocio.as_deref())?;
+    let xyz_space = config
+        .role("cie_xyz_d65_interchange")?
+        .context("the OCIO config has no cie_xyz_d65_interchange role to convert XYZ from")?;
+    let target = match args.colorspace.clone() {
+        Some(c) => c,
+        None => config
+            .role("scene_linear")?
+            .context("the OCIO config has no scene_linear role; pass --colorspace")?,
+    };
+    let processor = config.processor(&xyz_space, &target)?;
+
+    let n = img.bands.len();
+    let pixels = img.width * img.height;
+    let mut rgb = vec![0.0f32; pixels * 3];
+    let mut r = vec![0.0f64; n];
+    for p in 0..pixels {
+        for (b, plane) in img.bands.iter().enumerate() {
+            r[b] = plane[p] as f64;
+        }
+        let c = a.xyz(&r);
+        rgb[3 * p..3 * p + 3].copy_from_slice(&[c[0] as f32, c[1] as f32, c[2] as f32]);
+    }
+    processor.apply_rgb(&mut rgb)?;
+
+    let (w, alpha) = (img.width, img.alpha.clone());
+    let tmp = specconv_pipeline::temporary_path(&args.output);
+    let written = exr::prelude::write_rgba_file(&tmp, img.width, img.height, |x, y| {
+        let i = y * w + x;
+        (
+            rgb[3 * i],
+            rgb[3 * i + 1],
+            rgb[3 * i + 2],
+            alpha.as_ref().map_or(1.0, |a| a[i]),
+        )
+    })
+    .map_err(anyhow::Error::from)
+    .and_then(|()| Ok(std::fs::rename(&tmp, &args.output)?));
+    if written.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    written.with_context(|| format!("cannot write {}", args.output.display()))?;
+    eprintln!(
+        "{} → {}: {}×{}, {n} bands under {illuminant} ({observer}) to {target}",
+        args.input.display(),
+        args.output.display(),
+        img.width,
+        img.height
+    );
+    Ok(())
+}
+
+/// The grid of evenly spaced band wavelengths.
+fn uniform_grid(w: &[f64]) -> Result<Grid> {
+    let (first, last) = (w[0], w[w.len() - 1]);
+    if w.len() == 1 {
+        return Ok(Grid::new(first, first, 1.0)?);
+    }
+    let step = (last - first) / (w.len() - 1) as f64;
+    if w.iter()
+        .enumerate()
+        .any(|(i, &v)| (v - (first + step * i as f64)).abs() > 1e-3)
+    {
+        bail!(
+            "the bands are not evenly spaced ({} … {} nm); to-rgb needs a regular grid",
+            first,
+            last
+        );
+    }
+    Ok(Grid::new(first, last, step)?)
+}

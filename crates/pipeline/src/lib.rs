@@ -1,0 +1,391 @@
+//! The conversion job: file ──OIIO──▶ RGB strip ──OCIO──▶ XYZ ──uplift──▶ bands ──exr──▶ file.
+//!
+//! Work flows in strips: the blocks of the output that share a level and a row. A window of
+//! strips is read from the input (one reader, in order, so scanline formats such as PNG decode
+//! once) while the previous window's blocks are colour-converted, uplifted and compressed in
+//! parallel; chunks are then written in file order. Memory is bounded by the window, whatever
+//! the image height, and the output bytes do not depend on the number of threads.
+//!
+//! The output is written to a temporary file beside the target and renamed into place only
+//! when complete: a failed or cancelled job leaves nothing behind.
+#![forbid(unsafe_code)]
+
+use rayon::prelude::*;
+use specconv_ocio::{Config, Processor};
+use spectral::Method;
+use spectral_exr::{Block, Blocks, Chunk, Compression, Kind, Sample, Spec, SpectralFile};
+use std::fs::File;
+use std::io::BufWriter;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    #[error("{0}")]
+    Input(#[from] specconv_oiio::Error),
+    #[error("{0}")]
+    Color(#[from] specconv_ocio::Error),
+    #[error("{0}")]
+    Output(#[from] spectral_exr::Error),
+    #[error("{0}")]
+    Setting(String),
+    #[error("cannot write {path}: {source}")]
+    Io {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+    #[error("cancelled")]
+    Cancelled,
+}
+
+pub type Result<T> = std::result::Result<T, Error>;
+
+/// Which MIP levels to convert.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Mip {
+    /// Every level the input has, each uplifted from its own input level.
+    All,
+    /// The full-resolution level only.
+    Base,
+}
+
+/// How the output is stored.
+#[derive(Debug, Clone)]
+pub struct Settings {
+    /// `--colorspace`: the input's colour space, overriding what the file declares.
+    pub colorspace: Option<String>,
+    pub sample: Sample,
+    pub compression: Compression,
+    /// `None` for scanlines, else the tile size.
+    pub tile: Option<(usize, usize)>,
+    pub mip: Mip,
+    /// Write over an existing output.
+    pub overwrite: bool,
+    /// Attributes recorded in the output (model, method, observer, illuminant…).
+    pub attributes: Vec<(String, String)>,
+}
+
+/// What a finished conversion did.
+#[derive(Debug, Clone)]
+pub struct Report {
+    pub width: usize,
+    pub height: usize,
+    /// Pixels uplifted, over all levels.
+    pub pixels: u64,
+    pub levels: usize,
+    /// The input colour space and why it was chosen.
+    pub colorspace: String,
+    /// Pixels whose colour had a NaN or infinite component (their spectra are NaN).
+    pub non_finite: u64,
+}
+
+/// A conversion: one input, one output.
+pub struct Job<'a> {
+    pub input: &'a Path,
+    pub output: &'a Path,
+    pub config: &'a Config,
+    pub method: &'a dyn Method,
+    pub settings: &'a Settings,
+    /// Set from another thread (a signal handler) to stop the job.
+    pub cancel: &'a AtomicBool,
+}
+
+/// One row of blocks: the unit read from the input.
+struct Strip {
+    level: usize,
+    y: usize,
+    height: usize,
+    blocks: Vec<Block>,
+}
+
+/// Runs a job. `progress` hears (pixels done, pixels in all) after every window.
+pub fn convert(job: &Job, progress: &mut dyn FnMut(u64, u64)) -> Result<Report> {
+    let output = job.output;
+    refuse_overwrites(job.input, output, job.settings.overwrite)?;
+    let mut reader = specconv_oiio::ImageReader::open(job.input)?;
+    let info = reader.info().clone();
+    let choice = job.config.choose_input(
+        job.settings.colorspace.as_deref(),
+        info.declared_color_space.as_deref(),
+        info.pixel_format().is_integer(),
+    )?;
+    let processor = job.config.processor_to_xyz(&choice.name)?;
+
+    let mip = job.settings.mip == Mip::All && info.levels.len() > 1;
+    let blocks = match job.settings.tile {
+        None if mip => {
+            return Err(Error::Setting(format!(
+                "{} has {} MIP levels, which scanline files cannot hold; add --mip 0 or drop --scanline",
+                job.input.display(),
+                info.levels.len()
+            )))
+        }
+        None => Blocks::Scanlines,
+        Some((width, height)) => Blocks::Tiles { width, height, mip_levels: mip },
+    };
+    let mut attributes = job.settings.attributes.clone();
+    attributes.push(("specconvSourceColorspace".into(), choice.name.clone()));
+    attributes.push(("specconvConfig".into(), job.config.source().to_string()));
+    attributes.push(("specconvSource".into(), file_name(job.input)));
+    let file = SpectralFile::new(Spec {
+        width: info.width() as usize,
+        height: info.height() as usize,
+        wavelengths: job.method.grid().wavelengths(),
+        kind: Kind::Reflective,
+        alpha: info.alpha_channel.is_some(),
+        sample: job.settings.sample,
+        compression: job.settings.compression,
+        blocks,
+        attributes,
+    })?;
+    for level in 0..file.levels() {
+        let want = file.level_size(level);
+        let have = info
+            .levels
+            .get(level)
+            .map(|l| (l.width as usize, l.height as usize));
+        if have != Some(want) || info.levels.len() != file.levels() {
+            return Err(Error::Setting(format!(
+                "{}: its {} MIP levels are not the {} levels of halving sizes an OpenEXR MIP map has \
+                 (level {level}: {have:?} where {want:?} is needed); add --mip 0 to convert the full-resolution level only",
+                job.input.display(),
+                info.levels.len(),
+                file.levels()
+            )));
+        }
+    }
+
+    let strips = strips(&file);
+    let total: u64 = strips
+        .iter()
+        .map(|s| (file.level_size(s.level).0 * s.height) as u64)
+        .sum();
+    // Enough strips per window to keep every thread busy, at least one.
+    let budget = (rayon::current_num_threads() * 8 * 64 * 64) as u64;
+    let mut windows = Vec::new();
+    let mut current: Vec<Strip> = Vec::new();
+    let mut pixels = 0u64;
+    for s in strips {
+        pixels += (file.level_size(s.level).0 * s.height) as u64;
+        current.push(s);
+        if pixels >= budget {
+            windows.push(std::mem::take(&mut current));
+            pixels = 0;
+        }
+    }
+    if !current.is_empty() {
+        windows.push(current);
+    }
+
+    let tmp = temporary_path(output);
+    let out = File::create(&tmp).map_err(|source| Error::Io {
+        path: output.to_path_buf(),
+        source,
+    })?;
+    let guard = RemoveOnDrop(Some(tmp.clone()));
+    let alpha = info.alpha_channel;
+    let channels = info.channels.len();
+    let mut done = 0u64;
+    let mut non_finite = 0u64;
+    // The writer speaks spectral_exr's errors; ours wait here and win over its abort.
+    let mut failure: Option<Error> = None;
+    let mut fail = |e: Error| {
+        failure = Some(e);
+        spectral_exr::Error::Invalid("aborted".into())
+    };
+    let written = file.write(BufWriter::with_capacity(1 << 20, out), |sink| {
+        let read = |reader: &mut specconv_oiio::ImageReader,
+                    window: &[Strip]|
+         -> Result<Vec<specconv_oiio::Pixels>> {
+            window
+                .iter()
+                .map(|s| Ok(reader.read_scanlines(s.level, s.y as u32..(s.y + s.height) as u32)?))
+                .collect()
+        };
+        let mut next = windows
+            .first()
+            .map(|w| read(&mut reader, w))
+            .transpose()
+            .map_err(&mut fail)?;
+        for (i, window) in windows.iter().enumerate() {
+            if job.cancel.load(Ordering::Relaxed) {
+                return Err(fail(Error::Cancelled));
+            }
+            let rows = next
+                .take()
+                .expect("each window is read before it is processed");
+            // Read the next window while this one is uplifted.
+            let (chunks, read_next) = rayon::join(
+                || -> Result<Vec<Vec<(usize, Chunk, u64)>>> {
+                    window
+                        .par_iter()
+                        .zip(rows.par_iter())
+                        .map(|(strip, px)| {
+                            strip
+                                .blocks
+                                .par_iter()
+                                .map(|b| {
+                                    encode_block(
+                                        &file, &processor, job.method, b, px, channels, alpha,
+                                    )
+                                })
+                                .collect()
+                        })
+                        .collect()
+                },
+                || windows.get(i + 1).map(|w| read(&mut reader, w)).transpose(),
+            );
+            next = read_next.map_err(&mut fail)?;
+            for (chunk_index, chunk, bad) in chunks.map_err(&mut fail)?.into_iter().flatten() {
+                non_finite += bad;
+                sink(chunk_index, chunk)?;
+            }
+            done += window
+                .iter()
+                .map(|s| (file.level_size(s.level).0 * s.height) as u64)
+                .sum::<u64>();
+            progress(done, total);
+        }
+        Ok(())
+    });
+    if let Some(e) = failure {
+        return Err(e);
+    }
+    written?;
+    std::fs::rename(&tmp, output).map_err(|source| Error::Io {
+        path: output.to_path_buf(),
+        source,
+    })?;
+    guard.disarm();
+    Ok(Report {
+        width: info.width() as usize,
+        height: info.height() as usize,
+        pixels: total,
+        levels: file.levels(),
+        colorspace: choice.to_string(),
+        non_finite,
+    })
+}
+
+/// Colour-converts, uplifts and compresses one block from its strip's pixels.
+fn encode_block(
+    file: &SpectralFile,
+    processor: &Processor,
+    method: &dyn Method,
+    b: &Block,
+    strip: &specconv_oiio::Pixels,
+    channels: usize,
+    alpha: Option<usize>,
+) -> Result<(usize, Chunk, u64)> {
+    let count = b.width * b.height;
+    let mut rgb = Vec::with_capacity(count * 3);
+    let mut a = alpha.map(|_| Vec::with_capacity(count));
+    // Colour channels: the first three that are not alpha; one grey channel is repeated.
+    let colour: Vec<usize> = (0..channels)
+        .filter(|&c| Some(c) != alpha)
+        .take(3)
+        .collect();
+    for y in 0..b.height {
+        for x in b.x..b.x + b.width {
+            let px = strip.pixel(x as u32, y as u32);
+            match colour.as_slice() {
+                [r, g, bb] => rgb.extend_from_slice(&[px[*r], px[*g], px[*bb]]),
+                [grey, ..] => rgb.extend_from_slice(&[px[*grey]; 3]),
+                [] => rgb.extend_from_slice(&[0.0; 3]),
+            }
+            if let (Some(a), Some(c)) = (a.as_mut(), alpha) {
+                a.push(px[c]);
+            }
+        }
+    }
+    processor.apply_rgb(&mut rgb)?;
+    let bad = rgb
+        .chunks_exact(3)
+        .filter(|c| !c.iter().all(|v| v.is_finite()))
+        .count() as u64;
+    let mut bands = vec![0.0f32; count * method.grid().len()];
+    method.uplift_f32(&rgb, &mut bands);
+    let chunk = file.encode(b, &bands, a.as_deref())?;
+    Ok((b.chunk, chunk, bad))
+}
+
+/// Groups the file's blocks into rows (they come level by level, row by row).
+fn strips(file: &SpectralFile) -> Vec<Strip> {
+    let mut out: Vec<Strip> = Vec::new();
+    for b in file.blocks() {
+        match out.last_mut() {
+            Some(s) if s.level == b.level && s.y == b.y => s.blocks.push(b),
+            _ => out.push(Strip {
+                level: b.level,
+                y: b.y,
+                height: b.height,
+                blocks: vec![b],
+            }),
+        }
+    }
+    out
+}
+
+fn file_name(p: &Path) -> String {
+    p.file_name().map_or_else(
+        || p.display().to_string(),
+        |n| n.to_string_lossy().into_owned(),
+    )
+}
+
+/// `.NAME.specconv-PID.tmp` beside the output, so the final rename stays on one file system.
+pub fn temporary_path(output: &Path) -> PathBuf {
+    let dir = match output.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    dir.join(format!(
+        ".{}.specconv-{}.tmp",
+        file_name(output),
+        std::process::id()
+    ))
+}
+
+/// Refuses to write over the input, and over an existing output unless asked to.
+fn refuse_overwrites(input: &Path, output: &Path, overwrite: bool) -> Result<()> {
+    let same = match (input.canonicalize(), output.canonicalize()) {
+        (Ok(a), Ok(b)) => a == b,
+        _ => false,
+    };
+    if same {
+        return Err(Error::Setting(format!(
+            "the output {} is the input; choose another output path",
+            output.display()
+        )));
+    }
+    if output.exists() && !overwrite {
+        return Err(Error::Setting(format!(
+            "{} exists; pass --force to replace it (or -u to skip outputs that are up to date)",
+            output.display()
+        )));
+    }
+    match output.parent() {
+        Some(d) if !d.as_os_str().is_empty() && !d.is_dir() => Err(Error::Setting(format!(
+            "the output directory {} does not exist; create it first",
+            d.display()
+        ))),
+        _ => Ok(()),
+    }
+}
+
+/// Removes the temporary file unless the job completed.
+struct RemoveOnDrop(Option<PathBuf>);
+
+impl RemoveOnDrop {
+    fn disarm(mut self) {
+        self.0 = None;
+    }
+}
+
+impl Drop for RemoveOnDrop {
+    fn drop(&mut self) {
+        if let Some(p) = self.0.take() {
+            let _ = std::fs::remove_file(p);
+        }
+    }
+}
