@@ -138,13 +138,14 @@ pub fn convert(job: &Job, progress: &mut dyn FnMut(u64, u64)) -> Result<Report> 
         blocks,
         attributes,
     })?;
+    // Every output level comes from the input level of the same size.
     for level in 0..file.levels() {
         let want = file.level_size(level);
         let have = info
             .levels
             .get(level)
             .map(|l| (l.width as usize, l.height as usize));
-        if have != Some(want) || info.levels.len() != file.levels() {
+        if have != Some(want) || (mip && info.levels.len() != file.levels()) {
             return Err(Error::Setting(format!(
                 "{}: its {} MIP levels are not the {} levels of halving sizes an OpenEXR MIP map has \
                  (level {level}: {have:?} where {want:?} is needed); add --mip 0 to convert the full-resolution level only",

@@ -93,7 +93,14 @@ struct FileReport {
 
 /// Runs the conversion of every input; returns the exit code (0 all done, 1 any failed).
 pub fn run(args: Args) -> Result<i32> {
-    let (inputs, outputs) = plan(&args)?;
+    let (inputs, outputs) = match plan(&args) {
+        Ok(p) => p,
+        Err(e) => {
+            // Wrong paths on the command line are usage errors.
+            eprintln!("specconv: error: {e:#}");
+            return Ok(2);
+        }
+    };
     if let Some(n) = args.threads {
         if n == 0 {
             bail!("-j/--threads must be at least 1");

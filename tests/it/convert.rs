@@ -1,0 +1,510 @@
+//! The main job, `specconv [convert] INPUT OUTPUT`, checked with real EXR readers: OpenEXR's
+//! exrheader, oiiotool, colour-science's Fichet 2021 reader, and our own reader for values.
+
+use crate::runner::*;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn testdata(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("testdata/images")
+        .join(name)
+}
+
+/// Every readable test image.
+fn textures() -> Vec<PathBuf> {
+    let mut v: Vec<PathBuf> =
+        std::fs::read_dir(Path::new(env!("CARGO_MANIFEST_DIR")).join("testdata/images"))
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .collect();
+    v.sort();
+    assert!(
+        v.len() >= 10,
+        "testdata/images is incomplete: run testdata/make.sh"
+    );
+    v
+}
+
+fn tool(name: &str, args: &[&str]) -> String {
+    let out = Command::new(name)
+        .args(args)
+        .output()
+        .unwrap_or_else(|e| panic!("{name} must be installed (.ci/run installs it): {e}"));
+    assert!(
+        out.status.success(),
+        "{name} {args:?} failed:\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8_lossy(&out.stdout).into_owned()
+}
+
+/// XYZ of every pixel of one level of an input, as the pipeline's colour management sees it.
+fn input_xyz(input: &Path, level: usize) -> (usize, usize, Vec<[f32; 3]>) {
+    let mut reader = specconv_oiio::ImageReader::open(input).unwrap();
+    let info = reader.info().clone();
+    let config = specconv_ocio::Config::resolve(Some("aces")).unwrap();
+    let choice = config
+        .choose_input(
+            None,
+            info.declared_color_space.as_deref(),
+            info.pixel_format().is_integer(),
+        )
+        .unwrap();
+    let processor = config.processor_to_xyz(&choice.name).unwrap();
+    let px = reader.read_level(level).unwrap();
+    let colour: Vec<usize> = (0..px.channels)
+        .filter(|&c| Some(c) != info.alpha_channel)
+        .take(3)
+        .collect();
+    let mut rgb: Vec<f32> = px
+        .data
+        .chunks_exact(px.channels)
+        .flat_map(|p| {
+            if colour.len() == 3 {
+                [p[colour[0]], p[colour[1]], p[colour[2]]]
+            } else {
+                [p[colour[0]]; 3]
+            }
+        })
+        .collect();
+    processor.apply_rgb(&mut rgb).unwrap();
+    (
+        px.width as usize,
+        px.height as usize,
+        rgb.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect(),
+    )
+}
+
+/// Largest error of XYZ integrated from the output's spectra against the input's XYZ,
+/// relative to the pixel's largest XYZ component (absolute below 1e-3).
+fn round_trip_error(input: &Path, output: &Path, level: usize) -> f64 {
+    let (w, h, want) = input_xyz(input, level);
+    let img = spectral_exr::read(output).unwrap();
+    assert_eq!((img.width, img.height), (w, h));
+    let model = spectral::Model::builtin();
+    assert_eq!(img.wavelengths, model.grid.wavelengths());
+    let a = model.colorimetry().unwrap();
+    let mut worst = 0.0f64;
+    let mut r = vec![0.0; img.bands.len()];
+    for (p, c) in want.iter().enumerate() {
+        if !c.iter().all(|v| v.is_finite()) {
+            continue;
+        }
+        r.iter_mut()
+            .zip(&img.bands)
+            .for_each(|(v, plane)| *v = plane[p] as f64);
+        let got = a.xyz(&r);
+        let scale = c.iter().fold(1e-3f64, |m, v| m.max(v.abs() as f64));
+        for k in 0..3 {
+            worst = worst.max((got[k] - c[k] as f64).abs() / scale);
+        }
+    }
+    worst
+}
+
+#[test]
+fn every_texture_converts_to_a_spectral_exr_that_real_readers_open_and_that_round_trips() {
+    let dir = Scratch::new("convert-all");
+    let names = regex::Regex::new(
+        r"^((S([0-3]))|T)\.(\d*,?\d*([Ee][+-]?\d+)?)(Y|Z|E|P|T|G|M|k|h|da|d|c|m|u|n|p)?(m|Hz)$",
+    )
+    .unwrap();
+    for input in textures() {
+        for (data_type, tolerance) in [("half", 2e-3), ("float", 1e-5)] {
+            let stem = input
+                .file_name()
+                .unwrap()
+                .to_string_lossy()
+                .replace('.', "_");
+            let output = dir.path(&format!("{stem}_{data_type}.exr"));
+            let run = specconv([
+                "--ocio",
+                "aces",
+                "-d",
+                data_type,
+                input.to_str().unwrap(),
+                output.to_str().unwrap(),
+            ]);
+            run.ok();
+            assert!(
+                run.stderr.contains("colour space "),
+                "the colour space choice is reported: {}",
+                run.stderr
+            );
+
+            let header = tool("exrheader", &[output.to_str().unwrap()]);
+            assert!(
+                header.contains("spectralLayoutVersion (type string): \"1.0\""),
+                "{header}"
+            );
+            let info = tool("oiiotool", &["--info", "-v", output.to_str().unwrap()]);
+            assert!(
+                info.contains("37 channel") || info.contains("36 channel"),
+                "{info}"
+            );
+            // Channel lines of exrheader: "    T.380,000000nm, 16-bit floating-point, …".
+            let channels: Vec<&str> = header
+                .lines()
+                .skip_while(|l| !l.starts_with("channels"))
+                .skip(1)
+                .take_while(|l| l.starts_with("    "))
+                .map(|l| l.trim().split(", ").next().unwrap())
+                .collect();
+            assert_eq!(
+                channels.iter().filter(|c| c.starts_with("T.")).count(),
+                36,
+                "{input:?}"
+            );
+            for c in channels.iter().filter(|c| **c != "A") {
+                assert!(
+                    names.is_match(c),
+                    "{c} does not match the reference reader's expression"
+                );
+            }
+            let has_alpha = specconv_oiio::ImageReader::open(&input)
+                .unwrap()
+                .info()
+                .alpha_channel
+                .is_some();
+            assert_eq!(
+                channels.contains(&"A"),
+                has_alpha,
+                "{input:?}: alpha passes through as A"
+            );
+
+            let err = round_trip_error(&input, &output, 0);
+            assert!(
+                err <= tolerance,
+                "{input:?} -d {data_type}: XYZ round trip error {err} > {tolerance}"
+            );
+        }
+    }
+    assert!(
+        dir.files().iter().all(|f| !f.contains(".tmp")),
+        "no temporary files left: {:?}",
+        dir.files()
+    );
+}
+
+#[test]
+fn mip_levels_are_each_uplifted_from_their_own_input_level() {
+    let dir = Scratch::new("convert-mip");
+    let input = testdata("srgba8.tx");
+    let output = dir.path("out.exr");
+    specconv([
+        input.to_str().unwrap(),
+        output.to_str().unwrap(),
+        "-d",
+        "float",
+    ])
+    .ok();
+    let info = tool("oiiotool", &["--info", "-v", output.to_str().unwrap()]);
+    assert!(
+        info.contains("MIP-map levels: 61x47 30x23 15x11 7x5 3x2 1x1"),
+        "{info}"
+    );
+    for level in [1, 3] {
+        let extracted = dir.path(&format!("level{level}.exr"));
+        tool(
+            "oiiotool",
+            &[
+                output.to_str().unwrap(),
+                "--selectmip",
+                &level.to_string(),
+                "-o",
+                extracted.to_str().unwrap(),
+            ],
+        );
+        let err = round_trip_error(&input, &extracted, level);
+        assert!(err <= 1e-5, "level {level}: {err}");
+    }
+    let base = dir.path("base.exr");
+    specconv([
+        input.to_str().unwrap(),
+        base.to_str().unwrap(),
+        "--mip",
+        "0",
+        "--scanline",
+    ])
+    .ok();
+    let info = tool("oiiotool", &["--info", "-v", base.to_str().unwrap()]);
+    assert!(
+        !info.contains("MIP-map") && !info.contains("tile size"),
+        "{info}"
+    );
+    specconv([
+        input.to_str().unwrap(),
+        dir.path("x.exr").to_str().unwrap(),
+        "--scanline",
+    ])
+    .fails(1, &["scanline files cannot hold", "--mip 0"]);
+}
+
+#[test]
+fn colour_science_reads_the_output() {
+    let python = std::env::var("SPECCONV_PYTHON").unwrap_or_else(|_| "python3".into());
+    let dir = Scratch::new("convert-colour");
+    let input = testdata("float_tiled_alpha.exr");
+    let output = dir.path("out.exr");
+    specconv([
+        input.to_str().unwrap(),
+        output.to_str().unwrap(),
+        "-d",
+        "float",
+    ])
+    .ok();
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/read_fichet2021.py");
+    let out = Command::new(&python)
+        .arg(&script)
+        .arg(&output)
+        .args(["7", "5"])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{python} with colour-science (set SPECCONV_PYTHON; .ci/run makes a venv): {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let t = &v["T"];
+    let wl: Vec<f64> = t["wavelengths"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|w| w.as_f64().unwrap())
+        .collect();
+    assert_eq!(wl, spectral::Grid::PAPER.wavelengths());
+    assert_eq!(t["shape"], serde_json::json!([47, 61, 36]));
+    let ours = spectral_exr::read(&output).unwrap();
+    for (b, plane) in ours.bands.iter().enumerate() {
+        assert_eq!(
+            t["pixel"][b].as_f64().unwrap() as f32,
+            plane[5 * 61 + 7],
+            "band {b}"
+        );
+    }
+}
+
+#[test]
+fn to_rgb_integrates_back_to_the_input_colours() {
+    let dir = Scratch::new("to-rgb");
+    let input = testdata("float_scanline.exr");
+    let spectral = dir.path("s.exr");
+    specconv([
+        input.to_str().unwrap(),
+        spectral.to_str().unwrap(),
+        "-d",
+        "float",
+    ])
+    .ok();
+    let back = dir.path("back.exr");
+    specconv([
+        "to-rgb",
+        spectral.to_str().unwrap(),
+        back.to_str().unwrap(),
+        "--colorspace",
+        "ACEScg",
+    ])
+    .ok();
+    let mut a = specconv_oiio::ImageReader::open(&input).unwrap();
+    let mut b = specconv_oiio::ImageReader::open(&back).unwrap();
+    let (pa, pb) = (a.read_level(0).unwrap(), b.read_level(0).unwrap());
+    let mut worst = 0.0f32;
+    for y in 0..pa.height {
+        for x in 0..pa.width {
+            for c in 0..3 {
+                let (u, v) = (pa.pixel(x, y)[c], pb.pixel(x, y)[c]);
+                worst = worst.max((u - v).abs() / u.abs().max(1e-2));
+            }
+        }
+    }
+    assert!(worst < 1e-4, "ACEScg → spectra → ACEScg differs by {worst}");
+    specconv(["to-rgb", spectral.to_str().unwrap(), back.to_str().unwrap()])
+        .fails(1, &["exists; pass --force"]);
+    specconv([
+        "to-rgb",
+        input.to_str().unwrap(),
+        dir.path("c.exr").to_str().unwrap(),
+    ])
+    .fails(1, &["not a spectral EXR"]);
+}
+
+#[test]
+fn failures_leave_nothing_behind_and_say_what_to_do() {
+    let dir = Scratch::new("convert-fail");
+    let good = testdata("srgb8.png");
+    let out = dir.path("out.exr");
+    specconv(["/nonexistent/in.png", out.to_str().unwrap()])
+        .fails(1, &["specconv: error: /nonexistent/in.png"]);
+    let broken = Path::new(env!("CARGO_MANIFEST_DIR")).join("testdata/broken");
+    for f in std::fs::read_dir(&broken).unwrap() {
+        let f = f.unwrap().path();
+        specconv([f.to_str().unwrap(), out.to_str().unwrap()]).fails(1, &["specconv: error:"]);
+    }
+    specconv([
+        good.to_str().unwrap(),
+        dir.path("missing/out.exr").to_str().unwrap(),
+    ])
+    .fails(1, &["output directory", "does not exist"]);
+    // The input is never written over, even when named as the output.
+    let copy = dir.path("in.png");
+    std::fs::copy(&good, &copy).unwrap();
+    specconv([copy.to_str().unwrap(), copy.to_str().unwrap()]).fails(1, &["is the input"]);
+    assert_eq!(std::fs::read(&copy).unwrap(), std::fs::read(&good).unwrap());
+    // An existing output needs --force.
+    std::fs::write(&out, b"keep me").unwrap();
+    specconv([good.to_str().unwrap(), out.to_str().unwrap()]).fails(1, &["exists; pass --force"]);
+    assert_eq!(std::fs::read(&out).unwrap(), b"keep me");
+    specconv([good.to_str().unwrap(), out.to_str().unwrap(), "--force"]).ok();
+    specconv([
+        good.to_str().unwrap(),
+        out.to_str().unwrap(),
+        "--force",
+        "--colorspace",
+        "Raw",
+    ])
+    .fails(1, &["holds data, not colour"]);
+    specconv([
+        good.to_str().unwrap(),
+        out.to_str().unwrap(),
+        "--force",
+        "--colorspace",
+        "srgb_txt",
+    ])
+    .fails(1, &["unknown colour space"]);
+    specconv([good.to_str().unwrap()]).fails(2, &["give INPUT OUTPUT"]);
+    assert_eq!(dir.files(), vec!["in.png", "out.exr"]);
+    assert!(tool("exrheader", &[out.to_str().unwrap()]).contains("spectralLayoutVersion"));
+}
+
+#[test]
+fn batches_convert_the_good_inputs_report_each_and_exit_1_for_the_bad() {
+    let dir = Scratch::new("convert-batch");
+    let outdir = dir.path("out");
+    std::fs::create_dir(&outdir).unwrap();
+    let missing = dir.path("gone.png");
+    let list = format!(
+        "{}\n{}\n",
+        testdata("srgb8.png").display(),
+        missing.display()
+    );
+    let out = {
+        use std::io::Write;
+        let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_specconv"))
+            .args([
+                "-",
+                testdata("rgb16.tif").to_str().unwrap(),
+                "-o",
+                outdir.to_str().unwrap(),
+                "--json",
+            ])
+            .stdin(std::process::Stdio::piped())
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        child
+            .stdin
+            .take()
+            .unwrap()
+            .write_all(list.as_bytes())
+            .unwrap();
+        child.wait_with_output().unwrap()
+    };
+    assert_eq!(out.status.code(), Some(1));
+    let reports: Vec<serde_json::Value> = String::from_utf8_lossy(&out.stdout)
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    assert_eq!(reports.len(), 3);
+    assert_eq!(reports[0]["status"], "ok");
+    assert!(reports[0]["pixels"].as_u64().unwrap() >= 61 * 47);
+    assert_eq!(reports[1]["status"], "failed");
+    assert!(reports[1]["error"].as_str().unwrap().contains("gone.png"));
+    assert_eq!(reports[2]["status"], "ok");
+    let mut made: Vec<String> = std::fs::read_dir(&outdir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    made.sort();
+    assert_eq!(made, vec!["rgb16_spectral.exr", "srgb8_spectral.exr"]);
+
+    // -u skips what is up to date with the same settings, and redoes it with other settings.
+    let again = specconv([
+        testdata("srgb8.png").to_str().unwrap(),
+        "-o",
+        outdir.to_str().unwrap(),
+        "-u",
+        "--json",
+    ]);
+    assert!(
+        again.ok().contains("\"status\":\"skipped\""),
+        "{}",
+        again.stdout
+    );
+    let other = specconv([
+        testdata("srgb8.png").to_str().unwrap(),
+        "-o",
+        outdir.to_str().unwrap(),
+        "-u",
+        "--json",
+        "-d",
+        "float",
+    ]);
+    assert!(other.ok().contains("\"status\":\"ok\""), "{}", other.stdout);
+    let templated = specconv([
+        testdata("srgb8.png").to_str().unwrap(),
+        "--output-template",
+        &format!("{}/{{stem}}.spec.exr", outdir.display()),
+    ]);
+    templated.ok();
+    assert!(outdir.join("srgb8.spec.exr").exists());
+}
+
+#[test]
+fn sigterm_mid_write_leaves_no_partial_file() {
+    let dir = Scratch::new("convert-term");
+    let big = dir.path("big.exr");
+    tool(
+        "oiiotool",
+        &[
+            "--pattern",
+            "noise:min=0:max=1",
+            "3000x3000",
+            "3",
+            "-d",
+            "half",
+            "-o",
+            big.to_str().unwrap(),
+        ],
+    );
+    let out = dir.path("out.exr");
+    let child = std::process::Command::new(env!("CARGO_BIN_EXE_specconv"))
+        .args([big.to_str().unwrap(), out.to_str().unwrap(), "-j", "1"])
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    // Wait until the temporary file exists, then terminate.
+    let start = std::time::Instant::now();
+    while !dir.files().iter().any(|f| f.ends_with(".tmp")) {
+        assert!(
+            start.elapsed().as_secs() < 60,
+            "the conversion never started writing"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+    tool("kill", &["-TERM", &child.id().to_string()]);
+    let result = child.wait_with_output().unwrap();
+    assert_ne!(
+        result.status.code(),
+        Some(0),
+        "a terminated run must not report success"
+    );
+    assert!(String::from_utf8_lossy(&result.stderr).contains("interrupted"));
+    assert_eq!(
+        dir.files(),
+        vec!["big.exr"],
+        "no output and no temporary file"
+    );
+}

@@ -1,0 +1,20 @@
+"""Reads a spectral OpenEXR with colour-science's reference reader for the Fichet et al. 2021
+layout and prints what it sees as JSON: per component, the wavelengths, the image shape and the
+spectrum of pixel (x, y) given on the command line."""
+import json
+import sys
+import warnings
+
+warnings.simplefilter("ignore")
+import colour  # noqa: E402
+
+path, x, y = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
+components = colour.io.read_spectral_image_Fichet2021(path)
+out = {}
+for name, (wavelengths, image) in components.items():
+    out[name] = {
+        "wavelengths": [float(w) for w in wavelengths],
+        "shape": list(image.shape),
+        "pixel": [float(v) for v in image[y, x]],
+    }
+print(json.dumps(out))
