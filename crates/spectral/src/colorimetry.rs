@@ -51,6 +51,11 @@ impl Colorimetry {
             .map(|w| w.iter().zip(r).map(|(a, b)| a * b).sum())
     }
 
+    /// XYZ of the perfect reflector (r = 1), Y = 1: the reference white of CIELAB.
+    pub fn white_xyz(&self) -> [f64; 3] {
+        self.weights.each_ref().map(|w| w.iter().sum::<f64>())
+    }
+
     /// Chromaticity of the perfect reflector (r = 1): the illuminant's white point.
     pub fn white_xy(&self) -> [f64; 2] {
         let xyz = self.weights.each_ref().map(|w| w.iter().sum::<f64>());

@@ -10,6 +10,8 @@ pub struct Outcome {
     pub delta_e: f64,
     /// max over X, Y, Z of |XYZ(r) − XYZ(s)| / Y(s) (absolute where Y(s) ≤ 0).
     pub roundtrip: f64,
+    /// CIEDE2000 between the colours of r and s, white = the perfect reflector.
+    pub roundtrip_de2000: f64,
     /// Every band of r within [0, 1].
     pub in_unit_range: bool,
     /// The cluster used, for methods with clusters.
@@ -29,6 +31,7 @@ pub struct Summary {
     pub count: usize,
     pub delta_e: Stats,
     pub roundtrip_max: f64,
+    pub roundtrip_de2000_max: f64,
     /// Fraction of reconstructions inside [0, 1].
     pub in_unit_range: f64,
 }
@@ -40,6 +43,7 @@ pub fn evaluate(a: &Colorimetry, up: &dyn Method, spectra: &[Vec<f64>]) -> Vec<O
         a.grid,
         "the method and the colorimetry must share a grid"
     );
+    let white = a.white_xyz();
     let mut r = vec![0.0; a.bands()];
     spectra
         .iter()
@@ -53,6 +57,10 @@ pub fn evaluate(a: &Colorimetry, up: &dyn Method, spectra: &[Vec<f64>]) -> Vec<O
                 roundtrip: (0..3)
                     .map(|k| (back[k] - c[k]).abs() / scale)
                     .fold(0.0, f64::max),
+                roundtrip_de2000: crate::lab::ciede2000(
+                    crate::lab::xyz_to_lab(c, white),
+                    crate::lab::xyz_to_lab(back, white),
+                ),
                 in_unit_range: r.iter().all(|v| (0.0..=1.0).contains(v)),
                 leaf: up.cluster_of(c),
             }
@@ -81,6 +89,10 @@ pub fn summarise(outcomes: &[Outcome]) -> Summary {
             max: de.last().copied().unwrap_or(f64::NAN),
         },
         roundtrip_max: outcomes.iter().map(|o| o.roundtrip).fold(0.0, f64::max),
+        roundtrip_de2000_max: outcomes
+            .iter()
+            .map(|o| o.roundtrip_de2000)
+            .fold(0.0, f64::max),
         in_unit_range: if count == 0 {
             f64::NAN
         } else {
@@ -97,6 +109,7 @@ mod tests {
         Outcome {
             delta_e,
             roundtrip: delta_e / 10.0,
+            roundtrip_de2000: delta_e / 100.0,
             in_unit_range,
             leaf: None,
         }
@@ -120,6 +133,7 @@ mod tests {
             }
         );
         assert_eq!(s.roundtrip_max, 1.0);
+        assert_eq!(s.roundtrip_de2000_max, 0.1);
         assert_eq!(s.in_unit_range, 0.75);
         assert_eq!(summarise(&[outcome(3.0, true)]).delta_e.median, 3.0);
     }

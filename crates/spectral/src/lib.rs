@@ -10,7 +10,9 @@
 //! - [`train`]: per-cluster PCA (Eq. 5–8) in a greedy kd-tree on xy (Eq. 10–13).
 //! - [`Model`]: the trained tree and leaves, its versioned file, and the built-in model.
 //! - [`Uplifter`]: the runtime, r = T·c + o per pixel, f32 and f64.
-//! - [`eval`]: reconstruction error, round trip and range of a model on measured spectra.
+//! - [`eval`]: reconstruction error, round trip and range of a method on measured spectra.
+//! - [`methods`]: the baselines behind the same [`Method`] trait: Smits 1999, Meng et al. 2015,
+//!   Jakob & Hanika 2019; [`lab`]: CIELAB and CIEDE2000.
 //!
 //! This crate knows nothing of images, files by path, threads or FFI.
 #![forbid(unsafe_code)]
@@ -18,6 +20,8 @@
 pub mod colorimetry;
 pub mod eval;
 pub mod grid;
+pub mod lab;
+pub mod methods;
 pub mod model;
 pub mod observer;
 pub mod pca;

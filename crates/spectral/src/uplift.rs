@@ -15,6 +15,8 @@ pub trait Method: Send + Sync {
     fn uplift_f64(&self, xyz: &[f64], out: &mut [f64]);
     /// As `uplift_f64`, in single precision.
     fn uplift_f32(&self, xyz: &[f32], out: &mut [f32]);
+    /// Bytes of the data the f32 uplift reads (tables, matrices, tree): the model's size.
+    fn model_bytes(&self) -> usize;
     /// The cluster a colour is uplifted by, for methods that have clusters.
     fn cluster_of(&self, _xyz: [f64; 3]) -> Option<usize> {
         None
@@ -130,6 +132,11 @@ impl Method for Uplifter {
 
     fn cluster_of(&self, xyz: [f64; 3]) -> Option<usize> {
         Some(self.leaf(xyz))
+    }
+
+    fn model_bytes(&self) -> usize {
+        std::mem::size_of_val(self.nodes.as_slice())
+            + self.f32s.iter().map(|t| t.len() * 4).sum::<usize>()
     }
 
     /// Uplifts colours `xyz` (X, Y, Z per pixel) into `out` (`bands` values per pixel).
