@@ -17,14 +17,17 @@
 //! This crate knows nothing of images, files by path, threads or FFI.
 #![forbid(unsafe_code)]
 
+pub mod bounded;
 pub mod colorimetry;
 pub mod eval;
 pub mod grid;
+pub mod hard;
 pub mod lab;
 pub mod methods;
 pub mod model;
 pub mod observer;
 pub mod pca;
+pub mod primaries;
 pub mod table;
 pub mod train;
 pub mod uplift;

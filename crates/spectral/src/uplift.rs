@@ -25,11 +25,9 @@ pub trait Method: Send + Sync {
 
 /// A model prepared for uplifting: per leaf, T = B·M⁻¹ (n×3) and o = μ − T·c_μ, in f64 and f32.
 ///
-/// Leaf choice: the kd-tree on the colour's xy. A colour without a chromaticity (X+Y+Z ≤ 0,
-/// which includes black, or a NaN or infinite component) takes the leaf of the model's white
-/// point. The affine map then runs as for any colour, so the round trip XYZ(r) = c still holds:
-/// black gives o of that leaf, a spectrum whose XYZ is zero; NaN in any component gives NaN in
-/// every band (the product propagates it).
+/// Leaf choice: the kd-tree on the colour's xy. Colours that are not ordinary take the policy
+/// of [`crate::hard`] (black → zero spectrum, dark colours scaled, NaN/±Inf → NaN in every
+/// band, no overflow); every finite input gives a finite spectrum with XYZ(r) = c.
 #[derive(Debug, Clone)]
 pub struct Uplifter {
     grid: Grid,
@@ -40,6 +38,9 @@ pub struct Uplifter {
     /// Per leaf: columns T·x̂, T·ŷ, T·ẑ and o, each `bands` long, contiguous.
     f64s: Vec<Vec<f64>>,
     f32s: Vec<Vec<f32>>,
+    /// Components below these magnitudes cannot overflow T·c + o in f64, f32 (`hard`).
+    safe_f64: f64,
+    safe_f32: f64,
 }
 
 const LEAF: u32 = 1 << 31;
@@ -92,6 +93,7 @@ impl Uplifter {
             .iter()
             .map(|t| t.iter().map(|&v| v as f32).collect())
             .collect();
+        let (safe_f64, safe_f32) = crate::hard::safe_limits(&f64s, n);
         Ok(Uplifter {
             grid: model.grid,
             bands: n,
@@ -99,6 +101,8 @@ impl Uplifter {
             nodes,
             f64s,
             f32s,
+            safe_f64,
+            safe_f32,
         })
     }
 
@@ -106,10 +110,25 @@ impl Uplifter {
         self.bands
     }
 
+    /// Chromaticity of the model's white point.
+    pub fn white_xy(&self) -> [f64; 2] {
+        self.white
+    }
+
+    /// A leaf's affine map in f64: columns T·x̂, T·ŷ, T·ẑ and o, each `bands()` long.
+    pub fn affine(&self, leaf: usize) -> &[f64] {
+        &self.f64s[leaf]
+    }
+
     /// The leaf a colour is uplifted by.
     #[inline]
     pub fn leaf(&self, xyz: [f64; 3]) -> usize {
-        let xy = crate::colorimetry::xy(xyz).unwrap_or(self.white);
+        self.leaf_xy(crate::colorimetry::xy(xyz).unwrap_or(self.white))
+    }
+
+    /// The leaf of a chromaticity.
+    #[inline]
+    pub fn leaf_xy(&self, xy: [f64; 2]) -> usize {
         let mut node = 0u32;
         loop {
             let (ax, value, below, above) = self.nodes[node as usize];
@@ -148,8 +167,11 @@ impl Method for Uplifter {
             "out must hold `bands` values per colour"
         );
         for (c, r) in xyz.chunks_exact(3).zip(out.chunks_exact_mut(n)) {
-            let t = &self.f64s[self.leaf([c[0], c[1], c[2]])];
-            kernel(t, n, [c[0], c[1], c[2]], r);
+            let c = [c[0], c[1], c[2]];
+            match crate::hard::ordinary_xy(c, self.safe_f64) {
+                Some(xy) => kernel(&self.f64s[self.leaf_xy(xy)], n, c, r),
+                None => crate::hard::uplift(self, c, |b, v| r[b] = v),
+            }
         }
     }
 
@@ -162,8 +184,11 @@ impl Method for Uplifter {
             "out must hold `bands` values per colour"
         );
         for (c, r) in xyz.chunks_exact(3).zip(out.chunks_exact_mut(n)) {
-            let t = &self.f32s[self.leaf([c[0] as f64, c[1] as f64, c[2] as f64])];
-            kernel(t, n, [c[0], c[1], c[2]], r);
+            let c64 = [c[0] as f64, c[1] as f64, c[2] as f64];
+            match crate::hard::ordinary_xy(c64, self.safe_f32) {
+                Some(xy) => kernel(&self.f32s[self.leaf_xy(xy)], n, [c[0], c[1], c[2]], r),
+                None => crate::hard::uplift(self, c64, |b, v| r[b] = crate::hard::to_f32(v)),
+            }
         }
     }
 }

@@ -1,0 +1,139 @@
+//! RGB colour spaces by their published primaries, for tests and measurements of the uplift on
+//! whole gamuts (sRGB, Rec.2020, ACEScg, ACES2065-1). Conversion of images goes through OCIO.
+
+use nalgebra::{Matrix3, Vector3};
+
+/// An RGB space: chromaticities of its red, green and blue primaries and of its white.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RgbSpace {
+    pub name: &'static str,
+    pub primaries: [[f64; 2]; 3],
+    pub white: [f64; 2],
+}
+
+/// ITU-R BT.709-6, Table 1 (sRGB, IEC 61966-2-1, has the same primaries and D65 white).
+pub const SRGB: RgbSpace = RgbSpace {
+    name: "sRGB",
+    primaries: [[0.64, 0.33], [0.30, 0.60], [0.15, 0.06]],
+    white: [0.3127, 0.3290],
+};
+
+/// ITU-R BT.2020-2, Table 3.
+pub const REC2020: RgbSpace = RgbSpace {
+    name: "Rec.2020",
+    primaries: [[0.708, 0.292], [0.170, 0.797], [0.131, 0.046]],
+    white: [0.3127, 0.3290],
+};
+
+/// ACES AP1 primaries (ACEScg), Academy S-2014-004, with the ACES white (≈ D60).
+pub const ACESCG: RgbSpace = RgbSpace {
+    name: "ACEScg",
+    primaries: [[0.713, 0.293], [0.165, 0.830], [0.128, 0.044]],
+    white: [0.32168, 0.33767],
+};
+
+/// ACES AP0 primaries (ACES2065-1), SMPTE ST 2065-1:2012, with the ACES white.
+pub const ACES2065_1: RgbSpace = RgbSpace {
+    name: "ACES2065-1",
+    primaries: [[0.7347, 0.2653], [0.0, 1.0], [0.0001, -0.0770]],
+    white: [0.32168, 0.33767],
+};
+
+fn xyz_of(xy: [f64; 2]) -> Vector3<f64> {
+    Vector3::new(xy[0] / xy[1], 1.0, (1.0 - xy[0] - xy[1]) / xy[1])
+}
+
+impl RgbSpace {
+    /// The matrix from linear RGB of this space to XYZ relative to `white` (Y = 1), e.g. the
+    /// white of a model's colorimetry. The normalised primary matrix (SMPTE RP 177-1993) is made
+    /// for the space's own white; a space whose white is within 1e-3 in xy of `white` (the D65
+    /// spaces) takes `white` itself, so RGB (1, 1, 1) maps to it exactly, and any other is
+    /// adapted with the linear Bradford transform (Lam 1985; the matrix as in Lindbloom's and
+    /// colour-science's tables).
+    pub fn to_xyz(&self, white: [f64; 3]) -> [[f64; 3]; 3] {
+        let target = Vector3::from(white) / white[1];
+        let own = xyz_of(self.white);
+        let near = (own[0] / (own[0] + 1.0 + own[2]) - target[0] / target.sum()).abs() < 1e-3
+            && (1.0 / (own[0] + 1.0 + own[2]) - 1.0 / target.sum()).abs() < 1e-3;
+        let w = if near { target } else { own };
+        let p = Matrix3::from_columns(&self.primaries.map(xyz_of));
+        let s = p.try_inverse().expect("primaries are independent") * w;
+        let mut m = p * Matrix3::from_diagonal(&s);
+        if !near {
+            let b = Matrix3::new(
+                0.8951, 0.2664, -0.1614, -0.7502, 1.7135, 0.0367, 0.0389, -0.0685, 1.0296,
+            );
+            let (rs, rt) = (b * w, b * target);
+            let scale = Matrix3::from_diagonal(&rt.component_div(&rs));
+            m = b.try_inverse().expect("Bradford is invertible") * scale * b * m;
+        }
+        m *= white[1];
+        [0, 1, 2].map(|r| [0, 1, 2].map(|c| m[(r, c)]))
+    }
+}
+
+/// XYZ of `rgb` under the matrix `m` from [`RgbSpace::to_xyz`].
+pub fn apply(m: &[[f64; 3]; 3], rgb: [f64; 3]) -> [f64; 3] {
+    m.map(|row| row[0] * rgb[0] + row[1] * rgb[1] + row[2] * rgb[2])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn srgb_matrix_matches_iec_61966_2_1() {
+        // IEC 61966-2-1 (sRGB) RGB → XYZ, to its four decimals, for the D65 white of BT.709.
+        let published = [
+            [0.4124, 0.3576, 0.1805],
+            [0.2126, 0.7152, 0.0722],
+            [0.0193, 0.1192, 0.9505],
+        ];
+        let m = SRGB.to_xyz(xyz_of(SRGB.white).into());
+        for r in 0..3 {
+            for c in 0..3 {
+                assert!((m[r][c] - published[r][c]).abs() < 1e-4, "{m:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn white_maps_to_the_target_white() {
+        let target = [0.9504, 1.0, 1.0889];
+        for space in [SRGB, REC2020, ACESCG, ACES2065_1] {
+            let w = apply(&space.to_xyz(target), [1.0; 3]);
+            for k in 0..3 {
+                assert!((w[k] - target[k]).abs() < 1e-12, "{}: {w:?}", space.name);
+            }
+        }
+    }
+
+    #[test]
+    fn acescg_matrices_match_published_ones() {
+        let close = |m: [[f64; 3]; 3], p: [[f64; 3]; 3], tol: f64| {
+            (0..3).all(|r| (0..3).all(|c| (m[r][c] - p[r][c]).abs() < tol))
+        };
+        // AP1 → XYZ for the ACES white, as in aces-dev (ACESlib.Transform_Common).
+        let m = ACESCG.to_xyz(xyz_of(ACESCG.white).into());
+        let published = [
+            [0.6624541811, 0.1340042065, 0.1561876870],
+            [0.2722287168, 0.6740817658, 0.0536895174],
+            [-0.0055746495, 0.0040607335, 1.0103391003],
+        ];
+        assert!(close(m, published, 1e-9), "{m:?}");
+        // AP1 → linear Rec.709 with Bradford to D65 (the ACEScg → sRGB matrix of the ACES
+        // configs and colour-science), composed from ours: the adaptation path is right.
+        let d65: [f64; 3] = xyz_of(SRGB.white).into();
+        let to_srgb = Matrix3::from_fn(|r, c| SRGB.to_xyz(d65)[r][c])
+            .try_inverse()
+            .unwrap()
+            * Matrix3::from_fn(|r, c| ACESCG.to_xyz(d65)[r][c]);
+        let published = [
+            [1.70505, -0.62179, -0.08326],
+            [-0.13026, 1.14080, -0.01055],
+            [-0.02400, -0.12897, 1.15297],
+        ];
+        let m = [0, 1, 2].map(|r| [0, 1, 2].map(|c| to_srgb[(r, c)]));
+        assert!(close(m, published, 1e-4), "{m:?}");
+    }
+}
