@@ -8,6 +8,8 @@ use std::io::Write;
 
 mod cmd;
 mod files;
+mod methods;
+mod plot;
 
 /// Turn textures in any colour space into spectral reflectance images, with the clustered-PCA
 /// uplift of Otsu, Yamamoto and Hachisuka 2018.
@@ -34,6 +36,7 @@ enum Command {
     Convert(cmd::convert::Args),
     Train(cmd::train::Args),
     Eval(cmd::eval::Args),
+    Report(cmd::report::Args),
     Info(cmd::info::Args),
     Colorspaces(cmd::colorspaces::Args),
     ToRgb(cmd::to_rgb::Args),
@@ -67,6 +70,7 @@ fn run(command: Command) -> anyhow::Result<()> {
         Command::Convert(_) => unreachable!("dispatched above"),
         Command::Train(args) => cmd::train::run(args),
         Command::Eval(args) => cmd::eval::run(args),
+        Command::Report(args) => cmd::report::run(args),
         Command::Info(args) => cmd::info::run(args),
         Command::Colorspaces(args) => cmd::colorspaces::run(args),
         Command::ToRgb(args) => cmd::to_rgb::run(args),

@@ -66,3 +66,48 @@ fn meng2015_on_dataset_i() {
         assert!((got - want).abs() < 5e-4, "{got} vs {want}");
     }
 }
+
+/// Jakob & Hanika 2019 after table lookup: in-gamut sRGB colours come back within CIEDE2000
+/// 0.01, in f64 and in the f32 runtime, with the paper's 64³ table.
+#[test]
+fn jakob2019_round_trips_in_gamut_srgb() {
+    use spectral::lab::{ciede2000, xyz_to_lab};
+    use spectral::methods::jakob::{Table, DEFAULT_RESOLUTION};
+    use spectral::methods::{Jakob2019, WorkingSpace};
+    use spectral::{Colorimetry, Grid, Illuminant, Observer};
+    let a = Colorimetry::new(Grid::PAPER, Observer::Cie1931, Illuminant::D65).unwrap();
+    let table = Table::build(&a, DEFAULT_RESOLUTION).unwrap();
+    let j = Jakob2019::new(&a, table).unwrap();
+    let ws = WorkingSpace::rec709(&a);
+    let white = a.white_xyz();
+    let n = a.bands();
+    let (mut r, mut r32) = (vec![0.0; n], vec![0f32; n]);
+    let (mut worst, mut worst32) = (0f64, 0f64);
+    let mut state = 7u64;
+    let mut next = || {
+        state = state
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    };
+    // Random colours, plus the cube's corners and edges, where the table is hardest.
+    let mut rgbs: Vec<[f64; 3]> = (0..5000).map(|_| [next(), next(), next()]).collect();
+    for k in 0..8 {
+        rgbs.push([k & 1, (k >> 1) & 1, (k >> 2) & 1].map(|b| b as f64 * 0.999 + 0.0005));
+    }
+    for rgb in rgbs {
+        let xyz = ws.xyz(rgb);
+        let lab = xyz_to_lab(xyz, white);
+        j.uplift_f64(&xyz, &mut r);
+        j.uplift_f32(&xyz.map(|v| v as f32), &mut r32);
+        let r32: Vec<f64> = r32.iter().map(|&v| v as f64).collect();
+        let d = ciede2000(lab, xyz_to_lab(a.xyz(&r), white));
+        if d > 0.01 {
+            eprintln!("{rgb:?} {d}");
+        }
+        worst = worst.max(d);
+        worst32 = worst32.max(ciede2000(lab, xyz_to_lab(a.xyz(&r32), white)));
+    }
+    eprintln!("jakob2019 round trip: max ΔE00 {worst:.4} (f64), {worst32:.4} (f32)");
+    assert!(worst < 0.01 && worst32 < 0.01, "{worst} {worst32}");
+}

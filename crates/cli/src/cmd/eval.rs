@@ -1,24 +1,44 @@
-//! `specconv eval`: how well a model reproduces measured spectra from their colours.
+//! `specconv eval`: how well a method reproduces measured spectra from their colours.
 
-use crate::files;
-use anyhow::Result;
-use spectral::{eval, Uplifter};
+use crate::{files, methods};
+use anyhow::{bail, Result};
+use spectral::methods::MethodName;
+use spectral::{eval, TrainOptions};
 use std::path::PathBuf;
 
-/// Measure a model on measured spectra: uplift each from its own XYZ and compare.
+/// Measure a method on measured spectra: uplift each from its own XYZ and compare.
 ///
 /// Prints Δe = ‖s − r‖² mean / median / max (as the paper's Table 1), the largest relative
-/// round-trip error |XYZ(r) − XYZ(s)| / Y(s), and the fraction of reconstructions inside
-/// [0, 1]. The grid, observer and illuminant are the model's.
+/// round-trip error |XYZ(r) − XYZ(s)| / Y(s) and CIEDE2000, and the fraction of
+/// reconstructions inside [0, 1]. The clustered methods (otsu2018, pca) use --model, a model
+/// trained here on --train, or the built-in model; their grid, observer and illuminant are the
+/// model's. The baselines use --observer, --illuminant and --bands, by default those of the
+/// model.
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// Measured spectra (CSV, as for train). Repeat for several files.
     #[arg(long, value_name = "CSV", required = true)]
     spectra: Vec<PathBuf>,
+    /// Uplift method: otsu2018 (clustered PCA), pca (one cluster), smits1999, meng2015,
+    /// meng2015-bounded (values kept in [0, 1] where possible) or jakob2019.
+    #[arg(long, value_name = "NAME", default_value = "otsu2018")]
+    method: MethodName,
     /// Model file from `specconv train`; the built-in model when absent.
-    #[arg(long, value_name = "MODEL")]
+    #[arg(long, value_name = "MODEL", conflicts_with = "train")]
     model: Option<PathBuf>,
-    /// Print one JSON object: count, delta_e.{mean,median,max}, roundtrip_max, in_unit_range.
+    /// Train the clustered model here on these spectra (CSV) instead of reading one.
+    #[arg(long, value_name = "CSV")]
+    train: Vec<PathBuf>,
+    /// Clusters of the model trained with --train (pca: always 1).
+    #[arg(long, value_name = "K", default_value_t = 8)]
+    clusters: usize,
+    /// Smallest cluster of the model trained with --train.
+    #[arg(long, value_name = "N", default_value_t = TrainOptions::default().min_cluster_size)]
+    min_cluster_size: usize,
+    #[command(flatten)]
+    setting: methods::SettingArgs,
+    /// Print one JSON object: method, count, delta_e.{mean,median,max}, roundtrip_max,
+    /// roundtrip_de2000_max, in_unit_range.
     #[arg(long)]
     json: bool,
     /// Also list every spectrum's error (with --json, under "spectra").
@@ -35,14 +55,52 @@ struct Row<'a> {
 }
 
 pub fn run(args: Args) -> Result<()> {
-    let model = files::load_model(args.model.as_deref())?;
-    let a = model.colorimetry()?;
-    let up = Uplifter::new(&model)?;
+    let base = files::load_model(args.model.as_deref())?;
+    let (method, a, described) = if args.method.is_clustered() {
+        let model = if args.train.is_empty() {
+            let m = base;
+            if args.method == MethodName::Pca && m.leaves.len() != 1 {
+                bail!(
+                    "pca is the clustered PCA with one cluster, and {} has {}; pass a model \
+                     trained with --clusters 1, or --train CSV to train one here",
+                    args.model
+                        .as_ref()
+                        .map_or("the built-in model".into(), |p| p.display().to_string()),
+                    m.leaves.len()
+                );
+            }
+            m
+        } else {
+            let a = args.setting.colorimetry(&base)?;
+            let set = methods::training_set(&args.train, &a.grid)?;
+            let opts = TrainOptions {
+                clusters: if args.method == MethodName::Pca {
+                    1
+                } else {
+                    args.clusters
+                },
+                min_cluster_size: args.min_cluster_size,
+                ..TrainOptions::default()
+            };
+            spectral::train(&set, &a, &opts)?
+        };
+        let described = if args.train.is_empty() {
+            files::describe_model(args.model.as_deref(), &model)
+        } else {
+            files::describe_model(None, &model).replacen("built-in", "trained here", 1)
+        };
+        (methods::clustered(&model)?, model.colorimetry()?, described)
+    } else {
+        let a = args.setting.colorimetry(&base)?;
+        let m = methods::baseline(args.method, &a, args.setting.jakob_resolution)?;
+        let d = format!("{}, {}, {} nm", a.observer, a.illuminant, a.grid);
+        (m, a, d)
+    };
     let mut spectra = Vec::new();
     let mut labels = Vec::new();
     for path in &args.spectra {
         let table = files::read_spectra(path)?;
-        spectra.extend(table.resampled(&model.grid)?);
+        spectra.extend(table.resampled(&a.grid)?);
         labels.extend(
             table
                 .names
@@ -50,7 +108,7 @@ pub fn run(args: Args) -> Result<()> {
                 .map(|n| (table.source.clone(), n.clone())),
         );
     }
-    let outcomes = eval::evaluate(&a, &up, &spectra);
+    let outcomes = eval::evaluate(&a, method.as_ref(), &spectra);
     let summary = eval::summarise(&outcomes);
     let rows: Vec<Row> = labels
         .iter()
@@ -64,6 +122,7 @@ pub fn run(args: Args) -> Result<()> {
 
     if args.json {
         let mut v = serde_json::to_value(&summary)?;
+        v["method"] = args.method.as_str().into();
         if args.per_spectrum {
             v["spectra"] = serde_json::to_value(&rows)?;
         }
@@ -72,33 +131,37 @@ pub fn run(args: Args) -> Result<()> {
     }
     if args.per_spectrum {
         println!(
-            "{:<12} {:>5} {:>9} {:>7}  name",
-            "delta_e", "leaf", "roundtrip", "in_0_1"
+            "{:<12} {:>5} {:>9} {:>9} {:>7}  name",
+            "delta_e", "leaf", "roundtrip", "ΔE00", "in_0_1"
         );
         for r in &rows {
             println!(
-                "{:<12.6} {:>5} {:>9.1e} {:>7}  {}",
+                "{:<12.6} {:>5} {:>9.1e} {:>9.1e} {:>7}  {}",
                 r.outcome.delta_e,
                 r.outcome.leaf.map_or("-".into(), |l| l.to_string()),
                 r.outcome.roundtrip,
+                r.outcome.roundtrip_de2000,
                 r.outcome.in_unit_range,
                 r.name
             );
         }
         println!();
     }
-    println!(
-        "model:      {}",
-        files::describe_model(args.model.as_deref(), &model)
-    );
+    println!("method:     {}", args.method);
+    let what = if args.method.is_clustered() {
+        "model"
+    } else {
+        "setting"
+    };
+    println!("{what:<11} {described}", what = format!("{what}:"));
     println!("spectra:    {}", summary.count);
     println!(
         "Δe = ‖s − r‖²: mean {:.4}  median {:.4}  max {:.4}",
         summary.delta_e.mean, summary.delta_e.median, summary.delta_e.max
     );
     println!(
-        "round trip: max |XYZ(r) − XYZ(s)| / Y(s) = {:.2e}",
-        summary.roundtrip_max
+        "round trip: max |XYZ(r) − XYZ(s)| / Y(s) = {:.2e}, max CIEDE2000 = {:.2e}",
+        summary.roundtrip_max, summary.roundtrip_de2000_max
     );
     println!(
         "in [0, 1]:  {:.1} % of reconstructions",

@@ -4,5 +4,6 @@ pub mod colorspaces;
 pub mod convert;
 pub mod eval;
 pub mod info;
+pub mod report;
 pub mod to_rgb;
 pub mod train;

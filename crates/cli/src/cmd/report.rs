@@ -1,0 +1,402 @@
+//! `specconv report`: every method on the same spectra, accuracy and cost in one table.
+
+use crate::{files, methods};
+use anyhow::{bail, Context, Result};
+use rayon::prelude::*;
+use serde::Serialize;
+use spectral::methods::{MethodName, WorkingSpace};
+use spectral::{eval, Colorimetry, Grid, Illuminant, Method, Observer, TrainOptions};
+use std::path::PathBuf;
+use std::time::Instant;
+
+/// Measure every uplift method on the same measured spectra: accuracy against cost.
+///
+/// Rows: smits1999, meng2015, meng2015-bounded, jakob2019, pca, otsu2018 at each --clusters
+/// count, and otsu2018 with 8 clusters at each --steps band width. Columns: Δe = ‖s − r‖² mean,
+/// median and max; the round trip (max |XYZ(r) − XYZ(s)| / Y(s) and max CIEDE2000); the
+/// fraction of spectra inside [0, 1]; the model's size in bytes (the data the f32 uplift
+/// reads); and the cost of the f32 uplift alone, in nanoseconds per colour and Mpixel/s, on one
+/// thread and on all, measured in this run over --colours random linear sRGB colours, 4096 per
+/// tile. The clustered models are trained on --train (default: --spectra itself, the paper's
+/// Table 1 setting) or, with --holdout K, K-fold on --spectra: trained on K−1 parts, evaluated
+/// on the held-out one.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// Measured spectra to evaluate on (CSV). Repeat for several files.
+    #[arg(long, value_name = "CSV", required = true)]
+    spectra: Vec<PathBuf>,
+    /// Spectra to train the clustered models on (default: --spectra).
+    #[arg(long, value_name = "CSV", conflicts_with = "holdout")]
+    train: Vec<PathBuf>,
+    /// K-fold cross-validation of the clustered models on --spectra (K ≥ 2).
+    #[arg(long, value_name = "K", value_parser = clap::value_parser!(u32).range(2..))]
+    holdout: Option<u32>,
+    /// Cluster counts of the otsu2018 rows (1 is the pca row).
+    #[arg(
+        long,
+        value_name = "K,…",
+        value_delimiter = ',',
+        default_value = "1,2,4,8,16,32"
+    )]
+    clusters: Vec<usize>,
+    /// Band widths in nm of the extra otsu2018 rows (8 clusters, same range).
+    #[arg(
+        long,
+        value_name = "NM,…",
+        value_delimiter = ',',
+        default_value = "5,1"
+    )]
+    steps: Vec<f64>,
+    /// Smallest cluster of the trained models (the paper's Table 1 used 4).
+    #[arg(long, value_name = "N", default_value_t = TrainOptions::default().min_cluster_size)]
+    min_cluster_size: usize,
+    /// Colour-matching functions: cie1931, cie1964 or wyman2013.
+    #[arg(long, default_value = "cie1931")]
+    observer: Observer,
+    /// Illuminant: D65, E, A, D50, FL2, FL11 or blackbody:KELVIN.
+    #[arg(long, default_value = "D65")]
+    illuminant: Illuminant,
+    /// Wavelength grid START:END:STEP in nm of every row but the --steps ones.
+    #[arg(long, value_name = "START:END:STEP", default_value = "380:730:10")]
+    bands: Grid,
+    /// Resolution of the jakob2019 coefficient table.
+    #[arg(long, value_name = "N", default_value_t = spectral::methods::jakob::DEFAULT_RESOLUTION)]
+    jakob_resolution: usize,
+    /// Colours uplifted to measure the cost of each method.
+    #[arg(long, value_name = "N", default_value_t = 1 << 20)]
+    colours: usize,
+    /// Threads of the "all threads" measurement (default: one per core).
+    #[arg(short = 'j', long, value_name = "N")]
+    threads: Option<usize>,
+    /// Print the table as JSON.
+    #[arg(long, conflicts_with = "csv")]
+    json: bool,
+    /// Print the table as CSV.
+    #[arg(long)]
+    csv: bool,
+    /// Also draw accuracy (Δe mean) against time per colour into FILE.svg.
+    #[arg(long, value_name = "FILE.svg")]
+    plot: Option<PathBuf>,
+}
+
+#[derive(Debug, Serialize)]
+struct Row {
+    method: String,
+    setting: String,
+    bands: usize,
+    count: usize,
+    delta_e_mean: f64,
+    delta_e_median: f64,
+    delta_e_max: f64,
+    roundtrip_max: f64,
+    roundtrip_de2000_max: f64,
+    in_unit_range: f64,
+    model_bytes: usize,
+    ns_per_colour_1_thread: f64,
+    mpixel_per_s_1_thread: f64,
+    ns_per_colour_all_threads: f64,
+    mpixel_per_s_all_threads: f64,
+    threads: usize,
+}
+
+pub fn run(args: Args) -> Result<()> {
+    if let Some(plot) = &args.plot {
+        if plot.extension().and_then(|e| e.to_str()) != Some("svg") {
+            bail!(
+                "--plot {}: only SVG is written; name the file *.svg",
+                plot.display()
+            );
+        }
+    }
+    if args.colours == 0 {
+        bail!("--colours must be at least 1");
+    }
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(args.threads.unwrap_or(0))
+        .build()
+        .context("cannot start worker threads")?;
+    let threads = pool.current_num_threads();
+    let base = Colorimetry::new(args.bands, args.observer, args.illuminant)?;
+
+    let mut rows = Vec::new();
+    for name in [
+        MethodName::Smits1999,
+        MethodName::Meng2015,
+        MethodName::Meng2015Bounded,
+        MethodName::Jakob2019,
+    ] {
+        let m = methods::baseline(name, &base, args.jakob_resolution)?;
+        let spectra = read(&args.spectra, &base.grid)?;
+        let summary = eval::summarise(&eval::evaluate(&base, m.as_ref(), &spectra));
+        let setting = match name {
+            MethodName::Jakob2019 => format!("{}³ table", args.jakob_resolution),
+            _ => String::new(),
+        };
+        rows.push(row(
+            &args,
+            &pool,
+            &base,
+            m.as_ref(),
+            name.as_str(),
+            setting,
+            &summary,
+        ));
+        eprintln!("specconv: measured {name}");
+    }
+    let mut settings: Vec<(usize, Grid)> = args.clusters.iter().map(|&k| (k, args.bands)).collect();
+    for &step in &args.steps {
+        let g = Grid::new(args.bands.start, args.bands.end, step)?;
+        if g != args.bands {
+            settings.push((8, g));
+        }
+    }
+    for (k, grid) in settings {
+        let a = Colorimetry::new(grid, args.observer, args.illuminant)?;
+        let (model, summary) = clustered(&args, &a, k)?;
+        let m = methods::clustered(&model)?;
+        let name = if k == 1 { "pca" } else { "otsu2018" };
+        let mut setting = format!("{} clusters", model.leaves.len());
+        if grid != args.bands {
+            setting = format!("{setting}, {} nm", grid.step);
+        }
+        if let Some(h) = args.holdout {
+            setting = format!("{setting}, {h}-fold");
+        }
+        rows.push(row(&args, &pool, &a, m.as_ref(), name, setting, &summary));
+        eprintln!("specconv: measured {name} with {k} clusters on {grid}");
+    }
+
+    if let Some(plot) = &args.plot {
+        let svg = crate::plot::accuracy_against_time(&rows_for_plot(&rows), threads);
+        files::write_atomically(plot, svg.as_bytes(), &[])?;
+    }
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&rows)?);
+    } else if args.csv {
+        print_csv(&rows);
+    } else {
+        print_table(&rows, &args, threads);
+    }
+    Ok(())
+}
+
+fn read(paths: &[PathBuf], grid: &Grid) -> Result<Vec<Vec<f64>>> {
+    let mut spectra = Vec::new();
+    for p in paths {
+        spectra.extend(files::read_spectra(p)?.resampled(grid)?);
+    }
+    Ok(spectra)
+}
+
+/// The model used for timing (trained on all training data, or on the first fold's) and the
+/// accuracy summary (on the evaluated spectra, or over the held-out folds).
+fn clustered(args: &Args, a: &Colorimetry, k: usize) -> Result<(spectral::Model, eval::Summary)> {
+    let opts = TrainOptions {
+        clusters: k,
+        min_cluster_size: args.min_cluster_size,
+        ..TrainOptions::default()
+    };
+    let eval_set = methods::training_set(&args.spectra, &a.grid)?;
+    let Some(folds) = args.holdout.map(|h| h as usize) else {
+        let train = if args.train.is_empty() {
+            eval_set.clone()
+        } else {
+            methods::training_set(&args.train, &a.grid)?
+        };
+        let model = spectral::train(&train, a, &opts)?;
+        let up = methods::clustered(&model)?;
+        let s = eval::summarise(&eval::evaluate(a, up.as_ref(), &eval_set.spectra));
+        return Ok((model, s));
+    };
+    if eval_set.spectra.len() < folds {
+        bail!(
+            "--holdout {folds}: only {} spectra to split",
+            eval_set.spectra.len()
+        );
+    }
+    // Fold f holds every spectrum i with i mod K = f: each fold samples the whole file.
+    let mut outcomes = Vec::new();
+    let mut first = None;
+    for f in 0..folds {
+        let mut train = eval_set.clone();
+        train.spectra.clear();
+        train.names.clear();
+        let mut held = Vec::new();
+        for (i, (s, n)) in eval_set.spectra.iter().zip(&eval_set.names).enumerate() {
+            if i % folds == f {
+                held.push(s.clone());
+            } else {
+                train.spectra.push(s.clone());
+                train.names.push(n.clone());
+            }
+        }
+        let model = spectral::train(&train, a, &opts)?;
+        let up = methods::clustered(&model)?;
+        outcomes.extend(eval::evaluate(a, up.as_ref(), &held));
+        first.get_or_insert(model);
+    }
+    Ok((
+        first.expect("at least two folds"),
+        eval::summarise(&outcomes),
+    ))
+}
+
+/// Random linear sRGB colours in [0, 1]³ as XYZ (a fixed linear congruential sequence, so every
+/// run and every method sees the same colours).
+fn timing_colours(a: &Colorimetry, n: usize) -> Vec<f32> {
+    let ws = WorkingSpace::rec709(a);
+    let mut state = 0x2545_f491_4f6c_dd1du64;
+    let mut next = || {
+        state = state
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let mut out = Vec::with_capacity(3 * n);
+    for _ in 0..n {
+        let xyz = ws.xyz([next(), next(), next()]);
+        out.extend(xyz.map(|v| v as f32));
+    }
+    out
+}
+
+const TILE: usize = 4096;
+
+/// Seconds to uplift `xyz` tile by tile on one thread, and on the pool.
+fn time(m: &dyn Method, xyz: &[f32], pool: &rayon::ThreadPool) -> (f64, f64) {
+    let n = m.grid().len();
+    let mut out = vec![0f32; TILE * n];
+    // Warm-up: caches, lazy tables, page faults of `out`.
+    m.uplift_f32(
+        &xyz[..3 * TILE.min(xyz.len() / 3)],
+        &mut out[..n * TILE.min(xyz.len() / 3)],
+    );
+    let start = Instant::now();
+    for tile in xyz.chunks(3 * TILE) {
+        let o = &mut out[..tile.len() / 3 * n];
+        m.uplift_f32(tile, o);
+        std::hint::black_box(&o);
+    }
+    let single = start.elapsed().as_secs_f64();
+    let start = Instant::now();
+    pool.install(|| {
+        xyz.par_chunks(3 * TILE).for_each_init(
+            || vec![0f32; TILE * n],
+            |out, tile| {
+                let o = &mut out[..tile.len() / 3 * n];
+                m.uplift_f32(tile, o);
+                std::hint::black_box(&o);
+            },
+        )
+    });
+    (single, start.elapsed().as_secs_f64())
+}
+
+fn row(
+    args: &Args,
+    pool: &rayon::ThreadPool,
+    a: &Colorimetry,
+    m: &dyn Method,
+    name: &str,
+    setting: String,
+    s: &eval::Summary,
+) -> Row {
+    let xyz = timing_colours(a, args.colours);
+    let (t1, tn) = time(m, &xyz, pool);
+    let c = args.colours as f64;
+    Row {
+        method: name.to_string(),
+        setting,
+        bands: a.bands(),
+        count: s.count,
+        delta_e_mean: s.delta_e.mean,
+        delta_e_median: s.delta_e.median,
+        delta_e_max: s.delta_e.max,
+        roundtrip_max: s.roundtrip_max,
+        roundtrip_de2000_max: s.roundtrip_de2000_max,
+        in_unit_range: s.in_unit_range,
+        model_bytes: m.model_bytes(),
+        ns_per_colour_1_thread: t1 * 1e9 / c,
+        mpixel_per_s_1_thread: c / t1 / 1e6,
+        ns_per_colour_all_threads: tn * 1e9 / c,
+        mpixel_per_s_all_threads: c / tn / 1e6,
+        threads: pool.current_num_threads(),
+    }
+}
+
+fn rows_for_plot(rows: &[Row]) -> Vec<crate::plot::Point> {
+    rows.iter()
+        .map(|r| crate::plot::Point {
+            label: if r.setting.is_empty() {
+                r.method.clone()
+            } else {
+                format!("{} ({})", r.method, r.setting)
+            },
+            ns: r.ns_per_colour_1_thread,
+            delta_e: r.delta_e_mean,
+        })
+        .collect()
+}
+
+fn print_csv(rows: &[Row]) {
+    println!(
+        "method,setting,bands,count,delta_e_mean,delta_e_median,delta_e_max,roundtrip_max,\
+         roundtrip_de2000_max,in_unit_range,model_bytes,ns_per_colour_1_thread,\
+         mpixel_per_s_1_thread,ns_per_colour_all_threads,mpixel_per_s_all_threads,threads"
+    );
+    for r in rows {
+        println!(
+            "{},\"{}\",{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            r.method,
+            r.setting,
+            r.bands,
+            r.count,
+            r.delta_e_mean,
+            r.delta_e_median,
+            r.delta_e_max,
+            r.roundtrip_max,
+            r.roundtrip_de2000_max,
+            r.in_unit_range,
+            r.model_bytes,
+            r.ns_per_colour_1_thread,
+            r.mpixel_per_s_1_thread,
+            r.ns_per_colour_all_threads,
+            r.mpixel_per_s_all_threads,
+            r.threads
+        );
+    }
+}
+
+/// A Markdown table, so that it can be pasted into documents as it is.
+fn print_table(rows: &[Row], args: &Args, threads: usize) {
+    println!(
+        "| method | setting | bands | Δe mean | Δe median | Δe max | round trip | ΔE00 max | in [0,1] | bytes | ns/colour (1 thread) | Mpixel/s (1 thread) | Mpixel/s ({threads} threads) |"
+    );
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|");
+    for r in rows {
+        println!(
+            "| {} | {} | {} | {:.4} | {:.4} | {:.4} | {:.1e} | {:.2e} | {:.3} | {} | {:.1} | {:.1} | {:.1} |",
+            r.method,
+            r.setting,
+            r.bands,
+            r.delta_e_mean,
+            r.delta_e_median,
+            r.delta_e_max,
+            r.roundtrip_max,
+            r.roundtrip_de2000_max,
+            r.in_unit_range,
+            r.model_bytes,
+            r.ns_per_colour_1_thread,
+            r.mpixel_per_s_1_thread,
+            r.mpixel_per_s_all_threads,
+        );
+    }
+    println!();
+    println!(
+        "{} spectra; {}, {}; cost: f32 uplift of {} colours, {TILE} per tile.",
+        rows.first().map_or(0, |r| r.count),
+        args.observer,
+        args.illuminant,
+        args.colours
+    );
+}

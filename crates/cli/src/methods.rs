@@ -1,0 +1,132 @@
+//! Building any uplift method by name, for `eval`, `report` (and `convert`): the clustered
+//! models from a model file or trained in place, the baselines from a colorimetry. The Jakob
+//! 2019 table is solved in parallel here and kept in the user's cache directory, keyed by
+//! everything it depends on, so it is built once per setting.
+
+use anyhow::{Context, Result};
+use rayon::prelude::*;
+use spectral::methods::jakob::{self, Fitter, Table};
+use spectral::methods::{Jakob2019, Meng2015, MethodName, Smits1999};
+use spectral::{Colorimetry, Method, Model, Uplifter};
+use std::path::PathBuf;
+
+/// The baseline `name` in colorimetry `a`. Clustered methods come from [`clustered`].
+pub fn baseline(name: MethodName, a: &Colorimetry, jakob_res: usize) -> Result<Box<dyn Method>> {
+    Ok(match name {
+        MethodName::Smits1999 => Box::new(Smits1999::new(a)?),
+        MethodName::Meng2015 => Box::new(Meng2015::new(a, false)?),
+        MethodName::Meng2015Bounded => Box::new(Meng2015::new(a, true)?),
+        MethodName::Jakob2019 => Box::new(Jakob2019::new(a, jakob_table(a, jakob_res)?)?),
+        MethodName::Pca | MethodName::Otsu2018 => {
+            unreachable!("clustered methods are built from a model")
+        }
+    })
+}
+
+/// A clustered method from its model, named `pca` when it has one cluster.
+pub fn clustered(model: &Model) -> Result<Box<dyn Method>> {
+    Ok(Box::new(Uplifter::new(model)?))
+}
+
+/// Where cached tables live: $SPECCONV_CACHE_DIR, else $XDG_CACHE_HOME/specconv, else
+/// ~/.cache/specconv.
+pub fn cache_dir() -> Option<PathBuf> {
+    let env = |k: &str| {
+        std::env::var_os(k)
+            .filter(|v| !v.is_empty())
+            .map(PathBuf::from)
+    };
+    env("SPECCONV_CACHE_DIR")
+        .or_else(|| env("XDG_CACHE_HOME").map(|d| d.join("specconv")))
+        .or_else(|| env("HOME").map(|d| d.join(".cache").join("specconv")))
+}
+
+/// The Jakob 2019 table for `a` at resolution `res`: read from the cache when an intact file
+/// for the same key is there, else solved (in parallel) and written to the cache. A cache that
+/// cannot be written is not an error: the table is used anyway, with a warning.
+pub fn jakob_table(a: &Colorimetry, res: usize) -> Result<Table> {
+    jakob::check_resolution(res)?;
+    let fitter = Fitter::new(a)?;
+    let key = fitter.key(a, res);
+    let mut h = jakob::Fnv::new();
+    h.write(key.as_bytes());
+    let file = cache_dir().map(|d| d.join(format!("jakob2019-{:016x}.bin", h.finish())));
+    if let Some(file) = &file {
+        if let Ok(bytes) = std::fs::read(file) {
+            if let Some(t) = Table::from_bytes(&bytes, &key, res) {
+                return Ok(t);
+            }
+            eprintln!(
+                "specconv: note: {} is damaged or stale; rebuilding it",
+                file.display()
+            );
+        }
+    }
+    let start = std::time::Instant::now();
+    let columns: Vec<Vec<[f32; 3]>> = (0..3 * res)
+        .into_par_iter()
+        .map(|c| fitter.solve_column(res, c / res, c % res))
+        .collect();
+    let table = Table::from_columns(res, key, columns);
+    eprintln!(
+        "specconv: built the jakob2019 table ({res}³ × 3 cells, {}) in {:.1} s",
+        a.grid,
+        start.elapsed().as_secs_f64()
+    );
+    if let Some(file) = &file {
+        let written = file
+            .parent()
+            .map_or(Ok(()), std::fs::create_dir_all)
+            .context("cannot create the cache directory")
+            .and_then(|()| crate::files::write_atomically(file, &table.to_bytes(), &[]));
+        if let Err(e) = written {
+            eprintln!(
+                "specconv: warning: cannot cache the jakob2019 table in {}: {e:#}",
+                file.display()
+            );
+        }
+    }
+    Ok(table)
+}
+
+/// Colorimetry flags shared by `eval` and `report`.
+#[derive(Debug, Clone, clap::Args)]
+pub struct SettingArgs {
+    /// Colour-matching functions for baselines and in-place training: cie1931, cie1964 or
+    /// wyman2013 (default: the model's, cie1931 for the built-in one).
+    #[arg(long)]
+    pub observer: Option<spectral::Observer>,
+    /// Illuminant for baselines and in-place training: D65, E, A, D50, FL2, FL11 or
+    /// blackbody:KELVIN (default: the model's, D65 for the built-in one).
+    #[arg(long)]
+    pub illuminant: Option<spectral::Illuminant>,
+    /// Wavelength grid START:END:STEP in nm (default: the model's, 380:730:10 for the built-in).
+    #[arg(long, value_name = "START:END:STEP")]
+    pub bands: Option<spectral::Grid>,
+    /// Resolution of the jakob2019 coefficient table (cells per axis; the paper's 64).
+    #[arg(long, value_name = "N", default_value_t = jakob::DEFAULT_RESOLUTION)]
+    pub jakob_resolution: usize,
+}
+
+impl SettingArgs {
+    /// The colorimetry: the flags, falling back to `model`'s setting.
+    pub fn colorimetry(&self, model: &Model) -> Result<Colorimetry> {
+        Ok(Colorimetry::new(
+            self.bands.unwrap_or(model.grid),
+            self.observer.unwrap_or(model.observer),
+            self.illuminant.unwrap_or(model.illuminant),
+        )?)
+    }
+}
+
+/// Reads spectra files into one training set on `grid`.
+pub fn training_set(paths: &[PathBuf], grid: &spectral::Grid) -> Result<spectral::TrainingSet> {
+    let mut set = spectral::TrainingSet::default();
+    for path in paths {
+        let table = crate::files::read_spectra(path)?;
+        set.spectra.extend(table.resampled(grid)?);
+        set.names.extend(table.names.iter().cloned());
+        set.sources.push(table.source);
+    }
+    Ok(set)
+}
