@@ -39,7 +39,12 @@ fn every_baseline_evaluates_through_the_same_command() {
     assert_eq!(b["in_unit_range"].as_f64().unwrap(), 1.0);
     assert!(m["in_unit_range"].as_f64().unwrap() < 1.0);
     // Smits does not round-trip exactly.
-    assert!(eval_json("smits1999")["roundtrip_de2000_max"].as_f64().unwrap() > 0.1);
+    assert!(
+        eval_json("smits1999")["roundtrip_de2000_max"]
+            .as_f64()
+            .unwrap()
+            > 0.1
+    );
 }
 
 #[test]
@@ -51,7 +56,14 @@ fn pca_needs_a_one_cluster_model_and_unknown_methods_are_usage_errors() {
     specconv(["eval", "--spectra", cc, "--method", "nope"]).fails(2, &["nope", "smits1999"]);
     let m = munsell();
     let out = specconv([
-        "eval", "--spectra", cc, "--method", "pca", "--train", m.to_str().unwrap(), "--json",
+        "eval",
+        "--spectra",
+        cc,
+        "--method",
+        "pca",
+        "--train",
+        m.to_str().unwrap(),
+        "--json",
     ]);
     let v = json(out.ok());
     // The paper's "PCA only" on the ColorChecker, trained on Munsell: worse than 8 clusters.
@@ -66,15 +78,28 @@ fn jakob2019_table_is_cached_and_rebuilt_when_stale() {
     let cc = colorchecker();
     let run = |extra: &[&str]| {
         let out = Command::new(env!("CARGO_BIN_EXE_specconv"))
-            .args(["eval", "--spectra", cc.to_str().unwrap(), "--method", "jakob2019"])
+            .args([
+                "eval",
+                "--spectra",
+                cc.to_str().unwrap(),
+                "--method",
+                "jakob2019",
+            ])
             .args(["--jakob-resolution", "12", "--json"])
             .args(extra)
             .env("SPECCONV_CACHE_DIR", &dir.0)
             .output()
             .unwrap();
-        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
         let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
-        (json(&stdout), String::from_utf8_lossy(&out.stderr).into_owned())
+        (
+            json(&stdout),
+            String::from_utf8_lossy(&out.stderr).into_owned(),
+        )
     };
     let (first, err) = run(&[]);
     assert!(err.contains("built the jakob2019 table"), "{err}");
@@ -106,13 +131,32 @@ fn report_measures_every_method_and_draws_the_plot() {
     let m = munsell();
     let out = Command::new(env!("CARGO_BIN_EXE_specconv"))
         .args(["report", "--spectra", cc.to_str().unwrap(), "--train"])
-        .args([m.to_str().unwrap(), "--colours", "20000", "--clusters", "1,8"])
-        .args(["--steps", "5", "--jakob-resolution", "12", "-j", "2", "--json", "--plot"])
+        .args([
+            m.to_str().unwrap(),
+            "--colours",
+            "20000",
+            "--clusters",
+            "1,8",
+        ])
+        .args([
+            "--steps",
+            "5",
+            "--jakob-resolution",
+            "12",
+            "-j",
+            "2",
+            "--json",
+            "--plot",
+        ])
         .arg(&plot)
         .env("SPECCONV_CACHE_DIR", &dir.0)
         .output()
         .unwrap();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let v = json(&String::from_utf8_lossy(&out.stdout));
     let rows = v.as_array().unwrap();
     let names: Vec<&str> = rows.iter().map(|r| r["method"].as_str().unwrap()).collect();
@@ -149,7 +193,10 @@ fn report_measures_every_method_and_draws_the_plot() {
     assert!((rows[5]["delta_e_mean"].as_f64().unwrap() - 0.0625).abs() < 5e-4);
     assert_eq!(rows[6]["bands"], 71);
     let svg = std::fs::read_to_string(&plot).unwrap();
-    assert!(svg.starts_with("<svg") && svg.contains("otsu2018 (8 clusters)"), "{svg}");
+    assert!(
+        svg.starts_with("<svg") && svg.contains("otsu2018 (8 clusters)"),
+        "{svg}"
+    );
 
     // PNG is refused with a reason; so is an empty measurement.
     let cc = cc.to_str().unwrap();
