@@ -508,3 +508,15 @@ fn sigterm_mid_write_leaves_no_partial_file() {
         "no output and no temporary file"
     );
 }
+
+#[test]
+fn shell_completions_name_the_commands() {
+    for shell in ["bash", "zsh", "fish"] {
+        let out = specconv(["completions", shell]);
+        let script = out.ok();
+        for word in ["train", "eval", "to-rgb", "colorspace"] {
+            assert!(script.contains(word), "{shell} completion lacks {word}");
+        }
+    }
+    specconv(["completions", "tcsh"]).fails(2, &["invalid value"]);
+}

@@ -40,6 +40,7 @@ enum Command {
     Info(cmd::info::Args),
     Colorspaces(cmd::colorspaces::Args),
     ToRgb(cmd::to_rgb::Args),
+    Completions(cmd::completions::Args),
 }
 
 /// Runs the command line and returns the process exit code.
@@ -74,6 +75,7 @@ fn run(command: Command) -> anyhow::Result<()> {
         Command::Info(args) => cmd::info::run(args),
         Command::Colorspaces(args) => cmd::colorspaces::run(args),
         Command::ToRgb(args) => cmd::to_rgb::run(args),
+        Command::Completions(args) => cmd::completions::run(args),
     }
 }
 

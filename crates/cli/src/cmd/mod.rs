@@ -1,6 +1,7 @@
 //! One module per subcommand: its clap arguments (whose doc comments are the help text and man
 //! page) and its `run`.
 pub mod colorspaces;
+pub mod completions;
 pub mod convert;
 pub mod eval;
 pub mod info;

@@ -1,0 +1,21 @@
+//! `specconv completions SHELL`: shell completion scripts, generated from the clap definitions.
+
+use anyhow::Result;
+use clap::CommandFactory;
+
+/// Print a shell completion script, e.g. `specconv completions bash > /etc/bash_completion.d/specconv`.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// The shell to complete for.
+    shell: clap_complete::Shell,
+}
+
+pub fn run(args: Args) -> Result<()> {
+    clap_complete::generate(
+        args.shell,
+        &mut crate::Cli::command(),
+        "specconv",
+        &mut std::io::stdout(),
+    );
+    Ok(())
+}
