@@ -18,8 +18,8 @@
 //! {A·r : 0 ≤ r ≤ 1}), the dual is unbounded and λ/‖λ‖ tends to a direction u with
 //! u·c > h(u) = Σᵢ max(0, (Aᵀu)ᵢ), the solid's support function: a certificate that c is
 //! outside. Then the colour is moved towards the grey of its luminance (Y clamped to [0, 1]),
-//! c(t) = g + t·(c − g), as far as the solid allows (bisection on t, 32 steps, each step a
-//! solve), and the spectrum of that colour is returned: a documented simplification of "the
+//! c(t) = g + t·(c − g), as far as the solid allows (bisection on t, 16 steps, each a
+//! solve of at most 12 dual steps; a trial that does not settle counts as outside), and the spectrum of that colour is returned: a documented simplification of "the
 //! in-range colour closest in CIELAB"; it keeps the luminance when 0 ≤ Y ≤ 1 and the dominant
 //! wavelength, and gives up chroma.
 
@@ -166,9 +166,10 @@ impl<M: Method> Bounded<M> {
         r.iter_mut().for_each(|v| *v = luminance);
         let (mut lo, mut hi) = (0.0, 1.0);
         let mut trial = vec![0.0; r.len()];
-        for _ in 0..32 {
+        for _ in 0..BISECTIONS {
             let t = 0.5 * (lo + hi);
-            match project(a, at(t), r0, &mut trial) {
+            // Few dual steps: a trial that does not settle counts as outside (t only shrinks).
+            match project_within(a, at(t), r0, &mut trial, 12) {
                 Solve::Solved => {
                     lo = t;
                     r.copy_from_slice(&trial);
@@ -213,12 +214,29 @@ pub enum Solve {
     Solved,
     /// No r in [0, 1] has A·r = c: u with u·c > Σᵢ max(0, (Aᵀu)ᵢ).
     Outside([f64; 3]),
-    /// Neither within 200 iterations: c lies on the solid's surface to rounding.
+    /// Neither within `MAX_ITERATIONS`: c lies on the solid's surface to rounding.
     Unresolved,
 }
 
+/// Steps of the bisection towards grey: t to 2⁻¹⁶.
+const BISECTIONS: usize = 16;
+
+/// Dual iterations before a colour is declared unresolved (on the solid's surface).
+const MAX_ITERATIONS: usize = 60;
+
 /// min ½‖r − r0‖² subject to A·r = c and 0 ≤ r ≤ 1, into `r` (see the module).
 pub fn project(a: &[Vec<f64>; 3], c: [f64; 3], r0: &[f64], r: &mut [f64]) -> Solve {
+    project_within(a, c, r0, r, MAX_ITERATIONS)
+}
+
+/// [`project`] with at most `iterations` dual steps.
+fn project_within(
+    a: &[Vec<f64>; 3],
+    c: [f64; 3],
+    r0: &[f64],
+    r: &mut [f64],
+    iterations: usize,
+) -> Solve {
     let n = r0.len();
     let scale = c[0].abs().max(c[1].abs()).max(c[2].abs());
     let tol = 1e-13 * scale.max(f64::MIN_POSITIVE);
@@ -257,7 +275,8 @@ pub fn project(a: &[Vec<f64>; 3], c: [f64; 3], r0: &[f64], r: &mut [f64]) -> Sol
         (g, f)
     };
     let (mut g, mut f) = dual(&lambda, r);
-    for _ in 0..200 {
+    let mut trial = vec![0.0; n];
+    for _ in 0..iterations {
         if f.iter().all(|v| v.abs() <= tol) {
             return Solve::Solved;
         }
@@ -279,8 +298,7 @@ pub fn project(a: &[Vec<f64>; 3], c: [f64; 3], r0: &[f64], r: &mut [f64]) -> Sol
         let slope = -(f[0] * delta[0] + f[1] * delta[1] + f[2] * delta[2]);
         let mut step = 1.0;
         let mut moved = false;
-        let mut trial = vec![0.0; n];
-        for _ in 0..60 {
+        for _ in 0..40 {
             let l = [0, 1, 2].map(|k| lambda[k] + step * delta[k]);
             let (gt, ft) = dual(&l, &mut trial);
             if gt >= g + 1e-4 * step * slope {
