@@ -520,3 +520,88 @@ fn shell_completions_name_the_commands() {
     }
     specconv(["completions", "tcsh"]).fails(2, &["invalid value"]);
 }
+
+#[test]
+fn bounded_and_baseline_methods_convert_too() {
+    let dir = Scratch::new("convert-methods");
+    let input = testdata("srgb8.png");
+    let bounded = dir.path("bounded.exr");
+    specconv([
+        input.to_str().unwrap(),
+        bounded.to_str().unwrap(),
+        "-d",
+        "float",
+        "--bounded",
+    ])
+    .ok();
+    let img = spectral_exr::read(&bounded).unwrap();
+    let worst = img
+        .bands
+        .iter()
+        .flatten()
+        .fold(0.0f32, |w, &v| w.max(-v).max(v - 1.0));
+    assert!(
+        worst <= 1e-6,
+        "--bounded left a band {worst} outside [0, 1]"
+    );
+    assert!(img
+        .attributes
+        .contains(&("specconvMethod".into(), "otsu2018+bounded".into())));
+    // 8-bit sRGB colours are all inside the object-colour solid: their XYZ is kept.
+    let err = round_trip_error(&input, &bounded, 0);
+    assert!(err <= 1e-5, "--bounded round trip {err}");
+
+    let plain = dir.path("plain.exr");
+    specconv([
+        input.to_str().unwrap(),
+        plain.to_str().unwrap(),
+        "-d",
+        "float",
+    ])
+    .ok();
+    let outside = spectral_exr::read(&plain)
+        .unwrap()
+        .bands
+        .iter()
+        .flatten()
+        .filter(|v| !(0.0..=1.0).contains(*v))
+        .count();
+    assert!(
+        outside > 0,
+        "the test image must have colours whose plain uplift leaves [0, 1]"
+    );
+
+    let meng = dir.path("meng.exr");
+    specconv([
+        input.to_str().unwrap(),
+        meng.to_str().unwrap(),
+        "-d",
+        "float",
+        "--method",
+        "meng2015",
+    ])
+    .ok();
+    assert!(
+        round_trip_error(&input, &meng, 0) <= 1e-5,
+        "meng2015 keeps XYZ exactly"
+    );
+    let attrs = spectral_exr::read_attributes(&meng).unwrap();
+    assert!(
+        attrs.contains(&("specconvMethod".into(), "meng2015".into())),
+        "{attrs:?}"
+    );
+    specconv([
+        input.to_str().unwrap(),
+        dir.path("x.exr").to_str().unwrap(),
+        "--method",
+        "pca",
+    ])
+    .fails(1, &["one-cluster model"]);
+    specconv([
+        input.to_str().unwrap(),
+        dir.path("y.exr").to_str().unwrap(),
+        "--method",
+        "rgb",
+    ])
+    .fails(2, &["--method"]);
+}

@@ -207,6 +207,34 @@ impl<M: Method> Method for Bounded<M> {
     }
 }
 
+/// Boxed methods, as the command line builds them by name, are methods too, so that any of
+/// them can be bounded.
+impl Method for Box<dyn Method> {
+    fn name(&self) -> &str {
+        (**self).name()
+    }
+
+    fn grid(&self) -> Grid {
+        (**self).grid()
+    }
+
+    fn uplift_f64(&self, xyz: &[f64], out: &mut [f64]) {
+        (**self).uplift_f64(xyz, out)
+    }
+
+    fn uplift_f32(&self, xyz: &[f32], out: &mut [f32]) {
+        (**self).uplift_f32(xyz, out)
+    }
+
+    fn model_bytes(&self) -> usize {
+        (**self).model_bytes()
+    }
+
+    fn cluster_of(&self, xyz: [f64; 3]) -> Option<usize> {
+        (**self).cluster_of(xyz)
+    }
+}
+
 /// The result of [`project`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Solve {

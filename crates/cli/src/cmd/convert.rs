@@ -1,10 +1,13 @@
 //! `specconv [convert] INPUT… OUTPUT`: the main job.
 
 use crate::files;
+use crate::methods;
 use anyhow::{bail, Context, Result};
 use serde::Serialize;
 use specconv_pipeline::{convert, Job, Mip, Settings};
-use spectral::{Method, Uplifter};
+use spectral::bounded::Bounded;
+use spectral::methods::{jakob, MethodName};
+use spectral::Method;
 use spectral_exr::{Compression, Sample};
 use std::io::{BufRead, IsTerminal, Write};
 use std::path::{Path, PathBuf};
@@ -38,9 +41,20 @@ pub struct Args {
     /// The input's colour space, overriding what the file declares.
     #[arg(long, visible_alias = "iscolorspace", value_name = "NAME")]
     colorspace: Option<String>,
-    /// Model file from `specconv train`; the built-in model when absent.
+    /// Model file from `specconv train`; the built-in model when absent. Its grid, observer and
+    /// illuminant are those of the output, whatever the method.
     #[arg(long, value_name = "MODEL")]
     model: Option<PathBuf>,
+    /// Uplift method: otsu2018 (the clustered PCA of the model), pca (a one-cluster model),
+    /// smits1999, meng2015, meng2015-bounded or jakob2019.
+    #[arg(long, value_name = "NAME", default_value = "otsu2018")]
+    method: MethodName,
+    /// Keep every reflectance inside [0, 1] with its XYZ unchanged: the nearest such spectrum
+    /// to the method's. Colours no reflectance can have (outside the object-colour solid) are
+    /// moved towards the grey of their luminance until one can. Costs about 5 µs per pixel
+    /// that needs it (≈30 % of an sRGB cube).
+    #[arg(long)]
+    bounded: bool,
     /// Sample type of the output.
     #[arg(short = 'd', long = "data-type", value_name = "TYPE", default_value = "half", value_parser = ["half", "float"])]
     data_type: String,
@@ -112,7 +126,20 @@ pub fn run(args: Args) -> Result<i32> {
     }
     let config = specconv_ocio::Config::resolve(args.ocio.as_deref())?;
     let model = files::load_model(args.model.as_deref())?;
-    let method = Uplifter::new(&model)?;
+    let inner = match args.method {
+        MethodName::Otsu2018 | MethodName::Pca => {
+            if args.method == MethodName::Pca && model.leaves.len() != 1 {
+                bail!("--method pca needs a one-cluster model: train one with `specconv train --clusters 1` and pass --model");
+            }
+            methods::clustered(&model)?
+        }
+        other => methods::baseline(other, &model.colorimetry()?, jakob::DEFAULT_RESOLUTION)?,
+    };
+    let method: Box<dyn Method> = if args.bounded {
+        Box::new(Bounded::new(inner, model.colorimetry()?)?)
+    } else {
+        inner
+    };
     let settings_tag = format!(
         "model={} method={} data-type={} compression={} tile={} mip={} colorspace={} config={}",
         files::describe_model(args.model.as_deref(), &model),
