@@ -13,6 +13,7 @@
 //! - [`eval`]: reconstruction error, round trip and range of a method on measured spectra.
 //! - [`methods`]: the baselines behind the same [`Method`] trait: Smits 1999, Meng et al. 2015,
 //!   Jakob & Hanika 2019; [`lab`]: CIELAB and CIEDE2000.
+//! - [`simulate`]: spectral radiosity of small scenes, the colour shift of interreflection.
 //!
 //! This crate knows nothing of images, files by path, threads or FFI.
 #![forbid(unsafe_code)]
@@ -28,6 +29,7 @@ pub mod model;
 pub mod observer;
 pub mod pca;
 pub mod primaries;
+pub mod simulate;
 pub mod table;
 pub mod train;
 pub mod uplift;
@@ -59,4 +61,6 @@ pub enum Error {
     Model { file: String, msg: String },
     #[error("cannot train: {0}")]
     Training(String),
+    #[error("bad scene: {0}")]
+    Scene(String),
 }
