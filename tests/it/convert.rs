@@ -79,12 +79,18 @@ fn input_xyz(input: &Path, level: usize) -> (usize, usize, Vec<[f32; 3]>) {
 /// Largest error of XYZ integrated from the output's spectra against the input's XYZ,
 /// relative to the pixel's largest XYZ component (absolute below 1e-3).
 fn round_trip_error(input: &Path, output: &Path, level: usize) -> f64 {
+    round_trip_error_on(input, output, level, spectral::Model::builtin().grid)
+}
+
+/// As [`round_trip_error`] for an output on `grid` (CIE 1931, D65, as the built-in model).
+fn round_trip_error_on(input: &Path, output: &Path, level: usize, grid: spectral::Grid) -> f64 {
     let (w, h, want) = input_xyz(input, level);
     let img = spectral_exr::read(output).unwrap();
     assert_eq!((img.width, img.height), (w, h));
-    let model = spectral::Model::builtin();
-    assert_eq!(img.wavelengths, model.grid.wavelengths());
-    let a = model.colorimetry().unwrap();
+    assert_eq!(img.wavelengths, grid.wavelengths());
+    let a =
+        spectral::Colorimetry::new(grid, spectral::Observer::Cie1931, spectral::Illuminant::D65)
+            .unwrap();
     let mut worst = 0.0f64;
     let mut r = vec![0.0; img.bands.len()];
     for (p, c) in want.iter().enumerate() {
@@ -604,4 +610,33 @@ fn bounded_and_baseline_methods_convert_too() {
         "rgb",
     ])
     .fails(2, &["--method"]);
+}
+
+#[test]
+fn bands_put_the_spectra_on_another_grid_with_their_colour() {
+    let dir = Scratch::new("convert-bands");
+    let input = testdata("float_tiled_alpha.exr");
+    for (bands, count) in [("400:700:5", 61), ("380:780:20", 21)] {
+        let output = dir.path(&format!("{count}.exr"));
+        specconv([
+            input.to_str().unwrap(),
+            output.to_str().unwrap(),
+            "-d",
+            "float",
+            "--bands",
+            bands,
+        ])
+        .ok();
+        let grid: spectral::Grid = bands.parse().unwrap();
+        assert_eq!(grid.len(), count);
+        let err = round_trip_error_on(&input, &output, 0, grid);
+        assert!(err <= 1e-5, "--bands {bands}: round trip {err}");
+    }
+    specconv([
+        input.to_str().unwrap(),
+        dir.path("x.exr").to_str().unwrap(),
+        "--bands",
+        "300:700:10",
+    ])
+    .fails(1, &["does not cover"]);
 }

@@ -29,6 +29,7 @@ pub mod model;
 pub mod observer;
 pub mod pca;
 pub mod primaries;
+pub mod resample;
 pub mod simulate;
 pub mod table;
 pub mod train;

@@ -7,7 +7,8 @@ use serde::Serialize;
 use specconv_pipeline::{convert, Job, Mip, Settings};
 use spectral::bounded::Bounded;
 use spectral::methods::{jakob, MethodName};
-use spectral::Method;
+use spectral::resample::Resampled;
+use spectral::{Colorimetry, Method};
 use spectral_exr::{Compression, Sample};
 use std::io::{BufRead, IsTerminal, Write};
 use std::path::{Path, PathBuf};
@@ -55,6 +56,10 @@ pub struct Args {
     /// that needs it (≈30 % of an sRGB cube).
     #[arg(long)]
     bounded: bool,
+    /// Output wavelength grid START:END:STEP in nm (default: the model's). The method's
+    /// spectra are interpolated onto it and corrected so that their XYZ stays exact.
+    #[arg(long, value_name = "START:END:STEP")]
+    bands: Option<spectral::Grid>,
     /// Sample type of the output.
     #[arg(short = 'd', long = "data-type", value_name = "TYPE", default_value = "half", value_parser = ["half", "float"])]
     data_type: String,
@@ -135,11 +140,15 @@ pub fn run(args: Args) -> Result<i32> {
         }
         other => methods::baseline(other, &model.colorimetry()?, jakob::DEFAULT_RESOLUTION)?,
     };
-    let method: Box<dyn Method> = if args.bounded {
-        Box::new(Bounded::new(inner, model.colorimetry()?)?)
-    } else {
-        inner
-    };
+    let mut method: Box<dyn Method> = inner;
+    if let Some(grid) = args.bands.filter(|g| *g != model.grid) {
+        let on_grid = Colorimetry::new(grid, model.observer, model.illuminant)?;
+        method = Box::new(Resampled::new(method, on_grid)?);
+    }
+    if args.bounded {
+        let on_grid = Colorimetry::new(method.grid(), model.observer, model.illuminant)?;
+        method = Box::new(Bounded::new(method, on_grid)?);
+    }
     let settings_tag = format!(
         "model={} method={} data-type={} compression={} tile={} mip={} colorspace={} config={}",
         files::describe_model(args.model.as_deref(), &model),

@@ -1,0 +1,193 @@
+//! Any method on another wavelength grid: its spectra are interpolated onto the new grid and
+//! then corrected so that their XYZ on the new grid is still the input colour exactly.
+//!
+//! Linear interpolation alone changes XYZ a little (the colour-matching functions are sampled
+//! differently). The correction is the smallest change that restores it: r = L·r₀ + Aᵀ(AAᵀ)⁻¹
+//! (c − A·L·r₀), with A the new grid's XYZ rows. Bands beyond the method's grid hold its end
+//! values, so widening a grid extrapolates flat.
+
+use crate::{Colorimetry, Error, Grid, Method};
+use nalgebra::Matrix3;
+
+/// `inner` resampled onto the grid of `colorimetry`.
+pub struct Resampled<M> {
+    inner: M,
+    colorimetry: Colorimetry,
+    /// For each new band: the two source bands and the weight of the second.
+    taps: Vec<(usize, usize, f64)>,
+    /// Aᵀ(AAᵀ)⁻¹, n×3 row-major: the minimum-norm correction per unit of XYZ error.
+    correction: Vec<[f64; 3]>,
+    name: String,
+}
+
+impl<M: Method> Resampled<M> {
+    /// `colorimetry` is the setting of the new grid: the observer and illuminant the inner
+    /// method's XYZ is defined under, sampled on the new grid.
+    pub fn new(inner: M, colorimetry: Colorimetry) -> Result<Resampled<M>, Error> {
+        let from = inner.grid();
+        let n0 = from.len();
+        let taps = colorimetry
+            .grid
+            .wavelengths()
+            .iter()
+            .map(|&w| {
+                let t = ((w - from.start) / from.step).clamp(0.0, (n0 - 1) as f64);
+                let i = (t.floor() as usize).min(n0 - 1);
+                let j = (i + 1).min(n0 - 1);
+                (i, j, t - i as f64)
+            })
+            .collect();
+        let a = &colorimetry.weights;
+        let gram = Matrix3::from_fn(|i, j| a[i].iter().zip(&a[j]).map(|(x, y)| x * y).sum::<f64>());
+        let inv = gram.try_inverse().ok_or_else(|| {
+            Error::Grid(format!(
+                "{}: the grid cannot tell X, Y and Z apart",
+                colorimetry.grid
+            ))
+        })?;
+        let correction = (0..colorimetry.bands())
+            .map(|b| std::array::from_fn(|k| (0..3).map(|i| a[i][b] * inv[(i, k)]).sum()))
+            .collect();
+        let name = format!("{} on {} nm", inner.name(), colorimetry.grid);
+        Ok(Resampled {
+            inner,
+            colorimetry,
+            taps,
+            correction,
+            name,
+        })
+    }
+
+    fn resample(&self, c: [f64; 3], r0: impl Fn(usize) -> f64, mut put: impl FnMut(usize, f64)) {
+        let a = &self.colorimetry.weights;
+        let r: Vec<f64> = self
+            .taps
+            .iter()
+            .map(|&(i, j, t)| r0(i) + t * (r0(j) - r0(i)))
+            .collect();
+        let e: [f64; 3] =
+            std::array::from_fn(|k| c[k] - a[k].iter().zip(&r).map(|(w, v)| w * v).sum::<f64>());
+        for (b, (v, corr)) in r.iter().zip(&self.correction).enumerate() {
+            put(b, v + corr[0] * e[0] + corr[1] * e[1] + corr[2] * e[2]);
+        }
+    }
+}
+
+impl<M: Method> Method for Resampled<M> {
+    fn name(&self) -> &str {
+        &self.name
+    }
+
+    fn grid(&self) -> Grid {
+        self.colorimetry.grid
+    }
+
+    fn uplift_f64(&self, xyz: &[f64], out: &mut [f64]) {
+        let (n0, n) = (self.inner.grid().len(), self.colorimetry.bands());
+        let mut tmp = vec![0.0; xyz.len() / 3 * n0];
+        self.inner.uplift_f64(xyz, &mut tmp);
+        for ((c, r0), r) in xyz
+            .chunks_exact(3)
+            .zip(tmp.chunks_exact(n0))
+            .zip(out.chunks_exact_mut(n))
+        {
+            self.resample([c[0], c[1], c[2]], |i| r0[i], |b, v| r[b] = v);
+        }
+    }
+
+    fn uplift_f32(&self, xyz: &[f32], out: &mut [f32]) {
+        let (n0, n) = (self.inner.grid().len(), self.colorimetry.bands());
+        let mut tmp = vec![0.0f32; xyz.len() / 3 * n0];
+        self.inner.uplift_f32(xyz, &mut tmp);
+        for ((c, r0), r) in xyz
+            .chunks_exact(3)
+            .zip(tmp.chunks_exact(n0))
+            .zip(out.chunks_exact_mut(n))
+        {
+            let c = [c[0] as f64, c[1] as f64, c[2] as f64];
+            self.resample(c, |i| r0[i] as f64, |b, v| r[b] = v as f32);
+        }
+    }
+
+    fn model_bytes(&self) -> usize {
+        self.inner.model_bytes() + self.correction.len() * 3 * 8 + self.taps.len() * 24
+    }
+
+    fn cluster_of(&self, xyz: [f64; 3]) -> Option<usize> {
+        self.inner.cluster_of(xyz)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{Illuminant, Model, Observer, Uplifter};
+
+    #[test]
+    fn resampled_spectra_keep_their_colour_on_the_new_grid() {
+        let model = Model::builtin();
+        for grid in ["400:700:5", "380:780:1", "380:730:10", "450:650:20"] {
+            let grid: Grid = grid.parse().unwrap();
+            let a = Colorimetry::new(grid, Observer::Cie1931, Illuminant::D65).unwrap();
+            let m = Resampled::new(Uplifter::new(model).unwrap(), a.clone()).unwrap();
+            assert_eq!(m.grid(), grid);
+            let colours = [
+                [0.2, 0.3, 0.1],
+                [0.9505, 1.0, 1.089],
+                [0.05, 0.02, 0.3],
+                [0.0, 0.0, 0.0],
+            ];
+            let mut r = vec![0.0; grid.len()];
+            for c in colours {
+                m.uplift_f64(&c, &mut r);
+                let back = a.xyz(&r);
+                for k in 0..3 {
+                    assert!((back[k] - c[k]).abs() < 1e-12, "{grid}: {c:?} → {back:?}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn on_the_same_grid_nothing_changes() {
+        let model = Model::builtin();
+        let up = Uplifter::new(model).unwrap();
+        let same =
+            Resampled::new(Uplifter::new(model).unwrap(), model.colorimetry().unwrap()).unwrap();
+        let c = [0.3, 0.2, 0.6];
+        let (mut r1, mut r2) = (vec![0.0; 36], vec![0.0; 36]);
+        up.uplift_f64(&c, &mut r1);
+        same.uplift_f64(&c, &mut r2);
+        let worst = r1
+            .iter()
+            .zip(&r2)
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0, f64::max);
+        assert!(worst < 1e-12, "{worst}");
+    }
+
+    #[test]
+    fn interpolation_follows_the_source_between_its_samples() {
+        // 5 nm bands between 10 nm samples lie halfway, before the tiny XYZ correction.
+        let model = Model::builtin();
+        let a = Colorimetry::new(
+            "380:730:5".parse().unwrap(),
+            Observer::Cie1931,
+            Illuminant::D65,
+        )
+        .unwrap();
+        let m = Resampled::new(Uplifter::new(model).unwrap(), a).unwrap();
+        let up = Uplifter::new(model).unwrap();
+        let c = [0.25, 0.2, 0.15];
+        let (mut r10, mut r5) = (vec![0.0; 36], vec![0.0; 71]);
+        up.uplift_f64(&c, &mut r10);
+        m.uplift_f64(&c, &mut r5);
+        for i in 0..35 {
+            assert!(
+                (r5[2 * i + 1] - 0.5 * (r10[i] + r10[i + 1])).abs() < 0.01,
+                "band {}",
+                2 * i + 1
+            );
+        }
+    }
+}
