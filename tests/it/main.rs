@@ -4,4 +4,5 @@ mod baselines;
 mod convert;
 mod info;
 mod runner;
+mod simulate;
 mod train_eval;

@@ -41,6 +41,7 @@ enum Command {
     Colorspaces(cmd::colorspaces::Args),
     ToRgb(cmd::to_rgb::Args),
     Completions(cmd::completions::Args),
+    Simulate(cmd::simulate::Args),
 }
 
 /// Runs the command line and returns the process exit code.
@@ -76,6 +77,7 @@ fn run(command: Command) -> anyhow::Result<()> {
         Command::Colorspaces(args) => cmd::colorspaces::run(args),
         Command::ToRgb(args) => cmd::to_rgb::run(args),
         Command::Completions(args) => cmd::completions::run(args),
+        Command::Simulate(args) => cmd::simulate::run(args),
     }
 }
 

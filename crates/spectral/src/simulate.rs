@@ -262,8 +262,15 @@ impl Outcome {
     }
 
     /// CIELAB of `r` at `count` and `patch`, relative to the white scene.
+    /// Where no light has reached the patch yet (a wall lit only by bounces, at count 0), the
+    /// white scene is black there too, and so is every rendering: L*a*b* = 0.
     pub fn lab(&self, r: &Rendering, count: usize, patch: usize) -> [f64; 3] {
-        xyz_to_lab(r.xyz[count][patch], self.white[count][patch])
+        let white = self.white[count][patch];
+        if white[1] > 0.0 {
+            xyz_to_lab(r.xyz[count][patch], white)
+        } else {
+            [0.0; 3]
+        }
     }
 
     /// CIEDE2000 between two renderings at `count` and `patch`.
@@ -725,5 +732,46 @@ mod tests {
         }
         let rgb = out.rendering("rgb").unwrap();
         assert!(out.delta_e(rgb, reference, 4, 0) < 0.05);
+    }
+
+    #[test]
+    fn walls_lit_only_by_bounces_are_black_at_first_not_nan() {
+        let a = crate::Model::builtin().colorimetry().unwrap();
+        let up = crate::Uplifter::new(crate::Model::builtin()).unwrap();
+        let mut s = scene(
+            (0..5)
+                .map(|i| Material::Measured(vec![0.2 + 0.15 * i as f64; 36]))
+                .collect(),
+            room(),
+            Effect::Bounces(3),
+        );
+        s.lights[0].patches = vec![1];
+        let out = simulate(&s, &a, &[&up]).unwrap();
+        let reference = &out.renderings[0];
+        for r in &out.renderings {
+            for c in 0..4 {
+                for p in 0..5 {
+                    let d = out.delta_e(r, reference, c, p);
+                    assert!(d.is_finite(), "{} {c} {p}", r.method);
+                    if c == 0 && p != 1 {
+                        assert_eq!(out.lab(r, c, p), [0.0; 3]);
+                    }
+                }
+            }
+        }
+        // The floor is lit after one bounce: white scene Y = F(floor, ceiling)·E.
+        assert!(out.white[1][0][1] > 0.0);
+        let conv = simulate(
+            &Scene {
+                effect: Effect::Converged,
+                ..s
+            },
+            &a,
+            &[&up],
+        )
+        .unwrap();
+        assert_eq!(conv.counts, vec![None]);
+        // The converged white scene exceeds any truncation of it.
+        assert!(conv.white[0][0][1] > out.white[3][0][1]);
     }
 }

@@ -6,5 +6,6 @@ pub mod convert;
 pub mod eval;
 pub mod info;
 pub mod report;
+pub mod simulate;
 pub mod to_rgb;
 pub mod train;

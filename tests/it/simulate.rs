@@ -1,0 +1,184 @@
+//! `specconv simulate`: the example scenes and malformed ones.
+
+use crate::runner::*;
+use std::path::PathBuf;
+
+fn json(s: &str) -> serde_json::Value {
+    serde_json::from_str(s).unwrap_or_else(|e| panic!("not JSON ({e}):\n{s}"))
+}
+
+fn scene(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("scenes")
+        .join(name)
+}
+
+fn series(v: &serde_json::Value, method: &str) -> Vec<f64> {
+    v["mean_delta_e"][method]
+        .as_array()
+        .unwrap_or_else(|| panic!("no {method} in {v}"))
+        .iter()
+        .map(|x| x.as_f64().unwrap())
+        .collect()
+}
+
+#[test]
+fn the_furnace_example_shows_the_papers_drift() {
+    // The scene file points at ../shared beside the checkout, as the tests do.
+    shared("spectra/munsell1269_matte_380-800_1nm.csv");
+    let out = specconv([
+        "simulate",
+        "--scene",
+        scene("furnace_5500k.toml").to_str().unwrap(),
+        "--json",
+    ]);
+    let v = json(out.ok());
+    assert_eq!(v["patches"], 1269);
+    assert_eq!(v["counts"].as_array().unwrap().len(), 9);
+    assert!(v.get("per_patch").is_none(), "1269 patches: means only");
+    let (o, s, m, rgb) = (
+        series(&v, "otsu2018"),
+        series(&v, "smits1999"),
+        series(&v, "meng2015"),
+        series(&v, "rgb"),
+    );
+    for k in 1..=8 {
+        assert!(o[k] < s[k] && o[k] < m[k] && o[k] < rgb[k], "K={k}");
+        if k > 1 {
+            assert!(s[k] > s[k - 1] && m[k] > m[k - 1], "K={k}");
+        }
+    }
+    // The text report has the same table.
+    let text = specconv([
+        "simulate",
+        "--scene",
+        scene("furnace_5500k.toml").to_str().unwrap(),
+    ]);
+    let t = text.ok();
+    assert!(
+        t.contains("mean CIEDE2000 from the measured reference"),
+        "{t}"
+    );
+    assert!(t.contains(&format!("{:.4}", o[8])), "{t}");
+}
+
+#[test]
+fn the_box_example_reports_every_wall() {
+    shared("spectra/munsell1269_matte_380-800_1nm.csv");
+    let out = specconv([
+        "simulate",
+        "--scene",
+        scene("box_4000k_5500k.toml").to_str().unwrap(),
+        "--json",
+    ]);
+    let v = json(out.ok());
+    let walls: Vec<&str> = v["per_patch"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| p["name"].as_str().unwrap())
+        .collect();
+    assert_eq!(walls, ["floor", "ceiling", "back", "left", "right"]);
+    for p in v["per_patch"].as_array().unwrap() {
+        for (method, cells) in p["colours"].as_object().unwrap() {
+            for c in cells.as_array().unwrap() {
+                let d = c["delta_e"].as_f64();
+                assert!(d.is_some_and(f64::is_finite), "{method}: {c}");
+                if method == "measured" {
+                    assert_eq!(d, Some(0.0));
+                }
+            }
+        }
+    }
+    // The red wall sees only bounced light: black at count 0, red after.
+    let left = &v["per_patch"][3]["colours"]["measured"];
+    assert_eq!(left[0]["srgb"], serde_json::json!([0.0, 0.0, 0.0]));
+    let rgb = left[1]["srgb"].as_array().unwrap();
+    assert!(rgb[0].as_f64().unwrap() > 2.0 * rgb[1].as_f64().unwrap());
+}
+
+/// A scene of two Munsell chips under 5500 K, `body` (top-level keys) first.
+fn write_scene(s: &Scratch, body: &str) -> PathBuf {
+    let munsell = munsell();
+    s.write(
+        "scene.toml",
+        &format!(
+            "{body}\n[[lights]]\nspectrum = \"blackbody:5500\"\npower = 1.0\n\n[[patches]]\nspectra = {:?}\nsamples = [\"5R 4/14\", \"5B 7/2\"]\n",
+            munsell.to_str().unwrap()
+        ),
+    )
+}
+
+fn run(path: &std::path::Path) -> Output {
+    specconv(["simulate", "--scene", path.to_str().unwrap()])
+}
+
+#[test]
+fn a_matrix_scene_converges_and_colours_need_no_reference() {
+    let s = Scratch::new("simulate-matrix");
+    let p = write_scene(
+        &s,
+        "effect = \"converged\"\nform_factors = [[0.0, 0.5], [0.5, 0.0]]\n",
+    );
+    let v = json(specconv(["simulate", "--scene", p.to_str().unwrap(), "--json"]).ok());
+    assert_eq!(v["counts"], serde_json::json!(["converged"]));
+    assert!(series(&v, "otsu2018")[0].is_finite());
+    // A colour-only patch has no measured reference: ΔE from RGB multiplication only.
+    let p = s.write(
+        "colour.toml",
+        "bounces = 2\nform_factors = \"furnace\"\n[[lights]]\nspectrum = \"D65\"\npower = 2\n\
+         [[patches]]\nname = \"red\"\ncolour = [0.8, 0.1, 0.1]\ncolorspace = \"sRGB\"\n",
+    );
+    let v = json(specconv(["simulate", "--scene", p.to_str().unwrap(), "--json"]).ok());
+    assert!(v.get("mean_delta_e").is_none());
+    assert!(v["mean_delta_e_rgb"]["otsu2018"][2].as_f64().unwrap() > 0.0);
+}
+
+#[test]
+fn malformed_scenes_get_clear_errors() {
+    let s = Scratch::new("simulate-bad");
+    let cases: [(&str, &[&str]); 7] = [
+        (
+            "bounces = 2\nform_factors = [[0.7, 0.5], [0.0, 0.1]]\n",
+            &["row 1 (5R 4/14) sums to 1.2", "at most 1"],
+        ),
+        (
+            "bounces = 100000000000\nform_factors = \"furnace\"\n",
+            &["GiB", "ask for at most"],
+        ),
+        (
+            "bounces = 2\nform_factors = \"sphere\"\n",
+            &["unknown form-factor preset `sphere`"],
+        ),
+        (
+            "bounces = 2\nform_factors = \"box\"\n",
+            &["box preset needs five patches", "floor"],
+        ),
+        ("form_factors = \"furnace\"\n", &["bounces = K"]),
+        (
+            "bounces = 2\nform_factors = \"furnace\"\nmethods = [\"magic\"]\n",
+            &["method `magic`"],
+        ),
+        (
+            "effect = \"converged\"\nform_factors = \"furnace\"\n",
+            &["does not converge", "bounces = K"],
+        ),
+    ];
+    for (body, needles) in cases {
+        run(&write_scene(&s, body)).fails(1, needles);
+    }
+    let munsell = munsell();
+    let m = munsell.to_str().unwrap();
+    let p = s.write(
+        "unknown.toml",
+        &format!("bounces = 1\nform_factors = \"furnace\"\n[[lights]]\nspectrum = \"E\"\npower = 1\n[[patches]]\nspectra = {m:?}\nsample = \"5R 99/99\"\n"),
+    );
+    run(&p).fails(1, &["unknown sample `5R 99/99`", "CSV header"]);
+    let p = s.write(
+        "negative.toml",
+        &format!("bounces = 1\nform_factors = \"furnace\"\n[[lights]]\nspectrum = \"E\"\npower = -3\n[[patches]]\nspectra = {m:?}\nsample = \"5R 4/14\"\n"),
+    );
+    run(&p).fails(1, &["power -3", "≥ 0"]);
+    let p = s.write("typo.toml", "bounce = 1\n");
+    run(&p).fails(1, &["not a valid scene", "bounce"]);
+}
