@@ -35,10 +35,10 @@ pub(crate) fn ordinary_xy(c: [f64; 3], safe: f64) -> Option<[f64; 2]> {
 }
 
 /// Largest |component| for which |T·c + o| stays below half the largest f64 and f32, over all
-/// leaves (`leaves`: columns T·x̂, T·ŷ, T·ẑ, o per leaf, `n` bands each).
-pub(crate) fn safe_limits(leaves: &[Vec<f64>], n: usize) -> (f64, f64) {
+/// leaves (`leaves`: columns T·x̂, T·ŷ, T·ẑ, o per leaf, `n` bands each, leaf after leaf).
+pub(crate) fn safe_limits(leaves: &[f64], n: usize) -> (f64, f64) {
     let (mut lin, mut off) = (0.0f64, 0.0f64);
-    for t in leaves {
+    for t in leaves.chunks_exact(4 * n) {
         for b in 0..n {
             lin = lin.max(t[b].abs() + t[n + b].abs() + t[2 * n + b].abs());
             off = off.max(t[3 * n + b].abs());

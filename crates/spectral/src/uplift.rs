@@ -28,53 +28,73 @@ pub trait Method: Send + Sync {
 /// Leaf choice: the kd-tree on the colour's xy. Colours that are not ordinary take the policy
 /// of [`crate::hard`] (black → zero spectrum, dark colours scaled, NaN/±Inf → NaN in every
 /// band, no overflow); every finite input gives a finite spectrum with XYZ(r) = c.
+///
+/// Speed: colours go through in blocks of 32: the leaves of a whole block are chosen
+/// first, without a data-dependent branch (a random texture's leaves are unpredictable, and a
+/// mispredicted branch per tree level cost more than the multiply), then the block is
+/// multiplied, every leaf's T and o being hot in L1.
 #[derive(Debug, Clone)]
 pub struct Uplifter {
     grid: Grid,
     bands: usize,
     white: [f64; 2],
-    /// (axis, value, below, above) per node; leaves have below = above = leaf index | LEAF.
-    nodes: Vec<(usize, f64, u32, u32)>,
-    /// Per leaf: columns T·x̂, T·ŷ, T·ẑ and o, each `bands` long, contiguous.
-    f64s: Vec<Vec<f64>>,
-    f32s: Vec<Vec<f32>>,
+    choose: Choose,
+    /// Per leaf, `4 * bands` values: columns T·x̂, T·ŷ, T·ẑ and o, each `bands` long.
+    f64s: Vec<f64>,
+    f32s: Vec<f32>,
     /// Components below these magnitudes cannot overflow T·c + o in f64, f32 (`hard`).
     safe_f64: f64,
     safe_f32: f64,
 }
 
-const LEAF: u32 = 1 << 31;
+/// How a chromaticity finds its leaf; both give the tree's answer (Eq. 10) for every xy.
+#[derive(Debug, Clone)]
+enum Choose {
+    /// Trees of up to [`MAX_CELL_SPLITS`] splits. Each split compares one coordinate with one
+    /// value, so the sorted values of each axis cut the plane into a grid of cells on which the
+    /// tree's answer is constant. A coordinate's cell is the count of values it is ≥ (NaN: none,
+    /// as the walk takes `below` at every split); the leaf is read from a table of cells.
+    Cells {
+        x: Vec<f64>,
+        y: Vec<f64>,
+        /// Leaf of cell (i, j) at `i * (y.len() + 1) + j`.
+        leaf: Vec<u32>,
+    },
+    /// Larger trees: a walk of `depth` steps (the longest path), each a compare selecting
+    /// the next node; a leaf steps to itself.
+    Walk { steps: Vec<Step>, depth: usize },
+}
+
+/// Up to 31 splits (32 leaves, the most clusters the paper uses) counting beats walking.
+const MAX_CELL_SPLITS: usize = 31;
+
+/// One node of the tree. A colour goes to `next[1]` when its coordinate `axis` (0: x, 1: y)
+/// is ≥ `value`, else to `next[0]`. A leaf steps to itself (value −∞).
+#[derive(Debug, Clone, Copy)]
+struct Step {
+    value: f64,
+    axis: u32,
+    next: [u32; 2],
+    /// The leaf's index; unused on splits.
+    leaf: u32,
+}
+
+/// Colours per block. Short: choosing a block's leaves lets the stores of the previous block
+/// drain to memory; with 64, uplifting a million colours (past the caches) cost a third more.
+const BLOCK: usize = 32;
+
+/// Marks a colour of the block that is not ordinary: it takes [`crate::hard::uplift`].
+const HARD: u32 = u32::MAX;
 
 impl Uplifter {
     pub fn new(model: &Model) -> Result<Uplifter, Error> {
         let n = model.grid.len();
         let white = model.colorimetry()?.white_xy();
-        let nodes = model
-            .tree
-            .iter()
-            .map(|node| match *node {
-                Node::Split {
-                    axis,
-                    value,
-                    below,
-                    above,
-                } => {
-                    let ax = if axis == Axis::X { 0 } else { 1 };
-                    let child = |c: usize| match model.tree[c] {
-                        Node::Leaf { leaf } => leaf as u32 | LEAF,
-                        Node::Split { .. } => c as u32,
-                    };
-                    (ax, value, child(below), child(above))
-                }
-                Node::Leaf { leaf } => {
-                    (0, f64::NEG_INFINITY, leaf as u32 | LEAF, leaf as u32 | LEAF)
-                }
-            })
-            .collect();
-        let f64s: Vec<Vec<f64>> = model
+        let choose = Choose::new(&model.tree);
+        let f64s: Vec<f64> = model
             .leaves
             .iter()
-            .map(|leaf| {
+            .flat_map(|leaf| {
                 let mut t = vec![0.0; 4 * n];
                 for b in 0..n {
                     let mut o = leaf.mean[b];
@@ -89,16 +109,13 @@ impl Uplifter {
                 t
             })
             .collect();
-        let f32s = f64s
-            .iter()
-            .map(|t| t.iter().map(|&v| v as f32).collect())
-            .collect();
+        let f32s = f64s.iter().map(|&v| v as f32).collect();
         let (safe_f64, safe_f32) = crate::hard::safe_limits(&f64s, n);
         Ok(Uplifter {
             grid: model.grid,
             bands: n,
             white,
-            nodes,
+            choose,
             f64s,
             f32s,
             safe_f64,
@@ -117,7 +134,8 @@ impl Uplifter {
 
     /// A leaf's affine map in f64: columns T·x̂, T·ŷ, T·ẑ and o, each `bands()` long.
     pub fn affine(&self, leaf: usize) -> &[f64] {
-        &self.f64s[leaf]
+        let m = 4 * self.bands;
+        &self.f64s[leaf * m..(leaf + 1) * m]
     }
 
     /// The leaf a colour is uplifted by.
@@ -127,16 +145,122 @@ impl Uplifter {
     }
 
     /// The leaf of a chromaticity.
-    #[inline]
+    #[inline(always)]
     pub fn leaf_xy(&self, xy: [f64; 2]) -> usize {
-        let mut node = 0u32;
-        loop {
-            let (ax, value, below, above) = self.nodes[node as usize];
-            node = if xy[ax] >= value { above } else { below };
-            if node & LEAF != 0 {
-                return (node & !LEAF) as usize;
+        match &self.choose {
+            Choose::Cells { x, y, leaf } => {
+                let i = x.iter().filter(|&&v| xy[0] >= v).count();
+                let j = y.iter().filter(|&&v| xy[1] >= v).count();
+                leaf[i * (y.len() + 1) + j] as usize
+            }
+            Choose::Walk { steps, depth } => {
+                let mut i = 0;
+                for _ in 0..*depth {
+                    let s = &steps[i];
+                    i = s.next[(xy[(s.axis & 1) as usize] >= s.value) as usize] as usize;
+                }
+                steps[i].leaf as usize
             }
         }
+    }
+
+    /// Leaves of a block of colours (`HARD` for colours that are not ordinary).
+    #[inline(always)]
+    fn block_leaves<T: Copy + Into<f64>>(&self, xyz: &[T], safe: f64, leaves: &mut [u32]) {
+        for (c, l) in xyz.chunks_exact(3).zip(leaves) {
+            let c = [c[0].into(), c[1].into(), c[2].into()];
+            *l = match crate::hard::ordinary_xy(c, safe) {
+                Some(xy) => self.leaf_xy(xy) as u32,
+                None => HARD,
+            };
+        }
+    }
+}
+
+impl Choose {
+    fn new(tree: &[Node]) -> Choose {
+        let values = |on: Axis| {
+            let mut v: Vec<f64> = tree
+                .iter()
+                .filter_map(|node| match *node {
+                    Node::Split { axis, value, .. } if axis == on => Some(value),
+                    _ => None,
+                })
+                .collect();
+            v.sort_by(f64::total_cmp);
+            v.dedup();
+            v
+        };
+        let (x, y) = (values(Axis::X), values(Axis::Y));
+        if x.len() + y.len() <= MAX_CELL_SPLITS {
+            // A point of each cell: its lowest values, or NaN (≥ nothing) for cell 0.
+            let corner = |v: &[f64], i: usize| if i == 0 { f64::NAN } else { v[i - 1] };
+            let leaf = (0..=x.len())
+                .flat_map(|i| (0..=y.len()).map(move |j| (i, j)))
+                .map(|(i, j)| walk(tree, [corner(&x, i), corner(&y, j)]) as u32)
+                .collect();
+            return Choose::Cells { x, y, leaf };
+        }
+        let steps = (0..tree.len())
+            .map(|i| match tree[i] {
+                Node::Split {
+                    axis,
+                    value,
+                    below,
+                    above,
+                } => Step {
+                    value,
+                    axis: if axis == Axis::X { 0 } else { 1 },
+                    next: [below as u32, above as u32],
+                    leaf: 0,
+                },
+                Node::Leaf { leaf } => Step {
+                    value: f64::NEG_INFINITY,
+                    axis: 0,
+                    next: [i as u32; 2],
+                    leaf: leaf as u32,
+                },
+            })
+            .collect();
+        Choose::Walk {
+            steps,
+            depth: depth(tree, 0),
+        }
+    }
+
+    /// Bytes read to choose a leaf.
+    fn bytes(&self) -> usize {
+        match self {
+            Choose::Cells { x, y, leaf } => (x.len() + y.len()) * 8 + leaf.len() * 4,
+            Choose::Walk { steps, .. } => std::mem::size_of_val(steps.as_slice()),
+        }
+    }
+}
+
+/// The tree's leaf for a chromaticity, node by node (Eq. 10).
+fn walk(tree: &[Node], xy: [f64; 2]) -> usize {
+    let mut i = 0;
+    loop {
+        match tree[i] {
+            Node::Split {
+                axis,
+                value,
+                below,
+                above,
+            } => {
+                let v = if axis == Axis::X { xy[0] } else { xy[1] };
+                i = if v >= value { above } else { below };
+            }
+            Node::Leaf { leaf } => return leaf,
+        }
+    }
+}
+
+/// Splits on the longest path from node `i` to a leaf (the tree is validated: no cycles).
+fn depth(tree: &[Node], i: usize) -> usize {
+    match tree[i] {
+        Node::Split { below, above, .. } => 1 + depth(tree, below).max(depth(tree, above)),
+        Node::Leaf { .. } => 0,
     }
 }
 
@@ -154,8 +278,7 @@ impl Method for Uplifter {
     }
 
     fn model_bytes(&self) -> usize {
-        std::mem::size_of_val(self.nodes.as_slice())
-            + self.f32s.iter().map(|t| t.len() * 4).sum::<usize>()
+        self.choose.bytes() + self.f32s.len() * 4
     }
 
     /// Uplifts colours `xyz` (X, Y, Z per pixel) into `out` (`bands` values per pixel).
@@ -166,12 +289,12 @@ impl Method for Uplifter {
             out.len(),
             "out must hold `bands` values per colour"
         );
-        for (c, r) in xyz.chunks_exact(3).zip(out.chunks_exact_mut(n)) {
-            let c = [c[0], c[1], c[2]];
-            match crate::hard::ordinary_xy(c, self.safe_f64) {
-                Some(xy) => kernel(&self.f64s[self.leaf_xy(xy)], n, c, r),
-                None => crate::hard::uplift(self, c, |b, v| r[b] = v),
-            }
+        let (t, safe) = (&self.f64s[..], self.safe_f64);
+        // A constant band count unrolls the multiply fully.
+        if n == 36 {
+            self.blocks(xyz, out, 36, t, safe, |v| v);
+        } else {
+            self.blocks(xyz, out, n, t, safe, |v| v);
         }
     }
 
@@ -183,11 +306,46 @@ impl Method for Uplifter {
             out.len(),
             "out must hold `bands` values per colour"
         );
-        for (c, r) in xyz.chunks_exact(3).zip(out.chunks_exact_mut(n)) {
-            let c64 = [c[0] as f64, c[1] as f64, c[2] as f64];
-            match crate::hard::ordinary_xy(c64, self.safe_f32) {
-                Some(xy) => kernel(&self.f32s[self.leaf_xy(xy)], n, [c[0], c[1], c[2]], r),
-                None => crate::hard::uplift(self, c64, |b, v| r[b] = crate::hard::to_f32(v)),
+        let (t, safe) = (&self.f32s[..], self.safe_f32);
+        if n == 36 {
+            self.blocks(xyz, out, 36, t, safe, crate::hard::to_f32);
+        } else {
+            self.blocks(xyz, out, n, t, safe, crate::hard::to_f32);
+        }
+    }
+}
+
+impl Uplifter {
+    /// Block by block: the leaves, then r = T·c + o for ordinary colours (`t`: the leaves'
+    /// maps in the output's type) and the policy of [`crate::hard`] for the others, its f64
+    /// result converted by `from_f64`.
+    #[inline(always)]
+    fn blocks<T>(
+        &self,
+        xyz: &[T],
+        out: &mut [T],
+        n: usize,
+        t: &[T],
+        safe: f64,
+        from_f64: impl Fn(f64) -> T,
+    ) where
+        T: Copy + Into<f64> + std::ops::Mul<Output = T> + std::ops::Add<Output = T>,
+    {
+        let mut leaves = [HARD; BLOCK];
+        for (xyz, out) in xyz.chunks(3 * BLOCK).zip(out.chunks_mut(n * BLOCK)) {
+            self.block_leaves(xyz, safe, &mut leaves);
+            for ((c, r), &l) in xyz
+                .chunks_exact(3)
+                .zip(out.chunks_exact_mut(n))
+                .zip(&leaves)
+            {
+                let c = [c[0], c[1], c[2]];
+                if l != HARD {
+                    kernel(&t[l as usize * 4 * n..][..4 * n], n, c, r);
+                } else {
+                    let c64 = c.map(Into::into);
+                    crate::hard::uplift(self, c64, |b, v| r[b] = from_f64(v));
+                }
             }
         }
     }
@@ -203,5 +361,229 @@ where
     let (tz, o) = rest.split_at(n);
     for b in 0..n {
         r[b] = o[b] + tx[b] * c[0] + ty[b] * c[1] + tz[b] * c[2];
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::hard::{self, DARK};
+
+    /// The per-pixel path as it was before blocks and cells, kept as the reference: the tree
+    /// walked node by node, then the multiply band by band, in f64.
+    fn reference_f64(up: &Uplifter, tree: &[Node], xyz: &[f64]) -> Vec<f64> {
+        let n = up.bands;
+        let mut out = vec![0.0; xyz.len() / 3 * n];
+        for (c, r) in xyz.chunks_exact(3).zip(out.chunks_exact_mut(n)) {
+            let c = [c[0], c[1], c[2]];
+            match hard::ordinary_xy(c, up.safe_f64) {
+                Some(xy) => {
+                    let t = up.affine(walk(tree, xy));
+                    for b in 0..n {
+                        r[b] = t[3 * n + b] + t[b] * c[0] + t[n + b] * c[1] + t[2 * n + b] * c[2];
+                    }
+                }
+                None => hard::uplift(up, c, |b, v| r[b] = v),
+            }
+        }
+        out
+    }
+
+    /// The same in f32: the leaf chosen in f64, the multiply in f32 with T and o rounded.
+    fn reference_f32(up: &Uplifter, tree: &[Node], xyz: &[f32]) -> Vec<f32> {
+        let n = up.bands;
+        let mut out = vec![0.0; xyz.len() / 3 * n];
+        for (c, r) in xyz.chunks_exact(3).zip(out.chunks_exact_mut(n)) {
+            let c64 = [c[0] as f64, c[1] as f64, c[2] as f64];
+            match hard::ordinary_xy(c64, up.safe_f32) {
+                Some(xy) => {
+                    let t: Vec<f32> = up
+                        .affine(walk(tree, xy))
+                        .iter()
+                        .map(|&v| v as f32)
+                        .collect();
+                    for b in 0..n {
+                        r[b] = t[3 * n + b] + t[b] * c[0] + t[n + b] * c[1] + t[2 * n + b] * c[2];
+                    }
+                }
+                None => hard::uplift(up, c64, |b, v| r[b] = hard::to_f32(v)),
+            }
+        }
+        out
+    }
+
+    struct Rng(u64);
+    impl Rng {
+        fn next(&mut self) -> u64 {
+            self.0 = self
+                .0
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            self.0 >> 11
+        }
+        /// Uniform in [lo, hi).
+        fn f(&mut self, lo: f64, hi: f64) -> f64 {
+            lo + (hi - lo) * (self.next() as f64 / (1u64 << 53) as f64)
+        }
+    }
+
+    /// The built-in model with its tree replaced by a chain of `splits` splits (alternating
+    /// axes, values inside the locus), leaf i below split i: deep and unbalanced.
+    fn chain(splits: usize) -> Model {
+        let mut m = Model::builtin().clone();
+        let mut rng = Rng(splits as u64);
+        m.tree.clear();
+        for i in 0..splits {
+            let axis = if i % 2 == 0 { Axis::X } else { Axis::Y };
+            let (at, leaf) = (m.tree.len(), m.tree.len() + 1);
+            m.tree.push(Node::Split {
+                axis,
+                value: rng.f(0.15, 0.55),
+                below: leaf,
+                above: at + 2,
+            });
+            m.tree.push(Node::Leaf { leaf: i });
+        }
+        m.tree.push(Node::Leaf { leaf: splits });
+        let leaves = Model::builtin().leaves.clone();
+        m.leaves = (0..=splits)
+            .map(|i| leaves[i % leaves.len()].clone())
+            .collect();
+        m
+    }
+
+    /// Split values of the tree and their neighbours, white, NaN, ±Inf, random xy.
+    fn chromaticities(up: &Uplifter, tree: &[Node]) -> Vec<[f64; 2]> {
+        let mut v = vec![f64::NAN, f64::INFINITY, f64::NEG_INFINITY, 0.0, -0.0, 1.0];
+        for node in tree {
+            if let Node::Split { value, .. } = *node {
+                v.extend([value, value.next_up(), value.next_down()]);
+            }
+        }
+        let mut rng = Rng(7);
+        let mut xy: Vec<[f64; 2]> = v
+            .iter()
+            .flat_map(|&a| v.iter().map(move |&b| [a, b]))
+            .collect();
+        xy.extend((0..20_000).map(|_| [rng.f(-0.5, 1.5), rng.f(-0.5, 1.5)]));
+        xy.push(up.white_xy());
+        xy
+    }
+
+    /// Colours of every kind: ordinary, negative components, xy exactly on splits, dark and
+    /// near `DARK`, black and signed zeros, X+Y+Z ≤ 0, denormal, huge (near and past the
+    /// overflow limits), NaN and ±Inf, and arbitrary bit patterns.
+    fn colours(up: &Uplifter, tree: &[Node], seed: u64) -> Vec<[f64; 3]> {
+        let mut rng = Rng(seed);
+        let splits: Vec<f64> = tree
+            .iter()
+            .filter_map(|n| match *n {
+                Node::Split { value, .. } => Some(value),
+                _ => None,
+            })
+            .collect();
+        let special = [
+            0.0,
+            -0.0,
+            f64::NAN,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::MAX,
+        ];
+        let mut out = Vec::new();
+        for i in 0..40_000 {
+            let c = [rng.f(0.0, 1.0), rng.f(0.0, 1.0), rng.f(0.0, 1.0)];
+            let c = match i % 12 {
+                0..=3 => c,
+                4 => [rng.f(-1.0, 2.0), rng.f(-1.0, 2.0), rng.f(-1.0, 2.0)],
+                5 => {
+                    // x (or y) exactly a split value: X+Y+Z = 1 exactly where the sum allows.
+                    let v = splits[i % splits.len()];
+                    let w = rng.f(0.0, 1.0 - v);
+                    if i / 12 % 2 == 0 {
+                        [v, w, 1.0 - v - w]
+                    } else {
+                        [w, v, 1.0 - v - w]
+                    }
+                }
+                6 => c.map(|v| v * 10f64.powf(-rng.f(0.0, 320.0))),
+                7 => {
+                    let s = DARK * (1.0 + rng.f(-4.0, 4.0) * f64::EPSILON);
+                    let t = c[0] + c[1] + c[2];
+                    c.map(|v| v / t * s)
+                }
+                8 => [c[0], -c[1] - c[0] - rng.f(0.0, 1.0), c[2] * 0.0],
+                9 => c.map(|v| v * rng.f(0.3, 3.0) * up.safe_f32),
+                10 => {
+                    let mut c = c.map(|v| v * 10f64.powf(rng.f(0.0, 300.0)));
+                    c[i % 3] = special[rng.next() as usize % special.len()];
+                    c
+                }
+                _ => [0; 3].map(|_| f64::from_bits(rng.next() << 11 | rng.next() & 0x7ff)),
+            };
+            out.push(c);
+        }
+        out.extend(special.iter().map(|&v| [v, v, v]));
+        out.extend([[0.0, -0.0, 0.0], [1e-310, 0.0, 0.0], [-1.0, 0.5, 0.5]]);
+        out
+    }
+
+    fn models() -> Vec<Model> {
+        vec![Model::builtin().clone(), chain(MAX_CELL_SPLITS), chain(40)]
+    }
+
+    #[test]
+    fn both_leaf_choices_are_the_trees_for_every_chromaticity() {
+        for model in models() {
+            let up = Uplifter::new(&model).unwrap();
+            let cells = matches!(up.choose, Choose::Cells { .. });
+            assert_eq!(cells, model.tree.len() / 2 <= MAX_CELL_SPLITS);
+            for xy in chromaticities(&up, &model.tree) {
+                assert_eq!(up.leaf_xy(xy), walk(&model.tree, xy), "{xy:?}");
+            }
+        }
+    }
+
+    /// Bit for bit what the per-pixel path gave, in f64 and f32, for slices of any length.
+    #[test]
+    fn blocks_give_the_per_pixel_results_bit_for_bit() {
+        for (k, model) in models().iter().enumerate() {
+            let up = Uplifter::new(model).unwrap();
+            let n = up.bands();
+            let c64: Vec<f64> = colours(&up, &model.tree, k as u64).concat();
+            let mut c32: Vec<f32> = c64.iter().map(|&v| v as f32).collect();
+            // Arbitrary f32 bit patterns too: NaNs with payloads, denormals, huge values.
+            let mut rng = Rng(99);
+            c32.extend((0..30_000).map(|_| f32::from_bits(rng.next() as u32)));
+            let want64 = reference_f64(&up, &model.tree, &c64);
+            let want32 = reference_f32(&up, &model.tree, &c32);
+            let bits64 = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+            let bits32 = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+            // Whole slices, and pieces that start and end inside blocks.
+            for piece in [usize::MAX, 1, BLOCK - 1, BLOCK + 1, 3 * BLOCK + 17] {
+                let mut got64 = vec![0.0; want64.len()];
+                for (c, r) in c64
+                    .chunks(piece.saturating_mul(3))
+                    .zip(got64.chunks_mut(piece.saturating_mul(n)))
+                {
+                    up.uplift_f64(c, r);
+                }
+                assert!(
+                    bits64(&got64) == bits64(&want64),
+                    "f64, model {k}, pieces of {piece}"
+                );
+                let mut got32 = vec![0.0; want32.len()];
+                for (c, r) in c32
+                    .chunks(piece.saturating_mul(3))
+                    .zip(got32.chunks_mut(piece.saturating_mul(n)))
+                {
+                    up.uplift_f32(c, r);
+                }
+                assert!(
+                    bits32(&got32) == bits32(&want32),
+                    "f32, model {k}, pieces of {piece}"
+                );
+            }
+        }
     }
 }
