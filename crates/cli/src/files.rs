@@ -19,25 +19,14 @@ pub fn read_spectra(path: &Path) -> Result<SpectralTable> {
 /// Writes `bytes` to `path` atomically, refusing to write over any of `inputs`.
 pub fn write_atomically(path: &Path, bytes: &[u8], inputs: &[&Path]) -> Result<()> {
     for input in inputs {
-        if same_file(path, input) {
+        if specconv_pipeline::same_file(path, input) {
             bail!(
                 "the output {} is also an input; choose another output path",
                 path.display()
             );
         }
     }
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d,
-        _ => Path::new("."),
-    };
-    let name = path
-        .file_name()
-        .with_context(|| format!("{} is not a file path", path.display()))?;
-    let tmp = dir.join(format!(
-        ".{}.specconv-{}.tmp",
-        name.to_string_lossy(),
-        std::process::id()
-    ));
+    let tmp = specconv_pipeline::temporary_path(path);
     let result = std::fs::write(&tmp, bytes)
         .and_then(|()| std::fs::rename(&tmp, path))
         .with_context(|| format!("cannot write {}", path.display()));
@@ -45,13 +34,6 @@ pub fn write_atomically(path: &Path, bytes: &[u8], inputs: &[&Path]) -> Result<(
         let _ = std::fs::remove_file(&tmp);
     }
     result
-}
-
-fn same_file(a: &Path, b: &Path) -> bool {
-    match (a.canonicalize(), b.canonicalize()) {
-        (Ok(a), Ok(b)) => a == b,
-        _ => false,
-    }
 }
 
 /// The model from `--model FILE`, or the built-in one.

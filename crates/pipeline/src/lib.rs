@@ -347,13 +347,17 @@ pub fn temporary_path(output: &Path) -> PathBuf {
     ))
 }
 
-/// Refuses to write over the input, and over an existing output unless asked to.
-fn refuse_overwrites(input: &Path, output: &Path, overwrite: bool) -> Result<()> {
-    let same = match (input.canonicalize(), output.canonicalize()) {
+/// Whether two paths name the same existing file (links and `..` resolved).
+pub fn same_file(a: &Path, b: &Path) -> bool {
+    match (a.canonicalize(), b.canonicalize()) {
         (Ok(a), Ok(b)) => a == b,
         _ => false,
-    };
-    if same {
+    }
+}
+
+/// Refuses to write over the input, and over an existing output unless asked to.
+fn refuse_overwrites(input: &Path, output: &Path, overwrite: bool) -> Result<()> {
+    if same_file(input, output) {
         return Err(Error::Setting(format!(
             "the output {} is the input; choose another output path",
             output.display()
