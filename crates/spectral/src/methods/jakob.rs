@@ -48,6 +48,33 @@ fn scale(res: usize) -> Vec<f64> {
         .collect()
 }
 
+/// XYZ of the spectrum S(c₀λ′² + c₁λ′ + c₂) (λ′ the normalised wavelengths) under the XYZ rows
+/// `weights`, and its derivatives by c₀, c₁, c₂: what both the fit and the runtime polish need.
+fn sigmoid_xyz_and_jacobian(
+    c: [f64; 3],
+    lambda: impl Iterator<Item = f64>,
+    weights: &[Vec<f64>; 3],
+) -> ([f64; 3], [[f64; 3]; 3]) {
+    let mut xyz = [0.0; 3];
+    let mut jac = [[0.0; 3]; 3];
+    for (i, l) in lambda.enumerate() {
+        let u = (c[0] * l + c[1]) * l + c[2];
+        let t = (1.0 + u * u).sqrt();
+        let r = 0.5 + u / (2.0 * t);
+        // dS/du = 1 / (2·(1 + u²)^{3/2})
+        let ds = 0.5 / (t * t * t);
+        let du = [l * l, l, 1.0];
+        for k in 0..3 {
+            let w = weights[k][i];
+            xyz[k] += w * r;
+            for j in 0..3 {
+                jac[k][j] += w * ds * du[j];
+            }
+        }
+    }
+    (xyz, jac)
+}
+
 /// The fitting problem: a colorimetry, its λ', the working space and the Lab white.
 pub struct Fitter {
     lambda: Vec<f64>,
@@ -75,24 +102,7 @@ impl Fitter {
 
     /// XYZ of the model spectrum and its derivatives by c₀, c₁, c₂.
     fn xyz_and_jacobian(&self, c: [f64; 3]) -> ([f64; 3], [[f64; 3]; 3]) {
-        let mut xyz = [0.0; 3];
-        let mut jac = [[0.0; 3]; 3];
-        for (i, &l) in self.lambda.iter().enumerate() {
-            let u = (c[0] * l + c[1]) * l + c[2];
-            let t = (1.0 + u * u).sqrt();
-            let r = 0.5 + u / (2.0 * t);
-            // dS/du = 1 / (2·(1 + u²)^{3/2})
-            let ds = 0.5 / (t * t * t);
-            let du = [l * l, l, 1.0];
-            for k in 0..3 {
-                let w = self.weights[k][i];
-                xyz[k] += w * r;
-                for j in 0..3 {
-                    jac[k][j] += w * ds * du[j];
-                }
-            }
-        }
-        (xyz, jac)
+        sigmoid_xyz_and_jacobian(c, self.lambda.iter().copied(), &self.weights)
     }
 
     /// Lab and its Jacobian by the coefficients (chain rule through CIE 15 Eq. 8.1–8.3).
@@ -358,23 +368,8 @@ impl Jakob2019 {
         let target = super::working_space::mul_vec(&self.to_xyz, rgb.map(f64::from));
         let mut c = c;
         for _ in 0..POLISH_STEPS {
-            let mut got = [0.0; 3];
-            let mut jac = [[0.0; 3]; 3];
-            for (i, &l) in self.lambda.iter().enumerate() {
-                let l = l as f64;
-                let u = (c[0] * l + c[1]) * l + c[2];
-                let t = (1.0 + u * u).sqrt();
-                let r = 0.5 + u / (2.0 * t);
-                let ds = 0.5 / (t * t * t);
-                let du = [l * l, l, 1.0];
-                for k in 0..3 {
-                    let w = self.weights[k][i];
-                    got[k] += w * r;
-                    for p in 0..3 {
-                        jac[k][p] += w * ds * du[p];
-                    }
-                }
-            }
+            let (got, jac) =
+                sigmoid_xyz_and_jacobian(c, self.lambda.iter().map(|&l| l as f64), &self.weights);
             let inv = super::working_space::inverse3(&jac);
             let step = super::working_space::mul_vec(&inv, [0, 1, 2].map(|k| target[k] - got[k]));
             let next = [0, 1, 2].map(|k| c[k] + step[k]);
