@@ -58,15 +58,22 @@ impl<M: Method> Resampled<M> {
         })
     }
 
-    fn resample(&self, c: [f64; 3], r0: impl Fn(usize) -> f64, mut put: impl FnMut(usize, f64)) {
+    /// One spectrum; `r` is scratch of the new grid's length, reused across pixels so the
+    /// per-pixel path does not allocate.
+    fn resample(
+        &self,
+        c: [f64; 3],
+        r0: impl Fn(usize) -> f64,
+        r: &mut [f64],
+        mut put: impl FnMut(usize, f64),
+    ) {
         let a = &self.colorimetry.weights;
-        let r: Vec<f64> = self
-            .taps
-            .iter()
-            .map(|&(i, j, t)| r0(i) + t * (r0(j) - r0(i)))
-            .collect();
+        for (v, &(i, j, t)) in r.iter_mut().zip(&self.taps) {
+            *v = r0(i) + t * (r0(j) - r0(i));
+        }
+        let r = &*r;
         let e: [f64; 3] =
-            std::array::from_fn(|k| c[k] - a[k].iter().zip(&r).map(|(w, v)| w * v).sum::<f64>());
+            std::array::from_fn(|k| c[k] - a[k].iter().zip(r).map(|(w, v)| w * v).sum::<f64>());
         for (b, (v, corr)) in r.iter().zip(&self.correction).enumerate() {
             put(b, v + corr[0] * e[0] + corr[1] * e[1] + corr[2] * e[2]);
         }
@@ -86,12 +93,13 @@ impl<M: Method> Method for Resampled<M> {
         let (n0, n) = (self.inner.grid().len(), self.colorimetry.bands());
         let mut tmp = vec![0.0; xyz.len() / 3 * n0];
         self.inner.uplift_f64(xyz, &mut tmp);
+        let mut scratch = vec![0.0; n];
         for ((c, r0), r) in xyz
             .chunks_exact(3)
             .zip(tmp.chunks_exact(n0))
             .zip(out.chunks_exact_mut(n))
         {
-            self.resample([c[0], c[1], c[2]], |i| r0[i], |b, v| r[b] = v);
+            self.resample([c[0], c[1], c[2]], |i| r0[i], &mut scratch, |b, v| r[b] = v);
         }
     }
 
@@ -99,13 +107,14 @@ impl<M: Method> Method for Resampled<M> {
         let (n0, n) = (self.inner.grid().len(), self.colorimetry.bands());
         let mut tmp = vec![0.0f32; xyz.len() / 3 * n0];
         self.inner.uplift_f32(xyz, &mut tmp);
+        let mut scratch = vec![0.0; n];
         for ((c, r0), r) in xyz
             .chunks_exact(3)
             .zip(tmp.chunks_exact(n0))
             .zip(out.chunks_exact_mut(n))
         {
             let c = [c[0] as f64, c[1] as f64, c[2] as f64];
-            self.resample(c, |i| r0[i] as f64, |b, v| r[b] = v as f32);
+            self.resample(c, |i| r0[i] as f64, &mut scratch, |b, v| r[b] = v as f32);
         }
     }
 
