@@ -10,6 +10,8 @@
 //! - [`train`]: per-cluster PCA (Eq. 5–8) in a greedy kd-tree on xy (Eq. 10–13).
 //! - [`Model`]: the trained tree and leaves, its versioned file, and the built-in model.
 //! - [`Uplifter`]: the runtime, r = T·c + o per pixel, f32 and f64.
+//! - [`emission`]: emission spectra of any brightness from a reflectance method (scale, uplift,
+//!   scale back).
 //! - [`eval`]: reconstruction error, round trip and range of a method on measured spectra.
 //! - [`methods`]: the baselines behind the same [`Method`] trait: Smits 1999, Meng et al. 2015,
 //!   Jakob & Hanika 2019; [`lab`]: CIELAB and CIEDE2000.
@@ -20,6 +22,7 @@
 
 pub mod bounded;
 pub mod colorimetry;
+pub mod emission;
 pub mod eval;
 pub mod grid;
 pub mod hard;
