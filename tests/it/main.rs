@@ -3,6 +3,7 @@
 mod baselines;
 mod convert;
 mod info;
+mod pictures;
 mod runner;
 mod simulate;
 mod train_eval;

@@ -8,7 +8,9 @@ use std::io::Write;
 
 mod cmd;
 mod files;
+mod font;
 mod methods;
+mod picture;
 mod plot;
 
 /// Turn textures in any colour space into spectral reflectance images, with the clustered-PCA

@@ -1,6 +1,9 @@
 //! The report's plot: accuracy against time per colour, one labelled point per method and
 //! setting, both axes logarithmic.
 
+use crate::picture::{drawing_failed, DrawResult};
+use anyhow::Result;
+use plotters::coord::Shift;
 use plotters::prelude::*;
 
 pub struct Point {
@@ -9,23 +12,26 @@ pub struct Point {
     pub delta_e: f64,
 }
 
-/// The SVG text of the plot. `threads` is only for the caption.
-pub fn accuracy_against_time(points: &[Point], _threads: usize) -> String {
+const SIZE: (u32, u32) = (900, 600);
+
+/// The SVG text of the plot.
+pub fn svg(points: &[Point]) -> Result<String> {
+    crate::font::ensure()?;
     let mut svg = String::new();
     {
-        let root = SVGBackend::with_string(&mut svg, (900, 600)).into_drawing_area();
-        // Drawing into a string cannot fail for I/O; errors would be plotters' own bugs, and the
-        // plot is an extra: draw what can be drawn.
-        let _ = draw(&root, points);
-        let _ = root.present();
+        let root = SVGBackend::with_string(&mut svg, SIZE).into_drawing_area();
+        draw(&root, points).map_err(drawing_failed)?;
+        root.present().map_err(drawing_failed)?;
     }
-    svg
+    Ok(svg)
 }
 
-fn draw(
-    root: &DrawingArea<SVGBackend, plotters::coord::Shift>,
-    points: &[Point],
-) -> Result<(), Box<dyn std::error::Error>> {
+/// The PNG bytes of the plot.
+pub fn png(points: &[Point]) -> Result<Vec<u8>> {
+    crate::picture::render_png(SIZE, |root| draw(root, points))
+}
+
+fn draw<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, points: &[Point]) -> DrawResult<DB> {
     root.fill(&WHITE)?;
     let finite = |v: f64| v.is_finite() && v > 0.0;
     let xs: Vec<f64> = points.iter().map(|p| p.ns).filter(|&v| finite(v)).collect();
@@ -46,7 +52,7 @@ fn draw(
     let mut chart = ChartBuilder::on(root)
         .caption(
             "Accuracy against cost (f32 uplift, one thread)",
-            ("sans-serif", 22),
+            (crate::font::FAMILY, 22),
         )
         .margin(20)
         .x_label_area_size(50)
@@ -54,6 +60,8 @@ fn draw(
         .build_cartesian_2d(range(&xs).log_scale(), range(&ys).log_scale())?;
     chart
         .configure_mesh()
+        .x_label_formatter(&|v| short(*v))
+        .y_label_formatter(&|v| short(*v))
         .x_desc("nanoseconds per colour")
         .y_desc("mean Δe = ‖s − r‖²")
         .draw()?;
@@ -80,8 +88,14 @@ fn draw(
         chart.draw_series(std::iter::once(Text::new(
             p.label.clone(),
             (p.ns, p.delta_e),
-            ("sans-serif", 12).into_font().color(&c),
+            (crate::font::FAMILY, 12).into_font().color(&c),
         )))?;
     }
     Ok(())
+}
+
+/// Three significant digits: log-scale ticks are not round in binary.
+fn short(v: f64) -> String {
+    let decimals = (2.0 - v.abs().log10().floor()).clamp(0.0, 9.0) as usize;
+    format!("{v:.decimals$}")
 }

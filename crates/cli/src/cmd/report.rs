@@ -1,6 +1,7 @@
 //! `specconv report`: every method on the same spectra, accuracy and cost in one table.
 
-use crate::{files, methods};
+use crate::picture::Format;
+use crate::{files, methods, plot};
 use anyhow::{bail, Context, Result};
 use rayon::prelude::*;
 use serde::Serialize;
@@ -74,8 +75,10 @@ pub struct Args {
     /// Print the table as CSV.
     #[arg(long)]
     csv: bool,
-    /// Also draw accuracy (Δe mean) against time per colour into FILE.svg.
-    #[arg(long, value_name = "FILE.svg")]
+    /// Also draw accuracy (Δe mean) against time per colour into FILE: SVG or PNG, by the
+    /// extension (.svg, .png). Text needs a TrueType font: DejaVu Sans (Debian package
+    /// fonts-dejavu-core) or the file named by $SPECCONV_FONT.
+    #[arg(long, value_name = "FILE.svg|FILE.png")]
     plot: Option<PathBuf>,
 }
 
@@ -100,14 +103,11 @@ struct Row {
 }
 
 pub fn run(args: Args) -> Result<()> {
-    if let Some(plot) = &args.plot {
-        if plot.extension().and_then(|e| e.to_str()) != Some("svg") {
-            bail!(
-                "--plot {}: only SVG is written; name the file *.svg",
-                plot.display()
-            );
-        }
-    }
+    let plot_format = args
+        .plot
+        .as_deref()
+        .map(|p| Format::of(p, "--plot", &[Format::Svg, Format::Png]))
+        .transpose()?;
     if args.colours == 0 {
         bail!("--colours must be at least 1");
     }
@@ -166,9 +166,13 @@ pub fn run(args: Args) -> Result<()> {
         eprintln!("specconv: measured {name} with {k} clusters on {grid}");
     }
 
-    if let Some(plot) = &args.plot {
-        let svg = crate::plot::accuracy_against_time(&rows_for_plot(&rows), threads);
-        files::write_atomically(plot, svg.as_bytes(), &[])?;
+    if let (Some(path), Some(format)) = (&args.plot, plot_format) {
+        let points = rows_for_plot(&rows);
+        let bytes = match format {
+            Format::Svg => plot::svg(&points)?.into_bytes(),
+            Format::Png => plot::png(&points)?,
+        };
+        files::write_atomically(path, &bytes, &[]).context("cannot write the --plot file")?;
     }
     if args.json {
         println!("{}", serde_json::to_string_pretty(&rows)?);
@@ -324,9 +328,9 @@ fn row(
     }
 }
 
-fn rows_for_plot(rows: &[Row]) -> Vec<crate::plot::Point> {
+fn rows_for_plot(rows: &[Row]) -> Vec<plot::Point> {
     rows.iter()
-        .map(|r| crate::plot::Point {
+        .map(|r| plot::Point {
             label: if r.setting.is_empty() {
                 r.method.clone()
             } else {

@@ -1,0 +1,77 @@
+//! Pictures: plotters drawings rendered to 8-bit RGB and PNG encoding, in memory, so that the
+//! caller writes the file atomically (no partial PNG on any error).
+
+use anyhow::{anyhow, Context, Result};
+use image::ImageEncoder;
+use plotters::coord::Shift;
+use plotters::prelude::*;
+
+pub type Area<'a> = DrawingArea<BitMapBackend<'a>, Shift>;
+pub type DrawResult<DB> =
+    std::result::Result<(), DrawingAreaErrorKind<<DB as DrawingBackend>::ErrorType>>;
+
+/// Draws with `draw` on a blank `width`×`height` RGB bitmap and returns its PNG bytes.
+pub fn render_png(
+    (width, height): (u32, u32),
+    draw: impl FnOnce(&Area) -> DrawResult<BitMapBackend<'static>>,
+) -> Result<Vec<u8>> {
+    crate::font::ensure()?;
+    let mut rgb = vec![0u8; width as usize * height as usize * 3];
+    {
+        let root = BitMapBackend::with_buffer(&mut rgb, (width, height)).into_drawing_area();
+        draw(&root).map_err(drawing_failed)?;
+        root.present().map_err(drawing_failed)?;
+    }
+    encode_png(&rgb, width, height)
+}
+
+/// PNG bytes of 8-bit RGB pixels, row-major.
+pub fn encode_png(rgb: &[u8], width: u32, height: u32) -> Result<Vec<u8>> {
+    let mut png = Vec::new();
+    image::codecs::png::PngEncoder::new(&mut png)
+        .write_image(rgb, width, height, image::ColorType::Rgb8)
+        .context("cannot encode the PNG")?;
+    Ok(png)
+}
+
+/// A plotters error as ours: they come from the font or the backend, never from the data.
+pub fn drawing_failed(e: impl std::fmt::Display) -> anyhow::Error {
+    anyhow!("drawing failed: {e}")
+}
+
+/// The output kind of a picture path, by its extension.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Format {
+    Svg,
+    Png,
+}
+
+impl Format {
+    /// `option` names the flag in the error, `allowed` the formats it takes.
+    pub fn of(path: &std::path::Path, option: &str, allowed: &[Format]) -> Result<Format> {
+        let ext = path
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(str::to_ascii_lowercase);
+        let format = match ext.as_deref() {
+            Some("svg") => Some(Format::Svg),
+            Some("png") => Some(Format::Png),
+            _ => None,
+        };
+        let names: Vec<&str> = allowed
+            .iter()
+            .map(|f| match f {
+                Format::Svg => "*.svg",
+                Format::Png => "*.png",
+            })
+            .collect();
+        match format {
+            Some(f) if allowed.contains(&f) => Ok(f),
+            _ => Err(anyhow!(
+                "{option} {}: the format is chosen by the extension; name the file {}",
+                path.display(),
+                names.join(" or ")
+            )),
+        }
+    }
+}
