@@ -2,16 +2,37 @@
 
 /// CIE 1976 L*a*b* of `xyz` relative to the reference white `white` (CIE 15:2018, Eq. 8.1–8.3).
 pub fn xyz_to_lab(xyz: [f64; 3], white: [f64; 3]) -> [f64; 3] {
-    let f = |t: f64| {
-        // (6/29)³ and the linear segment of the CIE definition.
-        if t > 216.0 / 24389.0 {
-            t.cbrt()
-        } else {
-            t * (841.0 / 108.0) + 4.0 / 29.0
-        }
-    };
     let [fx, fy, fz] = [0, 1, 2].map(|k| f(xyz[k] / white[k]));
     [116.0 * fy - 16.0, 500.0 * (fx - fy), 200.0 * (fy - fz)]
+}
+
+/// CIELAB of `xyz` and its Jacobian ∂(L*, a*, b*)/∂(X, Y, Z) (rows L*, a*, b*). The formula
+/// is continuous with a continuous derivative for every XYZ, negative and above white too.
+pub fn xyz_to_lab_jacobian(xyz: [f64; 3], white: [f64; 3]) -> ([f64; 3], [[f64; 3]; 3]) {
+    let t = [0, 1, 2].map(|k| xyz[k] / white[k]);
+    let [dx, dy, dz] = [0, 1, 2].map(|k| {
+        let d = if t[k] > 216.0 / 24389.0 {
+            1.0 / (3.0 * t[k].cbrt().powi(2))
+        } else {
+            841.0 / 108.0
+        };
+        d / white[k]
+    });
+    let j = [
+        [0.0, 116.0 * dy, 0.0],
+        [500.0 * dx, -500.0 * dy, 0.0],
+        [0.0, 200.0 * dy, -200.0 * dz],
+    ];
+    (xyz_to_lab(xyz, white), j)
+}
+
+/// CIE's f(t): the cube root above (6/29)³, and its linear segment below.
+fn f(t: f64) -> f64 {
+    if t > 216.0 / 24389.0 {
+        t.cbrt()
+    } else {
+        t * (841.0 / 108.0) + 4.0 / 29.0
+    }
 }
 
 /// CIEDE2000 ΔE₀₀ with k_L = k_C = k_H = 1, as written out by Sharma, Wu and Dalal, "The
@@ -121,5 +142,34 @@ mod tests {
         let lab = xyz_to_lab(w, w);
         assert!((lab[0] - 100.0).abs() < 1e-12 && lab[1].abs() < 1e-12 && lab[2].abs() < 1e-12);
         assert!(xyz_to_lab([0.0; 3], w)[0].abs() < 1e-12);
+    }
+
+    /// The Jacobian against central differences, on both segments of f and above white.
+    #[test]
+    fn lab_jacobian_matches_finite_differences() {
+        let w = [0.95, 1.0, 1.09];
+        for xyz in [
+            [0.3, 0.2, 0.5],
+            [1e-4, 2e-3, 5e-4],
+            [-0.01, 0.4, 2.5],
+            [40.0, 3.0, 0.2],
+        ] {
+            let (lab, j) = xyz_to_lab_jacobian(xyz, w);
+            assert_eq!(lab, xyz_to_lab(xyz, w));
+            for k in 0..3 {
+                let h = 1e-6 * xyz[k].abs().max(1e-3);
+                let (mut p, mut m) = (xyz, xyz);
+                p[k] += h;
+                m[k] -= h;
+                let (lp, lm) = (xyz_to_lab(p, w), xyz_to_lab(m, w));
+                for row in 0..3 {
+                    let fd = (lp[row] - lm[row]) / (2.0 * h);
+                    assert!(
+                        (fd - j[row][k]).abs() <= 1e-5 * fd.abs().max(1.0),
+                        "{xyz:?} {row} {k}"
+                    );
+                }
+            }
+        }
     }
 }

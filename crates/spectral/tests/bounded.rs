@@ -1,7 +1,10 @@
-//! Bounded reflectances: in [0, 1] with the input XYZ, or shown outside the object-colour solid.
+//! Bounded reflectances: in [0, 1] with the input XYZ, or shown outside the object-colour solid
+//! and then the nearest in-range colour in CIELAB.
 
+use nalgebra::{Matrix3, Vector3};
 use proptest::prelude::*;
 use spectral::bounded::{project, Bounded, Counts, Outcome, Solve};
+use spectral::lab::{xyz_to_lab, xyz_to_lab_jacobian};
 use spectral::primaries::{apply, RgbSpace, ACESCG, REC2020, SRGB};
 use spectral::{Colorimetry, Method, Model, Uplifter};
 
@@ -28,12 +31,16 @@ fn cube(space: RgbSpace, steps: usize) -> Vec<[f64; 3]> {
     out
 }
 
-/// u certifies c outside the solid: u·c > Σᵢ max(0, (Aᵀu)ᵢ), checked here independently.
-fn certifies(a: &Colorimetry, c: [f64; 3], u: [f64; 3]) -> bool {
-    let support: f64 = (0..a.bands())
+/// h(u) = Σᵢ max(0, (Aᵀu)ᵢ), the support function of the solid, computed here independently.
+fn support(a: &Colorimetry, u: [f64; 3]) -> f64 {
+    (0..a.bands())
         .map(|i| (0..3).map(|k| a.weights[k][i] * u[k]).sum::<f64>().max(0.0))
-        .sum();
-    (0..3).map(|k| u[k] * c[k]).sum::<f64>() > support
+        .sum()
+}
+
+/// u certifies c outside the solid: u·c > h(u).
+fn certifies(a: &Colorimetry, c: [f64; 3], u: [f64; 3]) -> bool {
+    (0..3).map(|k| u[k] * c[k]).sum::<f64>() > support(a, u)
 }
 
 fn in_range_with_xyz(a: &Colorimetry, c: [f64; 3], r: &[f64], rel: f64) -> bool {
@@ -43,14 +50,33 @@ fn in_range_with_xyz(a: &Colorimetry, c: [f64; 3], r: &[f64], rel: f64) -> bool 
         && (0..3).all(|k| (back[k] - c[k]).abs() <= rel * size.max(1e-300))
 }
 
-#[test]
-fn every_srgb_colour_of_a_17_cube_is_in_range_with_its_xyz_or_outside_the_solid() {
+fn delta_e76(a: &Colorimetry, c: [f64; 3], d: [f64; 3]) -> f64 {
+    let w = a.white_xyz();
+    let (p, q) = (xyz_to_lab(c, w), xyz_to_lab(d, w));
+    (0..3).map(|k| (p[k] - q[k]).powi(2)).sum::<f64>().sqrt()
+}
+
+fn uplift(c: [f64; 3]) -> (Vec<f64>, Outcome) {
     let (a, bounded) = setup();
-    let (mut counts, mut outside) = (Counts::default(), vec![]);
-    for c in cube(SRGB, 17) {
-        let mut r = vec![0.0; a.bands()];
-        bounded.inner().uplift_f64(&c, &mut r);
-        let outcome = bounded.bound(c, &mut r);
+    let mut r = vec![0.0; a.bands()];
+    bounded.inner().uplift_f64(&c, &mut r);
+    let outcome = bounded.bound(c, &mut r);
+    (r, outcome)
+}
+
+/// Issue 6's done-when: every in-gamut sRGB colour of a 33³ cube.
+#[test]
+fn every_srgb_colour_of_a_33_cube_is_in_range_with_its_xyz_or_certified_outside() {
+    let a = &setup().0;
+    let mut counts = Counts::default();
+    for c in cube(SRGB, 33) {
+        let (r, outcome) = uplift(c);
+        match outcome {
+            Outcome::InRange => counts.in_range += 1,
+            Outcome::Projected => counts.projected += 1,
+            Outcome::Outside { .. } => counts.outside += 1,
+            Outcome::NotFinite => counts.not_finite += 1,
+        }
         match outcome {
             Outcome::InRange | Outcome::Projected => {
                 assert!(in_range_with_xyz(a, c, &r, 1e-6), "{c:?} {outcome:?}");
@@ -61,20 +87,34 @@ fn every_srgb_colour_of_a_17_cube_is_in_range_with_its_xyz_or_outside_the_solid(
             } => {
                 let u = certificate.expect("a certificate for every sRGB colour outside");
                 assert!(certifies(a, c, u), "{c:?}: {u:?} certifies nothing");
-                assert!(in_range_with_xyz(a, reached, &r, 1e-6), "{c:?}");
-                outside.push(c);
+                assert!(in_range_with_xyz(a, reached, &r, 1e-9), "{c:?}");
             }
             Outcome::NotFinite => panic!("{c:?}"),
         }
-        match outcome {
-            Outcome::InRange => counts.in_range += 1,
-            Outcome::Projected => counts.projected += 1,
-            _ => counts.outside += 1,
+    }
+    eprintln!("sRGB 33³: {counts:?}");
+    // The projection is needed (the method leaves [0, 1] for saturated colours) and works.
+    assert!(counts.projected > 1000, "{counts:?}");
+}
+
+#[test]
+fn spectra_already_in_range_are_returned_untouched() {
+    let (a, bounded) = setup();
+    let mut seen = 0;
+    for c in cube(SRGB, 9) {
+        let mut r0 = vec![0.0; a.bands()];
+        bounded.inner().uplift_f64(&c, &mut r0);
+        let mut r = vec![0.0; a.bands()];
+        let counts = bounded.uplift_f64_counted(&c, &mut r);
+        if r0.iter().all(|v| (0.0..=1.0).contains(v)) {
+            assert_eq!(counts.in_range, 1);
+            assert_eq!(r, r0, "{c:?}");
+            seen += 1;
+        } else {
+            assert_eq!(counts.in_range, 0);
         }
     }
-    eprintln!("sRGB 17³: {counts:?}; outside: {outside:?}");
-    // The projection is needed (the method leaves [0, 1] for saturated colours) and works.
-    assert!(counts.projected > 0, "{counts:?}");
+    assert!(seen > 100, "{seen}");
 }
 
 #[test]
@@ -94,24 +134,89 @@ fn counted_uplift_agrees_in_f64_and_f32() {
     assert!(c64.projected > 0 && c64.outside > 0, "{c64:?}");
 }
 
+/// Outside the solid: in range, the reached colour is A·r, lies on the solid's surface (the
+/// descent direction of the CIELAB distance is an outward normal there: u·x = h(u)), and is no
+/// farther from the input in CIELAB than the colour the previous policy (towards grey) reached.
 #[test]
-fn outside_the_solid_moves_towards_grey_keeping_luminance() {
+fn outside_the_solid_the_nearest_colour_in_cielab_is_on_the_surface_and_beats_towards_grey() {
     let (a, bounded) = setup();
-    let m = ACESCG.to_xyz(a.white_xyz());
-    for rgb in [[0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [1.0, 0.0, 0.0]] {
-        let c = apply(&m, rgb);
-        let mut r = vec![0.0; a.bands()];
-        bounded.inner().uplift_f64(&c, &mut r);
-        match bounded.bound(c, &mut r) {
-            Outcome::Outside {
-                certificate: Some(u),
-                reached,
-            } => {
-                assert!(certifies(a, c, u), "{rgb:?}");
-                assert!((reached[1] - c[1]).abs() < 1e-9, "luminance kept");
-                assert!(in_range_with_xyz(a, reached, &r, 1e-6));
-            }
-            other => panic!("ACEScg primary {rgb:?}: {other:?}"),
+    let w = a.white_xyz();
+    let (mut count, mut sum_new, mut sum_old) = (0, 0.0, 0.0);
+    for c in cube(REC2020, 9).into_iter().chain(cube(ACESCG, 9)) {
+        let (r, outcome) = uplift(c);
+        let Outcome::Outside { reached, .. } = outcome else {
+            continue;
+        };
+        assert!(in_range_with_xyz(a, reached, &r, 1e-9), "{c:?}");
+        let (lab, j) = xyz_to_lab_jacobian(reached, w);
+        let target = xyz_to_lab(c, w);
+        let u = [0, 1, 2].map(|k| (0..3).map(|row| j[row][k] * (target[row] - lab[row])).sum());
+        let un: f64 = u.iter().map(|v: &f64| v.abs()).sum();
+        let gap = support(a, u) - (0..3).map(|k| u[k] * reached[k]).sum::<f64>();
+        // (A colour outside by rounding only, as white can be, has no defined normal.)
+        if delta_e76(a, c, reached) > 1e-6 {
+            assert!(
+                gap <= 1e-6 * un,
+                "{c:?}: {reached:?} is {gap} inside along {u:?}"
+            );
+        }
+        let mut r0 = vec![0.0; a.bands()];
+        bounded.inner().uplift_f64(&c, &mut r0);
+        let mut old = vec![0.0; a.bands()];
+        let grey = bounded.towards_grey(c, &r0, &mut old);
+        let (new_de, old_de) = (delta_e76(a, c, reached), delta_e76(a, c, grey));
+        assert!(new_de <= old_de + 1e-6, "{c:?}: ΔE76 {new_de} > {old_de}");
+        count += 1;
+        sum_new += new_de;
+        sum_old += old_de;
+    }
+    eprintln!(
+        "{count} colours outside: mean ΔE76 {:.3} (towards grey {:.3})",
+        sum_new / count as f64,
+        sum_old / count as f64
+    );
+    assert!(count > 50 && sum_new < sum_old, "{count}");
+}
+
+#[test]
+fn brighter_than_white_and_negative_components() {
+    let (a, _) = setup();
+    let w = a.white_xyz();
+    // A grey above white: the nearest colour in CIELAB is the perfect white.
+    for k in [1.5, 100.0, 65504.0, 1e30] {
+        let (r, outcome) = uplift(w.map(|v| v * k));
+        assert!(matches!(outcome, Outcome::Outside { .. }), "{k}");
+        assert!(r.iter().all(|v| (v - 1.0).abs() < 1e-9), "{k}: {r:?}");
+    }
+    // HDR colours, negative luminance, negative components from wide gamuts: in range, finite,
+    // with a colour that is A·r.
+    let aces = ACESCG.to_xyz(w);
+    for c in [
+        [95.0, 100.0, 108.0],
+        [3.0, 1.2, 0.1],
+        [-0.1, -0.2, 0.05],
+        [0.02, -0.01, 0.3],
+        apply(&aces, [-0.2, 0.6, 0.1]),
+        apply(&aces, [0.0, 0.0, 4.0]),
+    ] {
+        let (r, outcome) = uplift(c);
+        let Outcome::Outside {
+            certificate: Some(u),
+            reached,
+        } = outcome
+        else {
+            panic!("{c:?}: {outcome:?}");
+        };
+        assert!(certifies(a, c, u), "{c:?}");
+        assert!(in_range_with_xyz(a, reached, &r, 1e-9), "{c:?}");
+        // No in-range colour is nearer in CIELAB than the one reached among simple candidates.
+        let de = delta_e76(a, c, reached);
+        for cand in [
+            [0.0; 3],
+            w,
+            a.xyz(&r.iter().map(|v| v.round()).collect::<Vec<_>>()),
+        ] {
+            assert!(de <= delta_e76(a, c, cand) + 1e-9, "{c:?}");
         }
     }
 }
@@ -124,29 +229,55 @@ fn hard_inputs_through_bounded() {
     // Black: the zero spectrum, in range.
     bounded.uplift_f64(&[0.0, 0.0, 0.0], &mut r);
     assert!(r.iter().all(|&v| v == 0.0));
-    // NaN passes through; counted.
-    let counts = bounded.uplift_f64_counted(&[f64::NAN, 0.5, 0.5], &mut r);
-    assert_eq!(counts.not_finite, 1);
-    assert!(r.iter().all(|v| v.is_nan()));
-    // Negative luminance, HDR, huge: outside, in range, finite.
-    for c in [[-0.1, -0.2, 0.05], [95.0, 100.0, 108.0], [1e30, 1e30, 1e30]] {
+    // NaN and ±Inf pass through; counted.
+    for c in [[f64::NAN, 0.5, 0.5], [0.5, f64::INFINITY, 0.5]] {
         let counts = bounded.uplift_f64_counted(&c, &mut r);
-        assert_eq!(counts.outside, 1, "{c:?}");
-        assert!(r.iter().all(|v| (0.0..=1.0).contains(v)), "{c:?}");
+        assert_eq!(counts.not_finite, 1);
+        assert!(r.iter().all(|v| v.is_nan()));
     }
+    let mut r32 = vec![0.0f32; n];
+    let counts = bounded.uplift_f32_counted(&[0.2, f32::NAN, 0.1], &mut r32);
+    assert_eq!(counts.not_finite, 1);
+    assert!(r32.iter().all(|v| v.is_nan()));
     // White exactly: the perfect reflector.
     let counts = bounded.uplift_f64_counted(&a.white_xyz(), &mut r);
     assert!(counts.outside == 0, "{counts:?}");
     assert!(r.iter().all(|v| (v - 1.0).abs() < 1e-9), "{r:?}");
 }
 
+/// The Lagrange multipliers of the equality constraints from the free bands (least squares),
+/// then every KKT condition of min ½‖r − r0‖², A·r = c, 0 ≤ r ≤ 1 checked with them.
+fn kkt_violation(a: &Colorimetry, c: [f64; 3], r0: &[f64], r: &[f64]) -> Option<f64> {
+    let free: Vec<usize> = (0..r.len()).filter(|&i| r[i] > 0.0 && r[i] < 1.0).collect();
+    if free.len() < 3 {
+        return None;
+    }
+    let col = |i: usize| Vector3::new(a.weights[0][i], a.weights[1][i], a.weights[2][i]);
+    let (mut m, mut b) = (Matrix3::zeros(), Vector3::zeros());
+    for &i in &free {
+        m += col(i) * col(i).transpose();
+        b += col(i) * (r[i] - r0[i]);
+    }
+    let lambda = m.try_inverse()? * b;
+    let mut worst = 0.0f64;
+    for i in 0..r.len() {
+        let z = r0[i] + col(i).dot(&lambda);
+        // r must be clip(r0 + Aᵀλ): stationarity with complementary bound multipliers.
+        worst = worst.max((z.clamp(0.0, 1.0) - r[i]).abs());
+    }
+    let back = a.xyz(r);
+    (0..3).for_each(|k| worst = worst.max((back[k] - c[k]).abs()));
+    Some(worst)
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(300))]
 
     /// Any in-range spectrum's colour is inside the solid: the projection of any start must
-    /// succeed, be in range, keep the colour, and be no farther from r0 than that spectrum.
+    /// succeed, be in range, keep the colour, meet the KKT conditions to rounding, and be no
+    /// farther from r0 than that spectrum.
     #[test]
-    fn projection_is_feasible_and_optimal_against_a_known_point(
+    fn projection_is_feasible_and_optimal(
         s in prop::collection::vec(0.0..1.0f64, 36),
         noise in prop::collection::vec(-0.6..0.6f64, 36),
     ) {
@@ -156,7 +287,25 @@ proptest! {
         let mut r = vec![0.0; 36];
         prop_assert_eq!(project(&a.weights, c, &r0, &mut r), Solve::Solved);
         prop_assert!(in_range_with_xyz(a, c, &r, 1e-9));
+        if let Some(v) = kkt_violation(a, c, &r0, &r) {
+            prop_assert!(v <= 1e-9, "KKT violated by {}", v);
+        }
         let d = |x: &[f64]| x.iter().zip(&r0).map(|(p, q)| (p - q) * (p - q)).sum::<f64>();
         prop_assert!(d(&r) <= d(&s) * (1.0 + 1e-9) + 1e-18);
+    }
+
+    /// Random colours of any size and sign: a spectrum in [0, 1] whose colour is the input's or,
+    /// outside the solid, is reached with a certificate.
+    #[test]
+    fn any_finite_colour_gives_an_in_range_spectrum(
+        c in prop::array::uniform3(-2.0..3.0f64),
+    ) {
+        let (a, _) = setup();
+        let (r, outcome) = uplift(c);
+        match outcome {
+            Outcome::InRange | Outcome::Projected => prop_assert!(in_range_with_xyz(a, c, &r, 1e-6)),
+            Outcome::Outside { reached, .. } => prop_assert!(in_range_with_xyz(a, reached, &r, 1e-9)),
+            Outcome::NotFinite => prop_assert!(false, "finite input"),
+        }
     }
 }

@@ -20,7 +20,7 @@
 #![allow(clippy::needless_range_loop)]
 
 use super::working_space::WorkingSpace;
-use crate::lab::xyz_to_lab;
+use crate::lab::{xyz_to_lab, xyz_to_lab_jacobian};
 use crate::{Colorimetry, Error, Grid, Method};
 
 /// The default table resolution, Jakob and Hanika's 64.
@@ -108,26 +108,8 @@ impl Fitter {
     /// Lab and its Jacobian by the coefficients (chain rule through CIE 15 Eq. 8.1–8.3).
     fn lab_and_jacobian(&self, c: [f64; 3]) -> ([f64; 3], [[f64; 3]; 3]) {
         let (xyz, jx) = self.xyz_and_jacobian(c);
-        let lab = xyz_to_lab(xyz, self.white);
-        let df = |k: usize| {
-            let t = xyz[k] / self.white[k];
-            let d = if t > 216.0 / 24389.0 {
-                1.0 / (3.0 * t.cbrt().powi(2))
-            } else {
-                841.0 / 108.0
-            };
-            d / self.white[k]
-        };
-        let d = [df(0), df(1), df(2)];
-        let mut j = [[0.0; 3]; 3];
-        for p in 0..3 {
-            let fx = d[0] * jx[0][p];
-            let fy = d[1] * jx[1][p];
-            let fz = d[2] * jx[2][p];
-            j[0][p] = 116.0 * fy;
-            j[1][p] = 500.0 * (fx - fy);
-            j[2][p] = 200.0 * (fy - fz);
-        }
+        let (lab, jl) = xyz_to_lab_jacobian(xyz, self.white);
+        let j = [0, 1, 2].map(|row| [0, 1, 2].map(|p| (0..3).map(|k| jl[row][k] * jx[k][p]).sum()));
         (lab, j)
     }
 
