@@ -75,13 +75,15 @@ pub(crate) fn uplift(up: &Uplifter, c: [f64; 3], mut put: impl FnMut(usize, f64)
     // Work on u = c / m (|u| ≤ 1): no overflow in the sum, no precision lost to denormals in xy.
     let u = c.map(|v| v / m);
     let su = u[0] + u[1] + u[2];
-    let (leaf, weight_o) = if su > 0.0 {
+    let (xy, weight_o) = if su > 0.0 {
         let s = su * m;
-        (up.leaf_xy([u[0] / su, u[1] / su]), (s / DARK).min(1.0))
+        ([u[0] / su, u[1] / su], (s / DARK).min(1.0))
     } else {
-        (up.leaf_xy(up.white_xy()), 0.0)
+        (up.white_xy(), 0.0)
     };
-    let t = up.affine(leaf);
+    // The leaf's map, or the blend of the leaves' maps near a split line.
+    let mut scratch = Vec::new();
+    let t = up.map_xy(xy, &mut scratch);
     for b in 0..n {
         let lin = t[b] * u[0] + t[n + b] * u[1] + t[2 * n + b] * u[2];
         let v = lin * m + weight_o * t[3 * n + b];

@@ -20,6 +20,7 @@
 //! This crate knows nothing of images, files by path, threads or FFI.
 #![forbid(unsafe_code)]
 
+pub mod blend;
 pub mod bounded;
 pub mod colorimetry;
 pub mod emission;
@@ -67,4 +68,6 @@ pub enum Error {
     Training(String),
     #[error("bad scene: {0}")]
     Scene(String),
+    #[error("bad blend width {0}")]
+    Blend(String),
 }

@@ -1,5 +1,6 @@
 //! The runtime: r = T_leaf·c + o_leaf, one small matrix multiply per pixel (Eq. 7–8 folded).
 
+use crate::blend::Blend;
 use crate::model::{Axis, Node};
 use crate::{Error, Grid, Model};
 
@@ -25,7 +26,8 @@ pub trait Method: Send + Sync {
 
 /// A model prepared for uplifting: per leaf, T = B·M⁻¹ (n×3) and o = μ − T·c_μ, in f64 and f32.
 ///
-/// Leaf choice: the kd-tree on the colour's xy. Colours that are not ordinary take the policy
+/// Leaf choice: the kd-tree on the colour's xy; with [`Uplifter::with_blend`], colours near a
+/// split line blend the maps of both sides ([`crate::blend`]). Colours that are not ordinary take the policy
 /// of [`crate::hard`] (black → zero spectrum, dark colours scaled, NaN/±Inf → NaN in every
 /// band, no overflow); every finite input gives a finite spectrum with XYZ(r) = c.
 ///
@@ -45,6 +47,12 @@ pub struct Uplifter {
     /// Components below these magnitudes cannot overflow T·c + o in f64, f32 (`hard`).
     safe_f64: f64,
     safe_f32: f64,
+    tree: Vec<Node>,
+    /// Blending near split lines; `None`: the hard switch of Eq. 10.
+    blend: Option<Blend>,
+    /// With blending and `Choose::Cells`: per cell, the box of its points that no split blends
+    /// ([`Blend::safe_box`]); a colour outside it takes the blended path.
+    safe_boxes: Vec<[f64; 4]>,
 }
 
 /// How a chromaticity finds its leaf; both give the tree's answer (Eq. 10) for every xy.
@@ -85,6 +93,8 @@ const BLOCK: usize = 32;
 
 /// Marks a colour of the block that is not ordinary: it takes [`crate::hard::uplift`].
 const HARD: u32 = u32::MAX;
+/// Marks an ordinary colour near a split line: it takes the blended map.
+const BLEND: u32 = u32::MAX - 1;
 
 impl Uplifter {
     pub fn new(model: &Model) -> Result<Uplifter, Error> {
@@ -120,7 +130,35 @@ impl Uplifter {
             f32s,
             safe_f64,
             safe_f32,
+            tree: model.tree.clone(),
+            blend: None,
+            safe_boxes: Vec::new(),
         })
+    }
+
+    /// Blends the leaves' maps within `width` (in xy) of every split line, so that spectra are
+    /// continuous across cluster boundaries ([`crate::blend`]); 0 is the hard switch of the
+    /// paper, bit for bit. See [`crate::blend::DEFAULT_WIDTH`].
+    pub fn with_blend(mut self, width: f64) -> Result<Uplifter, Error> {
+        crate::blend::check_width(width)?;
+        self.safe_boxes.clear();
+        self.blend = None;
+        if width > 0.0 {
+            let blend = Blend::new(&self.tree, width);
+            if let Choose::Cells { x, y, .. } = &self.choose {
+                self.safe_boxes = (0..=x.len())
+                    .flat_map(|i| (0..=y.len()).map(move |j| (i, j)))
+                    .map(|(i, j)| blend.safe_box([corner(x, i), corner(y, j)]))
+                    .collect();
+            }
+            self.blend = Some(blend);
+        }
+        Ok(self)
+    }
+
+    /// The blend width in xy; 0 when the switch is hard.
+    pub fn blend_width(&self) -> f64 {
+        self.blend.as_ref().map_or(0.0, Blend::width)
     }
 
     pub fn bands(&self) -> usize {
@@ -144,36 +182,99 @@ impl Uplifter {
         self.leaf_xy(crate::colorimetry::xy(xyz).unwrap_or(self.white))
     }
 
-    /// The leaf of a chromaticity.
+    /// The leaf of a chromaticity (with blending: the leaf of the hard switch).
     #[inline(always)]
     pub fn leaf_xy(&self, xy: [f64; 2]) -> usize {
+        self.leaf_near::<false>(xy).0
+    }
+
+    /// The leaf of a chromaticity and, when `BLENDS`, whether a split on its path blends it.
+    #[inline(always)]
+    fn leaf_near<const BLENDS: bool>(&self, xy: [f64; 2]) -> (usize, bool) {
         match &self.choose {
             Choose::Cells { x, y, leaf } => {
                 let i = x.iter().filter(|&&v| xy[0] >= v).count();
                 let j = y.iter().filter(|&&v| xy[1] >= v).count();
-                leaf[i * (y.len() + 1) + j] as usize
+                let k = i * (y.len() + 1) + j;
+                let near = BLENDS && {
+                    let b = &self.safe_boxes[k];
+                    !(xy[0] >= b[0] && xy[0] <= b[1] && xy[1] >= b[2] && xy[1] <= b[3])
+                };
+                (leaf[k] as usize, near)
             }
             Choose::Walk { steps, depth } => {
                 let mut i = 0;
+                let mut near = false;
                 for _ in 0..*depth {
                     let s = &steps[i];
-                    i = s.next[(xy[(s.axis & 1) as usize] >= s.value) as usize] as usize;
+                    let u = xy[(s.axis & 1) as usize];
+                    if BLENDS {
+                        // A leaf's value is −∞: never near.
+                        near |= self.blend.as_ref().is_some_and(|b| b.near(u, s.value));
+                    }
+                    i = s.next[(u >= s.value) as usize] as usize;
                 }
-                steps[i].leaf as usize
+                (steps[i].leaf as usize, near)
             }
         }
     }
 
-    /// Leaves of a block of colours (`HARD` for colours that are not ordinary).
+    /// The affine map of a chromaticity, as [`Uplifter::affine`]: the leaf's, or near a split
+    /// line with blending, the blend of the leaves' maps written into `scratch`.
+    pub(crate) fn map_xy<'a>(&'a self, xy: [f64; 2], scratch: &'a mut Vec<f64>) -> &'a [f64] {
+        match &self.blend {
+            Some(blend) => {
+                let (leaf, near) = self.leaf_near::<true>(xy);
+                if !near {
+                    return self.affine(leaf);
+                }
+                scratch.clear();
+                scratch.resize(4 * self.bands, 0.0);
+                blend.map(xy, &self.f64s, self.bands, scratch);
+                scratch
+            }
+            None => self.affine(self.leaf_xy(xy)),
+        }
+    }
+
+    /// Leaves of a block of colours (`HARD` for colours that are not ordinary, `BLEND` for
+    /// those that blending reaches).
     #[inline(always)]
     fn block_leaves<T: Copy + Into<f64>>(&self, xyz: &[T], safe: f64, leaves: &mut [u32]) {
+        if self.blend.is_some() {
+            self.block_leaves_with::<T, true>(xyz, safe, leaves)
+        } else {
+            self.block_leaves_with::<T, false>(xyz, safe, leaves)
+        }
+    }
+
+    #[inline(always)]
+    fn block_leaves_with<T: Copy + Into<f64>, const BLENDS: bool>(
+        &self,
+        xyz: &[T],
+        safe: f64,
+        leaves: &mut [u32],
+    ) {
         for (c, l) in xyz.chunks_exact(3).zip(leaves) {
             let c = [c[0].into(), c[1].into(), c[2].into()];
             *l = match crate::hard::ordinary_xy(c, safe) {
-                Some(xy) => self.leaf_xy(xy) as u32,
+                Some(xy) => match self.leaf_near::<BLENDS>(xy) {
+                    (_, true) => BLEND,
+                    (leaf, false) => leaf as u32,
+                },
                 None => HARD,
             };
         }
+    }
+}
+
+/// A point of cell `i` along an axis of split values `v`: its lowest value, or NaN (≥ nothing)
+/// for cell 0.
+fn corner(v: &[f64], i: usize) -> f64 {
+    if i == 0 {
+        f64::NAN
+    } else {
+        v[i - 1]
     }
 }
 
@@ -193,8 +294,6 @@ impl Choose {
         };
         let (x, y) = (values(Axis::X), values(Axis::Y));
         if x.len() + y.len() <= MAX_CELL_SPLITS {
-            // A point of each cell: its lowest values, or NaN (≥ nothing) for cell 0.
-            let corner = |v: &[f64], i: usize| if i == 0 { f64::NAN } else { v[i - 1] };
             let leaf = (0..=x.len())
                 .flat_map(|i| (0..=y.len()).map(move |j| (i, j)))
                 .map(|(i, j)| walk(tree, [corner(&x, i), corner(&y, j)]) as u32)
@@ -278,7 +377,7 @@ impl Method for Uplifter {
     }
 
     fn model_bytes(&self) -> usize {
-        self.choose.bytes() + self.f32s.len() * 4
+        self.choose.bytes() + self.f32s.len() * 4 + std::mem::size_of_val(&self.safe_boxes[..])
     }
 
     /// Uplifts colours `xyz` (X, Y, Z per pixel) into `out` (`bands` values per pixel).
@@ -332,6 +431,8 @@ impl Uplifter {
         T: Copy + Into<f64> + std::ops::Mul<Output = T> + std::ops::Add<Output = T>,
     {
         let mut leaves = [HARD; BLOCK];
+        // The blended map and its spectrum in f64, allocated at the first blended colour.
+        let (mut map, mut r64) = (Vec::new(), Vec::new());
         for (xyz, out) in xyz.chunks(3 * BLOCK).zip(out.chunks_mut(n * BLOCK)) {
             self.block_leaves(xyz, safe, &mut leaves);
             for ((c, r), &l) in xyz
@@ -340,8 +441,18 @@ impl Uplifter {
                 .zip(&leaves)
             {
                 let c = [c[0], c[1], c[2]];
-                if l != HARD {
+                if l < BLEND {
                     kernel(&t[l as usize * 4 * n..][..4 * n], n, c, r);
+                } else if l == BLEND {
+                    let c64 = c.map(Into::into);
+                    let xy =
+                        crate::hard::ordinary_xy(c64, safe).expect("only ordinary colours blend");
+                    let m = self.map_xy(xy, &mut map);
+                    r64.resize(n, 0.0);
+                    kernel(m, n, c64, &mut r64);
+                    for (r, &v) in r.iter_mut().zip(&r64) {
+                        *r = from_f64(v);
+                    }
                 } else {
                     let c64 = c.map(Into::into);
                     crate::hard::uplift(self, c64, |b, v| r[b] = from_f64(v));
