@@ -13,6 +13,7 @@
 //! - [`emission`]: emission spectra of any brightness from a reflectance method (scale, uplift,
 //!   scale back).
 //! - [`eval`]: reconstruction error, round trip and range of a method on measured spectra.
+//! - [`extrapolation`]: how large a model's spectra get on whole gamuts, per leaf.
 //! - [`methods`]: the baselines behind the same [`Method`] trait: Smits 1999, Meng et al. 2015,
 //!   Jakob & Hanika 2019; [`lab`]: CIELAB and CIEDE2000.
 //! - [`simulate`]: spectral radiosity of small scenes, the colour shift of interreflection.
@@ -25,6 +26,7 @@ pub mod bounded;
 pub mod colorimetry;
 pub mod emission;
 pub mod eval;
+pub mod extrapolation;
 pub mod grid;
 pub mod hard;
 pub mod lab;
