@@ -72,7 +72,8 @@ pub fn nearest_lab(
                 mu,
                 eps: 0.0,
             };
-            let tol = 1e-13 * s.iter().fold(1.0f64, |m, v| m.max(v.abs()));
+            // The outer iteration corrects what the inner one leaves.
+            let tol = 1e-10 * s.iter().fold(1.0f64, |m, v| m.max(v.abs()));
             let mut w = [0.0; 3];
             let end = sub.minimise(&mut w, &mut trial, tol, SUB_ITERATIONS, |_, _, _, _| false);
             let xt = solid.xyz(&trial);

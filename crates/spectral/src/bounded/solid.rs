@@ -141,7 +141,8 @@ impl Solid {
         let mut certificate = None;
         // An unbounded dual: w, or a step that the free bands cannot resist, points out of Z.
         let watch = |w: &[f64; 3], delta: &[f64; 3], free: usize, step: usize| {
-            if free >= 3 && step % 4 != 3 {
+            // In-solid colours settle within a few steps; after those, look every step.
+            if free >= 3 && step < 4 {
                 return false;
             }
             for u in [*w, *delta] {
@@ -283,7 +284,10 @@ impl Dual<'_> {
             let slope = dot(point.grad, delta);
             let mut t = 1.0;
             let mut accepted = false;
-            for _ in 0..40 {
+            let size = delta.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            let reach = w.iter().fold(1.0f64, |m, v| m.max(v.abs()));
+            // Halve while the step still moves w.
+            while t * size > 1e-15 * reach {
                 let trial = [0, 1, 2].map(|k| w[k] + t * delta[k]);
                 let next = self.at(&trial, other);
                 // Slack for rounding in Ψ, a sum of n terms.
