@@ -79,3 +79,121 @@ fn report_draws_its_plot_as_png() {
         dir.files()
     );
 }
+
+fn scene(name: &str) -> std::path::PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("scenes")
+        .join(name)
+}
+
+/// Every swatch of `--image` has the colour the --json report gives its cell.
+fn swatches_match_the_report(v: &serde_json::Value, pic: &Picture) -> usize {
+    let mut checked = 0;
+    for s in v["image"]["swatches"].as_array().unwrap() {
+        let patch = v["per_patch"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|p| p["name"] == s["patch"])
+            .unwrap();
+        let cell =
+            &patch["colours"][s["method"].as_str().unwrap()][s["count"].as_u64().unwrap() as usize];
+        let want: Vec<u8> = cell["srgb"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|c| (c.as_f64().unwrap() * 255.0).round() as u8)
+            .collect();
+        let at = |k: &str| s[k].as_u64().unwrap() as u32;
+        // The centre and a corner: the swatch is filled flat.
+        for (x, y) in [
+            (at("x") + at("width") / 2, at("y") + at("height") / 2),
+            (at("x") + 1, at("y") + 1),
+        ] {
+            assert_eq!(pic.at(x, y).to_vec(), want, "{s} {cell}");
+        }
+        checked += 1;
+    }
+    checked
+}
+
+#[test]
+fn simulate_draws_one_block_per_patch_with_the_reports_colours() {
+    shared("spectra/munsell1269_matte_380-800_1nm.csv");
+    let dir = Scratch::new("simulate-image");
+    let png = dir.path("box.png");
+    let args = |extra: &[&str]| {
+        let mut a = vec![
+            "simulate".to_string(),
+            "--scene".into(),
+            scene("box_4000k_5500k.toml").display().to_string(),
+            "--json".into(),
+            "--image".into(),
+            png.display().to_string(),
+        ];
+        a.extend(extra.iter().map(|s| s.to_string()));
+        a
+    };
+    let v: serde_json::Value = serde_json::from_str(specconv(args(&[])).ok()).unwrap();
+    let pic = Picture::read(&png);
+    assert_eq!(
+        (pic.width as u64, pic.height as u64),
+        (
+            v["image"]["width"].as_u64().unwrap(),
+            v["image"]["height"].as_u64().unwrap()
+        )
+    );
+    // 5 walls × (measured, 3 methods, rgb) × 9 counts, all as the report says.
+    assert_eq!(swatches_match_the_report(&v, &pic), 5 * 5 * 9);
+    // The red wall after 8 bounces is red in the picture, not only in the numbers.
+    let s = v["image"]["swatches"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|s| s["patch"] == "left" && s["method"] == "measured" && s["count"] == 8)
+        .unwrap();
+    let [r, g, b] = pic.at(
+        s["x"].as_u64().unwrap() as u32 + 5,
+        s["y"].as_u64().unwrap() as u32 + 5,
+    );
+    assert!(r > 2 * g.max(b), "{r} {g} {b}");
+    // Text: many more colours than the 225 swatches (antialiased glyphs, frames).
+    assert!(pic.distinct_colours() > 300, "{}", pic.distinct_colours());
+
+    // An existing picture is kept without --force; --patch chooses the blocks.
+    specconv(args(&[])).fails(1, &["exists", "--force"]);
+    let v: serde_json::Value =
+        serde_json::from_str(specconv(args(&["--force", "--patch", "left"])).ok()).unwrap();
+    assert_eq!(v["per_patch"].as_array().unwrap().len(), 1);
+    assert_eq!(swatches_match_the_report(&v, &Picture::read(&png)), 5 * 9);
+    specconv(args(&["--force", "--patch", "door"])).fails(1, &["no patch of that name", "floor"]);
+    assert_eq!(dir.files(), ["box.png"]);
+}
+
+#[test]
+fn simulate_image_refuses_what_it_cannot_draw() {
+    shared("spectra/munsell1269_matte_380-800_1nm.csv");
+    let dir = Scratch::new("simulate-image-bad");
+    let furnace = scene("furnace_5500k.toml");
+    let f = furnace.to_str().unwrap();
+    let gif = dir.path("x.gif");
+    specconv(["simulate", "--scene", f, "--image", gif.to_str().unwrap()])
+        .fails(1, &["--image", "*.png"]);
+    let png = dir.path("x.png");
+    specconv(["simulate", "--scene", f, "--image", png.to_str().unwrap()])
+        .fails(1, &["1269", "--patch"]);
+    // A missing font is named, with the package and the variable.
+    let out = Command::new(env!("CARGO_BIN_EXE_specconv"))
+        .args(["simulate", "--scene", f, "--patch", "5R 4/14", "--image"])
+        .arg(&png)
+        .env("SPECCONV_FONT", dir.path("none.ttf"))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("SPECCONV_FONT") && err.contains("none.ttf"),
+        "{err}"
+    );
+    assert!(dir.files().is_empty(), "{:?}", dir.files());
+}

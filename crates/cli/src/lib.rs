@@ -12,6 +12,7 @@ mod font;
 mod methods;
 mod picture;
 mod plot;
+mod swatches;
 
 /// Turn textures in any colour space into spectral reflectance images, with the clustered-PCA
 /// uplift of Otsu, Yamamoto and Hachisuka 2018.

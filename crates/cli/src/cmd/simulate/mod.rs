@@ -10,6 +10,8 @@ use spectral::{Colorimetry, Illuminant, Method};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
+mod drawing;
+
 /// Simulate light bouncing between patches, once per uplift method and once with the measured
 /// spectra, and report how far each method's colour drifts from the measured one.
 ///
@@ -46,6 +48,19 @@ pub struct Args {
     /// Report every patch, not only the means (the default for scenes of up to 16 patches).
     #[arg(long)]
     per_patch: bool,
+    /// Report (and draw) only this patch; repeat for several. Means stay over all patches.
+    #[arg(long, value_name = "NAME")]
+    patch: Vec<String>,
+    /// Also draw the report as a PNG: one block per patch (at most 16: choose with --patch),
+    /// one row per rendering (the measured reference, each method, `rgb` multiplication), one
+    /// column per bounce count; each swatch in display sRGB (the white scene's Y as 1) with its
+    /// CIEDE2000 from the measured reference under it (from `rgb` where the scene has no
+    /// measured spectra). Text needs DejaVu Sans (fonts-dejavu-core) or $SPECCONV_FONT.
+    #[arg(long, value_name = "OUT.png")]
+    image: Option<PathBuf>,
+    /// Replace an existing --image file.
+    #[arg(long, requires = "image")]
+    force: bool,
 }
 
 /// The scene file as written.
@@ -152,10 +167,27 @@ pub fn run(args: Args) -> Result<()> {
             methods::baseline(m, &a, jakob::DEFAULT_RESOLUTION)?
         });
     }
+    let selected = select(&args.patch, &scene.names)?;
+    if let Some(path) = &args.image {
+        drawing::check(
+            path,
+            args.force,
+            selected.as_ref().map_or(scene.names.len(), Vec::len),
+        )?;
+    }
     let refs: Vec<&dyn Method> = boxed.iter().map(|b| b.as_ref()).collect();
     let out = simulate::simulate(&scene, &a, &refs)?;
-    let per_patch = args.per_patch || scene.names.len() <= 16;
-    let report = report(&args.scene, &scene, &preset, &out, &a, per_patch);
+    let per_patch: Vec<usize> = match selected {
+        Some(s) => s,
+        None if args.per_patch || args.image.is_some() || scene.names.len() <= 16 => {
+            (0..scene.names.len()).collect()
+        }
+        None => Vec::new(),
+    };
+    let mut report = report(&args.scene, &scene, &preset, &out, &a, &per_patch);
+    if let Some(path) = &args.image {
+        report.image = Some(drawing::write(path, &report, &[args.scene.as_path()])?);
+    }
     if args.json {
         println!("{}", serde_json::to_string(&report)?);
     } else {
@@ -372,6 +404,9 @@ struct Report {
     mean_delta_e_rgb: BTreeMap<String, Vec<f64>>,
     #[serde(skip_serializing_if = "Vec::is_empty")]
     per_patch: Vec<PatchReport>,
+    /// With --image: where it was written and where each swatch is in it.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    image: Option<drawing::Written>,
 }
 
 #[derive(Serialize)]
@@ -398,7 +433,7 @@ fn report(
     preset: &str,
     out: &Outcome,
     a: &Colorimetry,
-    per_patch: bool,
+    per_patch: &[usize],
 ) -> Report {
     let methods: Vec<String> = out.renderings.iter().map(|r| r.method.clone()).collect();
     let mean = |reference: &str| {
@@ -410,31 +445,28 @@ fn report(
     };
     let rgb = out.rendering("rgb").expect("always rendered");
     let reference = out.has_reference.then(|| &out.renderings[0]);
-    let per_patch = if per_patch {
-        (0..scene.names.len())
-            .map(|p| PatchReport {
-                name: scene.names[p].clone(),
-                colours: out
-                    .renderings
-                    .iter()
-                    .map(|r| {
-                        let cells = (0..out.counts.len())
-                            .map(|c| Cell {
-                                xyz: r.xyz[c][p],
-                                lab: out.lab(r, c, p),
-                                srgb: out.display_rgb(r, c, p, a),
-                                delta_e: reference.map(|m| out.delta_e(r, m, c, p)),
-                                delta_e_rgb: out.delta_e(r, rgb, c, p),
-                            })
-                            .collect();
-                        (r.method.clone(), cells)
-                    })
-                    .collect(),
-            })
-            .collect()
-    } else {
-        Vec::new()
-    };
+    let per_patch = per_patch
+        .iter()
+        .map(|&p| PatchReport {
+            name: scene.names[p].clone(),
+            colours: out
+                .renderings
+                .iter()
+                .map(|r| {
+                    let cells = (0..out.counts.len())
+                        .map(|c| Cell {
+                            xyz: r.xyz[c][p],
+                            lab: out.lab(r, c, p),
+                            srgb: out.display_rgb(r, c, p, a),
+                            delta_e: reference.map(|m| out.delta_e(r, m, c, p)),
+                            delta_e_rgb: out.delta_e(r, rgb, c, p),
+                        })
+                        .collect();
+                    (r.method.clone(), cells)
+                })
+                .collect(),
+        })
+        .collect();
     Report {
         scene: path.display().to_string(),
         form_factors: preset.to_string(),
@@ -453,7 +485,29 @@ fn report(
         mean_delta_e_rgb: mean("rgb"),
         methods,
         per_patch,
+        image: None,
     }
+}
+
+/// The patches named by --patch, in the order given; `None` when none is named.
+fn select(wanted: &[String], names: &[String]) -> Result<Option<Vec<usize>>> {
+    if wanted.is_empty() {
+        return Ok(None);
+    }
+    wanted
+        .iter()
+        .map(|w| {
+            names.iter().position(|n| n == w).ok_or_else(|| {
+                anyhow!(
+                    "--patch {w}: the scene has no patch of that name (it has {}: {}{})",
+                    names.len(),
+                    names.iter().take(5).cloned().collect::<Vec<_>>().join(", "),
+                    if names.len() > 5 { ", …" } else { "" }
+                )
+            })
+        })
+        .collect::<Result<_>>()
+        .map(Some)
 }
 
 fn print_text(r: &Report) {
