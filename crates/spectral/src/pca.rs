@@ -54,6 +54,12 @@ impl Moments {
         }
     }
 
+    /// Σ ‖s‖², the scale for [`check_rank`].
+    pub fn energy(&self) -> f64 {
+        let n = self.sum.len();
+        (0..n).map(|i| self.outer[i * n + i]).sum()
+    }
+
     pub fn mean(&self) -> Vec<f64> {
         self.sum.iter().map(|s| s / self.count as f64).collect()
     }
@@ -116,6 +122,33 @@ pub struct Fit {
 pub enum Unfit {
     /// M is singular or its condition number is above the bound.
     IllConditioned(f64),
+    /// The spectra vary in fewer than three independent directions (the count): the missing
+    /// principal components would be rounding noise, and so would the uplift along them.
+    Rank(usize),
+}
+
+/// Variance below this share of the spectra's energy Σ‖s‖² is rounding, not data (an amplitude
+/// of 1e-6 of the spectra; measured spectra carry three or four digits).
+pub const RANK_TOL: f64 = 1e-12;
+
+/// Checks that each basis vector carries variance bᵀ·C·b above [`RANK_TOL`]·`energy` of the
+/// scatter `c` (n×n, row-major); `energy` is Σ‖s‖² of the spectra behind it.
+pub fn check_rank(c: &[f64], basis: &[Vec<f64>; 3], energy: f64) -> Result<(), Unfit> {
+    let n = basis[0].len();
+    let variance = |b: &[f64]| -> f64 {
+        c.chunks_exact(n)
+            .zip(b)
+            .map(|(row, bi)| bi * dot(row, b))
+            .sum()
+    };
+    // By decreasing eigenvalue: the rank is the count of leading vectors above the floor.
+    match basis
+        .iter()
+        .position(|b| !(variance(b) > RANK_TOL * energy))
+    {
+        Some(rank) => Err(Unfit::Rank(rank)),
+        None => Ok(()),
+    }
 }
 
 /// PCA of a cluster from its scatter matrix `c` (n×n, row-major), with its error.
@@ -289,7 +322,7 @@ fn orthonormalise(v: &mut [f64], n: usize) -> bool {
 /// The eigenvectors of the three largest eigenvalues of a symmetric matrix, signs fixed so
 /// that each vector's largest-magnitude component is positive (PCA leaves the sign free; a
 /// model must not).
-fn top_three(c: &[f64], n: usize) -> [Vec<f64>; 3] {
+pub(crate) fn top_three(c: &[f64], n: usize) -> [Vec<f64>; 3] {
     let mut v = top_eigenvectors(c, n, 3).into_iter();
     std::array::from_fn(|_| v.next().expect("three eigenvectors"))
 }

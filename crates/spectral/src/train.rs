@@ -6,9 +6,28 @@
 //! error most is split next, until the requested number of clusters is reached or no leaf has
 //! a split that lowers the error while keeping both sides at least `min_cluster_size` spectra
 //! and M's condition number within `max_condition`.
+//!
+//! Training data that cannot make a model gets an error that says what is wrong with it, or a
+//! defined outcome:
+//!
+//! | training data | outcome |
+//! |---|---|
+//! | fewer than 4 spectra (one, three) | error: three components need four spectra that differ |
+//! | fewer than `min_cluster_size` spectra | error: give more, or lower the minimum |
+//! | all spectra identical (up to rounding, [`crate::pca::RANK_TOL`]) | error: the spectra must differ |
+//! | spectra varying in only 1 or 2 directions (copies, mixtures or scalings of 2–3 spectra) | error: add other colours; the third component would be rounding noise, and the uplift along it arbitrary |
+//! | three directions the observer barely tells apart: M singular or its condition above `max_condition` | error: add more varied colours, or raise the bound |
+//! | a spectrum that reflects no light (all zero) | error naming it: it has no chromaticity |
+//! | duplicated spectra among others | trained: a copy weighs as one more measurement (a copy never splits from its original: same xy) |
+//! | a band that is zero in every spectrum | trained: that band is zero in μ and B, so 0 in every uplift |
+//! | a split whose side would be rank-deficient or ill-conditioned | not taken: training stops with fewer clusters when no other split helps (the CLI warns) |
+//!
+//! No regularisation is applied: a Tikhonov term on B or M would break the exact round trip
+//! (Eq. 9) or make up a component the data does not have, so a leaf either has three real
+//! components and a bounded M, or it is not made.
 
 use crate::model::{Axis, Leaf, Node, Training, FORMAT, VERSION};
-use crate::pca::{centred_scatter, fit, fit_basis, Moments, Tracker};
+use crate::pca::{centred_scatter, check_rank, fit, fit_basis, top_three, Moments, Tracker, Unfit};
 use crate::{Colorimetry, Error, Model};
 
 /// The smallest cluster that has three principal components.
@@ -75,6 +94,15 @@ pub fn train(set: &TrainingSet, a: &Colorimetry, opts: &TrainOptions) -> Result<
     if opts.max_condition.is_nan() || opts.max_condition < 1.0 {
         return invalid("the condition bound must be at least 1".into());
     }
+    if set.spectra.len() < SMALLEST_CLUSTER {
+        let only = match set.spectra.len() {
+            1 => "1 spectrum".to_string(),
+            k => format!("{k} spectra"),
+        };
+        return invalid(format!(
+            "only {only}: three principal components need at least {SMALLEST_CLUSTER} spectra that differ; give more spectra"
+        ));
+    }
     if set.spectra.len() < opts.min_cluster_size {
         return invalid(format!(
             "{} spectra are fewer than the minimum cluster size {}; give more spectra or lower --min-cluster-size",
@@ -97,12 +125,26 @@ pub fn train(set: &TrainingSet, a: &Colorimetry, opts: &TrainOptions) -> Result<
         }
     }
 
-    let root = cluster(set, a, opts, (0..set.spectra.len()).collect()).map_err(|cond| {
-        Error::Training(format!(
-            "the training spectra do not make a usable PCA: M's condition number is {cond:.3e} (bound {}); \
-             the set is too small or too uniform (identical spectra?), or the bound too tight",
-            opts.max_condition
-        ))
+    let count = set.spectra.len();
+    let root = cluster(set, a, opts, (0..count).collect()).map_err(|why| {
+        Error::Training(match why {
+            Unfit::Rank(0) => format!(
+                "all {count} spectra are identical spectra (up to rounding): principal components \
+                 need spectra that differ; give spectra of different colours"
+            ),
+            Unfit::Rank(k) => format!(
+                "the {count} spectra vary in only {k} independent direction{} (as copies or mixtures \
+                 of {} spectra do), but the model needs 3, one per XYZ component; add spectra of other colours",
+                if k == 1 { "" } else { "s" },
+                k + 1
+            ),
+            Unfit::IllConditioned(cond) => format!(
+                "the spectra's three main variations look almost alike to the observer under {}, so \
+                 colours cannot tell them apart: M's condition number is {cond:.3e} (bound {}); add \
+                 spectra of more varied colours, or raise --max-condition",
+                a.illuminant, opts.max_condition
+            ),
+        })
     })?;
     // tree[i] = Leaf { leaf: k } refers to clusters[k] until the end, where they are numbered.
     let mut tree = vec![Node::Leaf { leaf: 0 }];
@@ -187,18 +229,19 @@ fn refs<'a>(set: &'a TrainingSet, members: &[usize]) -> Vec<&'a [f64]> {
     members.iter().map(|&i| set.spectra[i].as_slice()).collect()
 }
 
-/// A cluster with its exact error; Err(condition) when it cannot be fitted.
+/// A cluster with its exact error, or why it cannot be fitted.
 fn cluster(
     set: &TrainingSet,
     a: &Colorimetry,
     opts: &TrainOptions,
     members: Vec<usize>,
-) -> Result<Cluster, f64> {
-    let (_, c) = centred_scatter(&refs(set, &members));
-    let error = match fit(&c, a, opts.max_condition) {
-        Ok(f) => f.error,
-        Err(crate::pca::Unfit::IllConditioned(cond)) => return Err(cond),
-    };
+) -> Result<Cluster, Unfit> {
+    let spectra = refs(set, &members);
+    let (_, c) = centred_scatter(&spectra);
+    let basis = top_three(&c, a.bands());
+    let energy = spectra.iter().map(|s| crate::pca::dot(s, s)).sum();
+    check_rank(&c, &basis, energy)?;
+    let error = fit_basis(&c, a, opts.max_condition, basis)?.error;
     Ok(Cluster {
         members,
         error,
@@ -254,13 +297,17 @@ fn best_split(
             if k < min || order.len() - k < min || lo >= hi {
                 continue;
             }
-            let (c1, c2) = (below.scatter(), total.minus(&below).scatter());
-            let Ok(f1) = fit_basis(&c1, a, opts.max_condition, track_below.top_three(&c1, n))
-            else {
+            let above = total.minus(&below);
+            let (c1, c2) = (below.scatter(), above.scatter());
+            // Both sides need three real components and a well-conditioned M.
+            let side = |c: &[f64], m: &Moments, tracker: &mut Tracker| {
+                let f = fit_basis(c, a, opts.max_condition, tracker.top_three(c, n))?;
+                check_rank(c, &f.basis, m.energy()).map(|()| f)
+            };
+            let Ok(f1) = side(&c1, &below, &mut track_below) else {
                 continue;
             };
-            let Ok(f2) = fit_basis(&c2, a, opts.max_condition, track_above.top_three(&c2, n))
-            else {
+            let Ok(f2) = side(&c2, &above, &mut track_above) else {
                 continue;
             };
             let sum = f1.error + f2.error;
