@@ -50,6 +50,8 @@ pub struct Args {
     /// smits1999, meng2015, meng2015-bounded or jakob2019.
     #[arg(long, value_name = "NAME", default_value = "otsu2018")]
     method: MethodName,
+    #[command(flatten)]
+    blend: methods::BlendArg,
     /// Keep every reflectance inside [0, 1] with its XYZ unchanged: the nearest such spectrum
     /// to the method's. Colours no reflectance can have (outside the object-colour solid) are
     /// moved towards the grey of their luminance until one can. Costs about 5 µs per pixel
@@ -136,7 +138,7 @@ pub fn run(args: Args) -> Result<i32> {
             if args.method == MethodName::Pca && model.leaves.len() != 1 {
                 bail!("--method pca needs a one-cluster model: train one with `specconv train --clusters 1` and pass --model");
             }
-            methods::clustered(&model)?
+            methods::blended(&model, args.blend.width)?
         }
         other => methods::baseline(other, &model.colorimetry()?, jakob::DEFAULT_RESOLUTION)?,
     };
@@ -150,9 +152,10 @@ pub fn run(args: Args) -> Result<i32> {
         method = Box::new(Bounded::new(method, on_grid)?);
     }
     let settings_tag = format!(
-        "model={} method={} data-type={} compression={} tile={} mip={} colorspace={} config={}",
+        "model={} method={} blend={} data-type={} compression={} tile={} mip={} colorspace={} config={}",
         files::describe_model(args.model.as_deref(), &model),
         method.name(),
+        args.blend.of(args.method),
         args.data_type,
         args.compression,
         if args.scanline {
@@ -181,6 +184,10 @@ pub fn run(args: Args) -> Result<i32> {
                 files::describe_model(args.model.as_deref(), &model),
             ),
             ("specconvMethod".into(), method.name().into()),
+            (
+                "specconvBlend".into(),
+                args.blend.of(args.method).to_string(),
+            ),
             ("specconvObserver".into(), model.observer.to_string()),
             ("specconvIlluminant".into(), model.illuminant.to_string()),
             ("specconvSettings".into(), settings_tag.clone()),

@@ -37,6 +37,8 @@ pub struct Args {
     min_cluster_size: usize,
     #[command(flatten)]
     setting: methods::SettingArgs,
+    #[command(flatten)]
+    blend: methods::BlendArg,
     /// Print one JSON object: method, count, delta_e.{mean,median,max}, roundtrip_max,
     /// roundtrip_de2000_max, in_unit_range.
     #[arg(long)]
@@ -89,7 +91,11 @@ pub fn run(args: Args) -> Result<()> {
         } else {
             files::describe_model(None, &model).replacen("built-in", "trained here", 1)
         };
-        (methods::clustered(&model)?, model.colorimetry()?, described)
+        (
+            methods::blended(&model, args.blend.width)?,
+            model.colorimetry()?,
+            described,
+        )
     } else {
         let a = args.setting.colorimetry(&base)?;
         let m = methods::baseline(args.method, &a, args.setting.jakob_resolution)?;

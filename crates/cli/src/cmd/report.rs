@@ -60,6 +60,8 @@ pub struct Args {
     /// Wavelength grid START:END:STEP in nm of every row but the --steps ones.
     #[arg(long, value_name = "START:END:STEP", default_value = "380:730:10")]
     bands: Grid,
+    #[command(flatten)]
+    blend: methods::BlendArg,
     /// Resolution of the jakob2019 coefficient table.
     #[arg(long, value_name = "N", default_value_t = spectral::methods::jakob::DEFAULT_RESOLUTION)]
     jakob_resolution: usize,
@@ -153,9 +155,12 @@ pub fn run(args: Args) -> Result<()> {
     for (k, grid) in settings {
         let a = Colorimetry::new(grid, args.observer, args.illuminant)?;
         let (model, summary) = clustered(&args, &a, k)?;
-        let m = methods::clustered(&model)?;
+        let m = methods::blended(&model, args.blend.width)?;
         let name = if k == 1 { "pca" } else { "otsu2018" };
         let mut setting = format!("{} clusters", model.leaves.len());
+        if args.blend.width > 0.0 && model.leaves.len() > 1 {
+            setting = format!("{setting}, blend {}", args.blend.width);
+        }
         if grid != args.bands {
             setting = format!("{setting}, {} nm", grid.step);
         }
@@ -208,7 +213,7 @@ fn clustered(args: &Args, a: &Colorimetry, k: usize) -> Result<(spectral::Model,
             methods::training_set(&args.train, &a.grid)?
         };
         let model = spectral::train(&train, a, &opts)?;
-        let up = methods::clustered(&model)?;
+        let up = methods::blended(&model, args.blend.width)?;
         let s = eval::summarise(&eval::evaluate(a, up.as_ref(), &eval_set.spectra));
         return Ok((model, s));
     };
@@ -235,7 +240,7 @@ fn clustered(args: &Args, a: &Colorimetry, k: usize) -> Result<(spectral::Model,
             }
         }
         let model = spectral::train(&train, a, &opts)?;
-        let up = methods::clustered(&model)?;
+        let up = methods::blended(&model, args.blend.width)?;
         outcomes.extend(eval::evaluate(a, up.as_ref(), &held));
         first.get_or_insert(model);
     }
