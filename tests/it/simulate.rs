@@ -182,3 +182,85 @@ fn malformed_scenes_get_clear_errors() {
     let p = s.write("typo.toml", "bounce = 1\n");
     run(&p).fails(1, &["not a valid scene", "bounce"]);
 }
+
+fn testdata(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("testdata/images")
+        .join(name)
+}
+
+/// CIELAB of `patch`'s otsu2018 rendering after one bounce.
+fn bounced_lab(v: &serde_json::Value, patch: &str) -> [f64; 3] {
+    let p = v["per_patch"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|p| p["name"] == patch)
+        .unwrap_or_else(|| panic!("no patch {patch} in {v}"));
+    let lab = &p["colours"]["otsu2018"][1]["lab"];
+    [0, 1, 2].map(|k| lab[k].as_f64().unwrap())
+}
+
+#[test]
+fn a_texture_pixel_is_the_colour_convert_would_read() {
+    let s = Scratch::new("simulate-texture");
+    // The top right of the ramp is red; its 8-bit code values, decoded here, are the same
+    // colour given as sRGB in the scene.
+    let png = testdata("srgb8.png");
+    let img = image::open(&png).unwrap().to_rgb8();
+    let (x, y) = (img.width() - 1, 3);
+    let code = img.get_pixel(x, y).0.map(|c| f64::from(c) / 255.0);
+    let scene = |pixel: &str, extra: &str| {
+        format!(
+            "bounces = 1\nform_factors = \"furnace\"\n{extra}\n[[lights]]\nspectrum = \"D65\"\npower = 1\n\
+             [[patches]]\nname = \"tex\"\ntexture = {:?}\npixel = {pixel}\n\
+             [[patches]]\nname = \"col\"\ncolour = {code:?}\ncolorspace = \"sRGB\"\n",
+            png.to_str().unwrap()
+        )
+    };
+    let p = s.write("tex.toml", &scene(&format!("[{x}, {y}]"), ""));
+    let v = json(specconv(["simulate", "--scene", p.to_str().unwrap(), "--json"]).ok());
+    let (tex, col) = (bounced_lab(&v, "tex"), bounced_lab(&v, "col"));
+    // OCIO's D65 white and the model's differ in the fourth decimal of xy.
+    let d = spectral::lab::ciede2000(tex, col);
+    assert!(d < 0.05, "{d}: {tex:?} {col:?}");
+    // Half light, half reflection after one bounce in a furnace: a pale red.
+    assert!(tex[1] > 15.0 && tex[1] > 2.0 * tex[2].abs(), "red: {tex:?}");
+    // `colorspace` is convert's --colorspace: read as linear, the code values are not decoded
+    // (sRGB decoding lowers every value below 1), so the same pixel is lighter.
+    let p = s.write(
+        "linear.toml",
+        &scene(&format!("[{x}, {y}]"), "")
+            .replace("pixel =", "colorspace = \"Linear Rec.709 (sRGB)\"\npixel ="),
+    );
+    let v = json(specconv(["simulate", "--scene", p.to_str().unwrap(), "--json"]).ok());
+    let linear = bounced_lab(&v, "tex");
+    assert!(
+        linear[0] > tex[0] && spectral::lab::ciede2000(linear, tex) > 0.5,
+        "{linear:?} {tex:?}"
+    );
+
+    // Errors: a pixel outside, a missing file, a pixel that is not a colour, no pixel.
+    let p = s.write("far.toml", &scene("[61, 0]", ""));
+    run(&p).fails(1, &["pixel = [61, 0] is outside", "61×47", "0 to 60"]);
+    let p = s.write(
+        "missing.toml",
+        &scene("[0, 0]", "").replace(png.to_str().unwrap(), "no_such.png"),
+    );
+    run(&p).fails(1, &["patch tex", "cannot read the texture", "no_such.png"]);
+    let nan = s.path("nan.exr");
+    exr::prelude::write_rgb_file(&nan, 2, 2, |x, _| {
+        (if x == 1 { f32::NAN } else { 0.5 }, 0.5, 0.5)
+    })
+    .unwrap();
+    let p = s.write(
+        "nan.toml",
+        &scene("[1, 0]", "").replace(png.to_str().unwrap(), "nan.exr"),
+    );
+    run(&p).fails(1, &["pixel [1, 0] of", "NaN", "choose another pixel"]);
+    let p = s.write(
+        "nopixel.toml",
+        &scene("[0, 0]", "").replace("pixel = [0, 0]\n", ""),
+    );
+    run(&p).fails(1, &["pixel = [x, y]"]);
+}

@@ -11,13 +11,15 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 mod drawing;
+mod texture;
 
 /// Simulate light bouncing between patches, once per uplift method and once with the measured
 /// spectra, and report how far each method's colour drifts from the measured one.
 ///
 /// The scene (TOML) names lights, patches and their form factors, and the effect wanted. Each
 /// patch's material is stored as a texture would store it: a colour (in sRGB, Linear Rec.709,
-/// Linear Rec.2020, ACEScg or CIE-XYZ-D65) or the colour of a measured spectrum from a CSV file.
+/// Linear Rec.2020, ACEScg or CIE-XYZ-D65), the colour of a measured spectrum from a CSV file,
+/// or a pixel of a texture.
 /// Every method uplifts that colour; the simulator solves the spectral radiosity
 /// B = E + ρ·F·B per wavelength, truncated after K bounces or converged, and converts each
 /// patch's radiance to XYZ, CIELAB (white: the same scene with white patches) and display sRGB.
@@ -37,6 +39,12 @@ mod drawing;
 ///   name = "red"
 ///   colour = [0.8, 0.1, 0.1]
 ///   colorspace = "sRGB"
+///   [[patches]]
+///   name = "brick"
+///   texture = "albedo.png"            # a pixel of a texture, read and converted to XYZ as
+///   pixel = [120, 40]                 # `convert` does (x, y from the top left); colorspace
+///                                     # as --colorspace; `ocio = "FILE"` at the top picks the
+///                                     # config (default: $OCIO, else aces)
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// The scene (TOML); relative paths in it are relative to its directory.
@@ -76,6 +84,8 @@ struct SceneFile {
     methods: Option<Vec<String>>,
     #[serde(default)]
     model: Option<PathBuf>,
+    #[serde(default)]
+    ocio: Option<String>,
     #[serde(default)]
     lights: Vec<LightFile>,
     #[serde(default)]
@@ -126,6 +136,10 @@ struct PatchFile {
     sample: Option<String>,
     #[serde(default)]
     samples: Option<Samples>,
+    #[serde(default)]
+    texture: Option<PathBuf>,
+    #[serde(default)]
+    pixel: Option<[u32; 2]>,
 }
 
 #[derive(Debug, Deserialize)]
@@ -213,6 +227,8 @@ fn build(file: &SceneFile, dir: &Path, a: &Colorimetry) -> Result<(Scene, String
     let mut names = Vec::new();
     let mut materials = Vec::new();
     let mut tables: BTreeMap<PathBuf, spectral::SpectralTable> = BTreeMap::new();
+    // Loaded for the first texture patch only.
+    let mut config = None;
     for (i, p) in file.patches.iter().enumerate() {
         let which = || {
             format!(
@@ -220,6 +236,34 @@ fn build(file: &SceneFile, dir: &Path, a: &Colorimetry) -> Result<(Scene, String
                 p.name.clone().unwrap_or_else(|| (i + 1).to_string())
             )
         };
+        if let Some(texture) = &p.texture {
+            if p.colour.is_some()
+                || p.spectra.is_some()
+                || p.sample.is_some()
+                || p.samples.is_some()
+            {
+                bail!("{}: give `texture` alone (with `pixel` and `colorspace`), not with `colour` or `spectra`", which());
+            }
+            let pixel = p.pixel.ok_or_else(|| {
+                anyhow!(
+                    "{}: say which pixel of the texture: `pixel = [x, y]` (from the top left)",
+                    which()
+                )
+            })?;
+            if config.is_none() {
+                config = Some(ocio_config(file.ocio.as_deref(), dir)?);
+            }
+            let config = config.as_ref().expect("loaded above");
+            let xyz =
+                texture::pixel_xyz(&dir.join(texture), pixel, p.colorspace.as_deref(), config)
+                    .with_context(which)?;
+            materials.push(Material::Colour(xyz));
+            names.push(p.name.clone().unwrap_or_else(|| (i + 1).to_string()));
+            continue;
+        }
+        if p.pixel.is_some() {
+            bail!("{}: `pixel` needs `texture = \"FILE\"`", which());
+        }
         match (&p.colour, &p.spectra) {
             (Some(c), None) => {
                 if p.sample.is_some() || p.samples.is_some() {
@@ -360,6 +404,19 @@ fn build(file: &SceneFile, dir: &Path, a: &Colorimetry) -> Result<(Scene, String
         },
         preset,
     ))
+}
+
+/// The scene's `ocio` (`aces` or a config file relative to the scene), else as `convert`
+/// without --ocio: $OCIO, else the built-in ACES config.
+fn ocio_config(ocio: Option<&str>, dir: &Path) -> Result<specconv_ocio::Config> {
+    let path = ocio.map(|o| {
+        if o == "aces" {
+            o.to_string()
+        } else {
+            dir.join(o).display().to_string()
+        }
+    });
+    Ok(specconv_ocio::Config::resolve(path.as_deref())?)
 }
 
 /// XYZ (white Y = 1, the model's white) of a colour in a named RGB space or XYZ.

@@ -1,0 +1,73 @@
+//! Patches from a texture pixel, read and converted to XYZ exactly as `convert` reads every
+//! pixel: OpenImageIO reads it, the config chooses the input colour space by convert's rules
+//! (`colorspace` as --colorspace, else what the file declares, else the default for its pixel
+//! type), and OpenColorIO takes it to CIE-XYZ-D65.
+
+use anyhow::{bail, Context, Result};
+use specconv_ocio::Config;
+use specconv_oiio::{ImageReader, Region};
+use std::path::Path;
+
+/// XYZ (white Y = 1) of pixel `[x, y]` (from the top left) of the full-resolution level.
+pub fn pixel_xyz(
+    path: &Path,
+    [x, y]: [u32; 2],
+    colorspace: Option<&str>,
+    config: &Config,
+) -> Result<[f64; 3]> {
+    let mut reader = ImageReader::open(path)
+        .with_context(|| format!("cannot read the texture {}", path.display()))?;
+    let info = reader.info().clone();
+    let (w, h) = (info.width(), info.height());
+    if x >= w || y >= h {
+        bail!(
+            "pixel = [{x}, {y}] is outside {} ({w}×{h}): x runs from 0 to {}, y from 0 to {} \
+             (top left)",
+            path.display(),
+            w - 1,
+            h - 1
+        );
+    }
+    let choice = config.choose_input(
+        colorspace,
+        info.declared_color_space.as_deref(),
+        info.pixel_format().is_integer(),
+    )?;
+    let processor = config.processor_to_xyz(&choice.name)?;
+    let px = reader.read_region(
+        0,
+        Region {
+            x0: x,
+            y0: y,
+            x1: x + 1,
+            y1: y + 1,
+        },
+    )?;
+    let values = px.pixel(0, 0);
+    // The colour channels as the pipeline takes them: the first three that are not alpha; a
+    // single grey channel is repeated.
+    let colour: Vec<usize> = (0..info.channels.len())
+        .filter(|&c| Some(c) != info.alpha_channel)
+        .take(3)
+        .collect();
+    let rgb = match colour.as_slice() {
+        [r, g, b] => [values[*r], values[*g], values[*b]],
+        [grey, ..] => [values[*grey]; 3],
+        [] => bail!("{} has no colour channels", path.display()),
+    };
+    if !rgb.iter().all(|v| v.is_finite()) {
+        bail!(
+            "pixel [{x}, {y}] of {} is {rgb:?}, not a colour; choose another pixel",
+            path.display()
+        );
+    }
+    let xyz = processor.convert(rgb)?;
+    if !xyz.iter().all(|v| v.is_finite()) {
+        bail!(
+            "pixel [{x}, {y}] of {} ({rgb:?} in {}) has no finite XYZ",
+            path.display(),
+            choice
+        );
+    }
+    Ok(xyz.map(f64::from))
+}
