@@ -1,0 +1,100 @@
+//! Cost of blending across cluster boundaries (f32, 36 bands, 4096 colours per call), as
+//! ratios to the hard switch measured in the same run: on random linear sRGB colours, and on
+//! colours all within the blend width of a split line of the built-in model.
+
+use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use spectral::blend::DEFAULT_WIDTH;
+use spectral::methods::WorkingSpace;
+use spectral::model::{Axis, Node};
+use spectral::{Method, Model, Uplifter};
+use std::time::Instant;
+
+const N: usize = 4096;
+
+fn sequence(seed: u64) -> impl FnMut() -> f64 {
+    let mut s = seed;
+    move || {
+        s = s
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
+        (s >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
+/// Random linear sRGB colours in [0, 1]³, as XYZ.
+fn uniform() -> Vec<f32> {
+    let ws = WorkingSpace::rec709(&Model::builtin().colorimetry().unwrap());
+    let mut next = sequence(1);
+    (0..N)
+        .flat_map(|_| ws.xyz([next(), next(), next()]).map(|v| v as f32))
+        .collect()
+}
+
+/// Colours whose xy lies within the default width of a split line (Y in [0.05, 0.8]).
+fn near_boundaries() -> Vec<f32> {
+    let splits: Vec<(Axis, f64)> = Model::builtin()
+        .tree
+        .iter()
+        .filter_map(|n| match *n {
+            Node::Split { axis, value, .. } => Some((axis, value)),
+            _ => None,
+        })
+        .collect();
+    let mut next = sequence(2);
+    (0..N)
+        .flat_map(|i| {
+            let (axis, v) = splits[i % splits.len()];
+            let mut xy = [0.2 + 0.3 * next(), 0.2 + 0.3 * next()];
+            xy[if axis == Axis::X { 0 } else { 1 }] = v + (2.0 * next() - 1.0) * DEFAULT_WIDTH;
+            let y = 0.05 + 0.75 * next();
+            [xy[0] / xy[1] * y, y, (1.0 - xy[0] - xy[1]) / xy[1] * y].map(|v| v as f32)
+        })
+        .collect()
+}
+
+fn blend(c: &mut Criterion) {
+    let hard = Uplifter::new(Model::builtin()).unwrap();
+    let soft = hard.clone().with_blend(DEFAULT_WIDTH).unwrap();
+    let mut out = vec![0f32; N * hard.bands()];
+    let sets = [
+        ("uniform", uniform()),
+        ("near_boundaries", near_boundaries()),
+    ];
+    let mut g = c.benchmark_group("blend_f32_36_bands");
+    g.throughput(Throughput::Elements(N as u64));
+    for (name, xyz) in &sets {
+        g.bench_function(format!("{name}/hard"), |b| {
+            b.iter(|| hard.uplift_f32(xyz, &mut out))
+        });
+        g.bench_function(format!("{name}/blend"), |b| {
+            b.iter(|| soft.uplift_f32(xyz, &mut out))
+        });
+    }
+    g.finish();
+
+    // Ratios from medians of interleaved runs measured here.
+    for (name, xyz) in &sets {
+        let (mut th, mut ts) = (Vec::new(), Vec::new());
+        for _ in 0..41 {
+            for (up, t) in [(&hard, &mut th), (&soft, &mut ts)] {
+                let s = Instant::now();
+                up.uplift_f32(xyz, &mut out);
+                t.push(s.elapsed().as_secs_f64());
+            }
+        }
+        let median = |t: &mut Vec<f64>| {
+            t.sort_by(f64::total_cmp);
+            t[t.len() / 2]
+        };
+        let (h, s) = (median(&mut th), median(&mut ts));
+        eprintln!(
+            "{name:16} hard {:6.1} M colours/s, blend {:6.1} M colours/s: {:.2}× the hard switch's time",
+            N as f64 / h / 1e6,
+            N as f64 / s / 1e6,
+            s / h
+        );
+    }
+}
+
+criterion_group!(benches, blend);
+criterion_main!(benches);
