@@ -55,6 +55,7 @@ fn main() {
     let model = Model::builtin();
     let method = Uplifter::new(model).unwrap();
     let settings = Settings {
+        kind: Kind::Reflective,
         colorspace: None,
         sample: Sample::Half,
         compression: Compression::ZIP16,

@@ -52,6 +52,9 @@ pub enum Mip {
 /// How the output is stored.
 #[derive(Debug, Clone)]
 pub struct Settings {
+    /// Reflectance (`T.` channels) or emission (`S0.` channels with their units); the method
+    /// makes the matching spectra.
+    pub kind: Kind,
     /// `--colorspace`: the input's colour space, overriding what the file declares.
     pub colorspace: Option<String>,
     pub sample: Sample,
@@ -77,6 +80,22 @@ pub struct Report {
     pub colorspace: String,
     /// Pixels whose colour had a NaN or infinite component (their spectra are NaN).
     pub non_finite: u64,
+    /// Pixels above 1: an input channel or Y above [`ABOVE_ONE`]. No reflectance has Y > 1.
+    pub above_one: u64,
+    /// Pixels with a finite band beyond the half range, stored as ±65504 instead of ±∞.
+    pub saturated: u64,
+}
+
+/// Values above this count as above 1: 0.1 % of headroom, so that the rounding of colour
+/// conversion does not make white count.
+pub const ABOVE_ONE: f32 = 1.001;
+
+/// What one block's pixels had; see [`Report`].
+#[derive(Debug, Clone, Copy, Default)]
+struct Counts {
+    non_finite: u64,
+    above_one: u64,
+    saturated: u64,
 }
 
 /// A conversion: one input, one output.
@@ -131,7 +150,7 @@ pub fn convert(job: &Job, progress: &mut dyn FnMut(u64, u64)) -> Result<Report> 
         width: info.width() as usize,
         height: info.height() as usize,
         wavelengths: job.method.grid().wavelengths(),
-        kind: Kind::Reflective,
+        kind: job.settings.kind.clone(),
         alpha: info.alpha_channel.is_some(),
         sample: job.settings.sample,
         compression: job.settings.compression,
@@ -187,7 +206,7 @@ pub fn convert(job: &Job, progress: &mut dyn FnMut(u64, u64)) -> Result<Report> 
     let alpha = info.alpha_channel;
     let channels = info.channels.len();
     let mut done = 0u64;
-    let mut non_finite = 0u64;
+    let mut counts = Counts::default();
     // The writer speaks spectral_exr's errors; ours wait here and win over its abort.
     let mut failure: Option<Error> = None;
     let mut fail = |e: Error| {
@@ -217,7 +236,7 @@ pub fn convert(job: &Job, progress: &mut dyn FnMut(u64, u64)) -> Result<Report> 
                 .expect("each window is read before it is processed");
             // Read the next window while this one is uplifted.
             let (chunks, read_next) = rayon::join(
-                || -> Result<Vec<Vec<(usize, Chunk, u64)>>> {
+                || -> Result<Vec<Vec<(usize, Chunk, Counts)>>> {
                     window
                         .par_iter()
                         .zip(rows.par_iter())
@@ -237,8 +256,10 @@ pub fn convert(job: &Job, progress: &mut dyn FnMut(u64, u64)) -> Result<Report> 
                 || windows.get(i + 1).map(|w| read(&mut reader, w)).transpose(),
             );
             next = read_next.map_err(&mut fail)?;
-            for (chunk_index, chunk, bad) in chunks.map_err(&mut fail)?.into_iter().flatten() {
-                non_finite += bad;
+            for (chunk_index, chunk, c) in chunks.map_err(&mut fail)?.into_iter().flatten() {
+                counts.non_finite += c.non_finite;
+                counts.above_one += c.above_one;
+                counts.saturated += c.saturated;
                 sink(chunk_index, chunk)?;
             }
             done += window
@@ -264,7 +285,9 @@ pub fn convert(job: &Job, progress: &mut dyn FnMut(u64, u64)) -> Result<Report> 
         pixels: total,
         levels: file.levels(),
         colorspace: choice.to_string(),
-        non_finite,
+        non_finite: counts.non_finite,
+        above_one: counts.above_one,
+        saturated: counts.saturated,
     })
 }
 
@@ -277,7 +300,7 @@ fn encode_block(
     strip: &specconv_oiio::Pixels,
     channels: usize,
     alpha: Option<usize>,
-) -> Result<(usize, Chunk, u64)> {
+) -> Result<(usize, Chunk, Counts)> {
     let count = b.width * b.height;
     let mut rgb = Vec::with_capacity(count * 3);
     let mut a = alpha.map(|_| Vec::with_capacity(count));
@@ -286,6 +309,7 @@ fn encode_block(
         .filter(|&c| Some(c) != alpha)
         .take(3)
         .collect();
+    let mut counts = Counts::default();
     for y in 0..b.height {
         for x in b.x..b.x + b.width {
             let px = strip.pixel(x as u32, y as u32);
@@ -299,15 +323,41 @@ fn encode_block(
             }
         }
     }
-    processor.apply_rgb(&mut rgb)?;
-    let bad = rgb
+    // Above 1: by an input channel, or by Y after the conversion.
+    let channel_above: Vec<bool> = rgb
         .chunks_exact(3)
-        .filter(|c| !c.iter().all(|v| v.is_finite()))
-        .count() as u64;
-    let mut bands = vec![0.0f32; count * method.grid().len()];
+        .map(|c| c.iter().any(|&v| v > ABOVE_ONE))
+        .collect();
+    processor.apply_rgb(&mut rgb)?;
+    for (c, above) in rgb.chunks_exact(3).zip(&channel_above) {
+        counts.non_finite += u64::from(!c.iter().all(|v| v.is_finite()));
+        counts.above_one += u64::from(*above || c[1] > ABOVE_ONE);
+    }
+    let n = method.grid().len();
+    let mut bands = vec![0.0f32; count * n];
     method.uplift_f32(&rgb, &mut bands);
+    if file.spec().sample == Sample::Half {
+        counts.saturated = saturate_half(&mut bands, n);
+    }
     let chunk = file.encode(b, &bands, a.as_deref())?;
-    Ok((b.chunk, chunk, bad))
+    Ok((b.chunk, chunk, counts))
+}
+
+/// Clamps finite values beyond the half range to ±65504, so that a finite colour never becomes
+/// infinite in the file; returns the number of spectra (of `n` bands) clamped.
+fn saturate_half(bands: &mut [f32], n: usize) -> u64 {
+    // The largest finite half.
+    let max = 65504.0f32;
+    let mut clamped = 0;
+    for spectrum in bands.chunks_exact_mut(n) {
+        let mut any = false;
+        for v in spectrum.iter_mut().filter(|v| v.is_finite() && v.abs() > max) {
+            *v = v.clamp(-max, max);
+            any = true;
+        }
+        clamped += u64::from(any);
+    }
+    clamped
 }
 
 /// Groups the file's blocks into rows (they come level by level, row by row).

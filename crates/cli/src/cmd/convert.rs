@@ -6,10 +6,11 @@ use anyhow::{bail, Context, Result};
 use serde::Serialize;
 use specconv_pipeline::{convert, Job, Mip, Settings};
 use spectral::bounded::Bounded;
+use spectral::emission::Emissive;
 use spectral::methods::{jakob, MethodName};
 use spectral::resample::Resampled;
 use spectral::{Colorimetry, Method};
-use spectral_exr::{Compression, Sample};
+use spectral_exr::{Compression, Kind, Sample};
 use std::io::{BufRead, IsTerminal, Write};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -23,6 +24,11 @@ use std::time::Instant;
 /// model, and writes a spectral OpenEXR in the layout of Fichet et al. 2021 (`T.380,000000nm`
 /// … channels, alpha as `A`). Outputs are written to a temporary file and renamed into place,
 /// so a failed or interrupted run leaves no partial file; inputs are never overwritten.
+///
+/// Reflectances stop at 1: a colour with Y > 1 is brighter than white, which no reflectance
+/// is. Bounded methods move it to the closest colour a reflectance can have (brightness clipped
+/// at white); unbounded ones give it a spectrum above 1. The summary counts pixels above 1 and
+/// suggests --emissive when they look like an emission or HDR texture.
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// Input textures, then the output file when converting one; `-` reads input paths from
@@ -58,6 +64,14 @@ pub struct Args {
     /// that needs it (≈30 % of an sRGB cube).
     #[arg(long)]
     bounded: bool,
+    /// Write emission (`S0.` channels, `emissiveUnits` W.m^-2.sr^-1) instead of reflectance:
+    /// the colour is that of emitted radiance, of any brightness, and each spectrum L has it
+    /// under the observer alone (XYZ = Σ L·x̄ / Σ ȳ, so a flat L = 1 has Y = 1). Each colour is
+    /// scaled into half the range of reflectances, uplifted by the method and scaled back, so
+    /// the shape does not depend on brightness; with a bounded method L ≥ 0. `to-rgb` turns
+    /// it back into the input colours.
+    #[arg(long)]
+    emissive: bool,
     /// Output wavelength grid START:END:STEP in nm (default: the model's). The method's
     /// spectra are interpolated onto it and corrected so that their XYZ stays exact.
     #[arg(long, value_name = "START:END:STEP")]
@@ -151,6 +165,18 @@ pub fn run(args: Args) -> Result<i32> {
         let on_grid = Colorimetry::new(method.grid(), model.observer, model.illuminant)?;
         method = Box::new(Bounded::new(method, on_grid)?);
     }
+    // Emission wraps the reflectance stack; kept by type to read its count of unmatched colours.
+    let (method, emissive) = if args.emissive {
+        let on_grid = Colorimetry::new(method.grid(), model.observer, model.illuminant)?;
+        (None, Some(Emissive::new(method, on_grid)?))
+    } else {
+        (Some(method), None)
+    };
+    let method: &dyn Method = match (&method, &emissive) {
+        (Some(m), _) => m,
+        (_, Some(e)) => e,
+        (None, None) => unreachable!("one of the two is built"),
+    };
     let settings_tag = format!(
         "model={} method={} blend={} data-type={} compression={} tile={} mip={} colorspace={} config={}",
         files::describe_model(args.model.as_deref(), &model),
@@ -168,6 +194,13 @@ pub fn run(args: Args) -> Result<i32> {
         config.source()
     );
     let settings = Settings {
+        kind: if args.emissive {
+            Kind::Emissive {
+                units: EMISSIVE_UNITS.into(),
+            }
+        } else {
+            Kind::Reflective
+        },
         colorspace: args.colorspace.clone(),
         sample: if args.data_type == "float" {
             Sample::Float
@@ -235,7 +268,7 @@ pub fn run(args: Args) -> Result<i32> {
             input,
             output,
             config: &config,
-            method: &method,
+            method,
             settings: &settings,
             cancel: &cancel,
         };
@@ -275,7 +308,7 @@ pub fn run(args: Args) -> Result<i32> {
                     } else {
                         String::new()
                     }
-                );
+                ) + &range_notes(&r, method, emissive.as_ref());
                 emit(
                     &args,
                     FileReport {
@@ -317,6 +350,52 @@ pub fn run(args: Args) -> Result<i32> {
         return Ok(130);
     }
     Ok(if failed > 0 { 1 } else { 0 })
+}
+
+/// Units of `S0.` channels: radiance, as the layout names it. Values are the input's
+/// scene-linear units (1 ≙ Y = 1).
+const EMISSIVE_UNITS: &str = "W.m^-2.sr^-1";
+
+/// The summary's notes on values out of range: pixels above 1 in reflectance mode (and the
+/// --emissive hint when they are at least 1 % of the image), emission colours no spectrum of
+/// the method matched, values saturated at the half range.
+fn range_notes(
+    r: &specconv_pipeline::Report,
+    method: &dyn Method,
+    emissive: Option<&Emissive<Box<dyn Method>>>,
+) -> String {
+    let mut notes = String::new();
+    match emissive {
+        Some(e) => {
+            let unmatched = e.take_unmatched();
+            if unmatched > 0 {
+                notes += &format!(
+                    ", {unmatched} pixels no emission of {} matches (outside the spectral locus or \
+                     negative luminance: written with the nearest colour it reached)",
+                    e.inner().name()
+                );
+            }
+        }
+        None if r.above_one > 0 => {
+            let what = if method.name().contains("bounded") {
+                "moved to the closest colour a reflectance can have"
+            } else {
+                "spectra above 1, not physical reflectances"
+            };
+            notes += &format!(", {} pixels above 1 ({what})", r.above_one);
+            if r.above_one * 100 >= r.pixels {
+                notes += "; an emission or HDR texture? convert it with --emissive";
+            }
+        }
+        None => {}
+    }
+    if r.saturated > 0 {
+        notes += &format!(
+            ", {} pixels beyond the half range (stored as ±65504; use -d float)",
+            r.saturated
+        );
+    }
+    notes
 }
 
 fn emit(args: &Args, report: FileReport, line: &str) {

@@ -4,7 +4,7 @@
 use anyhow::Result;
 use serde::Serialize;
 use specconv_ocio::{ChoiceReason, Config, XyzRoute};
-use specconv_oiio::{ImageInfo, ImageReader};
+use specconv_oiio::ImageReader;
 use std::path::PathBuf;
 
 /// Show an image as specconv reads it: size, channels, pixel format, tiles, MIP levels,
@@ -69,11 +69,15 @@ struct ColorSpace {
 struct Spectral {
     reflective_nm: Vec<f64>,
     emissive_nm: Vec<f64>,
+    /// The `emissiveUnits` attribute of emissive files.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    emissive_units: Option<String>,
 }
 
 /// Parses `T.<wl>nm` / `S0.<wl>nm` channel names (comma decimal separator) into
 /// wavelengths in nm. Other units of the layout are not written by specconv.
-fn spectral_bands(info: &ImageInfo) -> Option<Spectral> {
+fn spectral_bands(reader: &ImageReader) -> Result<Option<Spectral>> {
+    let info = reader.info();
     let parse = |prefix: &str| -> Vec<f64> {
         let mut v: Vec<f64> = info
             .channels
@@ -85,11 +89,18 @@ fn spectral_bands(info: &ImageInfo) -> Option<Spectral> {
         v.sort_by(f64::total_cmp);
         v
     };
+    let emissive_nm = parse("S0.");
+    let emissive_units = if emissive_nm.is_empty() {
+        None
+    } else {
+        reader.string_attribute("emissiveUnits")?
+    };
     let s = Spectral {
         reflective_nm: parse("T."),
-        emissive_nm: parse("S0."),
+        emissive_nm,
+        emissive_units,
     };
-    (!s.reflective_nm.is_empty() || !s.emissive_nm.is_empty()).then_some(s)
+    Ok((!s.reflective_nm.is_empty() || !s.emissive_nm.is_empty()).then_some(s))
 }
 
 pub fn run(args: Args) -> Result<()> {
@@ -138,7 +149,7 @@ pub fn run(args: Args) -> Result<()> {
             description: choice.to_string(),
         },
         to_xyz,
-        spectral: spectral_bands(info),
+        spectral: spectral_bands(&reader)?,
     };
     if args.json {
         println!("{}", serde_json::to_string_pretty(&report)?);
@@ -192,6 +203,9 @@ pub fn run(args: Args) -> Result<()> {
             if let (Some(first), Some(last)) = (bands.first(), bands.last()) {
                 println!("{kind}:   {} bands, {first} to {last} nm", bands.len());
             }
+        }
+        if let Some(units) = &s.emissive_units {
+            println!("emission in:  {units}");
         }
     }
     Ok(())

@@ -1,15 +1,19 @@
 //! `specconv to-rgb`: integrate a spectral EXR back to a colour image, for checks and previews.
 
 use anyhow::{bail, Context, Result};
+use spectral::emission::emission_colorimetry;
 use spectral::{Colorimetry, Grid, Illuminant, Observer};
+use spectral_exr::Kind;
 use std::path::PathBuf;
 
 /// Integrate a spectral OpenEXR back to colour: XYZ under an illuminant, then a colour space.
 ///
 /// Each pixel's reflectance r gives XYZ = Σ r·I·x̄ / Σ I·ȳ under the file's illuminant and
 /// observer (its `specconvIlluminant` and `specconvObserver` attributes, else D65 and CIE
-/// 1931), converted through OpenColorIO from CIE-XYZ-D65 to --colorspace. Written as a float
-/// RGB(A) OpenEXR.
+/// 1931), converted through OpenColorIO from CIE-XYZ-D65 to --colorspace. Emission files
+/// (`S0.` channels, from `convert --emissive`) are integrated under the observer alone,
+/// XYZ = Σ L·x̄ / Σ ȳ, which returns the colours they were made from, at any brightness.
+/// Written as a float RGB(A) OpenEXR.
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// A spectral OpenEXR (Fichet et al. 2021 layout), e.g. written by specconv.
@@ -19,7 +23,8 @@ pub struct Args {
     /// Colour space of the output; default: the config's scene_linear role.
     #[arg(long, value_name = "NAME")]
     colorspace: Option<String>,
-    /// Light the reflectances under this illuminant instead of the file's.
+    /// Light the reflectances under this illuminant instead of the file's (reflectance files
+    /// only: emission is its own light).
     #[arg(long)]
     illuminant: Option<Illuminant>,
     /// OCIO config: a file, or `aces` for the built-in ACES config. Default: $OCIO, else aces.
@@ -59,12 +64,22 @@ pub fn run(args: Args) -> Result<()> {
     };
     let observer: Observer =
         attr("specconvObserver").map_or(Ok(Observer::Cie1931), |s| s.parse())?;
-    let illuminant = match args.illuminant {
-        Some(i) => i,
-        None => attr("specconvIlluminant").map_or(Ok(Illuminant::D65), |s| s.parse())?,
+    let emissive = matches!(img.kind, Kind::Emissive { .. });
+    let illuminant = match (args.illuminant, emissive) {
+        (Some(_), true) => bail!(
+            "{} is an emission (S0 channels): it is its own light; drop --illuminant",
+            args.input.display()
+        ),
+        (Some(i), false) => i,
+        (None, false) => attr("specconvIlluminant").map_or(Ok(Illuminant::D65), |s| s.parse())?,
+        (None, true) => Illuminant::E,
     };
     let grid = uniform_grid(&img.wavelengths)?;
-    let a = Colorimetry::new(grid, observer, illuminant)?;
+    let a = if emissive {
+        emission_colorimetry(grid, observer)?
+    } else {
+        Colorimetry::new(grid, observer, illuminant)?
+    };
 
     let config = specconv_ocio::Config::resolve(args.ocio.as_deref())?;
     let xyz_space = config
@@ -108,8 +123,13 @@ pub fn run(args: Args) -> Result<()> {
         let _ = std::fs::remove_file(&tmp);
     }
     written.with_context(|| format!("cannot write {}", args.output.display()))?;
+    let light = if emissive {
+        "emission".to_string()
+    } else {
+        format!("under {illuminant}")
+    };
     eprintln!(
-        "{} → {}: {}×{}, {n} bands under {illuminant} ({observer}) to {target}",
+        "{} → {}: {}×{}, {n} bands {light} ({observer}) to {target}",
         args.input.display(),
         args.output.display(),
         img.width,
