@@ -197,3 +197,203 @@ fn simulate_image_refuses_what_it_cannot_draw() {
     );
     assert!(dir.files().is_empty(), "{:?}", dir.files());
 }
+
+/// A float RGB OpenEXR (scene-linear) of the given pixels, one row.
+fn linear_exr(dir: &Scratch, name: &str, pixels: &[[f32; 3]]) -> std::path::PathBuf {
+    let p = dir.path(name);
+    exr::prelude::write_rgb_file(&p, pixels.len(), 1, |x, _| {
+        let [r, g, b] = pixels[x];
+        (r, g, b)
+    })
+    .unwrap();
+    p
+}
+
+/// Converts `input` to a spectral EXR beside it.
+fn spectral(dir: &Scratch, input: &Path, name: &str) -> std::path::PathBuf {
+    let out = dir.path(name);
+    specconv([
+        input.to_str().unwrap(),
+        out.to_str().unwrap(),
+        "--quiet",
+        "-d",
+        "float",
+    ])
+    .ok();
+    out
+}
+
+fn preview(args: &[&str]) -> serde_json::Value {
+    let mut a = vec!["preview", "--json"];
+    a.extend_from_slice(args);
+    serde_json::from_str(specconv(a).ok()).unwrap()
+}
+
+#[test]
+fn preview_at_zero_bounces_is_what_to_rgb_gives() {
+    let dir = Scratch::new("preview-k0");
+    let input = Path::new(env!("CARGO_MANIFEST_DIR")).join("testdata/images/srgb8.png");
+    let exr = spectral(&dir, &input, "ramp.exr");
+    let e = exr.to_str().unwrap();
+    let rgb = dir.path("rgb.exr");
+    specconv([
+        "to-rgb",
+        e,
+        rgb.to_str().unwrap(),
+        "--colorspace",
+        "Linear Rec.709 (sRGB)",
+    ])
+    .ok();
+    let png = dir.path("k0.png");
+    let v = preview(&[e, "-o", png.to_str().unwrap()]);
+    assert_eq!(
+        (v["width"].as_u64(), v["height"].as_u64()),
+        (Some(61), Some(47))
+    );
+    let pic = Picture::read(&png);
+    assert_eq!((pic.width, pic.height), (61, 47));
+    let reference = exr::prelude::read_first_rgba_layer_from_file(
+        &rgb,
+        |res, _| vec![[0f32; 3]; res.width() * res.height()],
+        |px: &mut Vec<[f32; 3]>, pos, (r, g, b, _a): (f32, f32, f32, f32)| {
+            px[pos.y() * 61 + pos.x()] = [r, g, b];
+        },
+    )
+    .unwrap()
+    .layer_data
+    .channel_data
+    .pixels;
+    let encode = |v: f32| {
+        let v = f64::from(v).clamp(0.0, 1.0);
+        let e = if v <= 0.0031308 {
+            12.92 * v
+        } else {
+            1.055 * v.powf(1.0 / 2.4) - 0.055
+        };
+        (e * 255.0).round() as i32
+    };
+    let mut worst = 0;
+    for y in 0..47 {
+        for x in 0..61 {
+            let want = reference[y * 61 + x].map(encode);
+            let got = pic.at(x as u32, y as u32).map(i32::from);
+            worst = worst.max((0..3).map(|k| (want[k] - got[k]).abs()).max().unwrap());
+        }
+    }
+    // OCIO's XYZ → Rec.709 matrix and ours agree to 1e-4: at most one code value apart.
+    assert!(worst <= 1, "{worst}");
+    assert!(pic.distinct_colours() > 100);
+}
+
+#[test]
+fn preview_bounces_darken_and_saturate_and_diff_rgb_measures_the_drift() {
+    let dir = Scratch::new("preview-k");
+    let grey = spectral(
+        &dir,
+        &linear_exr(&dir, "grey.exr", &[[0.3; 3]; 4]),
+        "grey_s.exr",
+    );
+    let red = spectral(
+        &dir,
+        &linear_exr(&dir, "red.exr", &[[0.25, 0.06, 0.04], [0.5, 0.1, 0.1]]),
+        "red_s.exr",
+    );
+    let decode = |c: u8| {
+        let v = f64::from(c) / 255.0;
+        if v <= 0.04045 {
+            v / 12.92
+        } else {
+            ((v + 0.055) / 1.055).powf(2.4)
+        }
+    };
+    let look = |k: &str| {
+        let png = dir.path(&format!("red{k}.png"));
+        preview(&[
+            red.to_str().unwrap(),
+            "-o",
+            png.to_str().unwrap(),
+            "--bounces",
+            k,
+        ]);
+        Picture::read(&png).at(0, 0).map(decode)
+    };
+    let saturation = |c: [f64; 3]| {
+        let (lo, hi) = (
+            c.iter().copied().fold(1.0, f64::min),
+            c.iter().copied().fold(0.0, f64::max),
+        );
+        (hi - lo) / hi
+    };
+    let luminance = |c: [f64; 3]| 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2];
+    let (k0, k2) = (look("0"), look("2"));
+    assert!(luminance(k2) < 0.8 * luminance(k0), "{k0:?} {k2:?}");
+    assert!(k0.iter().all(|&c| c > 0.0 && c < 1.0), "unclipped: {k0:?}");
+    assert!(saturation(k2) > saturation(k0), "{k0:?} {k2:?}");
+
+    let diff = |file: &Path, name: &str| {
+        let png = dir.path(name);
+        let v = preview(&[
+            file.to_str().unwrap(),
+            "-o",
+            png.to_str().unwrap(),
+            "--bounces",
+            "3",
+            "--diff-rgb",
+        ]);
+        let pic = Picture::read(&png);
+        // The image and its colour bar.
+        assert!(pic.width > 100 && pic.height >= 200);
+        (
+            v["delta_e_max"].as_f64().unwrap(),
+            v["delta_e_mean"].as_f64().unwrap(),
+            pic,
+        )
+    };
+    let (grey_max, _, grey_pic) = diff(&grey, "grey_d.png");
+    let (red_max, red_mean, red_pic) = diff(&red, "red_d.png");
+    assert!(grey_max < 0.1, "{grey_max}");
+    assert!(red_max > 1.0 && red_mean > 1.0, "{red_max} {red_mean}");
+    // The map: a grey is black (no difference), the red is not.
+    assert!(
+        grey_pic.at(0, 0).iter().all(|&c| c < 40),
+        "{:?}",
+        grey_pic.at(0, 0)
+    );
+    assert!(red_pic.at(0, 0)[0] > 100, "{:?}", red_pic.at(0, 0));
+    // Under another light a grey stays grey for the RGB renderer too.
+    let png = dir.path("grey_a.png");
+    let v = preview(&[
+        grey.to_str().unwrap(),
+        "-o",
+        png.to_str().unwrap(),
+        "--bounces",
+        "3",
+        "--diff-rgb",
+        "--illuminant",
+        "A",
+    ]);
+    assert!(v["delta_e_max"].as_f64().unwrap() < 0.5, "{v}");
+}
+
+#[test]
+fn preview_refuses_what_it_cannot_show() {
+    let dir = Scratch::new("preview-bad");
+    let rgb_exr = Path::new(env!("CARGO_MANIFEST_DIR")).join("testdata/images/half_scanline.exr");
+    let out = dir.path("x.png");
+    let o = out.to_str().unwrap();
+    specconv(["preview", rgb_exr.to_str().unwrap(), "-o", o]).fails(1, &["not a spectral EXR"]);
+    let grey = spectral(
+        &dir,
+        &linear_exr(&dir, "grey.exr", &[[0.3; 3]]),
+        "grey_s.exr",
+    );
+    let g = grey.to_str().unwrap();
+    for k in ["101", "-1", "two"] {
+        specconv(["preview", g, "-o", o, "--bounces", k]).fails(2, &[k]);
+    }
+    specconv(["preview", g, "-o", dir.path("x.jpg").to_str().unwrap()]).fails(1, &["*.png"]);
+    specconv(["preview", g, "-o", o]).ok();
+    specconv(["preview", g, "-o", o, "--bounces", "1"]).fails(1, &["exists", "--force"]);
+    specconv(["preview", g, "-o", g, "--force"]).fails(1, &["*.png"]);
+    assert_eq!(dir.files(), ["grey.exr", "grey_s.exr", "x.png"]);
+}

@@ -62,3 +62,36 @@ pub fn describe_model(path: Option<&Path>, m: &spectral::Model) -> String {
         m.training.sources.join(", ")
     )
 }
+
+/// The colorimetry a spectral EXR records: its grid (from its band wavelengths, evenly
+/// spaced), its `specconvObserver` (else CIE 1931) and `specconvIlluminant` (else D65).
+pub fn recorded_colorimetry(
+    img: &spectral_exr::SpectralImage,
+) -> Result<(spectral::Grid, spectral::Observer, spectral::Illuminant)> {
+    let attr = |name: &str| {
+        img.attributes
+            .iter()
+            .find(|(k, _)| k == name)
+            .map(|(_, v)| v.as_str())
+    };
+    let observer = attr("specconvObserver").map_or(Ok(spectral::Observer::Cie1931), str::parse)?;
+    let illuminant =
+        attr("specconvIlluminant").map_or(Ok(spectral::Illuminant::D65), str::parse)?;
+    Ok((uniform_grid(&img.wavelengths)?, observer, illuminant))
+}
+
+/// The grid of evenly spaced band wavelengths.
+pub fn uniform_grid(w: &[f64]) -> Result<spectral::Grid> {
+    let (first, last) = (w[0], w[w.len() - 1]);
+    if w.len() == 1 {
+        return Ok(spectral::Grid::new(first, first, 1.0)?);
+    }
+    let step = (last - first) / (w.len() - 1) as f64;
+    if w.iter()
+        .enumerate()
+        .any(|(i, &v)| (v - (first + step * i as f64)).abs() > 1e-3)
+    {
+        bail!("the bands are not evenly spaced ({first} … {last} nm); a regular grid is needed");
+    }
+    Ok(spectral::Grid::new(first, last, step)?)
+}

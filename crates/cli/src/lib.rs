@@ -45,6 +45,7 @@ enum Command {
     ToRgb(cmd::to_rgb::Args),
     Completions(cmd::completions::Args),
     Simulate(cmd::simulate::Args),
+    Preview(cmd::preview::Args),
 }
 
 /// Runs the command line and returns the process exit code.
@@ -81,6 +82,7 @@ fn run(command: Command) -> anyhow::Result<()> {
         Command::ToRgb(args) => cmd::to_rgb::run(args),
         Command::Completions(args) => cmd::completions::run(args),
         Command::Simulate(args) => cmd::simulate::run(args),
+        Command::Preview(args) => cmd::preview::run(args),
     }
 }
 

@@ -12,6 +12,14 @@ pub type DrawResult<DB> =
 
 /// Draws with `draw` on a blank `width`×`height` RGB bitmap and returns its PNG bytes.
 pub fn render_png(
+    size: (u32, u32),
+    draw: impl FnOnce(&Area) -> DrawResult<BitMapBackend<'static>>,
+) -> Result<Vec<u8>> {
+    encode_png(&render(size, draw)?, size.0, size.1)
+}
+
+/// Draws with `draw` on a blank `width`×`height` bitmap: 8-bit RGB, row-major.
+pub fn render(
     (width, height): (u32, u32),
     draw: impl FnOnce(&Area) -> DrawResult<BitMapBackend<'static>>,
 ) -> Result<Vec<u8>> {
@@ -22,7 +30,7 @@ pub fn render_png(
         draw(&root).map_err(drawing_failed)?;
         root.present().map_err(drawing_failed)?;
     }
-    encode_png(&rgb, width, height)
+    Ok(rgb)
 }
 
 /// PNG bytes of 8-bit RGB pixels, row-major.

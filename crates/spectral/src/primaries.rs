@@ -70,6 +70,38 @@ impl RgbSpace {
         m *= white[1];
         [0, 1, 2].map(|r| [0, 1, 2].map(|c| m[(r, c)]))
     }
+
+    /// The inverse of [`RgbSpace::to_xyz`]: XYZ relative to `white` to linear RGB.
+    pub fn from_xyz(&self, white: [f64; 3]) -> [[f64; 3]; 3] {
+        let m = self.to_xyz(white);
+        let inv = Matrix3::from_fn(|r, c| m[r][c])
+            .try_inverse()
+            .expect("primaries are independent");
+        [0, 1, 2].map(|r| [0, 1, 2].map(|c| inv[(r, c)]))
+    }
+
+    /// XYZ of the space's own white with Y = 1 (D65 for sRGB).
+    pub fn white_xyz(&self) -> [f64; 3] {
+        xyz_of(self.white).into()
+    }
+}
+
+/// The sRGB transfer function (IEC 61966-2-1): linear [0, 1] to the encoded value.
+pub fn srgb_encode(v: f64) -> f64 {
+    if v <= 0.0031308 {
+        12.92 * v
+    } else {
+        1.055 * v.powf(1.0 / 2.4) - 0.055
+    }
+}
+
+/// The inverse of [`srgb_encode`]: an encoded sRGB value to linear.
+pub fn srgb_decode(v: f64) -> f64 {
+    if v <= 0.04045 {
+        v / 12.92
+    } else {
+        ((v + 0.055) / 1.055).powf(2.4)
+    }
 }
 
 /// XYZ of `rgb` under the matrix `m` from [`RgbSpace::to_xyz`].
@@ -95,6 +127,19 @@ mod tests {
                 assert!((m[r][c] - published[r][c]).abs() < 1e-4, "{m:?}");
             }
         }
+    }
+
+    #[test]
+    fn from_xyz_inverts_to_xyz_and_the_transfer_function_round_trips() {
+        let white = SRGB.white_xyz();
+        let rgb = [0.2, 0.5, 0.9];
+        let back = apply(&SRGB.from_xyz(white), apply(&SRGB.to_xyz(white), rgb));
+        assert!((0..3).all(|k| (back[k] - rgb[k]).abs() < 1e-12), "{back:?}");
+        for v in [0.0, 0.002, 0.0031308, 0.01, 0.18, 0.5, 1.0] {
+            assert!((srgb_decode(srgb_encode(v)) - v).abs() < 1e-12, "{v}");
+        }
+        // Middle grey: 0.18 linear is code value 118 of 255 (IEC 61966-2-1).
+        assert_eq!((srgb_encode(0.18) * 255.0).round(), 118.0);
     }
 
     #[test]

@@ -19,7 +19,7 @@
 //! the same patch and bounce count: a white wall reads L* = 100 in the light of the scene.
 
 use crate::lab::{ciede2000, xyz_to_lab};
-use crate::primaries::{apply, SRGB};
+use crate::primaries::{apply, srgb_encode, SRGB};
 use crate::{Colorimetry, Error, Method};
 use nalgebra::{DMatrix, DVector};
 
@@ -300,32 +300,86 @@ impl Outcome {
         patch: usize,
         a: &Colorimetry,
     ) -> [f64; 3] {
-        let to_rgb = rgb_from_xyz(a);
+        let to_rgb = SRGB.from_xyz(a.white_xyz());
         let y = self.white[count][patch][1];
         let xyz = r.xyz[count][patch].map(|v| if y > 0.0 { v / y } else { 0.0 });
-        apply(&to_rgb, xyz).map(|v| {
-            let v = v.clamp(0.0, 1.0);
-            // IEC 61966-2-1 transfer function.
-            if v <= 0.0031308 {
-                12.92 * v
-            } else {
-                1.055 * v.powf(1.0 / 2.4) - 0.055
-            }
-        })
+        apply(&to_rgb, xyz).map(|v| srgb_encode(v.clamp(0.0, 1.0)))
     }
 }
 
-/// Linear Rec.709 → XYZ in colorimetry `a` (its white maps to RGB 1, 1, 1) and back.
-fn xyz_from_rgb(a: &Colorimetry) -> [[f64; 3]; 3] {
-    SRGB.to_xyz(a.white_xyz())
+/// A surface seen after K interreflections with itself, the preview of a texture: light that
+/// has met reflectance r K + 1 times, r^(K+1), under a light; and the same as an RGB renderer
+/// computes it. Both are XYZ normalised as [`Colorimetry::xyz`] under the light, so a white
+/// surface stays the light's white (Y = 1) for every K.
+#[derive(Debug, Clone)]
+pub struct SelfBounce {
+    texture: Colorimetry,
+    light: Colorimetry,
+    power: i32,
+    to_rgb: [[f64; 3]; 3],
+    from_rgb: [[f64; 3]; 3],
+    light_rgb: [f64; 3],
 }
 
-fn rgb_from_xyz(a: &Colorimetry) -> [[f64; 3]; 3] {
-    let m = xyz_from_rgb(a);
-    let inv = nalgebra::Matrix3::from_fn(|r, c| m[r][c])
-        .try_inverse()
-        .expect("Rec.709 primaries are independent");
-    [0, 1, 2].map(|r| [0, 1, 2].map(|c| inv[(r, c)]))
+impl SelfBounce {
+    /// `texture` is the colorimetry the texture's colours are defined in (its illuminant:
+    /// the RGB renderer's albedo is the colour of r there); `light` the same grid and observer
+    /// under the light of the preview.
+    pub fn new(
+        texture: &Colorimetry,
+        light: &Colorimetry,
+        bounces: u32,
+    ) -> Result<SelfBounce, Error> {
+        if texture.grid != light.grid || texture.observer != light.observer {
+            return Err(Error::Scene(format!(
+                "the texture ({}, {}) and the light ({}, {}) need one grid and observer",
+                texture.grid, texture.observer, light.grid, light.observer
+            )));
+        }
+        let power = i32::try_from(bounces)
+            .ok()
+            .and_then(|k| k.checked_add(1))
+            .ok_or_else(|| Error::Scene(format!("{bounces} bounces are too many")))?;
+        // Linear Rec.709 whose (1, 1, 1) is the texture's white: a white albedo is 1.
+        let white = texture.white_xyz();
+        let (to_rgb, from_rgb) = (SRGB.from_xyz(white), SRGB.to_xyz(white));
+        Ok(SelfBounce {
+            texture: texture.clone(),
+            light: light.clone(),
+            power,
+            to_rgb,
+            from_rgb,
+            light_rgb: apply(&to_rgb, light.white_xyz()),
+        })
+    }
+
+    /// XYZ of r^(K+1) under the light.
+    pub fn spectral(&self, r: &[f32]) -> [f64; 3] {
+        self.light.weights.each_ref().map(|w| {
+            w.iter()
+                .zip(r)
+                .map(|(w, &v)| w * f64::from(v).powi(self.power))
+                .sum()
+        })
+    }
+
+    /// The RGB renderer's answer: per linear Rec.709 channel, the light's colour times the
+    /// albedo (the colour of r under the texture's illuminant) to the power K + 1.
+    pub fn rgb(&self, r: &[f32]) -> [f64; 3] {
+        let albedo = self
+            .texture
+            .weights
+            .each_ref()
+            .map(|w| w.iter().zip(r).map(|(w, &v)| w * f64::from(v)).sum::<f64>());
+        let a = apply(&self.to_rgb, albedo);
+        let lit: [f64; 3] = [0, 1, 2].map(|c| self.light_rgb[c] * a[c].powi(self.power));
+        apply(&self.from_rgb, lit)
+    }
+
+    /// CIELAB's white: the perfect reflector under the light.
+    pub fn white(&self) -> [f64; 3] {
+        self.light.white_xyz()
+    }
 }
 
 impl Scene {
@@ -546,7 +600,8 @@ fn rgb_multiplication(
     colours: &[[f64; 3]],
     to_xyz: &dyn Fn(&[f64]) -> [f64; 3],
 ) -> Result<Vec<Vec<[f64; 3]>>, Error> {
-    let (to_rgb, from_rgb) = (rgb_from_xyz(a), xyz_from_rgb(a));
+    let white = a.white_xyz();
+    let (to_rgb, from_rgb) = (SRGB.from_xyz(white), SRGB.to_xyz(white));
     let rho: Vec<Vec<f64>> = colours
         .iter()
         .map(|c| apply(&to_rgb, *c).to_vec())
@@ -633,6 +688,57 @@ mod tests {
                 assert!((conv[0][i][l] - sum[i]).abs() < 1e-9, "{i} {l}");
             }
         }
+    }
+
+    #[test]
+    fn self_bounce_keeps_white_and_grey_and_drifts_for_saturated_colours() {
+        let model = crate::Model::builtin();
+        let d65 = model.colorimetry().unwrap();
+        let n = d65.bands();
+        for k in [0, 1, 4] {
+            let b = SelfBounce::new(&d65, &d65, k).unwrap();
+            let white = b.spectral(&vec![1.0; n]);
+            assert!((0..3).all(|c| (white[c] - d65.white_xyz()[c]).abs() < 1e-12));
+            // A flat grey: the same for the spectrum and the RGB renderer, 0.5^(K+1) of white.
+            let (s, r) = (b.spectral(&vec![0.5; n]), b.rgb(&vec![0.5; n]));
+            let expect = 0.5f64.powi(k as i32 + 1);
+            assert!(
+                (s[1] - expect).abs() < 1e-12 && (r[1] - expect).abs() < 1e-12,
+                "{s:?} {r:?}"
+            );
+            // A saturated red (high above 600 nm): K = 0 is its colour for both; after bounces
+            // the spectrum is more saturated than the RGB renderer thinks, and darker.
+            let red: Vec<f32> = d65
+                .grid
+                .wavelengths()
+                .iter()
+                .map(|&l| if l > 600.0 { 0.8 } else { 0.05 })
+                .collect();
+            let lab = |x| xyz_to_lab(x, b.white());
+            let d = ciede2000(lab(b.spectral(&red)), lab(b.rgb(&red)));
+            if k == 0 {
+                let red64: Vec<f64> = red.iter().map(|&v| f64::from(v)).collect();
+                let xyz = d65.xyz(&red64);
+                assert!((0..3).all(|c| (b.spectral(&red)[c] - xyz[c]).abs() < 1e-12));
+                assert!(d < 1e-9, "{d}");
+            } else {
+                assert!(d > 1.0, "K={k}: {d}");
+            }
+        }
+        let a = Colorimetry::new(d65.grid, d65.observer, crate::Illuminant::A).unwrap();
+        // Under another light a white surface is that light's white, in both renderings.
+        let b = SelfBounce::new(&d65, &a, 2).unwrap();
+        let (s, r) = (b.spectral(&vec![1.0; n]), b.rgb(&vec![1.0; n]));
+        assert!(
+            (0..3).all(|c| (s[c] - a.white_xyz()[c]).abs() < 1e-12 && (r[c] - s[c]).abs() < 1e-9)
+        );
+        let other = Colorimetry::new(
+            crate::Grid::new(400.0, 700.0, 10.0).unwrap(),
+            d65.observer,
+            d65.illuminant,
+        )
+        .unwrap();
+        assert!(SelfBounce::new(&d65, &other, 1).is_err());
     }
 
     #[test]

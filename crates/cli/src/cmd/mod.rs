@@ -5,6 +5,7 @@ pub mod completions;
 pub mod convert;
 pub mod eval;
 pub mod info;
+pub mod preview;
 pub mod report;
 pub mod simulate;
 pub mod to_rgb;

@@ -423,17 +423,9 @@ fn ocio_config(ocio: Option<&str>, dir: &Path) -> Result<specconv_ocio::Config> 
 fn colour_xyz(c: [f64; 3], space: &str, a: &Colorimetry) -> Result<[f64; 3]> {
     let rgb_space = |s: &RgbSpace, rgb: [f64; 3]| primaries::apply(&s.to_xyz(a.white_xyz()), rgb);
     Ok(match space.to_ascii_lowercase().as_str() {
-        "srgb" | "srgb - texture" | "srgb texture" => rgb_space(
-            &primaries::SRGB,
-            // IEC 61966-2-1 decoding.
-            c.map(|v| {
-                if v <= 0.04045 {
-                    v / 12.92
-                } else {
-                    ((v + 0.055) / 1.055).powf(2.4)
-                }
-            }),
-        ),
+        "srgb" | "srgb - texture" | "srgb texture" => {
+            rgb_space(&primaries::SRGB, c.map(primaries::srgb_decode))
+        }
         "linear rec.709 (srgb)" | "linear rec.709" | "lin_rec709" => rgb_space(&primaries::SRGB, c),
         "linear rec.2020" | "lin_rec2020" => rgb_space(&primaries::REC2020, c),
         "acescg" => rgb_space(&primaries::ACESCG, c),
