@@ -38,6 +38,21 @@ fn every_baseline_evaluates_through_the_same_command() {
     assert!(b["roundtrip_de2000_max"].as_f64().unwrap() < 1e-9);
     assert_eq!(b["in_unit_range"].as_f64().unwrap(), 1.0);
     assert!(m["in_unit_range"].as_f64().unwrap() < 1.0);
+    // otsu2018 as named, and bounded (as convert writes it): in [0, 1], colours kept.
+    let cc = colorchecker();
+    let raw = json(specconv(["eval", "--spectra", cc.to_str().unwrap(), "--json"]).ok());
+    let bounded = specconv([
+        "eval",
+        "--spectra",
+        cc.to_str().unwrap(),
+        "--json",
+        "--bounded",
+    ]);
+    let bounded = json(bounded.ok());
+    assert_eq!(raw["method"], "otsu2018");
+    assert_eq!(bounded["method"], "otsu2018-bounded");
+    assert_eq!(bounded["in_unit_range"].as_f64().unwrap(), 1.0);
+    assert!(bounded["roundtrip_de2000_max"].as_f64().unwrap() < 1e-6);
     // Smits does not round-trip exactly.
     assert!(
         eval_json("smits1999")["roundtrip_de2000_max"]
@@ -169,6 +184,7 @@ fn report_measures_every_method_and_draws_the_plot() {
             "jakob2019",
             "pca",
             "otsu2018",
+            "otsu2018-bounded",
             "otsu2018"
         ]
     );
@@ -191,7 +207,10 @@ fn report_measures_every_method_and_draws_the_plot() {
     }
     // The 8-cluster model trained on Munsell: the README's ColorChecker figure.
     assert!((rows[5]["delta_e_mean"].as_f64().unwrap() - 0.0625).abs() < 5e-4);
-    assert_eq!(rows[6]["bands"], 71);
+    // Bounded: every spectrum in [0, 1], the colours kept.
+    assert_eq!(rows[6]["in_unit_range"].as_f64().unwrap(), 1.0);
+    assert!(rows[6]["roundtrip_de2000_max"].as_f64().unwrap() < 1e-6);
+    assert_eq!(rows[7]["bands"], 71);
     let svg = std::fs::read_to_string(&plot).unwrap();
     assert!(
         svg.starts_with("<svg") && svg.contains("otsu2018 (8 clusters)"),

@@ -124,7 +124,10 @@ fn every_texture_converts_to_a_spectral_exr_that_real_readers_open_and_that_roun
                 .to_string_lossy()
                 .replace('.', "_");
             let output = dir.path(&format!("{stem}_{data_type}.exr"));
+            // The paper's raw output keeps every colour, HDR and wide gamut too; the bounded
+            // default keeps those inside the object-colour solid (tested below).
             let run = specconv([
+                "--unbounded",
                 "--ocio",
                 "aces",
                 "-d",
@@ -297,11 +300,13 @@ fn to_rgb_integrates_back_to_the_input_colours() {
     let dir = Scratch::new("to-rgb");
     let input = testdata("float_scanline.exr");
     let spectral = dir.path("s.exr");
+    // Unbounded: its ACEScg colours outside the object-colour solid come back too.
     specconv([
         input.to_str().unwrap(),
         spectral.to_str().unwrap(),
         "-d",
         "float",
+        "--unbounded",
     ])
     .ok();
     let back = dir.path("back.exr");
@@ -527,56 +532,100 @@ fn shell_completions_name_the_commands() {
     specconv(["completions", "tcsh"]).fails(2, &["invalid value"]);
 }
 
+/// Reflectances are bounded by default: every band in [0, 1], the colours inside the
+/// object-colour solid kept exactly; the summary and --json count what was moved;
+/// --unbounded gives the method's raw spectra.
 #[test]
-fn bounded_and_baseline_methods_convert_too() {
-    let dir = Scratch::new("convert-methods");
+fn convert_bounds_reflectances_by_default_and_unbounded_gives_the_raw_spectra() {
+    let dir = Scratch::new("convert-bounded");
+    let worst = |path: &Path| {
+        spectral_exr::read(path)
+            .unwrap()
+            .bands
+            .iter()
+            .flatten()
+            .fold(0.0f32, |w, &v| w.max(-v).max(v - 1.0))
+    };
+    // 8-bit sRGB: every colour is inside the solid, so XYZ is kept; --bounded is accepted.
     let input = testdata("srgb8.png");
-    let bounded = dir.path("bounded.exr");
-    specconv([
-        input.to_str().unwrap(),
-        bounded.to_str().unwrap(),
-        "-d",
-        "float",
-        "--bounded",
-    ])
-    .ok();
-    let img = spectral_exr::read(&bounded).unwrap();
-    let worst = img
-        .bands
-        .iter()
-        .flatten()
-        .fold(0.0f32, |w, &v| w.max(-v).max(v - 1.0));
-    assert!(
-        worst <= 1e-6,
-        "--bounded left a band {worst} outside [0, 1]"
-    );
-    assert!(img
-        .attributes
-        .contains(&("specconvMethod".into(), "otsu2018+bounded".into())));
-    // 8-bit sRGB colours are all inside the object-colour solid: their XYZ is kept.
-    let err = round_trip_error(&input, &bounded, 0);
-    assert!(err <= 1e-5, "--bounded round trip {err}");
-
+    for flags in [&[][..], &["--bounded"], &["--unbounded", "--bounded"]] {
+        let out = dir.path("srgb.exr");
+        let mut args = vec![
+            input.to_str().unwrap(),
+            out.to_str().unwrap(),
+            "-d",
+            "float",
+            "--force",
+        ];
+        args.extend_from_slice(flags);
+        let run = specconv(args);
+        run.ok();
+        assert!(
+            run.stderr
+                .contains("pixels projected into [0, 1], 0 outside"),
+            "{}",
+            run.stderr
+        );
+        assert!(
+            worst(&out) <= 1e-6,
+            "{flags:?}: a band {} outside [0, 1]",
+            worst(&out)
+        );
+        let attrs = spectral_exr::read_attributes(&out).unwrap();
+        assert!(attrs.contains(&("specconvMethod".into(), "otsu2018+bounded".into())));
+        let err = round_trip_error(&input, &out, 0);
+        assert!(err <= 1e-5, "{flags:?}: round trip {err}");
+    }
     let plain = dir.path("plain.exr");
     specconv([
         input.to_str().unwrap(),
         plain.to_str().unwrap(),
         "-d",
         "float",
+        "--unbounded",
     ])
     .ok();
-    let outside = spectral_exr::read(&plain)
-        .unwrap()
-        .bands
-        .iter()
-        .flatten()
-        .filter(|v| !(0.0..=1.0).contains(*v))
-        .count();
     assert!(
-        outside > 0,
-        "the test image must have colours whose plain uplift leaves [0, 1]"
+        worst(&plain) > 1e-3,
+        "the test image's raw uplift leaves [0, 1]"
     );
 
+    // ACEScg floats, many outside the solid: in [0, 1] all the same, counted in --json.
+    let input = testdata("float_scanline.exr");
+    let out = dir.path("aces.exr");
+    let run = specconv([
+        input.to_str().unwrap(),
+        out.to_str().unwrap(),
+        "-d",
+        "float",
+        "--json",
+    ]);
+    let report: serde_json::Value = serde_json::from_str(run.ok().trim()).unwrap();
+    let (projected, outside) = (
+        report["bounded"]["projected"].as_u64().unwrap(),
+        report["bounded"]["outside_solid"].as_u64().unwrap(),
+    );
+    assert!(projected > 0 && outside > 0, "{report}");
+    assert!(projected + outside <= report["pixels"].as_u64().unwrap());
+    assert!(worst(&out) <= 1e-6, "a band {} outside [0, 1]", worst(&out));
+    let raw = dir.path("aces_raw.exr");
+    let run = specconv([
+        input.to_str().unwrap(),
+        raw.to_str().unwrap(),
+        "-d",
+        "float",
+        "--json",
+        "--unbounded",
+    ]);
+    let report: serde_json::Value = serde_json::from_str(run.ok().trim()).unwrap();
+    assert!(report.get("bounded").is_none(), "{report}");
+    assert!(worst(&raw) > 1e-3);
+}
+
+#[test]
+fn baseline_methods_convert_too() {
+    let dir = Scratch::new("convert-methods");
+    let input = testdata("srgb8.png");
     let meng = dir.path("meng.exr");
     specconv([
         input.to_str().unwrap(),
@@ -593,7 +642,7 @@ fn bounded_and_baseline_methods_convert_too() {
     );
     let attrs = spectral_exr::read_attributes(&meng).unwrap();
     assert!(
-        attrs.contains(&("specconvMethod".into(), "meng2015".into())),
+        attrs.contains(&("specconvMethod".into(), "meng2015+bounded".into())),
         "{attrs:?}"
     );
     specconv([
@@ -625,6 +674,7 @@ fn bands_put_the_spectra_on_another_grid_with_their_colour() {
             "float",
             "--bands",
             bands,
+            "--unbounded",
         ])
         .ok();
         let grid: spectral::Grid = bands.parse().unwrap();

@@ -34,6 +34,12 @@ pub fn blended(model: &Model, width: f64) -> Result<Box<dyn Method>> {
     Ok(Box::new(Uplifter::new(model)?.with_blend(width)?))
 }
 
+/// `m` with its spectra kept in [0, 1] and their XYZ (`spectral::bounded`); `a` is the
+/// colorimetry `m` uplifts for.
+pub fn bounded(m: Box<dyn Method>, a: &Colorimetry) -> Result<Box<dyn Method>> {
+    Ok(Box::new(spectral::bounded::Bounded::new(m, a.clone())?))
+}
+
 /// `--blend WIDTH` of the commands that uplift with a clustered model.
 #[derive(Debug, Clone, Copy, clap::Args)]
 pub struct BlendArg {

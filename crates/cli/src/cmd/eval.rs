@@ -39,6 +39,10 @@ pub struct Args {
     setting: methods::SettingArgs,
     #[command(flatten)]
     blend: methods::BlendArg,
+    /// Evaluate the method bounded, as `convert` writes it by default: spectra kept in [0, 1]
+    /// with their XYZ (reported as METHOD-bounded). Without it, the method as named.
+    #[arg(long)]
+    bounded: bool,
     /// Print one JSON object: method, count, delta_e.{mean,median,max}, roundtrip_max,
     /// roundtrip_de2000_max, in_unit_range.
     #[arg(long)]
@@ -102,6 +106,16 @@ pub fn run(args: Args) -> Result<()> {
         let d = format!("{}, {}, {} nm", a.observer, a.illuminant, a.grid);
         (m, a, d)
     };
+    let method = if args.bounded {
+        methods::bounded(method, &a)?
+    } else {
+        method
+    };
+    let name = if args.bounded {
+        format!("{}-bounded", args.method)
+    } else {
+        args.method.to_string()
+    };
     let mut spectra = Vec::new();
     let mut labels = Vec::new();
     for path in &args.spectra {
@@ -128,7 +142,7 @@ pub fn run(args: Args) -> Result<()> {
 
     if args.json {
         let mut v = serde_json::to_value(&summary)?;
-        v["method"] = args.method.as_str().into();
+        v["method"] = name.as_str().into();
         if args.per_spectrum {
             v["spectra"] = serde_json::to_value(&rows)?;
         }
@@ -153,7 +167,7 @@ pub fn run(args: Args) -> Result<()> {
         }
         println!();
     }
-    println!("method:     {}", args.method);
+    println!("method:     {name}");
     let what = if args.method.is_clustered() {
         "model"
     } else {

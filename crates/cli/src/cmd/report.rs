@@ -13,7 +13,9 @@ use std::time::Instant;
 /// Measure every uplift method on the same measured spectra: accuracy against cost.
 ///
 /// Rows: smits1999, meng2015, meng2015-bounded, jakob2019, pca, otsu2018 at each --clusters
-/// count, and otsu2018 with 8 clusters at each --steps band width. Columns: Δe = ‖s − r‖² mean,
+/// count (with 8, also otsu2018-bounded: its spectra kept in [0, 1] with their XYZ, as
+/// `convert` writes them by default), and otsu2018 with 8 clusters at each --steps band
+/// width. Columns: Δe = ‖s − r‖² mean,
 /// median and max; the round trip (max |XYZ(r) − XYZ(s)| / Y(s) and max CIEDE2000); the
 /// fraction of spectra inside [0, 1]; the model's size in bytes (the data the f32 uplift
 /// reads); and the cost of the f32 uplift alone, in nanoseconds per colour and Mpixel/s, on one
@@ -152,11 +154,21 @@ pub fn run(args: Args) -> Result<()> {
             settings.push((8, g));
         }
     }
-    for (k, grid) in settings {
+    // The 8-cluster model of the main grid (the built-in model's setting) also bounded.
+    let bounded_row = |k: usize, g: Grid| k == 8 && g == args.bands;
+    let rows_of = settings.iter().flat_map(|&(k, g)| {
+        let twin = bounded_row(k, g).then_some((k, g, true));
+        [(k, g, false)].into_iter().chain(twin)
+    });
+    for (k, grid, bounded) in rows_of.collect::<Vec<_>>() {
         let a = Colorimetry::new(grid, args.observer, args.illuminant)?;
-        let (model, summary) = clustered(&args, &a, k)?;
-        let m = methods::blended(&model, args.blend.width)?;
-        let name = if k == 1 { "pca" } else { "otsu2018" };
+        let (model, summary) = clustered(&args, &a, k, bounded)?;
+        let m = uplifter(&args, &model, &a, bounded)?;
+        let name = match (k, bounded) {
+            (1, _) => "pca",
+            (_, false) => "otsu2018",
+            (_, true) => "otsu2018-bounded",
+        };
         let mut setting = format!("{} clusters", model.leaves.len());
         if args.blend.width > 0.0 && model.leaves.len() > 1 {
             setting = format!("{setting}, blend {}", args.blend.width);
@@ -197,9 +209,30 @@ fn read(paths: &[PathBuf], grid: &Grid) -> Result<Vec<Vec<f64>>> {
     Ok(spectra)
 }
 
+/// The clustered uplift of `model` with the --blend width, bounded or not.
+fn uplifter(
+    args: &Args,
+    model: &spectral::Model,
+    a: &Colorimetry,
+    bounded: bool,
+) -> Result<Box<dyn Method>> {
+    let m = methods::blended(model, args.blend.width)?;
+    if bounded {
+        methods::bounded(m, a)
+    } else {
+        Ok(m)
+    }
+}
+
 /// The model used for timing (trained on all training data, or on the first fold's) and the
 /// accuracy summary (on the evaluated spectra, or over the held-out folds).
-fn clustered(args: &Args, a: &Colorimetry, k: usize) -> Result<(spectral::Model, eval::Summary)> {
+/// With `bounded`, the uplift is kept in [0, 1] ([`methods::bounded`]).
+fn clustered(
+    args: &Args,
+    a: &Colorimetry,
+    k: usize,
+    bounded: bool,
+) -> Result<(spectral::Model, eval::Summary)> {
     let opts = TrainOptions {
         clusters: k,
         min_cluster_size: args.min_cluster_size,
@@ -213,7 +246,7 @@ fn clustered(args: &Args, a: &Colorimetry, k: usize) -> Result<(spectral::Model,
             methods::training_set(&args.train, &a.grid)?
         };
         let model = spectral::train(&train, a, &opts)?;
-        let up = methods::blended(&model, args.blend.width)?;
+        let up = uplifter(args, &model, a, bounded)?;
         let s = eval::summarise(&eval::evaluate(a, up.as_ref(), &eval_set.spectra));
         return Ok((model, s));
     };
@@ -240,7 +273,7 @@ fn clustered(args: &Args, a: &Colorimetry, k: usize) -> Result<(spectral::Model,
             }
         }
         let model = spectral::train(&train, a, &opts)?;
-        let up = methods::blended(&model, args.blend.width)?;
+        let up = uplifter(args, &model, a, bounded)?;
         outcomes.extend(eval::evaluate(a, up.as_ref(), &held));
         first.get_or_insert(model);
     }
