@@ -357,3 +357,75 @@ proptest! {
         }
     }
 }
+
+/// A colour of one class of the policy table in `spectral::hard`, generated from its own
+/// distribution, so that every class is exercised (a generic float rarely lands near black or
+/// outside the locus at a chosen luminance).
+fn class_colour() -> impl Strategy<Value = (&'static str, [f64; 3])> {
+    // A chromaticity anywhere (inside the locus or far outside it) as XYZ with X+Y+Z = 1.
+    let xy = (-1.0..2.0f64, -1.0..2.0f64).prop_map(|(x, y)| [x, y, 1.0 - x - y]);
+    let locus = (0.1..0.6f64, 0.1..0.6f64).prop_map(|(x, y)| [x, y, 1.0 - x - y]);
+    let unit = (-0.5..1.5f64, -0.5..1.5f64, -0.5..1.5f64);
+    prop_oneof![
+        prop::sample::select(vec![[0.0; 3], [-0.0, 0.0, -0.0], [-0.0; 3]])
+            .prop_map(|c| ("black", c)),
+        (locus.clone(), -8.0..-4.0f64)
+            .prop_map(|(c, e)| ("near black", c.map(|v| v * 10f64.powf(e)))),
+        (
+            0u64..1 << 52,
+            0u64..1 << 52,
+            0u64..1 << 52,
+            any::<[bool; 3]>()
+        )
+            .prop_map(|(a, b, c, s)| {
+                // Subnormal f64s: the exponent bits zero, any mantissa and sign.
+                let d = |m: u64, neg: bool| f64::from_bits(m | (neg as u64) << 63);
+                ("denormal", [d(a, s[0]), d(b, s[1]), d(c, s[2])])
+            }),
+        (-2.0..2.0f64, -2.0..2.0f64, -4.0..0.0f64)
+            .prop_map(|(x, y, s)| ("negative luminance", [x, y, s - x - y])),
+        (
+            unit,
+            prop::sample::select(vec![ACES2065_1, ACESCG, REC2020])
+        )
+            .prop_map(|((r, g, b), space)| ("wide gamut", rgb(space, [r, g, b]))),
+        (locus, 2.0..30.0f64).prop_map(|(c, e)| ("HDR", c.map(|v| v * 10f64.powf(e)))),
+        (xy, -2.0..1.0f64).prop_map(|(c, e)| ("outside the locus", c.map(|v| v * 10f64.powf(e)))),
+    ]
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(3000))]
+
+    #[test]
+    fn every_class_gives_finite_spectra_that_keep_the_colour((class, c) in class_colour()) {
+        let r = up64(c);
+        prop_assert!(r.iter().all(|v| v.is_finite()), "{class} {c:?}");
+        let back = setup().0.xyz(&r);
+        let size = c.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        for k in 0..3 {
+            // Relative to the colour's size; subnormal colours to the smallest normal float.
+            prop_assert!(
+                (back[k] - c[k]).abs() <= 1e-10 * size.max(f64::MIN_POSITIVE),
+                "{class} {c:?}: XYZ back {back:?}"
+            );
+        }
+        if class == "black" {
+            prop_assert!(r.iter().all(|&v| v == 0.0));
+        }
+        // In f32: finite always; the colour kept where it is a normal f32.
+        let c32 = c.map(|v| v as f32);
+        let r32 = up32(c32);
+        prop_assert!(r32.iter().all(|v| v.is_finite()), "{class} {c32:?}");
+        let size32 = c32.iter().fold(0.0f32, |m, v| m.max(v.abs())) as f64;
+        if c32.iter().all(|v| *v == 0.0 || v.abs() >= f32::MIN_POSITIVE) && size32 < 1e30 {
+            let back = setup().0.xyz(&r32.iter().map(|&v| v as f64).collect::<Vec<_>>());
+            for k in 0..3 {
+                prop_assert!(
+                    (back[k] - c32[k] as f64).abs() <= 1e-4 * size32,
+                    "{class} {c32:?}: f32 XYZ back {back:?}"
+                );
+            }
+        }
+    }
+}
