@@ -27,6 +27,7 @@ pub mod colorimetry;
 pub mod emission;
 pub mod eval;
 pub mod extrapolation;
+pub mod gamut;
 pub mod grid;
 pub mod hard;
 pub mod lab;

@@ -1,8 +1,9 @@
 //! The runtime: r = T_leaf·c + o_leaf, one small matrix multiply per pixel (Eq. 7–8 folded).
 
 use crate::blend::Blend;
+use crate::gamut::Gamut;
 use crate::model::{Axis, Node};
-use crate::{Error, Grid, Model};
+use crate::{Colorimetry, Error, Grid, Model};
 
 /// One way of turning XYZ colours into spectra: the clustered PCA and the baselines alike, so
 /// that evaluation, conversion and reports treat them the same.
@@ -40,6 +41,8 @@ pub struct Uplifter {
     grid: Grid,
     bands: usize,
     white: [f64; 2],
+    /// The model's colorimetry: where its real colours are, for the blend widths.
+    colorimetry: Colorimetry,
     choose: Choose,
     /// Per leaf, `4 * bands` values: columns T·x̂, T·ŷ, T·ẑ and o, each `bands` long.
     f64s: Vec<f64>,
@@ -99,7 +102,8 @@ const BLEND: u32 = u32::MAX - 1;
 impl Uplifter {
     pub fn new(model: &Model) -> Result<Uplifter, Error> {
         let n = model.grid.len();
-        let white = model.colorimetry()?.white_xy();
+        let colorimetry = model.colorimetry()?;
+        let white = colorimetry.white_xy();
         let choose = Choose::new(&model.tree);
         let f64s: Vec<f64> = model
             .leaves
@@ -125,6 +129,7 @@ impl Uplifter {
             grid: model.grid,
             bands: n,
             white,
+            colorimetry,
             choose,
             f64s,
             f32s,
@@ -138,13 +143,15 @@ impl Uplifter {
 
     /// Blends the leaves' maps within `width` (in xy) of every split line, so that spectra are
     /// continuous across cluster boundaries ([`crate::blend`]); 0 is the hard switch of the
-    /// paper, bit for bit. See [`crate::blend::DEFAULT_WIDTH`].
+    /// paper, bit for bit. Splits whose sides differ too much get more than `width` (see
+    /// [`Uplifter::split_widths`]). See [`crate::blend::DEFAULT_WIDTH`].
     pub fn with_blend(mut self, width: f64) -> Result<Uplifter, Error> {
         crate::blend::check_width(width)?;
         self.safe_boxes.clear();
         self.blend = None;
         if width > 0.0 {
-            let blend = Blend::new(&self.tree, width);
+            let gamut = Gamut::new(&self.colorimetry);
+            let blend = Blend::new(&self.tree, width, &self.f64s, self.bands, &gamut);
             if let Choose::Cells { x, y, .. } = &self.choose {
                 self.safe_boxes = (0..=x.len())
                     .flat_map(|i| (0..=y.len()).map(move |j| (i, j)))
@@ -156,9 +163,15 @@ impl Uplifter {
         Ok(self)
     }
 
-    /// The blend width in xy; 0 when the switch is hard.
+    /// The blend width in xy asked for, the least of any split; 0 when the switch is hard.
     pub fn blend_width(&self) -> f64 {
         self.blend.as_ref().map_or(0.0, Blend::width)
+    }
+
+    /// Per split (its node's index in the model's tree), the width it blends over: the blend
+    /// width, or more where the split's sides need it. Empty when the switch is hard.
+    pub fn split_widths(&self) -> Vec<(usize, f64)> {
+        self.blend.as_ref().map_or(Vec::new(), Blend::split_widths)
     }
 
     pub fn bands(&self) -> usize {
@@ -210,7 +223,7 @@ impl Uplifter {
                     let u = xy[(s.axis & 1) as usize];
                     if BLENDS {
                         // A leaf's value is −∞: never near.
-                        near |= self.blend.as_ref().is_some_and(|b| b.near(u, s.value));
+                        near |= self.blend.as_ref().is_some_and(|b| b.near(i, u, s.value));
                     }
                     i = s.next[(u >= s.value) as usize] as usize;
                 }
@@ -228,9 +241,15 @@ impl Uplifter {
                 if !near {
                     return self.affine(leaf);
                 }
+                let mut weights = Vec::new();
+                blend.weights(xy, &mut weights);
+                let m = 4 * self.bands;
                 scratch.clear();
-                scratch.resize(4 * self.bands, 0.0);
-                blend.map(xy, &self.f64s, self.bands, scratch);
+                scratch.resize(m, 0.0);
+                for (leaf, w) in weights {
+                    let t = &self.f64s[leaf as usize * m..][..m];
+                    scratch.iter_mut().zip(t).for_each(|(r, t)| *r += w * t);
+                }
                 scratch
             }
             None => self.affine(self.leaf_xy(xy)),
@@ -238,13 +257,19 @@ impl Uplifter {
     }
 
     /// Leaves of a block of colours (`HARD` for colours that are not ordinary, `BLEND` for
-    /// those that blending reaches).
+    /// those that blending reaches, whose chromaticity goes to `xys`).
     #[inline(always)]
-    fn block_leaves<T: Copy + Into<f64>>(&self, xyz: &[T], safe: f64, leaves: &mut [u32]) {
+    fn block_leaves<T: Copy + Into<f64>>(
+        &self,
+        xyz: &[T],
+        safe: f64,
+        leaves: &mut [u32],
+        xys: &mut [[f64; 2]],
+    ) {
         if self.blend.is_some() {
-            self.block_leaves_with::<T, true>(xyz, safe, leaves)
+            self.block_leaves_with::<T, true>(xyz, safe, leaves, xys)
         } else {
-            self.block_leaves_with::<T, false>(xyz, safe, leaves)
+            self.block_leaves_with::<T, false>(xyz, safe, leaves, xys)
         }
     }
 
@@ -254,12 +279,16 @@ impl Uplifter {
         xyz: &[T],
         safe: f64,
         leaves: &mut [u32],
+        xys: &mut [[f64; 2]],
     ) {
-        for (c, l) in xyz.chunks_exact(3).zip(leaves) {
+        for ((c, l), at) in xyz.chunks_exact(3).zip(leaves).zip(xys) {
             let c = [c[0].into(), c[1].into(), c[2].into()];
             *l = match crate::hard::ordinary_xy(c, safe) {
                 Some(xy) => match self.leaf_near::<BLENDS>(xy) {
-                    (_, true) => BLEND,
+                    (_, true) => {
+                        *at = xy;
+                        BLEND
+                    }
                     (leaf, false) => leaf as u32,
                 },
                 None => HARD,
@@ -430,34 +459,55 @@ impl Uplifter {
     ) where
         T: Copy + Into<f64> + std::ops::Mul<Output = T> + std::ops::Add<Output = T>,
     {
-        let mut leaves = [HARD; BLOCK];
-        // The blended map and its spectrum in f64, allocated at the first blended colour.
-        let (mut map, mut r64) = (Vec::new(), Vec::new());
+        let (mut leaves, mut xys) = ([HARD; BLOCK], [[0.0; 2]; BLOCK]);
+        // The leaves of a blended colour and their weights (allocated at the first).
+        let mut weights = Vec::new();
         for (xyz, out) in xyz.chunks(3 * BLOCK).zip(out.chunks_mut(n * BLOCK)) {
-            self.block_leaves(xyz, safe, &mut leaves);
-            for ((c, r), &l) in xyz
+            self.block_leaves(xyz, safe, &mut leaves, &mut xys);
+            for (((c, r), &l), &xy) in xyz
                 .chunks_exact(3)
                 .zip(out.chunks_exact_mut(n))
                 .zip(&leaves)
+                .zip(&xys)
             {
                 let c = [c[0], c[1], c[2]];
                 if l < BLEND {
                     kernel(&t[l as usize * 4 * n..][..4 * n], n, c, r);
                 } else if l == BLEND {
-                    let c64 = c.map(Into::into);
-                    let xy =
-                        crate::hard::ordinary_xy(c64, safe).expect("only ordinary colours blend");
-                    let m = self.map_xy(xy, &mut map);
-                    r64.resize(n, 0.0);
-                    kernel(m, n, c64, &mut r64);
-                    for (r, &v) in r.iter_mut().zip(&r64) {
-                        *r = from_f64(v);
+                    // Σ wᵢ·(Tᵢ·c + oᵢ) straight from the leaves' maps, in the output's type.
+                    let blend = self.blend.as_ref().expect("only blends mark colours BLEND");
+                    blend.weights(xy, &mut weights);
+                    for (k, &(leaf, w)) in weights.iter().enumerate() {
+                        let m = &t[leaf as usize * 4 * n..][..4 * n];
+                        kernel_weighted(m, n, c, from_f64(w), k == 0, r);
                     }
                 } else {
                     let c64 = c.map(Into::into);
                     crate::hard::uplift(self, c64, |b, v| r[b] = from_f64(v));
                 }
             }
+        }
+    }
+}
+
+/// r = w·(T·c + o) when `first`, else r += w·(T·c + o): one leaf's share of a blend.
+#[inline(always)]
+fn kernel_weighted<T>(t: &[T], n: usize, c: [T; 3], w: T, first: bool, r: &mut [T])
+where
+    T: Copy + std::ops::Mul<Output = T> + std::ops::Add<Output = T>,
+{
+    let (tx, rest) = t.split_at(n);
+    let (ty, rest) = rest.split_at(n);
+    let (tz, o) = rest.split_at(n);
+    let cw = c.map(|v| v * w);
+    let r = &mut r[..n];
+    if first {
+        for b in 0..n {
+            r[b] = o[b] * w + tx[b] * cw[0] + ty[b] * cw[1] + tz[b] * cw[2];
+        }
+    } else {
+        for b in 0..n {
+            r[b] = r[b] + o[b] * w + tx[b] * cw[0] + ty[b] * cw[1] + tz[b] * cw[2];
         }
     }
 }
