@@ -13,6 +13,8 @@
 //! whole image.
 #![forbid(unsafe_code)]
 
+pub mod quantize;
+
 use exr::block::{BlockIndex, UncompressedBlock};
 use exr::math::{RoundingMode, Vec2};
 use exr::meta::attribute::{

@@ -56,6 +56,7 @@ fn main() {
     let method = Uplifter::new(model).unwrap();
     let settings = Settings {
         kind: Kind::Reflective,
+        xyz_weights: None,
         colorspace: None,
         sample: Sample::Half,
         compression: Compression::ZIP16,

@@ -55,6 +55,10 @@ pub struct Settings {
     /// Reflectance (`T.` channels) or emission (`S0.` channels with their units); the method
     /// makes the matching spectra.
     pub kind: Kind,
+    /// Per band, the weights of X, Y and Z with which the spectra will be read back (the
+    /// method's colorimetry): half samples are rounded to keep that colour
+    /// ([`spectral_exr::quantize`]); `None` rounds to nearest.
+    pub xyz_weights: Option<[Vec<f64>; 3]>,
     /// `--colorspace`: the input's colour space, overriding what the file declares.
     pub colorspace: Option<String>,
     pub sample: Sample,
@@ -175,6 +179,15 @@ pub fn convert(job: &Job, progress: &mut dyn FnMut(u64, u64)) -> Result<Report> 
         }
     }
 
+    if let Some(w) = &job.settings.xyz_weights {
+        if w.iter().any(|row| row.len() != job.method.grid().len()) {
+            return Err(Error::Setting(format!(
+                "the XYZ weights have {} bands where the method makes {}",
+                w[0].len(),
+                job.method.grid().len()
+            )));
+        }
+    }
     let strips = strips(&file);
     let total: u64 = strips
         .iter()
@@ -245,9 +258,7 @@ pub fn convert(job: &Job, progress: &mut dyn FnMut(u64, u64)) -> Result<Report> 
                                 .blocks
                                 .par_iter()
                                 .map(|b| {
-                                    encode_block(
-                                        &file, &processor, job.method, b, px, channels, alpha,
-                                    )
+                                    encode_block(&file, &processor, job, b, px, channels, alpha)
                                 })
                                 .collect()
                         })
@@ -295,7 +306,7 @@ pub fn convert(job: &Job, progress: &mut dyn FnMut(u64, u64)) -> Result<Report> 
 fn encode_block(
     file: &SpectralFile,
     processor: &Processor,
-    method: &dyn Method,
+    job: &Job,
     b: &Block,
     strip: &specconv_oiio::Pixels,
     channels: usize,
@@ -333,11 +344,14 @@ fn encode_block(
         counts.non_finite += u64::from(!c.iter().all(|v| v.is_finite()));
         counts.above_one += u64::from(*above || c[1] > ABOVE_ONE);
     }
-    let n = method.grid().len();
+    let n = job.method.grid().len();
     let mut bands = vec![0.0f32; count * n];
-    method.uplift_f32(&rgb, &mut bands);
+    job.method.uplift_f32(&rgb, &mut bands);
     if file.spec().sample == Sample::Half {
         counts.saturated = saturate_half(&mut bands, n);
+        if let Some(w) = &job.settings.xyz_weights {
+            spectral_exr::quantize::round_to_half_keeping_colour(w, &mut bands, n);
+        }
     }
     let chunk = file.encode(b, &bands, a.as_deref())?;
     Ok((b.chunk, chunk, counts))
@@ -351,7 +365,10 @@ fn saturate_half(bands: &mut [f32], n: usize) -> u64 {
     let mut clamped = 0;
     for spectrum in bands.chunks_exact_mut(n) {
         let mut any = false;
-        for v in spectrum.iter_mut().filter(|v| v.is_finite() && v.abs() > max) {
+        for v in spectrum
+            .iter_mut()
+            .filter(|v| v.is_finite() && v.abs() > max)
+        {
             *v = v.clamp(-max, max);
             any = true;
         }

@@ -6,7 +6,7 @@ use anyhow::{bail, Context, Result};
 use serde::Serialize;
 use specconv_pipeline::{convert, Job, Mip, Settings};
 use spectral::bounded::{Bounded, Tally};
-use spectral::emission::Emissive;
+use spectral::emission::{emission_colorimetry, Emissive};
 use spectral::methods::{jakob, MethodName};
 use spectral::resample::Resampled;
 use spectral::{Colorimetry, Method};
@@ -218,6 +218,11 @@ pub fn run(args: Args) -> Result<i32> {
         } else {
             Kind::Reflective
         },
+        xyz_weights: Some(if args.emissive {
+            emission_colorimetry(method.grid(), model.observer)?.weights
+        } else {
+            Colorimetry::new(method.grid(), model.observer, model.illuminant)?.weights
+        }),
         colorspace: args.colorspace.clone(),
         sample: if args.data_type == "float" {
             Sample::Float
@@ -311,7 +316,11 @@ pub fn run(args: Args) -> Result<i32> {
             eprint!("\r\x1b[2K");
         }
         let seconds = start.elapsed().as_secs_f64();
-        let counts = tally.as_ref().map(|t| t.take());
+        // In emission the bounded method sees scaled trial colours, not pixels: no counts.
+        let counts = tally
+            .as_ref()
+            .map(|t| t.take())
+            .filter(|_| emissive.is_none());
         match result {
             Ok(r) => {
                 let line = format!(
