@@ -230,3 +230,35 @@ fn trained_model_file_is_used_by_eval_with_its_own_setting() {
         out.stdout
     );
 }
+
+#[path = "../../crates/spectral/tests/common/untrainable.rs"]
+mod untrainable;
+
+#[test]
+fn untrainable_spectra_get_one_clear_error_and_no_model() {
+    let dir = Scratch::new("untrainable");
+    let a = spectral::Colorimetry::new(
+        spectral::Grid::PAPER,
+        spectral::Observer::Cie1931,
+        spectral::Illuminant::D65,
+    )
+    .unwrap();
+    for (k, case) in untrainable::cases(&a).into_iter().enumerate() {
+        let csv = dir.write(
+            &format!("case{k}.csv"),
+            &untrainable::csv(&a.grid, &case.spectra),
+        );
+        let model = dir.path("m.json");
+        let out = specconv([
+            "train",
+            "--spectra",
+            csv.to_str().unwrap(),
+            "--min-cluster-size",
+            "4",
+            "-o",
+            model.to_str().unwrap(),
+        ]);
+        out.fails(1, &["specconv: error: cannot train: ", case.error]);
+        assert!(!model.exists(), "{}: a model was written", case.name);
+    }
+}
