@@ -142,10 +142,11 @@ pub fn check_rank(c: &[f64], basis: &[Vec<f64>; 3], energy: f64) -> Result<(), U
             .sum()
     };
     // By decreasing eigenvalue: the rank is the count of leading vectors above the floor.
-    match basis
-        .iter()
-        .position(|b| !(variance(b) > RANK_TOL * energy))
-    {
+    let floor = RANK_TOL * energy;
+    match basis.iter().position(|b| {
+        let v = variance(b);
+        v.is_nan() || v <= floor
+    }) {
         Some(rank) => Err(Unfit::Rank(rank)),
         None => Ok(()),
     }
