@@ -5,7 +5,7 @@ use crate::runner::*;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-fn testdata(name: &str) -> PathBuf {
+pub(crate) fn testdata(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("testdata/images")
         .join(name)
@@ -26,7 +26,7 @@ fn textures() -> Vec<PathBuf> {
     v
 }
 
-fn tool(name: &str, args: &[&str]) -> String {
+pub(crate) fn tool(name: &str, args: &[&str]) -> String {
     let out = Command::new(name)
         .args(args)
         .output()

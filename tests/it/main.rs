@@ -2,6 +2,7 @@
 
 mod baselines;
 mod convert;
+mod emission;
 mod info;
 mod pictures;
 mod runner;
