@@ -29,7 +29,7 @@ for target in csv model; do
   log="$work/$target.log"
   # -timeout: a single input taking longer is a hang, reported as a crash.
   if ! "$CARGO_TARGET_DIR/$triple/release/$target" "$work/$target" \
-      -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 \
+      -dict="$target.dict" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 \
       -artifact_prefix="$work/artifacts/$target-" -print_final_stats=1 >"$log" 2>&1; then
     echo "fuzz/$target: CRASH; input in $work/artifacts, log $log:" >&2
     tail -40 "$log" >&2
