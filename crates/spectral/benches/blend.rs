@@ -1,6 +1,7 @@
 //! Cost of blending across cluster boundaries (f32, 36 bands, 4096 colours per call), as
 //! ratios to the hard switch measured in the same run: on random linear sRGB colours, and on
-//! colours all within the blend width of a split line of the built-in model.
+//! colours all within the blend width of a split line of the built-in model. And the one-off
+//! cost of making the blend (the per-split widths), in colours of hard uplift.
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use spectral::blend::DEFAULT_WIDTH;
@@ -94,6 +95,26 @@ fn blend(c: &mut Criterion) {
             s / h
         );
     }
+
+    // Making the blend, against uplifting the uniform colours by the hard switch.
+    let (mut tm, mut th) = (Vec::new(), Vec::new());
+    for _ in 0..11 {
+        let s = Instant::now();
+        let made = hard.clone().with_blend(DEFAULT_WIDTH).unwrap();
+        tm.push(s.elapsed().as_secs_f64());
+        assert_eq!(made.blend_width(), DEFAULT_WIDTH);
+        let s = Instant::now();
+        hard.uplift_f32(&sets[0].1, &mut out);
+        th.push(s.elapsed().as_secs_f64());
+    }
+    tm.sort_by(f64::total_cmp);
+    th.sort_by(f64::total_cmp);
+    let (m, h) = (tm[tm.len() / 2], th[th.len() / 2]);
+    eprintln!(
+        "with_blend       {:.2} ms: the time of uplifting {:.0} colours by the hard switch",
+        m * 1e3,
+        m / h * N as f64
+    );
 }
 
 criterion_group!(benches, blend);

@@ -705,6 +705,53 @@ mod tests {
         }
     }
 
+    /// With blending, the blocks' blended colours (Σ wᵢ·(Tᵢ·c + oᵢ) in the output's type)
+    /// agree with the blended map of `map_xy`, which the hard-input policy uses, to rounding;
+    /// for the leaf table (built-in model) and the walk (a chain of 40 splits).
+    #[test]
+    fn blended_blocks_agree_with_the_blended_map() {
+        for model in [Model::builtin().clone(), chain(40)] {
+            let up = Uplifter::new(&model).unwrap().with_blend(0.02).unwrap();
+            let n = up.bands();
+            let splits: Vec<(usize, f64)> = model
+                .tree
+                .iter()
+                .filter_map(|node| match *node {
+                    Node::Split { axis, value, .. } => Some(((axis == Axis::Y) as usize, value)),
+                    _ => None,
+                })
+                .collect();
+            let mut rng = Rng(5);
+            let (mut blended, mut scratch) = (0, Vec::new());
+            let (mut r, mut r32) = (vec![0.0; n], vec![0.0f32; n]);
+            for i in 0..20_000 {
+                let (k, v) = splits[i % splits.len()];
+                let mut xy = [rng.f(0.1, 0.6), rng.f(0.05, 0.6)];
+                xy[k] = v + rng.f(-0.03, 0.03);
+                let lum = rng.f(0.05, 1.0);
+                let c = [xy[0] / xy[1], 1.0, (1.0 - xy[0] - xy[1]) / xy[1]].map(|v| v * lum);
+                let Some(at) = hard::ordinary_xy(c, up.safe_f64) else {
+                    continue;
+                };
+                scratch.clear();
+                let m = up.map_xy(at, &mut scratch);
+                let want: Vec<f64> = (0..n)
+                    .map(|b| m[3 * n + b] + m[b] * c[0] + m[n + b] * c[1] + m[2 * n + b] * c[2])
+                    .collect();
+                blended += !scratch.is_empty() as usize;
+                up.uplift_f64(&c, &mut r);
+                up.uplift_f32(&c.map(|v| v as f32), &mut r32);
+                let size = want.iter().fold(1.0f64, |m, v| m.max(v.abs()));
+                for b in 0..n {
+                    assert!((r[b] - want[b]).abs() <= 1e-13 * size, "{c:?}");
+                    assert!((r32[b] as f64 - want[b]).abs() <= 1e-5 * size, "{c:?}");
+                }
+            }
+            // Lines matter only inside their node's box: a fifth of the colours or more blend.
+            assert!(blended > 3000, "{blended} blended");
+        }
+    }
+
     /// Bit for bit what the per-pixel path gave, in f64 and f32, for slices of any length.
     #[test]
     fn blocks_give_the_per_pixel_results_bit_for_bit() {
