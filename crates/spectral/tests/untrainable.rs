@@ -69,7 +69,11 @@ fn a_nearly_singular_m_is_refused_unless_the_bound_allows_it() {
     let (v1, v2) = (smooth(5, n), smooth(8, n));
     let black = metameric_black(&a, &smooth(11, n));
     let visible = smooth(13, n);
-    let dir: Vec<f64> = black.iter().zip(&visible).map(|(b, v)| b + 1e-3 * v).collect();
+    let dir: Vec<f64> = black
+        .iter()
+        .zip(&visible)
+        .map(|(b, v)| b + 1e-3 * v)
+        .collect();
     let spectra = (0..30)
         .map(|k| {
             let t = k as f64;
