@@ -187,3 +187,54 @@ fn measured_sets_with_one_spectrum_too_few_or_a_copy_too_many() {
     copy.names.push("copy".into());
     assert_eq!(train(&copy, &a, &small(1)).unwrap().leaves[0].count, 25);
 }
+
+#[test]
+fn a_split_that_would_leave_a_flat_side_is_not_taken() {
+    // 12 mixtures of three reds (varying in only 2 directions), redder than 40 varied spectra:
+    // the split between them would give the reds a leaf that fits them perfectly but whose
+    // third component is rounding noise. It is not taken; the reds' leaf holds others too.
+    let a = setting();
+    let n = a.bands();
+    let mut spectra: Vec<Vec<f64>> = (0..40).map(|k| smooth(k, n)).collect();
+    let red = |edge: usize, low: f64| -> Vec<f64> {
+        (0..n).map(|i| if i > edge { 0.9 } else { low }).collect()
+    };
+    let reds = [red(25, 0.05), red(27, 0.08), red(23, 0.03)];
+    let mixtures: Vec<Vec<f64>> = (0..12)
+        .map(|k| {
+            let (u, v) = ((k as f64 * 0.37).fract(), (k as f64 * 0.61).fract());
+            let (u, v) = if u + v > 1.0 {
+                (1.0 - u, 1.0 - v)
+            } else {
+                (u, v)
+            };
+            (0..n)
+                .map(|b| u * reds[0][b] + v * reds[1][b] + (1.0 - u - v) * reds[2][b])
+                .collect()
+        })
+        .collect();
+    let x = |s: &[f64]| {
+        let c = a.xyz(s);
+        c[0] / (c[0] + c[1] + c[2])
+    };
+    let reddest_other = spectra.iter().map(|s| x(s)).fold(0.0, f64::max);
+    assert!(mixtures.iter().all(|s| x(s) > reddest_other));
+    spectra.extend(mixtures.iter().cloned());
+    let model = train(&training_set(spectra.clone()), &a, &small(2)).unwrap();
+    assert_eq!(model.leaves.len(), 2);
+    let up = Uplifter::new(&model).unwrap();
+    // Per leaf: spectra of the set in it, and mixtures among them.
+    let mut members = vec![(0, 0); 2];
+    for (k, s) in spectra.iter().enumerate() {
+        let leaf = up.leaf(a.xyz(s));
+        members[leaf].0 += 1;
+        members[leaf].1 += usize::from(k >= 40);
+    }
+    for (leaf, (all, mixed)) in members.iter().enumerate() {
+        assert_eq!(*all, model.leaves[leaf].count);
+        assert!(
+            *mixed == 0 || all > mixed,
+            "leaf {leaf}: {mixed} mixtures alone"
+        );
+    }
+}
