@@ -224,7 +224,7 @@ fn a_split_that_would_leave_a_flat_side_is_not_taken() {
     assert_eq!(model.leaves.len(), 2);
     let up = Uplifter::new(&model).unwrap();
     // Per leaf: spectra of the set in it, and mixtures among them.
-    let mut members = vec![(0, 0); 2];
+    let mut members = [(0, 0); 2];
     for (k, s) in spectra.iter().enumerate() {
         let leaf = up.leaf(a.xyz(s));
         members[leaf].0 += 1;
