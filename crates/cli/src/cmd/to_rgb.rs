@@ -2,7 +2,7 @@
 
 use anyhow::{bail, Context, Result};
 use spectral::emission::emission_colorimetry;
-use spectral::{Colorimetry, Grid, Illuminant, Observer};
+use spectral::{Colorimetry, Illuminant};
 use spectral_exr::Kind;
 use std::path::PathBuf;
 
@@ -56,14 +56,7 @@ pub fn run(args: Args) -> Result<()> {
     }
     let img = spectral_exr::read(&args.input)
         .with_context(|| format!("cannot read {}", args.input.display()))?;
-    let attr = |name: &str| {
-        img.attributes
-            .iter()
-            .find(|(k, _)| k == name)
-            .map(|(_, v)| v.clone())
-    };
-    let observer: Observer =
-        attr("specconvObserver").map_or(Ok(Observer::Cie1931), |s| s.parse())?;
+    let (grid, observer, recorded) = crate::files::recorded_colorimetry(&img)?;
     let emissive = matches!(img.kind, Kind::Emissive { .. });
     let illuminant = match (args.illuminant, emissive) {
         (Some(_), true) => bail!(
@@ -71,10 +64,9 @@ pub fn run(args: Args) -> Result<()> {
             args.input.display()
         ),
         (Some(i), false) => i,
-        (None, false) => attr("specconvIlluminant").map_or(Ok(Illuminant::D65), |s| s.parse())?,
+        (None, false) => recorded,
         (None, true) => Illuminant::E,
     };
-    let grid = uniform_grid(&img.wavelengths)?;
     let a = if emissive {
         emission_colorimetry(grid, observer)?
     } else {
@@ -136,24 +128,4 @@ pub fn run(args: Args) -> Result<()> {
         img.height
     );
     Ok(())
-}
-
-/// The grid of evenly spaced band wavelengths.
-fn uniform_grid(w: &[f64]) -> Result<Grid> {
-    let (first, last) = (w[0], w[w.len() - 1]);
-    if w.len() == 1 {
-        return Ok(Grid::new(first, first, 1.0)?);
-    }
-    let step = (last - first) / (w.len() - 1) as f64;
-    if w.iter()
-        .enumerate()
-        .any(|(i, &v)| (v - (first + step * i as f64)).abs() > 1e-3)
-    {
-        bail!(
-            "the bands are not evenly spaced ({} … {} nm); to-rgb needs a regular grid",
-            first,
-            last
-        );
-    }
-    Ok(Grid::new(first, last, step)?)
 }
