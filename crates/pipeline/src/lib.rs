@@ -302,6 +302,25 @@ pub fn convert(job: &Job, progress: &mut dyn FnMut(u64, u64)) -> Result<Report> 
     })
 }
 
+/// The channels that carry colour: the first three that are not alpha.
+pub fn colour_channels(channels: usize, alpha: Option<usize>) -> Vec<usize> {
+    (0..channels)
+        .filter(|&c| Some(c) != alpha)
+        .take(3)
+        .collect()
+}
+
+/// A pixel's RGB from its [`colour_channels`]: a single grey channel is repeated; `None` when
+/// the image has no colour channel.
+#[inline]
+pub fn colour_of(px: &[f32], colour: &[usize]) -> Option<[f32; 3]> {
+    match colour {
+        [r, g, b] => Some([px[*r], px[*g], px[*b]]),
+        [grey, ..] => Some([px[*grey]; 3]),
+        [] => None,
+    }
+}
+
 /// Colour-converts, uplifts and compresses one block from its strip's pixels.
 fn encode_block(
     file: &SpectralFile,
@@ -315,20 +334,12 @@ fn encode_block(
     let count = b.width * b.height;
     let mut rgb = Vec::with_capacity(count * 3);
     let mut a = alpha.map(|_| Vec::with_capacity(count));
-    // Colour channels: the first three that are not alpha; one grey channel is repeated.
-    let colour: Vec<usize> = (0..channels)
-        .filter(|&c| Some(c) != alpha)
-        .take(3)
-        .collect();
+    let colour = colour_channels(channels, alpha);
     let mut counts = Counts::default();
     for y in 0..b.height {
         for x in b.x..b.x + b.width {
             let px = strip.pixel(x as u32, y as u32);
-            match colour.as_slice() {
-                [r, g, bb] => rgb.extend_from_slice(&[px[*r], px[*g], px[*bb]]),
-                [grey, ..] => rgb.extend_from_slice(&[px[*grey]; 3]),
-                [] => rgb.extend_from_slice(&[0.0; 3]),
-            }
+            rgb.extend_from_slice(&colour_of(px, &colour).unwrap_or([0.0; 3]));
             if let (Some(a), Some(c)) = (a.as_mut(), alpha) {
                 a.push(px[c]);
             }

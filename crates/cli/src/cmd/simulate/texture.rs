@@ -44,16 +44,10 @@ pub fn pixel_xyz(
         },
     )?;
     let values = px.pixel(0, 0);
-    // The colour channels as the pipeline takes them: the first three that are not alpha; a
-    // single grey channel is repeated.
-    let colour: Vec<usize> = (0..info.channels.len())
-        .filter(|&c| Some(c) != info.alpha_channel)
-        .take(3)
-        .collect();
-    let rgb = match colour.as_slice() {
-        [r, g, b] => [values[*r], values[*g], values[*b]],
-        [grey, ..] => [values[*grey]; 3],
-        [] => bail!("{} has no colour channels", path.display()),
+    // The colour channels as convert takes them.
+    let colour = specconv_pipeline::colour_channels(info.channels.len(), info.alpha_channel);
+    let Some(rgb) = specconv_pipeline::colour_of(values, &colour) else {
+        bail!("{} has no colour channels", path.display());
     };
     if !rgb.iter().all(|v| v.is_finite()) {
         bail!(
