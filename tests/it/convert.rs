@@ -690,3 +690,58 @@ fn bands_put_the_spectra_on_another_grid_with_their_colour() {
     ])
     .fails(1, &["does not cover"]);
 }
+
+/// `--half-rounding nearest` (the default) stores each band as the nearest half of the float
+/// spectrum; `colour` keeps the colour: every band within one half step, and XYZ closer.
+#[test]
+fn half_rounding_nearest_rounds_each_band_and_colour_keeps_xyz_closer() {
+    let dir = Scratch::new("convert-half-rounding");
+    let input = testdata("srgb8.png");
+    let convert = |name: &str, flags: &[&str]| {
+        let out = dir.path(name);
+        let mut args = vec![input.to_str().unwrap(), out.to_str().unwrap(), "--mip", "0"];
+        args.extend_from_slice(flags);
+        specconv(args).ok();
+        spectral_exr::read(&out).unwrap()
+    };
+    let float = convert("float.exr", &["-d", "float"]);
+    let nearest = convert("nearest.exr", &[]);
+    let colour = convert("colour.exr", &["--half-rounding", "colour"]);
+    let a = spectral::Colorimetry::new(
+        spectral::Grid::new(380.0, 730.0, 10.0).unwrap(),
+        spectral::Observer::Cie1931,
+        spectral::Illuminant::D65,
+    )
+    .unwrap();
+    let pixels = float.width * float.height;
+    let spectrum = |img: &spectral_exr::SpectralImage, p: usize| -> Vec<f64> {
+        img.bands.iter().map(|b| b[p] as f64).collect()
+    };
+    let (mut worst_nearest, mut worst_colour) = (0.0f64, 0.0f64);
+    for p in 0..pixels {
+        for (b, plane) in float.bands.iter().enumerate() {
+            let v = plane[p];
+            let n = half::f16::from_f32(v).to_f32();
+            assert_eq!(nearest.bands[b][p], n, "pixel {p} band {b}");
+            // Colour-keeping: the nearest half or its neighbour on the other side of the value.
+            let c = colour.bands[b][p];
+            let bits = |x: f32| half::f16::from_f32(x).to_bits() as i32;
+            assert_eq!(half::f16::from_f32(c).to_f32(), c);
+            assert!(
+                c == n || ((c - v) * (n - v) <= 0.0 && (bits(c) - bits(n)).abs() == 1),
+                "band {v}: nearest {n}, colour-keeping {c}"
+            );
+        }
+        let exact = a.xyz(&spectrum(&float, p));
+        let err = |img: &spectral_exr::SpectralImage| {
+            let got = a.xyz(&spectrum(img, p));
+            (0..3).fold(0.0f64, |m, k| m.max((got[k] - exact[k]).abs()))
+        };
+        worst_nearest = worst_nearest.max(err(&nearest));
+        worst_colour = worst_colour.max(err(&colour));
+    }
+    assert!(
+        worst_colour < worst_nearest,
+        "colour-keeping {worst_colour:e}, nearest {worst_nearest:e}"
+    );
+}

@@ -36,7 +36,22 @@ fn neighbours(v: f32) -> (f32, f32) {
 /// its other neighbour where that brings the colour closer. Spectra with a non-finite band are
 /// rounded to nearest.
 pub fn round_to_half_keeping_colour(weights: &[Vec<f64>; 3], spectra: &mut [f32], n: usize) {
-    let mut exact = vec![0.0f32; n];
+    // Each band's weights side by side, and its two half neighbours, found once per spectrum
+    // (finding them is most of the cost).
+    let w: Vec<[f64; 3]> = (0..n)
+        .map(|b| [weights[0][b], weights[1][b], weights[2][b]])
+        .collect();
+    let mut pairs = vec![(0.0f32, 0.0f32); n];
+    let size = |c: &[f64; 3]| c[0] * c[0] + c[1] * c[1] + c[2] * c[2];
+    // The colour error after replacing `from` by `to` in band `b`.
+    let moved = |carry: &[f64; 3], w: &[f64; 3], from: f32, to: f32| {
+        let d = from as f64 - to as f64;
+        [
+            carry[0] + w[0] * d,
+            carry[1] + w[1] * d,
+            carry[2] + w[2] * d,
+        ]
+    };
     for spectrum in spectra.chunks_exact_mut(n) {
         if !spectrum.iter().all(|v| v.is_finite()) {
             spectrum
@@ -44,16 +59,16 @@ pub fn round_to_half_keeping_colour(weights: &[Vec<f64>; 3], spectra: &mut [f32]
                 .for_each(|v| *v = f16::from_f32(*v).to_f32());
             continue;
         }
-        exact.copy_from_slice(spectrum);
         // XYZ of (exact − rounded) over the bands done so far.
         let mut carry = [0.0f64; 3];
-        let moved = |carry: &[f64; 3], b: usize, from: f32, to: f32| {
-            [0, 1, 2].map(|k| carry[k] + weights[k][b] * (from as f64 - to as f64))
-        };
-        let size = |c: &[f64; 3]| c.iter().map(|d| d * d).sum::<f64>();
-        for (b, v) in spectrum.iter_mut().enumerate() {
+        for ((v, pair), w) in spectrum.iter_mut().zip(pairs.iter_mut()).zip(&w) {
             let (lo, hi) = neighbours(*v);
-            let (with_lo, with_hi) = (moved(&carry, b, *v, lo), moved(&carry, b, *v, hi));
+            *pair = (lo, hi);
+            if lo == hi {
+                *v = lo;
+                continue;
+            }
+            let (with_lo, with_hi) = (moved(&carry, w, *v, lo), moved(&carry, w, *v, hi));
             let take_lo = !hi.is_finite() || (lo.is_finite() && size(&with_lo) <= size(&with_hi));
             (*v, carry) = if take_lo {
                 (lo, with_lo)
@@ -62,11 +77,13 @@ pub fn round_to_half_keeping_colour(weights: &[Vec<f64>; 3], spectra: &mut [f32]
             };
         }
         for _ in 0..SWEEPS {
-            for (b, v) in spectrum.iter_mut().enumerate() {
-                let (lo, hi) = neighbours(exact[b]);
+            for ((v, &(lo, hi)), w) in spectrum.iter_mut().zip(&pairs).zip(&w) {
                 let other = if *v == lo { hi } else { lo };
-                let flipped = moved(&carry, b, *v, other);
-                if other.is_finite() && size(&flipped) < size(&carry) {
+                if other == *v || !other.is_finite() {
+                    continue;
+                }
+                let flipped = moved(&carry, w, *v, other);
+                if size(&flipped) < size(&carry) {
                     (*v, carry) = (other, flipped);
                 }
             }

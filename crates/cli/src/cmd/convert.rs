@@ -84,6 +84,12 @@ pub struct Args {
     /// Sample type of the output.
     #[arg(short = 'd', long = "data-type", value_name = "TYPE", default_value = "half", value_parser = ["half", "float"])]
     data_type: String,
+    /// How half samples are rounded: `nearest` rounds each band on its own (the colour moves
+    /// by up to ≈3e-4 relative, below what half can resolve per band); `colour` picks, band by
+    /// band, the half below or above so that the spectrum's XYZ moves as little as possible
+    /// (≈5× smaller colour error, ≈1.5× the conversion time of a 36-band ZIP file).
+    #[arg(long, value_name = "HOW", default_value = "nearest", value_parser = ["nearest", "colour"])]
+    half_rounding: String,
     /// Output compression.
     #[arg(long, default_value = "zip", value_parser = ["none", "rle", "zips", "zip", "piz", "pxr24", "b44"])]
     compression: String,
@@ -218,11 +224,13 @@ pub fn run(args: Args) -> Result<i32> {
         } else {
             Kind::Reflective
         },
-        xyz_weights: Some(if args.emissive {
-            emission_colorimetry(method.grid(), model.observer)?.weights
+        xyz_weights: if args.half_rounding == "nearest" {
+            None
+        } else if args.emissive {
+            Some(emission_colorimetry(method.grid(), model.observer)?.weights)
         } else {
-            Colorimetry::new(method.grid(), model.observer, model.illuminant)?.weights
-        }),
+            Some(Colorimetry::new(method.grid(), model.observer, model.illuminant)?.weights)
+        },
         colorspace: args.colorspace.clone(),
         sample: if args.data_type == "float" {
             Sample::Float
