@@ -250,9 +250,27 @@ fn mip_levels_are_each_uplifted_from_their_own_input_level() {
     .fails(1, &["scanline files cannot hold", "--mip 0"]);
 }
 
+/// What colour-science's Fichet 2021 reader (tests/read_fichet2021.py) makes of `output`:
+/// its layout, attributes and the spectra of pixel (x, y), as JSON.
+pub(crate) fn read_fichet2021(output: &Path, x: usize, y: usize) -> serde_json::Value {
+    let python = std::env::var("SPECCONV_PYTHON").unwrap_or_else(|_| "python3".into());
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/read_fichet2021.py");
+    let out = Command::new(&python)
+        .arg(&script)
+        .arg(output)
+        .args([x.to_string(), y.to_string()])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{python} with colour-science (set SPECCONV_PYTHON; .ci/run makes a venv): {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).unwrap()
+}
+
 #[test]
 fn colour_science_reads_the_output() {
-    let python = std::env::var("SPECCONV_PYTHON").unwrap_or_else(|_| "python3".into());
     let dir = Scratch::new("convert-colour");
     let input = testdata("float_tiled_alpha.exr");
     let output = dir.path("out.exr");
@@ -263,19 +281,7 @@ fn colour_science_reads_the_output() {
         "float",
     ])
     .ok();
-    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/read_fichet2021.py");
-    let out = Command::new(&python)
-        .arg(&script)
-        .arg(&output)
-        .args(["7", "5"])
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{python} with colour-science (set SPECCONV_PYTHON; .ci/run makes a venv): {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let v = read_fichet2021(&output, 7, 5);
     let t = &v["T"];
     let wl: Vec<f64> = t["wavelengths"]
         .as_array()

@@ -5,7 +5,6 @@
 use crate::convert::{testdata, tool};
 use crate::runner::*;
 use std::path::Path;
-use std::process::Command;
 
 const REC709: &str = "Linear Rec.709 (sRGB)";
 
@@ -160,20 +159,7 @@ fn emission_files_are_seen_by_real_readers() {
         serde_json::from_str(specconv(["info", "--json", out]).ok()).unwrap();
     assert_eq!(json["spectral"]["emissive_units"], "W.m^-2.sr^-1");
 
-    let python = std::env::var("SPECCONV_PYTHON").unwrap_or_else(|_| "python3".into());
-    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/read_fichet2021.py");
-    let run = Command::new(&python)
-        .arg(&script)
-        .arg(&output)
-        .args(["7", "5"])
-        .output()
-        .unwrap();
-    assert!(
-        run.status.success(),
-        "{python} with colour-science (set SPECCONV_PYTHON): {}",
-        String::from_utf8_lossy(&run.stderr)
-    );
-    let v: serde_json::Value = serde_json::from_slice(&run.stdout).unwrap();
+    let v = crate::convert::read_fichet2021(&output, 7, 5);
     assert_eq!(v["spec"]["emissive"], true);
     assert_eq!(v["spec"]["attributes"]["emissiveUnits"], "W.m^-2.sr^-1");
     assert!(v.get("T").is_none());
