@@ -33,7 +33,7 @@
 //! | NaN or ±Inf in any component | NaN in every band (callers count these) |
 //! | black, (0, 0, 0) | the zero spectrum |
 //! | any other finite colour the method reproduces at some k | L with XYZₑ(L) = c |
-//! | no k reproduces it (xy outside the spectral locus, negative luminance) | L of the last k, counted as *unmatched*: its colour is the one the method reached (bounded: non-negative, moved towards grey, see [`crate::bounded`]); unbounded methods always match, with negative bands |
+//! | no k reproduces it (xy outside the spectral locus, negative luminance) | L of the last k, counted as *unmatched*: its colour is the one the method reached (bounded: non-negative, the colour nearest in CIELAB that a reflectance can have, see [`crate::bounded`]); unbounded methods always match, with negative bands |
 //! | components up to the largest finite value | u from c/m cannot overflow; L saturates at ± the output type's largest finite value |
 
 use crate::{Colorimetry, Error, Grid, Illuminant, Method};
