@@ -240,25 +240,7 @@ impl Model {
     /// The leaf for a colour. Colours without a chromaticity (X+Y+Z ≤ 0, or not finite) go
     /// to the leaf of the model's white point: the round trip still holds for them.
     pub fn leaf_for(&self, xyz: [f64; 3], white: [f64; 2]) -> usize {
-        let xy = crate::colorimetry::xy(xyz).unwrap_or(white);
-        let mut i = 0;
-        loop {
-            match self.tree[i] {
-                Node::Split {
-                    axis,
-                    value,
-                    below,
-                    above,
-                } => {
-                    let v = match axis {
-                        Axis::X => xy[0],
-                        Axis::Y => xy[1],
-                    };
-                    i = if v >= value { above } else { below };
-                }
-                Node::Leaf { leaf } => return leaf,
-            }
-        }
+        crate::uplift::walk(&self.tree, crate::colorimetry::xy(xyz).unwrap_or(white))
     }
 
     /// The built-in model: 8 clusters trained by `specconv train` on the Munsell matte set,

@@ -366,7 +366,7 @@ impl Choose {
 }
 
 /// The tree's leaf for a chromaticity, node by node (Eq. 10).
-fn walk(tree: &[Node], xy: [f64; 2]) -> usize {
+pub(crate) fn walk(tree: &[Node], xy: [f64; 2]) -> usize {
     let mut i = 0;
     loop {
         match tree[i] {
