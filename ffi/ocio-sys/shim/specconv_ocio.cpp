@@ -180,6 +180,131 @@ int32_t specconv_ocio_role(const specconv_ocio_config *config, const char *role,
     });
 }
 
+int32_t specconv_ocio_list_len(const specconv_ocio_config *config, int32_t kind,
+                               const char *parent, int32_t *out) {
+    return guard(SPECCONV_OCIO_ERR_EXCEPTION, [&]() -> int32_t {
+        if (config == nullptr || out == nullptr)
+            return fail(SPECCONV_OCIO_ERR_ARGUMENT, "null argument");
+        const OCIO::Config &cfg = *config->config;
+        switch (kind) {
+        case SPECCONV_OCIO_LIST_COLOR_SPACES:
+            *out = cfg.getNumColorSpaces(OCIO::SEARCH_REFERENCE_SPACE_ALL,
+                                         OCIO::COLORSPACE_ALL);
+            break;
+        case SPECCONV_OCIO_LIST_ROLES:
+            *out = cfg.getNumRoles();
+            break;
+        case SPECCONV_OCIO_LIST_DISPLAYS:
+            *out = cfg.getNumDisplaysAll();
+            break;
+        case SPECCONV_OCIO_LIST_VIEWS:
+            if (parent == nullptr)
+                return fail(SPECCONV_OCIO_ERR_ARGUMENT, "views need a display");
+            *out = cfg.getNumViews(OCIO::VIEW_DISPLAY_DEFINED, parent) +
+                   cfg.getNumViews(OCIO::VIEW_SHARED, parent);
+            break;
+        case SPECCONV_OCIO_LIST_VIEW_TRANSFORMS:
+            *out = cfg.getNumViewTransforms();
+            break;
+        case SPECCONV_OCIO_LIST_LOOKS:
+            *out = cfg.getNumLooks();
+            break;
+        case SPECCONV_OCIO_LIST_NAMED_TRANSFORMS:
+            *out = cfg.getNumNamedTransforms(OCIO::NAMEDTRANSFORM_ALL);
+            break;
+        case SPECCONV_OCIO_LIST_FILE_RULES:
+            *out = static_cast<int32_t>(cfg.getFileRules()->getNumEntries());
+            break;
+        default:
+            return fail(SPECCONV_OCIO_ERR_ARGUMENT, "unknown list kind " + std::to_string(kind));
+        }
+        return SPECCONV_OCIO_OK;
+    });
+}
+
+namespace {
+
+thread_local std::string list_item;
+
+std::string or_empty(const char *s) { return s ? s : ""; }
+
+std::string view_transform_item(const OCIO::ViewTransform &vt) {
+    const bool display = vt.getReferenceSpaceType() == OCIO::REFERENCE_SPACE_DISPLAY;
+    return or_empty(vt.getName()) + (display ? "\tdisplay" : "\tscene");
+}
+
+} // namespace
+
+int32_t specconv_ocio_list_item(const specconv_ocio_config *config, int32_t kind,
+                                const char *parent, int32_t index, const char **out) {
+    return guard(SPECCONV_OCIO_ERR_EXCEPTION, [&]() -> int32_t {
+        if (config == nullptr || out == nullptr)
+            return fail(SPECCONV_OCIO_ERR_ARGUMENT, "null argument");
+        int32_t len = 0;
+        int32_t status = specconv_ocio_list_len(config, kind, parent, &len);
+        if (status != SPECCONV_OCIO_OK)
+            return status;
+        if (index < 0 || index >= len)
+            return fail(SPECCONV_OCIO_ERR_ARGUMENT, "no item " + std::to_string(index));
+        const OCIO::Config &cfg = *config->config;
+        std::string item;
+        switch (kind) {
+        case SPECCONV_OCIO_LIST_COLOR_SPACES:
+            item = or_empty(cfg.getColorSpaceNameByIndex(OCIO::SEARCH_REFERENCE_SPACE_ALL,
+                                                         OCIO::COLORSPACE_ALL, index));
+            break;
+        case SPECCONV_OCIO_LIST_ROLES: {
+            const char *role = cfg.getRoleName(index);
+            OCIO::ConstColorSpaceRcPtr cs = cfg.getColorSpace(role);
+            item = or_empty(role) + "\t" + (cs ? cs->getName() : "");
+            break;
+        }
+        case SPECCONV_OCIO_LIST_DISPLAYS:
+            item = or_empty(cfg.getDisplayAll(index));
+            break;
+        case SPECCONV_OCIO_LIST_VIEWS: {
+            int32_t own = cfg.getNumViews(OCIO::VIEW_DISPLAY_DEFINED, parent);
+            const char *view = index < own
+                                   ? cfg.getView(OCIO::VIEW_DISPLAY_DEFINED, parent, index)
+                                   : cfg.getView(OCIO::VIEW_SHARED, parent, index - own);
+            item = or_empty(view) + "\t" +
+                   or_empty(cfg.getDisplayViewTransformName(parent, view)) + "\t" +
+                   or_empty(cfg.getDisplayViewColorSpaceName(parent, view)) + "\t" +
+                   or_empty(cfg.getDisplayViewLooks(parent, view));
+            break;
+        }
+        case SPECCONV_OCIO_LIST_VIEW_TRANSFORMS:
+            item = view_transform_item(
+                *cfg.getViewTransform(cfg.getViewTransformNameByIndex(index)));
+            break;
+        case SPECCONV_OCIO_LIST_LOOKS: {
+            OCIO::ConstLookRcPtr look = cfg.getLook(cfg.getLookNameByIndex(index));
+            item = or_empty(look->getName()) + "\t" + or_empty(look->getProcessSpace());
+            break;
+        }
+        case SPECCONV_OCIO_LIST_NAMED_TRANSFORMS: {
+            OCIO::ConstNamedTransformRcPtr nt = cfg.getNamedTransform(
+                cfg.getNamedTransformNameByIndex(OCIO::NAMEDTRANSFORM_ALL, index));
+            item = or_empty(nt->getName());
+            for (size_t i = 0; i < nt->getNumAliases(); ++i)
+                item += std::string("\t") + nt->getAlias(i);
+            break;
+        }
+        case SPECCONV_OCIO_LIST_FILE_RULES: {
+            OCIO::ConstFileRulesRcPtr rules = cfg.getFileRules();
+            size_t i = static_cast<size_t>(index);
+            item = or_empty(rules->getName(i)) + "\t" + or_empty(rules->getColorSpace(i)) +
+                   "\t" + or_empty(rules->getPattern(i)) + "\t" +
+                   or_empty(rules->getExtension(i)) + "\t" + or_empty(rules->getRegex(i));
+            break;
+        }
+        }
+        list_item = std::move(item);
+        *out = list_item.c_str();
+        return SPECCONV_OCIO_OK;
+    });
+}
+
 int32_t specconv_ocio_processor_new(const specconv_ocio_config *config, const char *src,
                                     const char *dst, const char *post_builtin,
                                     specconv_ocio_processor **out) {
@@ -208,6 +333,30 @@ int32_t specconv_ocio_processor_new(const specconv_ocio_config *config, const ch
             group->appendTransform(builtin);
             processor = cfg.getProcessor(group);
         }
+        OCIO::ConstCPUProcessorRcPtr cpu = processor->getDefaultCPUProcessor();
+        *out = new specconv_ocio_processor{std::move(processor), std::move(cpu)};
+        return SPECCONV_OCIO_OK;
+    });
+}
+
+int32_t specconv_ocio_display_view_processor_new(const specconv_ocio_config *config,
+                                                 const char *src, const char *display,
+                                                 const char *view,
+                                                 specconv_ocio_processor **out) {
+    return guard(SPECCONV_OCIO_ERR_PROCESSOR, [&]() -> int32_t {
+        if (config == nullptr || src == nullptr || display == nullptr || view == nullptr ||
+            out == nullptr)
+            return fail(SPECCONV_OCIO_ERR_ARGUMENT, "null argument");
+        *out = nullptr;
+        const OCIO::Config &cfg = *config->config;
+        if (!cfg.getColorSpace(src))
+            return fail(SPECCONV_OCIO_ERR_NOT_FOUND,
+                        std::string("no colour space named '") + src + "'");
+        OCIO::DisplayViewTransformRcPtr dvt = OCIO::DisplayViewTransform::Create();
+        dvt->setSrc(src);
+        dvt->setDisplay(display);
+        dvt->setView(view);
+        OCIO::ConstProcessorRcPtr processor = cfg.getProcessor(dvt);
         OCIO::ConstCPUProcessorRcPtr cpu = processor->getDefaultCPUProcessor();
         *out = new specconv_ocio_processor{std::move(processor), std::move(cpu)};
         return SPECCONV_OCIO_OK;

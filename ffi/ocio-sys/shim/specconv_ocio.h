@@ -73,11 +73,46 @@ int32_t specconv_ocio_color_space_alias(const specconv_ocio_config *config, cons
 int32_t specconv_ocio_role(const specconv_ocio_config *config, const char *role,
                            const char **out);
 
+/* What specconv_ocio_list_len and specconv_ocio_list_item enumerate, in config order.
+ * Items are tab-separated fields. */
+typedef enum specconv_ocio_list_kind {
+    /* Every colour space, active or inactive: name. */
+    SPECCONV_OCIO_LIST_COLOR_SPACES = 0,
+    /* role, colour space */
+    SPECCONV_OCIO_LIST_ROLES = 1,
+    /* Every display: name. */
+    SPECCONV_OCIO_LIST_DISPLAYS = 2,
+    /* The views of display `parent`: view, view transform, colour space, looks. */
+    SPECCONV_OCIO_LIST_VIEWS = 3,
+    /* name, the reference space it converts from (scene or display) */
+    SPECCONV_OCIO_LIST_VIEW_TRANSFORMS = 4,
+    /* name, process space */
+    SPECCONV_OCIO_LIST_LOOKS = 5,
+    /* name, then its aliases */
+    SPECCONV_OCIO_LIST_NAMED_TRANSFORMS = 6,
+    /* name, colour space, pattern, extension, regex */
+    SPECCONV_OCIO_LIST_FILE_RULES = 7
+} specconv_ocio_list_kind;
+
+/* How many items of `kind` the config has; `parent` is the display for views, else NULL. */
+int32_t specconv_ocio_list_len(const specconv_ocio_config *config, int32_t kind,
+                               const char *parent, int32_t *out);
+/* Item `index` of `kind`. The string is valid until the next call of this function on the
+ * same thread. */
+int32_t specconv_ocio_list_item(const specconv_ocio_config *config, int32_t kind,
+                                const char *parent, int32_t index, const char **out);
+
 /* A processor from colour space src to colour space dst of the config, followed, when
  * post_builtin is not NULL, by the OCIO built-in transform of that style. */
 int32_t specconv_ocio_processor_new(const specconv_ocio_config *config, const char *src,
                                     const char *dst, const char *post_builtin,
                                     specconv_ocio_processor **out);
+/* A processor from colour space src of the config to view `view` of display `display`
+ * (the view's look and view transform, then the display colour space). */
+int32_t specconv_ocio_display_view_processor_new(const specconv_ocio_config *config,
+                                                 const char *src, const char *display,
+                                                 const char *view,
+                                                 specconv_ocio_processor **out);
 void specconv_ocio_processor_free(specconv_ocio_processor *processor);
 
 /* Converts npixels interleaved pixels of nchannels (3: RGB, 4: RGBA, alpha untouched)

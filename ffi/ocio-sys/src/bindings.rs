@@ -115,12 +115,47 @@ unsafe extern "C" {
         out: *mut *const ::std::os::raw::c_char,
     ) -> i32;
 }
+pub const SPECCONV_OCIO_LIST_COLOR_SPACES: specconv_ocio_list_kind = 0;
+pub const SPECCONV_OCIO_LIST_ROLES: specconv_ocio_list_kind = 1;
+pub const SPECCONV_OCIO_LIST_DISPLAYS: specconv_ocio_list_kind = 2;
+pub const SPECCONV_OCIO_LIST_VIEWS: specconv_ocio_list_kind = 3;
+pub const SPECCONV_OCIO_LIST_VIEW_TRANSFORMS: specconv_ocio_list_kind = 4;
+pub const SPECCONV_OCIO_LIST_LOOKS: specconv_ocio_list_kind = 5;
+pub const SPECCONV_OCIO_LIST_NAMED_TRANSFORMS: specconv_ocio_list_kind = 6;
+pub const SPECCONV_OCIO_LIST_FILE_RULES: specconv_ocio_list_kind = 7;
+pub type specconv_ocio_list_kind = ::std::os::raw::c_uint;
+unsafe extern "C" {
+    pub fn specconv_ocio_list_len(
+        config: *const specconv_ocio_config,
+        kind: i32,
+        parent: *const ::std::os::raw::c_char,
+        out: *mut i32,
+    ) -> i32;
+}
+unsafe extern "C" {
+    pub fn specconv_ocio_list_item(
+        config: *const specconv_ocio_config,
+        kind: i32,
+        parent: *const ::std::os::raw::c_char,
+        index: i32,
+        out: *mut *const ::std::os::raw::c_char,
+    ) -> i32;
+}
 unsafe extern "C" {
     pub fn specconv_ocio_processor_new(
         config: *const specconv_ocio_config,
         src: *const ::std::os::raw::c_char,
         dst: *const ::std::os::raw::c_char,
         post_builtin: *const ::std::os::raw::c_char,
+        out: *mut *mut specconv_ocio_processor,
+    ) -> i32;
+}
+unsafe extern "C" {
+    pub fn specconv_ocio_display_view_processor_new(
+        config: *const specconv_ocio_config,
+        src: *const ::std::os::raw::c_char,
+        display: *const ::std::os::raw::c_char,
+        view: *const ::std::os::raw::c_char,
         out: *mut *mut specconv_ocio_processor,
     ) -> i32;
 }
