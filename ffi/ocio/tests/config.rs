@@ -5,7 +5,7 @@ use std::ffi::OsString;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use specconv_ocio::{ChoiceReason, Config, ConfigSource, Error};
+use specconv_ocio::{BuiltinConfig, ChoiceReason, Config, ConfigSource, Error};
 
 fn testdata(rel: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -13,41 +13,53 @@ fn testdata(rel: &str) -> PathBuf {
         .join(rel)
 }
 
+fn config_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("config")
+}
+
 fn aces_file() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("config/aces.ocio")
+    config_dir().join("cg.ocio")
 }
 
 #[test]
-fn builtin_aces_config_passes_ociocheck() {
-    let out = Command::new("ociocheck")
-        .arg("--iconfig")
-        .arg(aces_file())
-        .output()
-        .expect("ociocheck not found on PATH (Debian: opencolorio-tools)");
-    let text =
-        String::from_utf8_lossy(&out.stdout).into_owned() + &String::from_utf8_lossy(&out.stderr);
-    assert!(out.status.success(), "{text}");
-    assert!(text.contains("** Validation **\npassed"), "{text}");
-    assert!(!text.contains("ERROR"), "{text}");
+fn builtin_configs_pass_ociocheck() {
+    for file in ["cg.ocio", "studio.ocio"] {
+        let out = Command::new("ociocheck")
+            .arg("--iconfig")
+            .arg(config_dir().join(file))
+            .output()
+            .expect("ociocheck not found on PATH (Debian: opencolorio-tools)");
+        let text = String::from_utf8_lossy(&out.stdout).into_owned()
+            + &String::from_utf8_lossy(&out.stderr);
+        assert!(out.status.success(), "{file}: {text}");
+        assert!(text.contains("** Validation **\npassed"), "{file}: {text}");
+        assert!(!text.contains("ERROR"), "{file}: {text}");
+    }
 }
 
 #[test]
-fn builtin_aces_config_is_what_the_script_generates() {
-    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("config/make_aces_config.py");
-    let out = Command::new("python3")
-        .arg(&script)
-        .output()
-        .expect("python3 not found");
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    assert_eq!(
-        String::from_utf8(out.stdout).unwrap(),
-        specconv_ocio::ACES_CONFIG_YAML,
-        "config/aces.ocio is stale: python3 config/make_aces_config.py > config/aces.ocio"
-    );
+fn builtin_configs_are_what_the_script_generates() {
+    let script = config_dir().join("make_configs.py");
+    for (kind, embedded) in [
+        ("cg", specconv_ocio::CG_CONFIG_YAML),
+        ("studio", specconv_ocio::STUDIO_CONFIG_YAML),
+    ] {
+        let out = Command::new("python3")
+            .arg(&script)
+            .arg(kind)
+            .output()
+            .expect("python3 not found");
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        assert_eq!(
+            String::from_utf8(out.stdout).unwrap(),
+            embedded,
+            "config/{kind}.ocio is stale: python3 config/make_configs.py {kind} > config/{kind}.ocio"
+        );
+    }
 }
 
 #[test]
@@ -106,6 +118,14 @@ fn builtin_aces_config_has_the_aces_cg_names_aliases_and_roles() {
     assert!(config.color_space("CIE-XYZ-D65").unwrap().is_display);
 }
 
+fn builtin(name: &str, config: BuiltinConfig, from_env: bool) -> ConfigSource {
+    ConfigSource::Builtin {
+        name: name.into(),
+        config,
+        from_env,
+    }
+}
+
 #[test]
 fn config_resolution_order() {
     let file = aces_file();
@@ -114,9 +134,9 @@ fn config_resolution_order() {
     // --ocio FILE beats $OCIO.
     let c = Config::resolve_with_env(Some(file_str), env()).unwrap();
     assert_eq!(c.source(), &ConfigSource::File(file.clone()));
-    // --ocio aces is the built-in config, whatever $OCIO says.
+    // --ocio aces is the built-in CG config, whatever $OCIO says.
     let c = Config::resolve_with_env(Some("aces"), env()).unwrap();
-    assert_eq!(c.source(), &ConfigSource::BuiltinAces);
+    assert_eq!(c.source(), &builtin("aces", BuiltinConfig::Cg, false));
     // Then $OCIO.
     let c = Config::resolve_with_env(None, env()).unwrap();
     assert!(matches!(c.source(), ConfigSource::Env(_)));
@@ -124,7 +144,7 @@ fn config_resolution_order() {
     // Then the built-in config; an empty $OCIO counts as unset.
     for unset in [None, Some(OsString::new())] {
         let c = Config::resolve_with_env(None, unset).unwrap();
-        assert_eq!(c.source(), &ConfigSource::BuiltinAces);
+        assert_eq!(c.source(), &builtin("aces", BuiltinConfig::Cg, false));
     }
 }
 
@@ -235,4 +255,68 @@ fn input_colour_space_rules() {
     let bare = Config::from_file(testdata("ocio/aces_interchange_only.ocio")).unwrap();
     let err = bare.choose_input(None, None, true).unwrap_err();
     assert!(err.to_string().contains("pass --colorspace"), "{err}");
+}
+
+#[test]
+fn ocio_names_pick_the_builtin_configs_from_the_flag_and_from_ocio() {
+    for (name, kind, has_camera_spaces) in [
+        ("ocio://default", BuiltinConfig::Cg, false),
+        ("ocio://cg-config-latest", BuiltinConfig::Cg, false),
+        (
+            "ocio://cg-config-v1.0.0_aces-v1.3_ocio-v2.1",
+            BuiltinConfig::Cg,
+            false,
+        ),
+        ("ocio://studio-config-latest", BuiltinConfig::Studio, true),
+        (
+            "ocio://studio-config-v1.0.0_aces-v1.3_ocio-v2.1",
+            BuiltinConfig::Studio,
+            true,
+        ),
+    ] {
+        // From --ocio, even with a file in $OCIO.
+        let env = Some(OsString::from(testdata("ocio/no_interchange.ocio")));
+        let c = Config::resolve_with_env(Some(name), env).unwrap();
+        assert_eq!(c.source(), &builtin(name, kind, false));
+        assert_eq!(
+            c.color_space("S-Log3 S-Gamut3").is_ok(),
+            has_camera_spaces,
+            "{name}"
+        );
+        assert_eq!(c.role("scene_linear").unwrap().as_deref(), Some("ACEScg"));
+        // From $OCIO.
+        let c = Config::resolve_with_env(None, Some(name.into())).unwrap();
+        assert_eq!(c.source(), &builtin(name, kind, true));
+        assert_eq!(
+            c.source().to_string(),
+            format!("'{name}' (from $OCIO; built in: {kind})")
+        );
+        assert_eq!(c.color_space("S-Log3 S-Gamut3").is_ok(), has_camera_spaces);
+    }
+    assert_eq!(
+        Config::builtin_aces().unwrap().source().to_string(),
+        "'aces' (built in: ACES CG config v1.0.0, as cg-config-v1.0.0_aces-v1.3_ocio-v2.1)"
+    );
+}
+
+#[test]
+fn unknown_ocio_names_list_the_known_ones() {
+    for (flag, env) in [
+        (Some("ocio://studio-config-v9"), None),
+        (None, Some(OsString::from("ocio://nope"))),
+    ] {
+        let err = Config::resolve_with_env(flag, env).unwrap_err();
+        assert!(matches!(err, Error::UnknownBuiltinConfig { .. }), "{err:?}");
+        let msg = err.to_string();
+        for known in specconv_ocio::BUILTIN_NAMES.iter().map(|(n, _)| n) {
+            assert!(
+                msg.contains(&format!("'{known}'")),
+                "{known} missing: {msg}"
+            );
+        }
+        assert!(
+            msg.starts_with("unknown built-in OCIO config 'ocio://"),
+            "{msg}"
+        );
+    }
 }

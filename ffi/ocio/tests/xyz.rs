@@ -12,7 +12,7 @@ fn root() -> PathBuf {
 }
 
 fn aces_file() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("config/aces.ocio")
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("config/cg.ocio")
 }
 
 /// `|a - b| <= tol · max(1, |b|)`: absolute near zero, relative for the large values that
