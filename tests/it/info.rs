@@ -102,11 +102,15 @@ fn info_reads_every_testdata_image() {
 #[test]
 fn colorspaces_lists_names_aliases_and_roles() {
     let text = specconv(["colorspaces"]).ok().to_owned();
-    assert!(text.starts_with("config: 'aces' (built in)"), "{text}");
+    assert!(
+        text.starts_with("config: 'aces' (built in: ACES CG config v1.0.0"),
+        "{text}"
+    );
     for needle in [
         "scene_linear             ACEScg",
         "cie_xyz_d65_interchange  CIE-XYZ-D65",
-        "  sRGB - Texture\n      aliases: srgb_tx, srgb_texture, sRGB Encoded Rec.709 (sRGB)",
+        "  sRGB - Texture\n      aliases: srgb_tx, Utility - sRGB - Texture, srgb_texture, \
+         Input - Generic - sRGB - Texture, sRGB Encoded Rec.709 (sRGB)",
         "  Raw  [data, cannot be uplifted]",
         "  CIE-XYZ-D65  [display-referred]",
     ] {
@@ -122,6 +126,41 @@ fn colorspaces_lists_names_aliases_and_roles() {
     assert!(
         names.contains(&"ACEScct") && names.contains(&"Linear P3-D65"),
         "{names:?}"
+    );
+}
+
+#[test]
+fn colorspaces_takes_ocio_builtin_names_from_the_flag_and_the_environment() {
+    let text = specconv(["colorspaces", "--ocio", "ocio://studio-config-latest"])
+        .ok()
+        .to_owned();
+    for needle in [
+        "config: 'ocio://studio-config-latest' (built in: ACES Studio config v1.0.0, as \
+         studio-config-v1.0.0_aces-v1.3_ocio-v2.1)",
+        "  ARRI LogC4\n      aliases: arri_logc4",
+        "  S-Log3 S-Gamut3.Cine\n      aliases: slog3_sgamut3cine,",
+    ] {
+        assert!(text.contains(needle), "missing {needle:?} in\n{text}");
+    }
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_specconv"))
+        .arg("colorspaces")
+        .env("OCIO", "ocio://default")
+        .output()
+        .unwrap();
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(out.status.success());
+    assert!(
+        text.starts_with("config: 'ocio://default' (from $OCIO; built in: ACES CG config")
+            && text.contains("  Gamma 2.2 Rec.709 - Texture")
+            && !text.contains("ARRI LogC4"),
+        "{text}"
+    );
+    specconv(["colorspaces", "--ocio", "ocio://no-such-config"]).fails(
+        1,
+        &[
+            "unknown built-in OCIO config 'ocio://no-such-config'",
+            "'ocio://studio-config-latest'",
+        ],
     );
 }
 

@@ -11,7 +11,9 @@ use specconv_ocio::Config;
 /// listed but cannot be uplifted.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// OCIO config file, or `aces` for the built-in ACES config [default: $OCIO, else aces].
+    /// OCIO config: a file, `aces`, or an OCIO 2.2 built-in name (ocio://default,
+    /// ocio://cg-config-latest, ocio://studio-config-latest, or versioned) [default: $OCIO,
+    /// else aces].
     #[arg(long, value_name = "CONFIG")]
     ocio: Option<String>,
     /// Print one JSON object instead of text.

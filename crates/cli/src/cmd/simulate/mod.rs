@@ -406,11 +406,12 @@ fn build(file: &SceneFile, dir: &Path, a: &Colorimetry) -> Result<(Scene, String
     ))
 }
 
-/// The scene's `ocio` (`aces` or a config file relative to the scene), else as `convert`
-/// without --ocio: $OCIO, else the built-in ACES config.
+/// The scene's `ocio` (a built-in name such as `aces` or `ocio://default`, or a config file
+/// relative to the scene), else as `convert` without --ocio: $OCIO, else the built-in ACES
+/// config.
 fn ocio_config(ocio: Option<&str>, dir: &Path) -> Result<specconv_ocio::Config> {
     let path = ocio.map(|o| {
-        if o == "aces" {
+        if specconv_ocio::is_builtin_name(o) {
             o.to_string()
         } else {
             dir.join(o).display().to_string()
