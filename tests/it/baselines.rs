@@ -67,7 +67,7 @@ fn pca_needs_a_one_cluster_model_and_unknown_methods_are_usage_errors() {
     let cc = colorchecker();
     let cc = cc.to_str().unwrap();
     specconv(["eval", "--spectra", cc, "--method", "pca"])
-        .fails(1, &["pca", "--clusters 1", "--train"]);
+        .fails(2, &["pca", "--clusters 1", "--train"]);
     specconv(["eval", "--spectra", cc, "--method", "nope"]).fails(2, &["nope", "smits1999"]);
     let m = munsell();
     let out = specconv([
@@ -223,8 +223,8 @@ fn report_measures_every_method_and_draws_the_plot() {
 
     // Formats other than SVG and PNG are refused with a reason; so is an empty measurement.
     let cc = cc.to_str().unwrap();
-    specconv(["report", "--spectra", cc, "--plot", "x.gif"]).fails(1, &["*.svg or *.png"]);
-    specconv(["report", "--spectra", cc, "--colours", "0"]).fails(1, &["--colours"]);
+    specconv(["report", "--spectra", cc, "--plot", "x.gif"]).fails(2, &["*.svg or *.png"]);
+    specconv(["report", "--spectra", cc, "--colours", "0"]).fails(2, &["--colours"]);
 }
 
 #[test]

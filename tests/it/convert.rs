@@ -363,7 +363,7 @@ fn failures_leave_nothing_behind_and_say_what_to_do() {
         good.to_str().unwrap(),
         dir.path("missing/out.exr").to_str().unwrap(),
     ])
-    .fails(1, &["output directory", "does not exist"]);
+    .fails(2, &["output directory", "does not exist"]);
     // The input is never written over, even when named as the output.
     let copy = dir.path("in.png");
     std::fs::copy(&good, &copy).unwrap();
@@ -381,7 +381,7 @@ fn failures_leave_nothing_behind_and_say_what_to_do() {
         "--colorspace",
         "Raw",
     ])
-    .fails(1, &["holds data, not colour"]);
+    .fails(2, &["holds data, not colour"]);
     specconv([
         good.to_str().unwrap(),
         out.to_str().unwrap(),
@@ -389,7 +389,7 @@ fn failures_leave_nothing_behind_and_say_what_to_do() {
         "--colorspace",
         "srgb_txt",
     ])
-    .fails(1, &["unknown colour space"]);
+    .fails(2, &["unknown colour space"]);
     specconv([good.to_str().unwrap()]).fails(2, &["give INPUT OUTPUT"]);
     assert_eq!(dir.files(), vec!["in.png", "out.exr"]);
     assert!(tool("exrheader", &[out.to_str().unwrap()]).contains("spectralLayoutVersion"));
@@ -438,7 +438,13 @@ fn batches_convert_the_good_inputs_report_each_and_exit_1_for_the_bad() {
     assert_eq!(reports[0]["status"], "ok");
     assert!(reports[0]["pixels"].as_u64().unwrap() >= 61 * 47);
     assert_eq!(reports[1]["status"], "failed");
-    assert!(reports[1]["error"].as_str().unwrap().contains("gone.png"));
+    // The error says what went wrong; the record's input says where (not twice).
+    assert!(reports[1]["input"].as_str().unwrap().ends_with("gone.png"));
+    let error = reports[1]["error"].as_str().unwrap();
+    assert!(
+        error.contains("no such file") && !error.contains("gone.png"),
+        "{error}"
+    );
     assert_eq!(reports[2]["status"], "ok");
     let mut made: Vec<String> = std::fs::read_dir(&outdir)
         .unwrap()
@@ -624,7 +630,7 @@ fn convert_bounds_reflectances_by_default_and_unbounded_gives_the_raw_spectra() 
         "--unbounded",
     ]);
     let report: serde_json::Value = serde_json::from_str(run.ok().trim()).unwrap();
-    assert!(report.get("bounded").is_none(), "{report}");
+    assert!(report["bounded"].is_null(), "{report}");
     assert!(worst(&raw) > 1e-3);
 }
 
@@ -657,7 +663,7 @@ fn baseline_methods_convert_too() {
         "--method",
         "pca",
     ])
-    .fails(1, &["one-cluster model"]);
+    .fails(2, &["one-cluster model"]);
     specconv([
         input.to_str().unwrap(),
         dir.path("y.exr").to_str().unwrap(),
@@ -694,7 +700,7 @@ fn bands_put_the_spectra_on_another_grid_with_their_colour() {
         "--bands",
         "300:700:10",
     ])
-    .fails(1, &["does not cover"]);
+    .fails(2, &["does not cover"]);
 }
 
 /// `--half-rounding nearest` (the default) stores each band as the nearest half of the float

@@ -1,16 +1,16 @@
 //! `specconv info` and `specconv colorspaces` from the command line, and every input
-//! failure of issue 3: one `specconv: error:` line, exit 1, no panic.
+//! failure of issue 3: one `specconv: error:` line, exit 1 (2 for settings), no panic.
 
 use crate::runner::*;
 use std::path::{Path, PathBuf};
 
-fn testdata(rel: &str) -> PathBuf {
+pub(crate) fn testdata(rel: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("testdata")
         .join(rel)
 }
 
-fn arg(p: &Path) -> &str {
+pub(crate) fn arg(p: &Path) -> &str {
     p.to_str().unwrap()
 }
 
@@ -60,15 +60,15 @@ fn info_json_reports_what_the_reader_sees_and_the_colour_space_choice() {
     assert_eq!(v["channels"].as_array().unwrap().len(), 4);
     assert_eq!(v["alpha_channel"], 3);
     // OIIO's EXR reader says "Linear", which means the config's scene_linear.
-    assert_eq!(v["color_space"]["name"], "ACEScg");
-    assert_eq!(v["color_space"]["chosen_by"], "declared");
+    assert_eq!(v["colorspace"], "ACEScg");
+    assert_eq!(v["colorspace_rule"], "declared");
     assert!(v["spectral"].is_null());
 
     // No declaration and integer pixels: sRGB - Texture by default.
     let v = json(specconv(["info", "--json", arg(&testdata("images/rgb16.tif"))]).ok());
     assert_eq!(v["declared_color_space"], serde_json::Value::Null);
-    assert_eq!(v["color_space"]["name"], "sRGB - Texture");
-    assert_eq!(v["color_space"]["chosen_by"], "default");
+    assert_eq!(v["colorspace"], "sRGB - Texture");
+    assert_eq!(v["colorspace_rule"], "default");
 
     // --colorspace (or oiiotool's --iscolorspace) wins, by name or alias.
     for flag in ["--colorspace", "--iscolorspace"] {
@@ -82,8 +82,8 @@ fn info_json_reports_what_the_reader_sees_and_the_colour_space_choice() {
             ])
             .ok(),
         );
-        assert_eq!(v["color_space"]["name"], "Linear Rec.2020");
-        assert_eq!(v["color_space"]["chosen_by"], "colorspace option");
+        assert_eq!(v["colorspace"], "Linear Rec.2020");
+        assert_eq!(v["colorspace_rule"], "flag");
     }
 }
 
@@ -156,7 +156,7 @@ fn colorspaces_takes_ocio_builtin_names_from_the_flag_and_the_environment() {
         "{text}"
     );
     specconv(["colorspaces", "--ocio", "ocio://no-such-config"]).fails(
-        1,
+        2,
         &[
             "unknown built-in OCIO config 'ocio://no-such-config'",
             "'ocio://studio-config-latest'",
@@ -200,11 +200,12 @@ fn info_uses_the_aces_interchange_route_when_there_is_no_xyz_role() {
     );
 }
 
-/// One error line (libpng may add its own diagnostics for broken PNGs), exit 1.
+/// One error line (libpng may add its own diagnostics for broken PNGs) and exit `code`: 1 for
+/// a file that cannot be read, 2 for a config or colour space that cannot work for any file.
 #[track_caller]
-fn fails_clearly(args: &[&str], needles: &[&str]) {
+fn fails_clearly(code: i32, args: &[&str], needles: &[&str]) {
     let out = specconv(args);
-    out.fails(1, needles);
+    out.fails(code, needles);
     let ours: Vec<&str> = out
         .stderr
         .lines()
@@ -217,7 +218,7 @@ fn fails_clearly(args: &[&str], needles: &[&str]) {
 #[test]
 fn bad_images_fail_with_one_clear_line() {
     let missing = testdata("images/missing.exr");
-    fails_clearly(&["info", arg(&missing)], &["missing.exr: no such file"]);
+    fails_clearly(1, &["info", arg(&missing)], &["missing.exr: no such file"]);
     for (name, needle) in [
         ("broken/truncated.exr", "Unexpected end of file"),
         ("broken/truncated.png", "end of file"),
@@ -226,6 +227,7 @@ fn bad_images_fail_with_one_clear_line() {
     ] {
         let p = testdata(name);
         fails_clearly(
+            1,
             &["info", arg(&p)],
             &[name.rsplit('/').next().unwrap(), needle],
         );
@@ -236,14 +238,17 @@ fn bad_images_fail_with_one_clear_line() {
 fn bad_colour_management_fails_with_one_clear_line() {
     let png = testdata("images/srgb8.png");
     fails_clearly(
+        2,
         &["info", "--colorspace", "ACEScgg", arg(&png)],
         &["unknown colour space 'ACEScgg'", "did you mean 'ACEScg'"],
     );
     fails_clearly(
+        2,
         &["info", "--colorspace", "Raw", arg(&png)],
         &["holds data, not colour"],
     );
     fails_clearly(
+        2,
         &["colorspaces", "--ocio", "/no/such.ocio"],
         &["/no/such.ocio: no such file"],
     );
@@ -253,12 +258,14 @@ fn bad_colour_management_fails_with_one_clear_line() {
     ] {
         let c = testdata(cfg);
         fails_clearly(
+            2,
             &["colorspaces", "--ocio", arg(&c)],
             &["failed to load", needle],
         );
     }
     let c = testdata("ocio/no_interchange.ocio");
     fails_clearly(
+        2,
         &[
             "info",
             "--ocio",

@@ -7,4 +7,5 @@ mod info;
 mod pictures;
 mod runner;
 mod simulate;
+mod surface;
 mod train_eval;

@@ -178,7 +178,7 @@ fn simulate_image_refuses_what_it_cannot_draw() {
     let f = furnace.to_str().unwrap();
     let gif = dir.path("x.gif");
     specconv(["simulate", "--scene", f, "--image", gif.to_str().unwrap()])
-        .fails(1, &["--image", "*.png"]);
+        .fails(2, &["--image", "*.png"]);
     let png = dir.path("x.png");
     specconv(["simulate", "--scene", f, "--image", png.to_str().unwrap()])
         .fails(1, &["1269", "--patch"]);
@@ -394,9 +394,9 @@ fn preview_refuses_what_it_cannot_show() {
     for k in ["101", "-1", "two"] {
         specconv(["preview", g, "-o", o, "--bounces", k]).fails(2, &[k]);
     }
-    specconv(["preview", g, "-o", dir.path("x.jpg").to_str().unwrap()]).fails(1, &["*.png"]);
+    specconv(["preview", g, "-o", dir.path("x.jpg").to_str().unwrap()]).fails(2, &["*.png"]);
     specconv(["preview", g, "-o", o]).ok();
     specconv(["preview", g, "-o", o, "--bounces", "1"]).fails(1, &["exists", "--force"]);
-    specconv(["preview", g, "-o", g, "--force"]).fails(1, &["*.png"]);
+    specconv(["preview", g, "-o", g, "--force"]).fails(2, &["*.png"]);
     assert_eq!(dir.files(), ["grey.exr", "grey_s.exr", "x.png"]);
 }

@@ -36,17 +36,16 @@ pub fn write_atomically(path: &Path, bytes: &[u8], inputs: &[&Path]) -> Result<(
     result
 }
 
-/// The model from `--model FILE`, or the built-in one.
+/// The model from `--model FILE`, or the built-in one. A model that cannot be read is a
+/// usage error: nothing can be done with it.
 pub fn load_model(path: Option<&Path>) -> Result<spectral::Model> {
     let Some(path) = path else {
         return Ok(spectral::Model::builtin().clone());
     };
     let text = std::fs::read_to_string(path)
-        .with_context(|| format!("cannot read model file {}", path.display()))?;
-    Ok(spectral::Model::from_json(
-        &path.display().to_string(),
-        &text,
-    )?)
+        .with_context(|| format!("cannot read model file {}", path.display()))
+        .map_err(crate::usage)?;
+    spectral::Model::from_json(&path.display().to_string(), &text).map_err(crate::usage)
 }
 
 /// A model's one-line description for reports.
@@ -61,6 +60,45 @@ pub fn describe_model(path: Option<&Path>, m: &spectral::Model) -> String {
         m.training.count,
         m.training.sources.join(", ")
     )
+}
+
+/// Why a trained model has fewer clusters than were asked for; `None` when it has them all.
+/// Training stops when no leaf has a split that lowers the error with both sides of at least
+/// `min_cluster_size` spectra, three real components and M's condition within `max_condition`
+/// (spectral::train); which of these stopped it shows in the leaves' sizes.
+pub fn fewer_clusters(m: &spectral::Model) -> Option<String> {
+    let t = &m.training;
+    if m.leaves.len() >= t.clusters_requested {
+        return None;
+    }
+    let splittable = m
+        .leaves
+        .iter()
+        .filter(|l| l.count >= 2 * t.min_cluster_size)
+        .count();
+    let why = if splittable == 0 {
+        format!(
+            "every cluster has fewer than 2 × --min-cluster-size {} = {} spectra, so none can be split; \
+             give more spectra or lower --min-cluster-size",
+            t.min_cluster_size,
+            2 * t.min_cluster_size
+        )
+    } else {
+        format!(
+            "no split of the {splittable} cluster{} of at least {} spectra lowers the error with both sides \
+             of at least --min-cluster-size {}, three principal components and the condition of M within \
+             --max-condition {}; add more varied spectra or relax those bounds",
+            if splittable == 1 { "" } else { "s" },
+            2 * t.min_cluster_size,
+            t.min_cluster_size,
+            t.max_condition
+        )
+    };
+    Some(format!(
+        "{} clusters asked for, {} grown: {why}",
+        t.clusters_requested,
+        m.leaves.len()
+    ))
 }
 
 /// The colorimetry a spectral EXR records: its grid (from its band wavelengths, evenly

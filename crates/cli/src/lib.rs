@@ -1,17 +1,21 @@
 //! The specconv command line. It parses, dispatches and reports; the work happens in the
-//! library crates. Every error is printed once as `specconv: error: …` with its causes, and the
-//! exit code says how it went: 0 all done, 1 something failed, 2 usage error.
+//! library crates. Every error of every command is printed as one line,
+//! `specconv: error: WHAT: CAUSE: …`, each cause once, and the exit status is one of [`exit`]'s.
 #![forbid(unsafe_code)]
 
 use clap::{CommandFactory, Parser, Subcommand};
 use std::io::Write;
 
+mod checks;
 mod cmd;
 mod files;
 mod font;
+mod man;
 mod methods;
 mod picture;
 mod plot;
+mod progress;
+mod records;
 mod swatches;
 
 /// Turn textures in any colour space into spectral reflectance images, with the clustered-PCA
@@ -24,91 +28,253 @@ mod swatches;
     name = "specconv",
     version,
     max_term_width = 100,
-    args_conflicts_with_subcommands = true,
-    subcommand_negates_reqs = true
+    subcommand_negates_reqs = true,
+    after_long_help = EXAMPLES
 )]
 pub struct Cli {
     #[command(subcommand)]
     command: Option<Command>,
     #[command(flatten)]
+    global: Global,
+    #[command(flatten)]
     convert: cmd::convert::Args,
 }
 
+/// Options every command takes, before or after the subcommand's name.
+#[derive(Debug, clap::Args)]
+struct Global {
+    /// OCIO config: a file, `aces`, or an OCIO 2.2 built-in name (ocio://default,
+    /// ocio://cg-config-latest, ocio://studio-config-latest, or versioned) [default: $OCIO,
+    /// else aces]. Before or after the subcommand.
+    #[arg(long, global = true, value_name = "CONFIG")]
+    ocio: Option<String>,
+}
+
+/// The exit statuses of every command (README "Exit status", man pages' EXIT STATUS).
+pub mod exit {
+    /// Everything asked for was done (in a batch: converted or up to date).
+    pub const OK: i32 = 0;
+    /// Something the command read or wrote failed (in a batch: at least one input; the
+    /// others were still converted).
+    pub const FAILED: i32 = 1;
+    /// The command line cannot work for any input: an unknown option or value, a colour
+    /// space or OCIO config that cannot be used, a missing output directory, a model that
+    /// cannot be read. Checked before the first input; nothing was written.
+    pub const USAGE: i32 = 2;
+    /// Stopped by SIGINT or SIGTERM; no partial output was left.
+    pub const INTERRUPTED: i32 = 130;
+    /// The table as the README and the man pages print it.
+    pub const TABLE: [(i32, &str); 4] = [
+        (OK, "everything asked for was done (in a batch: every input converted or up to date)"),
+        (
+            FAILED,
+            "an input, output or other file failed (in a batch: at least one input failed; the others were converted)",
+        ),
+        (
+            USAGE,
+            "the command line cannot work for any input: an unknown option or value, a colour space or OCIO config that cannot be used, a missing output directory, an unreadable model; checked before the first input, nothing written",
+        ),
+        (INTERRUPTED, "interrupted by SIGINT or SIGTERM; no partial output left"),
+    ];
+}
+
+/// An error in how the command was asked for, which no input can fix: exit status 2.
+#[derive(Debug)]
+pub(crate) struct Usage(pub String);
+
+impl std::fmt::Display for Usage {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for Usage {}
+
+/// Turns any error into a usage error (exit status 2), keeping its one-line text.
+pub(crate) fn usage(e: impl Into<anyhow::Error>) -> anyhow::Error {
+    Usage(one_line(&e.into())).into()
+}
+
+/// An error and its causes on one line, `WHAT: CAUSE: …`, each said once: a cause whose text
+/// the line already holds is left out (wrappers that display their source would repeat it);
+/// a cause's leading `NAME: ` is left out when the line ends with NAME (`cannot read F` and
+/// `F: no such file` make `cannot read F: no such file`); and a cause that names what the
+/// line's last part ends with replaces that part (`cannot read F` and `F is not a spectral
+/// EXR` make `F is not a spectral EXR`).
+pub(crate) fn one_line(e: &anyhow::Error) -> String {
+    let mut line = e.to_string();
+    for cause in e.chain().skip(1) {
+        let cause = cause.to_string();
+        if line.contains(&cause) {
+            continue;
+        }
+        if let Some((head, rest)) = cause.split_once(": ") {
+            if line.ends_with(head) {
+                line = format!("{line}: {rest}");
+                continue;
+            }
+        }
+        // `cannot read F` and `F is not a spectral EXR`: the cause says it all.
+        let (before, last) = line.rsplit_once(": ").unwrap_or(("", &line));
+        let named = last.split_whitespace().last().unwrap_or_default();
+        line = if named.len() > 1 && cause.contains(named) {
+            if before.is_empty() {
+                cause
+            } else {
+                format!("{before}: {cause}")
+            }
+        } else {
+            format!("{line}: {cause}")
+        };
+    }
+    line
+}
+
+/// Examples of `specconv --help` and of man/specconv.1.
+const EXAMPLES: &str = "\
+Examples:
+  specconv albedo.tx albedo_spectral.exr
+  specconv --ocio aces textures/*.tx -o spectral
+  find textures -name '*.tx' | specconv - -o spectral --json > convert.jsonl
+  specconv --ocio studio.ocio colorspaces
+  specconv info --json textures/*.tx
+";
+
+// Each command's examples end its `--help` and make its man page's EXAMPLES.
 #[derive(Debug, Subcommand)]
 enum Command {
+    #[command(after_long_help = cmd::convert::EXAMPLES)]
     Convert(cmd::convert::Args),
+    #[command(after_long_help = cmd::train::EXAMPLES)]
     Train(cmd::train::Args),
+    #[command(after_long_help = cmd::eval::EXAMPLES)]
     Eval(cmd::eval::Args),
+    #[command(after_long_help = cmd::report::EXAMPLES)]
     Report(cmd::report::Args),
+    #[command(after_long_help = cmd::info::EXAMPLES)]
     Info(cmd::info::Args),
+    #[command(after_long_help = cmd::colorspaces::EXAMPLES)]
     Colorspaces(cmd::colorspaces::Args),
+    #[command(after_long_help = cmd::to_rgb::EXAMPLES)]
     ToRgb(cmd::to_rgb::Args),
+    #[command(after_long_help = cmd::completions::EXAMPLES)]
     Completions(cmd::completions::Args),
+    #[command(after_long_help = cmd::simulate::EXAMPLES)]
     Simulate(cmd::simulate::Args),
+    #[command(after_long_help = cmd::preview::EXAMPLES)]
     Preview(cmd::preview::Args),
 }
 
 /// Runs the command line and returns the process exit code.
 pub fn main() -> i32 {
-    let cli = match Cli::try_parse() {
+    let cli = match parse(std::env::args_os()) {
         Ok(cli) => cli,
-        Err(e) => {
+        Err(e) if !e.use_stderr() => {
+            // --help and --version
             let _ = e.print();
-            return if e.use_stderr() { 2 } else { 0 };
+            return exit::OK;
+        }
+        Err(e) => {
+            print_error(&clap_error_line(&e));
+            return exit::USAGE;
         }
     };
-    let result = match cli.command {
-        None => cmd::convert::run(cli.convert),
-        Some(Command::Convert(args)) => cmd::convert::run(args),
-        Some(command) => run(command).map(|()| 0),
-    };
-    match result {
+    match run(cli) {
         Ok(code) => code,
         Err(e) => {
-            report(&e);
-            1
+            print_error(&one_line(&e));
+            if e.chain().any(|c| c.is::<Usage>()) {
+                exit::USAGE
+            } else {
+                exit::FAILED
+            }
         }
     }
 }
 
-fn run(command: Command) -> anyhow::Result<()> {
-    match command {
-        Command::Convert(_) => unreachable!("dispatched above"),
-        Command::Train(args) => cmd::train::run(args),
-        Command::Eval(args) => cmd::eval::run(args),
-        Command::Report(args) => cmd::report::run(args),
-        Command::Info(args) => cmd::info::run(args),
-        Command::Colorspaces(args) => cmd::colorspaces::run(args),
-        Command::ToRgb(args) => cmd::to_rgb::run(args),
-        Command::Completions(args) => cmd::completions::run(args),
-        Command::Simulate(args) => cmd::simulate::run(args),
-        Command::Preview(args) => cmd::preview::run(args),
+/// Parses the command line. Global options (--ocio) go before or after the subcommand; the
+/// conversion's options without a subcommand are refused with one.
+fn parse(args: impl IntoIterator<Item = std::ffi::OsString>) -> Result<Cli, clap::Error> {
+    use clap::FromArgMatches;
+    let mut command = Cli::command();
+    let matches = command.try_get_matches_from_mut(args)?;
+    if let Some((name, _)) = matches.subcommand() {
+        let stray = command.get_arguments().find(|a| {
+            !a.is_global_set()
+                && matches.value_source(a.get_id().as_str())
+                    == Some(clap::parser::ValueSource::CommandLine)
+        });
+        if let Some(id) = stray.map(|a| a.get_id().to_string()) {
+            return Err(command.error(
+                clap::error::ErrorKind::ArgumentConflict,
+                format!(
+                    "the conversion's option '{id}' was given before the subcommand '{name}'; \
+                     put it after `specconv convert`, or give no subcommand"
+                ),
+            ));
+        }
+    }
+    Cli::from_arg_matches(&matches).map_err(|e| e.format(&mut command))
+}
+
+/// A command-line error from clap as one line: its message, value lists and tips, without
+/// the usage block (`--help` shows it).
+fn clap_error_line(e: &clap::Error) -> String {
+    let text = e.render().to_string();
+    let mut parts = Vec::new();
+    let mut lines = text.lines().map(str::trim).filter(|l| !l.is_empty());
+    while let Some(line) = lines.next() {
+        if line.starts_with("Usage:") {
+            // The usage block runs to the next blank line, already dropped; skip its lines.
+            for next in lines.by_ref() {
+                if next.starts_with("For more information") {
+                    parts.push(next.to_string());
+                    break;
+                }
+            }
+            continue;
+        }
+        parts.push(line.strip_prefix("error: ").unwrap_or(line).to_string());
+    }
+    parts.join("; ")
+}
+
+/// Dispatches to the command; `Ok` holds the exit status of commands that decide it
+/// themselves (a batch where some inputs failed).
+fn run(cli: Cli) -> anyhow::Result<i32> {
+    let ocio = cli.global.ocio;
+    let done = |r: anyhow::Result<()>| r.map(|()| exit::OK);
+    // --ocio is global; the commands that use it hold it as a field clap skips.
+    macro_rules! with_ocio {
+        ($args:expr) => {{
+            let mut args = $args;
+            args.ocio = ocio;
+            args
+        }};
+    }
+    match cli.command {
+        None => cmd::convert::run(with_ocio!(cli.convert)),
+        Some(Command::Convert(args)) => cmd::convert::run(with_ocio!(args)),
+        Some(Command::Train(args)) => done(cmd::train::run(args)),
+        Some(Command::Eval(args)) => done(cmd::eval::run(args)),
+        Some(Command::Report(args)) => done(cmd::report::run(args)),
+        Some(Command::Info(args)) => cmd::info::run(with_ocio!(args)),
+        Some(Command::Colorspaces(args)) => done(cmd::colorspaces::run(with_ocio!(args))),
+        Some(Command::ToRgb(args)) => done(cmd::to_rgb::run(with_ocio!(args))),
+        Some(Command::Completions(args)) => done(cmd::completions::run(args)),
+        Some(Command::Simulate(args)) => done(cmd::simulate::run(args)),
+        Some(Command::Preview(args)) => done(cmd::preview::run(args)),
     }
 }
 
-/// Prints an error with its chain of causes on one line each.
-fn report(e: &anyhow::Error) {
-    let mut err = std::io::stderr().lock();
-    let _ = writeln!(err, "specconv: error: {e}");
-    for cause in e.chain().skip(1) {
-        let _ = writeln!(err, "  caused by: {cause}");
-    }
+/// The one error format of every command: `specconv: error: ` and one line.
+pub(crate) fn print_error(line: &str) {
+    let _ = writeln!(std::io::stderr().lock(), "specconv: error: {line}");
 }
 
-/// The man page, generated from the clap definitions (man/specconv.1 is checked against it).
-pub fn man_page() -> Vec<u8> {
-    let mut out = Vec::new();
-    clap_mangen::Man::new(Cli::command())
-        .render(&mut out)
-        .expect("rendering to memory cannot fail");
-    for sub in Cli::command().get_subcommands() {
-        let name = format!("specconv-{}", sub.get_name());
-        let sub = sub.clone().name(name);
-        clap_mangen::Man::new(sub)
-            .render(&mut out)
-            .expect("rendering to memory cannot fail");
-    }
-    out
+/// The man pages, one per command: (file name in man/, roff).
+pub fn man_pages() -> Vec<(String, Vec<u8>)> {
+    man::pages()
 }
 
 #[cfg(test)]
@@ -120,18 +286,172 @@ mod tests {
         Cli::command().debug_assert();
     }
 
-    /// Regenerate with `SPECCONV_UPDATE_MAN=1 cargo test -p specconv-cli man_page`.
     #[test]
-    fn man_page_matches_the_cli() {
-        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../man/specconv.1");
-        let page = man_page();
-        if std::env::var_os("SPECCONV_UPDATE_MAN").is_some() {
-            std::fs::write(path, &page).unwrap();
-        }
-        let committed = std::fs::read(path).unwrap_or_default();
-        assert!(
-            committed == page,
-            "man/specconv.1 is out of date: run SPECCONV_UPDATE_MAN=1 cargo test -p specconv-cli man_page"
+    fn errors_read_as_one_line_with_each_cause_once() {
+        let e = anyhow::anyhow!("/t/a.exr: no such file").context("cannot read /t/a.exr");
+        assert_eq!(one_line(&e), "cannot read /t/a.exr: no such file");
+        let e = anyhow::anyhow!("/t/a.exr is not a spectral EXR").context("cannot read /t/a.exr");
+        assert_eq!(one_line(&e), "/t/a.exr is not a spectral EXR");
+        let e = anyhow::anyhow!("OpenEXR: truncated")
+            .context("cannot read /t/a.exr")
+            .context("patch 2");
+        assert_eq!(
+            one_line(&e),
+            "patch 2: cannot read /t/a.exr: OpenEXR: truncated"
         );
+        // A wrapper that displays its source (thiserror's `#[error("{0}")]` with `#[from]`).
+        #[derive(Debug)]
+        struct Wrap(std::io::Error);
+        impl std::fmt::Display for Wrap {
+            fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+                self.0.fmt(f)
+            }
+        }
+        impl std::error::Error for Wrap {
+            fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+                Some(&self.0)
+            }
+        }
+        let e =
+            anyhow::Error::new(Wrap(std::io::Error::other("disk full"))).context("cannot write x");
+        assert_eq!(one_line(&e), "cannot write x: disk full");
+        let u = usage(e);
+        assert!(u.is::<Usage>());
+        assert_eq!(u.to_string(), "cannot write x: disk full");
+    }
+
+    /// Regenerate with `SPECCONV_UPDATE_MAN=1 cargo test -p specconv-cli man_pages`.
+    #[test]
+    fn man_pages_match_the_cli() {
+        let dir = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../../man"));
+        let pages = man_pages();
+        let update = std::env::var_os("SPECCONV_UPDATE_MAN").is_some();
+        if update {
+            for f in std::fs::read_dir(dir).unwrap() {
+                let f = f.unwrap().path();
+                if f.extension().is_some_and(|e| e == "1") {
+                    std::fs::remove_file(f).unwrap();
+                }
+            }
+        }
+        let mut stale = Vec::new();
+        for (name, page) in &pages {
+            let path = dir.join(name);
+            if update {
+                std::fs::write(&path, page).unwrap();
+            }
+            if std::fs::read(&path).unwrap_or_default() != *page {
+                stale.push(name.clone());
+            }
+        }
+        // No page of a command that is gone.
+        let mut files: Vec<String> = std::fs::read_dir(dir)
+            .unwrap()
+            .map(|f| f.unwrap().file_name().to_string_lossy().into_owned())
+            .filter(|n| n.ends_with(".1"))
+            .collect();
+        files.sort();
+        let mut names: Vec<String> = pages.iter().map(|(n, _)| n.clone()).collect();
+        names.sort();
+        assert!(
+            stale.is_empty() && files == names,
+            "man/ is out of date ({stale:?}; files {files:?}, pages {names:?}): run \
+             SPECCONV_UPDATE_MAN=1 cargo test -p specconv-cli man_pages"
+        );
+    }
+
+    /// Every page has EXIT STATUS, ENVIRONMENT and EXAMPLES, and every page it names exists.
+    #[test]
+    fn every_man_page_has_its_sections_and_names_only_pages_that_exist() {
+        let pages = man_pages();
+        let names: Vec<&str> = pages.iter().map(|(n, _)| n.as_str()).collect();
+        assert!(names.len() >= 11, "{names:?}");
+        for (name, page) in &pages {
+            let text = String::from_utf8_lossy(page);
+            for section in [
+                ".SH NAME",
+                ".SH SYNOPSIS",
+                ".SH OPTIONS",
+                ".SH EXAMPLES",
+                ".SH \"EXIT STATUS\"",
+                ".SH ENVIRONMENT",
+                ".SH \"SEE ALSO\"",
+            ] {
+                assert!(
+                    text.contains(section),
+                    "{name} lacks {section}: give the command `after_long_help = EXAMPLES`"
+                );
+            }
+            for code in [exit::OK, exit::FAILED, exit::USAGE, exit::INTERRUPTED] {
+                assert!(
+                    text.contains(&format!(".TP\n\\fB{code}\\fR\n")),
+                    "{name}: {code}"
+                );
+            }
+            // References look like specconv\-info(1) in running text and \fBspecconv\-info\fR(1).
+            let plain = text
+                .replace("\\fB", "")
+                .replace("\\fR", "")
+                .replace("\\-", "-");
+            for word in plain.split(|c: char| c.is_whitespace() || c == ',') {
+                if let Some(page) = word.strip_suffix("(1)") {
+                    assert!(
+                        names.contains(&format!("{page}.1").as_str()),
+                        "{name} names {word}, which is not a page"
+                    );
+                }
+            }
+        }
+    }
+
+    /// Every variable the program reads is in ENVIRONMENT: the sources are searched for
+    /// names read with std::env (build- and test-only variables aside).
+    #[test]
+    fn the_environment_section_names_every_variable_read() {
+        let root = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."));
+        let not_at_run_time = ["SPECCONV_UPDATE_MAN", "SPECCONV_REGENERATE_BINDINGS"];
+        let mut read = std::collections::BTreeSet::new();
+        let mut dirs = vec![root.join("crates"), root.join("ffi"), root.join("src")];
+        while let Some(dir) = dirs.pop() {
+            for entry in std::fs::read_dir(&dir).unwrap() {
+                let p = entry.unwrap().path();
+                let name = p.file_name().unwrap().to_string_lossy().into_owned();
+                if p.is_dir() {
+                    // Tests, benches and examples are not the program.
+                    if !["tests", "benches", "examples", "target"].contains(&name.as_str()) {
+                        dirs.push(p);
+                    }
+                } else if name.ends_with(".rs") {
+                    let text = std::fs::read_to_string(&p).unwrap();
+                    for (i, _) in text
+                        .match_indices("var_os(\"")
+                        .chain(text.match_indices("var(\""))
+                    {
+                        let rest = &text[i..];
+                        let start = rest.find('"').unwrap() + 1;
+                        let len = rest[start..].find('"').unwrap();
+                        read.insert(rest[start..start + len].to_string());
+                    }
+                    // Names passed through a helper such as cache_dir's `env`.
+                    for (i, _) in text.match_indices("env(\"") {
+                        let rest = &text[i + 5..];
+                        let len = rest.find('"').unwrap();
+                        read.insert(rest[..len].to_string());
+                    }
+                }
+            }
+        }
+        let listed: Vec<&str> = man::ENVIRONMENT.iter().map(|(v, _)| *v).collect();
+        for var in read {
+            if !not_at_run_time.contains(&var.as_str()) {
+                assert!(
+                    listed.contains(&var.as_str()),
+                    "{var} is read but not in man::ENVIRONMENT"
+                );
+            }
+        }
+        for var in ["OCIO", "SPECCONV_FONT", "SPECCONV_CACHE_DIR"] {
+            assert!(listed.contains(&var), "{var}");
+        }
     }
 }

@@ -75,11 +75,11 @@ impl Format {
             .collect();
         match format {
             Some(f) if allowed.contains(&f) => Ok(f),
-            _ => Err(anyhow!(
+            _ => Err(crate::usage(anyhow!(
                 "{option} {}: the format is chosen by the extension; name the file {}",
                 path.display(),
                 names.join(" or ")
-            )),
+            ))),
         }
     }
 }

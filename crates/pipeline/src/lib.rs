@@ -80,8 +80,8 @@ pub struct Report {
     /// Pixels uplifted, over all levels.
     pub pixels: u64,
     pub levels: usize,
-    /// The input colour space and why it was chosen.
-    pub colorspace: String,
+    /// The input colour space and the rule that chose it.
+    pub colorspace: specconv_ocio::InputChoice,
     /// Pixels whose colour had a NaN or infinite component (their spectra are NaN).
     pub non_finite: u64,
     /// Pixels above 1: an input channel or Y above [`ABOVE_ONE`]. No reflectance has Y > 1.
@@ -295,7 +295,7 @@ pub fn convert(job: &Job, progress: &mut dyn FnMut(u64, u64)) -> Result<Report> 
         height: info.height() as usize,
         pixels: total,
         levels: file.levels(),
-        colorspace: choice.to_string(),
+        colorspace: choice,
         non_finite: counts.non_finite,
         above_one: counts.above_one,
         saturated: counts.saturated,

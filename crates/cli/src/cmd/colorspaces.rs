@@ -2,7 +2,13 @@
 
 use anyhow::Result;
 use serde::Serialize;
-use specconv_ocio::Config;
+
+/// Shown after `--help` and as the man page's EXAMPLES.
+pub const EXAMPLES: &str = "\
+Examples:
+  specconv colorspaces
+  specconv --ocio /show/config.ocio colorspaces --json
+";
 
 /// List the colour spaces of an OCIO config, with their aliases and the roles specconv
 /// uses.
@@ -11,11 +17,9 @@ use specconv_ocio::Config;
 /// listed but cannot be uplifted.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// OCIO config: a file, `aces`, or an OCIO 2.2 built-in name (ocio://default,
-    /// ocio://cg-config-latest, ocio://studio-config-latest, or versioned) [default: $OCIO,
-    /// else aces].
-    #[arg(long, value_name = "CONFIG")]
-    ocio: Option<String>,
+    /// The global --ocio (see `specconv --help`).
+    #[arg(skip)]
+    pub(crate) ocio: Option<String>,
     /// Print one JSON object instead of text.
     #[arg(long)]
     json: bool,
@@ -54,7 +58,7 @@ struct Space {
 }
 
 pub fn run(args: Args) -> Result<()> {
-    let config = Config::resolve(args.ocio.as_deref())?;
+    let config = crate::checks::config(args.ocio.as_deref())?;
     let mut roles = Vec::new();
     for role in ROLES {
         roles.push(Role {

@@ -3,6 +3,13 @@
 use anyhow::Result;
 use clap::CommandFactory;
 
+/// Shown after `--help` and as the man page's EXAMPLES.
+pub const EXAMPLES: &str = "\
+Examples:
+  specconv completions bash > /etc/bash_completion.d/specconv
+  specconv completions zsh > ~/.zfunc/_specconv
+";
+
 /// Print a shell completion script, e.g. `specconv completions bash > /etc/bash_completion.d/specconv`.
 #[derive(Debug, clap::Args)]
 pub struct Args {

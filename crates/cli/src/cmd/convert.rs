@@ -1,7 +1,7 @@
 //! `specconv [convert] INPUT… OUTPUT`: the main job.
 
-use crate::files;
-use crate::methods;
+use crate::progress::{Progress, Summary};
+use crate::{checks, exit, files, methods, one_line, print_error, records, usage};
 use anyhow::{bail, Context, Result};
 use serde::Serialize;
 use specconv_pipeline::{convert, Job, Mip, Settings};
@@ -11,11 +11,21 @@ use spectral::methods::{jakob, MethodName};
 use spectral::resample::Resampled;
 use spectral::{Colorimetry, Method};
 use spectral_exr::{Compression, Kind, Sample};
-use std::io::{BufRead, IsTerminal, Write};
+use std::io::BufRead;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::Instant;
+
+/// Shown after `--help` and as the man page's EXAMPLES.
+pub const EXAMPLES: &str = "\
+Examples:
+  specconv convert albedo.tx albedo_spectral.exr
+  specconv convert --colorspace ACEScg -d float plate.exr plate_spectral.exr
+  specconv convert textures/*.png -o spectral -u --json > convert.jsonl
+  specconv convert sky.hdr sky_spectral.exr --emissive
+  find textures -name '*.tx' | specconv convert - -o spectral --progress always 2> convert.log
+";
 
 /// Convert textures to spectral OpenEXR images (the default command).
 ///
@@ -42,9 +52,9 @@ pub struct Args {
     /// without extension and file name.
     #[arg(long, value_name = "TEMPLATE")]
     output_template: Option<String>,
-    /// OCIO config: a file, or `aces` for the built-in ACES config. Default: $OCIO, else aces.
-    #[arg(long, value_name = "CONFIG")]
-    ocio: Option<String>,
+    /// The global --ocio (see `specconv --help`).
+    #[arg(skip)]
+    pub(crate) ocio: Option<String>,
     /// The input's colour space, overriding what the file declares.
     #[arg(long, visible_alias = "iscolorspace", value_name = "NAME")]
     colorspace: Option<String>,
@@ -112,11 +122,18 @@ pub struct Args {
     /// Skip inputs whose output is newer than the input and was made with the same settings.
     #[arg(short, long)]
     update: bool,
-    /// Print one JSON object per input on standard output (input, output, seconds, pixels,
-    /// status, error).
+    /// Print one JSON object per input on standard output, every key on every record (null
+    /// where it does not apply): input, output, status (ok, skipped, failed), skip_reason,
+    /// error, seconds, pixels, width, height, levels, bands, colorspace, colorspace_rule,
+    /// bounded, non_finite, above_one, saturated. See docs/json.md.
     #[arg(long)]
     json: bool,
-    /// Print nothing but errors.
+    /// Progress on standard error: `auto` shows a live line on a terminal (file i of n, the
+    /// batch's ETA) and a plain line every few seconds when standard error is a file; `always`
+    /// also into a pipe; `never` shows none.
+    #[arg(long, value_name = "WHEN", default_value = "auto")]
+    progress: crate::progress::When,
+    /// Print nothing but errors (no progress, no summary).
     #[arg(short, long)]
     quiet: bool,
     /// Say more: the colour space chosen and why, the config, the model.
@@ -124,21 +141,59 @@ pub struct Args {
     verbose: bool,
 }
 
+/// One input's record (`--json`): every key on every record, null where it does not apply
+/// (docs/json.md).
 #[derive(Serialize)]
-struct FileReport {
+struct Record {
     input: PathBuf,
-    output: Option<PathBuf>,
+    output: PathBuf,
+    /// `ok`, `skipped` or `failed`.
     status: &'static str,
-    seconds: f64,
-    pixels: u64,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    colorspace: Option<String>,
-    #[serde(skip_serializing_if = "Option::is_none")]
+    /// Why a skipped input was skipped.
+    skip_reason: Option<&'static str>,
+    /// Why a failed input failed, without its path (the record has it).
     error: Option<String>,
-    /// Pixels (all levels) projected into [0, 1] and outside the object-colour solid; absent
-    /// with --unbounded.
-    #[serde(skip_serializing_if = "Option::is_none")]
+    seconds: f64,
+    /// Pixels uplifted, over all levels.
+    pixels: Option<u64>,
+    width: Option<usize>,
+    height: Option<usize>,
+    levels: Option<usize>,
+    bands: Option<usize>,
+    /// The input colour space (the config's name) and the rule that chose it.
+    colorspace: Option<String>,
+    colorspace_rule: Option<&'static str>,
+    /// Pixels (all levels) projected into [0, 1] and outside the object-colour solid; null
+    /// with --unbounded or --emissive.
     bounded: Option<BoundedCounts>,
+    non_finite: Option<u64>,
+    above_one: Option<u64>,
+    saturated: Option<u64>,
+}
+
+impl Record {
+    /// A record of an input that was not converted.
+    fn not_converted(input: &Path, output: &Path, status: &'static str, seconds: f64) -> Record {
+        Record {
+            input: input.to_path_buf(),
+            output: output.to_path_buf(),
+            status,
+            skip_reason: None,
+            error: None,
+            seconds,
+            pixels: None,
+            width: None,
+            height: None,
+            levels: None,
+            bands: None,
+            colorspace: None,
+            colorspace_rule: None,
+            bounded: None,
+            non_finite: None,
+            above_one: None,
+            saturated: None,
+        }
+    }
 }
 
 #[derive(Serialize)]
@@ -147,40 +202,38 @@ struct BoundedCounts {
     outside_solid: usize,
 }
 
-/// Runs the conversion of every input; returns the exit code (0 all done, 1 any failed).
+/// Runs the conversion of every input; returns the exit status ([`exit`]: all done, any
+/// failed, interrupted). Settings that cannot work for any input are usage errors, found
+/// before the first input.
 pub fn run(args: Args) -> Result<i32> {
-    let (inputs, outputs) = match plan(&args) {
-        Ok(p) => p,
-        Err(e) => {
-            // Wrong paths on the command line are usage errors.
-            eprintln!("specconv: error: {e:#}");
-            return Ok(2);
-        }
-    };
+    // Wrong paths on the command line are usage errors.
+    let (inputs, outputs) = plan(&args).map_err(usage)?;
     if let Some(n) = args.threads {
         if n == 0 {
-            bail!("-j/--threads must be at least 1");
+            return Err(usage(anyhow::anyhow!("-j/--threads must be at least 1")));
         }
         rayon::ThreadPoolBuilder::new()
             .num_threads(n)
             .build_global()
             .context("cannot start worker threads")?;
     }
-    let config = specconv_ocio::Config::resolve(args.ocio.as_deref())?;
+    let config = checks::config(args.ocio.as_deref())?;
+    checks::input_colorspace(&config, args.colorspace.as_deref())?;
     let model = files::load_model(args.model.as_deref())?;
     let inner = match args.method {
         MethodName::Otsu2018 | MethodName::Pca => {
             if args.method == MethodName::Pca && model.leaves.len() != 1 {
-                bail!("--method pca needs a one-cluster model: train one with `specconv train --clusters 1` and pass --model");
+                return Err(usage(anyhow::anyhow!("--method pca needs a one-cluster model: train one with `specconv train --clusters 1` and pass --model")));
             }
-            methods::blended(&model, args.blend.width)?
+            methods::blended(&model, args.blend.width).map_err(usage)?
         }
-        other => methods::baseline(other, &model.colorimetry()?, jakob::DEFAULT_RESOLUTION)?,
+        other => methods::baseline(other, &model.colorimetry()?, jakob::DEFAULT_RESOLUTION)
+            .map_err(usage)?,
     };
     let mut method: Box<dyn Method> = inner;
     if let Some(grid) = args.bands.filter(|g| *g != model.grid) {
-        let on_grid = Colorimetry::new(grid, model.observer, model.illuminant)?;
-        method = Box::new(Resampled::new(method, on_grid)?);
+        let on_grid = Colorimetry::new(grid, model.observer, model.illuminant).map_err(usage)?;
+        method = Box::new(Resampled::new(method, on_grid).map_err(usage)?);
     }
     // Bounded by default; the tally counts its outcomes across the pipeline's threads.
     let tally = (!args.unbounded).then(|| Arc::new(Tally::default()));
@@ -271,30 +324,28 @@ pub fn run(args: Args) -> Result<i32> {
         // SIGINT and SIGTERM stop the job between windows; its temporary file is removed.
         let _ = ctrlc::set_handler(move || cancel.store(true, Ordering::SeqCst));
     }
-    let terminal = std::io::stderr().is_terminal() && !args.quiet;
-    let mut failed = 0;
-    for (input, output) in inputs.iter().zip(&outputs) {
+    let mut progress = Progress::new(args.progress, args.quiet, &inputs);
+    let mut summary = Summary::default();
+    let batch_start = Instant::now();
+    for (i, (input, output)) in inputs.iter().zip(&outputs).enumerate() {
         if cancel.load(Ordering::SeqCst) {
             break;
         }
-        let start = Instant::now();
+        progress.start(i, input);
         if args.update && up_to_date(input, output, &settings_tag) {
+            progress.skip();
+            summary.skipped += 1;
             emit(
                 &args,
-                FileReport {
-                    input: input.clone(),
-                    output: Some(output.clone()),
-                    status: "skipped",
-                    seconds: 0.0,
-                    pixels: 0,
-                    colorspace: None,
-                    error: None,
-                    bounded: None,
+                Record {
+                    skip_reason: Some("up to date"),
+                    ..Record::not_converted(input, output, "skipped", 0.0)
                 },
-                "up to date",
+                "",
             );
             continue;
         }
+        let start = Instant::now();
         let job = Job {
             input,
             output,
@@ -303,26 +354,8 @@ pub fn run(args: Args) -> Result<i32> {
             settings: &settings,
             cancel: &cancel,
         };
-        let name = input.display().to_string();
-        let mut last = Instant::now();
-        let mut progress = |done: u64, total: u64| {
-            if terminal && (last.elapsed().as_millis() >= 100 || done == total) {
-                last = Instant::now();
-                let secs = start.elapsed().as_secs_f64();
-                let rate = done as f64 / secs.max(1e-9);
-                let eta = (total - done) as f64 / rate.max(1e-9);
-                eprint!(
-                    "\r{name}: {:3.0} %  {:.1} Mpixel/s  ETA {eta:.0} s   ",
-                    100.0 * done as f64 / total as f64,
-                    rate / 1e6
-                );
-                let _ = std::io::stderr().flush();
-            }
-        };
-        let result = convert(&job, &mut progress);
-        if terminal {
-            eprint!("\r\x1b[2K");
-        }
+        let result = convert(&job, &mut |done, total| progress.update(done, total));
+        progress.finish();
         let seconds = start.elapsed().as_secs_f64();
         // In emission the bounded method sees scaled trial colours, not pixels: no counts.
         let counts = tally
@@ -331,6 +364,7 @@ pub fn run(args: Args) -> Result<i32> {
             .filter(|_| emissive.is_none());
         match result {
             Ok(r) => {
+                summary.converted += 1;
                 let line = format!(
                     "{}×{}, {} level{}, {} bands, colour space {}{}, {seconds:.2} s",
                     r.width,
@@ -353,50 +387,55 @@ pub fn run(args: Args) -> Result<i32> {
                 }) + &range_notes(&r, method, emissive.as_ref());
                 emit(
                     &args,
-                    FileReport {
-                        input: input.clone(),
-                        output: Some(output.clone()),
-                        status: "ok",
-                        seconds,
-                        pixels: r.pixels,
-                        colorspace: Some(r.colorspace),
-                        error: None,
+                    Record {
+                        pixels: Some(r.pixels),
+                        width: Some(r.width),
+                        height: Some(r.height),
+                        levels: Some(r.levels),
+                        bands: Some(method.grid().len()),
+                        colorspace: Some(r.colorspace.name.clone()),
+                        colorspace_rule: Some(records::colorspace_rule(&r.colorspace.reason)),
                         bounded: counts.map(|c| BoundedCounts {
                             projected: c.projected,
                             outside_solid: c.outside,
                         }),
+                        non_finite: Some(r.non_finite),
+                        above_one: Some(r.above_one),
+                        saturated: Some(r.saturated),
+                        ..Record::not_converted(input, output, "ok", seconds)
                     },
                     &line,
                 );
             }
             Err(e) => {
-                failed += 1;
-                let msg = format!("{}: {e}", input.display());
+                let error = records::without_input(&one_line(&e.into()), input);
                 if !args.json {
-                    eprintln!("specconv: error: {msg}");
+                    print_error(&format!("{}: {error}", input.display()));
                 }
+                summary.failed.push((input.clone(), error.clone()));
                 emit(
                     &args,
-                    FileReport {
-                        input: input.clone(),
-                        output: Some(output.clone()),
-                        status: "failed",
-                        seconds,
-                        pixels: 0,
-                        colorspace: None,
-                        error: Some(e.to_string()),
-                        bounded: None,
+                    Record {
+                        error: Some(error),
+                        ..Record::not_converted(input, output, "failed", seconds)
                     },
                     "",
                 );
             }
         }
     }
-    if cancel.load(Ordering::SeqCst) {
-        eprintln!("specconv: error: interrupted; no partial output was left");
-        return Ok(130);
+    if inputs.len() > 1 && !args.quiet {
+        eprintln!("{}", summary.text(batch_start.elapsed().as_secs_f64()));
     }
-    Ok(if failed > 0 { 1 } else { 0 })
+    if cancel.load(Ordering::SeqCst) {
+        print_error("interrupted; no partial output was left");
+        return Ok(exit::INTERRUPTED);
+    }
+    Ok(if summary.failed.is_empty() {
+        exit::OK
+    } else {
+        exit::FAILED
+    })
 }
 
 /// Units of `S0.` channels: radiance, as the layout names it. Values are the input's
@@ -445,26 +484,20 @@ fn range_notes(
     notes
 }
 
-fn emit(args: &Args, report: FileReport, line: &str) {
+fn emit(args: &Args, record: Record, line: &str) {
     if args.json {
         println!(
             "{}",
-            serde_json::to_string(&report).expect("a report serialises")
+            serde_json::to_string(&record).expect("a record serialises")
         );
-    } else if !args.quiet && report.status != "failed" {
-        let out = report
-            .output
-            .as_deref()
-            .map(|p| p.display().to_string())
-            .unwrap_or_default();
+    } else if !args.quiet && record.status != "failed" {
         eprintln!(
-            "{} → {out}: {}{line}",
-            report.input.display(),
-            if report.status == "skipped" {
-                "skipped, "
-            } else {
-                ""
-            }
+            "{} → {}: {}{line}",
+            record.input.display(),
+            record.output.display(),
+            record
+                .skip_reason
+                .map_or(String::new(), |r| format!("skipped, {r}"))
         );
     }
 }
@@ -501,12 +534,7 @@ fn plan(args: &Args) -> Result<(Vec<PathBuf>, Vec<PathBuf>)> {
     let outputs: Vec<PathBuf> = match (&explicit_output, &args.output, &args.output_template) {
         (Some(o), _, _) => vec![o.clone()],
         (None, Some(dir), _) => {
-            if !dir.is_dir() {
-                bail!(
-                    "the output directory {} does not exist; create it first",
-                    dir.display()
-                );
-            }
+            checks::directory(dir)?;
             inputs
                 .iter()
                 .map(|i| dir.join(format!("{}_spectral.exr", stem(i))))
@@ -538,6 +566,7 @@ fn plan(args: &Args) -> Result<(Vec<PathBuf>, Vec<PathBuf>)> {
         if !seen.insert(o.clone()) {
             bail!("two inputs would both be written to {}; use a template with {{dir}} or rename them", o.display());
         }
+        checks::output_dir(o)?;
     }
     Ok((inputs, outputs))
 }

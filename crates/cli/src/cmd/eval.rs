@@ -1,10 +1,18 @@
 //! `specconv eval`: how well a method reproduces measured spectra from their colours.
 
 use crate::{files, methods};
-use anyhow::{bail, Result};
+use anyhow::Result;
 use spectral::methods::MethodName;
 use spectral::{eval, TrainOptions};
 use std::path::PathBuf;
+
+/// Shown after `--help` and as the man page's EXAMPLES.
+pub const EXAMPLES: &str = "\
+Examples:
+  specconv eval --spectra colorchecker.csv
+  specconv eval --spectra colorchecker.csv --method jakob2019
+  specconv eval --spectra colorchecker.csv --train munsell.csv --clusters 16
+";
 
 /// Measure a method on measured spectra: uplift each from its own XYZ and compare.
 ///
@@ -66,14 +74,14 @@ pub fn run(args: Args) -> Result<()> {
         let model = if args.train.is_empty() {
             let m = base;
             if args.method == MethodName::Pca && m.leaves.len() != 1 {
-                bail!(
+                return Err(crate::usage(anyhow::anyhow!(
                     "pca is the clustered PCA with one cluster, and {} has {}; pass a model \
                      trained with --clusters 1, or --train CSV to train one here",
                     args.model
                         .as_ref()
                         .map_or("the built-in model".into(), |p| p.display().to_string()),
                     m.leaves.len()
-                );
+                )));
             }
             m
         } else {

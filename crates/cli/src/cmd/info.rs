@@ -1,13 +1,22 @@
 //! `specconv info`: what the image reader sees in a file, and which colour space specconv
 //! would read it in.
 
+use crate::{checks, exit, one_line, print_error};
 use anyhow::Result;
 use serde::Serialize;
-use specconv_ocio::{ChoiceReason, Config, XyzRoute};
+use specconv_ocio::{Config, XyzRoute};
 use specconv_oiio::ImageReader;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
-/// Show an image as specconv reads it: size, channels, pixel format, tiles, MIP levels,
+/// Shown after `--help` and as the man page's EXAMPLES.
+pub const EXAMPLES: &str = "\
+Examples:
+  specconv info albedo.tx
+  specconv info --json textures/*.tx > info.jsonl
+  specconv --ocio studio.ocio info --colorspace ACEScg plate.exr
+";
+
+/// Show images as specconv reads them: size, channels, pixel format, tiles, MIP levels,
 /// the colour space the file declares and the one specconv would use, and for spectral
 /// EXRs the wavelength bands.
 ///
@@ -18,15 +27,17 @@ use std::path::PathBuf;
 /// Raw, a config without an interchange role).
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// Image file, in any format OpenImageIO reads (EXR, TIFF/.tx, PNG, JPEG, HDR, ...).
-    file: PathBuf,
-    /// OCIO config file, or `aces` for the built-in ACES config [default: $OCIO, else aces].
-    #[arg(long, value_name = "CONFIG")]
-    ocio: Option<String>,
+    /// Image files, in any format OpenImageIO reads (EXR, TIFF/.tx, PNG, JPEG, HDR, ...). A
+    /// file that cannot be read is reported and the others are still shown (exit status 1).
+    #[arg(required = true)]
+    files: Vec<PathBuf>,
+    /// The global --ocio (see `specconv --help`).
+    #[arg(skip)]
+    pub(crate) ocio: Option<String>,
     /// Colour space to read the file in, overriding its declaration.
     #[arg(long, visible_alias = "iscolorspace", value_name = "NAME")]
     colorspace: Option<String>,
-    /// Print one JSON object instead of text.
+    /// Print one JSON object per file, one per line, instead of text (docs/json.md).
     #[arg(long)]
     json: bool,
 }
@@ -44,7 +55,11 @@ struct Report<'a> {
     mip_levels: Vec<[u32; 2]>,
     subimages: u32,
     declared_color_space: Option<&'a str>,
-    color_space: ColorSpace,
+    /// The colour space specconv reads the file in (the config's name), the rule that chose
+    /// it (`flag`, `declared`, `default`) and the choice in words.
+    colorspace: String,
+    colorspace_rule: &'static str,
+    colorspace_reason: String,
     /// How the colour space reaches CIE XYZ (D65).
     to_xyz: String,
     spectral: Option<Spectral>,
@@ -56,21 +71,12 @@ struct Channel<'a> {
     format: String,
 }
 
-#[derive(Serialize)]
-struct ColorSpace {
-    name: String,
-    /// "colorspace option", "declared" or "default"
-    chosen_by: &'static str,
-    description: String,
-}
-
 /// Wavelengths (nm) of the spectral channels, by the Fichet 2021 EXR layout.
 #[derive(Serialize)]
 struct Spectral {
     reflective_nm: Vec<f64>,
     emissive_nm: Vec<f64>,
     /// The `emissiveUnits` attribute of emissive files.
-    #[serde(skip_serializing_if = "Option::is_none")]
     emissive_units: Option<String>,
 }
 
@@ -103,10 +109,26 @@ fn spectral_bands(reader: &ImageReader) -> Result<Option<Spectral>> {
     Ok((!s.reflective_nm.is_empty() || !s.emissive_nm.is_empty()).then_some(s))
 }
 
-pub fn run(args: Args) -> Result<()> {
-    let reader = ImageReader::open(&args.file)?;
+/// Shows every file; returns the exit status (1 when a file could not be shown).
+pub fn run(args: Args) -> Result<i32> {
+    let config = checks::config(args.ocio.as_deref())?;
+    checks::input_colorspace(&config, args.colorspace.as_deref())?;
+    let mut status = exit::OK;
+    for (i, file) in args.files.iter().enumerate() {
+        if !args.json && i > 0 {
+            println!();
+        }
+        if let Err(e) = show(&args, &config, file) {
+            print_error(&one_line(&e));
+            status = exit::FAILED;
+        }
+    }
+    Ok(status)
+}
+
+fn show(args: &Args, config: &Config, file: &Path) -> Result<()> {
+    let reader = ImageReader::open(file)?;
     let info = reader.info();
-    let config = Config::resolve(args.ocio.as_deref())?;
     let choice = config.choose_input(
         args.colorspace.as_deref(),
         info.declared_color_space.as_deref(),
@@ -119,13 +141,8 @@ pub fn run(args: Args) -> Result<()> {
         ),
         XyzRoute::Direct(cs) => format!("directly to {cs}"),
     };
-    let chosen_by = match choice.reason {
-        ChoiceReason::Flag => "colorspace option",
-        ChoiceReason::Declared(_) => "declared",
-        ChoiceReason::Default { .. } => "default",
-    };
     let report = Report {
-        file: args.file.display().to_string(),
+        file: file.display().to_string(),
         format: &info.format_name,
         width: info.width(),
         height: info.height(),
@@ -143,16 +160,14 @@ pub fn run(args: Args) -> Result<()> {
         mip_levels: info.levels.iter().map(|l| [l.width, l.height]).collect(),
         subimages: info.subimages,
         declared_color_space: info.declared_color_space.as_deref(),
-        color_space: ColorSpace {
-            name: choice.name.clone(),
-            chosen_by,
-            description: choice.to_string(),
-        },
+        colorspace: choice.name.clone(),
+        colorspace_rule: crate::records::colorspace_rule(&choice.reason),
+        colorspace_reason: choice.to_string(),
         to_xyz,
         spectral: spectral_bands(&reader)?,
     };
     if args.json {
-        println!("{}", serde_json::to_string_pretty(&report)?);
+        println!("{}", serde_json::to_string(&report)?);
         return Ok(());
     }
     let r = &report;
@@ -193,7 +208,7 @@ pub fn run(args: Args) -> Result<()> {
         r.declared_color_space
             .unwrap_or("(no colour space declared)")
     );
-    println!("colour space: {}", r.color_space.description);
+    println!("colour space: {}", r.colorspace_reason);
     println!("to XYZ:       {}", r.to_xyz);
     if let Some(s) = &r.spectral {
         for (kind, bands) in [

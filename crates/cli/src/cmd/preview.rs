@@ -17,6 +17,13 @@ use std::path::PathBuf;
 /// The most bounces asked for: r^(K+1) of any reflectance below 1 is black long before.
 const MAX_BOUNCES: u32 = 100;
 
+/// Shown after `--help` and as the man page's EXAMPLES.
+pub const EXAMPLES: &str = "\
+Examples:
+  specconv preview albedo_spectral.exr -o albedo_k3.png --bounces 3
+  specconv preview albedo_spectral.exr -o diff.png --bounces 3 --diff-rgb --illuminant A
+";
+
 /// Preview a spectral texture after K interreflections with itself, as an 8-bit sRGB PNG.
 ///
 /// Each pixel's reflectance r becomes the light that has met it K + 1 times, r^(K+1), under
@@ -76,6 +83,7 @@ struct Summary {
 
 pub fn run(args: Args) -> Result<()> {
     Format::of(&args.output, "-o", &[Format::Png])?;
+    crate::checks::output_dir(&args.output)?;
     if args.output.exists() && !args.force {
         bail!(
             "{} exists; pass --force to replace it",

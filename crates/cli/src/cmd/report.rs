@@ -10,6 +10,13 @@ use spectral::{eval, Colorimetry, Grid, Illuminant, Method, Observer, TrainOptio
 use std::path::PathBuf;
 use std::time::Instant;
 
+/// Shown after `--help` and as the man page's EXAMPLES.
+pub const EXAMPLES: &str = "\
+Examples:
+  specconv report --spectra colorchecker.csv --train munsell.csv --plot cost.svg
+  specconv report --spectra munsell.csv --holdout 5 --csv > table.csv
+";
+
 /// Measure every uplift method on the same measured spectra: accuracy against cost.
 ///
 /// Rows: smits1999, meng2015, meng2015-bounded, jakob2019, pca, otsu2018 at each --clusters
@@ -104,6 +111,8 @@ struct Row {
     ns_per_colour_all_threads: f64,
     mpixel_per_s_all_threads: f64,
     threads: usize,
+    /// Why a clustered row has fewer clusters than --clusters asked for; null otherwise.
+    note: Option<String>,
 }
 
 pub fn run(args: Args) -> Result<()> {
@@ -112,8 +121,13 @@ pub fn run(args: Args) -> Result<()> {
         .as_deref()
         .map(|p| Format::of(p, "--plot", &[Format::Svg, Format::Png]))
         .transpose()?;
+    if let Some(p) = &args.plot {
+        crate::checks::output_dir(p)?;
+    }
     if args.colours == 0 {
-        bail!("--colours must be at least 1");
+        return Err(crate::usage(anyhow::anyhow!(
+            "--colours must be at least 1"
+        )));
     }
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(args.threads.unwrap_or(0))
@@ -169,7 +183,12 @@ pub fn run(args: Args) -> Result<()> {
             (_, false) => "otsu2018",
             (_, true) => "otsu2018-bounded",
         };
-        let mut setting = format!("{} clusters", model.leaves.len());
+        let fewer = files::fewer_clusters(&model);
+        let mut setting = if fewer.is_some() {
+            format!("{} of {k} clusters", model.leaves.len())
+        } else {
+            format!("{} clusters", model.leaves.len())
+        };
         if args.blend.width > 0.0 && model.leaves.len() > 1 {
             setting = format!("{setting}, blend {}", args.blend.width);
         }
@@ -179,7 +198,13 @@ pub fn run(args: Args) -> Result<()> {
         if let Some(h) = args.holdout {
             setting = format!("{setting}, {h}-fold");
         }
-        rows.push(row(&args, &pool, &a, m.as_ref(), name, setting, &summary));
+        if let Some(why) = &fewer {
+            eprintln!("specconv: warning: {name} on {grid}: {why}");
+        }
+        rows.push(Row {
+            note: fewer,
+            ..row(&args, &pool, &a, m.as_ref(), name, setting, &summary)
+        });
         eprintln!("specconv: measured {name} with {k} clusters on {grid}");
     }
 
@@ -363,6 +388,7 @@ fn row(
         ns_per_colour_all_threads: tn * 1e9 / c,
         mpixel_per_s_all_threads: c / tn / 1e6,
         threads: pool.current_num_threads(),
+        note: None,
     }
 }
 
@@ -384,11 +410,11 @@ fn print_csv(rows: &[Row]) {
     println!(
         "method,setting,bands,count,delta_e_mean,delta_e_median,delta_e_max,roundtrip_max,\
          roundtrip_de2000_max,in_unit_range,model_bytes,ns_per_colour_1_thread,\
-         mpixel_per_s_1_thread,ns_per_colour_all_threads,mpixel_per_s_all_threads,threads"
+         mpixel_per_s_1_thread,ns_per_colour_all_threads,mpixel_per_s_all_threads,threads,note"
     );
     for r in rows {
         println!(
-            "{},\"{}\",{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            "{},\"{}\",{},{},{},{},{},{},{},{},{},{},{},{},{},{},\"{}\"",
             r.method,
             r.setting,
             r.bands,
@@ -404,7 +430,8 @@ fn print_csv(rows: &[Row]) {
             r.mpixel_per_s_1_thread,
             r.ns_per_colour_all_threads,
             r.mpixel_per_s_all_threads,
-            r.threads
+            r.threads,
+            r.note.as_deref().unwrap_or_default()
         );
     }
 }
@@ -441,4 +468,9 @@ fn print_table(rows: &[Row], args: &Args, threads: usize) {
         args.illuminant,
         args.colours
     );
+    for r in rows {
+        if let Some(note) = &r.note {
+            println!("note: {} ({}): {note}", r.method, r.setting);
+        }
+    }
 }

@@ -1,10 +1,18 @@
 //! `specconv to-rgb`: integrate a spectral EXR back to a colour image, for checks and previews.
 
-use anyhow::{bail, Context, Result};
+use crate::{checks, usage};
+use anyhow::{anyhow, bail, Context, Result};
 use spectral::emission::emission_colorimetry;
 use spectral::{Colorimetry, Illuminant};
 use spectral_exr::Kind;
 use std::path::PathBuf;
+
+/// Shown after `--help` and as the man page's EXAMPLES.
+pub const EXAMPLES: &str = "\
+Examples:
+  specconv to-rgb albedo_spectral.exr albedo_check.exr
+  specconv to-rgb albedo_spectral.exr under_a.exr --illuminant A --colorspace ACEScg
+";
 
 /// Integrate a spectral OpenEXR back to colour: XYZ under an illuminant, then a colour space.
 ///
@@ -27,9 +35,9 @@ pub struct Args {
     /// only: emission is its own light).
     #[arg(long)]
     illuminant: Option<Illuminant>,
-    /// OCIO config: a file, or `aces` for the built-in ACES config. Default: $OCIO, else aces.
-    #[arg(long, value_name = "CONFIG")]
-    ocio: Option<String>,
+    /// The global --ocio (see `specconv --help`).
+    #[arg(skip)]
+    pub(crate) ocio: Option<String>,
     /// Replace an existing output.
     #[arg(long)]
     force: bool,
@@ -44,9 +52,14 @@ pub fn run(args: Args) -> Result<()> {
         .as_deref()
         != Some("exr")
     {
-        bail!(
+        return Err(usage(anyhow!(
             "to-rgb writes OpenEXR: give an output ending in .exr (oiiotool converts it further)"
-        );
+        )));
+    }
+    checks::output_dir(&args.output)?;
+    let config = checks::config(args.ocio.as_deref())?;
+    if let Some(name) = &args.colorspace {
+        config.color_space(name).map_err(usage)?;
     }
     if args.output.exists() && !args.force {
         bail!(
@@ -73,7 +86,6 @@ pub fn run(args: Args) -> Result<()> {
         Colorimetry::new(grid, observer, illuminant)?
     };
 
-    let config = specconv_ocio::Config::resolve(args.ocio.as_deref())?;
     let xyz_space = config
         .role("cie_xyz_d65_interchange")?
         .context("the OCIO config has no cie_xyz_d65_interchange role to convert XYZ from")?;

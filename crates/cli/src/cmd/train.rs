@@ -7,6 +7,13 @@ use spectral::{
 };
 use std::path::PathBuf;
 
+/// Shown after `--help` and as the man page's EXAMPLES.
+pub const EXAMPLES: &str = "\
+Examples:
+  specconv train --spectra munsell.csv --clusters 8 -o munsell8.json
+  specconv train --spectra a.csv --spectra b.csv --bands 380:780:5 --illuminant E -o model.json
+";
+
 /// Train a clustered-PCA model on measured reflectance spectra.
 ///
 /// Builds the kd-tree on CIE xy of the paper (Eq. 10–13): every split is placed where the summed
@@ -53,6 +60,7 @@ fn min_cluster_size(s: &str) -> Result<usize, String> {
 }
 
 pub fn run(args: Args) -> Result<()> {
+    crate::checks::output_dir(&args.output)?;
     let a = Colorimetry::new(args.bands, args.observer, args.illuminant)?;
     let mut set = TrainingSet::default();
     for path in &args.spectra {
@@ -84,15 +92,8 @@ pub fn run(args: Args) -> Result<()> {
             leaf.count, leaf.error, leaf.condition
         );
     }
-    if model.leaves.len() < args.clusters {
-        eprintln!(
-            "specconv: warning: {} clusters asked for, {} made: no further split lowers the error within \
-             --min-cluster-size {} and --max-condition {}",
-            args.clusters,
-            model.leaves.len(),
-            args.min_cluster_size,
-            args.max_condition
-        );
+    if let Some(why) = files::fewer_clusters(&model) {
+        eprintln!("specconv: warning: {why}");
     }
     eprintln!("wrote {}", args.output.display());
     Ok(())

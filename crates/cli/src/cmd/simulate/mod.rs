@@ -13,6 +13,43 @@ use std::path::{Path, PathBuf};
 mod drawing;
 mod texture;
 
+/// Shown after `--help` and as the man page's EXAMPLES: a scene that runs as it is (a test
+/// runs it), its alternatives commented out.
+pub const EXAMPLES: &str = "\
+Scene (save the lines below as scene.toml; paths in it are relative to it):
+
+  bounces = 8                     # or: effect = \"direct\" | \"converged\"
+  form_factors = \"furnace\"        # or \"box\", or a matrix [[F11, F12, …], …]
+  methods = [\"otsu2018\", \"smits1999\", \"meng2015\"]
+  # ocio = \"config.ocio\"          # for textures (default: $OCIO, else aces)
+
+  [[lights]]
+  spectrum = \"blackbody:5500\"     # a CIE illuminant, blackbody:K, or { file = \"spd.csv\" }
+  power = 1.0                     # patches = [\"red\"]: which patches emit it (all)
+
+  [[patches]]
+  name = \"red\"
+  colour = [0.8, 0.1, 0.1]
+  colorspace = \"sRGB\"             # or Linear Rec.709, Linear Rec.2020, ACEScg, CIE-XYZ-D65
+
+  [[patches]]
+  name = \"green\"
+  colour = [0.2, 0.6, 0.2]
+  colorspace = \"sRGB\"
+
+  # [[patches]]                   # measured spectra, the reference for every method:
+  # spectra = \"munsell.csv\"       # samples = \"all\" | [\"5R 4/14\", …], or sample = \"5R 4/14\"
+
+  # [[patches]]                   # a pixel of a texture, read as `convert` reads it
+  # name = \"brick\"                # (x, y from the top left; colorspace as --colorspace)
+  # texture = \"albedo.png\"
+  # pixel = [120, 40]
+
+Examples:
+  specconv simulate --scene scene.toml
+  specconv simulate --scene scenes/furnace_5500k.toml --image furnace.png --patch \"5R 4/14\"
+";
+
 /// Simulate light bouncing between patches, once per uplift method and once with the measured
 /// spectra, and report how far each method's colour drifts from the measured one.
 ///
@@ -25,26 +62,7 @@ mod texture;
 /// patch's radiance to XYZ, CIELAB (white: the same scene with white patches) and display sRGB.
 /// The report gives the CIEDE2000 difference of each method from the measured reference (when
 /// every patch is measured) and from plain RGB multiplication (`rgb`, an RGB renderer's
-/// answer). See scenes/ in the repository for examples:
-///
-///   bounces = 8                       # or: effect = "direct" | "converged"
-///   form_factors = "furnace"          # or "box", or a matrix [[F11, F12, …], …]
-///   methods = ["otsu2018", "smits1999", "meng2015"]
-///   [[lights]]
-///   spectrum = "blackbody:5500"       # a CIE illuminant, blackbody:K, or { file = "spd.csv" }
-///   power = 1.0                       # patches = ["ceiling"]: which patches emit it (all)
-///   [[patches]]
-///   spectra = "munsell.csv"           # measured; samples = "all" | ["5R 4/14", …] | sample = …
-///   [[patches]]
-///   name = "red"
-///   colour = [0.8, 0.1, 0.1]
-///   colorspace = "sRGB"
-///   [[patches]]
-///   name = "brick"
-///   texture = "albedo.png"            # a pixel of a texture, read and converted to XYZ as
-///   pixel = [120, 40]                 # `convert` does (x, y from the top left); colorspace
-///                                     # as --colorspace; `ocio = "FILE"` at the top picks the
-///                                     # config (default: $OCIO, else aces)
+/// answer). The scene below (`--help`) runs as it is; scenes/ in the repository has more.
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// The scene (TOML); relative paths in it are relative to its directory.
@@ -150,6 +168,9 @@ enum Samples {
 }
 
 pub fn run(args: Args) -> Result<()> {
+    if let Some(p) = &args.image {
+        crate::checks::output_dir(p)?;
+    }
     let text = std::fs::read_to_string(&args.scene)
         .with_context(|| format!("cannot read scene {}", args.scene.display()))?;
     let file: SceneFile = toml::from_str(&text)

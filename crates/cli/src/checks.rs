@@ -1,0 +1,45 @@
+//! What a command checks once, before its first input: settings that cannot work for any
+//! input fail here as usage errors (exit status 2), on one line, before anything is read or
+//! written, instead of once per input.
+
+use crate::usage;
+use anyhow::Result;
+use specconv_ocio::Config;
+use std::path::Path;
+
+/// The OCIO config of `--ocio`, else `$OCIO`, else the built-in ACES config.
+pub fn config(ocio: Option<&str>) -> Result<Config> {
+    Config::resolve(ocio).map_err(usage)
+}
+
+/// A colour space named on the command line (`--colorspace`) exists in `config` and reaches
+/// CIE XYZ, so every input read in it can be converted.
+pub fn input_colorspace(config: &Config, name: Option<&str>) -> Result<()> {
+    if let Some(name) = name {
+        let cs = config.color_space(name).map_err(usage)?;
+        config.processor_to_xyz(&cs.name).map_err(usage)?;
+    }
+    Ok(())
+}
+
+/// The directory an output goes into exists (outputs are never given new directories).
+pub fn output_dir(output: &Path) -> Result<()> {
+    directory(
+        output
+            .parent()
+            .filter(|d| !d.as_os_str().is_empty())
+            .unwrap_or(Path::new(".")),
+    )
+}
+
+/// An output directory (`-o DIR`) exists.
+pub fn directory(dir: &Path) -> Result<()> {
+    if dir.is_dir() {
+        Ok(())
+    } else {
+        Err(usage(anyhow::anyhow!(
+            "the output directory {} does not exist; create it first",
+            dir.display()
+        )))
+    }
+}

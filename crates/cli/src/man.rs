@@ -1,0 +1,110 @@
+//! Man pages, one per command, generated from the clap definitions with clap_mangen: NAME,
+//! SYNOPSIS, DESCRIPTION and OPTIONS from clap; EXAMPLES from each command's `after_long_help`
+//! (which `--help` shows too); EXIT STATUS from [`crate::exit::TABLE`]; ENVIRONMENT from
+//! [`ENVIRONMENT`]; SEE ALSO naming the other pages. man/ holds them; a test checks for drift.
+
+use crate::Cli;
+use clap::CommandFactory;
+
+/// Every environment variable the program reads, and what for.
+pub const ENVIRONMENT: [(&str, &str); 6] = [
+    (
+        "OCIO",
+        "The OCIO config used when --ocio is not given (convert, info, colorspaces, to-rgb, and simulate scenes without `ocio`); unset or empty: the built-in ACES config.",
+    ),
+    (
+        "SPECCONV_CACHE_DIR",
+        "Where computed tables (the jakob2019 coefficient tables) are cached; default $XDG_CACHE_HOME/specconv, else $HOME/.cache/specconv.",
+    ),
+    ("XDG_CACHE_HOME", "See SPECCONV_CACHE_DIR."),
+    ("HOME", "See SPECCONV_CACHE_DIR."),
+    (
+        "SPECCONV_FONT",
+        "A TrueType font for the text of pictures (report --plot, simulate --image, preview); default DejaVu Sans (Debian: fonts-dejavu-core).",
+    ),
+    (
+        "SPECCONV_PROGRESS_SECONDS",
+        "Seconds between the plain progress lines of a batch whose standard error is a file (default 5).",
+    ),
+];
+
+/// The pages: (file name, roff), the top command's first.
+pub fn pages() -> Vec<(String, Vec<u8>)> {
+    // No `help` subcommand in the pages: `--help` is the way, and it has no page.
+    let mut top = Cli::command().disable_help_subcommand(true);
+    top.build();
+    let subs: Vec<clap::Command> = top.get_subcommands().cloned().collect();
+    let names: Vec<String> = subs
+        .iter()
+        .map(|s| format!("specconv-{}", s.get_name()))
+        .collect();
+    let mut pages = vec![("specconv.1".to_string(), page(&top, "specconv", &names))];
+    for (sub, name) in subs.into_iter().zip(&names) {
+        let others: Vec<String> = std::iter::once("specconv".to_string())
+            .chain(names.iter().filter(|n| *n != name).cloned())
+            .collect();
+        let cmd = sub.display_name(name.clone());
+        pages.push((format!("{name}.1"), page(&cmd, name, &others)));
+    }
+    pages
+}
+
+fn page(cmd: &clap::Command, name: &str, see_also: &[String]) -> Vec<u8> {
+    let man = clap_mangen::Man::new(cmd.clone())
+        .title(name)
+        .source(format!("specconv {}", env!("CARGO_PKG_VERSION")));
+    let mut out = Vec::new();
+    let render = |out: &mut Vec<u8>, f: &dyn Fn(&mut Vec<u8>) -> std::io::Result<()>| {
+        f(out).expect("rendering to memory cannot fail")
+    };
+    render(&mut out, &|w| man.render_title(w));
+    render(&mut out, &|w| man.render_name_section(w));
+    render(&mut out, &|w| man.render_synopsis_section(w));
+    render(&mut out, &|w| man.render_description_section(w));
+    render(&mut out, &|w| man.render_options_section(w));
+    if cmd.has_subcommands() {
+        render(&mut out, &|w| man.render_subcommands_section(w));
+    }
+    let mut roff = String::new();
+    if let Some(examples) = cmd.get_after_long_help() {
+        roff += ".SH EXAMPLES\n.nf\n";
+        for line in examples.to_string().lines().skip_while(|l| {
+            l.trim().is_empty() || l.trim_end().ends_with(':') && l.starts_with("Examples")
+        }) {
+            roff += &escape(line);
+            roff += "\n";
+        }
+        roff += ".fi\n";
+    }
+    roff += ".SH \"EXIT STATUS\"\n";
+    for (code, meaning) in crate::exit::TABLE {
+        roff += &format!(".TP\n\\fB{code}\\fR\n{}\n", escape(meaning));
+    }
+    roff += ".SH ENVIRONMENT\n";
+    for (var, meaning) in ENVIRONMENT {
+        roff += &format!(".TP\n\\fB{}\\fR\n{}\n", escape(var), escape(meaning));
+    }
+    roff += ".SH \"SEE ALSO\"\n";
+    let refs: Vec<String> = see_also
+        .iter()
+        .map(|n| format!("\\fB{}\\fR(1)", escape(n)))
+        .collect();
+    roff += &refs.join(", ");
+    roff += "\n";
+    out.extend_from_slice(roff.as_bytes());
+    if cmd.get_version().is_some() {
+        render(&mut out, &|w| man.render_version_section(w));
+    }
+    out
+}
+
+/// Text as roff reads it literally: backslashes and hyphens escaped, no line taken for a
+/// request.
+fn escape(text: &str) -> String {
+    let s = text.replace('\\', "\\\\").replace('-', "\\-");
+    if s.starts_with('.') || s.starts_with('\'') {
+        format!("\\&{s}")
+    } else {
+        s
+    }
+}

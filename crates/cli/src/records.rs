@@ -1,0 +1,52 @@
+//! Pieces of the JSON records that `convert --json` and `info --json` print for scripts
+//! (docs/json.md): every record of a command has every key, `null` where it does not apply.
+
+use specconv_ocio::ChoiceReason;
+use std::path::Path;
+
+/// The rule that chose the input colour space, as records name it: `flag` (--colorspace),
+/// `declared` (what the file declares, when the config knows it) or `default` (the default
+/// for the pixel type).
+pub fn colorspace_rule(reason: &ChoiceReason) -> &'static str {
+    match reason {
+        ChoiceReason::Flag => "flag",
+        ChoiceReason::Declared(_) => "declared",
+        ChoiceReason::Default { .. } => "default",
+    }
+}
+
+/// An error message about an input without the input's path, which the record (or the
+/// line) already names: `PATH: what` becomes `what`, `cannot read PATH: what` becomes
+/// `cannot read the input: what`.
+pub fn without_input(message: &str, input: &Path) -> String {
+    let p = input.display().to_string();
+    if p.is_empty() {
+        return message.to_string();
+    }
+    message
+        .strip_prefix(&format!("{p}: "))
+        .unwrap_or(message)
+        .replace(&p, "the input")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_input_path_is_left_out() {
+        let p = Path::new("/tex/gone.png");
+        assert_eq!(
+            without_input("/tex/gone.png: no such file", p),
+            "no such file"
+        );
+        assert_eq!(
+            without_input("cannot read /tex/gone.png: truncated", p),
+            "cannot read the input: truncated"
+        );
+        assert_eq!(
+            without_input("the output x.exr is the input; choose another", p),
+            "the output x.exr is the input; choose another"
+        );
+    }
+}
