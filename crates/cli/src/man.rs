@@ -10,7 +10,7 @@ use clap::CommandFactory;
 pub const ENVIRONMENT: [(&str, &str); 6] = [
     (
         "OCIO",
-        "The OCIO config used when --ocio is not given (convert, info, colorspaces, to-rgb, and simulate scenes without `ocio`); unset or empty: the built-in ACES config.",
+        "The OCIO config used when --ocio is not given (convert, info, colorspaces, to-rgb, and simulate scenes without `ocio`): a file, `aces` or a built-in name such as ocio://default or ocio://studio-config-latest; unset or empty: the built-in ACES config.",
     ),
     (
         "SPECCONV_CACHE_DIR",

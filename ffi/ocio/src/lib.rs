@@ -51,7 +51,8 @@ pub enum Error {
     #[error("OCIO config {}: no such file", path.display())]
     ConfigNotFound { path: PathBuf },
     #[error(
-        "unknown built-in OCIO config '{name}'; the built-in configs are {}",
+        "unknown built-in OCIO config '{name}'; pass a config file or one of the built-in \
+         configs: {}",
         quote_list(known)
     )]
     UnknownBuiltinConfig { name: String, known: Vec<String> },
