@@ -83,7 +83,7 @@ fn info_json_reports_what_the_reader_sees_and_the_colour_space_choice() {
             .ok(),
         );
         assert_eq!(v["colorspace"], "Linear Rec.2020");
-        assert_eq!(v["colorspace_rule"], "flag");
+        assert_eq!(v["colorspace_rule"], "colorspace-option");
     }
 }
 

@@ -71,6 +71,7 @@ fn settings_that_cannot_work_fail_once_before_the_first_input() {
         &["/no/model.json"],
     );
     one_error_line(&batch(&["--json", "-j", "0"]), 2, &["-j/--threads"]);
+    one_error_line(&batch(&["--tile", "0", "64"]), 2, &["--tile 0 64"]);
     assert!(
         std::fs::read_dir(&out).unwrap().next().is_none(),
         "nothing written"
@@ -344,7 +345,7 @@ fn convert_records_have_one_schema() {
     assert_eq!(declared["colorspace_rule"], "declared");
     let flag = &records(&flagged.stdout)[0];
     assert_eq!(flag["colorspace"], "Linear Rec.709 (sRGB)");
-    assert_eq!(flag["colorspace_rule"], "flag");
+    assert_eq!(flag["colorspace_rule"], "colorspace-option");
     assert!(
         flag["bounded"].is_null(),
         "--unbounded has no counts: {flag}"

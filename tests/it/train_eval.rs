@@ -112,7 +112,8 @@ fn bad_inputs_get_one_clear_error_and_exit_1() {
         "--model",
         bad_model.to_str().unwrap(),
     ])
-    .fails(1, &["model.json: malformed model"]);
+    // A model that cannot be read is a setting no input can fix: exit 2.
+    .fails(2, &["model.json: malformed model"]);
     let out = dir.path("m.json");
     specconv([
         "train",

@@ -114,10 +114,12 @@ pub(crate) fn one_line(e: &anyhow::Error) -> String {
                 continue;
             }
         }
-        // `cannot read F` and `F is not a spectral EXR`: the cause says it all.
+        // `cannot read F` and `F is not a spectral EXR`: the cause, naming the same file
+        // first, says it all.
         let (before, last) = line.rsplit_once(": ").unwrap_or(("", &line));
         let named = last.split_whitespace().last().unwrap_or_default();
-        line = if named.len() > 1 && cause.contains(named) {
+        let a_path = named.len() > 1 && named.contains(['/', '.']);
+        line = if a_path && cause.starts_with(named) {
             if before.is_empty() {
                 cause
             } else {
@@ -299,6 +301,14 @@ mod tests {
             one_line(&e),
             "patch 2: cannot read /t/a.exr: OpenEXR: truncated"
         );
+        // A word is not a file name: `patch tex` and `cannot read the texture…` both stay.
+        let e = anyhow::anyhow!("/t/a.png: no such file")
+            .context("cannot read the texture /t/a.png")
+            .context("patch tex");
+        assert_eq!(
+            one_line(&e),
+            "patch tex: cannot read the texture /t/a.png: no such file"
+        );
         // A wrapper that displays its source (thiserror's `#[error("{0}")]` with `#[from]`).
         #[derive(Debug)]
         struct Wrap(std::io::Error);
@@ -358,6 +368,60 @@ mod tests {
             "man/ is out of date ({stale:?}; files {files:?}, pages {names:?}): run \
              SPECCONV_UPDATE_MAN=1 cargo test -p specconv-cli man_pages"
         );
+    }
+
+    /// Every example of every page parses as a command line of this program (after a pipe,
+    /// before a redirection), so the examples cannot drift from the options.
+    #[test]
+    fn every_example_parses() {
+        let mut n = 0;
+        for cmd in std::iter::once(Cli::command()).chain(Cli::command().get_subcommands().cloned())
+        {
+            let Some(text) = cmd.get_after_long_help().map(|t| t.to_string()) else {
+                continue;
+            };
+            for line in text.lines().map(str::trim) {
+                let Some(start) = line.find("specconv ") else {
+                    continue;
+                };
+                if line.starts_with('#') {
+                    continue;
+                }
+                let command = &line[start..];
+                let command = command.split(" 2>").next().unwrap();
+                let command = command.split(" > ").next().unwrap();
+                let words = shell_words(command);
+                crate::parse(words.iter().map(std::ffi::OsString::from))
+                    .unwrap_or_else(|e| panic!("{line}: {}", crate::clap_error_line(&e)));
+                n += 1;
+            }
+        }
+        assert!(n >= 25, "{n} examples");
+    }
+
+    /// Words as a POSIX shell splits them, for the quoting the examples use.
+    fn shell_words(line: &str) -> Vec<String> {
+        let (mut words, mut word, mut quote, mut any) = (Vec::new(), String::new(), None, false);
+        for c in line.chars() {
+            match (quote, c) {
+                (None, '\'' | '"') => (quote, any) = (Some(c), true),
+                (Some(q), c) if c == q => quote = None,
+                (None, c) if c.is_whitespace() => {
+                    if any {
+                        words.push(std::mem::take(&mut word));
+                    }
+                    any = false;
+                }
+                (_, c) => {
+                    word.push(c);
+                    any = true;
+                }
+            }
+        }
+        if any {
+            words.push(word);
+        }
+        words
     }
 
     /// Every page has EXIT STATUS, ENVIRONMENT and EXAMPLES, and every page it names exists.

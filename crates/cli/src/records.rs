@@ -4,12 +4,13 @@
 use specconv_ocio::ChoiceReason;
 use std::path::Path;
 
-/// The rule that chose the input colour space, as records name it: `flag` (--colorspace),
-/// `declared` (what the file declares, when the config knows it) or `default` (the default
-/// for the pixel type).
+/// The rule that chose the input colour space, as records name it: `colorspace-option`
+/// (--colorspace), `declared` (what the file declares, when the config knows it) or `default`
+/// (the default for the pixel type). The names are those of the explicit rule that ffi/ocio
+/// is getting (issue 12b, which adds `file-rule`); that rule's own name replaces this map.
 pub fn colorspace_rule(reason: &ChoiceReason) -> &'static str {
     match reason {
-        ChoiceReason::Flag => "flag",
+        ChoiceReason::Flag => "colorspace-option",
         ChoiceReason::Declared(_) => "declared",
         ChoiceReason::Default { .. } => "default",
     }

@@ -208,6 +208,13 @@ struct BoundedCounts {
 pub fn run(args: Args) -> Result<i32> {
     // Wrong paths on the command line are usage errors.
     let (inputs, outputs) = plan(&args).map_err(usage)?;
+    if args.tile.contains(&0) {
+        return Err(usage(anyhow::anyhow!(
+            "--tile {} {}: tiles must be at least 1×1",
+            args.tile[0],
+            args.tile[1]
+        )));
+    }
     if let Some(n) = args.threads {
         if n == 0 {
             return Err(usage(anyhow::anyhow!("-j/--threads must be at least 1")));

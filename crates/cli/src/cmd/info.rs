@@ -56,7 +56,7 @@ struct Report<'a> {
     subimages: u32,
     declared_color_space: Option<&'a str>,
     /// The colour space specconv reads the file in (the config's name), the rule that chose
-    /// it (`flag`, `declared`, `default`) and the choice in words.
+    /// it (`colorspace-option`, `declared`, `default`) and the choice in words.
     colorspace: String,
     colorspace_rule: &'static str,
     colorspace_reason: String,
