@@ -578,3 +578,50 @@ fn the_readme_documents_the_exit_statuses() {
         assert!(readme.contains(&row), "README lacks the row\n{row}");
     }
 }
+
+/// groff (the reference roff) renders every man page without a warning, and the examples
+/// come out line for line, as they can be copied.
+#[test]
+fn groff_renders_every_man_page_with_its_examples_line_for_line() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("man");
+    let mut pages: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
+    pages.sort();
+    assert!(pages.len() >= 11, "{pages:?}");
+    let groff = |page: &Path, extra: &[&str]| {
+        let out = std::process::Command::new("groff")
+            .args(["-k", "-man", "-Tutf8", "-ww"])
+            .args(extra)
+            .arg(page)
+            .env("MANWIDTH", "100")
+            .output()
+            .expect("groff runs (Debian: groff-base)");
+        assert!(out.status.success(), "{}", page.display());
+        (
+            String::from_utf8_lossy(&out.stdout).into_owned(),
+            String::from_utf8_lossy(&out.stderr).into_owned(),
+        )
+    };
+    for page in &pages {
+        let (_, warnings) = groff(page, &["-z"]);
+        assert_eq!(warnings, "", "{}", page.display());
+        // Plain text: no overstrike for bold.
+        let (text, _) = groff(page, &["-P-cbou"]);
+        for section in ["EXAMPLES", "EXIT STATUS", "ENVIRONMENT", "SEE ALSO"] {
+            assert!(text.contains(section), "{} lacks {section}", page.display());
+        }
+    }
+    let (text, _) = groff(&dir.join("specconv-simulate.1"), &["-P-cbou"]);
+    for line in [
+        "  [[patches]]",
+        "  colour = [0.8, 0.1, 0.1]",
+        "  specconv simulate --scene scene.toml",
+    ] {
+        assert!(
+            text.lines().any(|l| l.trim_start() == line.trim_start()),
+            "{line:?} is not a line of\n{text}"
+        );
+    }
+}
