@@ -4,6 +4,7 @@ mod baselines;
 mod convert;
 mod emission;
 mod info;
+mod layout;
 mod pictures;
 mod runner;
 mod simulate;

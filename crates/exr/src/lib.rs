@@ -13,12 +13,14 @@
 //! whole image.
 #![forbid(unsafe_code)]
 
+pub mod check;
 pub mod quantize;
 
 use exr::block::{BlockIndex, UncompressedBlock};
 use exr::math::{RoundingMode, Vec2};
 use exr::meta::attribute::{
-    AttributeValue, ChannelDescription, LevelMode, LineOrder, SampleType, Text, TileDescription,
+    AttributeValue, ChannelDescription, IntegerBounds, LevelMode, LineOrder, SampleType, Text,
+    TileDescription,
 };
 use exr::meta::header::Header;
 use exr::meta::BlockDescription;
@@ -62,11 +64,24 @@ pub enum Blocks {
     },
 }
 
+/// Where the pixels sit in the image's pixel space: OpenEXR's data and display windows.
+/// The data window is `width × height` of the [`Spec`] from `data_origin`; OpenEXR gives every
+/// MIP level that same origin and its own (rounded-down) size, and one display window per file.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Windows {
+    pub data_origin: (i32, i32),
+    /// Origin and size of the display window.
+    pub display: (i32, i32, usize, usize),
+}
+
 /// Everything about a spectral file but its pixels.
 #[derive(Debug, Clone)]
 pub struct Spec {
+    /// Size of the data window (the stored pixels).
     pub width: usize,
     pub height: usize,
+    /// `None`: the data window starts at (0, 0) and the display window is the data window.
+    pub windows: Option<Windows>,
     /// Band wavelengths in nm, in the order callers pass band values.
     pub wavelengths: Vec<f64>,
     pub kind: Kind,
@@ -216,6 +231,27 @@ impl SpectralFile {
         )
         .with_encoding(spec.compression, blocks, LineOrder::Increasing);
         header.own_attributes.layer_name = None;
+        if let Some(w) = spec.windows {
+            let (x, y, width, height) = w.display;
+            let bounds = |x: i32, y: i32, width: usize, height: usize| {
+                let fits = |origin: i32, size: usize| {
+                    size > 0 && i64::from(origin) + size as i64 - 1 <= i64::from(i32::MAX)
+                };
+                (fits(x, width) && fits(y, height))
+                    .then(|| IntegerBounds::new(Vec2(x, y), Vec2(width, height)))
+            };
+            let (Some(data), Some(display)) = (
+                bounds(w.data_origin.0, w.data_origin.1, spec.width, spec.height),
+                bounds(x, y, width, height),
+            ) else {
+                return Err(Error::Invalid(format!(
+                    "the data window at {:?} of {}×{} or the display window {:?} does not fit OpenEXR's 32-bit coordinates",
+                    w.data_origin, spec.width, spec.height, w.display
+                )));
+            };
+            header.own_attributes.layer_position = data.position;
+            header.shared_attributes.display_window = display;
+        }
         let mut text = |name: &str, value: &str| {
             // EXR text is Latin-1; anything else is replaced rather than refused.
             let value: String = value
@@ -499,6 +535,7 @@ mod tests {
         Spec {
             width: 37,
             height: 21,
+            windows: None,
             wavelengths: vec![380.0, 550.0, 1000.0],
             kind: Kind::Reflective,
             alpha,

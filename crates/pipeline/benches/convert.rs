@@ -73,6 +73,7 @@ fn main() {
     let file = SpectralFile::new(Spec {
         width: 2048,
         height: 2048,
+        windows: None,
         wavelengths: method.grid().wavelengths(),
         kind: Kind::Reflective,
         alpha: false,

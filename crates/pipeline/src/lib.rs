@@ -7,13 +7,20 @@
 //! the image height, and the output bytes do not depend on the number of threads.
 //!
 //! The output is written to a temporary file beside the target and renamed into place only
-//! when complete: a failed or cancelled job leaves nothing behind.
+//! when complete: a failed or cancelled job leaves nothing behind. Before it is created, an
+//! OpenEXR input's header is checked against the file's size ([`spectral_exr::check`]) and the
+//! first window of pixels is read, so a damaged input fails at once.
+//!
+//! The output keeps the input's data and display windows (OpenEXR gives every MIP level the
+//! data window's origin). [`input`] chooses the subimage and the channels read.
 #![forbid(unsafe_code)]
+
+pub mod input;
 
 use rayon::prelude::*;
 use specconv_ocio::{Config, Processor};
 use spectral::Method;
-use spectral_exr::{Block, Blocks, Chunk, Compression, Kind, Sample, Spec, SpectralFile};
+use spectral_exr::{Block, Blocks, Chunk, Compression, Kind, Sample, Spec, SpectralFile, Windows};
 use std::fs::File;
 use std::io::BufWriter;
 use std::path::{Path, PathBuf};
@@ -27,6 +34,8 @@ pub enum Error {
     Color(#[from] specconv_ocio::Error),
     #[error("{0}")]
     Output(#[from] spectral_exr::Error),
+    #[error("{0}")]
+    Damaged(#[from] spectral_exr::check::Problem),
     #[error("{0}")]
     Setting(String),
     #[error("cannot write {path}: {source}")]
@@ -61,6 +70,8 @@ pub struct Settings {
     pub xyz_weights: Option<[Vec<f64>; 3]>,
     /// `--colorspace`: the input's colour space, overriding what the file declares.
     pub colorspace: Option<String>,
+    /// `--subimage` and `--channels`: what of the input is read.
+    pub input: input::Request,
     pub sample: Sample,
     pub compression: Compression,
     /// `None` for scanlines, else the tile size.
@@ -82,6 +93,8 @@ pub struct Report {
     pub levels: usize,
     /// The input colour space and the rule that chose it.
     pub colorspace: specconv_ocio::InputChoice,
+    /// The subimage and channels read.
+    pub selection: input::Selection,
     /// Pixels whose colour had a NaN or infinite component (their spectra are NaN).
     pub non_finite: u64,
     /// Pixels above 1: an input channel or Y above [`ABOVE_ONE`]. No reflectance has Y > 1.
@@ -125,7 +138,8 @@ struct Strip {
 pub fn convert(job: &Job, progress: &mut dyn FnMut(u64, u64)) -> Result<Report> {
     let output = job.output;
     refuse_overwrites(job.input, output, job.settings.overwrite)?;
-    let mut reader = specconv_oiio::ImageReader::open(job.input)?;
+    spectral_exr::check::check_input(job.input)?;
+    let (mut reader, selection) = input::open(job.input, &job.settings.input)?;
     let info = reader.info().clone();
     let choice = job.config.choose_input(
         job.settings.colorspace.as_deref(),
@@ -150,12 +164,22 @@ pub fn convert(job: &Job, progress: &mut dyn FnMut(u64, u64)) -> Result<Report> 
     attributes.push(("specconvSourceColorspace".into(), choice.name.clone()));
     attributes.push(("specconvConfig".into(), job.config.source().to_string()));
     attributes.push(("specconvSource".into(), file_name(job.input)));
+    let top = info.levels[0];
     let file = SpectralFile::new(Spec {
         width: info.width() as usize,
         height: info.height() as usize,
+        windows: Some(Windows {
+            data_origin: (top.x, top.y),
+            display: (
+                top.display.x,
+                top.display.y,
+                top.display.width as usize,
+                top.display.height as usize,
+            ),
+        }),
         wavelengths: job.method.grid().wavelengths(),
         kind: job.settings.kind.clone(),
-        alpha: info.alpha_channel.is_some(),
+        alpha: selection.channels.alpha.is_some(),
         sample: job.settings.sample,
         compression: job.settings.compression,
         blocks,
@@ -210,14 +234,26 @@ pub fn convert(job: &Job, progress: &mut dyn FnMut(u64, u64)) -> Result<Report> 
         windows.push(current);
     }
 
+    let read = |reader: &mut specconv_oiio::ImageReader,
+                window: &[Strip]|
+     -> Result<Vec<specconv_oiio::Pixels>> {
+        window
+            .iter()
+            .map(|s| Ok(reader.read_scanlines(s.level, s.y as u32..(s.y + s.height) as u32)?))
+            .collect()
+    };
+    // The first window is read before the output exists: a file whose pixels cannot be read
+    // fails here, leaving nothing behind.
+    let mut next = windows.first().map(|w| read(&mut reader, w)).transpose()?;
+
     let tmp = temporary_path(output);
     let out = File::create(&tmp).map_err(|source| Error::Io {
         path: output.to_path_buf(),
         source,
     })?;
     let guard = RemoveOnDrop(Some(tmp.clone()));
-    let alpha = info.alpha_channel;
-    let channels = info.channels.len();
+    let colour = &selection.channels.colour;
+    let alpha = selection.channels.alpha;
     let mut done = 0u64;
     let mut counts = Counts::default();
     // The writer speaks spectral_exr's errors; ours wait here and win over its abort.
@@ -227,19 +263,6 @@ pub fn convert(job: &Job, progress: &mut dyn FnMut(u64, u64)) -> Result<Report> 
         spectral_exr::Error::Invalid("aborted".into())
     };
     let written = file.write(BufWriter::with_capacity(1 << 20, out), |sink| {
-        let read = |reader: &mut specconv_oiio::ImageReader,
-                    window: &[Strip]|
-         -> Result<Vec<specconv_oiio::Pixels>> {
-            window
-                .iter()
-                .map(|s| Ok(reader.read_scanlines(s.level, s.y as u32..(s.y + s.height) as u32)?))
-                .collect()
-        };
-        let mut next = windows
-            .first()
-            .map(|w| read(&mut reader, w))
-            .transpose()
-            .map_err(&mut fail)?;
         for (i, window) in windows.iter().enumerate() {
             if job.cancel.load(Ordering::Relaxed) {
                 return Err(fail(Error::Cancelled));
@@ -257,9 +280,7 @@ pub fn convert(job: &Job, progress: &mut dyn FnMut(u64, u64)) -> Result<Report> 
                             strip
                                 .blocks
                                 .par_iter()
-                                .map(|b| {
-                                    encode_block(&file, &processor, job, b, px, channels, alpha)
-                                })
+                                .map(|b| encode_block(&file, &processor, job, b, px, colour, alpha))
                                 .collect()
                         })
                         .collect()
@@ -296,21 +317,16 @@ pub fn convert(job: &Job, progress: &mut dyn FnMut(u64, u64)) -> Result<Report> 
         pixels: total,
         levels: file.levels(),
         colorspace: choice,
+        selection,
         non_finite: counts.non_finite,
         above_one: counts.above_one,
         saturated: counts.saturated,
     })
 }
 
-/// The channels that carry colour: the first three that are not alpha.
-pub fn colour_channels(channels: usize, alpha: Option<usize>) -> Vec<usize> {
-    (0..channels)
-        .filter(|&c| Some(c) != alpha)
-        .take(3)
-        .collect()
-}
+pub use input::colour_channels;
 
-/// A pixel's RGB from its [`colour_channels`]: a single grey channel is repeated; `None` when
+/// A pixel's RGB from its colour channels ([`input::Channels::colour`]): a single grey channel is repeated; `None` when
 /// the image has no colour channel.
 #[inline]
 pub fn colour_of(px: &[f32], colour: &[usize]) -> Option<[f32; 3]> {
@@ -328,18 +344,17 @@ fn encode_block(
     job: &Job,
     b: &Block,
     strip: &specconv_oiio::Pixels,
-    channels: usize,
+    colour: &[usize],
     alpha: Option<usize>,
 ) -> Result<(usize, Chunk, Counts)> {
     let count = b.width * b.height;
     let mut rgb = Vec::with_capacity(count * 3);
     let mut a = alpha.map(|_| Vec::with_capacity(count));
-    let colour = colour_channels(channels, alpha);
     let mut counts = Counts::default();
     for y in 0..b.height {
         for x in b.x..b.x + b.width {
             let px = strip.pixel(x as u32, y as u32);
-            rgb.extend_from_slice(&colour_of(px, &colour).unwrap_or([0.0; 3]));
+            rgb.extend_from_slice(&colour_of(px, colour).unwrap_or([0.0; 3]));
             if let (Some(a), Some(c)) = (a.as_mut(), alpha) {
                 a.push(px[c]);
             }

@@ -46,10 +46,41 @@ struct specconv_oiio_input {
     std::unique_ptr<OIIO::ImageInput> in;
     std::string format_name;
     int32_t num_subimages = 1;
-    // Full spec of every MIP level of subimage 0, read once at open.
+    std::vector<std::string> subimage_names;
+    // The selected subimage, and the full spec of each of its MIP levels.
+    int32_t subimage = 0;
     std::vector<OIIO::ImageSpec> levels;
     std::vector<std::string> channel_formats;
 };
+
+namespace {
+
+// Reads the header of every MIP level of `subimage` and makes it the selected one.
+int32_t load_subimage(specconv_oiio_input &handle, int32_t subimage) {
+    OIIO::ImageInput &in = *handle.in;
+    std::vector<OIIO::ImageSpec> levels;
+    // spec(0, level) is not a reliable probe (the TIFF plugin answers for any level);
+    // seek_subimage fails past the last level. The cap guards against a plugin that
+    // never fails: 64 levels would be a 2^63-pixel-wide image.
+    for (int level = 0; level < 64 && in.seek_subimage(subimage, level); ++level)
+        levels.push_back(in.spec());
+    in.geterror(); // seeking past the last level leaves an error behind; it is expected
+    if (levels.empty())
+        return fail(SPECCONV_OIIO_ERR_OPEN, input_error(in, "the file has no readable image"));
+    const OIIO::ImageSpec &top = levels[0];
+    if (top.deep)
+        return fail(SPECCONV_OIIO_ERR_UNSUPPORTED, "deep images are not supported");
+    if (top.depth > 1)
+        return fail(SPECCONV_OIIO_ERR_UNSUPPORTED, "volume (3D) images are not supported");
+    handle.channel_formats.clear();
+    for (int c = 0; c < top.nchannels; ++c)
+        handle.channel_formats.emplace_back(top.channelformat(c).c_str());
+    handle.levels = std::move(levels);
+    handle.subimage = subimage;
+    return SPECCONV_OIIO_OK;
+}
+
+} // namespace
 
 extern "C" {
 
@@ -73,24 +104,16 @@ int32_t specconv_oiio_open(const char *path, specconv_oiio_input **out) {
         // Parallelism comes from one reader per worker; OIIO's own pool would oversubscribe.
         in.threads(1);
         handle->format_name = in.format_name();
-        // spec(0, level) is not a reliable probe (the TIFF plugin answers for any level);
-        // seek_subimage fails past the last level. The cap guards against a plugin that
-        // never fails: 64 levels would be a 2^63-pixel-wide image.
-        for (int level = 0; level < 64 && in.seek_subimage(0, level); ++level)
-            handle->levels.push_back(in.spec());
-        in.geterror(); // seeking past the last level leaves an error behind; it is expected
-        if (handle->levels.empty())
-            return fail(SPECCONV_OIIO_ERR_OPEN, input_error(in, "the file has no readable image"));
-        const OIIO::ImageSpec &top = handle->levels[0];
-        if (top.deep)
-            return fail(SPECCONV_OIIO_ERR_UNSUPPORTED, "deep images are not supported");
-        if (top.depth > 1)
-            return fail(SPECCONV_OIIO_ERR_UNSUPPORTED, "volume (3D) images are not supported");
-        while (in.seek_subimage(handle->num_subimages, 0))
+        handle->num_subimages = 0;
+        while (in.seek_subimage(handle->num_subimages, 0)) {
+            handle->subimage_names.push_back(
+                in.spec().get_string_attribute("oiio:subimagename"));
             ++handle->num_subimages;
+        }
         in.geterror();
-        for (int c = 0; c < top.nchannels; ++c)
-            handle->channel_formats.emplace_back(top.channelformat(c).c_str());
+        int32_t st = load_subimage(*handle, 0);
+        if (st != SPECCONV_OIIO_OK)
+            return st;
         *out = handle.release();
         return SPECCONV_OIIO_OK;
     });
@@ -110,6 +133,30 @@ const char *specconv_oiio_format_name(const specconv_oiio_input *input) {
 
 int32_t specconv_oiio_num_subimages(const specconv_oiio_input *input) {
     return input ? input->num_subimages : 0;
+}
+
+int32_t specconv_oiio_subimage_name(const specconv_oiio_input *input, int32_t subimage,
+                                    const char **out) {
+    return guard([&]() -> int32_t {
+        if (input == nullptr || out == nullptr)
+            return fail(SPECCONV_OIIO_ERR_ARGUMENT, "null argument");
+        if (subimage < 0 || subimage >= static_cast<int32_t>(input->subimage_names.size()))
+            return fail(SPECCONV_OIIO_ERR_ARGUMENT, "no subimage " + std::to_string(subimage));
+        *out = input->subimage_names[subimage].c_str();
+        return SPECCONV_OIIO_OK;
+    });
+}
+
+int32_t specconv_oiio_select_subimage(specconv_oiio_input *input, int32_t subimage) {
+    return guard([&]() -> int32_t {
+        if (input == nullptr)
+            return fail(SPECCONV_OIIO_ERR_ARGUMENT, "null argument");
+        if (subimage < 0 || subimage >= input->num_subimages)
+            return fail(SPECCONV_OIIO_ERR_ARGUMENT,
+                        "subimage " + std::to_string(subimage) + " does not exist (the file has " +
+                            std::to_string(input->num_subimages) + ")");
+        return load_subimage(*input, subimage);
+    });
 }
 
 int32_t specconv_oiio_num_levels(const specconv_oiio_input *input) {
@@ -224,8 +271,9 @@ int32_t specconv_oiio_read_tiles(specconv_oiio_input *input, int32_t level, int3
         const OIIO::ImageSpec &s = input->levels[level];
         if (s.tile_width == 0)
             return fail(SPECCONV_OIIO_ERR_ARGUMENT, "the image is stored as scanlines, not tiles");
-        if (!input->in->read_tiles(0, level, s.x + xbegin, s.x + xend, s.y + ybegin, s.y + yend,
-                                   s.z, s.z + 1, chbegin, chend, OIIO::TypeFloat, out))
+        if (!input->in->read_tiles(input->subimage, level, s.x + xbegin, s.x + xend,
+                                   s.y + ybegin, s.y + yend, s.z, s.z + 1, chbegin, chend,
+                                   OIIO::TypeFloat, out))
             return fail(SPECCONV_OIIO_ERR_READ, input_error(*input->in, "reading tiles failed"));
         return SPECCONV_OIIO_OK;
     });
@@ -248,8 +296,8 @@ int32_t specconv_oiio_read_scanlines(specconv_oiio_input *input, int32_t level, 
         if (s.tile_width != 0)
             return fail(SPECCONV_OIIO_ERR_ARGUMENT,
                         "the image is tiled; read it by tiles (scanline reads are refused)");
-        if (!input->in->read_scanlines(0, level, s.y + ybegin, s.y + yend, s.z, chbegin, chend,
-                                       OIIO::TypeFloat, out))
+        if (!input->in->read_scanlines(input->subimage, level, s.y + ybegin, s.y + yend, s.z,
+                                       chbegin, chend, OIIO::TypeFloat, out))
             return fail(SPECCONV_OIIO_ERR_READ,
                         input_error(*input->in, "reading scanlines failed"));
         return SPECCONV_OIIO_OK;

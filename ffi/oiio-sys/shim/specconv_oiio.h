@@ -4,7 +4,8 @@
  * Every function returns a status (0 = success). On failure the message is kept per
  * thread and read with specconv_oiio_last_error() on the same thread. No C++ exception
  * leaves the shim. A handle is used by one thread at a time; open one per worker.
- * Pixel coordinates are relative to the data window origin of the MIP level.
+ * Pixel coordinates are relative to the data window origin of the MIP level. Everything
+ * describes and reads the selected subimage (part), subimage 0 unless one is selected.
  */
 #ifndef SPECCONV_OIIO_H
 #define SPECCONV_OIIO_H
@@ -32,7 +33,7 @@ typedef enum specconv_oiio_status {
 
 typedef struct specconv_oiio_input specconv_oiio_input;
 
-/* Geometry and storage of one MIP level of subimage 0. */
+/* Geometry and storage of one MIP level of the selected subimage. */
 typedef struct specconv_oiio_level {
     int32_t x, y;            /* data window origin */
     int32_t width, height;   /* data window size */
@@ -56,6 +57,12 @@ void specconv_oiio_close(specconv_oiio_input *input);
 /* The plugin's format name ("openexr", "tiff", ...). Valid while the input is open. */
 const char *specconv_oiio_format_name(const specconv_oiio_input *input);
 int32_t specconv_oiio_num_subimages(const specconv_oiio_input *input);
+/* The name of subimage `subimage` (an OpenEXR part's `name`), "" when it has none. Valid
+ * while the input is open. */
+int32_t specconv_oiio_subimage_name(const specconv_oiio_input *input, int32_t subimage,
+                                    const char **out);
+/* Selects the subimage that every other call describes and reads; reads its header. */
+int32_t specconv_oiio_select_subimage(specconv_oiio_input *input, int32_t subimage);
 int32_t specconv_oiio_num_levels(const specconv_oiio_input *input);
 int32_t specconv_oiio_level_info(const specconv_oiio_input *input, int32_t level,
                                  specconv_oiio_level *out);

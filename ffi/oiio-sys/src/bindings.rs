@@ -100,6 +100,19 @@ unsafe extern "C" {
     pub fn specconv_oiio_num_subimages(input: *const specconv_oiio_input) -> i32;
 }
 unsafe extern "C" {
+    pub fn specconv_oiio_subimage_name(
+        input: *const specconv_oiio_input,
+        subimage: i32,
+        out: *mut *const ::std::os::raw::c_char,
+    ) -> i32;
+}
+unsafe extern "C" {
+    pub fn specconv_oiio_select_subimage(
+        input: *mut specconv_oiio_input,
+        subimage: i32,
+    ) -> i32;
+}
+unsafe extern "C" {
     pub fn specconv_oiio_num_levels(input: *const specconv_oiio_input) -> i32;
 }
 unsafe extern "C" {

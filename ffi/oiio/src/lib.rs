@@ -8,7 +8,11 @@
 //! channels, declared colour space) is read once at open and kept in [`ImageInfo`].
 //!
 //! Coordinates are pixel offsets from the data window origin of the level, so `(0, 0)` is
-//! the first stored pixel whatever the file's data window is.
+//! the first stored pixel whatever the file's data window is; [`Level::data`] and
+//! [`Level::display`] say where that sits in the file's pixel space.
+//!
+//! Files with several subimages (OpenEXR parts) are read one subimage at a time: subimage 0
+//! unless [`ImageReader::select_subimage`] picks another.
 //!
 //! All `unsafe` is in this file and only calls the C shim of `oiio-sys`, which catches
 //! every C++ exception and reports failures as status codes.
@@ -111,6 +115,15 @@ pub struct Channel {
     pub format: PixelFormat,
 }
 
+/// A rectangle of the file's pixel space: its origin (which may be negative) and size.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Window {
+    pub x: i32,
+    pub y: i32,
+    pub width: u32,
+    pub height: u32,
+}
+
 /// Geometry of one MIP level (level 0 is full resolution).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Level {
@@ -119,11 +132,24 @@ pub struct Level {
     /// Data window origin in the file's pixel space.
     pub x: i32,
     pub y: i32,
+    /// The display window ("full" window) of the level, as OpenImageIO reports it. OpenEXR
+    /// has one per file (part), which OIIO gives level 0; other levels get their data window.
+    pub display: Window,
     /// Tile width and height, `None` for scanline storage.
     pub tile: Option<(u32, u32)>,
 }
 
 impl Level {
+    /// The data window: where the stored pixels sit in the file's pixel space.
+    pub fn data(&self) -> Window {
+        Window {
+            x: self.x,
+            y: self.y,
+            width: self.width,
+            height: self.height,
+        }
+    }
+
     /// Number of tiles across and down (`None` for scanline storage).
     pub fn tile_count(&self) -> Option<(u32, u32)> {
         self.tile
@@ -142,8 +168,12 @@ pub struct ImageInfo {
     pub alpha_channel: Option<usize>,
     /// Every MIP level; a plain image has one.
     pub levels: Vec<Level>,
-    /// Subimages (parts) in the file; only the first is read.
+    /// Subimages (parts) in the file.
     pub subimages: u32,
+    /// The subimage described and read (0 unless selected).
+    pub subimage: u32,
+    /// Each subimage's name (an OpenEXR part's `name`), empty where it has none.
+    pub subimage_names: Vec<String>,
     /// The colour space the file declares (`oiio:ColorSpace`), if any.
     pub declared_color_space: Option<String>,
 }
@@ -161,6 +191,38 @@ impl ImageInfo {
     }
     pub fn tile_size(&self) -> Option<(u32, u32)> {
         self.levels[0].tile
+    }
+
+    /// `N` or `NAME`: the subimage with that index or (part) name.
+    pub fn find_subimage(&self, which: &str) -> Result<u32> {
+        let found = match which.parse::<u32>() {
+            Ok(n) => (n < self.subimages).then_some(n),
+            Err(_) => self
+                .subimage_names
+                .iter()
+                .position(|n| n == which)
+                .map(|i| i as u32),
+        };
+        found.ok_or_else(|| Error::InvalidRequest {
+            path: self.path.clone(),
+            message: format!(
+                "it has no subimage {which:?}; its subimages are {}",
+                self.describe_subimages()
+            ),
+        })
+    }
+
+    /// `0 'beauty', 1 'albedo'`: every subimage, for messages.
+    pub fn describe_subimages(&self) -> String {
+        (0..self.subimages as usize)
+            .map(
+                |i| match self.subimage_names.get(i).filter(|n| !n.is_empty()) {
+                    Some(name) => format!("{i} '{name}'"),
+                    None => i.to_string(),
+                },
+            )
+            .collect::<Vec<_>>()
+            .join(", ")
     }
 }
 
@@ -326,6 +388,8 @@ impl ImageReader {
                 alpha_channel: None,
                 levels: Vec::new(),
                 subimages: 1,
+                subimage: 0,
+                subimage_names: Vec::new(),
                 declared_color_space: None,
             },
         };
@@ -333,9 +397,30 @@ impl ImageReader {
         Ok(reader)
     }
 
-    /// Opens the same file again: a second, independent reader for another worker.
+    /// Opens the same file again, on the same subimage: a second, independent reader for
+    /// another worker.
     pub fn reopen(&self) -> Result<Self> {
-        Self::open(&self.info.path)
+        let mut again = Self::open(&self.info.path)?;
+        if self.info.subimage != 0 {
+            again.select_subimage(self.info.subimage)?;
+        }
+        Ok(again)
+    }
+
+    /// Makes `subimage` the one described by [`ImageReader::info`] and read.
+    pub fn select_subimage(&mut self, subimage: u32) -> Result<()> {
+        if subimage >= self.info.subimages {
+            return Err(self.invalid(format!(
+                "it has no subimage {subimage}; its subimages are {}",
+                self.info.describe_subimages()
+            )));
+        }
+        let index = i32::try_from(subimage).unwrap_or(i32::MAX);
+        // SAFETY: live handle; the shim checks the index.
+        self.check(unsafe { sys::specconv_oiio_select_subimage(self.raw.as_ptr(), index) })?;
+        self.info = self.read_info()?;
+        self.info.subimage = subimage;
+        Ok(())
     }
 
     pub fn info(&self) -> &ImageInfo {
@@ -391,6 +476,12 @@ impl ImageReader {
                 height: l.height as u32,
                 x: l.x,
                 y: l.y,
+                display: Window {
+                    x: l.full_x,
+                    y: l.full_y,
+                    width: l.full_width.max(0) as u32,
+                    height: l.full_height.max(0) as u32,
+                },
                 tile,
             });
             top.get_or_insert(l);
@@ -415,6 +506,12 @@ impl ImageReader {
         let alpha_channel = usize::try_from(top.alpha_channel)
             .ok()
             .filter(|&a| a < channels.len());
+        let mut subimage_names = Vec::with_capacity(subimages as usize);
+        for i in 0..subimages as i32 {
+            let mut name = std::ptr::null();
+            self.check(unsafe { sys::specconv_oiio_subimage_name(raw, i, &mut name) })?;
+            subimage_names.push(shim_str(name));
+        }
         Ok(ImageInfo {
             path: self.info.path.clone(),
             format_name,
@@ -422,6 +519,8 @@ impl ImageReader {
             alpha_channel,
             levels,
             subimages,
+            subimage: self.info.subimage,
+            subimage_names,
             declared_color_space: self
                 .string_attribute("oiio:ColorSpace")?
                 .filter(|s| !s.is_empty()),

@@ -58,6 +58,8 @@ pub struct Args {
     /// The input's colour space, overriding what the file declares.
     #[arg(long, visible_alias = "iscolorspace", value_name = "NAME")]
     colorspace: Option<String>,
+    #[command(flatten)]
+    read: ReadArgs,
     /// Model file from `specconv train`; the built-in model when absent. Its grid, observer and
     /// illuminant are those of the output, whatever the method.
     #[arg(long, value_name = "MODEL")]
@@ -125,7 +127,7 @@ pub struct Args {
     /// Print one JSON object per input on standard output, every key on every record (null
     /// where it does not apply): input, output, status (ok, skipped, failed), skip_reason,
     /// error, seconds, pixels, width, height, levels, bands, colorspace, colorspace_rule,
-    /// bounded, non_finite, above_one, saturated. See docs/json.md.
+    /// subimage, channels, bounded, non_finite, above_one, saturated. See docs/json.md.
     #[arg(long)]
     json: bool,
     /// Progress on standard error: `auto` shows a live line on a terminal (file i of n, the
@@ -139,6 +141,30 @@ pub struct Args {
     /// Say more: the colour space chosen and why, the config, the model.
     #[arg(short, long)]
     verbose: bool,
+}
+
+/// `--subimage` and `--channels`, shared with `info`.
+#[derive(Debug, Clone, clap::Args)]
+pub struct ReadArgs {
+    /// The subimage (OpenEXR part) to read: its index or name. Default: the first; the report
+    /// names the one read when the file has several.
+    #[arg(long, value_name = "N|NAME")]
+    pub subimage: Option<String>,
+    /// The channels that carry the colour: names R,G,B or R,G,B,A (Y or Y,A for grey), or a
+    /// layer such as `diffuse` (diffuse.R, .G, .B and .A if present). Default: the channels named
+    /// R, G, B (and A); else, without layers, the channels in order; else the only layer with
+    /// R, G and B. Other layered files are refused with the list of their layers.
+    #[arg(long, value_name = "LIST|LAYER")]
+    pub channels: Option<String>,
+}
+
+impl ReadArgs {
+    pub fn request(&self) -> specconv_pipeline::input::Request {
+        specconv_pipeline::input::Request {
+            subimage: self.subimage.clone(),
+            channels: self.channels.clone(),
+        }
+    }
 }
 
 /// One input's record (`--json`): every key on every record, null where it does not apply
@@ -163,6 +189,9 @@ struct Record {
     /// The input colour space (the config's name) and the rule that chose it.
     colorspace: Option<String>,
     colorspace_rule: Option<&'static str>,
+    /// The subimage read, and the colour (then alpha) channels.
+    subimage: Option<u32>,
+    channels: Option<Vec<String>>,
     /// Pixels (all levels) projected into [0, 1] and outside the object-colour solid; null
     /// with --unbounded or --emissive.
     bounded: Option<BoundedCounts>,
@@ -188,6 +217,8 @@ impl Record {
             bands: None,
             colorspace: None,
             colorspace_rule: None,
+            subimage: None,
+            channels: None,
             bounded: None,
             non_finite: None,
             above_one: None,
@@ -275,7 +306,10 @@ pub fn run(args: Args) -> Result<i32> {
         args.mip,
         args.colorspace.as_deref().unwrap_or("auto"),
         config.source()
-    );
+    ) + &[("subimage", &args.read.subimage), ("channels", &args.read.channels)]
+        .iter()
+        .filter_map(|(k, v)| v.as_ref().map(|v| format!(" {k}={v}")))
+        .collect::<String>();
     let settings = Settings {
         kind: if args.emissive {
             Kind::Emissive {
@@ -292,6 +326,7 @@ pub fn run(args: Args) -> Result<i32> {
             Some(Colorimetry::new(method.grid(), model.observer, model.illuminant)?.weights)
         },
         colorspace: args.colorspace.clone(),
+        input: args.read.request(),
         sample: if args.data_type == "float" {
             Sample::Float
         } else {
@@ -373,13 +408,14 @@ pub fn run(args: Args) -> Result<i32> {
             Ok(r) => {
                 summary.converted += 1;
                 let line = format!(
-                    "{}×{}, {} level{}, {} bands, colour space {}{}, {seconds:.2} s",
+                    "{}×{}, {} level{}, {} bands, colour space {}, {}{}, {seconds:.2} s",
                     r.width,
                     r.height,
                     r.levels,
                     if r.levels == 1 { "" } else { "s" },
                     method.grid().len(),
                     r.colorspace,
+                    r.selection,
                     if r.non_finite > 0 {
                         format!(", {} pixels NaN or infinite (written as NaN)", r.non_finite)
                     } else {
@@ -402,6 +438,8 @@ pub fn run(args: Args) -> Result<i32> {
                         bands: Some(method.grid().len()),
                         colorspace: Some(r.colorspace.name.clone()),
                         colorspace_rule: Some(records::colorspace_rule(&r.colorspace.reason)),
+                        subimage: Some(r.selection.subimage),
+                        channels: Some(r.selection.channels.names.clone()),
                         bounded: counts.map(|c| BoundedCounts {
                             projected: c.projected,
                             outside_solid: c.outside,

@@ -5,7 +5,8 @@ use crate::{checks, exit, one_line, print_error};
 use anyhow::Result;
 use serde::Serialize;
 use specconv_ocio::{Config, XyzRoute};
-use specconv_oiio::ImageReader;
+use specconv_oiio::{ImageReader, Window};
+use specconv_pipeline::input::{choose_channels, open_subimage, ChannelReason};
 use std::path::{Path, PathBuf};
 
 /// Shown after `--help` and as the man page's EXAMPLES.
@@ -37,6 +38,8 @@ pub struct Args {
     /// Colour space to read the file in, overriding its declaration.
     #[arg(long, visible_alias = "iscolorspace", value_name = "NAME")]
     colorspace: Option<String>,
+    #[command(flatten)]
+    read: super::convert::ReadArgs,
     /// Print one JSON object per file, one per line, instead of text (docs/json.md).
     #[arg(long)]
     json: bool,
@@ -53,7 +56,18 @@ struct Report<'a> {
     pixel_format: String,
     tile_size: Option<[u32; 2]>,
     mip_levels: Vec<[u32; 2]>,
+    /// Where the pixels sit (level 0; OpenEXR's MIP levels share the data window's origin).
+    data_window: Rect,
+    display_window: Rect,
     subimages: u32,
+    /// The subimage described, and every subimage's name ("" when unnamed).
+    subimage: u32,
+    subimage_names: &'a [String],
+    /// The channels a conversion reads as colour (then alpha), and why (`channels-option`,
+    /// `names`, `order`, `only-rgb-layer`); or why none can be chosen without --channels.
+    colour_channels: Option<Vec<String>>,
+    channels_rule: Option<&'static str>,
+    channels_problem: Option<String>,
     declared_color_space: Option<&'a str>,
     /// The colour space specconv reads the file in (the config's name), the rule that chose
     /// it (`colorspace-option`, `declared`, `default`) and the choice in words.
@@ -63,6 +77,26 @@ struct Report<'a> {
     /// How the colour space reaches CIE XYZ (D65).
     to_xyz: String,
     spectral: Option<Spectral>,
+}
+
+/// A window: origin and size.
+#[derive(Serialize)]
+struct Rect {
+    x: i32,
+    y: i32,
+    width: u32,
+    height: u32,
+}
+
+impl From<Window> for Rect {
+    fn from(w: Window) -> Rect {
+        Rect {
+            x: w.x,
+            y: w.y,
+            width: w.width,
+            height: w.height,
+        }
+    }
 }
 
 #[derive(Serialize)]
@@ -127,8 +161,23 @@ pub fn run(args: Args) -> Result<i32> {
 }
 
 fn show(args: &Args, config: &Config, file: &Path) -> Result<()> {
-    let reader = ImageReader::open(file)?;
+    let reader = open_subimage(file, args.read.subimage.as_deref())?;
     let info = reader.info();
+    // A file whose channels cannot be chosen alone is still described, with the reason.
+    let (colour_channels, channels_rule, channels_problem) =
+        match choose_channels(info, args.read.channels.as_deref()) {
+            Ok(c) => (
+                Some(c.names),
+                Some(match c.reason {
+                    ChannelReason::Option => "channels-option",
+                    ChannelReason::Named => "names",
+                    ChannelReason::InOrder => "order",
+                    ChannelReason::OnlyLayer => "only-rgb-layer",
+                }),
+                None,
+            ),
+            Err(e) => (None, None, Some(e.to_string())),
+        };
     let choice = config.choose_input(
         args.colorspace.as_deref(),
         info.declared_color_space.as_deref(),
@@ -158,7 +207,14 @@ fn show(args: &Args, config: &Config, file: &Path) -> Result<()> {
         pixel_format: info.pixel_format().to_string(),
         tile_size: info.tile_size().map(|(w, h)| [w, h]),
         mip_levels: info.levels.iter().map(|l| [l.width, l.height]).collect(),
+        data_window: info.levels[0].data().into(),
+        display_window: info.levels[0].display.into(),
         subimages: info.subimages,
+        subimage: info.subimage,
+        subimage_names: &info.subimage_names,
+        colour_channels,
+        channels_rule,
+        channels_problem,
         declared_color_space: info.declared_color_space.as_deref(),
         colorspace: choice.name.clone(),
         colorspace_rule: crate::records::colorspace_rule(&choice.reason),
@@ -200,8 +256,34 @@ fn show(args: &Args, config: &Config, file: &Path) -> Result<()> {
         .map(|[w, h]| format!("{w}x{h}"))
         .collect();
     println!("MIP levels:   {} ({})", levels.len(), levels.join(" "));
+    // As exrheader prints them: first and last pixel, inclusive.
+    let corners = |w: &Rect| {
+        format!(
+            "({}, {}) - ({}, {})",
+            w.x,
+            w.y,
+            i64::from(w.x) + i64::from(w.width) - 1,
+            i64::from(w.y) + i64::from(w.height) - 1
+        )
+    };
+    println!("data window:  {}", corners(&r.data_window));
+    println!("display:      {}", corners(&r.display_window));
     if r.subimages > 1 {
-        println!("subimages:    {} (only the first is read)", r.subimages);
+        println!(
+            "subimages:    {} ({}); reading {} (--subimage picks another)",
+            r.subimages,
+            info.describe_subimages(),
+            r.subimage
+        );
+    }
+    match (&r.colour_channels, &r.channels_problem) {
+        (Some(names), _) => println!(
+            "read as:      {} (chosen by {})",
+            names.join(","),
+            r.channels_rule.unwrap_or("")
+        ),
+        (None, Some(problem)) => println!("read as:      nothing yet: {problem}"),
+        (None, None) => {}
     }
     println!(
         "declared:     {}",

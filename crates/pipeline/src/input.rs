@@ -1,0 +1,391 @@
+//! What is read of an input: which subimage (OpenEXR part) and which of its channels carry the
+//! colour and the alpha. Chosen once, by `--subimage` and `--channels` or by the rules below,
+//! and reported, so that a layered file is never read as "the first three channels" unsaid.
+//!
+//! Without `--channels`: channels named `R`, `G`, `B` (and `A`); else, when no name has a
+//! layer prefix, the first three channels that are not alpha (one grey channel is repeated), as
+//! every image format names them; else, when exactly one layer holds `.R`, `.G` and `.B`, that
+//! layer (and its `.A`). Any other layered file is refused with the list of its layers.
+
+use specconv_oiio::{ImageInfo, ImageReader};
+use std::fmt;
+use std::path::Path;
+
+/// `--subimage` and `--channels` as given.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct Request {
+    /// `N` or a part name.
+    pub subimage: Option<String>,
+    /// `R,G,B[,A]` (one to four channel names), or a layer name such as `diffuse`.
+    pub channels: Option<String>,
+}
+
+/// Why these channels carry the colour.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ChannelReason {
+    /// `--channels`.
+    Option,
+    /// The channels are named R, G, B.
+    Named,
+    /// The file's channels, in order (no layers; no R, G, B names).
+    InOrder,
+    /// The only layer with R, G and B channels.
+    OnlyLayer,
+}
+
+/// The channels read as colour and alpha.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Channels {
+    /// Three indices (R, G, B) or one (grey, repeated).
+    pub colour: Vec<usize>,
+    pub alpha: Option<usize>,
+    /// Names of the colour channels, then of alpha.
+    pub names: Vec<String>,
+    pub reason: ChannelReason,
+}
+
+impl fmt::Display for Channels {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.names.join(","))?;
+        match self.reason {
+            ChannelReason::Option => f.write_str(" (--channels)"),
+            ChannelReason::Named => Ok(()),
+            ChannelReason::InOrder => f.write_str(" (in file order)"),
+            ChannelReason::OnlyLayer => {
+                f.write_str(" (the only RGB layer; --channels picks another)")
+            }
+        }
+    }
+}
+
+/// What an input is read as: its subimage and channels.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Selection {
+    pub subimage: u32,
+    /// Subimages in the file.
+    pub subimages: u32,
+    /// The subimage's (part) name, empty when it has none.
+    pub subimage_name: String,
+    pub channels: Channels,
+}
+
+impl Selection {
+    /// `subimage 1 'albedo' of 2, ` for files with several subimages, else empty.
+    pub fn describe_subimage(&self) -> String {
+        if self.subimages <= 1 {
+            return String::new();
+        }
+        let name = if self.subimage_name.is_empty() {
+            String::new()
+        } else {
+            format!(" '{}'", self.subimage_name)
+        };
+        format!("subimage {}{name} of {}", self.subimage, self.subimages)
+    }
+}
+
+impl fmt::Display for Selection {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let sub = self.describe_subimage();
+        if !sub.is_empty() {
+            write!(f, "{sub}, ")?;
+        }
+        write!(f, "channels {}", self.channels)
+    }
+}
+
+/// Opens `path` on the subimage asked for and chooses its channels.
+pub fn open(path: &Path, request: &Request) -> crate::Result<(ImageReader, Selection)> {
+    let reader = open_subimage(path, request.subimage.as_deref())?;
+    let info = reader.info();
+    let channels = choose_channels(info, request.channels.as_deref())?;
+    let selection = Selection {
+        subimage: info.subimage,
+        subimages: info.subimages,
+        subimage_name: info
+            .subimage_names
+            .get(info.subimage as usize)
+            .cloned()
+            .unwrap_or_default(),
+        channels,
+    };
+    Ok((reader, selection))
+}
+
+/// Opens `path` on subimage `which` (`N` or a name; the first when `None`).
+pub fn open_subimage(path: &Path, which: Option<&str>) -> crate::Result<ImageReader> {
+    let mut reader = ImageReader::open(path)?;
+    if let Some(which) = which {
+        let index = reader.info().find_subimage(which)?;
+        reader.select_subimage(index)?;
+    }
+    Ok(reader)
+}
+
+/// The first three channels that are not alpha (fewer when the image has fewer).
+pub fn colour_channels(channels: usize, alpha: Option<usize>) -> Vec<usize> {
+    (0..channels)
+        .filter(|&c| Some(c) != alpha)
+        .take(3)
+        .collect()
+}
+
+/// The colour and alpha channels of `info` (see the module's rules), or `request`'s.
+pub fn choose_channels(info: &ImageInfo, request: Option<&str>) -> crate::Result<Channels> {
+    let names: Vec<&str> = info.channels.iter().map(|c| c.name.as_str()).collect();
+    let find = |name: &str| names.iter().position(|n| *n == name);
+    let build = |colour: Vec<usize>, alpha: Option<usize>, reason| {
+        let mut listed: Vec<String> = colour.iter().map(|&c| names[c].to_owned()).collect();
+        listed.extend(alpha.map(|a| names[a].to_owned()));
+        Channels {
+            colour,
+            alpha,
+            names: listed,
+            reason,
+        }
+    };
+    let refuse = |what: String| {
+        crate::Error::Setting(format!(
+            "{}: {what}; its channels are {}{}",
+            info.path.display(),
+            names.join(", "),
+            describe_layers(&names)
+        ))
+    };
+    // A layer's R, G, B (or Y) and A, if it has them.
+    let layer = |prefix: &str| -> Option<(Vec<usize>, Option<usize>)> {
+        let of = |c: &str| find(&format!("{prefix}{c}"));
+        let alpha = of("A");
+        match (of("R"), of("G"), of("B"), of("Y")) {
+            (Some(r), Some(g), Some(b), _) => Some((vec![r, g, b], alpha)),
+            (_, _, _, Some(y)) => Some((vec![y], alpha)),
+            _ => None,
+        }
+    };
+
+    if let Some(request) = request {
+        let request = request.trim();
+        if request.contains(',') {
+            let mut picked = Vec::new();
+            for name in request.split(',').map(str::trim) {
+                picked
+                    .push(find(name).ok_or_else(|| refuse(format!("it has no channel '{name}'")))?);
+            }
+            // One grey, grey and alpha, RGB, or RGBA.
+            let (colour, alpha) = match picked.len() {
+                2 => (vec![picked[0]], Some(picked[1])),
+                3 => (picked, None),
+                4 => (picked[..3].to_vec(), Some(picked[3])),
+                n => return Err(refuse(format!(
+                    "--channels names {n} channels; give R,G,B or R,G,B,A (or Y or Y,A for grey)"
+                ))),
+            };
+            return Ok(build(colour, alpha, ChannelReason::Option));
+        }
+        if let Some((colour, alpha)) = layer(&format!("{request}.")) {
+            return Ok(build(colour, alpha, ChannelReason::Option));
+        }
+        return match find(request) {
+            Some(grey) => Ok(build(vec![grey], None, ChannelReason::Option)),
+            None => Err(refuse(format!(
+                "it has no layer or channel '{request}' (a layer needs {request}.R, .G and .B, or {request}.Y)"
+            ))),
+        };
+    }
+
+    if let (Some(r), Some(g), Some(b)) = (find("R"), find("G"), find("B")) {
+        return Ok(build(vec![r, g, b], find("A"), ChannelReason::Named));
+    }
+    if !names.iter().any(|n| n.contains('.')) {
+        let colour = colour_channels(names.len(), info.alpha_channel);
+        if colour.is_empty() {
+            return Err(refuse("it has no colour channel".into()));
+        }
+        // Two channels that are not alpha are not a colour: read the first as grey.
+        let colour = if colour.len() == 3 {
+            colour
+        } else {
+            colour[..1].to_vec()
+        };
+        return Ok(build(colour, info.alpha_channel, ChannelReason::InOrder));
+    }
+    let rgb_layers: Vec<&str> = layers(&names)
+        .into_iter()
+        .filter(|l| {
+            ["R", "G", "B"]
+                .iter()
+                .all(|c| find(&format!("{l}.{c}")).is_some())
+        })
+        .collect();
+    match rgb_layers.as_slice() {
+        [only] => {
+            let (colour, alpha) = layer(&format!("{only}.")).expect("the layer has R, G, B");
+            Ok(build(colour, alpha, ChannelReason::OnlyLayer))
+        }
+        [] => Err(refuse(
+            "its channels are in layers and none holds R, G and B; choose with --channels LAYER or --channels NAME,NAME,NAME".into(),
+        )),
+        several => Err(refuse(format!(
+            "several layers hold R, G and B ({}); choose one with --channels LAYER",
+            several.join(", ")
+        ))),
+    }
+}
+
+/// The distinct layer prefixes of the channel names, in order of first appearance.
+fn layers<'a>(names: &[&'a str]) -> Vec<&'a str> {
+    let mut out: Vec<&str> = Vec::new();
+    for n in names {
+        if let Some((prefix, _)) = n.rsplit_once('.') {
+            if !out.contains(&prefix) {
+                out.push(prefix);
+            }
+        }
+    }
+    out
+}
+
+fn describe_layers(names: &[&str]) -> String {
+    let l = layers(names);
+    if l.is_empty() {
+        String::new()
+    } else {
+        format!(" (layers {})", l.join(", "))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use specconv_oiio::{Channel, PixelFormat};
+
+    fn info(names: &[&str], alpha: Option<usize>) -> ImageInfo {
+        ImageInfo {
+            path: "x.exr".into(),
+            format_name: "openexr".into(),
+            channels: names
+                .iter()
+                .map(|n| Channel {
+                    name: (*n).into(),
+                    format: PixelFormat::Half,
+                })
+                .collect(),
+            alpha_channel: alpha,
+            levels: Vec::new(),
+            subimages: 1,
+            subimage: 0,
+            subimage_names: vec![String::new()],
+            declared_color_space: None,
+        }
+    }
+
+    fn chosen(
+        names: &[&str],
+        alpha: Option<usize>,
+        request: Option<&str>,
+    ) -> Result<String, String> {
+        choose_channels(&info(names, alpha), request)
+            .map(|c| format!("{:?} {:?} {:?}", c.colour, c.alpha, c.reason))
+            .map_err(|e| e.to_string())
+    }
+
+    #[test]
+    fn named_rgb_wins_in_any_order_and_layers_are_never_the_first_three() {
+        assert_eq!(
+            chosen(&["A", "B", "G", "R"], Some(0), None).unwrap(),
+            "[3, 2, 1] Some(0) Named"
+        );
+        assert_eq!(
+            chosen(&["diffuse.R", "R", "G", "B", "A"], None, None).unwrap(),
+            "[1, 2, 3] Some(4) Named"
+        );
+        assert_eq!(chosen(&["Y"], None, None).unwrap(), "[0] None InOrder");
+        assert_eq!(
+            chosen(&["Y", "A"], Some(1), None).unwrap(),
+            "[0] Some(1) InOrder"
+        );
+        assert_eq!(
+            chosen(
+                &["diffuse.R", "diffuse.G", "diffuse.B", "rough.Y"],
+                None,
+                None
+            )
+            .unwrap(),
+            "[0, 1, 2] None OnlyLayer"
+        );
+        assert_eq!(
+            chosen(
+                &[
+                    "rough.Y",
+                    "diffuse.B",
+                    "diffuse.G",
+                    "diffuse.R",
+                    "diffuse.A"
+                ],
+                None,
+                None
+            )
+            .unwrap(),
+            "[3, 2, 1] Some(4) OnlyLayer"
+        );
+        let two = chosen(
+            &[
+                "diffuse.R",
+                "diffuse.G",
+                "diffuse.B",
+                "spec.R",
+                "spec.G",
+                "spec.B",
+            ],
+            None,
+            None,
+        )
+        .unwrap_err();
+        assert!(
+            two.contains("several layers hold R, G and B (diffuse, spec)"),
+            "{two}"
+        );
+        let none =
+            chosen(&["rough.Y", "normal.X", "normal.Y", "normal.Z"], None, None).unwrap_err();
+        assert!(
+            none.contains("none holds R, G and B") && none.contains("--channels"),
+            "{none}"
+        );
+    }
+
+    #[test]
+    fn the_option_takes_a_layer_a_channel_or_a_list() {
+        let names = [
+            "diffuse.R",
+            "diffuse.G",
+            "diffuse.B",
+            "rough.Y",
+            "spec.R",
+            "spec.G",
+            "spec.B",
+        ];
+        assert_eq!(
+            chosen(&names, None, Some("spec")).unwrap(),
+            "[4, 5, 6] None Option"
+        );
+        assert_eq!(
+            chosen(&names, None, Some("rough")).unwrap(),
+            "[3] None Option"
+        );
+        assert_eq!(
+            chosen(&names, None, Some("rough.Y")).unwrap(),
+            "[3] None Option"
+        );
+        assert_eq!(
+            chosen(&names, None, Some("spec.B,diffuse.G,rough.Y,spec.R")).unwrap(),
+            "[6, 1, 3] Some(4) Option"
+        );
+        let bad = chosen(&names, None, Some("diffuse.R,diffuse.X,diffuse.B")).unwrap_err();
+        assert!(
+            bad.contains("no channel 'diffuse.X'") && bad.contains("layers diffuse, rough, spec"),
+            "{bad}"
+        );
+        let bad = chosen(&names, None, Some("normal")).unwrap_err();
+        assert!(bad.contains("no layer or channel 'normal'"), "{bad}");
+    }
+}
