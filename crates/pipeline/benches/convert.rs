@@ -58,6 +58,7 @@ fn main() {
         kind: Kind::Reflective,
         xyz_weights: None,
         colorspace: None,
+        input: Default::default(),
         sample: Sample::Half,
         compression: Compression::ZIP16,
         tile: Some((64, 64)),

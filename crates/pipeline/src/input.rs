@@ -176,9 +176,10 @@ pub fn choose_channels(info: &ImageInfo, request: Option<&str>) -> crate::Result
                 2 => (vec![picked[0]], Some(picked[1])),
                 3 => (picked, None),
                 4 => (picked[..3].to_vec(), Some(picked[3])),
-                n => return Err(refuse(format!(
-                    "--channels names {n} channels; give R,G,B or R,G,B,A (or Y or Y,A for grey)"
-                ))),
+                n => {
+                    let hint = "give R,G,B or R,G,B,A (or Y or Y,A for grey)";
+                    return Err(refuse(format!("--channels names {n} channels; {hint}")));
+                }
             };
             return Ok(build(colour, alpha, ChannelReason::Option));
         }
