@@ -48,7 +48,10 @@ pub fn check_input(path: &Path) -> Result<(), Problem> {
         path: path.to_path_buf(),
         message,
     };
-    let mut file = File::open(path).map_err(io)?;
+    // A file that cannot be opened is the image reader's to report.
+    let Ok(mut file) = File::open(path) else {
+        return Ok(());
+    };
     let len = u128::from(file.metadata().map_err(io)?.len());
     let mut magic = [0u8; 4];
     if file.read_exact(&mut magic).is_err() || magic != [0x76, 0x2f, 0x31, 0x01] {
