@@ -22,7 +22,7 @@ work="$CARGO_TARGET_DIR/fuzz-work"
 rm -rf "$work" && mkdir -p "$work/csv" "$work/model" "$work/artifacts"
 cp ../crates/spectral/models/default.json "$work/model/"
 cp seeds/*.csv ../crates/spectral/data/smits1999_basis.csv \
-  ../crates/spectral/data/cie_illuminant_f2_380-780_5nm.csv "$work/csv/"
+  ../crates/colour/data/cie_illuminant_f2_380-780_5nm.csv "$work/csv/"
 
 status=0
 for target in csv model; do

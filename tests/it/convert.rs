@@ -79,18 +79,31 @@ fn input_xyz(input: &Path, level: usize) -> (usize, usize, Vec<[f32; 3]>) {
 /// Largest error of XYZ integrated from the output's spectra against the input's XYZ,
 /// relative to the pixel's largest XYZ component (absolute below 1e-3).
 fn round_trip_error(input: &Path, output: &Path, level: usize) -> f64 {
-    round_trip_error_on(input, output, level, spectral::Model::builtin().grid)
+    round_trip_error_on(
+        input,
+        output,
+        level,
+        specconv_spectral::Model::builtin().grid,
+    )
 }
 
 /// As [`round_trip_error`] for an output on `grid` (CIE 1931, D65, as the built-in model).
-fn round_trip_error_on(input: &Path, output: &Path, level: usize, grid: spectral::Grid) -> f64 {
+fn round_trip_error_on(
+    input: &Path,
+    output: &Path,
+    level: usize,
+    grid: specconv_colour::Grid,
+) -> f64 {
     let (w, h, want) = input_xyz(input, level);
-    let img = spectral_exr::read(output).unwrap();
+    let img = specconv_exr::read(output).unwrap();
     assert_eq!((img.width, img.height), (w, h));
     assert_eq!(img.wavelengths, grid.wavelengths());
-    let a =
-        spectral::Colorimetry::new(grid, spectral::Observer::Cie1931, spectral::Illuminant::D65)
-            .unwrap();
+    let a = specconv_colour::Colorimetry::new(
+        grid,
+        specconv_colour::Observer::Cie1931,
+        specconv_colour::Illuminant::D65,
+    )
+    .unwrap();
     let mut worst = 0.0f64;
     let mut r = vec![0.0; img.bands.len()];
     for (p, c) in want.iter().enumerate() {
@@ -289,9 +302,9 @@ fn colour_science_reads_the_output() {
         .iter()
         .map(|w| w.as_f64().unwrap())
         .collect();
-    assert_eq!(wl, spectral::Grid::PAPER.wavelengths());
+    assert_eq!(wl, specconv_colour::Grid::PAPER.wavelengths());
     assert_eq!(t["shape"], serde_json::json!([47, 61, 36]));
-    let ours = spectral_exr::read(&output).unwrap();
+    let ours = specconv_exr::read(&output).unwrap();
     for (b, plane) in ours.bands.iter().enumerate() {
         assert_eq!(
             t["pixel"][b].as_f64().unwrap() as f32,
@@ -551,7 +564,7 @@ fn shell_completions_name_the_commands() {
 fn convert_bounds_reflectances_by_default_and_unbounded_gives_the_raw_spectra() {
     let dir = Scratch::new("convert-bounded");
     let worst = |path: &Path| {
-        spectral_exr::read(path)
+        specconv_exr::read(path)
             .unwrap()
             .bands
             .iter()
@@ -583,7 +596,7 @@ fn convert_bounds_reflectances_by_default_and_unbounded_gives_the_raw_spectra() 
             "{flags:?}: a band {} outside [0, 1]",
             worst(&out)
         );
-        let attrs = spectral_exr::read_attributes(&out).unwrap();
+        let attrs = specconv_exr::read_attributes(&out).unwrap();
         assert!(attrs.contains(&("specconvMethod".into(), "otsu2018+bounded".into())));
         let err = round_trip_error(&input, &out, 0);
         assert!(err <= 1e-5, "{flags:?}: round trip {err}");
@@ -652,7 +665,7 @@ fn baseline_methods_convert_too() {
         round_trip_error(&input, &meng, 0) <= 1e-5,
         "meng2015 keeps XYZ exactly"
     );
-    let attrs = spectral_exr::read_attributes(&meng).unwrap();
+    let attrs = specconv_exr::read_attributes(&meng).unwrap();
     assert!(
         attrs.contains(&("specconvMethod".into(), "meng2015+bounded".into())),
         "{attrs:?}"
@@ -689,7 +702,7 @@ fn bands_put_the_spectra_on_another_grid_with_their_colour() {
             "--unbounded",
         ])
         .ok();
-        let grid: spectral::Grid = bands.parse().unwrap();
+        let grid: specconv_colour::Grid = bands.parse().unwrap();
         assert_eq!(grid.len(), count);
         let err = round_trip_error_on(&input, &output, 0, grid);
         assert!(err <= 1e-5, "--bands {bands}: round trip {err}");
@@ -714,19 +727,19 @@ fn half_rounding_nearest_rounds_each_band_and_colour_keeps_xyz_closer() {
         let mut args = vec![input.to_str().unwrap(), out.to_str().unwrap(), "--mip", "0"];
         args.extend_from_slice(flags);
         specconv(args).ok();
-        spectral_exr::read(&out).unwrap()
+        specconv_exr::read(&out).unwrap()
     };
     let float = convert("float.exr", &["-d", "float"]);
     let nearest = convert("nearest.exr", &[]);
     let colour = convert("colour.exr", &["--half-rounding", "colour"]);
-    let a = spectral::Colorimetry::new(
-        spectral::Grid::new(380.0, 730.0, 10.0).unwrap(),
-        spectral::Observer::Cie1931,
-        spectral::Illuminant::D65,
+    let a = specconv_colour::Colorimetry::new(
+        specconv_colour::Grid::new(380.0, 730.0, 10.0).unwrap(),
+        specconv_colour::Observer::Cie1931,
+        specconv_colour::Illuminant::D65,
     )
     .unwrap();
     let pixels = float.width * float.height;
-    let spectrum = |img: &spectral_exr::SpectralImage, p: usize| -> Vec<f64> {
+    let spectrum = |img: &specconv_exr::SpectralImage, p: usize| -> Vec<f64> {
         img.bands.iter().map(|b| b[p] as f64).collect()
     };
     let (mut worst_nearest, mut worst_colour) = (0.0f64, 0.0f64);
@@ -745,7 +758,7 @@ fn half_rounding_nearest_rounds_each_band_and_colour_keeps_xyz_closer() {
             );
         }
         let exact = a.xyz(&spectrum(&float, p));
-        let err = |img: &spectral_exr::SpectralImage| {
+        let err = |img: &specconv_exr::SpectralImage| {
             let got = a.xyz(&spectrum(img, p));
             (0..3).fold(0.0f64, |m, k| m.max((got[k] - exact[k]).abs()))
         };

@@ -99,9 +99,9 @@ fn emission_round_trips_hdr_colours_through_to_rgb_and_stays_non_negative() {
             (top - brightest).abs() < 1e-3 * brightest,
             "{top} vs {brightest}"
         );
-        let img = spectral_exr::read(&output).unwrap();
+        let img = specconv_exr::read(&output).unwrap();
         assert!(
-            matches!(img.kind, spectral_exr::Kind::Emissive { ref units } if units == "W.m^-2.sr^-1")
+            matches!(img.kind, specconv_exr::Kind::Emissive { ref units } if units == "W.m^-2.sr^-1")
         );
         assert!(
             img.bands.iter().flatten().all(|v| *v >= 0.0),
@@ -170,8 +170,8 @@ fn emission_files_are_seen_by_real_readers() {
         .iter()
         .map(|w| w.as_f64().unwrap())
         .collect();
-    assert_eq!(wl, spectral::Grid::PAPER.wavelengths());
-    let img = spectral_exr::read(&output).unwrap();
+    assert_eq!(wl, specconv_colour::Grid::PAPER.wavelengths());
+    let img = specconv_exr::read(&output).unwrap();
     for (b, plane) in img.bands.iter().enumerate() {
         assert_eq!(s0["pixel"][b].as_f64().unwrap() as f32, plane[5 * 61 + 7]);
     }
@@ -215,7 +215,7 @@ fn hard_inputs_through_convert_emissive() {
     let stderr = emissive(&input, &float, "ACEScg", &["-d", "float"]);
     assert!(stderr.contains("2 pixels NaN or infinite"), "{stderr}");
     assert!(stderr.contains("1 pixels no emission"), "{stderr}");
-    let img = spectral_exr::read(&float).unwrap();
+    let img = specconv_exr::read(&float).unwrap();
     let band = |p: usize| img.bands.iter().map(move |plane| plane[p]);
     assert!(band(0).all(|v| v == 0.0), "black: zero spectrum");
     assert!(
@@ -240,7 +240,7 @@ fn hard_inputs_through_convert_emissive() {
         stderr.contains("2 pixels beyond the half range (stored as ±65504; use -d float)"),
         "65504 white peaks above 65504 in some band; 1e30 everywhere: {stderr}"
     );
-    let img = spectral_exr::read(&half).unwrap();
+    let img = specconv_exr::read(&half).unwrap();
     let band = |p: usize| img.bands.iter().map(move |plane| plane[p]);
     for p in [0, 2, 3, 5] {
         assert!(

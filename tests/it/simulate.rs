@@ -222,7 +222,7 @@ fn a_texture_pixel_is_the_colour_convert_would_read() {
     let v = json(specconv(["simulate", "--scene", p.to_str().unwrap(), "--json"]).ok());
     let (tex, col) = (bounced_lab(&v, "tex"), bounced_lab(&v, "col"));
     // OCIO's D65 white and the model's differ in the fourth decimal of xy.
-    let d = spectral::lab::ciede2000(tex, col);
+    let d = specconv_colour::lab::ciede2000(tex, col);
     assert!(d < 0.05, "{d}: {tex:?} {col:?}");
     // Half light, half reflection after one bounce in a furnace: a pale red.
     assert!(tex[1] > 15.0 && tex[1] > 2.0 * tex[2].abs(), "red: {tex:?}");
@@ -236,7 +236,7 @@ fn a_texture_pixel_is_the_colour_convert_would_read() {
     let v = json(specconv(["simulate", "--scene", p.to_str().unwrap(), "--json"]).ok());
     let linear = bounced_lab(&v, "tex");
     assert!(
-        linear[0] > tex[0] && spectral::lab::ciede2000(linear, tex) > 0.5,
+        linear[0] > tex[0] && specconv_colour::lab::ciede2000(linear, tex) > 0.5,
         "{linear:?} {tex:?}"
     );
 

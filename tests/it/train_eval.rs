@@ -232,22 +232,22 @@ fn trained_model_file_is_used_by_eval_with_its_own_setting() {
     );
 }
 
-#[path = "../../crates/spectral/tests/common/untrainable.rs"]
-mod untrainable;
-
 #[test]
 fn untrainable_spectra_get_one_clear_error_and_no_model() {
     let dir = Scratch::new("untrainable");
-    let a = spectral::Colorimetry::new(
-        spectral::Grid::PAPER,
-        spectral::Observer::Cie1931,
-        spectral::Illuminant::D65,
+    let a = specconv_colour::Colorimetry::new(
+        specconv_colour::Grid::PAPER,
+        specconv_colour::Observer::Cie1931,
+        specconv_colour::Illuminant::D65,
     )
     .unwrap();
-    for (k, case) in untrainable::cases(&a).into_iter().enumerate() {
+    for (k, case) in specconv_testkit::untrainable::cases(&a)
+        .into_iter()
+        .enumerate()
+    {
         let csv = dir.write(
             &format!("case{k}.csv"),
-            &untrainable::csv(&a.grid, &case.spectra),
+            &specconv_testkit::untrainable::csv(&a.grid, &case.spectra),
         );
         let model = dir.path("m.json");
         let out = specconv([

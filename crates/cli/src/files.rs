@@ -2,7 +2,7 @@
 //! it and renamed into place, so a failed run leaves no partial file.
 
 use anyhow::{bail, Context, Result};
-use spectral::SpectralTable;
+use specconv_colour::SpectralTable;
 use std::path::Path;
 
 /// Reads a spectra CSV file.
@@ -38,18 +38,18 @@ pub fn write_atomically(path: &Path, bytes: &[u8], inputs: &[&Path]) -> Result<(
 
 /// The model from `--model FILE`, or the built-in one. A model that cannot be read is a
 /// usage error: nothing can be done with it.
-pub fn load_model(path: Option<&Path>) -> Result<spectral::Model> {
+pub fn load_model(path: Option<&Path>) -> Result<specconv_spectral::Model> {
     let Some(path) = path else {
-        return Ok(spectral::Model::builtin().clone());
+        return Ok(specconv_spectral::Model::builtin().clone());
     };
     let text = std::fs::read_to_string(path)
         .with_context(|| format!("cannot read model file {}", path.display()))
         .map_err(crate::usage)?;
-    spectral::Model::from_json(&path.display().to_string(), &text).map_err(crate::usage)
+    specconv_spectral::Model::from_json(&path.display().to_string(), &text).map_err(crate::usage)
 }
 
 /// A model's one-line description for reports.
-pub fn describe_model(path: Option<&Path>, m: &spectral::Model) -> String {
+pub fn describe_model(path: Option<&Path>, m: &specconv_spectral::Model) -> String {
     format!(
         "{} ({} clusters, {}, {}, {} nm, trained on {} spectra from {})",
         path.map_or_else(|| "built-in".to_string(), |p| p.display().to_string()),
@@ -65,8 +65,8 @@ pub fn describe_model(path: Option<&Path>, m: &spectral::Model) -> String {
 /// Why a trained model has fewer clusters than were asked for; `None` when it has them all.
 /// Training stops when no leaf has a split that lowers the error with both sides of at least
 /// `min_cluster_size` spectra, three real components and M's condition within `max_condition`
-/// (spectral::train); which of these stopped it shows in the leaves' sizes.
-pub fn fewer_clusters(m: &spectral::Model) -> Option<String> {
+/// (specconv_spectral::train); which of these stopped it shows in the leaves' sizes.
+pub fn fewer_clusters(m: &specconv_spectral::Model) -> Option<String> {
     let t = &m.training;
     if m.leaves.len() >= t.clusters_requested {
         return None;
@@ -104,25 +104,25 @@ pub fn fewer_clusters(m: &spectral::Model) -> Option<String> {
 /// The colorimetry a spectral EXR records: its grid (from its band wavelengths, evenly
 /// spaced), its `specconvObserver` (else CIE 1931) and `specconvIlluminant` (else D65).
 pub fn recorded_colorimetry(
-    img: &spectral_exr::SpectralImage,
-) -> Result<(spectral::Grid, spectral::Observer, spectral::Illuminant)> {
+    img: &specconv_exr::SpectralImage,
+) -> Result<(specconv_colour::Grid, specconv_colour::Observer, specconv_colour::Illuminant)> {
     let attr = |name: &str| {
         img.attributes
             .iter()
             .find(|(k, _)| k == name)
             .map(|(_, v)| v.as_str())
     };
-    let observer = attr("specconvObserver").map_or(Ok(spectral::Observer::Cie1931), str::parse)?;
+    let observer = attr("specconvObserver").map_or(Ok(specconv_colour::Observer::Cie1931), str::parse)?;
     let illuminant =
-        attr("specconvIlluminant").map_or(Ok(spectral::Illuminant::D65), str::parse)?;
+        attr("specconvIlluminant").map_or(Ok(specconv_colour::Illuminant::D65), str::parse)?;
     Ok((uniform_grid(&img.wavelengths)?, observer, illuminant))
 }
 
 /// The grid of evenly spaced band wavelengths.
-pub fn uniform_grid(w: &[f64]) -> Result<spectral::Grid> {
+pub fn uniform_grid(w: &[f64]) -> Result<specconv_colour::Grid> {
     let (first, last) = (w[0], w[w.len() - 1]);
     if w.len() == 1 {
-        return Ok(spectral::Grid::new(first, first, 1.0)?);
+        return Ok(specconv_colour::Grid::new(first, first, 1.0)?);
     }
     let step = (last - first) / (w.len() - 1) as f64;
     if w.iter()
@@ -131,5 +131,5 @@ pub fn uniform_grid(w: &[f64]) -> Result<spectral::Grid> {
     {
         bail!("the bands are not evenly spaced ({first} … {last} nm); a regular grid is needed");
     }
-    Ok(spectral::Grid::new(first, last, step)?)
+    Ok(specconv_colour::Grid::new(first, last, step)?)
 }

@@ -5,9 +5,12 @@
 
 use anyhow::{Context, Result};
 use rayon::prelude::*;
-use spectral::methods::jakob::{self, Fitter, Table};
-use spectral::methods::{Jakob2019, Meng2015, MethodName, Smits1999};
-use spectral::{Colorimetry, Method, Model, Uplifter};
+use specconv_colour::Colorimetry;
+use specconv_spectral::baselines::jakob;
+use specconv_spectral::baselines::jakob::{Fitter, Table};
+use specconv_spectral::baselines::{Jakob2019, Meng2015, Smits1999};
+use specconv_spectral::method::MethodName;
+use specconv_spectral::{Method, Model, Uplifter};
 use std::path::PathBuf;
 
 /// The baseline `name` in colorimetry `a`. Clustered methods come from [`clustered`].
@@ -34,10 +37,13 @@ pub fn blended(model: &Model, width: f64) -> Result<Box<dyn Method>> {
     Ok(Box::new(Uplifter::new(model)?.with_blend(width)?))
 }
 
-/// `m` with its spectra kept in [0, 1] and their XYZ (`spectral::bounded`); `a` is the
+/// `m` with its spectra kept in [0, 1] and their XYZ (`specconv_spectral::bounded`); `a` is the
 /// colorimetry `m` uplifts for.
 pub fn bounded(m: Box<dyn Method>, a: &Colorimetry) -> Result<Box<dyn Method>> {
-    Ok(Box::new(spectral::bounded::Bounded::new(m, a.clone())?))
+    Ok(Box::new(specconv_spectral::bounded::Bounded::new(
+        m,
+        a.clone(),
+    )?))
 }
 
 /// `--blend WIDTH` of the commands that uplift with a clustered model.
@@ -48,7 +54,7 @@ pub struct BlendArg {
     /// width: a boundary whose two sides differ a lot is widened so that no spectrum jumps by
     /// more than 1e-3 between colours 1e-5 apart. 0 is the paper's hard switch. The default
     /// keeps the paper's Table 1 (Munsell mean Δe 0.01378 against 0.01379).
-    #[arg(long = "blend", value_name = "WIDTH", default_value_t = spectral::blend::DEFAULT_WIDTH)]
+    #[arg(long = "blend", value_name = "WIDTH", default_value_t = specconv_spectral::otsu2018::blend::DEFAULT_WIDTH)]
     pub width: f64,
 }
 
@@ -130,14 +136,14 @@ pub struct SettingArgs {
     /// Colour-matching functions for baselines and in-place training: cie1931, cie1964 or
     /// wyman2013 (default: the model's, cie1931 for the built-in one).
     #[arg(long)]
-    pub observer: Option<spectral::Observer>,
+    pub observer: Option<specconv_colour::Observer>,
     /// Illuminant for baselines and in-place training: D65, E, A, D50, FL2, FL11 or
     /// blackbody:KELVIN (default: the model's, D65 for the built-in one).
     #[arg(long)]
-    pub illuminant: Option<spectral::Illuminant>,
+    pub illuminant: Option<specconv_colour::Illuminant>,
     /// Wavelength grid START:END:STEP in nm (default: the model's, 380:730:10 for the built-in).
     #[arg(long, value_name = "START:END:STEP")]
-    pub bands: Option<spectral::Grid>,
+    pub bands: Option<specconv_colour::Grid>,
     /// Resolution of the jakob2019 coefficient table (cells per axis; the paper's 64).
     #[arg(long, value_name = "N", default_value_t = jakob::DEFAULT_RESOLUTION)]
     pub jakob_resolution: usize,
@@ -155,8 +161,11 @@ impl SettingArgs {
 }
 
 /// Reads spectra files into one training set on `grid`.
-pub fn training_set(paths: &[PathBuf], grid: &spectral::Grid) -> Result<spectral::TrainingSet> {
-    let mut set = spectral::TrainingSet::default();
+pub fn training_set(
+    paths: &[PathBuf],
+    grid: &specconv_colour::Grid,
+) -> Result<specconv_spectral::TrainingSet> {
+    let mut set = specconv_spectral::TrainingSet::default();
     for path in paths {
         let table = crate::files::read_spectra(path)?;
         set.spectra.extend(table.resampled(grid)?);

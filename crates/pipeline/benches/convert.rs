@@ -7,9 +7,9 @@
 //! time, their ratio and the thread speed-up. Run with `cargo bench -p specconv-pipeline`.
 
 use rayon::prelude::*;
+use specconv_exr::{Blocks, Compression, Kind, Sample, Spec, SpectralFile};
 use specconv_pipeline::{convert, Job, Mip, Settings};
-use spectral::{Method, Model, Uplifter};
-use spectral_exr::{Blocks, Compression, Kind, Sample, Spec, SpectralFile};
+use specconv_spectral::{Method, Model, Uplifter};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::sync::atomic::AtomicBool;

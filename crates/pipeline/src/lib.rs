@@ -8,7 +8,7 @@
 //!
 //! The output is written to a temporary file beside the target and renamed into place only
 //! when complete: a failed or cancelled job leaves nothing behind. Before it is created, an
-//! OpenEXR input's header is checked against the file's size ([`spectral_exr::check`]) and the
+//! OpenEXR input's header is checked against the file's size ([`specconv_exr::check`]) and the
 //! first window of pixels is read, so a damaged input fails at once.
 //!
 //! The output keeps the input's data and display windows (OpenEXR gives every MIP level the
@@ -19,8 +19,8 @@ pub mod input;
 
 use rayon::prelude::*;
 use specconv_ocio::{Config, Processor};
-use spectral::Method;
-use spectral_exr::{Block, Blocks, Chunk, Compression, Kind, Sample, Spec, SpectralFile, Windows};
+use specconv_spectral::Method;
+use specconv_exr::{Block, Blocks, Chunk, Compression, Kind, Sample, Spec, SpectralFile, Windows};
 use std::fs::File;
 use std::io::BufWriter;
 use std::path::{Path, PathBuf};
@@ -33,9 +33,9 @@ pub enum Error {
     #[error("{0}")]
     Color(#[from] specconv_ocio::Error),
     #[error("{0}")]
-    Output(#[from] spectral_exr::Error),
+    Output(#[from] specconv_exr::Error),
     #[error("{0}")]
-    Damaged(#[from] spectral_exr::check::Problem),
+    Damaged(#[from] specconv_exr::check::Problem),
     #[error("{0}")]
     Setting(String),
     #[error("cannot write {path}: {source}")]
@@ -66,7 +66,7 @@ pub struct Settings {
     pub kind: Kind,
     /// Per band, the weights of X, Y and Z with which the spectra will be read back (the
     /// method's colorimetry): half samples are rounded to keep that colour
-    /// ([`spectral_exr::quantize`]); `None` rounds to nearest.
+    /// ([`specconv_exr::quantize`]); `None` rounds to nearest.
     pub xyz_weights: Option<[Vec<f64>; 3]>,
     /// `--colorspace`: the input's colour space, overriding what the file declares.
     pub colorspace: Option<String>,
@@ -138,7 +138,7 @@ struct Strip {
 pub fn convert(job: &Job, progress: &mut dyn FnMut(u64, u64)) -> Result<Report> {
     let output = job.output;
     refuse_overwrites(job.input, output, job.settings.overwrite)?;
-    spectral_exr::check::check_input(job.input)?;
+    specconv_exr::check::check_input(job.input)?;
     let (mut reader, selection) = input::open(job.input, &job.settings.input)?;
     let info = reader.info().clone();
     let choice = job.config.choose_input(
@@ -256,11 +256,11 @@ pub fn convert(job: &Job, progress: &mut dyn FnMut(u64, u64)) -> Result<Report> 
     let alpha = selection.channels.alpha;
     let mut done = 0u64;
     let mut counts = Counts::default();
-    // The writer speaks spectral_exr's errors; ours wait here and win over its abort.
+    // The writer speaks specconv_exr's errors; ours wait here and win over its abort.
     let mut failure: Option<Error> = None;
     let mut fail = |e: Error| {
         failure = Some(e);
-        spectral_exr::Error::Invalid("aborted".into())
+        specconv_exr::Error::Invalid("aborted".into())
     };
     let written = file.write(BufWriter::with_capacity(1 << 20, out), |sink| {
         for (i, window) in windows.iter().enumerate() {
@@ -376,7 +376,7 @@ fn encode_block(
     if file.spec().sample == Sample::Half {
         counts.saturated = saturate_half(&mut bands, n);
         if let Some(w) = &job.settings.xyz_weights {
-            spectral_exr::quantize::round_to_half_keeping_colour(w, &mut bands, n);
+            specconv_exr::quantize::round_to_half_keeping_colour(w, &mut bands, n);
         }
     }
     let chunk = file.encode(b, &bands, a.as_deref())?;

@@ -4,10 +4,10 @@
 //! cost of making the blend (the per-split widths), in colours of hard uplift.
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
-use spectral::blend::DEFAULT_WIDTH;
-use spectral::methods::WorkingSpace;
-use spectral::model::{Axis, Node};
-use spectral::{Method, Model, Uplifter};
+use specconv_colour::working_space::WorkingSpace;
+use specconv_spectral::otsu2018::blend::DEFAULT_WIDTH;
+use specconv_spectral::otsu2018::tree::{Axis, Node};
+use specconv_spectral::{Method, Model, Uplifter};
 use std::time::Instant;
 
 const N: usize = 4096;

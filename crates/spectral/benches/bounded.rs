@@ -7,10 +7,10 @@
 //! input, and the cost of each, per colour.
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use spectral::bounded::{Bounded, Outcome};
-use spectral::lab::{ciede2000, xyz_to_lab};
-use spectral::primaries::{apply, RgbSpace, ACESCG, REC2020, SRGB};
-use spectral::{Method, Model, Uplifter};
+use specconv_colour::lab::{ciede2000, xyz_to_lab};
+use specconv_colour::rgb::{apply, RgbSpace, ACESCG, REC2020, SRGB};
+use specconv_spectral::bounded::{Bounded, Outcome};
+use specconv_spectral::{Method, Model, Uplifter};
 use std::hint::black_box;
 use std::time::Instant;
 

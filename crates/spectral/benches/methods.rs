@@ -3,9 +3,11 @@
 //! (the store bandwidth an uplift cannot beat). The ratio says how far each method is from it.
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
-use spectral::methods::jakob::Table;
-use spectral::methods::{Jakob2019, Meng2015, Smits1999, WorkingSpace};
-use spectral::{Colorimetry, Grid, Illuminant, Method, Model, Observer, Uplifter};
+use specconv_colour::working_space::WorkingSpace;
+use specconv_colour::{Colorimetry, Grid, Illuminant, Observer};
+use specconv_spectral::baselines::jakob::Table;
+use specconv_spectral::baselines::{Jakob2019, Meng2015, Smits1999};
+use specconv_spectral::{Method, Model, Uplifter};
 use std::time::Instant;
 
 const N: usize = 4096;

@@ -3,9 +3,8 @@
 //! PCAs the greedy tree costs.
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use spectral::{
-    train, Colorimetry, Grid, Illuminant, Observer, SpectralTable, TrainOptions, TrainingSet,
-};
+use specconv_colour::{Colorimetry, Grid, Illuminant, Observer, SpectralTable};
+use specconv_spectral::{train, TrainOptions, TrainingSet};
 use std::time::Instant;
 
 fn munsell(grid: &Grid) -> TrainingSet {

@@ -36,7 +36,8 @@
 //! | no k reproduces it (xy outside the spectral locus, negative luminance) | L of the last k, counted as *unmatched*: its colour is the one the method reached (bounded: non-negative, the colour nearest in CIELAB that a reflectance can have, see [`crate::bounded`]); unbounded methods always match, with negative bands |
 //! | components up to the largest finite value | u from c/m cannot overflow; L saturates at ± the output type's largest finite value |
 
-use crate::{Colorimetry, Error, Grid, Illuminant, Method};
+use crate::{Error, Method};
+use specconv_colour::{Colorimetry, Grid, Illuminant};
 use std::sync::atomic::{AtomicU64, Ordering};
 
 /// Most halvings of a colour the method misses: down to 2⁻⁹ of the white's box (the bounded
@@ -49,8 +50,11 @@ const MATCH: f64 = 2e-5;
 
 /// XYZₑ of emission spectra: the observer alone, normalised so that a flat L = 1 has Y = 1
 /// (illuminant E, whose spectrum is 1 in every band).
-pub fn emission_colorimetry(grid: Grid, observer: crate::Observer) -> Result<Colorimetry, Error> {
-    Colorimetry::new(grid, observer, Illuminant::E)
+pub fn emission_colorimetry(
+    grid: Grid,
+    observer: specconv_colour::Observer,
+) -> Result<Colorimetry, Error> {
+    Ok(Colorimetry::new(grid, observer, Illuminant::E)?)
 }
 
 /// A reflectance method turned into an emission method (see the module).

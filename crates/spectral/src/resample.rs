@@ -6,8 +6,9 @@
 //! (c − A·L·r₀), with A the new grid's XYZ rows. Bands beyond the method's grid hold its end
 //! values, so widening a grid extrapolates flat.
 
-use crate::{Colorimetry, Error, Grid, Method};
+use crate::{Error, Method};
 use nalgebra::Matrix3;
+use specconv_colour::{Colorimetry, Grid};
 
 /// `inner` resampled onto the grid of `colorimetry`.
 pub struct Resampled<M> {
@@ -130,7 +131,8 @@ impl<M: Method> Method for Resampled<M> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::{Illuminant, Model, Observer, Uplifter};
+    use crate::{Model, Uplifter};
+    use specconv_colour::{Illuminant, Observer};
 
     #[test]
     fn resampled_spectra_keep_their_colour_on_the_new_grid() {

@@ -1,11 +1,9 @@
 //! The baselines on the paper's dataset I (Table 1), and their round trips.
 
-mod common;
-
-use common::*;
-use spectral::eval;
-use spectral::methods::{Meng2015, Smits1999};
-use spectral::Method;
+use specconv_spectral::baselines::{Meng2015, Smits1999};
+use specconv_spectral::Method;
+use specconv_study::eval;
+use specconv_testkit::*;
 
 fn table1(m: &dyn Method) -> eval::Summary {
     let a = paper();
@@ -71,10 +69,11 @@ fn meng2015_on_dataset_i() {
 /// 0.01, in f64 and in the f32 runtime, with the paper's 64³ table.
 #[test]
 fn jakob2019_round_trips_in_gamut_srgb() {
-    use spectral::lab::{ciede2000, xyz_to_lab};
-    use spectral::methods::jakob::{Table, DEFAULT_RESOLUTION};
-    use spectral::methods::{Jakob2019, WorkingSpace};
-    use spectral::{Colorimetry, Grid, Illuminant, Observer};
+    use specconv_colour::lab::{ciede2000, xyz_to_lab};
+    use specconv_colour::working_space::WorkingSpace;
+    use specconv_colour::{Colorimetry, Grid, Illuminant, Observer};
+    use specconv_spectral::baselines::jakob::{Table, DEFAULT_RESOLUTION};
+    use specconv_spectral::baselines::Jakob2019;
     let a = Colorimetry::new(Grid::PAPER, Observer::Cie1931, Illuminant::D65).unwrap();
     let table = Table::build(&a, DEFAULT_RESOLUTION).unwrap();
     let j = Jakob2019::new(&a, table).unwrap();

@@ -1,16 +1,17 @@
-//! Blending across cluster boundaries (`spectral::blend`): continuity measured along every
+//! Blending across cluster boundaries (`specconv_spectral::otsu2018::blend`): continuity measured along every
 //! split line, exact round trip, the hard-input policy kept, Table 1 within 5 %.
 //!
 //! The figures of the README come from
 //! `cargo test --release -p specconv-spectral --test blend -- --ignored --nocapture`.
 
-mod common;
-use common::*;
 use proptest::prelude::*;
-use spectral::blend::DEFAULT_WIDTH;
-use spectral::gamut::{xyz, Gamut};
-use spectral::model::{Axis, Node};
-use spectral::{eval, train, Colorimetry, Method, Model, Uplifter};
+use specconv_colour::Colorimetry;
+use specconv_spectral::otsu2018::blend::DEFAULT_WIDTH;
+use specconv_spectral::otsu2018::gamut::{xyz, Gamut};
+use specconv_spectral::otsu2018::tree::{Axis, Node};
+use specconv_spectral::{train, Method, Model, Uplifter};
+use specconv_study::eval;
+use specconv_testkit::*;
 
 /// Two colours this far apart in xy straddle each boundary.
 const GAP: f64 = 1e-5;
@@ -323,11 +324,14 @@ fn hard_inputs_keep_their_outcome() {
     assert!(r32.iter().all(|&r| r == 0.0));
     // Near black: the blended spectrum of the same chromaticity at X+Y+Z = DARK, scaled.
     let s: f64 = on_line.iter().sum();
-    let at_dark = one(&soft, on_line.map(|v| v * spectral::hard::DARK / s));
+    let at_dark = one(
+        &soft,
+        on_line.map(|v| v * specconv_spectral::otsu2018::hard_inputs::DARK / s),
+    );
     for k in [1e-4, 1e-8, 1e-300] {
         let c = on_line.map(|v| v * k);
         let r = one(&soft, c);
-        let ks = k * s / spectral::hard::DARK;
+        let ks = k * s / specconv_spectral::otsu2018::hard_inputs::DARK;
         for (p, q) in r.iter().zip(&at_dark) {
             assert!((p - ks * q).abs() <= 1e-12 * ks * q.abs().max(1.0), "× {k}");
         }

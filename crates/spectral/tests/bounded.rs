@@ -3,10 +3,11 @@
 
 use nalgebra::{Matrix3, Vector3};
 use proptest::prelude::*;
-use spectral::bounded::{project, Bounded, Counts, Outcome, Solve};
-use spectral::lab::{xyz_to_lab, xyz_to_lab_jacobian};
-use spectral::primaries::{apply, RgbSpace, ACESCG, REC2020, SRGB};
-use spectral::{Colorimetry, Method, Model, Uplifter};
+use specconv_colour::lab::{xyz_to_lab, xyz_to_lab_jacobian};
+use specconv_colour::rgb::{apply, RgbSpace, ACESCG, REC2020, SRGB};
+use specconv_colour::Colorimetry;
+use specconv_spectral::bounded::{project, Bounded, Counts, Outcome, Solve};
+use specconv_spectral::{Method, Model, Uplifter};
 
 fn setup() -> &'static (Colorimetry, Bounded<Uplifter>) {
     static U: std::sync::OnceLock<(Colorimetry, Bounded<Uplifter>)> = std::sync::OnceLock::new();

@@ -2,10 +2,11 @@
 //! colour, on the inputs and conventions of testdata/colour_science/reference.json (made by
 //! scripts/colour_science_reference.py; see there for the inputs).
 
-use spectral::lab::{ciede2000, xyz_to_lab};
-use spectral::methods::jakob::Fitter;
-use spectral::methods::{Meng2015, Smits1999};
-use spectral::{Colorimetry, Grid, Illuminant, Method, Observer};
+use specconv_colour::lab::{ciede2000, xyz_to_lab};
+use specconv_colour::{Colorimetry, Grid, Illuminant, Observer};
+use specconv_spectral::baselines::jakob::Fitter;
+use specconv_spectral::baselines::{Meng2015, Smits1999};
+use specconv_spectral::Method;
 
 fn reference() -> serde_json::Value {
     let text = include_str!("../../../testdata/colour_science/reference.json");

@@ -1,10 +1,11 @@
 //! Emission spectra: XYZ under the observer alone equals the input, the shape does not depend
 //! on brightness, bounded emission is non-negative, hard inputs have their documented outcome.
 
-use spectral::bounded::Bounded;
-use spectral::emission::{emission_colorimetry, Emissive};
-use spectral::primaries::{apply, SRGB};
-use spectral::{Colorimetry, Illuminant, Method, Model, Uplifter};
+use specconv_colour::rgb::{apply, SRGB};
+use specconv_colour::{Colorimetry, Illuminant};
+use specconv_spectral::bounded::Bounded;
+use specconv_spectral::emission::{emission_colorimetry, Emissive};
+use specconv_spectral::{Method, Model, Uplifter};
 
 type Stack = Emissive<Bounded<Uplifter>>;
 
@@ -207,7 +208,7 @@ fn hard_inputs_have_their_documented_outcome() {
 fn a_method_on_another_grid_is_refused() {
     let (a, _, _) = setup();
     let other = Colorimetry::new(
-        spectral::Grid::new(400.0, 700.0, 10.0).unwrap(),
+        specconv_colour::Grid::new(400.0, 700.0, 10.0).unwrap(),
         a.observer,
         a.illuminant,
     )

@@ -3,7 +3,8 @@
 //! duplicating, replacing and truncating, including multi-byte characters.)
 
 use proptest::prelude::*;
-use spectral::{Model, SpectralTable};
+use specconv_colour::SpectralTable;
+use specconv_spectral::Model;
 
 fn valid_csv() -> String {
     let mut s = String::from("wavelength_nm,\"a, quoted\",b,c\n");
@@ -57,7 +58,7 @@ proptest! {
         if let Ok(t) = SpectralTable::parse("fuzz.csv", &text) {
             // What parses is consistent and resamples or refuses cleanly.
             prop_assert!(t.columns.iter().all(|c| c.len() == t.wavelengths.len()));
-            let _ = t.resampled(&spectral::Grid::PAPER);
+            let _ = t.resampled(&specconv_colour::Grid::PAPER);
         }
     }
 
@@ -66,9 +67,9 @@ proptest! {
         let text = mutate(&Model::builtin().to_json(), &edits);
         if let Ok(m) = Model::from_json("fuzz.json", &text) {
             // A model that loads must uplift without panicking.
-            let up = spectral::Uplifter::new(&m).unwrap();
+            let up = specconv_spectral::Uplifter::new(&m).unwrap();
             let mut r = vec![0.0; m.grid.len()];
-            spectral::Method::uplift_f64(&up, &[0.2, 0.3, 0.1], &mut r);
+            specconv_spectral::Method::uplift_f64(&up, &[0.2, 0.3, 0.1], &mut r);
         }
     }
 }

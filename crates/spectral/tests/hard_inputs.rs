@@ -1,11 +1,12 @@
-//! Hard inputs through the library: every family of the policy table in `spectral::hard`, in
+//! Hard inputs through the library: every family of the policy table in `specconv_spectral::otsu2018::hard_inputs`, in
 //! f64 and f32, table-driven, plus properties over all finite and non-finite colours.
 
-mod common;
-use common::*;
 use proptest::prelude::*;
-use spectral::primaries::{apply, RgbSpace, ACES2065_1, ACESCG, REC2020, SRGB};
-use spectral::{hard::DARK, Colorimetry, Method, Model, Uplifter};
+use specconv_colour::rgb::{apply, RgbSpace, ACES2065_1, ACESCG, REC2020, SRGB};
+use specconv_colour::Colorimetry;
+use specconv_spectral::otsu2018::hard_inputs::DARK;
+use specconv_spectral::{Method, Model, Uplifter};
+use specconv_testkit::*;
 
 fn setup() -> &'static (Colorimetry, Uplifter) {
     static U: std::sync::OnceLock<(Colorimetry, Uplifter)> = std::sync::OnceLock::new();
@@ -358,7 +359,7 @@ proptest! {
     }
 }
 
-/// A colour of one class of the policy table in `spectral::hard`, generated from its own
+/// A colour of one class of the policy table in `specconv_spectral::otsu2018::hard_inputs`, generated from its own
 /// distribution, so that every class is exercised (a generic float rarely lands near black or
 /// outside the locus at a chosen luminance).
 fn class_colour() -> impl Strategy<Value = (&'static str, [f64; 3])> {

@@ -1,13 +1,12 @@
 //! Training, the model file and the runtime on the Munsell set with the built-in settings.
 
-mod common;
-use common::*;
 use proptest::prelude::*;
-use spectral::model::Node;
-use spectral::Method;
-use spectral::{
-    eval, train, Colorimetry, Grid, Illuminant, Model, Observer, TrainOptions, Uplifter,
-};
+use specconv_colour::{Colorimetry, Grid, Illuminant, Observer};
+use specconv_spectral::otsu2018::tree::Node;
+use specconv_spectral::Method;
+use specconv_spectral::{train, Model, TrainOptions, Uplifter};
+use specconv_study::eval;
+use specconv_testkit::*;
 
 fn default_setting() -> Colorimetry {
     Colorimetry::new(Grid::PAPER, Observer::Cie1931, Illuminant::D65).unwrap()
@@ -139,7 +138,7 @@ fn tight_bounds_make_fewer_clusters() {
 fn untrainable_sets_give_clear_errors() {
     let a = default_setting();
     let n = a.bands();
-    let same = spectral::TrainingSet {
+    let same = specconv_spectral::TrainingSet {
         sources: vec!["x".into()],
         names: vec!["grey".into(); 30],
         spectra: vec![vec![0.5; n]; 30],

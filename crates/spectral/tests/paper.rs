@@ -1,8 +1,8 @@
 //! The paper's Table 1 (dataset I, Munsell matte), reproduced from ../shared.
 
-mod common;
-use common::*;
-use spectral::{eval, train, Uplifter};
+use specconv_spectral::{train, Uplifter};
+use specconv_study::eval;
+use specconv_testkit::*;
 
 fn table1(clusters: usize) -> eval::Summary {
     let a = paper();

@@ -1,16 +1,12 @@
 //! Training data that cannot make a model: each kind gets an error that says what is wrong
-//! (the table in `spectral::train`), and the data that can is trained with a defined outcome.
+//! (the table in `specconv_spectral::train`), and the data that can is trained with a defined outcome.
 
-mod common;
-#[path = "common/untrainable.rs"]
-mod untrainable;
-use common::*;
-use spectral::extrapolation::rgb_cube;
-use spectral::primaries::SRGB;
-use spectral::{
-    train, Colorimetry, Grid, Illuminant, Method, Observer, TrainOptions, TrainingSet, Uplifter,
-};
-use untrainable::{cases, metameric_black, smooth};
+use specconv_colour::rgb::SRGB;
+use specconv_colour::{Colorimetry, Grid, Illuminant, Observer};
+use specconv_spectral::{train, Method, TrainOptions, TrainingSet, Uplifter};
+use specconv_study::extrapolation::rgb_cube;
+use specconv_testkit::untrainable::{cases, metameric_black, smooth};
+use specconv_testkit::*;
 
 fn setting() -> Colorimetry {
     Colorimetry::new(Grid::PAPER, Observer::Cie1931, Illuminant::D65).unwrap()
@@ -124,12 +120,12 @@ fn duplicates_weigh_as_more_measurements() {
     for (n1, n2) in m1.tree.iter().zip(&m2.tree) {
         match (n1, n2) {
             (
-                spectral::model::Node::Split {
+                specconv_spectral::otsu2018::tree::Node::Split {
                     axis: x1,
                     value: v1,
                     ..
                 },
-                spectral::model::Node::Split {
+                specconv_spectral::otsu2018::tree::Node::Split {
                     axis: x2,
                     value: v2,
                     ..

@@ -5,12 +5,14 @@ use crate::{checks, exit, files, methods, one_line, print_error, records, usage}
 use anyhow::{bail, Context, Result};
 use serde::Serialize;
 use specconv_pipeline::{convert, Job, Mip, Settings};
-use spectral::bounded::{Bounded, Tally};
-use spectral::emission::{emission_colorimetry, Emissive};
-use spectral::methods::{jakob, MethodName};
-use spectral::resample::Resampled;
-use spectral::{Colorimetry, Method};
-use spectral_exr::{Compression, Kind, Sample};
+use specconv_spectral::bounded::{Bounded, Tally};
+use specconv_spectral::emission::{emission_colorimetry, Emissive};
+use specconv_spectral::baselines::jakob;
+use specconv_spectral::method::MethodName;
+use specconv_spectral::resample::Resampled;
+use specconv_colour::Colorimetry;
+use specconv_spectral::Method;
+use specconv_exr::{Compression, Kind, Sample};
 use std::io::BufRead;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -92,7 +94,7 @@ pub struct Args {
     /// Output wavelength grid START:END:STEP in nm (default: the model's). The method's
     /// spectra are interpolated onto it and corrected so that their XYZ stays exact.
     #[arg(long, value_name = "START:END:STEP")]
-    bands: Option<spectral::Grid>,
+    bands: Option<specconv_colour::Grid>,
     /// Sample type of the output.
     #[arg(short = 'd', long = "data-type", value_name = "TYPE", default_value = "half", value_parser = ["half", "float"])]
     data_type: String,
@@ -637,7 +639,7 @@ fn compression(name: &str) -> Compression {
 fn up_to_date(input: &Path, output: &Path, settings: &str) -> bool {
     let modified = |p: &Path| std::fs::metadata(p).and_then(|m| m.modified()).ok();
     match (modified(input), modified(output)) {
-        (Some(i), Some(o)) if o >= i => spectral_exr::read_attributes(output)
+        (Some(i), Some(o)) if o >= i => specconv_exr::read_attributes(output)
             .map(|attrs| {
                 attrs
                     .iter()

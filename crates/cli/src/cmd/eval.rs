@@ -2,8 +2,9 @@
 
 use crate::{files, methods};
 use anyhow::Result;
-use spectral::methods::MethodName;
-use spectral::{eval, TrainOptions};
+use specconv_spectral::method::MethodName;
+use specconv_study::eval;
+use specconv_spectral::TrainOptions;
 use std::path::PathBuf;
 
 /// Shown after `--help` and as the man page's EXAMPLES.
@@ -96,7 +97,7 @@ pub fn run(args: Args) -> Result<()> {
                 min_cluster_size: args.min_cluster_size,
                 ..TrainOptions::default()
             };
-            spectral::train(&set, &a, &opts)?
+            specconv_spectral::train(&set, &a, &opts)?
         };
         let described = if args.train.is_empty() {
             files::describe_model(args.model.as_deref(), &model)

@@ -7,11 +7,11 @@ use anyhow::{bail, Context, Result};
 use plotters::prelude::*;
 use rayon::prelude::*;
 use serde::Serialize;
-use spectral::lab::{ciede2000, xyz_to_lab};
-use spectral::primaries::{apply, srgb_encode, SRGB};
-use spectral::simulate::SelfBounce;
-use spectral::{Colorimetry, Illuminant};
-use spectral_exr::Kind;
+use specconv_colour::lab::{ciede2000, xyz_to_lab};
+use specconv_colour::rgb::{apply, srgb_encode, SRGB};
+use specconv_colour::{Colorimetry, Illuminant};
+use specconv_exr::Kind;
+use specconv_study::simulate::SelfBounce;
 use std::path::PathBuf;
 
 /// The most bounces asked for: r^(K+1) of any reflectance below 1 is black long before.
@@ -90,7 +90,7 @@ pub fn run(args: Args) -> Result<()> {
             args.output.display()
         );
     }
-    let img = spectral_exr::read(&args.input)
+    let img = specconv_exr::read(&args.input)
         .with_context(|| format!("cannot read {}", args.input.display()))?;
     if !matches!(img.kind, Kind::Reflective) {
         bail!(

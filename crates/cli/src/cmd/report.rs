@@ -5,8 +5,11 @@ use crate::{files, methods, plot};
 use anyhow::{bail, Context, Result};
 use rayon::prelude::*;
 use serde::Serialize;
-use spectral::methods::{MethodName, WorkingSpace};
-use spectral::{eval, Colorimetry, Grid, Illuminant, Method, Observer, TrainOptions};
+use specconv_colour::working_space::WorkingSpace;
+use specconv_colour::{Colorimetry, Grid, Illuminant, Observer};
+use specconv_spectral::method::MethodName;
+use specconv_spectral::{Method, TrainOptions};
+use specconv_study::eval;
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -72,7 +75,7 @@ pub struct Args {
     #[command(flatten)]
     blend: methods::BlendArg,
     /// Resolution of the jakob2019 coefficient table.
-    #[arg(long, value_name = "N", default_value_t = spectral::methods::jakob::DEFAULT_RESOLUTION)]
+    #[arg(long, value_name = "N", default_value_t = specconv_spectral::baselines::jakob::DEFAULT_RESOLUTION)]
     jakob_resolution: usize,
     /// Colours uplifted to measure the cost of each method.
     #[arg(long, value_name = "N", default_value_t = 1 << 20)]
@@ -237,7 +240,7 @@ fn read(paths: &[PathBuf], grid: &Grid) -> Result<Vec<Vec<f64>>> {
 /// The clustered uplift of `model` with the --blend width, bounded or not.
 fn uplifter(
     args: &Args,
-    model: &spectral::Model,
+    model: &specconv_spectral::Model,
     a: &Colorimetry,
     bounded: bool,
 ) -> Result<Box<dyn Method>> {
@@ -257,7 +260,7 @@ fn clustered(
     a: &Colorimetry,
     k: usize,
     bounded: bool,
-) -> Result<(spectral::Model, eval::Summary)> {
+) -> Result<(specconv_spectral::Model, eval::Summary)> {
     let opts = TrainOptions {
         clusters: k,
         min_cluster_size: args.min_cluster_size,
@@ -270,7 +273,7 @@ fn clustered(
         } else {
             methods::training_set(&args.train, &a.grid)?
         };
-        let model = spectral::train(&train, a, &opts)?;
+        let model = specconv_spectral::train(&train, a, &opts)?;
         let up = uplifter(args, &model, a, bounded)?;
         let s = eval::summarise(&eval::evaluate(a, up.as_ref(), &eval_set.spectra));
         return Ok((model, s));
@@ -297,7 +300,7 @@ fn clustered(
                 train.names.push(n.clone());
             }
         }
-        let model = spectral::train(&train, a, &opts)?;
+        let model = specconv_spectral::train(&train, a, &opts)?;
         let up = uplifter(args, &model, a, bounded)?;
         outcomes.extend(eval::evaluate(a, up.as_ref(), &held));
         first.get_or_insert(model);

@@ -2,9 +2,9 @@
 
 use crate::{checks, usage};
 use anyhow::{anyhow, bail, Context, Result};
-use spectral::emission::emission_colorimetry;
-use spectral::{Colorimetry, Illuminant};
-use spectral_exr::Kind;
+use specconv_spectral::emission::emission_colorimetry;
+use specconv_colour::{Colorimetry, Illuminant};
+use specconv_exr::Kind;
 use std::path::PathBuf;
 
 /// Shown after `--help` and as the man page's EXAMPLES.
@@ -67,7 +67,7 @@ pub fn run(args: Args) -> Result<()> {
             args.output.display()
         );
     }
-    let img = spectral_exr::read(&args.input)
+    let img = specconv_exr::read(&args.input)
         .with_context(|| format!("cannot read {}", args.input.display()))?;
     let (grid, observer, recorded) = crate::files::recorded_colorimetry(&img)?;
     let emissive = matches!(img.kind, Kind::Emissive { .. });

@@ -2,9 +2,9 @@
 
 use crate::files;
 use anyhow::Result;
-use spectral::{
-    train::SMALLEST_CLUSTER, Colorimetry, Grid, Illuminant, Observer, TrainOptions, TrainingSet,
-};
+use specconv_colour::{Colorimetry, Grid, Illuminant, Observer};
+use specconv_spectral::otsu2018::train::SMALLEST_CLUSTER;
+use specconv_spectral::{TrainOptions, TrainingSet};
 use std::path::PathBuf;
 
 /// Shown after `--help` and as the man page's EXAMPLES.
@@ -75,7 +75,7 @@ pub fn run(args: Args) -> Result<()> {
         max_condition: args.max_condition,
     };
     let start = std::time::Instant::now();
-    let model = spectral::train(&set, &a, &opts)?;
+    let model = specconv_spectral::train(&set, &a, &opts)?;
     let seconds = start.elapsed().as_secs_f64();
     let inputs: Vec<&std::path::Path> = args.spectra.iter().map(PathBuf::as_path).collect();
     files::write_atomically(&args.output, model.to_json().as_bytes(), &inputs)?;

@@ -3,10 +3,14 @@
 use crate::{files, methods};
 use anyhow::{anyhow, bail, Context, Result};
 use serde::{Deserialize, Serialize};
-use spectral::methods::{jakob, MethodName};
-use spectral::primaries::{self, RgbSpace};
-use spectral::simulate::{self, Effect, Light, Material, Outcome, Scene};
-use spectral::{Colorimetry, Illuminant, Method};
+use specconv_colour::rgb;
+use specconv_colour::rgb::RgbSpace;
+use specconv_colour::{Colorimetry, Illuminant};
+use specconv_spectral::baselines::jakob;
+use specconv_spectral::method::MethodName;
+use specconv_spectral::Method;
+use specconv_study::simulate;
+use specconv_study::simulate::{Effect, Light, Material, Outcome, Scene};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
@@ -247,7 +251,7 @@ fn build(file: &SceneFile, dir: &Path, a: &Colorimetry) -> Result<(Scene, String
     };
     let mut names = Vec::new();
     let mut materials = Vec::new();
-    let mut tables: BTreeMap<PathBuf, spectral::SpectralTable> = BTreeMap::new();
+    let mut tables: BTreeMap<PathBuf, specconv_colour::SpectralTable> = BTreeMap::new();
     // Loaded for the first texture patch only.
     let mut config = None;
     for (i, p) in file.patches.iter().enumerate() {
@@ -443,14 +447,14 @@ fn ocio_config(ocio: Option<&str>, dir: &Path) -> Result<specconv_ocio::Config> 
 
 /// XYZ (white Y = 1, the model's white) of a colour in a named RGB space or XYZ.
 fn colour_xyz(c: [f64; 3], space: &str, a: &Colorimetry) -> Result<[f64; 3]> {
-    let rgb_space = |s: &RgbSpace, rgb: [f64; 3]| primaries::apply(&s.to_xyz(a.white_xyz()), rgb);
+    let rgb_space = |s: &RgbSpace, rgb: [f64; 3]| rgb::apply(&s.to_xyz(a.white_xyz()), rgb);
     Ok(match space.to_ascii_lowercase().as_str() {
         "srgb" | "srgb - texture" | "srgb texture" => {
-            rgb_space(&primaries::SRGB, c.map(primaries::srgb_decode))
+            rgb_space(&rgb::SRGB, c.map(rgb::srgb_decode))
         }
-        "linear rec.709 (srgb)" | "linear rec.709" | "lin_rec709" => rgb_space(&primaries::SRGB, c),
-        "linear rec.2020" | "lin_rec2020" => rgb_space(&primaries::REC2020, c),
-        "acescg" => rgb_space(&primaries::ACESCG, c),
+        "linear rec.709 (srgb)" | "linear rec.709" | "lin_rec709" => rgb_space(&rgb::SRGB, c),
+        "linear rec.2020" | "lin_rec2020" => rgb_space(&rgb::REC2020, c),
+        "acescg" => rgb_space(&rgb::ACESCG, c),
         "cie-xyz-d65" | "xyz" => c,
         _ => bail!(
             "colour space `{space}` is not one simulate knows; use sRGB, Linear Rec.709 (sRGB), \

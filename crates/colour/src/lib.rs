@@ -1,0 +1,46 @@
+//! The colour basics of specconv, below every uplift method: what a spectrum's colour is.
+//!
+//! - [`Grid`]: wavelength grids and resampling of tabulated data onto them.
+//! - [`SpectralTable`]: measured spectra in CSV.
+//! - [`Observer`], [`Illuminant`]: colour-matching functions (CIE 1931 2°, CIE 1964 10° and the
+//!   Wyman 2013 fit the paper used) and light sources (CIE tables, blackbody).
+//! - [`Colorimetry`]: XYZ of a reflectance, normalised so that a perfect white has Y = 1, and
+//!   chromaticity ([`colorimetry::xy`]).
+//! - [`lab`]: CIELAB and CIEDE2000.
+//! - [`rgb`], [`working_space`]: RGB spaces by their primaries and white.
+//! - [`solid`]: the object-colour solid {A·r : 0 ≤ r ≤ 1}, its exact projection and the colour
+//!   on it nearest in CIELAB.
+//!
+//! This crate knows no uplift method, no image, no file by path, no thread and no FFI.
+#![forbid(unsafe_code)]
+
+pub mod colorimetry;
+pub mod grid;
+pub mod lab;
+pub mod observer;
+pub mod rgb;
+pub mod solid;
+pub mod table;
+pub mod working_space;
+
+pub use colorimetry::Colorimetry;
+pub use grid::Grid;
+pub use observer::{Illuminant, Observer};
+pub use table::SpectralTable;
+
+/// What can go wrong with colour data, with what to do about it in the message.
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    #[error("bad wavelength grid {0}")]
+    Grid(String),
+    #[error("{0}")]
+    Coverage(String),
+    #[error("unknown {0}")]
+    Unknown(String),
+    #[error("{file}, line {line}: {msg}")]
+    Csv {
+        file: String,
+        line: usize,
+        msg: String,
+    },
+}

@@ -1,0 +1,347 @@
+//! The object-colour solid Z = {A·r : 0 ≤ r ≤ 1} of a colorimetry (a zonotope whose generators
+//! are A's columns, one per band), and the exact solver that both of [`Bounded`]'s problems
+//! reduce to.
+//!
+//! Both problems are min over 0 ≤ r ≤ 1 of ½‖B·r − s‖² + (μ/2)‖r − p‖² with B 3×n, or its
+//! limit μ = 0 with the constraint B·r = s (the projection). Their dual lives in w ∈ R³: the
+//! minimiser for given w is r(w) = clip(p + Bᵀw, 0, 1), and w minimises the convex
+//!
+//!   Ψ(w) = Σᵢ ψ(pᵢ + bᵢ·w) − s·w + (μ/2)‖w‖²,   ψ(z) = ∫₀ᶻ clip(t, 0, 1) dt,
+//!
+//! whose gradient B·r(w) − s + μw is the constraint residual. Ψ is piecewise quadratic: on the
+//! set of w with the same active bands (rᵢ at 0 or 1) it is a quadratic with Hessian
+//! B_F·B_Fᵀ + μI over the free bands F, so a Newton step (three unknowns) lands on the solution
+//! once the active set is the right one, and a backtracking line search on Ψ gets it there
+//! (a semismooth Newton method, which is an active-set method in three dual unknowns). The
+//! result satisfies the KKT conditions to rounding: r is in [0, 1] and clip-optimal by
+//! construction, and the residual is below 1e-13 relative.
+//!
+//! [`Bounded`]: ../../specconv_spectral/bounded/struct.Bounded.html
+
+pub mod nearest;
+
+/// The solid's generators and what is precomputed of them.
+#[derive(Debug, Clone)]
+pub struct Solid {
+    /// A's columns: the XYZ of a unit reflectance in each band.
+    cols: Vec<[f64; 3]>,
+    /// h(+eₖ) and h(−eₖ), the support of Z along the axes: certificates for free.
+    axis_support: [[f64; 3]; 2],
+    /// trace(A·Aᵀ): the scale of the dual Hessian, for its regularisation.
+    trace: f64,
+}
+
+/// The result of [`Solid::project`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Solve {
+    /// `r` holds the solution; A·r = c to rounding.
+    Solved,
+    /// No r in [0, 1] has A·r = c: u with u·c > Σᵢ max(0, (Aᵀu)ᵢ).
+    Outside([f64; 3]),
+    /// Neither within the iterations allowed: c lies on the solid's surface to rounding.
+    Unresolved,
+}
+
+/// Dual iterations before a colour is declared unresolved (on the solid's surface).
+const MAX_ITERATIONS: usize = 60;
+
+/// Bands up to which scratch spectra live on the stack.
+const STACK_BANDS: usize = 128;
+
+impl Solid {
+    /// The solid of the colorimetry whose rows of A are `a`.
+    pub fn new(a: &[Vec<f64>; 3]) -> Solid {
+        let cols: Vec<[f64; 3]> = (0..a[0].len())
+            .map(|i| [a[0][i], a[1][i], a[2][i]])
+            .collect();
+        let mut axis_support = [[0.0; 3]; 2];
+        for col in &cols {
+            for k in 0..3 {
+                axis_support[0][k] += col[k].max(0.0);
+                axis_support[1][k] += (-col[k]).max(0.0);
+            }
+        }
+        let trace = cols.iter().map(|c| dot(*c, *c)).sum();
+        Solid {
+            cols,
+            axis_support,
+            trace,
+        }
+    }
+
+    pub fn bands(&self) -> usize {
+        self.cols.len()
+    }
+
+    /// A's columns.
+    pub fn columns(&self) -> &[[f64; 3]] {
+        &self.cols
+    }
+
+    /// XYZ of a reflectance: A·r.
+    pub fn xyz(&self, r: &[f64]) -> [f64; 3] {
+        let mut x = [0.0; 3];
+        for (col, v) in self.cols.iter().zip(r) {
+            for k in 0..3 {
+                x[k] += col[k] * v;
+            }
+        }
+        x
+    }
+
+    /// The support function h(u) = max over the solid of u·x = Σᵢ max(0, aᵢ·u).
+    pub fn support(&self, u: [f64; 3]) -> f64 {
+        self.cols.iter().map(|c| dot(*c, u).max(0.0)).sum()
+    }
+
+    /// Whether u certifies that c is outside the solid: u·c > h(u) + tol, u scaled to ‖u‖₁ = 1.
+    pub fn certifies(&self, c: [f64; 3], u: [f64; 3], tol: f64) -> bool {
+        let norm = u[0].abs() + u[1].abs() + u[2].abs();
+        if !(norm > 0.0 && norm.is_finite()) {
+            return false;
+        }
+        let u = u.map(|v| v / norm);
+        dot(u, c) > self.support(u) + tol
+    }
+
+    /// min ½‖r − r0‖² subject to A·r = c and 0 ≤ r ≤ 1, into `r` (see the module).
+    pub fn project(&self, c: [f64; 3], r0: &[f64], r: &mut [f64]) -> Solve {
+        self.project_within(c, r0, r, MAX_ITERATIONS)
+    }
+
+    /// [`Solid::project`] with at most `iterations` Newton steps.
+    pub fn project_within(
+        &self,
+        c: [f64; 3],
+        r0: &[f64],
+        r: &mut [f64],
+        iterations: usize,
+    ) -> Solve {
+        let scale = c[0].abs().max(c[1].abs()).max(c[2].abs());
+        let tol = 1e-13 * scale.max(f64::MIN_POSITIVE);
+        // Each axis bounds the solid: c beyond one is outside, at the cost of six compares.
+        for k in 0..3 {
+            for (sign, support) in [
+                (1.0, self.axis_support[0][k]),
+                (-1.0, self.axis_support[1][k]),
+            ] {
+                if sign * c[k] > support + tol {
+                    let mut u = [0.0; 3];
+                    u[k] = sign;
+                    return Solve::Outside(u);
+                }
+            }
+        }
+        let problem = Dual {
+            cols: &self.cols,
+            p: r0,
+            s: c,
+            mu: 0.0,
+            eps: 1e-12 * self.trace,
+        };
+        let mut w = [0.0; 3];
+        let mut certificate = None;
+        // An unbounded dual: w, or a step that the free bands cannot resist, points out of Z.
+        let watch = |w: &[f64; 3], delta: &[f64; 3], free: usize, step: usize| {
+            // In-solid colours settle within a few steps; after those, look every step.
+            if free >= 3 && step < 4 {
+                return false;
+            }
+            for u in [*w, *delta] {
+                if self.certifies(c, u, tol) {
+                    certificate = Some(u);
+                    return true;
+                }
+            }
+            false
+        };
+        match problem.minimise(&mut w, r, tol, iterations, watch) {
+            End::Converged => Solve::Solved,
+            End::Watched => Solve::Outside(certificate.expect("set by the watch")),
+            End::Stalled(residual) if residual <= 1e-9 * scale.max(f64::MIN_POSITIVE) => {
+                Solve::Solved
+            }
+            End::Stalled(_) => Solve::Unresolved,
+        }
+    }
+}
+
+/// min Ψ(w) of the module, for columns bᵢ of B, proximal centre p, target s, damping μ ≥ 0 and
+/// a regularisation eps of the Hessian when μ = 0 and fewer than three bands are free.
+pub(crate) struct Dual<'a> {
+    pub cols: &'a [[f64; 3]],
+    pub p: &'a [f64],
+    pub s: [f64; 3],
+    pub mu: f64,
+    pub eps: f64,
+}
+
+/// How [`Dual::minimise`] ended.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) enum End {
+    /// The residual is within the tolerance: `r` is the solution.
+    Converged,
+    /// The watch asked to stop.
+    Watched,
+    /// No further progress; the largest residual component left.
+    Stalled(f64),
+}
+
+/// Ψ, its gradient and its (generalised) Hessian at one w: one pass over the bands.
+struct Point {
+    psi: f64,
+    grad: [f64; 3],
+    /// Upper triangle of B_F·B_Fᵀ: 00, 01, 02, 11, 12, 22.
+    hess: [f64; 6],
+    free: usize,
+}
+
+impl Dual<'_> {
+    /// r(w) into `r`, with Ψ(w) and its derivatives.
+    fn at(&self, w: &[f64; 3], r: &mut [f64]) -> Point {
+        let mut psi = 0.0;
+        let mut f = [0.0; 3];
+        let mut h = [0.0; 6];
+        let mut free = 0;
+        for ((b, &p), ri) in self.cols.iter().zip(self.p).zip(r.iter_mut()) {
+            let z = p + b[0] * w[0] + b[1] * w[1] + b[2] * w[2];
+            let v = if z <= 0.0 {
+                0.0
+            } else if z < 1.0 {
+                psi += 0.5 * z * z;
+                h[0] += b[0] * b[0];
+                h[1] += b[0] * b[1];
+                h[2] += b[0] * b[2];
+                h[3] += b[1] * b[1];
+                h[4] += b[1] * b[2];
+                h[5] += b[2] * b[2];
+                free += 1;
+                z
+            } else {
+                psi += z - 0.5;
+                1.0
+            };
+            *ri = v;
+            f[0] += b[0] * v;
+            f[1] += b[1] * v;
+            f[2] += b[2] * v;
+        }
+        let s = self.s;
+        let mu = self.mu;
+        psi += 0.5 * mu * dot(*w, *w) - dot(s, *w);
+        let grad = [0, 1, 2].map(|k| f[k] - s[k] + mu * w[k]);
+        Point {
+            psi,
+            grad,
+            hess: h,
+            free,
+        }
+    }
+
+    /// Minimises Ψ from `w` by Newton steps with backtracking; `r` ends as r(w). `watch(w, δ,
+    /// free bands, step)` is asked before each step and stops the iteration when it says so.
+    pub fn minimise(
+        &self,
+        w: &mut [f64; 3],
+        r: &mut [f64],
+        tol: f64,
+        iterations: usize,
+        mut watch: impl FnMut(&[f64; 3], &[f64; 3], usize, usize) -> bool,
+    ) -> End {
+        let n = r.len();
+        let mut stack = [0.0; STACK_BANDS];
+        let mut heap = Vec::new();
+        let scratch: &mut [f64] = if n <= STACK_BANDS {
+            &mut stack[..n]
+        } else {
+            heap.resize(n, 0.0);
+            &mut heap
+        };
+        // The current r lives in `cur`, trials in `other`; they swap on acceptance.
+        let (mut cur, mut other): (&mut [f64], &mut [f64]) = (r, scratch);
+        let mut in_scratch = false;
+        let mut point = self.at(w, cur);
+        let mut end = End::Stalled(f64::INFINITY);
+        for step in 0..iterations {
+            let residual = point.grad.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            if residual <= tol {
+                end = End::Converged;
+                break;
+            }
+            end = End::Stalled(residual);
+            let reg = self.mu + if point.free < 3 { self.eps } else { 0.0 };
+            let h = point.hess;
+            let j = [
+                [h[0] + reg, h[1], h[2]],
+                [h[1], h[3] + reg, h[4]],
+                [h[2], h[4], h[5] + reg],
+            ];
+            let Some(delta) = solve3(j, point.grad.map(|v| -v)) else {
+                break;
+            };
+            if watch(w, &delta, point.free, step) {
+                end = End::Watched;
+                break;
+            }
+            let slope = dot(point.grad, delta);
+            let mut t = 1.0;
+            let mut accepted = false;
+            let size = delta.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            let reach = w.iter().fold(1.0f64, |m, v| m.max(v.abs()));
+            // Halve while the step still moves w.
+            while t * size > 1e-15 * reach {
+                let trial = [0, 1, 2].map(|k| w[k] + t * delta[k]);
+                let next = self.at(&trial, other);
+                // Slack for rounding in Ψ, a sum of n terms.
+                let slack = 1e-15 * (point.psi.abs() + next.psi.abs());
+                if next.psi <= point.psi + 1e-4 * t * slope + slack {
+                    *w = trial;
+                    point = next;
+                    std::mem::swap(&mut cur, &mut other);
+                    in_scratch = !in_scratch;
+                    accepted = true;
+                    break;
+                }
+                t *= 0.5;
+            }
+            if !accepted {
+                break;
+            }
+        }
+        if end != End::Converged {
+            let residual = point.grad.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            if residual <= tol {
+                end = End::Converged;
+            } else if let End::Stalled(_) = end {
+                end = End::Stalled(residual);
+            }
+        }
+        if in_scratch {
+            other.copy_from_slice(cur);
+        }
+        end
+    }
+}
+
+pub(crate) fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+/// Solves the symmetric 3×3 system j·x = b by Cramer's rule.
+fn solve3(j: [[f64; 3]; 3], b: [f64; 3]) -> Option<[f64; 3]> {
+    let det = |m: [[f64; 3]; 3]| {
+        m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
+            - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
+            + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0])
+    };
+    let d = det(j);
+    if !(d.abs() > 0.0 && d.is_finite()) {
+        return None;
+    }
+    let x = [0, 1, 2].map(|k| {
+        let mut m = j;
+        (0..3).for_each(|row| m[row][k] = b[row]);
+        det(m) / d
+    });
+    x.iter().all(|v| v.is_finite()).then_some(x)
+}

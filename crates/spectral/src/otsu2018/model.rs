@@ -1,0 +1,237 @@
+//! The model: a kd-tree on CIE xy whose leaves hold a cluster's PCA (Eq. 5–8), and its file.
+//!
+//! The file is JSON, versioned and self-describing: the grid, observer and illuminant it was
+//! trained in, how it was trained and on what, the tree and per leaf μ, B, M, M⁻¹ and c_μ.
+//! Floats are written in shortest round-trip form, so a model reads back bit for bit. Loading
+//! checks everything that the uplift relies on, and M against A·B recomputed from the named
+//! observer and illuminant, so a hand-edited or mismatched file is refused, not trusted.
+
+use super::tree::Node;
+use crate::Error;
+use serde::{Deserialize, Serialize};
+use specconv_colour::{Colorimetry, Grid, Illuminant, Observer};
+
+pub const FORMAT: &str = "specconv-model";
+pub const VERSION: u32 = 1;
+
+/// A trained clustered-PCA model.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Model {
+    pub format: String,
+    pub version: u32,
+    pub grid: Grid,
+    pub observer: Observer,
+    pub illuminant: Illuminant,
+    pub training: Training,
+    /// Node 0 is the root.
+    pub tree: Vec<Node>,
+    pub leaves: Vec<Leaf>,
+}
+
+/// How and on what a model was trained.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Training {
+    /// The training set: file names of the spectra tables.
+    pub sources: Vec<String>,
+    /// Number of spectra.
+    pub count: usize,
+    pub clusters_requested: usize,
+    pub min_cluster_size: usize,
+    pub max_condition: f64,
+    /// Σ ‖s − r‖² over the training set (Eq. 13).
+    pub total_error: f64,
+}
+
+/// One cluster.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Leaf {
+    /// Training spectra in the cluster.
+    pub count: usize,
+    /// μ
+    pub mean: Vec<f64>,
+    /// b₁, b₂, b₃
+    pub basis: [Vec<f64>; 3],
+    /// M = A·[b₁ b₂ b₃], row-major (Eq. 6).
+    pub m: [[f64; 3]; 3],
+    pub m_inv: [[f64; 3]; 3],
+    /// c_μ = A·μ
+    pub c_mean: [f64; 3],
+    pub condition: f64,
+    /// Σ ‖s − r‖² over the cluster's training spectra.
+    pub error: f64,
+}
+
+impl Model {
+    pub fn colorimetry(&self) -> Result<Colorimetry, Error> {
+        Ok(Colorimetry::new(self.grid, self.observer, self.illuminant)?)
+    }
+
+    pub fn to_json(&self) -> String {
+        let mut s = serde_json::to_string_pretty(self).expect("a model serialises");
+        s.push('\n');
+        s
+    }
+
+    /// Reads and validates a model. `source` names it in errors.
+    pub fn from_json(source: &str, text: &str) -> Result<Model, Error> {
+        let bad = |msg: String| Error::Model {
+            file: source.to_string(),
+            msg,
+        };
+        // Check the header first, so that a file of another kind or version gets a clear word.
+        #[derive(Deserialize)]
+        struct Header {
+            format: Option<String>,
+            version: Option<u32>,
+        }
+        let header: Header = serde_json::from_str(text).map_err(|e| {
+            if e.is_data() {
+                bad(format!("not a specconv model ({e})"))
+            } else {
+                bad(format!(
+                    "not valid JSON ({e}): the file is truncated, damaged or not a specconv model"
+                ))
+            }
+        })?;
+        if header.format.as_deref() != Some(FORMAT) {
+            return Err(bad(format!(
+                "not a specconv model (its \"format\" is not \"{FORMAT}\")"
+            )));
+        }
+        if header.version != Some(VERSION) {
+            return Err(bad(format!(
+                "model version {:?} is not supported by this specconv, which reads version {VERSION}; retrain it with `specconv train`",
+                header.version
+            )));
+        }
+        let model: Model =
+            serde_json::from_str(text).map_err(|e| bad(format!("malformed model: {e}")))?;
+        model.validate().map_err(bad)?;
+        Ok(model)
+    }
+
+    /// The checks behind [`Model::from_json`].
+    pub fn validate(&self) -> Result<(), String> {
+        Grid::new(self.grid.start, self.grid.end, self.grid.step).map_err(|e| e.to_string())?;
+        let n = self.grid.len();
+        if self.leaves.is_empty() {
+            return Err("the model has no leaves".into());
+        }
+        self.validate_tree()?;
+        let a = self.colorimetry().map_err(|e| e.to_string())?;
+        for (k, leaf) in self.leaves.iter().enumerate() {
+            let at = |what: &str| format!("leaf {k}: {what}");
+            if leaf.mean.len() != n || leaf.basis.iter().any(|b| b.len() != n) {
+                return Err(at(&format!(
+                    "vectors must have {n} values, one per band of {}",
+                    self.grid
+                )));
+            }
+            let finite = leaf
+                .mean
+                .iter()
+                .chain(leaf.basis.iter().flatten())
+                .chain(leaf.m.iter().flatten())
+                .chain(leaf.m_inv.iter().flatten())
+                .chain(&leaf.c_mean)
+                .all(|v| v.is_finite());
+            if !finite {
+                return Err(at("holds a value that is not a finite number"));
+            }
+            let scale = leaf.m.iter().flatten().fold(0.0f64, |s, v| s.max(v.abs()));
+            for i in 0..3 {
+                for j in 0..3 {
+                    let ab = super::pca::dot(&a.weights[i], &leaf.basis[j]);
+                    if (ab - leaf.m[i][j]).abs() > 1e-9 * scale {
+                        return Err(at(&format!(
+                            "M does not equal A·B for observer {} and illuminant {}: the file was changed or mislabelled",
+                            self.observer, self.illuminant
+                        )));
+                    }
+                    let id: f64 = (0..3).map(|k| leaf.m_inv[i][k] * leaf.m[k][j]).sum();
+                    if (id - if i == j { 1.0 } else { 0.0 }).abs() > 1e-9 {
+                        return Err(at("M⁻¹ is not the inverse of M"));
+                    }
+                }
+            }
+            let c_mu = a.xyz(&leaf.mean);
+            let c_scale = c_mu.iter().fold(1e-300f64, |s, v| s.max(v.abs()));
+            if (0..3).any(|i| (c_mu[i] - leaf.c_mean[i]).abs() > 1e-9 * c_scale) {
+                return Err(at("c_μ does not equal A·μ"));
+            }
+        }
+        Ok(())
+    }
+
+    /// Every node reachable from the root exactly once, every leaf used exactly once.
+    fn validate_tree(&self) -> Result<(), String> {
+        let mut seen_node = vec![false; self.tree.len()];
+        let mut seen_leaf = vec![false; self.leaves.len()];
+        let mut stack = vec![0usize];
+        if self.tree.is_empty() {
+            return Err("the tree has no nodes".into());
+        }
+        while let Some(i) = stack.pop() {
+            if i >= self.tree.len() {
+                return Err(format!("the tree refers to node {i}, which does not exist"));
+            }
+            if std::mem::replace(&mut seen_node[i], true) {
+                return Err(format!(
+                    "node {i} is reached twice: the tree has a cycle or shared child"
+                ));
+            }
+            match self.tree[i] {
+                Node::Split {
+                    value,
+                    below,
+                    above,
+                    ..
+                } => {
+                    if !value.is_finite() {
+                        return Err(format!("node {i} splits at a value that is not finite"));
+                    }
+                    stack.extend([below, above]);
+                }
+                Node::Leaf { leaf } => {
+                    if leaf >= self.leaves.len() {
+                        return Err(format!(
+                            "node {i} refers to leaf {leaf}, which does not exist"
+                        ));
+                    }
+                    if std::mem::replace(&mut seen_leaf[leaf], true) {
+                        return Err(format!("leaf {leaf} is used by two nodes"));
+                    }
+                }
+            }
+        }
+        if let Some(i) = seen_node.iter().position(|s| !s) {
+            return Err(format!("node {i} is not reachable from the root"));
+        }
+        if let Some(k) = seen_leaf.iter().position(|s| !s) {
+            return Err(format!("leaf {k} is not used by the tree"));
+        }
+        Ok(())
+    }
+
+    /// The leaf for a colour. Colours without a chromaticity (X+Y+Z ≤ 0, or not finite) go
+    /// to the leaf of the model's white point: the round trip still holds for them.
+    pub fn leaf_for(&self, xyz: [f64; 3], white: [f64; 2]) -> usize {
+        super::tree::walk(
+            &self.tree,
+            specconv_colour::colorimetry::xy(xyz).unwrap_or(white),
+        )
+    }
+
+    /// The built-in model: 8 clusters trained by `specconv train` on the Munsell matte set,
+    /// CIE 1931 2°, D65, 380–730 nm at 10 nm, default minimum cluster size and condition bound.
+    pub fn builtin() -> &'static Model {
+        static MODEL: std::sync::OnceLock<Model> = std::sync::OnceLock::new();
+        MODEL.get_or_init(|| {
+            Model::from_json("built-in model", include_str!("../../models/default.json"))
+                .expect("the built-in model is valid (checked by its test)")
+        })
+    }
+}

@@ -1,0 +1,497 @@
+//! One cluster's PCA and its uplift matrices (Eq. 5–8), and its reconstruction error computed
+//! from the scatter matrix alone, so that split search never revisits the spectra.
+
+use nalgebra::{DMatrix, Matrix3, SymmetricEigen};
+use specconv_colour::Colorimetry;
+
+/// First-and-second-moment sums of a set of spectra: what PCA and the error need.
+#[derive(Debug, Clone)]
+pub struct Moments {
+    pub count: usize,
+    /// Σ s
+    pub sum: Vec<f64>,
+    /// Σ s·sᵀ, row-major n×n.
+    pub outer: Vec<f64>,
+}
+
+impl Moments {
+    pub fn zero(n: usize) -> Moments {
+        Moments {
+            count: 0,
+            sum: vec![0.0; n],
+            outer: vec![0.0; n * n],
+        }
+    }
+
+    pub fn add(&mut self, s: &[f64]) {
+        let n = self.sum.len();
+        self.count += 1;
+        for i in 0..n {
+            self.sum[i] += s[i];
+            let row = &mut self.outer[i * n..(i + 1) * n];
+            for (o, sj) in row.iter_mut().zip(s) {
+                *o += s[i] * sj;
+            }
+        }
+    }
+
+    /// `self − other`, for the far side of a split.
+    pub fn minus(&self, other: &Moments) -> Moments {
+        Moments {
+            count: self.count - other.count,
+            sum: self
+                .sum
+                .iter()
+                .zip(&other.sum)
+                .map(|(a, b)| a - b)
+                .collect(),
+            outer: self
+                .outer
+                .iter()
+                .zip(&other.outer)
+                .map(|(a, b)| a - b)
+                .collect(),
+        }
+    }
+
+    /// Σ ‖s‖², the scale for [`check_rank`].
+    pub fn energy(&self) -> f64 {
+        let n = self.sum.len();
+        (0..n).map(|i| self.outer[i * n + i]).sum()
+    }
+
+    pub fn mean(&self) -> Vec<f64> {
+        self.sum.iter().map(|s| s / self.count as f64).collect()
+    }
+
+    /// The scatter matrix Σ (s − μ)(s − μ)ᵀ = Σ s·sᵀ − N·μ·μᵀ.
+    pub fn scatter(&self) -> Vec<f64> {
+        let n = self.sum.len();
+        let mu = self.mean();
+        let mut c = self.outer.clone();
+        for i in 0..n {
+            for j in 0..n {
+                c[i * n + j] -= self.count as f64 * mu[i] * mu[j];
+            }
+        }
+        c
+    }
+}
+
+/// The scatter matrix of a set of spectra computed around their mean (two passes, for accuracy).
+pub fn centred_scatter(spectra: &[&[f64]]) -> (Vec<f64>, Vec<f64>) {
+    let n = spectra[0].len();
+    let mut mu = vec![0.0; n];
+    for s in spectra {
+        for (m, v) in mu.iter_mut().zip(*s) {
+            *m += v;
+        }
+    }
+    mu.iter_mut().for_each(|m| *m /= spectra.len() as f64);
+    let mut c = vec![0.0; n * n];
+    let mut d = vec![0.0; n];
+    for s in spectra {
+        for i in 0..n {
+            d[i] = s[i] - mu[i];
+        }
+        for i in 0..n {
+            for j in 0..n {
+                c[i * n + j] += d[i] * d[j];
+            }
+        }
+    }
+    (mu, c)
+}
+
+/// A cluster's three principal components and what the uplift needs of them.
+#[derive(Debug, Clone)]
+pub struct Fit {
+    /// b₁, b₂, b₃: unit eigenvectors of the scatter matrix, by decreasing eigenvalue.
+    pub basis: [Vec<f64>; 3],
+    /// M = A·[b₁ b₂ b₃] (Eq. 6), row-major.
+    pub m: [[f64; 3]; 3],
+    pub m_inv: [[f64; 3]; 3],
+    /// σ_max(M) / σ_min(M).
+    pub condition: f64,
+    /// Σ ‖s − r‖² over the cluster's spectra (Eq. 13).
+    pub error: f64,
+}
+
+/// Why a cluster cannot be fitted.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Unfit {
+    /// M is singular or its condition number is above the bound.
+    IllConditioned(f64),
+    /// The spectra vary in fewer than three independent directions (the count): the missing
+    /// principal components would be rounding noise, and so would the uplift along them.
+    Rank(usize),
+}
+
+/// Variance below this share of the spectra's energy Σ‖s‖² is rounding, not data (an amplitude
+/// of 1e-6 of the spectra; measured spectra carry three or four digits).
+pub const RANK_TOL: f64 = 1e-12;
+
+/// Checks that each basis vector carries variance bᵀ·C·b above [`RANK_TOL`]·`energy` of the
+/// scatter `c` (n×n, row-major); `energy` is Σ‖s‖² of the spectra behind it.
+pub fn check_rank(c: &[f64], basis: &[Vec<f64>; 3], energy: f64) -> Result<(), Unfit> {
+    let n = basis[0].len();
+    let variance = |b: &[f64]| -> f64 {
+        c.chunks_exact(n)
+            .zip(b)
+            .map(|(row, bi)| bi * dot(row, b))
+            .sum()
+    };
+    // By decreasing eigenvalue: the rank is the count of leading vectors above the floor.
+    let floor = RANK_TOL * energy;
+    match basis.iter().position(|b| {
+        let v = variance(b);
+        v.is_nan() || v <= floor
+    }) {
+        Some(rank) => Err(Unfit::Rank(rank)),
+        None => Ok(()),
+    }
+}
+
+/// PCA of a cluster from its scatter matrix `c` (n×n, row-major), with its error.
+pub fn fit(c: &[f64], a: &Colorimetry, max_condition: f64) -> Result<Fit, Unfit> {
+    fit_basis(c, a, max_condition, top_three(c, a.bands()))
+}
+
+/// As [`fit`] with the basis given: the exact eigenvectors, or a tracker's converged estimate.
+///
+/// With r = B·M⁻¹·A·(s − μ) + μ, s − r = (I − B·M⁻¹·A)(s − μ) = P·(s − μ), so the summed error
+/// is tr(P·C·Pᵀ) = tr(C) − 2·tr(M⁻¹·A·C·B) + tr(M⁻¹·G·M⁻ᵀ) with G = A·C·Aᵀ, using BᵀB = I:
+/// a few 3×n products, no pass over the spectra. (For exact eigenvectors A·C·B = M·Λ.)
+pub fn fit_basis(
+    c: &[f64],
+    a: &Colorimetry,
+    max_condition: f64,
+    basis: [Vec<f64>; 3],
+) -> Result<Fit, Unfit> {
+    let n = a.bands();
+    let m = std::array::from_fn(|i| std::array::from_fn(|j| dot(&a.weights[i], &basis[j])));
+    let mm = Matrix3::from_fn(|i, j| m[i][j]);
+    let sv = mm.singular_values();
+    let (smax, smin) = (sv.max(), sv.min());
+    let condition = if smin > 0.0 {
+        smax / smin
+    } else {
+        f64::INFINITY
+    };
+    if condition.is_nan() || condition > max_condition {
+        return Err(Unfit::IllConditioned(condition));
+    }
+    let inv = mm.try_inverse().ok_or(Unfit::IllConditioned(condition))?;
+    // Rows of A·C (C is symmetric, so its rows are its columns).
+    let ac: [Vec<f64>; 3] = std::array::from_fn(|i| {
+        (0..n)
+            .map(|j| dot(&a.weights[i], &c[j * n..(j + 1) * n]))
+            .collect()
+    });
+    let g = Matrix3::from_fn(|i, j| dot(&ac[i], &a.weights[j]));
+    let acb = Matrix3::from_fn(|i, j| dot(&ac[i], &basis[j]));
+    let trace_c: f64 = (0..n).map(|i| c[i * n + i]).sum();
+    let error = trace_c - 2.0 * (inv * acb).trace() + (inv * g * inv.transpose()).trace();
+    Ok(Fit {
+        basis,
+        m,
+        m_inv: std::array::from_fn(|i| std::array::from_fn(|j| inv[(i, j)])),
+        condition,
+        // Rounding can leave a perfectly fitted cluster a hair below zero.
+        error: error.max(0.0),
+    })
+}
+
+/// Follows the top three eigenvectors of a scatter matrix that changes a little at a time (one
+/// spectrum moves across a candidate split), by block orthogonal iteration with Rayleigh–Ritz
+/// started from the previous answer: a few n×n×P products instead of a full decomposition.
+/// The block is wider than three (P = 6) so that the top three converge at the rate λ₇/λ₃, not
+/// λ₄/λ₃. Falls back to the full decomposition when it does not converge.
+#[derive(Debug, Default)]
+pub struct Tracker {
+    /// The block, row-major n×P: q[b·P + k] is vector k at band b.
+    q: Vec<f64>,
+    /// Iterations run and full decompositions fallen back to, for tests and benchmarks.
+    pub iterations: usize,
+    pub fallbacks: usize,
+}
+
+const P: usize = 6;
+
+impl Tracker {
+    /// Residual bound ‖C·v − θ·v‖ ≤ TOL·θ₁ on each of the top three Ritz pairs: the basis is
+    /// then exact to about TOL/(relative eigengap), far below what changes a split decision.
+    const TOL: f64 = 1e-10;
+    const MAX_ITERATIONS: usize = 50;
+
+    pub fn top_three(&mut self, c: &[f64], n: usize) -> [Vec<f64>; 3] {
+        if n >= P && self.q.len() == n * P {
+            if let Some(top) = self.iterate(c, n) {
+                return top;
+            }
+            self.fallbacks += 1;
+        }
+        let v = top_eigenvectors(c, n, P.min(n));
+        if n >= P {
+            self.q = (0..n * P).map(|i| v[i % P][i / P]).collect();
+        }
+        std::array::from_fn(|k| v[k].clone())
+    }
+
+    fn iterate(&mut self, c: &[f64], n: usize) -> Option<[Vec<f64>; 3]> {
+        let mut z = vec![0.0; n * P];
+        for _ in 0..Self::MAX_ITERATIONS {
+            self.iterations += 1;
+            // Z = C·Q
+            for (i, row) in c.chunks_exact(n).enumerate() {
+                let mut acc = [0.0; P];
+                for (cij, qj) in row.iter().zip(self.q.chunks_exact(P)) {
+                    for k in 0..P {
+                        acc[k] += cij * qj[k];
+                    }
+                }
+                z[i * P..(i + 1) * P].copy_from_slice(&acc);
+            }
+            // Rayleigh–Ritz: H = Qᵀ·C·Q, symmetrised.
+            let mut h = nalgebra::SMatrix::<f64, P, P>::zeros();
+            for (qb, zb) in self.q.chunks_exact(P).zip(z.chunks_exact(P)) {
+                for i in 0..P {
+                    for j in 0..P {
+                        h[(i, j)] += qb[i] * zb[j];
+                    }
+                }
+            }
+            let h = (h + h.transpose()) * 0.5;
+            let eig = SymmetricEigen::new(h);
+            let mut order: [usize; P] = std::array::from_fn(|i| i);
+            order.sort_by(|&i, &j| eig.eigenvalues[j].total_cmp(&eig.eigenvalues[i]));
+            let w = nalgebra::SMatrix::<f64, P, P>::from_fn(|i, k| eig.eigenvectors[(i, order[k])]);
+            // Ritz vectors Y = Q·W and C·Y = Z·W.
+            let (mut y, mut cy) = (vec![0.0; n * P], vec![0.0; n * P]);
+            for b in 0..n {
+                for k in 0..P {
+                    let (mut sy, mut sz) = (0.0, 0.0);
+                    for i in 0..P {
+                        sy += self.q[b * P + i] * w[(i, k)];
+                        sz += z[b * P + i] * w[(i, k)];
+                    }
+                    y[b * P + k] = sy;
+                    cy[b * P + k] = sz;
+                }
+            }
+            let theta: [f64; P] = std::array::from_fn(|k| eig.eigenvalues[order[k]]);
+            let converged = (0..3).all(|k| {
+                let r2: f64 = (0..n)
+                    .map(|b| (cy[b * P + k] - theta[k] * y[b * P + k]).powi(2))
+                    .sum();
+                r2.sqrt() <= Self::TOL * theta[0].abs()
+            });
+            if converged {
+                self.q = y;
+                return Some(std::array::from_fn(|k| {
+                    (0..n).map(|b| self.q[b * P + k]).collect()
+                }));
+            }
+            self.q = cy;
+            if !orthonormalise(&mut self.q, n) {
+                return None;
+            }
+        }
+        None
+    }
+}
+
+/// Modified Gram–Schmidt on the columns of a row-major n×P block, twice for orthogonality to
+/// working precision; false when they are (numerically) dependent.
+fn orthonormalise(v: &mut [f64], n: usize) -> bool {
+    for _ in 0..2 {
+        for k in 0..P {
+            for j in 0..k {
+                let d: f64 = (0..n).map(|b| v[b * P + k] * v[b * P + j]).sum();
+                (0..n).for_each(|b| v[b * P + k] -= d * v[b * P + j]);
+            }
+            let norm = (0..n).map(|b| v[b * P + k].powi(2)).sum::<f64>().sqrt();
+            if !(norm > 0.0 && norm.is_finite()) {
+                return false;
+            }
+            (0..n).for_each(|b| v[b * P + k] /= norm);
+        }
+    }
+    true
+}
+
+/// The eigenvectors of the three largest eigenvalues of a symmetric matrix, signs fixed so
+/// that each vector's largest-magnitude component is positive (PCA leaves the sign free; a
+/// model must not).
+pub(crate) fn top_three(c: &[f64], n: usize) -> [Vec<f64>; 3] {
+    let mut v = top_eigenvectors(c, n, 3).into_iter();
+    std::array::from_fn(|_| v.next().expect("three eigenvectors"))
+}
+
+/// The eigenvectors of the `k` largest eigenvalues, by decreasing eigenvalue, signs fixed.
+fn top_eigenvectors(c: &[f64], n: usize, k: usize) -> Vec<Vec<f64>> {
+    let eig = SymmetricEigen::new(DMatrix::from_row_slice(n, n, c));
+    let mut order: Vec<usize> = (0..n).collect();
+    order.sort_by(|&i, &j| {
+        eig.eigenvalues[j]
+            .total_cmp(&eig.eigenvalues[i])
+            .then(i.cmp(&j))
+    });
+    order[..k]
+        .iter()
+        .map(|&col| {
+            let mut v: Vec<f64> = eig.eigenvectors.column(col).iter().copied().collect();
+            let peak = v
+                .iter()
+                .copied()
+                .fold(0.0f64, |p, x| if x.abs() > p.abs() { x } else { p });
+            if peak < 0.0 {
+                v.iter_mut().for_each(|x| *x = -*x);
+            }
+            v
+        })
+        .collect()
+}
+
+pub(crate) fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use specconv_colour::{Grid, Illuminant, Observer};
+
+    fn colorimetry() -> Colorimetry {
+        Colorimetry::new(Grid::PAPER, Observer::Cie1931, Illuminant::D65).unwrap()
+    }
+
+    /// Smooth pseudo-random spectra, reproducible without a random-number crate.
+    fn spectra(count: usize, n: usize) -> Vec<Vec<f64>> {
+        (0..count)
+            .map(|k| {
+                let (a, b, c) = (
+                    (k as f64 * 0.37).sin(),
+                    (k as f64 * 1.13).cos(),
+                    (k as f64 * 0.71).sin(),
+                );
+                (0..n)
+                    .map(|i| {
+                        let t = i as f64 / n as f64;
+                        0.5 + 0.2 * a * t
+                            + 0.15 * b * (3.0 * t).sin()
+                            + 0.1 * c * (7.0 * t).cos()
+                            + 0.02 * (k as f64 * i as f64).sin()
+                    })
+                    .collect()
+            })
+            .collect()
+    }
+
+    #[test]
+    fn error_from_scatter_equals_error_from_the_spectra() {
+        let a = colorimetry();
+        let data = spectra(50, a.bands());
+        let refs: Vec<&[f64]> = data.iter().map(|s| s.as_slice()).collect();
+        let (mu, c) = centred_scatter(&refs);
+        let f = fit(&c, &a, 1e12).unwrap();
+        let c_mu = a.xyz(&mu);
+        let mut direct = 0.0;
+        for s in &data {
+            let cs = a.xyz(s);
+            let d = [cs[0] - c_mu[0], cs[1] - c_mu[1], cs[2] - c_mu[2]];
+            let w: Vec<f64> = (0..3).map(|i| dot(&f.m_inv[i], &d)).collect();
+            for (i, si) in s.iter().enumerate() {
+                let r = mu[i] + (0..3).map(|k| w[k] * f.basis[k][i]).sum::<f64>();
+                direct += (si - r).powi(2);
+            }
+        }
+        assert!(
+            direct > 1e-3,
+            "the test data must not be trivially reconstructible"
+        );
+        assert!(
+            (f.error - direct).abs() < 1e-10 * direct,
+            "{} vs {direct}",
+            f.error
+        );
+    }
+
+    #[test]
+    fn moments_give_the_same_scatter_as_two_passes() {
+        let data = spectra(30, 36);
+        let refs: Vec<&[f64]> = data.iter().map(|s| s.as_slice()).collect();
+        let (_, c2) = centred_scatter(&refs);
+        let mut m = Moments::zero(36);
+        data.iter().for_each(|s| m.add(s));
+        let c1 = m.scatter();
+        let worst = c1
+            .iter()
+            .zip(&c2)
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0, f64::max);
+        assert!(worst < 1e-12, "{worst}");
+    }
+
+    #[test]
+    fn basis_is_orthonormal_with_fixed_signs() {
+        let a = colorimetry();
+        let data = spectra(40, a.bands());
+        let refs: Vec<&[f64]> = data.iter().map(|s| s.as_slice()).collect();
+        let f = fit(&centred_scatter(&refs).1, &a, 1e12).unwrap();
+        for i in 0..3 {
+            for j in 0..3 {
+                let d = dot(&f.basis[i], &f.basis[j]);
+                assert!((d - if i == j { 1.0 } else { 0.0 }).abs() < 1e-12);
+            }
+            let peak =
+                f.basis[i]
+                    .iter()
+                    .copied()
+                    .fold(0.0f64, |p, x| if x.abs() > p.abs() { x } else { p });
+            assert!(peak > 0.0);
+        }
+    }
+
+    #[test]
+    fn tracker_follows_the_exact_subspace_as_spectra_are_added() {
+        let data = spectra(120, 36);
+        let mut m = Moments::zero(36);
+        let mut tracker = Tracker::default();
+        for (k, s) in data.iter().enumerate() {
+            m.add(s);
+            if k < 10 {
+                continue;
+            }
+            let c = m.scatter();
+            let tracked = tracker.top_three(&c, 36);
+            let exact = top_three(&c, 36);
+            // Same subspace: the projectors B·Bᵀ agree.
+            for i in 0..36 {
+                for j in 0..36 {
+                    let p = |b: &[Vec<f64>; 3]| (0..3).map(|k| b[k][i] * b[k][j]).sum::<f64>();
+                    assert!((p(&tracked) - p(&exact)).abs() < 1e-7, "step {k}");
+                }
+            }
+        }
+        assert_eq!(tracker.fallbacks, 0);
+        assert!(
+            tracker.iterations < 10 * 110,
+            "{} iterations",
+            tracker.iterations
+        );
+    }
+
+    #[test]
+    fn an_ill_conditioned_cluster_is_refused() {
+        let a = colorimetry();
+        let data = spectra(40, a.bands());
+        let refs: Vec<&[f64]> = data.iter().map(|s| s.as_slice()).collect();
+        let c = centred_scatter(&refs).1;
+        let cond = fit(&c, &a, 1e12).unwrap().condition;
+        assert_eq!(
+            fit(&c, &a, cond * 0.5).unwrap_err(),
+            Unfit::IllConditioned(cond)
+        );
+    }
+}

@@ -1,0 +1,334 @@
+//! Training: the greedy kd-tree on CIE xy (Eq. 10–13).
+//!
+//! Each leaf's best split is searched on both axes at every position between two distinct
+//! coordinates, with moments updated one spectrum at a time, so a candidate costs two PCAs of
+//! scatter matrices and no pass over the data. The leaf whose best split lowers the summed
+//! error most is split next, until the requested number of clusters is reached or no leaf has
+//! a split that lowers the error while keeping both sides at least `min_cluster_size` spectra
+//! and M's condition number within `max_condition`.
+//!
+//! Training data that cannot make a model gets an error that says what is wrong with it, or a
+//! defined outcome:
+//!
+//! | training data | outcome |
+//! |---|---|
+//! | fewer than 4 spectra (one, three) | error: three components need four spectra that differ |
+//! | fewer than `min_cluster_size` spectra | error: give more, or lower the minimum |
+//! | all spectra identical (up to rounding, [`super::pca::RANK_TOL`]) | error: the spectra must differ |
+//! | spectra varying in only 1 or 2 directions (copies, mixtures or scalings of 2–3 spectra) | error: add other colours; the third component would be rounding noise, and the uplift along it arbitrary |
+//! | three directions the observer barely tells apart: M singular or its condition above `max_condition` | error: add more varied colours, or raise the bound |
+//! | a spectrum that reflects no light (all zero) | error naming it: it has no chromaticity |
+//! | duplicated spectra among others | trained: a copy weighs as one more measurement (a copy never splits from its original: same xy) |
+//! | a band that is zero in every spectrum | trained: that band is zero in μ and B, so 0 in every uplift |
+//! | a split whose side would be rank-deficient or ill-conditioned | not taken: training stops with fewer clusters when no other split helps (the CLI warns) |
+//!
+//! No regularisation is applied: a Tikhonov term on B or M would break the exact round trip
+//! (Eq. 9) or make up a component the data does not have, so a leaf either has three real
+//! components and a bounded M, or it is not made.
+
+use super::model::{Leaf, Training, FORMAT, VERSION};
+use super::pca::{centred_scatter, check_rank, fit, fit_basis, top_three, Moments, Tracker, Unfit};
+use super::tree::{Axis, Node};
+use crate::{Error, Model};
+use specconv_colour::Colorimetry;
+
+/// The smallest cluster that has three principal components.
+pub const SMALLEST_CLUSTER: usize = 4;
+
+/// Bound on the condition number σ_max/σ_min of a leaf's M (with A normalised so that a white
+/// has Y = 1). A leaf near the bound turns small colour differences into large spectral ones;
+/// the Munsell set's well-populated clusters stay below 30 (see the README).
+pub const DEFAULT_MAX_CONDITION: f64 = 100.0;
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct TrainOptions {
+    /// Number of leaves wanted.
+    pub clusters: usize,
+    pub min_cluster_size: usize,
+    pub max_condition: f64,
+}
+
+impl Default for TrainOptions {
+    fn default() -> Self {
+        TrainOptions {
+            clusters: 8,
+            min_cluster_size: 20,
+            max_condition: DEFAULT_MAX_CONDITION,
+        }
+    }
+}
+
+/// Measured spectra on the colorimetry's grid, with their names and where they came from.
+#[derive(Debug, Clone, Default)]
+pub struct TrainingSet {
+    pub sources: Vec<String>,
+    pub names: Vec<String>,
+    pub spectra: Vec<Vec<f64>>,
+}
+
+struct Cluster {
+    members: Vec<usize>,
+    error: f64,
+    /// The best split once searched (searched only when a split may still follow).
+    best: Option<Option<Candidate>>,
+}
+
+struct Candidate {
+    axis: Axis,
+    value: f64,
+    below: Vec<usize>,
+    above: Vec<usize>,
+    gain: f64,
+}
+
+/// Trains a model. Deterministic: the same data and options give the same model, bit for bit.
+pub fn train(set: &TrainingSet, a: &Colorimetry, opts: &TrainOptions) -> Result<Model, Error> {
+    let n = a.bands();
+    let invalid = |msg: String| Err(Error::Training(msg));
+    if opts.clusters == 0 {
+        return invalid("the number of clusters must be at least 1".into());
+    }
+    if opts.min_cluster_size < SMALLEST_CLUSTER {
+        return invalid(format!(
+            "the minimum cluster size must be at least {SMALLEST_CLUSTER}: three principal components need four spectra"
+        ));
+    }
+    if opts.max_condition.is_nan() || opts.max_condition < 1.0 {
+        return invalid("the condition bound must be at least 1".into());
+    }
+    if set.spectra.len() < SMALLEST_CLUSTER {
+        let only = match set.spectra.len() {
+            1 => "1 spectrum".to_string(),
+            k => format!("{k} spectra"),
+        };
+        return invalid(format!(
+            "only {only}: three principal components need at least {SMALLEST_CLUSTER} spectra that differ; give more spectra"
+        ));
+    }
+    if set.spectra.len() < opts.min_cluster_size {
+        return invalid(format!(
+            "{} spectra are fewer than the minimum cluster size {}; give more spectra or lower --min-cluster-size",
+            set.spectra.len(),
+            opts.min_cluster_size
+        ));
+    }
+    let mut xy = Vec::with_capacity(set.spectra.len());
+    for (k, s) in set.spectra.iter().enumerate() {
+        debug_assert_eq!(s.len(), n);
+        match specconv_colour::colorimetry::xy(a.xyz(s)) {
+            Some(c) => xy.push(c),
+            None => {
+                let name = set.names.get(k).map_or("?", String::as_str);
+                return invalid(format!(
+                    "spectrum '{name}' reflects no light on {} under {}: it has no chromaticity to cluster by; remove it",
+                    a.grid, a.illuminant
+                ));
+            }
+        }
+    }
+
+    let count = set.spectra.len();
+    let root = cluster(set, a, opts, (0..count).collect()).map_err(|why| {
+        Error::Training(match why {
+            Unfit::Rank(0) => format!(
+                "all {count} spectra are identical spectra (up to rounding): principal components \
+                 need spectra that differ; give spectra of different colours"
+            ),
+            Unfit::Rank(k) => format!(
+                "the {count} spectra vary in only {k} independent direction{} (as copies or mixtures \
+                 of {} spectra do), but the model needs 3, one per XYZ component; add spectra of other colours",
+                if k == 1 { "" } else { "s" },
+                k + 1
+            ),
+            Unfit::IllConditioned(cond) => format!(
+                "the spectra's three main variations look almost alike to the observer under {}, so \
+                 colours cannot tell them apart: M's condition number is {cond:.3e} (bound {}); add \
+                 spectra of more varied colours, or raise --max-condition",
+                a.illuminant, opts.max_condition
+            ),
+        })
+    })?;
+    // tree[i] = Leaf { leaf: k } refers to clusters[k] until the end, where they are numbered.
+    let mut tree = vec![Node::Leaf { leaf: 0 }];
+    let mut clusters = vec![Some(root)];
+    let mut live = 1;
+    while live < opts.clusters {
+        for c in clusters.iter_mut().flatten() {
+            if c.best.is_none() {
+                c.best = Some(best_split(set, &xy, a, opts, &c.members, c.error));
+            }
+        }
+        let pick = clusters
+            .iter()
+            .enumerate()
+            .filter_map(|(k, c)| Some((k, c.as_ref()?.best.as_ref()?.as_ref()?.gain)))
+            .fold(None, |best: Option<(usize, f64)>, (k, g)| match best {
+                Some((_, bg)) if bg >= g => best,
+                _ => Some((k, g)),
+            });
+        let Some((k, _)) = pick else { break };
+        let split = clusters[k]
+            .take()
+            .and_then(|c| c.best.flatten())
+            .expect("picked cluster has a split");
+        let node = tree
+            .iter()
+            .position(|t| *t == Node::Leaf { leaf: k })
+            .expect("every cluster has a node");
+        let (below, above) = (tree.len(), tree.len() + 1);
+        tree[node] = Node::Split {
+            axis: split.axis,
+            value: split.value,
+            below,
+            above,
+        };
+        for members in [split.below, split.above] {
+            tree.push(Node::Leaf {
+                leaf: clusters.len(),
+            });
+            // The split search already checked both sides' conditioning.
+            let c = cluster(set, a, opts, members)
+                .map_err(|_| Error::Training("internal: a split side lost its fit".into()))?;
+            clusters.push(Some(c));
+        }
+        live += 1;
+    }
+
+    // Number the remaining clusters in order of creation, and fit their leaves exactly.
+    let mut number = vec![usize::MAX; clusters.len()];
+    let mut leaves = Vec::new();
+    for (k, c) in clusters.iter().enumerate() {
+        let Some(c) = c else { continue };
+        number[k] = leaves.len();
+        leaves.push(leaf(set, a, &c.members));
+    }
+    for t in &mut tree {
+        if let Node::Leaf { leaf } = t {
+            *leaf = number[*leaf];
+        }
+    }
+    let total_error = leaves.iter().map(|l| l.error).sum();
+    Ok(Model {
+        format: FORMAT.into(),
+        version: VERSION,
+        grid: a.grid,
+        observer: a.observer,
+        illuminant: a.illuminant,
+        training: Training {
+            sources: set.sources.clone(),
+            count: set.spectra.len(),
+            clusters_requested: opts.clusters,
+            min_cluster_size: opts.min_cluster_size,
+            max_condition: opts.max_condition,
+            total_error,
+        },
+        tree,
+        leaves,
+    })
+}
+
+fn refs<'a>(set: &'a TrainingSet, members: &[usize]) -> Vec<&'a [f64]> {
+    members.iter().map(|&i| set.spectra[i].as_slice()).collect()
+}
+
+/// A cluster with its exact error, or why it cannot be fitted.
+fn cluster(
+    set: &TrainingSet,
+    a: &Colorimetry,
+    opts: &TrainOptions,
+    members: Vec<usize>,
+) -> Result<Cluster, Unfit> {
+    let spectra = refs(set, &members);
+    let (_, c) = centred_scatter(&spectra);
+    let basis = top_three(&c, a.bands());
+    let energy = spectra.iter().map(|s| super::pca::dot(s, s)).sum();
+    check_rank(&c, &basis, energy)?;
+    let error = fit_basis(&c, a, opts.max_condition, basis)?.error;
+    Ok(Cluster {
+        members,
+        error,
+        best: None,
+    })
+}
+
+fn leaf(set: &TrainingSet, a: &Colorimetry, members: &[usize]) -> Leaf {
+    let (mean, c) = centred_scatter(&refs(set, members));
+    // Conditioning was checked when the split was chosen; rounding must not undo a leaf now.
+    let f = fit(&c, a, f64::INFINITY).expect("a leaf chosen by training is invertible");
+    Leaf {
+        count: members.len(),
+        c_mean: a.xyz(&mean),
+        mean,
+        basis: f.basis,
+        m: f.m,
+        m_inv: f.m_inv,
+        condition: f.condition,
+        error: f.error,
+    }
+}
+
+/// The split of a cluster that lowers the summed error most (Eq. 12), if any lowers it.
+fn best_split(
+    set: &TrainingSet,
+    xy: &[[f64; 2]],
+    a: &Colorimetry,
+    opts: &TrainOptions,
+    members: &[usize],
+    error: f64,
+) -> Option<Candidate> {
+    let n = a.bands();
+    let min = opts.min_cluster_size;
+    if members.len() < 2 * min {
+        return None;
+    }
+    let mut total = Moments::zero(n);
+    members.iter().for_each(|&i| total.add(&set.spectra[i]));
+    let orders: [Vec<usize>; 2] = std::array::from_fn(|ax| {
+        let mut order = members.to_vec();
+        order.sort_by(|&i, &j| xy[i][ax].total_cmp(&xy[j][ax]).then(i.cmp(&j)));
+        order
+    });
+    // (summed error, axis, position in that axis' order, split value)
+    let mut best: Option<(f64, usize, usize, f64)> = None;
+    for (ax, order) in orders.iter().enumerate() {
+        let mut below = Moments::zero(n);
+        let (mut track_below, mut track_above) = (Tracker::default(), Tracker::default());
+        for k in 1..order.len() {
+            below.add(&set.spectra[order[k - 1]]);
+            let (lo, hi) = (xy[order[k - 1]][ax], xy[order[k]][ax]);
+            if k < min || order.len() - k < min || lo >= hi {
+                continue;
+            }
+            let above = total.minus(&below);
+            let (c1, c2) = (below.scatter(), above.scatter());
+            // Both sides need three real components and a well-conditioned M.
+            let side = |c: &[f64], m: &Moments, tracker: &mut Tracker| {
+                let f = fit_basis(c, a, opts.max_condition, tracker.top_three(c, n))?;
+                check_rank(c, &f.basis, m.energy()).map(|()| f)
+            };
+            let Ok(f1) = side(&c1, &below, &mut track_below) else {
+                continue;
+            };
+            let Ok(f2) = side(&c2, &above, &mut track_above) else {
+                continue;
+            };
+            let sum = f1.error + f2.error;
+            if best.as_ref().is_none_or(|b| sum < b.0) {
+                // Split halfway between the two sides' colours (Eq. 10: above means ≥ value).
+                let mid = 0.5 * (lo + hi);
+                let value = if mid > lo { mid } else { hi };
+                best = Some((sum, ax, k, value));
+            }
+        }
+    }
+    let (sum, ax, k, value) = best?;
+    let gain = error - sum;
+    let order = &orders[ax];
+    (gain > 0.0).then(|| Candidate {
+        axis: [Axis::X, Axis::Y][ax],
+        value,
+        below: order[..k].to_vec(),
+        above: order[k..].to_vec(),
+        gain,
+    })
+}

@@ -1,0 +1,23 @@
+//! What specconv measures with uplift methods, above the methods themselves:
+//!
+//! - [`eval`]: reconstruction error, round trip and range of a method on measured spectra.
+//! - [`extrapolation`]: how large a model's spectra get on whole gamuts, per leaf.
+//! - [`simulate`]: spectral radiosity of small scenes, the colour shift of interreflection.
+//!
+//! This crate knows nothing of images, files by path, threads or FFI.
+#![forbid(unsafe_code)]
+
+pub mod eval;
+pub mod extrapolation;
+pub mod simulate;
+
+/// What can go wrong in a study, with what to do about it in the message.
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    #[error(transparent)]
+    Colour(#[from] specconv_colour::Error),
+    #[error(transparent)]
+    Spectral(#[from] specconv_spectral::Error),
+    #[error("bad scene: {0}")]
+    Scene(String),
+}

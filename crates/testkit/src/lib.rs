@@ -1,0 +1,53 @@
+//! What specconv's tests share, so that no test file carries a copy: the measured spectra (they
+//! live in ../shared beside the checkout, never in it), the paper's setting, and the training
+//! sets that cannot make a model ([`untrainable`]). Dev-only: no library depends on it.
+
+pub mod untrainable;
+
+use specconv_colour::{Colorimetry, Grid, Illuminant, Observer, SpectralTable};
+use specconv_spectral::{TrainOptions, TrainingSet};
+use std::path::PathBuf;
+
+/// `../shared` beside the repository (or `$SPECCONV_SHARED`).
+pub fn shared() -> PathBuf {
+    let dir = std::env::var_os("SPECCONV_SHARED")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared")));
+    assert!(
+        dir.join("spectra").is_dir(),
+        "measured spectra not found at {}: tests need ../shared beside the checkout (or SPECCONV_SHARED)",
+        dir.display()
+    );
+    dir
+}
+
+pub fn table(file: &str) -> SpectralTable {
+    let path = shared().join("spectra").join(file);
+    let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    SpectralTable::parse(file, &text).unwrap()
+}
+
+pub const MUNSELL: &str = "munsell1269_matte_380-800_1nm.csv";
+pub const COLORCHECKER: &str = "colorchecker_n_ohta_380-780_5nm.csv";
+
+pub fn set(file: &str, grid: &Grid) -> TrainingSet {
+    let t = table(file);
+    TrainingSet {
+        sources: vec![t.source.clone()],
+        names: t.names.clone(),
+        spectra: t.resampled(grid).unwrap(),
+    }
+}
+
+/// The paper's setting: Wyman 2013 observer, no illuminant weighting, 380–730 nm at 10 nm.
+pub fn paper() -> Colorimetry {
+    Colorimetry::new(Grid::PAPER, Observer::Wyman2013, Illuminant::E).unwrap()
+}
+
+pub fn paper_options(clusters: usize) -> TrainOptions {
+    TrainOptions {
+        clusters,
+        min_cluster_size: 4,
+        ..TrainOptions::default()
+    }
+}

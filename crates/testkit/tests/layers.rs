@@ -1,0 +1,421 @@
+//! The house rules, checked: the workspace's crates sit in layers with every dependency pointing
+//! down, and inside every crate no module imports a module that imports it back (directly or
+//! round a circle). Run with `--nocapture` to print the module graph.
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::{Path, PathBuf};
+
+/// The layers, bottom first. A crate may depend (normal or build dependency) only on crates of
+/// lower layers; dev-dependencies are free (tests sit above everything).
+const LAYERS: &[&[&str]] = &[
+    &["specconv-shim-build"],
+    &["specconv-colour", "specconv-exr", "oiio-sys", "ocio-sys"],
+    &["specconv-spectral", "specconv-oiio", "specconv-ocio"],
+    &["specconv-study", "specconv-pipeline"],
+    &["specconv-cli", "specconv-testkit"],
+    &["specconv"],
+];
+
+/// The science knows nothing of images, files, threads or FFI.
+const SCIENCE: &[&str] = &["specconv-colour", "specconv-spectral", "specconv-study"];
+const NOT_FOR_SCIENCE: &[&str] = &[
+    "specconv-exr",
+    "specconv-pipeline",
+    "specconv-oiio",
+    "specconv-ocio",
+    "oiio-sys",
+    "ocio-sys",
+    "rayon",
+    "exr",
+    "image",
+];
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+fn layer(name: &str) -> Option<usize> {
+    LAYERS.iter().position(|l| l.contains(&name))
+}
+
+/// The manifests of the workspace: the root's and every member's.
+fn manifests() -> Vec<PathBuf> {
+    let mut out = vec![root().join("Cargo.toml")];
+    for dir in ["crates", "ffi"] {
+        let mut members: Vec<_> = std::fs::read_dir(root().join(dir))
+            .unwrap()
+            .map(|e| e.unwrap().path().join("Cargo.toml"))
+            .filter(|p| p.is_file())
+            .collect();
+        members.sort();
+        out.extend(members);
+    }
+    out
+}
+
+/// The package name and its normal and build dependencies, from a manifest (the few lines of
+/// TOML this needs: `[package] name = "…"` and the keys of `[dependencies]`,
+/// `[build-dependencies]`).
+fn dependencies(manifest: &Path) -> (String, Vec<String>) {
+    let text = std::fs::read_to_string(manifest).unwrap();
+    let (mut name, mut deps, mut section) = (String::new(), Vec::new(), String::new());
+    for line in text.lines().map(str::trim) {
+        if line.starts_with('[') {
+            section = line.to_string();
+        } else if section == "[package]" && line.starts_with("name") {
+            name = line.split('"').nth(1).unwrap().to_string();
+        } else if (section == "[dependencies]" || section == "[build-dependencies]")
+            && !line.is_empty()
+            && !line.starts_with('#')
+        {
+            let key = line.split(['=', '.', ' ']).next().unwrap();
+            deps.push(key.to_string());
+        }
+    }
+    (name, deps)
+}
+
+#[test]
+fn crates_depend_only_on_lower_layers() {
+    let mut wrong = Vec::new();
+    for manifest in manifests() {
+        let (name, deps) = dependencies(&manifest);
+        let Some(own) = layer(&name) else {
+            wrong.push(format!(
+                "{name} ({}) has no layer in LAYERS",
+                manifest.display()
+            ));
+            continue;
+        };
+        for dep in deps {
+            if let Some(theirs) = layer(&dep) {
+                if theirs >= own {
+                    wrong.push(format!(
+                        "{name} (layer {own}) depends on {dep} (layer {theirs})"
+                    ));
+                }
+            }
+            if SCIENCE.contains(&name.as_str()) && NOT_FOR_SCIENCE.contains(&dep.as_str()) {
+                wrong.push(format!("{name} is science but depends on {dep}"));
+            }
+        }
+    }
+    assert!(wrong.is_empty(), "{}", wrong.join("\n"));
+}
+
+/// A crate's modules by path (`otsu2018::runtime`; the crate root is ``) and the file of each.
+fn modules(src: &Path) -> BTreeMap<String, PathBuf> {
+    let mut out = BTreeMap::new();
+    let mut stack = vec![src.to_path_buf()];
+    while let Some(dir) = stack.pop() {
+        for entry in std::fs::read_dir(&dir).unwrap() {
+            let path = entry.unwrap().path();
+            if path.is_dir() {
+                stack.push(path);
+                continue;
+            }
+            if path.extension().is_none_or(|e| e != "rs") {
+                continue;
+            }
+            let rel = path.strip_prefix(src).unwrap().with_extension("");
+            let mut parts: Vec<String> = rel
+                .components()
+                .map(|c| c.as_os_str().to_string_lossy().into_owned())
+                .collect();
+            if matches!(
+                parts.last().map(String::as_str),
+                Some("mod" | "lib" | "main")
+            ) {
+                parts.pop();
+            }
+            // `bin/` targets are crates of their own; skip them.
+            if parts.first().is_some_and(|p| p == "bin") {
+                continue;
+            }
+            out.insert(parts.join("::"), path);
+        }
+    }
+    out
+}
+
+/// The code of a file without comments and without its `#[cfg(test)]` module (tests may use
+/// the whole crate).
+fn code(text: &str) -> String {
+    let mut out = String::new();
+    let mut skip_depth: Option<i32> = None;
+    let mut depth = 0i32;
+    let mut pending_test = false;
+    for line in text.lines() {
+        let code = match line.find("//") {
+            Some(i) => &line[..i],
+            None => line,
+        };
+        let t = code.trim();
+        if t == "#[cfg(test)]" {
+            pending_test = true;
+            continue;
+        }
+        if pending_test && t.starts_with("mod ") && skip_depth.is_none() {
+            skip_depth = Some(depth);
+        }
+        pending_test = false;
+        let opens = code.matches('{').count() as i32;
+        let closes = code.matches('}').count() as i32;
+        depth += opens - closes;
+        match skip_depth {
+            Some(d) if depth <= d && (opens > 0 || closes > 0) && closes >= opens => {
+                skip_depth = None;
+            }
+            Some(_) => {}
+            None => {
+                out.push_str(code);
+                out.push('\n');
+            }
+        }
+    }
+    out
+}
+
+/// Paths a module's code names: `crate::a::b`, `super::a`, `self::a` and `use` trees below
+/// them, resolved to absolute paths (without `crate::`).
+fn named_paths(module: &str, code: &str) -> Vec<String> {
+    let here: Vec<&str> = if module.is_empty() {
+        Vec::new()
+    } else {
+        module.split("::").collect()
+    };
+    let mut out = Vec::new();
+    // Resolve `super::`/`self::`/`crate::` prefixes in every path of the text; `use` groups
+    // `a::{b, c::d}` are flattened first.
+    let flat = flatten_groups(code);
+    for word in flat.split(|c: char| !(c.is_alphanumeric() || c == '_' || c == ':')) {
+        let parts: Vec<&str> = word.split("::").filter(|p| !p.is_empty()).collect();
+        let Some(&first) = parts.first() else {
+            continue;
+        };
+        let (mut base, rest): (Vec<&str>, &[&str]) = match first {
+            "crate" => (Vec::new(), &parts[1..]),
+            "super" | "self" => (here.clone(), &parts[..]),
+            _ => continue,
+        };
+        let mut rest = rest;
+        while let Some(&p) = rest.first() {
+            match p {
+                "super" => {
+                    base.pop();
+                }
+                "self" => {}
+                _ => break,
+            }
+            rest = &rest[1..];
+        }
+        base.extend(rest);
+        out.push(base.join("::"));
+    }
+    out
+}
+
+/// `use a::{b, c::{d, e}};` → `use a::b a::c::d a::c::e;`
+fn flatten_groups(code: &str) -> String {
+    let mut out = code.to_string();
+    while let Some(open) = out.find("::{") {
+        // The path before the group.
+        let start = out[..open]
+            .rfind(|c: char| !(c.is_alphanumeric() || c == '_' || c == ':'))
+            .map_or(0, |i| i + 1);
+        let prefix = out[start..open].to_string();
+        let mut depth = 0;
+        let mut close = open + 2;
+        for (i, c) in out[open + 2..].char_indices() {
+            match c {
+                '{' => depth += 1,
+                '}' => {
+                    depth -= 1;
+                    if depth == 0 {
+                        close = open + 2 + i;
+                        break;
+                    }
+                }
+                _ => {}
+            }
+        }
+        let inner = &out[open + 3..close];
+        let mut items = Vec::new();
+        let (mut d, mut cur) = (0, String::new());
+        for c in inner.chars() {
+            match c {
+                '{' => d += 1,
+                '}' => d -= 1,
+                _ => {}
+            }
+            if c == ',' && d == 0 {
+                items.push(std::mem::take(&mut cur));
+            } else {
+                cur.push(c);
+            }
+        }
+        items.push(cur);
+        let joined: Vec<String> = items
+            .iter()
+            .map(|s| s.trim())
+            .filter(|s| !s.is_empty())
+            .map(|s| {
+                if s == "self" {
+                    prefix.clone()
+                } else {
+                    format!("{prefix}::{s}")
+                }
+            })
+            .collect();
+        out.replace_range(start..=close, &joined.join(" "));
+    }
+    out
+}
+
+/// The module an absolute path lies in: its longest prefix that is a module, following the
+/// crate root's `pub use` re-exports.
+fn owner(
+    path: &str,
+    mods: &BTreeMap<String, PathBuf>,
+    reexports: &BTreeMap<String, String>,
+) -> Option<String> {
+    let parts: Vec<&str> = path.split("::").collect();
+    if parts.len() == 1 {
+        if let Some(target) = reexports.get(parts[0]) {
+            return owner(target, mods, &BTreeMap::new());
+        }
+    }
+    (1..=parts.len())
+        .rev()
+        .map(|n| parts[..n].join("::"))
+        .find(|p| mods.contains_key(p))
+}
+
+/// Module → modules it names, for the crate whose sources are in `src`.
+fn graph(src: &Path) -> BTreeMap<String, BTreeSet<String>> {
+    let mods = modules(src);
+    let root_code = code(&std::fs::read_to_string(&mods[""]).unwrap());
+    let mut reexports = BTreeMap::new();
+    for path in named_paths(
+        "",
+        &flatten_groups(&root_code.replace("pub use ", "pub use crate::")),
+    ) {
+        if let Some(name) = path.rsplit("::").next() {
+            reexports.insert(name.to_string(), path.clone());
+        }
+    }
+    let mut g = BTreeMap::new();
+    for (module, file) in &mods {
+        let text = code(&std::fs::read_to_string(file).unwrap());
+        let mut to = BTreeSet::new();
+        if !module.is_empty() {
+            for path in named_paths(module, &text) {
+                if let Some(o) = owner(&path, &mods, &reexports) {
+                    // A module naming its own children or itself is not a dependency on them
+                    // as such; a parent's `pub mod` lines are not imports.
+                    if o != *module && !o.is_empty() && !o.starts_with(&format!("{module}::")) {
+                        to.insert(o);
+                    }
+                }
+            }
+        }
+        g.insert(module.clone(), to);
+    }
+    g
+}
+
+/// A circle of `g`, if there is one.
+fn circle(g: &BTreeMap<String, BTreeSet<String>>) -> Option<Vec<String>> {
+    #[derive(Clone, Copy, PartialEq)]
+    enum Mark {
+        New,
+        Open,
+        Done,
+    }
+    fn visit(
+        n: &str,
+        g: &BTreeMap<String, BTreeSet<String>>,
+        mark: &mut BTreeMap<String, Mark>,
+        path: &mut Vec<String>,
+    ) -> Option<Vec<String>> {
+        mark.insert(n.to_string(), Mark::Open);
+        path.push(n.to_string());
+        for m in g.get(n).into_iter().flatten() {
+            match mark.get(m).copied().unwrap_or(Mark::New) {
+                Mark::Open => {
+                    let i = path.iter().position(|p| p == m).unwrap();
+                    let mut c = path[i..].to_vec();
+                    c.push(m.clone());
+                    return Some(c);
+                }
+                Mark::New => {
+                    if let Some(c) = visit(m, g, mark, path) {
+                        return Some(c);
+                    }
+                }
+                Mark::Done => {}
+            }
+        }
+        path.pop();
+        mark.insert(n.to_string(), Mark::Done);
+        None
+    }
+    let mut mark = BTreeMap::new();
+    for n in g.keys() {
+        if mark.get(n).copied().unwrap_or(Mark::New) == Mark::New {
+            if let Some(c) = visit(n, g, &mut mark, &mut Vec::new()) {
+                return Some(c);
+            }
+        }
+    }
+    None
+}
+
+#[test]
+fn no_crate_has_a_module_circle() {
+    let mut found = Vec::new();
+    for manifest in manifests() {
+        let src = manifest.parent().unwrap().join("src");
+        if !src.is_dir() {
+            continue;
+        }
+        let (name, _) = dependencies(&manifest);
+        let g = graph(&src);
+        println!("{name}:");
+        for (m, to) in &g {
+            if !to.is_empty() {
+                let to: Vec<_> = to.iter().map(String::as_str).collect();
+                println!("  {m} → {}", to.join(", "));
+            }
+        }
+        if let Some(c) = circle(&g) {
+            found.push(format!("{name}: {}", c.join(" → ")));
+        }
+    }
+    assert!(found.is_empty(), "module circles:\n{}", found.join("\n"));
+}
+
+#[test]
+fn the_checker_finds_a_circle_and_flattens_groups() {
+    assert_eq!(
+        flatten_groups("use crate::{a::{self, B}, c};"),
+        "use crate::a crate::a::B crate::c;"
+    );
+    assert_eq!(
+        named_paths("x::y", "super::z::f(); crate::w::V; self::k"),
+        ["x::z::f", "w::V", "x::y::k"]
+    );
+    let g: BTreeMap<String, BTreeSet<String>> = [
+        ("a", vec!["b"]),
+        ("b", vec!["c"]),
+        ("c", vec!["a"]),
+        ("d", vec![]),
+    ]
+    .into_iter()
+    .map(|(k, v)| (k.to_string(), v.into_iter().map(String::from).collect()))
+    .collect();
+    assert_eq!(circle(&g).unwrap(), ["a", "b", "c", "a"]);
+    let mut dag = g.clone();
+    dag.get_mut("c").unwrap().clear();
+    assert_eq!(circle(&dag), None);
+}
