@@ -105,14 +105,19 @@ pub fn fewer_clusters(m: &specconv_spectral::Model) -> Option<String> {
 /// spaced), its `specconvObserver` (else CIE 1931) and `specconvIlluminant` (else D65).
 pub fn recorded_colorimetry(
     img: &specconv_exr::SpectralImage,
-) -> Result<(specconv_colour::Grid, specconv_colour::Observer, specconv_colour::Illuminant)> {
+) -> Result<(
+    specconv_colour::Grid,
+    specconv_colour::Observer,
+    specconv_colour::Illuminant,
+)> {
     let attr = |name: &str| {
         img.attributes
             .iter()
             .find(|(k, _)| k == name)
             .map(|(_, v)| v.as_str())
     };
-    let observer = attr("specconvObserver").map_or(Ok(specconv_colour::Observer::Cie1931), str::parse)?;
+    let observer =
+        attr("specconvObserver").map_or(Ok(specconv_colour::Observer::Cie1931), str::parse)?;
     let illuminant =
         attr("specconvIlluminant").map_or(Ok(specconv_colour::Illuminant::D65), str::parse)?;
     Ok((uniform_grid(&img.wavelengths)?, observer, illuminant))

@@ -481,8 +481,10 @@ mod tests {
                 let p = entry.unwrap().path();
                 let name = p.file_name().unwrap().to_string_lossy().into_owned();
                 if p.is_dir() {
-                    // Tests, benches and examples are not the program.
-                    if !["tests", "benches", "examples", "target"].contains(&name.as_str()) {
+                    // Tests, benches, examples and the test kit are not the program.
+                    if !["tests", "benches", "examples", "target", "testkit"]
+                        .contains(&name.as_str())
+                    {
                         dirs.push(p);
                     }
                 } else if name.ends_with(".rs") {

@@ -3,8 +3,8 @@
 use crate::{files, methods};
 use anyhow::Result;
 use specconv_spectral::method::MethodName;
-use specconv_study::eval;
 use specconv_spectral::TrainOptions;
+use specconv_study::eval;
 use std::path::PathBuf;
 
 /// Shown after `--help` and as the man page's EXAMPLES.

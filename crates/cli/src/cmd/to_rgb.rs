@@ -2,9 +2,9 @@
 
 use crate::{checks, usage};
 use anyhow::{anyhow, bail, Context, Result};
-use specconv_spectral::emission::emission_colorimetry;
 use specconv_colour::{Colorimetry, Illuminant};
 use specconv_exr::Kind;
+use specconv_spectral::emission::emission_colorimetry;
 use std::path::PathBuf;
 
 /// Shown after `--help` and as the man page's EXAMPLES.
