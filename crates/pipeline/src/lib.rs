@@ -18,9 +18,9 @@
 pub mod input;
 
 use rayon::prelude::*;
+use specconv_exr::{Block, Blocks, Chunk, Compression, Kind, Sample, Spec, SpectralFile, Windows};
 use specconv_ocio::{Config, Processor};
 use specconv_spectral::Method;
-use specconv_exr::{Block, Blocks, Chunk, Compression, Kind, Sample, Spec, SpectralFile, Windows};
 use std::fs::File;
 use std::io::BufWriter;
 use std::path::{Path, PathBuf};
