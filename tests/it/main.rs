@@ -3,6 +3,7 @@
 mod baselines;
 mod convert;
 mod emission;
+mod farm;
 mod info;
 mod layout;
 mod pictures;

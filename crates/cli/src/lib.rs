@@ -165,6 +165,8 @@ enum Command {
     Simulate(cmd::simulate::Args),
     #[command(after_long_help = cmd::preview::EXAMPLES)]
     Preview(cmd::preview::Args),
+    #[command(after_long_help = cmd::farm::EXAMPLES)]
+    Farm(cmd::farm::Args),
 }
 
 /// Runs the command line and returns the process exit code.
@@ -266,6 +268,7 @@ fn run(cli: Cli) -> anyhow::Result<i32> {
         Some(Command::Completions(args)) => done(cmd::completions::run(args)),
         Some(Command::Simulate(args)) => done(cmd::simulate::run(args)),
         Some(Command::Preview(args)) => done(cmd::preview::run(args)),
+        Some(Command::Farm(args)) => cmd::farm::run(args, ocio),
     }
 }
 

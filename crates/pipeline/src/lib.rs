@@ -440,6 +440,27 @@ pub fn temporary_path(output: &Path) -> PathBuf {
     ))
 }
 
+/// Temporary files of `output` left by runs killed before they could remove them (SIGKILL, a
+/// node lost): the names [`temporary_path`] gives, whatever the process id.
+pub fn leftover_temporaries(output: &Path) -> Vec<PathBuf> {
+    let own = temporary_path(output);
+    let (Some(dir), Some(name)) = (own.parent(), own.file_name()) else {
+        return Vec::new();
+    };
+    let name = name.to_string_lossy();
+    let prefix = &name[..name.rfind('-').map_or(0, |i| i + 1)];
+    std::fs::read_dir(dir)
+        .into_iter()
+        .flatten()
+        .filter_map(|e| e.ok())
+        .filter(|e| {
+            let n = e.file_name().to_string_lossy().into_owned();
+            n.starts_with(prefix) && n.ends_with(".tmp")
+        })
+        .map(|e| e.path())
+        .collect()
+}
+
 /// Whether two paths name the same existing file (links and `..` resolved).
 pub fn same_file(a: &Path, b: &Path) -> bool {
     match (a.canonicalize(), b.canonicalize()) {

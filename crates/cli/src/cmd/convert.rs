@@ -140,6 +140,11 @@ pub struct Args {
     /// Print nothing but errors (no progress, no summary).
     #[arg(short, long)]
     quiet: bool,
+    /// Convert only shard I of N (`I/N`, I from 0), or `auto/N` with I from
+    /// $SLURM_ARRAY_TASK_ID: inputs split by pixel count, the same plan on every run and as
+    /// `farm submit`, so N runs given the same inputs convert each exactly once.
+    #[arg(long, value_name = "I/N")]
+    shard: Option<specconv_farm::Shard>,
     /// Say more: the colour space chosen and why, the config, the model.
     #[arg(short, long)]
     verbose: bool,
@@ -240,7 +245,12 @@ struct BoundedCounts {
 /// before the first input.
 pub fn run(args: Args) -> Result<i32> {
     // Wrong paths on the command line are usage errors.
-    let (inputs, outputs) = plan(&args).map_err(usage)?;
+    let (inputs, outputs) = plan(&args)
+        .and_then(|(i, o)| match args.shard {
+            Some(shard) => crate::cmd::farm::shard_of(shard, i, o),
+            None => Ok((i, o)),
+        })
+        .map_err(usage)?;
     if args.tile.contains(&0) {
         return Err(usage(anyhow::anyhow!(
             "--tile {} {}: tiles must be at least 1×1",
@@ -454,6 +464,8 @@ pub fn run(args: Args) -> Result<i32> {
                     &line,
                 );
             }
+            // Interrupted: not a failure of this input, which stays to be converted.
+            Err(specconv_pipeline::Error::Cancelled) => break,
             Err(e) => {
                 let error = records::without_input(&one_line(&e.into()), input);
                 if !args.json {
@@ -549,8 +561,23 @@ fn emit(args: &Args, record: Record, line: &str) {
     }
 }
 
+impl Args {
+    /// `-o DIR`, for `farm submit`.
+    pub(crate) fn output_dir(&self) -> Option<&Path> {
+        self.output.as_deref()
+    }
+
+    pub(crate) fn has_output_template(&self) -> bool {
+        self.output_template.is_some()
+    }
+
+    pub(crate) fn json_wanted(&self) -> bool {
+        self.json
+    }
+}
+
 /// Inputs and their outputs, from the positional paths, `-o DIR` or `--output-template`.
-fn plan(args: &Args) -> Result<(Vec<PathBuf>, Vec<PathBuf>)> {
+pub(crate) fn plan(args: &Args) -> Result<(Vec<PathBuf>, Vec<PathBuf>)> {
     let mut paths = args.paths.clone();
     let single = args.output.is_none() && args.output_template.is_none();
     let explicit_output = if single {

@@ -1,0 +1,574 @@
+//! `specconv farm submit|status|collect|retry`: a texture library on a Slurm job array. The
+//! plans, the job directory and the reading of logs and Slurm live in the farm crate; here the
+//! inputs are measured, the convert options passed on, and the results reported.
+
+use crate::cmd::convert;
+use anyhow::{bail, Context, Result};
+use clap::{ArgAction, ArgMatches, CommandFactory};
+use specconv_farm::{slurm, FileState, Manifest, Request, Shard, Status};
+use std::path::{Path, PathBuf};
+
+/// Convert a texture library on a Slurm cluster: one job array, a shard of the inputs per task.
+///
+/// `submit` writes a job directory (manifest, batch script, task logs) on the shared file
+/// system and submits one array; `status` shows each task and file; `collect` summarises;
+/// `retry` resubmits only what failed or was not reached. The last three change nothing when
+/// run twice. Each task runs `specconv convert --json -u` on its shard, so a task killed
+/// mid-file leaves no partial output and its files stay pending until a retry.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    #[command(subcommand)]
+    command: Farm,
+}
+
+#[derive(Debug, clap::Subcommand)]
+enum Farm {
+    Submit(Submit),
+    Status(Report),
+    Collect(Report),
+    Retry(Retry),
+}
+
+/// Submit a job array converting INPUT… (or `-`: paths on standard input) into -o DIR.
+///
+/// Takes every option of `convert`; -j comes from --cpus-per-task, and tasks always skip
+/// outputs that are up to date (-u). The inputs are split into --tasks shards of nearly equal
+/// pixel count, the same plan as `convert --shard`.
+#[derive(Debug, clap::Args)]
+struct Submit {
+    #[command(flatten)]
+    convert: convert::Args,
+    /// Number of array tasks (shards).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..))]
+    tasks: u32,
+    /// At most K tasks at once (`--array=0-(N-1)%K`).
+    #[arg(long, value_name = "K", value_parser = clap::value_parser!(u32).range(1..))]
+    max_running: Option<u32>,
+    /// Job directory, on a file system the nodes share (default: a new specconv-farm-TIME
+    /// folder in the -o directory).
+    #[arg(long, value_name = "JOBDIR")]
+    job_dir: Option<PathBuf>,
+    /// Slurm partition.
+    #[arg(long, value_name = "P")]
+    partition: Option<String>,
+    /// Time limit per task, as sbatch reads it (`30`, `2:00:00`, `1-0`).
+    #[arg(long, value_name = "T")]
+    time: Option<String>,
+    /// CPUs per task; each task converts with that many threads.
+    #[arg(long, value_name = "C", default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..))]
+    cpus_per_task: u32,
+    /// Memory per task (`4G`, `800M`; default: the measured peak for the largest input, plus
+    /// half).
+    #[arg(long, value_name = "M")]
+    mem: Option<String>,
+    /// Return when the array ends; exit 0 only if every file converted.
+    #[arg(long)]
+    wait: bool,
+    /// Print the plan, the sbatch command and the script; write and submit nothing.
+    #[arg(long)]
+    dry_run: bool,
+}
+
+#[derive(Debug, clap::Args)]
+struct Report {
+    /// The job directory `submit` printed.
+    #[arg(value_name = "JOBDIR")]
+    job_dir: PathBuf,
+    /// One JSON object on standard output.
+    #[arg(long)]
+    json: bool,
+}
+
+#[derive(Debug, clap::Args)]
+struct Retry {
+    /// The job directory `submit` printed.
+    #[arg(value_name = "JOBDIR")]
+    job_dir: PathBuf,
+    /// Number of array tasks (default: as many as the last submission, at most one per file).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..))]
+    tasks: Option<u32>,
+    /// Return when the array ends; exit 0 only if every file converted.
+    #[arg(long)]
+    wait: bool,
+}
+
+/// Options of `convert` that the farm sets itself, or that mean nothing to a task.
+const NOT_PASSED: &[&str] = &[
+    "paths", "json", "quiet", "verbose", "update", "force", "threads", "shard", "output",
+];
+
+pub fn run(args: Args) -> Result<i32> {
+    match args.command {
+        Farm::Submit(s) => submit(s),
+        Farm::Status(r) => status(&r),
+        Farm::Collect(r) => collect(&r),
+        Farm::Retry(r) => retry(&r),
+    }
+}
+
+/// The inputs of one shard of a `convert` batch, and their outputs.
+pub(crate) fn shard_of(
+    shard: Shard,
+    inputs: Vec<PathBuf>,
+    outputs: Vec<PathBuf>,
+) -> Result<(Vec<PathBuf>, Vec<PathBuf>)> {
+    let index = shard.index(std::env::var("SLURM_ARRAY_TASK_ID").ok().as_deref())?;
+    let weights: Vec<u64> = inputs.iter().map(|i| pixels(i)).collect();
+    let mine = &specconv_farm::plan(&weights, shard.count)[index];
+    Ok(mine
+        .iter()
+        .map(|&k| (inputs[k].clone(), outputs[k].clone()))
+        .unzip())
+}
+
+/// Pixels of every level of an input, the weight of the plan; 0 when it cannot be read (it
+/// will fail fast wherever it lands).
+fn pixels(input: &Path) -> u64 {
+    specconv_oiio::ImageReader::open(input)
+        .map(|r| {
+            r.info()
+                .levels
+                .iter()
+                .map(|l| u64::from(l.width) * u64::from(l.height))
+                .sum()
+        })
+        .unwrap_or(0)
+}
+
+fn submit(s: Submit) -> Result<i32> {
+    if s.convert.output_dir().is_none() && !s.convert.has_output_template() {
+        eprintln!(
+            "specconv: error: farm submit writes many outputs: give -o DIR or --output-template"
+        );
+        return Ok(2);
+    }
+    let options = match passed_options() {
+        Ok(o) => o,
+        Err(e) => {
+            eprintln!("specconv: error: {e:#}");
+            return Ok(2);
+        }
+    };
+    let (inputs, outputs) = match convert::plan(&s.convert) {
+        Ok(p) => p,
+        Err(e) => {
+            eprintln!("specconv: error: {e:#}");
+            return Ok(2);
+        }
+    };
+    if inputs.is_empty() {
+        eprintln!("specconv: error: no inputs to submit");
+        return Ok(2);
+    }
+    let absolute = |p: &Path| {
+        std::path::absolute(p).with_context(|| format!("cannot resolve {}", p.display()))
+    };
+    let mut files = Vec::new();
+    for (i, o) in inputs.iter().zip(&outputs) {
+        if i.to_string_lossy().contains('\n') {
+            bail!(
+                "{:?}: input paths with a newline cannot be listed for a task; rename it",
+                i
+            );
+        }
+        files.push(specconv_farm::manifest::File {
+            input: absolute(i)?,
+            output: absolute(o)?,
+            pixels: pixels(i),
+        });
+    }
+    let largest = files.iter().map(|f| f.pixels).max().unwrap_or(0);
+    let mem_mib = match &s.mem {
+        Some(m) => match parse_mem(m) {
+            Some(v) => v,
+            None => {
+                eprintln!("specconv: error: --mem {m:?} is not a size such as 800M or 4G");
+                return Ok(2);
+            }
+        },
+        None => specconv_farm::memory_mib(largest),
+    };
+    let mut options = options;
+    if let Some(dir) = s.convert.output_dir() {
+        options.splice(
+            0..0,
+            ["-o".to_string(), absolute(dir)?.display().to_string()],
+        );
+    }
+    let job_dir = match (&s.job_dir, s.convert.output_dir()) {
+        (Some(d), _) => absolute(d)?,
+        (None, Some(dir)) => {
+            let secs = std::time::SystemTime::now()
+                .duration_since(std::time::UNIX_EPOCH)
+                .map_or(0, |d| d.as_secs());
+            let mut d = absolute(dir)?.join(format!("specconv-farm-{secs}"));
+            let mut k = 1;
+            while d.exists() {
+                k += 1;
+                d = absolute(dir)?.join(format!("specconv-farm-{secs}-{k}"));
+            }
+            d
+        }
+        (None, None) => {
+            eprintln!("specconv: error: with --output-template, give --job-dir JOBDIR (on a file system the nodes share)");
+            return Ok(2);
+        }
+    };
+    if Manifest::path(&job_dir).exists() {
+        eprintln!(
+            "specconv: error: {} already holds a job; use `specconv farm retry {}` or another --job-dir",
+            job_dir.display(),
+            job_dir.display()
+        );
+        return Ok(2);
+    }
+    let mut manifest = Manifest {
+        format: specconv_farm::manifest::FORMAT,
+        specconv: std::env::current_exe().context("cannot locate the specconv binary")?,
+        workdir: std::env::current_dir().context("cannot read the current directory")?,
+        convert_options: options,
+        files,
+        request: Request {
+            partition: s.partition.clone(),
+            time: s.time.clone(),
+            cpus_per_task: s.cpus_per_task as usize,
+            mem_mib,
+            limit: s.max_running.map(|k| k as usize),
+        },
+        rounds: Vec::new(),
+    };
+    let all: Vec<usize> = (0..manifest.files.len()).collect();
+    let prepared = specconv_farm::prepare(&job_dir, &manifest, &all, s.tasks as usize);
+    if s.dry_run {
+        println!(
+            "# plan: {} in {}",
+            count(all.len(), "file"),
+            count(prepared.tasks.len(), "task")
+        );
+        for (t, shard) in prepared.tasks.iter().enumerate() {
+            let px: u64 = shard.iter().map(|&i| manifest.files[i].pixels).sum();
+            println!("# task {t}: {}, {px} pixels", count(shard.len(), "file"));
+            for &i in shard {
+                println!("#   {}", manifest.files[i].input.display());
+            }
+        }
+        println!(
+            "# sbatch {} {}",
+            prepared.sbatch.join(" "),
+            prepared.dir.join("job.sbatch").display()
+        );
+        print!("{}", prepared.script);
+        return Ok(0);
+    }
+    std::fs::create_dir_all(&job_dir)
+        .with_context(|| format!("cannot create the job directory {}", job_dir.display()))?;
+    manifest.save(&job_dir)?;
+    let tasks = prepared.tasks.len();
+    let job_id = match specconv_farm::submit(&job_dir, &mut manifest, prepared) {
+        Ok(id) => id,
+        Err(e) => {
+            // Nothing was submitted: leave no job directory behind.
+            let _ = std::fs::remove_dir_all(&job_dir);
+            return Err(e.into());
+        }
+    };
+    announce(&s.convert, &job_id, &job_dir, tasks, manifest.files.len());
+    if s.wait {
+        return wait_and_collect(&job_dir, &job_id, s.convert.json_wanted());
+    }
+    Ok(0)
+}
+
+fn announce(convert: &convert::Args, job_id: &str, job_dir: &Path, tasks: usize, files: usize) {
+    if convert.json_wanted() {
+        println!(
+            "{}",
+            serde_json::json!({"job_id": job_id, "job_dir": job_dir, "tasks": tasks, "files": files})
+        );
+    } else {
+        println!(
+            "submitted job {job_id}: {} in {}",
+            count(files, "file"),
+            count(tasks, "task")
+        );
+        println!("job directory: {}", job_dir.display());
+    }
+}
+
+fn wait_and_collect(job_dir: &Path, job_id: &str, json: bool) -> Result<i32> {
+    specconv_farm::wait(job_id)?;
+    collect(&Report {
+        job_dir: job_dir.to_path_buf(),
+        json,
+    })
+}
+
+/// The convert options given on the command line, as words to pass to every task (defaults
+/// are left out: tasks get the same ones).
+fn passed_options() -> Result<Vec<String>> {
+    let matches = crate::Cli::command().try_get_matches_from(std::env::args_os())?;
+    passed_options_of(find_submit(&matches).context("farm submit's options were not found")?)
+}
+
+fn passed_options_of(submit: &ArgMatches) -> Result<Vec<String>> {
+    let convert = <convert::Args as clap::Args>::augment_args(clap::Command::new("convert"));
+    let mut words = Vec::new();
+    for arg in convert.get_arguments() {
+        let id = arg.get_id().as_str();
+        if NOT_PASSED.contains(&id)
+            || submit.value_source(id) != Some(clap::parser::ValueSource::CommandLine)
+        {
+            continue;
+        }
+        let flag = format!(
+            "--{}",
+            arg.get_long()
+                .context("convert options all have a long name")?
+        );
+        match arg.get_action() {
+            ArgAction::SetTrue | ArgAction::SetFalse => words.push(flag),
+            ArgAction::Count => {
+                for _ in 0..submit.get_count(id) {
+                    words.push(flag.clone());
+                }
+            }
+            _ => {
+                for occurrence in submit.get_raw_occurrences(id).into_iter().flatten() {
+                    words.push(flag.clone());
+                    words.extend(occurrence.map(|v| v.to_string_lossy().into_owned()));
+                }
+            }
+        }
+    }
+    if submit.value_source("shard") == Some(clap::parser::ValueSource::CommandLine) {
+        bail!("farm submit plans the shards itself: drop --shard");
+    }
+    Ok(words)
+}
+
+fn find_submit(m: &ArgMatches) -> Option<&ArgMatches> {
+    match m.subcommand() {
+        Some(("submit", s)) => Some(s),
+        Some((_, s)) => find_submit(s),
+        None => None,
+    }
+}
+
+/// `800M`, `4G`, `4000` (MiB, as sbatch reads it) → MiB.
+fn parse_mem(s: &str) -> Option<u64> {
+    let s = s.trim();
+    let (num, mult) = match s.char_indices().last()? {
+        (i, 'K' | 'k') => (&s[..i], 0),
+        (i, 'M' | 'm') => (&s[..i], 1),
+        (i, 'G' | 'g') => (&s[..i], 1024),
+        (i, 'T' | 't') => (&s[..i], 1024 * 1024),
+        _ => (s, 1),
+    };
+    let n: u64 = num.parse().ok()?;
+    Some(if mult == 0 {
+        n.div_ceil(1024)
+    } else {
+        n * mult
+    })
+    .filter(|&v| v > 0)
+}
+
+fn load(job_dir: &Path) -> Result<(Manifest, Status)> {
+    let manifest = Manifest::load(job_dir)?;
+    let mut warned = false;
+    let status = Status::read(job_dir, &manifest, &mut |id| match slurm::tasks(id) {
+        Ok(t) => t,
+        Err(e) => {
+            if !warned {
+                eprintln!("specconv: warning: {e}; task states come from the logs alone");
+                warned = true;
+            }
+            None
+        }
+    });
+    Ok((manifest, status))
+}
+
+/// Exit code of a report: 0 when every file is done.
+fn all_done(status: &Status) -> i32 {
+    i32::from(status.files.iter().any(|f| f.state != FileState::Done))
+}
+
+fn status(r: &Report) -> Result<i32> {
+    let (m, status) = load(&r.job_dir)?;
+    if r.json {
+        println!("{}", serde_json::to_string(&status)?);
+        return Ok(all_done(&status));
+    }
+    for (round, sub) in m.rounds.iter().enumerate() {
+        println!(
+            "round {round} ({}), job {}:",
+            if round == 0 { "submit" } else { "retry" },
+            sub.job_id
+        );
+        for t in status.tasks.iter().filter(|t| t.round == round) {
+            println!(
+                "  task {:<3} {:<13} exit {:<6} {}",
+                t.task,
+                t.state,
+                t.exit.as_deref().unwrap_or("-"),
+                count(t.files, "file")
+            );
+        }
+    }
+    let s = status.summary();
+    println!(
+        "files: {} done, {} failed, {} pending",
+        s.done, s.failed, s.pending
+    );
+    for f in &status.files {
+        match &f.state {
+            FileState::Done => {}
+            FileState::Failed { error } => println!("  failed   {}: {error}", f.input.display()),
+            FileState::Pending { why, .. } => println!("  pending  {}: {why}", f.input.display()),
+        }
+    }
+    Ok(all_done(&status))
+}
+
+fn collect(r: &Report) -> Result<i32> {
+    let (_, status) = load(&r.job_dir)?;
+    let s = status.summary();
+    if r.json {
+        println!("{}", serde_json::to_string(&s)?);
+        return Ok(all_done(&status));
+    }
+    println!(
+        "{} files: {} done, {} failed, {} pending{}",
+        s.files,
+        s.done,
+        s.failed,
+        s.pending,
+        if s.running {
+            " (tasks still queued or running)"
+        } else {
+            ""
+        }
+    );
+    if s.seconds > 0.0 {
+        println!(
+            "{:.1} Mpixel in {:.1} s over the array: {:.2} Mpixel/s",
+            s.pixels as f64 / 1e6,
+            s.seconds,
+            s.pixels_per_second / 1e6
+        );
+    }
+    for f in &s.failures {
+        println!("failed: {}: {}", f.input.display(), f.error);
+    }
+    for p in &s.pending_files {
+        println!("pending: {}: {}", p.input.display(), p.why);
+    }
+    if s.failed + s.pending > 0 && !s.running {
+        println!(
+            "to convert them again: specconv farm retry {}",
+            r.job_dir.display()
+        );
+    }
+    Ok(all_done(&status))
+}
+
+fn retry(r: &Retry) -> Result<i32> {
+    let job_dir = std::path::absolute(&r.job_dir)?;
+    let (mut m, status) = load(&job_dir)?;
+    let again = status.to_retry();
+    let waiting = status
+        .files
+        .iter()
+        .filter(|f| matches!(f.state, FileState::Pending { waiting: true, .. }))
+        .count();
+    if again.is_empty() {
+        if waiting > 0 {
+            println!(
+                "nothing to retry yet: {waiting} files wait for tasks still queued or running"
+            );
+        } else {
+            println!("nothing to retry: all {} files are done", m.files.len());
+        }
+        return Ok(0);
+    }
+    for &i in &again {
+        let f = &mut m.files[i];
+        // A task killed outright (SIGKILL, node lost) could not remove its temporary file.
+        for tmp in specconv_pipeline::leftover_temporaries(&f.output) {
+            std::fs::remove_file(&tmp)
+                .with_context(|| format!("cannot remove the leftover {}", tmp.display()))?;
+        }
+        // The input may have been fixed or replaced since: plan on what it is now.
+        f.pixels = pixels(&f.input);
+    }
+    let last = m.rounds.last().map_or(1, |r| r.tasks.len());
+    let tasks = r.tasks.map_or(last, |n| n as usize);
+    let prepared = specconv_farm::prepare(&job_dir, &m, &again, tasks);
+    let n = prepared.tasks.len();
+    let job_id = specconv_farm::submit(&job_dir, &mut m, prepared)?;
+    println!(
+        "submitted job {job_id}: {} in {} (round {})",
+        count(again.len(), "file"),
+        count(n, "task"),
+        m.rounds.len() - 1
+    );
+    println!("job directory: {}", job_dir.display());
+    if r.wait {
+        return wait_and_collect(&job_dir, &job_id, false);
+    }
+    Ok(0)
+}
+
+/// `1 file`, `2 files`.
+fn count(n: usize, what: &str) -> String {
+    format!("{n} {what}{}", if n == 1 { "" } else { "s" })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clap::FromArgMatches;
+
+    #[test]
+    fn memory_sizes_read_as_sbatch_reads_them() {
+        assert_eq!(parse_mem("800M"), Some(800));
+        assert_eq!(parse_mem("4G"), Some(4096));
+        assert_eq!(parse_mem("1500"), Some(1500));
+        assert_eq!(parse_mem("2048k"), Some(2));
+        assert_eq!(parse_mem("lots"), None);
+        assert_eq!(parse_mem("0"), None);
+    }
+
+    #[test]
+    fn submit_passes_on_the_convert_options_given_and_nothing_else() {
+        let cli = crate::Cli::command();
+        let m = cli
+            .try_get_matches_from([
+                "specconv",
+                "farm",
+                "submit",
+                "a.png",
+                "-o",
+                "out",
+                "--tasks",
+                "2",
+                "--method",
+                "smits1999",
+                "--tile",
+                "32",
+                "32",
+                "--unbounded",
+                "-j",
+                "3",
+                "--json",
+            ])
+            .unwrap();
+        let submit = find_submit(&m).unwrap();
+        assert_eq!(
+            passed_options_of(submit).unwrap(),
+            ["--method", "smits1999", "--unbounded", "--tile", "32", "32"]
+        );
+        assert!(Submit::from_arg_matches(submit).unwrap().tasks == 2);
+    }
+}

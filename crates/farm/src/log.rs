@@ -1,0 +1,121 @@
+//! A task's log: the JSON lines `specconv convert --json` prints, one per file, framed by the
+//! batch script's start and end events. Lines that do not parse (a task killed mid-line) are
+//! ignored: their file shows as pending.
+
+use serde::Deserialize;
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+/// What a task's log says.
+#[derive(Debug, Clone, Default)]
+pub struct TaskLog {
+    /// The last record of each input.
+    pub records: HashMap<PathBuf, Record>,
+    /// Unix times of the start and end events.
+    pub start: Option<f64>,
+    pub end: Option<f64>,
+    /// The conversion's exit code, from the end event.
+    pub exit: Option<i32>,
+}
+
+/// One file's outcome.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Record {
+    pub outcome: Outcome,
+    pub pixels: u64,
+    pub seconds: f64,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub enum Outcome {
+    /// Converted, or skipped because its output was up to date.
+    Done,
+    Failed(String),
+}
+
+#[derive(Deserialize)]
+struct Line {
+    event: Option<String>,
+    unix: Option<f64>,
+    exit: Option<i32>,
+    input: Option<PathBuf>,
+    status: Option<String>,
+    error: Option<serde_json::Value>,
+    pixels: Option<u64>,
+    seconds: Option<f64>,
+}
+
+impl TaskLog {
+    /// Reads a log; a missing file is an empty log (the task has not started).
+    pub fn read(path: &Path) -> TaskLog {
+        std::fs::read_to_string(path)
+            .map(|t| TaskLog::parse(&t))
+            .unwrap_or_default()
+    }
+
+    pub fn parse(text: &str) -> TaskLog {
+        let mut log = TaskLog::default();
+        for line in text.lines() {
+            let Ok(l) = serde_json::from_str::<Line>(line) else {
+                continue;
+            };
+            match (l.event.as_deref(), l.input) {
+                (Some("start"), _) => log.start = l.unix,
+                (Some("end"), _) => {
+                    log.end = l.unix;
+                    log.exit = l.exit;
+                }
+                (None, Some(input)) => {
+                    let outcome = match l.status.as_deref() {
+                        Some("failed") => Outcome::Failed(match l.error {
+                            Some(serde_json::Value::String(s)) => s,
+                            Some(other) => other.to_string(),
+                            None => "failed (no error given)".into(),
+                        }),
+                        Some("ok" | "converted" | "skipped") => Outcome::Done,
+                        // A status this version does not know: not counted as done.
+                        _ => continue,
+                    };
+                    log.records.insert(
+                        input,
+                        Record {
+                            outcome,
+                            pixels: l.pixels.unwrap_or(0),
+                            seconds: l.seconds.unwrap_or(0.0),
+                        },
+                    );
+                }
+                _ => {}
+            }
+        }
+        log
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn records_events_and_a_torn_last_line() {
+        let log = TaskLog::parse(concat!(
+            "{\"event\":\"start\",\"task\":1,\"unix\":100.5}\n",
+            "{\"input\":\"/a.png\",\"output\":\"/o/a.exr\",\"status\":\"ok\",\"seconds\":1.5,\"pixels\":64}\n",
+            "{\"input\":\"/b.png\",\"status\":\"failed\",\"seconds\":0.1,\"pixels\":0,\"error\":\"cannot open\"}\n",
+            "{\"input\":\"/c.png\",\"status\":\"skipped\",\"seconds\":0,\"pixels\":0}\n",
+            "{\"event\":\"end\",\"task\":1,\"unix\":103.0,\"exit\":1}\n",
+            "{\"input\":\"/d.png\",\"sta",
+        ));
+        assert_eq!(
+            (log.start, log.end, log.exit),
+            (Some(100.5), Some(103.0), Some(1))
+        );
+        assert_eq!(log.records.len(), 3);
+        assert_eq!(log.records[Path::new("/a.png")].pixels, 64);
+        assert_eq!(
+            log.records[Path::new("/b.png")].outcome,
+            Outcome::Failed("cannot open".into())
+        );
+        assert_eq!(log.records[Path::new("/c.png")].outcome, Outcome::Done);
+    }
+}
