@@ -39,8 +39,8 @@ pub enum Error {
 /// Peak resident memory of a conversion: a fixed part (the program, the model, OCIO) plus a
 /// part per pixel of the largest input (OpenImageIO's buffers and the window of strips in
 /// flight). Measured with `/usr/bin/time -v` by scripts/farm_memory.sh; see docs/farm.md.
-pub const MEMORY_BASE_MIB: u64 = 160;
-pub const MEMORY_BYTES_PER_PIXEL: f64 = 40.0;
+pub const MEMORY_BASE_MIB: u64 = 138;
+pub const MEMORY_BYTES_PER_PIXEL: f64 = 1.4;
 
 /// Memory to request per task: the measured peak for the largest input, with 50 % headroom.
 pub fn memory_mib(largest_pixels: u64) -> u64 {
