@@ -7,7 +7,7 @@ use crate::Cli;
 use clap::CommandFactory;
 
 /// Every environment variable the program reads, and what for.
-pub const ENVIRONMENT: [(&str, &str); 6] = [
+pub const ENVIRONMENT: [(&str, &str); 7] = [
     (
         "OCIO",
         "The OCIO config used when --ocio is not given (convert, info, colorspaces, to-rgb, and simulate scenes without `ocio`): a file, `aces` or a built-in name such as ocio://default or ocio://studio-config-latest; unset or empty: the built-in ACES config.",
@@ -21,6 +21,10 @@ pub const ENVIRONMENT: [(&str, &str); 6] = [
     (
         "SPECCONV_FONT",
         "A TrueType font for the text of pictures (report --plot, simulate --image, preview); default DejaVu Sans (Debian: fonts-dejavu-core).",
+    ),
+    (
+        "SLURM_ARRAY_TASK_ID",
+        "The shard `convert --shard auto/N` converts (Slurm sets it in each task of a job array).",
     ),
     (
         "SPECCONV_PROGRESS_SECONDS",

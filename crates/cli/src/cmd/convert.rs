@@ -574,6 +574,10 @@ impl Args {
     pub(crate) fn json_wanted(&self) -> bool {
         self.json
     }
+
+    pub(crate) fn colorspace(&self) -> Option<&str> {
+        self.colorspace.as_deref()
+    }
 }
 
 /// Inputs and their outputs, from the positional paths, `-o DIR` or `--output-template`.

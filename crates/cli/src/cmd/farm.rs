@@ -3,10 +3,21 @@
 //! inputs are measured, the convert options passed on, and the results reported.
 
 use crate::cmd::convert;
-use anyhow::{bail, Context, Result};
+use crate::{checks, exit, usage};
+use anyhow::{anyhow, bail, Context, Result};
 use clap::{ArgAction, ArgMatches, CommandFactory};
 use specconv_farm::{slurm, FileState, Manifest, Request, Shard, Status};
 use std::path::{Path, PathBuf};
+
+pub const EXAMPLES: &str = "\
+Examples:
+  specconv farm submit textures/*.tx -o /shared/spectral --tasks 16 --cpus-per-task 4
+  find textures -name '*.tx' | specconv farm submit - -o /shared/spectral --tasks 64 --wait
+  specconv farm submit textures/*.tx -o spectral --tasks 4 --dry-run
+  specconv farm status /shared/spectral/specconv-farm-1764601234
+  specconv farm collect --json /shared/spectral/specconv-farm-1764601234
+  specconv farm retry --wait /shared/spectral/specconv-farm-1764601234
+";
 
 /// Convert a texture library on a Slurm cluster: one job array, a shard of the inputs per task.
 ///
@@ -97,9 +108,10 @@ const NOT_PASSED: &[&str] = &[
     "paths", "json", "quiet", "verbose", "update", "force", "threads", "shard", "output",
 ];
 
-pub fn run(args: Args) -> Result<i32> {
+/// Runs a farm command; `ocio` is the global --ocio, passed on to the tasks.
+pub fn run(args: Args, ocio: Option<String>) -> Result<i32> {
     match args.command {
-        Farm::Submit(s) => submit(s),
+        Farm::Submit(s) => submit(s, ocio),
         Farm::Status(r) => status(&r),
         Farm::Collect(r) => collect(&r),
         Farm::Retry(r) => retry(&r),
@@ -135,30 +147,22 @@ fn pixels(input: &Path) -> u64 {
         .unwrap_or(0)
 }
 
-fn submit(s: Submit) -> Result<i32> {
+fn submit(s: Submit, ocio: Option<String>) -> Result<i32> {
     if s.convert.output_dir().is_none() && !s.convert.has_output_template() {
-        eprintln!(
-            "specconv: error: farm submit writes many outputs: give -o DIR or --output-template"
-        );
-        return Ok(2);
+        return Err(usage(anyhow!(
+            "farm submit writes many outputs: give -o DIR or --output-template"
+        )));
     }
-    let options = match passed_options() {
-        Ok(o) => o,
-        Err(e) => {
-            eprintln!("specconv: error: {e:#}");
-            return Ok(2);
-        }
-    };
-    let (inputs, outputs) = match convert::plan(&s.convert) {
-        Ok(p) => p,
-        Err(e) => {
-            eprintln!("specconv: error: {e:#}");
-            return Ok(2);
-        }
-    };
+    let mut options = passed_options().map_err(usage)?;
+    // Settings that cannot work for any input fail here, not once in every task.
+    let config = checks::config(ocio.as_deref())?;
+    checks::input_colorspace(&config, s.convert.colorspace())?;
+    if let Some(o) = &ocio {
+        options.splice(0..0, ["--ocio".to_string(), o.clone()]);
+    }
+    let (inputs, outputs) = convert::plan(&s.convert).map_err(usage)?;
     if inputs.is_empty() {
-        eprintln!("specconv: error: no inputs to submit");
-        return Ok(2);
+        return Err(usage(anyhow!("no inputs to submit")));
     }
     let absolute = |p: &Path| {
         std::path::absolute(p).with_context(|| format!("cannot resolve {}", p.display()))
@@ -179,16 +183,10 @@ fn submit(s: Submit) -> Result<i32> {
     }
     let largest = files.iter().map(|f| f.pixels).max().unwrap_or(0);
     let mem_mib = match &s.mem {
-        Some(m) => match parse_mem(m) {
-            Some(v) => v,
-            None => {
-                eprintln!("specconv: error: --mem {m:?} is not a size such as 800M or 4G");
-                return Ok(2);
-            }
-        },
+        Some(m) => parse_mem(m)
+            .ok_or_else(|| usage(anyhow!("--mem {m:?} is not a size such as 800M or 4G")))?,
         None => specconv_farm::memory_mib(largest),
     };
-    let mut options = options;
     if let Some(dir) = s.convert.output_dir() {
         options.splice(
             0..0,
@@ -210,17 +208,17 @@ fn submit(s: Submit) -> Result<i32> {
             d
         }
         (None, None) => {
-            eprintln!("specconv: error: with --output-template, give --job-dir JOBDIR (on a file system the nodes share)");
-            return Ok(2);
+            return Err(usage(anyhow!(
+                "with --output-template, give --job-dir JOBDIR (on a file system the nodes share)"
+            )))
         }
     };
     if Manifest::path(&job_dir).exists() {
-        eprintln!(
-            "specconv: error: {} already holds a job; use `specconv farm retry {}` or another --job-dir",
+        return Err(usage(anyhow!(
+            "{} already holds a job; use `specconv farm retry {}` or another --job-dir",
             job_dir.display(),
             job_dir.display()
-        );
-        return Ok(2);
+        )));
     }
     let mut manifest = Manifest {
         format: specconv_farm::manifest::FORMAT,
@@ -258,7 +256,7 @@ fn submit(s: Submit) -> Result<i32> {
             prepared.dir.join("job.sbatch").display()
         );
         print!("{}", prepared.script);
-        return Ok(0);
+        return Ok(exit::OK);
     }
     std::fs::create_dir_all(&job_dir)
         .with_context(|| format!("cannot create the job directory {}", job_dir.display()))?;
@@ -276,7 +274,7 @@ fn submit(s: Submit) -> Result<i32> {
     if s.wait {
         return wait_and_collect(&job_dir, &job_id, s.convert.json_wanted());
     }
-    Ok(0)
+    Ok(exit::OK)
 }
 
 fn announce(convert: &convert::Args, job_id: &str, job_dir: &Path, tasks: usize, files: usize) {
@@ -389,9 +387,13 @@ fn load(job_dir: &Path) -> Result<(Manifest, Status)> {
     Ok((manifest, status))
 }
 
-/// Exit code of a report: 0 when every file is done.
+/// Exit status of a report: OK when every file is done, else FAILED.
 fn all_done(status: &Status) -> i32 {
-    i32::from(status.files.iter().any(|f| f.state != FileState::Done))
+    if status.files.iter().all(|f| f.state == FileState::Done) {
+        exit::OK
+    } else {
+        exit::FAILED
+    }
 }
 
 fn status(r: &Report) -> Result<i32> {
@@ -490,7 +492,7 @@ fn retry(r: &Retry) -> Result<i32> {
         } else {
             println!("nothing to retry: all {} files are done", m.files.len());
         }
-        return Ok(0);
+        return Ok(exit::OK);
     }
     for &i in &again {
         let f = &mut m.files[i];
@@ -517,7 +519,7 @@ fn retry(r: &Retry) -> Result<i32> {
     if r.wait {
         return wait_and_collect(&job_dir, &job_id, false);
     }
-    Ok(0)
+    Ok(exit::OK)
 }
 
 /// `1 file`, `2 files`.
