@@ -165,7 +165,7 @@ enum Command {
     Simulate(cmd::simulate::Args),
     #[command(after_long_help = cmd::preview::EXAMPLES)]
     Preview(cmd::preview::Args),
-    #[command(after_long_help = cmd::farm::EXAMPLES)]
+    #[command(after_long_help = cmd::farm::EXAMPLES, disable_help_subcommand = true)]
     Farm(cmd::farm::Args),
 }
 

@@ -49,6 +49,18 @@ pub fn pages() -> Vec<(String, Vec<u8>)> {
             .collect();
         let cmd = sub.display_name(name.clone());
         pages.push((format!("{name}.1"), page(&cmd, name, &others)));
+        // A command with commands of its own (farm) has a page for each, as git's do.
+        let nested: Vec<String> = cmd
+            .get_subcommands()
+            .map(|s| format!("{name}-{}", s.get_name()))
+            .collect();
+        for (inner, inner_name) in cmd.get_subcommands().zip(&nested) {
+            let others: Vec<String> = std::iter::once(name.clone())
+                .chain(nested.iter().filter(|n| *n != inner_name).cloned())
+                .collect();
+            let inner = inner.clone().display_name(inner_name.clone());
+            pages.push((format!("{inner_name}.1"), page(&inner, inner_name, &others)));
+        }
     }
     pages
 }

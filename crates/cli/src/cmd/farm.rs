@@ -34,9 +34,16 @@ pub struct Args {
 
 #[derive(Debug, clap::Subcommand)]
 enum Farm {
+    #[command(after_long_help = EXAMPLES)]
     Submit(Submit),
+    /// Show each task's Slurm state and exit code, and the files failed or pending.
+    #[command(after_long_help = EXAMPLES)]
     Status(Report),
+    /// Summarise a job: counts, each failure with its error, time and pixels per second.
+    #[command(after_long_help = EXAMPLES)]
     Collect(Report),
+    /// Resubmit only the files that failed or that ended tasks did not reach.
+    #[command(after_long_help = EXAMPLES)]
     Retry(Retry),
 }
 
