@@ -52,9 +52,10 @@ pub struct TaskStatus {
 }
 
 impl TaskStatus {
-    /// Queued or running: neither Slurm nor the task's own log says it ended.
+    /// Queued or running, as Slurm says: a task that logged its end may still be completing,
+    /// and its final state (CANCELLED, TIMEOUT…) is what a status should show.
     pub fn active(&self) -> bool {
-        crate::slurm::active(&self.state) && self.end.is_none()
+        crate::slurm::active(&self.state)
     }
 }
 
