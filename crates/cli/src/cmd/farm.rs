@@ -35,7 +35,7 @@ pub struct Args {
 #[derive(Debug, clap::Subcommand)]
 enum Farm {
     #[command(after_long_help = EXAMPLES)]
-    Submit(Submit),
+    Submit(Box<Submit>),
     /// Show each task's Slurm state and exit code, and the files failed or pending.
     #[command(after_long_help = EXAMPLES)]
     Status(Report),
@@ -118,7 +118,7 @@ const NOT_PASSED: &[&str] = &[
 /// Runs a farm command; `ocio` is the global --ocio, passed on to the tasks.
 pub fn run(args: Args, ocio: Option<String>) -> Result<i32> {
     match args.command {
-        Farm::Submit(s) => submit(s, ocio),
+        Farm::Submit(s) => submit(*s, ocio),
         Farm::Status(r) => status(&r),
         Farm::Collect(r) => collect(&r),
         Farm::Retry(r) => retry(&r),
