@@ -15,7 +15,11 @@
 
 pub mod check;
 pub mod quantize;
+pub mod zip;
 
+use exr::block::chunk::{
+    CompressedBlock, CompressedScanLineBlock, CompressedTileBlock, TileCoordinates,
+};
 use exr::block::{BlockIndex, UncompressedBlock};
 use exr::math::{RoundingMode, Vec2};
 use exr::meta::attribute::{
@@ -88,6 +92,8 @@ pub struct Spec {
     pub alpha: bool,
     pub sample: Sample,
     pub compression: Compression,
+    /// Deflate level of ZIP and ZIPS blocks, 0–9 ([`zip::DEFAULT_LEVEL`] unless asked).
+    pub zip_level: u8,
     pub blocks: Blocks,
     /// Extra string attributes (names prefixed `specconv` by convention).
     pub attributes: Vec<(String, String)>,
@@ -287,6 +293,11 @@ impl SpectralFile {
         &self.spec
     }
 
+    /// The file's OpenEXR header, as the `exr` crate's block functions take it.
+    pub fn header(&self) -> &Header {
+        &self.header
+    }
+
     /// Values stored per pixel: the bands, and alpha if any.
     pub fn values_per_pixel(&self) -> usize {
         self.spec.wavelengths.len() + usize::from(self.spec.alpha)
@@ -351,10 +362,18 @@ impl SpectralFile {
             Sample::Half => 2,
             Sample::Float => 4,
         };
+        // ZIP blocks are compressed here (module `zip`), from the little-endian bytes the file
+        // stores; the exr crate compresses the others from native-endian bytes.
+        let zip = matches!(
+            self.spec.compression,
+            Compression::ZIP1 | Compression::ZIP16
+        );
         let mut data = Vec::with_capacity(pixels * self.values_per_pixel() * bytes);
-        let mut put = |v: f32| match self.spec.sample {
-            Sample::Half => data.extend_from_slice(&half::f16::from_f32(v).to_ne_bytes()),
-            Sample::Float => data.extend_from_slice(&v.to_ne_bytes()),
+        let mut put = |v: f32| match (self.spec.sample, zip) {
+            (Sample::Half, true) => data.extend_from_slice(&half::f16::from_f32(v).to_le_bytes()),
+            (Sample::Half, false) => data.extend_from_slice(&half::f16::from_f32(v).to_ne_bytes()),
+            (Sample::Float, true) => data.extend_from_slice(&v.to_le_bytes()),
+            (Sample::Float, false) => data.extend_from_slice(&v.to_ne_bytes()),
         };
         for row in 0..block.height {
             let first = row * block.width;
@@ -370,6 +389,27 @@ impl SpectralFile {
                         .for_each(|&v| put(v));
                 }
             }
+        }
+        if zip {
+            let compressed_pixels_le = zip::compress(&data, self.spec.zip_level);
+            let compressed_block = match self.spec.blocks {
+                Blocks::Scanlines => CompressedBlock::ScanLine(CompressedScanLineBlock {
+                    y_coordinate: i32::try_from(block.y)
+                        .map_err(|_| Error::Invalid("image taller than OpenEXR allows".into()))?,
+                    compressed_pixels_le,
+                }),
+                Blocks::Tiles { width, height, .. } => CompressedBlock::Tile(CompressedTileBlock {
+                    coordinates: TileCoordinates {
+                        tile_index: Vec2(block.x / width, block.y / height),
+                        level_index: Vec2(block.level, block.level),
+                    },
+                    compressed_pixels_le,
+                }),
+            };
+            return Ok(Chunk {
+                layer_index: 0,
+                compressed_block,
+            });
         }
         let block = UncompressedBlock {
             index: BlockIndex {
@@ -541,6 +581,7 @@ mod tests {
             alpha,
             sample: Sample::Float,
             compression: Compression::ZIP16,
+            zip_level: zip::DEFAULT_LEVEL,
             blocks,
             attributes: vec![("specconvMethod".into(), "otsu2018".into())],
         }

@@ -1,14 +1,25 @@
-//! The conversion's cost against the `exr` crate alone, measured in the same run.
+//! The default conversion's cost, against references measured in the same run.
 //!
-//! Converts a 2048×2048 8-bit .tx (made here with oiiotool and maketx) to a 36-band half ZIP
-//! EXR with every MIP level, at 1 and 2 threads (and all cores), and times the reference: the
-//! exr crate encoding and writing the very same spectra (computed beforehand and held in
-//! memory) in the same file layout with the same threads. Prints end-to-end time, reference
-//! time, their ratio and the thread speed-up. Run with `cargo bench -p specconv-pipeline`.
+//! Converts a 2048×2048 8-bit .tx of a real photograph (scripts/bench_textures.sh makes it
+//! from a photo shipped with the `image` crate) with the CLI's default stack (otsu2018, blended,
+//! bounded) to a 36-band half ZIP EXR of level 0, on 1 and 2 threads, and times in the same run:
+//! - the same conversion with `--compression none`;
+//! - the encode alone: the same spectra, computed beforehand and held in memory, encoded and
+//!   written in the same layout, with our ZIP (libdeflate) and with the `exr` crate's own ZIP
+//!   (miniz_oxide), which is what the conversion used before;
+//! - `oiiotool OUT.exr --compression zip -o …`: OpenImageIO re-encoding the same output;
+//! - the whole default conversion with every MIP level.
+//!
+//! Prints medians of three, the ratios the project tracks and the file sizes. Run with
+//! `cargo bench -p specconv-pipeline --bench convert`; the machine's load is the reader's to
+//! report (ratios are what carries over).
 
+use exr::block::{BlockIndex, UncompressedBlock};
+use exr::math::Vec2;
 use rayon::prelude::*;
-use specconv_exr::{Blocks, Compression, Kind, Sample, Spec, SpectralFile};
 use specconv_pipeline::{convert, Job, Mip, Settings};
+use specconv_exr::{Block, Blocks, Chunk, Compression, Kind, Sample, Spec, SpectralFile};
+use specconv_spectral::bounded::Bounded;
 use specconv_spectral::{Method, Model, Uplifter};
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -16,26 +27,14 @@ use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
 fn texture(dir: &Path) -> PathBuf {
-    let tx = dir.join("noise2048.tx");
+    let tx = dir.join("photo.tx");
     if !tx.exists() {
-        let tif = dir.join("noise2048.tif");
-        let ok =
-            |c: &mut Command| assert!(c.status().expect("oiiotool and maketx installed").success());
-        ok(Command::new("oiiotool")
-            .args([
-                "--pattern",
-                "noise:type=uniform:min=0:max=1",
-                "2048x2048",
-                "3",
-                "-d",
-                "uint8",
-                "-o",
-            ])
-            .arg(&tif));
-        ok(Command::new("maketx")
-            .arg(&tif)
-            .args(["--colorconvert", "sRGB", "sRGB", "-o"])
-            .arg(&tx));
+        let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scripts/bench_textures.sh");
+        let ok = Command::new(script)
+            .arg(dir)
+            .status()
+            .expect("scripts/bench_textures.sh runs (oiiotool and maketx installed)");
+        assert!(ok.success(), "scripts/bench_textures.sh failed");
     }
     tx
 }
@@ -46,32 +45,82 @@ fn median(mut f: impl FnMut() -> f64) -> f64 {
     t[1]
 }
 
+fn timed(f: impl FnOnce()) -> f64 {
+    let s = Instant::now();
+    f();
+    s.elapsed().as_secs_f64()
+}
+
+fn size(p: &Path) -> f64 {
+    std::fs::metadata(p).unwrap().len() as f64 / (1 << 20) as f64
+}
+
+/// Writes `chunks` (one per block, in chunk order) as `file` to `path`, compressing a window
+/// of blocks in parallel and writing in order, as the pipeline does.
+fn write_all(
+    file: &SpectralFile,
+    path: &Path,
+    blocks: &[Block],
+    encode: &(dyn Fn(usize) -> Chunk + Sync),
+) {
+    let out = std::io::BufWriter::with_capacity(1 << 20, std::fs::File::create(path).unwrap());
+    let window = rayon::current_num_threads() * 8;
+    file.write(out, |sink| {
+        for start in (0..blocks.len()).step_by(window) {
+            let end = (start + window).min(blocks.len());
+            let chunks: Vec<Chunk> = (start..end).into_par_iter().map(encode).collect();
+            for (i, c) in (start..end).zip(chunks) {
+                sink(blocks[i].chunk, c)?;
+            }
+        }
+        Ok(())
+    })
+    .unwrap();
+}
+
 fn main() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../target/bench-data");
     std::fs::create_dir_all(&dir).unwrap();
     let input = texture(&dir);
-    let output = dir.join("out.exr");
     let config = specconv_ocio::Config::resolve(Some("aces")).unwrap();
     let model = Model::builtin();
-    let method = Uplifter::new(model).unwrap();
-    let settings = Settings {
+    // The CLI's default stack: blended clusters, bounded reflectances.
+    let blended = Uplifter::new(model)
+        .unwrap()
+        .with_blend(specconv_spectral::otsu2018::blend::DEFAULT_WIDTH)
+        .unwrap();
+    let method = Bounded::new(blended, model.colorimetry().unwrap()).unwrap();
+    let settings = |compression, mip| Settings {
         kind: Kind::Reflective,
         xyz_weights: None,
         colorspace: None,
         input: Default::default(),
         sample: Sample::Half,
-        compression: Compression::ZIP16,
+        compression,
+        zip_level: specconv_exr::zip::DEFAULT_LEVEL,
         tile: Some((64, 64)),
-        mip: Mip::All,
+        mip,
         overwrite: true,
         attributes: vec![],
     };
+    let zip = settings(Compression::ZIP16, Mip::Base);
+    let none = settings(Compression::Uncompressed, Mip::Base);
+    let zip_mip = settings(Compression::ZIP16, Mip::All);
     let cancel = AtomicBool::new(false);
+    let run = |settings: &Settings, output: &Path| {
+        let job = Job {
+            input: &input,
+            output,
+            config: &config,
+            method: &method,
+            settings,
+            cancel: &cancel,
+        };
+        convert(&job, &mut |_, _| {}).unwrap();
+    };
 
-    // The reference's pixels: every block's spectra, as the conversion computes them.
-    let mut reader = specconv_oiio::ImageReader::open(&input).unwrap();
-    let processor = config.processor_to_xyz("sRGB - Texture").unwrap();
-    let file = SpectralFile::new(Spec {
+    // The encode's input: every block's spectra, as the conversion computes them.
+    let spec = |compression| Spec {
         width: 2048,
         height: 2048,
         windows: None,
@@ -79,101 +128,114 @@ fn main() {
         kind: Kind::Reflective,
         alpha: false,
         sample: Sample::Half,
-        compression: Compression::ZIP16,
+        compression,
+        zip_level: specconv_exr::zip::DEFAULT_LEVEL,
         blocks: Blocks::Tiles {
             width: 64,
             height: 64,
-            mip_levels: true,
+            mip_levels: false,
         },
         attributes: vec![],
-    })
-    .unwrap();
-    let levels: Vec<specconv_oiio::Pixels> = (0..file.levels())
-        .map(|l| reader.read_level(l).unwrap())
-        .collect();
-    let blocks = file.blocks();
-    let spectra: Vec<Vec<f32>> = blocks
-        .par_iter()
-        .map(|b| {
-            let px = &levels[b.level];
-            let mut rgb: Vec<f32> = (b.y..b.y + b.height)
-                .flat_map(|y| {
-                    (b.x..b.x + b.width)
-                        .flat_map(move |x| px.pixel(x as u32, y as u32)[..3].to_vec())
-                })
-                .collect();
-            processor.apply_rgb(&mut rgb).unwrap();
-            let mut out = vec![0.0; b.width * b.height * 36];
-            method.uplift_f32(&rgb, &mut out);
-            out
-        })
-        .collect();
-    drop(levels);
+    };
+    let ours = SpectralFile::new(spec(Compression::ZIP16)).unwrap();
+    let raw = SpectralFile::new(spec(Compression::Uncompressed)).unwrap();
+    let blocks = ours.blocks();
+    let spectra: Vec<Vec<f32>> = {
+        let mut reader = specconv_oiio::ImageReader::open(&input).unwrap();
+        let processor = config.processor_to_xyz("sRGB - Texture").unwrap();
+        let px = reader.read_level(0).unwrap();
+        blocks
+            .par_iter()
+            .map(|b| {
+                let mut rgb: Vec<f32> = (b.y..b.y + b.height)
+                    .flat_map(|y| {
+                        (b.x..b.x + b.width)
+                            .flat_map(|x| px.pixel(x as u32, y as u32)[..3].to_vec())
+                            .collect::<Vec<_>>()
+                    })
+                    .collect();
+                processor.apply_rgb(&mut rgb).unwrap();
+                let mut out = vec![0.0; b.width * b.height * 36];
+                method.uplift_f32(&rgb, &mut out);
+                out
+            })
+            .collect()
+    };
+    // The exr crate's own ZIP of the same bytes: the uncompressed block, compressed by it.
+    let exr_zip = |i: usize| -> Chunk {
+        let b = &blocks[i];
+        let data = match raw.encode(b, &spectra[i], None).unwrap().compressed_block {
+            exr::block::chunk::CompressedBlock::Tile(t) => t.compressed_pixels_le,
+            _ => unreachable!("tiled file"),
+        };
+        let block = UncompressedBlock {
+            index: BlockIndex {
+                layer: 0,
+                pixel_position: Vec2(b.x, b.y),
+                pixel_size: Vec2(b.width, b.height),
+                level: Vec2(0, 0),
+            },
+            data,
+        };
+        block
+            .compress_to_chunk(std::slice::from_ref(ours.header()))
+            .unwrap()
+    };
 
-    let mut results = Vec::new();
-    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
-    let mut threads = vec![1, 2];
-    if cores > 2 {
-        threads.push(cores);
-    }
-    for &n in &threads {
+    let path = |name: &str| dir.join(name);
+    let mut zip_times = Vec::new();
+    for n in [1, 2] {
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(n)
             .build()
             .unwrap();
-        let end_to_end = median(|| {
-            pool.install(|| {
-                let s = Instant::now();
-                let job = Job {
-                    input: &input,
-                    output: &output,
-                    config: &config,
-                    method: &method,
-                    settings: &settings,
-                    cancel: &cancel,
-                };
-                convert(&job, &mut |_, _| {}).unwrap();
-                s.elapsed().as_secs_f64()
-            })
-        });
-        let reference = median(|| {
-            pool.install(|| {
-                let s = Instant::now();
-                let out = std::io::BufWriter::with_capacity(
-                    1 << 20,
-                    std::fs::File::create(dir.join("ref.exr")).unwrap(),
-                );
-                file.write(out, |sink| {
-                    // Same window size as the pipeline: compress a window in parallel, write in order.
-                    for (window, data) in blocks.chunks(n * 8).zip(spectra.chunks(n * 8)) {
-                        let chunks: Vec<_> = window
-                            .par_iter()
-                            .zip(data)
-                            .map(|(b, d)| file.encode(b, d, None))
-                            .collect();
-                        for (b, c) in window.iter().zip(chunks) {
-                            sink(b.chunk, c?)?;
-                        }
-                    }
-                    Ok(())
+        pool.install(|| {
+            let t_zip = median(|| timed(|| run(&zip, &path("out.exr"))));
+            let t_none = median(|| timed(|| run(&none, &path("out-none.exr"))));
+            let t_encode = median(|| {
+                timed(|| {
+                    write_all(&ours, &path("encode.exr"), &blocks, &|i| {
+                        ours.encode(&blocks[i], &spectra[i], None).unwrap()
+                    })
                 })
-                .unwrap();
-                s.elapsed().as_secs_f64()
-            })
+            });
+            let t_exr = median(|| timed(|| write_all(&ours, &path("exr.exr"), &blocks, &exr_zip)));
+            let t_oiio = median(|| {
+                timed(|| {
+                    let ok = Command::new("oiiotool")
+                        .args(["--threads", &n.to_string()])
+                        .arg(path("out.exr"))
+                        .args(["--compression", "zip", "-o"])
+                        .arg(path("oiio.exr"))
+                        .status()
+                        .expect("oiiotool installed");
+                    assert!(ok.success());
+                })
+            });
+            let t_mip = median(|| timed(|| run(&zip_mip, &path("out-mip.exr"))));
+            println!(
+                "threads {n}: default conversion of photo.tx (2048², level 0, ZIP) {t_zip:.3} s; \
+                 --compression none {t_none:.3} s ({:.2}×); encode alone {t_encode:.3} s, with the exr crate's ZIP {t_exr:.3} s ({:.2}× ours); \
+                 oiiotool's ZIP re-encode of the output {t_oiio:.3} s (conversion {:.2}× it); every MIP level {t_mip:.3} s",
+                t_zip / t_none,
+                t_exr / t_encode,
+                t_zip / t_oiio,
+            );
+            zip_times.push((t_zip, t_none, t_mip));
         });
-        println!(
-            "threads {n}: convert 2048×2048 8-bit .tx → 36-band half ZIP EXR with MIP levels {:.3} s; exr crate alone {:.3} s; ratio {:.2}",
-            end_to_end,
-            reference,
-            end_to_end / reference
-        );
-        results.push((n, end_to_end));
     }
     println!(
-        "speed-up from 1 to 2 threads: {:.2}×",
-        results[0].1 / results[1].1
+        "speed-up from 1 to 2 threads: {:.2}× (none {:.2}×, every MIP level {:.2}×)",
+        zip_times[0].0 / zip_times[1].0,
+        zip_times[0].1 / zip_times[1].1,
+        zip_times[0].2 / zip_times[1].2
     );
-    if let Some(&(n, t)) = results.get(2) {
-        println!("speed-up from 1 to {n} threads: {:.2}×", results[0].1 / t);
-    }
+    println!(
+        "sizes (MiB): ours {:.1} (encode alone {:.1}), exr crate's ZIP {:.1}, oiiotool's ZIP {:.1}, none {:.1}",
+        size(&path("out.exr")),
+        size(&path("encode.exr")),
+        size(&path("exr.exr")),
+        size(&path("oiio.exr")),
+        size(&path("out-none.exr"))
+    );
 }

@@ -74,6 +74,8 @@ pub struct Settings {
     pub input: input::Request,
     pub sample: Sample,
     pub compression: Compression,
+    /// Deflate level of ZIP and ZIPS blocks, 0–9 ([`spectral_exr::zip::DEFAULT_LEVEL`]).
+    pub zip_level: u8,
     /// `None` for scanlines, else the tile size.
     pub tile: Option<(usize, usize)>,
     pub mip: Mip,
@@ -182,6 +184,7 @@ pub fn convert(job: &Job, progress: &mut dyn FnMut(u64, u64)) -> Result<Report> 
         alpha: selection.channels.alpha.is_some(),
         sample: job.settings.sample,
         compression: job.settings.compression,
+        zip_level: job.settings.zip_level,
         blocks,
         attributes,
     })?;

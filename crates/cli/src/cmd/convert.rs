@@ -104,9 +104,15 @@ pub struct Args {
     /// (≈5× smaller colour error, ≈1.5× the conversion time of a 36-band ZIP file).
     #[arg(long, value_name = "HOW", default_value = "nearest", value_parser = ["nearest", "colour"])]
     half_rounding: String,
-    /// Output compression.
-    #[arg(long, default_value = "zip", value_parser = ["none", "rle", "zips", "zip", "piz", "pxr24", "b44"])]
+    /// Output compression. The lossless ones: none, rle, zips, zip, piz, pxr24 (for half;
+    /// float loses 8 bits); b44, b44a, dwaa and dwab lose precision (docs/compression.md
+    /// compares them all).
+    #[arg(long, default_value = "zip", value_parser = ["none", "rle", "zips", "zip", "piz", "pxr24", "b44", "b44a", "dwaa", "dwab"])]
     compression: String,
+    /// Deflate level of zip and zips, 0 (stored) to 9 (smallest), as OpenEXR's
+    /// zipCompressionLevel; the default is the measured best trade (docs/compression.md).
+    #[arg(long, value_name = "LEVEL", value_parser = clap::value_parser!(u8).range(0..=9))]
+    zip_level: Option<u8>,
     /// Tile width and height of the output.
     #[arg(long, num_args = 2, value_names = ["W", "H"], default_values_t = [64usize, 64])]
     tile: Vec<usize>,
@@ -244,6 +250,12 @@ struct BoundedCounts {
 /// failed, interrupted). Settings that cannot work for any input are usage errors, found
 /// before the first input.
 pub fn run(args: Args) -> Result<i32> {
+    if args.zip_level.is_some() && !matches!(args.compression.as_str(), "zip" | "zips") {
+        return Err(usage(anyhow::anyhow!(
+            "--zip-level sets the deflate level of zip and zips; --compression {} has none (drop --zip-level or use --compression zip)",
+            args.compression
+        )));
+    }
     // Wrong paths on the command line are usage errors.
     let (inputs, outputs) = plan(&args)
         .and_then(|(i, o)| match args.shard {
@@ -309,7 +321,10 @@ pub fn run(args: Args) -> Result<i32> {
         method.name(),
         args.blend.of(args.method),
         args.data_type,
-        args.compression,
+        match args.zip_level {
+            Some(level) => format!("{} zip-level={level}", args.compression),
+            None => args.compression.clone(),
+        },
         if args.scanline {
             "scanline".to_string()
         } else {
@@ -345,6 +360,7 @@ pub fn run(args: Args) -> Result<i32> {
             Sample::Half
         },
         compression: compression(&args.compression),
+        zip_level: args.zip_level.unwrap_or(spectral_exr::zip::DEFAULT_LEVEL),
         tile: (!args.scanline).then(|| (args.tile[0], args.tile[1])),
         mip: if args.mip == "0" { Mip::Base } else { Mip::All },
         overwrite: args.force || args.update,
@@ -662,6 +678,9 @@ fn compression(name: &str) -> Compression {
         "piz" => Compression::PIZ,
         "pxr24" => Compression::PXR24,
         "b44" => Compression::B44,
+        "b44a" => Compression::B44A,
+        "dwaa" => Compression::DWAA(None),
+        "dwab" => Compression::DWAB(None),
         _ => Compression::ZIP16,
     }
 }
