@@ -1,28 +1,29 @@
 #!/bin/sh
 # Size and time of every compression the exr crate writes (and our ZIP at several levels), on
 # the textures of scripts/bench_textures.sh: each converted at level 0 (2048², 36-band half,
-# the default stack) with the release binary, best of 2 runs, times as ratios to
+# the default stack) with the release binary, best of $RUNS runs (default 2), times as ratios to
 # `--compression none` of the same texture in the same run. Prints a Markdown table.
 #   scripts/bench_compression.sh [THREADS] [TEXTURES…]
 set -eu
 cd "$(dirname "$0")/.."
 threads=${1:-2}
+runs=${RUNS:-2}
 [ $# -gt 0 ] && shift
 textures=${*:-photo flower painted mask noise}
 data=target/bench-data
 scripts/bench_textures.sh "$data"
-cargo build --release --locked --bin specconv -q
-bin=target/release/specconv
+bin=${SPECCONV_BIN:-target/release/specconv}
+[ -n "${SPECCONV_BIN:-}" ] || cargo build --release --locked --bin specconv -q
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
-methods="none zip:1 zip zip:6 zip:9 zips rle piz pxr24 b44 b44a dwaa dwab"
+methods=${METHODS:-none zip:1 zip zip:6 zip:9 zips rle piz pxr24 b44 b44a dwaa dwab}
 
-seconds() { # best of 2 conversions of $1 with $2 (a method, or zip:LEVEL)
+seconds() { # best of $runs conversions of $1 with $2 (a method, or zip:LEVEL)
     method=${2%%:*}
     level=""
     [ "$method" != "$2" ] && level="--zip-level ${2#*:}"
     best=""
-    for _ in 1 2; do
+    for _ in $(seq "$runs"); do
         s=$(date +%s.%N)
         # shellcheck disable=SC2086
         "$bin" convert "$data/$1.tx" "$out/o.exr" --mip 0 -j "$threads" --force -q \
@@ -53,4 +54,4 @@ for tex in $textures; do
     done
     printf '\n'
 done
-echo "(times: best of 2, as ratios to none; $threads threads; load: $(cut -d' ' -f1-3 /proc/loadavg))"
+echo "(times: best of $runs, as ratios to none; $threads threads; load: $(cut -d' ' -f1-3 /proc/loadavg))"

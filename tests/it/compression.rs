@@ -59,14 +59,19 @@ struct Case {
     values: Vec<f32>,
 }
 
+/// The value of a half given by its bits.
+fn half_bits(bits: u16) -> f32 {
+    half::f16::from_bits(bits).to_f32()
+}
+
 fn cases(sample: Sample) -> Vec<Case> {
     let specials: Vec<f32> = vec![
         65504.0,
         -65504.0,
-        5.960_464_5e-8, // the least subnormal half, 2⁻²⁴
-        6.097_555_2e-5, // the greatest subnormal half, 1023 × 2⁻²⁴
-        6.103_515_6e-5, // the least normal half, 2⁻¹⁴
-        -5.960_464_5e-8,
+        half_bits(0x0001), // the least subnormal half, 2⁻²⁴
+        half_bits(0x03ff), // the greatest subnormal half, 1023 × 2⁻²⁴
+        half_bits(0x0400), // the least normal half, 2⁻¹⁴
+        half_bits(0x8001),
         -0.0,
         0.0,
         1.0,
@@ -104,7 +109,7 @@ fn cases(sample: Sample) -> Vec<Case> {
             name: "one pixel",
             width: 1,
             height: 1,
-            values: vec![0.25, 65504.0, 5.960_464_5e-8],
+            values: vec![0.25, 65504.0, half_bits(0x0001)],
         },
         Case {
             name: "65504, subnormals and other special values",
