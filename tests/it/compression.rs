@@ -148,6 +148,7 @@ fn write(
     let file = SpectralFile::new(Spec {
         width: case.width,
         height: case.height,
+        windows: None,
         wavelengths: vec![400.0, 550.0, 700.0],
         kind: Kind::Reflective,
         alpha: false,

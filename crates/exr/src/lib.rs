@@ -393,9 +393,13 @@ impl SpectralFile {
         if zip {
             let compressed_pixels_le = zip::compress(&data, self.spec.zip_level);
             let compressed_block = match self.spec.blocks {
+                // A scanline block is addressed by its y in pixel space: the data window's
+                // origin plus the block's row.
                 Blocks::Scanlines => CompressedBlock::ScanLine(CompressedScanLineBlock {
                     y_coordinate: i32::try_from(block.y)
-                        .map_err(|_| Error::Invalid("image taller than OpenEXR allows".into()))?,
+                        .ok()
+                        .and_then(|y| y.checked_add(self.header.own_attributes.layer_position.y()))
+                        .ok_or_else(|| Error::Invalid("image taller than OpenEXR allows".into()))?,
                     compressed_pixels_le,
                 }),
                 Blocks::Tiles { width, height, .. } => CompressedBlock::Tile(CompressedTileBlock {
