@@ -1,10 +1,10 @@
-//! Our ZIP and ZIPS blocks (spectral_exr::zip, on libdeflate) read back by OpenEXR itself:
+//! Our ZIP and ZIPS blocks (specconv_exr::zip, on libdeflate) read back by OpenEXR itself:
 //! edge cases written with the library's writer, opened with exrheader and decoded sample by
 //! sample through OpenImageIO's Python bindings (OpenEXR's decoder), bit for bit.
 
 use crate::convert::tool;
 use crate::runner::*;
-use spectral_exr::{Blocks, Compression, Kind, Sample, Spec, SpectralFile};
+use specconv_exr::{Blocks, Compression, Kind, Sample, Spec, SpectralFile};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -219,9 +219,9 @@ fn zip_edge_cases_decode_bit_for_bit_in_openexr_and_the_exr_crate() {
         for (k, case) in cases(sample).into_iter().enumerate() {
             for (l, (compression, blocks)) in layouts.into_iter().enumerate() {
                 let levels: &[u8] = if l == 2 {
-                    &[0, spectral_exr::zip::DEFAULT_LEVEL, 9]
+                    &[0, specconv_exr::zip::DEFAULT_LEVEL, 9]
                 } else {
-                    &[spectral_exr::zip::DEFAULT_LEVEL]
+                    &[specconv_exr::zip::DEFAULT_LEVEL]
                 };
                 for &level in levels {
                     let what = format!(
@@ -246,7 +246,7 @@ fn zip_edge_cases_decode_bit_for_bit_in_openexr_and_the_exr_crate() {
     assert_eq!(decoded_files.len(), files.len());
     for ((what, sample, k, path), oiio) in files.iter().zip(&decoded_files) {
         let case = &cases(*sample)[*k];
-        let ours = spectral_exr::read(path).unwrap();
+        let ours = specconv_exr::read(path).unwrap();
         for (band, name) in ["T.400,000000nm", "T.550,000000nm", "T.700,000000nm"]
             .iter()
             .enumerate()

@@ -17,8 +17,8 @@
 use exr::block::{BlockIndex, UncompressedBlock};
 use exr::math::Vec2;
 use rayon::prelude::*;
-use specconv_pipeline::{convert, Job, Mip, Settings};
 use specconv_exr::{Block, Blocks, Chunk, Compression, Kind, Sample, Spec, SpectralFile};
+use specconv_pipeline::{convert, Job, Mip, Settings};
 use specconv_spectral::bounded::Bounded;
 use specconv_spectral::{Method, Model, Uplifter};
 use std::path::{Path, PathBuf};

@@ -74,7 +74,7 @@ pub struct Settings {
     pub input: input::Request,
     pub sample: Sample,
     pub compression: Compression,
-    /// Deflate level of ZIP and ZIPS blocks, 0–9 ([`spectral_exr::zip::DEFAULT_LEVEL`]).
+    /// Deflate level of ZIP and ZIPS blocks, 0–9 ([`specconv_exr::zip::DEFAULT_LEVEL`]).
     pub zip_level: u8,
     /// `None` for scanlines, else the tile size.
     pub tile: Option<(usize, usize)>,

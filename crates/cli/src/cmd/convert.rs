@@ -360,7 +360,7 @@ pub fn run(args: Args) -> Result<i32> {
             Sample::Half
         },
         compression: compression(&args.compression),
-        zip_level: args.zip_level.unwrap_or(spectral_exr::zip::DEFAULT_LEVEL),
+        zip_level: args.zip_level.unwrap_or(specconv_exr::zip::DEFAULT_LEVEL),
         tile: (!args.scanline).then(|| (args.tile[0], args.tile[1])),
         mip: if args.mip == "0" { Mip::Base } else { Mip::All },
         overwrite: args.force || args.update,
