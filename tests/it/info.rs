@@ -31,9 +31,11 @@ fn info_describes_a_mipmapped_texture() {
         "pixel format: uint8",
         "storage:      tiles of 16 x 16",
         "MIP levels:   6 (61x47 30x23 15x11 7x5 3x2 1x1)",
-        "declared:     sRGB",
-        "colour space: sRGB - Texture (declared by the file as 'sRGB')",
-        "to XYZ:       through cie_xyz_d65_interchange (CIE-XYZ-D65)",
+        // OIIO labels every 8-bit TIFF sRGB; that is its guess, not the file's declaration.
+        "OIIO label:   sRGB (oiio:ColorSpace)",
+        "colour space: sRGB - Texture",
+        "chosen by:    default: integer pixels are sRGB texture",
+        "to XYZ:       OCIO, through cie_xyz_d65_interchange (CIE-XYZ-D65)",
     ] {
         assert!(text.contains(line), "missing {line:?} in\n{text}");
     }
@@ -59,9 +61,11 @@ fn info_json_reports_what_the_reader_sees_and_the_colour_space_choice() {
     assert_eq!(v["mip_levels"], serde_json::json!([[61, 47]]));
     assert_eq!(v["channels"].as_array().unwrap().len(), 4);
     assert_eq!(v["alpha_channel"], 3);
-    // OIIO's EXR reader says "Linear", which means the config's scene_linear.
-    assert_eq!(v["colorspace"], "ACEScg");
-    assert_eq!(v["colorspace_rule"], "declared");
+    // OIIO's EXR reader says "Linear" for every file; without chromaticities OpenEXR means
+    // linear Rec.709 with a D65 white, the config's Linear Rec.709 (sRGB).
+    assert_eq!(v["declared_color_space"], "Linear");
+    assert_eq!(v["colorspace"], "Linear Rec.709 (sRGB)");
+    assert_eq!(v["colorspace_rule"], "default");
     assert!(v["spectral"].is_null());
 
     // No declaration and integer pixels: sRGB - Texture by default.
@@ -84,6 +88,7 @@ fn info_json_reports_what_the_reader_sees_and_the_colour_space_choice() {
         );
         assert_eq!(v["colorspace"], "Linear Rec.2020");
         assert_eq!(v["colorspace_rule"], "colorspace-option");
+        assert_eq!(v["colorspace_reason"], "--colorspace");
     }
 }
 

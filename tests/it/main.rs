@@ -1,6 +1,7 @@
 //! Integration tests of the `specconv` binary: one test crate, modules per command.
 
 mod baselines;
+mod colour;
 mod compression;
 mod convert;
 mod emission;

@@ -339,10 +339,11 @@ fn convert_records_have_one_schema() {
         ok["skip_reason"].is_null() && ok["above_one"].is_u64(),
         "{ok}"
     );
-    // OpenImageIO says "Linear" for every EXR; the config reads it as its scene_linear.
-    let declared = by(&exr, "ok");
-    assert_eq!(declared["colorspace"], "ACEScg");
-    assert_eq!(declared["colorspace_rule"], "declared");
+    // OpenImageIO says "Linear" for every EXR: not a declaration. Without chromaticities
+    // OpenEXR means linear Rec.709, D65 (docs/colour.md).
+    let default = by(&exr, "ok");
+    assert_eq!(default["colorspace"], "Linear Rec.709 (sRGB)");
+    assert_eq!(default["colorspace_rule"], "default");
     let flag = &records(&flagged.stdout)[0];
     assert_eq!(flag["colorspace"], "Linear Rec.709 (sRGB)");
     assert_eq!(flag["colorspace_rule"], "colorspace-option");

@@ -1,19 +1,13 @@
 //! Pieces of the JSON records that `convert --json` and `info --json` print for scripts
 //! (docs/json.md): every record of a command has every key, `null` where it does not apply.
 
-use specconv_ocio::ChoiceReason;
 use std::path::Path;
 
-/// The rule that chose the input colour space, as records name it: `colorspace-option`
-/// (--colorspace), `declared` (what the file declares, when the config knows it) or `default`
-/// (the default for the pixel type). The names are those of the explicit rule that ffi/ocio
-/// is getting (issue 12b, which adds `file-rule`); that rule's own name replaces this map.
-pub fn colorspace_rule(reason: &ChoiceReason) -> &'static str {
-    match reason {
-        ChoiceReason::Flag => "colorspace-option",
-        ChoiceReason::Declared(_) => "declared",
-        ChoiceReason::Default { .. } => "default",
-    }
+/// The rule that chose the input colour space, as records name it: `colorspace-option` (--colorspace),
+/// `declared` (what the file declares), `file-rule` (the OCIO config's file rules) or
+/// `default` (the format's default) — docs/colour.md.
+pub fn colorspace_rule(rule: &specconv_pipeline::Rule) -> &'static str {
+    rule.kind()
 }
 
 /// An error message about an input without the input's path, which the record (or the

@@ -1,5 +1,7 @@
 //! RGB colour spaces by their published primaries, for tests and measurements of the uplift on
-//! whole gamuts (sRGB, Rec.2020, ACEScg, ACES2065-1). Conversion of images goes through OCIO.
+//! whole gamuts (sRGB, Rec.2020, ACEScg, ACES2065-1), and the matrices a file's own primaries
+//! and white declare (OpenEXR `chromaticities`, PNG `cHRM`). Images go through OCIO where the
+//! config has the file's colour space, else through [`RgbSpace::to_xyz_adapted`].
 
 use nalgebra::{Matrix3, Vector3};
 
@@ -43,32 +45,78 @@ fn xyz_of(xy: [f64; 2]) -> Vector3<f64> {
     Vector3::new(xy[0] / xy[1], 1.0, (1.0 - xy[0] - xy[1]) / xy[1])
 }
 
+/// The linear Bradford cone-response matrix (Lam 1985; as in Lindbloom's and colour-science's
+/// tables).
+fn bradford_cone() -> Matrix3<f64> {
+    Matrix3::new(
+        0.8951, 0.2664, -0.1614, -0.7502, 1.7135, 0.0367, 0.0389, -0.0685, 1.0296,
+    )
+}
+
+fn rows(m: &Matrix3<f64>) -> [[f64; 3]; 3] {
+    [0, 1, 2].map(|r| [0, 1, 2].map(|c| m[(r, c)]))
+}
+
+/// The linear Bradford chromatic adaptation from white `from` to white `to` (XYZ, any scale:
+/// both are normalised to Y = 1), as a matrix on XYZ.
+pub fn bradford(from: [f64; 3], to: [f64; 3]) -> [[f64; 3]; 3] {
+    rows(&bradford_matrix(
+        Vector3::from(from) / from[1],
+        Vector3::from(to) / to[1],
+    ))
+}
+
+fn bradford_matrix(from: Vector3<f64>, to: Vector3<f64>) -> Matrix3<f64> {
+    let b = bradford_cone();
+    let scale = Matrix3::from_diagonal(&(b * to).component_div(&(b * from)));
+    b.try_inverse().expect("Bradford is invertible") * scale * b
+}
+
+/// The normalised primary matrix (SMPTE RP 177-1993) of `primaries` for white `w` (XYZ),
+/// from the chromaticity coordinates (x, y, 1 − x − y) so that primaries with y = 0 (those
+/// of CIE XYZ) work; `None` when the primaries are not independent.
+fn npm(primaries: &[[f64; 2]; 3], w: Vector3<f64>) -> Option<Matrix3<f64>> {
+    let p = Matrix3::from_columns(&primaries.map(|[x, y]| Vector3::new(x, y, 1.0 - x - y)));
+    let s = p.try_inverse()? * w;
+    let m = p * Matrix3::from_diagonal(&s);
+    m.iter().all(|v| v.is_finite()).then_some(m)
+}
+
 impl RgbSpace {
     /// The matrix from linear RGB of this space to XYZ relative to `white` (Y = 1), e.g. the
-    /// white of a model's colorimetry. The normalised primary matrix (SMPTE RP 177-1993) is made
-    /// for the space's own white; a space whose white is within 1e-3 in xy of `white` (the D65
-    /// spaces) takes `white` itself, so RGB (1, 1, 1) maps to it exactly, and any other is
-    /// adapted with the linear Bradford transform (Lam 1985; the matrix as in Lindbloom's and
-    /// colour-science's tables).
+    /// white of a model's colorimetry. The normalised primary matrix is made for the space's
+    /// own white; a space whose white is within 1e-3 in xy of `white` (the D65 spaces) takes
+    /// `white` itself, so RGB (1, 1, 1) maps to it exactly, and any other is adapted with the
+    /// linear Bradford transform.
     pub fn to_xyz(&self, white: [f64; 3]) -> [[f64; 3]; 3] {
         let target = Vector3::from(white) / white[1];
         let own = xyz_of(self.white);
         let near = (own[0] / (own[0] + 1.0 + own[2]) - target[0] / target.sum()).abs() < 1e-3
             && (1.0 / (own[0] + 1.0 + own[2]) - 1.0 / target.sum()).abs() < 1e-3;
         let w = if near { target } else { own };
-        let p = Matrix3::from_columns(&self.primaries.map(xyz_of));
-        let s = p.try_inverse().expect("primaries are independent") * w;
-        let mut m = p * Matrix3::from_diagonal(&s);
+        let mut m = npm(&self.primaries, w).expect("primaries are independent");
         if !near {
-            let b = Matrix3::new(
-                0.8951, 0.2664, -0.1614, -0.7502, 1.7135, 0.0367, 0.0389, -0.0685, 1.0296,
-            );
-            let (rs, rt) = (b * w, b * target);
-            let scale = Matrix3::from_diagonal(&rt.component_div(&rs));
-            m = b.try_inverse().expect("Bradford is invertible") * scale * b * m;
+            m = bradford_matrix(w, target) * m;
         }
         m *= white[1];
-        [0, 1, 2].map(|r| [0, 1, 2].map(|c| m[(r, c)]))
+        rows(&m)
+    }
+
+    /// The matrix from linear RGB to XYZ relative to `white` (Y = 1) exactly as a file's
+    /// primaries and white declare it: the normalised primary matrix for the space's own
+    /// white, then linear Bradford adaptation to `white` (none when they are equal). `None`
+    /// when the chromaticities describe no RGB space (white with y ≤ 0, dependent primaries,
+    /// values not finite).
+    pub fn to_xyz_adapted(&self, white: [f64; 3]) -> Option<[[f64; 3]; 3]> {
+        let [wx, wy] = self.white;
+        if !(wy > 0.0 && wx.is_finite() && white[1] > 0.0) {
+            return None;
+        }
+        let own = xyz_of(self.white);
+        let m = bradford_matrix(own, Vector3::from(white) / white[1])
+            * npm(&self.primaries, own)?
+            * white[1];
+        m.iter().all(|v| v.is_finite()).then(|| rows(&m))
     }
 
     /// The inverse of [`RgbSpace::to_xyz`]: XYZ relative to `white` to linear RGB.
@@ -77,7 +125,7 @@ impl RgbSpace {
         let inv = Matrix3::from_fn(|r, c| m[r][c])
             .try_inverse()
             .expect("primaries are independent");
-        [0, 1, 2].map(|r| [0, 1, 2].map(|c| inv[(r, c)]))
+        rows(&inv)
     }
 
     /// XYZ of the space's own white with Y = 1 (D65 for sRGB).
@@ -140,6 +188,48 @@ mod tests {
         }
         // Middle grey: 0.18 linear is code value 118 of 255 (IEC 61966-2-1).
         assert_eq!((srgb_encode(0.18) * 255.0).round(), 118.0);
+    }
+
+    #[test]
+    fn adapted_matrix_handles_cie_xyz_primaries_and_equals_to_xyz_for_other_whites() {
+        // CIE XYZ as OpenEXR declares it: (1, 0), (0, 1), (0, 0), white E. Its own matrix is
+        // the identity; to D65 it is Bradford from E.
+        let xyz = RgbSpace {
+            name: "CIE XYZ",
+            primaries: [[1.0, 0.0], [0.0, 1.0], [0.0, 0.0]],
+            white: [1.0 / 3.0, 1.0 / 3.0],
+        };
+        let e = [1.0, 1.0, 1.0];
+        let id = xyz.to_xyz_adapted(e).unwrap();
+        for r in 0..3 {
+            for c in 0..3 {
+                assert!(
+                    (id[r][c] - f64::from(u8::from(r == c))).abs() < 1e-12,
+                    "{id:?}"
+                );
+            }
+        }
+        let d65 = SRGB.white_xyz();
+        let same = |a: [[f64; 3]; 3], b: [[f64; 3]; 3]| {
+            (0..3).all(|r| (0..3).all(|c| (a[r][c] - b[r][c]).abs() < 1e-14))
+        };
+        assert!(same(xyz.to_xyz_adapted(d65).unwrap(), bradford(e, d65)));
+        // Away from the target white, both constructions are the same Bradford adaptation.
+        assert!(same(
+            ACESCG.to_xyz_adapted(d65).unwrap(),
+            ACESCG.to_xyz(d65)
+        ));
+        // A white with y = 0 or collinear primaries declare nothing.
+        let bad = RgbSpace {
+            white: [0.3, 0.0],
+            ..SRGB
+        };
+        assert!(bad.to_xyz_adapted(d65).is_none());
+        let flat = RgbSpace {
+            primaries: [[0.3, 0.3], [0.4, 0.4], [0.5, 0.5]],
+            ..SRGB
+        };
+        assert!(flat.to_xyz_adapted(d65).is_none());
     }
 
     #[test]

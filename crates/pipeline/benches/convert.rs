@@ -95,6 +95,7 @@ fn main() {
         xyz_weights: None,
         colorspace: None,
         input: Default::default(),
+        alpha: specconv_pipeline::Alpha::Auto,
         sample: Sample::Half,
         compression,
         zip_level: specconv_exr::zip::DEFAULT_LEVEL,

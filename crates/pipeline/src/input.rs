@@ -277,6 +277,7 @@ mod tests {
             subimage: 0,
             subimage_names: vec![String::new()],
             declared_color_space: None,
+            unassociated_alpha: false,
         }
     }
 

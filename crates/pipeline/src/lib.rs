@@ -15,11 +15,14 @@
 //! data window's origin). [`input`] chooses the subimage and the channels read.
 #![forbid(unsafe_code)]
 
+pub mod colour;
 pub mod input;
+mod png;
 
+pub use colour::{input_space, Alpha, InputSpace, Rule, ToXyz};
 use rayon::prelude::*;
 use specconv_exr::{Block, Blocks, Chunk, Compression, Kind, Sample, Spec, SpectralFile, Windows};
-use specconv_ocio::{Config, Processor};
+use specconv_ocio::Config;
 use specconv_spectral::Method;
 use std::fs::File;
 use std::io::BufWriter;
@@ -72,6 +75,8 @@ pub struct Settings {
     pub colorspace: Option<String>,
     /// `--subimage` and `--channels`: what of the input is read.
     pub input: input::Request,
+    /// `--alpha`: whether the input's colour is straight or premultiplied.
+    pub alpha: Alpha,
     pub sample: Sample,
     pub compression: Compression,
     /// Deflate level of ZIP and ZIPS blocks, 0–9 ([`specconv_exr::zip::DEFAULT_LEVEL`]).
@@ -93,10 +98,16 @@ pub struct Report {
     /// Pixels uplifted, over all levels.
     pub pixels: u64,
     pub levels: usize,
-    /// The input colour space and the rule that chose it.
-    pub colorspace: specconv_ocio::InputChoice,
     /// The subimage and channels read.
     pub selection: input::Selection,
+    /// The input colour space ([`colour`]'s rule).
+    pub colorspace: String,
+    /// The rule that chose it.
+    pub colorspace_rule: Rule,
+    /// Declarations of the file that were ignored or disagree.
+    pub warnings: Vec<String>,
+    /// Straight colour was multiplied by alpha after conversion.
+    pub premultiplied: bool,
     /// Pixels whose colour had a NaN or infinite component (their spectra are NaN).
     pub non_finite: u64,
     /// Pixels above 1: an input channel or Y above [`ABOVE_ONE`]. No reflectance has Y > 1.
@@ -143,12 +154,11 @@ pub fn convert(job: &Job, progress: &mut dyn FnMut(u64, u64)) -> Result<Report> 
     specconv_exr::check::check_input(job.input)?;
     let (mut reader, selection) = input::open(job.input, &job.settings.input)?;
     let info = reader.info().clone();
-    let choice = job.config.choose_input(
-        job.settings.colorspace.as_deref(),
-        info.declared_color_space.as_deref(),
-        info.pixel_format().is_integer(),
-    )?;
-    let processor = job.config.processor_to_xyz(&choice.name)?;
+    let space = input_space(job.config, &reader, job.settings.colorspace.as_deref())?;
+    let premultiply = job
+        .settings
+        .alpha
+        .premultiply(&reader, selection.channels.alpha);
 
     let mip = job.settings.mip == Mip::All && info.levels.len() > 1;
     let blocks = match job.settings.tile {
@@ -163,7 +173,7 @@ pub fn convert(job: &Job, progress: &mut dyn FnMut(u64, u64)) -> Result<Report> 
         Some((width, height)) => Blocks::Tiles { width, height, mip_levels: mip },
     };
     let mut attributes = job.settings.attributes.clone();
-    attributes.push(("specconvSourceColorspace".into(), choice.name.clone()));
+    attributes.push(("specconvSourceColorspace".into(), space.name.clone()));
     attributes.push(("specconvConfig".into(), job.config.source().to_string()));
     attributes.push(("specconvSource".into(), file_name(job.input)));
     let top = info.levels[0];
@@ -283,7 +293,17 @@ pub fn convert(job: &Job, progress: &mut dyn FnMut(u64, u64)) -> Result<Report> 
                             strip
                                 .blocks
                                 .par_iter()
-                                .map(|b| encode_block(&file, &processor, job, b, px, colour, alpha))
+                                .map(|b| {
+                                    encode_block(
+                                        &file,
+                                        &space.to_xyz,
+                                        job,
+                                        b,
+                                        px,
+                                        colour,
+                                        (alpha, premultiply),
+                                    )
+                                })
                                 .collect()
                         })
                         .collect()
@@ -319,8 +339,11 @@ pub fn convert(job: &Job, progress: &mut dyn FnMut(u64, u64)) -> Result<Report> 
         height: info.height() as usize,
         pixels: total,
         levels: file.levels(),
-        colorspace: choice,
         selection,
+        colorspace: space.name,
+        colorspace_rule: space.rule,
+        warnings: space.warnings,
+        premultiplied: premultiply,
         non_finite: counts.non_finite,
         above_one: counts.above_one,
         saturated: counts.saturated,
@@ -340,15 +363,17 @@ pub fn colour_of(px: &[f32], colour: &[usize]) -> Option<[f32; 3]> {
     }
 }
 
-/// Colour-converts, uplifts and compresses one block from its strip's pixels.
+/// Colour-converts, uplifts and compresses one block from its strip's pixels. With
+/// `premultiply` the colour is straight: multiplied by alpha once converted, as OpenEXR stores
+/// colour premultiplied.
 fn encode_block(
     file: &SpectralFile,
-    processor: &Processor,
+    to_xyz: &ToXyz,
     job: &Job,
     b: &Block,
     strip: &specconv_oiio::Pixels,
     colour: &[usize],
-    alpha: Option<usize>,
+    (alpha, premultiply): (Option<usize>, bool),
 ) -> Result<(usize, Chunk, Counts)> {
     let count = b.width * b.height;
     let mut rgb = Vec::with_capacity(count * 3);
@@ -368,7 +393,12 @@ fn encode_block(
         .chunks_exact(3)
         .map(|c| c.iter().any(|&v| v > ABOVE_ONE))
         .collect();
-    processor.apply_rgb(&mut rgb)?;
+    to_xyz.apply_rgb(&mut rgb)?;
+    if let (true, Some(a)) = (premultiply, &a) {
+        for (c, alpha) in rgb.chunks_exact_mut(3).zip(a) {
+            c.iter_mut().for_each(|v| *v *= alpha);
+        }
+    }
     for (c, above) in rgb.chunks_exact(3).zip(&channel_above) {
         counts.non_finite += u64::from(!c.iter().all(|v| v.is_finite()));
         counts.above_one += u64::from(*above || c[1] > ABOVE_ONE);

@@ -305,6 +305,24 @@ int32_t specconv_ocio_list_item(const specconv_ocio_config *config, int32_t kind
     });
 }
 
+int32_t specconv_ocio_file_rule(const specconv_ocio_config *config, const char *path,
+                                const char **colorspace, const char **rule) {
+    return guard(SPECCONV_OCIO_ERR_EXCEPTION, [&]() -> int32_t {
+        if (config == nullptr || path == nullptr || colorspace == nullptr || rule == nullptr)
+            return fail(SPECCONV_OCIO_ERR_ARGUMENT, "null argument");
+        *colorspace = nullptr;
+        *rule = nullptr;
+        // The default rule always matches; it is the format's default, not a rule of the
+        // config's author for this path.
+        if (config->config->filepathOnlyMatchesDefaultRule(path))
+            return SPECCONV_OCIO_OK;
+        size_t index = 0;
+        *colorspace = config->config->getColorSpaceFromFilepath(path, index);
+        *rule = config->config->getFileRules()->getName(index);
+        return SPECCONV_OCIO_OK;
+    });
+}
+
 int32_t specconv_ocio_processor_new(const specconv_ocio_config *config, const char *src,
                                     const char *dst, const char *post_builtin,
                                     specconv_ocio_processor **out) {

@@ -102,6 +102,11 @@ int32_t specconv_ocio_list_len(const specconv_ocio_config *config, int32_t kind,
 int32_t specconv_ocio_list_item(const specconv_ocio_config *config, int32_t kind,
                                 const char *parent, int32_t index, const char **out);
 
+/* The colour space the config's file_rules give `path` and the name of the rule that gave
+ * it; both NULL (status OK) when no rule but the default one matches the path. */
+int32_t specconv_ocio_file_rule(const specconv_ocio_config *config, const char *path,
+                                const char **colorspace, const char **rule);
+
 /* A processor from colour space src to colour space dst of the config, followed, when
  * post_builtin is not NULL, by the OCIO built-in transform of that style. */
 int32_t specconv_ocio_processor_new(const specconv_ocio_config *config, const char *src,

@@ -142,6 +142,14 @@ unsafe extern "C" {
     ) -> i32;
 }
 unsafe extern "C" {
+    pub fn specconv_ocio_file_rule(
+        config: *const specconv_ocio_config,
+        path: *const ::std::os::raw::c_char,
+        colorspace: *mut *const ::std::os::raw::c_char,
+        rule: *mut *const ::std::os::raw::c_char,
+    ) -> i32;
+}
+unsafe extern "C" {
     pub fn specconv_ocio_processor_new(
         config: *const specconv_ocio_config,
         src: *const ::std::os::raw::c_char,

@@ -18,13 +18,10 @@
 //! of ITU-R BT.709, so RGB white reaches XYZ (0.950456, 1, 1.089058). Data colour spaces
 //! (`Raw`) are refused: they hold numbers, not colours.
 //!
-//! **Input colour space.** [`Config::choose_input`]: an explicit `--colorspace` wins; else
-//! the colour space the file declares, if the config knows it (OpenImageIO's conventional
-//! `sRGB` and `Linear` are mapped to the config's sRGB texture space and its
-//! `scene_linear` role); else a default by pixel type: integer pixels are
-//! display-encoded, so `sRGB - Texture` (or the config's equivalent); float and half pixels
-//! are scene-linear, so the `scene_linear` role. The [`InputChoice`] says which rule
-//! decided, so the choice can always be reported.
+//! **Input colour space.** The rule that picks it (the flag, the file's declarations, the
+//! config's file rules, the format's default) lives in the pipeline; this crate answers its
+//! questions: [`Config::find_color_space`], [`Config::srgb_texture`],
+//! [`Config::file_rule`].
 //!
 //! All `unsafe` of this crate is in this file and `contents.rs`, and only calls the C shim of `ocio-sys`,
 //! which catches every C++ exception.
@@ -304,14 +301,16 @@ impl Config {
 
     /// Looks a colour space up by name, alias or role, ignoring case as OCIO does.
     pub fn color_space(&self, name: &str) -> Result<ColorSpace> {
-        self.find(name)?.ok_or_else(|| Error::UnknownColorSpace {
-            name: name.to_owned(),
-            origin: self.origin(),
-            close: self.close_names(name),
-        })
+        self.find_color_space(name)?
+            .ok_or_else(|| Error::UnknownColorSpace {
+                name: name.to_owned(),
+                origin: self.origin(),
+                close: self.close_names(name),
+            })
     }
 
-    fn find(&self, name: &str) -> Result<Option<ColorSpace>> {
+    /// Looks a colour space up by name, alias or role; `None` when the config lacks it.
+    pub fn find_color_space(&self, name: &str) -> Result<Option<ColorSpace>> {
         let c_name = cstring(name)?;
         let mut cs = std::mem::MaybeUninit::<sys::specconv_ocio_color_space>::zeroed();
         // SAFETY: live config, valid C string, valid out-pointer.
@@ -434,76 +433,38 @@ impl Config {
         }
     }
 
-    /// Chooses the input colour space: `flag` (`--colorspace`) wins, then the file's
-    /// `declared` colour space when the config knows it, then the default for the pixel
-    /// type. See the crate docs for the rules.
-    pub fn choose_input(
-        &self,
-        flag: Option<&str>,
-        declared: Option<&str>,
-        integer_pixels: bool,
-    ) -> Result<InputChoice> {
-        if let Some(name) = flag {
-            let cs = self.color_space(name)?;
-            return Ok(InputChoice {
-                name: cs.name,
-                reason: ChoiceReason::Flag,
-            });
-        }
-        let declared = declared.map(str::trim).filter(|d| !d.is_empty());
-        if let Some(d) = declared {
-            if let Some(name) = self.resolve_declared(d)? {
-                return Ok(InputChoice {
-                    name,
-                    reason: ChoiceReason::Declared(d.to_owned()),
-                });
-            }
-        }
-        let name = if integer_pixels {
-            self.srgb_texture()?.ok_or_else(|| Error::NoDefault {
-                origin: self.origin(),
-                what: "sRGB texture colour space (sRGB - Texture, srgb_tx, srgb_texture or sRGB)",
-                pixels: "integer",
-            })?
-        } else {
-            self.role("scene_linear")?.ok_or_else(|| Error::NoDefault {
-                origin: self.origin(),
-                what: "scene_linear role",
-                pixels: "float",
-            })?
-        };
-        Ok(InputChoice {
-            name,
-            reason: ChoiceReason::Default {
-                integer_pixels,
-                ignored_declaration: declared.map(str::to_owned),
-            },
-        })
-    }
-
     /// The config's sRGB-encoded Rec.709 texture space, by the names configs use for it.
-    fn srgb_texture(&self) -> Result<Option<String>> {
+    pub fn srgb_texture(&self) -> Result<Option<String>> {
         for candidate in SRGB_TEXTURE_NAMES {
-            if let Some(cs) = self.find(candidate)? {
+            if let Some(cs) = self.find_color_space(candidate)? {
                 return Ok(Some(cs.name));
             }
         }
         Ok(None)
     }
 
-    /// Maps a declared colour space to one of the config's, including OpenImageIO's
-    /// conventional names, which are not OCIO names.
-    fn resolve_declared(&self, declared: &str) -> Result<Option<String>> {
-        if let Some(cs) = self.find(declared)? {
-            return Ok(Some(cs.name));
+    /// The colour space the config's `file_rules` give `path` (canonical name) and the
+    /// rule's name; `None` when only the default rule matches, so the config says nothing
+    /// particular about this file.
+    pub fn file_rule(&self, path: &Path) -> Result<Option<(String, String)>> {
+        let c_path = cstring(&path.to_string_lossy())?;
+        let (mut cs, mut rule) = (std::ptr::null(), std::ptr::null());
+        // SAFETY: live config, valid C string, valid out-pointers; the strings belong to
+        // the config.
+        let status = unsafe {
+            sys::specconv_ocio_file_rule(self.raw.as_ptr(), c_path.as_ptr(), &mut cs, &mut rule)
+        };
+        if status as u32 != sys::SPECCONV_OCIO_OK {
+            return Err(Error::ConfigLoad {
+                origin: self.origin(),
+                message: last_error(),
+            });
         }
-        match declared.to_lowercase().as_str() {
-            "srgb" => self.srgb_texture(),
-            // OIIO's OpenEXR reader says "Linear" for every file; OIIO itself reads it as
-            // the scene_linear role.
-            "linear" | "scene_linear" | "scene-linear" => self.role("scene_linear"),
-            _ => Ok(None),
+        if cs.is_null() {
+            return Ok(None);
         }
+        let name = self.color_space(&config_str(cs))?.name;
+        Ok(Some((name, config_str(rule))))
     }
 }
 
@@ -534,52 +495,6 @@ fn edit_distance(a: &str, b: &str) -> usize {
         prev = cur;
     }
     prev[b.len()]
-}
-
-/// Which rule chose the input colour space.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub enum ChoiceReason {
-    /// `--colorspace`
-    Flag,
-    /// The file's declaration (as written in the file).
-    Declared(String),
-    /// The default for the pixel type; a declaration the config does not know is ignored.
-    Default {
-        integer_pixels: bool,
-        ignored_declaration: Option<String>,
-    },
-}
-
-/// The input colour space and why it was chosen.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct InputChoice {
-    /// The config's canonical name.
-    pub name: String,
-    pub reason: ChoiceReason,
-}
-
-impl fmt::Display for InputChoice {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "{}", self.name)?;
-        match &self.reason {
-            ChoiceReason::Flag => write!(f, " (from --colorspace)"),
-            ChoiceReason::Declared(d) => write!(f, " (declared by the file as '{d}')"),
-            ChoiceReason::Default {
-                integer_pixels,
-                ignored_declaration,
-            } => {
-                let kind = if *integer_pixels { "integer" } else { "float" };
-                write!(f, " (default for {kind} pixels")?;
-                if let Some(d) = ignored_declaration {
-                    write!(
-                        f,
-                        "; the file declares '{d}', which the config does not know"
-                    )?;
-                }
-                write!(f, ")")
-            }
-        }
-    }
 }
 
 /// How a processor reaches CIE XYZ.

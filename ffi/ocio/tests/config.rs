@@ -5,7 +5,7 @@ use std::ffi::OsString;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use specconv_ocio::{BuiltinConfig, ChoiceReason, Config, ConfigSource, Error};
+use specconv_ocio::{BuiltinConfig, Config, ConfigSource, Error};
 
 fn testdata(rel: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -220,41 +220,42 @@ fn raw_is_refused_for_uplifting() {
 }
 
 #[test]
-fn input_colour_space_rules() {
-    let config = Config::builtin_aces().unwrap();
-    let choose = |flag, declared, integer| config.choose_input(flag, declared, integer).unwrap();
-
-    // --colorspace wins over the file and the default, and is canonicalised.
-    let c = choose(Some("lin_srgb"), Some("sRGB"), true);
-    assert_eq!(
-        (c.name.as_str(), &c.reason),
-        ("Linear Rec.709 (sRGB)", &ChoiceReason::Flag)
+fn file_rules_name_a_colour_space_only_when_a_rule_other_than_the_default_matches() {
+    // The built-in config with one rule before its Default rule.
+    let yaml = specconv_ocio::CG_CONFIG_YAML.replace(
+        "  - !<Rule> {name: Default, colorspace: ACES2065-1}",
+        "  - !<Rule> {name: acescg files, colorspace: ACEScg, pattern: \"*_acescg\", extension: \"exr\"}\n  - !<Rule> {name: Default, colorspace: ACES2065-1}",
     );
-    // The file's declaration, including OIIO's conventional names.
-    let c = choose(None, Some("sRGB"), true);
-    assert_eq!(c.name, "sRGB - Texture");
-    assert_eq!(c.reason, ChoiceReason::Declared("sRGB".into()));
-    assert_eq!(choose(None, Some("Linear"), false).name, "ACEScg");
-    assert_eq!(choose(None, Some("ACES2065-1"), false).name, "ACES2065-1");
-    // Defaults by pixel type.
-    assert_eq!(choose(None, None, true).name, "sRGB - Texture");
-    assert_eq!(choose(None, None, false).name, "ACEScg");
-    // A declaration the config does not know falls back to the default, and says so.
-    let c = choose(None, Some("Gamma2.2"), true);
-    assert_eq!(c.name, "sRGB - Texture");
-    assert_eq!(
-        c.to_string(),
-        "sRGB - Texture (default for integer pixels; the file declares 'Gamma2.2', which the config does not know)"
+    assert_ne!(
+        yaml,
+        specconv_ocio::CG_CONFIG_YAML,
+        "the Default rule moved"
     );
-    // An unknown --colorspace is an error, never a silent fallback.
-    assert!(matches!(
-        config.choose_input(Some("nope"), None, true),
-        Err(Error::UnknownColorSpace { .. })
-    ));
-    // A config with no scene_linear role and no sRGB texture space has no defaults.
+    let config = Config::from_yaml(&yaml, None, ConfigSource::File("rules.ocio".into())).unwrap();
+    assert_eq!(
+        config
+            .file_rule(Path::new("/textures/wall_acescg.exr"))
+            .unwrap(),
+        Some(("ACEScg".to_owned(), "acescg files".to_owned()))
+    );
+    assert_eq!(
+        config.file_rule(Path::new("/textures/wall.exr")).unwrap(),
+        None
+    );
+    // The plain built-in config has the Default rule only.
+    let builtin = Config::builtin_aces().unwrap();
+    assert_eq!(builtin.file_rule(Path::new("x_acescg.exr")).unwrap(), None);
+    assert_eq!(
+        builtin.srgb_texture().unwrap().as_deref(),
+        Some("sRGB - Texture")
+    );
+    assert_eq!(
+        builtin.find_color_space("lin_srgb").unwrap().unwrap().name,
+        "Linear Rec.709 (sRGB)"
+    );
+    assert_eq!(builtin.find_color_space("nope").unwrap(), None);
     let bare = Config::from_file(testdata("ocio/aces_interchange_only.ocio")).unwrap();
-    let err = bare.choose_input(None, None, true).unwrap_err();
-    assert!(err.to_string().contains("pass --colorspace"), "{err}");
+    assert_eq!(bare.srgb_texture().unwrap(), None);
 }
 
 #[test]

@@ -94,7 +94,10 @@ int32_t specconv_oiio_open(const char *path, specconv_oiio_input **out) {
             return fail(SPECCONV_OIIO_ERR_ARGUMENT, "null argument");
         *out = nullptr;
         auto handle = std::make_unique<specconv_oiio_input>();
-        handle->in = OIIO::ImageInput::open(path);
+        // Straight alpha stays straight: colour is converted before it is premultiplied.
+        OIIO::ImageSpec hints;
+        hints.attribute("oiio:UnassociatedAlpha", 1);
+        handle->in = OIIO::ImageInput::open(path, &hints);
         if (!handle->in) {
             std::string msg = OIIO::geterror();
             return fail(SPECCONV_OIIO_ERR_OPEN,
@@ -230,6 +233,62 @@ int32_t specconv_oiio_string_attribute(const specconv_oiio_input *input, const c
             std::memcpy(buf, value.data(), n);
             buf[n] = '\0';
         }
+        return SPECCONV_OIIO_OK;
+    });
+}
+
+int32_t specconv_oiio_numeric_attribute(const specconv_oiio_input *input, const char *name,
+                                        double *buf, size_t buf_len, int64_t *len) {
+    return guard([&]() -> int32_t {
+        if (input == nullptr || name == nullptr || len == nullptr)
+            return fail(SPECCONV_OIIO_ERR_ARGUMENT, "null argument");
+        *len = -1;
+        const OIIO::ParamValue *p = input->levels[0].find_attribute(name);
+        if (p == nullptr)
+            return SPECCONV_OIIO_OK;
+        OIIO::TypeDesc t = p->type();
+        size_t n = size_t(p->nvalues()) * t.numelements() * t.aggregate;
+        std::vector<double> values(n);
+        // OIIO 2.4's convert_type and get_float_indexed refuse int to float; convert here.
+        for (size_t i = 0; i < n; ++i) {
+            const void *d = p->data();
+            switch (t.basetype) {
+            case OIIO::TypeDesc::UINT8: values[i] = static_cast<const uint8_t *>(d)[i]; break;
+            case OIIO::TypeDesc::INT8: values[i] = static_cast<const int8_t *>(d)[i]; break;
+            case OIIO::TypeDesc::UINT16: values[i] = static_cast<const uint16_t *>(d)[i]; break;
+            case OIIO::TypeDesc::INT16: values[i] = static_cast<const int16_t *>(d)[i]; break;
+            case OIIO::TypeDesc::UINT32: values[i] = static_cast<const uint32_t *>(d)[i]; break;
+            case OIIO::TypeDesc::INT32: values[i] = static_cast<const int32_t *>(d)[i]; break;
+            case OIIO::TypeDesc::UINT64: values[i] = double(static_cast<const uint64_t *>(d)[i]); break;
+            case OIIO::TypeDesc::INT64: values[i] = double(static_cast<const int64_t *>(d)[i]); break;
+            case OIIO::TypeDesc::FLOAT: values[i] = static_cast<const float *>(d)[i]; break;
+            case OIIO::TypeDesc::DOUBLE: values[i] = static_cast<const double *>(d)[i]; break;
+            default: return SPECCONV_OIIO_OK; // strings, pointers, half: not read as numbers
+            }
+        }
+        *len = static_cast<int64_t>(n);
+        for (size_t i = 0; buf != nullptr && i < n && i < buf_len; ++i)
+            buf[i] = values[i];
+        return SPECCONV_OIIO_OK;
+    });
+}
+
+int32_t specconv_oiio_bytes_attribute(const specconv_oiio_input *input, const char *name,
+                                      uint8_t *buf, size_t buf_len, int64_t *len) {
+    return guard([&]() -> int32_t {
+        if (input == nullptr || name == nullptr || len == nullptr)
+            return fail(SPECCONV_OIIO_ERR_ARGUMENT, "null argument");
+        *len = -1;
+        const OIIO::ParamValue *p = input->levels[0].find_attribute(name);
+        if (p == nullptr)
+            return SPECCONV_OIIO_OK;
+        OIIO::TypeDesc t = p->type();
+        if (t.basetype != OIIO::TypeDesc::UINT8 && t.basetype != OIIO::TypeDesc::INT8)
+            return SPECCONV_OIIO_OK;
+        size_t n = size_t(p->nvalues()) * t.numelements() * t.aggregate;
+        *len = static_cast<int64_t>(n);
+        if (buf != nullptr)
+            std::memcpy(buf, p->data(), n < buf_len ? n : buf_len);
         return SPECCONV_OIIO_OK;
     });
 }

@@ -50,7 +50,9 @@ const char *specconv_oiio_last_error(void);
 /* The OpenImageIO version the program runs against, e.g. 20407 for 2.4.7. */
 int32_t specconv_oiio_version(void);
 
-/* Opens `path` (UTF-8) with whichever format plugin reads it. */
+/* Opens `path` (UTF-8) with whichever format plugin reads it. Unassociated (straight)
+ * alpha is kept as stored, not premultiplied (OIIO's oiio:UnassociatedAlpha hint); such
+ * files say so with the attribute oiio:UnassociatedAlpha = 1. */
 int32_t specconv_oiio_open(const char *path, specconv_oiio_input **out);
 void specconv_oiio_close(specconv_oiio_input *input);
 
@@ -79,6 +81,19 @@ int32_t specconv_oiio_channel_format(const specconv_oiio_input *input, int32_t c
  * absent or not a string. buf may be NULL to ask for the length. */
 int32_t specconv_oiio_string_attribute(const specconv_oiio_input *input, const char *name,
                                        char *buf, size_t buf_len, int64_t *len);
+
+/* Copies numeric attribute `name` of level 0 (integer, float or double; scalar, array or
+ * aggregate such as OpenEXR's chromaticities) into buf as doubles, at most buf_len of them.
+ * *len receives the number of values, or -1 when the attribute is absent or not numeric.
+ * buf may be NULL to ask for the count. */
+int32_t specconv_oiio_numeric_attribute(const specconv_oiio_input *input, const char *name,
+                                        double *buf, size_t buf_len, int64_t *len);
+
+/* Copies byte-array attribute `name` of level 0 (e.g. "ICCProfile") into buf, at most
+ * buf_len bytes. *len receives its size, or -1 when absent or not an array of bytes. buf may
+ * be NULL to ask for the size. */
+int32_t specconv_oiio_bytes_attribute(const specconv_oiio_input *input, const char *name,
+                                      uint8_t *buf, size_t buf_len, int64_t *len);
 
 /* Reads channels [chbegin, chend) of the pixels [xbegin, xend) x [ybegin, yend) of
  * `level` as f32, interleaved, rows top to bottom, into out (out_len floats at least).

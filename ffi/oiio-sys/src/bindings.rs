@@ -146,6 +146,24 @@ unsafe extern "C" {
     ) -> i32;
 }
 unsafe extern "C" {
+    pub fn specconv_oiio_numeric_attribute(
+        input: *const specconv_oiio_input,
+        name: *const ::std::os::raw::c_char,
+        buf: *mut f64,
+        buf_len: usize,
+        len: *mut i64,
+    ) -> i32;
+}
+unsafe extern "C" {
+    pub fn specconv_oiio_bytes_attribute(
+        input: *const specconv_oiio_input,
+        name: *const ::std::os::raw::c_char,
+        buf: *mut u8,
+        buf_len: usize,
+        len: *mut i64,
+    ) -> i32;
+}
+unsafe extern "C" {
     pub fn specconv_oiio_read_tiles(
         input: *mut specconv_oiio_input,
         level: i32,

@@ -174,8 +174,13 @@ pub struct ImageInfo {
     pub subimage: u32,
     /// Each subimage's name (an OpenEXR part's `name`), empty where it has none.
     pub subimage_names: Vec<String>,
-    /// The colour space the file declares (`oiio:ColorSpace`), if any.
+    /// The colour space the file declares (`oiio:ColorSpace`), if any. OpenImageIO also
+    /// puts its own guess here ("Linear" for every OpenEXR file, "sRGB" for most integer
+    /// formats), so it is a declaration only where the format can store one.
     pub declared_color_space: Option<String>,
+    /// The colour is stored unassociated from alpha (straight: PNG, some TIFFs); it is read
+    /// as stored, not premultiplied.
+    pub unassociated_alpha: bool,
 }
 
 impl ImageInfo {
@@ -391,6 +396,7 @@ impl ImageReader {
                 subimage: 0,
                 subimage_names: Vec::new(),
                 declared_color_space: None,
+                unassociated_alpha: false,
             },
         };
         reader.info = reader.read_info()?;
@@ -524,7 +530,80 @@ impl ImageReader {
             declared_color_space: self
                 .string_attribute("oiio:ColorSpace")?
                 .filter(|s| !s.is_empty()),
+            unassociated_alpha: alpha_channel.is_some()
+                && self
+                    .numeric_attribute("oiio:UnassociatedAlpha")?
+                    .is_some_and(|v| v.first().is_some_and(|&a| a != 0.0)),
         })
+    }
+
+    /// A numeric attribute of the file's header (top level) as its values in order: a
+    /// scalar, an array, or an aggregate such as OpenEXR's `chromaticities` (8 values).
+    pub fn numeric_attribute(&self, name: &str) -> Result<Option<Vec<f64>>> {
+        let Ok(c_name) = CString::new(name) else {
+            return Ok(None);
+        };
+        let raw = self.raw.as_ptr();
+        let mut len = -1i64;
+        // SAFETY: live handle, valid C string; a null buffer only asks for the count.
+        self.check(unsafe {
+            sys::specconv_oiio_numeric_attribute(
+                raw,
+                c_name.as_ptr(),
+                std::ptr::null_mut(),
+                0,
+                &mut len,
+            )
+        })?;
+        let Ok(n) = usize::try_from(len) else {
+            return Ok(None);
+        };
+        let mut values = vec![0.0f64; n];
+        // SAFETY: values holds n doubles, as told to the shim.
+        self.check(unsafe {
+            sys::specconv_oiio_numeric_attribute(
+                raw,
+                c_name.as_ptr(),
+                values.as_mut_ptr(),
+                values.len(),
+                &mut len,
+            )
+        })?;
+        Ok(Some(values))
+    }
+
+    /// A byte-array attribute of the file's header (top level), such as `ICCProfile`.
+    pub fn bytes_attribute(&self, name: &str) -> Result<Option<Vec<u8>>> {
+        let Ok(c_name) = CString::new(name) else {
+            return Ok(None);
+        };
+        let raw = self.raw.as_ptr();
+        let mut len = -1i64;
+        // SAFETY: live handle, valid C string; a null buffer only asks for the size.
+        self.check(unsafe {
+            sys::specconv_oiio_bytes_attribute(
+                raw,
+                c_name.as_ptr(),
+                std::ptr::null_mut(),
+                0,
+                &mut len,
+            )
+        })?;
+        let Ok(n) = usize::try_from(len) else {
+            return Ok(None);
+        };
+        let mut bytes = vec![0u8; n];
+        // SAFETY: bytes holds n bytes, as told to the shim.
+        self.check(unsafe {
+            sys::specconv_oiio_bytes_attribute(
+                raw,
+                c_name.as_ptr(),
+                bytes.as_mut_ptr(),
+                bytes.len(),
+                &mut len,
+            )
+        })?;
+        Ok(Some(bytes))
     }
 
     /// A string attribute of the file's header (top level), if present.

@@ -129,13 +129,21 @@ fn every_file_and_level_matches_oiiotool_dumpdata() {
         let f = file.to_str().unwrap();
         for level in 0..info.levels.len() {
             let got = reader.read_level(level).unwrap();
+            // The reader keeps straight alpha straight; so does oiiotool with this hint.
+            let straight = ["--iconfig", "oiio:UnassociatedAlpha", "1"];
             let dump = if level == 0 {
-                oiiotool(&["--dumpdata", f])
+                oiiotool(&[&straight[..], &["--dumpdata", f]].concat())
             } else {
                 // --dumpdata only prints the top level; extract the level as float first.
                 let out = tmp.join(format!("level{level}.exr"));
                 let o = out.to_str().unwrap();
-                oiiotool(&[f, "--selectmip", &level.to_string(), "-d", "float", "-o", o]);
+                oiiotool(
+                    &[
+                        &straight[..],
+                        &[f, "--selectmip", &level.to_string(), "-d", "float", "-o", o],
+                    ]
+                    .concat(),
+                );
                 oiiotool(&["--dumpdata", o])
             };
             let format = if level == 0 {
@@ -154,6 +162,7 @@ fn every_file_and_level_matches_oiiotool_dumpdata() {
 
 #[test]
 fn header_matches_oiiotool_info() {
+    let mut straight = 0;
     for file in images() {
         let reader = ImageReader::open(&file).unwrap();
         let info = reader.info();
@@ -199,5 +208,31 @@ fn header_matches_oiiotool_info() {
             Some(cs) => assert!(text.contains(&format!("oiio:ColorSpace: \"{cs}\""))),
             None => assert!(!text.contains("oiio:ColorSpace:")),
         }
+        // Straight alpha, as oiiotool sees it when asked to keep it straight.
+        let hinted = oiiotool(&[
+            "--iconfig",
+            "oiio:UnassociatedAlpha",
+            "1",
+            "--info",
+            "-v",
+            file.to_str().unwrap(),
+        ]);
+        assert_eq!(
+            info.unassociated_alpha,
+            info.alpha_channel.is_some() && hinted.contains("oiio:UnassociatedAlpha: 1"),
+            "{}",
+            file.display()
+        );
+        straight += usize::from(info.unassociated_alpha);
+        // The same attribute through the numeric reader.
+        let flag = reader.numeric_attribute("oiio:UnassociatedAlpha").unwrap();
+        assert_eq!(
+            flag.is_some(),
+            hinted.contains("oiio:UnassociatedAlpha:"),
+            "{}",
+            file.display()
+        );
     }
+    // srgba8.png and rgba16.png.
+    assert_eq!(straight, 2);
 }

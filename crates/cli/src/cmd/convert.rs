@@ -6,7 +6,7 @@ use anyhow::{bail, Context, Result};
 use serde::Serialize;
 use specconv_colour::Colorimetry;
 use specconv_exr::{Compression, Kind, Sample};
-use specconv_pipeline::{convert, Job, Mip, Settings};
+use specconv_pipeline::{convert, Alpha, Job, Mip, Settings};
 use specconv_spectral::baselines::jakob;
 use specconv_spectral::bounded::{Bounded, Tally};
 use specconv_spectral::emission::{emission_colorimetry, Emissive};
@@ -57,11 +57,20 @@ pub struct Args {
     /// The global --ocio (see `specconv --help`).
     #[arg(skip)]
     pub(crate) ocio: Option<String>,
-    /// The input's colour space, overriding what the file declares.
+    /// The input's colour space, overriding what the file declares. Without it: the file's
+    /// declaration (ICC profile, EXR chromaticities, PNG sRGB/cHRM/gAMA, a colour-space name),
+    /// else the config's file rules, else linear Rec.709 for float and sRGB texture for
+    /// integer pixels (docs/colour.md).
     #[arg(long, visible_alias = "iscolorspace", value_name = "NAME")]
     colorspace: Option<String>,
     #[command(flatten)]
     read: ReadArgs,
+    /// Whether the input's colour is straight (unassociated) or premultiplied by alpha: `auto`
+    /// as the file says (PNG straight, OpenEXR premultiplied), or force either for files that
+    /// say it wrong (as oiiotool's --no-autopremult). Straight colour is converted, then
+    /// premultiplied: OpenEXR stores premultiplied colour.
+    #[arg(long, value_name = "HOW", default_value = "auto", value_parser = ["auto", "straight", "premultiplied"])]
+    alpha: String,
     /// Model file from `specconv train`; the built-in model when absent. Its grid, observer and
     /// illuminant are those of the output, whatever the method.
     #[arg(long, value_name = "MODEL")]
@@ -316,7 +325,7 @@ pub fn run(args: Args) -> Result<i32> {
         (None, None) => unreachable!("one of the two is built"),
     };
     let settings_tag = format!(
-        "model={} method={} blend={} data-type={} compression={} tile={} mip={} colorspace={} config={}",
+        "model={} method={} blend={} data-type={} compression={} tile={} mip={} colorspace={} alpha={} config={}",
         files::describe_model(args.model.as_deref(), &model),
         method.name(),
         args.blend.of(args.method),
@@ -332,6 +341,7 @@ pub fn run(args: Args) -> Result<i32> {
         },
         args.mip,
         args.colorspace.as_deref().unwrap_or("auto"),
+        args.alpha,
         config.source()
     ) + &[("subimage", &args.read.subimage), ("channels", &args.read.channels)]
         .iter()
@@ -354,6 +364,11 @@ pub fn run(args: Args) -> Result<i32> {
         },
         colorspace: args.colorspace.clone(),
         input: args.read.request(),
+        alpha: match args.alpha.as_str() {
+            "straight" => Alpha::Straight,
+            "premultiplied" => Alpha::Premultiplied,
+            _ => Alpha::Auto,
+        },
         sample: if args.data_type == "float" {
             Sample::Float
         } else {
@@ -435,15 +450,26 @@ pub fn run(args: Args) -> Result<i32> {
         match result {
             Ok(r) => {
                 summary.converted += 1;
+                if !args.quiet {
+                    for w in &r.warnings {
+                        eprintln!("specconv: warning: {}: {w}", input.display());
+                    }
+                }
                 let line = format!(
-                    "{}×{}, {} level{}, {} bands, colour space {}, {}{}, {seconds:.2} s",
+                    "{}×{}, {} level{}, {} bands, colour space {} ({}), {}{}{}, {seconds:.2} s",
                     r.width,
                     r.height,
                     r.levels,
                     if r.levels == 1 { "" } else { "s" },
                     method.grid().len(),
                     r.colorspace,
+                    r.colorspace_rule,
                     r.selection,
+                    if r.premultiplied {
+                        ", straight alpha premultiplied"
+                    } else {
+                        ""
+                    },
                     if r.non_finite > 0 {
                         format!(", {} pixels NaN or infinite (written as NaN)", r.non_finite)
                     } else {
@@ -464,8 +490,8 @@ pub fn run(args: Args) -> Result<i32> {
                         height: Some(r.height),
                         levels: Some(r.levels),
                         bands: Some(method.grid().len()),
-                        colorspace: Some(r.colorspace.name.clone()),
-                        colorspace_rule: Some(records::colorspace_rule(&r.colorspace.reason)),
+                        colorspace: Some(r.colorspace.clone()),
+                        colorspace_rule: Some(records::colorspace_rule(&r.colorspace_rule)),
                         subimage: Some(r.selection.subimage),
                         channels: Some(r.selection.channels.names.clone()),
                         bounded: counts.map(|c| BoundedCounts {

@@ -4,7 +4,7 @@
 use crate::{checks, exit, one_line, print_error};
 use anyhow::Result;
 use serde::Serialize;
-use specconv_ocio::{Config, XyzRoute};
+use specconv_ocio::Config;
 use specconv_oiio::{ImageReader, Window};
 use specconv_pipeline::input::{choose_channels, open_subimage, ChannelReason};
 use std::path::{Path, PathBuf};
@@ -21,11 +21,12 @@ Examples:
 /// the colour space the file declares and the one specconv would use, and for spectral
 /// EXRs the wavelength bands.
 ///
-/// The input colour space follows the rules of the conversion: --colorspace, else the
-/// file's declaration if the OCIO config knows it, else sRGB - Texture for integer pixels
-/// and the config's scene_linear role for float pixels. The route to CIE XYZ is checked
-/// too, so `info` fails, saying why, where a conversion would (a data colour space such as
-/// Raw, a config without an interchange role).
+/// The input colour space follows the rule of the conversion (docs/colour.md): --colorspace,
+/// else what the file declares (ICC profile, EXR chromaticities and acesImageContainerFlag,
+/// PNG sRGB/cHRM/gAMA, a colour-space name a tool wrote), else the OCIO config's file rules,
+/// else linear Rec.709 (D65) for float pixels and sRGB texture for integer pixels. The route
+/// to CIE XYZ is checked too, so `info` fails, saying why, where a conversion would (a data
+/// colour space such as Raw, a config without an interchange role).
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// Image files, in any format OpenImageIO reads (EXR, TIFF/.tx, PNG, JPEG, HDR, ...). A
@@ -70,10 +71,14 @@ struct Report<'a> {
     channels_problem: Option<String>,
     declared_color_space: Option<&'a str>,
     /// The colour space specconv reads the file in (the config's name), the rule that chose
-    /// it (`colorspace-option`, `declared`, `default`) and the choice in words.
+    /// it (`colorspace-option`, `declared`, `file-rule`, `default`) and the choice in words.
     colorspace: String,
     colorspace_rule: &'static str,
     colorspace_reason: String,
+    /// Declarations of the file that were ignored or disagree.
+    colorspace_warnings: Vec<String>,
+    /// Straight (unassociated) colour, premultiplied once converted.
+    straight_alpha: bool,
     /// How the colour space reaches CIE XYZ (D65).
     to_xyz: String,
     spectral: Option<Spectral>,
@@ -164,7 +169,7 @@ fn show(args: &Args, config: &Config, file: &Path) -> Result<()> {
     let reader = open_subimage(file, args.read.subimage.as_deref())?;
     let info = reader.info();
     // A file whose channels cannot be chosen alone is still described, with the reason.
-    let (colour_channels, channels_rule, channels_problem) =
+    let (colour_channels, channels_rule, channels_problem, alpha_channel) =
         match choose_channels(info, args.read.channels.as_deref()) {
             Ok(c) => (
                 Some(c.names),
@@ -175,21 +180,12 @@ fn show(args: &Args, config: &Config, file: &Path) -> Result<()> {
                     ChannelReason::OnlyLayer => "only-rgb-layer",
                 }),
                 None,
+                c.alpha,
             ),
-            Err(e) => (None, None, Some(e.to_string())),
+            Err(e) => (None, None, Some(e.to_string()), info.alpha_channel),
         };
-    let choice = config.choose_input(
-        args.colorspace.as_deref(),
-        info.declared_color_space.as_deref(),
-        info.pixel_format().is_integer(),
-    )?;
-    let to_xyz = match config.processor_to_xyz(&choice.name)?.route() {
-        XyzRoute::CieXyzD65Interchange(cs) => format!("through cie_xyz_d65_interchange ({cs})"),
-        XyzRoute::AcesInterchange(cs) => format!(
-            "through aces_interchange ({cs}) and OCIO's UTILITY - ACES-AP0_to_CIE-XYZ-D65_BFD"
-        ),
-        XyzRoute::Direct(cs) => format!("directly to {cs}"),
-    };
+    let space = specconv_pipeline::input_space(config, &reader, args.colorspace.as_deref())?;
+    let straight_alpha = specconv_pipeline::Alpha::Auto.premultiply(&reader, alpha_channel);
     let report = Report {
         file: file.display().to_string(),
         format: &info.format_name,
@@ -216,10 +212,12 @@ fn show(args: &Args, config: &Config, file: &Path) -> Result<()> {
         channels_rule,
         channels_problem,
         declared_color_space: info.declared_color_space.as_deref(),
-        colorspace: choice.name.clone(),
-        colorspace_rule: crate::records::colorspace_rule(&choice.reason),
-        colorspace_reason: choice.to_string(),
-        to_xyz,
+        colorspace: space.name.clone(),
+        colorspace_rule: crate::records::colorspace_rule(&space.rule),
+        colorspace_reason: space.rule.to_string(),
+        colorspace_warnings: space.warnings.clone(),
+        straight_alpha,
+        to_xyz: space.to_xyz.describe(),
         spectral: spectral_bands(&reader)?,
     };
     if args.json {
@@ -285,13 +283,18 @@ fn show(args: &Args, config: &Config, file: &Path) -> Result<()> {
         (None, Some(problem)) => println!("read as:      nothing yet: {problem}"),
         (None, None) => {}
     }
-    println!(
-        "declared:     {}",
-        r.declared_color_space
-            .unwrap_or("(no colour space declared)")
-    );
-    println!("colour space: {}", r.colorspace_reason);
+    if let Some(label) = r.declared_color_space {
+        println!("OIIO label:   {label} (oiio:ColorSpace)");
+    }
+    println!("colour space: {}", r.colorspace);
+    println!("chosen by:    {}", r.colorspace_reason);
+    for w in &r.colorspace_warnings {
+        println!("warning:      {w}");
+    }
     println!("to XYZ:       {}", r.to_xyz);
+    if r.straight_alpha {
+        println!("alpha:        straight; colour is converted, then premultiplied");
+    }
     if let Some(s) = &r.spectral {
         for (kind, bands) in [
             ("reflective", &s.reflective_nm),

@@ -1,7 +1,8 @@
 //! Patches from a texture pixel, read and converted to XYZ exactly as `convert` reads every
 //! pixel: OpenImageIO reads it, the config chooses the input colour space by convert's rules
-//! (`colorspace` as --colorspace, else what the file declares, else the default for its pixel
-//! type), and OpenColorIO takes it to CIE-XYZ-D65.
+//! (specconv_pipeline::colour: `colorspace` as --colorspace, else what the file declares, the
+//! config's file rules, the format's default), and its route takes it to CIE-XYZ-D65. The
+//! colour is a material's: straight alpha is not applied.
 
 use anyhow::{bail, Context, Result};
 use specconv_ocio::Config;
@@ -28,12 +29,7 @@ pub fn pixel_xyz(
             h - 1
         );
     }
-    let choice = config.choose_input(
-        colorspace,
-        info.declared_color_space.as_deref(),
-        info.pixel_format().is_integer(),
-    )?;
-    let processor = config.processor_to_xyz(&choice.name)?;
+    let space = specconv_pipeline::input_space(config, &reader, colorspace)?;
     let px = reader.read_region(
         0,
         Region {
@@ -55,12 +51,12 @@ pub fn pixel_xyz(
             path.display()
         );
     }
-    let xyz = processor.convert(rgb)?;
+    let xyz = space.to_xyz.convert(rgb)?;
     if !xyz.iter().all(|v| v.is_finite()) {
         bail!(
             "pixel [{x}, {y}] of {} ({rgb:?} in {}) has no finite XYZ",
             path.display(),
-            choice
+            space.name
         );
     }
     Ok(xyz.map(f64::from))

@@ -1,0 +1,516 @@
+//! The input's colour space, by one rule, and the way its pixels reach CIE XYZ (D65).
+//!
+//! **The rule**, first that applies:
+//! 1. `--colorspace` (the report says which declaration of the file it overrides);
+//! 2. what the file declares, in this order: an embedded ICC profile; OpenEXR
+//!    `chromaticities` (and `acesImageContainerFlag`, which means AP0 with the ACES white);
+//!    PNG `sRGB`, then `cHRM`/`gAMA`; a colour-space name a tool wrote in `oiio:ColorSpace`
+//!    (not OpenImageIO's own labels "Linear" and "sRGB", which it gives every OpenEXR file
+//!    and most integer files whatever they hold);
+//! 3. the OCIO config's `file_rules`, when a rule other than the default one matches the path;
+//! 4. the format's default: float pixels are linear Rec.709 with a D65 white (the OpenEXR
+//!    specification's meaning of a file without `chromaticities`), integer pixels sRGB texture.
+//!
+//! Declarations that disagree (their conversions to XYZ differ) give a warning naming both and
+//! the one used.
+//!
+//! **The routes to XYZ** ([`ToXyz`]): an OCIO processor, when the config has the colour space
+//! (a declaration by primaries, white and transfer is matched to the config's colour space
+//! that converts the same way); else the exact 3×3 matrix of the primaries and white with
+//! linear Bradford adaptation to D65 ([`specconv_colour::rgb::RgbSpace::to_xyz_adapted`]),
+//! after the declared transfer function; or, for an ICC profile, Little CMS to its D50 PCS
+//! (relative colorimetric) then Bradford to D65.
+
+use crate::{png, Error, Result};
+use specconv_colour::rgb::{self, RgbSpace};
+use specconv_icc::ToPcs;
+use specconv_ocio::{Config, Processor};
+use specconv_oiio::ImageReader;
+use std::fmt;
+
+/// D65 as OCIO's CIE-XYZ-D65 has it: the chromaticity (0.3127, 0.3290) of ITU-R BT.709, Y = 1.
+const D65: [f64; 3] = [0.3127 / 0.3290, 1.0, (1.0 - 0.3127 - 0.3290) / 0.3290];
+
+/// OpenEXR's default chromaticities (ITU-R BT.709 primaries, D65 white).
+const REC709: RgbSpace = rgb::SRGB;
+
+/// How straight and premultiplied alpha are told apart (`--alpha`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Alpha {
+    /// As the file says: straight where OpenImageIO reports unassociated alpha (PNG, TIFF
+    /// with unassociated extra samples), premultiplied otherwise (OpenEXR and the rest).
+    #[default]
+    Auto,
+    /// The colour is straight: converted, then multiplied by alpha.
+    Straight,
+    /// The colour is premultiplied already: converted as it is.
+    Premultiplied,
+}
+
+impl Alpha {
+    /// Whether colour must be multiplied by alpha after conversion, given the alpha channel
+    /// selected (none: nothing to multiply by).
+    pub fn premultiply(self, reader: &ImageReader, alpha: Option<usize>) -> bool {
+        let info = reader.info();
+        alpha.is_some()
+            && match self {
+                Alpha::Auto => info.unassociated_alpha,
+                Alpha::Straight => true,
+                Alpha::Premultiplied => false,
+            }
+    }
+}
+
+/// A transfer function from stored values to linear.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Decode {
+    Linear,
+    /// linear = stored^exponent (PNG `gAMA` g: exponent 1/g).
+    Power(f64),
+    /// IEC 61966-2-1.
+    Srgb,
+}
+
+impl Decode {
+    fn apply(self, v: f32) -> f32 {
+        match self {
+            Decode::Linear => v,
+            // Odd extension below 0, as OCIO's ExponentTransform mirrors negative values.
+            Decode::Power(e) => (v.abs() as f64).powf(e).copysign(v as f64) as f32,
+            Decode::Srgb => (rgb::srgb_decode(v.abs() as f64) as f32).copysign(v),
+        }
+    }
+}
+
+/// How pixels reach CIE XYZ (D65, white Y = 1): the one interface the pipeline converts with.
+pub enum ToXyz {
+    /// Through the OCIO config.
+    Ocio(Processor),
+    /// The declared transfer function, then a 3×3 matrix to XYZ D65.
+    Matrix { decode: Decode, m: [[f64; 3]; 3] },
+    /// Little CMS to the ICC PCS (D50), then Bradford to D65.
+    Icc { pcs: ToPcs, adapt: [[f64; 3]; 3] },
+}
+
+impl fmt::Debug for ToXyz {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.describe())
+    }
+}
+
+fn mul(m: &[[f64; 3]; 3], v: [f32; 3]) -> [f32; 3] {
+    rgb::apply(m, v.map(f64::from)).map(|x| x as f32)
+}
+
+impl ToXyz {
+    /// Converts interleaved RGB triples to XYZ in place.
+    pub fn apply_rgb(&self, rgb: &mut [f32]) -> Result<()> {
+        match self {
+            ToXyz::Ocio(p) => p.apply_rgb(rgb)?,
+            ToXyz::Matrix { decode, m } => {
+                for px in rgb.chunks_exact_mut(3) {
+                    let lin = [px[0], px[1], px[2]].map(|v| decode.apply(v));
+                    px.copy_from_slice(&mul(m, lin));
+                }
+            }
+            ToXyz::Icc { pcs, adapt } => {
+                pcs.apply_rgb(rgb);
+                for px in rgb.chunks_exact_mut(3) {
+                    px.copy_from_slice(&mul(adapt, [px[0], px[1], px[2]]));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// One triple.
+    pub fn convert(&self, rgb: [f32; 3]) -> Result<[f32; 3]> {
+        let mut px = rgb;
+        self.apply_rgb(&mut px)?;
+        Ok(px)
+    }
+
+    /// How the route reaches XYZ, for `info`.
+    pub fn describe(&self) -> String {
+        match self {
+            ToXyz::Ocio(p) => match p.route() {
+                specconv_ocio::XyzRoute::CieXyzD65Interchange(cs) => {
+                    format!("OCIO, through cie_xyz_d65_interchange ({cs})")
+                }
+                specconv_ocio::XyzRoute::AcesInterchange(cs) => format!(
+                    "OCIO, through aces_interchange ({cs}) and UTILITY - ACES-AP0_to_CIE-XYZ-D65_BFD"
+                ),
+                specconv_ocio::XyzRoute::Direct(cs) => format!("OCIO, directly to {cs}"),
+            },
+            ToXyz::Matrix { decode, .. } => format!(
+                "{}the 3×3 matrix of the declared primaries and white, Bradford-adapted to D65",
+                match decode {
+                    Decode::Linear => String::new(),
+                    Decode::Power(e) => format!("power {e:.5}, then "),
+                    Decode::Srgb => "the sRGB transfer function, then ".into(),
+                }
+            ),
+            ToXyz::Icc { pcs, .. } => format!(
+                "Little CMS, ICC profile '{}' to its D50 PCS (relative colorimetric), then Bradford to D65",
+                pcs.name()
+            ),
+        }
+    }
+}
+
+/// Which rule chose the input colour space.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Rule {
+    /// `--colorspace`, with the declaration it overrides, if any.
+    Flag { overrides: Option<String> },
+    /// The file's declarations that agree with the one used ("EXR chromaticities", ...).
+    Declared(Vec<String>),
+    /// The OCIO config's file rule of this name.
+    FileRule(String),
+    /// The format's default, with its reason.
+    Default(&'static str),
+}
+
+impl Rule {
+    /// The rule's keyword, as JSON records name it: `colorspace-option`, `declared`, `file-rule` or
+    /// `default`.
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Rule::Flag { .. } => "colorspace-option",
+            Rule::Declared(_) => "declared",
+            Rule::FileRule(_) => "file-rule",
+            Rule::Default(_) => "default",
+        }
+    }
+}
+
+impl fmt::Display for Rule {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Rule::Flag { overrides: None } => f.write_str("--colorspace"),
+            Rule::Flag { overrides: Some(d) } => {
+                write!(f, "--colorspace, overriding the file's {d}")
+            }
+            Rule::Declared(what) => write!(f, "declared by the file: {}", what.join(", ")),
+            Rule::FileRule(name) => write!(f, "the OCIO config's file rule '{name}'"),
+            Rule::Default(why) => write!(f, "default: {why}"),
+        }
+    }
+}
+
+/// The input colour space, the rule that chose it, and how its pixels reach XYZ.
+#[derive(Debug)]
+pub struct InputSpace {
+    /// The config's name for it, or a description where the config has none.
+    pub name: String,
+    pub rule: Rule,
+    pub to_xyz: ToXyz,
+    /// Declarations that were ignored or disagree.
+    pub warnings: Vec<String>,
+}
+
+/// What a file may declare about its colour.
+enum Declared {
+    /// A colour-space name, to look up in the config.
+    Named(String),
+    /// Primaries and white, with a transfer function.
+    Space {
+        space: RgbSpace,
+        decode: Decode,
+        label: &'static str,
+    },
+    Icc(Vec<u8>),
+}
+
+/// The file's declarations, most authoritative first, each with what declared it.
+fn declarations(reader: &ImageReader) -> Result<Vec<(String, Declared)>> {
+    let info = reader.info();
+    let mut out = Vec::new();
+    if let Some(bytes) = reader
+        .bytes_attribute("ICCProfile")?
+        .filter(|b| !b.is_empty())
+    {
+        out.push(("ICC profile".to_owned(), Declared::Icc(bytes)));
+    }
+    if let Some(c) = reader.numeric_attribute("chromaticities")? {
+        if let [rx, ry, gx, gy, bx, by, wx, wy] = c[..] {
+            out.push((
+                "EXR chromaticities".into(),
+                Declared::Space {
+                    space: RgbSpace {
+                        name: "chromaticities",
+                        primaries: [[rx, ry], [gx, gy], [bx, by]],
+                        white: [wx, wy],
+                    },
+                    decode: Decode::Linear,
+                    label: "chromaticities",
+                },
+            ));
+        }
+    }
+    let aces = reader
+        .numeric_attribute("acesImageContainerFlag")?
+        .is_some_and(|v| v.first() == Some(&1.0));
+    if aces {
+        out.push((
+            "EXR acesImageContainerFlag".into(),
+            Declared::Space {
+                space: rgb::ACES2065_1,
+                decode: Decode::Linear,
+                label: "ACES container (AP0)",
+            },
+        ));
+    }
+    if info.format_name == "png" {
+        if let Some(p) = png::colour_chunks(&info.path) {
+            if p.srgb {
+                out.push((
+                    "PNG sRGB chunk".into(),
+                    Declared::Space {
+                        space: REC709,
+                        decode: Decode::Srgb,
+                        label: "sRGB",
+                    },
+                ));
+            }
+            if p.chrm.is_some() || p.gamma.is_some() {
+                let space = p
+                    .chrm
+                    .map_or(REC709, |[wx, wy, rx, ry, gx, gy, bx, by]| RgbSpace {
+                        name: "cHRM",
+                        primaries: [[rx, ry], [gx, gy], [bx, by]],
+                        white: [wx, wy],
+                    });
+                let what = match (p.chrm.is_some(), p.gamma) {
+                    (true, Some(g)) => format!("PNG cHRM and gAMA {g}"),
+                    (true, None) => "PNG cHRM".into(),
+                    (false, Some(g)) => format!("PNG gAMA {g}"),
+                    (false, None) => unreachable!(),
+                };
+                out.push((
+                    what,
+                    Declared::Space {
+                        space,
+                        // Without gAMA the transfer is unknown; sRGB's is the PNG convention.
+                        decode: p.gamma.map_or(Decode::Srgb, |g| Decode::Power(1.0 / g)),
+                        label: "PNG cHRM/gAMA",
+                    },
+                ));
+            }
+        }
+    }
+    if let Some(name) = &info.declared_color_space {
+        // OpenImageIO's own labels, not declarations: "Linear" for every OpenEXR file,
+        // "sRGB" for integer files by default; PNG's chunks are read above.
+        let guess = name.eq_ignore_ascii_case("linear")
+            || name.eq_ignore_ascii_case("srgb")
+            || info.format_name == "png";
+        if !guess {
+            out.push((
+                format!("oiio:ColorSpace '{name}'"),
+                Declared::Named(name.clone()),
+            ));
+        }
+    }
+    Ok(out)
+}
+
+/// Sample colours on which two routes must agree to count as the same colour space.
+const SAMPLES: [[f32; 3]; 9] = [
+    [1.0, 0.0, 0.0],
+    [0.0, 1.0, 0.0],
+    [0.0, 0.0, 1.0],
+    [1.0, 1.0, 1.0],
+    [0.18, 0.18, 0.18],
+    [0.9, 0.5, 0.1],
+    [0.05, 0.3, 0.7],
+    [0.02, 0.01, 0.005],
+    [0.6, 0.8, 0.35],
+];
+
+/// Whether two routes convert every sample to XYZ within 1e-4 (absolute, white Y = 1).
+fn same_conversion(a: &ToXyz, b: &ToXyz) -> bool {
+    SAMPLES.iter().all(|&s| match (a.convert(s), b.convert(s)) {
+        (Ok(x), Ok(y)) => (0..3).all(|k| (x[k] - y[k]).abs() <= 1e-4),
+        _ => false,
+    })
+}
+
+/// The config's scene- or display-encoded colour space (not data, not display-referred)
+/// that converts as `route` does, first in config order.
+fn config_equivalent(config: &Config, route: &ToXyz) -> Result<Option<(String, Processor)>> {
+    for cs in config.color_spaces()? {
+        if cs.is_data || cs.is_display {
+            continue;
+        }
+        let Ok(p) = config.processor_to_xyz(&cs.name) else {
+            continue;
+        };
+        let p = ToXyz::Ocio(p);
+        if same_conversion(&p, route) {
+            let ToXyz::Ocio(p) = p else { unreachable!() };
+            return Ok(Some((cs.name, p)));
+        }
+    }
+    Ok(None)
+}
+
+/// A declaration as a colour space: its name and route; `Ok(None)` when it declares nothing
+/// usable (a name the config does not know, impossible chromaticities), with the reason.
+fn resolve(config: &Config, d: &Declared) -> Result<std::result::Result<(String, ToXyz), String>> {
+    match d {
+        Declared::Named(name) => match config.find_color_space(name)? {
+            Some(cs) => Ok(Ok((
+                cs.name.clone(),
+                ToXyz::Ocio(config.processor_to_xyz(&cs.name)?),
+            ))),
+            None => Ok(Err(format!("the config has no colour space '{name}'"))),
+        },
+        Declared::Space {
+            space,
+            decode,
+            label,
+        } => {
+            let Some(m) = space.to_xyz_adapted(D65) else {
+                return Ok(Err(format!(
+                    "primaries {:?} and white {:?} describe no RGB space",
+                    space.primaries, space.white
+                )));
+            };
+            let route = ToXyz::Matrix { decode: *decode, m };
+            Ok(Ok(match config_equivalent(config, &route)? {
+                Some((name, p)) => (name, ToXyz::Ocio(p)),
+                None => (describe_space(label, space, *decode), route),
+            }))
+        }
+        Declared::Icc(bytes) => {
+            let profile = match specconv_icc::Profile::new(bytes) {
+                Ok(p) => p,
+                Err(e) => return Ok(Err(e.to_string())),
+            };
+            let pcs = match profile.to_pcs() {
+                Ok(p) => p,
+                Err(e) => return Ok(Err(e.to_string())),
+            };
+            Ok(Ok((
+                format!("ICC '{}'", pcs.name()),
+                ToXyz::Icc {
+                    pcs,
+                    adapt: rgb::bradford(specconv_icc::PCS_WHITE, D65),
+                },
+            )))
+        }
+    }
+}
+
+/// A name for a colour space the config does not have.
+fn describe_space(label: &str, s: &RgbSpace, decode: Decode) -> String {
+    let xy = |p: [f64; 2]| format!("{:.4} {:.4}", p[0], p[1]);
+    let transfer = match decode {
+        Decode::Linear => "linear".to_owned(),
+        Decode::Power(e) => format!("power {e:.4}"),
+        Decode::Srgb => "sRGB transfer".into(),
+    };
+    format!(
+        "{label}: {transfer}, R {}, G {}, B {}, white {}",
+        xy(s.primaries[0]),
+        xy(s.primaries[1]),
+        xy(s.primaries[2]),
+        xy(s.white)
+    )
+}
+
+/// Chooses the input colour space of the open file by the rule of this module.
+pub fn input_space(
+    config: &Config,
+    reader: &ImageReader,
+    flag: Option<&str>,
+) -> Result<InputSpace> {
+    let info = reader.info();
+    let mut warnings = Vec::new();
+    // Resolve every declaration once: the first usable one decides, the others are compared.
+    let mut usable: Vec<(String, String, ToXyz)> = Vec::new();
+    for (what, d) in declarations(reader)? {
+        match resolve(config, &d)? {
+            Ok((name, route)) => usable.push((what, name, route)),
+            Err(why) => warnings.push(format!("the file's {what} is ignored: {why}")),
+        }
+    }
+    if let Some(flag) = flag {
+        let cs = config.color_space(flag)?;
+        let to_xyz = ToXyz::Ocio(config.processor_to_xyz(&cs.name)?);
+        let overrides = usable
+            .first()
+            .filter(|(_, _, route)| !same_conversion(route, &to_xyz))
+            .map(|(what, name, _)| format!("{what} ({name})"));
+        return Ok(InputSpace {
+            name: cs.name,
+            rule: Rule::Flag { overrides },
+            to_xyz,
+            warnings: Vec::new(),
+        });
+    }
+    if !usable.is_empty() {
+        let (what, name, to_xyz) = usable.remove(0);
+        let mut agreeing = vec![what.clone()];
+        for (other, other_name, route) in &usable {
+            if same_conversion(route, &to_xyz) {
+                agreeing.push(other.clone());
+            } else {
+                warnings.push(format!(
+                    "the file's {what} says '{name}' but its {other} says '{other_name}'; \
+                     using '{name}' (pass --colorspace to choose)"
+                ));
+            }
+        }
+        return Ok(InputSpace {
+            name,
+            rule: Rule::Declared(agreeing),
+            to_xyz,
+            warnings,
+        });
+    }
+    if let Some((name, rule)) = config.file_rule(&info.path)? {
+        return Ok(InputSpace {
+            to_xyz: ToXyz::Ocio(config.processor_to_xyz(&name)?),
+            name,
+            rule: Rule::FileRule(rule),
+            warnings,
+        });
+    }
+    let integer = info.pixel_format().is_integer();
+    let (d, why) = if integer {
+        if let Some(name) = config.srgb_texture()? {
+            return Ok(InputSpace {
+                to_xyz: ToXyz::Ocio(config.processor_to_xyz(&name)?),
+                name,
+                rule: Rule::Default("integer pixels are sRGB texture"),
+                warnings,
+            });
+        }
+        (
+            Declared::Space {
+                space: REC709,
+                decode: Decode::Srgb,
+                label: "sRGB",
+            },
+            "integer pixels are sRGB texture",
+        )
+    } else {
+        (
+            Declared::Space {
+                space: REC709,
+                decode: Decode::Linear,
+                label: "linear Rec.709",
+            },
+            "float pixels without chromaticities are linear Rec.709, D65 white (OpenEXR)",
+        )
+    };
+    let (name, to_xyz) = resolve(config, &d)?.map_err(Error::Setting)?;
+    Ok(InputSpace {
+        name,
+        rule: Rule::Default(why),
+        to_xyz,
+        warnings,
+    })
+}

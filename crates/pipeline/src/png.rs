@@ -1,0 +1,107 @@
+//! The colour chunks of a PNG file (`sRGB`, `gAMA`, `cHRM`), read from the file itself:
+//! OpenImageIO 2.4 reports `sRGB` and `gAMA` only through its own colour-space guess and
+//! drops `cHRM`. (`iCCP` comes through OpenImageIO as `ICCProfile`.)
+
+use std::io::{Read, Seek, SeekFrom};
+use std::path::Path;
+
+/// What a PNG says about its colour; chunk values as the PNG specification (3rd ed., 11.3.2)
+/// defines them.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct PngColour {
+    /// An `sRGB` chunk: the image is sRGB (its rendering intent does not matter here).
+    pub srgb: bool,
+    /// `gAMA`: the encoding exponent (e.g. 0.45455), so stored = linear^gamma.
+    pub gamma: Option<f64>,
+    /// `cHRM`: white x, y, then red, green, blue x, y.
+    pub chrm: Option<[f64; 8]>,
+}
+
+const SIGNATURE: [u8; 8] = [0x89, b'P', b'N', b'G', b'\r', b'\n', 0x1a, b'\n'];
+
+/// The colour chunks of the PNG at `path`; `None` when it is not a PNG file or its chunks
+/// before the image data cannot be read (OpenImageIO then says what is wrong).
+pub fn colour_chunks(path: &Path) -> Option<PngColour> {
+    let mut f = std::io::BufReader::new(std::fs::File::open(path).ok()?);
+    let mut sig = [0u8; 8];
+    f.read_exact(&mut sig).ok()?;
+    if sig != SIGNATURE {
+        return None;
+    }
+    let mut out = PngColour::default();
+    // Colour chunks must come before IDAT; stop there.
+    loop {
+        let mut head = [0u8; 8];
+        f.read_exact(&mut head).ok()?;
+        let len = u32::from_be_bytes([head[0], head[1], head[2], head[3]]);
+        let kind = &head[4..8];
+        if kind == b"IDAT" || kind == b"IEND" {
+            return Some(out);
+        }
+        let wanted = matches!(kind, b"sRGB" | b"gAMA" | b"cHRM");
+        if !wanted || len > 64 {
+            f.seek(SeekFrom::Current(i64::from(len) + 4)).ok()?;
+            continue;
+        }
+        let mut data = vec![0u8; len as usize];
+        f.read_exact(&mut data).ok()?;
+        f.seek(SeekFrom::Current(4)).ok()?; // CRC
+        let be = |i: usize| -> Option<f64> {
+            let b = data.get(i..i + 4)?;
+            Some(f64::from(u32::from_be_bytes([b[0], b[1], b[2], b[3]])) / 100000.0)
+        };
+        match kind {
+            b"sRGB" => out.srgb = true,
+            b"gAMA" => out.gamma = be(0).filter(|g| *g > 0.0),
+            _ => {
+                let v: Option<Vec<f64>> = (0..8).map(|k| be(4 * k)).collect();
+                out.chrm = v.and_then(|v| v.try_into().ok());
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn chunk(kind: &[u8; 4], data: &[u8]) -> Vec<u8> {
+        let mut v = (data.len() as u32).to_be_bytes().to_vec();
+        v.extend_from_slice(kind);
+        v.extend_from_slice(data);
+        v.extend_from_slice(&[0; 4]); // the CRC is not checked here
+        v
+    }
+
+    #[test]
+    fn reads_gama_and_chrm_before_idat_and_stops_there() {
+        let dir = std::env::temp_dir().join(format!("specconv-png-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("c.png");
+        let mut bytes = SIGNATURE.to_vec();
+        bytes.extend(chunk(b"IHDR", &[0; 13]));
+        bytes.extend(chunk(b"gAMA", &45455u32.to_be_bytes()));
+        let chrm: Vec<u8> = [31270u32, 32900, 64000, 33000, 30000, 60000, 15000, 6000]
+            .iter()
+            .flat_map(|v| v.to_be_bytes())
+            .collect();
+        bytes.extend(chunk(b"cHRM", &chrm));
+        bytes.extend(chunk(b"IDAT", &[1, 2, 3]));
+        bytes.extend(chunk(b"sRGB", &[0])); // after IDAT: not a colour chunk any more
+        std::fs::write(&path, bytes).unwrap();
+        let c = colour_chunks(&path).unwrap();
+        std::fs::remove_dir_all(&dir).ok();
+        assert!(!c.srgb);
+        assert_eq!(c.gamma, Some(0.45455));
+        assert_eq!(
+            c.chrm,
+            Some([0.3127, 0.329, 0.64, 0.33, 0.3, 0.6, 0.15, 0.06])
+        );
+    }
+
+    #[test]
+    fn not_a_png_is_none() {
+        assert_eq!(colour_chunks(Path::new("/nonexistent.png")), None);
+        assert_eq!(colour_chunks(Path::new(file!())), None);
+    }
+}
