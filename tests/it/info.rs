@@ -196,9 +196,18 @@ fn colorspaces_reads_a_config_file_and_ocio_from_the_environment() {
 fn info_uses_the_aces_interchange_route_when_there_is_no_xyz_role() {
     let cfg = testdata("ocio/aces_interchange_only.ocio");
     let exr = testdata("images/float_scanline.exr");
-    let text = specconv(["info", "--ocio", arg(&cfg), arg(&exr)])
-        .ok()
-        .to_owned();
+    // (Without --colorspace the file's linear Rec.709 has no colour space in this config and
+    // goes through its exact matrix instead.)
+    let text = specconv([
+        "info",
+        "--ocio",
+        arg(&cfg),
+        "--colorspace",
+        "ACEScg",
+        arg(&exr),
+    ])
+    .ok()
+    .to_owned();
     assert!(
         text.contains("through aces_interchange (ACES2065-1)"),
         "{text}"
