@@ -3,9 +3,9 @@
 
 use std::path::Path;
 
-/// The rule that chose the input colour space, as records name it: `colorspace-option` (--colorspace),
-/// `declared` (what the file declares), `file-rule` (the OCIO config's file rules) or
-/// `default` (the format's default) — docs/colour.md.
+/// The rule that chose the input colour space, as records name it: `colorspace-option`
+/// (--colorspace), `declared` (what the file declares), `file-rule` (the OCIO config's file
+/// rules) or `default` (the format's default) — docs/colour.md.
 pub fn colorspace_rule(rule: &specconv_pipeline::Rule) -> &'static str {
     rule.kind()
 }
