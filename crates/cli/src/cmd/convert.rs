@@ -3,6 +3,7 @@
 use crate::progress::{Progress, Summary};
 use crate::{checks, exit, files, methods, one_line, print_error, records, usage};
 use anyhow::{bail, Context, Result};
+use clap::ValueEnum;
 use serde::Serialize;
 use specconv_colour::Colorimetry;
 use specconv_exr::{Compression, Kind, Sample};
@@ -28,6 +29,14 @@ Examples:
   specconv convert sky.hdr sky_spectral.exr --emissive
   find textures -name '*.tx' | specconv convert - -o spectral --progress always 2> convert.log
 ";
+
+/// `--alpha`, as typed (a value enum keeps [`Args`] small).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+enum AlphaArg {
+    Auto,
+    Straight,
+    Premultiplied,
+}
 
 /// Convert textures to spectral OpenEXR images (the default command).
 ///
@@ -69,8 +78,8 @@ pub struct Args {
     /// as the file says (PNG straight, OpenEXR premultiplied), or force either for files that
     /// say it wrong (as oiiotool's --no-autopremult). Straight colour is converted, then
     /// premultiplied: OpenEXR stores premultiplied colour.
-    #[arg(long, value_name = "HOW", default_value = "auto", value_parser = ["auto", "straight", "premultiplied"])]
-    alpha: String,
+    #[arg(long, value_name = "HOW", value_enum, default_value_t = AlphaArg::Auto)]
+    alpha: AlphaArg,
     /// Model file from `specconv train`; the built-in model when absent. Its grid, observer and
     /// illuminant are those of the output, whatever the method.
     #[arg(long, value_name = "MODEL")]
@@ -341,7 +350,7 @@ pub fn run(args: Args) -> Result<i32> {
         },
         args.mip,
         args.colorspace.as_deref().unwrap_or("auto"),
-        args.alpha,
+        args.alpha.to_possible_value().expect("no value is skipped").get_name(),
         config.source()
     ) + &[("subimage", &args.read.subimage), ("channels", &args.read.channels)]
         .iter()
@@ -364,10 +373,10 @@ pub fn run(args: Args) -> Result<i32> {
         },
         colorspace: args.colorspace.clone(),
         input: args.read.request(),
-        alpha: match args.alpha.as_str() {
-            "straight" => Alpha::Straight,
-            "premultiplied" => Alpha::Premultiplied,
-            _ => Alpha::Auto,
+        alpha: match args.alpha {
+            AlphaArg::Auto => Alpha::Auto,
+            AlphaArg::Straight => Alpha::Straight,
+            AlphaArg::Premultiplied => Alpha::Premultiplied,
         },
         sample: if args.data_type == "float" {
             Sample::Float
