@@ -101,8 +101,9 @@ fn round_trip_error_on(
     let img = specconv_exr::read(output).unwrap();
     assert_eq!((img.width, img.height), (w, h));
     assert_eq!(img.wavelengths, grid.wavelengths());
-    let a = specconv_colour::Colorimetry::new(
-        grid,
+    // As every reader integrates (the layout's reference: interpolated onto the 1 nm table).
+    let a = specconv_colour::Integration::reflectance(
+        &grid.wavelengths(),
         specconv_colour::Observer::Cie1931,
         specconv_colour::Illuminant::D65,
     )
@@ -387,8 +388,14 @@ fn failures_leave_nothing_behind_and_say_what_to_do() {
     // The input is never written over, even when named as the output.
     let copy = dir.path("in.png");
     std::fs::copy(&good, &copy).unwrap();
-    specconv([copy.to_str().unwrap(), copy.to_str().unwrap()]).fails(1, &["is the input"]);
+    // (A .png output is refused by its name first, as a usage error.)
+    specconv([copy.to_str().unwrap(), copy.to_str().unwrap()]).fails(2, &["ending in .exr"]);
     assert_eq!(std::fs::read(&copy).unwrap(), std::fs::read(&good).unwrap());
+    let exr = testdata("float_scanline.exr");
+    let copy = dir.path("in.exr");
+    std::fs::copy(&exr, &copy).unwrap();
+    specconv([copy.to_str().unwrap(), copy.to_str().unwrap()]).fails(1, &["is the input"]);
+    assert_eq!(std::fs::read(&copy).unwrap(), std::fs::read(&exr).unwrap());
     // An existing output needs --force.
     std::fs::write(&out, b"keep me").unwrap();
     specconv([good.to_str().unwrap(), out.to_str().unwrap()]).fails(1, &["exists; pass --force"]);
@@ -411,7 +418,7 @@ fn failures_leave_nothing_behind_and_say_what_to_do() {
     ])
     .fails(2, &["unknown colour space"]);
     specconv([good.to_str().unwrap()]).fails(2, &["give INPUT OUTPUT"]);
-    assert_eq!(dir.files(), vec!["in.png", "out.exr"]);
+    assert_eq!(dir.files(), vec!["in.exr", "in.png", "out.exr"]);
     assert!(tool("exrheader", &[out.to_str().unwrap()]).contains("spectralLayoutVersion"));
 }
 
@@ -739,8 +746,11 @@ fn half_rounding_nearest_rounds_each_band_and_colour_keeps_xyz_closer() {
     let float = convert("float.exr", &["-d", "float"]);
     let nearest = convert("nearest.exr", &[]);
     let colour = convert("colour.exr", &["--half-rounding", "colour"]);
-    let a = specconv_colour::Colorimetry::new(
-        specconv_colour::Grid::new(380.0, 730.0, 10.0).unwrap(),
+    // The colour the output keeps: as every reader integrates it.
+    let a = specconv_colour::Integration::reflectance(
+        &specconv_colour::Grid::new(380.0, 730.0, 10.0)
+            .unwrap()
+            .wavelengths(),
         specconv_colour::Observer::Cie1931,
         specconv_colour::Illuminant::D65,
     )

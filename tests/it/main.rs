@@ -11,5 +11,6 @@ mod layout;
 mod pictures;
 mod runner;
 mod simulate;
+mod spectral_layout;
 mod surface;
 mod train_eval;

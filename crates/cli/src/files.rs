@@ -16,6 +16,28 @@ pub fn read_spectra(path: &Path) -> Result<SpectralTable> {
     Ok(SpectralTable::parse(&name, &text)?)
 }
 
+/// Refuses an output that is `-` (no command writes to standard output) or whose extension is
+/// not one of `extensions`; `what` says what the command writes, e.g. "to-rgb writes OpenEXR".
+pub fn check_output(path: &Path, extensions: &[&str], what: &str) -> Result<()> {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    let names: Vec<String> = extensions.iter().map(|e| format!(".{e}")).collect();
+    let why = if path.as_os_str() == "-" {
+        "'-' is not a file (nothing is written to standard output)".to_string()
+    } else if ext.as_deref().is_some_and(|e| extensions.contains(&e)) {
+        return Ok(());
+    } else {
+        format!("the output {} has the wrong extension", path.display())
+    };
+    // A usage error (exit status 2): nothing was read or written.
+    Err(crate::usage(anyhow::anyhow!(
+        "{why}: {what}; give an output file ending in {}",
+        names.join(" or ")
+    )))
+}
+
 /// Writes `bytes` to `path` atomically, refusing to write over any of `inputs`.
 pub fn write_atomically(path: &Path, bytes: &[u8], inputs: &[&Path]) -> Result<()> {
     for input in inputs {
@@ -101,15 +123,20 @@ pub fn fewer_clusters(m: &specconv_spectral::Model) -> Option<String> {
     ))
 }
 
-/// The colorimetry a spectral EXR records: its grid (from its band wavelengths, evenly
-/// spaced), its `specconvObserver` (else CIE 1931) and `specconvIlluminant` (else D65).
-pub fn recorded_colorimetry(
-    img: &specconv_exr::SpectralImage,
-) -> Result<(
-    specconv_colour::Grid,
-    specconv_colour::Observer,
-    specconv_colour::Illuminant,
-)> {
+/// What a spectral EXR records of how its values become colour: its `specconvObserver` (else
+/// CIE 1931), `specconvIlluminant` (else D65) and, for emission, the units convention.
+pub struct Recorded {
+    pub observer: specconv_colour::Observer,
+    pub illuminant: specconv_colour::Illuminant,
+    /// Emission files: the convention and why it is the one (recorded, or the default of the
+    /// file's writer).
+    pub units: Option<(specconv_colour::EmissionUnits, &'static str)>,
+}
+
+/// The attribute that records the emission convention, beside the layout's `emissiveUnits`.
+pub const EMISSION_UNITS_ATTRIBUTE: &str = "specconvEmissionUnits";
+
+pub fn recorded(img: &specconv_exr::SpectralImage) -> Result<Recorded> {
     let attr = |name: &str| {
         img.attributes
             .iter()
@@ -120,21 +147,26 @@ pub fn recorded_colorimetry(
         attr("specconvObserver").map_or(Ok(specconv_colour::Observer::Cie1931), str::parse)?;
     let illuminant =
         attr("specconvIlluminant").map_or(Ok(specconv_colour::Illuminant::D65), str::parse)?;
-    Ok((uniform_grid(&img.wavelengths)?, observer, illuminant))
-}
-
-/// The grid of evenly spaced band wavelengths.
-pub fn uniform_grid(w: &[f64]) -> Result<specconv_colour::Grid> {
-    let (first, last) = (w[0], w[w.len() - 1]);
-    if w.len() == 1 {
-        return Ok(specconv_colour::Grid::new(first, first, 1.0)?);
-    }
-    let step = (last - first) / (w.len() - 1) as f64;
-    if w.iter()
-        .enumerate()
-        .any(|(i, &v)| (v - (first + step * i as f64)).abs() > 1e-3)
-    {
-        bail!("the bands are not evenly spaced ({first} … {last} nm); a regular grid is needed");
-    }
-    Ok(specconv_colour::Grid::new(first, last, step)?)
+    let units = match (&img.kind, attr(EMISSION_UNITS_ATTRIBUTE)) {
+        (specconv_exr::Kind::Reflective, _) => None,
+        (_, Some(u)) => Some((
+            u.parse::<specconv_colour::EmissionUnits>()
+                .with_context(|| format!("in its {EMISSION_UNITS_ATTRIBUTE} attribute"))?,
+            "recorded in the file",
+        )),
+        // specconv wrote emission normalised to Σ ȳ before it recorded the convention.
+        (_, None) if attr("specconvSettings").is_some() => Some((
+            specconv_colour::EmissionUnits::Normalised,
+            "an older specconv file, which normalised emission",
+        )),
+        (_, None) => Some((
+            specconv_colour::EmissionUnits::Reference,
+            "the layout's reference convention",
+        )),
+    };
+    Ok(Recorded {
+        observer,
+        illuminant,
+        units,
+    })
 }

@@ -6,6 +6,8 @@
 //!   Wyman 2013 fit the paper used) and light sources (CIE tables, blackbody).
 //! - [`Colorimetry`]: XYZ of a reflectance, normalised so that a perfect white has Y = 1, and
 //!   chromaticity ([`colorimetry::xy`]).
+//! - [`integration`]: XYZ of spectra at any wavelengths, as the spectral EXR layout's reference
+//!   implementation integrates them; the emission units conventions.
 //! - [`lab`]: CIELAB and CIEDE2000.
 //! - [`rgb`], [`working_space`]: RGB spaces by their primaries and white.
 //! - [`solid`]: the object-colour solid {A·r : 0 ≤ r ≤ 1}, its exact projection and the colour
@@ -16,6 +18,7 @@
 
 pub mod colorimetry;
 pub mod grid;
+pub mod integration;
 pub mod lab;
 pub mod observer;
 pub mod rgb;
@@ -25,6 +28,7 @@ pub mod working_space;
 
 pub use colorimetry::Colorimetry;
 pub use grid::Grid;
+pub use integration::{EmissionUnits, Integration};
 pub use observer::{Illuminant, Observer};
 pub use table::SpectralTable;
 

@@ -127,13 +127,30 @@ fn cie_table(
 impl Illuminant {
     /// Relative power sampled on `grid`. Blackbodies are normalised to 1 at 560 nm.
     pub fn spd(&self, grid: &Grid) -> Result<Vec<f64>, Error> {
-        let table = match self {
-            Illuminant::E => return Ok(vec![1.0; grid.len()]),
-            Illuminant::Blackbody(t) => {
+        let Some(table) = self.table() else {
+            if let Illuminant::Blackbody(t) = self {
                 let at = |l: f64| planck(l, *t);
                 let norm = at(560.0);
                 return Ok(grid.wavelengths().iter().map(|&l| at(l) / norm).collect());
             }
+            return Ok(vec![1.0; grid.len()]);
+        };
+        grid.resample(
+            &format!("illuminant {self}"),
+            &table.wavelengths,
+            &table.columns[0],
+        )
+    }
+
+    /// The wavelengths (nm) a tabulated illuminant covers; `None` for E and blackbodies.
+    pub fn range(&self) -> Option<(f64, f64)> {
+        let t = self.table()?;
+        Some((*t.wavelengths.first()?, *t.wavelengths.last()?))
+    }
+
+    fn table(&self) -> Option<&'static SpectralTable> {
+        Some(match self {
+            Illuminant::E | Illuminant::Blackbody(_) => return None,
             Illuminant::D65 => cie_table(
                 &D65,
                 "cie_illuminant_d65_300-780_5nm.csv",
@@ -159,12 +176,7 @@ impl Illuminant {
                 "cie_illuminant_f11_380-780_5nm.csv",
                 include_str!("../data/cie_illuminant_f11_380-780_5nm.csv"),
             ),
-        };
-        grid.resample(
-            &format!("illuminant {self}"),
-            &table.wavelengths,
-            &table.columns[0],
-        )
+        })
     }
 }
 

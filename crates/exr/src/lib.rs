@@ -111,41 +111,146 @@ pub fn channel_name(kind: &Kind, wavelength_nm: f64) -> String {
     )
 }
 
-/// The band a channel name denotes: (emissive?, wavelength in nm). Accepts the reference
-/// reader's forms: a comma or point as decimal separator, an exponent, an SI prefix on the unit
-/// (`nm`, `um`, `m`, …) and Hz for frequencies. Polarised S1–S3 channels are not bands here.
-pub fn parse_channel_name(name: &str) -> Option<(bool, f64)> {
-    let (emissive, rest) = if let Some(r) = name.strip_prefix("T.") {
-        (false, r)
-    } else if let Some(r) = name.strip_prefix("S0.") {
-        (true, r)
-    } else {
+/// What a channel of the layout holds.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Channel {
+    /// `T.<λ>`: reflectance (the diagonal of a bispectral file).
+    Reflective { nm: f64 },
+    /// `S<k>.<λ>`: the Stokes component k of emission (S0 the radiance, S1–S3 polarisation).
+    Stokes { k: u8, nm: f64 },
+    /// `T.<λi>.<λo>`: light re-radiated at λo from light received at λi (fluorescence).
+    Reradiation { from_nm: f64, to_nm: f64 },
+}
+
+/// The channel a name denotes, by the reference reader's grammar: a wavelength with a comma
+/// (or point) as decimal separator and an optional exponent, an SI prefix on the unit (`nm`,
+/// `um`, `m`, …, `da`) and `m` or `Hz` (a frequency, turned into its wavelength in vacuum).
+pub fn parse_channel(name: &str) -> Option<Channel> {
+    let (prefix, rest) = name.split_once('.')?;
+    match prefix {
+        "T" => match rest.find(|c: char| c.is_ascii_alphabetic() && c != 'e' && c != 'E') {
+            Some(i) => {
+                // Either `λ<unit>` or `λi<unit>.λo<unit>`.
+                let (first, second) = match rest[i..].split_once('.') {
+                    Some((unit, second)) => (&rest[..i + unit.len()], Some(second)),
+                    None => (rest, None),
+                };
+                let from_nm = wavelength(first)?;
+                match second {
+                    None => Some(Channel::Reflective { nm: from_nm }),
+                    Some(second) => Some(Channel::Reradiation {
+                        from_nm,
+                        to_nm: wavelength(second)?,
+                    }),
+                }
+            }
+            None => None,
+        },
+        "S0" | "S1" | "S2" | "S3" => Some(Channel::Stokes {
+            k: prefix.as_bytes()[1] - b'0',
+            nm: wavelength(rest)?,
+        }),
+        _ => None,
+    }
+}
+
+/// A wavelength with its unit (`550,5nm`, `0,55um`, `545,077196THz`) in nm.
+fn wavelength(text: &str) -> Option<f64> {
+    let split = text.find(|c: char| c.is_ascii_alphabetic() && c != 'e' && c != 'E')?;
+    let (number, unit) = text.split_at(split);
+    if number.is_empty() || number.starts_with(['+', '-']) {
         return None;
-    };
-    let (number, unit) =
-        rest.split_at(rest.find(|c: char| c.is_ascii_alphabetic() && c != 'e' && c != 'E')?);
+    }
     let value: f64 = number.replace(',', ".").parse().ok()?;
-    let to_nm = match unit {
-        "nm" => 1.0,
-        "um" => 1e3,
-        "mm" => 1e6,
-        "m" => 1e9,
-        "pm" => 1e-3,
-        "Hz" | "kHz" | "MHz" | "GHz" | "THz" | "PHz" => {
-            let scale = match unit {
-                "Hz" => 1.0,
-                "kHz" => 1e3,
-                "MHz" => 1e6,
-                "GHz" => 1e9,
-                "THz" => 1e12,
-                _ => 1e15,
-            };
-            // λ = c / ν
-            return (value > 0.0).then(|| (emissive, 299_792_458.0 / (value * scale) * 1e9));
-        }
+    let (prefix, hz) = if let Some(p) = unit.strip_suffix("Hz") {
+        (p, true)
+    } else {
+        (unit.strip_suffix('m')?, false)
+    };
+    // The SI prefixes the reference reader accepts, as powers of ten (exact in f64).
+    let power = match prefix {
+        "Y" => 24,
+        "Z" => 21,
+        "E" => 18,
+        "P" => 15,
+        "T" => 12,
+        "G" => 9,
+        "M" => 6,
+        "k" => 3,
+        "h" => 2,
+        "da" => 1,
+        "" => 0,
+        "d" => -1,
+        "c" => -2,
+        "m" => -3,
+        "u" => -6,
+        "n" => -9,
+        "p" => -12,
         _ => return None,
     };
-    (value.is_finite() && value > 0.0).then_some((emissive, value * to_nm))
+    let nm = if hz {
+        // λ = c / ν, in nm: c·10⁹⁻ᵖ / value.
+        299_792_458.0 * 10f64.powi(9 - power) / value
+    } else {
+        value * 10f64.powi(power + 9)
+    };
+    (nm.is_finite() && nm > 0.0).then_some(nm)
+}
+
+/// The band a channel name denotes: (emissive?, wavelength in nm), for reflective `T.` and
+/// emissive `S0.` channels only (see [`parse_channel`] for the others).
+pub fn parse_channel_name(name: &str) -> Option<(bool, f64)> {
+    match parse_channel(name)? {
+        Channel::Reflective { nm } => Some((false, nm)),
+        Channel::Stokes { k: 0, nm } => Some((true, nm)),
+        _ => None,
+    }
+}
+
+/// The spectral content of a list of channel names: what [`read`] reads, and what `info`
+/// reports without reading pixels.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Layout {
+    /// Wavelengths (nm, increasing) of `T.` channels.
+    pub reflective: Vec<f64>,
+    /// Wavelengths of S0, S1, S2, S3 channels.
+    pub stokes: [Vec<f64>; 4],
+    /// (λi, λo) pairs of re-radiation channels, sorted.
+    pub reradiation: Vec<(f64, f64)>,
+    /// Channels outside the layout, `A` excepted (e.g. an RGB preview stored beside spectra).
+    pub other: Vec<String>,
+    pub alpha: bool,
+}
+
+impl Layout {
+    pub fn of<'a>(names: impl IntoIterator<Item = &'a str>) -> Layout {
+        let mut l = Layout::default();
+        for name in names {
+            match parse_channel(name) {
+                Some(Channel::Reflective { nm }) => l.reflective.push(nm),
+                Some(Channel::Stokes { k, nm }) => l.stokes[k as usize].push(nm),
+                Some(Channel::Reradiation { from_nm, to_nm }) => {
+                    l.reradiation.push((from_nm, to_nm))
+                }
+                None if name == "A" => l.alpha = true,
+                None => l.other.push(name.to_string()),
+            }
+        }
+        l.other.sort();
+        l.reflective.sort_by(f64::total_cmp);
+        l.stokes.iter_mut().for_each(|s| s.sort_by(f64::total_cmp));
+        l.reradiation
+            .sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.total_cmp(&b.1)));
+        l
+    }
+
+    pub fn is_spectral(&self) -> bool {
+        !self.reflective.is_empty() || !self.stokes[0].is_empty()
+    }
+
+    pub fn polarised(&self) -> bool {
+        self.stokes[1..].iter().any(|s| !s.is_empty())
+    }
 }
 
 /// One block of the file: a tile or scanline block of one MIP level.
@@ -467,15 +572,21 @@ pub struct SpectralImage {
     /// Band wavelengths in nm, increasing; `bands[i]` is the plane of `wavelengths[i]`.
     pub wavelengths: Vec<f64>,
     pub kind: Kind,
-    /// One plane per band, row-major.
+    /// One plane per band, row-major: `T.` channels, else `S0.` channels.
     pub bands: Vec<Vec<f32>>,
+    /// Re-radiation planes of a bispectral file: (from band, to band, plane), indices into
+    /// `wavelengths`; empty otherwise.
+    pub reradiation: Vec<(usize, usize, Vec<f32>)>,
     pub alpha: Option<Vec<f32>>,
+    /// Every channel by kind, as [`Layout::of`] sees the names (also what was not read).
+    pub layout: Layout,
     /// Text attributes of the header.
     pub attributes: Vec<(String, String)>,
 }
 
-/// Reads the largest level of a spectral EXR. Files with both reflective and emissive bands
-/// are read as reflective.
+/// Reads the largest level of a spectral EXR: its `T.` bands (with re-radiation, if any), else
+/// its `S0.` bands. Polarisation (S1–S3), emission beside reflectance and channels outside
+/// the layout are listed in [`SpectralImage::layout`], not read.
 pub fn read(path: &std::path::Path) -> Result<SpectralImage> {
     let image = exr::image::read::read_first_flat_layer_from_file(path)?;
     let layer = image.layer_data;
@@ -489,28 +600,62 @@ pub fn read(path: &std::path::Path) -> Result<SpectralImage> {
             _ => None,
         })
         .collect();
-    let plane = |c: &exr::image::AnyChannel<exr::image::FlatSamples>| -> Vec<f32> {
-        c.sample_data.values_as_f32().collect()
-    };
-    let mut bands: Vec<(bool, f64, Vec<f32>)> = Vec::new();
-    let mut alpha = None;
-    for c in &layer.channel_data.list {
-        let name = c.name.to_string();
-        if name == "A" {
-            alpha = Some(plane(c));
-        } else if let Some((emissive, nm)) = parse_channel_name(&name) {
-            bands.push((emissive, nm, plane(c)));
-        }
-    }
-    if bands.is_empty() {
+    let names: Vec<String> = layer
+        .channel_data
+        .list
+        .iter()
+        .map(|c| c.name.to_string())
+        .collect();
+    let layout = Layout::of(names.iter().map(String::as_str));
+    if !layout.is_spectral() {
         return Err(Error::Invalid(format!(
             "{} is not a spectral EXR: it has no T.<wavelength>nm or S0.<wavelength>nm channels",
             path.display()
         )));
     }
-    let reflective = bands.iter().any(|b| !b.0);
-    bands.retain(|b| b.0 != reflective);
-    bands.sort_by(|a, b| a.1.total_cmp(&b.1));
+    let reflective = !layout.reflective.is_empty();
+    let plane = |c: &exr::image::AnyChannel<exr::image::FlatSamples>| -> Vec<f32> {
+        c.sample_data.values_as_f32().collect()
+    };
+    let mut bands: Vec<(f64, Vec<f32>)> = Vec::new();
+    let mut rerad: Vec<(f64, f64, Vec<f32>)> = Vec::new();
+    let mut alpha = None;
+    for c in &layer.channel_data.list {
+        let name = c.name.to_string();
+        match parse_channel(&name) {
+            Some(Channel::Reflective { nm }) if reflective => bands.push((nm, plane(c))),
+            Some(Channel::Stokes { k: 0, nm }) if !reflective => bands.push((nm, plane(c))),
+            Some(Channel::Reradiation { from_nm, to_nm }) if reflective => {
+                rerad.push((from_nm, to_nm, plane(c)))
+            }
+            None if name == "A" => alpha = Some(plane(c)),
+            _ => {}
+        }
+    }
+    bands.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let wavelengths: Vec<f64> = bands.iter().map(|b| b.0).collect();
+    if wavelengths.windows(2).any(|w| w[0] == w[1]) {
+        return Err(Error::Invalid(format!(
+            "{} names one wavelength twice (in two units?)",
+            path.display()
+        )));
+    }
+    let index = |nm: f64, what: &str| {
+        wavelengths
+            .iter()
+            .position(|w| (w - nm).abs() <= 1e-6 * nm)
+            .ok_or_else(|| {
+                Error::Invalid(format!(
+                    "{}: a re-radiation channel's {what} wavelength {nm} nm has no T.{nm}nm \
+                     band; the layout pairs re-radiation with the bands of the diagonal",
+                    path.display()
+                ))
+            })
+    };
+    let mut reradiation = Vec::with_capacity(rerad.len());
+    for (from, to, p) in rerad {
+        reradiation.push((index(from, "incident")?, index(to, "re-radiated")?, p));
+    }
     let kind = if reflective {
         Kind::Reflective
     } else {
@@ -525,10 +670,12 @@ pub fn read(path: &std::path::Path) -> Result<SpectralImage> {
     Ok(SpectralImage {
         width,
         height,
-        wavelengths: bands.iter().map(|b| b.1).collect(),
+        wavelengths,
         kind,
-        bands: bands.into_iter().map(|b| b.2).collect(),
+        bands: bands.into_iter().map(|b| b.1).collect(),
+        reradiation,
         alpha,
+        layout,
         attributes,
     })
 }
@@ -570,9 +717,34 @@ mod tests {
         assert_eq!(parse_channel_name("T.5.5e2nm"), Some((false, 550.0)));
         let (_, nm) = parse_channel_name("T.545,077196THz").unwrap();
         assert!((nm - 550.0).abs() < 1e-3, "{nm}");
-        for bad in ["R", "A", "T.nm", "T.-5nm", "S1.500nm", "T.500", "T.500xm"] {
+        for bad in [
+            "R", "A", "T.nm", "T.-5nm", "S1.500nm", "T.500", "T.500xm", "S4.500nm",
+        ] {
             assert_eq!(parse_channel_name(bad), None, "{bad}");
         }
+        assert_eq!(parse_channel("T.5daHz").map(|_| ()), Some(()));
+        assert_eq!(
+            parse_channel("S2.550,000000nm"),
+            Some(Channel::Stokes { k: 2, nm: 550.0 })
+        );
+        assert_eq!(
+            parse_channel("T.380,000000nm.450,5nm"),
+            Some(Channel::Reradiation {
+                from_nm: 380.0,
+                to_nm: 450.5
+            })
+        );
+        assert_eq!(
+            parse_channel("T.0,38um.4,505e2nm"),
+            Some(Channel::Reradiation {
+                from_nm: 380.0,
+                to_nm: 450.5
+            })
+        );
+        let l = Layout::of(["R", "G", "B", "A", "S0.500nm", "S1.500nm", "T.400nm.500nm"]);
+        assert_eq!(l.other, ["R", "G", "B"]);
+        assert!(l.alpha && l.polarised());
+        assert_eq!(l.reradiation, [(400.0, 500.0)]);
     }
 
     fn spec(blocks: Blocks, alpha: bool) -> Spec {

@@ -4,15 +4,15 @@
 //!
 //! The input c is the XYZ of emitted radiance on the scale of every input colour (OCIO's
 //! CIE-XYZ-D65: a scene-linear (1, 1, 1) has Y = 1). The output L is a spectrum whose XYZ under
-//! the observer alone, with no illuminant, is c:
-//!
-//!   XYZₑ(L) = Σ L·x̄ / Σ ȳ   (likewise Y, Z; [`emission_colorimetry`]),
-//!
-//! so a flat L = 1 has Y = 1. Reflectances have A·r = Σ r·I·x̄ / Σ I·ȳ under the model's
-//! illuminant I ([`Colorimetry`]), hence L = k·r·I has XYZₑ(L) = k·(Σ I·ȳ / Σ ȳ)·A·r, and
+//! the observer alone, with no illuminant, is c, in one of the [`EmissionUnits`] conventions
+//! ([`EmissionSetting`]; the reference one: XYZₑ(L) = Σ L·x̄ over the observer's 1 nm table,
+//! L interpolated onto it, as the spectral EXR layout's reference implementation reads it).
+//! [`Emissive::new`] keeps the model's own band sums instead, XYZₑ(L) = Σ L·x̄ / Σ ȳ.
+//! Reflectances have A·r = XYZₑ(ℓ∘r) for a light ℓ proportional to the model's illuminant I
+//! (A: the setting's reflectance colorimetry, whose white has Y = 1), and
 //!
 //!   m = 2·max(|X|/X_w, |Y|/Y_w, |Z|/Z_w)   (X_w, Y_w = 1, Z_w: the perfect reflector's colour)
-//!   u = c / (m·2ᵏ),   L = m·2ᵏ · (Σ ȳ / Σ I·ȳ) · r(u) · I
+//!   u = c / (m·2ᵏ),   L = m·2ᵏ · ℓ ∘ r(u)
 //!
 //! has XYZₑ(L) = c exactly wherever the method gives u its colour (A·r(u) = u). u fits half
 //! the white's box, [0, X_w/2] × [0, 1/2] × [0, Z_w/2]: the paper's [0, 1]³ in units of the
@@ -37,7 +37,7 @@
 //! | components up to the largest finite value | u from c/m cannot overflow; L saturates at ± the output type's largest finite value |
 
 use crate::{Error, Method};
-use specconv_colour::{Colorimetry, Grid, Illuminant};
+use specconv_colour::{Colorimetry, EmissionUnits, Grid, Illuminant, Integration};
 use std::sync::atomic::{AtomicU64, Ordering};
 
 /// Most halvings of a colour the method misses: down to 2⁻⁹ of the white's box (the bounded
@@ -48,8 +48,8 @@ pub const HALVINGS: u32 = 8;
 /// match: well above the f32 uplift's rounding, well below any colour a bounded method moves.
 const MATCH: f64 = 2e-5;
 
-/// XYZₑ of emission spectra: the observer alone, normalised so that a flat L = 1 has Y = 1
-/// (illuminant E, whose spectrum is 1 in every band).
+/// XYZₑ of emission spectra in the model's band sums: the observer alone, normalised so that a
+/// flat L = 1 has Y = 1 (illuminant E, whose spectrum is 1 in every band).
 pub fn emission_colorimetry(
     grid: Grid,
     observer: specconv_colour::Observer,
@@ -69,10 +69,79 @@ pub struct Emissive<M> {
     unmatched: AtomicU64,
 }
 
+/// Emission in one of the [`EmissionUnits`] on a grid, and the reflectance setting whose
+/// exact uplift gives it: with `reflectance` A and `light` ℓ, A·r = E·(ℓ∘r) for the emission's
+/// weights E, so a method exact under A (wrap it in [`crate::resample::Resampled`] to make it
+/// so) gives emission exact under E.
+#[derive(Debug, Clone)]
+pub struct EmissionSetting {
+    pub units: EmissionUnits,
+    /// XYZ of S0 as every reader integrates it (the layout's reference, scaled by the units).
+    pub emission: Integration,
+    /// Per band, ℓ = I / Σ_b E_Y·I: the illuminant, scaled so that A's white has Y = 1.
+    pub light: Vec<f64>,
+    /// A = E·diag(ℓ): the colorimetry of reflectances lit by ℓ.
+    pub reflectance: Colorimetry,
+}
+
+impl EmissionSetting {
+    /// On `grid`, seen by `observer`, shaped by `illuminant` (the model's: a grey emits it).
+    pub fn new(
+        grid: Grid,
+        observer: specconv_colour::Observer,
+        illuminant: Illuminant,
+        units: EmissionUnits,
+    ) -> Result<EmissionSetting, Error> {
+        let emission = units.integration(&grid.wavelengths(), observer)?;
+        let spd = illuminant.spd(&grid)?;
+        let lit: f64 = emission.weights[1]
+            .iter()
+            .zip(&spd)
+            .map(|(e, i)| e * i)
+            .sum();
+        if lit <= 0.0 || !lit.is_finite() {
+            return Err(Error::Grid(format!(
+                "the grid {grid} sees no light of {illuminant} with {observer}"
+            )));
+        }
+        let light: Vec<f64> = spd.iter().map(|i| i / lit).collect();
+        let weights = emission
+            .weights
+            .each_ref()
+            .map(|e| e.iter().zip(&light).map(|(e, l)| e * l).collect());
+        Ok(EmissionSetting {
+            units,
+            emission,
+            light,
+            reflectance: Colorimetry {
+                grid,
+                observer,
+                illuminant,
+                weights,
+            },
+        })
+    }
+}
+
 impl<M: Method> Emissive<M> {
     /// Wraps `inner`, whose spectra are reflectances with colour A·r in `colorimetry` (the
-    /// model's), on the same grid.
+    /// model's), on the same grid; emission in the model's band sums, Σ L·x̄ / Σ ȳ.
     pub fn new(inner: M, colorimetry: Colorimetry) -> Result<Emissive<M>, Error> {
+        let spd = colorimetry.illuminant.spd(&colorimetry.grid)?;
+        let ybar = &colorimetry.observer.cmfs(&colorimetry.grid)?[1];
+        let lit: f64 = spd.iter().zip(ybar).map(|(i, y)| i * y).sum();
+        let seen: f64 = ybar.iter().sum();
+        let light = spd.iter().map(|i| i * seen / lit).collect();
+        Emissive::lit(inner, colorimetry, light)
+    }
+
+    /// Wraps `inner`, exact under `setting.reflectance`: emission exact in its units.
+    pub fn in_setting(inner: M, setting: &EmissionSetting) -> Result<Emissive<M>, Error> {
+        Emissive::lit(inner, setting.reflectance.clone(), setting.light.clone())
+    }
+
+    /// Emission L = m·2ᵏ·ℓ∘r(u), where A·r is the colour of r lit by ℓ.
+    fn lit(inner: M, colorimetry: Colorimetry, light: Vec<f64>) -> Result<Emissive<M>, Error> {
         if inner.grid() != colorimetry.grid {
             return Err(Error::Grid(format!(
                 "the method's grid {} is not the colorimetry's {}",
@@ -80,11 +149,6 @@ impl<M: Method> Emissive<M> {
                 colorimetry.grid
             )));
         }
-        let spd = colorimetry.illuminant.spd(&colorimetry.grid)?;
-        let ybar = &colorimetry.observer.cmfs(&colorimetry.grid)?[1];
-        let lit: f64 = spd.iter().zip(ybar).map(|(i, y)| i * y).sum();
-        let seen: f64 = ybar.iter().sum();
-        let light = spd.iter().map(|i| i * seen / lit).collect();
         let name = format!("{}+emissive", inner.name());
         Ok(Emissive {
             white: colorimetry.white_xyz(),

@@ -49,7 +49,12 @@ impl<M: Method> Resampled<M> {
         let correction = (0..colorimetry.bands())
             .map(|b| std::array::from_fn(|k| (0..3).map(|i| a[i][b] * inv[(i, k)]).sum()))
             .collect();
-        let name = format!("{} on {} nm", inner.name(), colorimetry.grid);
+        // On its own grid only the colour is corrected (to another integration): same name.
+        let name = if from == colorimetry.grid {
+            inner.name().to_string()
+        } else {
+            format!("{} on {} nm", inner.name(), colorimetry.grid)
+        };
         Ok(Resampled {
             inner,
             colorimetry,

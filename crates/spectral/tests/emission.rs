@@ -218,3 +218,31 @@ fn a_method_on_another_grid_is_refused() {
         .unwrap();
     assert!(err.to_string().contains("grid"), "{err}");
 }
+
+#[test]
+fn every_convention_is_exact_in_the_readers_integration() {
+    use specconv_colour::EmissionUnits;
+    use specconv_spectral::emission::EmissionSetting;
+    use specconv_spectral::resample::Resampled;
+    let model = Model::builtin();
+    let mut flat_y = Vec::new();
+    for units in EmissionUnits::ALL {
+        let s = EmissionSetting::new(model.grid, model.observer, model.illuminant, units).unwrap();
+        let corrected = Resampled::new(Uplifter::new(model).unwrap(), s.reflectance.clone());
+        let bounded = Bounded::new(corrected.unwrap(), s.reflectance.clone()).unwrap();
+        let stack = Emissive::in_setting(bounded, &s).unwrap();
+        for c in srgb_cube() {
+            let c = c.map(|v| v * 40.0);
+            let mut l = vec![0.0; s.emission.wavelengths.len()];
+            assert_eq!(stack.uplift_f64_counted(&c, &mut l), 0);
+            let err = rel_err(s.emission.xyz(&l), c);
+            assert!(err < 1e-9, "{units}: {c:?} off by {err}");
+            assert!(l.iter().all(|v| *v >= 0.0), "{units}: negative emission");
+        }
+        flat_y.push(s.emission.xyz(&vec![1.0; model.grid.len()])[1]);
+    }
+    // reference: ∫ ȳ dλ over 380–730 nm; normalised: 1; photometric: 683·∫ ȳ dλ.
+    assert!((flat_y[0] - 106.8).abs() < 0.1, "{flat_y:?}");
+    assert!((flat_y[1] - 1.0).abs() < 1e-12, "{flat_y:?}");
+    assert!((flat_y[2] / flat_y[0] - 683.0).abs() < 1e-9, "{flat_y:?}");
+}

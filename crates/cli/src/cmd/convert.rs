@@ -5,12 +5,12 @@ use crate::{checks, exit, files, methods, one_line, print_error, records, usage}
 use anyhow::{bail, Context, Result};
 use clap::ValueEnum;
 use serde::Serialize;
-use specconv_colour::Colorimetry;
+use specconv_colour::Integration;
 use specconv_exr::{Compression, Kind, Sample};
 use specconv_pipeline::{convert, Alpha, Job, Mip, Settings};
 use specconv_spectral::baselines::jakob;
 use specconv_spectral::bounded::{Bounded, Tally};
-use specconv_spectral::emission::{emission_colorimetry, Emissive};
+use specconv_spectral::emission::{EmissionSetting, Emissive};
 use specconv_spectral::method::MethodName;
 use specconv_spectral::resample::Resampled;
 use specconv_spectral::Method;
@@ -103,12 +103,24 @@ pub struct Args {
     unbounded: bool,
     /// Write emission (`S0.` channels, `emissiveUnits` W.m^-2.sr^-1) instead of reflectance:
     /// the colour is that of emitted radiance, of any brightness, and each spectrum L has it
-    /// under the observer alone (XYZ = Σ L·x̄ / Σ ȳ, so a flat L = 1 has Y = 1). Each colour is
-    /// scaled into half the range of reflectances, uplifted by the method and scaled back, so
-    /// the shape does not depend on brightness; with a bounded method L ≥ 0. `to-rgb` turns
-    /// it back into the input colours.
+    /// under the observer alone, in the convention of --emission-units. Each colour is scaled
+    /// into half the range of reflectances, uplifted by the method and scaled back, so the
+    /// shape does not depend on brightness; with a bounded method L ≥ 0. `to-rgb` turns it
+    /// back into the input colours.
     #[arg(long)]
     emissive: bool,
+    /// What S0 values mean (recorded as specconvEmissionUnits): `reference`, the layout's
+    /// reference implementation, ∫ S0·x̄ dλ (1 nm steps) = the input's XYZ; `normalised`,
+    /// ∫ S0·ȳ dλ / ∫ ȳ dλ = Y, a flat S0 = 1 has Y = 1 (pbrt-v4, Mitsuba 3), ≈106.8× the
+    /// reference's values; `photometric`, the input's Y is luminance in cd/m² and S0 is
+    /// radiance in W·m⁻²·sr⁻¹·nm⁻¹, Y = 683·∫ S0·ȳ dλ, 1/683 of the reference's values.
+    #[arg(
+        long,
+        value_name = "UNITS",
+        default_value = "reference",
+        requires = "emissive"
+    )]
+    emission_units: specconv_colour::EmissionUnits,
     /// Output wavelength grid START:END:STEP in nm (default: the model's). The method's
     /// spectra are interpolated onto it and corrected so that their XYZ stays exact.
     #[arg(long, value_name = "START:END:STEP")]
@@ -120,8 +132,10 @@ pub struct Args {
     /// by up to ≈3e-4 relative, below what half can resolve per band); `colour` picks, band by
     /// band, the half below or above so that the spectrum's XYZ moves as little as possible
     /// (≈5× smaller colour error, ≈1.5× the conversion time of a 36-band ZIP file).
-    #[arg(long, value_name = "HOW", default_value = "nearest", value_parser = ["nearest", "colour"])]
-    half_rounding: String,
+    /// Default: `nearest` for reflectances, `colour` for --emissive, whose dark pixels' S0
+    /// values (∫ S0·x̄ dλ = XYZ: ≈1/107 of Y per band) fall where half has few digits.
+    #[arg(long, value_name = "HOW", value_parser = ["nearest", "colour"])]
+    half_rounding: Option<String>,
     /// Output compression. The lossless ones: none, rle, zips, zip, piz, pxr24 (for half;
     /// float loses 8 bits); b44, b44a, dwaa and dwab lose precision (docs/compression.md
     /// compares them all).
@@ -310,23 +324,35 @@ pub fn run(args: Args) -> Result<i32> {
         other => methods::baseline(other, &model.colorimetry()?, jakob::DEFAULT_RESOLUTION)
             .map_err(usage)?,
     };
-    let mut method: Box<dyn Method> = inner;
-    if let Some(grid) = args.bands.filter(|g| *g != model.grid) {
-        let on_grid = Colorimetry::new(grid, model.observer, model.illuminant).map_err(usage)?;
-        method = Box::new(Resampled::new(method, on_grid).map_err(usage)?);
-    }
+    // The output's colorimetry is every reader's integration (the layout's reference, on the
+    // output grid); the model's band sums differ from it by ≈0.1 %, which Resampled corrects,
+    // so the file's colour is the input's exactly as readers compute it.
+    let grid = args.bands.unwrap_or(model.grid);
+    let (observer, illuminant) = (model.observer, model.illuminant);
+    // Every band of an output needs the observer and the illuminant (the readers' integration
+    // alone would leave bands outside them without colour).
+    specconv_colour::Colorimetry::new(grid, observer, illuminant).map_err(usage)?;
+    let emission = args
+        .emissive
+        .then(|| EmissionSetting::new(grid, observer, illuminant, args.emission_units))
+        .transpose()
+        .map_err(usage)?;
+    let output = match &emission {
+        Some(e) => e.reflectance.clone(),
+        None => Integration::reflectance(&grid.wavelengths(), observer, illuminant)?
+            .colorimetry(grid, observer, illuminant),
+    };
+    let mut method: Box<dyn Method> =
+        Box::new(Resampled::new(inner, output.clone()).map_err(usage)?);
     // Bounded by default; the tally counts its outcomes across the pipeline's threads.
     let tally = (!args.unbounded).then(|| Arc::new(Tally::default()));
     if let Some(tally) = &tally {
-        let on_grid = Colorimetry::new(method.grid(), model.observer, model.illuminant)?;
-        method = Box::new(Bounded::new(method, on_grid)?.counting_into(tally.clone()));
+        method = Box::new(Bounded::new(method, output.clone())?.counting_into(tally.clone()));
     }
     // Emission wraps the reflectance stack; kept by type to read its count of unmatched colours.
-    let (method, emissive) = if args.emissive {
-        let on_grid = Colorimetry::new(method.grid(), model.observer, model.illuminant)?;
-        (None, Some(Emissive::new(method, on_grid)?))
-    } else {
-        (Some(method), None)
+    let (method, emissive) = match &emission {
+        Some(setting) => (None, Some(Emissive::in_setting(method, setting)?)),
+        None => (Some(method), None),
     };
     let method: &dyn Method = match (&method, &emissive) {
         (Some(m), _) => m,
@@ -334,7 +360,7 @@ pub fn run(args: Args) -> Result<i32> {
         (None, None) => unreachable!("one of the two is built"),
     };
     let settings_tag = format!(
-        "model={} method={} blend={} data-type={} compression={} tile={} mip={} colorspace={} alpha={} config={}",
+        "model={} method={} blend={} data-type={} compression={} tile={} mip={} colorspace={} alpha={} config={}{}",
         files::describe_model(args.model.as_deref(), &model),
         method.name(),
         args.blend.of(args.method),
@@ -351,7 +377,10 @@ pub fn run(args: Args) -> Result<i32> {
         args.mip,
         args.colorspace.as_deref().unwrap_or("auto"),
         args.alpha.to_possible_value().expect("no value is skipped").get_name(),
-        config.source()
+        config.source(),
+        emission
+            .as_ref()
+            .map_or(String::new(), |e| format!(" emission-units={}", e.units))
     ) + &[("subimage", &args.read.subimage), ("channels", &args.read.channels)]
         .iter()
         .filter_map(|(k, v)| v.as_ref().map(|v| format!(" {k}={v}")))
@@ -364,12 +393,18 @@ pub fn run(args: Args) -> Result<i32> {
         } else {
             Kind::Reflective
         },
-        xyz_weights: if args.half_rounding == "nearest" {
-            None
-        } else if args.emissive {
-            Some(emission_colorimetry(method.grid(), model.observer)?.weights)
+        xyz_weights: if args.half_rounding.as_deref().unwrap_or(if args.emissive {
+            "colour"
         } else {
-            Some(Colorimetry::new(method.grid(), model.observer, model.illuminant)?.weights)
+            "nearest"
+        }) == "nearest"
+        {
+            None
+        } else {
+            Some(match &emission {
+                Some(e) => e.emission.weights.clone(),
+                None => output.weights.clone(),
+            })
         },
         colorspace: args.colorspace.clone(),
         input: args.read.request(),
@@ -401,9 +436,28 @@ pub fn run(args: Args) -> Result<i32> {
             ("specconvObserver".into(), model.observer.to_string()),
             ("specconvIlluminant".into(), model.illuminant.to_string()),
             ("specconvSettings".into(), settings_tag.clone()),
-            ("specconvVersion".into(), env!("CARGO_PKG_VERSION").into()),
-        ],
+        ]
+        .into_iter()
+        .chain(
+            emission
+                .as_ref()
+                .map(|e| (files::EMISSION_UNITS_ATTRIBUTE.into(), e.units.to_string())),
+        )
+        .chain([("specconvVersion".into(), env!("CARGO_PKG_VERSION").into())])
+        .collect(),
     };
+    if args.emission_units == specconv_colour::EmissionUnits::Photometric
+        && args.emissive
+        && args.data_type == "half"
+        && !args.quiet
+    {
+        // Y = 683·∫ S0·ȳ dλ: S0 ≈ Y/73000 per band, below half's normal range (6.1e-5) for
+        // scenes under ≈4 cd/m², and few digits left far above.
+        eprintln!(
+            "specconv: note: photometric S0 of scenes below a few cd/m² falls below what half \
+             resolves; use -d float"
+        );
+    }
     if args.verbose && !args.quiet {
         eprintln!("config: {}", config.source());
         eprintln!(
@@ -548,8 +602,8 @@ pub fn run(args: Args) -> Result<i32> {
     })
 }
 
-/// Units of `S0.` channels: radiance, as the layout names it. Values are the input's
-/// scene-linear units (1 ≙ Y = 1).
+/// Units of `S0.` channels: radiance, as the layout names it; the scale is the convention of
+/// `specconvEmissionUnits`.
 const EMISSIVE_UNITS: &str = "W.m^-2.sr^-1";
 
 /// The summary's notes on values out of range: pixels above 1 in reflectance mode (and the
@@ -692,6 +746,7 @@ pub(crate) fn plan(args: &Args) -> Result<(Vec<PathBuf>, Vec<PathBuf>)> {
     };
     let mut seen = std::collections::HashSet::new();
     for o in &outputs {
+        files::check_output(o, &["exr"], "specconv writes spectral OpenEXR")?;
         if !seen.insert(o.clone()) {
             bail!("two inputs would both be written to {}; use a template with {{dir}} or rename them", o.display());
         }

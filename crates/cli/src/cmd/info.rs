@@ -110,42 +110,101 @@ struct Channel<'a> {
     format: String,
 }
 
-/// Wavelengths (nm) of the spectral channels, by the Fichet 2021 EXR layout.
+/// The spectral content of a file in the Fichet 2021 EXR layout.
 #[derive(Serialize)]
 struct Spectral {
+    /// "reflective", "emissive", "bispectral", with "polarised" or "and emissive" added.
+    kind: String,
+    bands: usize,
+    range_nm: [f64; 2],
+    /// The spacing of evenly spaced bands; null when the layout's list is uneven.
+    step_nm: Option<f64>,
     reflective_nm: Vec<f64>,
     emissive_nm: Vec<f64>,
+    /// Wavelengths of the polarisation channels S1, S2, S3.
+    polarised_nm: [Vec<f64>; 3],
+    /// Re-radiation channels T.λi.λo of a bispectral file.
+    reradiation: usize,
+    /// Channels outside the layout (A excepted), e.g. an RGB preview beside the spectra.
+    other_channels: Vec<String>,
     /// The `emissiveUnits` attribute of emissive files.
     emissive_units: Option<String>,
+    /// How S0 becomes colour: reference, normalised or photometric (see the README).
+    emission_convention: Option<String>,
+    /// The file's `specconv*` attributes (model, method, observer, illuminant, settings, …).
+    specconv: std::collections::BTreeMap<String, String>,
 }
 
-/// Parses `T.<wl>nm` / `S0.<wl>nm` channel names (comma decimal separator) into
-/// wavelengths in nm. Other units of the layout are not written by specconv.
-fn spectral_bands(reader: &ImageReader) -> Result<Option<Spectral>> {
+/// The spectral facts of a file whose channels follow the layout; `None` for other images.
+fn spectral_facts(file: &std::path::Path, reader: &ImageReader) -> Result<Option<Spectral>> {
     let info = reader.info();
-    let parse = |prefix: &str| -> Vec<f64> {
-        let mut v: Vec<f64> = info
-            .channels
+    let layout = specconv_exr::Layout::of(info.channels.iter().map(|c| c.name.as_str()));
+    if !layout.is_spectral() {
+        return Ok(None);
+    }
+    let attributes = specconv_exr::read_attributes(file)?;
+    let attr = |name: &str| {
+        attributes
             .iter()
-            .filter_map(|c| c.name.strip_prefix(prefix)?.strip_suffix("nm"))
-            .filter_map(|wl| wl.replace(',', ".").parse().ok())
-            .collect();
-        // EXR sorts channels by name, so order by wavelength here.
-        v.sort_by(f64::total_cmp);
-        v
+            .find(|(k, _)| k == name)
+            .map(|(_, v)| v.clone())
     };
-    let emissive_nm = parse("S0.");
-    let emissive_units = if emissive_nm.is_empty() {
-        None
+    let reflective = !layout.reflective.is_empty();
+    let emissive = !layout.stokes[0].is_empty();
+    let bands = if reflective {
+        &layout.reflective
     } else {
-        reader.string_attribute("emissiveUnits")?
+        &layout.stokes[0]
     };
-    let s = Spectral {
-        reflective_nm: parse("T."),
-        emissive_nm,
-        emissive_units,
+    let mut kind = String::from(match (reflective, layout.reradiation.is_empty()) {
+        (true, false) => "bispectral",
+        (true, true) => "reflective",
+        (false, _) => "emissive",
+    });
+    if reflective && emissive {
+        kind += " and emissive";
+    }
+    if layout.polarised() {
+        kind += ", polarised";
+    }
+    let (first, last) = (bands[0], bands[bands.len() - 1]);
+    let step = (bands.len() > 1)
+        .then(|| (last - first) / (bands.len() - 1) as f64)
+        .filter(|step| {
+            bands
+                .iter()
+                .enumerate()
+                .all(|(i, w)| (w - (first + step * i as f64)).abs() <= 1e-3)
+        });
+    let convention = if emissive {
+        Some(match attr(crate::files::EMISSION_UNITS_ATTRIBUTE) {
+            Some(u) => u,
+            None if attr("specconvSettings").is_some() => {
+                "normalised (an older specconv file)".into()
+            }
+            None => "reference (the layout's default)".into(),
+        })
+    } else {
+        None
     };
-    Ok((!s.reflective_nm.is_empty() || !s.emissive_nm.is_empty()).then_some(s))
+    let [_, s1, s2, s3] = layout.stokes.clone();
+    Ok(Some(Spectral {
+        kind,
+        bands: bands.len(),
+        range_nm: [first, last],
+        step_nm: step,
+        reflective_nm: layout.reflective.clone(),
+        emissive_nm: layout.stokes[0].clone(),
+        polarised_nm: [s1, s2, s3],
+        reradiation: layout.reradiation.len(),
+        other_channels: layout.other.clone(),
+        emissive_units: emissive.then(|| attr("emissiveUnits")).flatten(),
+        emission_convention: convention,
+        specconv: attributes
+            .into_iter()
+            .filter(|(k, _)| k.starts_with("specconv"))
+            .collect(),
+    }))
 }
 
 /// Shows every file; returns the exit status (1 when a file could not be shown).
@@ -167,6 +226,13 @@ pub fn run(args: Args) -> Result<i32> {
 
 fn show(args: &Args, config: &Config, file: &Path) -> Result<()> {
     let reader = open_subimage(file, args.read.subimage.as_deref())?;
+    // Text: a spectral file's facts instead of a colour-space choice; JSON keeps one schema
+    // for every file, the facts under `spectral`.
+    let spectral = spectral_facts(file, &reader)?;
+    let spectral = match spectral {
+        Some(s) if !args.json => return spectral_report(file, &reader, s),
+        other => other,
+    };
     let info = reader.info();
     // A file whose channels cannot be chosen alone is still described, with the reason.
     let (colour_channels, channels_rule, channels_problem, alpha_channel) =
@@ -218,7 +284,7 @@ fn show(args: &Args, config: &Config, file: &Path) -> Result<()> {
         colorspace_warnings: space.warnings.clone(),
         straight_alpha,
         to_xyz: space.to_xyz.describe(),
-        spectral: spectral_bands(&reader)?,
+        spectral,
     };
     if args.json {
         println!("{}", serde_json::to_string(&report)?);
@@ -295,18 +361,131 @@ fn show(args: &Args, config: &Config, file: &Path) -> Result<()> {
     if r.straight_alpha {
         println!("alpha:        straight; colour is converted, then premultiplied");
     }
-    if let Some(s) = &r.spectral {
-        for (kind, bands) in [
-            ("reflective", &s.reflective_nm),
-            ("emissive", &s.emissive_nm),
-        ] {
-            if let (Some(first), Some(last)) = (bands.first(), bands.last()) {
-                println!("{kind}:   {} bands, {first} to {last} nm", bands.len());
-            }
-        }
-        if let Some(units) = &s.emissive_units {
-            println!("emission in:  {units}");
-        }
+    Ok(())
+}
+/// What a spectral EXR holds, instead of an input colour space (a spectral file is not read
+/// through a colour space).
+struct SpectralReport<'a> {
+    file: String,
+    format: &'a str,
+    width: u32,
+    height: u32,
+    channels: usize,
+    pixel_format: String,
+    tile_size: Option<[u32; 2]>,
+    mip_levels: Vec<[u32; 2]>,
+    alpha: bool,
+    spectral: Spectral,
+}
+
+fn spectral_report(file: &Path, reader: &ImageReader, s: Spectral) -> Result<()> {
+    let info = reader.info();
+    let r = SpectralReport {
+        file: file.display().to_string(),
+        format: &info.format_name,
+        width: info.width(),
+        height: info.height(),
+        channels: info.channels.len(),
+        pixel_format: info.pixel_format().to_string(),
+        tile_size: info.tile_size().map(|(w, h)| [w, h]),
+        mip_levels: info.levels.iter().map(|l| [l.width, l.height]).collect(),
+        alpha: info.alpha_channel.is_some(),
+        spectral: s,
+    };
+    let s = &r.spectral;
+    let rows: Vec<(&str, String)> = [
+        ("file", r.file.clone()),
+        (
+            "format",
+            format!("{} (spectral, Fichet 2021 layout)", r.format),
+        ),
+        ("size", format!("{} x {}", r.width, r.height)),
+        (
+            "channels",
+            format!(
+                "{} ({}{})",
+                r.channels,
+                r.pixel_format,
+                if r.alpha { ", with alpha A" } else { "" }
+            ),
+        ),
+        (
+            "storage",
+            match r.tile_size {
+                Some([w, h]) => format!("tiles of {w} x {h}"),
+                None => "scanlines".into(),
+            },
+        ),
+        ("MIP levels", r.mip_levels.len().to_string()),
+        ("kind", s.kind.clone()),
+        (
+            "bands",
+            format!(
+                "{}, {} to {} nm, {}",
+                s.bands,
+                nm(s.range_nm[0]),
+                nm(s.range_nm[1]),
+                match s.step_nm {
+                    Some(step) => format!("every {} nm", nm(step)),
+                    None => {
+                        let list = if s.reflective_nm.is_empty() {
+                            &s.emissive_nm
+                        } else {
+                            &s.reflective_nm
+                        };
+                        let list: Vec<String> = list.iter().map(|&w| nm(w)).collect();
+                        format!("uneven: {}", list.join(", "))
+                    }
+                }
+            ),
+        ),
+    ]
+    .into_iter()
+    .chain((s.reradiation > 0).then(|| {
+        (
+            "re-radiation",
+            format!("{} channels T.λi.λo", s.reradiation),
+        )
+    }))
+    .chain(
+        s.polarised_nm
+            .iter()
+            .zip(["S1", "S2", "S3"])
+            .filter(|(b, _)| !b.is_empty())
+            .map(|(b, k)| ("polarised", format!("{k}: {} bands", b.len()))),
+    )
+    .chain(
+        (!s.reflective_nm.is_empty() && !s.emissive_nm.is_empty()).then(|| {
+            (
+                "emissive",
+                format!("also S0: {} bands", s.emissive_nm.len()),
+            )
+        }),
+    )
+    .chain(s.emissive_units.clone().map(|u| ("emission in", u)))
+    .chain(s.emission_convention.clone().map(|c| ("emission units", c)))
+    .chain((!s.other_channels.is_empty()).then(|| {
+        (
+            "not spectral",
+            format!("{} (not used for colour)", s.other_channels.join(", ")),
+        )
+    }))
+    .chain(s.specconv.iter().map(|(k, v)| (k.as_str(), v.clone())))
+    .collect();
+    let width = rows
+        .iter()
+        .map(|(k, _)| k.chars().count())
+        .max()
+        .unwrap_or(0)
+        + 1;
+    for (k, v) in rows {
+        println!("{:width$} {v}", format!("{k}:"));
     }
     Ok(())
+}
+
+/// A wavelength to at most six decimals, without trailing zeros (`450.5`, not `450.500000`).
+fn nm(w: f64) -> String {
+    let s = format!("{w:.6}");
+    s.trim_end_matches('0').trim_end_matches('.').to_string()
 }

@@ -7,6 +7,7 @@ use anyhow::{bail, Context, Result};
 use plotters::prelude::*;
 use rayon::prelude::*;
 use serde::Serialize;
+use specconv_colour::integration::Onto;
 use specconv_colour::lab::{ciede2000, xyz_to_lab};
 use specconv_colour::rgb::{apply, srgb_encode, SRGB};
 use specconv_colour::{Colorimetry, Illuminant};
@@ -99,9 +100,24 @@ pub fn run(args: Args) -> Result<()> {
             args.input.display()
         );
     }
-    let (grid, observer, own) = files::recorded_colorimetry(&img)
-        .with_context(|| format!("in {}", args.input.display()))?;
+    if !img.reradiation.is_empty() {
+        bail!(
+            "{} is bispectral (re-radiation channels): its bounces need the whole re-radiation \
+             matrix, which preview does not follow; `to-rgb` shows its colour",
+            args.input.display()
+        );
+    }
+    let recorded = files::recorded(&img).with_context(|| format!("in {}", args.input.display()))?;
+    let (observer, own) = (recorded.observer, recorded.illuminant);
     let light = args.illuminant.unwrap_or(own);
+    // As every reader: the spectra interpolated onto the observer's 1 nm table, where both
+    // illuminants' tables reach (the layout's reference integration, so K = 0 is `to-rgb`).
+    let limits = [own.range(), light.range()]
+        .into_iter()
+        .flatten()
+        .reduce(|a, b| (a.0.max(b.0), a.1.min(b.1)));
+    let onto = Onto::new(&img.wavelengths, limits)?;
+    let grid = onto.grid;
     let texture = Colorimetry::new(grid, observer, own)?;
     let lit = Colorimetry::new(grid, observer, light)?;
     let bounce = SelfBounce::new(&texture, &lit, args.bounces)?;
@@ -113,14 +129,24 @@ pub fn run(args: Args) -> Result<()> {
     let pixels: Vec<([u8; 3], f64)> = (0..w * h)
         .into_par_iter()
         .map_init(
-            || vec![0f32; img.bands.len()],
-            |r, p| {
-                for (v, plane) in r.iter_mut().zip(&img.bands) {
+            || {
+                (
+                    vec![0f32; img.bands.len()],
+                    vec![0f64; grid.len()],
+                    vec![0f32; grid.len()],
+                )
+            },
+            |(bands, fine, r), p| {
+                for (v, plane) in bands.iter_mut().zip(&img.bands) {
                     *v = plane[p];
                 }
-                if !r.iter().all(|v| v.is_finite()) {
+                if !bands.iter().all(|v| v.is_finite()) {
                     return ([0; 3], f64::NAN);
                 }
+                onto.apply(bands, fine);
+                r.iter_mut()
+                    .zip(fine.iter())
+                    .for_each(|(r, &v)| *r = v as f32);
                 let xyz = bounce.spectral(r);
                 let display = apply(&to_display, xyz)
                     .map(|v| (srgb_encode(v.clamp(0.0, 1.0)) * 255.0).round() as u8);

@@ -1,10 +1,9 @@
 //! `specconv to-rgb`: integrate a spectral EXR back to a colour image, for checks and previews.
 
 use crate::{checks, usage};
-use anyhow::{anyhow, bail, Context, Result};
-use specconv_colour::{Colorimetry, Illuminant};
+use anyhow::{bail, Context, Result};
+use specconv_colour::{Illuminant, Integration};
 use specconv_exr::Kind;
-use specconv_spectral::emission::emission_colorimetry;
 use std::path::PathBuf;
 
 /// Shown after `--help` and as the man page's EXAMPLES.
@@ -14,14 +13,19 @@ Examples:
   specconv to-rgb albedo_spectral.exr under_a.exr --illuminant A --colorspace ACEScg
 ";
 
-/// Integrate a spectral OpenEXR back to colour: XYZ under an illuminant, then a colour space.
+/// Integrate a spectral OpenEXR back to colour: XYZ, then a colour space.
 ///
-/// Each pixel's reflectance r gives XYZ = Σ r·I·x̄ / Σ I·ȳ under the file's illuminant and
-/// observer (its `specconvIlluminant` and `specconvObserver` attributes, else D65 and CIE
-/// 1931), converted through OpenColorIO from CIE-XYZ-D65 to --colorspace. Emission files
-/// (`S0.` channels, from `convert --emissive`) are integrated under the observer alone,
-/// XYZ = Σ L·x̄ / Σ ȳ, which returns the colours they were made from, at any brightness.
-/// Written as a float RGB(A) OpenEXR.
+/// Spectra are integrated as the layout's reference implementation does, at any wavelengths
+/// (uneven, any unit, Hz): interpolated linearly onto the observer's 1 nm table where the
+/// bands, the table and the illuminant overlap, and summed there. Reflectances r give
+/// XYZ = Σ r·I·x̄ / Σ I·ȳ under the file's illuminant and observer (its `specconvIlluminant`
+/// and `specconvObserver` attributes, else D65 and CIE 1931); bispectral files add the
+/// re-radiated light, Σ over incident bands of T(λi→λo)·I(λi). Emission (`S0.` channels) is
+/// read in the convention the file records (`specconvEmissionUnits`; older specconv files:
+/// normalised; other writers: the layout's reference, XYZ = Σ S0·x̄). Polarised files use S0;
+/// channels outside the layout (an RGB preview beside the spectra) are listed, not used.
+/// XYZ is converted through OpenColorIO from CIE-XYZ-D65 to --colorspace and written as a
+/// float RGB OpenEXR (RGBA when the input has alpha).
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// A spectral OpenEXR (Fichet et al. 2021 layout), e.g. written by specconv.
@@ -44,18 +48,7 @@ pub struct Args {
 }
 
 pub fn run(args: Args) -> Result<()> {
-    if args
-        .output
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase)
-        .as_deref()
-        != Some("exr")
-    {
-        return Err(usage(anyhow!(
-            "to-rgb writes OpenEXR: give an output ending in .exr (oiiotool converts it further)"
-        )));
-    }
+    crate::files::check_output(&args.output, &["exr"], "to-rgb writes OpenEXR")?;
     checks::output_dir(&args.output)?;
     let config = checks::config(args.ocio.as_deref())?;
     if let Some(name) = &args.colorspace {
@@ -69,7 +62,8 @@ pub fn run(args: Args) -> Result<()> {
     }
     let img = specconv_exr::read(&args.input)
         .with_context(|| format!("cannot read {}", args.input.display()))?;
-    let (grid, observer, recorded) = crate::files::recorded_colorimetry(&img)?;
+    let recorded = crate::files::recorded(&img)?;
+    let observer = recorded.observer;
     let emissive = matches!(img.kind, Kind::Emissive { .. });
     let illuminant = match (args.illuminant, emissive) {
         (Some(_), true) => bail!(
@@ -77,13 +71,20 @@ pub fn run(args: Args) -> Result<()> {
             args.input.display()
         ),
         (Some(i), false) => i,
-        (None, false) => recorded,
-        (None, true) => Illuminant::E,
+        (None, _) => recorded.illuminant,
     };
-    let a = if emissive {
-        emission_colorimetry(grid, observer)?
+    let integration = match recorded.units {
+        Some((units, _)) => units.integration(&img.wavelengths, observer)?,
+        None => Integration::reflectance(&img.wavelengths, observer, illuminant)?,
+    };
+    // Bispectral: band o reflects T(o)·I(o) and re-radiates T(i→o)·I(i) from each band i.
+    let lit = if img.reradiation.is_empty() {
+        None
     } else {
-        Colorimetry::new(grid, observer, illuminant)?
+        Some(specconv_colour::integration::illuminant_at(
+            illuminant,
+            &img.wavelengths,
+        )?)
     };
 
     let xyz_space = config
@@ -105,39 +106,67 @@ pub fn run(args: Args) -> Result<()> {
         for (b, plane) in img.bands.iter().enumerate() {
             r[b] = plane[p] as f64;
         }
-        let c = a.xyz(&r);
+        if let Some(light) = &lit {
+            for (i, o, plane) in &img.reradiation {
+                if light[*o] > 0.0 {
+                    r[*o] += plane[p] as f64 * light[*i] / light[*o];
+                }
+            }
+        }
+        let c = integration.xyz(&r);
         rgb[3 * p..3 * p + 3].copy_from_slice(&[c[0] as f32, c[1] as f32, c[2] as f32]);
     }
     processor.apply_rgb(&mut rgb)?;
 
-    let (w, alpha) = (img.width, img.alpha.clone());
+    let (w, h) = (img.width, img.height);
     let tmp = specconv_pipeline::temporary_path(&args.output);
-    let written = exr::prelude::write_rgba_file(&tmp, img.width, img.height, |x, y| {
+    let px = |x: usize, y: usize| {
         let i = y * w + x;
-        (
-            rgb[3 * i],
-            rgb[3 * i + 1],
-            rgb[3 * i + 2],
-            alpha.as_ref().map_or(1.0, |a| a[i]),
-        )
-    })
+        (rgb[3 * i], rgb[3 * i + 1], rgb[3 * i + 2])
+    };
+    // No channel the input did not have: RGB, and A only when the input has alpha.
+    let written = match &img.alpha {
+        Some(a) => exr::prelude::write_rgba_file(&tmp, w, h, |x, y| {
+            let (r, g, b) = px(x, y);
+            (r, g, b, a[y * w + x])
+        }),
+        None => exr::prelude::write_rgb_file(&tmp, w, h, px),
+    }
     .map_err(anyhow::Error::from)
     .and_then(|()| Ok(std::fs::rename(&tmp, &args.output)?));
     if written.is_err() {
         let _ = std::fs::remove_file(&tmp);
     }
     written.with_context(|| format!("cannot write {}", args.output.display()))?;
-    let light = if emissive {
-        "emission".to_string()
-    } else {
-        format!("under {illuminant}")
+    let light = match recorded.units {
+        Some((units, why)) => format!("emission, {units} units ({why})"),
+        None if lit.is_some() => format!(
+            "under {illuminant}, with {} re-radiation channels",
+            img.reradiation.len()
+        ),
+        None => format!("under {illuminant}"),
     };
+    let mut notes = String::new();
+    let layout = &img.layout;
+    if layout.polarised() {
+        notes += "; polarised: S0 used, S1–S3 not";
+    }
+    if !emissive && !layout.stokes[0].is_empty() {
+        notes += "; the S0 emission beside the reflectance is not included";
+    }
+    if !layout.other.is_empty() {
+        notes += &format!(
+            "; channels outside the spectral layout not used: {}",
+            layout.other.join(", ")
+        );
+    }
+    let wl = &img.wavelengths;
     eprintln!(
-        "{} → {}: {}×{}, {n} bands {light} ({observer}) to {target}",
+        "{} → {}: {w}×{h}, {n} bands {}–{} nm {light} ({observer}) to {target}{notes}",
         args.input.display(),
         args.output.display(),
-        img.width,
-        img.height
+        wl[0],
+        wl[n - 1],
     );
     Ok(())
 }

@@ -61,6 +61,7 @@ fn min_cluster_size(s: &str) -> Result<usize, String> {
 
 pub fn run(args: Args) -> Result<()> {
     crate::checks::output_dir(&args.output)?;
+    files::check_output(&args.output, &["json"], "train writes a model file (JSON)")?;
     let a = Colorimetry::new(args.bands, args.observer, args.illuminant)?;
     let mut set = TrainingSet::default();
     for path in &args.spectra {
