@@ -217,7 +217,8 @@ pub struct Layout {
     pub stokes: [Vec<f64>; 4],
     /// (λi, λo) pairs of re-radiation channels, sorted.
     pub reradiation: Vec<(f64, f64)>,
-    /// Channels outside the layout, `A` excepted (e.g. an RGB preview stored beside spectra).
+    /// Channels outside the layout, `A` excepted (e.g. an RGB preview stored beside spectra), in
+    /// the order given (a file's, alphabetical).
     pub other: Vec<String>,
     pub alpha: bool,
 }
@@ -236,7 +237,6 @@ impl Layout {
                 None => l.other.push(name.to_string()),
             }
         }
-        l.other.sort();
         l.reflective.sort_by(f64::total_cmp);
         l.stokes.iter_mut().for_each(|s| s.sort_by(f64::total_cmp));
         l.reradiation

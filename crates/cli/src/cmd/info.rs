@@ -197,7 +197,12 @@ fn spectral_facts(file: &std::path::Path, reader: &ImageReader) -> Result<Option
         emissive_nm: layout.stokes[0].clone(),
         polarised_nm: [s1, s2, s3],
         reradiation: layout.reradiation.len(),
-        other_channels: layout.other.clone(),
+        // In the file's (alphabetical) order, whatever order the reader lists them in.
+        other_channels: {
+            let mut o = layout.other.clone();
+            o.sort();
+            o
+        },
         emissive_units: emissive.then(|| attr("emissiveUnits")).flatten(),
         emission_convention: convention,
         specconv: attributes
