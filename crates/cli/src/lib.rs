@@ -16,6 +16,7 @@ mod picture;
 mod plot;
 mod progress;
 mod records;
+mod shard;
 mod swatches;
 
 /// Turn textures in any colour space into spectral reflectance images, with the clustered-PCA

@@ -10,8 +10,13 @@ use std::path::{Path, PathBuf};
 const LAYERS: &[&[&str]] = &[
     &["specconv-shim-build"],
     &["specconv-colour", "specconv-exr", "oiio-sys", "ocio-sys"],
-    &["specconv-spectral", "specconv-oiio", "specconv-ocio"],
-    &["specconv-study", "specconv-pipeline"],
+    &[
+        "specconv-spectral",
+        "specconv-oiio",
+        "specconv-ocio",
+        "specconv-icc",
+    ],
+    &["specconv-study", "specconv-pipeline", "specconv-farm"],
     &["specconv-cli", "specconv-testkit"],
     &["specconv"],
 ];

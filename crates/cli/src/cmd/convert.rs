@@ -291,7 +291,7 @@ pub fn run(args: Args) -> Result<i32> {
     // Wrong paths on the command line are usage errors.
     let (inputs, outputs) = plan(&args)
         .and_then(|(i, o)| match args.shard {
-            Some(shard) => crate::cmd::farm::shard_of(shard, i, o),
+            Some(shard) => crate::shard::shard_of(shard, i, o),
             None => Ok((i, o)),
         })
         .map_err(usage)?;

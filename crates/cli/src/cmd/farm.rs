@@ -3,10 +3,11 @@
 //! inputs are measured, the convert options passed on, and the results reported.
 
 use crate::cmd::convert;
+use crate::shard::pixels;
 use crate::{checks, exit, usage};
 use anyhow::{anyhow, bail, Context, Result};
 use clap::{ArgAction, ArgMatches, CommandFactory};
-use specconv_farm::{slurm, FileState, Manifest, Request, Shard, Status};
+use specconv_farm::{slurm, FileState, Manifest, Request, Status};
 use std::path::{Path, PathBuf};
 
 pub const EXAMPLES: &str = "\
@@ -123,35 +124,6 @@ pub fn run(args: Args, ocio: Option<String>) -> Result<i32> {
         Farm::Collect(r) => collect(&r),
         Farm::Retry(r) => retry(&r),
     }
-}
-
-/// The inputs of one shard of a `convert` batch, and their outputs.
-pub(crate) fn shard_of(
-    shard: Shard,
-    inputs: Vec<PathBuf>,
-    outputs: Vec<PathBuf>,
-) -> Result<(Vec<PathBuf>, Vec<PathBuf>)> {
-    let index = shard.index(std::env::var("SLURM_ARRAY_TASK_ID").ok().as_deref())?;
-    let weights: Vec<u64> = inputs.iter().map(|i| pixels(i)).collect();
-    let mine = &specconv_farm::plan(&weights, shard.count)[index];
-    Ok(mine
-        .iter()
-        .map(|&k| (inputs[k].clone(), outputs[k].clone()))
-        .unzip())
-}
-
-/// Pixels of every level of an input, the weight of the plan; 0 when it cannot be read (it
-/// will fail fast wherever it lands).
-fn pixels(input: &Path) -> u64 {
-    specconv_oiio::ImageReader::open(input)
-        .map(|r| {
-            r.info()
-                .levels
-                .iter()
-                .map(|l| u64::from(l.width) * u64::from(l.height))
-                .sum()
-        })
-        .unwrap_or(0)
 }
 
 fn submit(s: Submit, ocio: Option<String>) -> Result<i32> {
