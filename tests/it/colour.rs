@@ -33,9 +33,9 @@ fn make_images(dir: &Scratch) -> serde_json::Value {
 /// XYZ (CIE 1931, D65, white Y = 1) integrated from every pixel of a spectral EXR.
 fn output_xyz(path: &Path) -> Vec<[f64; 3]> {
     let img = specconv_exr::read(path).unwrap();
-    let grid = specconv_spectral::Model::builtin().grid;
-    let a = specconv_colour::Colorimetry::new(
-        grid,
+    // As every reader integrates (the layout's reference: interpolated onto the 1 nm table).
+    let a = specconv_colour::Integration::reflectance(
+        &img.wavelengths,
         specconv_colour::Observer::Cie1931,
         specconv_colour::Illuminant::D65,
     )
