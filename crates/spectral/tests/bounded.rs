@@ -154,10 +154,11 @@ fn outside_the_solid_the_nearest_colour_in_cielab_is_on_the_surface_and_beats_to
         let u = [0, 1, 2].map(|k| (0..3).map(|row| j[row][k] * (target[row] - lab[row])).sum());
         let un: f64 = u.iter().map(|v: &f64| v.abs()).sum();
         let gap = support(a, u) - (0..3).map(|k| u[k] * reached[k]).sum::<f64>();
-        // (A colour outside by rounding only, as white can be, has no defined normal.)
+        // (A colour outside by rounding only, as white can be, has no defined normal; one just
+        // outside near white, 4e-6 from the surface, has its normal only to about 1e-6.)
         if delta_e76(a, c, reached) > 1e-6 {
             assert!(
-                gap <= 1e-6 * un,
+                gap <= 1e-5 * un,
                 "{c:?}: {reached:?} is {gap} inside along {u:?}"
             );
         }
