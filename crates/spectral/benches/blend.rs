@@ -6,7 +6,7 @@
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use specconv_colour::working_space::WorkingSpace;
 use specconv_spectral::otsu2018::blend::DEFAULT_WIDTH;
-use specconv_spectral::otsu2018::tree::{Axis, Node};
+use specconv_spectral::otsu2018::tree::Axis;
 use specconv_spectral::{Method, Model, Uplifter};
 use std::time::Instant;
 
@@ -35,11 +35,8 @@ fn uniform() -> Vec<f32> {
 fn near_boundaries() -> Vec<f32> {
     let splits: Vec<(Axis, f64)> = Model::builtin()
         .tree
-        .iter()
-        .filter_map(|n| match *n {
-            Node::Split { axis, value, .. } => Some((axis, value)),
-            _ => None,
-        })
+        .splits()
+        .map(|(_, s)| (s.axis, s.value))
         .collect();
     let mut next = sequence(2);
     (0..N)

@@ -8,7 +8,7 @@ use proptest::prelude::*;
 use specconv_colour::Colorimetry;
 use specconv_spectral::otsu2018::blend::DEFAULT_WIDTH;
 use specconv_spectral::otsu2018::gamut::{xyz, Gamut};
-use specconv_spectral::otsu2018::tree::{Axis, Node};
+use specconv_spectral::otsu2018::tree::{Axis, Split};
 use specconv_spectral::{train, Method, Model, Uplifter};
 use specconv_study::eval;
 use specconv_testkit::*;
@@ -40,20 +40,10 @@ fn largest_jumps(model: &Model, up: &dyn Method) -> Vec<Jump> {
     let (mut r0, mut r1) = (vec![0.0; n], vec![0.0; n]);
     let mut worst = Vec::new();
     let gamut = Gamut::new(&a);
-    let inf = f64::INFINITY;
-    // Nodes with their boxes [x₀, x₁] × [y₀, y₁].
-    let mut stack = vec![(0usize, [-inf, inf, -inf, inf])];
     let mut splits = 0;
-    while let Some((i, bx)) = stack.pop() {
-        let Node::Split {
-            axis,
-            value,
-            below,
-            above,
-        } = model.tree[i]
-        else {
-            continue;
-        };
+    // Each split with its box [x₀, x₁] × [y₀, y₁].
+    for (i, split, bx) in model.tree.boxes(|_| 0.0) {
+        let (axis, value) = (split.axis, split.value);
         splits += 1;
         let mut w = Jump {
             largest: 0.0,
@@ -61,11 +51,7 @@ fn largest_jumps(model: &Model, up: &dyn Method) -> Vec<Jump> {
             xy: [0.0; 2],
             level: 0.0,
         };
-        let k = if axis == Axis::X { 0 } else { 1 };
-        let (mut lower, mut upper) = (bx, bx);
-        lower[2 * k + 1] = value;
-        upper[2 * k] = value;
-        stack.extend([(below, lower), (above, upper)]);
+        let k = axis.index();
         let Some(along) = gamut.chord(axis, value) else {
             worst.push(w);
             continue;
@@ -220,11 +206,8 @@ fn bad_widths_are_errors() {
 fn random_colours(count: usize, seed: u64) -> Vec<[f64; 3]> {
     let splits: Vec<(Axis, f64)> = Model::builtin()
         .tree
-        .iter()
-        .filter_map(|n| match *n {
-            Node::Split { axis, value, .. } => Some((axis, value)),
-            _ => None,
-        })
+        .splits()
+        .map(|(_, s)| (s.axis, s.value))
         .collect();
     let mut s = seed;
     let mut next = move || {
@@ -308,7 +291,7 @@ fn hard_inputs_keep_their_outcome() {
         r
     };
     // A chromaticity on a split line: the blend reaches it.
-    let Node::Split { axis, value, .. } = model.tree[0] else {
+    let Some(Split { axis, value, .. }) = model.tree.split(0) else {
         panic!("the built-in model splits");
     };
     let mut xy = [0.31, 0.33];
@@ -380,10 +363,9 @@ proptest! {
         let moved = r.iter().zip(&r2).fold(0.0f64, |m, (p, q)| m.max((p - q).abs()));
         // Each leaf's map moves by at most about 1e-7·|c|·‖T‖, the weights by 1e-7·1.5/(2w).
         prop_assert!(moved < 1e-4 * size, "moved {moved}");
-        let far = soft.split_widths().iter().all(|&(i, w)| match model.tree[i] {
-            Node::Split { axis: Axis::X, value, .. } => (x - value).abs() >= 1.01 * w,
-            Node::Split { axis: Axis::Y, value, .. } => (y - value).abs() >= 1.01 * w,
-            Node::Leaf { .. } => true,
+        let far = soft.split_widths().iter().all(|&(i, w)| match model.tree.split(i) {
+            Some(s) => (s.coordinate([x, y]) - s.value).abs() >= 1.01 * w,
+            None => true,
         });
         if far {
             prop_assert_eq!(&r, &h);

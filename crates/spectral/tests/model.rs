@@ -2,7 +2,7 @@
 
 use proptest::prelude::*;
 use specconv_colour::{Colorimetry, Grid, Illuminant, Observer};
-use specconv_spectral::otsu2018::tree::Node;
+use specconv_spectral::otsu2018::tree::{Node, Split, Tree};
 use specconv_spectral::Method;
 use specconv_spectral::{train, Model, TrainOptions, Uplifter};
 use specconv_study::eval;
@@ -237,21 +237,21 @@ fn corrupt_model_files_are_refused() {
         ),
         (edit(&|m| m.grid.step = 7.5), "bad wavelength grid"),
         (
-            edit(&|m| m.tree.truncate(1)),
+            edit(&|m| m.tree.nodes_mut().truncate(1)),
             "refers to node 2, which does not exist",
         ),
         (
-            edit(&|m| m.tree = vec![Node::Leaf { leaf: 0 }]),
+            edit(&|m| m.tree = Tree::single_leaf()),
             "leaf 1 is not used by the tree",
         ),
         (
-            edit(&|m| m.tree[0] = Node::Leaf { leaf: 40 }),
+            edit(&|m| m.tree.nodes_mut()[0] = Node::Leaf { leaf: 40 }),
             "does not exist",
         ),
         (
             edit(&|m| {
-                if let Node::Split { above, .. } = &mut m.tree[0] {
-                    *above = 0
+                if let Some(split) = m.tree.split(0) {
+                    m.tree.nodes_mut()[0] = Split { above: 0, ..split }.into();
                 }
             }),
             "reached twice",

@@ -22,7 +22,7 @@
 //! that need it keeps the rest of the model, and its error on measured spectra, as it was.
 
 use super::gamut::{self, Gamut};
-use super::tree::{Axis, Node};
+use super::tree::Tree;
 use crate::Error;
 
 /// The default width in xy (`width_scan` in `tests/blend.rs`): with the per-split widening,
@@ -65,25 +65,22 @@ pub(crate) struct Blend {
     width: f64,
     /// Per node of the tree, its split's width (0 for leaves).
     widths: Vec<f64>,
-    tree: Vec<Node>,
+    tree: Tree,
 }
 
 impl Blend {
     /// Width `width` (> 0), widened where a split needs it (see the module); `maps`: per leaf,
     /// T·x̂, T·ŷ, T·ẑ and o, `n` bands each.
-    pub(crate) fn new(tree: &[Node], width: f64, maps: &[f64], n: usize, gamut: &Gamut) -> Blend {
+    pub(crate) fn new(tree: &Tree, width: f64, maps: &[f64], n: usize, gamut: &Gamut) -> Blend {
         debug_assert!(width > 0.0);
         let widths = tree
             .iter()
-            .map(|node| match node {
-                Node::Split { .. } => width,
-                Node::Leaf { .. } => 0.0,
-            })
+            .map(|node| if node.split().is_some() { width } else { 0.0 })
             .collect();
         let mut blend = Blend {
             width,
             widths,
-            tree: tree.to_vec(),
+            tree: tree.clone(),
         };
         // A split's sides depend on the widths of the splits below it, and its boundary on
         // those above: widths only grow, so a few passes settle them.
@@ -110,11 +107,8 @@ impl Blend {
     /// Per split node (index in the tree), its width.
     pub(crate) fn split_widths(&self) -> Vec<(usize, f64)> {
         self.tree
-            .iter()
-            .zip(&self.widths)
-            .enumerate()
-            .filter(|(_, (node, _))| matches!(node, Node::Split { .. }))
-            .map(|(i, (_, &w))| (i, w))
+            .splits()
+            .map(|(i, _)| (i, self.widths[i]))
             .collect()
     }
 
@@ -122,25 +116,12 @@ impl Blend {
     /// leaves and splits whose line misses the locus).
     fn needed_widths(&self, maps: &[f64], n: usize, gamut: &Gamut) -> Vec<f64> {
         let mut need = vec![0.0; self.tree.len()];
-        let inf = f64::INFINITY;
-        // Nodes with the box [x₀, x₁] × [y₀, y₁] where they have weight.
-        let mut stack = vec![(0usize, [-inf, inf, -inf, inf])];
         let (mut diff, mut weights) = (vec![0.0; 4 * n], Vec::new());
-        while let Some((i, bx)) = stack.pop() {
-            let Node::Split {
-                axis,
-                value,
-                below,
-                above,
-            } = self.tree[i]
-            else {
-                continue;
-            };
-            let k = if axis == Axis::X { 0 } else { 1 };
-            let (mut lower, mut upper) = (bx, bx);
-            lower[2 * k + 1] = lower[2 * k + 1].min(value + self.widths[i]);
-            upper[2 * k] = upper[2 * k].max(value - self.widths[i]);
-            stack.extend([(below, lower), (above, upper)]);
+        // Each split with the box [x₀, x₁] × [y₀, y₁] where it has weight.
+        for (i, split, bx) in self.tree.boxes(|i| self.widths[i]) {
+            let (axis, value) = (split.axis, split.value);
+            let (above, below) = (split.above, split.below);
+            let k = axis.index();
             let Some(chord) = gamut.chord(axis, value) else {
                 continue;
             };
@@ -210,25 +191,15 @@ impl Blend {
             f64::NEG_INFINITY,
             f64::INFINITY,
         ];
-        let mut i = 0;
-        while let Node::Split {
-            axis,
-            value,
-            below,
-            above,
-        } = self.tree[i]
-        {
-            let k = if axis == Axis::X { 0 } else { 1 };
-            let w = self.widths[i];
-            // NaN (a cell's corner at −∞) goes below, as in the walk.
-            if xy[k] >= value {
+        // NaN (a cell's corner at −∞) goes below, as in the walk.
+        self.tree.path(xy, |i, split, above| {
+            let (k, value, w) = (split.axis.index(), split.value, self.widths[i]);
+            if above {
                 b[2 * k] = b[2 * k].max(value + w);
-                i = above;
             } else {
                 b[2 * k + 1] = b[2 * k + 1].min(value - w);
-                i = below;
             }
-        }
+        });
         b
     }
 
@@ -248,32 +219,22 @@ impl Blend {
     /// Recurses only where both sides have weight; a single side is followed in the loop, so
     /// the depth of the recursion is the number of nested bands the colour lies in.
     fn add(&self, mut i: usize, mut weight: f64, xy: [f64; 2], out: &mut Vec<(u32, f64)>) {
-        loop {
-            match self.tree[i] {
-                Node::Leaf { leaf } => {
-                    out.push((leaf as u32, weight));
-                    return;
-                }
-                Node::Split {
-                    axis,
-                    value,
-                    below,
-                    above,
-                } => {
-                    let u = if axis == Axis::X { xy[0] } else { xy[1] };
-                    let s = self.above(i, u, value);
-                    if s == 1.0 {
-                        i = above;
-                    } else if s == 0.0 {
-                        i = below;
-                    } else {
-                        self.add(below, weight * (1.0 - s), xy, out);
-                        weight *= s;
-                        i = above;
-                    }
-                }
+        while let Some(split) = self.tree.split(i) {
+            let s = self.above(i, split.coordinate(xy), split.value);
+            if s == 1.0 {
+                i = split.above;
+            } else if s == 0.0 {
+                i = split.below;
+            } else {
+                self.add(split.below, weight * (1.0 - s), xy, out);
+                weight *= s;
+                i = split.above;
             }
         }
+        let leaf = self.tree[i]
+            .leaf()
+            .expect("a node that does not split is a leaf");
+        out.push((leaf as u32, weight));
     }
 }
 
@@ -300,7 +261,7 @@ mod tests {
         let b = Blend {
             width: 0.1,
             widths: vec![0.1],
-            tree: vec![Node::Leaf { leaf: 0 }],
+            tree: Tree::single_leaf(),
         };
         assert_eq!(b.above(0, 0.5, 0.4), 1.0);
         assert_eq!(b.above(0, 0.3, 0.4), 0.0);

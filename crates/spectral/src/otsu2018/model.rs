@@ -6,7 +6,7 @@
 //! checks everything that the uplift relies on, and M against A·B recomputed from the named
 //! observer and illuminant, so a hand-edited or mismatched file is refused, not trusted.
 
-use super::tree::Node;
+use super::tree::Tree;
 use crate::Error;
 use serde::{Deserialize, Serialize};
 use specconv_colour::{Colorimetry, Grid, Illuminant, Observer};
@@ -25,7 +25,7 @@ pub struct Model {
     pub illuminant: Illuminant,
     pub training: Training,
     /// Node 0 is the root.
-    pub tree: Vec<Node>,
+    pub tree: Tree,
     pub leaves: Vec<Leaf>,
 }
 
@@ -120,7 +120,7 @@ impl Model {
         if self.leaves.is_empty() {
             return Err("the model has no leaves".into());
         }
-        self.validate_tree()?;
+        self.tree.validate(self.leaves.len())?;
         let a = self.colorimetry().map_err(|e| e.to_string())?;
         for (k, leaf) in self.leaves.iter().enumerate() {
             let at = |what: &str| format!("leaf {k}: {what}");
@@ -166,63 +166,11 @@ impl Model {
         Ok(())
     }
 
-    /// Every node reachable from the root exactly once, every leaf used exactly once.
-    fn validate_tree(&self) -> Result<(), String> {
-        let mut seen_node = vec![false; self.tree.len()];
-        let mut seen_leaf = vec![false; self.leaves.len()];
-        let mut stack = vec![0usize];
-        if self.tree.is_empty() {
-            return Err("the tree has no nodes".into());
-        }
-        while let Some(i) = stack.pop() {
-            if i >= self.tree.len() {
-                return Err(format!("the tree refers to node {i}, which does not exist"));
-            }
-            if std::mem::replace(&mut seen_node[i], true) {
-                return Err(format!(
-                    "node {i} is reached twice: the tree has a cycle or shared child"
-                ));
-            }
-            match self.tree[i] {
-                Node::Split {
-                    value,
-                    below,
-                    above,
-                    ..
-                } => {
-                    if !value.is_finite() {
-                        return Err(format!("node {i} splits at a value that is not finite"));
-                    }
-                    stack.extend([below, above]);
-                }
-                Node::Leaf { leaf } => {
-                    if leaf >= self.leaves.len() {
-                        return Err(format!(
-                            "node {i} refers to leaf {leaf}, which does not exist"
-                        ));
-                    }
-                    if std::mem::replace(&mut seen_leaf[leaf], true) {
-                        return Err(format!("leaf {leaf} is used by two nodes"));
-                    }
-                }
-            }
-        }
-        if let Some(i) = seen_node.iter().position(|s| !s) {
-            return Err(format!("node {i} is not reachable from the root"));
-        }
-        if let Some(k) = seen_leaf.iter().position(|s| !s) {
-            return Err(format!("leaf {k} is not used by the tree"));
-        }
-        Ok(())
-    }
-
     /// The leaf for a colour. Colours without a chromaticity (X+Y+Z ≤ 0, or not finite) go
     /// to the leaf of the model's white point: the round trip still holds for them.
     pub fn leaf_for(&self, xyz: [f64; 3], white: [f64; 2]) -> usize {
-        super::tree::walk(
-            &self.tree,
-            specconv_colour::colorimetry::xy(xyz).unwrap_or(white),
-        )
+        self.tree
+            .walk(specconv_colour::colorimetry::xy(xyz).unwrap_or(white))
     }
 
     /// The built-in model: 8 clusters trained by `specconv train` on the Munsell matte set,

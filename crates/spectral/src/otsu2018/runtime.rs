@@ -2,7 +2,7 @@
 
 use super::blend::Blend;
 use super::gamut::Gamut;
-use super::tree::{depth, walk, Axis, Node};
+use super::tree::{Axis, Tree};
 use crate::{Error, Method, Model};
 use specconv_colour::{Colorimetry, Grid};
 
@@ -31,7 +31,7 @@ pub struct Uplifter {
     /// Components below these magnitudes cannot overflow T·c + o in f64, f32 (`hard`).
     safe_f64: f64,
     safe_f32: f64,
-    tree: Vec<Node>,
+    tree: Tree,
     /// Blending near split lines; `None`: the hard switch of Eq. 10.
     blend: Option<Blend>,
     /// With blending and `Choose::Cells`: per cell, the box of its points that no split blends
@@ -294,14 +294,12 @@ fn corner(v: &[f64], i: usize) -> f64 {
 }
 
 impl Choose {
-    fn new(tree: &[Node]) -> Choose {
+    fn new(tree: &Tree) -> Choose {
         let values = |on: Axis| {
             let mut v: Vec<f64> = tree
-                .iter()
-                .filter_map(|node| match *node {
-                    Node::Split { axis, value, .. } if axis == on => Some(value),
-                    _ => None,
-                })
+                .splits()
+                .filter(|(_, s)| s.axis == on)
+                .map(|(_, s)| s.value)
                 .collect();
             v.sort_by(f64::total_cmp);
             v.dedup();
@@ -311,34 +309,31 @@ impl Choose {
         if x.len() + y.len() <= MAX_CELL_SPLITS {
             let leaf = (0..=x.len())
                 .flat_map(|i| (0..=y.len()).map(move |j| (i, j)))
-                .map(|(i, j)| walk(tree, [corner(&x, i), corner(&y, j)]) as u32)
+                .map(|(i, j)| tree.walk([corner(&x, i), corner(&y, j)]) as u32)
                 .collect();
             return Choose::Cells { x, y, leaf };
         }
-        let steps = (0..tree.len())
-            .map(|i| match tree[i] {
-                Node::Split {
-                    axis,
-                    value,
-                    below,
-                    above,
-                } => Step {
-                    value,
-                    axis: if axis == Axis::X { 0 } else { 1 },
-                    next: [below as u32, above as u32],
+        let steps = tree
+            .iter()
+            .enumerate()
+            .map(|(i, node)| match (node.split(), node.leaf()) {
+                (Some(s), _) => Step {
+                    value: s.value,
+                    axis: s.axis.index() as u32,
+                    next: [s.below as u32, s.above as u32],
                     leaf: 0,
                 },
-                Node::Leaf { leaf } => Step {
+                (None, leaf) => Step {
                     value: f64::NEG_INFINITY,
                     axis: 0,
                     next: [i as u32; 2],
-                    leaf: leaf as u32,
+                    leaf: leaf.expect("a node that does not split is a leaf") as u32,
                 },
             })
             .collect();
         Choose::Walk {
             steps,
-            depth: depth(tree, 0),
+            depth: tree.depth(),
         }
     }
 
@@ -501,18 +496,19 @@ where
 #[cfg(test)]
 mod tests {
     use super::super::hard_inputs::{self as hard, DARK};
+    use super::super::tree::{Node, Split};
     use super::*;
 
     /// The per-pixel path as it was before blocks and cells, kept as the reference: the tree
     /// walked node by node, then the multiply band by band, in f64.
-    fn reference_f64(up: &Uplifter, tree: &[Node], xyz: &[f64]) -> Vec<f64> {
+    fn reference_f64(up: &Uplifter, tree: &Tree, xyz: &[f64]) -> Vec<f64> {
         let n = up.bands;
         let mut out = vec![0.0; xyz.len() / 3 * n];
         for (c, r) in xyz.chunks_exact(3).zip(out.chunks_exact_mut(n)) {
             let c = [c[0], c[1], c[2]];
             match hard::ordinary_xy(c, up.safe_f64) {
                 Some(xy) => {
-                    let t = up.affine(walk(tree, xy));
+                    let t = up.affine(tree.walk(xy));
                     for b in 0..n {
                         r[b] = t[3 * n + b] + t[b] * c[0] + t[n + b] * c[1] + t[2 * n + b] * c[2];
                     }
@@ -524,18 +520,14 @@ mod tests {
     }
 
     /// The same in f32: the leaf chosen in f64, the multiply in f32 with T and o rounded.
-    fn reference_f32(up: &Uplifter, tree: &[Node], xyz: &[f32]) -> Vec<f32> {
+    fn reference_f32(up: &Uplifter, tree: &Tree, xyz: &[f32]) -> Vec<f32> {
         let n = up.bands;
         let mut out = vec![0.0; xyz.len() / 3 * n];
         for (c, r) in xyz.chunks_exact(3).zip(out.chunks_exact_mut(n)) {
             let c64 = [c[0] as f64, c[1] as f64, c[2] as f64];
             match hard::ordinary_xy(c64, up.safe_f32) {
                 Some(xy) => {
-                    let t: Vec<f32> = up
-                        .affine(walk(tree, xy))
-                        .iter()
-                        .map(|&v| v as f32)
-                        .collect();
+                    let t: Vec<f32> = up.affine(tree.walk(xy)).iter().map(|&v| v as f32).collect();
                     for b in 0..n {
                         r[b] = t[3 * n + b] + t[b] * c[0] + t[n + b] * c[1] + t[2 * n + b] * c[2];
                     }
@@ -566,19 +558,23 @@ mod tests {
     fn chain(splits: usize) -> Model {
         let mut m = Model::builtin().clone();
         let mut rng = Rng(splits as u64);
-        m.tree.clear();
+        let mut nodes = Vec::new();
         for i in 0..splits {
             let axis = if i % 2 == 0 { Axis::X } else { Axis::Y };
-            let (at, leaf) = (m.tree.len(), m.tree.len() + 1);
-            m.tree.push(Node::Split {
-                axis,
-                value: rng.f(0.15, 0.55),
-                below: leaf,
-                above: at + 2,
-            });
-            m.tree.push(Node::Leaf { leaf: i });
+            let (at, leaf) = (nodes.len(), nodes.len() + 1);
+            nodes.push(
+                Split {
+                    axis,
+                    value: rng.f(0.15, 0.55),
+                    below: leaf,
+                    above: at + 2,
+                }
+                .into(),
+            );
+            nodes.push(Node::Leaf { leaf: i });
         }
-        m.tree.push(Node::Leaf { leaf: splits });
+        nodes.push(Node::Leaf { leaf: splits });
+        m.tree = Tree::from(nodes);
         let leaves = Model::builtin().leaves.clone();
         m.leaves = (0..=splits)
             .map(|i| leaves[i % leaves.len()].clone())
@@ -587,12 +583,10 @@ mod tests {
     }
 
     /// Split values of the tree and their neighbours, white, NaN, ±Inf, random xy.
-    fn chromaticities(up: &Uplifter, tree: &[Node]) -> Vec<[f64; 2]> {
+    fn chromaticities(up: &Uplifter, tree: &Tree) -> Vec<[f64; 2]> {
         let mut v = vec![f64::NAN, f64::INFINITY, f64::NEG_INFINITY, 0.0, -0.0, 1.0];
-        for node in tree {
-            if let Node::Split { value, .. } = *node {
-                v.extend([value, value.next_up(), value.next_down()]);
-            }
+        for (_, s) in tree.splits() {
+            v.extend([s.value, s.value.next_up(), s.value.next_down()]);
         }
         let mut rng = Rng(7);
         let mut xy: Vec<[f64; 2]> = v
@@ -607,15 +601,9 @@ mod tests {
     /// Colours of every kind: ordinary, negative components, xy exactly on splits, dark and
     /// near `DARK`, black and signed zeros, X+Y+Z ≤ 0, denormal, huge (near and past the
     /// overflow limits), NaN and ±Inf, and arbitrary bit patterns.
-    fn colours(up: &Uplifter, tree: &[Node], seed: u64) -> Vec<[f64; 3]> {
+    fn colours(up: &Uplifter, tree: &Tree, seed: u64) -> Vec<[f64; 3]> {
         let mut rng = Rng(seed);
-        let splits: Vec<f64> = tree
-            .iter()
-            .filter_map(|n| match *n {
-                Node::Split { value, .. } => Some(value),
-                _ => None,
-            })
-            .collect();
+        let splits: Vec<f64> = tree.splits().map(|(_, s)| s.value).collect();
         let special = [
             0.0,
             -0.0,
@@ -673,7 +661,7 @@ mod tests {
             let cells = matches!(up.choose, Choose::Cells { .. });
             assert_eq!(cells, model.tree.len() / 2 <= MAX_CELL_SPLITS);
             for xy in chromaticities(&up, &model.tree) {
-                assert_eq!(up.leaf_xy(xy), walk(&model.tree, xy), "{xy:?}");
+                assert_eq!(up.leaf_xy(xy), model.tree.walk(xy), "{xy:?}");
             }
         }
     }
@@ -688,11 +676,8 @@ mod tests {
             let n = up.bands();
             let splits: Vec<(usize, f64)> = model
                 .tree
-                .iter()
-                .filter_map(|node| match *node {
-                    Node::Split { axis, value, .. } => Some(((axis == Axis::Y) as usize, value)),
-                    _ => None,
-                })
+                .splits()
+                .map(|(_, s)| (s.axis.index(), s.value))
                 .collect();
             let mut rng = Rng(5);
             let (mut blended, mut scratch) = (0, Vec::new());

@@ -28,7 +28,7 @@
 
 use super::model::{Leaf, Training, FORMAT, VERSION};
 use super::pca::{centred_scatter, check_rank, fit, fit_basis, top_three, Moments, Tracker, Unfit};
-use super::tree::{Axis, Node};
+use super::tree::{Axis, Tree};
 use crate::{Error, Model};
 use specconv_colour::Colorimetry;
 
@@ -149,7 +149,7 @@ pub fn train(set: &TrainingSet, a: &Colorimetry, opts: &TrainOptions) -> Result<
         })
     })?;
     // tree[i] = Leaf { leaf: k } refers to clusters[k] until the end, where they are numbered.
-    let mut tree = vec![Node::Leaf { leaf: 0 }];
+    let mut tree = Tree::single_leaf();
     let mut clusters = vec![Some(root)];
     let mut live = 1;
     while live < opts.clusters {
@@ -171,21 +171,9 @@ pub fn train(set: &TrainingSet, a: &Colorimetry, opts: &TrainOptions) -> Result<
             .take()
             .and_then(|c| c.best.flatten())
             .expect("picked cluster has a split");
-        let node = tree
-            .iter()
-            .position(|t| *t == Node::Leaf { leaf: k })
-            .expect("every cluster has a node");
-        let (below, above) = (tree.len(), tree.len() + 1);
-        tree[node] = Node::Split {
-            axis: split.axis,
-            value: split.value,
-            below,
-            above,
-        };
+        let new = [clusters.len(), clusters.len() + 1];
+        tree.split_leaf(k, split.axis, split.value, new);
         for members in [split.below, split.above] {
-            tree.push(Node::Leaf {
-                leaf: clusters.len(),
-            });
             // The split search already checked both sides' conditioning.
             let c = cluster(set, a, opts, members)
                 .map_err(|_| Error::Training("internal: a split side lost its fit".into()))?;
@@ -202,11 +190,7 @@ pub fn train(set: &TrainingSet, a: &Colorimetry, opts: &TrainOptions) -> Result<
         number[k] = leaves.len();
         leaves.push(leaf(set, a, &c.members));
     }
-    for t in &mut tree {
-        if let Node::Leaf { leaf } = t {
-            *leaf = number[*leaf];
-        }
-    }
+    tree.renumber_leaves(&number);
     let total_error = leaves.iter().map(|l| l.error).sum();
     Ok(Model {
         format: FORMAT.into(),

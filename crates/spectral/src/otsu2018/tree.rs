@@ -1,5 +1,7 @@
-//! The kd-tree on CIE xy of a clustered-PCA model (Eq. 10): its nodes and the walk from the
-//! root to a colour's leaf. Everything that picks a leaf answers as [`walk`] does.
+//! The kd-tree on CIE xy of a clustered-PCA model (Eq. 10): its nodes, and [`Tree`], which
+//! owns every way of going through them (the walk from the root to a colour's leaf, the list
+//! of splits, the boxes the splits cut the plane into). Everything that picks a leaf answers
+//! as [`Tree::walk`] does; no other module takes a split node apart.
 
 use serde::{Deserialize, Serialize};
 
@@ -9,6 +11,17 @@ pub enum Axis {
     X,
     #[serde(rename = "y")]
     Y,
+}
+
+impl Axis {
+    /// The coordinate's index in an xy pair: 0 for x, 1 for y.
+    #[inline(always)]
+    pub fn index(self) -> usize {
+        match self {
+            Axis::X => 0,
+            Axis::Y => 1,
+        }
+    }
 }
 
 /// A kd-tree node. A colour goes to `above` when its coordinate is ≥ `value` (Eq. 10).
@@ -26,29 +39,240 @@ pub enum Node {
     },
 }
 
-/// The tree's leaf for a chromaticity, node by node (Eq. 10).
-pub fn walk(tree: &[Node], xy: [f64; 2]) -> usize {
-    let mut i = 0;
-    loop {
-        match tree[i] {
+/// A split node's content: a colour goes to node `above` when its coordinate on `axis` is
+/// ≥ `value`, else to node `below` (Eq. 10; NaN goes below).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Split {
+    pub axis: Axis,
+    pub value: f64,
+    pub below: usize,
+    pub above: usize,
+}
+
+impl Split {
+    /// The coordinate of `xy` that this split compares.
+    #[inline(always)]
+    pub fn coordinate(&self, xy: [f64; 2]) -> f64 {
+        xy[self.axis.index()]
+    }
+
+    /// Whether `xy` goes to `above`.
+    #[inline(always)]
+    pub fn goes_above(&self, xy: [f64; 2]) -> bool {
+        self.coordinate(xy) >= self.value
+    }
+}
+
+impl From<Split> for Node {
+    fn from(s: Split) -> Node {
+        Node::Split {
+            axis: s.axis,
+            value: s.value,
+            below: s.below,
+            above: s.above,
+        }
+    }
+}
+
+impl Node {
+    /// The split at this node; `None` at a leaf.
+    #[inline(always)]
+    pub fn split(&self) -> Option<Split> {
+        match *self {
             Node::Split {
                 axis,
                 value,
                 below,
                 above,
-            } => {
-                let v = if axis == Axis::X { xy[0] } else { xy[1] };
-                i = if v >= value { above } else { below };
-            }
-            Node::Leaf { leaf } => return leaf,
+            } => Some(Split {
+                axis,
+                value,
+                below,
+                above,
+            }),
+            Node::Leaf { .. } => None,
+        }
+    }
+
+    /// The leaf (cluster) index at this node; `None` at a split.
+    #[inline(always)]
+    pub fn leaf(&self) -> Option<usize> {
+        match *self {
+            Node::Leaf { leaf } => Some(leaf),
+            Node::Split { .. } => None,
         }
     }
 }
 
-/// Splits on the longest path from node `i` to a leaf (the tree is validated: no cycles).
-pub fn depth(tree: &[Node], i: usize) -> usize {
-    match tree[i] {
-        Node::Split { below, above, .. } => 1 + depth(tree, below).max(depth(tree, above)),
-        Node::Leaf { .. } => 0,
+/// The tree's nodes, node 0 the root. In a model file it is the plain list of nodes.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(transparent)]
+pub struct Tree {
+    nodes: Vec<Node>,
+}
+
+impl From<Vec<Node>> for Tree {
+    fn from(nodes: Vec<Node>) -> Tree {
+        Tree { nodes }
+    }
+}
+
+impl std::ops::Deref for Tree {
+    type Target = [Node];
+    fn deref(&self) -> &[Node] {
+        &self.nodes
+    }
+}
+
+impl Tree {
+    /// One leaf, cluster 0: where training starts.
+    pub fn single_leaf() -> Tree {
+        Tree::from(vec![Node::Leaf { leaf: 0 }])
+    }
+
+    /// The nodes, to edit by hand (tests that damage a model).
+    pub fn nodes_mut(&mut self) -> &mut Vec<Node> {
+        &mut self.nodes
+    }
+
+    /// The split at node `i`; `None` at a leaf.
+    #[inline(always)]
+    pub fn split(&self, i: usize) -> Option<Split> {
+        self.nodes[i].split()
+    }
+
+    /// The split list: every split with its node index, in the order of the nodes.
+    pub fn splits(&self) -> impl Iterator<Item = (usize, Split)> + '_ {
+        self.nodes
+            .iter()
+            .enumerate()
+            .filter_map(|(i, node)| Some((i, node.split()?)))
+    }
+
+    /// The leaf of a chromaticity, node by node (Eq. 10).
+    pub fn walk(&self, xy: [f64; 2]) -> usize {
+        self.path(xy, |_, _, _| {})
+    }
+
+    /// The walk of `xy` from the root, calling `visit(node, split, went_above)` at every split
+    /// on the way; returns the leaf.
+    #[inline]
+    pub fn path(&self, xy: [f64; 2], mut visit: impl FnMut(usize, &Split, bool)) -> usize {
+        let mut i = 0;
+        while let Some(s) = self.split(i) {
+            let up = s.goes_above(xy);
+            visit(i, &s, up);
+            i = if up { s.above } else { s.below };
+        }
+        self.nodes[i]
+            .leaf()
+            .expect("a node that does not split is a leaf")
+    }
+
+    /// Splits on the longest path from the root to a leaf (the tree is validated: no cycles).
+    pub fn depth(&self) -> usize {
+        fn from(tree: &Tree, i: usize) -> usize {
+            tree.split(i)
+                .map_or(0, |s| 1 + from(tree, s.below).max(from(tree, s.above)))
+        }
+        from(self, 0)
+    }
+
+    /// Every split with the box [x₀, x₁] × [y₀, y₁] of the chromaticities that reach it, when
+    /// each split `i` above it also lets through the colours within `margin(i)` of its line on
+    /// the other side (0 everywhere: the hard switch's boxes). Depth first.
+    pub fn boxes(&self, margin: impl Fn(usize) -> f64) -> Vec<(usize, Split, [f64; 4])> {
+        let inf = f64::INFINITY;
+        let mut stack = vec![(0usize, [-inf, inf, -inf, inf])];
+        let mut out = Vec::new();
+        while let Some((i, bx)) = stack.pop() {
+            let Some(s) = self.split(i) else { continue };
+            let k = s.axis.index();
+            let (mut lower, mut upper) = (bx, bx);
+            lower[2 * k + 1] = lower[2 * k + 1].min(s.value + margin(i));
+            upper[2 * k] = upper[2 * k].max(s.value - margin(i));
+            stack.extend([(s.below, lower), (s.above, upper)]);
+            out.push((i, s, bx));
+        }
+        out
+    }
+
+    /// Splits the node of cluster `leaf` at `value` on `axis`: the colours below go to a new
+    /// node of cluster `new[0]`, those above to one of cluster `new[1]` (training).
+    pub fn split_leaf(&mut self, leaf: usize, axis: Axis, value: f64, new: [usize; 2]) {
+        let node = self
+            .nodes
+            .iter()
+            .position(|n| n.leaf() == Some(leaf))
+            .expect("every cluster has a node");
+        let (below, above) = (self.nodes.len(), self.nodes.len() + 1);
+        self.nodes[node] = Split {
+            axis,
+            value,
+            below,
+            above,
+        }
+        .into();
+        self.nodes.extend(new.map(|leaf| Node::Leaf { leaf }));
+    }
+
+    /// Gives every leaf the number `number[old]` (training numbers its clusters at the end).
+    pub fn renumber_leaves(&mut self, number: &[usize]) {
+        for node in &mut self.nodes {
+            if let Node::Leaf { leaf } = node {
+                *leaf = number[*leaf];
+            }
+        }
+    }
+
+    /// Every node reachable from the root exactly once, every one of `leaves` leaves used
+    /// exactly once, split values finite (the checks of a model file).
+    pub fn validate(&self, leaves: usize) -> Result<(), String> {
+        let mut seen_node = vec![false; self.nodes.len()];
+        let mut seen_leaf = vec![false; leaves];
+        let mut stack = vec![0usize];
+        if self.nodes.is_empty() {
+            return Err("the tree has no nodes".into());
+        }
+        while let Some(i) = stack.pop() {
+            if i >= self.nodes.len() {
+                return Err(format!("the tree refers to node {i}, which does not exist"));
+            }
+            if std::mem::replace(&mut seen_node[i], true) {
+                return Err(format!(
+                    "node {i} is reached twice: the tree has a cycle or shared child"
+                ));
+            }
+            match self.nodes[i] {
+                Node::Leaf { leaf } => {
+                    if leaf >= leaves {
+                        return Err(format!(
+                            "node {i} refers to leaf {leaf}, which does not exist"
+                        ));
+                    }
+                    if std::mem::replace(&mut seen_leaf[leaf], true) {
+                        return Err(format!("leaf {leaf} is used by two nodes"));
+                    }
+                }
+                Node::Split {
+                    value,
+                    below,
+                    above,
+                    ..
+                } => {
+                    if !value.is_finite() {
+                        return Err(format!("node {i} splits at a value that is not finite"));
+                    }
+                    stack.extend([below, above]);
+                }
+            }
+        }
+        if let Some(i) = seen_node.iter().position(|s| !s) {
+            return Err(format!("node {i} is not reachable from the root"));
+        }
+        if let Some(k) = seen_leaf.iter().position(|s| !s) {
+            return Err(format!("leaf {k} is not used by the tree"));
+        }
+        Ok(())
     }
 }
