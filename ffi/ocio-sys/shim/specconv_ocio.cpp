@@ -66,6 +66,26 @@ void describe(const OCIO::ColorSpace &cs, specconv_ocio_color_space *out) {
 
 } // namespace
 
+namespace {
+
+// The calls that take a colour space by name: the arguments checked, the space found, or an
+// error naming it.
+template <typename F>
+int32_t with_space_named(const specconv_ocio_config *config, const char *name, const void *out,
+                         F &&body) {
+    return guard(SPECCONV_OCIO_ERR_EXCEPTION, [&]() -> int32_t {
+        if (config == nullptr || name == nullptr || out == nullptr)
+            return fail(SPECCONV_OCIO_ERR_ARGUMENT, "null argument");
+        OCIO::ConstColorSpaceRcPtr cs = config->config->getColorSpace(name);
+        if (!cs)
+            return fail(SPECCONV_OCIO_ERR_NOT_FOUND,
+                        std::string("no colour space named '") + name + "'");
+        return body(*cs);
+    });
+}
+
+} // namespace
+
 extern "C" {
 
 const char *specconv_ocio_last_error(void) { return last_error.c_str(); }
@@ -135,30 +155,18 @@ int32_t specconv_ocio_color_space_at(const specconv_ocio_config *config, int32_t
 
 int32_t specconv_ocio_color_space_named(const specconv_ocio_config *config, const char *name,
                                         specconv_ocio_color_space *out) {
-    return guard(SPECCONV_OCIO_ERR_EXCEPTION, [&]() -> int32_t {
-        if (config == nullptr || name == nullptr || out == nullptr)
-            return fail(SPECCONV_OCIO_ERR_ARGUMENT, "null argument");
-        OCIO::ConstColorSpaceRcPtr cs = config->config->getColorSpace(name);
-        if (!cs)
-            return fail(SPECCONV_OCIO_ERR_NOT_FOUND,
-                        std::string("no colour space named '") + name + "'");
-        describe(*cs, out);
+    return with_space_named(config, name, out, [&](const OCIO::ColorSpace &cs) -> int32_t {
+        describe(cs, out);
         return SPECCONV_OCIO_OK;
     });
 }
 
 int32_t specconv_ocio_color_space_alias(const specconv_ocio_config *config, const char *name,
                                         int32_t index, const char **out) {
-    return guard(SPECCONV_OCIO_ERR_EXCEPTION, [&]() -> int32_t {
-        if (config == nullptr || name == nullptr || out == nullptr)
-            return fail(SPECCONV_OCIO_ERR_ARGUMENT, "null argument");
-        OCIO::ConstColorSpaceRcPtr cs = config->config->getColorSpace(name);
-        if (!cs)
-            return fail(SPECCONV_OCIO_ERR_NOT_FOUND,
-                        std::string("no colour space named '") + name + "'");
-        if (index < 0 || static_cast<size_t>(index) >= cs->getNumAliases())
+    return with_space_named(config, name, out, [&](const OCIO::ColorSpace &cs) -> int32_t {
+        if (index < 0 || static_cast<size_t>(index) >= cs.getNumAliases())
             return fail(SPECCONV_OCIO_ERR_ARGUMENT, "no alias " + std::to_string(index));
-        *out = cs->getAlias(static_cast<size_t>(index));
+        *out = cs.getAlias(static_cast<size_t>(index));
         return SPECCONV_OCIO_OK;
     });
 }

@@ -82,6 +82,32 @@ int32_t load_subimage(specconv_oiio_input &handle, int32_t subimage) {
 
 } // namespace
 
+namespace {
+
+// The three header-attribute calls share their protocol: check the arguments, report -1 (absent)
+// unless the first level has the attribute (of `type`, when given), then let `read` fill it.
+template <typename F>
+int32_t read_attribute(const specconv_oiio_input *input, const char *name, int64_t *len,
+                       OIIO::TypeDesc type, F &&read) {
+    return guard([&]() -> int32_t {
+        if (input == nullptr || name == nullptr || len == nullptr)
+            return fail(SPECCONV_OIIO_ERR_ARGUMENT, "null argument");
+        *len = -1;
+        const OIIO::ParamValue *p = input->levels[0].find_attribute(name, type);
+        if (p == nullptr)
+            return SPECCONV_OIIO_OK;
+        return read(*p);
+    });
+}
+
+// How many scalar values an attribute holds (an aggregate such as a matrix counts each).
+size_t value_count(const OIIO::ParamValue &p) {
+    OIIO::TypeDesc t = p.type();
+    return size_t(p.nvalues()) * t.numelements() * t.aggregate;
+}
+
+} // namespace
+
 extern "C" {
 
 const char *specconv_oiio_last_error(void) { return last_error.c_str(); }
@@ -219,14 +245,8 @@ int32_t specconv_oiio_channel_format(const specconv_oiio_input *input, int32_t c
 
 int32_t specconv_oiio_string_attribute(const specconv_oiio_input *input, const char *name,
                                        char *buf, size_t buf_len, int64_t *len) {
-    return guard([&]() -> int32_t {
-        if (input == nullptr || name == nullptr || len == nullptr)
-            return fail(SPECCONV_OIIO_ERR_ARGUMENT, "null argument");
-        *len = -1;
-        const OIIO::ParamValue *p = input->levels[0].find_attribute(name, OIIO::TypeString);
-        if (p == nullptr)
-            return SPECCONV_OIIO_OK;
-        std::string value = p->get_string();
+    return read_attribute(input, name, len, OIIO::TypeString, [&](const OIIO::ParamValue &p) -> int32_t {
+        std::string value = p.get_string();
         *len = static_cast<int64_t>(value.size());
         if (buf != nullptr && buf_len > 0) {
             size_t n = value.size() < buf_len - 1 ? value.size() : buf_len - 1;
@@ -239,20 +259,13 @@ int32_t specconv_oiio_string_attribute(const specconv_oiio_input *input, const c
 
 int32_t specconv_oiio_numeric_attribute(const specconv_oiio_input *input, const char *name,
                                         double *buf, size_t buf_len, int64_t *len) {
-    return guard([&]() -> int32_t {
-        if (input == nullptr || name == nullptr || len == nullptr)
-            return fail(SPECCONV_OIIO_ERR_ARGUMENT, "null argument");
-        *len = -1;
-        const OIIO::ParamValue *p = input->levels[0].find_attribute(name);
-        if (p == nullptr)
-            return SPECCONV_OIIO_OK;
-        OIIO::TypeDesc t = p->type();
-        size_t n = size_t(p->nvalues()) * t.numelements() * t.aggregate;
+    return read_attribute(input, name, len, OIIO::TypeUnknown, [&](const OIIO::ParamValue &p) -> int32_t {
+        size_t n = value_count(p);
         std::vector<double> values(n);
+        const void *d = p.data();
         // OIIO 2.4's convert_type and get_float_indexed refuse int to float; convert here.
         for (size_t i = 0; i < n; ++i) {
-            const void *d = p->data();
-            switch (t.basetype) {
+            switch (p.type().basetype) {
             case OIIO::TypeDesc::UINT8: values[i] = static_cast<const uint8_t *>(d)[i]; break;
             case OIIO::TypeDesc::INT8: values[i] = static_cast<const int8_t *>(d)[i]; break;
             case OIIO::TypeDesc::UINT16: values[i] = static_cast<const uint16_t *>(d)[i]; break;
@@ -275,20 +288,14 @@ int32_t specconv_oiio_numeric_attribute(const specconv_oiio_input *input, const 
 
 int32_t specconv_oiio_bytes_attribute(const specconv_oiio_input *input, const char *name,
                                       uint8_t *buf, size_t buf_len, int64_t *len) {
-    return guard([&]() -> int32_t {
-        if (input == nullptr || name == nullptr || len == nullptr)
-            return fail(SPECCONV_OIIO_ERR_ARGUMENT, "null argument");
-        *len = -1;
-        const OIIO::ParamValue *p = input->levels[0].find_attribute(name);
-        if (p == nullptr)
+    return read_attribute(input, name, len, OIIO::TypeUnknown, [&](const OIIO::ParamValue &p) -> int32_t {
+        OIIO::TypeDesc::BASETYPE b = OIIO::TypeDesc::BASETYPE(p.type().basetype);
+        if (b != OIIO::TypeDesc::UINT8 && b != OIIO::TypeDesc::INT8)
             return SPECCONV_OIIO_OK;
-        OIIO::TypeDesc t = p->type();
-        if (t.basetype != OIIO::TypeDesc::UINT8 && t.basetype != OIIO::TypeDesc::INT8)
-            return SPECCONV_OIIO_OK;
-        size_t n = size_t(p->nvalues()) * t.numelements() * t.aggregate;
+        size_t n = value_count(p);
         *len = static_cast<int64_t>(n);
         if (buf != nullptr)
-            std::memcpy(buf, p->data(), n < buf_len ? n : buf_len);
+            std::memcpy(buf, p.data(), n < buf_len ? n : buf_len);
         return SPECCONV_OIIO_OK;
     });
 }

@@ -540,28 +540,53 @@ impl ImageReader {
     /// A numeric attribute of the file's header (top level) as its values in order: a
     /// scalar, an array, or an aggregate such as OpenEXR's `chromaticities` (8 values).
     pub fn numeric_attribute(&self, name: &str) -> Result<Option<Vec<f64>>> {
+        self.attribute(name, 0, sys::specconv_oiio_numeric_attribute)
+    }
+
+    /// A byte-array attribute of the file's header (top level), such as `ICCProfile`.
+    pub fn bytes_attribute(&self, name: &str) -> Result<Option<Vec<u8>>> {
+        self.attribute(name, 0, sys::specconv_oiio_bytes_attribute)
+    }
+
+    /// A string attribute of the file's header (top level), if present.
+    pub fn string_attribute(&self, name: &str) -> Result<Option<String>> {
+        // One more byte for the terminator the shim writes.
+        let Some(mut buf) = self.attribute(name, 1, sys::specconv_oiio_string_attribute)? else {
+            return Ok(None);
+        };
+        buf.pop();
+        let bytes: Vec<u8> = buf.into_iter().map(|c| c as u8).collect();
+        Ok(Some(String::from_utf8_lossy(&bytes).into_owned()))
+    }
+
+    /// The shim's two calls for a header attribute: its length (a null buffer), then its
+    /// values into a buffer of that length plus `extra`. None when absent or not of that kind.
+    fn attribute<T: Copy + Default>(
+        &self,
+        name: &str,
+        extra: usize,
+        read: unsafe extern "C" fn(
+            *const sys::specconv_oiio_input,
+            *const std::os::raw::c_char,
+            *mut T,
+            usize,
+            *mut i64,
+        ) -> i32,
+    ) -> Result<Option<Vec<T>>> {
         let Ok(c_name) = CString::new(name) else {
             return Ok(None);
         };
         let raw = self.raw.as_ptr();
         let mut len = -1i64;
-        // SAFETY: live handle, valid C string; a null buffer only asks for the count.
-        self.check(unsafe {
-            sys::specconv_oiio_numeric_attribute(
-                raw,
-                c_name.as_ptr(),
-                std::ptr::null_mut(),
-                0,
-                &mut len,
-            )
-        })?;
+        // SAFETY: live handle, valid C string; a null buffer only asks for the length.
+        self.check(unsafe { read(raw, c_name.as_ptr(), std::ptr::null_mut(), 0, &mut len) })?;
         let Ok(n) = usize::try_from(len) else {
             return Ok(None);
         };
-        let mut values = vec![0.0f64; n];
-        // SAFETY: values holds n doubles, as told to the shim.
+        let mut values = vec![T::default(); n + extra];
+        // SAFETY: values holds n + extra elements, the length told to the shim.
         self.check(unsafe {
-            sys::specconv_oiio_numeric_attribute(
+            read(
                 raw,
                 c_name.as_ptr(),
                 values.as_mut_ptr(),
@@ -570,75 +595,6 @@ impl ImageReader {
             )
         })?;
         Ok(Some(values))
-    }
-
-    /// A byte-array attribute of the file's header (top level), such as `ICCProfile`.
-    pub fn bytes_attribute(&self, name: &str) -> Result<Option<Vec<u8>>> {
-        let Ok(c_name) = CString::new(name) else {
-            return Ok(None);
-        };
-        let raw = self.raw.as_ptr();
-        let mut len = -1i64;
-        // SAFETY: live handle, valid C string; a null buffer only asks for the size.
-        self.check(unsafe {
-            sys::specconv_oiio_bytes_attribute(
-                raw,
-                c_name.as_ptr(),
-                std::ptr::null_mut(),
-                0,
-                &mut len,
-            )
-        })?;
-        let Ok(n) = usize::try_from(len) else {
-            return Ok(None);
-        };
-        let mut bytes = vec![0u8; n];
-        // SAFETY: bytes holds n bytes, as told to the shim.
-        self.check(unsafe {
-            sys::specconv_oiio_bytes_attribute(
-                raw,
-                c_name.as_ptr(),
-                bytes.as_mut_ptr(),
-                bytes.len(),
-                &mut len,
-            )
-        })?;
-        Ok(Some(bytes))
-    }
-
-    /// A string attribute of the file's header (top level), if present.
-    pub fn string_attribute(&self, name: &str) -> Result<Option<String>> {
-        let Ok(c_name) = CString::new(name) else {
-            return Ok(None);
-        };
-        let raw = self.raw.as_ptr();
-        let mut len = -1i64;
-        // SAFETY: live handle, valid C string; a null buffer only asks for the length.
-        self.check(unsafe {
-            sys::specconv_oiio_string_attribute(
-                raw,
-                c_name.as_ptr(),
-                std::ptr::null_mut(),
-                0,
-                &mut len,
-            )
-        })?;
-        let Ok(n) = usize::try_from(len) else {
-            return Ok(None);
-        };
-        let mut buf = vec![0u8; n + 1];
-        // SAFETY: buf holds n + 1 bytes, as told to the shim.
-        self.check(unsafe {
-            sys::specconv_oiio_string_attribute(
-                raw,
-                c_name.as_ptr(),
-                buf.as_mut_ptr().cast(),
-                buf.len(),
-                &mut len,
-            )
-        })?;
-        buf.truncate(n);
-        Ok(Some(String::from_utf8_lossy(&buf).into_owned()))
     }
 
     fn level(&self, level: usize) -> Result<Level> {
@@ -712,24 +668,40 @@ impl ImageReader {
     }
 
     fn read_tiles_aligned(&mut self, level: usize, r: Region) -> Result<Pixels> {
-        let mut px = self.buffer(r.width(), r.height())?;
-        let nch = px.channels as i32;
-        // SAFETY: live handle; px.data holds exactly width*height*channels floats, the
-        // length passed, and the shim writes no more than the region asks for.
-        let status = unsafe {
-            sys::specconv_oiio_read_tiles(
-                self.raw.as_ptr(),
-                level as i32,
-                r.x0 as i32,
-                r.x1 as i32,
-                r.y0 as i32,
-                r.y1 as i32,
-                0,
-                nch,
-                px.data.as_mut_ptr(),
-                px.data.len(),
-            )
-        };
+        self.read_block(r.width(), r.height(), |raw, nch, out, len| {
+            // SAFETY: live handle; `out` holds `len` = width*height*channels floats, and the
+            // shim writes no more than the region asks for.
+            unsafe {
+                sys::specconv_oiio_read_tiles(
+                    raw,
+                    level as i32,
+                    r.x0 as i32,
+                    r.x1 as i32,
+                    r.y0 as i32,
+                    r.y1 as i32,
+                    0,
+                    nch,
+                    out,
+                    len,
+                )
+            }
+        })
+    }
+
+    /// A buffer for a `width` × `height` block of every channel, filled by one shim call.
+    fn read_block(
+        &mut self,
+        width: u32,
+        height: u32,
+        read: impl FnOnce(*mut sys::specconv_oiio_input, i32, *mut f32, usize) -> i32,
+    ) -> Result<Pixels> {
+        let mut px = self.buffer(width, height)?;
+        let status = read(
+            self.raw.as_ptr(),
+            px.channels as i32,
+            px.data.as_mut_ptr(),
+            px.data.len(),
+        );
         self.check(status)?;
         Ok(px)
     }
@@ -752,23 +724,21 @@ impl ImageReader {
             };
             return self.read_region(level, region);
         }
-        let mut px = self.buffer(l.width, rows.end - rows.start)?;
-        let nch = px.channels as i32;
-        // SAFETY: as in read_tiles_aligned; the buffer covers full rows of the level.
-        let status = unsafe {
-            sys::specconv_oiio_read_scanlines(
-                self.raw.as_ptr(),
-                level as i32,
-                rows.start as i32,
-                rows.end as i32,
-                0,
-                nch,
-                px.data.as_mut_ptr(),
-                px.data.len(),
-            )
-        };
-        self.check(status)?;
-        Ok(px)
+        self.read_block(l.width, rows.end - rows.start, |raw, nch, out, len| {
+            // SAFETY: as in read_tiles_aligned; the buffer covers full rows of the level.
+            unsafe {
+                sys::specconv_oiio_read_scanlines(
+                    raw,
+                    level as i32,
+                    rows.start as i32,
+                    rows.end as i32,
+                    0,
+                    nch,
+                    out,
+                    len,
+                )
+            }
+        })
     }
 
     /// Reads any rectangle of a level, from whole tiles or whole rows as the file is
