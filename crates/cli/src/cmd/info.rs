@@ -129,7 +129,7 @@ struct Spectral {
     other_channels: Vec<String>,
     /// The `emissiveUnits` attribute of emissive files.
     emissive_units: Option<String>,
-    /// How S0 becomes colour: reference, normalised or photometric (see the README).
+    /// How S0 becomes colour: reference, normalised or photometric (docs/spectral-exr.md).
     emission_convention: Option<String>,
     /// The file's `specconv*` attributes (model, method, observer, illuminant, settings, …).
     specconv: std::collections::BTreeMap<String, String>,
@@ -293,9 +293,28 @@ fn show(args: &Args, config: &Config, file: &Path) -> Result<()> {
     };
     if args.json {
         println!("{}", serde_json::to_string(&report)?);
-        return Ok(());
+    } else {
+        print_text(&report, info);
     }
-    let r = &report;
+    Ok(())
+}
+/// What a spectral EXR holds, instead of an input colour space (a spectral file is not read
+/// through a colour space).
+struct SpectralReport<'a> {
+    file: String,
+    format: &'a str,
+    width: u32,
+    height: u32,
+    channels: usize,
+    pixel_format: String,
+    tile_size: Option<[u32; 2]>,
+    mip_levels: Vec<[u32; 2]>,
+    alpha: bool,
+    spectral: Spectral,
+}
+
+/// The text form of `info` for an image that is not spectral.
+fn print_text(r: &Report, info: &specconv_oiio::ImageInfo) {
     println!("file:         {}", r.file);
     println!("format:       {}", r.format);
     println!("size:         {} x {}", r.width, r.height);
@@ -366,21 +385,6 @@ fn show(args: &Args, config: &Config, file: &Path) -> Result<()> {
     if r.straight_alpha {
         println!("alpha:        straight; colour is converted, then premultiplied");
     }
-    Ok(())
-}
-/// What a spectral EXR holds, instead of an input colour space (a spectral file is not read
-/// through a colour space).
-struct SpectralReport<'a> {
-    file: String,
-    format: &'a str,
-    width: u32,
-    height: u32,
-    channels: usize,
-    pixel_format: String,
-    tile_size: Option<[u32; 2]>,
-    mip_levels: Vec<[u32; 2]>,
-    alpha: bool,
-    spectral: Spectral,
 }
 
 fn spectral_report(file: &Path, reader: &ImageReader, s: Spectral) -> Result<()> {
@@ -397,8 +401,23 @@ fn spectral_report(file: &Path, reader: &ImageReader, s: Spectral) -> Result<()>
         alpha: info.alpha_channel.is_some(),
         spectral: s,
     };
+    let rows = spectral_rows(&r);
+    let width = rows
+        .iter()
+        .map(|(k, _)| k.chars().count())
+        .max()
+        .unwrap_or(0)
+        + 1;
+    for (k, v) in rows {
+        println!("{:width$} {v}", format!("{k}:"));
+    }
+    Ok(())
+}
+
+/// The lines `info` prints for a spectral file, as (label, value).
+fn spectral_rows<'a>(r: &'a SpectralReport) -> Vec<(&'a str, String)> {
     let s = &r.spectral;
-    let rows: Vec<(&str, String)> = [
+    [
         ("file", r.file.clone()),
         (
             "format",
@@ -423,27 +442,7 @@ fn spectral_report(file: &Path, reader: &ImageReader, s: Spectral) -> Result<()>
         ),
         ("MIP levels", r.mip_levels.len().to_string()),
         ("kind", s.kind.clone()),
-        (
-            "bands",
-            format!(
-                "{}, {} to {} nm, {}",
-                s.bands,
-                nm(s.range_nm[0]),
-                nm(s.range_nm[1]),
-                match s.step_nm {
-                    Some(step) => format!("every {} nm", nm(step)),
-                    None => {
-                        let list = if s.reflective_nm.is_empty() {
-                            &s.emissive_nm
-                        } else {
-                            &s.reflective_nm
-                        };
-                        let list: Vec<String> = list.iter().map(|&w| nm(w)).collect();
-                        format!("uneven: {}", list.join(", "))
-                    }
-                }
-            ),
-        ),
+        ("bands", describe_bands(s)),
     ]
     .into_iter()
     .chain((s.reradiation > 0).then(|| {
@@ -476,17 +475,29 @@ fn spectral_report(file: &Path, reader: &ImageReader, s: Spectral) -> Result<()>
         )
     }))
     .chain(s.specconv.iter().map(|(k, v)| (k.as_str(), v.clone())))
-    .collect();
-    let width = rows
-        .iter()
-        .map(|(k, _)| k.chars().count())
-        .max()
-        .unwrap_or(0)
-        + 1;
-    for (k, v) in rows {
-        println!("{:width$} {v}", format!("{k}:"));
-    }
-    Ok(())
+    .collect()
+}
+
+/// "36, 380 to 730 nm, every 10 nm", or the list of an uneven layout.
+fn describe_bands(s: &Spectral) -> String {
+    let spacing = match s.step_nm {
+        Some(step) => format!("every {} nm", nm(step)),
+        None => {
+            let list = if s.reflective_nm.is_empty() {
+                &s.emissive_nm
+            } else {
+                &s.reflective_nm
+            };
+            let list: Vec<String> = list.iter().map(|&w| nm(w)).collect();
+            format!("uneven: {}", list.join(", "))
+        }
+    };
+    format!(
+        "{}, {} to {} nm, {spacing}",
+        s.bands,
+        nm(s.range_nm[0]),
+        nm(s.range_nm[1])
+    )
 }
 
 /// A wavelength to at most six decimals, without trailing zeros (`450.5`, not `450.500000`).
