@@ -143,23 +143,7 @@ fn submit(s: Submit, ocio: Option<String>) -> Result<i32> {
     if inputs.is_empty() {
         return Err(usage(anyhow!("no inputs to submit")));
     }
-    let absolute = |p: &Path| {
-        std::path::absolute(p).with_context(|| format!("cannot resolve {}", p.display()))
-    };
-    let mut files = Vec::new();
-    for (i, o) in inputs.iter().zip(&outputs) {
-        if i.to_string_lossy().contains('\n') {
-            bail!(
-                "{:?}: input paths with a newline cannot be listed for a task; rename it",
-                i
-            );
-        }
-        files.push(specconv_farm::manifest::File {
-            input: absolute(i)?,
-            output: absolute(o)?,
-            pixels: pixels(i),
-        });
-    }
+    let files = listed_files(&inputs, &outputs)?;
     let largest = files.iter().map(|f| f.pixels).max().unwrap_or(0);
     let mem_mib = match &s.mem {
         Some(m) => parse_mem(m)
@@ -172,26 +156,7 @@ fn submit(s: Submit, ocio: Option<String>) -> Result<i32> {
             ["-o".to_string(), absolute(dir)?.display().to_string()],
         );
     }
-    let job_dir = match (&s.job_dir, s.convert.output_dir()) {
-        (Some(d), _) => absolute(d)?,
-        (None, Some(dir)) => {
-            let secs = std::time::SystemTime::now()
-                .duration_since(std::time::UNIX_EPOCH)
-                .map_or(0, |d| d.as_secs());
-            let mut d = absolute(dir)?.join(format!("specconv-farm-{secs}"));
-            let mut k = 1;
-            while d.exists() {
-                k += 1;
-                d = absolute(dir)?.join(format!("specconv-farm-{secs}-{k}"));
-            }
-            d
-        }
-        (None, None) => {
-            return Err(usage(anyhow!(
-                "with --output-template, give --job-dir JOBDIR (on a file system the nodes share)"
-            )))
-        }
-    };
+    let job_dir = job_dir_for(&s)?;
     if Manifest::path(&job_dir).exists() {
         return Err(usage(anyhow!(
             "{} already holds a job; use `specconv farm retry {}` or another --job-dir",
@@ -217,24 +182,7 @@ fn submit(s: Submit, ocio: Option<String>) -> Result<i32> {
     let all: Vec<usize> = (0..manifest.files.len()).collect();
     let prepared = specconv_farm::prepare(&job_dir, &manifest, &all, s.tasks as usize);
     if s.dry_run {
-        println!(
-            "# plan: {} in {}",
-            count(all.len(), "file"),
-            count(prepared.tasks.len(), "task")
-        );
-        for (t, shard) in prepared.tasks.iter().enumerate() {
-            let px: u64 = shard.iter().map(|&i| manifest.files[i].pixels).sum();
-            println!("# task {t}: {}, {px} pixels", count(shard.len(), "file"));
-            for &i in shard {
-                println!("#   {}", manifest.files[i].input.display());
-            }
-        }
-        println!(
-            "# sbatch {} {}",
-            prepared.sbatch.join(" "),
-            prepared.dir.join("job.sbatch").display()
-        );
-        print!("{}", prepared.script);
+        print_plan(&manifest, &prepared);
         return Ok(exit::OK);
     }
     std::fs::create_dir_all(&job_dir)
@@ -254,6 +202,78 @@ fn submit(s: Submit, ocio: Option<String>) -> Result<i32> {
         return wait_and_collect(&job_dir, &job_id, s.convert.json_wanted());
     }
     Ok(exit::OK)
+}
+
+fn absolute(p: &Path) -> Result<PathBuf> {
+    std::path::absolute(p).with_context(|| format!("cannot resolve {}", p.display()))
+}
+
+/// The manifest's files: absolute paths (tasks may start elsewhere) and pixel counts.
+fn listed_files(
+    inputs: &[PathBuf],
+    outputs: &[PathBuf],
+) -> Result<Vec<specconv_farm::manifest::File>> {
+    let mut files = Vec::new();
+    for (i, o) in inputs.iter().zip(outputs) {
+        if i.to_string_lossy().contains('\n') {
+            bail!(
+                "{:?}: input paths with a newline cannot be listed for a task; rename it",
+                i
+            );
+        }
+        files.push(specconv_farm::manifest::File {
+            input: absolute(i)?,
+            output: absolute(o)?,
+            pixels: pixels(i),
+        });
+    }
+    Ok(files)
+}
+
+/// --job-dir, else a new specconv-farm-SECONDS folder in the output directory.
+fn job_dir_for(s: &Submit) -> Result<PathBuf> {
+    Ok(match (&s.job_dir, s.convert.output_dir()) {
+        (Some(d), _) => absolute(d)?,
+        (None, Some(dir)) => {
+            let secs = std::time::SystemTime::now()
+                .duration_since(std::time::UNIX_EPOCH)
+                .map_or(0, |d| d.as_secs());
+            let mut d = absolute(dir)?.join(format!("specconv-farm-{secs}"));
+            let mut k = 1;
+            while d.exists() {
+                k += 1;
+                d = absolute(dir)?.join(format!("specconv-farm-{secs}-{k}"));
+            }
+            d
+        }
+        (None, None) => {
+            return Err(usage(anyhow!(
+                "with --output-template, give --job-dir JOBDIR (on a file system the nodes share)"
+            )))
+        }
+    })
+}
+
+/// `--dry-run`: the plan, the sbatch command and the script, as comments and text.
+fn print_plan(manifest: &Manifest, prepared: &specconv_farm::Prepared) {
+    println!(
+        "# plan: {} in {}",
+        count(manifest.files.len(), "file"),
+        count(prepared.tasks.len(), "task")
+    );
+    for (t, shard) in prepared.tasks.iter().enumerate() {
+        let px: u64 = shard.iter().map(|&i| manifest.files[i].pixels).sum();
+        println!("# task {t}: {}, {px} pixels", count(shard.len(), "file"));
+        for &i in shard {
+            println!("#   {}", manifest.files[i].input.display());
+        }
+    }
+    println!(
+        "# sbatch {} {}",
+        prepared.sbatch.join(" "),
+        prepared.dir.join("job.sbatch").display()
+    );
+    print!("{}", prepared.script);
 }
 
 fn announce(convert: &convert::Args, job_id: &str, job_dir: &Path, tasks: usize, files: usize) {
