@@ -264,3 +264,29 @@ fn a_texture_pixel_is_the_colour_convert_would_read() {
     );
     run(&p).fails(1, &["pixel = [x, y]"]);
 }
+
+/// `simulate` builds its methods as `convert` does: `--blend` at convert's default width is
+/// the default, and the method options change what it reports.
+#[test]
+fn simulate_takes_converts_method_options_with_its_defaults() {
+    let s = Scratch::new("simulate-options");
+    let p = write_scene(&s, "bounces = 3\nform_factors = \"furnace\"\n");
+    let p = p.to_str().unwrap();
+    let run = |extra: &[&str]| {
+        let args = [&["simulate", "--scene", p, "--json"], extra].concat();
+        json(specconv(args).ok())
+    };
+    let default = run(&[]);
+    let width = specconv_spectral::otsu2018::blend::DEFAULT_WIDTH.to_string();
+    assert_eq!(run(&["--blend", &width]), default);
+    assert_eq!(run(&["--blend", &width, "--bounded"]), default);
+    assert_ne!(run(&["--blend", "0"]), default);
+    assert_ne!(run(&["--unbounded"]), default);
+    // --method replaces the scene's list; --bands the grid of every spectrum.
+    let one = run(&["--method", "smits1999", "--bands", "400:700:5"]);
+    assert_eq!(
+        one["methods"],
+        serde_json::json!(["measured", "smits1999", "rgb"])
+    );
+    specconv(["simulate", "--scene", p, "--blend=-1"]).fails(1, &["blend width"]);
+}

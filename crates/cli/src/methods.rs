@@ -1,50 +1,16 @@
-//! Building any uplift method by name, for `eval`, `report` (and `convert`): the clustered
-//! models from a model file or trained in place, the baselines from a colorimetry. The Jakob
-//! 2019 table is solved in parallel here and kept in the user's cache directory, keyed by
-//! everything it depends on, so it is built once per setting.
+//! The method options of the commands, turned into the one [`Description`] that
+//! `specconv_spectral::stack` builds: `convert` and `simulate` share [`StackArgs`] (so they
+//! have the same options with the same defaults), `eval` and `report` their setting flags. The
+//! Jakob 2019 tables are kept in the user's cache directory ([`tables`]).
 
-use anyhow::{Context, Result};
-use rayon::prelude::*;
+use anyhow::Result;
 use specconv_colour::Colorimetry;
 use specconv_spectral::baselines::jakob;
-use specconv_spectral::baselines::jakob::{Fitter, Table};
-use specconv_spectral::baselines::{Jakob2019, Meng2015, Smits1999};
+use specconv_spectral::baselines::jakob_cache::{Note, TableCache};
 use specconv_spectral::method::MethodName;
-use specconv_spectral::{Method, Model, Uplifter};
+use specconv_spectral::stack::{Description, ExactUnder, Setting, Stack};
+use specconv_spectral::Model;
 use std::path::PathBuf;
-
-/// The baseline `name` in colorimetry `a`. Clustered methods come from [`clustered`].
-pub fn baseline(name: MethodName, a: &Colorimetry, jakob_res: usize) -> Result<Box<dyn Method>> {
-    Ok(match name {
-        MethodName::Smits1999 => Box::new(Smits1999::new(a)?),
-        MethodName::Meng2015 => Box::new(Meng2015::new(a, false)?),
-        MethodName::Meng2015Bounded => Box::new(Meng2015::new(a, true)?),
-        MethodName::Jakob2019 => Box::new(Jakob2019::new(a, jakob_table(a, jakob_res)?)?),
-        MethodName::Pca | MethodName::Otsu2018 => {
-            unreachable!("clustered methods are built from a model")
-        }
-    })
-}
-
-/// A clustered method from its model, named `pca` when it has one cluster, with the paper's
-/// hard switch between clusters.
-pub fn clustered(model: &Model) -> Result<Box<dyn Method>> {
-    blended(model, 0.0)
-}
-
-/// A clustered method whose clusters blend within `width` of their boundaries (`--blend`).
-pub fn blended(model: &Model, width: f64) -> Result<Box<dyn Method>> {
-    Ok(Box::new(Uplifter::new(model)?.with_blend(width)?))
-}
-
-/// `m` with its spectra kept in [0, 1] and their XYZ (`specconv_spectral::bounded`); `a` is the
-/// colorimetry `m` uplifts for.
-pub fn bounded(m: Box<dyn Method>, a: &Colorimetry) -> Result<Box<dyn Method>> {
-    Ok(Box::new(specconv_spectral::bounded::Bounded::new(
-        m,
-        a.clone(),
-    )?))
-}
 
 /// `--blend WIDTH` of the commands that uplift with a clustered model.
 #[derive(Debug, Clone, Copy, clap::Args)]
@@ -58,13 +24,40 @@ pub struct BlendArg {
     pub width: f64,
 }
 
-impl BlendArg {
-    /// The width that applies to `method`: 0 for the baselines, which have no clusters.
-    pub fn of(&self, method: MethodName) -> f64 {
-        if method.is_clustered() {
-            self.width
-        } else {
-            0.0
+/// The options of the method stack that `convert` and `simulate` share, with one default each.
+#[derive(Debug, Clone, clap::Args)]
+pub struct StackArgs {
+    /// Model file from `specconv train`; the built-in model when absent. Its grid, observer and
+    /// illuminant are those of the output, whatever the method.
+    #[arg(long, value_name = "MODEL")]
+    pub model: Option<PathBuf>,
+    #[command(flatten)]
+    pub blend: BlendArg,
+    /// Keep every reflectance inside [0, 1] with its XYZ unchanged (the default): where the
+    /// method's spectrum leaves [0, 1], the nearest spectrum (least squares) that stays inside
+    /// with exactly the input's XYZ. Colours no reflectance can have (outside the object-colour
+    /// solid: too saturated, negative, or brighter than white) get the in-range spectrum whose
+    /// colour is nearest in CIELAB. The summary counts both. About 1 µs per pixel that needs
+    /// the projection (≈30 % of an sRGB cube), ≈25 µs per pixel outside the solid.
+    #[arg(long, overrides_with = "unbounded")]
+    pub bounded: bool,
+    /// The method's spectra as they are, values outside [0, 1] included (the paper's output).
+    #[arg(long, overrides_with = "bounded")]
+    pub unbounded: bool,
+    /// Output wavelength grid START:END:STEP in nm (default: the model's). The method's
+    /// spectra are interpolated onto it and corrected so that their XYZ stays exact.
+    #[arg(long, value_name = "START:END:STEP")]
+    pub bands: Option<specconv_colour::Grid>,
+}
+
+impl StackArgs {
+    /// `method` with these options, reflectances as every reader of the output integrates them.
+    pub fn describe(&self, method: MethodName) -> Description {
+        Description {
+            blend: self.blend.width,
+            grid: self.bands,
+            bounded: !self.unbounded,
+            ..Description::convert_default(method)
         }
     }
 }
@@ -82,52 +75,19 @@ pub fn cache_dir() -> Option<PathBuf> {
         .or_else(|| env("HOME").map(|d| d.join(".cache").join("specconv")))
 }
 
-/// The Jakob 2019 table for `a` at resolution `res`: read from the cache when an intact file
-/// for the same key is there, else solved (in parallel) and written to the cache. A cache that
-/// cannot be written is not an error: the table is used anyway, with a warning.
-pub fn jakob_table(a: &Colorimetry, res: usize) -> Result<Table> {
-    jakob::check_resolution(res)?;
-    let fitter = Fitter::new(a)?;
-    let key = fitter.key(a, res);
-    let mut h = jakob::Fnv::new();
-    h.write(key.as_bytes());
-    let file = cache_dir().map(|d| d.join(format!("jakob2019-{:016x}.bin", h.finish())));
-    if let Some(file) = &file {
-        if let Ok(bytes) = std::fs::read(file) {
-            if let Some(t) = Table::from_bytes(&bytes, &key, res) {
-                return Ok(t);
-            }
-            eprintln!(
-                "specconv: note: {} is damaged or stale; rebuilding it",
-                file.display()
-            );
-        }
-    }
-    let start = std::time::Instant::now();
-    let columns: Vec<Vec<[f32; 3]>> = (0..3 * res)
-        .into_par_iter()
-        .map(|c| fitter.solve_column(res, c / res, c % res))
-        .collect();
-    let table = Table::from_columns(res, key, columns);
-    eprintln!(
-        "specconv: built the jakob2019 table ({res}³ × 3 cells, {}) in {:.1} s",
-        a.grid,
-        start.elapsed().as_secs_f64()
-    );
-    if let Some(file) = &file {
-        let written = file
-            .parent()
-            .map_or(Ok(()), std::fs::create_dir_all)
-            .context("cannot create the cache directory")
-            .and_then(|()| crate::files::write_atomically(file, &table.to_bytes(), &[]));
-        if let Err(e) = written {
-            eprintln!(
-                "specconv: warning: cannot cache the jakob2019 table in {}: {e:#}",
-                file.display()
-            );
-        }
-    }
-    Ok(table)
+/// The Jakob 2019 tables of the user's cache directory; what happens to them is said on
+/// standard error.
+pub fn tables() -> TableCache {
+    TableCache::in_dir(cache_dir(), |note| match note {
+        Note::Built { .. } => eprintln!("specconv: {note}"),
+        _ if note.is_warning() => eprintln!("specconv: warning: {note}"),
+        _ => eprintln!("specconv: note: {note}"),
+    })
+}
+
+/// Builds `d` with `model` and the cached tables.
+pub fn build(d: &Description, model: &Model) -> Result<Stack> {
+    Ok(Stack::build(d, model, &tables())?)
 }
 
 /// Colorimetry flags shared by `eval` and `report`.
@@ -158,6 +118,68 @@ impl SettingArgs {
             self.illuminant.unwrap_or(model.illuminant),
         )?)
     }
+
+    /// `method` as `eval` measures it, in this setting.
+    pub fn describe(&self, method: MethodName, blend: f64, bounded: bool) -> Description {
+        let setting = Setting {
+            grid: self.bands,
+            observer: self.observer,
+            illuminant: self.illuminant,
+        };
+        measured(method, blend, setting, self.jakob_resolution, bounded)
+    }
+}
+
+/// `method` as `eval` and `report` measure it, as the paper does: exact under its own band
+/// sums, on its own grid, not emissive.
+pub fn measured(
+    method: MethodName,
+    blend: f64,
+    baseline: Setting,
+    jakob_resolution: usize,
+    bounded: bool,
+) -> Description {
+    Description {
+        method,
+        blend,
+        baseline,
+        jakob_resolution,
+        grid: None,
+        exact_under: ExactUnder::BandSums,
+        bounded,
+        emissive: None,
+    }
+}
+
+/// The colorimetry flags of `train` and `report`, with the built-in model's setting as default.
+#[derive(Debug, Clone, clap::Args)]
+pub struct ColorimetryArgs {
+    /// Colour-matching functions: cie1931, cie1964 or wyman2013 (the paper's).
+    #[arg(long, default_value = "cie1931")]
+    pub observer: specconv_colour::Observer,
+    /// Illuminant under which reflectances become colours: D65, E, A, D50, FL2, FL11 or
+    /// blackbody:KELVIN. E reproduces the paper's setting.
+    #[arg(long, default_value = "D65")]
+    pub illuminant: specconv_colour::Illuminant,
+    /// Wavelength grid START:END:STEP in nm, both ends included.
+    #[arg(long, value_name = "START:END:STEP", default_value = "380:730:10")]
+    pub bands: specconv_colour::Grid,
+}
+
+impl ColorimetryArgs {
+    /// The colorimetry on `grid` (another grid than --bands, for report's --steps rows).
+    pub fn on(&self, grid: specconv_colour::Grid) -> Result<Colorimetry> {
+        Ok(Colorimetry::new(grid, self.observer, self.illuminant)?)
+    }
+
+    /// The flags as the setting of the baselines.
+    pub fn setting(&self) -> Setting {
+        Setting {
+            grid: Some(self.bands),
+            observer: Some(self.observer),
+            illuminant: Some(self.illuminant),
+        }
+    }
 }
 
 /// Reads spectra files into one training set on `grid`.
@@ -173,4 +195,88 @@ pub fn training_set(
         set.sources.push(table.source);
     }
     Ok(set)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{Cli, Command};
+    use clap::Parser;
+    use specconv_spectral::otsu2018::blend::DEFAULT_WIDTH;
+
+    fn parse(args: &[&str]) -> Command {
+        let cli = Cli::try_parse_from([&["specconv"], args].concat()).unwrap();
+        cli.command.expect("a subcommand")
+    }
+
+    /// `convert` and `simulate` given the same method options describe the same stack, at
+    /// their defaults and with every option set.
+    #[test]
+    fn convert_and_simulate_describe_the_same_stack() {
+        let options: [&[&str]; 3] = [
+            &[],
+            &["--blend", "0.05", "--unbounded", "--bands", "400:700:5"],
+            &[
+                "--blend",
+                "0",
+                "--unbounded",
+                "--bounded",
+                "--model",
+                "m.json",
+            ],
+        ];
+        for method in MethodName::ALL {
+            for opts in options {
+                let m = ["--method", method.as_str()];
+                let Command::Convert(c) =
+                    parse(&[&["convert", "a.png", "b.exr"], &m[..], opts].concat())
+                else {
+                    panic!("convert")
+                };
+                let Command::Simulate(s) =
+                    parse(&[&["simulate", "--scene", "s.toml"], &m[..], opts].concat())
+                else {
+                    panic!("simulate")
+                };
+                assert_eq!(c.description(), s.description(method), "{method} {opts:?}");
+                assert_eq!(c.stack.model, s.stack.model);
+            }
+        }
+        let Command::Convert(c) = parse(&["convert", "a.png", "b.exr"]) else {
+            panic!("convert")
+        };
+        assert_eq!(
+            c.description(),
+            Description::convert_default(MethodName::Otsu2018)
+        );
+        assert_eq!(c.description().blend, DEFAULT_WIDTH);
+    }
+
+    /// `eval` describes what `report` measures: the method on its own band sums, bounded only
+    /// when asked.
+    #[test]
+    fn eval_describes_the_measured_method() {
+        let Command::Eval(e) = parse(&[
+            "eval",
+            "--spectra",
+            "s.csv",
+            "--method",
+            "smits1999",
+            "--observer",
+            "cie1964",
+            "--bands",
+            "400:700:10",
+            "--bounded",
+        ]) else {
+            panic!("eval")
+        };
+        let setting = Setting {
+            grid: Some(specconv_colour::Grid::new(400.0, 700.0, 10.0).unwrap()),
+            observer: Some(specconv_colour::Observer::Cie1964),
+            illuminant: None,
+        };
+        let want = measured(MethodName::Smits1999, DEFAULT_WIDTH, setting, 64, true);
+        assert_eq!(e.description(), want);
+        assert_eq!(want.exact_under, ExactUnder::BandSums);
+    }
 }

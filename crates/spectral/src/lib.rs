@@ -11,8 +11,11 @@
 //! - [`baselines`]: Smits 1999, Meng et al. 2015, Jakob & Hanika 2019 behind the same trait.
 //! - Adapters: [`resample`] (another grid), [`bounded`] (reflectances in [0, 1]),
 //!   [`emission`] (emission spectra of any brightness).
+//! - [`stack`]: the one builder of what a command uplifts with, from a description of its
+//!   options (method, model, blend, grid, bounded, emissive) to the method and its counters.
 //!
-//! This crate knows nothing of images, files by path, threads or FFI.
+//! This crate knows nothing of images or FFI. Its one use of threads and files is the Jakob
+//! 2019 table cache ([`baselines::jakob_cache`]): a pure function of its key, kept once.
 #![forbid(unsafe_code)]
 
 pub mod baselines;
@@ -21,6 +24,7 @@ pub mod emission;
 pub mod method;
 pub mod otsu2018;
 pub mod resample;
+pub mod stack;
 
 pub use method::Method;
 pub use otsu2018::model::Model;
@@ -42,4 +46,6 @@ pub enum Error {
     Training(String),
     #[error("bad blend width {0}")]
     Blend(String),
+    #[error("{0}")]
+    Method(String),
 }

@@ -2,7 +2,7 @@
 
 use serde::Serialize;
 use specconv_colour::Colorimetry;
-use specconv_spectral::Method;
+use specconv_spectral::{train, Method, Model, TrainOptions, TrainingSet};
 
 /// One measured spectrum's outcome.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -102,6 +102,47 @@ pub fn summarise(outcomes: &[Outcome]) -> Summary {
     }
 }
 
+/// K-fold cross-validation: fold f holds out every spectrum i of `set` with i mod K = f (so
+/// each fold samples the whole set), trains on the others with `opts` in `a`, and evaluates
+/// `held_out(model, held-out spectra)`. Returns the first fold's model and the outcomes of
+/// every held-out spectrum, fold after fold.
+pub fn cross_validate<E: From<specconv_spectral::Error>>(
+    set: &TrainingSet,
+    a: &Colorimetry,
+    opts: &TrainOptions,
+    folds: usize,
+    mut held_out: impl FnMut(&Model, &[Vec<f64>]) -> Result<Vec<Outcome>, E>,
+) -> Result<(Model, Vec<Outcome>), E> {
+    if folds < 2 || set.spectra.len() < folds {
+        let msg = format!(
+            "{folds}-fold cross-validation needs 2 to {} folds (one per spectrum at most)",
+            set.spectra.len()
+        );
+        return Err(specconv_spectral::Error::Training(msg).into());
+    }
+    let mut outcomes = Vec::new();
+    let mut first = None;
+    for f in 0..folds {
+        let mut rest = TrainingSet {
+            sources: set.sources.clone(),
+            ..TrainingSet::default()
+        };
+        let mut held = Vec::new();
+        for (i, (s, n)) in set.spectra.iter().zip(&set.names).enumerate() {
+            if i % folds == f {
+                held.push(s.clone());
+            } else {
+                rest.spectra.push(s.clone());
+                rest.names.push(n.clone());
+            }
+        }
+        let model = train(&rest, a, opts)?;
+        outcomes.extend(held_out(&model, &held)?);
+        first.get_or_insert(model);
+    }
+    Ok((first.expect("at least two folds"), outcomes))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -137,5 +178,46 @@ mod tests {
         assert_eq!(s.roundtrip_de2000_max, 0.1);
         assert_eq!(s.in_unit_range, 0.75);
         assert_eq!(summarise(&[outcome(3.0, true)]).delta_e.median, 3.0);
+    }
+
+    #[test]
+    fn each_fold_trains_without_what_it_holds_out() {
+        let a = Colorimetry::new(
+            specconv_colour::Grid::PAPER,
+            specconv_colour::Observer::Cie1931,
+            specconv_colour::Illuminant::D65,
+        )
+        .unwrap();
+        let set = specconv_testkit::set(specconv_testkit::COLORCHECKER, &a.grid);
+        let opts = specconv_testkit::paper_options(1);
+        let mut seen = Vec::new();
+        let (first, outcomes) = cross_validate(
+            &set,
+            &a,
+            &opts,
+            3,
+            |m, held| -> Result<_, specconv_spectral::Error> {
+                seen.push((m.training.count, held.to_vec()));
+                Ok(held.iter().map(|_| outcome(0.0, true)).collect())
+            },
+        )
+        .unwrap();
+        assert_eq!(outcomes.len(), 24);
+        assert_eq!(first.training.count, 16);
+        for (f, (count, held)) in seen.iter().enumerate() {
+            assert_eq!(*count, 16);
+            let want: Vec<_> = (f..24).step_by(3).map(|i| set.spectra[i].clone()).collect();
+            assert_eq!(*held, want);
+        }
+        for folds in [1, 25] {
+            let e = cross_validate(
+                &set,
+                &a,
+                &opts,
+                folds,
+                |_, _| -> Result<_, specconv_spectral::Error> { Ok(vec![]) },
+            );
+            assert!(e.err().unwrap().to_string().contains("cross-validation"));
+        }
     }
 }

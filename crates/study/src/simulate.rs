@@ -492,11 +492,15 @@ impl Scene {
 
 /// Simulates `scene` in colorimetry `a` (the model's: grid, observer, and the illuminant that
 /// defines the texture colours) for each method, the measured reference (when every patch is
-/// measured) and plain RGB multiplication.
-pub fn simulate(scene: &Scene, a: &Colorimetry, methods: &[&dyn Method]) -> Result<Outcome, Error> {
+/// measured) and plain RGB multiplication. Each method comes with the name its rendering has.
+pub fn simulate(
+    scene: &Scene,
+    a: &Colorimetry,
+    methods: &[(&str, &dyn Method)],
+) -> Result<Outcome, Error> {
     let bands = a.bands();
     scene.validate(bands)?;
-    for m in methods {
+    for (_, m) in methods {
         if m.grid() != a.grid {
             return Err(Error::Scene(format!(
                 "method {} makes spectra on {}, the scene is on {}",
@@ -554,14 +558,14 @@ pub fn simulate(scene: &Scene, a: &Colorimetry, methods: &[&dyn Method]) -> Resu
             xyz: render(&rho)?,
         });
     }
-    for m in methods {
+    for (name, m) in methods {
         let mut rho = vec![vec![0.0; bands]; n];
         for (r, c) in rho.iter_mut().zip(&colours) {
             m.uplift_f64(c, r);
         }
-        let xyz = render(&rho).map_err(|e| Error::Scene(format!("{}: {e}", m.name())))?;
+        let xyz = render(&rho).map_err(|e| Error::Scene(format!("{name}: {e}")))?;
         renderings.push(Rendering {
-            method: m.name().to_string(),
+            method: name.to_string(),
             xyz,
         });
     }
@@ -823,7 +827,7 @@ mod tests {
             furnace(1),
             Effect::Bounces(4),
         );
-        let out = simulate(&s, &a, &[&up]).unwrap();
+        let out = simulate(&s, &a, &[("otsu2018", &up)]).unwrap();
         assert!(out.has_reference);
         assert_eq!(out.counts.len(), 5);
         let reference = out.rendering("measured").unwrap();
@@ -854,7 +858,7 @@ mod tests {
             Effect::Bounces(3),
         );
         s.lights[0].patches = vec![1];
-        let out = simulate(&s, &a, &[&up]).unwrap();
+        let out = simulate(&s, &a, &[("otsu2018", &up)]).unwrap();
         let reference = &out.renderings[0];
         for r in &out.renderings {
             for c in 0..4 {
@@ -875,7 +879,7 @@ mod tests {
                 ..s
             },
             &a,
-            &[&up],
+            &[("otsu2018", &up)],
         )
         .unwrap();
         assert_eq!(conv.counts, vec![None]);

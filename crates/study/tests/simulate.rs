@@ -33,7 +33,16 @@ fn munsell_furnace_at_5500k_drifts_for_smooth_methods_and_least_for_otsu2018() {
     let otsu = Uplifter::new(model).unwrap();
     let smits = Smits1999::new(&a).unwrap();
     let meng = Meng2015::new(&a, false).unwrap();
-    let out = simulate(&scene, &a, &[&otsu, &smits, &meng]).unwrap();
+    let out = simulate(
+        &scene,
+        &a,
+        &[
+            ("otsu2018", &otsu),
+            ("smits1999", &smits),
+            ("meng2015", &meng),
+        ],
+    )
+    .unwrap();
     let mean = |m: &str| out.mean_delta_e(m, "measured").unwrap();
     let (o, s, m, rgb) = (
         mean("otsu2018"),

@@ -5,15 +5,13 @@ use crate::{checks, exit, files, methods, one_line, print_error, records, usage}
 use anyhow::{bail, Context, Result};
 use clap::ValueEnum;
 use serde::Serialize;
-use specconv_colour::Integration;
 use specconv_exr::{Compression, Kind, Sample};
 use specconv_pipeline::{convert, Alpha, Job, Mip, Settings};
-use specconv_spectral::baselines::jakob;
-use specconv_spectral::bounded::{Bounded, Tally};
-use specconv_spectral::emission::{EmissionSetting, Emissive};
+use specconv_spectral::bounded::Counts;
+use specconv_spectral::emission::Emissive;
 use specconv_spectral::method::MethodName;
-use specconv_spectral::resample::Resampled;
-use specconv_spectral::Method;
+use specconv_spectral::stack::Stack;
+use specconv_spectral::{Method, Model};
 use std::io::BufRead;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -80,27 +78,12 @@ pub struct Args {
     /// premultiplied: OpenEXR stores premultiplied colour.
     #[arg(long, value_name = "HOW", value_enum, default_value_t = AlphaArg::Auto)]
     alpha: AlphaArg,
-    /// Model file from `specconv train`; the built-in model when absent. Its grid, observer and
-    /// illuminant are those of the output, whatever the method.
-    #[arg(long, value_name = "MODEL")]
-    model: Option<PathBuf>,
     /// Uplift method: otsu2018 (the clustered PCA of the model), pca (a one-cluster model),
     /// smits1999, meng2015, meng2015-bounded or jakob2019.
     #[arg(long, value_name = "NAME", default_value = "otsu2018")]
     method: MethodName,
     #[command(flatten)]
-    blend: methods::BlendArg,
-    /// Keep every reflectance inside [0, 1] with its XYZ unchanged (the default): where the
-    /// method's spectrum leaves [0, 1], the nearest spectrum (least squares) that stays inside
-    /// with exactly the input's XYZ. Colours no reflectance can have (outside the object-colour
-    /// solid: too saturated, negative, or brighter than white) get the in-range spectrum whose
-    /// colour is nearest in CIELAB. The summary counts both. About 1 µs per pixel that needs
-    /// the projection (≈30 % of an sRGB cube), ≈25 µs per pixel outside the solid.
-    #[arg(long, overrides_with = "unbounded")]
-    bounded: bool,
-    /// The method's spectra as they are, values outside [0, 1] included (the paper's output).
-    #[arg(long, overrides_with = "bounded")]
-    unbounded: bool,
+    pub(crate) stack: methods::StackArgs,
     /// Write emission (`S0.` channels, `emissiveUnits` W.m^-2.sr^-1) instead of reflectance:
     /// the colour is that of emitted radiance, of any brightness, and each spectrum L has it
     /// under the observer alone, in the convention of --emission-units. Each colour is scaled
@@ -121,10 +104,6 @@ pub struct Args {
         requires = "emissive"
     )]
     emission_units: specconv_colour::EmissionUnits,
-    /// Output wavelength grid START:END:STEP in nm (default: the model's). The method's
-    /// spectra are interpolated onto it and corrected so that their XYZ stays exact.
-    #[arg(long, value_name = "START:END:STEP")]
-    bands: Option<specconv_colour::Grid>,
     /// Sample type of the output.
     #[arg(short = 'd', long = "data-type", value_name = "TYPE", default_value = "half", value_parser = ["half", "float"])]
     data_type: String,
@@ -313,57 +292,54 @@ pub fn run(args: Args) -> Result<i32> {
     }
     let config = checks::config(args.ocio.as_deref())?;
     checks::input_colorspace(&config, args.colorspace.as_deref())?;
-    let model = files::load_model(args.model.as_deref())?;
-    let inner = match args.method {
-        MethodName::Otsu2018 | MethodName::Pca => {
-            if args.method == MethodName::Pca && model.leaves.len() != 1 {
-                return Err(usage(anyhow::anyhow!("--method pca needs a one-cluster model: train one with `specconv train --clusters 1` and pass --model")));
-            }
-            methods::blended(&model, args.blend.width).map_err(usage)?
-        }
-        other => methods::baseline(other, &model.colorimetry()?, jakob::DEFAULT_RESOLUTION)
-            .map_err(usage)?,
-    };
-    // The output's colorimetry is every reader's integration (the layout's reference, on the
-    // output grid); the model's band sums differ from it by ≈0.1 %, which Resampled corrects,
-    // so the file's colour is the input's exactly as readers compute it.
-    let grid = args.bands.unwrap_or(model.grid);
-    let (observer, illuminant) = (model.observer, model.illuminant);
-    // Every band of an output needs the observer and the illuminant (the readers' integration
-    // alone would leave bands outside them without colour).
-    specconv_colour::Colorimetry::new(grid, observer, illuminant).map_err(usage)?;
-    let emission = args
-        .emissive
-        .then(|| EmissionSetting::new(grid, observer, illuminant, args.emission_units))
-        .transpose()
-        .map_err(usage)?;
-    let output = match &emission {
-        Some(e) => e.reflectance.clone(),
-        None => Integration::reflectance(&grid.wavelengths(), observer, illuminant)?
-            .colorimetry(grid, observer, illuminant),
-    };
-    let mut method: Box<dyn Method> =
-        Box::new(Resampled::new(inner, output.clone()).map_err(usage)?);
-    // Bounded by default; the tally counts its outcomes across the pipeline's threads.
-    let tally = (!args.unbounded).then(|| Arc::new(Tally::default()));
-    if let Some(tally) = &tally {
-        method = Box::new(Bounded::new(method, output.clone())?.counting_into(tally.clone()));
+    let model = files::load_model(args.stack.model.as_deref())?;
+    let stack = methods::build(&args.description(), &model).map_err(usage)?;
+    let described = files::describe_model(args.stack.model.as_deref(), &model);
+    let tag = settings_tag(&args, &described, &stack, &config.source().to_string());
+    let settings = settings(&args, &model, &described, &stack, &tag);
+    if args.emissive
+        && args.emission_units == specconv_colour::EmissionUnits::Photometric
+        && args.data_type == "half"
+        && !args.quiet
+    {
+        // Y = 683·∫ S0·ȳ dλ: S0 ≈ Y/73000 per band, below half's normal range (6.1e-5) for
+        // scenes under ≈4 cd/m², and few digits left far above.
+        eprintln!(
+            "specconv: note: photometric S0 of scenes below a few cd/m² falls below what half \
+             resolves; use -d float"
+        );
     }
-    // Emission wraps the reflectance stack; kept by type to read its count of unmatched colours.
-    let (method, emissive) = match &emission {
-        Some(setting) => (None, Some(Emissive::in_setting(method, setting)?)),
-        None => (Some(method), None),
+    if args.verbose && !args.quiet {
+        eprintln!("config: {}", config.source());
+        eprintln!("model:  {described}");
+    }
+    let batch = Batch {
+        args: &args,
+        config: &config,
+        stack: &stack,
+        settings: &settings,
+        tag: &tag,
     };
-    let method: &dyn Method = match (&method, &emissive) {
-        (Some(m), _) => m,
-        (_, Some(e)) => e,
-        (None, None) => unreachable!("one of the two is built"),
-    };
-    let settings_tag = format!(
+    Ok(batch.run(&inputs, &outputs))
+}
+
+impl Args {
+    /// The method stack these options describe.
+    pub(crate) fn description(&self) -> specconv_spectral::stack::Description {
+        specconv_spectral::stack::Description {
+            emissive: self.emissive.then_some(self.emission_units),
+            ..self.stack.describe(self.method)
+        }
+    }
+}
+
+/// `specconvSettings`: everything that makes an output what it is, for `--update`.
+fn settings_tag(args: &Args, model: &str, stack: &Stack, config: &str) -> String {
+    format!(
         "model={} method={} blend={} data-type={} compression={} tile={} mip={} colorspace={} alpha={} config={}{}",
-        files::describe_model(args.model.as_deref(), &model),
-        method.name(),
-        args.blend.of(args.method),
+        model,
+        stack.method().name(),
+        stack.blend(),
         args.data_type,
         match args.zip_level {
             Some(level) => format!("{} zip-level={level}", args.compression),
@@ -377,15 +353,22 @@ pub fn run(args: Args) -> Result<i32> {
         args.mip,
         args.colorspace.as_deref().unwrap_or("auto"),
         args.alpha.to_possible_value().expect("no value is skipped").get_name(),
-        config.source(),
-        emission
-            .as_ref()
+        config,
+        stack
+            .emission()
             .map_or(String::new(), |e| format!(" emission-units={}", e.units))
     ) + &[("subimage", &args.read.subimage), ("channels", &args.read.channels)]
         .iter()
         .filter_map(|(k, v)| v.as_ref().map(|v| format!(" {k}={v}")))
-        .collect::<String>();
-    let settings = Settings {
+        .collect::<String>()
+}
+
+/// The pipeline's settings of every output.
+fn settings(args: &Args, model: &Model, described: &str, stack: &Stack, tag: &str) -> Settings {
+    let rounding = args.half_rounding.as_deref();
+    let by_colour =
+        rounding.unwrap_or(if args.emissive { "colour" } else { "nearest" }) != "nearest";
+    Settings {
         kind: if args.emissive {
             Kind::Emissive {
                 units: EMISSIVE_UNITS.into(),
@@ -393,19 +376,10 @@ pub fn run(args: Args) -> Result<i32> {
         } else {
             Kind::Reflective
         },
-        xyz_weights: if args.half_rounding.as_deref().unwrap_or(if args.emissive {
-            "colour"
-        } else {
-            "nearest"
-        }) == "nearest"
-        {
-            None
-        } else {
-            Some(match &emission {
-                Some(e) => e.emission.weights.clone(),
-                None => output.weights.clone(),
-            })
-        },
+        xyz_weights: by_colour.then(|| match stack.emission() {
+            Some(e) => e.emission.weights.clone(),
+            None => stack.colorimetry().weights.clone(),
+        }),
         colorspace: args.colorspace.clone(),
         input: args.read.request(),
         alpha: match args.alpha {
@@ -423,183 +397,173 @@ pub fn run(args: Args) -> Result<i32> {
         tile: (!args.scanline).then(|| (args.tile[0], args.tile[1])),
         mip: if args.mip == "0" { Mip::Base } else { Mip::All },
         overwrite: args.force || args.update,
-        attributes: vec![
-            (
-                "specconvModel".into(),
-                files::describe_model(args.model.as_deref(), &model),
-            ),
-            ("specconvMethod".into(), method.name().into()),
-            (
-                "specconvBlend".into(),
-                args.blend.of(args.method).to_string(),
-            ),
-            ("specconvObserver".into(), model.observer.to_string()),
-            ("specconvIlluminant".into(), model.illuminant.to_string()),
-            ("specconvSettings".into(), settings_tag.clone()),
+        attributes: [
+            ("specconvModel", described.to_string()),
+            ("specconvMethod", stack.method().name().into()),
+            ("specconvBlend", stack.blend().to_string()),
+            ("specconvObserver", model.observer.to_string()),
+            ("specconvIlluminant", model.illuminant.to_string()),
+            ("specconvSettings", tag.to_string()),
         ]
         .into_iter()
+        .map(|(k, v)| (k.to_string(), v))
         .chain(
-            emission
-                .as_ref()
+            stack
+                .emission()
                 .map(|e| (files::EMISSION_UNITS_ATTRIBUTE.into(), e.units.to_string())),
         )
         .chain([("specconvVersion".into(), env!("CARGO_PKG_VERSION").into())])
         .collect(),
-    };
-    if args.emission_units == specconv_colour::EmissionUnits::Photometric
-        && args.emissive
-        && args.data_type == "half"
-        && !args.quiet
-    {
-        // Y = 683·∫ S0·ȳ dλ: S0 ≈ Y/73000 per band, below half's normal range (6.1e-5) for
-        // scenes under ≈4 cd/m², and few digits left far above.
-        eprintln!(
-            "specconv: note: photometric S0 of scenes below a few cd/m² falls below what half \
-             resolves; use -d float"
-        );
     }
-    if args.verbose && !args.quiet {
-        eprintln!("config: {}", config.source());
-        eprintln!(
-            "model:  {}",
-            files::describe_model(args.model.as_deref(), &model)
-        );
-    }
+}
 
-    let cancel = Arc::new(AtomicBool::new(false));
-    {
-        let cancel = cancel.clone();
-        // SIGINT and SIGTERM stop the job between windows; its temporary file is removed.
-        let _ = ctrlc::set_handler(move || cancel.store(true, Ordering::SeqCst));
-    }
-    let mut progress = Progress::new(args.progress, args.quiet, &inputs);
-    let mut summary = Summary::default();
-    let batch_start = Instant::now();
-    for (i, (input, output)) in inputs.iter().zip(&outputs).enumerate() {
-        if cancel.load(Ordering::SeqCst) {
-            break;
+/// One run's inputs share these.
+struct Batch<'a> {
+    args: &'a Args,
+    config: &'a specconv_ocio::Config,
+    stack: &'a Stack,
+    settings: &'a Settings,
+    tag: &'a str,
+}
+
+impl Batch<'_> {
+    /// Converts every input in turn; returns the exit status.
+    fn run(&self, inputs: &[PathBuf], outputs: &[PathBuf]) -> i32 {
+        let args = self.args;
+        let cancel = Arc::new(AtomicBool::new(false));
+        {
+            let cancel = cancel.clone();
+            // SIGINT and SIGTERM stop the job between windows; its temporary file is removed.
+            let _ = ctrlc::set_handler(move || cancel.store(true, Ordering::SeqCst));
         }
-        progress.start(i, input);
-        if args.update && up_to_date(input, output, &settings_tag) {
-            progress.skip();
-            summary.skipped += 1;
-            emit(
-                &args,
-                Record {
+        let mut progress = Progress::new(args.progress, args.quiet, inputs);
+        let mut summary = Summary::default();
+        let batch_start = Instant::now();
+        for (i, (input, output)) in inputs.iter().zip(outputs).enumerate() {
+            if cancel.load(Ordering::SeqCst) {
+                break;
+            }
+            progress.start(i, input);
+            if args.update && up_to_date(input, output, self.tag) {
+                progress.skip();
+                summary.skipped += 1;
+                let record = Record {
                     skip_reason: Some("up to date"),
                     ..Record::not_converted(input, output, "skipped", 0.0)
-                },
-                "",
-            );
-            continue;
-        }
-        let start = Instant::now();
-        let job = Job {
-            input,
-            output,
-            config: &config,
-            method,
-            settings: &settings,
-            cancel: &cancel,
-        };
-        let result = convert(&job, &mut |done, total| progress.update(done, total));
-        progress.finish();
-        let seconds = start.elapsed().as_secs_f64();
-        // In emission the bounded method sees scaled trial colours, not pixels: no counts.
-        let counts = tally
-            .as_ref()
-            .map(|t| t.take())
-            .filter(|_| emissive.is_none());
-        match result {
-            Ok(r) => {
-                summary.converted += 1;
-                if !args.quiet {
-                    for w in &r.warnings {
-                        eprintln!("specconv: warning: {}: {w}", input.display());
-                    }
-                }
-                let line = format!(
-                    "{}×{}, {} level{}, {} bands, colour space {} ({}), {}{}{}, {seconds:.2} s",
-                    r.width,
-                    r.height,
-                    r.levels,
-                    if r.levels == 1 { "" } else { "s" },
-                    method.grid().len(),
-                    r.colorspace,
-                    r.colorspace_rule,
-                    r.selection,
-                    if r.premultiplied {
-                        ", straight alpha premultiplied"
-                    } else {
-                        ""
-                    },
-                    if r.non_finite > 0 {
-                        format!(", {} pixels NaN or infinite (written as NaN)", r.non_finite)
-                    } else {
-                        String::new()
-                    }
-                ) + &counts.map_or(String::new(), |c| {
-                    format!(
-                        ", {} pixels projected into [0, 1], {} outside the object-colour solid \
-                         (nearest colour in CIELAB)",
-                        c.projected, c.outside
-                    )
-                }) + &range_notes(&r, method, emissive.as_ref());
-                emit(
-                    &args,
-                    Record {
-                        pixels: Some(r.pixels),
-                        width: Some(r.width),
-                        height: Some(r.height),
-                        levels: Some(r.levels),
-                        bands: Some(method.grid().len()),
-                        colorspace: Some(r.colorspace.clone()),
-                        colorspace_rule: Some(records::colorspace_rule(&r.colorspace_rule)),
-                        subimage: Some(r.selection.subimage),
-                        channels: Some(r.selection.channels.names.clone()),
-                        bounded: counts.map(|c| BoundedCounts {
-                            projected: c.projected,
-                            outside_solid: c.outside,
-                        }),
-                        non_finite: Some(r.non_finite),
-                        above_one: Some(r.above_one),
-                        saturated: Some(r.saturated),
-                        ..Record::not_converted(input, output, "ok", seconds)
-                    },
-                    &line,
-                );
+                };
+                emit(args, record, "");
+                continue;
             }
-            // Interrupted: not a failure of this input, which stays to be converted.
-            Err(specconv_pipeline::Error::Cancelled) => break,
-            Err(e) => {
-                let error = records::without_input(&one_line(&e.into()), input);
-                if !args.json {
-                    print_error(&format!("{}: {error}", input.display()));
+            let start = Instant::now();
+            let job = Job {
+                input,
+                output,
+                config: self.config,
+                method: self.stack.method(),
+                settings: self.settings,
+                cancel: &cancel,
+            };
+            let result = convert(&job, &mut |done, total| progress.update(done, total));
+            progress.finish();
+            let seconds = start.elapsed().as_secs_f64();
+            // Taken after every input, so that a failed one's count is not the next one's.
+            let counts = self.stack.take_counts();
+            match result {
+                Ok(r) => {
+                    summary.converted += 1;
+                    self.converted((input, output), &r, counts, seconds);
                 }
-                summary.failed.push((input.clone(), error.clone()));
-                emit(
-                    &args,
-                    Record {
+                // Interrupted: not a failure of this input, which stays to be converted.
+                Err(specconv_pipeline::Error::Cancelled) => break,
+                Err(e) => {
+                    let error = records::without_input(&one_line(&e.into()), input);
+                    if !args.json {
+                        print_error(&format!("{}: {error}", input.display()));
+                    }
+                    summary.failed.push((input.clone(), error.clone()));
+                    let record = Record {
                         error: Some(error),
                         ..Record::not_converted(input, output, "failed", seconds)
-                    },
-                    "",
-                );
+                    };
+                    emit(args, record, "");
+                }
             }
         }
+        if inputs.len() > 1 && !args.quiet {
+            eprintln!("{}", summary.text(batch_start.elapsed().as_secs_f64()));
+        }
+        if cancel.load(Ordering::SeqCst) {
+            print_error("interrupted; no partial output was left");
+            return exit::INTERRUPTED;
+        }
+        if summary.failed.is_empty() {
+            exit::OK
+        } else {
+            exit::FAILED
+        }
     }
-    if inputs.len() > 1 && !args.quiet {
-        eprintln!("{}", summary.text(batch_start.elapsed().as_secs_f64()));
+
+    /// Reports a converted input: its warnings, its record or line.
+    fn converted(
+        &self,
+        (input, output): (&Path, &Path),
+        r: &specconv_pipeline::Report,
+        counts: Option<Counts>,
+        seconds: f64,
+    ) {
+        let (args, method) = (self.args, self.stack.method());
+        if !args.quiet {
+            for w in &r.warnings {
+                eprintln!("specconv: warning: {}: {w}", input.display());
+            }
+        }
+        let bands = method.grid().len();
+        let line = summary_line(r, bands, seconds)
+            + &counts.map_or(String::new(), |c| {
+                format!(
+                    ", {} pixels projected into [0, 1], {} outside the object-colour solid \
+                     (nearest colour in CIELAB)",
+                    c.projected, c.outside
+                )
+            })
+            + &range_notes(r, method, self.stack.emissive());
+        let record = Record {
+            pixels: Some(r.pixels),
+            width: Some(r.width),
+            height: Some(r.height),
+            levels: Some(r.levels),
+            bands: Some(bands),
+            colorspace: Some(r.colorspace.clone()),
+            colorspace_rule: Some(records::colorspace_rule(&r.colorspace_rule)),
+            subimage: Some(r.selection.subimage),
+            channels: Some(r.selection.channels.names.clone()),
+            bounded: counts.map(|c| BoundedCounts {
+                projected: c.projected,
+                outside_solid: c.outside,
+            }),
+            non_finite: Some(r.non_finite),
+            above_one: Some(r.above_one),
+            saturated: Some(r.saturated),
+            ..Record::not_converted(input, output, "ok", seconds)
+        };
+        emit(args, record, &line);
     }
-    if cancel.load(Ordering::SeqCst) {
-        print_error("interrupted; no partial output was left");
-        return Ok(exit::INTERRUPTED);
+}
+
+/// `W×H, L levels, N bands, colour space …, …, S s` of a converted input.
+fn summary_line(r: &specconv_pipeline::Report, bands: usize, seconds: f64) -> String {
+    let plural = if r.levels == 1 { "" } else { "s" };
+    let mut line = format!(
+        "{}×{}, {} level{plural}, {bands} bands, colour space {} ({}), {}",
+        r.width, r.height, r.levels, r.colorspace, r.colorspace_rule, r.selection,
+    );
+    if r.premultiplied {
+        line += ", straight alpha premultiplied";
     }
-    Ok(if summary.failed.is_empty() {
-        exit::OK
-    } else {
-        exit::FAILED
-    })
+    if r.non_finite > 0 {
+        line += &format!(", {} pixels NaN or infinite (written as NaN)", r.non_finite);
+    }
+    line + &format!(", {seconds:.2} s")
 }
 
 /// Units of `S0.` channels: radiance, as the layout names it; the scale is the convention of

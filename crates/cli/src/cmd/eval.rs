@@ -3,7 +3,7 @@
 use crate::{files, methods};
 use anyhow::Result;
 use specconv_spectral::method::MethodName;
-use specconv_spectral::TrainOptions;
+use specconv_spectral::{Model, TrainOptions};
 use specconv_study::eval;
 use std::path::PathBuf;
 
@@ -70,55 +70,19 @@ struct Row<'a> {
 }
 
 pub fn run(args: Args) -> Result<()> {
-    let base = files::load_model(args.model.as_deref())?;
-    let (method, a, described) = if args.method.is_clustered() {
-        let model = if args.train.is_empty() {
-            let m = base;
-            if args.method == MethodName::Pca && m.leaves.len() != 1 {
-                return Err(crate::usage(anyhow::anyhow!(
-                    "pca is the clustered PCA with one cluster, and {} has {}; pass a model \
-                     trained with --clusters 1, or --train CSV to train one here",
-                    args.model
-                        .as_ref()
-                        .map_or("the built-in model".into(), |p| p.display().to_string()),
-                    m.leaves.len()
-                )));
-            }
-            m
-        } else {
-            let a = args.setting.colorimetry(&base)?;
-            let set = methods::training_set(&args.train, &a.grid)?;
-            let opts = TrainOptions {
-                clusters: if args.method == MethodName::Pca {
-                    1
-                } else {
-                    args.clusters
-                },
-                min_cluster_size: args.min_cluster_size,
-                ..TrainOptions::default()
-            };
-            specconv_spectral::train(&set, &a, &opts)?
-        };
-        let described = if args.train.is_empty() {
-            files::describe_model(args.model.as_deref(), &model)
-        } else {
-            files::describe_model(None, &model).replacen("built-in", "trained here", 1)
-        };
-        (
-            methods::blended(&model, args.blend.width)?,
-            model.colorimetry()?,
-            described,
-        )
+    let (model, described) = model(&args)?;
+    let stack = methods::build(&args.description(), &model).map_err(|e| match args.method {
+        // The one setting a user can fix here: a many-cluster model for pca.
+        MethodName::Pca => crate::usage(anyhow::anyhow!(
+            "{e}; or pass --train CSV to train one here"
+        )),
+        _ => e,
+    })?;
+    let (method, a) = (stack.method(), stack.colorimetry());
+    let described = if args.method.is_clustered() {
+        described
     } else {
-        let a = args.setting.colorimetry(&base)?;
-        let m = methods::baseline(args.method, &a, args.setting.jakob_resolution)?;
-        let d = format!("{}, {}, {} nm", a.observer, a.illuminant, a.grid);
-        (m, a, d)
-    };
-    let method = if args.bounded {
-        methods::bounded(method, &a)?
-    } else {
-        method
+        format!("{}, {}, {} nm", a.observer, a.illuminant, a.grid)
     };
     let name = if args.bounded {
         format!("{}-bounded", args.method)
@@ -137,7 +101,7 @@ pub fn run(args: Args) -> Result<()> {
                 .map(|n| (table.source.clone(), n.clone())),
         );
     }
-    let outcomes = eval::evaluate(&a, method.as_ref(), &spectra);
+    let outcomes = eval::evaluate(a, method, &spectra);
     let summary = eval::summarise(&outcomes);
     let rows: Vec<Row> = labels
         .iter()
@@ -197,4 +161,36 @@ pub fn run(args: Args) -> Result<()> {
         100.0 * summary.in_unit_range
     );
     Ok(())
+}
+
+impl Args {
+    /// The method stack these options describe.
+    pub(crate) fn description(&self) -> specconv_spectral::stack::Description {
+        self.setting
+            .describe(self.method, self.blend.width, self.bounded)
+    }
+}
+
+/// The clustered methods' model: read (or built in), or trained here on --train; and how
+/// the report names it.
+fn model(args: &Args) -> Result<(Model, String)> {
+    let base = files::load_model(args.model.as_deref())?;
+    if args.train.is_empty() || !args.method.is_clustered() {
+        let described = files::describe_model(args.model.as_deref(), &base);
+        return Ok((base, described));
+    }
+    let a = args.setting.colorimetry(&base)?;
+    let set = methods::training_set(&args.train, &a.grid)?;
+    let opts = TrainOptions {
+        clusters: if args.method == MethodName::Pca {
+            1
+        } else {
+            args.clusters
+        },
+        min_cluster_size: args.min_cluster_size,
+        ..TrainOptions::default()
+    };
+    let model = specconv_spectral::train(&set, &a, &opts)?;
+    let described = files::describe_model(None, &model).replacen("built-in", "trained here", 1);
+    Ok((model, described))
 }

@@ -5,11 +5,11 @@ use crate::{files, methods, plot};
 use anyhow::{bail, Context, Result};
 use rayon::prelude::*;
 use serde::Serialize;
-use specconv_colour::working_space::WorkingSpace;
-use specconv_colour::{Colorimetry, Grid, Illuminant, Observer};
+use specconv_colour::{Colorimetry, Grid};
 use specconv_spectral::method::MethodName;
-use specconv_spectral::{Method, TrainOptions};
-use specconv_study::eval;
+use specconv_spectral::stack::{Setting, Stack};
+use specconv_spectral::{Method, Model, TrainOptions};
+use specconv_study::{cost, eval};
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -63,15 +63,8 @@ pub struct Args {
     /// Smallest cluster of the trained models (the paper's Table 1 used 4).
     #[arg(long, value_name = "N", default_value_t = TrainOptions::default().min_cluster_size)]
     min_cluster_size: usize,
-    /// Colour-matching functions: cie1931, cie1964 or wyman2013.
-    #[arg(long, default_value = "cie1931")]
-    observer: Observer,
-    /// Illuminant: D65, E, A, D50, FL2, FL11 or blackbody:KELVIN.
-    #[arg(long, default_value = "D65")]
-    illuminant: Illuminant,
-    /// Wavelength grid START:END:STEP in nm of every row but the --steps ones.
-    #[arg(long, value_name = "START:END:STEP", default_value = "380:730:10")]
-    bands: Grid,
+    #[command(flatten)]
+    colorimetry: methods::ColorimetryArgs,
     #[command(flatten)]
     blend: methods::BlendArg,
     /// Resolution of the jakob2019 coefficient table.
@@ -136,9 +129,28 @@ pub fn run(args: Args) -> Result<()> {
         .num_threads(args.threads.unwrap_or(0))
         .build()
         .context("cannot start worker threads")?;
-    let threads = pool.current_num_threads();
-    let base = Colorimetry::new(args.bands, args.observer, args.illuminant)?;
+    let mut rows = baseline_rows(&args, &pool)?;
+    rows.extend(clustered_rows(&args, &pool)?);
+    if let (Some(path), Some(format)) = (&args.plot, plot_format) {
+        let points = rows_for_plot(&rows);
+        let bytes = match format {
+            Format::Svg => plot::svg(&points)?.into_bytes(),
+            Format::Png => plot::png(&points)?,
+        };
+        files::write_atomically(path, &bytes, &[]).context("cannot write the --plot file")?;
+    }
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&rows)?);
+    } else if args.csv {
+        print_csv(&rows);
+    } else {
+        print_table(&rows, &args, pool.current_num_threads());
+    }
+    Ok(())
+}
 
+/// The rows of the baselines, in the setting of the flags.
+fn baseline_rows(args: &Args, pool: &rayon::ThreadPool) -> Result<Vec<Row>> {
     let mut rows = Vec::new();
     for name in [
         MethodName::Smits1999,
@@ -146,41 +158,47 @@ pub fn run(args: Args) -> Result<()> {
         MethodName::Meng2015Bounded,
         MethodName::Jakob2019,
     ] {
-        let m = methods::baseline(name, &base, args.jakob_resolution)?;
-        let spectra = read(&args.spectra, &base.grid)?;
-        let summary = eval::summarise(&eval::evaluate(&base, m.as_ref(), &spectra));
+        let d = methods::measured(
+            name,
+            args.blend.width,
+            args.colorimetry.setting(),
+            args.jakob_resolution,
+            false,
+        );
+        let stack = methods::build(&d, Model::builtin())?;
+        let (m, a) = (stack.method(), stack.colorimetry());
+        let spectra = read(&args.spectra, &a.grid)?;
+        let summary = eval::summarise(&eval::evaluate(a, m, &spectra));
         let setting = match name {
             MethodName::Jakob2019 => format!("{}³ table", args.jakob_resolution),
             _ => String::new(),
         };
-        rows.push(row(
-            &args,
-            &pool,
-            &base,
-            m.as_ref(),
-            name.as_str(),
-            setting,
-            &summary,
-        ));
+        rows.push(row(args, pool, a, m, name.as_str(), setting, &summary));
         eprintln!("specconv: measured {name}");
     }
-    let mut settings: Vec<(usize, Grid)> = args.clusters.iter().map(|&k| (k, args.bands)).collect();
+    Ok(rows)
+}
+
+/// The rows of the clustered models: each --clusters count on --bands (8 clusters also
+/// bounded, the built-in model's setting), and 8 clusters on each --steps band width.
+fn clustered_rows(args: &Args, pool: &rayon::ThreadPool) -> Result<Vec<Row>> {
+    let bands = args.colorimetry.bands;
+    let mut settings: Vec<(usize, Grid)> = args.clusters.iter().map(|&k| (k, bands)).collect();
     for &step in &args.steps {
-        let g = Grid::new(args.bands.start, args.bands.end, step)?;
-        if g != args.bands {
+        let g = Grid::new(bands.start, bands.end, step)?;
+        if g != bands {
             settings.push((8, g));
         }
     }
-    // The 8-cluster model of the main grid (the built-in model's setting) also bounded.
-    let bounded_row = |k: usize, g: Grid| k == 8 && g == args.bands;
     let rows_of = settings.iter().flat_map(|&(k, g)| {
-        let twin = bounded_row(k, g).then_some((k, g, true));
+        let twin = (k == 8 && g == bands).then_some((k, g, true));
         [(k, g, false)].into_iter().chain(twin)
     });
+    let mut rows = Vec::new();
     for (k, grid, bounded) in rows_of.collect::<Vec<_>>() {
-        let a = Colorimetry::new(grid, args.observer, args.illuminant)?;
-        let (model, summary) = clustered(&args, &a, k, bounded)?;
-        let m = uplifter(&args, &model, &a, bounded)?;
+        let a = args.colorimetry.on(grid)?;
+        let (model, summary) = clustered(args, &a, k, bounded)?;
+        let stack = uplifter(args, &model, bounded)?;
         let name = match (k, bounded) {
             (1, _) => "pca",
             (_, false) => "otsu2018",
@@ -195,7 +213,7 @@ pub fn run(args: Args) -> Result<()> {
         if args.blend.width > 0.0 && model.leaves.len() > 1 {
             setting = format!("{setting}, blend {}", args.blend.width);
         }
-        if grid != args.bands {
+        if grid != bands {
             setting = format!("{setting}, {} nm", grid.step);
         }
         if let Some(h) = args.holdout {
@@ -206,27 +224,11 @@ pub fn run(args: Args) -> Result<()> {
         }
         rows.push(Row {
             note: fewer,
-            ..row(&args, &pool, &a, m.as_ref(), name, setting, &summary)
+            ..row(args, pool, &a, stack.method(), name, setting, &summary)
         });
         eprintln!("specconv: measured {name} with {k} clusters on {grid}");
     }
-
-    if let (Some(path), Some(format)) = (&args.plot, plot_format) {
-        let points = rows_for_plot(&rows);
-        let bytes = match format {
-            Format::Svg => plot::svg(&points)?.into_bytes(),
-            Format::Png => plot::png(&points)?,
-        };
-        files::write_atomically(path, &bytes, &[]).context("cannot write the --plot file")?;
-    }
-    if args.json {
-        println!("{}", serde_json::to_string_pretty(&rows)?);
-    } else if args.csv {
-        print_csv(&rows);
-    } else {
-        print_table(&rows, &args, threads);
-    }
-    Ok(())
+    Ok(rows)
 }
 
 fn read(paths: &[PathBuf], grid: &Grid) -> Result<Vec<Vec<f64>>> {
@@ -238,35 +240,35 @@ fn read(paths: &[PathBuf], grid: &Grid) -> Result<Vec<Vec<f64>>> {
 }
 
 /// The clustered uplift of `model` with the --blend width, bounded or not.
-fn uplifter(
-    args: &Args,
-    model: &specconv_spectral::Model,
-    a: &Colorimetry,
-    bounded: bool,
-) -> Result<Box<dyn Method>> {
-    let m = methods::blended(model, args.blend.width)?;
-    if bounded {
-        methods::bounded(m, a)
-    } else {
-        Ok(m)
-    }
+fn uplifter(args: &Args, model: &Model, bounded: bool) -> Result<Stack> {
+    let d = methods::measured(
+        MethodName::Otsu2018,
+        args.blend.width,
+        Setting::default(),
+        args.jakob_resolution,
+        bounded,
+    );
+    methods::build(&d, model)
 }
 
 /// The model used for timing (trained on all training data, or on the first fold's) and the
 /// accuracy summary (on the evaluated spectra, or over the held-out folds).
-/// With `bounded`, the uplift is kept in [0, 1] ([`methods::bounded`]).
 fn clustered(
     args: &Args,
     a: &Colorimetry,
     k: usize,
     bounded: bool,
-) -> Result<(specconv_spectral::Model, eval::Summary)> {
+) -> Result<(Model, eval::Summary)> {
     let opts = TrainOptions {
         clusters: k,
         min_cluster_size: args.min_cluster_size,
         ..TrainOptions::default()
     };
     let eval_set = methods::training_set(&args.spectra, &a.grid)?;
+    let evaluate = |model: &Model, spectra: &[Vec<f64>]| -> Result<Vec<eval::Outcome>> {
+        let stack = uplifter(args, model, bounded)?;
+        Ok(eval::evaluate(a, stack.method(), spectra))
+    };
     let Some(folds) = args.holdout.map(|h| h as usize) else {
         let train = if args.train.is_empty() {
             eval_set.clone()
@@ -274,8 +276,7 @@ fn clustered(
             methods::training_set(&args.train, &a.grid)?
         };
         let model = specconv_spectral::train(&train, a, &opts)?;
-        let up = uplifter(args, &model, a, bounded)?;
-        let s = eval::summarise(&eval::evaluate(a, up.as_ref(), &eval_set.spectra));
+        let s = eval::summarise(&evaluate(&model, &eval_set.spectra)?);
         return Ok((model, s));
     };
     if eval_set.spectra.len() < folds {
@@ -284,79 +285,19 @@ fn clustered(
             eval_set.spectra.len()
         );
     }
-    // Fold f holds every spectrum i with i mod K = f: each fold samples the whole file.
-    let mut outcomes = Vec::new();
-    let mut first = None;
-    for f in 0..folds {
-        let mut train = eval_set.clone();
-        train.spectra.clear();
-        train.names.clear();
-        let mut held = Vec::new();
-        for (i, (s, n)) in eval_set.spectra.iter().zip(&eval_set.names).enumerate() {
-            if i % folds == f {
-                held.push(s.clone());
-            } else {
-                train.spectra.push(s.clone());
-                train.names.push(n.clone());
-            }
-        }
-        let model = specconv_spectral::train(&train, a, &opts)?;
-        let up = uplifter(args, &model, a, bounded)?;
-        outcomes.extend(eval::evaluate(a, up.as_ref(), &held));
-        first.get_or_insert(model);
-    }
-    Ok((
-        first.expect("at least two folds"),
-        eval::summarise(&outcomes),
-    ))
+    let (first, outcomes) = eval::cross_validate(&eval_set, a, &opts, folds, evaluate)?;
+    Ok((first, eval::summarise(&outcomes)))
 }
-
-/// Random linear sRGB colours in [0, 1]³ as XYZ (a fixed linear congruential sequence, so every
-/// run and every method sees the same colours).
-fn timing_colours(a: &Colorimetry, n: usize) -> Vec<f32> {
-    let ws = WorkingSpace::rec709(a);
-    let mut state = 0x2545_f491_4f6c_dd1du64;
-    let mut next = || {
-        state = state
-            .wrapping_mul(6_364_136_223_846_793_005)
-            .wrapping_add(1_442_695_040_888_963_407);
-        (state >> 11) as f64 / (1u64 << 53) as f64
-    };
-    let mut out = Vec::with_capacity(3 * n);
-    for _ in 0..n {
-        let xyz = ws.xyz([next(), next(), next()]);
-        out.extend(xyz.map(|v| v as f32));
-    }
-    out
-}
-
-const TILE: usize = 4096;
 
 /// Seconds to uplift `xyz` tile by tile on one thread, and on the pool.
 fn time(m: &dyn Method, xyz: &[f32], pool: &rayon::ThreadPool) -> (f64, f64) {
     let n = m.grid().len();
-    let mut out = vec![0f32; TILE * n];
-    // Warm-up: caches, lazy tables, page faults of `out`.
-    m.uplift_f32(
-        &xyz[..3 * TILE.min(xyz.len() / 3)],
-        &mut out[..n * TILE.min(xyz.len() / 3)],
-    );
-    let start = Instant::now();
-    for tile in xyz.chunks(3 * TILE) {
-        let o = &mut out[..tile.len() / 3 * n];
-        m.uplift_f32(tile, o);
-        std::hint::black_box(&o);
-    }
-    let single = start.elapsed().as_secs_f64();
+    let single = cost::time_one_thread(m, xyz);
     let start = Instant::now();
     pool.install(|| {
-        xyz.par_chunks(3 * TILE).for_each_init(
-            || vec![0f32; TILE * n],
-            |out, tile| {
-                let o = &mut out[..tile.len() / 3 * n];
-                m.uplift_f32(tile, o);
-                std::hint::black_box(&o);
-            },
+        xyz.par_chunks(3 * cost::TILE).for_each_init(
+            || vec![0f32; cost::TILE * n],
+            |out, tile| cost::uplift_tiles(m, tile, out),
         )
     });
     (single, start.elapsed().as_secs_f64())
@@ -371,7 +312,7 @@ fn row(
     setting: String,
     s: &eval::Summary,
 ) -> Row {
-    let xyz = timing_colours(a, args.colours);
+    let xyz = cost::timing_colours(a, args.colours);
     let (t1, tn) = time(m, &xyz, pool);
     let c = args.colours as f64;
     Row {
@@ -465,11 +406,12 @@ fn print_table(rows: &[Row], args: &Args, threads: usize) {
     }
     println!();
     println!(
-        "{} spectra; {}, {}; cost: f32 uplift of {} colours, {TILE} per tile.",
+        "{} spectra; {}, {}; cost: f32 uplift of {} colours, {} per tile.",
         rows.first().map_or(0, |r| r.count),
-        args.observer,
-        args.illuminant,
-        args.colours
+        args.colorimetry.observer,
+        args.colorimetry.illuminant,
+        args.colours,
+        cost::TILE
     );
     for r in rows {
         if let Some(note) = &r.note {

@@ -2,9 +2,8 @@
 
 use crate::files;
 use anyhow::Result;
-use specconv_colour::{Colorimetry, Grid, Illuminant, Observer};
 use specconv_spectral::otsu2018::train::SMALLEST_CLUSTER;
-use specconv_spectral::{TrainOptions, TrainingSet};
+use specconv_spectral::TrainOptions;
 use std::path::PathBuf;
 
 /// Shown after `--help` and as the man page's EXAMPLES.
@@ -37,16 +36,8 @@ pub struct Args {
     /// M turn colours the cluster was not trained on into wild spectra.
     #[arg(long, value_name = "BOUND", default_value_t = TrainOptions::default().max_condition)]
     max_condition: f64,
-    /// Colour-matching functions: cie1931, cie1964 or wyman2013 (the paper's).
-    #[arg(long, default_value = "cie1931")]
-    observer: Observer,
-    /// Illuminant under which reflectances become colours: D65, E, A, D50, FL2, FL11 or
-    /// blackbody:KELVIN. E reproduces the paper's setting.
-    #[arg(long, default_value = "D65")]
-    illuminant: Illuminant,
-    /// Wavelength grid START:END:STEP in nm, both ends included.
-    #[arg(long, value_name = "START:END:STEP", default_value = "380:730:10")]
-    bands: Grid,
+    #[command(flatten)]
+    colorimetry: crate::methods::ColorimetryArgs,
     /// Where to write the model (JSON).
     #[arg(short, long, value_name = "MODEL")]
     output: PathBuf,
@@ -62,14 +53,8 @@ fn min_cluster_size(s: &str) -> Result<usize, String> {
 pub fn run(args: Args) -> Result<()> {
     crate::checks::output_dir(&args.output)?;
     files::check_output(&args.output, &["json"], "train writes a model file (JSON)")?;
-    let a = Colorimetry::new(args.bands, args.observer, args.illuminant)?;
-    let mut set = TrainingSet::default();
-    for path in &args.spectra {
-        let table = files::read_spectra(path)?;
-        set.spectra.extend(table.resampled(&args.bands)?);
-        set.names.extend(table.names.iter().cloned());
-        set.sources.push(table.source);
-    }
+    let a = args.colorimetry.on(args.colorimetry.bands)?;
+    let set = crate::methods::training_set(&args.spectra, &a.grid)?;
     let opts = TrainOptions {
         clusters: args.clusters,
         min_cluster_size: args.min_cluster_size,

@@ -12,9 +12,8 @@
 //! the other two divided by z). Each cell is fitted by Gauss–Newton on the CIELAB difference,
 //! starting from its neighbour along z (their Sec. 4.1, and Hanika's rgb2spec_opt).
 //!
-//! Building the table is pure computation, split into independent columns so that a caller may
-//! run them in parallel and keep the result in a file ([`Table::to_bytes`]); this crate does
-//! neither.
+//! Building the table is pure computation, split into independent columns so that they can be
+//! solved in parallel and kept in a file ([`Table::to_bytes`]): [`super::jakob_cache`] does both.
 
 // Band and coefficient loops index several arrays in step.
 #![allow(clippy::needless_range_loop)]

@@ -2,6 +2,7 @@
 //! trait: Smits 1999, Meng et al. 2015 (unbounded and bounded) and Jakob & Hanika 2019.
 
 pub mod jakob;
+pub mod jakob_cache;
 pub mod meng;
 pub mod smits;
 

@@ -6,9 +6,9 @@ use serde::{Deserialize, Serialize};
 use specconv_colour::rgb;
 use specconv_colour::rgb::RgbSpace;
 use specconv_colour::{Colorimetry, Illuminant};
-use specconv_spectral::baselines::jakob;
 use specconv_spectral::method::MethodName;
-use specconv_spectral::Method;
+use specconv_spectral::stack::Stack;
+use specconv_spectral::{Method, Model};
 use specconv_study::simulate;
 use specconv_study::simulate::{Effect, Light, Material, Outcome, Scene};
 use std::collections::BTreeMap;
@@ -91,6 +91,14 @@ pub struct Args {
     /// Replace an existing --image file.
     #[arg(long, requires = "image")]
     force: bool,
+    /// Uplift method to compare, instead of the scene's `methods`; repeat for several:
+    /// otsu2018, pca, smits1999, meng2015, meng2015-bounded or jakob2019. Each is built as
+    /// `convert` builds it, with the options below and their defaults.
+    #[arg(long = "method", value_name = "NAME")]
+    methods: Vec<MethodName>,
+    /// The method options of `convert`, with its defaults; --model replaces the scene's `model`.
+    #[command(flatten)]
+    pub(crate) stack: methods::StackArgs,
 }
 
 /// The scene file as written.
@@ -180,32 +188,20 @@ pub fn run(args: Args) -> Result<()> {
     let file: SceneFile = toml::from_str(&text)
         .with_context(|| format!("{} is not a valid scene", args.scene.display()))?;
     let dir = args.scene.parent().unwrap_or(Path::new("."));
-    let model_path = file.model.as_ref().map(|p| dir.join(p));
+    let model_path = match &args.stack.model {
+        Some(p) => Some(p.clone()),
+        None => file.model.as_ref().map(|p| dir.join(p)),
+    };
     let model = files::load_model(model_path.as_deref())?;
-    let a = model.colorimetry()?;
+    // Every method's output shares the grid, observer and illuminant of the model.
+    let (a, _) = args.description(MethodName::Otsu2018).output(&model)?;
     let (scene, preset) = build(&file, dir, &a).with_context(|| {
         format!(
             "in scene {}; see `specconv simulate --help`",
             args.scene.display()
         )
     })?;
-    let names = file.methods.clone().unwrap_or_else(|| {
-        ["otsu2018", "smits1999", "meng2015"]
-            .map(String::from)
-            .to_vec()
-    });
-    let mut boxed: Vec<Box<dyn Method>> = Vec::new();
-    for name in &names {
-        let m: MethodName = name.parse().context("in the scene's `methods`")?;
-        boxed.push(if m.is_clustered() {
-            if m == MethodName::Pca && model.leaves.len() != 1 {
-                bail!("pca needs a model with one cluster; set `model` to one trained with --clusters 1");
-            }
-            methods::clustered(&model)?
-        } else {
-            methods::baseline(m, &a, jakob::DEFAULT_RESOLUTION)?
-        });
-    }
+    let stacks = stacks(&args, &file, &model)?;
     let selected = select(&args.patch, &scene.names)?;
     if let Some(path) = &args.image {
         drawing::check(
@@ -214,8 +210,11 @@ pub fn run(args: Args) -> Result<()> {
             selected.as_ref().map_or(scene.names.len(), Vec::len),
         )?;
     }
-    let refs: Vec<&dyn Method> = boxed.iter().map(|b| b.as_ref()).collect();
-    let out = simulate::simulate(&scene, &a, &refs)?;
+    let named: Vec<(&str, &dyn Method)> = stacks
+        .iter()
+        .map(|(name, s)| (name.as_str(), s.method()))
+        .collect();
+    let out = simulate::simulate(&scene, &a, &named)?;
     let per_patch: Vec<usize> = match selected {
         Some(s) => s,
         None if args.per_patch || args.image.is_some() || scene.names.len() <= 16 => {
@@ -233,6 +232,41 @@ pub fn run(args: Args) -> Result<()> {
         print_text(&report);
     }
     Ok(())
+}
+
+impl Args {
+    /// The method stack of `method` with these options.
+    pub(crate) fn description(&self, method: MethodName) -> specconv_spectral::stack::Description {
+        self.stack.describe(method)
+    }
+}
+
+/// The methods to compare (--method, else the scene's `methods`, else otsu2018, smits1999
+/// and meng2015), each built as `convert` builds it, with its name.
+fn stacks(args: &Args, file: &SceneFile, model: &Model) -> Result<Vec<(MethodName, Stack)>> {
+    let names: Vec<MethodName> = if !args.methods.is_empty() {
+        args.methods.clone()
+    } else if let Some(names) = &file.methods {
+        names
+            .iter()
+            .map(|n| n.parse())
+            .collect::<Result<_, _>>()
+            .context("in the scene's `methods`")?
+    } else {
+        vec![
+            MethodName::Otsu2018,
+            MethodName::Smits1999,
+            MethodName::Meng2015,
+        ]
+    };
+    names
+        .into_iter()
+        .map(|m| {
+            let stack = methods::build(&args.description(m), model)
+                .with_context(|| format!("cannot build {m}"))?;
+            Ok((m, stack))
+        })
+        .collect()
 }
 
 /// The library scene from the file: materials resolved, lights sampled, presets expanded.

@@ -1,0 +1,155 @@
+//! Where the Jakob 2019 tables come from: solved once per setting, in parallel, and kept in a
+//! directory the caller names (the CLI: the user's cache directory), keyed by everything the
+//! table depends on ([`Fitter::key`]). Solving a 64³ table takes about a minute; reading it,
+//! milliseconds. The one place in this crate with threads and files: the table is a pure
+//! function of its key, so keeping it changes no result.
+
+use super::jakob::{self, Fitter, Fnv, Table};
+use crate::Error;
+use rayon::prelude::*;
+use specconv_colour::Colorimetry;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// What happened on the way to a table that the user may want to know.
+#[derive(Debug)]
+pub enum Note {
+    /// A cached file was damaged or built for another key; it is rebuilt.
+    Stale(PathBuf),
+    /// The table was solved, in this many seconds.
+    Built {
+        res: usize,
+        grid: specconv_colour::Grid,
+        seconds: f64,
+    },
+    /// The table could not be kept; it is used anyway.
+    NotKept(PathBuf, std::io::Error),
+}
+
+impl Note {
+    /// Whether the user should act on it (a warning) rather than just know it.
+    pub fn is_warning(&self) -> bool {
+        matches!(self, Note::NotKept(..))
+    }
+}
+
+impl std::fmt::Display for Note {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Note::Stale(file) => write!(f, "{} is damaged or stale; rebuilding it", file.display()),
+            Note::Built { res, grid, seconds } => write!(
+                f,
+                "built the jakob2019 table ({res}³ × 3 cells, {grid}) in {seconds:.1} s"
+            ),
+            Note::NotKept(file, e) => write!(
+                f,
+                "cannot cache the jakob2019 table in {}: {e}",
+                file.display()
+            ),
+        }
+    }
+}
+
+/// The tables of one directory (or of none: solved every time).
+pub struct TableCache {
+    dir: Option<PathBuf>,
+    tell: fn(&Note),
+}
+
+impl TableCache {
+    /// Tables kept in `dir` (created when needed); `tell` hears every [`Note`].
+    pub fn in_dir(dir: Option<PathBuf>, tell: fn(&Note)) -> TableCache {
+        TableCache { dir, tell }
+    }
+
+    /// Tables solved every time, silently (tests, one-off studies).
+    pub fn none() -> TableCache {
+        TableCache::in_dir(None, |_| {})
+    }
+
+    /// The file of the table for `key`.
+    pub fn file(&self, key: &str) -> Option<PathBuf> {
+        let mut h = Fnv::new();
+        h.write(key.as_bytes());
+        let name = format!("jakob2019-{:016x}.bin", h.finish());
+        self.dir.as_ref().map(|d| d.join(name))
+    }
+
+    /// The table for `a` at resolution `res`: read when an intact file for the same key is
+    /// there, else solved (in parallel) and written. A directory that cannot be written is not
+    /// an error: the table is used anyway, with a [`Note::NotKept`].
+    pub fn table(&self, a: &Colorimetry, res: usize) -> Result<Table, Error> {
+        jakob::check_resolution(res)?;
+        let fitter = Fitter::new(a)?;
+        let key = fitter.key(a, res);
+        let file = self.file(&key);
+        if let Some(file) = &file {
+            if let Ok(bytes) = std::fs::read(file) {
+                if let Some(t) = Table::from_bytes(&bytes, &key, res) {
+                    return Ok(t);
+                }
+                (self.tell)(&Note::Stale(file.clone()));
+            }
+        }
+        let start = Instant::now();
+        let columns: Vec<Vec<[f32; 3]>> = (0..3 * res)
+            .into_par_iter()
+            .map(|c| fitter.solve_column(res, c / res, c % res))
+            .collect();
+        let table = Table::from_columns(res, key, columns);
+        (self.tell)(&Note::Built {
+            res,
+            grid: a.grid,
+            seconds: start.elapsed().as_secs_f64(),
+        });
+        if let Some(file) = &file {
+            if let Err(e) = keep(file, &table.to_bytes()) {
+                (self.tell)(&Note::NotKept(file.clone(), e));
+            }
+        }
+        Ok(table)
+    }
+}
+
+/// Writes `bytes` to a temporary file beside `file` and renames it into place, so that a
+/// reader never sees half a table.
+fn keep(file: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    if let Some(dir) = file.parent() {
+        std::fs::create_dir_all(dir)?;
+    }
+    let tmp = file.with_extension(format!("tmp{}", std::process::id()));
+    let result = std::fs::write(&tmp, bytes).and_then(|()| std::fs::rename(&tmp, file));
+    if result.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    result
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use specconv_colour::{Grid, Illuminant, Observer};
+
+    #[test]
+    fn a_kept_table_is_read_back_and_a_damaged_one_rebuilt() {
+        let dir = std::env::temp_dir().join(format!("specconv-jakob-cache-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        let a = Colorimetry::new(Grid::PAPER, Observer::Cie1931, Illuminant::D65).unwrap();
+        let cache = TableCache::in_dir(Some(dir.clone()), |_| {});
+        let built = cache.table(&a, 4).unwrap();
+        assert_eq!(
+            built.coefficients,
+            Table::build(&a, 4).unwrap().coefficients
+        );
+        let file = cache.file(&built.key).unwrap();
+        let mut bytes = std::fs::read(&file).unwrap();
+        assert_eq!(cache.table(&a, 4).unwrap().coefficients, built.coefficients);
+        // One flipped byte fails the checksum: rebuilt and rewritten, same table.
+        bytes[100] ^= 1;
+        std::fs::write(&file, &bytes).unwrap();
+        assert_eq!(cache.table(&a, 4).unwrap().coefficients, built.coefficients);
+        assert_ne!(std::fs::read(&file).unwrap(), bytes);
+        assert!(cache.table(&a, 3).is_err());
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}

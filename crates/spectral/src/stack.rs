@@ -1,0 +1,315 @@
+//! The one way to build the method a command uplifts with: a [`Description`] (what the
+//! options select) becomes a [`Stack`],
+//!
+//!   clustered or baseline → resampled onto the output grid → bounded (counted) → emissive
+//!
+//! with the counters of its adapters. `convert`, `eval`, `report` and `simulate` all build
+//! here, so the same options give the same spectra in every command.
+
+use crate::baselines::jakob_cache::TableCache;
+use crate::baselines::{Jakob2019, Meng2015, Smits1999};
+use crate::bounded::{Bounded, Counts, Tally};
+use crate::emission::{EmissionSetting, Emissive};
+use crate::method::MethodName;
+use crate::resample::Resampled;
+use crate::{Error, Method, Model, Uplifter};
+use specconv_colour::{Colorimetry, EmissionUnits, Grid, Illuminant, Integration, Observer};
+use std::sync::Arc;
+
+/// What to uplift with: everything a command's options select about the method.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Description {
+    pub method: MethodName,
+    /// Blend width of the clustered methods in xy ([`crate::otsu2018::blend`]); 0 is the
+    /// paper's hard switch. The baselines have no clusters and ignore it.
+    pub blend: f64,
+    /// The setting the baselines are built in, each part the model's when `None`. The clustered
+    /// methods always take their model's.
+    pub baseline: Setting,
+    /// Cells per axis of the Jakob 2019 table.
+    pub jakob_resolution: usize,
+    /// The output grid; `None`: the method's own.
+    pub grid: Option<Grid>,
+    /// The integration under which the output has the input's colour exactly.
+    pub exact_under: ExactUnder,
+    /// Spectra kept in [0, 1] with their XYZ ([`crate::bounded`]).
+    pub bounded: bool,
+    /// Emission spectra of any brightness instead of reflectances ([`crate::emission`]), in
+    /// these units (used with [`ExactUnder::Readers`]; the band sums have their own).
+    pub emissive: Option<EmissionUnits>,
+}
+
+/// Grid, observer and illuminant, each `None` for the model's.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Setting {
+    pub grid: Option<Grid>,
+    pub observer: Option<Observer>,
+    pub illuminant: Option<Illuminant>,
+}
+
+/// Whose integration the spectra's colour is exact under.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ExactUnder {
+    /// The method's own band sums (the paper's Σ r·I·x̄ / Σ I·ȳ on its grid): evaluations and
+    /// reports, which compare against the paper.
+    BandSums,
+    /// Every reader's integration of a spectral EXR (the layout's reference, on the output
+    /// grid): what `convert` writes. The method's spectra are always resampled onto it.
+    Readers,
+}
+
+impl Description {
+    /// The method with every option at `convert`'s default: the built-in model, blended at
+    /// [`crate::otsu2018::blend::DEFAULT_WIDTH`], bounded, reflectance as readers see it.
+    pub fn convert_default(method: MethodName) -> Description {
+        Description {
+            method,
+            blend: crate::otsu2018::blend::DEFAULT_WIDTH,
+            baseline: Setting::default(),
+            jakob_resolution: crate::baselines::jakob::DEFAULT_RESOLUTION,
+            grid: None,
+            exact_under: ExactUnder::Readers,
+            bounded: true,
+            emissive: None,
+        }
+    }
+
+    /// The setting the method is built in: its model's for the clustered methods, else
+    /// [`Description::baseline`] completed by the model's.
+    fn setting(&self, model: &Model) -> Result<Colorimetry, Error> {
+        if self.method.is_clustered() {
+            return model.colorimetry();
+        }
+        let s = &self.baseline;
+        Ok(Colorimetry::new(
+            s.grid.unwrap_or(model.grid),
+            s.observer.unwrap_or(model.observer),
+            s.illuminant.unwrap_or(model.illuminant),
+        )?)
+    }
+
+    /// The reflectance colorimetry of the output (and the emission setting of an emissive one
+    /// exact under the readers' integration), known before the method is built: its grid, and
+    /// the observer and illuminant of the method's setting.
+    pub fn output(&self, model: &Model) -> Result<(Colorimetry, Option<EmissionSetting>), Error> {
+        let base = self.setting(model)?;
+        let grid = self.grid.unwrap_or(base.grid);
+        let (observer, illuminant) = (base.observer, base.illuminant);
+        if self.exact_under == ExactUnder::BandSums {
+            return Ok((Colorimetry::new(grid, observer, illuminant)?, None));
+        }
+        // Every band of an output needs the observer and the illuminant (the readers'
+        // integration alone would leave bands outside them without colour).
+        Colorimetry::new(grid, observer, illuminant)?;
+        Ok(match self.emissive {
+            Some(units) => {
+                let e = EmissionSetting::new(grid, observer, illuminant, units)?;
+                (e.reflectance.clone(), Some(e))
+            }
+            None => {
+                let i = Integration::reflectance(&grid.wavelengths(), observer, illuminant)?;
+                (i.colorimetry(grid, observer, illuminant), None)
+            }
+        })
+    }
+
+    /// The blend width that applies: 0 for the baselines, which have no clusters.
+    pub fn blend_width(&self) -> f64 {
+        if self.method.is_clustered() {
+            self.blend
+        } else {
+            0.0
+        }
+    }
+}
+
+/// The top of the stack: reflectances, or emission kept by type for its count of colours no
+/// spectrum matched.
+enum Top {
+    Reflective(Box<dyn Method>),
+    Emissive(Emissive<Box<dyn Method>>),
+}
+
+/// A built method and the counters of its adapters.
+pub struct Stack {
+    top: Top,
+    colorimetry: Colorimetry,
+    emission: Option<EmissionSetting>,
+    tally: Option<Arc<Tally>>,
+    blend: f64,
+}
+
+impl Stack {
+    /// Builds `d`; `model` is the clustered methods' model (and the baselines' setting where
+    /// `d.baseline` leaves it open), `tables` gives the Jakob 2019 table.
+    pub fn build(d: &Description, model: &Model, tables: &TableCache) -> Result<Stack, Error> {
+        let mut m = method(d, model, tables)?;
+        let (colorimetry, emission) = d.output(model)?;
+        // The readers' integration differs from the method's band sums by ≈0.1 %, which
+        // Resampled corrects even on the method's own grid.
+        if d.exact_under == ExactUnder::Readers || colorimetry.grid != m.grid() {
+            m = Box::new(Resampled::new(m, colorimetry.clone())?);
+        }
+        // The tally counts the bounded outcomes across the threads that share the stack.
+        let tally = d.bounded.then(|| Arc::new(Tally::default()));
+        if let Some(tally) = &tally {
+            m = Box::new(Bounded::new(m, colorimetry.clone())?.counting_into(tally.clone()));
+        }
+        let top = match (d.emissive, &emission) {
+            (None, _) => Top::Reflective(m),
+            (Some(_), Some(e)) => Top::Emissive(Emissive::in_setting(m, e)?),
+            (Some(_), None) => Top::Emissive(Emissive::new(m, colorimetry.clone())?),
+        };
+        Ok(Stack {
+            top,
+            colorimetry,
+            emission,
+            tally,
+            blend: d.blend_width(),
+        })
+    }
+
+    /// The method to uplift with.
+    pub fn method(&self) -> &dyn Method {
+        match &self.top {
+            Top::Reflective(m) => m,
+            Top::Emissive(e) => e,
+        }
+    }
+
+    /// The reflectance colorimetry of the output: its grid, observer, illuminant and the
+    /// weights its spectra are exact under (in emission: of the reflectances lit by the light).
+    pub fn colorimetry(&self) -> &Colorimetry {
+        &self.colorimetry
+    }
+
+    /// The emission setting of an emissive stack exact under the readers' integration.
+    pub fn emission(&self) -> Option<&EmissionSetting> {
+        self.emission.as_ref()
+    }
+
+    /// The emission adapter, when the stack is emissive.
+    pub fn emissive(&self) -> Option<&Emissive<Box<dyn Method>>> {
+        match &self.top {
+            Top::Emissive(e) => Some(e),
+            Top::Reflective(_) => None,
+        }
+    }
+
+    /// The blend width in use (0 for the baselines).
+    pub fn blend(&self) -> f64 {
+        self.blend
+    }
+
+    /// The bounded outcomes since the last call when the stack is bounded, and resets them.
+    /// In emission the bounded method sees scaled trial colours, not the inputs: no counts.
+    pub fn take_counts(&self) -> Option<Counts> {
+        let counts = self.tally.as_ref().map(|t| t.take());
+        counts.filter(|_| self.emissive().is_none())
+    }
+}
+
+/// The method of `d` alone, in its setting.
+fn method(d: &Description, model: &Model, tables: &TableCache) -> Result<Box<dyn Method>, Error> {
+    if d.method == MethodName::Pca && model.leaves.len() != 1 {
+        return Err(Error::Method(format!(
+            "pca is the clustered PCA with one cluster, and the model has {}: it needs a \
+             one-cluster model (`specconv train --clusters 1`)",
+            model.leaves.len()
+        )));
+    }
+    let a = d.setting(model)?;
+    Ok(match d.method {
+        MethodName::Pca | MethodName::Otsu2018 => {
+            Box::new(Uplifter::new(model)?.with_blend(d.blend)?)
+        }
+        MethodName::Smits1999 => Box::new(Smits1999::new(&a)?),
+        MethodName::Meng2015 => Box::new(Meng2015::new(&a, false)?),
+        MethodName::Meng2015Bounded => Box::new(Meng2015::new(&a, true)?),
+        MethodName::Jakob2019 => {
+            Box::new(Jakob2019::new(&a, tables.table(&a, d.jakob_resolution)?)?)
+        }
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn xyz_of(a: &Colorimetry, r: &[f64]) -> [f64; 3] {
+        a.xyz(r)
+    }
+
+    #[test]
+    fn the_stack_is_the_method_its_adapters_and_their_names() {
+        let model = Model::builtin();
+        let tables = TableCache::none();
+        let s = Stack::build(
+            &Description::convert_default(MethodName::Otsu2018),
+            model,
+            &tables,
+        )
+        .unwrap();
+        assert_eq!(s.method().name(), "otsu2018+bounded");
+        assert_eq!(s.blend(), crate::otsu2018::blend::DEFAULT_WIDTH);
+        let mut d = Description::convert_default(MethodName::Smits1999);
+        d.grid = Some(Grid::new(400.0, 700.0, 5.0).unwrap());
+        d.emissive = Some(EmissionUnits::Reference);
+        let s = Stack::build(&d, model, &tables).unwrap();
+        assert_eq!(
+            s.method().name(),
+            "smits1999 on 400:700:5 nm+bounded+emissive"
+        );
+        assert_eq!(s.colorimetry().grid, d.grid.unwrap());
+        assert_eq!(s.blend(), 0.0);
+        assert!(s.emissive().is_some() && s.emission().is_some() && s.take_counts().is_none());
+        let mut d = Description::convert_default(MethodName::Meng2015);
+        d.baseline.observer = Some(Observer::Cie1964);
+        d.baseline.illuminant = Some(Illuminant::A);
+        d.exact_under = ExactUnder::BandSums;
+        d.bounded = false;
+        let s = Stack::build(&d, model, &tables).unwrap();
+        assert_eq!(s.method().name(), "meng2015");
+        assert_eq!(s.colorimetry().illuminant, Illuminant::A);
+        assert!(s.take_counts().is_none());
+    }
+
+    #[test]
+    fn each_stack_reproduces_its_colours_under_its_integration() {
+        let model = Model::builtin();
+        let tables = TableCache::none();
+        let colours = [[0.2, 0.18, 0.1], [0.5, 0.5, 0.55], [0.05, 0.1, 0.3]];
+        for exact_under in [ExactUnder::BandSums, ExactUnder::Readers] {
+            let mut d = Description::convert_default(MethodName::Otsu2018);
+            d.exact_under = exact_under;
+            let s = Stack::build(&d, model, &tables).unwrap();
+            let n = s.method().grid().len();
+            let mut r = vec![0.0; n];
+            for c in colours {
+                s.method().uplift_f64(&c, &mut r);
+                let got = xyz_of(s.colorimetry(), &r);
+                assert!(
+                    (0..3).all(|k| (got[k] - c[k]).abs() < 1e-9),
+                    "{got:?} {c:?}"
+                );
+            }
+            let counts = s.take_counts().unwrap();
+            assert_eq!(counts.in_range + counts.projected, colours.len());
+        }
+    }
+
+    #[test]
+    fn what_cannot_be_built_says_why() {
+        let model = Model::builtin();
+        let d = Description::convert_default(MethodName::Pca);
+        let e = Stack::build(&d, model, &TableCache::none()).err().unwrap();
+        assert!(e.to_string().contains("one-cluster model"), "{e}");
+        let mut d = Description::convert_default(MethodName::Otsu2018);
+        d.blend = -1.0;
+        assert!(Stack::build(&d, model, &TableCache::none()).is_err());
+        let mut d = Description::convert_default(MethodName::Jakob2019);
+        d.jakob_resolution = 1;
+        let e = Stack::build(&d, model, &TableCache::none()).err().unwrap();
+        assert!(e.to_string().contains("resolution"), "{e}");
+    }
+}
