@@ -6,6 +6,7 @@
 use anyhow::Result;
 use specconv_colour::Colorimetry;
 use specconv_spectral::baselines::jakob;
+use specconv_spectral::baselines::jakob::Fitter;
 use specconv_spectral::baselines::jakob_cache::{Note, TableCache};
 use specconv_spectral::method::MethodName;
 use specconv_spectral::stack::{Description, ExactUnder, Setting, Stack};
@@ -78,11 +79,20 @@ pub fn cache_dir() -> Option<PathBuf> {
 /// The Jakob 2019 tables of the user's cache directory; what happens to them is said on
 /// standard error.
 pub fn tables() -> TableCache {
-    TableCache::in_dir(cache_dir(), |note| match note {
+    TableCache::in_dir(cache_dir(), solve_in_parallel, |note| match note {
         Note::Built { .. } => eprintln!("specconv: {note}"),
         _ if note.is_warning() => eprintln!("specconv: warning: {note}"),
         _ => eprintln!("specconv: note: {note}"),
     })
+}
+
+/// The columns of a Jakob 2019 table on every core.
+fn solve_in_parallel(fitter: &Fitter, res: usize) -> Vec<Vec<[f32; 3]>> {
+    use rayon::prelude::*;
+    (0..3 * res)
+        .into_par_iter()
+        .map(|c| fitter.solve_column(res, c / res, c % res))
+        .collect()
 }
 
 /// Builds `d` with `model` and the cached tables.

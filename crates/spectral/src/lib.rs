@@ -14,7 +14,7 @@
 //! - [`stack`]: the one builder of what a command uplifts with, from a description of its
 //!   options (method, model, blend, grid, bounded, emissive) to the method and its counters.
 //!
-//! This crate knows nothing of images or FFI. Its one use of threads and files is the Jakob
+//! This crate knows nothing of images, threads or FFI. It touches files in one place, the Jakob
 //! 2019 table cache ([`baselines::jakob_cache`]): a pure function of its key, kept once.
 #![forbid(unsafe_code)]
 

@@ -12,8 +12,8 @@
 //! the other two divided by z). Each cell is fitted by Gauss–Newton on the CIELAB difference,
 //! starting from its neighbour along z (their Sec. 4.1, and Hanika's rgb2spec_opt).
 //!
-//! Building the table is pure computation, split into independent columns so that they can be
-//! solved in parallel and kept in a file ([`Table::to_bytes`]): [`super::jakob_cache`] does both.
+//! Building the table is pure computation, split into independent columns so that a caller may
+//! solve them in parallel; [`super::jakob_cache`] keeps tables in files ([`Table::to_bytes`]).
 
 // Band and coefficient loops index several arrays in step.
 #![allow(clippy::needless_range_loop)]
@@ -245,9 +245,7 @@ impl Table {
     pub fn build(a: &Colorimetry, res: usize) -> Result<Table, Error> {
         let f = Fitter::new(a)?;
         check_resolution(res)?;
-        let cols = (0..3 * res)
-            .map(|c| f.solve_column(res, c / res, c % res))
-            .collect();
+        let cols = solve_in_turn(&f, res);
         Ok(Table::from_columns(res, f.key(a, res), cols))
     }
 
@@ -296,6 +294,14 @@ impl Table {
                 coefficients,
             })
     }
+}
+
+/// The `3·res` columns of a table one after another, on this thread, in the order of
+/// [`Table::from_columns`].
+pub fn solve_in_turn(fitter: &Fitter, res: usize) -> Vec<Vec<[f32; 3]>> {
+    (0..3 * res)
+        .map(|c| fitter.solve_column(res, c / res, c % res))
+        .collect()
 }
 
 pub fn check_resolution(res: usize) -> Result<(), Error> {

@@ -1,12 +1,12 @@
-//! Where the Jakob 2019 tables come from: solved once per setting, in parallel, and kept in a
-//! directory the caller names (the CLI: the user's cache directory), keyed by everything the
-//! table depends on ([`Fitter::key`]). Solving a 64³ table takes about a minute; reading it,
-//! milliseconds. The one place in this crate with threads and files: the table is a pure
-//! function of its key, so keeping it changes no result.
+//! Where the Jakob 2019 tables come from: solved once per setting and kept in a directory the
+//! caller names (the CLI: the user's cache directory), keyed by everything the table depends on
+//! ([`Fitter::key`]). Solving a 64³ table takes about a minute on all cores; reading it,
+//! milliseconds. The caller also says how the columns are solved ([`Solve`]: the CLI runs them
+//! on its threads; this crate starts none). The one place in this crate that touches files: the
+//! table is a pure function of its key, so keeping it changes no result.
 
-use super::jakob::{self, Fitter, Fnv, Table};
+use super::jakob::{self, solve_in_turn, Fitter, Fnv, Table};
 use crate::Error;
-use rayon::prelude::*;
 use specconv_colour::Colorimetry;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -50,21 +50,27 @@ impl std::fmt::Display for Note {
     }
 }
 
+/// Solves the `3·res` columns of a table ([`Fitter::solve_column`], in the order of
+/// [`Table::from_columns`]), one after another or in parallel.
+pub type Solve = fn(&Fitter, usize) -> Vec<Vec<[f32; 3]>>;
+
 /// The tables of one directory (or of none: solved every time).
 pub struct TableCache {
     dir: Option<PathBuf>,
+    solve: Solve,
     tell: fn(&Note),
 }
 
 impl TableCache {
-    /// Tables kept in `dir` (created when needed); `tell` hears every [`Note`].
-    pub fn in_dir(dir: Option<PathBuf>, tell: fn(&Note)) -> TableCache {
-        TableCache { dir, tell }
+    /// Tables kept in `dir` (created when needed), solved by `solve`; `tell` hears every
+    /// [`Note`].
+    pub fn in_dir(dir: Option<PathBuf>, solve: Solve, tell: fn(&Note)) -> TableCache {
+        TableCache { dir, solve, tell }
     }
 
-    /// Tables solved every time, silently (tests, one-off studies).
+    /// Tables solved every time, on this thread, silently (tests, one-off studies).
     pub fn none() -> TableCache {
-        TableCache::in_dir(None, |_| {})
+        TableCache::in_dir(None, solve_in_turn, |_| {})
     }
 
     /// The file of the table for `key`.
@@ -76,7 +82,7 @@ impl TableCache {
     }
 
     /// The table for `a` at resolution `res`: read when an intact file for the same key is
-    /// there, else solved (in parallel) and written. A directory that cannot be written is not
+    /// there, else solved and written. A directory that cannot be written is not
     /// an error: the table is used anyway, with a [`Note::NotKept`].
     pub fn table(&self, a: &Colorimetry, res: usize) -> Result<Table, Error> {
         jakob::check_resolution(res)?;
@@ -92,11 +98,7 @@ impl TableCache {
             }
         }
         let start = Instant::now();
-        let columns: Vec<Vec<[f32; 3]>> = (0..3 * res)
-            .into_par_iter()
-            .map(|c| fitter.solve_column(res, c / res, c % res))
-            .collect();
-        let table = Table::from_columns(res, key, columns);
+        let table = Table::from_columns(res, key, (self.solve)(&fitter, res));
         (self.tell)(&Note::Built {
             res,
             grid: a.grid,
@@ -135,7 +137,7 @@ mod tests {
         let dir = std::env::temp_dir().join(format!("specconv-jakob-cache-{}", std::process::id()));
         let _ = std::fs::remove_dir_all(&dir);
         let a = Colorimetry::new(Grid::PAPER, Observer::Cie1931, Illuminant::D65).unwrap();
-        let cache = TableCache::in_dir(Some(dir.clone()), |_| {});
+        let cache = TableCache::in_dir(Some(dir.clone()), solve_in_turn, |_| {});
         let built = cache.table(&a, 4).unwrap();
         assert_eq!(
             built.coefficients,
