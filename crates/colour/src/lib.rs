@@ -9,7 +9,8 @@
 //! - [`integration`]: XYZ of spectra at any wavelengths, as the spectral EXR layout's reference
 //!   implementation integrates them; the emission units conventions.
 //! - [`lab`]: CIELAB and CIEDE2000.
-//! - [`rgb`], [`working_space`]: RGB spaces by their primaries and white.
+//! - [`rgb`]: the one RGB-space type, by primaries and white, and its matrices.
+//! - [`mat3`]: the one 3×3 module (row-major `[[f64; 3]; 3]`): every small matrix of colour.
 //! - [`solid`]: the object-colour solid {A·r : 0 ≤ r ≤ 1}, its exact projection and the colour
 //!   on it nearest in CIELAB.
 //!
@@ -20,11 +21,11 @@ pub mod colorimetry;
 pub mod grid;
 pub mod integration;
 pub mod lab;
+pub mod mat3;
 pub mod observer;
 pub mod rgb;
 pub mod solid;
 pub mod table;
-pub mod working_space;
 
 pub use colorimetry::Colorimetry;
 pub use grid::Grid;

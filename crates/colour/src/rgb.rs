@@ -1,8 +1,11 @@
-//! RGB colour spaces by their published primaries, for tests and measurements of the uplift on
-//! whole gamuts (sRGB, Rec.2020, ACEScg, ACES2065-1), and the matrices a file's own primaries
-//! and white declare (OpenEXR `chromaticities`, PNG `cHRM`). Images go through OCIO where the
-//! config has the file's colour space, else through [`RgbSpace::to_xyz_adapted`].
+//! RGB colour spaces by their published primaries: the one RGB-space type, [`RgbSpace`]. It
+//! serves the working space of the RGB-based baselines ([`RgbSpace::with_white`]), tests and
+//! measurements of the uplift on whole gamuts (sRGB, Rec.2020, ACEScg, ACES2065-1), and the
+//! matrices a file's own primaries and white declare (OpenEXR `chromaticities`, PNG `cHRM`).
+//! Images go through OCIO where the config has the file's colour space, else through
+//! [`RgbSpace::to_xyz_adapted`].
 
+use crate::mat3::{self, Mat3};
 use nalgebra::{Matrix3, Vector3};
 
 /// An RGB space: chromaticities of its red, green and blue primaries and of its white.
@@ -128,6 +131,24 @@ impl RgbSpace {
         rows(&inv)
     }
 
+    /// Linear RGB ↔ XYZ with the space's primaries and `white` (XYZ, Y = 1) as its white, not
+    /// adapted: RGB (1, 1, 1) is `white`. The working space of the RGB-based baselines (Smits
+    /// 1999, Jakob 2019): sRGB's primaries with the white of the colorimetry in use (D65 gives
+    /// sRGB itself; E the space colour-science calls "Smits 1999"). The normalised primary
+    /// matrix of SMPTE RP 177-1993 (Eq. 3.3–3.5): columns are the primaries' XYZ scaled so that
+    /// RGB (1, 1, 1) maps to `white`.
+    pub fn with_white(&self, white: [f64; 3]) -> Linear {
+        let p = self.primaries.map(|[x, y]| [x / y, 1.0, (1.0 - x - y) / y]);
+        // P has the primaries as columns.
+        let pm = [0, 1, 2].map(|r| [p[0][r], p[1][r], p[2][r]]);
+        let s = mat3::mul_vec(&mat3::inverse(&pm), white);
+        let to_xyz = [0, 1, 2].map(|r| [0, 1, 2].map(|c| pm[r][c] * s[c]));
+        Linear {
+            to_xyz,
+            to_rgb: mat3::inverse(&to_xyz),
+        }
+    }
+
     /// XYZ of the space's own white with Y = 1 (D65 for sRGB).
     pub fn white_xyz(&self) -> [f64; 3] {
         xyz_of(self.white).into()
@@ -152,14 +173,29 @@ pub fn srgb_decode(v: f64) -> f64 {
     }
 }
 
-/// XYZ of `rgb` under the matrix `m` from [`RgbSpace::to_xyz`].
-pub fn apply(m: &[[f64; 3]; 3], rgb: [f64; 3]) -> [f64; 3] {
-    m.map(|row| row[0] * rgb[0] + row[1] * rgb[1] + row[2] * rgb[2])
+/// Linear RGB ↔ XYZ of one space for one white ([`RgbSpace::with_white`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Linear {
+    /// XYZ = to_xyz · RGB (rows X, Y, Z).
+    pub to_xyz: Mat3,
+    /// RGB = to_rgb · XYZ.
+    pub to_rgb: Mat3,
+}
+
+impl Linear {
+    pub fn rgb(&self, xyz: [f64; 3]) -> [f64; 3] {
+        mat3::mul_vec(&self.to_rgb, xyz)
+    }
+
+    pub fn xyz(&self, rgb: [f64; 3]) -> [f64; 3] {
+        mat3::mul_vec(&self.to_xyz, rgb)
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::mat3::mul_vec as apply;
 
     #[test]
     fn srgb_matrix_matches_iec_61966_2_1() {
@@ -270,5 +306,36 @@ mod tests {
         ];
         let m = [0, 1, 2].map(|r| [0, 1, 2].map(|c| to_srgb[(r, c)]));
         assert!(close(m, published, 1e-4), "{m:?}");
+    }
+
+    #[test]
+    fn the_working_space_under_d65_is_iec_61966_2_1() {
+        let a = crate::Colorimetry::new(
+            crate::Grid::new(360.0, 780.0, 1.0).unwrap(),
+            crate::Observer::Cie1931,
+            crate::Illuminant::D65,
+        )
+        .unwrap();
+        let ws = SRGB.with_white(a.white_xyz());
+        // IEC 61966-2-1 (sRGB), Eq. 7 (rounded to 4 decimals there; our white is the D65 table
+        // integrated, not the rounded xy, hence the tolerance).
+        let iec = [
+            [0.4124, 0.3576, 0.1805],
+            [0.2126, 0.7152, 0.0722],
+            [0.0193, 0.1192, 0.9505],
+        ];
+        for (row, want) in ws.to_xyz.iter().zip(&iec) {
+            for (v, w) in row.iter().zip(want) {
+                assert!((v - w).abs() < 6e-4, "{:?}", ws.to_xyz);
+            }
+        }
+        let back = ws.rgb(ws.xyz([0.2, 0.5, 0.9]));
+        for (b, v) in back.iter().zip([0.2, 0.5, 0.9]) {
+            assert!((b - v).abs() < 1e-14);
+        }
+        // White maps to the perfect reflector's XYZ.
+        let w = ws.xyz([1.0; 3]);
+        let aw = a.white_xyz();
+        assert!((0..3).all(|k| (w[k] - aw[k]).abs() < 1e-14));
     }
 }

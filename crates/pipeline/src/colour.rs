@@ -99,7 +99,7 @@ impl fmt::Debug for ToXyz {
 }
 
 fn mul(m: &[[f64; 3]; 3], v: [f32; 3]) -> [f32; 3] {
-    rgb::apply(m, v.map(f64::from)).map(|x| x as f32)
+    specconv_colour::mat3::mul_vec(m, v.map(f64::from)).map(|x| x as f32)
 }
 
 impl ToXyz {

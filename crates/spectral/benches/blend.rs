@@ -4,7 +4,6 @@
 //! cost of making the blend (the per-split widths), in colours of hard uplift.
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
-use specconv_colour::working_space::WorkingSpace;
 use specconv_spectral::otsu2018::blend::DEFAULT_WIDTH;
 use specconv_spectral::otsu2018::tree::Axis;
 use specconv_spectral::{Method, Model, Uplifter};
@@ -24,7 +23,8 @@ fn sequence(seed: u64) -> impl FnMut() -> f64 {
 
 /// Random linear sRGB colours in [0, 1]³, as XYZ.
 fn uniform() -> Vec<f32> {
-    let ws = WorkingSpace::rec709(&Model::builtin().colorimetry().unwrap());
+    let ws =
+        specconv_colour::rgb::SRGB.with_white(Model::builtin().colorimetry().unwrap().white_xyz());
     let mut next = sequence(1);
     (0..N)
         .flat_map(|_| ws.xyz([next(), next(), next()]).map(|v| v as f32))

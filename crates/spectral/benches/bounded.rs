@@ -8,7 +8,8 @@
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use specconv_colour::lab::{ciede2000, xyz_to_lab};
-use specconv_colour::rgb::{apply, RgbSpace, ACESCG, REC2020, SRGB};
+use specconv_colour::mat3::mul_vec as apply;
+use specconv_colour::rgb::{RgbSpace, ACESCG, REC2020, SRGB};
 use specconv_spectral::bounded::{Bounded, Outcome};
 use specconv_spectral::{Method, Model, Uplifter};
 use std::hint::black_box;

@@ -3,7 +3,6 @@
 //! (the store bandwidth an uplift cannot beat). The ratio says how far each method is from it.
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
-use specconv_colour::working_space::WorkingSpace;
 use specconv_colour::{Colorimetry, Grid, Illuminant, Observer};
 use specconv_spectral::baselines::jakob::Table;
 use specconv_spectral::baselines::{Jakob2019, Meng2015, Smits1999};
@@ -13,7 +12,7 @@ use std::time::Instant;
 const N: usize = 4096;
 
 fn colours(a: &Colorimetry) -> Vec<f32> {
-    let ws = WorkingSpace::rec709(a);
+    let ws = specconv_colour::rgb::SRGB.with_white(a.white_xyz());
     let mut s = 1u64;
     let mut next = || {
         s = s

@@ -70,14 +70,13 @@ fn meng2015_on_dataset_i() {
 #[test]
 fn jakob2019_round_trips_in_gamut_srgb() {
     use specconv_colour::lab::{ciede2000, xyz_to_lab};
-    use specconv_colour::working_space::WorkingSpace;
     use specconv_colour::{Colorimetry, Grid, Illuminant, Observer};
     use specconv_spectral::baselines::jakob::{Table, DEFAULT_RESOLUTION};
     use specconv_spectral::baselines::Jakob2019;
     let a = Colorimetry::new(Grid::PAPER, Observer::Cie1931, Illuminant::D65).unwrap();
     let table = Table::build(&a, DEFAULT_RESOLUTION).unwrap();
     let j = Jakob2019::new(&a, table).unwrap();
-    let ws = WorkingSpace::rec709(&a);
+    let ws = specconv_colour::rgb::SRGB.with_white(a.white_xyz());
     let white = a.white_xyz();
     let n = a.bands();
     let (mut r, mut r32) = (vec![0.0; n], vec![0f32; n]);

@@ -4,7 +4,8 @@
 use nalgebra::{Matrix3, Vector3};
 use proptest::prelude::*;
 use specconv_colour::lab::{xyz_to_lab, xyz_to_lab_jacobian};
-use specconv_colour::rgb::{apply, RgbSpace, ACESCG, REC2020, SRGB};
+use specconv_colour::mat3::mul_vec as apply;
+use specconv_colour::rgb::{RgbSpace, ACESCG, REC2020, SRGB};
 use specconv_colour::Colorimetry;
 use specconv_spectral::bounded::{project, Bounded, Counts, Outcome, Solve};
 use specconv_spectral::{Method, Model, Uplifter};

@@ -1,7 +1,8 @@
 //! Emission spectra: XYZ under the observer alone equals the input, the shape does not depend
 //! on brightness, bounded emission is non-negative, hard inputs have their documented outcome.
 
-use specconv_colour::rgb::{apply, SRGB};
+use specconv_colour::mat3::mul_vec as apply;
+use specconv_colour::rgb::SRGB;
 use specconv_colour::{Colorimetry, Illuminant};
 use specconv_spectral::bounded::Bounded;
 use specconv_spectral::emission::{emission_colorimetry, Emissive};

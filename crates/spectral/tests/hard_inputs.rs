@@ -2,7 +2,8 @@
 //! f64 and f32, table-driven, plus properties over all finite and non-finite colours.
 
 use proptest::prelude::*;
-use specconv_colour::rgb::{apply, RgbSpace, ACES2065_1, ACESCG, REC2020, SRGB};
+use specconv_colour::mat3::mul_vec as apply;
+use specconv_colour::rgb::{RgbSpace, ACES2065_1, ACESCG, REC2020, SRGB};
 use specconv_colour::Colorimetry;
 use specconv_spectral::otsu2018::hard_inputs::DARK;
 use specconv_spectral::{Method, Model, Uplifter};

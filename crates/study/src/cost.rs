@@ -2,7 +2,6 @@
 //! the same for every method and every run (the colours of a texture are unpredictable, and so
 //! are these: a method's branches see what they would see on real data).
 
-use specconv_colour::working_space::WorkingSpace;
 use specconv_colour::Colorimetry;
 use specconv_spectral::Method;
 use std::time::Instant;
@@ -42,7 +41,7 @@ pub const TILE: usize = 4096;
 
 /// `n` random linear sRGB colours in [0, 1]³ (the working space of `a`), as XYZ in f32.
 pub fn timing_colours(a: &Colorimetry, n: usize) -> Vec<f32> {
-    let ws = WorkingSpace::rec709(a);
+    let ws = specconv_colour::rgb::SRGB.with_white(a.white_xyz());
     let mut rng = Lcg::new(0x2545_f491_4f6c_dd1d);
     let mut out = Vec::with_capacity(3 * n);
     for _ in 0..n {

@@ -15,7 +15,7 @@
 //! own gains: measured reflectances are what a physical spectrum of such a colour looks like.
 
 use specconv_colour::Colorimetry;
-use specconv_colour::{rgb::apply, rgb::RgbSpace};
+use specconv_colour::{mat3::mul_vec as apply, rgb::RgbSpace};
 use specconv_spectral::{Method, Uplifter};
 
 /// Largest gains found in a set of spectra.

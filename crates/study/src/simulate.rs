@@ -22,7 +22,7 @@ use crate::Error;
 use nalgebra::{DMatrix, DVector};
 use specconv_colour::Colorimetry;
 use specconv_colour::{lab::ciede2000, lab::xyz_to_lab};
-use specconv_colour::{rgb::apply, rgb::srgb_encode, rgb::SRGB};
+use specconv_colour::{mat3::mul_vec as apply, rgb::srgb_encode, rgb::SRGB};
 use specconv_spectral::Method;
 
 /// What the simulation computes.

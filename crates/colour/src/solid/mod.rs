@@ -18,6 +18,8 @@
 //!
 //! [`Bounded`]: ../../specconv_spectral/bounded/struct.Bounded.html
 
+use crate::mat3::{self, dot};
+
 pub mod nearest;
 
 /// The solid's generators and what is precomputed of them.
@@ -276,7 +278,7 @@ impl Dual<'_> {
                 [h[1], h[3] + reg, h[4]],
                 [h[2], h[4], h[5] + reg],
             ];
-            let Some(delta) = solve3(j, point.grad.map(|v| -v)) else {
+            let Some(delta) = mat3::solve(&j, point.grad.map(|v| -v)) else {
                 break;
             };
             if watch(w, &delta, point.free, step) {
@@ -321,27 +323,4 @@ impl Dual<'_> {
         }
         end
     }
-}
-
-pub(crate) fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-/// Solves the symmetric 3×3 system j·x = b by Cramer's rule.
-fn solve3(j: [[f64; 3]; 3], b: [f64; 3]) -> Option<[f64; 3]> {
-    let det = |m: [[f64; 3]; 3]| {
-        m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
-            - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
-            + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0])
-    };
-    let d = det(j);
-    if !(d.abs() > 0.0 && d.is_finite()) {
-        return None;
-    }
-    let x = [0, 1, 2].map(|k| {
-        let mut m = j;
-        (0..3).for_each(|row| m[row][k] = b[row]);
-        det(m) / d
-    });
-    x.iter().all(|v| v.is_finite()).then_some(x)
 }

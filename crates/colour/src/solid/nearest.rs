@@ -18,8 +18,9 @@
 //! continues) and below zero (the linear segment continues), so bright and negative colours
 //! have a nearest colour too: a grey brighter than white reaches the perfect white.
 
-use super::{dot, Dual, End, Solid};
+use super::{Dual, End, Solid};
 use crate::lab::{xyz_to_lab, xyz_to_lab_jacobian};
+use crate::mat3::dot;
 
 /// Proximal Gauss–Newton steps at most.
 const MAX_STEPS: usize = 80;

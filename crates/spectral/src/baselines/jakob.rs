@@ -19,7 +19,6 @@
 #![allow(clippy::needless_range_loop)]
 
 use crate::{Error, Method};
-use specconv_colour::working_space::WorkingSpace;
 use specconv_colour::{lab::xyz_to_lab, lab::xyz_to_lab_jacobian};
 use specconv_colour::{Colorimetry, Grid};
 
@@ -80,7 +79,7 @@ pub struct Fitter {
     lambda: Vec<f64>,
     weights: [Vec<f64>; 3],
     white: [f64; 3],
-    space: WorkingSpace,
+    space: specconv_colour::rgb::Linear,
 }
 
 impl Fitter {
@@ -96,7 +95,7 @@ impl Fitter {
             lambda: (0..n).map(|i| i as f64 / (n - 1) as f64).collect(),
             weights: a.weights.clone(),
             white: a.white_xyz(),
-            space: WorkingSpace::rec709(a),
+            space: specconv_colour::rgb::SRGB.with_white(a.white_xyz()),
         })
     }
 
@@ -124,8 +123,8 @@ impl Fitter {
             if err < 1e-6 {
                 break;
             }
-            let inv = specconv_colour::working_space::inverse3(&j);
-            let step = specconv_colour::working_space::mul_vec(&inv, resid(lab));
+            let inv = specconv_colour::mat3::inverse(&j);
+            let step = specconv_colour::mat3::mul_vec(&inv, resid(lab));
             if !step.iter().all(|s| s.is_finite()) {
                 break;
             }
@@ -353,16 +352,13 @@ impl Jakob2019 {
         if !self.refine {
             return c;
         }
-        let target = specconv_colour::working_space::mul_vec(&self.to_xyz, rgb.map(f64::from));
+        let target = specconv_colour::mat3::mul_vec(&self.to_xyz, rgb.map(f64::from));
         let mut c = c;
         for _ in 0..POLISH_STEPS {
             let (got, jac) =
                 sigmoid_xyz_and_jacobian(c, self.lambda.iter().map(|&l| l as f64), &self.weights);
-            let inv = specconv_colour::working_space::inverse3(&jac);
-            let step = specconv_colour::working_space::mul_vec(
-                &inv,
-                [0, 1, 2].map(|k| target[k] - got[k]),
-            );
+            let inv = specconv_colour::mat3::inverse(&jac);
+            let step = specconv_colour::mat3::mul_vec(&inv, [0, 1, 2].map(|k| target[k] - got[k]));
             let next = [0, 1, 2].map(|k| c[k] + step[k]);
             if !next.iter().all(|v| v.is_finite()) {
                 break;

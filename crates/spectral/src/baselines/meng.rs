@@ -228,8 +228,8 @@ impl Meng2015 {
             }
             v[k] -= cp[k];
         }
-        let inv = specconv_colour::working_space::inverse3(&sm);
-        let lambda = specconv_colour::working_space::mul_vec(&inv, v);
+        let inv = specconv_colour::mat3::inverse(&sm);
+        let lambda = specconv_colour::mat3::mul_vec(&inv, v);
         if !lambda.iter().all(|l| l.is_finite()) {
             return false;
         }

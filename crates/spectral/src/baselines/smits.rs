@@ -7,7 +7,6 @@
 //! and outside they are held constant, as colour-science does with them.
 
 use crate::{Error, Method};
-use specconv_colour::working_space::WorkingSpace;
 use specconv_colour::{Colorimetry, Grid, SpectralTable};
 
 /// Smits 1999 on a colorimetry's grid, in the Rec. 709 working space with its white.
@@ -15,7 +14,7 @@ use specconv_colour::{Colorimetry, Grid, SpectralTable};
 pub struct Smits1999 {
     grid: Grid,
     bands: usize,
-    space: WorkingSpace,
+    space: specconv_colour::rgb::Linear,
     /// white, cyan, magenta, yellow, red, green, blue, each `bands` long, in f64 and f32.
     basis: [Vec<f64>; 7],
     basis32: [Vec<f32>; 7],
@@ -54,7 +53,7 @@ impl Smits1999 {
                 .map(|&l| hold_and_interpolate(&table.wavelengths, column, l))
                 .collect();
         }
-        let space = WorkingSpace::rec709(a);
+        let space = specconv_colour::rgb::SRGB.with_white(a.white_xyz());
         Ok(Smits1999 {
             grid: a.grid,
             bands: a.bands(),
@@ -66,7 +65,7 @@ impl Smits1999 {
     }
 
     /// The linear RGB of the working space that this method reads.
-    pub fn working_space(&self) -> &WorkingSpace {
+    pub fn working_space(&self) -> &specconv_colour::rgb::Linear {
         &self.space
     }
 

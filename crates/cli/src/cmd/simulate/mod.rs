@@ -481,7 +481,8 @@ fn ocio_config(ocio: Option<&str>, dir: &Path) -> Result<specconv_ocio::Config> 
 
 /// XYZ (white Y = 1, the model's white) of a colour in a named RGB space or XYZ.
 fn colour_xyz(c: [f64; 3], space: &str, a: &Colorimetry) -> Result<[f64; 3]> {
-    let rgb_space = |s: &RgbSpace, rgb: [f64; 3]| rgb::apply(&s.to_xyz(a.white_xyz()), rgb);
+    let rgb_space =
+        |s: &RgbSpace, rgb: [f64; 3]| specconv_colour::mat3::mul_vec(&s.to_xyz(a.white_xyz()), rgb);
     Ok(match space.to_ascii_lowercase().as_str() {
         "srgb" | "srgb - texture" | "srgb texture" => {
             rgb_space(&rgb::SRGB, c.map(rgb::srgb_decode))
