@@ -127,7 +127,7 @@ fn a_matrix_scene_converges_and_colours_need_no_reference() {
     let p = s.write(
         "colour.toml",
         "bounces = 2\nform_factors = \"furnace\"\n[[lights]]\nspectrum = \"D65\"\npower = 2\n\
-         [[patches]]\nname = \"red\"\ncolour = [0.8, 0.1, 0.1]\ncolorspace = \"sRGB\"\n",
+         [[patches]]\nname = \"red\"\ncolour = [0.8, 0.1, 0.1]\ncolorspace = \"sRGB - Texture\"\n",
     );
     let v = json(specconv(["simulate", "--scene", p.to_str().unwrap(), "--json"]).ok());
     assert!(v.get("mean_delta_e").is_none());
@@ -214,14 +214,14 @@ fn a_texture_pixel_is_the_colour_convert_would_read() {
         format!(
             "bounces = 1\nform_factors = \"furnace\"\n{extra}\n[[lights]]\nspectrum = \"D65\"\npower = 1\n\
              [[patches]]\nname = \"tex\"\ntexture = {:?}\npixel = {pixel}\n\
-             [[patches]]\nname = \"col\"\ncolour = {code:?}\ncolorspace = \"sRGB\"\n",
+             [[patches]]\nname = \"col\"\ncolour = {code:?}\ncolorspace = \"sRGB - Texture\"\n",
             png.to_str().unwrap()
         )
     };
     let p = s.write("tex.toml", &scene(&format!("[{x}, {y}]"), ""));
     let v = json(specconv(["simulate", "--scene", p.to_str().unwrap(), "--json"]).ok());
     let (tex, col) = (bounced_lab(&v, "tex"), bounced_lab(&v, "col"));
-    // OCIO's D65 white and the model's differ in the fourth decimal of xy.
+    // Both reach XYZ through the same OCIO conversion (the colour as sRGB - Texture).
     let d = specconv_colour::lab::ciede2000(tex, col);
     assert!(d < 0.05, "{d}: {tex:?} {col:?}");
     // Half light, half reflection after one bounce in a furnace: a pale red.
@@ -290,3 +290,31 @@ fn simulate_takes_converts_method_options_with_its_defaults() {
     );
     specconv(["simulate", "--scene", p, "--blend=-1"]).fails(1, &["blend width"]);
 }
+
+/// A colour's `colorspace` is a colour space of the scene's OCIO config, as --colorspace, and
+/// defaults to its sRGB texture space; a name it lacks is refused with its suggestions.
+#[test]
+fn a_colour_is_read_in_a_colour_space_of_the_ocio_config() {
+    let s = Scratch::new("simulate-colorspace");
+    let scene = |space: &str| {
+        format!(
+            "bounces = 1\nform_factors = \"furnace\"\n[[lights]]\nspectrum = \"D65\"\npower = 1\n\
+             [[patches]]\nname = \"red\"\ncolour = [0.8, 0.1, 0.1]\n{space}"
+        )
+    };
+    let lab = |space: &str| {
+        let p = s.write("colour.toml", &scene(space));
+        bounced_lab(
+            &json(specconv(["simulate", "--scene", p.to_str().unwrap(), "--json"]).ok()),
+            "red",
+        )
+    };
+    let texture = lab("colorspace = \"sRGB - Texture\"\n");
+    assert_eq!(lab(""), texture);
+    assert_eq!(lab("colorspace = \"srgb_tx\"\n"), texture);
+    let linear = lab("colorspace = \"Linear Rec.709 (sRGB)\"\n");
+    assert!(specconv_colour::lab::ciede2000(linear, texture) > 1.0);
+    let p = s.write("unknown.toml", &scene("colorspace = \"sRGB\"\n"));
+    run(&p).fails(1, &["patch red", "unknown colour space 'sRGB'", "'sRGB - Texture'"]);
+}
+

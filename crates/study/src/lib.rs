@@ -6,6 +6,7 @@
 //!   the workspace's one seeded generator, [`cost::Lcg`]).
 //! - [`extrapolation`]: how large a model's spectra get on whole gamuts, per leaf.
 //! - [`simulate`]: spectral radiosity of small scenes, the colour shift of interreflection.
+//! - [`scene`]: the scene format of `specconv simulate` (TOML) and its checks.
 //!
 //! This crate knows nothing of images, files by path or FFI; it starts no threads.
 #![forbid(unsafe_code)]
@@ -13,6 +14,7 @@
 pub mod cost;
 pub mod eval;
 pub mod extrapolation;
+pub mod scene;
 pub mod simulate;
 
 /// What can go wrong in a study, with what to do about it in the message.

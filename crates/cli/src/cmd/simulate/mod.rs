@@ -1,21 +1,20 @@
 //! `specconv simulate`: the colour shift of interreflection in a small declarative scene.
 
 use crate::{files, methods};
-use anyhow::{anyhow, bail, Context, Result};
-use serde::{Deserialize, Serialize};
-use specconv_colour::rgb;
-use specconv_colour::rgb::RgbSpace;
-use specconv_colour::{Colorimetry, Illuminant};
+use anyhow::{anyhow, Context, Result};
+use serde::Serialize;
+use specconv_colour::Colorimetry;
 use specconv_spectral::method::MethodName;
 use specconv_spectral::stack::Stack;
 use specconv_spectral::{Method, Model};
+use specconv_study::scene::{self, SceneFile};
 use specconv_study::simulate;
-use specconv_study::simulate::{Effect, Light, Material, Outcome, Scene};
+use specconv_study::simulate::{Outcome, Scene};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 mod drawing;
-mod texture;
+mod resources;
 
 /// Shown after `--help` and as the man page's EXAMPLES: a scene that runs as it is (a test
 /// runs it), its alternatives commented out.
@@ -25,7 +24,7 @@ Scene (save the lines below as scene.toml; paths in it are relative to it):
   bounces = 8                     # or: effect = \"direct\" | \"converged\"
   form_factors = \"furnace\"        # or \"box\", or a matrix [[F11, F12, …], …]
   methods = [\"otsu2018\", \"smits1999\", \"meng2015\"]
-  # ocio = \"config.ocio\"          # for textures (default: $OCIO, else aces)
+  # ocio = \"config.ocio\"          # for colours and textures (default: $OCIO, else aces)
 
   [[lights]]
   spectrum = \"blackbody:5500\"     # a CIE illuminant, blackbody:K, or { file = \"spd.csv\" }
@@ -34,12 +33,11 @@ Scene (save the lines below as scene.toml; paths in it are relative to it):
   [[patches]]
   name = \"red\"
   colour = [0.8, 0.1, 0.1]
-  colorspace = \"sRGB\"             # or Linear Rec.709, Linear Rec.2020, ACEScg, CIE-XYZ-D65
+  colorspace = \"sRGB - Texture\"   # a colour space of the OCIO config, as --colorspace
 
   [[patches]]
   name = \"green\"
-  colour = [0.2, 0.6, 0.2]
-  colorspace = \"sRGB\"
+  colour = [0.2, 0.6, 0.2]         # no colorspace: the config's sRGB texture space
 
   # [[patches]]                   # measured spectra, the reference for every method:
   # spectra = \"munsell.csv\"       # samples = \"all\" | [\"5R 4/14\", …], or sample = \"5R 4/14\"
@@ -58,9 +56,9 @@ Examples:
 /// spectra, and report how far each method's colour drifts from the measured one.
 ///
 /// The scene (TOML) names lights, patches and their form factors, and the effect wanted. Each
-/// patch's material is stored as a texture would store it: a colour (in sRGB, Linear Rec.709,
-/// Linear Rec.2020, ACEScg or CIE-XYZ-D65), the colour of a measured spectrum from a CSV file,
-/// or a pixel of a texture.
+/// patch's material is stored as a texture would store it: a colour in a colour space of the
+/// scene's OCIO config (converted as `convert` converts pixels), the colour of a measured
+/// spectrum from a CSV file, or a pixel of a texture.
 /// Every method uplifts that colour; the simulator solves the spectral radiosity
 /// B = E + ρ·F·B per wavelength, truncated after K bounces or converged, and converts each
 /// patch's radiance to XYZ, CIELAB (white: the same scene with white patches) and display sRGB.
@@ -101,91 +99,13 @@ pub struct Args {
     pub(crate) stack: methods::StackArgs,
 }
 
-/// The scene file as written.
-#[derive(Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
-struct SceneFile {
-    #[serde(default)]
-    bounces: Option<usize>,
-    #[serde(default)]
-    effect: Option<String>,
-    form_factors: FormFactors,
-    #[serde(default)]
-    methods: Option<Vec<String>>,
-    #[serde(default)]
-    model: Option<PathBuf>,
-    #[serde(default)]
-    ocio: Option<String>,
-    #[serde(default)]
-    lights: Vec<LightFile>,
-    #[serde(default)]
-    patches: Vec<PatchFile>,
-}
-
-#[derive(Debug, Deserialize)]
-#[serde(untagged)]
-enum FormFactors {
-    Preset(String),
-    Matrix(Vec<Vec<f64>>),
-}
-
-#[derive(Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
-struct LightFile {
-    #[serde(default)]
-    name: Option<String>,
-    spectrum: SpdFile,
-    power: f64,
-    #[serde(default)]
-    patches: Option<Vec<String>>,
-}
-
-#[derive(Debug, Deserialize)]
-#[serde(untagged)]
-enum SpdFile {
-    Named(String),
-    Csv {
-        file: PathBuf,
-        #[serde(default)]
-        column: Option<String>,
-    },
-}
-
-#[derive(Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
-struct PatchFile {
-    #[serde(default)]
-    name: Option<String>,
-    #[serde(default)]
-    colour: Option<[f64; 3]>,
-    #[serde(default)]
-    colorspace: Option<String>,
-    #[serde(default)]
-    spectra: Option<PathBuf>,
-    #[serde(default)]
-    sample: Option<String>,
-    #[serde(default)]
-    samples: Option<Samples>,
-    #[serde(default)]
-    texture: Option<PathBuf>,
-    #[serde(default)]
-    pixel: Option<[u32; 2]>,
-}
-
-#[derive(Debug, Deserialize)]
-#[serde(untagged)]
-enum Samples {
-    All(String),
-    List(Vec<String>),
-}
-
 pub fn run(args: Args) -> Result<()> {
     if let Some(p) = &args.image {
         crate::checks::output_dir(p)?;
     }
     let text = std::fs::read_to_string(&args.scene)
         .with_context(|| format!("cannot read scene {}", args.scene.display()))?;
-    let file: SceneFile = toml::from_str(&text)
+    let file = scene::parse(&text)
         .with_context(|| format!("{} is not a valid scene", args.scene.display()))?;
     let dir = args.scene.parent().unwrap_or(Path::new("."));
     let model_path = match &args.stack.model {
@@ -195,7 +115,8 @@ pub fn run(args: Args) -> Result<()> {
     let model = files::load_model(model_path.as_deref())?;
     // Every method's output shares the grid, observer and illuminant of the model.
     let (a, _) = args.description(MethodName::Otsu2018).output(&model)?;
-    let (scene, preset) = build(&file, dir, &a).with_context(|| {
+    let mut resources = resources::Resources::new(file.ocio.as_deref(), dir);
+    let (scene, preset) = scene::build(&file, dir, &a, &mut resources).with_context(|| {
         format!(
             "in scene {}; see `specconv simulate --help`",
             args.scene.display()
@@ -267,235 +188,6 @@ fn stacks(args: &Args, file: &SceneFile, model: &Model) -> Result<Vec<(MethodNam
             Ok((m, stack))
         })
         .collect()
-}
-
-/// The library scene from the file: materials resolved, lights sampled, presets expanded.
-fn build(file: &SceneFile, dir: &Path, a: &Colorimetry) -> Result<(Scene, String)> {
-    let effect = match (file.bounces, file.effect.as_deref()) {
-        (Some(k), None) => Effect::Bounces(k),
-        (None, Some("direct")) => Effect::Bounces(1),
-        (None, Some("converged")) => Effect::Converged,
-        (None, Some(e)) => {
-            bail!("unknown effect `{e}`; use \"direct\", \"converged\" or `bounces = K`")
-        }
-        (Some(_), Some(_)) => bail!("give either `bounces = K` or `effect`, not both"),
-        (None, None) => bail!(
-            "say what to compute: `bounces = K`, `effect = \"direct\"` or `effect = \"converged\"`"
-        ),
-    };
-    let mut names = Vec::new();
-    let mut materials = Vec::new();
-    let mut tables: BTreeMap<PathBuf, specconv_colour::SpectralTable> = BTreeMap::new();
-    // Loaded for the first texture patch only.
-    let mut config = None;
-    for (i, p) in file.patches.iter().enumerate() {
-        let which = || {
-            format!(
-                "patch {}",
-                p.name.clone().unwrap_or_else(|| (i + 1).to_string())
-            )
-        };
-        if let Some(texture) = &p.texture {
-            if p.colour.is_some()
-                || p.spectra.is_some()
-                || p.sample.is_some()
-                || p.samples.is_some()
-            {
-                bail!("{}: give `texture` alone (with `pixel` and `colorspace`), not with `colour` or `spectra`", which());
-            }
-            let pixel = p.pixel.ok_or_else(|| {
-                anyhow!(
-                    "{}: say which pixel of the texture: `pixel = [x, y]` (from the top left)",
-                    which()
-                )
-            })?;
-            if config.is_none() {
-                config = Some(ocio_config(file.ocio.as_deref(), dir)?);
-            }
-            let config = config.as_ref().expect("loaded above");
-            let xyz =
-                texture::pixel_xyz(&dir.join(texture), pixel, p.colorspace.as_deref(), config)
-                    .with_context(which)?;
-            materials.push(Material::Colour(xyz));
-            names.push(p.name.clone().unwrap_or_else(|| (i + 1).to_string()));
-            continue;
-        }
-        if p.pixel.is_some() {
-            bail!("{}: `pixel` needs `texture = \"FILE\"`", which());
-        }
-        match (&p.colour, &p.spectra) {
-            (Some(c), None) => {
-                if p.sample.is_some() || p.samples.is_some() {
-                    bail!("{}: `sample`/`samples` need `spectra = \"FILE.csv\"`", which());
-                }
-                let space = p.colorspace.as_deref().unwrap_or("sRGB");
-                materials.push(Material::Colour(colour_xyz(*c, space, a).with_context(which)?));
-                names.push(p.name.clone().unwrap_or_else(|| (i + 1).to_string()));
-            }
-            (None, Some(path)) => {
-                let path = dir.join(path);
-                if !tables.contains_key(&path) {
-                    tables.insert(path.clone(), files::read_spectra(&path)?);
-                }
-                let table = &tables[&path];
-                let wanted: Vec<String> = match (&p.sample, &p.samples) {
-                    (Some(s), None) => vec![s.clone()],
-                    (None, Some(Samples::List(v))) => v.clone(),
-                    (None, Some(Samples::All(s))) if s == "all" => table.names.clone(),
-                    (None, Some(Samples::All(s))) => {
-                        bail!("{}: samples = \"{s}\": use \"all\" or a list of names", which())
-                    }
-                    (None, None) => bail!(
-                        "{}: name the measured spectra: `sample = \"NAME\"`, `samples = [..]` or `samples = \"all\"`",
-                        which()
-                    ),
-                    (Some(_), Some(_)) => bail!("{}: give `sample` or `samples`, not both", which()),
-                };
-                if p.name.is_some() && wanted.len() != 1 {
-                    bail!("{}: `name` names one patch, but {} samples are asked for", which(), wanted.len());
-                }
-                for s in wanted {
-                    let k = table.names.iter().position(|n| *n == s).ok_or_else(|| {
-                        anyhow!(
-                            "{}: unknown sample `{s}` in {} (it has {} samples, e.g. {}); check the \
-                             name against the CSV header",
-                            which(),
-                            path.display(),
-                            table.names.len(),
-                            table.names.iter().take(3).cloned().collect::<Vec<_>>().join(", ")
-                        )
-                    })?;
-                    let spectrum = a
-                        .grid
-                        .resample(&table.source, &table.wavelengths, &table.columns[k])?;
-                    materials.push(Material::Measured(spectrum));
-                    names.push(p.name.clone().unwrap_or(s));
-                }
-            }
-            (Some(_), Some(_)) => bail!("{}: give `colour` or `spectra`, not both", which()),
-            (None, None) => bail!(
-                "{}: give a material: `colour = [R, G, B]` (with `colorspace`) or `spectra = \"FILE.csv\"`",
-                which()
-            ),
-        }
-    }
-    let n = materials.len();
-    let (form_factors, preset) = match &file.form_factors {
-        FormFactors::Preset(p) if p == "furnace" => (simulate::furnace(n), "furnace".to_string()),
-        FormFactors::Preset(p) if p == "box" => {
-            // Reorder the patches to the walls of the preset.
-            let mut order = Vec::new();
-            for wall in simulate::BOX_WALLS {
-                let at = names.iter().position(|x| x == wall).ok_or_else(|| {
-                    anyhow!(
-                        "the box preset needs five patches named {}; `{wall}` is missing",
-                        simulate::BOX_WALLS.join(", ")
-                    )
-                })?;
-                order.push(at);
-            }
-            if n != 5 {
-                bail!(
-                    "the box preset has five walls ({}), the scene {n} patches",
-                    simulate::BOX_WALLS.join(", ")
-                );
-            }
-            names = order.iter().map(|&i| names[i].clone()).collect();
-            materials = order.iter().map(|&i| materials[i].clone()).collect();
-            (simulate::room(), "box".to_string())
-        }
-        FormFactors::Preset(p) => {
-            bail!("unknown form-factor preset `{p}`; use \"furnace\", \"box\" or a matrix")
-        }
-        FormFactors::Matrix(m) => (m.clone(), "matrix".to_string()),
-    };
-    let mut lights = Vec::new();
-    for (i, l) in file.lights.iter().enumerate() {
-        let (label, spd) = match &l.spectrum {
-            SpdFile::Named(s) => {
-                let ill: Illuminant = s.parse()?;
-                (ill.to_string(), ill.spd(&a.grid)?)
-            }
-            SpdFile::Csv { file, column } => {
-                let path = dir.join(file);
-                let t = files::read_spectra(&path)?;
-                let k = match column {
-                    None => 0,
-                    Some(c) => t.names.iter().position(|n| n == c).ok_or_else(|| {
-                        anyhow!("light {}: no column `{c}` in {}", i + 1, path.display())
-                    })?,
-                };
-                (
-                    format!("{}:{}", path.display(), t.names[k]),
-                    a.grid.resample(&t.source, &t.wavelengths, &t.columns[k])?,
-                )
-            }
-        };
-        let patches = match &l.patches {
-            None => (0..n).collect(),
-            Some(list) => list
-                .iter()
-                .map(|p| {
-                    names.iter().position(|x| x == p).ok_or_else(|| {
-                        anyhow!(
-                            "light {}: no patch named `{p}`; patches are {}",
-                            i + 1,
-                            names.join(", ")
-                        )
-                    })
-                })
-                .collect::<Result<_>>()?,
-        };
-        lights.push(Light {
-            name: l.name.clone().unwrap_or(label),
-            spd,
-            power: l.power,
-            patches,
-        });
-    }
-    Ok((
-        Scene {
-            names,
-            materials,
-            form_factors,
-            lights,
-            effect,
-        },
-        preset,
-    ))
-}
-
-/// The scene's `ocio` (a built-in name such as `aces` or `ocio://default`, or a config file
-/// relative to the scene), else as `convert` without --ocio: $OCIO, else the built-in ACES
-/// config.
-fn ocio_config(ocio: Option<&str>, dir: &Path) -> Result<specconv_ocio::Config> {
-    let path = ocio.map(|o| {
-        if specconv_ocio::is_builtin_name(o) {
-            o.to_string()
-        } else {
-            dir.join(o).display().to_string()
-        }
-    });
-    Ok(specconv_ocio::Config::resolve(path.as_deref())?)
-}
-
-/// XYZ (white Y = 1, the model's white) of a colour in a named RGB space or XYZ.
-fn colour_xyz(c: [f64; 3], space: &str, a: &Colorimetry) -> Result<[f64; 3]> {
-    let rgb_space =
-        |s: &RgbSpace, rgb: [f64; 3]| specconv_colour::mat3::mul_vec(&s.to_xyz(a.white_xyz()), rgb);
-    Ok(match space.to_ascii_lowercase().as_str() {
-        "srgb" | "srgb - texture" | "srgb texture" => {
-            rgb_space(&rgb::SRGB, c.map(rgb::srgb_decode))
-        }
-        "linear rec.709 (srgb)" | "linear rec.709" | "lin_rec709" => rgb_space(&rgb::SRGB, c),
-        "linear rec.2020" | "lin_rec2020" => rgb_space(&rgb::REC2020, c),
-        "acescg" => rgb_space(&rgb::ACESCG, c),
-        "cie-xyz-d65" | "xyz" => c,
-        _ => bail!(
-            "colour space `{space}` is not one simulate knows; use sRGB, Linear Rec.709 (sRGB), \
-             Linear Rec.2020, ACEScg or CIE-XYZ-D65"
-        ),
-    })
 }
 
 #[derive(Serialize)]
