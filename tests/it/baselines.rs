@@ -1,24 +1,12 @@
 //! `specconv eval --method` and `specconv report` from the command line.
 
 use crate::runner::*;
-use std::process::Command;
-
-fn json(s: &str) -> serde_json::Value {
-    serde_json::from_str(s).unwrap_or_else(|e| panic!("not JSON ({e}):\n{s}"))
-}
 
 fn eval_json(method: &str) -> serde_json::Value {
     let cc = colorchecker();
-    let out = specconv([
-        "eval",
-        "--spectra",
-        cc.to_str().unwrap(),
-        "--method",
-        method,
-        "--jakob-resolution",
-        "16",
-        "--json",
-    ]);
+    let out = Cmd::eval(&cc)
+        .args(["--method", method, "--jakob-resolution", "16", "--json"])
+        .run();
     json(out.ok())
 }
 
@@ -40,14 +28,8 @@ fn every_baseline_evaluates_through_the_same_command() {
     assert!(m["in_unit_range"].as_f64().unwrap() < 1.0);
     // otsu2018 as named, and bounded (as convert writes it): in [0, 1], colours kept.
     let cc = colorchecker();
-    let raw = json(specconv(["eval", "--spectra", cc.to_str().unwrap(), "--json"]).ok());
-    let bounded = specconv([
-        "eval",
-        "--spectra",
-        cc.to_str().unwrap(),
-        "--json",
-        "--bounded",
-    ]);
+    let raw = Cmd::eval(&cc).arg("--json").ok().json();
+    let bounded = Cmd::eval(&cc).args(["--json", "--bounded"]).run();
     let bounded = json(bounded.ok());
     assert_eq!(raw["method"], "otsu2018");
     assert_eq!(bounded["method"], "otsu2018-bounded");
@@ -66,20 +48,16 @@ fn every_baseline_evaluates_through_the_same_command() {
 fn pca_needs_a_one_cluster_model_and_unknown_methods_are_usage_errors() {
     let cc = colorchecker();
     let cc = cc.to_str().unwrap();
-    specconv(["eval", "--spectra", cc, "--method", "pca"])
+    Cmd::eval(cc)
+        .args(["--method", "pca"])
         .fails(2, &["pca", "--clusters 1", "--train"]);
-    specconv(["eval", "--spectra", cc, "--method", "nope"]).fails(2, &["nope", "smits1999"]);
+    Cmd::eval(cc)
+        .args(["--method", "nope"])
+        .fails(2, &["nope", "smits1999"]);
     let m = munsell();
-    let out = specconv([
-        "eval",
-        "--spectra",
-        cc,
-        "--method",
-        "pca",
-        "--train",
-        m.to_str().unwrap(),
-        "--json",
-    ]);
+    let out = Cmd::eval(cc)
+        .args(["--method", "pca", "--train", m.to_str().unwrap(), "--json"])
+        .run();
     let v = json(out.ok());
     // The paper's "PCA only" on the ColorChecker, trained on Munsell: worse than 8 clusters.
     assert!(v["delta_e"]["mean"].as_f64().unwrap() > 0.0625);
@@ -92,29 +70,18 @@ fn jakob2019_table_is_cached_and_rebuilt_when_stale() {
     let dir = Scratch::new("jakob-cache");
     let cc = colorchecker();
     let run = |extra: &[&str]| {
-        let out = Command::new(env!("CARGO_BIN_EXE_specconv"))
+        let out = Cmd::eval(&cc)
             .args([
-                "eval",
-                "--spectra",
-                cc.to_str().unwrap(),
                 "--method",
                 "jakob2019",
+                "--jakob-resolution",
+                "12",
+                "--json",
             ])
-            .args(["--jakob-resolution", "12", "--json"])
             .args(extra)
             .env("SPECCONV_CACHE_DIR", &dir.0)
-            .output()
-            .unwrap();
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
-        (
-            json(&stdout),
-            String::from_utf8_lossy(&out.stderr).into_owned(),
-        )
+            .ok();
+        (out.json(), out.stderr)
     };
     let (first, err) = run(&[]);
     assert!(err.contains("built the jakob2019 table"), "{err}");
@@ -144,8 +111,7 @@ fn report_measures_every_method_and_draws_the_plot() {
     let plot = dir.path("cost.svg");
     let cc = colorchecker();
     let m = munsell();
-    let out = Command::new(env!("CARGO_BIN_EXE_specconv"))
-        .args(["report", "--spectra", cc.to_str().unwrap(), "--train"])
+    let v = Cmd::new(["report", "--spectra", cc.to_str().unwrap(), "--train"])
         .args([
             m.to_str().unwrap(),
             "--colours",
@@ -165,14 +131,8 @@ fn report_measures_every_method_and_draws_the_plot() {
         ])
         .arg(&plot)
         .env("SPECCONV_CACHE_DIR", &dir.0)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let v = json(&String::from_utf8_lossy(&out.stdout));
+        .ok()
+        .json();
     let rows = v.as_array().unwrap();
     let names: Vec<&str> = rows.iter().map(|r| r["method"].as_str().unwrap()).collect();
     assert_eq!(
@@ -223,14 +183,14 @@ fn report_measures_every_method_and_draws_the_plot() {
 
     // Formats other than SVG and PNG are refused with a reason; so is an empty measurement.
     let cc = cc.to_str().unwrap();
-    specconv(["report", "--spectra", cc, "--plot", "x.gif"]).fails(2, &["*.svg or *.png"]);
-    specconv(["report", "--spectra", cc, "--colours", "0"]).fails(2, &["--colours"]);
+    Cmd::new(["report", "--spectra", cc, "--plot", "x.gif"]).fails(2, &["*.svg or *.png"]);
+    Cmd::new(["report", "--spectra", cc, "--colours", "0"]).fails(2, &["--colours"]);
 }
 
 #[test]
 fn report_holdout_trains_on_the_other_folds() {
     let m = munsell();
-    let out = specconv([
+    let out = Cmd::new([
         "report",
         "--spectra",
         m.to_str().unwrap(),
@@ -245,7 +205,8 @@ fn report_holdout_trains_on_the_other_folds() {
         "--jakob-resolution",
         "8",
         "--csv",
-    ]);
+    ])
+    .run();
     let text = out.ok();
     let lines: Vec<&str> = text.lines().collect();
     let row = lines.iter().find(|l| l.starts_with("otsu2018")).unwrap();

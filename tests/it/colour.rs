@@ -3,31 +3,12 @@
 //! Little CMS for embedded ICC profiles (tests/colour_rule_images.py makes the images and
 //! computes both), oiiotool for straight alpha.
 
-use crate::convert::tool;
 use crate::runner::*;
 use std::path::Path;
-use std::process::Command;
-
-fn json(s: &str) -> serde_json::Value {
-    serde_json::from_str(s).unwrap_or_else(|e| panic!("not JSON ({e}):\n{s}"))
-}
 
 /// Runs tests/colour_rule_images.py: writes the images into `dir`, returns its reference XYZ.
 fn make_images(dir: &Scratch) -> serde_json::Value {
-    let python = std::env::var("SPECCONV_PYTHON").unwrap_or_else(|_| "python3".into());
-    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/colour_rule_images.py");
-    let out = Command::new(&python)
-        .arg(&script)
-        .arg(&dir.0)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{python} with colour-science and OpenImageIO (set SPECCONV_PYTHON; .ci/run makes a \
-         venv): {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    json(&String::from_utf8_lossy(&out.stdout))
+    script_json("colour_rule_images.py", [&dir.0])
 }
 
 /// XYZ (CIE 1931, D65, white Y = 1) integrated from every pixel of a spectral EXR.
@@ -71,7 +52,7 @@ fn worst_relative(got: &[[f64; 3]], want: &serde_json::Value) -> f64 {
 fn info(path: &Path, extra: &[&str]) -> serde_json::Value {
     let mut args = vec!["info", "--json", path.to_str().unwrap()];
     args.extend_from_slice(extra);
-    json(specconv(args).ok())
+    Cmd::new(args).ok().json()
 }
 
 #[test]
@@ -113,13 +94,9 @@ fn exr_chromaticities_and_icc_profiles_convert_to_the_reference_xyz() {
             );
         }
         let out = dir.path(&format!("{name}_spectral.exr"));
-        let line = specconv([
-            file.to_str().unwrap(),
-            out.to_str().unwrap(),
-            "-d",
-            "float",
-            "--json",
-        ]);
+        let line = Cmd::convert(file, &out)
+            .args(["-d", "float", "--json"])
+            .run();
         let record = json(line.ok());
         assert_eq!(record["colorspace"], cs["colorspace"], "{name}");
         assert_eq!(record["colorspace_rule"], cs["colorspace_rule"], "{name}");
@@ -148,7 +125,7 @@ fn exr_chromaticities_and_icc_profiles_convert_to_the_reference_xyz() {
             "{}_spectral.exr",
             file.file_name().unwrap().to_string_lossy()
         ));
-        specconv([file.to_str().unwrap(), out.to_str().unwrap(), "-d", "float"]).ok();
+        Cmd::convert(file, &out).args(["-d", "float"]).ok();
         let worst = worst_relative(&output_xyz(&out), &case["xyz"]);
         eprintln!("{}: XYZ within {worst:.1e} of Little CMS", file.display());
         assert!(
@@ -159,25 +136,31 @@ fn exr_chromaticities_and_icc_profiles_convert_to_the_reference_xyz() {
     }
 }
 
+/// A 4×4 half OpenEXR of one colour, written by oiiotool with EXR `chromaticities` (eight
+/// numbers) and the attributes `extra`.
+fn constant_exr(path: &Path, chromaticities: &str, extra: &[&str]) {
+    let mut args = vec![
+        "--pattern",
+        "constant:color=0.3,0.2,0.1",
+        "4x4",
+        "3",
+        "-d",
+        "half",
+    ];
+    args.extend(["--attrib:type=float[8]", "chromaticities", chromaticities]);
+    args.extend(extra);
+    args.extend(["-o", path.to_str().unwrap()]);
+    tool("oiiotool", &args);
+}
+
 #[test]
 fn colorspace_overrides_a_declaration_and_says_so_and_disagreements_warn() {
     let dir = Scratch::new("colour-override");
     let exr = dir.path("ap1.exr");
-    tool(
-        "oiiotool",
-        &[
-            "--pattern",
-            "constant:color=0.3,0.2,0.1",
-            "4x4",
-            "3",
-            "-d",
-            "half",
-            "--attrib:type=float[8]",
-            "chromaticities",
-            "0.713,0.293,0.165,0.830,0.128,0.044,0.32168,0.33767",
-            "-o",
-            exr.to_str().unwrap(),
-        ],
+    constant_exr(
+        &exr,
+        "0.713,0.293,0.165,0.830,0.128,0.044,0.32168,0.33767",
+        &[],
     );
     let v = info(&exr, &["--colorspace", "lin_rec709"]);
     assert_eq!(v["colorspace"], "Linear Rec.709 (sRGB)");
@@ -192,24 +175,11 @@ fn colorspace_overrides_a_declaration_and_says_so_and_disagreements_warn() {
     // Rec.709 chromaticities with the ACES container flag: the chromaticities win, with a
     // warning naming both.
     let both = dir.path("both.exr");
-    tool(
-        "oiiotool",
-        &[
-            "--pattern",
-            "constant:color=0.3,0.2,0.1",
-            "4x4",
-            "3",
-            "-d",
-            "half",
-            "--attrib:type=float[8]",
-            "chromaticities",
-            "0.64,0.33,0.30,0.60,0.15,0.06,0.3127,0.3290",
-            "--attrib:type=int",
-            "acesImageContainerFlag",
-            "1",
-            "-o",
-            both.to_str().unwrap(),
-        ],
+    let aces_flag = ["--attrib:type=int", "acesImageContainerFlag", "1"];
+    constant_exr(
+        &both,
+        "0.64,0.33,0.30,0.60,0.15,0.06,0.3127,0.3290",
+        &aces_flag,
     );
     let v = info(&both, &[]);
     assert_eq!(v["colorspace"], "Linear Rec.709 (sRGB)");
@@ -220,7 +190,7 @@ fn colorspace_overrides_a_declaration_and_says_so_and_disagreements_warn() {
             && warnings.contains("using 'Linear Rec.709 (sRGB)'"),
         "{warnings}"
     );
-    let out = specconv([both.to_str().unwrap(), dir.path("o.exr").to_str().unwrap()]);
+    let out = Cmd::convert(&both, dir.path("o.exr")).run();
     out.ok();
     assert!(
         out.stderr.contains("specconv: warning:") && out.stderr.contains("acesImageContainerFlag"),
@@ -273,14 +243,9 @@ fn a_config_file_rule_chooses_by_path_when_the_file_declares_nothing() {
 /// Linear Rec.709 RGBA of pixel (0, 0) of `to-rgb`'s output.
 fn back_to_linear(dir: &Scratch, spectral: &Path, name: &str) -> Vec<f32> {
     let back = dir.path(name);
-    specconv([
-        "to-rgb",
-        spectral.to_str().unwrap(),
-        back.to_str().unwrap(),
-        "--colorspace",
-        "lin_rec709",
-    ])
-    .ok();
+    Cmd::to_rgb(spectral, &back)
+        .args(["--colorspace", "lin_rec709"])
+        .ok();
     let mut r = specconv_oiio::ImageReader::open(&back).unwrap();
     r.read_level(0).unwrap().pixel(0, 0).to_vec()
 }
@@ -330,7 +295,7 @@ fn straight_alpha_is_converted_then_premultiplied_as_oiiotool_does() {
             .pixel(0, 0)
             .to_vec();
         let out = dir.path(&format!("{name}_spectral.exr"));
-        let line = specconv([png.to_str().unwrap(), out.to_str().unwrap(), "-d", "float"]);
+        let line = Cmd::convert(&png, &out).args(["-d", "float"]).run();
         line.ok();
         assert!(
             line.stderr.contains("straight alpha premultiplied"),
@@ -347,15 +312,9 @@ fn straight_alpha_is_converted_then_premultiplied_as_oiiotool_does() {
         }
         // Told the colour is premultiplied already, the stored values are taken as they are.
         let out = dir.path(&format!("{name}_as_premultiplied.exr"));
-        specconv([
-            png.to_str().unwrap(),
-            out.to_str().unwrap(),
-            "-d",
-            "float",
-            "--alpha",
-            "premultiplied",
-        ])
-        .ok();
+        Cmd::convert(&png, &out)
+            .args(["-d", "float", "--alpha", "premultiplied"])
+            .ok();
         let as_is = back_to_linear(&dir, &out, &format!("{name}_back2.exr"));
         let full = if name == "white" {
             [1.0; 3]
@@ -370,23 +329,13 @@ fn straight_alpha_is_converted_then_premultiplied_as_oiiotool_does() {
     // A premultiplied OpenEXR comes back unchanged (not premultiplied twice).
     let exr = crate::convert::testdata("float_tiled_alpha.exr");
     let out = dir.path("exr_spectral.exr");
-    specconv([
-        exr.to_str().unwrap(),
-        out.to_str().unwrap(),
-        "-d",
-        "float",
-        "--unbounded",
-    ])
-    .ok();
+    Cmd::convert(&exr, &out)
+        .args(["-d", "float", "--unbounded"])
+        .ok();
     let back = dir.path("exr_back.exr");
-    specconv([
-        "to-rgb",
-        out.to_str().unwrap(),
-        back.to_str().unwrap(),
-        "--colorspace",
-        "lin_rec709",
-    ])
-    .ok();
+    Cmd::to_rgb(&out, &back)
+        .args(["--colorspace", "lin_rec709"])
+        .ok();
     let input = specconv_oiio::ImageReader::open(&exr)
         .unwrap()
         .read_level(0)

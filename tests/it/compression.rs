@@ -2,11 +2,9 @@
 //! edge cases written with the library's writer, opened with exrheader and decoded sample by
 //! sample through OpenImageIO's Python bindings (OpenEXR's decoder), bit for bit.
 
-use crate::convert::tool;
 use crate::runner::*;
 use specconv_exr::{Blocks, Compression, Kind, Sample, Spec, SpectralFile};
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 /// Every sample of every channel of level 0 of each file, as OpenImageIO decodes it: one JSON
 /// object per file, channel name → bit patterns (u16 for half, u32 for float), row by row.
@@ -26,18 +24,9 @@ for path in sys.argv[1:]:
     out.append({n: [int(v) for v in bits[:, c]] for c, n in enumerate(spec.channelnames)})
 print(json.dumps(out))
 "#;
-    let python = std::env::var("SPECCONV_PYTHON").unwrap_or_else(|_| "python3".into());
-    let out = Command::new(&python)
-        .args(["-c", SCRIPT])
-        .args(paths)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{python} with OpenImageIO's bindings (set SPECCONV_PYTHON; .ci/run makes a venv): {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    serde_json::from_slice(&out.stdout).unwrap()
+    let mut args = vec![std::ffi::OsString::from("-c"), SCRIPT.into()];
+    args.extend(paths.iter().map(|p| p.clone().into_os_string()));
+    serde_json::from_slice(&python_output(args)).unwrap()
 }
 
 /// A pseudo-random stream (xorshift), so that noise is the same on every run.

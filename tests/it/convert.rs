@@ -3,7 +3,6 @@
 
 use crate::runner::*;
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 pub(crate) fn testdata(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -24,19 +23,6 @@ fn textures() -> Vec<PathBuf> {
         "testdata/images is incomplete: run testdata/make.sh"
     );
     v
-}
-
-pub(crate) fn tool(name: &str, args: &[&str]) -> String {
-    let out = Command::new(name)
-        .args(args)
-        .output()
-        .unwrap_or_else(|e| panic!("{name} must be installed (.ci/run installs it): {e}"));
-    assert!(
-        out.status.success(),
-        "{name} {args:?} failed:\n{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    String::from_utf8_lossy(&out.stdout).into_owned()
 }
 
 /// XYZ of every pixel of one level of an input, as the pipeline's colour management sees it.
@@ -143,7 +129,7 @@ fn every_texture_converts_to_a_spectral_exr_that_real_readers_open_and_that_roun
             let output = dir.path(&format!("{stem}_{data_type}.exr"));
             // The paper's raw output keeps every colour, HDR and wide gamut too; the bounded
             // default keeps those inside the object-colour solid (tested below).
-            let run = specconv([
+            let run = Cmd::new([
                 "--unbounded",
                 "--ocio",
                 "aces",
@@ -151,7 +137,8 @@ fn every_texture_converts_to_a_spectral_exr_that_real_readers_open_and_that_roun
                 data_type,
                 input.to_str().unwrap(),
                 output.to_str().unwrap(),
-            ]);
+            ])
+            .run();
             run.ok();
             assert!(
                 run.stderr.contains("colour space "),
@@ -218,13 +205,7 @@ fn mip_levels_are_each_uplifted_from_their_own_input_level() {
     let dir = Scratch::new("convert-mip");
     let input = testdata("srgba8.tx");
     let output = dir.path("out.exr");
-    specconv([
-        input.to_str().unwrap(),
-        output.to_str().unwrap(),
-        "-d",
-        "float",
-    ])
-    .ok();
+    Cmd::convert(&input, &output).args(["-d", "float"]).ok();
     let info = tool("oiiotool", &["--info", "-v", output.to_str().unwrap()]);
     assert!(
         info.contains("MIP-map levels: 61x47 30x23 15x11 7x5 3x2 1x1"),
@@ -246,44 +227,24 @@ fn mip_levels_are_each_uplifted_from_their_own_input_level() {
         assert!(err <= 1e-5, "level {level}: {err}");
     }
     let base = dir.path("base.exr");
-    specconv([
-        input.to_str().unwrap(),
-        base.to_str().unwrap(),
-        "--mip",
-        "0",
-        "--scanline",
-    ])
-    .ok();
+    Cmd::convert(&input, &base)
+        .args(["--mip", "0", "--scanline"])
+        .ok();
     let info = tool("oiiotool", &["--info", "-v", base.to_str().unwrap()]);
     assert!(
         !info.contains("MIP-map") && !info.contains("tile size"),
         "{info}"
     );
-    specconv([
-        input.to_str().unwrap(),
-        dir.path("x.exr").to_str().unwrap(),
-        "--scanline",
-    ])
-    .fails(1, &["scanline files cannot hold", "--mip 0"]);
+    Cmd::convert(&input, dir.path("x.exr"))
+        .arg("--scanline")
+        .fails(1, &["scanline files cannot hold", "--mip 0"]);
 }
 
 /// What colour-science's Fichet 2021 reader (tests/read_fichet2021.py) makes of `output`:
 /// its layout, attributes and the spectra of pixel (x, y), as JSON.
 pub(crate) fn read_fichet2021(output: &Path, x: usize, y: usize) -> serde_json::Value {
-    let python = std::env::var("SPECCONV_PYTHON").unwrap_or_else(|_| "python3".into());
-    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/read_fichet2021.py");
-    let out = Command::new(&python)
-        .arg(&script)
-        .arg(output)
-        .args([x.to_string(), y.to_string()])
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{python} with colour-science (set SPECCONV_PYTHON; .ci/run makes a venv): {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    serde_json::from_slice(&out.stdout).unwrap()
+    let at = [x, y].map(|v| std::ffi::OsString::from(v.to_string()));
+    script_json("read_fichet2021.py", [output.as_os_str(), &at[0], &at[1]])
 }
 
 #[test]
@@ -291,13 +252,7 @@ fn colour_science_reads_the_output() {
     let dir = Scratch::new("convert-colour");
     let input = testdata("float_tiled_alpha.exr");
     let output = dir.path("out.exr");
-    specconv([
-        input.to_str().unwrap(),
-        output.to_str().unwrap(),
-        "-d",
-        "float",
-    ])
-    .ok();
+    Cmd::convert(&input, &output).args(["-d", "float"]).ok();
     let v = read_fichet2021(&output, 7, 5);
     let t = &v["T"];
     let wl: Vec<f64> = t["wavelengths"]
@@ -325,23 +280,13 @@ fn to_rgb_integrates_back_to_the_input_colours() {
     let spectral = dir.path("s.exr");
     // Unbounded: its colours outside the object-colour solid come back too. OpenEXR without
     // chromaticities is linear Rec.709 (D65), so that is what to-rgb must give back.
-    specconv([
-        input.to_str().unwrap(),
-        spectral.to_str().unwrap(),
-        "-d",
-        "float",
-        "--unbounded",
-    ])
-    .ok();
+    Cmd::convert(&input, &spectral)
+        .args(["-d", "float", "--unbounded"])
+        .ok();
     let back = dir.path("back.exr");
-    specconv([
-        "to-rgb",
-        spectral.to_str().unwrap(),
-        back.to_str().unwrap(),
-        "--colorspace",
-        "lin_rec709",
-    ])
-    .ok();
+    Cmd::to_rgb(&spectral, &back)
+        .args(["--colorspace", "lin_rec709"])
+        .ok();
     let mut a = specconv_oiio::ImageReader::open(&input).unwrap();
     let mut b = specconv_oiio::ImageReader::open(&back).unwrap();
     let (pa, pb) = (a.read_level(0).unwrap(), b.read_level(0).unwrap());
@@ -358,14 +303,8 @@ fn to_rgb_integrates_back_to_the_input_colours() {
         worst < 1e-4,
         "linear Rec.709 → spectra → linear Rec.709 differs by {worst}"
     );
-    specconv(["to-rgb", spectral.to_str().unwrap(), back.to_str().unwrap()])
-        .fails(1, &["exists; pass --force"]);
-    specconv([
-        "to-rgb",
-        input.to_str().unwrap(),
-        dir.path("c.exr").to_str().unwrap(),
-    ])
-    .fails(1, &["not a spectral EXR"]);
+    Cmd::to_rgb(&spectral, &back).fails(1, &["exists; pass --force"]);
+    Cmd::to_rgb(&input, dir.path("c.exr")).fails(1, &["not a spectral EXR"]);
 }
 
 #[test]
@@ -373,51 +312,38 @@ fn failures_leave_nothing_behind_and_say_what_to_do() {
     let dir = Scratch::new("convert-fail");
     let good = testdata("srgb8.png");
     let out = dir.path("out.exr");
-    specconv(["/nonexistent/in.png", out.to_str().unwrap()])
+    Cmd::new(["/nonexistent/in.png", out.to_str().unwrap()])
         .fails(1, &["specconv: error: /nonexistent/in.png"]);
     let broken = Path::new(env!("CARGO_MANIFEST_DIR")).join("testdata/broken");
     for f in std::fs::read_dir(&broken).unwrap() {
         let f = f.unwrap().path();
-        specconv([f.to_str().unwrap(), out.to_str().unwrap()]).fails(1, &["specconv: error:"]);
+        Cmd::convert(&f, &out).fails(1, &["specconv: error:"]);
     }
-    specconv([
-        good.to_str().unwrap(),
-        dir.path("missing/out.exr").to_str().unwrap(),
-    ])
-    .fails(2, &["output directory", "does not exist"]);
+    Cmd::convert(&good, dir.path("missing/out.exr"))
+        .fails(2, &["output directory", "does not exist"]);
     // The input is never written over, even when named as the output.
     let copy = dir.path("in.png");
     std::fs::copy(&good, &copy).unwrap();
     // (A .png output is refused by its name first, as a usage error.)
-    specconv([copy.to_str().unwrap(), copy.to_str().unwrap()]).fails(2, &["ending in .exr"]);
+    Cmd::convert(&copy, &copy).fails(2, &["ending in .exr"]);
     assert_eq!(std::fs::read(&copy).unwrap(), std::fs::read(&good).unwrap());
     let exr = testdata("float_scanline.exr");
     let copy = dir.path("in.exr");
     std::fs::copy(&exr, &copy).unwrap();
-    specconv([copy.to_str().unwrap(), copy.to_str().unwrap()]).fails(1, &["is the input"]);
+    Cmd::convert(&copy, &copy).fails(1, &["is the input"]);
     assert_eq!(std::fs::read(&copy).unwrap(), std::fs::read(&exr).unwrap());
     // An existing output needs --force.
     std::fs::write(&out, b"keep me").unwrap();
-    specconv([good.to_str().unwrap(), out.to_str().unwrap()]).fails(1, &["exists; pass --force"]);
+    Cmd::convert(&good, &out).fails(1, &["exists; pass --force"]);
     assert_eq!(std::fs::read(&out).unwrap(), b"keep me");
-    specconv([good.to_str().unwrap(), out.to_str().unwrap(), "--force"]).ok();
-    specconv([
-        good.to_str().unwrap(),
-        out.to_str().unwrap(),
-        "--force",
-        "--colorspace",
-        "Raw",
-    ])
-    .fails(2, &["holds data, not colour"]);
-    specconv([
-        good.to_str().unwrap(),
-        out.to_str().unwrap(),
-        "--force",
-        "--colorspace",
-        "srgb_txt",
-    ])
-    .fails(2, &["unknown colour space"]);
-    specconv([good.to_str().unwrap()]).fails(2, &["give INPUT OUTPUT"]);
+    Cmd::convert(&good, &out).arg("--force").ok();
+    Cmd::convert(&good, &out)
+        .args(["--force", "--colorspace", "Raw"])
+        .fails(2, &["holds data, not colour"]);
+    Cmd::convert(&good, &out)
+        .args(["--force", "--colorspace", "srgb_txt"])
+        .fails(2, &["unknown colour space"]);
+    Cmd::new([good.to_str().unwrap()]).fails(2, &["give INPUT OUTPUT"]);
     assert_eq!(dir.files(), vec!["in.exr", "in.png", "out.exr"]);
     assert!(tool("exrheader", &[out.to_str().unwrap()]).contains("spectralLayoutVersion"));
 }
@@ -433,34 +359,18 @@ fn batches_convert_the_good_inputs_report_each_and_exit_1_for_the_bad() {
         testdata("srgb8.png").display(),
         missing.display()
     );
-    let out = {
-        use std::io::Write;
-        let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_specconv"))
-            .args([
-                "-",
-                testdata("rgb16.tif").to_str().unwrap(),
-                "-o",
-                outdir.to_str().unwrap(),
-                "--json",
-            ])
-            .stdin(std::process::Stdio::piped())
-            .stdout(std::process::Stdio::piped())
-            .stderr(std::process::Stdio::piped())
-            .spawn()
-            .unwrap();
-        child
-            .stdin
-            .take()
-            .unwrap()
-            .write_all(list.as_bytes())
-            .unwrap();
-        child.wait_with_output().unwrap()
-    };
-    assert_eq!(out.status.code(), Some(1));
-    let reports: Vec<serde_json::Value> = String::from_utf8_lossy(&out.stdout)
-        .lines()
-        .map(|l| serde_json::from_str(l).unwrap())
-        .collect();
+    let input = testdata("rgb16.tif");
+    let out = Cmd::new([
+        "-",
+        input.to_str().unwrap(),
+        "-o",
+        outdir.to_str().unwrap(),
+        "--json",
+    ])
+    .stdin(list)
+    .run();
+    assert_eq!(out.code, 1);
+    let reports = out.json_lines();
     assert_eq!(reports.len(), 3);
     assert_eq!(reports[0]["status"], "ok");
     assert!(reports[0]["pixels"].as_u64().unwrap() >= 61 * 47);
@@ -481,19 +391,20 @@ fn batches_convert_the_good_inputs_report_each_and_exit_1_for_the_bad() {
     assert_eq!(made, vec!["rgb16_spectral.exr", "srgb8_spectral.exr"]);
 
     // -u skips what is up to date with the same settings, and redoes it with other settings.
-    let again = specconv([
+    let again = Cmd::new([
         testdata("srgb8.png").to_str().unwrap(),
         "-o",
         outdir.to_str().unwrap(),
         "-u",
         "--json",
-    ]);
+    ])
+    .run();
     assert!(
         again.ok().contains("\"status\":\"skipped\""),
         "{}",
         again.stdout
     );
-    let other = specconv([
+    let other = Cmd::new([
         testdata("srgb8.png").to_str().unwrap(),
         "-o",
         outdir.to_str().unwrap(),
@@ -501,13 +412,15 @@ fn batches_convert_the_good_inputs_report_each_and_exit_1_for_the_bad() {
         "--json",
         "-d",
         "float",
-    ]);
+    ])
+    .run();
     assert!(other.ok().contains("\"status\":\"ok\""), "{}", other.stdout);
-    let templated = specconv([
+    let templated = Cmd::new([
         testdata("srgb8.png").to_str().unwrap(),
         "--output-template",
         &format!("{}/{{stem}}.spec.exr", outdir.display()),
-    ]);
+    ])
+    .run();
     templated.ok();
     assert!(outdir.join("srgb8.spec.exr").exists());
 }
@@ -530,8 +443,9 @@ fn sigterm_mid_write_leaves_no_partial_file() {
         ],
     );
     let out = dir.path("out.exr");
-    let child = std::process::Command::new(env!("CARGO_BIN_EXE_specconv"))
-        .args([big.to_str().unwrap(), out.to_str().unwrap(), "-j", "1"])
+    let child = Cmd::convert(&big, &out)
+        .args(["-j", "1"])
+        .command()
         .stderr(std::process::Stdio::piped())
         .spawn()
         .unwrap();
@@ -562,13 +476,13 @@ fn sigterm_mid_write_leaves_no_partial_file() {
 #[test]
 fn shell_completions_name_the_commands() {
     for shell in ["bash", "zsh", "fish"] {
-        let out = specconv(["completions", shell]);
+        let out = Cmd::new(["completions", shell]).run();
         let script = out.ok();
         for word in ["train", "eval", "to-rgb", "colorspace"] {
             assert!(script.contains(word), "{shell} completion lacks {word}");
         }
     }
-    specconv(["completions", "tcsh"]).fails(2, &["invalid value"]);
+    Cmd::new(["completions", "tcsh"]).fails(2, &["invalid value"]);
 }
 
 /// Reflectances are bounded by default: every band in [0, 1], the colours inside the
@@ -597,7 +511,7 @@ fn convert_bounds_reflectances_by_default_and_unbounded_gives_the_raw_spectra() 
             "--force",
         ];
         args.extend_from_slice(flags);
-        let run = specconv(args);
+        let run = Cmd::new(args).run();
         run.ok();
         assert!(
             run.stderr
@@ -616,14 +530,9 @@ fn convert_bounds_reflectances_by_default_and_unbounded_gives_the_raw_spectra() 
         assert!(err <= 1e-5, "{flags:?}: round trip {err}");
     }
     let plain = dir.path("plain.exr");
-    specconv([
-        input.to_str().unwrap(),
-        plain.to_str().unwrap(),
-        "-d",
-        "float",
-        "--unbounded",
-    ])
-    .ok();
+    Cmd::convert(&input, &plain)
+        .args(["-d", "float", "--unbounded"])
+        .ok();
     assert!(
         worst(&plain) > 1e-3,
         "the test image's raw uplift leaves [0, 1]"
@@ -632,13 +541,9 @@ fn convert_bounds_reflectances_by_default_and_unbounded_gives_the_raw_spectra() 
     // ACEScg floats, many outside the solid: in [0, 1] all the same, counted in --json.
     let input = testdata("float_scanline.exr");
     let out = dir.path("aces.exr");
-    let run = specconv([
-        input.to_str().unwrap(),
-        out.to_str().unwrap(),
-        "-d",
-        "float",
-        "--json",
-    ]);
+    let run = Cmd::convert(&input, &out)
+        .args(["-d", "float", "--json"])
+        .run();
     let report: serde_json::Value = serde_json::from_str(run.ok().trim()).unwrap();
     let (projected, outside) = (
         report["bounded"]["projected"].as_u64().unwrap(),
@@ -648,14 +553,9 @@ fn convert_bounds_reflectances_by_default_and_unbounded_gives_the_raw_spectra() 
     assert!(projected + outside <= report["pixels"].as_u64().unwrap());
     assert!(worst(&out) <= 1e-6, "a band {} outside [0, 1]", worst(&out));
     let raw = dir.path("aces_raw.exr");
-    let run = specconv([
-        input.to_str().unwrap(),
-        raw.to_str().unwrap(),
-        "-d",
-        "float",
-        "--json",
-        "--unbounded",
-    ]);
+    let run = Cmd::convert(&input, &raw)
+        .args(["-d", "float", "--json", "--unbounded"])
+        .run();
     let report: serde_json::Value = serde_json::from_str(run.ok().trim()).unwrap();
     assert!(report["bounded"].is_null(), "{report}");
     assert!(worst(&raw) > 1e-3);
@@ -666,15 +566,9 @@ fn baseline_methods_convert_too() {
     let dir = Scratch::new("convert-methods");
     let input = testdata("srgb8.png");
     let meng = dir.path("meng.exr");
-    specconv([
-        input.to_str().unwrap(),
-        meng.to_str().unwrap(),
-        "-d",
-        "float",
-        "--method",
-        "meng2015",
-    ])
-    .ok();
+    Cmd::convert(&input, &meng)
+        .args(["-d", "float", "--method", "meng2015"])
+        .ok();
     assert!(
         round_trip_error(&input, &meng, 0) <= 1e-5,
         "meng2015 keeps XYZ exactly"
@@ -684,20 +578,12 @@ fn baseline_methods_convert_too() {
         attrs.contains(&("specconvMethod".into(), "meng2015+bounded".into())),
         "{attrs:?}"
     );
-    specconv([
-        input.to_str().unwrap(),
-        dir.path("x.exr").to_str().unwrap(),
-        "--method",
-        "pca",
-    ])
-    .fails(2, &["one-cluster model"]);
-    specconv([
-        input.to_str().unwrap(),
-        dir.path("y.exr").to_str().unwrap(),
-        "--method",
-        "rgb",
-    ])
-    .fails(2, &["--method"]);
+    Cmd::convert(&input, dir.path("x.exr"))
+        .args(["--method", "pca"])
+        .fails(2, &["one-cluster model"]);
+    Cmd::convert(&input, dir.path("y.exr"))
+        .args(["--method", "rgb"])
+        .fails(2, &["--method"]);
 }
 
 #[test]
@@ -706,28 +592,17 @@ fn bands_put_the_spectra_on_another_grid_with_their_colour() {
     let input = testdata("float_tiled_alpha.exr");
     for (bands, count) in [("400:700:5", 61), ("380:780:20", 21)] {
         let output = dir.path(&format!("{count}.exr"));
-        specconv([
-            input.to_str().unwrap(),
-            output.to_str().unwrap(),
-            "-d",
-            "float",
-            "--bands",
-            bands,
-            "--unbounded",
-        ])
-        .ok();
+        Cmd::convert(&input, &output)
+            .args(["-d", "float", "--bands", bands, "--unbounded"])
+            .ok();
         let grid: specconv_colour::Grid = bands.parse().unwrap();
         assert_eq!(grid.len(), count);
         let err = round_trip_error_on(&input, &output, 0, grid);
         assert!(err <= 1e-5, "--bands {bands}: round trip {err}");
     }
-    specconv([
-        input.to_str().unwrap(),
-        dir.path("x.exr").to_str().unwrap(),
-        "--bands",
-        "300:700:10",
-    ])
-    .fails(2, &["does not cover"]);
+    Cmd::convert(&input, dir.path("x.exr"))
+        .args(["--bands", "300:700:10"])
+        .fails(2, &["does not cover"]);
 }
 
 /// `--half-rounding nearest` (the default) stores each band as the nearest half of the float
@@ -740,7 +615,7 @@ fn half_rounding_nearest_rounds_each_band_and_colour_keeps_xyz_closer() {
         let out = dir.path(name);
         let mut args = vec![input.to_str().unwrap(), out.to_str().unwrap(), "--mip", "0"];
         args.extend_from_slice(flags);
-        specconv(args).ok();
+        Cmd::new(args).ok();
         specconv_exr::read(&out).unwrap()
     };
     let float = convert("float.exr", &["-d", "float"]);

@@ -2,7 +2,7 @@
 //! colour-science's reader; `to-rgb` returns the input colours at any brightness; hard inputs;
 //! and what reflectance mode says of pixels above 1.
 
-use crate::convert::{testdata, tool};
+use crate::convert::testdata;
 use crate::runner::*;
 use std::path::Path;
 
@@ -10,7 +10,7 @@ const REC709: &str = "Linear Rec.709 (sRGB)";
 
 /// Converts `input` (read as `colorspace`) with --emissive and the extra `args`; returns stderr.
 fn emissive(input: &Path, output: &Path, colorspace: &str, args: &[&str]) -> String {
-    let run = specconv(
+    let run = Cmd::new(
         [
             "--ocio",
             "aces",
@@ -22,7 +22,8 @@ fn emissive(input: &Path, output: &Path, colorspace: &str, args: &[&str]) -> Str
         ]
         .iter()
         .chain(args),
-    );
+    )
+    .run();
     run.ok();
     run.stderr
 }
@@ -38,7 +39,7 @@ fn pixels(path: &Path) -> specconv_oiio::Pixels {
 /// `to-rgb` of a spectral file into `colorspace`.
 fn back(spectral: &Path, colorspace: &str) -> specconv_oiio::Pixels {
     let out = spectral.with_extension("rgb.exr");
-    specconv([
+    Cmd::new([
         "to-rgb",
         "--force",
         "--colorspace",
@@ -146,7 +147,7 @@ fn emission_files_are_seen_by_real_readers() {
     assert!(info.contains("emissiveUnits: \"W.m^-2.sr^-1\""), "{info}");
     assert!(info.contains("S0.380,000000nm"), "{info}");
 
-    let ours = specconv(["info", out]);
+    let ours = Cmd::new(["info", out]).run();
     let row = |key: &str| {
         ours.stdout
             .lines()
@@ -164,8 +165,7 @@ fn emission_files_are_seen_by_real_readers() {
     assert_eq!(row("emission in").as_deref(), Some("W.m^-2.sr^-1"));
     assert_eq!(row("emission units").as_deref(), Some("reference"));
     assert!(!ours.stdout.contains("colour space"), "{}", ours.stdout);
-    let json: serde_json::Value =
-        serde_json::from_str(specconv(["info", "--json", out]).ok()).unwrap();
+    let json: serde_json::Value = Cmd::new(["info", "--json", out]).ok().json();
     assert_eq!(json["spectral"]["emissive_units"], "W.m^-2.sr^-1");
 
     let v = crate::convert::read_fichet2021(&output, 7, 5);
@@ -265,12 +265,13 @@ fn hard_inputs_through_convert_emissive() {
 fn reflectance_mode_counts_pixels_above_1_and_suggests_emissive() {
     let dir = Scratch::new("emissive-above-1");
     let input = testdata("sky.hdr");
-    let run = specconv([
+    let run = Cmd::new([
         "--ocio",
         "aces",
         input.to_str().unwrap(),
         dir.path("r.exr").to_str().unwrap(),
-    ]);
+    ])
+    .run();
     run.ok();
     // At least the pixels with a channel above 1 (more may have Y above 1), at most all.
     let px = pixels(&input);
@@ -300,12 +301,13 @@ fn reflectance_mode_counts_pixels_above_1_and_suggests_emissive() {
         "{}",
         run.stderr
     );
-    let ldr = specconv([
+    let ldr = Cmd::new([
         "--ocio",
         "aces",
         testdata("srgb8.png").to_str().unwrap(),
         dir.path("l.exr").to_str().unwrap(),
-    ]);
+    ])
+    .run();
     ldr.ok();
     assert!(!ldr.stderr.contains("above 1"), "{}", ldr.stderr);
 }

@@ -2,12 +2,11 @@
 //! `convert --shard`. Outputs of the array are compared with a local convert of the same inputs
 //! through OpenEXR's exrheader and OpenImageIO's oiiotool.
 
-use crate::convert::tool;
 use crate::runner::*;
 use serde_json::Value;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
+use std::process::Command;
 
 /// Whether a cluster answers. Without Slurm's commands the cluster tests are skipped, loudly,
 /// unless `$SPECCONV_REQUIRE_SLURM` is set (CI sets it); a cluster installed but not running is
@@ -109,7 +108,7 @@ fn assert_same_image(a: &Path, b: &Path) {
 }
 
 fn farm(args: &[&str]) -> Output {
-    specconv(std::iter::once("farm").chain(args.iter().copied()))
+    Cmd::new(std::iter::once("farm").chain(args.iter().copied())).run()
 }
 
 #[test]
@@ -249,7 +248,7 @@ fn a_job_array_reports_each_failure_and_retry_converts_exactly_those() {
     local_args.extend(&good);
     local_args.extend(["-o", local.to_str().unwrap()]);
     local_args.extend(options);
-    specconv(&local_args).ok();
+    Cmd::new(&local_args).ok();
     let spectral = |dir: &Path, p: &Path| {
         dir.join(format!(
             "{}_spectral.exr",
@@ -456,24 +455,13 @@ fn a_task_cancelled_mid_file_leaves_no_partial_output_and_retry_completes_it() {
 
 /// Inputs `convert --shard I/N` converts, from its JSON records.
 fn shard_inputs(inputs: &[&str], out: &Path, shard: &str, task_id: Option<&str>) -> Vec<String> {
-    let mut cmd = Command::new(env!("CARGO_BIN_EXE_specconv"));
-    cmd.args(inputs).args([
-        "-o",
-        out.to_str().unwrap(),
-        "--json",
-        "--force",
-        "--mip",
-        "0",
-        "--shard",
-        shard,
-    ]);
-    match task_id {
+    let cmd = Cmd::new(inputs).args(["-o", out.to_str().unwrap(), "--json", "--force"]);
+    let cmd = cmd.args(["--mip", "0", "--shard", shard]);
+    let cmd = match task_id {
         Some(id) => cmd.env("SLURM_ARRAY_TASK_ID", id),
         None => cmd.env_remove("SLURM_ARRAY_TASK_ID"),
     };
-    let o = cmd.stderr(Stdio::piped()).output().unwrap();
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    json_lines(&String::from_utf8_lossy(&o.stdout))
+    json_lines(&cmd.ok().stdout)
         .iter()
         .map(|l| {
             assert_eq!(l["status"], "ok", "{l}");
@@ -552,13 +540,11 @@ fn n_shards_convert_every_input_exactly_once_with_the_plan_farm_submit_prints() 
         }
         assert_eq!(planned, shards, "{printed}");
     }
-    let bad = Command::new(env!("CARGO_BIN_EXE_specconv"))
-        .args([names[0], "-o", out.to_str().unwrap(), "--shard", "auto/2"])
+    let bad = Cmd::new([names[0], "-o", out.to_str().unwrap(), "--shard", "auto/2"])
         .env_remove("SLURM_ARRAY_TASK_ID")
-        .output()
-        .unwrap();
-    assert_eq!(bad.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&bad.stderr).contains("SLURM_ARRAY_TASK_ID"));
-    specconv([names[0], "-o", out.to_str().unwrap(), "--shard", "3/3"])
+        .run();
+    assert_eq!(bad.code, 2);
+    assert!(bad.stderr.contains("SLURM_ARRAY_TASK_ID"));
+    Cmd::new([names[0], "-o", out.to_str().unwrap(), "--shard", "3/3"])
         .fails(2, &["does not exist"]);
 }

@@ -14,14 +14,10 @@ pub(crate) fn arg(p: &Path) -> &str {
     p.to_str().unwrap()
 }
 
-fn json(s: &str) -> serde_json::Value {
-    serde_json::from_str(s).unwrap_or_else(|e| panic!("not JSON ({e}):\n{s}"))
-}
-
 #[test]
 fn info_describes_a_mipmapped_texture() {
     let tx = testdata("images/srgba8.tx");
-    let out = specconv(["info", arg(&tx)]);
+    let out = Cmd::new(["info", arg(&tx)]).run();
     let text = out.ok();
     for line in [
         "format:       tiff",
@@ -43,14 +39,13 @@ fn info_describes_a_mipmapped_texture() {
 
 #[test]
 fn info_json_reports_what_the_reader_sees_and_the_colour_space_choice() {
-    let v = json(
-        specconv([
-            "info",
-            "--json",
-            arg(&testdata("images/half_tiled_alpha.exr")),
-        ])
-        .ok(),
-    );
+    let v = Cmd::new([
+        "info",
+        "--json",
+        arg(&testdata("images/half_tiled_alpha.exr")),
+    ])
+    .ok()
+    .json();
     assert_eq!(v["format"], "openexr");
     assert_eq!(
         (v["width"].as_u64(), v["height"].as_u64()),
@@ -69,23 +64,24 @@ fn info_json_reports_what_the_reader_sees_and_the_colour_space_choice() {
     assert!(v["spectral"].is_null());
 
     // No declaration and integer pixels: sRGB - Texture by default.
-    let v = json(specconv(["info", "--json", arg(&testdata("images/rgb16.tif"))]).ok());
+    let v = Cmd::new(["info", "--json", arg(&testdata("images/rgb16.tif"))])
+        .ok()
+        .json();
     assert_eq!(v["declared_color_space"], serde_json::Value::Null);
     assert_eq!(v["colorspace"], "sRGB - Texture");
     assert_eq!(v["colorspace_rule"], "default");
 
     // --colorspace (or oiiotool's --iscolorspace) wins, by name or alias.
     for flag in ["--colorspace", "--iscolorspace"] {
-        let v = json(
-            specconv([
-                "info",
-                "--json",
-                flag,
-                "lin_rec2020",
-                arg(&testdata("images/srgb8.png")),
-            ])
-            .ok(),
-        );
+        let v = Cmd::new([
+            "info",
+            "--json",
+            flag,
+            "lin_rec2020",
+            arg(&testdata("images/srgb8.png")),
+        ])
+        .ok()
+        .json();
         assert_eq!(v["colorspace"], "Linear Rec.2020");
         assert_eq!(v["colorspace_rule"], "colorspace-option");
         assert_eq!(v["colorspace_reason"], "--colorspace");
@@ -97,7 +93,7 @@ fn info_reads_every_testdata_image() {
     let mut n = 0;
     for entry in std::fs::read_dir(testdata("images")).unwrap() {
         let path = entry.unwrap().path();
-        let v = json(specconv(["info", "--json", arg(&path)]).ok());
+        let v = Cmd::new(["info", "--json", arg(&path)]).ok().json();
         assert!(v["width"].as_u64().unwrap() > 0, "{}", path.display());
         n += 1;
     }
@@ -106,7 +102,7 @@ fn info_reads_every_testdata_image() {
 
 #[test]
 fn colorspaces_lists_names_aliases_and_roles() {
-    let text = specconv(["colorspaces"]).ok().to_owned();
+    let text = Cmd::new(["colorspaces"]).ok().stdout;
     assert!(
         text.starts_with("config: 'aces' (built in: ACES CG config v1.0.0"),
         "{text}"
@@ -121,7 +117,9 @@ fn colorspaces_lists_names_aliases_and_roles() {
     ] {
         assert!(text.contains(needle), "missing {needle:?} in\n{text}");
     }
-    let v = json(specconv(["colorspaces", "--json", "--ocio", "aces"]).ok());
+    let v = Cmd::new(["colorspaces", "--json", "--ocio", "aces"])
+        .ok()
+        .json();
     let names: Vec<&str> = v["color_spaces"]
         .as_array()
         .unwrap()
@@ -136,9 +134,9 @@ fn colorspaces_lists_names_aliases_and_roles() {
 
 #[test]
 fn colorspaces_takes_ocio_builtin_names_from_the_flag_and_the_environment() {
-    let text = specconv(["colorspaces", "--ocio", "ocio://studio-config-latest"])
+    let text = Cmd::new(["colorspaces", "--ocio", "ocio://studio-config-latest"])
         .ok()
-        .to_owned();
+        .stdout;
     for needle in [
         "config: 'ocio://studio-config-latest' (built in: ACES Studio config v1.0.0, as \
          studio-config-v1.0.0_aces-v1.3_ocio-v2.1)",
@@ -147,20 +145,18 @@ fn colorspaces_takes_ocio_builtin_names_from_the_flag_and_the_environment() {
     ] {
         assert!(text.contains(needle), "missing {needle:?} in\n{text}");
     }
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_specconv"))
-        .arg("colorspaces")
+    let out = Cmd::new(["colorspaces"])
         .env("OCIO", "ocio://default")
-        .output()
-        .unwrap();
-    let text = String::from_utf8(out.stdout).unwrap();
-    assert!(out.status.success());
+        .run();
+    let text = out.stdout.clone();
+    assert!(out.code == 0);
     assert!(
         text.starts_with("config: 'ocio://default' (from $OCIO; built in: ACES CG config")
             && text.contains("  Gamma 2.2 Rec.709 - Texture")
             && !text.contains("ARRI LogC4"),
         "{text}"
     );
-    specconv(["colorspaces", "--ocio", "ocio://no-such-config"]).fails(
+    Cmd::new(["colorspaces", "--ocio", "ocio://no-such-config"]).fails(
         2,
         &[
             "unknown built-in OCIO config 'ocio://no-such-config'",
@@ -172,20 +168,14 @@ fn colorspaces_takes_ocio_builtin_names_from_the_flag_and_the_environment() {
 #[test]
 fn colorspaces_reads_a_config_file_and_ocio_from_the_environment() {
     let cfg = testdata("ocio/aces_interchange_only.ocio");
-    let text = specconv(["colorspaces", "--ocio", arg(&cfg)])
-        .ok()
-        .to_owned();
+    let text = Cmd::new(["colorspaces", "--ocio", arg(&cfg)]).ok().stdout;
     assert!(
         text.contains("cie_xyz_d65_interchange  (not defined)"),
         "{text}"
     );
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_specconv"))
-        .arg("colorspaces")
-        .env("OCIO", &cfg)
-        .output()
-        .unwrap();
-    let text = String::from_utf8(out.stdout).unwrap();
-    assert!(out.status.success());
+    let out = Cmd::new(["colorspaces"]).env("OCIO", &cfg).run();
+    let text = out.stdout.clone();
+    assert!(out.code == 0);
     assert!(
         text.contains("(from $OCIO)") && text.contains("aces_interchange         ACES2065-1"),
         "{text}"
@@ -198,7 +188,7 @@ fn info_uses_the_aces_interchange_route_when_there_is_no_xyz_role() {
     let exr = testdata("images/float_scanline.exr");
     // (Without --colorspace the file's linear Rec.709 has no colour space in this config and
     // goes through its exact matrix instead.)
-    let text = specconv([
+    let text = Cmd::new([
         "info",
         "--ocio",
         arg(&cfg),
@@ -207,7 +197,7 @@ fn info_uses_the_aces_interchange_route_when_there_is_no_xyz_role() {
         arg(&exr),
     ])
     .ok()
-    .to_owned();
+    .stdout;
     assert!(
         text.contains("through aces_interchange (ACES2065-1)"),
         "{text}"
@@ -218,7 +208,7 @@ fn info_uses_the_aces_interchange_route_when_there_is_no_xyz_role() {
 /// a file that cannot be read, 2 for a config or colour space that cannot work for any file.
 #[track_caller]
 fn fails_clearly(code: i32, args: &[&str], needles: &[&str]) {
-    let out = specconv(args);
+    let out = Cmd::new(args).run();
     out.fails(code, needles);
     let ours: Vec<&str> = out
         .stderr

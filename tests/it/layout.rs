@@ -3,11 +3,9 @@
 //! Checked with OpenEXR's exrheader and OpenImageIO (tests/oiio_levels.py): the output has the
 //! input's windows, and its pixels sit where those of the same image without a window do.
 
-use crate::convert::tool;
 use crate::runner::*;
 use serde_json::Value;
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 fn layout(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -21,25 +19,9 @@ fn broken(name: &str) -> PathBuf {
         .join(name)
 }
 
-fn python() -> String {
-    std::env::var("SPECCONV_PYTHON").unwrap_or_else(|_| "python3".into())
-}
-
 /// tests/oiio_levels.py with `args`; its JSON output, if any.
 fn oiio_levels(args: &[&Path]) -> Value {
-    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/oiio_levels.py");
-    let out = Command::new(python())
-        .arg(&script)
-        .args(args)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{} with OpenImageIO's bindings (set SPECCONV_PYTHON; .ci/run makes a venv): {}",
-        python(),
-        String::from_utf8_lossy(&out.stderr)
-    );
-    serde_json::from_slice(&out.stdout).unwrap_or(Value::Null)
+    serde_json::from_slice(&script("oiio_levels.py", args)).unwrap_or(Value::Null)
 }
 
 fn describe(path: &Path) -> Vec<Value> {
@@ -67,7 +49,7 @@ fn convert(input: &Path, output: &Path, extra: &[&str]) -> Output {
         "--force",
     ];
     args.extend_from_slice(extra);
-    specconv(args)
+    Cmd::new(args).run()
 }
 
 #[test]
@@ -179,7 +161,7 @@ fn subimages_are_chosen_by_index_or_name_and_reported() {
     convert(&parts, &dir.path("x.exr"), &["--subimage", "2"]).fails(1, &["no subimage \"2\""]);
     assert!(!dir.path("x.exr").exists());
 
-    let info = specconv(["info", parts.to_str().unwrap(), "--subimage", "albedo"]);
+    let info = Cmd::new(["info", parts.to_str().unwrap(), "--subimage", "albedo"]).run();
     assert!(
         info.ok()
             .contains("subimages:    2 (0 'beauty', 1 'albedo'); reading 1"),
@@ -231,7 +213,7 @@ fn layered_channels_are_chosen_by_layer_or_names_and_never_silently() {
         "{}",
         run.stderr
     );
-    let info = specconv(["info", layers.to_str().unwrap(), "--json"]);
+    let info = Cmd::new(["info", layers.to_str().unwrap(), "--json"]).run();
     let v: Value = serde_json::from_str(info.ok()).unwrap();
     assert_eq!(v["colour_channels"], diffuse);
     assert_eq!(v["channels_rule"], "only-rgb-layer");
@@ -253,7 +235,7 @@ fn layered_channels_are_chosen_by_layer_or_names_and_never_silently() {
         ],
     );
     assert!(!out.exists());
-    let info = specconv(["info", two.to_str().unwrap()]);
+    let info = Cmd::new(["info", two.to_str().unwrap()]).run();
     assert!(
         info.ok().contains("read as:      nothing yet:"),
         "{}",

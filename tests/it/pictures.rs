@@ -4,7 +4,6 @@
 use crate::runner::*;
 use std::collections::HashSet;
 use std::path::Path;
-use std::process::Command;
 
 /// An 8-bit RGB picture read back from a PNG.
 pub struct Picture {
@@ -47,20 +46,13 @@ fn report_draws_its_plot_as_png() {
     let dir = Scratch::new("report-png");
     let plot = dir.path("cost.png");
     let cc = colorchecker();
-    let out = Command::new(env!("CARGO_BIN_EXE_specconv"))
-        .args(["report", "--spectra", cc.to_str().unwrap()])
+    let rows = Cmd::new(["report", "--spectra", cc.to_str().unwrap()])
         .args(["--clusters", "1,2", "--steps", "10", "--colours", "4096"])
         .args(["--jakob-resolution", "8", "-j", "1", "--json", "--plot"])
         .arg(&plot)
         .env("SPECCONV_CACHE_DIR", &dir.0)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let rows: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        .ok()
+        .json();
     let pic = Picture::read(&plot);
     assert_eq!((pic.width, pic.height), (900, 600));
     // White ground, black axes and text, antialiased edges, and a point in each method's
@@ -134,7 +126,7 @@ fn simulate_draws_one_block_per_patch_with_the_reports_colours() {
         a.extend(extra.iter().map(|s| s.to_string()));
         a
     };
-    let v: serde_json::Value = serde_json::from_str(specconv(args(&[])).ok()).unwrap();
+    let v: serde_json::Value = Cmd::new(args(&[])).ok().json();
     let pic = Picture::read(&png);
     assert_eq!(
         (pic.width as u64, pic.height as u64),
@@ -161,12 +153,11 @@ fn simulate_draws_one_block_per_patch_with_the_reports_colours() {
     assert!(pic.distinct_colours() > 300, "{}", pic.distinct_colours());
 
     // An existing picture is kept without --force; --patch chooses the blocks.
-    specconv(args(&[])).fails(1, &["exists", "--force"]);
-    let v: serde_json::Value =
-        serde_json::from_str(specconv(args(&["--force", "--patch", "left"])).ok()).unwrap();
+    Cmd::new(args(&[])).fails(1, &["exists", "--force"]);
+    let v: serde_json::Value = Cmd::new(args(&["--force", "--patch", "left"])).ok().json();
     assert_eq!(v["per_patch"].as_array().unwrap().len(), 1);
     assert_eq!(swatches_match_the_report(&v, &Picture::read(&png)), 5 * 9);
-    specconv(args(&["--force", "--patch", "door"])).fails(1, &["no patch of that name", "floor"]);
+    Cmd::new(args(&["--force", "--patch", "door"])).fails(1, &["no patch of that name", "floor"]);
     assert_eq!(dir.files(), ["box.png"]);
 }
 
@@ -177,20 +168,18 @@ fn simulate_image_refuses_what_it_cannot_draw() {
     let furnace = scene("furnace_5500k.toml");
     let f = furnace.to_str().unwrap();
     let gif = dir.path("x.gif");
-    specconv(["simulate", "--scene", f, "--image", gif.to_str().unwrap()])
+    Cmd::new(["simulate", "--scene", f, "--image", gif.to_str().unwrap()])
         .fails(2, &["--image", "*.png"]);
     let png = dir.path("x.png");
-    specconv(["simulate", "--scene", f, "--image", png.to_str().unwrap()])
+    Cmd::new(["simulate", "--scene", f, "--image", png.to_str().unwrap()])
         .fails(1, &["1269", "--patch"]);
     // A missing font is named, with the package and the variable.
-    let out = Command::new(env!("CARGO_BIN_EXE_specconv"))
-        .args(["simulate", "--scene", f, "--patch", "5R 4/14", "--image"])
+    let out = Cmd::new(["simulate", "--scene", f, "--patch", "5R 4/14", "--image"])
         .arg(&png)
         .env("SPECCONV_FONT", dir.path("none.ttf"))
-        .output()
-        .unwrap();
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(1), "{err}");
+        .run();
+    let err = &out.stderr;
+    assert_eq!(out.code, 1, "{err}");
     assert!(
         err.contains("SPECCONV_FONT") && err.contains("none.ttf"),
         "{err}"
@@ -212,21 +201,16 @@ fn linear_exr(dir: &Scratch, name: &str, pixels: &[[f32; 3]]) -> std::path::Path
 /// Converts `input` to a spectral EXR beside it.
 fn spectral(dir: &Scratch, input: &Path, name: &str) -> std::path::PathBuf {
     let out = dir.path(name);
-    specconv([
-        input.to_str().unwrap(),
-        out.to_str().unwrap(),
-        "--quiet",
-        "-d",
-        "float",
-    ])
-    .ok();
+    Cmd::convert(input, &out)
+        .args(["--quiet", "-d", "float"])
+        .ok();
     out
 }
 
 fn preview(args: &[&str]) -> serde_json::Value {
     let mut a = vec!["preview", "--json"];
     a.extend_from_slice(args);
-    serde_json::from_str(specconv(a).ok()).unwrap()
+    Cmd::new(a).ok().json()
 }
 
 #[test]
@@ -236,7 +220,7 @@ fn preview_at_zero_bounces_is_what_to_rgb_gives() {
     let exr = spectral(&dir, &input, "ramp.exr");
     let e = exr.to_str().unwrap();
     let rgb = dir.path("rgb.exr");
-    specconv([
+    Cmd::new([
         "to-rgb",
         e,
         rgb.to_str().unwrap(),
@@ -384,7 +368,7 @@ fn preview_refuses_what_it_cannot_show() {
     let rgb_exr = Path::new(env!("CARGO_MANIFEST_DIR")).join("testdata/images/half_scanline.exr");
     let out = dir.path("x.png");
     let o = out.to_str().unwrap();
-    specconv(["preview", rgb_exr.to_str().unwrap(), "-o", o]).fails(1, &["not a spectral EXR"]);
+    Cmd::new(["preview", rgb_exr.to_str().unwrap(), "-o", o]).fails(1, &["not a spectral EXR"]);
     let grey = spectral(
         &dir,
         &linear_exr(&dir, "grey.exr", &[[0.3; 3]]),
@@ -392,11 +376,11 @@ fn preview_refuses_what_it_cannot_show() {
     );
     let g = grey.to_str().unwrap();
     for k in ["101", "-1", "two"] {
-        specconv(["preview", g, "-o", o, "--bounces", k]).fails(2, &[k]);
+        Cmd::new(["preview", g, "-o", o, "--bounces", k]).fails(2, &[k]);
     }
-    specconv(["preview", g, "-o", dir.path("x.jpg").to_str().unwrap()]).fails(2, &["*.png"]);
-    specconv(["preview", g, "-o", o]).ok();
-    specconv(["preview", g, "-o", o, "--bounces", "1"]).fails(1, &["exists", "--force"]);
-    specconv(["preview", g, "-o", g, "--force"]).fails(2, &["*.png"]);
+    Cmd::new(["preview", g, "-o", dir.path("x.jpg").to_str().unwrap()]).fails(2, &["*.png"]);
+    Cmd::new(["preview", g, "-o", o]).ok();
+    Cmd::new(["preview", g, "-o", o, "--bounces", "1"]).fails(1, &["exists", "--force"]);
+    Cmd::new(["preview", g, "-o", g, "--force"]).fails(2, &["*.png"]);
     assert_eq!(dir.files(), ["grey.exr", "grey_s.exr", "x.png"]);
 }

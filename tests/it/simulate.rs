@@ -3,10 +3,6 @@
 use crate::runner::*;
 use std::path::PathBuf;
 
-fn json(s: &str) -> serde_json::Value {
-    serde_json::from_str(s).unwrap_or_else(|e| panic!("not JSON ({e}):\n{s}"))
-}
-
 fn scene(name: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
         .join("scenes")
@@ -26,12 +22,13 @@ fn series(v: &serde_json::Value, method: &str) -> Vec<f64> {
 fn the_furnace_example_shows_the_papers_drift() {
     // The scene file points at ../shared beside the checkout, as the tests do.
     shared("spectra/munsell1269_matte_380-800_1nm.csv");
-    let out = specconv([
+    let out = Cmd::new([
         "simulate",
         "--scene",
         scene("furnace_5500k.toml").to_str().unwrap(),
         "--json",
-    ]);
+    ])
+    .run();
     let v = json(out.ok());
     assert_eq!(v["patches"], 1269);
     assert_eq!(v["counts"].as_array().unwrap().len(), 9);
@@ -49,11 +46,12 @@ fn the_furnace_example_shows_the_papers_drift() {
         }
     }
     // The text report has the same table.
-    let text = specconv([
+    let text = Cmd::new([
         "simulate",
         "--scene",
         scene("furnace_5500k.toml").to_str().unwrap(),
-    ]);
+    ])
+    .run();
     let t = text.ok();
     assert!(
         t.contains("mean CIEDE2000 from the measured reference"),
@@ -65,12 +63,13 @@ fn the_furnace_example_shows_the_papers_drift() {
 #[test]
 fn the_box_example_reports_every_wall() {
     shared("spectra/munsell1269_matte_380-800_1nm.csv");
-    let out = specconv([
+    let out = Cmd::new([
         "simulate",
         "--scene",
         scene("box_4000k_5500k.toml").to_str().unwrap(),
         "--json",
-    ]);
+    ])
+    .run();
     let v = json(out.ok());
     let walls: Vec<&str> = v["per_patch"]
         .as_array()
@@ -110,7 +109,7 @@ fn write_scene(s: &Scratch, body: &str) -> PathBuf {
 }
 
 fn run(path: &std::path::Path) -> Output {
-    specconv(["simulate", "--scene", path.to_str().unwrap()])
+    Cmd::new(["simulate", "--scene", path.to_str().unwrap()]).run()
 }
 
 #[test]
@@ -120,7 +119,9 @@ fn a_matrix_scene_converges_and_colours_need_no_reference() {
         &s,
         "effect = \"converged\"\nform_factors = [[0.0, 0.5], [0.5, 0.0]]\n",
     );
-    let v = json(specconv(["simulate", "--scene", p.to_str().unwrap(), "--json"]).ok());
+    let v = Cmd::new(["simulate", "--scene", p.to_str().unwrap(), "--json"])
+        .ok()
+        .json();
     assert_eq!(v["counts"], serde_json::json!(["converged"]));
     assert!(series(&v, "otsu2018")[0].is_finite());
     // A colour-only patch has no measured reference: ΔE from RGB multiplication only.
@@ -129,7 +130,9 @@ fn a_matrix_scene_converges_and_colours_need_no_reference() {
         "bounces = 2\nform_factors = \"furnace\"\n[[lights]]\nspectrum = \"D65\"\npower = 2\n\
          [[patches]]\nname = \"red\"\ncolour = [0.8, 0.1, 0.1]\ncolorspace = \"sRGB - Texture\"\n",
     );
-    let v = json(specconv(["simulate", "--scene", p.to_str().unwrap(), "--json"]).ok());
+    let v = Cmd::new(["simulate", "--scene", p.to_str().unwrap(), "--json"])
+        .ok()
+        .json();
     assert!(v.get("mean_delta_e").is_none());
     assert!(v["mean_delta_e_rgb"]["otsu2018"][2].as_f64().unwrap() > 0.0);
 }
@@ -219,7 +222,9 @@ fn a_texture_pixel_is_the_colour_convert_would_read() {
         )
     };
     let p = s.write("tex.toml", &scene(&format!("[{x}, {y}]"), ""));
-    let v = json(specconv(["simulate", "--scene", p.to_str().unwrap(), "--json"]).ok());
+    let v = Cmd::new(["simulate", "--scene", p.to_str().unwrap(), "--json"])
+        .ok()
+        .json();
     let (tex, col) = (bounced_lab(&v, "tex"), bounced_lab(&v, "col"));
     // Both reach XYZ through the same OCIO conversion (the colour as sRGB - Texture).
     let d = specconv_colour::lab::ciede2000(tex, col);
@@ -233,7 +238,9 @@ fn a_texture_pixel_is_the_colour_convert_would_read() {
         &scene(&format!("[{x}, {y}]"), "")
             .replace("pixel =", "colorspace = \"Linear Rec.709 (sRGB)\"\npixel ="),
     );
-    let v = json(specconv(["simulate", "--scene", p.to_str().unwrap(), "--json"]).ok());
+    let v = Cmd::new(["simulate", "--scene", p.to_str().unwrap(), "--json"])
+        .ok()
+        .json();
     let linear = bounced_lab(&v, "tex");
     assert!(
         linear[0] > tex[0] && specconv_colour::lab::ciede2000(linear, tex) > 0.5,

@@ -9,27 +9,13 @@ use crate::convert::testdata;
 use crate::runner::*;
 use exr::prelude::*;
 use std::path::Path;
-use std::process::Command;
 
 const REC709: &str = "Linear Rec.709 (sRGB)";
 const XYZ: &str = "CIE-XYZ-D65";
 
 /// Runs tests/fichet_reference.py with `args`; its JSON.
 fn python(args: &[&str]) -> serde_json::Value {
-    let python = std::env::var("SPECCONV_PYTHON").unwrap_or_else(|_| "python3".into());
-    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fichet_reference.py");
-    let out = Command::new(&python)
-        .arg(&script)
-        .args(args)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{python} with colour-science and OpenImageIO (set SPECCONV_PYTHON; .ci/run makes a \
-         venv): {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    serde_json::from_slice(&out.stdout).unwrap()
+    script_json("fichet_reference.py", args)
 }
 
 fn xyz_list(v: &serde_json::Value) -> Vec<[f64; 3]> {
@@ -49,14 +35,15 @@ fn reference(file: &Path) -> Vec<[f64; 3]> {
 /// `to-rgb` of `file` into `colorspace`: its pixels, and what it said.
 fn to_rgb(file: &Path, colorspace: &str) -> (Vec<[f64; 3]>, String) {
     let out = file.with_extension("back.exr");
-    let run = specconv([
+    let run = Cmd::new([
         "to-rgb",
         "--force",
         "--colorspace",
         colorspace,
         file.to_str().unwrap(),
         out.to_str().unwrap(),
-    ]);
+    ])
+    .run();
     run.ok();
     let img = read_first_rgba_layer_from_file(
         &out,
@@ -151,7 +138,7 @@ fn emission_is_the_input_colour_by_the_reference_conversion() {
     let want = xyz_list(&python(&["--rec709", input.to_str().unwrap()]));
     for (data_type, tolerance) in [("half", 1e-3), ("float", 1e-5)] {
         let out = dir.path(&format!("sky_{data_type}.exr"));
-        specconv([
+        Cmd::new([
             "--ocio",
             "aces",
             "--emissive",
@@ -251,14 +238,14 @@ fn uneven_grids_coarse_grids_and_other_units_read_as_the_reference_reads_them() 
             "{name}: to-rgb differs from the reference by {err}"
         );
     }
-    let info = specconv(["info", dir.path("uneven.exr").to_str().unwrap()]);
+    let info = Cmd::new(["info", dir.path("uneven.exr").to_str().unwrap()]).run();
     assert!(
         info.ok()
             .contains("9, 380 to 780 nm, uneven: 380, 400, 450.5, 455"),
         "{}",
         info.stdout
     );
-    let info = specconv(["info", dir.path("coarse_um.exr").to_str().unwrap()]);
+    let info = Cmd::new(["info", dir.path("coarse_um.exr").to_str().unwrap()]).run();
     assert!(info.ok().contains("every 50 nm"), "{}", info.stdout);
     assert!(!info.stdout.contains("colour space"), "{}", info.stdout);
 }
@@ -287,13 +274,14 @@ fn bispectral_files_use_the_whole_reradiation_matrix_and_rgb_beside_is_reported(
     let file = dir.path("bispectral.exr");
     write_exr(&file, 2, ch, &[]);
 
-    let info = specconv(["info", file.to_str().unwrap()]);
+    let info = Cmd::new(["info", file.to_str().unwrap()]).run();
     let text = info.ok();
     assert!(text.contains("bispectral"), "{text}");
     assert!(text.contains("21 channels T.λi.λo"), "{text}");
     assert!(text.contains("B, G, R (not used for colour)"), "{text}");
-    let json: serde_json::Value =
-        serde_json::from_str(specconv(["info", "--json", file.to_str().unwrap()]).ok()).unwrap();
+    let json: serde_json::Value = Cmd::new(["info", "--json", file.to_str().unwrap()])
+        .ok()
+        .json();
     assert_eq!(json["spectral"]["reradiation"], 21);
     assert_eq!(json["spectral"]["kind"], "bispectral");
 
@@ -329,7 +317,7 @@ fn bispectral_files_use_the_whole_reradiation_matrix_and_rgb_beside_is_reported(
     assert!(worst(&alone, &got) > 0.05, "re-radiation left out");
 
     // preview cannot follow bounces through re-radiation, and says so.
-    specconv([
+    Cmd::new([
         "preview",
         file.to_str().unwrap(),
         "-o",
@@ -353,7 +341,7 @@ fn polarised_files_are_read_by_their_s0() {
     }
     let file = dir.path("polarised.exr");
     write_exr(&file, 2, ch, &[("emissiveUnits", "W.m^-2.sr^-1")]);
-    let text = specconv(["info", file.to_str().unwrap()]).ok().to_string();
+    let text = Cmd::new(["info", file.to_str().unwrap()]).ok().stdout;
     assert!(text.contains("emissive, polarised"), "{text}");
     assert!(text.contains("S3: 31 bands"), "{text}");
     let (got, said) = to_rgb(&file, XYZ);
@@ -376,7 +364,7 @@ fn each_emission_convention_round_trips_and_normalised_is_flat() {
     let mut at = Vec::new();
     for units in ["reference", "normalised", "photometric"] {
         let out = dir.path(&format!("{units}.exr"));
-        specconv([
+        Cmd::new([
             "--ocio",
             "aces",
             "--emissive",
@@ -458,8 +446,7 @@ fn outputs_no_command_writes_are_refused_with_one_line_and_nothing_written() {
     let dir = Scratch::new("layout-names");
     let png = testdata("srgb8.png");
     let spectral = dir.path("s.exr");
-    specconv([png.to_str().unwrap(), spectral.to_str().unwrap()]).ok();
-    let before = dir.files();
+    Cmd::convert(&png, &spectral).ok();
     let s = spectral.to_str().unwrap();
     let cases: Vec<Vec<&str>> = vec![
         vec![png.to_str().unwrap(), "-"],
@@ -473,22 +460,14 @@ fn outputs_no_command_writes_are_refused_with_one_line_and_nothing_written() {
     ];
     for args in cases {
         // In the scratch directory: `-` would be a file there.
-        let out = Command::new(env!("CARGO_BIN_EXE_specconv"))
-            .args(&args)
-            .current_dir(&dir.0)
-            .output()
-            .unwrap();
-        let stderr = String::from_utf8_lossy(&out.stderr);
-        assert_eq!(out.status.code(), Some(2), "{args:?}: {stderr}");
-        let lines: Vec<&str> = stderr.lines().collect();
-        assert_eq!(lines.len(), 1, "{args:?}: {stderr}");
-        assert!(lines[0].starts_with("specconv: error: "), "{stderr}");
+        let out = Cmd::new(&args).current_dir(&dir.0).refused(&dir, 2, &[]);
+        let lines: Vec<&str> = out.stderr.lines().collect();
         assert!(
             lines[0].contains("give an output file ending in")
                 || lines[0].contains("name the file"),
-            "{args:?}: {stderr}"
+            "{args:?}: {}",
+            out.stderr
         );
-        assert_eq!(dir.files(), before, "{args:?} wrote something");
     }
 }
 
@@ -501,13 +480,13 @@ fn to_rgb_adds_no_channel() {
     ] {
         let spectral = dir.path("s.exr");
         let back = dir.path("back.exr");
-        specconv([
+        Cmd::new([
             "--force",
             testdata(input).to_str().unwrap(),
             spectral.to_str().unwrap(),
         ])
         .ok();
-        specconv([
+        Cmd::new([
             "to-rgb",
             "--force",
             spectral.to_str().unwrap(),

@@ -13,19 +13,6 @@ fn our_lines(stderr: &str) -> Vec<&str> {
         .collect()
 }
 
-/// Exit `code` with exactly one line on standard error, `specconv: error: …`, holding every
-/// needle once.
-#[track_caller]
-fn one_error_line(out: &Output, code: i32, needles: &[&str]) {
-    out.fails(code, needles);
-    let lines: Vec<&str> = out.stderr.lines().collect();
-    assert_eq!(lines.len(), 1, "one line expected:\n{}", out.stderr);
-    assert!(lines[0].starts_with("specconv: error: "), "{}", out.stderr);
-    for n in needles {
-        assert_eq!(lines[0].matches(n).count(), 1, "{n:?} once in {}", lines[0]);
-    }
-}
-
 /// A colour space, config or model that cannot work for any input fails once, before the
 /// first input is read: one line, exit 2, nothing written, even for inputs that would fail.
 #[test]
@@ -42,36 +29,19 @@ fn settings_that_cannot_work_fail_once_before_the_first_input() {
         let mut a: Vec<String> = inputs.iter().map(|p| arg(p).to_string()).collect();
         a.extend(["-o".into(), arg(&out).into()]);
         a.extend(extra.iter().map(|s| s.to_string()));
-        specconv(a)
+        Cmd::new(a).run()
     };
-    one_error_line(
-        &batch(&["--colorspace", "ACEScgg"]),
-        2,
-        &["unknown colour space 'ACEScgg'"],
-    );
-    one_error_line(
-        &batch(&["--colorspace", "Raw"]),
-        2,
-        &["holds data, not colour"],
-    );
-    one_error_line(
-        &batch(&["--ocio", "/no/such.ocio"]),
-        2,
-        &["/no/such.ocio: no such file"],
-    );
+    batch(&["--colorspace", "ACEScgg"]).one_error_line(2, &["unknown colour space 'ACEScgg'"]);
+    batch(&["--colorspace", "Raw"]).one_error_line(2, &["holds data, not colour"]);
+    batch(&["--ocio", "/no/such.ocio"]).one_error_line(2, &["/no/such.ocio: no such file"]);
     let c = testdata("ocio/no_interchange.ocio");
-    one_error_line(
-        &batch(&["--ocio", arg(&c), "--colorspace", "linear"]),
+    batch(&["--ocio", arg(&c), "--colorspace", "linear"]).one_error_line(
         2,
         &["neither a cie_xyz_d65_interchange nor an aces_interchange role"],
     );
-    one_error_line(
-        &batch(&["--model", "/no/model.json"]),
-        2,
-        &["/no/model.json"],
-    );
-    one_error_line(&batch(&["--json", "-j", "0"]), 2, &["-j/--threads"]);
-    one_error_line(&batch(&["--tile", "0", "64"]), 2, &["--tile 0 64"]);
+    batch(&["--model", "/no/model.json"]).one_error_line(2, &["/no/model.json"]);
+    batch(&["--json", "-j", "0"]).one_error_line(2, &["-j/--threads"]);
+    batch(&["--tile", "0", "64"]).one_error_line(2, &["--tile 0 64"]);
     assert!(
         std::fs::read_dir(&out).unwrap().next().is_none(),
         "nothing written"
@@ -101,8 +71,7 @@ fn a_missing_output_directory_is_exit_2_everywhere() {
         vec!["to-rgb", arg(&png), arg(&in_gone)],
         vec!["train", "--spectra", arg(&cc), "-o", arg(&model)],
     ] {
-        one_error_line(
-            &specconv(&args),
+        Cmd::new(&args).run().one_error_line(
             2,
             &[&format!(
                 "the output directory {} does not exist",
@@ -118,8 +87,8 @@ fn a_missing_output_directory_is_exit_2_everywhere() {
 #[test]
 fn global_options_work_before_the_subcommand() {
     let cfg = testdata("ocio/aces_interchange_only.ocio");
-    let after = specconv(["colorspaces", "--json", "--ocio", arg(&cfg)]);
-    let before = specconv(["--ocio", arg(&cfg), "colorspaces", "--json"]);
+    let after = Cmd::new(["colorspaces", "--json", "--ocio", arg(&cfg)]).run();
+    let before = Cmd::new(["--ocio", arg(&cfg), "colorspaces", "--json"]).run();
     assert_eq!(before.ok(), after.ok());
     let v: serde_json::Value = serde_json::from_str(before.ok()).unwrap();
     assert!(
@@ -139,7 +108,9 @@ fn global_options_work_before_the_subcommand() {
         vec!["--ocio", "/no/such.ocio", "convert", "x.png", "y.exr"],
         vec!["--ocio", "/no/such.ocio", "x.png", "y.exr"],
     ] {
-        one_error_line(&specconv(&args), 2, &["/no/such.ocio: no such file"]);
+        Cmd::new(&args)
+            .run()
+            .one_error_line(2, &["/no/such.ocio: no such file"]);
     }
 }
 
@@ -151,52 +122,43 @@ fn every_command_reports_errors_on_one_line_with_each_cause_once() {
     let png = testdata("images/srgb8.png");
     let out = dir.path("x.exr");
     let rgb = testdata("images/half_tiled_alpha.exr");
-    let r = specconv(["to-rgb", arg(&rgb), arg(&out)]);
-    one_error_line(&r, 1, &["not a spectral EXR"]);
+    let r = Cmd::new(["to-rgb", arg(&rgb), arg(&out)]).run();
+    r.one_error_line(1, &["not a spectral EXR"]);
     assert_eq!(
         r.stderr.matches("half_tiled_alpha.exr").count(),
         1,
         "{}",
         r.stderr
     );
-    let r = specconv(["to-rgb", arg(&png), arg(&out)]);
-    one_error_line(&r, 1, &["file identifier missing"]);
+    let r = Cmd::new(["to-rgb", arg(&png), arg(&out)]).run();
+    r.one_error_line(1, &["file identifier missing"]);
     let missing = dir.path("missing.exr");
     for args in [
         vec!["to-rgb", arg(&missing), arg(&out)],
         vec!["info", arg(&missing)],
         vec!["preview", arg(&missing), "-o", arg(&dir.path("p.png"))],
     ] {
-        let r = specconv(&args);
-        one_error_line(&r, 1, &[]);
+        let r = Cmd::new(&args).run();
+        r.one_error_line(1, &[]);
         // The file is named once per line, whatever wraps the reader's message.
         assert_eq!(r.stderr.matches("missing.exr").count(), 1, "{}", r.stderr);
     }
     // Command-line errors too: clap's message and tip on the one line, no usage block.
-    one_error_line(
-        &specconv(["completions", "tcsh"]),
-        2,
-        &["invalid value 'tcsh'", "possible values"],
-    );
-    one_error_line(&specconv(["info", "--ocoi", "x"]), 2, &["--ocoi", "--ocio"]);
+    Cmd::new(["completions", "tcsh"])
+        .run()
+        .one_error_line(2, &["invalid value 'tcsh'", "possible values"]);
+    Cmd::new(["info", "--ocoi", "x"])
+        .run()
+        .one_error_line(2, &["--ocoi", "--ocio"]);
     // The conversion's options before another subcommand are refused, not ignored.
-    one_error_line(
-        &specconv(["--force", "info", arg(&png)]),
-        2,
-        &["'force'", "'info'"],
-    );
+    Cmd::new(["--force", "info", arg(&png)])
+        .run()
+        .one_error_line(2, &["'force'", "'info'"]);
     let ragged = dir.write("ragged.csv", "wavelength,a\n400,0.1\n410\n");
-    one_error_line(
-        &specconv([
-            "train",
-            "--spectra",
-            arg(&ragged),
-            "-o",
-            arg(&dir.path("m.json")),
-        ]),
-        1,
-        &["ragged.csv"],
-    );
+    Cmd::train(arg(&ragged))
+        .args(["-o", arg(&dir.path("m.json"))])
+        .run()
+        .one_error_line(1, &["ragged.csv"]);
 }
 
 /// `report` says when a model has fewer clusters than asked for, and why: the ColorChecker's
@@ -204,7 +166,7 @@ fn every_command_reports_errors_on_one_line_with_each_cause_once() {
 #[test]
 fn report_says_when_fewer_clusters_were_grown_and_why() {
     let cc = colorchecker();
-    let out = specconv([
+    let out = Cmd::new([
         "report",
         "--spectra",
         arg(&cc),
@@ -219,7 +181,8 @@ fn report_says_when_fewer_clusters_were_grown_and_why() {
         "-j",
         "1",
         "--json",
-    ]);
+    ])
+    .run();
     let rows: serde_json::Value = serde_json::from_str(out.ok()).unwrap();
     let four = rows
         .as_array()
@@ -291,23 +254,24 @@ fn convert_records_have_one_schema() {
         let mut a = vec![arg(&tif), arg(&exr), arg(&missing), arg(&truncated)];
         a.extend(["-o", arg(&out), "--json", "--mip", "0"]);
         a.extend(extra);
-        specconv(a)
+        Cmd::new(a).run()
     };
     let first = run(&[]);
     first.fails(1, &[]);
     let again = run(&["-u"]);
     again.fails(1, &[]);
-    let flagged = specconv([
+    let flagged = Cmd::new([
         arg(&tif),
         arg(&dir.path("flag.exr")),
         "--json",
         "--colorspace",
         "lin_rec709",
         "--unbounded",
-    ]);
+    ])
+    .run();
     let mut all = records(&first.stdout);
     all.extend(records(&again.stdout));
-    all.extend(records(flagged.ok().to_string().as_str()));
+    all.extend(records(flagged.ok()));
     assert_eq!(all.len(), 9);
     let documented = documented_keys("## convert --json");
     assert!(documented.len() >= 17, "{documented:?}");
@@ -382,11 +346,11 @@ fn info_json_is_one_object_per_line() {
         .collect();
     files.sort();
     let spectral = dir.path("s.exr");
-    specconv([arg(&files[0]), arg(&spectral), "--mip", "0"]).ok();
+    Cmd::new([arg(&files[0]), arg(&spectral), "--mip", "0"]).ok();
     files.push(spectral.clone());
     let mut args = vec!["info".to_string(), "--json".to_string()];
     args.extend(files.iter().map(|p| arg(p).to_string()));
-    let out = specconv(&args);
+    let out = Cmd::new(&args).run();
     let lines = records(out.ok());
     assert_eq!(lines.len(), files.len());
     let documented = documented_keys("## info --json");
@@ -399,13 +363,14 @@ fn info_json_is_one_object_per_line() {
     assert!(s["spectral"]["emissive_units"].is_null());
 
     let missing = dir.path("missing.exr");
-    let out = specconv([
+    let out = Cmd::new([
         "info",
         "--json",
         arg(&files[0]),
         arg(&missing),
         arg(&files[1]),
-    ]);
+    ])
+    .run();
     out.fails(1, &["missing.exr"]);
     assert_eq!(records(&out.stdout).len(), 2);
     assert_eq!(our_lines(&out.stderr).len(), 1, "{}", out.stderr);
@@ -414,9 +379,9 @@ fn info_json_is_one_object_per_line() {
 /// Runs specconv with standard error into a file, returning (exit code, what it wrote).
 fn with_stderr_in_a_file(dir: &Scratch, args: &[&str], env: &[(&str, &str)]) -> (i32, String) {
     let log = dir.path("stderr.log");
-    let status = std::process::Command::new(env!("CARGO_BIN_EXE_specconv"))
-        .args(args)
-        .envs(env.iter().copied())
+    let cmd = env.iter().fold(Cmd::new(args), |c, &(k, v)| c.env(k, v));
+    let status = cmd
+        .command()
         .stdout(std::process::Stdio::null())
         .stderr(std::fs::File::create(&log).unwrap())
         .status()
@@ -488,22 +453,13 @@ fn batches_end_with_a_summary_and_log_plain_progress_into_files() {
     );
     assert!(!log.contains("progress:"), "{log}");
     // Into a pipe: no progress unless --progress always.
-    let piped = specconv([arg(&png), arg(&tif), "-o", o, "--force"]);
+    let piped = Cmd::new([arg(&png), arg(&tif), "-o", o, "--force"]).run();
     assert!(!piped.ok().contains("progress:") && !piped.stderr.contains("progress:"));
-    let always = std::process::Command::new(env!("CARGO_BIN_EXE_specconv"))
-        .args([
-            arg(&png),
-            arg(&tif),
-            "-o",
-            o,
-            "--force",
-            "--progress",
-            "always",
-        ])
+    let always = Cmd::new([arg(&png), arg(&tif), "-o", o, "--force"])
+        .args(["--progress", "always"])
         .env("SPECCONV_PROGRESS_SECONDS", "0")
-        .output()
-        .unwrap();
-    assert!(String::from_utf8_lossy(&always.stderr).contains("specconv: progress: file 2 of 2"));
+        .run();
+    assert!(always.stderr.contains("specconv: progress: file 2 of 2"));
     // -q: errors only.
     let (_, log) = with_stderr_in_a_file(
         &dir,
@@ -522,7 +478,7 @@ fn a_terminal_sees_file_i_of_n_and_the_eta() {
     std::fs::create_dir(&out).unwrap();
     let command = format!(
         "'{}' '{}' '{}' -o '{}'",
-        env!("CARGO_BIN_EXE_specconv"),
+        binary().display(),
         arg(&testdata("images/srgb8.png")),
         arg(&testdata("images/rgb16.tif")),
         arg(&out)
@@ -548,7 +504,7 @@ fn a_terminal_sees_file_i_of_n_and_the_eta() {
 #[test]
 fn simulate_help_shows_a_scene_that_runs_as_it_is() {
     let dir = Scratch::new("surface-scene");
-    let help = specconv(["simulate", "--help"]);
+    let help = Cmd::new(["simulate", "--help"]).run();
     let text = help.ok();
     let scene: String = text
         .lines()
@@ -562,11 +518,14 @@ fn simulate_help_shows_a_scene_that_runs_as_it_is() {
         "{text}"
     );
     let path = dir.write("scene.toml", &scene);
-    let report = specconv(["simulate", "--scene", arg(&path), "--json"]);
+    let report = Cmd::new(["simulate", "--scene", arg(&path), "--json"]).run();
     let v: serde_json::Value = serde_json::from_str(report.ok()).unwrap();
     assert!(v.is_object(), "{v}");
     // `-h` stays short.
-    assert!(!specconv(["simulate", "-h"]).ok().contains("[[patches]]"));
+    assert!(!Cmd::new(["simulate", "-h"])
+        .ok()
+        .stdout
+        .contains("[[patches]]"));
 }
 
 /// The README's exit-status table is the one the man pages print (the program's own table).

@@ -2,31 +2,26 @@
 
 use crate::runner::*;
 
-fn json(s: &str) -> serde_json::Value {
-    serde_json::from_str(s).unwrap_or_else(|e| panic!("not JSON ({e}):\n{s}"))
-}
-
 #[test]
 fn eval_reproduces_table_1_with_the_papers_settings() {
     let dir = Scratch::new("table1");
     let model = dir.path("paper.json");
-    let trained = specconv([
-        "train",
-        "--spectra",
-        munsell().to_str().unwrap(),
-        "--observer",
-        "wyman2013",
-        "--illuminant",
-        "E",
-        "--bands",
-        "380:730:10",
-        "--clusters",
-        "8",
-        "--min-cluster-size",
-        "4",
-        "-o",
-        model.to_str().unwrap(),
-    ]);
+    let trained = Cmd::train(munsell())
+        .args([
+            "--observer",
+            "wyman2013",
+            "--illuminant",
+            "E",
+            "--bands",
+            "380:730:10",
+            "--clusters",
+            "8",
+            "--min-cluster-size",
+            "4",
+            "-o",
+            model.to_str().unwrap(),
+        ])
+        .run();
     trained.ok();
     assert!(
         trained
@@ -35,14 +30,9 @@ fn eval_reproduces_table_1_with_the_papers_settings() {
         "{}",
         trained.stderr
     );
-    let out = specconv([
-        "eval",
-        "--spectra",
-        munsell().to_str().unwrap(),
-        "--model",
-        model.to_str().unwrap(),
-        "--json",
-    ]);
+    let out = Cmd::eval(munsell())
+        .args(["--model", model.to_str().unwrap(), "--json"])
+        .run();
     let v = json(out.ok());
     assert_eq!(v["count"], 1269);
     let mean = v["delta_e"]["mean"].as_f64().unwrap();
@@ -58,7 +48,7 @@ fn eval_reproduces_table_1_with_the_papers_settings() {
 
 #[test]
 fn eval_uses_the_builtin_model_and_prints_a_readable_summary() {
-    let out = specconv(["eval", "--spectra", colorchecker().to_str().unwrap()]);
+    let out = Cmd::eval(colorchecker()).run();
     let text = out.ok();
     assert!(
         text.contains("model:      built-in (8 clusters, cie1931, D65, 380:730:10 nm"),
@@ -66,13 +56,9 @@ fn eval_uses_the_builtin_model_and_prints_a_readable_summary() {
     );
     assert!(text.contains("spectra:    24"), "{text}");
     assert!(text.contains("Δe = ‖s − r‖²: mean "), "{text}");
-    let per = specconv([
-        "eval",
-        "--spectra",
-        colorchecker().to_str().unwrap(),
-        "--json",
-        "--per-spectrum",
-    ]);
+    let per = Cmd::eval(colorchecker())
+        .args(["--json", "--per-spectrum"])
+        .run();
     let v = json(per.ok());
     let rows = v["spectra"].as_array().unwrap();
     assert_eq!(rows.len(), 24);
@@ -89,12 +75,10 @@ fn eval_uses_the_builtin_model_and_prints_a_readable_summary() {
 fn bad_inputs_get_one_clear_error_and_exit_1() {
     let dir = Scratch::new("bad");
     let ragged = dir.write("ragged.csv", "wavelength_nm,a,b\n380,0.1,0.2\n390,0.1\n");
-    specconv(["eval", "--spectra", ragged.to_str().unwrap()])
-        .fails(1, &["specconv: error: ragged.csv, line 3: ragged row"]);
+    Cmd::eval(&ragged).fails(1, &["specconv: error: ragged.csv, line 3: ragged row"]);
     let short = dir.write("short.csv", "wavelength_nm,a\n400,0.1\n700,0.2\n");
-    specconv(["eval", "--spectra", short.to_str().unwrap()])
-        .fails(1, &["covers 400–700 nm", "--bands 400:700:10"]);
-    specconv(["eval", "--spectra", "/nonexistent/x.csv"]).fails(
+    Cmd::eval(&short).fails(1, &["covers 400–700 nm", "--bands 400:700:10"]);
+    Cmd::eval("/nonexistent/x.csv").fails(
         1,
         &[
             "cannot read spectra file /nonexistent/x.csv",
@@ -105,43 +89,25 @@ fn bad_inputs_get_one_clear_error_and_exit_1() {
         "model.json",
         "{\"format\": \"specconv-model\", \"version\": 1}",
     );
-    specconv([
-        "eval",
-        "--spectra",
-        colorchecker().to_str().unwrap(),
-        "--model",
-        bad_model.to_str().unwrap(),
-    ])
-    // A model that cannot be read is a setting no input can fix: exit 2.
-    .fails(2, &["model.json: malformed model"]);
+    Cmd::eval(colorchecker())
+        .args(["--model", bad_model.to_str().unwrap()])
+        .run()
+        // A model that cannot be read is a setting no input can fix: exit 2.
+        .fails(2, &["model.json: malformed model"]);
     let out = dir.path("m.json");
-    specconv([
-        "train",
-        "--spectra",
-        colorchecker().to_str().unwrap(),
-        "--min-cluster-size",
-        "30",
-        "-o",
-        out.to_str().unwrap(),
-    ])
-    .fails(
-        1,
-        &["24 spectra are fewer than the minimum cluster size 30"],
-    );
+    Cmd::train(colorchecker())
+        .args(["--min-cluster-size", "30", "-o", out.to_str().unwrap()])
+        .fails(
+            1,
+            &["24 spectra are fewer than the minimum cluster size 30"],
+        );
     assert!(!out.exists());
     // Writing the model over its own training data is refused, and the data is untouched.
     // (Named .json: an output of another extension is refused by its name first.)
     let copy = dir.write("cc.json", &std::fs::read_to_string(colorchecker()).unwrap());
-    specconv([
-        "train",
-        "--spectra",
-        copy.to_str().unwrap(),
-        "--min-cluster-size",
-        "4",
-        "-o",
-        copy.to_str().unwrap(),
-    ])
-    .fails(1, &["is also an input"]);
+    Cmd::train(&copy)
+        .args(["--min-cluster-size", "4", "-o", copy.to_str().unwrap()])
+        .fails(1, &["is also an input"]);
     assert_eq!(
         std::fs::read_to_string(&copy).unwrap(),
         std::fs::read_to_string(colorchecker()).unwrap()
@@ -154,77 +120,43 @@ fn bad_inputs_get_one_clear_error_and_exit_1() {
 
 #[test]
 fn usage_errors_exit_2() {
-    specconv(["train", "--spectra", "x.csv"]).fails(2, &["--output"]);
-    specconv([
-        "train",
-        "--spectra",
-        "x.csv",
-        "-o",
-        "m.json",
-        "--bands",
-        "380:730",
-    ])
-    .fails(2, &["START:END:STEP"]);
-    specconv([
-        "train",
-        "--spectra",
-        "x.csv",
-        "-o",
-        "m.json",
-        "--min-cluster-size",
-        "3",
-    ])
-    .fails(2, &["four spectra"]);
-    specconv([
-        "train",
-        "--spectra",
-        "x.csv",
-        "-o",
-        "m.json",
-        "--illuminant",
-        "D75",
-    ])
-    .fails(2, &["blackbody:KELVIN"]);
-    specconv([
-        "train",
-        "--spectra",
-        "x.csv",
-        "-o",
-        "m.json",
-        "--observer",
-        "cie2000",
-    ])
-    .fails(2, &["wyman2013"]);
-    specconv(["eval"]).fails(2, &["--spectra"]);
+    Cmd::train("x.csv").fails(2, &["--output"]);
+    Cmd::train("x.csv")
+        .args(["-o", "m.json", "--bands", "380:730"])
+        .fails(2, &["START:END:STEP"]);
+    Cmd::train("x.csv")
+        .args(["-o", "m.json", "--min-cluster-size", "3"])
+        .fails(2, &["four spectra"]);
+    Cmd::train("x.csv")
+        .args(["-o", "m.json", "--illuminant", "D75"])
+        .fails(2, &["blackbody:KELVIN"]);
+    Cmd::train("x.csv")
+        .args(["-o", "m.json", "--observer", "cie2000"])
+        .fails(2, &["wyman2013"]);
+    Cmd::new(["eval"]).fails(2, &["--spectra"]);
 }
 
 #[test]
 fn trained_model_file_is_used_by_eval_with_its_own_setting() {
     let dir = Scratch::new("setting");
     let model = dir.path("a.json");
-    specconv([
-        "train",
-        "--spectra",
-        munsell().to_str().unwrap(),
-        "--clusters",
-        "2",
-        "--illuminant",
-        "A",
-        "--observer",
-        "cie1964",
-        "--bands",
-        "400:700:5",
-        "-o",
-        model.to_str().unwrap(),
-    ])
-    .ok();
-    let out = specconv([
-        "eval",
-        "--spectra",
-        colorchecker().to_str().unwrap(),
-        "--model",
-        model.to_str().unwrap(),
-    ]);
+    Cmd::train(munsell())
+        .args([
+            "--clusters",
+            "2",
+            "--illuminant",
+            "A",
+            "--observer",
+            "cie1964",
+            "--bands",
+            "400:700:5",
+            "-o",
+            model.to_str().unwrap(),
+        ])
+        .ok();
+    let out = Cmd::eval(colorchecker())
+        .args(["--model", model.to_str().unwrap()])
+        .run();
     assert!(
         out.ok()
             .contains("(2 clusters, cie1964, A, 400:700:5 nm, trained on 1269 spectra"),
@@ -251,15 +183,9 @@ fn untrainable_spectra_get_one_clear_error_and_no_model() {
             &specconv_testkit::untrainable::csv(&a.grid, &case.spectra),
         );
         let model = dir.path("m.json");
-        let out = specconv([
-            "train",
-            "--spectra",
-            csv.to_str().unwrap(),
-            "--min-cluster-size",
-            "4",
-            "-o",
-            model.to_str().unwrap(),
-        ]);
+        let out = Cmd::train(&csv)
+            .args(["--min-cluster-size", "4", "-o", model.to_str().unwrap()])
+            .run();
         out.fails(1, &["specconv: error: cannot train: ", case.error]);
         assert!(!model.exists(), "{}: a model was written", case.name);
     }

@@ -2,6 +2,7 @@
 //! live in ../shared beside the checkout, never in it), the paper's setting, and the training
 //! sets that cannot make a model ([`untrainable`]). Dev-only: no library depends on it.
 
+pub mod cmd;
 pub mod untrainable;
 
 use specconv_colour::{Colorimetry, Grid, Illuminant, Observer, SpectralTable};
