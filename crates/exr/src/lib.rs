@@ -534,7 +534,7 @@ impl SpectralFile {
 
     /// Writes the header, then every chunk that `produce` hands to its callback (any order,
     /// each exactly once), then completes the offset table. `out` should be buffered.
-    pub fn write<W, F>(&self, out: W, produce: F) -> Result<()>
+    pub fn write<W, F>(&self, mut out: W, produce: F) -> Result<()>
     where
         W: Write + Seek,
         F: FnOnce(&mut dyn FnMut(usize, Chunk) -> Result<()>) -> Result<()>,
@@ -542,7 +542,7 @@ impl SpectralFile {
         use exr::block::writer::ChunksWriter;
         let mut failure = None;
         let written = exr::block::write(
-            out,
+            &mut out,
             smallvec::smallvec![self.header.clone()],
             true,
             |_meta, writer| {
@@ -559,8 +559,39 @@ impl SpectralFile {
         );
         match (failure, written) {
             (Some(e), _) => Err(e),
-            (None, r) => Ok(r?),
+            (None, r) => {
+                r?;
+                self.sort_attributes(&mut out)
+            }
         }
+    }
+
+    /// Writes the header's attributes again over themselves, in name order: the `exr` crate
+    /// writes them in the order of a `HashMap`, which changes from run to run, and the same
+    /// image must give the same bytes. The header keeps its length, so nothing moves.
+    fn sort_attributes(&self, out: &mut (impl Write + Seek)) -> Result<()> {
+        let mut written = Vec::new();
+        self.header.write(&mut written)?;
+        let mut attributes: Vec<_> = self.header.all_named_attributes().collect();
+        attributes.sort_by(|a, b| a.0.cmp(b.0));
+        let mut sorted = Vec::with_capacity(written.len());
+        for (name, value) in &attributes {
+            exr::meta::attribute::write(name, value, &mut sorted)?;
+        }
+        exr::meta::sequence_end::write(&mut sorted)?;
+        assert_eq!(
+            sorted.len(),
+            written.len(),
+            "the same attributes, reordered"
+        );
+        // After the magic number and the version field.
+        let mut rewrite = || -> std::io::Result<()> {
+            out.seek(std::io::SeekFrom::Start(8))?;
+            out.write_all(&sorted)?;
+            out.seek(std::io::SeekFrom::End(0))?;
+            out.flush()
+        };
+        Ok(rewrite().map_err(exr::error::Error::from)?)
     }
 }
 
