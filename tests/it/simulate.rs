@@ -281,7 +281,7 @@ fn simulate_takes_converts_method_options_with_its_defaults() {
     let p = p.to_str().unwrap();
     let run = |extra: &[&str]| {
         let args = [&["simulate", "--scene", p, "--json"], extra].concat();
-        json(specconv(args).ok())
+        Cmd::new(args).ok().json()
     };
     let default = run(&[]);
     let width = specconv_spectral::otsu2018::blend::DEFAULT_WIDTH.to_string();
@@ -295,7 +295,7 @@ fn simulate_takes_converts_method_options_with_its_defaults() {
         one["methods"],
         serde_json::json!(["measured", "smits1999", "rgb"])
     );
-    specconv(["simulate", "--scene", p, "--blend=-1"]).fails(1, &["blend width"]);
+    Cmd::new(["simulate", "--scene", p, "--blend=-1"]).fails(1, &["blend width"]);
 }
 
 /// A colour's `colorspace` is a colour space of the scene's OCIO config, as --colorspace, and
