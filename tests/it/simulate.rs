@@ -312,7 +312,9 @@ fn a_colour_is_read_in_a_colour_space_of_the_ocio_config() {
     let lab = |space: &str| {
         let p = s.write("colour.toml", &scene(space));
         bounced_lab(
-            &json(specconv(["simulate", "--scene", p.to_str().unwrap(), "--json"]).ok()),
+            &Cmd::new(["simulate", "--scene", p.to_str().unwrap(), "--json"])
+                .ok()
+                .json(),
             "red",
         )
     };
@@ -322,6 +324,12 @@ fn a_colour_is_read_in_a_colour_space_of_the_ocio_config() {
     let linear = lab("colorspace = \"Linear Rec.709 (sRGB)\"\n");
     assert!(specconv_colour::lab::ciede2000(linear, texture) > 1.0);
     let p = s.write("unknown.toml", &scene("colorspace = \"sRGB\"\n"));
-    run(&p).fails(1, &["patch red", "unknown colour space 'sRGB'", "'sRGB - Texture'"]);
+    run(&p).fails(
+        1,
+        &[
+            "patch red",
+            "unknown colour space 'sRGB'",
+            "'sRGB - Texture'",
+        ],
+    );
 }
-
