@@ -32,6 +32,14 @@ pub fn output_dir(output: &Path) -> Result<()> {
     )
 }
 
+/// An output that exists is replaced only with --force.
+pub fn may_write(output: &Path, force: bool) -> Result<()> {
+    if output.exists() && !force {
+        anyhow::bail!("{} exists; pass --force to replace it", output.display());
+    }
+    Ok(())
+}
+
 /// An output directory (`-o DIR`) exists.
 pub fn directory(dir: &Path) -> Result<()> {
     if dir.is_dir() {

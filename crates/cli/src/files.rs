@@ -58,6 +58,11 @@ pub fn write_atomically(path: &Path, bytes: &[u8], inputs: &[&Path]) -> Result<(
     result
 }
 
+/// A spectral EXR, named in the error when it cannot be read.
+pub fn read_spectral(path: &Path) -> Result<specconv_exr::SpectralImage> {
+    specconv_exr::read(path).with_context(|| format!("cannot read {}", path.display()))
+}
+
 /// The model from `--model FILE`, or the built-in one. A model that cannot be read is a
 /// usage error: nothing can be done with it.
 pub fn load_model(path: Option<&Path>) -> Result<specconv_spectral::Model> {

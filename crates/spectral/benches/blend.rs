@@ -11,24 +11,10 @@ use std::time::Instant;
 
 const N: usize = 4096;
 
-fn sequence(seed: u64) -> impl FnMut() -> f64 {
-    let mut s = seed;
-    move || {
-        s = s
-            .wrapping_mul(6_364_136_223_846_793_005)
-            .wrapping_add(1_442_695_040_888_963_407);
-        (s >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
-
 /// Random linear sRGB colours in [0, 1]³, as XYZ.
 fn uniform() -> Vec<f32> {
-    let ws =
-        specconv_colour::rgb::SRGB.with_white(Model::builtin().colorimetry().unwrap().white_xyz());
-    let mut next = sequence(1);
-    (0..N)
-        .flat_map(|_| ws.xyz([next(), next(), next()]).map(|v| v as f32))
-        .collect()
+    let a = Model::builtin().colorimetry().unwrap();
+    specconv_testkit::random_colours(&a, N, 1)
 }
 
 /// Colours whose xy lies within the default width of a split line (Y in [0.05, 0.8]).
@@ -38,7 +24,8 @@ fn near_boundaries() -> Vec<f32> {
         .splits()
         .map(|(_, s)| (s.axis, s.value))
         .collect();
-    let mut next = sequence(2);
+    let mut rng = specconv_testkit::Lcg::new(2);
+    let mut next = || rng.uniform();
     (0..N)
         .flat_map(|i| {
             let (axis, v) = splits[i % splits.len()];

@@ -13,7 +13,6 @@ use specconv_colour::rgb::{RgbSpace, ACESCG, REC2020, SRGB};
 use specconv_spectral::bounded::{Bounded, Outcome};
 use specconv_spectral::{Method, Model, Uplifter};
 use std::hint::black_box;
-use std::time::Instant;
 
 const STEPS: usize = 33;
 
@@ -33,15 +32,7 @@ fn cube(space: RgbSpace, white: [f64; 3]) -> Vec<[f64; 3]> {
 
 /// Median of 9 runs, in seconds.
 fn median(f: &mut dyn FnMut()) -> f64 {
-    let mut t: Vec<f64> = (0..9)
-        .map(|_| {
-            let s = Instant::now();
-            f();
-            s.elapsed().as_secs_f64()
-        })
-        .collect();
-    t.sort_by(f64::total_cmp);
-    t[4]
+    specconv_testkit::median_seconds(9, f)
 }
 
 fn f32s(colours: &[[f64; 3]]) -> Vec<f32> {

@@ -7,23 +7,8 @@ use specconv_colour::{Colorimetry, Grid, Illuminant, Observer};
 use specconv_spectral::baselines::jakob::Table;
 use specconv_spectral::baselines::{Jakob2019, Meng2015, Smits1999};
 use specconv_spectral::{Method, Model, Uplifter};
-use std::time::Instant;
 
 const N: usize = 4096;
-
-fn colours(a: &Colorimetry) -> Vec<f32> {
-    let ws = specconv_colour::rgb::SRGB.with_white(a.white_xyz());
-    let mut s = 1u64;
-    let mut next = || {
-        s = s
-            .wrapping_mul(6_364_136_223_846_793_005)
-            .wrapping_add(1_442_695_040_888_963_407);
-        (s >> 11) as f64 / (1u64 << 53) as f64
-    };
-    (0..N)
-        .flat_map(|_| ws.xyz([next(), next(), next()]).map(|v| v as f32))
-        .collect()
-}
 
 /// The reference: the stores of an uplift without its arithmetic.
 fn store_only(xyz: &[f32], out: &mut [f32], n: usize) {
@@ -35,7 +20,7 @@ fn store_only(xyz: &[f32], out: &mut [f32], n: usize) {
 fn methods(c: &mut Criterion) {
     let a = Colorimetry::new(Grid::PAPER, Observer::Cie1931, Illuminant::D65).unwrap();
     let n = a.bands();
-    let xyz = colours(&a);
+    let xyz = specconv_testkit::random_colours(&a, N, 1);
     let mut out = vec![0f32; N * n];
     let all: Vec<Box<dyn Method>> = vec![
         Box::new(Uplifter::new(Model::builtin()).unwrap()),
@@ -55,17 +40,7 @@ fn methods(c: &mut Criterion) {
     g.finish();
 
     // Ratios to the reference from medians of runs measured here.
-    let median = |f: &mut dyn FnMut()| {
-        let mut t: Vec<f64> = (0..21)
-            .map(|_| {
-                let s = Instant::now();
-                f();
-                s.elapsed().as_secs_f64()
-            })
-            .collect();
-        t.sort_by(f64::total_cmp);
-        t[t.len() / 2]
-    };
+    let median = |f: &mut dyn FnMut()| specconv_testkit::median_seconds(21, f);
     let reference = median(&mut || store_only(&xyz, &mut out, n));
     eprintln!(
         "reference (stores only): {:.2} ns/colour, {:.0} M colours/s",

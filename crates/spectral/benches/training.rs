@@ -5,7 +5,6 @@
 use criterion::{criterion_group, criterion_main, Criterion};
 use specconv_colour::{Colorimetry, Grid, Illuminant, Observer, SpectralTable};
 use specconv_spectral::{train, TrainOptions, TrainingSet};
-use std::time::Instant;
 
 fn munsell(grid: &Grid) -> TrainingSet {
     let dir = std::env::var("SPECCONV_SHARED")
@@ -43,17 +42,7 @@ fn training(c: &mut Criterion) {
     g.finish();
 
     // The ratio, from medians of a few runs measured here.
-    let median = |f: &dyn Fn()| {
-        let mut t: Vec<f64> = (0..7)
-            .map(|_| {
-                let s = Instant::now();
-                f();
-                s.elapsed().as_secs_f64()
-            })
-            .collect();
-        t.sort_by(f64::total_cmp);
-        t[3]
-    };
+    let median = |f: &dyn Fn()| specconv_testkit::median_seconds(7, &mut || f());
     let reference = median(&|| drop(train(&set, &a, &opts(1, 20)).unwrap()));
     for (k, min) in [(8, 20), (8, 4)] {
         let t = median(&|| drop(train(&set, &a, &opts(k, min)).unwrap()));

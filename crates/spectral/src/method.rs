@@ -23,6 +23,21 @@ pub trait Method: Send + Sync {
     }
 }
 
+/// The colours of `xyz` with their spectra in `out`, `n` bands each, for the uplift loops of
+/// the methods. `out` not holding `n` values per colour is the caller's bug: a panic.
+pub fn per_colour<'a, T>(
+    xyz: &'a [T],
+    out: &'a mut [T],
+    n: usize,
+) -> impl Iterator<Item = (&'a [T], &'a mut [T])> {
+    assert_eq!(
+        xyz.len() / 3 * n,
+        out.len(),
+        "out must hold n values per colour"
+    );
+    xyz.chunks_exact(3).zip(out.chunks_exact_mut(n))
+}
+
 impl Method for Box<dyn Method> {
     fn name(&self) -> &str {
         (**self).name()

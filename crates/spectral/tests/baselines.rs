@@ -81,13 +81,8 @@ fn jakob2019_round_trips_in_gamut_srgb() {
     let n = a.bands();
     let (mut r, mut r32) = (vec![0.0; n], vec![0f32; n]);
     let (mut worst, mut worst32) = (0f64, 0f64);
-    let mut state = 7u64;
-    let mut next = || {
-        state = state
-            .wrapping_mul(6_364_136_223_846_793_005)
-            .wrapping_add(1_442_695_040_888_963_407);
-        (state >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut rng = specconv_testkit::Lcg::new(7);
+    let mut next = || rng.uniform();
     // Random colours, plus the cube's corners and edges, where the table is hardest.
     let mut rgbs: Vec<[f64; 3]> = (0..5000).map(|_| [next(), next(), next()]).collect();
     for k in 0..8 {

@@ -209,13 +209,8 @@ fn random_colours(count: usize, seed: u64) -> Vec<[f64; 3]> {
         .splits()
         .map(|(_, s)| (s.axis, s.value))
         .collect();
-    let mut s = seed;
-    let mut next = move || {
-        s = s
-            .wrapping_mul(6_364_136_223_846_793_005)
-            .wrapping_add(1_442_695_040_888_963_407);
-        (s >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut rng = specconv_testkit::Lcg::new(seed);
+    let mut next = move || rng.uniform();
     (0..count)
         .map(|i| {
             let mut xy = [0.15 + 0.45 * next(), 0.1 + 0.5 * next()];

@@ -2,6 +2,7 @@
 //! the same for every method and every run (the colours of a texture are unpredictable, and so
 //! are these: a method's branches see what they would see on real data).
 
+use specconv_colour::rgb::SRGB;
 use specconv_colour::Colorimetry;
 use specconv_spectral::Method;
 use std::time::Instant;
@@ -39,16 +40,22 @@ impl Lcg {
 /// Colours per tile of the timing, as the pipeline's strips hand them over.
 pub const TILE: usize = 4096;
 
-/// `n` random linear sRGB colours in [0, 1]³ (the working space of `a`), as XYZ in f32.
-pub fn timing_colours(a: &Colorimetry, n: usize) -> Vec<f32> {
-    let ws = specconv_colour::rgb::SRGB.with_white(a.white_xyz());
-    let mut rng = Lcg::new(0x2545_f491_4f6c_dd1d);
+/// `n` random linear sRGB colours in [0, 1]³ (with the white of `a`) from `seed`, as XYZ in
+/// f32, three per colour.
+pub fn random_colours(a: &Colorimetry, n: usize, seed: u64) -> Vec<f32> {
+    let ws = SRGB.with_white(a.white_xyz());
+    let mut rng = Lcg::new(seed);
     let mut out = Vec::with_capacity(3 * n);
     for _ in 0..n {
         let xyz = ws.xyz([rng.uniform(), rng.uniform(), rng.uniform()]);
         out.extend(xyz.map(|v| v as f32));
     }
     out
+}
+
+/// The colours every method is timed on (`report`): [`random_colours`] of a fixed seed.
+pub fn timing_colours(a: &Colorimetry, n: usize) -> Vec<f32> {
+    random_colours(a, n, 0x2545_f491_4f6c_dd1d)
 }
 
 /// Uplifts `xyz` tile by tile into `out` (one tile of spectra), keeping the result alive.

@@ -1,9 +1,14 @@
 //! What specconv's tests share, so that no test file carries a copy: the measured spectra (they
 //! live in ../shared beside the checkout, never in it), the paper's setting, and the training
-//! sets that cannot make a model ([`untrainable`]). Dev-only: no library depends on it.
+//! sets that cannot make a model ([`untrainable`]), the seeded generator ([`Lcg`]) and the
+//! benches' timing ([`median_seconds`]). Dev-only: no library depends on it.
 
 pub mod cmd;
 pub mod untrainable;
+
+/// The workspace's one seeded generator and its random colours, from `specconv_study::cost`
+/// (whose timings need them too).
+pub use specconv_study::cost::{random_colours, Lcg};
 
 use specconv_colour::{Colorimetry, Grid, Illuminant, Observer, SpectralTable};
 use specconv_spectral::{TrainOptions, TrainingSet};
@@ -51,4 +56,18 @@ pub fn paper_options(clusters: usize) -> TrainOptions {
         min_cluster_size: 4,
         ..TrainOptions::default()
     }
+}
+
+/// The median of `runs` timings of `f`, in seconds: what the benches compare against a
+/// reference measured in the same run (the median shrugs off the machine's other work).
+pub fn median_seconds(runs: usize, f: &mut dyn FnMut()) -> f64 {
+    let mut t: Vec<f64> = (0..runs.max(1))
+        .map(|_| {
+            let s = std::time::Instant::now();
+            f();
+            s.elapsed().as_secs_f64()
+        })
+        .collect();
+    t.sort_by(f64::total_cmp);
+    t[t.len() / 2]
 }

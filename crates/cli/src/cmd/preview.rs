@@ -86,14 +86,8 @@ struct Summary {
 pub fn run(args: Args) -> Result<()> {
     Format::of(&args.output, "-o", &[Format::Png])?;
     crate::checks::output_dir(&args.output)?;
-    if args.output.exists() && !args.force {
-        bail!(
-            "{} exists; pass --force to replace it",
-            args.output.display()
-        );
-    }
-    let img = specconv_exr::read(&args.input)
-        .with_context(|| format!("cannot read {}", args.input.display()))?;
+    crate::checks::may_write(&args.output, args.force)?;
+    let img = crate::files::read_spectral(&args.input)?;
     if !matches!(img.kind, Kind::Reflective) {
         bail!(
             "{} holds emission (S0 channels), not reflectances: it has no colour to bounce; \

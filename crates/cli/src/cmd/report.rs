@@ -45,12 +45,8 @@ pub struct Args {
     #[arg(long, value_name = "K", value_parser = clap::value_parser!(u32).range(2..))]
     holdout: Option<u32>,
     /// Cluster counts of the otsu2018 rows (1 is the pca row).
-    #[arg(
-        long,
-        value_name = "K,…",
-        value_delimiter = ',',
-        default_value = "1,2,4,8,16,32"
-    )]
+    #[arg(long, value_name = "K,…", value_delimiter = ',')]
+    #[arg(default_value = "1,2,4,8,16,32")]
     clusters: Vec<usize>,
     /// Band widths in nm of the extra otsu2018 rows (8 clusters, same range).
     #[arg(

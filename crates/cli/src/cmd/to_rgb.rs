@@ -54,14 +54,8 @@ pub fn run(args: Args) -> Result<()> {
     if let Some(name) = &args.colorspace {
         config.color_space(name).map_err(usage)?;
     }
-    if args.output.exists() && !args.force {
-        bail!(
-            "{} exists; pass --force to replace it",
-            args.output.display()
-        );
-    }
-    let img = specconv_exr::read(&args.input)
-        .with_context(|| format!("cannot read {}", args.input.display()))?;
+    crate::checks::may_write(&args.output, args.force)?;
+    let img = crate::files::read_spectral(&args.input)?;
     let recorded = crate::files::recorded(&img)?;
     let observer = recorded.observer;
     let emissive = matches!(img.kind, Kind::Emissive { .. });

@@ -458,12 +458,7 @@ impl Method for Jakob2019 {
 
     fn uplift_f64(&self, xyz: &[f64], out: &mut [f64]) {
         let n = self.lambda.len();
-        assert_eq!(
-            xyz.len() / 3 * n,
-            out.len(),
-            "out must hold n values per colour"
-        );
-        for (c, r) in xyz.chunks_exact(3).zip(out.chunks_exact_mut(n)) {
+        for (c, r) in crate::method::per_colour(xyz, out, n) {
             let k = self.solve([c[0] as f32, c[1] as f32, c[2] as f32]);
             for (o, &l) in r.iter_mut().zip(&self.lambda) {
                 let l = l as f64;
@@ -474,12 +469,7 @@ impl Method for Jakob2019 {
 
     fn uplift_f32(&self, xyz: &[f32], out: &mut [f32]) {
         let n = self.lambda.len();
-        assert_eq!(
-            xyz.len() / 3 * n,
-            out.len(),
-            "out must hold n values per colour"
-        );
-        for (c, r) in xyz.chunks_exact(3).zip(out.chunks_exact_mut(n)) {
+        for (c, r) in crate::method::per_colour(xyz, out, n) {
             let k = self.solve([c[0], c[1], c[2]]).map(|v| v as f32);
             for (o, &l) in r.iter_mut().zip(&self.lambda) {
                 *o = sigmoid32((k[0] * l + k[1]) * l + k[2]);

@@ -306,13 +306,8 @@ impl Method for Meng2015 {
 
     fn uplift_f64(&self, xyz: &[f64], out: &mut [f64]) {
         let n = self.bands;
-        assert_eq!(
-            xyz.len() / 3 * n,
-            out.len(),
-            "out must hold n values per colour"
-        );
         let mut s = Scratch::default();
-        for (c, r) in xyz.chunks_exact(3).zip(out.chunks_exact_mut(n)) {
+        for (c, r) in crate::method::per_colour(xyz, out, n) {
             let c = [c[0], c[1], c[2]];
             self.unbounded(c, r);
             if self.bounded
@@ -330,16 +325,11 @@ impl Method for Meng2015 {
 
     fn uplift_f32(&self, xyz: &[f32], out: &mut [f32]) {
         let n = self.bands;
-        assert_eq!(
-            xyz.len() / 3 * n,
-            out.len(),
-            "out must hold n values per colour"
-        );
         if self.bounded {
             // The active-set solve runs in f64.
             let mut c64 = [0.0; 3];
             let mut r64 = vec![0.0; n];
-            for (c, r) in xyz.chunks_exact(3).zip(out.chunks_exact_mut(n)) {
+            for (c, r) in crate::method::per_colour(xyz, out, n) {
                 for k in 0..3 {
                     c64[k] = c[k] as f64;
                 }
@@ -352,7 +342,7 @@ impl Method for Meng2015 {
         }
         let (tx, rest) = self.t32.split_at(n);
         let (ty, tz) = rest.split_at(n);
-        for (c, r) in xyz.chunks_exact(3).zip(out.chunks_exact_mut(n)) {
+        for (c, r) in crate::method::per_colour(xyz, out, n) {
             for b in 0..n {
                 r[b] = tx[b] * c[0] + ty[b] * c[1] + tz[b] * c[2];
             }

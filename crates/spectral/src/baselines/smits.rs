@@ -134,25 +134,15 @@ impl Method for Smits1999 {
 
     fn uplift_f64(&self, xyz: &[f64], out: &mut [f64]) {
         let n = self.bands;
-        assert_eq!(
-            xyz.len() / 3 * n,
-            out.len(),
-            "out must hold n values per colour"
-        );
-        for (c, r) in xyz.chunks_exact(3).zip(out.chunks_exact_mut(n)) {
+        for (c, r) in crate::method::per_colour(xyz, out, n) {
             self.uplift_rgb(self.space.rgb([c[0], c[1], c[2]]), r);
         }
     }
 
     fn uplift_f32(&self, xyz: &[f32], out: &mut [f32]) {
         let n = self.bands;
-        assert_eq!(
-            xyz.len() / 3 * n,
-            out.len(),
-            "out must hold n values per colour"
-        );
         let m = &self.to_rgb32;
-        for (c, r) in xyz.chunks_exact(3).zip(out.chunks_exact_mut(n)) {
+        for (c, r) in crate::method::per_colour(xyz, out, n) {
             let rgb = m.map(|row| row[0] * c[0] + row[1] * c[1] + row[2] * c[2]);
             let [(i, wi), (j, wj), (k, wk)] = Self::weights(rgb);
             let (bi, bj, bk) = (&self.basis32[i], &self.basis32[j], &self.basis32[k]);

@@ -538,26 +538,11 @@ mod tests {
         out
     }
 
-    struct Rng(u64);
-    impl Rng {
-        fn next(&mut self) -> u64 {
-            self.0 = self
-                .0
-                .wrapping_mul(6_364_136_223_846_793_005)
-                .wrapping_add(1_442_695_040_888_963_407);
-            self.0 >> 11
-        }
-        /// Uniform in [lo, hi).
-        fn f(&mut self, lo: f64, hi: f64) -> f64 {
-            lo + (hi - lo) * (self.next() as f64 / (1u64 << 53) as f64)
-        }
-    }
-
     /// The built-in model with its tree replaced by a chain of `splits` splits (alternating
     /// axes, values inside the locus), leaf i below split i: deep and unbalanced.
     fn chain(splits: usize) -> Model {
         let mut m = Model::builtin().clone();
-        let mut rng = Rng(splits as u64);
+        let mut rng = specconv_testkit::Lcg::new(splits as u64);
         let mut nodes = Vec::new();
         for i in 0..splits {
             let axis = if i % 2 == 0 { Axis::X } else { Axis::Y };
@@ -565,7 +550,7 @@ mod tests {
             nodes.push(
                 Split {
                     axis,
-                    value: rng.f(0.15, 0.55),
+                    value: rng.range(0.15, 0.55),
                     below: leaf,
                     above: at + 2,
                 }
@@ -588,12 +573,12 @@ mod tests {
         for (_, s) in tree.splits() {
             v.extend([s.value, s.value.next_up(), s.value.next_down()]);
         }
-        let mut rng = Rng(7);
+        let mut rng = specconv_testkit::Lcg::new(7);
         let mut xy: Vec<[f64; 2]> = v
             .iter()
             .flat_map(|&a| v.iter().map(move |&b| [a, b]))
             .collect();
-        xy.extend((0..20_000).map(|_| [rng.f(-0.5, 1.5), rng.f(-0.5, 1.5)]));
+        xy.extend((0..20_000).map(|_| [rng.range(-0.5, 1.5), rng.range(-0.5, 1.5)]));
         xy.push(up.white_xy());
         xy
     }
@@ -602,7 +587,7 @@ mod tests {
     /// near `DARK`, black and signed zeros, X+Y+Z ≤ 0, denormal, huge (near and past the
     /// overflow limits), NaN and ±Inf, and arbitrary bit patterns.
     fn colours(up: &Uplifter, tree: &Tree, seed: u64) -> Vec<[f64; 3]> {
-        let mut rng = Rng(seed);
+        let mut rng = specconv_testkit::Lcg::new(seed);
         let splits: Vec<f64> = tree.splits().map(|(_, s)| s.value).collect();
         let special = [
             0.0,
@@ -614,34 +599,44 @@ mod tests {
         ];
         let mut out = Vec::new();
         for i in 0..40_000 {
-            let c = [rng.f(0.0, 1.0), rng.f(0.0, 1.0), rng.f(0.0, 1.0)];
+            let c = [
+                rng.range(0.0, 1.0),
+                rng.range(0.0, 1.0),
+                rng.range(0.0, 1.0),
+            ];
             let c = match i % 12 {
                 0..=3 => c,
-                4 => [rng.f(-1.0, 2.0), rng.f(-1.0, 2.0), rng.f(-1.0, 2.0)],
+                4 => [
+                    rng.range(-1.0, 2.0),
+                    rng.range(-1.0, 2.0),
+                    rng.range(-1.0, 2.0),
+                ],
                 5 => {
                     // x (or y) exactly a split value: X+Y+Z = 1 exactly where the sum allows.
                     let v = splits[i % splits.len()];
-                    let w = rng.f(0.0, 1.0 - v);
+                    let w = rng.range(0.0, 1.0 - v);
                     if i / 12 % 2 == 0 {
                         [v, w, 1.0 - v - w]
                     } else {
                         [w, v, 1.0 - v - w]
                     }
                 }
-                6 => c.map(|v| v * 10f64.powf(-rng.f(0.0, 320.0))),
+                6 => c.map(|v| v * 10f64.powf(-rng.range(0.0, 320.0))),
                 7 => {
-                    let s = DARK * (1.0 + rng.f(-4.0, 4.0) * f64::EPSILON);
+                    let s = DARK * (1.0 + rng.range(-4.0, 4.0) * f64::EPSILON);
                     let t = c[0] + c[1] + c[2];
                     c.map(|v| v / t * s)
                 }
-                8 => [c[0], -c[1] - c[0] - rng.f(0.0, 1.0), c[2] * 0.0],
-                9 => c.map(|v| v * rng.f(0.3, 3.0) * up.safe_f32),
+                8 => [c[0], -c[1] - c[0] - rng.range(0.0, 1.0), c[2] * 0.0],
+                9 => c.map(|v| v * rng.range(0.3, 3.0) * up.safe_f32),
                 10 => {
-                    let mut c = c.map(|v| v * 10f64.powf(rng.f(0.0, 300.0)));
-                    c[i % 3] = special[rng.next() as usize % special.len()];
+                    let mut c = c.map(|v| v * 10f64.powf(rng.range(0.0, 300.0)));
+                    c[i % 3] = special[rng.next_bits() as usize % special.len()];
                     c
                 }
-                _ => [0; 3].map(|_| f64::from_bits(rng.next() << 11 | rng.next() & 0x7ff)),
+                _ => {
+                    [0; 3].map(|_| f64::from_bits(rng.next_bits() << 11 | rng.next_bits() & 0x7ff))
+                }
             };
             out.push(c);
         }
@@ -679,14 +674,14 @@ mod tests {
                 .splits()
                 .map(|(_, s)| (s.axis.index(), s.value))
                 .collect();
-            let mut rng = Rng(5);
+            let mut rng = specconv_testkit::Lcg::new(5);
             let (mut blended, mut scratch) = (0, Vec::new());
             let (mut r, mut r32) = (vec![0.0; n], vec![0.0f32; n]);
             for i in 0..20_000 {
                 let (k, v) = splits[i % splits.len()];
-                let mut xy = [rng.f(0.1, 0.6), rng.f(0.05, 0.6)];
-                xy[k] = v + rng.f(-0.03, 0.03);
-                let lum = rng.f(0.05, 1.0);
+                let mut xy = [rng.range(0.1, 0.6), rng.range(0.05, 0.6)];
+                xy[k] = v + rng.range(-0.03, 0.03);
+                let lum = rng.range(0.05, 1.0);
                 let c = [xy[0] / xy[1], 1.0, (1.0 - xy[0] - xy[1]) / xy[1]].map(|v| v * lum);
                 let Some(at) = hard::ordinary_xy(c, up.safe_f64) else {
                     continue;
@@ -719,8 +714,8 @@ mod tests {
             let c64: Vec<f64> = colours(&up, &model.tree, k as u64).concat();
             let mut c32: Vec<f32> = c64.iter().map(|&v| v as f32).collect();
             // Arbitrary f32 bit patterns too: NaNs with payloads, denormals, huge values.
-            let mut rng = Rng(99);
-            c32.extend((0..30_000).map(|_| f32::from_bits(rng.next() as u32)));
+            let mut rng = specconv_testkit::Lcg::new(99);
+            c32.extend((0..30_000).map(|_| f32::from_bits(rng.next_bits() as u32)));
             let want64 = reference_f64(&up, &model.tree, &c64);
             let want32 = reference_f32(&up, &model.tree, &c32);
             let bits64 = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();

@@ -35,9 +35,7 @@ struct Swatch {
 /// Refuses, before any work, what would fail at the end.
 pub fn check(path: &Path, force: bool, patches: usize) -> Result<()> {
     Format::of(path, "--image", &[Format::Png])?;
-    if path.exists() && !force {
-        bail!("{} exists; pass --force to replace it", path.display());
-    }
+    crate::checks::may_write(path, force)?;
     if patches > MAX_PATCHES {
         bail!(
             "--image draws one block per patch and the scene has {patches}; choose at most \
