@@ -122,12 +122,18 @@ pub fn run(args: Args) -> Result<()> {
         println!("{}", serde_json::to_string_pretty(&v)?);
         return Ok(());
     }
+    print_text(&args, &name, &described, &summary, &rows);
+    Ok(())
+}
+
+/// The text report: every spectrum's row with --per-spectrum, then the summary.
+fn print_text(args: &Args, name: &str, described: &str, summary: &eval::Summary, rows: &[Row]) {
     if args.per_spectrum {
         println!(
             "{:<12} {:>5} {:>9} {:>9} {:>7}  name",
             "delta_e", "leaf", "roundtrip", "ΔE00", "in_0_1"
         );
-        for r in &rows {
+        for r in rows {
             println!(
                 "{:<12.6} {:>5} {:>9.1e} {:>9.1e} {:>7}  {}",
                 r.outcome.delta_e,
@@ -160,7 +166,6 @@ pub fn run(args: Args) -> Result<()> {
         "in [0, 1]:  {:.1} % of reconstructions",
         100.0 * summary.in_unit_range
     );
-    Ok(())
 }
 
 impl Args {

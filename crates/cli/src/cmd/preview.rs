@@ -12,9 +12,9 @@ use specconv_colour::lab::{ciede2000, xyz_to_lab};
 use specconv_colour::mat3::mul_vec as apply;
 use specconv_colour::rgb::{srgb_encode, SRGB};
 use specconv_colour::{Colorimetry, Illuminant};
-use specconv_exr::Kind;
+use specconv_exr::{Kind, SpectralImage};
 use specconv_study::simulate::SelfBounce;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// The most bounces asked for: r^(K+1) of any reflectance below 1 is black long before.
 const MAX_BOUNCES: u32 = 100;
@@ -88,20 +88,7 @@ pub fn run(args: Args) -> Result<()> {
     crate::checks::output_dir(&args.output)?;
     crate::checks::may_write(&args.output, args.force)?;
     let img = crate::files::read_spectral(&args.input)?;
-    if !matches!(img.kind, Kind::Reflective) {
-        bail!(
-            "{} holds emission (S0 channels), not reflectances: it has no colour to bounce; \
-             preview reflectance files (T channels)",
-            args.input.display()
-        );
-    }
-    if !img.reradiation.is_empty() {
-        bail!(
-            "{} is bispectral (re-radiation channels): its bounces need the whole re-radiation \
-             matrix, which preview does not follow; `to-rgb` shows its colour",
-            args.input.display()
-        );
-    }
+    previewable(&img, &args.input)?;
     let recorded = files::recorded(&img).with_context(|| format!("in {}", args.input.display()))?;
     let (observer, own) = (recorded.observer, recorded.illuminant);
     let light = args.illuminant.unwrap_or(own);
@@ -118,42 +105,7 @@ pub fn run(args: Args) -> Result<()> {
     let bounce = SelfBounce::new(&texture, &lit, args.bounces)?;
 
     let (w, h) = (img.width, img.height);
-    let to_display = SRGB.from_xyz(SRGB.white_xyz());
-    let white = bounce.white();
-    // Per pixel: display sRGB and, with --diff-rgb, ΔE (NaN where the pixel is not finite).
-    let pixels: Vec<([u8; 3], f64)> = (0..w * h)
-        .into_par_iter()
-        .map_init(
-            || {
-                (
-                    vec![0f32; img.bands.len()],
-                    vec![0f64; grid.len()],
-                    vec![0f32; grid.len()],
-                )
-            },
-            |(bands, fine, r), p| {
-                for (v, plane) in bands.iter_mut().zip(&img.bands) {
-                    *v = plane[p];
-                }
-                if !bands.iter().all(|v| v.is_finite()) {
-                    return ([0; 3], f64::NAN);
-                }
-                onto.apply(bands, fine);
-                r.iter_mut()
-                    .zip(fine.iter())
-                    .for_each(|(r, &v)| *r = v as f32);
-                let xyz = bounce.spectral(r);
-                let display = apply(&to_display, xyz)
-                    .map(|v| (srgb_encode(v.clamp(0.0, 1.0)) * 255.0).round() as u8);
-                let d = if args.diff_rgb {
-                    ciede2000(xyz_to_lab(xyz, white), xyz_to_lab(bounce.rgb(r), white))
-                } else {
-                    0.0
-                };
-                (display, d)
-            },
-        )
-        .collect();
+    let pixels = shade(&img, &onto, &bounce, args.diff_rgb);
     let non_finite = pixels.iter().filter(|p| p.1.is_nan()).count();
     let finite: Vec<f64> = pixels.iter().map(|p| p.1).filter(|d| !d.is_nan()).collect();
     let max = finite.iter().copied().fold(0.0, f64::max);
@@ -200,6 +152,70 @@ pub fn run(args: Args) -> Result<()> {
         );
     }
     Ok(())
+}
+
+/// Refuses what preview cannot show: emission and bispectral files.
+fn previewable(img: &SpectralImage, input: &Path) -> Result<()> {
+    if !matches!(img.kind, Kind::Reflective) {
+        bail!(
+            "{} holds emission (S0 channels), not reflectances: it has no colour to bounce; \
+             preview reflectance files (T channels)",
+            input.display()
+        );
+    }
+    if !img.reradiation.is_empty() {
+        bail!(
+            "{} is bispectral (re-radiation channels): its bounces need the whole re-radiation \
+             matrix, which preview does not follow; `to-rgb` shows its colour",
+            input.display()
+        );
+    }
+    Ok(())
+}
+
+/// Per pixel: display sRGB after the bounces and, with `diff_rgb`, the CIEDE2000 from RGB
+/// multiplication (NaN where the pixel is not finite).
+fn shade(
+    img: &SpectralImage,
+    onto: &Onto,
+    bounce: &SelfBounce,
+    diff_rgb: bool,
+) -> Vec<([u8; 3], f64)> {
+    let to_display = SRGB.from_xyz(SRGB.white_xyz());
+    let white = bounce.white();
+    (0..img.width * img.height)
+        .into_par_iter()
+        .map_init(
+            || {
+                (
+                    vec![0f32; img.bands.len()],
+                    vec![0f64; onto.grid.len()],
+                    vec![0f32; onto.grid.len()],
+                )
+            },
+            |(bands, fine, r), p| {
+                for (v, plane) in bands.iter_mut().zip(&img.bands) {
+                    *v = plane[p];
+                }
+                if !bands.iter().all(|v| v.is_finite()) {
+                    return ([0; 3], f64::NAN);
+                }
+                onto.apply(bands, fine);
+                r.iter_mut()
+                    .zip(fine.iter())
+                    .for_each(|(r, &v)| *r = v as f32);
+                let xyz = bounce.spectral(r);
+                let display = apply(&to_display, xyz)
+                    .map(|v| (srgb_encode(v.clamp(0.0, 1.0)) * 255.0).round() as u8);
+                let d = if diff_rgb {
+                    ciede2000(xyz_to_lab(xyz, white), xyz_to_lab(bounce.rgb(r), white))
+                } else {
+                    0.0
+                };
+                (display, d)
+            },
+        )
+        .collect()
 }
 
 /// Black → red → yellow → white as ΔE goes from 0 to 1 (of the scale): readable in grey too.

@@ -3,8 +3,8 @@
 use crate::{checks, usage};
 use anyhow::{bail, Context, Result};
 use specconv_colour::{Illuminant, Integration};
-use specconv_exr::Kind;
-use std::path::PathBuf;
+use specconv_exr::{Kind, SpectralImage};
+use std::path::{Path, PathBuf};
 
 /// Shown after `--help` and as the man page's EXAMPLES.
 pub const EXAMPLES: &str = "\
@@ -93,45 +93,10 @@ pub fn run(args: Args) -> Result<()> {
     let processor = config.processor(&xyz_space, &target)?;
 
     let n = img.bands.len();
-    let pixels = img.width * img.height;
-    let mut rgb = vec![0.0f32; pixels * 3];
-    let mut r = vec![0.0f64; n];
-    for p in 0..pixels {
-        for (b, plane) in img.bands.iter().enumerate() {
-            r[b] = plane[p] as f64;
-        }
-        if let Some(light) = &lit {
-            for (i, o, plane) in &img.reradiation {
-                if light[*o] > 0.0 {
-                    r[*o] += plane[p] as f64 * light[*i] / light[*o];
-                }
-            }
-        }
-        let c = integration.xyz(&r);
-        rgb[3 * p..3 * p + 3].copy_from_slice(&[c[0] as f32, c[1] as f32, c[2] as f32]);
-    }
+    let mut rgb = xyz_of_pixels(&img, &integration, lit.as_deref());
     processor.apply_rgb(&mut rgb)?;
 
-    let (w, h) = (img.width, img.height);
-    let tmp = specconv_pipeline::temporary_path(&args.output);
-    let px = |x: usize, y: usize| {
-        let i = y * w + x;
-        (rgb[3 * i], rgb[3 * i + 1], rgb[3 * i + 2])
-    };
-    // No channel the input did not have: RGB, and A only when the input has alpha.
-    let written = match &img.alpha {
-        Some(a) => exr::prelude::write_rgba_file(&tmp, w, h, |x, y| {
-            let (r, g, b) = px(x, y);
-            (r, g, b, a[y * w + x])
-        }),
-        None => exr::prelude::write_rgb_file(&tmp, w, h, px),
-    }
-    .map_err(anyhow::Error::from)
-    .and_then(|()| Ok(std::fs::rename(&tmp, &args.output)?));
-    if written.is_err() {
-        let _ = std::fs::remove_file(&tmp);
-    }
-    written.with_context(|| format!("cannot write {}", args.output.display()))?;
+    write(&args.output, &img, &rgb)?;
     let light = match recorded.units {
         Some((units, why)) => format!("emission, {units} units ({why})"),
         None if lit.is_some() => format!(
@@ -140,6 +105,69 @@ pub fn run(args: Args) -> Result<()> {
         ),
         None => format!("under {illuminant}"),
     };
+    let notes = notes(&img, emissive);
+    let wl = &img.wavelengths;
+    eprintln!(
+        "{} → {}: {}×{}, {n} bands {}–{} nm {light} ({observer}) to {target}{notes}",
+        args.input.display(),
+        args.output.display(),
+        img.width,
+        img.height,
+        wl[0],
+        wl[n - 1],
+    );
+    Ok(())
+}
+
+/// XYZ of every pixel (f32, three per pixel) under `integration`; with `lit` (the light per
+/// band), bispectral: band o reflects T(o)·I(o) and re-radiates T(i→o)·I(i) from each band i.
+fn xyz_of_pixels(img: &SpectralImage, integration: &Integration, lit: Option<&[f64]>) -> Vec<f32> {
+    let pixels = img.width * img.height;
+    let mut xyz = vec![0.0f32; pixels * 3];
+    let mut r = vec![0.0f64; img.bands.len()];
+    for p in 0..pixels {
+        for (b, plane) in img.bands.iter().enumerate() {
+            r[b] = plane[p] as f64;
+        }
+        if let Some(light) = lit {
+            for (i, o, plane) in &img.reradiation {
+                if light[*o] > 0.0 {
+                    r[*o] += plane[p] as f64 * light[*i] / light[*o];
+                }
+            }
+        }
+        let c = integration.xyz(&r);
+        xyz[3 * p..3 * p + 3].copy_from_slice(&[c[0] as f32, c[1] as f32, c[2] as f32]);
+    }
+    xyz
+}
+
+/// Writes `rgb` as an RGB(A) OpenEXR through a temporary file: no channel the input did not
+/// have (A only when the input has alpha).
+fn write(output: &Path, img: &SpectralImage, rgb: &[f32]) -> Result<()> {
+    let (w, h) = (img.width, img.height);
+    let tmp = specconv_pipeline::temporary_path(output);
+    let px = |x: usize, y: usize| {
+        let i = y * w + x;
+        (rgb[3 * i], rgb[3 * i + 1], rgb[3 * i + 2])
+    };
+    let written = match &img.alpha {
+        Some(a) => exr::prelude::write_rgba_file(&tmp, w, h, |x, y| {
+            let (r, g, b) = px(x, y);
+            (r, g, b, a[y * w + x])
+        }),
+        None => exr::prelude::write_rgb_file(&tmp, w, h, px),
+    }
+    .map_err(anyhow::Error::from)
+    .and_then(|()| Ok(std::fs::rename(&tmp, output)?));
+    if written.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    written.with_context(|| format!("cannot write {}", output.display()))
+}
+
+/// What of the file the conversion left out, for the report line.
+fn notes(img: &SpectralImage, emissive: bool) -> String {
     let mut notes = String::new();
     let layout = &img.layout;
     if layout.polarised() {
@@ -154,13 +182,5 @@ pub fn run(args: Args) -> Result<()> {
             layout.other.join(", ")
         );
     }
-    let wl = &img.wavelengths;
-    eprintln!(
-        "{} → {}: {w}×{h}, {n} bands {}–{} nm {light} ({observer}) to {target}{notes}",
-        args.input.display(),
-        args.output.display(),
-        wl[0],
-        wl[n - 1],
-    );
-    Ok(())
+    notes
 }
