@@ -463,38 +463,13 @@ impl SpectralFile {
                 alpha.map_or(String::new(), |a| format!(" and {} alpha values", a.len()))
             )));
         }
-        let bytes = match self.spec.sample {
-            Sample::Half => 2,
-            Sample::Float => 4,
-        };
         // ZIP blocks are compressed here (module `zip`), from the little-endian bytes the file
         // stores; the exr crate compresses the others from native-endian bytes.
         let zip = matches!(
             self.spec.compression,
             Compression::ZIP1 | Compression::ZIP16
         );
-        let mut data = Vec::with_capacity(pixels * self.values_per_pixel() * bytes);
-        let mut put = |v: f32| match (self.spec.sample, zip) {
-            (Sample::Half, true) => data.extend_from_slice(&half::f16::from_f32(v).to_le_bytes()),
-            (Sample::Half, false) => data.extend_from_slice(&half::f16::from_f32(v).to_ne_bytes()),
-            (Sample::Float, true) => data.extend_from_slice(&v.to_le_bytes()),
-            (Sample::Float, false) => data.extend_from_slice(&v.to_ne_bytes()),
-        };
-        for row in 0..block.height {
-            let first = row * block.width;
-            for &src in &self.source {
-                if src == n {
-                    let a = alpha.expect("checked above");
-                    a[first..first + block.width].iter().for_each(|&v| put(v));
-                } else {
-                    bands[first * n..(first + block.width) * n]
-                        .iter()
-                        .skip(src)
-                        .step_by(n)
-                        .for_each(|&v| put(v));
-                }
-            }
-        }
+        let data = self.sample_bytes(block, bands, alpha, zip);
         if zip {
             let compressed_pixels_le = zip::compress(&data, self.spec.zip_level);
             let compressed_block = match self.spec.blocks {
@@ -532,12 +507,81 @@ impl SpectralFile {
         Ok(block.compress_to_chunk(std::slice::from_ref(&self.header))?)
     }
 
+    /// The block's samples as the file stores them: row by row, within a row channel by channel
+    /// (sorted by name), little-endian when `le`, else native-endian. Half samples are converted
+    /// all at once (F16C where the CPU has it, as `half` does value by value), then placed.
+    fn sample_bytes(
+        &self,
+        block: &Block,
+        bands: &[f32],
+        alpha: Option<&[f32]>,
+        le: bool,
+    ) -> Vec<u8> {
+        fn place<T: Copy, const B: usize>(
+            source: &[usize],
+            block: &Block,
+            bands: &[T],
+            alpha: Option<&[T]>,
+            n: usize,
+            bytes: impl Fn(T) -> [u8; B],
+        ) -> Vec<u8> {
+            let width = block.width;
+            let mut data = vec![0u8; block.height * width * source.len() * B];
+            let mut rows = data.chunks_exact_mut(width * B);
+            for y in 0..block.height {
+                let first = y * width;
+                for &src in source {
+                    let out = rows.next().expect("one row per line and channel");
+                    if src == n {
+                        let a = &alpha.expect("checked by encode")[first..first + width];
+                        for (o, &v) in out.chunks_exact_mut(B).zip(a) {
+                            o.copy_from_slice(&bytes(v));
+                        }
+                    } else {
+                        let pixels = bands[first * n..(first + width) * n].chunks_exact(n);
+                        for (o, px) in out.chunks_exact_mut(B).zip(pixels) {
+                            o.copy_from_slice(&bytes(px[src]));
+                        }
+                    }
+                }
+            }
+            data
+        }
+        let n = self.spec.wavelengths.len();
+        match self.spec.sample {
+            Sample::Half => {
+                use half::slice::HalfFloatSliceExt;
+                let halves = |values: &[f32]| {
+                    let mut h = vec![half::f16::ZERO; values.len()];
+                    h.convert_from_f32_slice(values);
+                    h
+                };
+                let (bands, alpha) = (halves(bands), alpha.map(halves));
+                let to = if le {
+                    half::f16::to_le_bytes
+                } else {
+                    half::f16::to_ne_bytes
+                };
+                place(&self.source, block, &bands, alpha.as_deref(), n, to)
+            }
+            Sample::Float => {
+                let to = if le {
+                    f32::to_le_bytes
+                } else {
+                    f32::to_ne_bytes
+                };
+                place(&self.source, block, bands, alpha, n, to)
+            }
+        }
+    }
+
     /// Writes the header, then every chunk that `produce` hands to its callback (any order,
-    /// each exactly once), then completes the offset table. `out` should be buffered.
+    /// each exactly once), then completes the offset table. `out` should be buffered. The
+    /// callback may be sent to another thread, so that chunks are written while others are made.
     pub fn write<W, F>(&self, mut out: W, produce: F) -> Result<()>
     where
-        W: Write + Seek,
-        F: FnOnce(&mut dyn FnMut(usize, Chunk) -> Result<()>) -> Result<()>,
+        W: Write + Seek + Send,
+        F: FnOnce(&mut (dyn FnMut(usize, Chunk) -> Result<()> + Send)) -> Result<()>,
     {
         use exr::block::writer::ChunksWriter;
         let mut failure = None;

@@ -25,44 +25,54 @@ thread_local! {
     /// to allocate for every block.
     static COMPRESSORS: RefCell<Vec<Option<libdeflater::Compressor>>> =
         const { RefCell::new(Vec::new()) };
+    /// The split and predicted bytes of the block being compressed, reused block after block.
+    static SCRATCH: RefCell<(Vec<u8>, Vec<u8>)> = const { RefCell::new((Vec::new(), Vec::new())) };
 }
 
 /// The bytes of a ZIP chunk holding `raw_le`, the block's uncompressed little-endian bytes:
 /// the zlib stream of its predicted bytes, or `raw_le` itself when that is not smaller.
 /// `level` above [`MAX_LEVEL`] is taken as [`MAX_LEVEL`].
 pub fn compress(raw_le: &[u8], level: u8) -> Vec<u8> {
-    let Some(&first) = raw_le.first() else {
+    if raw_le.is_empty() {
         return Vec::new();
-    };
-    let mut predicted = Vec::with_capacity(raw_le.len());
-    predicted.push(first);
-    let mut previous = first;
-    let evens = raw_le.iter().step_by(2).skip(1);
-    let odds = raw_le.iter().skip(1).step_by(2);
-    predicted.extend(evens.chain(odds).map(|&b| {
-        let d = b.wrapping_sub(previous).wrapping_add(128);
-        previous = b;
-        d
-    }));
-
+    }
     let level = level.min(MAX_LEVEL);
-    let stream = COMPRESSORS.with(|cell| {
-        let mut compressors = cell.borrow_mut();
-        if compressors.len() <= usize::from(level) {
-            compressors.resize_with(usize::from(level) + 1, || None);
+    let stream = SCRATCH.with(|scratch| {
+        let (split, predicted) = &mut *scratch.borrow_mut();
+        // Even-indexed bytes, then odd-indexed ones; then each byte but the first minus the
+        // one before it, plus 128. Two plain passes, which the compiler vectorises.
+        let len = raw_le.len();
+        split.resize(len, 0);
+        predicted.resize(len, 0);
+        let (evens, odds) = split.split_at_mut(len.div_ceil(2));
+        for (pair, (e, o)) in raw_le.chunks_exact(2).zip(evens.iter_mut().zip(odds)) {
+            (*e, *o) = (pair[0], pair[1]);
         }
-        let compressor = compressors[usize::from(level)].get_or_insert_with(|| {
-            libdeflater::Compressor::new(
-                libdeflater::CompressionLvl::new(i32::from(level)).expect("levels 0–9 exist"),
-            )
-        });
-        let mut out = vec![0; compressor.zlib_compress_bound(predicted.len())];
-        // The bound is what libdeflate promises to fit, so this cannot run out of space.
-        let len = compressor
-            .zlib_compress(&predicted, &mut out)
-            .expect("output sized by zlib_compress_bound");
-        out.truncate(len);
-        out
+        if len % 2 == 1 {
+            evens[evens.len() - 1] = raw_le[len - 1];
+        }
+        predicted[0] = split[0];
+        for ((p, &b), &a) in predicted[1..].iter_mut().zip(&split[1..]).zip(&split[..]) {
+            *p = b.wrapping_sub(a).wrapping_add(128);
+        }
+        COMPRESSORS.with(|cell| {
+            let mut compressors = cell.borrow_mut();
+            if compressors.len() <= usize::from(level) {
+                compressors.resize_with(usize::from(level) + 1, || None);
+            }
+            let compressor = compressors[usize::from(level)].get_or_insert_with(|| {
+                libdeflater::Compressor::new(
+                    libdeflater::CompressionLvl::new(i32::from(level)).expect("levels 0–9 exist"),
+                )
+            });
+            let mut out = vec![0; compressor.zlib_compress_bound(predicted.len())];
+            // The bound is what libdeflate promises to fit, so this cannot run out of space.
+            let len = compressor
+                .zlib_compress(predicted, &mut out)
+                .expect("output sized by zlib_compress_bound");
+            out.truncate(len);
+            out
+        })
     });
     if stream.len() < raw_le.len() {
         stream

@@ -276,6 +276,18 @@ pub fn convert(job: &Job, progress: &mut dyn FnMut(u64, u64)) -> Result<Report> 
         specconv_exr::Error::Invalid("aborted".into())
     };
     let written = file.write(BufWriter::with_capacity(1 << 20, out), |sink| {
+        // Window i's blocks are made while window i + 1 is read and window i − 1's chunks are
+        // written, in file order: the writer never holds up the threads that compress.
+        let mut made: Vec<(usize, Chunk, Counts)> = Vec::new();
+        let mut write = |made: Vec<(usize, Chunk, Counts)>| -> specconv_exr::Result<()> {
+            for (chunk_index, chunk, c) in made {
+                counts.non_finite += c.non_finite;
+                counts.above_one += c.above_one;
+                counts.saturated += c.saturated;
+                sink(chunk_index, chunk)?;
+            }
+            Ok(())
+        };
         for (i, window) in windows.iter().enumerate() {
             if job.cancel.load(Ordering::Relaxed) {
                 return Err(fail(Error::Cancelled));
@@ -283,10 +295,10 @@ pub fn convert(job: &Job, progress: &mut dyn FnMut(u64, u64)) -> Result<Report> 
             let rows = next
                 .take()
                 .expect("each window is read before it is processed");
-            // Read the next window while this one is uplifted.
-            let (chunks, read_next) = rayon::join(
-                || -> Result<Vec<Vec<(usize, Chunk, Counts)>>> {
-                    window
+            let previous = std::mem::take(&mut made);
+            let (chunks, (read_next, wrote)) = rayon::join(
+                || -> Result<Vec<(usize, Chunk, Counts)>> {
+                    let strips: Vec<Vec<_>> = window
                         .par_iter()
                         .zip(rows.par_iter())
                         .map(|(strip, px)| {
@@ -304,26 +316,27 @@ pub fn convert(job: &Job, progress: &mut dyn FnMut(u64, u64)) -> Result<Report> 
                                         (alpha, premultiply),
                                     )
                                 })
-                                .collect()
+                                .collect::<Result<_>>()
                         })
-                        .collect()
+                        .collect::<Result<_>>()?;
+                    Ok(strips.into_iter().flatten().collect())
                 },
-                || windows.get(i + 1).map(|w| read(&mut reader, w)).transpose(),
+                || {
+                    let wrote = write(previous);
+                    let read = windows.get(i + 1).map(|w| read(&mut reader, w)).transpose();
+                    (read, wrote)
+                },
             );
+            wrote?;
             next = read_next.map_err(&mut fail)?;
-            for (chunk_index, chunk, c) in chunks.map_err(&mut fail)?.into_iter().flatten() {
-                counts.non_finite += c.non_finite;
-                counts.above_one += c.above_one;
-                counts.saturated += c.saturated;
-                sink(chunk_index, chunk)?;
-            }
+            made = chunks.map_err(&mut fail)?;
             done += window
                 .iter()
                 .map(|s| (file.level_size(s.level).0 * s.height) as u64)
                 .sum::<u64>();
             progress(done, total);
         }
-        Ok(())
+        write(made)
     });
     if let Some(e) = failure {
         return Err(e);
