@@ -301,3 +301,36 @@ fn zip_levels_trade_size_and_incompressible_blocks_are_stored_raw() {
     let size = |p: &Path| std::fs::metadata(p).unwrap().len();
     assert_eq!(size(&zip), size(&raw));
 }
+
+#[test]
+fn zip_level_with_a_method_that_has_none_is_a_usage_error() {
+    let dir = Scratch::new("compression-zip-level-usage");
+    let input = crate::convert::testdata("photo.jpg");
+    let out = dir.path("out.exr");
+    for method in ["none", "piz", "b44a"] {
+        specconv([
+            input.to_str().unwrap(),
+            out.to_str().unwrap(),
+            "--compression",
+            method,
+            "--zip-level",
+            "9",
+        ])
+        .fails(2, &["--zip-level", &format!("--compression {method}")]);
+        assert!(!out.exists(), "no output after a usage error");
+    }
+    // The same level with zip and zips is taken.
+    for method in ["zip", "zips"] {
+        specconv([
+            input.to_str().unwrap(),
+            out.to_str().unwrap(),
+            "--compression",
+            method,
+            "--zip-level",
+            "9",
+            "--force",
+        ])
+        .ok();
+    }
+    assert!(out.exists());
+}

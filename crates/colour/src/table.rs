@@ -2,6 +2,7 @@
 //! a wavelength column first, then one column per named sample.
 
 use crate::{Error, Grid};
+use std::borrow::Cow;
 
 /// A table of spectra sampled at common wavelengths.
 #[derive(Debug, Clone, PartialEq)]
@@ -41,7 +42,7 @@ impl SpectralTable {
                 "the header has no sample columns; expected `wavelength_nm,<sample>,…`".into(),
             ));
         }
-        let names: Vec<String> = header[1..].to_vec();
+        let names: Vec<String> = header[1..].iter().map(|c| c.to_string()).collect();
         if let Some(i) = names.iter().position(|n| n.trim().is_empty()) {
             return Err(err(hline, format!("column {} has an empty name", i + 2)));
         }
@@ -61,11 +62,11 @@ impl SpectralTable {
             }
             let mut values = cells.iter().enumerate().map(|(c, cell)| {
                 let column = if c == 0 {
-                    header[0].as_str()
+                    &*header[0]
                 } else {
                     names[c - 1].as_str()
                 };
-                match cell.trim().parse::<f64>() {
+                match cell.parse::<f64>() {
                     Ok(v) if v.is_finite() => Ok(v),
                     _ => Err(err(
                         ln,
@@ -126,7 +127,11 @@ impl SpectralTable {
 
 /// Splits one CSV row. Cells may be double-quoted (with `""` for a quote inside), so sample
 /// names may contain commas.
-fn split_row(line: &str) -> Result<Vec<String>, String> {
+fn split_row(line: &str) -> Result<Vec<Cow<'_, str>>, String> {
+    // Rows of numbers have no quotes: their cells are slices of the line (no copy per cell).
+    if !line.contains('"') {
+        return Ok(line.split(',').map(|c| Cow::Borrowed(c.trim())).collect());
+    }
     let mut cells = Vec::new();
     let mut cell = String::new();
     let mut chars = line.chars().peekable();
@@ -150,7 +155,10 @@ fn split_row(line: &str) -> Result<Vec<String>, String> {
         return Err("a quoted cell is not closed".into());
     }
     cells.push(cell);
-    Ok(cells.into_iter().map(|c| c.trim().to_string()).collect())
+    Ok(cells
+        .into_iter()
+        .map(|c| Cow::Owned(c.trim().to_string()))
+        .collect())
 }
 
 #[cfg(test)]

@@ -1,23 +1,43 @@
 //! Training cost on the Munsell set (read from ../shared), against a reference measured in the
 //! same run: one PCA of the whole set (a 1-cluster model). The ratio says how many whole-set
 //! PCAs the greedy tree costs.
+//!
+//! Also the work of `specconv train` on that set in this process, part by part (read and parse
+//! the 1 nm CSV, resample it to the default 36 bands, train 8 clusters, the model's JSON),
+//! against the numpy reference figure of issue 15: 2.9 s for the same training. What the
+//! process spends before `main` (loading the CLI's shared libraries) is not in it; see
+//! docs/performance.md.
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use specconv_colour::{Colorimetry, Grid, Illuminant, Observer, SpectralTable};
 use specconv_spectral::{train, TrainOptions, TrainingSet};
 
-fn munsell(grid: &Grid) -> TrainingSet {
+const FILE: &str = "munsell1269_matte_380-800_1nm.csv";
+
+/// The numpy reference's time for training 8 clusters on the Munsell set (issue 15).
+const NUMPY_SECONDS: f64 = 2.9;
+
+fn path() -> String {
     let dir = std::env::var("SPECCONV_SHARED")
         .unwrap_or_else(|_| concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared").into());
-    let file = "munsell1269_matte_380-800_1nm.csv";
-    let text = std::fs::read_to_string(format!("{dir}/spectra/{file}"))
-        .expect("../shared/spectra beside the checkout");
-    let t = SpectralTable::parse(file, &text).unwrap();
+    format!("{dir}/spectra/{FILE}")
+}
+
+fn parse() -> SpectralTable {
+    let text = std::fs::read_to_string(path()).expect("../shared/spectra beside the checkout");
+    SpectralTable::parse(FILE, &text).unwrap()
+}
+
+fn training_set(t: &SpectralTable, grid: &Grid) -> TrainingSet {
     TrainingSet {
-        sources: vec![file.into()],
+        sources: vec![FILE.into()],
         names: t.names.clone(),
         spectra: t.resampled(grid).unwrap(),
     }
+}
+
+fn munsell(grid: &Grid) -> TrainingSet {
+    training_set(&parse(), grid)
 }
 
 fn training(c: &mut Criterion) {
@@ -43,6 +63,36 @@ fn training(c: &mut Criterion) {
 
     // The ratio, from medians of a few runs measured here.
     let median = |f: &dyn Fn()| specconv_testkit::median_seconds(7, &mut || f());
+    // `specconv train`'s work, part by part, as the command does it.
+    let table = parse();
+    let t_parse = median(&|| drop(parse()));
+    let t_resample = median(&|| drop(training_set(&table, &a.grid)));
+    let model = train(&set, &a, &opts(8, 20)).unwrap();
+    let t_json = median(&|| drop(model.to_json()));
+    let t_whole = median(&|| {
+        let t = parse();
+        drop(
+            train(&training_set(&t, &a.grid), &a, &opts(8, 20))
+                .unwrap()
+                .to_json(),
+        )
+    });
+    println!(
+        "specconv train's work (Munsell 1269 at 1 nm → 36 bands, 8 clusters, min 20): {:.1} ms \
+         = {:.3} × numpy's {NUMPY_SECONDS} s (read and parse {:.1} ms, resample {:.1} ms, train \
+         the rest, JSON {:.1} ms; load {})",
+        t_whole * 1e3,
+        t_whole / NUMPY_SECONDS,
+        t_parse * 1e3,
+        t_resample * 1e3,
+        t_json * 1e3,
+        std::fs::read_to_string("/proc/loadavg")
+            .unwrap_or_default()
+            .split(' ')
+            .take(3)
+            .collect::<Vec<_>>()
+            .join(" ")
+    );
     let reference = median(&|| drop(train(&set, &a, &opts(1, 20)).unwrap()));
     for (k, min) in [(8, 20), (8, 4)] {
         let t = median(&|| drop(train(&set, &a, &opts(k, min)).unwrap()));

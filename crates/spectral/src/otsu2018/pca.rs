@@ -37,20 +37,19 @@ impl Moments {
 
     /// `self − other`, for the far side of a split.
     pub fn minus(&self, other: &Moments) -> Moments {
-        Moments {
-            count: self.count - other.count,
-            sum: self
-                .sum
-                .iter()
-                .zip(&other.sum)
-                .map(|(a, b)| a - b)
-                .collect(),
-            outer: self
-                .outer
-                .iter()
-                .zip(&other.outer)
-                .map(|(a, b)| a - b)
-                .collect(),
+        let mut out = Moments::zero(self.sum.len());
+        self.minus_into(other, &mut out);
+        out
+    }
+
+    /// [`Moments::minus`] into `out` (of the same size), which the split search reuses.
+    pub fn minus_into(&self, other: &Moments, out: &mut Moments) {
+        out.count = self.count - other.count;
+        for ((o, a), b) in out.sum.iter_mut().zip(&self.sum).zip(&other.sum) {
+            *o = a - b;
+        }
+        for ((o, a), b) in out.outer.iter_mut().zip(&self.outer).zip(&other.outer) {
+            *o = a - b;
         }
     }
 
@@ -66,15 +65,25 @@ impl Moments {
 
     /// The scatter matrix Σ (s − μ)(s − μ)ᵀ = Σ s·sᵀ − N·μ·μᵀ.
     pub fn scatter(&self) -> Vec<f64> {
+        let mut c = Vec::new();
+        self.scatter_into(&mut c, &mut Vec::new());
+        c
+    }
+
+    /// [`Moments::scatter`] into `c`, with `mu` as room for the mean: no allocation once
+    /// they have grown.
+    pub fn scatter_into(&self, c: &mut Vec<f64>, mu: &mut Vec<f64>) {
         let n = self.sum.len();
-        let mu = self.mean();
-        let mut c = self.outer.clone();
-        for i in 0..n {
-            for j in 0..n {
-                c[i * n + j] -= self.count as f64 * mu[i] * mu[j];
+        mu.clear();
+        mu.extend(self.sum.iter().map(|s| s / self.count as f64));
+        c.clear();
+        c.extend_from_slice(&self.outer);
+        let count = self.count as f64;
+        for (row, &mi) in c.chunks_exact_mut(n).zip(mu.iter()) {
+            for (cij, &mj) in row.iter_mut().zip(mu.iter()) {
+                *cij -= count * mi * mj;
             }
         }
-        c
     }
 }
 
@@ -135,18 +144,18 @@ pub const RANK_TOL: f64 = 1e-12;
 /// scatter `c` (n×n, row-major); `energy` is Σ‖s‖² of the spectra behind it.
 pub fn check_rank(c: &[f64], basis: &[Vec<f64>; 3], energy: f64) -> Result<(), Unfit> {
     let n = basis[0].len();
-    let variance = |b: &[f64]| -> f64 {
-        c.chunks_exact(n)
-            .zip(b)
-            .map(|(row, bi)| bi * dot(row, b))
-            .sum()
-    };
+    // bᵀ·C·b = Σᵢ bᵢ·(rowᵢ·b) for the three vectors at once: each sum in the order of one
+    // vector's own, so the same bits.
+    let mut variance = [-0.0; 3];
+    for (i, row) in c.chunks_exact(n).enumerate() {
+        let d = dots([&basis[0], &basis[1], &basis[2]], row);
+        for k in 0..3 {
+            variance[k] += basis[k][i] * d[k];
+        }
+    }
     // By decreasing eigenvalue: the rank is the count of leading vectors above the floor.
     let floor = RANK_TOL * energy;
-    match basis.iter().position(|b| {
-        let v = variance(b);
-        v.is_nan() || v <= floor
-    }) {
+    match variance.iter().position(|&v| v.is_nan() || v <= floor) {
         Some(rank) => Err(Unfit::Rank(rank)),
         None => Ok(()),
     }
@@ -169,7 +178,8 @@ pub fn fit_basis(
     basis: [Vec<f64>; 3],
 ) -> Result<Fit, Unfit> {
     let n = a.bands();
-    let m = std::array::from_fn(|i| std::array::from_fn(|j| dot(&a.weights[i], &basis[j])));
+    let [b1, b2, b3] = [&basis[0][..], &basis[1][..], &basis[2][..]];
+    let m = std::array::from_fn(|i| dots([b1, b2, b3], &a.weights[i]));
     let mm = Matrix3::from_fn(|i, j| m[i][j]);
     let sv = mm.singular_values();
     let (smax, smin) = (sv.max(), sv.min());
@@ -183,13 +193,15 @@ pub fn fit_basis(
     }
     let inv = mm.try_inverse().ok_or(Unfit::IllConditioned(condition))?;
     // Rows of A·C (C is symmetric, so its rows are its columns).
-    let ac: [Vec<f64>; 3] = std::array::from_fn(|i| {
-        (0..n)
-            .map(|j| dot(&a.weights[i], &c[j * n..(j + 1) * n]))
-            .collect()
-    });
-    let g = Matrix3::from_fn(|i, j| dot(&ac[i], &a.weights[j]));
-    let acb = Matrix3::from_fn(|i, j| dot(&ac[i], &basis[j]));
+    let w = [&a.weights[0][..], &a.weights[1][..], &a.weights[2][..]];
+    let mut ac: [Vec<f64>; 3] = std::array::from_fn(|_| Vec::with_capacity(n));
+    for row in c.chunks_exact(n) {
+        let d = dots(w, row);
+        (0..3).for_each(|i| ac[i].push(d[i]));
+    }
+    let (g, acb) = (dots_3x3(w, &ac), dots_3x3([b1, b2, b3], &ac));
+    let g = Matrix3::from_fn(|i, j| g[j][i]);
+    let acb = Matrix3::from_fn(|i, j| acb[j][i]);
     let trace_c: f64 = (0..n).map(|i| c[i * n + i]).sum();
     let error = trace_c - 2.0 * (inv * acb).trace() + (inv * g * inv.transpose()).trace();
     Ok(Fit {
@@ -240,17 +252,32 @@ impl Tracker {
 
     fn iterate(&mut self, c: &[f64], n: usize) -> Option<[Vec<f64>; 3]> {
         let mut z = vec![0.0; n * P];
+        let (mut y, mut cy) = (vec![0.0; n * P], vec![0.0; n * P]);
         for _ in 0..Self::MAX_ITERATIONS {
             self.iterations += 1;
-            // Z = C·Q
-            for (i, row) in c.chunks_exact(n).enumerate() {
-                let mut acc = [0.0; P];
-                for (cij, qj) in row.iter().zip(self.q.chunks_exact(P)) {
+            // Z = C·Q, two rows at a time: twice the independent sums in flight, each summed
+            // in the same order as one row alone.
+            let mut rows = c.chunks_exact(n).zip(z.chunks_exact_mut(P));
+            while let Some((row0, z0)) = rows.next() {
+                let Some((row1, z1)) = rows.next() else {
+                    let mut acc = [0.0; P];
+                    for (cij, qj) in row0.iter().zip(self.q.chunks_exact(P)) {
+                        for k in 0..P {
+                            acc[k] += cij * qj[k];
+                        }
+                    }
+                    z0.copy_from_slice(&acc);
+                    break;
+                };
+                let (mut acc0, mut acc1) = ([0.0; P], [0.0; P]);
+                for ((c0, c1), qj) in row0.iter().zip(row1).zip(self.q.chunks_exact(P)) {
                     for k in 0..P {
-                        acc[k] += cij * qj[k];
+                        acc0[k] += c0 * qj[k];
+                        acc1[k] += c1 * qj[k];
                     }
                 }
-                z[i * P..(i + 1) * P].copy_from_slice(&acc);
+                z0.copy_from_slice(&acc0);
+                z1.copy_from_slice(&acc1);
             }
             // Rayleigh–Ritz: H = Qᵀ·C·Q, symmetrised.
             let mut h = nalgebra::SMatrix::<f64, P, P>::zeros();
@@ -267,7 +294,6 @@ impl Tracker {
             order.sort_by(|&i, &j| eig.eigenvalues[j].total_cmp(&eig.eigenvalues[i]));
             let w = nalgebra::SMatrix::<f64, P, P>::from_fn(|i, k| eig.eigenvectors[(i, order[k])]);
             // Ritz vectors Y = Q·W and C·Y = Z·W.
-            let (mut y, mut cy) = (vec![0.0; n * P], vec![0.0; n * P]);
             for b in 0..n {
                 for k in 0..P {
                     let (mut sy, mut sz) = (0.0, 0.0);
@@ -280,19 +306,20 @@ impl Tracker {
                 }
             }
             let theta: [f64; P] = std::array::from_fn(|k| eig.eigenvalues[order[k]]);
-            let converged = (0..3).all(|k| {
-                let r2: f64 = (0..n)
-                    .map(|b| (cy[b * P + k] - theta[k] * y[b * P + k]).powi(2))
-                    .sum();
-                r2.sqrt() <= Self::TOL * theta[0].abs()
-            });
-            if converged {
-                self.q = y;
+            // The three residuals' sums side by side, each in band order.
+            let mut r2 = [-0.0; 3];
+            for (yb, cyb) in y.chunks_exact(P).zip(cy.chunks_exact(P)) {
+                for k in 0..3 {
+                    r2[k] += (cyb[k] - theta[k] * yb[k]).powi(2);
+                }
+            }
+            if r2.iter().all(|r| r.sqrt() <= Self::TOL * theta[0].abs()) {
+                std::mem::swap(&mut self.q, &mut y);
                 return Some(std::array::from_fn(|k| {
                     (0..n).map(|b| self.q[b * P + k]).collect()
                 }));
             }
-            self.q = cy;
+            std::mem::swap(&mut self.q, &mut cy);
             if !orthonormalise(&mut self.q, n) {
                 return None;
             }
@@ -304,20 +331,37 @@ impl Tracker {
 /// Modified Gram–Schmidt on the columns of a row-major n×P block, twice for orthogonality to
 /// working precision; false when they are (numerically) dependent.
 fn orthonormalise(v: &mut [f64], n: usize) -> bool {
-    for _ in 0..2 {
-        for k in 0..P {
-            for j in 0..k {
-                let d: f64 = (0..n).map(|b| v[b * P + k] * v[b * P + j]).sum();
-                (0..n).for_each(|b| v[b * P + k] -= d * v[b * P + j]);
-            }
-            let norm = (0..n).map(|b| v[b * P + k].powi(2)).sum::<f64>().sqrt();
-            if !(norm > 0.0 && norm.is_finite()) {
-                return false;
-            }
-            (0..n).for_each(|b| v[b * P + k] /= norm);
+    // Column by column on a contiguous copy: the same operations in the same order.
+    let mut cols = vec![0.0; n * P];
+    for (b, row) in v.chunks_exact(P).enumerate() {
+        for (k, &x) in row.iter().enumerate() {
+            cols[k * n + b] = x;
         }
     }
-    true
+    let independent = (|| {
+        for _ in 0..2 {
+            for k in 0..P {
+                let (done, rest) = cols.split_at_mut(k * n);
+                let vk = &mut rest[..n];
+                for vj in done.chunks_exact(n) {
+                    let d: f64 = vk.iter().zip(vj).map(|(x, y)| x * y).sum();
+                    vk.iter_mut().zip(vj).for_each(|(x, y)| *x -= d * y);
+                }
+                let norm = vk.iter().map(|x| x.powi(2)).sum::<f64>().sqrt();
+                if !(norm > 0.0 && norm.is_finite()) {
+                    return false;
+                }
+                vk.iter_mut().for_each(|x| *x /= norm);
+            }
+        }
+        true
+    })();
+    for (b, row) in v.chunks_exact_mut(P).enumerate() {
+        for (k, x) in row.iter_mut().enumerate() {
+            *x = cols[k * n + b];
+        }
+    }
+    independent
 }
 
 /// The eigenvectors of the three largest eigenvalues of a symmetric matrix, signs fixed so
@@ -355,6 +399,27 @@ fn top_eigenvectors(c: &[f64], n: usize, k: usize) -> Vec<Vec<f64>> {
 
 pub(crate) fn dot(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
+/// `[dot(rows[0], v), …]` in one pass: the sums run side by side (no wait on one another), each
+/// from −0.0 in index order as `Iterator::sum` adds, so each is [`dot`] bit for bit.
+#[inline]
+fn dots<const R: usize>(rows: [&[f64]; R], v: &[f64]) -> [f64; R] {
+    let mut acc = [-0.0; R];
+    for (i, &vi) in v.iter().enumerate() {
+        for r in 0..R {
+            acc[r] += rows[r][i] * vi;
+        }
+    }
+    acc
+}
+
+/// `d[j][i] = dot(rows[j], vs[i])`, as [`dots`].
+fn dots_3x3(rows: [&[f64]; 3], vs: &[Vec<f64>; 3]) -> [[f64; 3]; 3] {
+    std::array::from_fn(|j| {
+        let d = std::array::from_fn(|i| vs[i].as_slice());
+        dots(d, rows[j])
+    })
 }
 
 #[cfg(test)]

@@ -274,6 +274,9 @@ fn best_split(
     });
     // (summed error, axis, position in that axis' order, split value)
     let mut best: Option<(f64, usize, usize, f64)> = None;
+    // Room for the far side and both scatter matrices, reused candidate after candidate.
+    let mut above = Moments::zero(n);
+    let (mut c1, mut c2, mut mu) = (Vec::new(), Vec::new(), Vec::new());
     for (ax, order) in orders.iter().enumerate() {
         let mut below = Moments::zero(n);
         let (mut track_below, mut track_above) = (Tracker::default(), Tracker::default());
@@ -283,8 +286,9 @@ fn best_split(
             if k < min || order.len() - k < min || lo >= hi {
                 continue;
             }
-            let above = total.minus(&below);
-            let (c1, c2) = (below.scatter(), above.scatter());
+            total.minus_into(&below, &mut above);
+            below.scatter_into(&mut c1, &mut mu);
+            above.scatter_into(&mut c2, &mut mu);
             // Both sides need three real components and a well-conditioned M.
             let side = |c: &[f64], m: &Moments, tracker: &mut Tracker| {
                 let f = fit_basis(c, a, opts.max_condition, tracker.top_three(c, n))?;
