@@ -308,15 +308,9 @@ fn zip_level_with_a_method_that_has_none_is_a_usage_error() {
     let input = crate::convert::testdata("photo.jpg");
     let out = dir.path("out.exr");
     let convert = |method: &str| {
-        specconv([
-            input.to_str().unwrap(),
-            out.to_str().unwrap(),
-            "--compression",
-            method,
-            "--zip-level",
-            "9",
-            "--force",
-        ])
+        Cmd::convert(&input, &out)
+            .args(["--compression", method, "--zip-level", "9", "--force"])
+            .run()
     };
     for method in ["none", "piz", "b44a"] {
         convert(method).fails(2, &["--zip-level", &format!("--compression {method}")]);
