@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Reference spectra from colour-science's implementations of the baselines, for
-crates/spectral/tests/colour_science.rs.
+crates/spectral/tests/spectral/colour_science.rs.
 
     python3 -m venv venv && venv/bin/pip install colour-science==0.4.7 scipy
     venv/bin/python scripts/colour_science_reference.py testdata/colour_science/reference.json

@@ -112,12 +112,7 @@ pub fn cases(a: &Colorimetry) -> Vec<Case> {
             name: "mixtures of three",
             spectra: (0..30)
                 .map(|k| {
-                    let (u, v) = ((k as f64 * 0.37).fract(), (k as f64 * 0.61).fract());
-                    let (u, v) = if u + v > 1.0 {
-                        (1.0 - u, 1.0 - v)
-                    } else {
-                        (u, v)
-                    };
+                    let (u, v) = mixture_weights(k);
                     mix(&[(u, &s(0)), (v, &s(1)), (1.0 - u - v, &s(2))])
                 })
                 .collect(),
@@ -149,4 +144,15 @@ pub fn csv(grid: &Grid, spectra: &[Vec<f64>]) -> String {
         out.push('\n');
     }
     out
+}
+
+/// The `k`th pair of weights (u, v) of a mixture of three, u, v and 1 − u − v all in [0, 1]:
+/// spread over the triangle without a random generator.
+pub fn mixture_weights(k: usize) -> (f64, f64) {
+    let (u, v) = ((k as f64 * 0.37).fract(), (k as f64 * 0.61).fract());
+    if u + v > 1.0 {
+        (1.0 - u, 1.0 - v)
+    } else {
+        (u, v)
+    }
 }

@@ -23,7 +23,7 @@ Only the Python standard library is needed:
     python3 ffi/ocio/config/make_configs.py cg > ffi/ocio/config/cg.ocio
     python3 ffi/ocio/config/make_configs.py studio > ffi/ocio/config/studio.ocio
 
-The tests (ffi/ocio/tests/official.rs) compare both configs with the official files,
+The tests (ffi/ocio/tests/ocio/official.rs) compare both configs with the official files,
 name for name and result for result.
 """
 

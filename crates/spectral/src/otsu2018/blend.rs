@@ -25,7 +25,7 @@ use super::gamut::{self, Gamut};
 use super::tree::Tree;
 use crate::Error;
 
-/// The default width in xy (`width_scan` in `tests/blend.rs`): with the per-split widening,
+/// The default width in xy (`width_scan` in `tests/spectral/blend.rs`): with the per-split widening,
 /// every boundary of the built-in and the paper's models stays below 1e-3 at any width, and
 /// 0.02 is the widest round width at which the Munsell Table 1 Δe mean does not grow (0.03:
 /// +2 %, 0.05: +14 %) while the splits that do not need widening still blend over a band.

@@ -5,7 +5,7 @@ use specconv_colour::rgb::SRGB;
 use specconv_colour::{Colorimetry, Grid, Illuminant, Observer};
 use specconv_spectral::{train, Method, TrainOptions, TrainingSet, Uplifter};
 use specconv_study::extrapolation::rgb_cube;
-use specconv_testkit::untrainable::{cases, metameric_black, smooth};
+use specconv_testkit::untrainable::{cases, metameric_black, mixture_weights, smooth};
 use specconv_testkit::*;
 
 fn setting() -> Colorimetry {
@@ -190,12 +190,7 @@ fn a_split_that_would_leave_a_flat_side_is_not_taken() {
     let reds = [red(25, 0.05), red(27, 0.08), red(23, 0.03)];
     let mixtures: Vec<Vec<f64>> = (0..12)
         .map(|k| {
-            let (u, v) = ((k as f64 * 0.37).fract(), (k as f64 * 0.61).fract());
-            let (u, v) = if u + v > 1.0 {
-                (1.0 - u, 1.0 - v)
-            } else {
-                (u, v)
-            };
+            let (u, v) = mixture_weights(k);
             (0..n)
                 .map(|b| u * reds[0][b] + v * reds[1][b] + (1.0 - u - v) * reds[2][b])
                 .collect()

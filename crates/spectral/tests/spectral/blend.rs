@@ -2,7 +2,7 @@
 //! split line, exact round trip, the hard-input policy kept, Table 1 within 5 %.
 //!
 //! The figures of the README come from
-//! `cargo test --release -p specconv-spectral --test blend -- --ignored --nocapture`.
+//! `cargo test --release -p specconv-spectral --test spectral -- --ignored --nocapture blend::`.
 
 use proptest::prelude::*;
 use specconv_colour::Colorimetry;
@@ -173,7 +173,7 @@ fn table_1_grows_by_less_than_five_percent() {
         soft.delta_e.mean,
         hard.delta_e.mean
     );
-    // And the unblended model is still the paper's (as tests/paper.rs asserts).
+    // And the unblended model is still the paper's (as paper.rs asserts).
     assert!((hard.delta_e.mean - 0.0138).abs() <= 0.0007);
     assert!(
         soft.roundtrip_max <= 1e-9,

@@ -139,22 +139,24 @@ fn no_chromaticity_is_linear_in_the_colour() {
     }
 }
 
+/// Red, green, blue, yellow, cyan, magenta at full intensity.
+const PRIMARIES_AND_SECONDARIES: [[f64; 3]; 6] = [
+    [1.0, 0.0, 0.0],
+    [0.0, 1.0, 0.0],
+    [0.0, 0.0, 1.0],
+    [1.0, 1.0, 0.0],
+    [0.0, 1.0, 1.0],
+    [1.0, 0.0, 1.0],
+];
+
 #[test]
 fn negative_components_and_colours_outside_the_locus() {
     // Wide-gamut colours whose XYZ has negative components or xy outside the spectral locus
     // and the training data: AP0 and AP1 primaries and secondaries, Rec.2020 corners.
     let mut cases = vec![];
     for space in [ACES2065_1, ACESCG, REC2020] {
-        for v in [
-            [1.0, 0.0, 0.0],
-            [0.0, 1.0, 0.0],
-            [0.0, 0.0, 1.0],
-            [1.0, 1.0, 0.0],
-            [0.0, 1.0, 1.0],
-            [1.0, 0.0, 1.0],
-            [2.0, -0.5, 0.1],
-            [-0.2, 0.1, 1.5],
-        ] {
+        let beyond = [[2.0, -0.5, 0.1], [-0.2, 0.1, 1.5]];
+        for v in PRIMARIES_AND_SECONDARIES.into_iter().chain(beyond) {
             cases.push(rgb(space, v));
         }
     }
@@ -167,14 +169,7 @@ fn negative_components_and_colours_outside_the_locus() {
 
 #[test]
 fn saturated_primaries_secondaries_white_and_greys() {
-    for v in [
-        [1.0, 0.0, 0.0],
-        [0.0, 1.0, 0.0],
-        [0.0, 0.0, 1.0],
-        [1.0, 1.0, 0.0],
-        [0.0, 1.0, 1.0],
-        [1.0, 0.0, 1.0],
-    ] {
+    for v in PRIMARIES_AND_SECONDARIES {
         check_both(rgb(SRGB, v), "sRGB primary/secondary");
     }
     let (a, _) = setup();

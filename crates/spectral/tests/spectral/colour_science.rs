@@ -9,7 +9,7 @@ use specconv_spectral::baselines::{Meng2015, Smits1999};
 use specconv_spectral::Method;
 
 fn reference() -> serde_json::Value {
-    let text = include_str!("../../../testdata/colour_science/reference.json");
+    let text = include_str!("../../../../testdata/colour_science/reference.json");
     serde_json::from_str(text).unwrap()
 }
 

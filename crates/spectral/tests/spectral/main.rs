@@ -1,0 +1,12 @@
+//! specconv-spectral's integration tests, one binary: a module per subject.
+
+mod baselines;
+mod blend;
+mod bounded;
+mod colour_science;
+mod emission;
+mod fuzz_readers;
+mod hard_inputs;
+mod model;
+mod paper;
+mod untrainable;
