@@ -91,18 +91,10 @@ fn main() {
         .unwrap();
     let method = Bounded::new(blended, model.colorimetry().unwrap()).unwrap();
     let settings = |compression, mip| Settings {
-        kind: Kind::Reflective,
-        xyz_weights: None,
-        colorspace: None,
-        input: Default::default(),
-        alpha: specconv_pipeline::Alpha::Auto,
-        sample: Sample::Half,
         compression,
-        zip_level: specconv_exr::zip::DEFAULT_LEVEL,
-        tile: Some((64, 64)),
         mip,
         overwrite: true,
-        attributes: vec![],
+        ..Settings::default()
     };
     let zip = settings(Compression::ZIP16, Mip::Base);
     let none = settings(Compression::Uncompressed, Mip::Base);

@@ -90,6 +90,28 @@ pub struct Settings {
     pub attributes: Vec<(String, String)>,
 }
 
+impl Default for Settings {
+    /// `convert`'s defaults: reflectance, half rounded to nearest, ZIP at the default level,
+    /// 64×64 tiles, every MIP level, the file's own colour space and channels; an existing
+    /// output is kept.
+    fn default() -> Settings {
+        Settings {
+            kind: Kind::Reflective,
+            xyz_weights: None,
+            colorspace: None,
+            input: Default::default(),
+            alpha: Alpha::Auto,
+            sample: Sample::Half,
+            compression: Compression::ZIP16,
+            zip_level: specconv_exr::zip::DEFAULT_LEVEL,
+            tile: Some((64, 64)),
+            mip: Mip::All,
+            overwrite: false,
+            attributes: Vec::new(),
+        }
+    }
+}
+
 /// What a finished conversion did.
 #[derive(Debug, Clone)]
 pub struct Report {

@@ -7,7 +7,7 @@
 use exr::block::chunk::CompressedBlock;
 use exr::meta::attribute::IntegerBounds;
 use exr::meta::BlockDescription;
-use specconv_exr::{Compression, Kind, Sample};
+use specconv_exr::Compression;
 use specconv_pipeline::{convert, leftover_temporaries, Error, Job, Mip, Settings};
 use specconv_spectral::bounded::Bounded;
 use specconv_spectral::otsu2018::blend::DEFAULT_WIDTH;
@@ -43,18 +43,11 @@ fn noise_input(dir: &Scratch) -> std::path::PathBuf {
 
 fn settings(tile: Option<(usize, usize)>, compression: Compression) -> Settings {
     Settings {
-        kind: Kind::Reflective,
-        xyz_weights: None,
-        colorspace: None,
-        input: Default::default(),
-        alpha: specconv_pipeline::Alpha::Auto,
-        sample: Sample::Half,
         compression,
-        zip_level: specconv_exr::zip::DEFAULT_LEVEL,
         tile,
         mip: Mip::Base,
         overwrite: true,
-        attributes: vec![],
+        ..Settings::default()
     }
 }
 
