@@ -19,8 +19,10 @@ use exr::math::Vec2;
 use rayon::prelude::*;
 use specconv_exr::{Block, Blocks, Chunk, Compression, Kind, Sample, Spec, SpectralFile};
 use specconv_pipeline::{convert, Job, Mip, Settings};
-use specconv_spectral::bounded::Bounded;
-use specconv_spectral::{Method, Model, Uplifter};
+use specconv_spectral::baselines::jakob_cache::TableCache;
+use specconv_spectral::method::MethodName;
+use specconv_spectral::stack::{Description, Stack};
+use specconv_spectral::Model;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::sync::atomic::AtomicBool;
@@ -84,12 +86,11 @@ fn main() {
     let input = texture(&dir);
     let config = specconv_ocio::Config::resolve(Some("aces")).unwrap();
     let model = Model::builtin();
-    // The CLI's default stack: blended clusters, bounded reflectances.
-    let blended = Uplifter::new(model)
-        .unwrap()
-        .with_blend(specconv_spectral::otsu2018::blend::DEFAULT_WIDTH)
-        .unwrap();
-    let method = Bounded::new(blended, model.colorimetry().unwrap()).unwrap();
+    // The CLI's default stack, built as convert builds it (blended, corrected onto the
+    // readers' integration, bounded).
+    let default = Description::convert_default(MethodName::Otsu2018);
+    let stack = Stack::build(&default, model, &TableCache::none()).unwrap();
+    let method = stack.method();
     let settings = |compression, mip| Settings {
         compression,
         mip,
@@ -105,7 +106,7 @@ fn main() {
             input: &input,
             output,
             config: &config,
-            method: &method,
+            method,
             settings,
             cancel: &cancel,
         };

@@ -9,9 +9,10 @@ use exr::meta::attribute::IntegerBounds;
 use exr::meta::BlockDescription;
 use specconv_exr::Compression;
 use specconv_pipeline::{convert, leftover_temporaries, Error, Job, Mip, Settings};
-use specconv_spectral::bounded::Bounded;
-use specconv_spectral::otsu2018::blend::DEFAULT_WIDTH;
-use specconv_spectral::{Model, Uplifter};
+use specconv_spectral::baselines::jakob_cache::TableCache;
+use specconv_spectral::method::MethodName;
+use specconv_spectral::stack::{Description, Stack};
+use specconv_spectral::Model;
 use specconv_testkit::cmd::{tool, Scratch};
 use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -63,16 +64,16 @@ fn run(
 ) -> Result<specconv_pipeline::Report, Error> {
     let config = specconv_ocio::Config::resolve(Some("aces")).unwrap();
     let model = Model::builtin();
-    let blended = Uplifter::new(model)
-        .unwrap()
-        .with_blend(DEFAULT_WIDTH)
-        .unwrap();
-    let method = Bounded::new(blended, model.colorimetry().unwrap()).unwrap();
+    // The CLI's default stack, built as convert builds it (blended, corrected onto the
+    // readers' integration, bounded).
+    let default = Description::convert_default(MethodName::Otsu2018);
+    let stack = Stack::build(&default, model, &TableCache::none()).unwrap();
+    let method = stack.method();
     let job = Job {
         input,
         output,
         config: &config,
-        method: &method,
+        method,
         settings,
         cancel,
     };
