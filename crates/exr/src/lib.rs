@@ -623,11 +623,11 @@ impl SpectralFile {
             exr::meta::attribute::write(name, value, &mut sorted)?;
         }
         exr::meta::sequence_end::write(&mut sorted)?;
-        assert_eq!(
-            sorted.len(),
-            written.len(),
-            "the same attributes, reordered"
-        );
+        if sorted.len() != written.len() {
+            // Not the header the exr crate wrote: leave it as it is (a valid file, only its
+            // attribute order unsorted) rather than write over what follows it.
+            return Ok(());
+        }
         // After the magic number and the version field.
         let mut rewrite = || -> std::io::Result<()> {
             out.seek(std::io::SeekFrom::Start(8))?;
