@@ -87,6 +87,125 @@ impl Moments {
     }
 }
 
+/// What a lower bound on a cluster's error needs, in O(n) per spectrum: the sums behind the
+/// error of the best *linear* reconstruction of spectra from their XYZ. With H = C·Aᵀ and
+/// G = A·C·Aᵀ, K = H·G⁻¹ minimises tr((I − K·A)·C·(I − K·A)ᵀ) over all n×3 maps K (least
+/// squares of s − μ on x = A·(s − μ)), at E* = tr(C) − tr(G⁻¹·Hᵀ·H). A fit's reconstruction
+/// r − μ = B·M⁻¹·A·(s − μ) is one such map (K = B·M⁻¹), so E* ≤ [`Fit::error`] for any basis:
+/// the split search skips candidates whose E* already exceeds a split it has.
+#[derive(Debug, Clone)]
+pub struct ErrorFloor {
+    /// The sums are of s − origin (and x − A·origin), which centring does not see: with the
+    /// origin at the whole cluster's mean, the sums of a part cancel little when centred.
+    origin: Vec<f64>,
+    origin_x: [f64; 3],
+    count: usize,
+    /// Σ s
+    sum: Vec<f64>,
+    /// Σ ‖s‖²
+    energy: f64,
+    /// Σ x with x = A·s
+    sum_x: [f64; 3],
+    /// Σ x·xᵀ
+    xx: [[f64; 3]; 3],
+    /// Σ s·xᵀ, row-major n×3.
+    sx: Vec<[f64; 3]>,
+}
+
+impl ErrorFloor {
+    /// No spectra yet; sums taken from `origin` (any spectrum; best near the spectra's mean).
+    pub fn zero(origin: &[f64], a: &Colorimetry) -> ErrorFloor {
+        let n = origin.len();
+        ErrorFloor {
+            origin: origin.to_vec(),
+            origin_x: a.xyz(origin),
+            count: 0,
+            sum: vec![0.0; n],
+            energy: 0.0,
+            sum_x: [0.0; 3],
+            xx: [[0.0; 3]; 3],
+            sx: vec![[0.0; 3]; n],
+        }
+    }
+
+    /// Adds spectrum `s` with its XYZ `x` = A·s.
+    pub fn add(&mut self, s: &[f64], x: [f64; 3]) {
+        self.count += 1;
+        let x: [f64; 3] = std::array::from_fn(|j| x[j] - self.origin_x[j]);
+        for (((m, sx), &v), &o) in self
+            .sum
+            .iter_mut()
+            .zip(&mut self.sx)
+            .zip(s)
+            .zip(&self.origin)
+        {
+            let v = v - o;
+            *m += v;
+            self.energy += v * v;
+            (0..3).for_each(|j| sx[j] += v * x[j]);
+        }
+        for i in 0..3 {
+            self.sum_x[i] += x[i];
+            (0..3).for_each(|j| self.xx[i][j] += x[i] * x[j]);
+        }
+    }
+
+    /// `self − other` into `out`, for the far side of a split.
+    pub fn minus_into(&self, other: &ErrorFloor, out: &mut ErrorFloor) {
+        debug_assert!(self.origin == other.origin && self.origin == out.origin);
+        out.count = self.count - other.count;
+        out.energy = self.energy - other.energy;
+        for ((o, a), b) in out.sum.iter_mut().zip(&self.sum).zip(&other.sum) {
+            *o = a - b;
+        }
+        for ((o, a), b) in out.sx.iter_mut().zip(&self.sx).zip(&other.sx) {
+            *o = std::array::from_fn(|j| a[j] - b[j]);
+        }
+        out.sum_x = std::array::from_fn(|i| self.sum_x[i] - other.sum_x[i]);
+        out.xx = std::array::from_fn(|i| std::array::from_fn(|j| self.xx[i][j] - other.xx[i][j]));
+    }
+
+    /// tr(C), the error of reconstructing every spectrum by the mean.
+    pub fn variance(&self) -> f64 {
+        let count = self.count as f64;
+        self.energy - self.sum.iter().map(|s| s * s).sum::<f64>() / count
+    }
+
+    /// E*, at least 0; 0 (no bound) when the colours do not span three dimensions well enough
+    /// for G⁻¹ to be computed accurately.
+    pub fn floor(&self) -> f64 {
+        let count = self.count as f64;
+        let mean_x = self.sum_x.map(|v| v / count);
+        let g = Matrix3::from_fn(|i, j| self.xx[i][j] - count * mean_x[i] * mean_x[j]);
+        let Some(g_inv) = g.try_inverse() else {
+            return 0.0;
+        };
+        // Rounding in G, relative to its size, is about ε·‖Σ x·xᵀ‖/‖G‖; G⁻¹ magnifies it by
+        // G's condition. Far below 1e-8 of the floor, or no floor.
+        let raw = Matrix3::from_fn(|i, j| self.xx[i][j]).norm();
+        let accurate = f64::EPSILON * raw * g_inv.norm() <= 1e-10;
+        if !accurate {
+            return 0.0;
+        }
+        // HᵀH with H = Σ s·xᵀ − N·μ·x̄ᵀ, row by row.
+        let mut hh = Matrix3::zeros();
+        for (sx, &s) in self.sx.iter().zip(&self.sum) {
+            let h: [f64; 3] = std::array::from_fn(|j| sx[j] - s * mean_x[j]);
+            for i in 0..3 {
+                for j in 0..3 {
+                    hh[(i, j)] += h[i] * h[j];
+                }
+            }
+        }
+        let floor = self.variance() - (g_inv * hh).trace();
+        if floor.is_finite() {
+            floor.max(0.0)
+        } else {
+            0.0
+        }
+    }
+}
+
 /// The scatter matrix of a set of spectra computed around their mean (two passes, for accuracy).
 pub fn centred_scatter(spectra: &[&[f64]]) -> (Vec<f64>, Vec<f64>) {
     let n = spectra[0].len();
@@ -516,6 +635,81 @@ mod tests {
                     .fold(0.0f64, |p, x| if x.abs() > p.abs() { x } else { p });
             assert!(peak > 0.0);
         }
+    }
+
+    /// The error of regressing the centred spectra on their centred XYZ, solved directly by
+    /// nalgebra's SVD least squares over the spectra (not from the sums).
+    fn regression_error(data: &[Vec<f64>], a: &Colorimetry) -> f64 {
+        let refs: Vec<&[f64]> = data.iter().map(|s| s.as_slice()).collect();
+        let (mu, _) = centred_scatter(&refs);
+        let (rows, n) = (data.len(), a.bands());
+        let s = DMatrix::from_fn(rows, n, |r, b| data[r][b] - mu[b]);
+        let x = DMatrix::from_fn(rows, 3, |r, i| {
+            dot(&a.weights[i], &data[r]) - dot(&a.weights[i], &mu)
+        });
+        let k = x.clone().svd(true, true).solve(&s, 1e-14).unwrap();
+        (s - x * k).norm_squared()
+    }
+
+    fn floor_of(data: &[Vec<f64>], a: &Colorimetry) -> ErrorFloor {
+        let mut f = ErrorFloor::zero(&data[data.len() / 2], a);
+        data.iter().for_each(|s| f.add(s, a.xyz(s)));
+        f
+    }
+
+    #[test]
+    fn the_floor_is_the_least_squares_error_of_reconstructing_spectra_from_xyz() {
+        let a = colorimetry();
+        let data = spectra(150, a.bands());
+        let (direct, floor) = (regression_error(&data, &a), floor_of(&data, &a).floor());
+        assert!(direct > 1e-3, "{direct}");
+        assert!(
+            (floor - direct).abs() <= 1e-9 * direct,
+            "{floor} against {direct}"
+        );
+        // The far side of a split, by subtraction, is the rest's own floor.
+        let mut rest = ErrorFloor::zero(&data[75], &a);
+        let mut part = ErrorFloor::zero(&data[75], &a);
+        data[..60].iter().for_each(|s| part.add(s, a.xyz(s)));
+        floor_of(&data, &a).minus_into(&part, &mut rest);
+        let direct = regression_error(&data[60..], &a);
+        assert!((rest.floor() - direct).abs() <= 1e-9 * direct);
+    }
+
+    #[test]
+    fn the_floor_is_below_every_fits_error_on_both_sides_of_every_split() {
+        let a = colorimetry();
+        let data = spectra(120, a.bands());
+        let whole = floor_of(&data, &a);
+        let mut far = ErrorFloor::zero(&data[60], &a);
+        let mut closest = f64::INFINITY;
+        for k in 8..data.len() - 8 {
+            let mut near = ErrorFloor::zero(&data[60], &a);
+            data[..k].iter().for_each(|s| near.add(s, a.xyz(s)));
+            whole.minus_into(&near, &mut far);
+            for (side, floor) in [(&data[..k], near.floor()), (&data[k..], far.floor())] {
+                let refs: Vec<&[f64]> = side.iter().map(|s| s.as_slice()).collect();
+                let error = fit(&centred_scatter(&refs).1, &a, f64::INFINITY)
+                    .unwrap()
+                    .error;
+                assert!(
+                    floor > 0.0 && floor <= error,
+                    "split {k}: floor {floor}, error {error}"
+                );
+                closest = closest.min(error / floor);
+            }
+        }
+        // A bound, not the error itself: PCA does not choose its basis for the observer.
+        assert!(closest > 1.0 + 1e-6, "{closest}");
+    }
+
+    #[test]
+    fn colours_in_fewer_than_three_dimensions_give_no_floor() {
+        let a = colorimetry();
+        let data: Vec<Vec<f64>> = (0..10)
+            .map(|k| vec![0.1 + 0.05 * k as f64; a.bands()])
+            .collect();
+        assert_eq!(floor_of(&data, &a).floor(), 0.0);
     }
 
     #[test]

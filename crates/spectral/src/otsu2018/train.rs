@@ -27,7 +27,9 @@
 //! components and a bounded M, or it is not made.
 
 use super::model::{Leaf, Training, FORMAT, VERSION};
-use super::pca::{centred_scatter, check_rank, fit, fit_basis, top_three, Moments, Tracker, Unfit};
+use super::pca::{
+    centred_scatter, check_rank, fit, fit_basis, top_three, ErrorFloor, Moments, Tracker, Unfit,
+};
 use super::tree::{Axis, Tree};
 use crate::{Error, Model};
 use specconv_colour::Colorimetry;
@@ -252,6 +254,12 @@ fn leaf(set: &TrainingSet, a: &Colorimetry, members: &[usize]) -> Leaf {
 }
 
 /// The split of a cluster that lowers the summed error most (Eq. 12), if any lowers it.
+///
+/// Every candidate gets a lower bound on its summed error first, in O(n) ([`ErrorFloor`]); the
+/// candidate with the lowest bound that fits is evaluated exactly, and only candidates whose
+/// bound does not exceed its error (with a margin far above rounding) are then evaluated as
+/// before, in the same order, by tracked eigenvectors. The others cannot be the best, so the
+/// split chosen is the one a search of every candidate chooses.
 fn best_split(
     set: &TrainingSet,
     xy: &[[f64; 2]],
@@ -265,50 +273,118 @@ fn best_split(
     if members.len() < 2 * min {
         return None;
     }
+    let spectrum = |i: usize| set.spectra[i].as_slice();
     let mut total = Moments::zero(n);
-    members.iter().for_each(|&i| total.add(&set.spectra[i]));
+    members.iter().for_each(|&i| total.add(spectrum(i)));
     let orders: [Vec<usize>; 2] = std::array::from_fn(|ax| {
         let mut order = members.to_vec();
         order.sort_by(|&i, &j| xy[i][ax].total_cmp(&xy[j][ax]).then(i.cmp(&j)));
         order
     });
-    // (summed error, axis, position in that axis' order, split value)
-    let mut best: Option<(f64, usize, usize, f64)> = None;
-    // Room for the far side and both scatter matrices, reused candidate after candidate.
-    let mut above = Moments::zero(n);
-    let (mut c1, mut c2, mut mu) = (Vec::new(), Vec::new(), Vec::new());
-    for (ax, order) in orders.iter().enumerate() {
-        let mut below = Moments::zero(n);
-        let (mut track_below, mut track_above) = (Tracker::default(), Tracker::default());
-        for k in 1..order.len() {
-            below.add(&set.spectra[order[k - 1]]);
-            let (lo, hi) = (xy[order[k - 1]][ax], xy[order[k]][ax]);
-            if k < min || order.len() - k < min || lo >= hi {
-                continue;
-            }
-            total.minus_into(&below, &mut above);
-            below.scatter_into(&mut c1, &mut mu);
-            above.scatter_into(&mut c2, &mut mu);
-            // Both sides need three real components and a well-conditioned M.
-            let side = |c: &[f64], m: &Moments, tracker: &mut Tracker| {
-                let f = fit_basis(c, a, opts.max_condition, tracker.top_three(c, n))?;
-                check_rank(c, &f.basis, m.energy()).map(|()| f)
-            };
-            let Ok(f1) = side(&c1, &below, &mut track_below) else {
-                continue;
-            };
-            let Ok(f2) = side(&c2, &above, &mut track_above) else {
-                continue;
-            };
-            let sum = f1.error + f2.error;
-            if best.as_ref().is_none_or(|b| sum < b.0) {
-                // Split halfway between the two sides' colours (Eq. 10: above means ≥ value).
-                let mid = 0.5 * (lo + hi);
-                let value = if mid > lo { mid } else { hi };
-                best = Some((sum, ax, k, value));
+    // A split at k puts order[..k] below; it needs both sides of at least `min` spectra and
+    // two distinct coordinates to split between.
+    let splits_at = |ax: usize, k: usize| {
+        let order = &orders[ax];
+        !(k < min || order.len() - k < min || xy[order[k - 1]][ax] >= xy[order[k]][ax])
+    };
+    // Both sides need three real components and a well-conditioned M.
+    let side = |c: &[f64], m: &Moments, basis: [Vec<f64>; 3]| {
+        let f = fit_basis(c, a, opts.max_condition, basis)?;
+        check_rank(c, &f.basis, m.energy()).map(|()| f.error)
+    };
+
+    // Each candidate's floor, +∞ where there is no candidate.
+    let origin = total.mean();
+    let mut whole = ErrorFloor::zero(&origin, a);
+    members
+        .iter()
+        .for_each(|&i| whole.add(spectrum(i), a.xyz(spectrum(i))));
+    let mut far = whole.clone();
+    let floors: [Vec<f64>; 2] = std::array::from_fn(|ax| {
+        let mut below = ErrorFloor::zero(&origin, a);
+        let mut floors = vec![f64::INFINITY; members.len()];
+        for k in 1..members.len() {
+            let i = orders[ax][k - 1];
+            below.add(spectrum(i), a.xyz(spectrum(i)));
+            if splits_at(ax, k) {
+                whole.minus_into(&below, &mut far);
+                floors[k] = below.floor() + far.floor();
             }
         }
+        floors
+    });
+    // The exact summed error of the candidate with the lowest floor that fits bounds the best.
+    let mut by_floor: Vec<(usize, usize)> = (0..2)
+        .flat_map(|ax| (1..members.len()).map(move |k| (ax, k)))
+        .filter(|&(ax, k)| floors[ax][k].is_finite())
+        .collect();
+    by_floor.sort_by(|p, q| floors[p.0][p.1].total_cmp(&floors[q.0][q.1]).then(p.cmp(q)));
+    let mut bound = None;
+    let mut above = Moments::zero(n);
+    let (mut c1, mut c2, mut mu) = (Vec::new(), Vec::new(), Vec::new());
+    for &(ax, k) in by_floor.iter().take(PROBES) {
+        let mut below = Moments::zero(n);
+        orders[ax][..k].iter().for_each(|&i| below.add(spectrum(i)));
+        total.minus_into(&below, &mut above);
+        below.scatter_into(&mut c1, &mut mu);
+        above.scatter_into(&mut c2, &mut mu);
+        let sides = side(&c1, &below, top_three(&c1, n))
+            .and_then(|e1| Ok(e1 + side(&c2, &above, top_three(&c2, n))?));
+        if let Ok(sum) = sides {
+            bound = Some(sum);
+            break;
+        }
     }
+    // Rounding of the floors and of the tracked errors is far below this margin.
+    let margin = |sum: f64| 1e-6 * sum + 1e-9 * whole.variance();
+
+    // (summed error, axis, position in that axis' order, split value)
+    let mut search = |limit: f64| {
+        let mut best: Option<(f64, usize, usize, f64)> = None;
+        for (ax, order) in orders.iter().enumerate() {
+            let mut below = Moments::zero(n);
+            let (mut track_below, mut track_above) = (Tracker::default(), Tracker::default());
+            let mut last = 0;
+            for k in 1..order.len() {
+                below.add(spectrum(order[k - 1]));
+                if floors[ax][k] > limit {
+                    continue;
+                }
+                // Far from the last candidate evaluated, a fresh decomposition beats iterating.
+                if k - last > TRACK_GAP {
+                    (track_below, track_above) = (Tracker::default(), Tracker::default());
+                }
+                last = k;
+                total.minus_into(&below, &mut above);
+                below.scatter_into(&mut c1, &mut mu);
+                above.scatter_into(&mut c2, &mut mu);
+                let Ok(e1) = side(&c1, &below, track_below.top_three(&c1, n)) else {
+                    continue;
+                };
+                let Ok(e2) = side(&c2, &above, track_above.top_three(&c2, n)) else {
+                    continue;
+                };
+                let sum = e1 + e2;
+                if best.as_ref().is_none_or(|b| sum < b.0) {
+                    // Split halfway between the two sides' colours (Eq. 10: above means ≥ value).
+                    let (lo, hi) = (xy[order[k - 1]][ax], xy[order[k]][ax]);
+                    let mid = 0.5 * (lo + hi);
+                    let value = if mid > lo { mid } else { hi };
+                    best = Some((sum, ax, k, value));
+                }
+            }
+        }
+        best
+    };
+    // A candidate skipped has an error above its floor > bound + 2·margin: it cannot beat a
+    // split found within bound + margin. Otherwise (the bound's split did not fit with tracked
+    // eigenvectors, at the edge of the condition bound), every candidate is searched.
+    let best = match bound {
+        Some(bound) => search(bound + 2.0 * margin(bound))
+            .filter(|b| b.0 <= bound + margin(bound))
+            .or_else(|| search(f64::INFINITY)),
+        None => search(f64::INFINITY),
+    };
     let (sum, ax, k, value) = best?;
     let gain = error - sum;
     let order = &orders[ax];
@@ -320,3 +396,10 @@ fn best_split(
         gain,
     })
 }
+
+/// Candidates with the lowest floors evaluated exactly to find a bound on the best split's
+/// error; when none of them fits (rank or condition), every candidate is searched.
+const PROBES: usize = 8;
+
+/// Steps from the last candidate evaluated beyond which the trackers start afresh.
+const TRACK_GAP: usize = 8;
