@@ -380,7 +380,7 @@ impl Tracker {
             while let Some((row0, z0)) = rows.next() {
                 let Some((row1, z1)) = rows.next() else {
                     let mut acc = [0.0; P];
-                    for (cij, qj) in row0.iter().zip(self.q.chunks_exact(P)) {
+                    for (cij, qj) in row0.iter().zip(blocks(&self.q)) {
                         for k in 0..P {
                             acc[k] += cij * qj[k];
                         }
@@ -389,7 +389,7 @@ impl Tracker {
                     break;
                 };
                 let (mut acc0, mut acc1) = ([0.0; P], [0.0; P]);
-                for ((c0, c1), qj) in row0.iter().zip(row1).zip(self.q.chunks_exact(P)) {
+                for ((c0, c1), qj) in row0.iter().zip(row1).zip(blocks(&self.q)) {
                     for k in 0..P {
                         acc0[k] += c0 * qj[k];
                         acc1[k] += c1 * qj[k];
@@ -399,35 +399,39 @@ impl Tracker {
                 z1.copy_from_slice(&acc1);
             }
             // Rayleigh–Ritz: H = Qᵀ·C·Q, symmetrised.
-            let mut h = nalgebra::SMatrix::<f64, P, P>::zeros();
-            for (qb, zb) in self.q.chunks_exact(P).zip(z.chunks_exact(P)) {
+            let mut hq = [[0.0; P]; P];
+            for (qb, zb) in blocks(&self.q).zip(blocks(&z)) {
                 for i in 0..P {
                     for j in 0..P {
-                        h[(i, j)] += qb[i] * zb[j];
+                        hq[i][j] += qb[i] * zb[j];
                     }
                 }
             }
+            let h = nalgebra::SMatrix::<f64, P, P>::from_fn(|i, j| hq[i][j]);
             let h = (h + h.transpose()) * 0.5;
             let eig = SymmetricEigen::new(h);
             let mut order: [usize; P] = std::array::from_fn(|i| i);
             order.sort_by(|&i, &j| eig.eigenvalues[j].total_cmp(&eig.eigenvalues[i]));
-            let w = nalgebra::SMatrix::<f64, P, P>::from_fn(|i, k| eig.eigenvectors[(i, order[k])]);
+            let w: [[f64; P]; P] =
+                std::array::from_fn(|i| std::array::from_fn(|k| eig.eigenvectors[(i, order[k])]));
             // Ritz vectors Y = Q·W and C·Y = Z·W.
-            for b in 0..n {
-                for k in 0..P {
-                    let (mut sy, mut sz) = (0.0, 0.0);
-                    for i in 0..P {
-                        sy += self.q[b * P + i] * w[(i, k)];
-                        sz += z[b * P + i] * w[(i, k)];
+            let ritz = blocks(&self.q).zip(blocks(&z));
+            for ((qb, zb), (yb, cyb)) in ritz.zip(blocks_mut(&mut y).zip(blocks_mut(&mut cy))) {
+                // Each sum over i in order from 0.0, the P sums side by side.
+                let (mut sy, mut sz) = ([0.0; P], [0.0; P]);
+                for i in 0..P {
+                    for k in 0..P {
+                        sy[k] += qb[i] * w[i][k];
+                        sz[k] += zb[i] * w[i][k];
                     }
-                    y[b * P + k] = sy;
-                    cy[b * P + k] = sz;
                 }
+                *yb = sy;
+                *cyb = sz;
             }
             let theta: [f64; P] = std::array::from_fn(|k| eig.eigenvalues[order[k]]);
             // The three residuals' sums side by side, each in band order.
             let mut r2 = [-0.0; 3];
-            for (yb, cyb) in y.chunks_exact(P).zip(cy.chunks_exact(P)) {
+            for (yb, cyb) in blocks(&y).zip(blocks(&cy)) {
                 for k in 0..3 {
                     r2[k] += (cyb[k] - theta[k] * yb[k]).powi(2);
                 }
@@ -445,6 +449,16 @@ impl Tracker {
         }
         None
     }
+}
+
+/// The rows of a row-major n×P block, as arrays (no bounds checks within a row).
+fn blocks(v: &[f64]) -> impl Iterator<Item = &[f64; P]> {
+    v.chunks_exact(P).map(|r| r.try_into().expect("P columns"))
+}
+
+fn blocks_mut(v: &mut [f64]) -> impl Iterator<Item = &mut [f64; P]> {
+    v.chunks_exact_mut(P)
+        .map(|r| r.try_into().expect("P columns"))
 }
 
 /// Modified Gram–Schmidt on the columns of a row-major n×P block, twice for orthogonality to
@@ -525,6 +539,8 @@ pub(crate) fn dot(a: &[f64], b: &[f64]) -> f64 {
 #[inline]
 fn dots<const R: usize>(rows: [&[f64]; R], v: &[f64]) -> [f64; R] {
     let mut acc = [-0.0; R];
+    // Rows cut to v's length up front: no bounds check in the loop.
+    let rows = rows.map(|r| &r[..v.len()]);
     for (i, &vi) in v.iter().enumerate() {
         for r in 0..R {
             acc[r] += rows[r][i] * vi;
