@@ -464,7 +464,7 @@ fn jacobi(mut a: [[f64; P]; P]) -> ([f64; P], [[f64; P]; P]) {
         for p in 0..P {
             for q in p + 1..P {
                 let apq = a[p][q];
-                if !(apq.abs() > negligible) {
+                if apq.abs() <= negligible || apq.is_nan() {
                     continue;
                 }
                 rotated = true;
@@ -472,16 +472,14 @@ fn jacobi(mut a: [[f64; P]; P]) -> ([f64; P], [[f64; P]; P]) {
                 let t = theta.signum() / (theta.abs() + (theta * theta + 1.0).sqrt());
                 let c = 1.0 / (t * t + 1.0).sqrt();
                 let s = t * c;
-                for k in 0..P {
-                    let (akp, akq) = (a[k][p], a[k][q]);
-                    a[k][p] = c * akp - s * akq;
-                    a[k][q] = s * akp + c * akq;
+                for row in a.iter_mut() {
+                    let (akp, akq) = (row[p], row[q]);
+                    row[p] = c * akp - s * akq;
+                    row[q] = s * akp + c * akq;
                 }
-                for k in 0..P {
-                    let (apk, aqk) = (a[p][k], a[q][k]);
-                    a[p][k] = c * apk - s * aqk;
-                    a[q][k] = s * apk + c * aqk;
-                }
+                let (rp, rq) = (a[p], a[q]);
+                a[p] = std::array::from_fn(|k| c * rp[k] - s * rq[k]);
+                a[q] = std::array::from_fn(|k| s * rp[k] + c * rq[k]);
                 a[p][q] = 0.0;
                 a[q][p] = 0.0;
                 for row in v.iter_mut() {
