@@ -57,6 +57,25 @@ pub enum Sample {
     Float,
 }
 
+impl Sample {
+    /// Bytes per stored sample.
+    pub fn bytes(self) -> usize {
+        match self {
+            Sample::Half => 2,
+            Sample::Float => 4,
+        }
+    }
+}
+
+/// Values rounded to half all at once (F16C where the CPU has it, as `half` does value by
+/// value).
+fn halves(values: &[f32]) -> Vec<half::f16> {
+    use half::slice::HalfFloatSliceExt;
+    let mut h = vec![half::f16::ZERO; values.len()];
+    h.convert_from_f32_slice(values);
+    h
+}
+
 /// Scanline blocks, or tiles with or without MIP levels.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Blocks {
@@ -469,9 +488,8 @@ impl SpectralFile {
             self.spec.compression,
             Compression::ZIP1 | Compression::ZIP16
         );
-        let data = self.sample_bytes(block, bands, alpha, zip);
         if zip {
-            let compressed_pixels_le = zip::compress(&data, self.spec.zip_level);
+            let compressed_pixels_le = self.zip_chunk(block, bands, alpha);
             let compressed_block = match self.spec.blocks {
                 // A scanline block is addressed by its y in pixel space: the data window's
                 // origin plus the block's row.
@@ -495,6 +513,7 @@ impl SpectralFile {
                 compressed_block,
             });
         }
+        let data = self.sample_bytes(block, bands, alpha);
         let block = UncompressedBlock {
             index: BlockIndex {
                 layer: 0,
@@ -507,71 +526,78 @@ impl SpectralFile {
         Ok(block.compress_to_chunk(std::slice::from_ref(&self.header))?)
     }
 
-    /// The block's samples as the file stores them: row by row, within a row channel by channel
-    /// (sorted by name), little-endian when `le`, else native-endian. Half samples are converted
-    /// all at once (F16C where the CPU has it, as `half` does value by value), then placed.
-    fn sample_bytes(
+    /// Calls `put` with the block's samples in the order the file stores them: row by row,
+    /// within a row channel by channel (sorted by name).
+    fn for_each_sample<T: Copy>(
         &self,
         block: &Block,
-        bands: &[f32],
-        alpha: Option<&[f32]>,
-        le: bool,
-    ) -> Vec<u8> {
-        fn place<T: Copy, const B: usize>(
-            source: &[usize],
-            block: &Block,
-            bands: &[T],
-            alpha: Option<&[T]>,
-            n: usize,
-            bytes: impl Fn(T) -> [u8; B],
-        ) -> Vec<u8> {
-            let width = block.width;
-            let mut data = vec![0u8; block.height * width * source.len() * B];
-            let mut rows = data.chunks_exact_mut(width * B);
-            for y in 0..block.height {
-                let first = y * width;
-                for &src in source {
-                    let out = rows.next().expect("one row per line and channel");
-                    if src == n {
-                        let a = &alpha.expect("checked by encode")[first..first + width];
-                        for (o, &v) in out.chunks_exact_mut(B).zip(a) {
-                            o.copy_from_slice(&bytes(v));
-                        }
-                    } else {
-                        let pixels = bands[first * n..(first + width) * n].chunks_exact(n);
-                        for (o, px) in out.chunks_exact_mut(B).zip(pixels) {
-                            o.copy_from_slice(&bytes(px[src]));
-                        }
-                    }
+        bands: &[T],
+        alpha: Option<&[T]>,
+        mut put: impl FnMut(T),
+    ) {
+        let (n, width) = (self.spec.wavelengths.len(), block.width);
+        for y in 0..block.height {
+            let first = y * width;
+            for &src in &self.source {
+                if src == n {
+                    let a = &alpha.expect("checked by encode")[first..first + width];
+                    a.iter().for_each(|&v| put(v));
+                } else {
+                    let pixels = bands[first * n..(first + width) * n].chunks_exact(n);
+                    pixels.for_each(|px| put(px[src]));
                 }
             }
-            data
         }
-        let n = self.spec.wavelengths.len();
+    }
+
+    /// The block's samples as the file stores them, native-endian, for the exr crate's
+    /// compressors. Half samples are converted all at once (F16C where the CPU has it, as
+    /// `half` does value by value), then placed.
+    fn sample_bytes(&self, block: &Block, bands: &[f32], alpha: Option<&[f32]>) -> Vec<u8> {
+        let mut data = Vec::with_capacity(bands.len() * self.spec.sample.bytes());
         match self.spec.sample {
             Sample::Half => {
-                use half::slice::HalfFloatSliceExt;
-                let halves = |values: &[f32]| {
-                    let mut h = vec![half::f16::ZERO; values.len()];
-                    h.convert_from_f32_slice(values);
-                    h
-                };
                 let (bands, alpha) = (halves(bands), alpha.map(halves));
-                let to = if le {
-                    half::f16::to_le_bytes
-                } else {
-                    half::f16::to_ne_bytes
-                };
-                place(&self.source, block, &bands, alpha.as_deref(), n, to)
+                self.for_each_sample(block, &bands, alpha.as_deref(), |v| {
+                    data.extend_from_slice(&v.to_ne_bytes())
+                });
             }
-            Sample::Float => {
-                let to = if le {
-                    f32::to_le_bytes
-                } else {
-                    f32::to_ne_bytes
-                };
-                place(&self.source, block, bands, alpha, n, to)
+            Sample::Float => self.for_each_sample(block, bands, alpha, |v| {
+                data.extend_from_slice(&v.to_ne_bytes())
+            }),
+        }
+        data
+    }
+
+    /// The block as a ZIP chunk ([`zip`]): its little-endian sample bytes are placed straight
+    /// into the format's two halves (even-indexed bytes, odd-indexed bytes), not placed and
+    /// then split.
+    fn zip_chunk(&self, block: &Block, bands: &[f32], alpha: Option<&[f32]>) -> Vec<u8> {
+        let samples = block.width * block.height * self.source.len();
+        let level = self.spec.zip_level;
+        match self.spec.sample {
+            // A half's low byte is even-indexed, its high byte odd-indexed.
+            Sample::Half => {
+                let (bands, alpha) = (halves(bands), alpha.map(halves));
+                zip::compress_split(samples * 2, level, |evens, odds| {
+                    let mut at = evens.iter_mut().zip(odds.iter_mut());
+                    self.for_each_sample(block, &bands, alpha.as_deref(), |v| {
+                        let [lo, hi] = v.to_le_bytes();
+                        let (e, o) = at.next().expect("one byte pair per sample");
+                        (*e, *o) = (lo, hi);
+                    });
+                })
             }
+            // A float's bytes 0 and 2 are even-indexed, 1 and 3 odd-indexed.
+            Sample::Float => zip::compress_split(samples * 4, level, |evens, odds| {
+                let mut at = evens.chunks_exact_mut(2).zip(odds.chunks_exact_mut(2));
+                self.for_each_sample(block, bands, alpha, |v| {
+                    let b = v.to_le_bytes();
+                    let (e, o) = at.next().expect("two byte pairs per sample");
+                    e.copy_from_slice(&[b[0], b[2]]);
+                    o.copy_from_slice(&[b[1], b[3]]);
+                });
+            }),
         }
     }
 

@@ -25,34 +25,45 @@ thread_local! {
     /// to allocate for every block.
     static COMPRESSORS: RefCell<Vec<Option<libdeflater::Compressor>>> =
         const { RefCell::new(Vec::new()) };
-    /// The split and predicted bytes of the block being compressed, reused block after block.
-    static SCRATCH: RefCell<(Vec<u8>, Vec<u8>)> = const { RefCell::new((Vec::new(), Vec::new())) };
+    /// The split and predicted bytes of the block being compressed and room for its stream,
+    /// reused block after block.
+    static SCRATCH: RefCell<(Vec<u8>, Vec<u8>, Vec<u8>)> =
+        const { RefCell::new((Vec::new(), Vec::new(), Vec::new())) };
 }
 
 /// The bytes of a ZIP chunk holding `raw_le`, the block's uncompressed little-endian bytes:
 /// the zlib stream of its predicted bytes, or `raw_le` itself when that is not smaller.
 /// `level` above [`MAX_LEVEL`] is taken as [`MAX_LEVEL`].
 pub fn compress(raw_le: &[u8], level: u8) -> Vec<u8> {
-    if raw_le.is_empty() {
-        return Vec::new();
-    }
-    let level = level.min(MAX_LEVEL);
-    let stream = SCRATCH.with(|scratch| {
-        let (split, predicted) = &mut *scratch.borrow_mut();
-        // Even-indexed bytes, then odd-indexed ones; then each byte but the first minus the
-        // one before it, plus 128. Two plain passes, which the compiler vectorises.
-        let len = raw_le.len();
-        split.resize(len, 0);
-        predicted.resize(len, 0);
-        let (evens, odds) = split.split_at_mut(len.div_ceil(2));
+    compress_split(raw_le.len(), level, |evens, odds| {
         for (pair, (e, o)) in raw_le.chunks_exact(2).zip(evens.iter_mut().zip(odds)) {
             (*e, *o) = (pair[0], pair[1]);
         }
-        if len % 2 == 1 {
-            evens[evens.len() - 1] = raw_le[len - 1];
+        if raw_le.len() % 2 == 1 {
+            evens[evens.len() - 1] = raw_le[raw_le.len() - 1];
         }
-        predicted[0] = split[0];
-        for ((p, &b), &a) in predicted[1..].iter_mut().zip(&split[1..]).zip(&split[..]) {
+    })
+}
+
+/// As [`compress`], for a block of `len` bytes that `split` writes already split: the
+/// even-indexed bytes of its little-endian form into the first slice (⌈len/2⌉ bytes), the
+/// odd-indexed ones into the second. Writers that place samples anyway place their bytes
+/// straight into the halves, which saves a pass over the block.
+pub fn compress_split(len: usize, level: u8, split: impl FnOnce(&mut [u8], &mut [u8])) -> Vec<u8> {
+    if len == 0 {
+        return Vec::new();
+    }
+    let level = level.min(MAX_LEVEL);
+    SCRATCH.with(|scratch| {
+        let (halves, predicted, out) = &mut *scratch.borrow_mut();
+        halves.resize(len, 0);
+        let (evens, odds) = halves.split_at_mut(len.div_ceil(2));
+        split(evens, odds);
+        // Each byte but the first minus the one before it, plus 128: a plain pass, which the
+        // compiler vectorises.
+        predicted.resize(len, 0);
+        predicted[0] = halves[0];
+        for ((p, &b), &a) in predicted[1..].iter_mut().zip(&halves[1..]).zip(&halves[..]) {
             *p = b.wrapping_sub(a).wrapping_add(128);
         }
         COMPRESSORS.with(|cell| {
@@ -65,20 +76,31 @@ pub fn compress(raw_le: &[u8], level: u8) -> Vec<u8> {
                     libdeflater::CompressionLvl::new(i32::from(level)).expect("levels 0–9 exist"),
                 )
             });
-            let mut out = vec![0; compressor.zlib_compress_bound(predicted.len())];
+            // Room for the worst case, kept from block to block (zeroing it anew for every
+            // block cost more than copying out the stream).
+            let bound = compressor.zlib_compress_bound(len);
+            if out.len() < bound {
+                out.resize(bound, 0);
+            }
             // The bound is what libdeflate promises to fit, so this cannot run out of space.
-            let len = compressor
-                .zlib_compress(predicted, &mut out)
+            let stream = compressor
+                .zlib_compress(predicted, &mut out[..bound])
                 .expect("output sized by zlib_compress_bound");
-            out.truncate(len);
-            out
+            if stream < len {
+                return out[..stream].to_vec();
+            }
+            // Not smaller: the raw little-endian bytes, interleaved back.
+            let (evens, odds) = halves.split_at(len.div_ceil(2));
+            let mut raw = Vec::with_capacity(len);
+            for (e, o) in evens.iter().zip(odds) {
+                raw.extend_from_slice(&[*e, *o]);
+            }
+            if len % 2 == 1 {
+                raw.push(evens[evens.len() - 1]);
+            }
+            raw
         })
-    });
-    if stream.len() < raw_le.len() {
-        stream
-    } else {
-        raw_le.to_vec()
-    }
+    })
 }
 
 #[cfg(test)]
