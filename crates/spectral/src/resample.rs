@@ -75,11 +75,22 @@ impl<M: Method> Resampled<M> {
     ) {
         let a = &self.colorimetry.weights;
         for (v, &(i, j, t)) in r.iter_mut().zip(&self.taps) {
-            *v = r0(i) + t * (r0(j) - r0(i));
+            // On the inner method's own grid every tap is (b, b + 1, 0): the value itself.
+            *v = if t == 0.0 {
+                r0(i)
+            } else {
+                r0(i) + t * (r0(j) - r0(i))
+            };
         }
-        let r = &*r;
-        let e: [f64; 3] =
-            std::array::from_fn(|k| c[k] - a[k].iter().zip(r).map(|(w, v)| w * v).sum::<f64>());
+        // A·r, its three sums side by side (three chains in flight instead of one), each in
+        // band order as a lone sum would add, so the same bits.
+        let mut ar = [-0.0f64; 3];
+        for (b, v) in r.iter().enumerate() {
+            for k in 0..3 {
+                ar[k] += a[k][b] * v;
+            }
+        }
+        let e: [f64; 3] = std::array::from_fn(|k| c[k] - ar[k]);
         for (b, (v, corr)) in r.iter().zip(&self.correction).enumerate() {
             put(b, v + corr[0] * e[0] + corr[1] * e[1] + corr[2] * e[2]);
         }
