@@ -16,8 +16,11 @@ pub struct Resampled<M> {
     colorimetry: Colorimetry,
     /// For each new band: the two source bands and the weight of the second.
     taps: Vec<(usize, usize, f64)>,
-    /// Aᵀ(AAᵀ)⁻¹, n×3 row-major: the minimum-norm correction per unit of XYZ error.
-    correction: Vec<[f64; 3]>,
+    /// Aᵀ(AAᵀ)⁻¹ by columns (one n-vector per XYZ component): the minimum-norm correction per
+    /// unit of XYZ error.
+    correction: [Vec<f64>; 3],
+    /// Whether the new grid is the inner method's own: every tap is (b, b + 1, 0).
+    same_grid: bool,
     name: String,
 }
 
@@ -46,11 +49,14 @@ impl<M: Method> Resampled<M> {
                 colorimetry.grid
             ))
         })?;
-        let correction = (0..colorimetry.bands())
-            .map(|b| std::array::from_fn(|k| (0..3).map(|i| a[i][b] * inv[(i, k)]).sum()))
-            .collect();
+        let correction = std::array::from_fn(|k| {
+            (0..colorimetry.bands())
+                .map(|b| (0..3).map(|i| a[i][b] * inv[(i, k)]).sum())
+                .collect()
+        });
+        let same_grid = from == colorimetry.grid;
         // On its own grid only the colour is corrected (to another integration): same name.
-        let name = if from == colorimetry.grid {
+        let name = if same_grid {
             inner.name().to_string()
         } else {
             format!("{} on {} nm", inner.name(), colorimetry.grid)
@@ -60,30 +66,26 @@ impl<M: Method> Resampled<M> {
             colorimetry,
             taps,
             correction,
+            same_grid,
             name,
         })
     }
 
-    /// One spectrum; `r` is scratch of the new grid's length, reused across pixels so the
-    /// per-pixel path does not allocate.
-    fn resample(
-        &self,
-        c: [f64; 3],
-        r0: impl Fn(usize) -> f64,
-        r: &mut [f64],
-        mut put: impl FnMut(usize, f64),
-    ) {
-        let a = &self.colorimetry.weights;
-        for (v, &(i, j, t)) in r.iter_mut().zip(&self.taps) {
-            // On the inner method's own grid every tap is (b, b + 1, 0): the value itself.
-            *v = if t == 0.0 {
-                r0(i)
-            } else {
-                r0(i) + t * (r0(j) - r0(i))
-            };
+    /// One spectrum `r0` on the inner grid, resampled and corrected into `r` (of the new grid's
+    /// length, reused across pixels so the per-pixel path does not allocate).
+    fn resample<T: Copy + Into<f64>>(&self, c: [f64; 3], r0: &[T], r: &mut [f64]) {
+        let at = |i: usize| -> f64 { r0[i].into() };
+        if self.same_grid {
+            // Interpolation at t = 0 would give each value itself.
+            r.iter_mut().zip(r0).for_each(|(v, &x)| *v = x.into());
+        } else {
+            for (v, &(i, j, t)) in r.iter_mut().zip(&self.taps) {
+                *v = at(i) + t * (at(j) - at(i));
+            }
         }
         // A·r, its three sums side by side (three chains in flight instead of one), each in
         // band order as a lone sum would add, so the same bits.
+        let a = &self.colorimetry.weights;
         let mut ar = [-0.0f64; 3];
         for (b, v) in r.iter().enumerate() {
             for k in 0..3 {
@@ -91,8 +93,9 @@ impl<M: Method> Resampled<M> {
             }
         }
         let e: [f64; 3] = std::array::from_fn(|k| c[k] - ar[k]);
-        for (b, (v, corr)) in r.iter().zip(&self.correction).enumerate() {
-            put(b, v + corr[0] * e[0] + corr[1] * e[1] + corr[2] * e[2]);
+        let [c0, c1, c2] = &self.correction;
+        for (((v, k0), k1), k2) in r.iter_mut().zip(c0).zip(c1).zip(c2) {
+            *v = *v + k0 * e[0] + k1 * e[1] + k2 * e[2];
         }
     }
 }
@@ -110,13 +113,12 @@ impl<M: Method> Method for Resampled<M> {
         let (n0, n) = (self.inner.grid().len(), self.colorimetry.bands());
         let mut tmp = vec![0.0; xyz.len() / 3 * n0];
         self.inner.uplift_f64(xyz, &mut tmp);
-        let mut scratch = vec![0.0; n];
         for ((c, r0), r) in xyz
             .chunks_exact(3)
             .zip(tmp.chunks_exact(n0))
             .zip(out.chunks_exact_mut(n))
         {
-            self.resample([c[0], c[1], c[2]], |i| r0[i], &mut scratch, |b, v| r[b] = v);
+            self.resample([c[0], c[1], c[2]], r0, r);
         }
     }
 
@@ -131,12 +133,13 @@ impl<M: Method> Method for Resampled<M> {
             .zip(out.chunks_exact_mut(n))
         {
             let c = [c[0] as f64, c[1] as f64, c[2] as f64];
-            self.resample(c, |i| r0[i] as f64, &mut scratch, |b, v| r[b] = v as f32);
+            self.resample(c, r0, &mut scratch);
+            r.iter_mut().zip(&scratch).for_each(|(o, &v)| *o = v as f32);
         }
     }
 
     fn model_bytes(&self) -> usize {
-        self.inner.model_bytes() + self.correction.len() * 3 * 8 + self.taps.len() * 24
+        self.inner.model_bytes() + self.correction[0].len() * 3 * 8 + self.taps.len() * 24
     }
 
     fn cluster_of(&self, xyz: [f64; 3]) -> Option<usize> {
