@@ -458,13 +458,13 @@ fn saturate_half(bands: &mut [f32], n: usize) -> u64 {
     let max = 65504.0f32;
     let mut clamped = 0;
     for spectrum in bands.chunks_exact_mut(n) {
+        // Branch-free over the bands (a select per value), so that it vectorises.
         let mut any = false;
-        for v in spectrum
-            .iter_mut()
-            .filter(|v| v.is_finite() && v.abs() > max)
-        {
-            *v = v.clamp(-max, max);
-            any = true;
+        for v in spectrum.iter_mut() {
+            let a = v.abs();
+            let hit = a > max && a != f32::INFINITY;
+            *v = if hit { max.copysign(*v) } else { *v };
+            any |= hit;
         }
         clamped += u64::from(any);
     }
