@@ -526,44 +526,54 @@ impl SpectralFile {
         Ok(block.compress_to_chunk(std::slice::from_ref(&self.header))?)
     }
 
-    /// Calls `put` with the block's samples in the order the file stores them: row by row,
-    /// within a row channel by channel (sorted by name).
-    fn for_each_sample<T: Copy>(
+    /// Calls `row` for each row of samples in the order the file stores them (row by row of
+    /// pixels, within one channel by channel, sorted by name) with the row's index, its
+    /// samples (sample x at `x · stride`) and the stride.
+    fn for_each_row<T: Copy>(
         &self,
         block: &Block,
         bands: &[T],
         alpha: Option<&[T]>,
-        mut put: impl FnMut(T),
+        mut row: impl FnMut(usize, &[T], usize),
     ) {
         let (n, width) = (self.spec.wavelengths.len(), block.width);
+        let mut index = 0;
         for y in 0..block.height {
             let first = y * width;
             for &src in &self.source {
                 if src == n {
-                    let a = &alpha.expect("checked by encode")[first..first + width];
-                    a.iter().for_each(|&v| put(v));
+                    let a = alpha.expect("checked by encode");
+                    row(index, &a[first..first + width], 1);
                 } else {
-                    let pixels = bands[first * n..(first + width) * n].chunks_exact(n);
-                    pixels.for_each(|px| put(px[src]));
+                    let start = first * n + src;
+                    row(index, &bands[start..start + (width - 1) * n + 1], n);
                 }
+                index += 1;
             }
         }
     }
 
     /// The block's samples as the file stores them, native-endian, for the exr crate's
-    /// compressors. Half samples are converted all at once (F16C where the CPU has it, as
-    /// `half` does value by value), then placed.
+    /// compressors.
     fn sample_bytes(&self, block: &Block, bands: &[f32], alpha: Option<&[f32]>) -> Vec<u8> {
+        fn place<T: Copy, const B: usize>(
+            v: &[T],
+            stride: usize,
+            out: &mut Vec<u8>,
+            to: fn(T) -> [u8; B],
+        ) {
+            out.extend(v.iter().step_by(stride).flat_map(|&x| to(x)));
+        }
         let mut data = Vec::with_capacity(bands.len() * self.spec.sample.bytes());
         match self.spec.sample {
             Sample::Half => {
                 let (bands, alpha) = (halves(bands), alpha.map(halves));
-                self.for_each_sample(block, &bands, alpha.as_deref(), |v| {
-                    data.extend_from_slice(&v.to_ne_bytes())
+                self.for_each_row(block, &bands, alpha.as_deref(), |_, v, stride| {
+                    place(v, stride, &mut data, half::f16::to_ne_bytes)
                 });
             }
-            Sample::Float => self.for_each_sample(block, bands, alpha, |v| {
-                data.extend_from_slice(&v.to_ne_bytes())
+            Sample::Float => self.for_each_row(block, bands, alpha, |_, v, stride| {
+                place(v, stride, &mut data, f32::to_ne_bytes)
             }),
         }
         data
@@ -573,29 +583,34 @@ impl SpectralFile {
     /// into the format's two halves (even-indexed bytes, odd-indexed bytes), not placed and
     /// then split.
     fn zip_chunk(&self, block: &Block, bands: &[f32], alpha: Option<&[f32]>) -> Vec<u8> {
-        let samples = block.width * block.height * self.source.len();
+        let width = block.width;
+        let samples = width * block.height * self.source.len();
         let level = self.spec.zip_level;
         match self.spec.sample {
             // A half's low byte is even-indexed, its high byte odd-indexed.
             Sample::Half => {
                 let (bands, alpha) = (halves(bands), alpha.map(halves));
                 zip::compress_split(samples * 2, level, |evens, odds| {
-                    let mut at = evens.iter_mut().zip(odds.iter_mut());
-                    self.for_each_sample(block, &bands, alpha.as_deref(), |v| {
-                        let [lo, hi] = v.to_le_bytes();
-                        let (e, o) = at.next().expect("one byte pair per sample");
-                        (*e, *o) = (lo, hi);
+                    self.for_each_row(block, &bands, alpha.as_deref(), |r, v, stride| {
+                        let row = r * width..(r + 1) * width;
+                        let (lo, hi) = (&mut evens[row.clone()], &mut odds[row]);
+                        for ((l, h), x) in lo.iter_mut().zip(hi).zip(v.iter().step_by(stride)) {
+                            [*l, *h] = x.to_le_bytes();
+                        }
                     });
                 })
             }
             // A float's bytes 0 and 2 are even-indexed, 1 and 3 odd-indexed.
             Sample::Float => zip::compress_split(samples * 4, level, |evens, odds| {
-                let mut at = evens.chunks_exact_mut(2).zip(odds.chunks_exact_mut(2));
-                self.for_each_sample(block, bands, alpha, |v| {
-                    let b = v.to_le_bytes();
-                    let (e, o) = at.next().expect("two byte pairs per sample");
-                    e.copy_from_slice(&[b[0], b[2]]);
-                    o.copy_from_slice(&[b[1], b[3]]);
+                self.for_each_row(block, bands, alpha, |r, v, stride| {
+                    let row = 2 * r * width..2 * (r + 1) * width;
+                    let (lo, hi) = (&mut evens[row.clone()], &mut odds[row]);
+                    let pairs = lo.chunks_exact_mut(2).zip(hi.chunks_exact_mut(2));
+                    for ((l, h), x) in pairs.zip(v.iter().step_by(stride)) {
+                        let b = x.to_le_bytes();
+                        l.copy_from_slice(&[b[0], b[2]]);
+                        h.copy_from_slice(&[b[1], b[3]]);
+                    }
                 });
             }),
         }
