@@ -537,6 +537,9 @@ impl SpectralFile {
         mut row: impl FnMut(usize, &[T], usize),
     ) {
         let (n, width) = (self.spec.wavelengths.len(), block.width);
+        if width == 0 {
+            return;
+        }
         let mut index = 0;
         for y in 0..block.height {
             let first = y * width;
