@@ -28,7 +28,8 @@
 
 use super::model::{Leaf, Training, FORMAT, VERSION};
 use super::pca::{
-    centred_scatter, check_rank, fit, fit_basis, top_three, ErrorFloor, Moments, Tracker, Unfit,
+    centred_scatter, check_rank, check_rank_products, fit, fit_basis, fit_products, top_three,
+    ErrorFloor, Moments, Tracker, Unfit,
 };
 use super::tree::{Axis, Tree};
 use crate::{Error, Model};
@@ -292,6 +293,14 @@ fn best_split(
         let f = fit_basis(c, a, opts.max_condition, basis)?;
         check_rank(c, &f.basis, m.energy()).map(|()| f.error)
     };
+    // The same with tracked eigenvectors, from C·B and the colour sums: O(n), not O(n²).
+    let tracked_side = |c: &[f64], m: &Moments, colours: &ErrorFloor, tracker: &mut Tracker| {
+        let (basis, cb) = tracker.top_three(c, n);
+        let trace_c = (0..n).map(|i| c[i * n + i]).sum();
+        let g = colours.colour_scatter();
+        let f = fit_products(a, opts.max_condition, basis, &cb, &g, trace_c)?;
+        check_rank_products(&f.basis, &cb, m.energy()).map(|()| f.error)
+    };
 
     // Each candidate's floor, +∞ where there is no candidate.
     let origin = total.mean();
@@ -343,10 +352,13 @@ fn best_split(
         let mut best: Option<(f64, usize, usize, f64)> = None;
         for (ax, order) in orders.iter().enumerate() {
             let mut below = Moments::zero(n);
+            let mut colours_below = ErrorFloor::zero(&origin, a);
             let (mut track_below, mut track_above) = (Tracker::default(), Tracker::default());
             let mut last = 0;
             for k in 1..order.len() {
-                below.add(spectrum(order[k - 1]));
+                let s = spectrum(order[k - 1]);
+                below.add(s);
+                colours_below.add(s, a.xyz(s));
                 if floors[ax][k] > limit {
                     continue;
                 }
@@ -358,10 +370,11 @@ fn best_split(
                 total.minus_into(&below, &mut above);
                 below.scatter_into(&mut c1, &mut mu);
                 above.scatter_into(&mut c2, &mut mu);
-                let Ok(e1) = side(&c1, &below, track_below.top_three(&c1, n)) else {
+                whole.minus_into(&colours_below, &mut far);
+                let Ok(e1) = tracked_side(&c1, &below, &colours_below, &mut track_below) else {
                     continue;
                 };
-                let Ok(e2) = side(&c2, &above, track_above.top_three(&c2, n)) else {
+                let Ok(e2) = tracked_side(&c2, &above, &far, &mut track_above) else {
                     continue;
                 };
                 let sum = e1 + e2;
