@@ -138,6 +138,8 @@ fn parse_number(cell: &str) -> Result<f64, std::num::ParseFloatError> {
     let (mut mantissa, mut count, mut decimals, mut point) = (0u64, 0, 0usize, false);
     for &b in digits {
         match b {
+            // A 16th digit leaves the fast path before m can overflow.
+            b'0'..=b'9' if count == 15 => return cell.parse(),
             b'0'..=b'9' => {
                 mantissa = mantissa * 10 + u64::from(b - b'0');
                 count += 1;
@@ -147,7 +149,7 @@ fn parse_number(cell: &str) -> Result<f64, std::num::ParseFloatError> {
             _ => return cell.parse(),
         }
     }
-    if count == 0 || count > 15 {
+    if count == 0 {
         return cell.parse();
     }
     // Powers of ten up to 10¹⁵ are exact doubles.
@@ -229,6 +231,9 @@ mod tests {
             "1234567890123456",
             "0.000000000000001",
             "999999999999999.9",
+            // More digits than a u64 holds (found by fuzz/run.sh: an overflow, not a wrong value).
+            "531.1122222222222222221",
+            "-123456789012345678901234567890",
             " 1",
             "1 ",
         ]
