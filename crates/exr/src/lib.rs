@@ -526,9 +526,9 @@ impl SpectralFile {
         Ok(block.compress_to_chunk(std::slice::from_ref(&self.header))?)
     }
 
-    /// Calls `row` for each row of samples in the order the file stores them (row by row of
-    /// pixels, within one channel by channel, sorted by name) with the row's index, its
-    /// samples (sample x at `x · stride`) and the stride.
+    /// Calls `row` for each row of samples in the order the file stores them (pixel row by
+    /// pixel row, and within a pixel row channel by channel, sorted by name) with the row's
+    /// index, its samples (sample x at `x · stride`) and the stride.
     fn for_each_row<T: Copy>(
         &self,
         block: &Block,
