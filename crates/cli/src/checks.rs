@@ -4,7 +4,7 @@
 
 use crate::usage;
 use anyhow::Result;
-use specconv_ocio::Config;
+use specconv_conversion::ocio::Config;
 use std::path::Path;
 
 /// The OCIO config of `--ocio`, else `$OCIO`, else the built-in ACES config.

@@ -41,21 +41,15 @@ pub fn check_output(path: &Path, extensions: &[&str], what: &str) -> Result<()> 
 /// Writes `bytes` to `path` atomically, refusing to write over any of `inputs`.
 pub fn write_atomically(path: &Path, bytes: &[u8], inputs: &[&Path]) -> Result<()> {
     for input in inputs {
-        if specconv_pipeline::same_file(path, input) {
+        if specconv_atomic_file::same_file(path, input) {
             bail!(
                 "the output {} is also an input; choose another output path",
                 path.display()
             );
         }
     }
-    let tmp = specconv_pipeline::temporary_path(path);
-    let result = std::fs::write(&tmp, bytes)
-        .and_then(|()| std::fs::rename(&tmp, path))
-        .with_context(|| format!("cannot write {}", path.display()));
-    if result.is_err() {
-        let _ = std::fs::remove_file(&tmp);
-    }
-    result
+    specconv_atomic_file::write(path, bytes)
+        .with_context(|| format!("cannot write {}", path.display()))
 }
 
 /// A spectral EXR, named in the error when it cannot be read.
@@ -66,27 +60,7 @@ pub fn read_spectral(path: &Path) -> Result<specconv_exr::SpectralImage> {
 /// The model from `--model FILE`, or the built-in one. A model that cannot be read is a
 /// usage error: nothing can be done with it.
 pub fn load_model(path: Option<&Path>) -> Result<specconv_spectral::Model> {
-    let Some(path) = path else {
-        return Ok(specconv_spectral::Model::builtin().clone());
-    };
-    let text = std::fs::read_to_string(path)
-        .with_context(|| format!("cannot read model file {}", path.display()))
-        .map_err(crate::usage)?;
-    specconv_spectral::Model::from_json(&path.display().to_string(), &text).map_err(crate::usage)
-}
-
-/// A model's one-line description for reports.
-pub fn describe_model(path: Option<&Path>, m: &specconv_spectral::Model) -> String {
-    format!(
-        "{} ({} clusters, {}, {}, {} nm, trained on {} spectra from {})",
-        path.map_or_else(|| "built-in".to_string(), |p| p.display().to_string()),
-        m.leaves.len(),
-        m.observer,
-        m.illuminant,
-        m.grid,
-        m.training.count,
-        m.training.sources.join(", ")
-    )
+    specconv_conversion::models::load(path).map_err(crate::usage)
 }
 
 /// Why a trained model has fewer clusters than were asked for; `None` when it has them all.
@@ -128,50 +102,9 @@ pub fn fewer_clusters(m: &specconv_spectral::Model) -> Option<String> {
     ))
 }
 
-/// What a spectral EXR records of how its values become colour: its `specconvObserver` (else
-/// CIE 1931), `specconvIlluminant` (else D65) and, for emission, the units convention.
-pub struct Recorded {
-    pub observer: specconv_colour::Observer,
-    pub illuminant: specconv_colour::Illuminant,
-    /// Emission files: the convention and why it is the one (recorded, or the default of the
-    /// file's writer).
-    pub units: Option<(specconv_colour::EmissionUnits, &'static str)>,
-}
-
-/// The attribute that records the emission convention, beside the layout's `emissiveUnits`.
-pub const EMISSION_UNITS_ATTRIBUTE: &str = "specconvEmissionUnits";
-
-pub fn recorded(img: &specconv_exr::SpectralImage) -> Result<Recorded> {
-    let attr = |name: &str| {
-        img.attributes
-            .iter()
-            .find(|(k, _)| k == name)
-            .map(|(_, v)| v.as_str())
-    };
-    let observer =
-        attr("specconvObserver").map_or(Ok(specconv_colour::Observer::Cie1931), str::parse)?;
-    let illuminant =
-        attr("specconvIlluminant").map_or(Ok(specconv_colour::Illuminant::D65), str::parse)?;
-    let units = match (&img.kind, attr(EMISSION_UNITS_ATTRIBUTE)) {
-        (specconv_exr::Kind::Reflective, _) => None,
-        (_, Some(u)) => Some((
-            u.parse::<specconv_colour::EmissionUnits>()
-                .with_context(|| format!("in its {EMISSION_UNITS_ATTRIBUTE} attribute"))?,
-            "recorded in the file",
-        )),
-        // specconv wrote emission normalised to Σ ȳ before it recorded the convention.
-        (_, None) if attr("specconvSettings").is_some() => Some((
-            specconv_colour::EmissionUnits::Normalised,
-            "an older specconv file, which normalised emission",
-        )),
-        (_, None) => Some((
-            specconv_colour::EmissionUnits::Reference,
-            "the layout's reference convention",
-        )),
-    };
-    Ok(Recorded {
-        observer,
-        illuminant,
-        units,
-    })
+/// What a spectral EXR records of how it was made ([`specconv_conversion::Provenance`]).
+pub fn provenance(img: &specconv_exr::SpectralImage) -> Result<specconv_conversion::Provenance> {
+    Ok(specconv_conversion::Provenance::from_attributes(
+        &img.attributes,
+    )?)
 }

@@ -93,7 +93,7 @@ impl std::error::Error for Usage {}
 
 /// Turns any error into a usage error (exit status 2), keeping its one-line text.
 pub(crate) fn usage(e: impl Into<anyhow::Error>) -> anyhow::Error {
-    Usage(one_line(&e.into())).into()
+    Usage(one_line(e.into().as_ref())).into()
 }
 
 /// An error and its causes on one line, `WHAT: CAUSE: …`, each said once: a cause whose text
@@ -102,9 +102,9 @@ pub(crate) fn usage(e: impl Into<anyhow::Error>) -> anyhow::Error {
 /// `F: no such file` make `cannot read F: no such file`); and a cause that names what the
 /// line's last part ends with replaces that part (`cannot read F` and `F is not a spectral
 /// EXR` make `F is not a spectral EXR`).
-pub(crate) fn one_line(e: &anyhow::Error) -> String {
+pub(crate) fn one_line(e: &(dyn std::error::Error + 'static)) -> String {
     let mut line = e.to_string();
-    for cause in e.chain().skip(1) {
+    for cause in std::iter::successors(e.source(), |c| c.source()) {
         let cause = cause.to_string();
         if line.contains(&cause) {
             continue;
@@ -131,6 +131,43 @@ pub(crate) fn one_line(e: &anyhow::Error) -> String {
         };
     }
     line
+}
+
+/// A library error as the command line says it: its causes on one line, then the option that
+/// would fix it ([`specconv_conversion::Remedy`]), in this program's flags.
+pub(crate) fn explain(e: &specconv_conversion::Error) -> String {
+    use specconv_conversion::{Error, Remedy};
+    // Errors of one option, said with its flag.
+    match e {
+        Error::ZipLevelWithoutZip { compression } => {
+            return format!(
+                "--zip-level sets the deflate level of zip and zips; --compression {compression} \
+                 has none (drop --zip-level or use --compression zip)"
+            )
+        }
+        Error::EmptyTile { width, height } => {
+            return format!("--tile {width} {height}: tiles must be at least 1×1")
+        }
+        Error::NoThreads => return "-j/--threads must be at least 1".into(),
+        _ => {}
+    }
+    let hint = match e.remedy() {
+        Some(Remedy::ReplaceOrSkip) => {
+            "; pass --force to replace it (or -u to skip outputs that are up to date)"
+        }
+        Some(Remedy::BaseLevelOrTiles) => "; add --mip 0 or drop --scanline",
+        Some(Remedy::BaseLevel) => "; add --mip 0 to convert the full-resolution level only",
+        Some(Remedy::NameColourSpace) => "; pass --colorspace",
+        Some(Remedy::NameEncodingColourSpace) => {
+            "; pass --colorspace with the colour space the texture is encoded in"
+        }
+        Some(Remedy::NameChannelsOrLayer) => {
+            "; choose with --channels LAYER or --channels NAME,NAME,NAME"
+        }
+        Some(Remedy::NameLayer) => "; choose one with --channels LAYER",
+        Some(Remedy::DropZipLevel) | Some(_) | None => "",
+    };
+    one_line(e) + hint
 }
 
 /// Examples of `specconv --help` and of man/specconv.1.
@@ -187,7 +224,7 @@ pub fn main() -> i32 {
     match run(cli) {
         Ok(code) => code,
         Err(e) => {
-            print_error(&one_line(&e));
+            print_error(&one_line(e.as_ref()));
             if e.chain().any(|c| c.is::<Usage>()) {
                 exit::USAGE
             } else {
@@ -295,14 +332,14 @@ mod tests {
     #[test]
     fn errors_read_as_one_line_with_each_cause_once() {
         let e = anyhow::anyhow!("/t/a.exr: no such file").context("cannot read /t/a.exr");
-        assert_eq!(one_line(&e), "cannot read /t/a.exr: no such file");
+        assert_eq!(one_line(e.as_ref()), "cannot read /t/a.exr: no such file");
         let e = anyhow::anyhow!("/t/a.exr is not a spectral EXR").context("cannot read /t/a.exr");
-        assert_eq!(one_line(&e), "/t/a.exr is not a spectral EXR");
+        assert_eq!(one_line(e.as_ref()), "/t/a.exr is not a spectral EXR");
         let e = anyhow::anyhow!("OpenEXR: truncated")
             .context("cannot read /t/a.exr")
             .context("patch 2");
         assert_eq!(
-            one_line(&e),
+            one_line(e.as_ref()),
             "patch 2: cannot read /t/a.exr: OpenEXR: truncated"
         );
         // A word is not a file name: `patch tex` and `cannot read the texture…` both stay.
@@ -310,7 +347,7 @@ mod tests {
             .context("cannot read the texture /t/a.png")
             .context("patch tex");
         assert_eq!(
-            one_line(&e),
+            one_line(e.as_ref()),
             "patch tex: cannot read the texture /t/a.png: no such file"
         );
         // A wrapper that displays its source (thiserror's `#[error("{0}")]` with `#[from]`).
@@ -328,7 +365,7 @@ mod tests {
         }
         let e =
             anyhow::Error::new(Wrap(std::io::Error::other("disk full"))).context("cannot write x");
-        assert_eq!(one_line(&e), "cannot write x: disk full");
+        assert_eq!(one_line(e.as_ref()), "cannot write x: disk full");
         let u = usage(e);
         assert!(u.is::<Usage>());
         assert_eq!(u.to_string(), "cannot write x: disk full");

@@ -1,13 +1,11 @@
 //! The method options of the commands, turned into the one [`Description`] that
 //! `specconv_spectral::stack` builds: `convert` and `simulate` share [`StackArgs`] (so they
 //! have the same options with the same defaults), `eval` and `report` their setting flags. The
-//! Jakob 2019 tables are kept in the user's cache directory ([`tables`]).
+//! Jakob 2019 tables are kept where the library keeps them ([`specconv_conversion::tables`]).
 
 use anyhow::Result;
 use specconv_colour::Colorimetry;
 use specconv_spectral::baselines::jakob;
-use specconv_spectral::baselines::jakob::Fitter;
-use specconv_spectral::baselines::jakob_cache::{Note, TableCache};
 use specconv_spectral::method::MethodName;
 use specconv_spectral::stack::{Description, ExactUnder, Setting, Stack};
 use specconv_spectral::Model;
@@ -63,41 +61,10 @@ impl StackArgs {
     }
 }
 
-/// Where cached tables live: $SPECCONV_CACHE_DIR, else $XDG_CACHE_HOME/specconv, else
-/// ~/.cache/specconv.
-pub fn cache_dir() -> Option<PathBuf> {
-    let env = |k: &str| {
-        std::env::var_os(k)
-            .filter(|v| !v.is_empty())
-            .map(PathBuf::from)
-    };
-    env("SPECCONV_CACHE_DIR")
-        .or_else(|| env("XDG_CACHE_HOME").map(|d| d.join("specconv")))
-        .or_else(|| env("HOME").map(|d| d.join(".cache").join("specconv")))
-}
-
-/// The Jakob 2019 tables of the user's cache directory; what happens to them is said on
-/// standard error.
-pub fn tables() -> TableCache {
-    TableCache::in_dir(cache_dir(), solve_in_parallel, |note| match note {
-        Note::Built { .. } => eprintln!("specconv: {note}"),
-        _ if note.is_warning() => eprintln!("specconv: warning: {note}"),
-        _ => eprintln!("specconv: note: {note}"),
-    })
-}
-
-/// The columns of a Jakob 2019 table on every core.
-fn solve_in_parallel(fitter: &Fitter, res: usize) -> Vec<Vec<[f32; 3]>> {
-    use rayon::prelude::*;
-    (0..3 * res)
-        .into_par_iter()
-        .map(|c| fitter.solve_column(res, c / res, c % res))
-        .collect()
-}
-
 /// Builds `d` with `model` and the cached tables.
 pub fn build(d: &Description, model: &Model) -> Result<Stack> {
-    Ok(Stack::build(d, model, &tables())?)
+    let tables = specconv_conversion::tables::in_dir(None, specconv_conversion::tables::print_note);
+    Ok(Stack::build(d, model, &tables)?)
 }
 
 /// Colorimetry flags shared by `eval` and `report`.
@@ -248,7 +215,7 @@ mod tests {
                 else {
                     panic!("simulate")
                 };
-                assert_eq!(c.description(), s.description(method), "{method} {opts:?}");
+                assert_eq!(c.options().description(), s.description(method), "{method} {opts:?}");
                 assert_eq!(c.stack.model, s.stack.model);
             }
         }
@@ -256,10 +223,10 @@ mod tests {
             panic!("convert")
         };
         assert_eq!(
-            c.description(),
+            c.options().description(),
             Description::convert_default(MethodName::Otsu2018)
         );
-        assert_eq!(c.description().blend, DEFAULT_WIDTH);
+        assert_eq!(c.options().description().blend, DEFAULT_WIDTH);
     }
 
     /// `eval` describes what `report` measures: the method on its own band sums, bounded only

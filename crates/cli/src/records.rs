@@ -6,7 +6,7 @@ use std::path::Path;
 /// The rule that chose the input colour space, as records name it: `colorspace-option`
 /// (--colorspace), `declared` (what the file declares), `file-rule` (the OCIO config's file
 /// rules) or `default` (the format's default) — docs/colour.md.
-pub fn colorspace_rule(rule: &specconv_pipeline::Rule) -> &'static str {
+pub fn colorspace_rule(rule: &specconv_conversion::Rule) -> &'static str {
     rule.kind()
 }
 

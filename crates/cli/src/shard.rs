@@ -23,13 +23,5 @@ pub(crate) fn shard_of(
 /// Pixels of every level of an input, the weight of the plan; 0 when it cannot be read (it
 /// will fail fast wherever it lands).
 pub(crate) fn pixels(input: &Path) -> u64 {
-    specconv_oiio::ImageReader::open(input)
-        .map(|r| {
-            r.info()
-                .levels
-                .iter()
-                .map(|l| u64::from(l.width) * u64::from(l.height))
-                .sum()
-        })
-        .unwrap_or(0)
+    specconv_conversion::images::pixel_count(input).unwrap_or(0)
 }

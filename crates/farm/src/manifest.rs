@@ -83,10 +83,8 @@ impl Manifest {
     /// Writes the manifest atomically (temporary file, then rename).
     pub fn save(&self, job_dir: &Path) -> Result<(), Error> {
         let path = Manifest::path(job_dir);
-        let tmp = job_dir.join(".manifest.json.tmp");
         let text = serde_json::to_string_pretty(self).expect("a manifest serialises");
-        std::fs::write(&tmp, text + "\n")
-            .and_then(|()| std::fs::rename(&tmp, &path))
+        specconv_atomic_file::write(&path, (text + "\n").as_bytes())
             .map_err(|e| Error::Io(format!("cannot write {}", path.display()), e))
     }
 }

@@ -506,7 +506,7 @@ pub fn input_space(
             "float pixels without chromaticities are linear Rec.709, D65 white (OpenEXR)",
         )
     };
-    let (name, to_xyz) = resolve(config, &d)?.map_err(Error::Setting)?;
+    let (name, to_xyz) = resolve(config, &d)?.map_err(Error::DefaultColourSpace)?;
     Ok(InputSpace {
         name,
         rule: Rule::Default(why),

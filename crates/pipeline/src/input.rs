@@ -122,6 +122,15 @@ pub fn open_subimage(path: &Path, which: Option<&str>) -> crate::Result<ImageRea
     Ok(reader)
 }
 
+/// What a caller could name to settle which channels carry the colour.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Choose {
+    /// The channels, or a layer.
+    ChannelsOrLayer,
+    /// One of several layers.
+    OneLayer,
+}
+
 /// The first three channels that are not alpha (fewer when the image has fewer).
 pub fn colour_channels(channels: usize, alpha: Option<usize>) -> Vec<usize> {
     (0..channels)
@@ -144,14 +153,13 @@ pub fn choose_channels(info: &ImageInfo, request: Option<&str>) -> crate::Result
             reason,
         }
     };
-    let refuse = |what: String| {
-        crate::Error::Setting(format!(
-            "{}: {what}; its channels are {}{}",
-            info.path.display(),
-            names.join(", "),
-            describe_layers(&names)
-        ))
+    let refuse_as = |what: String, choose: Option<Choose>| crate::Error::Channels {
+        path: info.path.clone(),
+        what,
+        channels: format!("{}{}", names.join(", "), describe_layers(&names)),
+        choose,
     };
+    let refuse = |what: String| refuse_as(what, None);
     // A layer's R, G, B (or Y) and A, if it has them.
     let layer = |prefix: &str| -> Option<(Vec<usize>, Option<usize>)> {
         let of = |c: &str| find(&format!("{prefix}{c}"));
@@ -178,7 +186,7 @@ pub fn choose_channels(info: &ImageInfo, request: Option<&str>) -> crate::Result
                 4 => (picked[..3].to_vec(), Some(picked[3])),
                 n => {
                     let hint = "give R,G,B or R,G,B,A (or Y or Y,A for grey)";
-                    return Err(refuse(format!("--channels names {n} channels; {hint}")));
+                    return Err(refuse(format!("{n} channels were asked for; {hint}")));
                 }
             };
             return Ok(build(colour, alpha, ChannelReason::Option));
@@ -223,13 +231,14 @@ pub fn choose_channels(info: &ImageInfo, request: Option<&str>) -> crate::Result
             let (colour, alpha) = layer(&format!("{only}.")).expect("the layer has R, G, B");
             Ok(build(colour, alpha, ChannelReason::OnlyLayer))
         }
-        [] => Err(refuse(
-            "its channels are in layers and none holds R, G and B; choose with --channels LAYER or --channels NAME,NAME,NAME".into(),
+        [] => Err(refuse_as(
+            "its channels are in layers and none holds R, G and B".into(),
+            Some(Choose::ChannelsOrLayer),
         )),
-        several => Err(refuse(format!(
-            "several layers hold R, G and B ({}); choose one with --channels LAYER",
-            several.join(", ")
-        ))),
+        several => Err(refuse_as(
+            format!("several layers hold R, G and B ({})", several.join(", ")),
+            Some(Choose::OneLayer),
+        )),
     }
 }
 

@@ -23,29 +23,107 @@ pub use colour::{input_space, Alpha, InputSpace, Rule, ToXyz};
 use rayon::prelude::*;
 use specconv_exr::{Block, Blocks, Chunk, Compression, Kind, Sample, Spec, SpectralFile, Windows};
 use specconv_ocio::Config;
+use specconv_spectral::method::Tally;
 use specconv_spectral::Method;
-use std::fs::File;
 use std::io::BufWriter;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 
+/// Why a conversion failed, by cause. Messages name no command-line option: a front-end adds
+/// its own hint (the CLI's flags, the Python package's keywords).
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum Error {
-    #[error("{0}")]
+    /// The input could not be read.
+    #[error(transparent)]
     Input(#[from] specconv_oiio::Error),
-    #[error("{0}")]
+    /// The input's colour could not be managed.
+    #[error(transparent)]
     Color(#[from] specconv_ocio::Error),
-    #[error("{0}")]
+    /// The output could not be written.
+    #[error(transparent)]
     Output(#[from] specconv_exr::Error),
-    #[error("{0}")]
+    /// An OpenEXR input whose header does not match its size.
+    #[error(transparent)]
     Damaged(#[from] specconv_exr::check::Problem),
-    #[error("{0}")]
-    Setting(String),
-    #[error("cannot write {path}: {source}")]
-    Io {
+    /// The channels asked for, or those found, cannot carry a colour.
+    #[error("{}: {what}; its channels are {channels}", path.display())]
+    Channels {
+        /// The input.
         path: PathBuf,
+        /// What is wrong with them.
+        what: String,
+        /// The channels the input has, and its layers.
+        channels: String,
+        /// What naming would settle it, where naming would.
+        choose: Option<input::Choose>,
+    },
+    /// The format's default colour space cannot be reached in the config.
+    #[error("{0}")]
+    DefaultColourSpace(String),
+    /// Scanline files hold one level and the input has several.
+    #[error("{} has {levels} MIP levels, which scanline files cannot hold", input.display())]
+    ScanlineMip {
+        /// The input.
+        input: PathBuf,
+        /// Its levels.
+        levels: usize,
+    },
+    /// The input's levels are not an OpenEXR MIP map's.
+    #[error(
+        "{}: its {levels} MIP levels are not the {needed} levels of halving sizes an OpenEXR MIP map has \
+         (level {level}: {have:?} where {want:?} is needed)",
+        input.display()
+    )]
+    NotAMipMap {
+        /// The input.
+        input: PathBuf,
+        /// Its levels.
+        levels: usize,
+        /// The levels an OpenEXR MIP map of its size has.
+        needed: usize,
+        /// The first level that differs.
+        level: usize,
+        /// That level's size in the input.
+        have: Option<(usize, usize)>,
+        /// The size it needs.
+        want: (usize, usize),
+    },
+    /// The weights half rounding keeps the colour under are not on the method's grid.
+    #[error("the XYZ weights have {have} bands where the method makes {want}")]
+    Weights {
+        /// Bands of the weights.
+        have: usize,
+        /// Bands of the method.
+        want: usize,
+    },
+    /// The output is the input (the same file, whatever the paths).
+    #[error("the output {} is the input; choose another output path", output.display())]
+    InputIsOutput {
+        /// The output asked for.
+        output: PathBuf,
+    },
+    /// The output exists and may not be replaced.
+    #[error("{} exists", output.display())]
+    OutputExists {
+        /// The output.
+        output: PathBuf,
+    },
+    /// The output's directory does not exist (outputs are never given new directories).
+    #[error("the output directory {} does not exist; create it first", dir.display())]
+    NoOutputDirectory {
+        /// The directory.
+        dir: PathBuf,
+    },
+    /// Writing the output failed.
+    #[error("cannot write {}: {source}", path.display())]
+    Io {
+        /// The output.
+        path: PathBuf,
+        /// Why.
         source: std::io::Error,
     },
+    /// Stopped through the job's cancel flag.
     #[error("cancelled")]
     Cancelled,
 }
@@ -136,6 +214,9 @@ pub struct Report {
     pub above_one: u64,
     /// Pixels with a finite band beyond the half range, stored as ±65504 instead of ±∞.
     pub saturated: u64,
+    /// What the method's adapters counted over this job's pixels (bounded outcomes, unmatched
+    /// emission): this job's alone.
+    pub tally: Tally,
 }
 
 /// Values above this count as above 1: 0.1 % of headroom, so that the rounding of colour
@@ -148,6 +229,7 @@ struct Counts {
     non_finite: u64,
     above_one: u64,
     saturated: u64,
+    tally: Tally,
 }
 
 /// A conversion: one input, one output.
@@ -169,35 +251,116 @@ struct Strip {
     blocks: Vec<Block>,
 }
 
-/// Runs a job. `progress` hears (pixels done, pixels in all) after every window.
+/// Runs a job: [`open`], then [`Opened::write`] with the settings' attributes. `progress`
+/// hears (pixels done, pixels in all) after every window.
 pub fn convert(job: &Job, progress: &mut dyn FnMut(u64, u64)) -> Result<Report> {
-    let output = job.output;
-    refuse_overwrites(job.input, output, job.settings.overwrite)?;
+    open(job)?.write(&job.settings.attributes, progress)
+}
+
+/// An input opened for a job: the output may be written, the input's header is sound, its
+/// channels and colour space are chosen. Nothing is written yet.
+pub struct Opened<'a> {
+    job: &'a Job<'a>,
+    reader: specconv_oiio::ImageReader,
+    info: specconv_oiio::ImageInfo,
+    selection: input::Selection,
+    space: InputSpace,
+    premultiply: bool,
+}
+
+/// Opens `job`'s input: refuses to write over the input or an existing output (unless the
+/// settings allow it), checks an OpenEXR input's header, chooses channels and colour space.
+pub fn open<'a>(job: &'a Job<'a>) -> Result<Opened<'a>> {
+    refuse_overwrites(job.input, job.output, job.settings.overwrite)?;
     specconv_exr::check::check_input(job.input)?;
-    let (mut reader, selection) = input::open(job.input, &job.settings.input)?;
+    let (reader, selection) = input::open(job.input, &job.settings.input)?;
     let info = reader.info().clone();
     let space = input_space(job.config, &reader, job.settings.colorspace.as_deref())?;
     let premultiply = job
         .settings
         .alpha
         .premultiply(&reader, selection.channels.alpha);
+    Ok(Opened {
+        job,
+        reader,
+        info,
+        selection,
+        space,
+        premultiply,
+    })
+}
 
+impl Opened<'_> {
+    /// The colour space the input is read in (the config's name, or a description).
+    pub fn colorspace(&self) -> &str {
+        &self.space.name
+    }
+
+    /// Uplifts every pixel and writes the output with `attributes` in its header (the caller's
+    /// provenance). `progress` hears (pixels done, pixels in all) after every window.
+    pub fn write(
+        self,
+        attributes: &[(String, String)],
+        progress: &mut dyn FnMut(u64, u64),
+    ) -> Result<Report> {
+        let Opened {
+            job,
+            mut reader,
+            info,
+            selection,
+            space,
+            premultiply,
+        } = self;
+        let file = output_file(job, &info, &selection, attributes)?;
+        write_file(
+            job,
+            &file,
+            &mut reader,
+            &selection,
+            (&space, premultiply),
+            progress,
+        )
+        .map(|(total, counts)| Report {
+            width: info.width() as usize,
+            height: info.height() as usize,
+            pixels: total,
+            levels: file.levels(),
+            selection,
+            colorspace: space.name,
+            colorspace_rule: space.rule,
+            warnings: space.warnings,
+            premultiplied: premultiply,
+            non_finite: counts.non_finite,
+            above_one: counts.above_one,
+            saturated: counts.saturated,
+            tally: counts.tally,
+        })
+    }
+}
+
+/// The output's description: its size and windows, bands, blocks and levels (checked against
+/// the input's), with `attributes`.
+fn output_file(
+    job: &Job,
+    info: &specconv_oiio::ImageInfo,
+    selection: &input::Selection,
+    attributes: &[(String, String)],
+) -> Result<SpectralFile> {
     let mip = job.settings.mip == Mip::All && info.levels.len() > 1;
     let blocks = match job.settings.tile {
         None if mip => {
-            return Err(Error::Setting(format!(
-                "{} has {} MIP levels, which scanline files cannot hold; add --mip 0 or drop --scanline",
-                job.input.display(),
-                info.levels.len()
-            )))
+            return Err(Error::ScanlineMip {
+                input: job.input.to_path_buf(),
+                levels: info.levels.len(),
+            })
         }
         None => Blocks::Scanlines,
-        Some((width, height)) => Blocks::Tiles { width, height, mip_levels: mip },
+        Some((width, height)) => Blocks::Tiles {
+            width,
+            height,
+            mip_levels: mip,
+        },
     };
-    let mut attributes = job.settings.attributes.clone();
-    attributes.push(("specconvSourceColorspace".into(), space.name.clone()));
-    attributes.push(("specconvConfig".into(), job.config.source().to_string()));
-    attributes.push(("specconvSource".into(), file_name(job.input)));
     let top = info.levels[0];
     let file = SpectralFile::new(Spec {
         width: info.width() as usize,
@@ -218,7 +381,7 @@ pub fn convert(job: &Job, progress: &mut dyn FnMut(u64, u64)) -> Result<Report> 
         compression: job.settings.compression,
         zip_level: job.settings.zip_level,
         blocks,
-        attributes,
+        attributes: attributes.to_vec(),
     })?;
     // Every output level comes from the input level of the same size.
     for level in 0..file.levels() {
@@ -228,26 +391,39 @@ pub fn convert(job: &Job, progress: &mut dyn FnMut(u64, u64)) -> Result<Report> 
             .get(level)
             .map(|l| (l.width as usize, l.height as usize));
         if have != Some(want) || (mip && info.levels.len() != file.levels()) {
-            return Err(Error::Setting(format!(
-                "{}: its {} MIP levels are not the {} levels of halving sizes an OpenEXR MIP map has \
-                 (level {level}: {have:?} where {want:?} is needed); add --mip 0 to convert the full-resolution level only",
-                job.input.display(),
-                info.levels.len(),
-                file.levels()
-            )));
+            return Err(Error::NotAMipMap {
+                input: job.input.to_path_buf(),
+                levels: info.levels.len(),
+                needed: file.levels(),
+                level,
+                have,
+                want,
+            });
         }
     }
+    Ok(file)
+}
 
+/// Reads, converts, uplifts and writes every window of `file`; returns the pixels uplifted and
+/// what they had.
+fn write_file(
+    job: &Job,
+    file: &SpectralFile,
+    reader: &mut specconv_oiio::ImageReader,
+    selection: &input::Selection,
+    (space, premultiply): (&InputSpace, bool),
+    progress: &mut dyn FnMut(u64, u64),
+) -> Result<(u64, Counts)> {
+    let output = job.output;
     if let Some(w) = &job.settings.xyz_weights {
         if w.iter().any(|row| row.len() != job.method.grid().len()) {
-            return Err(Error::Setting(format!(
-                "the XYZ weights have {} bands where the method makes {}",
-                w[0].len(),
-                job.method.grid().len()
-            )));
+            return Err(Error::Weights {
+                have: w[0].len(),
+                want: job.method.grid().len(),
+            });
         }
     }
-    let strips = strips(&file);
+    let strips = strips(file);
     let total: u64 = strips
         .iter()
         .map(|s| (file.level_size(s.level).0 * s.height) as u64)
@@ -279,14 +455,12 @@ pub fn convert(job: &Job, progress: &mut dyn FnMut(u64, u64)) -> Result<Report> 
     };
     // The first window is read before the output exists: a file whose pixels cannot be read
     // fails here, leaving nothing behind.
-    let mut next = windows.first().map(|w| read(&mut reader, w)).transpose()?;
+    let mut next = windows.first().map(|w| read(reader, w)).transpose()?;
 
-    let tmp = temporary_path(output);
-    let out = File::create(&tmp).map_err(|source| Error::Io {
+    let pending = specconv_atomic_file::Pending::beside(output).map_err(|source| Error::Io {
         path: output.to_path_buf(),
         source,
     })?;
-    let guard = RemoveOnDrop(Some(tmp.clone()));
     let colour = &selection.channels.colour;
     let alpha = selection.channels.alpha;
     let mut done = 0u64;
@@ -297,7 +471,7 @@ pub fn convert(job: &Job, progress: &mut dyn FnMut(u64, u64)) -> Result<Report> 
         failure = Some(e);
         specconv_exr::Error::Invalid("aborted".into())
     };
-    let written = file.write(BufWriter::with_capacity(1 << 20, out), |sink| {
+    let written = file.write(BufWriter::with_capacity(1 << 20, pending.file()), |sink| {
         // Window i's blocks are made while window i + 1 is read and window i − 1's chunks are
         // written, in file order: the writer never holds up the threads that compress.
         let mut made: Vec<(usize, Chunk, Counts)> = Vec::new();
@@ -306,6 +480,7 @@ pub fn convert(job: &Job, progress: &mut dyn FnMut(u64, u64)) -> Result<Report> 
                 counts.non_finite += c.non_finite;
                 counts.above_one += c.above_one;
                 counts.saturated += c.saturated;
+                counts.tally += c.tally;
                 sink(chunk_index, chunk)?;
             }
             Ok(())
@@ -329,7 +504,7 @@ pub fn convert(job: &Job, progress: &mut dyn FnMut(u64, u64)) -> Result<Report> 
                                 .par_iter()
                                 .map(|b| {
                                     encode_block(
-                                        &file,
+                                        file,
                                         &space.to_xyz,
                                         job,
                                         b,
@@ -345,7 +520,7 @@ pub fn convert(job: &Job, progress: &mut dyn FnMut(u64, u64)) -> Result<Report> 
                 },
                 || {
                     let wrote = write(previous);
-                    let read = windows.get(i + 1).map(|w| read(&mut reader, w)).transpose();
+                    let read = windows.get(i + 1).map(|w| read(reader, w)).transpose();
                     (read, wrote)
                 },
             );
@@ -364,25 +539,11 @@ pub fn convert(job: &Job, progress: &mut dyn FnMut(u64, u64)) -> Result<Report> 
         return Err(e);
     }
     written?;
-    std::fs::rename(&tmp, output).map_err(|source| Error::Io {
+    pending.commit().map_err(|source| Error::Io {
         path: output.to_path_buf(),
         source,
     })?;
-    guard.disarm();
-    Ok(Report {
-        width: info.width() as usize,
-        height: info.height() as usize,
-        pixels: total,
-        levels: file.levels(),
-        selection,
-        colorspace: space.name,
-        colorspace_rule: space.rule,
-        warnings: space.warnings,
-        premultiplied: premultiply,
-        non_finite: counts.non_finite,
-        above_one: counts.above_one,
-        saturated: counts.saturated,
-    })
+    Ok((total, counts))
 }
 
 pub use input::colour_channels;
@@ -440,7 +601,8 @@ fn encode_block(
     }
     let n = job.method.grid().len();
     let mut bands = vec![0.0f32; count * n];
-    job.method.uplift_f32(&rgb, &mut bands);
+    job.method
+        .uplift_f32_tallied(&rgb, &mut bands, &mut counts.tally);
     if file.spec().sample == Sample::Half {
         counts.saturated = saturate_half(&mut bands, n);
         if let Some(w) = &job.settings.xyz_weights {
@@ -488,91 +650,24 @@ fn strips(file: &SpectralFile) -> Vec<Strip> {
     out
 }
 
-fn file_name(p: &Path) -> String {
-    p.file_name().map_or_else(
-        || p.display().to_string(),
-        |n| n.to_string_lossy().into_owned(),
-    )
-}
-
-/// `.NAME.specconv-PID.tmp` beside the output, so the final rename stays on one file system.
-pub fn temporary_path(output: &Path) -> PathBuf {
-    let dir = match output.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d,
-        _ => Path::new("."),
-    };
-    dir.join(format!(
-        ".{}.specconv-{}.tmp",
-        file_name(output),
-        std::process::id()
-    ))
-}
-
-/// Temporary files of `output` left by runs killed before they could remove them (SIGKILL, a
-/// node lost): the names [`temporary_path`] gives, whatever the process id.
-pub fn leftover_temporaries(output: &Path) -> Vec<PathBuf> {
-    let own = temporary_path(output);
-    let (Some(dir), Some(name)) = (own.parent(), own.file_name()) else {
-        return Vec::new();
-    };
-    let name = name.to_string_lossy();
-    let prefix = &name[..name.rfind('-').map_or(0, |i| i + 1)];
-    std::fs::read_dir(dir)
-        .into_iter()
-        .flatten()
-        .filter_map(|e| e.ok())
-        .filter(|e| {
-            let n = e.file_name().to_string_lossy().into_owned();
-            n.starts_with(prefix) && n.ends_with(".tmp")
-        })
-        .map(|e| e.path())
-        .collect()
-}
-
-/// Whether two paths name the same existing file (links and `..` resolved).
-pub fn same_file(a: &Path, b: &Path) -> bool {
-    match (a.canonicalize(), b.canonicalize()) {
-        (Ok(a), Ok(b)) => a == b,
-        _ => false,
-    }
-}
+use specconv_atomic_file::same_file;
 
 /// Refuses to write over the input, and over an existing output unless asked to.
 fn refuse_overwrites(input: &Path, output: &Path, overwrite: bool) -> Result<()> {
     if same_file(input, output) {
-        return Err(Error::Setting(format!(
-            "the output {} is the input; choose another output path",
-            output.display()
-        )));
+        return Err(Error::InputIsOutput {
+            output: output.to_path_buf(),
+        });
     }
     if output.exists() && !overwrite {
-        return Err(Error::Setting(format!(
-            "{} exists; pass --force to replace it (or -u to skip outputs that are up to date)",
-            output.display()
-        )));
+        return Err(Error::OutputExists {
+            output: output.to_path_buf(),
+        });
     }
     match output.parent() {
-        Some(d) if !d.as_os_str().is_empty() && !d.is_dir() => Err(Error::Setting(format!(
-            "the output directory {} does not exist; create it first",
-            d.display()
-        ))),
+        Some(d) if !d.as_os_str().is_empty() && !d.is_dir() => Err(Error::NoOutputDirectory {
+            dir: d.to_path_buf(),
+        }),
         _ => Ok(()),
-    }
-}
-
-/// Removes the temporary file unless the job completed.
-struct RemoveOnDrop(Option<PathBuf>);
-
-impl RemoveOnDrop {
-    fn disarm(mut self) {
-        self.0 = None;
-    }
-}
-
-impl Drop for RemoveOnDrop {
-    fn drop(&mut self) {
-        if let Some(p) = self.0.take() {
-            let _ = std::fs::remove_file(p);
-        }
     }
 }

@@ -17,10 +17,9 @@
 
 pub use specconv_colour::solid::{nearest, Solid, Solve};
 
+use crate::method::Tally;
 use crate::{Error, Method};
 use specconv_colour::{Colorimetry, Grid};
-use std::sync::atomic::{AtomicU64, Ordering};
-use std::sync::Arc;
 
 /// What [`Bounded`] did with one colour.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -40,14 +39,7 @@ pub enum Outcome {
     NotFinite,
 }
 
-/// How many colours of a call had each outcome.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
-pub struct Counts {
-    pub in_range: usize,
-    pub projected: usize,
-    pub outside: usize,
-    pub not_finite: usize,
-}
+pub use crate::method::Counts;
 
 impl Counts {
     fn add(&mut self, o: &Outcome) {
@@ -56,45 +48,6 @@ impl Counts {
             Outcome::Projected => self.projected += 1,
             Outcome::Outside { .. } => self.outside += 1,
             Outcome::NotFinite => self.not_finite += 1,
-        }
-    }
-}
-
-impl std::ops::AddAssign for Counts {
-    fn add_assign(&mut self, o: Counts) {
-        self.in_range += o.in_range;
-        self.projected += o.projected;
-        self.outside += o.outside;
-        self.not_finite += o.not_finite;
-    }
-}
-
-/// Outcome counts gathered across threads from a [`Bounded`] used through the [`Method`] trait
-/// (as the pipeline does): added once per call, read with [`Tally::take`].
-#[derive(Debug, Default)]
-pub struct Tally([AtomicU64; 4]);
-
-impl Tally {
-    fn add(&self, c: &Counts) {
-        for (slot, v) in self
-            .0
-            .iter()
-            .zip([c.in_range, c.projected, c.outside, c.not_finite])
-        {
-            if v > 0 {
-                slot.fetch_add(v as u64, Ordering::Relaxed);
-            }
-        }
-    }
-
-    /// The counts so far, resetting them to zero.
-    pub fn take(&self) -> Counts {
-        let [i, p, o, n] = [0, 1, 2, 3].map(|k| self.0[k].swap(0, Ordering::Relaxed) as usize);
-        Counts {
-            in_range: i,
-            projected: p,
-            outside: o,
-            not_finite: n,
         }
     }
 }
@@ -108,7 +61,6 @@ pub struct Bounded<M> {
     colorimetry: Colorimetry,
     solid: Solid,
     name: String,
-    tally: Option<Arc<Tally>>,
 }
 
 impl<M: Method> Bounded<M> {
@@ -128,15 +80,7 @@ impl<M: Method> Bounded<M> {
             solid: Solid::new(&colorimetry.weights),
             colorimetry,
             name,
-            tally: None,
         })
-    }
-
-    /// Adds the outcomes of every [`Method`] call to `tally` (for callers that only hold the
-    /// method as a trait object).
-    pub fn counting_into(mut self, tally: Arc<Tally>) -> Bounded<M> {
-        self.tally = Some(tally);
-        self
     }
 
     pub fn inner(&self) -> &M {
@@ -260,17 +204,15 @@ impl<M: Method> Method for Bounded<M> {
     }
 
     fn uplift_f64(&self, xyz: &[f64], out: &mut [f64]) {
-        let counts = self.uplift_f64_counted(xyz, out);
-        if let Some(t) = &self.tally {
-            t.add(&counts);
-        }
+        self.uplift_f64_counted(xyz, out);
     }
 
     fn uplift_f32(&self, xyz: &[f32], out: &mut [f32]) {
-        let counts = self.uplift_f32_counted(xyz, out);
-        if let Some(t) = &self.tally {
-            t.add(&counts);
-        }
+        self.uplift_f32_counted(xyz, out);
+    }
+
+    fn uplift_f32_tallied(&self, xyz: &[f32], out: &mut [f32], tally: &mut Tally) {
+        tally.bounded += self.uplift_f32_counted(xyz, out);
     }
 
     fn model_bytes(&self) -> usize {

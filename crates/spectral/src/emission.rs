@@ -36,9 +36,9 @@
 //! | no k reproduces it (xy outside the spectral locus, negative luminance) | L of the last k, counted as *unmatched*: its colour is the one the method reached (bounded: non-negative, the colour nearest in CIELAB that a reflectance can have, see [`crate::bounded`]); unbounded methods always match, with negative bands |
 //! | components up to the largest finite value | u from c/m cannot overflow; L saturates at ± the output type's largest finite value |
 
+use crate::method::Tally;
 use crate::{Error, Method};
 use specconv_colour::{Colorimetry, EmissionUnits, Grid, Illuminant, Integration};
-use std::sync::atomic::{AtomicU64, Ordering};
 
 /// Most halvings of a colour the method misses: down to 2⁻⁹ of the white's box (the bounded
 /// uplift's error on colours at the spectral locus stops shrinking after about six).
@@ -66,7 +66,6 @@ pub struct Emissive<M> {
     /// The perfect reflector's XYZ: the box colours are scaled into.
     white: [f64; 3],
     name: String,
-    unmatched: AtomicU64,
 }
 
 /// Emission in one of the [`EmissionUnits`] on a grid, and the reflectance setting whose
@@ -156,18 +155,11 @@ impl<M: Method> Emissive<M> {
             colorimetry,
             light,
             name,
-            unmatched: AtomicU64::new(0),
         })
     }
 
     pub fn inner(&self) -> &M {
         &self.inner
-    }
-
-    /// Colours uplifted through [`Method`] since the last call whose colour the method did not
-    /// reproduce at any scale (see the module's table); resets the count.
-    pub fn take_unmatched(&self) -> u64 {
-        self.unmatched.swap(0, Ordering::Relaxed)
     }
 
     /// As [`Method::uplift_f64`]; returns the number of unmatched colours.
@@ -285,13 +277,16 @@ impl<M: Method> Method for Emissive<M> {
     }
 
     fn uplift_f64(&self, xyz: &[f64], out: &mut [f64]) {
-        let missed = self.uplift_f64_counted(xyz, out);
-        self.unmatched.fetch_add(missed as u64, Ordering::Relaxed);
+        self.uplift_f64_counted(xyz, out);
     }
 
     fn uplift_f32(&self, xyz: &[f32], out: &mut [f32]) {
-        let missed = self.uplift_f32_counted(xyz, out);
-        self.unmatched.fetch_add(missed as u64, Ordering::Relaxed);
+        self.uplift_f32_counted(xyz, out);
+    }
+
+    // The inner method's own counts are of scaled trial colours, not the caller's: dropped.
+    fn uplift_f32_tallied(&self, xyz: &[f32], out: &mut [f32], tally: &mut Tally) {
+        tally.unmatched += self.uplift_f32_counted(xyz, out) as u64;
     }
 
     fn model_bytes(&self) -> usize {

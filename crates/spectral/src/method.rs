@@ -15,11 +15,59 @@ pub trait Method: Send + Sync {
     fn uplift_f64(&self, xyz: &[f64], out: &mut [f64]);
     /// As `uplift_f64`, in single precision.
     fn uplift_f32(&self, xyz: &[f32], out: &mut [f32]);
+    /// As `uplift_f32`, adding what the method's adapters counted to `tally`, which the caller
+    /// owns: two conversions sharing a method never mix their counts. Adapters that count
+    /// ([`crate::bounded`], [`crate::emission`]) and adapters that wrap another method
+    /// override it; the default counts nothing.
+    fn uplift_f32_tallied(&self, xyz: &[f32], out: &mut [f32], _tally: &mut Tally) {
+        self.uplift_f32(xyz, out)
+    }
     /// Bytes of the data the f32 uplift reads (tables, matrices, tree): the model's size.
     fn model_bytes(&self) -> usize;
     /// The cluster a colour is uplifted by, for methods that have clusters.
     fn cluster_of(&self, _xyz: [f64; 3]) -> Option<usize> {
         None
+    }
+}
+
+/// How many colours of a call had each outcome of [`crate::bounded::Bounded`].
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Counts {
+    /// The method's spectrum was already in [0, 1].
+    pub in_range: usize,
+    /// Projected into [0, 1] with the input's XYZ.
+    pub projected: usize,
+    /// Outside the object-colour solid: the nearest colour in CIELAB a reflectance can have.
+    pub outside: usize,
+    /// NaN or infinite colours, passed through.
+    pub not_finite: usize,
+}
+
+impl std::ops::AddAssign for Counts {
+    fn add_assign(&mut self, o: Counts) {
+        self.in_range += o.in_range;
+        self.projected += o.projected;
+        self.outside += o.outside;
+        self.not_finite += o.not_finite;
+    }
+}
+
+/// What the adapters of a method counted over the calls of [`Method::uplift_f32_tallied`] that
+/// were given it: a plain value the caller owns (per block, then summed), not a counter shared
+/// on the method.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Tally {
+    /// Outcomes of a bounded method uplifting the caller's colours (an emissive stack's
+    /// bounded method sees scaled trial colours: not counted).
+    pub bounded: Counts,
+    /// Colours no emission spectrum of the method matched ([`crate::emission`]).
+    pub unmatched: u64,
+}
+
+impl std::ops::AddAssign for Tally {
+    fn add_assign(&mut self, o: Tally) {
+        self.bounded += o.bounded;
+        self.unmatched += o.unmatched;
     }
 }
 
@@ -53,6 +101,10 @@ impl Method for Box<dyn Method> {
 
     fn uplift_f32(&self, xyz: &[f32], out: &mut [f32]) {
         (**self).uplift_f32(xyz, out)
+    }
+
+    fn uplift_f32_tallied(&self, xyz: &[f32], out: &mut [f32], tally: &mut Tally) {
+        (**self).uplift_f32_tallied(xyz, out, tally)
     }
 
     fn model_bytes(&self) -> usize {

@@ -6,6 +6,7 @@
 //! (c − A·L·r₀), with A the new grid's XYZ rows. Bands beyond the method's grid hold its end
 //! values, so widening a grid extrapolates flat.
 
+use crate::method::Tally;
 use crate::{Error, Method};
 use nalgebra::Matrix3;
 use specconv_colour::{Colorimetry, Grid};
@@ -123,9 +124,13 @@ impl<M: Method> Method for Resampled<M> {
     }
 
     fn uplift_f32(&self, xyz: &[f32], out: &mut [f32]) {
+        self.uplift_f32_tallied(xyz, out, &mut Tally::default())
+    }
+
+    fn uplift_f32_tallied(&self, xyz: &[f32], out: &mut [f32], tally: &mut Tally) {
         let (n0, n) = (self.inner.grid().len(), self.colorimetry.bands());
         let mut tmp = vec![0.0f32; xyz.len() / 3 * n0];
-        self.inner.uplift_f32(xyz, &mut tmp);
+        self.inner.uplift_f32_tallied(xyz, &mut tmp, tally);
         let mut scratch = vec![0.0; n];
         for ((c, r0), r) in xyz
             .chunks_exact(3)

@@ -8,13 +8,12 @@
 
 use crate::baselines::jakob_cache::TableCache;
 use crate::baselines::{Jakob2019, Meng2015, Smits1999};
-use crate::bounded::{Bounded, Counts, Tally};
+use crate::bounded::Bounded;
 use crate::emission::{EmissionSetting, Emissive};
 use crate::method::MethodName;
 use crate::resample::Resampled;
 use crate::{Error, Method, Model, Uplifter};
 use specconv_colour::{Colorimetry, EmissionUnits, Grid, Illuminant, Integration, Observer};
-use std::sync::Arc;
 
 /// What to uplift with: everything a command's options select about the method.
 #[derive(Debug, Clone, PartialEq)]
@@ -130,12 +129,13 @@ enum Top {
     Emissive(Emissive<Box<dyn Method>>),
 }
 
-/// A built method and the counters of its adapters.
+/// A built method and what its adapters are. It holds no counter: what a call's adapters count
+/// goes into the caller's [`crate::method::Tally`] ([`Method::uplift_f32_tallied`]).
 pub struct Stack {
     top: Top,
     colorimetry: Colorimetry,
     emission: Option<EmissionSetting>,
-    tally: Option<Arc<Tally>>,
+    bounded: bool,
     blend: f64,
 }
 
@@ -150,10 +150,8 @@ impl Stack {
         if d.exact_under == ExactUnder::Readers || colorimetry.grid != m.grid() {
             m = Box::new(Resampled::new(m, colorimetry.clone())?);
         }
-        // The tally counts the bounded outcomes across the threads that share the stack.
-        let tally = d.bounded.then(|| Arc::new(Tally::default()));
-        if let Some(tally) = &tally {
-            m = Box::new(Bounded::new(m, colorimetry.clone())?.counting_into(tally.clone()));
+        if d.bounded {
+            m = Box::new(Bounded::new(m, colorimetry.clone())?);
         }
         let top = match (d.emissive, &emission) {
             (None, _) => Top::Reflective(m),
@@ -164,7 +162,7 @@ impl Stack {
             top,
             colorimetry,
             emission,
-            tally,
+            bounded: d.bounded,
             blend: d.blend_width(),
         })
     }
@@ -201,11 +199,16 @@ impl Stack {
         self.blend
     }
 
-    /// The bounded outcomes since the last call when the stack is bounded, and resets them.
-    /// In emission the bounded method sees scaled trial colours, not the inputs: no counts.
-    pub fn take_counts(&self) -> Option<Counts> {
-        let counts = self.tally.as_ref().map(|t| t.take());
-        counts.filter(|_| self.emissive().is_none())
+    /// Whether the bounded outcomes of a [`crate::method::Tally`] mean something: the stack is
+    /// bounded and reflective (in emission the bounded method sees scaled trial colours).
+    pub fn counts_bounded(&self) -> bool {
+        self.bounded && self.emissive().is_none()
+    }
+
+    /// Whether every spectrum stays in [0, 1]: bounded, or a method bounded by its own design
+    /// (meng2015-bounded).
+    pub fn keeps_range(&self, method: MethodName) -> bool {
+        self.bounded || method == MethodName::Meng2015Bounded
     }
 }
 
@@ -262,7 +265,7 @@ mod tests {
         );
         assert_eq!(s.colorimetry().grid, d.grid.unwrap());
         assert_eq!(s.blend(), 0.0);
-        assert!(s.emissive().is_some() && s.emission().is_some() && s.take_counts().is_none());
+        assert!(s.emissive().is_some() && s.emission().is_some() && !s.counts_bounded());
         let mut d = Description::convert_default(MethodName::Meng2015);
         d.baseline.observer = Some(Observer::Cie1964);
         d.baseline.illuminant = Some(Illuminant::A);
@@ -271,7 +274,7 @@ mod tests {
         let s = Stack::build(&d, model, &tables).unwrap();
         assert_eq!(s.method().name(), "meng2015");
         assert_eq!(s.colorimetry().illuminant, Illuminant::A);
-        assert!(s.take_counts().is_none());
+        assert!(!s.counts_bounded());
     }
 
     #[test]
@@ -293,8 +296,20 @@ mod tests {
                     "{got:?} {c:?}"
                 );
             }
-            let counts = s.take_counts().unwrap();
-            assert_eq!(counts.in_range + counts.projected, colours.len());
+            // Counted into the caller's tally, each call's own.
+            let c32: Vec<f32> = colours.as_flattened().iter().map(|&v| v as f32).collect();
+            let mut r32 = vec![0.0f32; n * colours.len()];
+            let mut tally = crate::method::Tally::default();
+            s.method().uplift_f32_tallied(&c32, &mut r32, &mut tally);
+            assert!(s.counts_bounded());
+            assert_eq!(
+                tally.bounded.in_range + tally.bounded.projected,
+                colours.len()
+            );
+            let mut again = crate::method::Tally::default();
+            s.method()
+                .uplift_f32_tallied(&c32[..3], &mut r32[..n], &mut again);
+            assert_eq!(again.bounded.in_range + again.bounded.projected, 1);
         }
     }
 

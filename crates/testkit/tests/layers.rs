@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 /// The layers, bottom first. A crate may depend (normal or build dependency) only on crates of
 /// lower layers; dev-dependencies are free (tests sit above everything).
 const LAYERS: &[&[&str]] = &[
-    &["specconv-shim-build"],
+    &["specconv-shim-build", "specconv-atomic-file"],
     &["specconv-colour", "specconv-exr", "oiio-sys", "ocio-sys"],
     &[
         "specconv-spectral",
@@ -17,6 +17,7 @@ const LAYERS: &[&[&str]] = &[
         "specconv-icc",
     ],
     &["specconv-study", "specconv-pipeline", "specconv-farm"],
+    &["specconv-conversion"],
     &["specconv-cli", "specconv-testkit"],
     &["specconv"],
 ];
@@ -78,6 +79,48 @@ fn dependencies(manifest: &Path) -> (String, Vec<String>) {
         }
     }
     (name, deps)
+}
+
+/// The command line reaches the C and C++ libraries, and the conversion's rules, only through
+/// the conversion library, so that every front-end gets the same rules; and it spells no
+/// `specconv*` attribute (provenance is the library's).
+#[test]
+fn the_cli_is_a_front_end_of_the_conversion_library() {
+    let (name, deps) = dependencies(&root().join("crates/cli/Cargo.toml"));
+    assert_eq!(name, "specconv-cli");
+    for below in [
+        "specconv-pipeline",
+        "specconv-oiio",
+        "specconv-ocio",
+        "specconv-icc",
+        "oiio-sys",
+        "ocio-sys",
+    ] {
+        assert!(
+            !deps.iter().any(|d| d == below),
+            "specconv-cli depends on {below}: reach it through specconv-conversion"
+        );
+    }
+    assert!(deps.iter().any(|d| d == "specconv-conversion"), "{deps:?}");
+    let mut dirs = vec![root().join("crates/cli/src")];
+    while let Some(dir) = dirs.pop() {
+        for entry in std::fs::read_dir(&dir).unwrap() {
+            let p = entry.unwrap().path();
+            if p.is_dir() {
+                dirs.push(p);
+            } else if p.extension().is_some_and(|e| e == "rs") {
+                let text = std::fs::read_to_string(&p).unwrap();
+                for (i, _) in text.match_indices("\"specconv") {
+                    let next = text[i + 9..].chars().next().unwrap_or(' ');
+                    assert!(
+                        !next.is_ascii_uppercase(),
+                        "{} spells a specconv attribute: use specconv_conversion::provenance",
+                        p.display()
+                    );
+                }
+            }
+        }
+    }
 }
 
 #[test]

@@ -1,22 +1,17 @@
 //! `specconv [convert] INPUT… OUTPUT`: the main job.
 
 use crate::progress::{Progress, Summary};
-use crate::{checks, exit, files, methods, one_line, print_error, records, usage};
+use crate::{checks, exit, explain, files, methods, print_error, records, usage};
 use anyhow::{bail, Context, Result};
-use clap::ValueEnum;
 use serde::Serialize;
-use specconv_exr::{Compression, Kind, Sample};
-use specconv_pipeline::{convert, Alpha, Job, Mip, Settings};
-use specconv_spectral::bounded::Counts;
-use specconv_spectral::emission::Emissive;
+use specconv_conversion::{
+    Alpha, Batch, Blocks, Compression, Converter, Event, Mip, Options, Report, Rounding, Sample,
+};
 use specconv_spectral::method::MethodName;
-use specconv_spectral::stack::Stack;
-use specconv_spectral::{Method, Model};
 use std::io::BufRead;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
-use std::time::Instant;
 
 /// Shown after `--help` and as the man page's EXAMPLES.
 pub const EXAMPLES: &str = "\
@@ -34,6 +29,58 @@ enum AlphaArg {
     Auto,
     Straight,
     Premultiplied,
+}
+
+impl From<AlphaArg> for Alpha {
+    fn from(a: AlphaArg) -> Alpha {
+        match a {
+            AlphaArg::Auto => Alpha::Auto,
+            AlphaArg::Straight => Alpha::Straight,
+            AlphaArg::Premultiplied => Alpha::Premultiplied,
+        }
+    }
+}
+
+/// A parser of one of a library enum's names: the help lists `names`, each parsed by `from`.
+fn one_of<T: Clone + Send + Sync + 'static>(
+    names: &'static [&'static str],
+    from: fn(&str) -> T,
+) -> impl clap::builder::TypedValueParser<Value = T> {
+    use clap::builder::TypedValueParser;
+    clap::builder::PossibleValuesParser::new(names).map(move |s| from(&s))
+}
+
+const COMPRESSIONS: [&str; 10] = [
+    "none", "rle", "zips", "zip", "piz", "pxr24", "b44", "b44a", "dwaa", "dwab",
+];
+
+fn compression(name: &str) -> Compression {
+    name.parse()
+        .expect("clap lets only the listed names through")
+}
+
+fn sample(name: &str) -> Sample {
+    if name == "float" {
+        Sample::Float
+    } else {
+        Sample::Half
+    }
+}
+
+fn rounding(name: &str) -> Rounding {
+    if name == "colour" {
+        Rounding::Colour
+    } else {
+        Rounding::Nearest
+    }
+}
+
+fn mip(name: &str) -> Mip {
+    if name == "0" {
+        Mip::Base
+    } else {
+        Mip::All
+    }
 }
 
 /// Convert textures to spectral OpenEXR images (the default command).
@@ -105,21 +152,21 @@ pub struct Args {
     )]
     emission_units: specconv_colour::EmissionUnits,
     /// Sample type of the output.
-    #[arg(short = 'd', long = "data-type", value_name = "TYPE", default_value = "half", value_parser = ["half", "float"])]
-    data_type: String,
+    #[arg(short = 'd', long = "data-type", value_name = "TYPE", default_value = "half", value_parser = one_of(&["half", "float"], sample))]
+    data_type: Sample,
     /// How half samples are rounded: `nearest` rounds each band on its own (the colour moves
     /// by up to ≈3e-4 relative, below what half can resolve per band); `colour` picks, band by
     /// band, the half below or above so that the spectrum's XYZ moves as little as possible
     /// (≈5× smaller colour error, ≈1.5× the conversion time of a 36-band ZIP file).
     /// Default: `nearest` for reflectances, `colour` for --emissive, whose dark pixels' S0
     /// values (∫ S0·x̄ dλ = XYZ: ≈1/107 of Y per band) fall where half has few digits.
-    #[arg(long, value_name = "HOW", value_parser = ["nearest", "colour"])]
-    half_rounding: Option<String>,
+    #[arg(long, value_name = "HOW", value_parser = one_of(&["nearest", "colour"], rounding))]
+    half_rounding: Option<Rounding>,
     /// Output compression. The lossless ones: none, rle, zips, zip, piz, pxr24 (for half;
     /// float loses 8 bits); b44, b44a, dwaa and dwab lose precision (docs/compression.md
     /// compares them all).
-    #[arg(long, default_value = "zip", value_parser = ["none", "rle", "zips", "zip", "piz", "pxr24", "b44", "b44a", "dwaa", "dwab"])]
-    compression: String,
+    #[arg(long, default_value = "zip", value_parser = one_of(&COMPRESSIONS, compression))]
+    compression: Compression,
     /// Deflate level of zip and zips, 0 (stored) to 9 (smallest), as OpenEXR's
     /// zipCompressionLevel; the default is the measured best trade (docs/compression.md).
     #[arg(long, value_name = "LEVEL", value_parser = clap::value_parser!(u8).range(0..=9))]
@@ -132,8 +179,8 @@ pub struct Args {
     scanline: bool,
     /// `all`: every MIP level the input has, each uplifted from its own level; `0`: the full
     /// resolution only.
-    #[arg(long, default_value = "all", value_parser = ["all", "0"])]
-    mip: String,
+    #[arg(long, default_value = "all", value_parser = one_of(&["all", "0"], mip))]
+    mip: Mip,
     /// Worker threads (default: one per core).
     #[arg(short = 'j', long, value_name = "N")]
     threads: Option<usize>,
@@ -180,15 +227,6 @@ pub struct ReadArgs {
     /// R, G and B. Other layered files are refused with the list of their layers.
     #[arg(long, value_name = "LIST|LAYER")]
     pub channels: Option<String>,
-}
-
-impl ReadArgs {
-    pub fn request(&self) -> specconv_pipeline::input::Request {
-        specconv_pipeline::input::Request {
-            subimage: self.subimage.clone(),
-            channels: self.channels.clone(),
-        }
-    }
 }
 
 /// One input's record (`--json`): every key on every record, null where it does not apply
@@ -261,45 +299,19 @@ struct BoundedCounts {
 /// failed, interrupted). Settings that cannot work for any input are usage errors, found
 /// before the first input.
 pub fn run(args: Args) -> Result<i32> {
-    if args.zip_level.is_some() && !matches!(args.compression.as_str(), "zip" | "zips") {
-        return Err(usage(anyhow::anyhow!(
-            "--zip-level sets the deflate level of zip and zips; --compression {} has none (drop --zip-level or use --compression zip)",
-            args.compression
-        )));
-    }
     // Wrong paths on the command line are usage errors.
-    let (inputs, outputs) = plan(&args)
+    let pairs = plan(&args)
         .and_then(|(i, o)| match args.shard {
             Some(shard) => crate::shard::shard_of(shard, i, o),
             None => Ok((i, o)),
         })
         .map_err(usage)?;
-    if args.tile.contains(&0) {
-        return Err(usage(anyhow::anyhow!(
-            "--tile {} {}: tiles must be at least 1×1",
-            args.tile[0],
-            args.tile[1]
-        )));
-    }
-    if let Some(n) = args.threads {
-        if n == 0 {
-            return Err(usage(anyhow::anyhow!("-j/--threads must be at least 1")));
-        }
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(n)
-            .build_global()
-            .context("cannot start worker threads")?;
-    }
-    let config = checks::config(args.ocio.as_deref())?;
-    checks::input_colorspace(&config, args.colorspace.as_deref())?;
-    let model = files::load_model(args.stack.model.as_deref())?;
-    let stack = methods::build(&args.description(), &model).map_err(usage)?;
-    let described = files::describe_model(args.stack.model.as_deref(), &model);
-    let tag = settings_tag(&args, &described, &stack, &config.source().to_string());
-    let settings = settings(&args, &model, &described, &stack, &tag);
+    let pairs: Vec<(PathBuf, PathBuf)> = pairs.0.into_iter().zip(pairs.1).collect();
+    let converter =
+        Converter::new(args.options()).map_err(|e| usage(anyhow::anyhow!(explain(&e))))?;
     if args.emissive
         && args.emission_units == specconv_colour::EmissionUnits::Photometric
-        && args.data_type == "half"
+        && args.data_type == Sample::Half
         && !args.quiet
     {
         // Y = 683·∫ S0·ȳ dλ: S0 ≈ Y/73000 per band, below half's normal range (6.1e-5) for
@@ -310,141 +322,62 @@ pub fn run(args: Args) -> Result<i32> {
         );
     }
     if args.verbose && !args.quiet {
-        eprintln!("config: {}", config.source());
-        eprintln!("model:  {described}");
+        eprintln!("config: {}", converter.config_source());
+        eprintln!("model:  {}", converter.model_description());
     }
-    let batch = Batch {
-        args: &args,
-        config: &config,
-        stack: &stack,
-        settings: &settings,
-        tag: &tag,
-    };
-    Ok(batch.run(&inputs, &outputs))
+    Ok(run_batch(&args, &converter, &pairs))
 }
 
 impl Args {
-    /// The method stack these options describe.
-    pub(crate) fn description(&self) -> specconv_spectral::stack::Description {
-        specconv_spectral::stack::Description {
-            emissive: self.emissive.then_some(self.emission_units),
-            ..self.stack.describe(self.method)
-        }
+    /// The conversion these options describe.
+    pub(crate) fn options(&self) -> Options {
+        let mut o = Options::default();
+        o.ocio = self.ocio.clone();
+        o.colorspace = self.colorspace.clone();
+        o.alpha = self.alpha.into();
+        o.subimage = self.read.subimage.clone();
+        o.channels = self.read.channels.clone();
+        o.method = self.method;
+        o.model = self.stack.model.clone();
+        o.blend = self.stack.blend.width;
+        o.bounded = !self.stack.unbounded;
+        o.bands = self.stack.bands;
+        o.emission = self.emissive.then_some(self.emission_units);
+        o.sample = self.data_type;
+        o.rounding = self.half_rounding;
+        o.compression = self.compression;
+        o.zip_level = self.zip_level;
+        o.blocks = if self.scanline {
+            Blocks::Scanlines
+        } else {
+            Blocks::Tiles(self.tile[0], self.tile[1])
+        };
+        o.mip = self.mip;
+        o.threads = self.threads;
+        o.overwrite = self.force;
+        o
     }
 }
 
-/// `specconvSettings`: everything that makes an output what it is, for `--update`.
-fn settings_tag(args: &Args, model: &str, stack: &Stack, config: &str) -> String {
-    format!(
-        "model={} method={} blend={} data-type={} compression={} tile={} mip={} colorspace={} alpha={} config={}{}",
-        model,
-        stack.method().name(),
-        stack.blend(),
-        args.data_type,
-        match args.zip_level {
-            Some(level) => format!("{} zip-level={level}", args.compression),
-            None => args.compression.clone(),
-        },
-        if args.scanline {
-            "scanline".to_string()
-        } else {
-            format!("{}x{}", args.tile[0], args.tile[1])
-        },
-        args.mip,
-        args.colorspace.as_deref().unwrap_or("auto"),
-        args.alpha.to_possible_value().expect("no value is skipped").get_name(),
-        config,
-        stack
-            .emission()
-            .map_or(String::new(), |e| format!(" emission-units={}", e.units))
-    ) + &[("subimage", &args.read.subimage), ("channels", &args.read.channels)]
-        .iter()
-        .filter_map(|(k, v)| v.as_ref().map(|v| format!(" {k}={v}")))
-        .collect::<String>()
-}
-
-/// The pipeline's settings of every output.
-fn settings(args: &Args, model: &Model, described: &str, stack: &Stack, tag: &str) -> Settings {
-    let rounding = args.half_rounding.as_deref();
-    let by_colour =
-        rounding.unwrap_or(if args.emissive { "colour" } else { "nearest" }) != "nearest";
-    Settings {
-        kind: if args.emissive {
-            Kind::Emissive {
-                units: EMISSIVE_UNITS.into(),
-            }
-        } else {
-            Kind::Reflective
-        },
-        xyz_weights: by_colour.then(|| match stack.emission() {
-            Some(e) => e.emission.weights.clone(),
-            None => stack.colorimetry().weights.clone(),
-        }),
-        colorspace: args.colorspace.clone(),
-        input: args.read.request(),
-        alpha: match args.alpha {
-            AlphaArg::Auto => Alpha::Auto,
-            AlphaArg::Straight => Alpha::Straight,
-            AlphaArg::Premultiplied => Alpha::Premultiplied,
-        },
-        sample: if args.data_type == "float" {
-            Sample::Float
-        } else {
-            Sample::Half
-        },
-        compression: compression(&args.compression),
-        zip_level: args.zip_level.unwrap_or(specconv_exr::zip::DEFAULT_LEVEL),
-        tile: (!args.scanline).then(|| (args.tile[0], args.tile[1])),
-        mip: if args.mip == "0" { Mip::Base } else { Mip::All },
-        overwrite: args.force || args.update,
-        attributes: [
-            ("specconvModel", described.to_string()),
-            ("specconvMethod", stack.method().name().into()),
-            ("specconvBlend", stack.blend().to_string()),
-            ("specconvObserver", model.observer.to_string()),
-            ("specconvIlluminant", model.illuminant.to_string()),
-            ("specconvSettings", tag.to_string()),
-        ]
-        .into_iter()
-        .map(|(k, v)| (k.to_string(), v))
-        .chain(
-            stack
-                .emission()
-                .map(|e| (files::EMISSION_UNITS_ATTRIBUTE.into(), e.units.to_string())),
-        )
-        .chain([("specconvVersion".into(), env!("CARGO_PKG_VERSION").into())])
-        .collect(),
+/// Converts every input in turn, printing as it goes; returns the exit status.
+fn run_batch(args: &Args, converter: &Converter, pairs: &[(PathBuf, PathBuf)]) -> i32 {
+    let cancel = Arc::new(AtomicBool::new(false));
+    {
+        let cancel = cancel.clone();
+        // SIGINT and SIGTERM stop the job between windows; its temporary file is removed.
+        let _ = ctrlc::set_handler(move || cancel.store(true, Ordering::SeqCst));
     }
-}
-
-/// One run's inputs share these.
-struct Batch<'a> {
-    args: &'a Args,
-    config: &'a specconv_ocio::Config,
-    stack: &'a Stack,
-    settings: &'a Settings,
-    tag: &'a str,
-}
-
-impl Batch<'_> {
-    /// Converts every input in turn; returns the exit status.
-    fn run(&self, inputs: &[PathBuf], outputs: &[PathBuf]) -> i32 {
-        let args = self.args;
-        let cancel = Arc::new(AtomicBool::new(false));
-        {
-            let cancel = cancel.clone();
-            // SIGINT and SIGTERM stop the job between windows; its temporary file is removed.
-            let _ = ctrlc::set_handler(move || cancel.store(true, Ordering::SeqCst));
-        }
-        let mut progress = Progress::new(args.progress, args.quiet, inputs);
-        let mut summary = Summary::default();
-        let batch_start = Instant::now();
-        for (i, (input, output)) in inputs.iter().zip(outputs).enumerate() {
-            if cancel.load(Ordering::SeqCst) {
-                break;
-            }
-            progress.start(i, input);
-            if args.update && up_to_date(input, output, self.tag) {
+    let inputs: Vec<PathBuf> = pairs.iter().map(|(i, _)| i.clone()).collect();
+    let mut progress = Progress::new(args.progress, args.quiet, &inputs);
+    let mut summary = Summary::default();
+    let batch_start = std::time::Instant::now();
+    let ended = Batch::new(converter)
+        .update(args.update)
+        .cancel_on(&cancel)
+        .run(pairs, &mut |event| match event {
+            Event::Started { index, input } => progress.start(index, input),
+            Event::Progress { done, total } => progress.update(done, total),
+            Event::Skipped { input, output } => {
                 progress.skip();
                 summary.skipped += 1;
                 let record = Record {
@@ -452,110 +385,94 @@ impl Batch<'_> {
                     ..Record::not_converted(input, output, "skipped", 0.0)
                 };
                 emit(args, record, "");
-                continue;
             }
-            let start = Instant::now();
-            let job = Job {
+            Event::Converted {
                 input,
                 output,
-                config: self.config,
-                method: self.stack.method(),
-                settings: self.settings,
-                cancel: &cancel,
-            };
-            let result = convert(&job, &mut |done, total| progress.update(done, total));
-            progress.finish();
-            let seconds = start.elapsed().as_secs_f64();
-            // Taken after every input, so that a failed one's count is not the next one's.
-            let counts = self.stack.take_counts();
-            match result {
-                Ok(r) => {
-                    summary.converted += 1;
-                    self.converted((input, output), &r, counts, seconds);
-                }
-                // Interrupted: not a failure of this input, which stays to be converted.
-                Err(specconv_pipeline::Error::Cancelled) => break,
-                Err(e) => {
-                    let error = records::without_input(&one_line(&e.into()), input);
-                    if !args.json {
-                        print_error(&format!("{}: {error}", input.display()));
-                    }
-                    summary.failed.push((input.clone(), error.clone()));
-                    let record = Record {
-                        error: Some(error),
-                        ..Record::not_converted(input, output, "failed", seconds)
-                    };
-                    emit(args, record, "");
-                }
+                report,
+            } => {
+                progress.finish();
+                summary.converted += 1;
+                converted(args, converter, (input, output), report);
             }
-        }
-        if inputs.len() > 1 && !args.quiet {
-            eprintln!("{}", summary.text(batch_start.elapsed().as_secs_f64()));
-        }
-        if cancel.load(Ordering::SeqCst) {
-            print_error("interrupted; no partial output was left");
-            return exit::INTERRUPTED;
-        }
-        if summary.failed.is_empty() {
-            exit::OK
-        } else {
-            exit::FAILED
-        }
+            Event::Failed {
+                input,
+                output,
+                error,
+                seconds,
+            } => {
+                progress.finish();
+                let error = records::without_input(&explain(error), input);
+                if !args.json {
+                    print_error(&format!("{}: {error}", input.display()));
+                }
+                summary.failed.push((input.to_path_buf(), error.clone()));
+                let record = Record {
+                    error: Some(error),
+                    ..Record::not_converted(input, output, "failed", seconds)
+                };
+                emit(args, record, "");
+            }
+            _ => {}
+        });
+    if pairs.len() > 1 && !args.quiet {
+        eprintln!("{}", summary.text(batch_start.elapsed().as_secs_f64()));
     }
-
-    /// Reports a converted input: its warnings, its record or line.
-    fn converted(
-        &self,
-        (input, output): (&Path, &Path),
-        r: &specconv_pipeline::Report,
-        counts: Option<Counts>,
-        seconds: f64,
-    ) {
-        let (args, method) = (self.args, self.stack.method());
-        if !args.quiet {
-            for w in &r.warnings {
-                eprintln!("specconv: warning: {}: {w}", input.display());
-            }
-        }
-        let bands = method.grid().len();
-        let line = summary_line(r, bands, seconds)
-            + &counts.map_or(String::new(), |c| {
-                format!(
-                    ", {} pixels projected into [0, 1], {} outside the object-colour solid \
-                     (nearest colour in CIELAB)",
-                    c.projected, c.outside
-                )
-            })
-            + &range_notes(r, method, self.stack.emissive());
-        let record = Record {
-            pixels: Some(r.pixels),
-            width: Some(r.width),
-            height: Some(r.height),
-            levels: Some(r.levels),
-            bands: Some(bands),
-            colorspace: Some(r.colorspace.clone()),
-            colorspace_rule: Some(records::colorspace_rule(&r.colorspace_rule)),
-            subimage: Some(r.selection.subimage),
-            channels: Some(r.selection.channels.names.clone()),
-            bounded: counts.map(|c| BoundedCounts {
-                projected: c.projected,
-                outside_solid: c.outside,
-            }),
-            non_finite: Some(r.non_finite),
-            above_one: Some(r.above_one),
-            saturated: Some(r.saturated),
-            ..Record::not_converted(input, output, "ok", seconds)
-        };
-        emit(args, record, &line);
+    if ended.cancelled {
+        print_error("interrupted; no partial output was left");
+        return exit::INTERRUPTED;
+    }
+    if summary.failed.is_empty() {
+        exit::OK
+    } else {
+        exit::FAILED
     }
 }
 
+/// Reports a converted input: its warnings, its record or line.
+fn converted(args: &Args, converter: &Converter, (input, output): (&Path, &Path), r: &Report) {
+    if !args.quiet {
+        for w in &r.warnings {
+            eprintln!("specconv: warning: {}: {w}", input.display());
+        }
+    }
+    let line = summary_line(r)
+        + &r.bounded.map_or(String::new(), |c| {
+            format!(
+                ", {} pixels projected into [0, 1], {} outside the object-colour solid \
+                 (nearest colour in CIELAB)",
+                c.projected, c.outside
+            )
+        })
+        + &range_notes(r, converter);
+    let record = Record {
+        pixels: Some(r.pixels),
+        width: Some(r.width),
+        height: Some(r.height),
+        levels: Some(r.levels),
+        bands: Some(r.bands),
+        colorspace: Some(r.colorspace.clone()),
+        colorspace_rule: Some(records::colorspace_rule(&r.colorspace_rule)),
+        subimage: Some(r.selection.subimage),
+        channels: Some(r.selection.channels.names.clone()),
+        bounded: r.bounded.map(|c| BoundedCounts {
+            projected: c.projected,
+            outside_solid: c.outside,
+        }),
+        non_finite: Some(r.non_finite),
+        above_one: Some(r.above_one),
+        saturated: Some(r.saturated),
+        ..Record::not_converted(input, output, "ok", r.seconds)
+    };
+    emit(args, record, &line);
+}
+
 /// `W×H, L levels, N bands, colour space …, …, S s` of a converted input.
-fn summary_line(r: &specconv_pipeline::Report, bands: usize, seconds: f64) -> String {
+fn summary_line(r: &Report) -> String {
     let plural = if r.levels == 1 { "" } else { "s" };
     let mut line = format!(
-        "{}×{}, {} level{plural}, {bands} bands, colour space {} ({}), {}",
-        r.width, r.height, r.levels, r.colorspace, r.colorspace_rule, r.selection,
+        "{}×{}, {} level{plural}, {} bands, colour space {} ({}), {}",
+        r.width, r.height, r.levels, r.bands, r.colorspace, r.colorspace_rule, r.selection,
     );
     if r.premultiplied {
         line += ", straight alpha premultiplied";
@@ -563,35 +480,24 @@ fn summary_line(r: &specconv_pipeline::Report, bands: usize, seconds: f64) -> St
     if r.non_finite > 0 {
         line += &format!(", {} pixels NaN or infinite (written as NaN)", r.non_finite);
     }
-    line + &format!(", {seconds:.2} s")
+    line + &format!(", {:.2} s", r.seconds)
 }
-
-/// Units of `S0.` channels: radiance, as the layout names it; the scale is the convention of
-/// `specconvEmissionUnits`.
-const EMISSIVE_UNITS: &str = "W.m^-2.sr^-1";
 
 /// The summary's notes on values out of range: pixels above 1 in reflectance mode (and the
 /// --emissive hint when they are at least 1 % of the image), emission colours no spectrum of
 /// the method matched, values saturated at the half range.
-fn range_notes(
-    r: &specconv_pipeline::Report,
-    method: &dyn Method,
-    emissive: Option<&Emissive<Box<dyn Method>>>,
-) -> String {
+fn range_notes(r: &Report, converter: &Converter) -> String {
     let mut notes = String::new();
-    match emissive {
-        Some(e) => {
-            let unmatched = e.take_unmatched();
-            if unmatched > 0 {
-                notes += &format!(
-                    ", {unmatched} pixels no emission of {} matches (outside the spectral locus or \
-                     negative luminance: written with the nearest colour it reached)",
-                    e.inner().name()
-                );
-            }
+    match (r.unmatched, converter.emission_method_name()) {
+        (Some(unmatched), Some(inner)) if unmatched > 0 => {
+            notes += &format!(
+                ", {unmatched} pixels no emission of {inner} matches (outside the spectral locus or \
+                 negative luminance: written with the nearest colour it reached)",
+            );
         }
-        None if r.above_one > 0 => {
-            let what = if method.name().contains("bounded") {
+        (Some(_), _) => {}
+        _ if r.above_one > 0 => {
+            let what = if converter.keeps_range() {
                 "moved to the closest colour a reflectance can have"
             } else {
                 "spectra above 1, not physical reflectances"
@@ -601,7 +507,7 @@ fn range_notes(
                 notes += "; an emission or HDR texture? convert it with --emissive";
             }
         }
-        None => {}
+        _ => {}
     }
     if r.saturated > 0 {
         notes += &format!(
@@ -722,34 +628,4 @@ pub(crate) fn plan(args: &Args) -> Result<(Vec<PathBuf>, Vec<PathBuf>)> {
 fn stem(p: &Path) -> String {
     p.file_stem()
         .map_or_else(|| "output".into(), |s| s.to_string_lossy().into_owned())
-}
-
-fn compression(name: &str) -> Compression {
-    match name {
-        "none" => Compression::Uncompressed,
-        "rle" => Compression::RLE,
-        "zips" => Compression::ZIP1,
-        "piz" => Compression::PIZ,
-        "pxr24" => Compression::PXR24,
-        "b44" => Compression::B44,
-        "b44a" => Compression::B44A,
-        "dwaa" => Compression::DWAA(None),
-        "dwab" => Compression::DWAB(None),
-        _ => Compression::ZIP16,
-    }
-}
-
-/// An output newer than its input, written with the same settings (as `maketx -u`).
-fn up_to_date(input: &Path, output: &Path, settings: &str) -> bool {
-    let modified = |p: &Path| std::fs::metadata(p).and_then(|m| m.modified()).ok();
-    match (modified(input), modified(output)) {
-        (Some(i), Some(o)) if o >= i => specconv_exr::read_attributes(output)
-            .map(|attrs| {
-                attrs
-                    .iter()
-                    .any(|(k, v)| k == "specconvSettings" && v == settings)
-            })
-            .unwrap_or(false),
-        _ => false,
-    }
 }

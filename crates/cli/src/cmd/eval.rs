@@ -181,7 +181,7 @@ impl Args {
 fn model(args: &Args) -> Result<(Model, String)> {
     let base = files::load_model(args.model.as_deref())?;
     if args.train.is_empty() || !args.method.is_clustered() {
-        let described = files::describe_model(args.model.as_deref(), &base);
+        let described = specconv_conversion::models::describe(args.model.as_deref(), &base);
         return Ok((base, described));
     }
     let a = args.setting.colorimetry(&base)?;
@@ -196,6 +196,7 @@ fn model(args: &Args) -> Result<(Model, String)> {
         ..TrainOptions::default()
     };
     let model = specconv_spectral::train(&set, &a, &opts)?;
-    let described = files::describe_model(None, &model).replacen("built-in", "trained here", 1);
+    let described =
+        specconv_conversion::models::describe(None, &model).replacen("built-in", "trained here", 1);
     Ok((model, described))
 }

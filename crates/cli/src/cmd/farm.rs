@@ -496,7 +496,7 @@ fn retry(r: &Retry) -> Result<i32> {
     for &i in &again {
         let f = &mut m.files[i];
         // A task killed outright (SIGKILL, node lost) could not remove its temporary file.
-        for tmp in specconv_pipeline::leftover_temporaries(&f.output) {
+        for tmp in specconv_atomic_file::leftovers(&f.output) {
             std::fs::remove_file(&tmp)
                 .with_context(|| format!("cannot remove the leftover {}", tmp.display()))?;
         }

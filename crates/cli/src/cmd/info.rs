@@ -4,9 +4,9 @@
 use crate::{checks, exit, one_line, print_error};
 use anyhow::Result;
 use serde::Serialize;
-use specconv_ocio::Config;
-use specconv_oiio::{ImageReader, Window};
-use specconv_pipeline::input::{choose_channels, open_subimage, ChannelReason};
+use specconv_conversion::images::{choose_channels, open_subimage, ChannelReason};
+use specconv_conversion::images::{ImageReader, Window};
+use specconv_conversion::ocio::Config;
 use std::path::{Path, PathBuf};
 
 /// Shown after `--help` and as the man page's EXAMPLES.
@@ -177,12 +177,12 @@ fn spectral_facts(file: &std::path::Path, reader: &ImageReader) -> Result<Option
                 .all(|(i, w)| (w - (first + step * i as f64)).abs() <= 1e-3)
         });
     let convention = if emissive {
-        Some(match attr(crate::files::EMISSION_UNITS_ATTRIBUTE) {
-            Some(u) => u,
-            None if attr("specconvSettings").is_some() => {
-                "normalised (an older specconv file)".into()
-            }
-            None => "reference (the layout's default)".into(),
+        use specconv_conversion::provenance::ConventionFrom;
+        let provenance = specconv_conversion::Provenance::from_attributes(&attributes)?;
+        Some(match provenance.emission_convention() {
+            (units, ConventionFrom::Recorded) => units.to_string(),
+            (_, ConventionFrom::OlderSpecconv) => "normalised (an older specconv file)".into(),
+            (_, ConventionFrom::Layout) => "reference (the layout's default)".into(),
         })
     } else {
         None
@@ -222,7 +222,7 @@ pub fn run(args: Args) -> Result<i32> {
             println!();
         }
         if let Err(e) = show(&args, &config, file) {
-            print_error(&one_line(&e));
+            print_error(&one_line(e.as_ref()));
             status = exit::FAILED;
         }
     }
@@ -255,8 +255,9 @@ fn show(args: &Args, config: &Config, file: &Path) -> Result<()> {
             ),
             Err(e) => (None, None, Some(e.to_string()), info.alpha_channel),
         };
-    let space = specconv_pipeline::input_space(config, &reader, args.colorspace.as_deref())?;
-    let straight_alpha = specconv_pipeline::Alpha::Auto.premultiply(&reader, alpha_channel);
+    let space =
+        specconv_conversion::images::input_space(config, &reader, args.colorspace.as_deref())?;
+    let straight_alpha = specconv_conversion::Alpha::Auto.premultiply(&reader, alpha_channel);
     let report = Report {
         file: file.display().to_string(),
         format: &info.format_name,
@@ -314,7 +315,7 @@ struct SpectralReport<'a> {
 }
 
 /// The text form of `info` for an image that is not spectral.
-fn print_text(r: &Report, info: &specconv_oiio::ImageInfo) {
+fn print_text(r: &Report, info: &specconv_conversion::images::ImageInfo) {
     println!("file:         {}", r.file);
     println!("format:       {}", r.format);
     println!("size:         {} x {}", r.width, r.height);

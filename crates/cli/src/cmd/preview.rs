@@ -89,8 +89,12 @@ pub fn run(args: Args) -> Result<()> {
     crate::checks::may_write(&args.output, args.force)?;
     let img = crate::files::read_spectral(&args.input)?;
     previewable(&img, &args.input)?;
-    let recorded = files::recorded(&img).with_context(|| format!("in {}", args.input.display()))?;
-    let (observer, own) = (recorded.observer, recorded.illuminant);
+    let recorded =
+        files::provenance(&img).with_context(|| format!("in {}", args.input.display()))?;
+    let (observer, own) = (
+        recorded.observer_or_default(),
+        recorded.illuminant_or_default(),
+    );
     let light = args.illuminant.unwrap_or(own);
     // As every reader: the spectra interpolated onto the observer's 1 nm table, where both
     // illuminants' tables reach (the layout's reference integration, so K = 0 is `to-rgb`).

@@ -56,18 +56,19 @@ pub fn run(args: Args) -> Result<()> {
     }
     crate::checks::may_write(&args.output, args.force)?;
     let img = crate::files::read_spectral(&args.input)?;
-    let recorded = crate::files::recorded(&img)?;
-    let observer = recorded.observer;
+    let recorded = crate::files::provenance(&img)?;
+    let observer = recorded.observer_or_default();
     let emissive = matches!(img.kind, Kind::Emissive { .. });
+    let units = emissive.then(|| recorded.emission_convention());
     let illuminant = match (args.illuminant, emissive) {
         (Some(_), true) => bail!(
             "{} is an emission (S0 channels): it is its own light; drop --illuminant",
             args.input.display()
         ),
         (Some(i), false) => i,
-        (None, _) => recorded.illuminant,
+        (None, _) => recorded.illuminant_or_default(),
     };
-    let integration = match recorded.units {
+    let integration = match units {
         Some((units, _)) => units.integration(&img.wavelengths, observer)?,
         None => Integration::reflectance(&img.wavelengths, observer, illuminant)?,
     };
@@ -97,8 +98,8 @@ pub fn run(args: Args) -> Result<()> {
     processor.apply_rgb(&mut rgb)?;
 
     write(&args.output, &img, &rgb)?;
-    let light = match recorded.units {
-        Some((units, why)) => format!("emission, {units} units ({why})"),
+    let light = match units {
+        Some((units, why)) => format!("emission, {units} units ({})", why.describe()),
         None if lit.is_some() => format!(
             "under {illuminant}, with {} re-radiation channels",
             img.reradiation.len()
@@ -145,25 +146,32 @@ fn xyz_of_pixels(img: &SpectralImage, integration: &Integration, lit: Option<&[f
 /// Writes `rgb` as an RGB(A) OpenEXR through a temporary file: no channel the input did not
 /// have (A only when the input has alpha).
 fn write(output: &Path, img: &SpectralImage, rgb: &[f32]) -> Result<()> {
+    use exr::prelude::{Image, SpecificChannels, Vec2, WritableImage};
     let (w, h) = (img.width, img.height);
-    let tmp = specconv_pipeline::temporary_path(output);
-    let px = |x: usize, y: usize| {
-        let i = y * w + x;
+    let px = |p: Vec2<usize>| {
+        let i = p.y() * w + p.x();
         (rgb[3 * i], rgb[3 * i + 1], rgb[3 * i + 2])
     };
-    let written = match &img.alpha {
-        Some(a) => exr::prelude::write_rgba_file(&tmp, w, h, |x, y| {
-            let (r, g, b) = px(x, y);
-            (r, g, b, a[y * w + x])
-        }),
-        None => exr::prelude::write_rgb_file(&tmp, w, h, px),
-    }
-    .map_err(anyhow::Error::from)
-    .and_then(|()| Ok(std::fs::rename(&tmp, output)?));
-    if written.is_err() {
-        let _ = std::fs::remove_file(&tmp);
-    }
-    written.with_context(|| format!("cannot write {}", output.display()))
+    let write = || -> Result<()> {
+        let pending = specconv_atomic_file::Pending::beside(output)?;
+        let out = std::io::BufWriter::new(pending.file());
+        match &img.alpha {
+            Some(a) => Image::from_channels(
+                (w, h),
+                SpecificChannels::rgba(|p: Vec2<usize>| {
+                    let (r, g, b) = px(p);
+                    (r, g, b, a[p.y() * w + p.x()])
+                }),
+            )
+            .write()
+            .to_buffered(out)?,
+            None => Image::from_channels((w, h), SpecificChannels::rgb(px))
+                .write()
+                .to_buffered(out)?,
+        }
+        Ok(pending.commit()?)
+    };
+    write().with_context(|| format!("cannot write {}", output.display()))
 }
 
 /// What of the file the conversion left out, for the report line.

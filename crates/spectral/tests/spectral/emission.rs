@@ -98,6 +98,7 @@ fn a_flat_spectrum_has_unit_luminance_and_a_grey_emits_the_illuminant() {
 fn shape_does_not_depend_on_brightness() {
     let (a, _, stack) = setup();
     let n = a.bands();
+    let mut tally = specconv_spectral::method::Tally::default();
     for c in srgb_cube() {
         let base = uplift(c);
         // Powers of two scale the spectrum bit for bit, other factors to rounding.
@@ -122,7 +123,7 @@ fn shape_does_not_depend_on_brightness() {
         stack.uplift_f32(&c32, &mut base32);
         for t in [1e-3f32, 3.3, 65504.0] {
             let mut l = vec![0.0f32; n];
-            stack.uplift_f32(&c32.map(|v| v * t), &mut l);
+            stack.uplift_f32_tallied(&c32.map(|v| v * t), &mut l, &mut tally);
             let size = base32.iter().fold(0.0f32, |m, v| m.max(v.abs())) * t;
             for (got, v) in l.iter().zip(&base32) {
                 assert!(
@@ -133,7 +134,7 @@ fn shape_does_not_depend_on_brightness() {
             }
         }
     }
-    assert_eq!(stack.take_unmatched(), 0);
+    assert_eq!(tally.unmatched, 0);
 }
 
 #[test]
@@ -198,11 +199,13 @@ fn hard_inputs_have_their_documented_outcome() {
     assert_eq!(plain.uplift_f64_counted(&c, &mut r), 0);
     assert!(rel_err(e.xyz(&r), c) < 1e-9);
     assert!(r.iter().any(|v| *v < 0.0));
-    // Counted through the Method trait too.
-    stack.take_unmatched();
-    stack.uplift_f64(&c, &mut r);
-    assert_eq!(stack.take_unmatched(), 1);
-    assert_eq!(stack.take_unmatched(), 0);
+    // Counted through the Method trait too, into the caller's tally, each call its own.
+    let mut tally = specconv_spectral::method::Tally::default();
+    let mut r32 = vec![0.0f32; n];
+    stack.uplift_f32_tallied(&c.map(|v| v as f32), &mut r32, &mut tally);
+    assert_eq!(tally.unmatched, 1);
+    stack.uplift_f32_tallied(&[0.2, 0.2, 0.2], &mut r32, &mut tally);
+    assert_eq!(tally.unmatched, 1);
 }
 
 #[test]

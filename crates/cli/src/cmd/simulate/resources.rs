@@ -9,8 +9,8 @@
 use crate::files;
 use anyhow::{anyhow, bail, Context, Result};
 use specconv_colour::SpectralTable;
-use specconv_ocio::Config;
-use specconv_oiio::{ImageReader, Region};
+use specconv_conversion::images::{ImageReader, Region};
+use specconv_conversion::ocio::Config;
 use specconv_study::scene::{self, Cause};
 use std::path::{Path, PathBuf};
 
@@ -35,7 +35,7 @@ impl Resources {
     fn config(&mut self) -> Result<&Config> {
         if self.config.is_none() {
             let path = self.ocio.as_ref().map(|o| {
-                if specconv_ocio::is_builtin_name(o) {
+                if specconv_conversion::ocio::is_builtin_name(o) {
                     o.clone()
                 } else {
                     self.dir.join(o).display().to_string()
@@ -100,7 +100,7 @@ fn pixel_xyz(
             h - 1
         );
     }
-    let space = specconv_pipeline::input_space(config, &reader, colorspace)?;
+    let space = specconv_conversion::images::input_space(config, &reader, colorspace)?;
     let px = reader.read_region(
         0,
         Region {
@@ -112,8 +112,9 @@ fn pixel_xyz(
     )?;
     let values = px.pixel(0, 0);
     // The colour channels as convert takes them.
-    let colour = specconv_pipeline::colour_channels(info.channels.len(), info.alpha_channel);
-    let Some(rgb) = specconv_pipeline::colour_of(values, &colour) else {
+    let colour =
+        specconv_conversion::images::colour_channels(info.channels.len(), info.alpha_channel);
+    let Some(rgb) = specconv_conversion::images::colour_of(values, &colour) else {
         bail!("{} has no colour channels", path.display());
     };
     if !rgb.iter().all(|v| v.is_finite()) {

@@ -1,0 +1,377 @@
+//! [`Converter`]: options checked once, then any number of conversions, each with its own
+//! [`Report`].
+
+use crate::error::{ConversionError, Error};
+use crate::options::{alpha_name, mip_name, sample_name, Blocks, Options, Rounding};
+use crate::provenance::Provenance;
+use specconv_exr::Kind;
+use specconv_ocio::Config;
+use specconv_pipeline::{Job, Settings};
+use specconv_spectral::bounded::Counts;
+use specconv_spectral::stack::{Description, Stack};
+use specconv_spectral::Model;
+use std::path::Path;
+use std::sync::atomic::AtomicBool;
+use std::time::Instant;
+
+pub use specconv_pipeline::input::Selection;
+pub use specconv_pipeline::Rule;
+
+/// Units of `S0.` channels: radiance, as the layout names it; the scale is the convention of
+/// `specconvEmissionUnits`.
+const EMISSIVE_UNITS: &str = "W.m^-2.sr^-1";
+
+/// A conversion set up once: the config loaded, the colour space checked, the model loaded and
+/// the method built. Every call of [`Converter::convert`] is independent: the same input gives
+/// the same bytes, whatever was converted before or at the same time.
+///
+/// ```no_run
+/// use specconv_conversion::{Converter, Options};
+/// let converter = Converter::new(Options::default())?;
+/// let report = converter.convert("albedo.png".as_ref(), "albedo_spectral.exr".as_ref())?;
+/// println!("{} pixels in {}", report.pixels, report.colorspace);
+/// # Ok::<(), specconv_conversion::Error>(())
+/// ```
+pub struct Converter {
+    options: Options,
+    config: Config,
+    model: Model,
+    model_description: String,
+    stack: Stack,
+    settings: Settings,
+    provenance: Provenance,
+    pool: Option<rayon::ThreadPool>,
+}
+
+/// What one conversion did, and nothing else's.
+#[derive(Debug, Clone)]
+#[non_exhaustive]
+pub struct Report {
+    /// Size of the full-resolution level.
+    pub width: usize,
+    /// Height of the full-resolution level.
+    pub height: usize,
+    /// Pixels uplifted, over all levels.
+    pub pixels: u64,
+    /// MIP levels written.
+    pub levels: usize,
+    /// Bands of every spectrum.
+    pub bands: usize,
+    /// The subimage and the channels read.
+    pub selection: Selection,
+    /// The input's colour space (the config's name, or a description).
+    pub colorspace: String,
+    /// The rule that chose it.
+    pub colorspace_rule: Rule,
+    /// Declarations of the file that were ignored or disagree.
+    pub warnings: Vec<String>,
+    /// Straight colour was multiplied by alpha after conversion.
+    pub premultiplied: bool,
+    /// Pixels whose colour had a NaN or infinite component.
+    pub non_finite: u64,
+    /// Pixels above 1 (an input channel or Y above [`specconv_pipeline::ABOVE_ONE`]).
+    pub above_one: u64,
+    /// Pixels with a band beyond the half range, stored as ±65504.
+    pub saturated: u64,
+    /// Bounded reflectance: the outcomes of the projection into [0, 1]; `None` otherwise.
+    pub bounded: Option<Counts>,
+    /// Emission: colours no emission spectrum of the method matched; `None` otherwise.
+    pub unmatched: Option<u64>,
+    /// Seconds the conversion took.
+    pub seconds: f64,
+}
+
+impl Converter {
+    /// Checks `options` and sets everything up that does not depend on an input: the worker
+    /// threads, the OCIO config and the named colour space's route to XYZ, the model, the
+    /// method stack, the output's settings and provenance.
+    pub fn new(options: Options) -> Result<Converter, Error> {
+        if let Some(level) = options.zip_level {
+            if !options.compression.deflates() {
+                return Err(Error::ZipLevelWithoutZip {
+                    compression: options.compression,
+                });
+            }
+            if level > 9 {
+                return Err(Error::ZipLevel { level });
+            }
+        }
+        if let Blocks::Tiles(width, height) = options.blocks {
+            if width == 0 || height == 0 {
+                return Err(Error::EmptyTile { width, height });
+            }
+        }
+        let pool = match options.threads {
+            Some(0) => return Err(Error::NoThreads),
+            Some(n) => Some(
+                rayon::ThreadPoolBuilder::new()
+                    .num_threads(n)
+                    .build()
+                    .map_err(|e| Error::Threads(e.to_string()))?,
+            ),
+            None => None,
+        };
+        let config = Config::resolve(options.ocio.as_deref())?;
+        if let Some(name) = options.colorspace.as_deref() {
+            let cs = config.color_space(name)?;
+            config.processor_to_xyz(&cs.name)?;
+        }
+        let model = crate::models::load(options.model.as_deref())?;
+        let tables = crate::tables::in_dir(options.table_dir.clone(), crate::tables::print_note);
+        let description = options.description();
+        let build = || Stack::build(&description, &model, &tables);
+        let stack = match &pool {
+            Some(pool) => pool.install(build),
+            None => build(),
+        }?;
+        let model_description = crate::models::describe(options.model.as_deref(), &model);
+        let settings = settings(&options, &stack);
+        let provenance = Provenance {
+            model: Some(model_description.clone()),
+            method: Some(stack.method().name().to_string()),
+            blend: Some(stack.blend().to_string()),
+            observer: Some(model.observer),
+            illuminant: Some(model.illuminant),
+            settings: Some(settings_tag(&options, &model_description, &stack, &config)),
+            emission_units: stack.emission().map(|e| e.units),
+            version: Some(env!("CARGO_PKG_VERSION").to_string()),
+            ..Provenance::default()
+        };
+        Ok(Converter {
+            options,
+            config,
+            model,
+            model_description,
+            stack,
+            settings,
+            provenance,
+            pool,
+        })
+    }
+
+    /// Converts `input` to `output`.
+    pub fn convert(&self, input: &Path, output: &Path) -> Result<Report, Error> {
+        self.convert_with(input, output, &AtomicBool::new(false), &mut |_, _| {})
+    }
+
+    /// As [`Converter::convert`]; setting `cancel` (from a signal handler, another thread)
+    /// stops it between windows, leaving no output; `progress` hears (pixels done, pixels in
+    /// all) as it goes.
+    pub fn convert_with(
+        &self,
+        input: &Path,
+        output: &Path,
+        cancel: &AtomicBool,
+        progress: &mut (dyn FnMut(u64, u64) + Send),
+    ) -> Result<Report, Error> {
+        self.run(input, output, self.options.overwrite, cancel, progress)
+    }
+
+    pub(crate) fn run(
+        &self,
+        input: &Path,
+        output: &Path,
+        overwrite: bool,
+        cancel: &AtomicBool,
+        progress: &mut (dyn FnMut(u64, u64) + Send),
+    ) -> Result<Report, Error> {
+        let start = Instant::now();
+        let settings = Settings {
+            overwrite,
+            ..self.settings.clone()
+        };
+        let job = Job {
+            input,
+            output,
+            config: &self.config,
+            method: self.stack.method(),
+            settings: &settings,
+            cancel,
+        };
+        let mut run = || -> Result<specconv_pipeline::Report, ConversionError> {
+            let opened = specconv_pipeline::open(&job)?;
+            let provenance = Provenance {
+                source_colorspace: Some(opened.colorspace().to_string()),
+                config: Some(self.config.source().to_string()),
+                source: Some(file_name(input)),
+                ..self.provenance.clone()
+            };
+            opened.write(&provenance.to_attributes(), progress)
+        };
+        let r = match &self.pool {
+            Some(pool) => pool.install(run),
+            None => run(),
+        }?;
+        Ok(Report {
+            width: r.width,
+            height: r.height,
+            pixels: r.pixels,
+            levels: r.levels,
+            bands: self.stack.method().grid().len(),
+            selection: r.selection,
+            colorspace: r.colorspace,
+            colorspace_rule: r.colorspace_rule,
+            warnings: r.warnings,
+            premultiplied: r.premultiplied,
+            non_finite: r.non_finite,
+            above_one: r.above_one,
+            saturated: r.saturated,
+            bounded: self.stack.counts_bounded().then_some(r.tally.bounded),
+            unmatched: self.stack.emissive().map(|_| r.tally.unmatched),
+            seconds: start.elapsed().as_secs_f64(),
+        })
+    }
+
+    /// Whether `output` is newer than `input` and was written with these same settings (as
+    /// `maketx -u` decides).
+    pub fn is_up_to_date(&self, input: &Path, output: &Path) -> bool {
+        let modified = |p: &Path| std::fs::metadata(p).and_then(|m| m.modified()).ok();
+        match (modified(input), modified(output)) {
+            (Some(i), Some(o)) if o >= i => specconv_exr::read_attributes(output)
+                .ok()
+                .and_then(|attrs| Provenance::from_attributes(&attrs).ok())
+                .is_some_and(|p| p.settings == self.provenance.settings),
+            _ => false,
+        }
+    }
+
+    /// The options it was built from.
+    pub fn options(&self) -> &Options {
+        &self.options
+    }
+
+    /// The OCIO config's source (a file, `aces`, an `ocio://` name).
+    pub fn config_source(&self) -> String {
+        self.config.source().to_string()
+    }
+
+    /// The model, described as outputs record it.
+    pub fn model_description(&self) -> &str {
+        &self.model_description
+    }
+
+    /// The model.
+    pub fn model(&self) -> &Model {
+        &self.model
+    }
+
+    /// The method stack's name, as outputs record it (`otsu2018+bounded`, …).
+    pub fn method_name(&self) -> &str {
+        self.stack.method().name()
+    }
+
+    /// Emission: the name of the method each colour is uplifted by (inside the scaling).
+    pub fn emission_method_name(&self) -> Option<&str> {
+        self.stack.emissive().map(|e| e.inner().name())
+    }
+
+    /// Whether every reflectance stays in [0, 1] (bounded, or bounded by its own design).
+    pub fn keeps_range(&self) -> bool {
+        self.stack.keeps_range(self.options.method)
+    }
+
+    /// The provenance every output records, but for the input's own fields.
+    pub fn provenance(&self) -> &Provenance {
+        &self.provenance
+    }
+}
+
+impl Options {
+    /// The method stack these options describe.
+    pub fn description(&self) -> Description {
+        Description {
+            blend: self.blend,
+            grid: self.bands,
+            bounded: self.bounded,
+            emissive: self.emission,
+            ..Description::convert_default(self.method)
+        }
+    }
+}
+
+/// The pipeline's settings of every output.
+fn settings(o: &Options, stack: &Stack) -> Settings {
+    let by_colour = o.rounding.unwrap_or(if o.emission.is_some() {
+        Rounding::Colour
+    } else {
+        Rounding::Nearest
+    }) == Rounding::Colour;
+    Settings {
+        kind: match o.emission {
+            Some(_) => Kind::Emissive {
+                units: EMISSIVE_UNITS.into(),
+            },
+            None => Kind::Reflective,
+        },
+        xyz_weights: by_colour.then(|| match stack.emission() {
+            Some(e) => e.emission.weights.clone(),
+            None => stack.colorimetry().weights.clone(),
+        }),
+        colorspace: o.colorspace.clone(),
+        input: specconv_pipeline::input::Request {
+            subimage: o.subimage.clone(),
+            channels: o.channels.clone(),
+        },
+        alpha: o.alpha,
+        sample: o.sample,
+        compression: o.compression.exr(),
+        zip_level: o.zip_level.unwrap_or(specconv_exr::zip::DEFAULT_LEVEL),
+        tile: match o.blocks {
+            Blocks::Tiles(w, h) => Some((w, h)),
+            Blocks::Scanlines => None,
+        },
+        mip: o.mip,
+        overwrite: o.overwrite,
+        attributes: Vec::new(),
+    }
+}
+
+/// `specconvSettings`: everything that makes an output what it is, for `-u`. Its text is kept
+/// as earlier versions wrote it, so that their outputs stay up to date.
+fn settings_tag(o: &Options, model: &str, stack: &Stack, config: &Config) -> String {
+    let compression = match o.zip_level {
+        Some(level) => format!("{} zip-level={level}", o.compression),
+        None => o.compression.to_string(),
+    };
+    let tile = match o.blocks {
+        Blocks::Scanlines => "scanline".to_string(),
+        Blocks::Tiles(w, h) => format!("{w}x{h}"),
+    };
+    let mut tag = format!(
+        "model={model} method={} blend={} data-type={} compression={compression} tile={tile} \
+         mip={} colorspace={} alpha={} config={}",
+        stack.method().name(),
+        stack.blend(),
+        sample_name(o.sample),
+        mip_name(o.mip),
+        o.colorspace.as_deref().unwrap_or("auto"),
+        alpha_name(o.alpha),
+        config.source(),
+    );
+    if let Some(e) = stack.emission() {
+        tag += &format!(" emission-units={}", e.units);
+    }
+    for (k, v) in [("subimage", &o.subimage), ("channels", &o.channels)] {
+        if let Some(v) = v {
+            tag += &format!(" {k}={v}");
+        }
+    }
+    tag
+}
+
+/// The input's file name, as `specconvSource` records it.
+fn file_name(p: &Path) -> String {
+    p.file_name().map_or_else(
+        || p.display().to_string(),
+        |n| n.to_string_lossy().into_owned(),
+    )
+}
+
+impl std::fmt::Debug for Converter {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Converter")
+            .field("options", &self.options)
+            .field("method", &self.method_name())
+            .finish_non_exhaustive()
+    }
+}

@@ -1,0 +1,125 @@
+//! Why a conversion could not be set up or failed, by cause. Messages name no option of any
+//! front-end; [`Error::remedy`] says which setting would fix it, and each front-end names that
+//! setting its own way (the CLI's flags, the Python package's keywords).
+
+use crate::models::ModelError;
+use crate::options::Compression;
+use std::path::PathBuf;
+
+pub use specconv_pipeline::Error as ConversionError;
+
+/// Why a [`crate::Converter`] could not be built, or one conversion failed.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum Error {
+    /// A deflate level was given with a compression that does not deflate.
+    #[error("a deflate level applies to zip and zips only; compression {compression} has none")]
+    ZipLevelWithoutZip {
+        /// The compression asked for.
+        compression: Compression,
+    },
+    /// A deflate level above 9.
+    #[error("deflate level {level} is not one of 0 to 9")]
+    ZipLevel {
+        /// The level asked for.
+        level: u8,
+    },
+    /// Tiles of no width or height.
+    #[error("tiles must be at least 1×1 (asked for {width}×{height})")]
+    EmptyTile {
+        /// Width asked for.
+        width: usize,
+        /// Height asked for.
+        height: usize,
+    },
+    /// Zero worker threads.
+    #[error("the conversion needs at least one worker thread")]
+    NoThreads,
+    /// The worker threads could not be started.
+    #[error("cannot start worker threads: {0}")]
+    Threads(String),
+    /// The OCIO config, or a colour space named in the options, cannot be used.
+    #[error(transparent)]
+    Colour(#[from] specconv_ocio::Error),
+    /// The model cannot be used.
+    #[error(transparent)]
+    Model(#[from] ModelError),
+    /// The method cannot be built with these options and this model.
+    #[error(transparent)]
+    Method(#[from] specconv_spectral::Error),
+    /// One conversion failed (the input, its colour, the output; see [`ConversionError`]).
+    #[error(transparent)]
+    Conversion(#[from] ConversionError),
+}
+
+/// The setting that would fix an error; a front-end says it in its own words.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum Remedy {
+    /// Replace the existing output, or skip outputs that are up to date.
+    ReplaceOrSkip,
+    /// Convert the full-resolution level only, or write tiles.
+    BaseLevelOrTiles,
+    /// Convert the full-resolution level only.
+    BaseLevel,
+    /// Name the input's colour space.
+    NameColourSpace,
+    /// Name the colour space the texture is encoded in (the file's is a data space).
+    NameEncodingColourSpace,
+    /// Name the channels or the layer that carry the colour.
+    NameChannelsOrLayer,
+    /// Name one of several layers.
+    NameLayer,
+    /// Drop the deflate level, or choose a compression that deflates.
+    DropZipLevel,
+}
+
+impl Error {
+    /// The setting that would fix it, when one would.
+    pub fn remedy(&self) -> Option<Remedy> {
+        match self {
+            Error::ZipLevelWithoutZip { .. } => Some(Remedy::DropZipLevel),
+            Error::Colour(e) => colour_remedy(e),
+            Error::Conversion(e) => match e {
+                ConversionError::OutputExists { .. } => Some(Remedy::ReplaceOrSkip),
+                ConversionError::ScanlineMip { .. } => Some(Remedy::BaseLevelOrTiles),
+                ConversionError::NotAMipMap { .. } => Some(Remedy::BaseLevel),
+                ConversionError::Channels { choose, .. } => choose.map(|c| match c {
+                    specconv_pipeline::input::Choose::ChannelsOrLayer => {
+                        Remedy::NameChannelsOrLayer
+                    }
+                    specconv_pipeline::input::Choose::OneLayer => Remedy::NameLayer,
+                }),
+                ConversionError::Color(e) => colour_remedy(e),
+                _ => None,
+            },
+            _ => None,
+        }
+    }
+
+    /// Whether the output was left alone because the run was cancelled.
+    pub fn is_cancelled(&self) -> bool {
+        matches!(self, Error::Conversion(ConversionError::Cancelled))
+    }
+
+    /// The output this error is about, where it names one.
+    pub fn output(&self) -> Option<&PathBuf> {
+        match self {
+            Error::Conversion(
+                ConversionError::OutputExists { output }
+                | ConversionError::InputIsOutput { output },
+            ) => Some(output),
+            _ => None,
+        }
+    }
+}
+
+/// Colour management errors that a named colour space fixes.
+pub fn colour_remedy(e: &specconv_ocio::Error) -> Option<Remedy> {
+    use specconv_ocio::Error as Ocio;
+    match e {
+        Ocio::DataColorSpace { .. } => Some(Remedy::NameEncodingColourSpace),
+        Ocio::NoDefault { .. } => Some(Remedy::NameColourSpace),
+        _ => None,
+    }
+}

@@ -1,0 +1,46 @@
+//! The conversion as a library: what `specconv convert` does, for every front-end (the command
+//! line, the Python package, a farm task) to do the same with the same bytes.
+//!
+//! - [`Options`]: a typed description of a conversion (colour, channels, method, model, grid,
+//!   emission, samples, compression, tiles, MIP levels, threads), with the command line's
+//!   defaults.
+//! - [`Converter`]: built once from options, checked up front ([`Error`] by cause, with the
+//!   [`Remedy`] that would fix it); [`Converter::convert`] returns a [`Report`] of that call
+//!   alone — nothing is shared between calls.
+//! - [`Batch`]: inputs in turn, with the up-to-date check (`-u`), cancellation and progress
+//!   [`Event`]s.
+//! - [`provenance`]: the `specconv*` attributes, written and read in one place.
+//! - [`models`] and [`tables`]: the model and the Jakob 2019 table cache every front-end shares.
+//!
+//! ```no_run
+//! use specconv_conversion::{Converter, Options};
+//! let mut options = Options::default();
+//! options.colorspace = Some("ACEScg".into());
+//! let report = Converter::new(options)?.convert("plate.exr".as_ref(), "plate_spectral.exr".as_ref())?;
+//! assert_eq!(report.bands, 36);
+//! # Ok::<(), specconv_conversion::Error>(())
+//! ```
+#![forbid(unsafe_code)]
+#![warn(missing_docs)]
+
+mod batch;
+mod converter;
+mod error;
+pub mod images;
+pub mod models;
+mod options;
+pub mod provenance;
+pub mod tables;
+
+pub use batch::{Batch, Event, Summary};
+pub use converter::{Converter, Report, Rule, Selection};
+pub use error::{colour_remedy, ConversionError, Error, Remedy};
+pub use options::{Alpha, Blocks, Compression, Mip, Options, Rounding, Sample, UnknownName};
+pub use provenance::Provenance;
+pub use specconv_spectral::bounded::Counts;
+
+/// The OpenColorIO configs and colour spaces every front-end reads colour through (the same
+/// config rules as a conversion: `ocio`, else `$OCIO`, else the built-in ACES config).
+pub mod ocio {
+    pub use specconv_ocio::{is_builtin_name, ColorSpace, Config, Error, Processor};
+}

@@ -1,0 +1,56 @@
+#!/usr/bin/env bash
+# Runs the same set of conversions with two specconv binaries and compares what they write:
+# every output byte for byte (cmp), every --json record and every report line on standard
+# error (times left out). For refactors that must not change a conversion:
+#   scripts/same_outputs.sh OLD_BINARY NEW_BINARY
+# Exit status 0 when everything is the same.
+set -euo pipefail
+old=$(realpath "$1"); new=$(realpath "$2")
+images="$(cd "$(dirname "$0")/../testdata/images" && pwd)"
+work=$(mktemp -d); trap 'rm -rf "$work"' EXIT
+
+# name | arguments (INPUT OUTPUT or -o DIR forms; OUT stands for the side's folder)
+cases=(
+  "default|$images/srgb8.png OUT/a.exr"
+  "mip-levels|$images/float_alpha.tx OUT/a.exr"
+  "emissive|$images/srgba8.tx OUT/a.exr --emissive"
+  "float|$images/half_tiled_alpha.exr OUT/a.exr -d float"
+  "bands-smits|$images/rgb16.tif OUT/a.exr --bands 400:700:5 --method smits1999"
+  "piz-scanline|$images/photo.jpg OUT/a.exr --compression piz --scanline"
+  "photometric|$images/sky.hdr OUT/a.exr --emissive --emission-units photometric -d float"
+  "colour-rounding|$images/float_scanline.exr OUT/a.exr --half-rounding colour --unbounded"
+  "tile-level|$images/srgb8.png OUT/a.exr --mip 0 --tile 32 16 --zip-level 6 -j 1"
+  "jakob|$images/rgba16.png OUT/a.exr --method jakob2019 --alpha straight"
+  "shard-0|$images/srgb8.png $images/rgb16.png $images/photo.jpg -o OUT --json --shard 0/2"
+  "shard-1|$images/srgb8.png $images/rgb16.png $images/photo.jpg -o OUT --json --shard 1/2"
+  "batch-update|$images/srgb8.png $images/rgb16.png $images/srgba8.tx -o OUT --json -u"
+  "batch-exists|$images/srgb8.png $images/rgb16.png -o OUT --json"
+  "scanline-mip|$images/float_alpha.tx OUT/b.exr --scanline --json"
+)
+status=0
+for side in old new; do mkdir -p "$work/$side"; done
+for c in "${cases[@]}"; do
+  name=${c%%|*}; args=${c#*|}
+  for side in old new; do
+    bin=${!side}
+    # shellcheck disable=SC2086
+    (cd "$work/$side" && SPECCONV_CACHE_DIR="$work/cache-$side" "$bin" ${args//OUT/$work/$side} --progress never \
+      > "$work/$side/$name.json" 2> "$work/$side/$name.err"; echo $? > "$work/$side/$name.rc") || true
+    sed -i -E 's/"seconds":[0-9.e-]+/"seconds":_/g' "$work/$side/$name.json"
+    sed -i -E 's/[0-9]+\.[0-9]+ s\b/_ s/g; s/in [0-9.]+ (s|ms|min)/in _/g' "$work/$side/$name.err"
+    sed -i "s|$work/$side|OUT|g" "$work/$side/$name.json" "$work/$side/$name.err"
+  done
+  for f in json err rc; do
+    if ! cmp -s "$work/old/$name.$f" "$work/new/$name.$f"; then
+      echo "DIFFERENT $name.$f"; diff "$work/old/$name.$f" "$work/new/$name.$f" | head -5 || true; status=1
+    fi
+  done
+  for out in "$work"/old/*.exr; do
+    o=$(basename "$out")
+    if ! cmp -s "$out" "$work/new/$o"; then echo "DIFFERENT $name: $o"; status=1; fi
+  done
+  # Single outputs are re-made per case; batches keep theirs for the next (-u) case.
+  rm -f "$work"/old/a.exr "$work"/new/a.exr
+  echo "compared $name (exit $(cat "$work/new/$name.rc"))"
+done
+exit $status
