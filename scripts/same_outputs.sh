@@ -26,6 +26,9 @@ cases=(
   "batch-update|$images/srgb8.png $images/rgb16.png $images/srgba8.tx -o OUT --json -u"
   "batch-exists|$images/srgb8.png $images/rgb16.png -o OUT --json"
   "scanline-mip|$images/float_alpha.tx OUT/b.exr --scanline --json"
+  "raw|$images/srgb8.png OUT/a.exr --colorspace Raw"
+  "zip-level|$images/srgb8.png OUT/a.exr --compression piz --zip-level 4"
+  "threads|$images/srgb8.png OUT/a.exr -j 0"
 )
 status=0
 for side in old new; do mkdir -p "$work/$side"; done

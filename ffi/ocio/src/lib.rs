@@ -70,13 +70,11 @@ pub enum Error {
     )]
     NoInterchangeRole { origin: String },
     #[error(
-        "colour space '{name}' holds data, not colour, and cannot be uplifted to a spectrum; \
-         pass --colorspace with the colour space the texture is encoded in"
+        "colour space '{name}' holds data, not colour, and cannot be uplifted to a spectrum"
     )]
     DataColorSpace { name: String },
     #[error(
-        "OCIO config {origin} has no {what}, so no default colour space for {pixels} pixels; \
-         pass --colorspace"
+        "OCIO config {origin} has no {what}, so no default colour space for {pixels} pixels"
     )]
     NoDefault {
         origin: String,

@@ -256,7 +256,8 @@ fn show(args: &Args, config: &Config, file: &Path) -> Result<()> {
             Err(e) => (None, None, Some(e.to_string()), info.alpha_channel),
         };
     let space =
-        specconv_conversion::images::input_space(config, &reader, args.colorspace.as_deref())?;
+        specconv_conversion::images::input_space(config, &reader, args.colorspace.as_deref())
+            .map_err(|e| anyhow::anyhow!(crate::explain(&e.into())))?;
     let straight_alpha = specconv_conversion::Alpha::Auto.premultiply(&reader, alpha_channel);
     let report = Report {
         file: file.display().to_string(),
