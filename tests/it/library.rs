@@ -13,11 +13,14 @@ fn bytes(p: &std::path::Path) -> Vec<u8> {
     std::fs::read(p).unwrap_or_else(|e| panic!("{}: {e}", p.display()))
 }
 
+/// Sets on [`Options`] what a case's flags say.
+type SetOptions = Box<dyn Fn(&mut Options)>;
+
 #[test]
 fn the_library_alone_writes_the_command_lines_bytes() {
     let dir = Scratch::new("library-bytes");
     // (input, the CLI's options, the same options set on the library's Options)
-    let cases: Vec<(&str, Vec<&str>, Box<dyn Fn(&mut Options)>)> = vec![
+    let cases: Vec<(&str, Vec<&str>, SetOptions)> = vec![
         ("srgb8.png", vec![], Box::new(|_| {})),
         // Every MIP level of a maketx texture, alpha, float.
         (
@@ -35,7 +38,15 @@ fn the_library_alone_writes_the_command_lines_bytes() {
         ),
         (
             "rgb16.tif",
-            vec!["--mip", "0", "--half-rounding", "colour", "--unbounded", "-j", "1"],
+            vec![
+                "--mip",
+                "0",
+                "--half-rounding",
+                "colour",
+                "--unbounded",
+                "-j",
+                "1",
+            ],
             Box::new(|o| {
                 o.mip = Mip::Base;
                 o.rounding = Some(Rounding::Colour);
@@ -112,7 +123,10 @@ fn each_conversion_reports_its_own_counts_and_batches_skip_what_is_up_to_date() 
             _ => {}
         });
     assert_eq!(events, ["skipped", "converted"]);
-    assert_eq!((summary.converted, summary.skipped, summary.failed), (1, 1, 0));
+    assert_eq!(
+        (summary.converted, summary.skipped, summary.failed),
+        (1, 1, 0)
+    );
     // Without update an existing output is refused, by cause.
     let refused = converter.convert(&pairs[0].0, &pairs[0].1).unwrap_err();
     assert_eq!(

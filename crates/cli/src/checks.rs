@@ -15,9 +15,8 @@ pub fn config(ocio: Option<&str>) -> Result<Config> {
 /// A colour space named on the command line (`--colorspace`) exists in `config` and reaches
 /// CIE XYZ, so every input read in it can be converted.
 pub fn input_colorspace(config: &Config, name: Option<&str>) -> Result<()> {
-    let explained = |e: specconv_conversion::ocio::Error| {
-        usage(anyhow::anyhow!(crate::explain(&e.into())))
-    };
+    let explained =
+        |e: specconv_conversion::ocio::Error| usage(anyhow::anyhow!(crate::explain(&e.into())));
     if let Some(name) = name {
         let cs = config.color_space(name).map_err(explained)?;
         config.processor_to_xyz(&cs.name).map_err(explained)?;

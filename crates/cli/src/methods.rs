@@ -215,7 +215,11 @@ mod tests {
                 else {
                     panic!("simulate")
                 };
-                assert_eq!(c.options().description(), s.description(method), "{method} {opts:?}");
+                assert_eq!(
+                    c.options().description(),
+                    s.description(method),
+                    "{method} {opts:?}"
+                );
                 assert_eq!(c.stack.model, s.stack.model);
             }
         }

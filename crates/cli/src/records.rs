@@ -10,6 +10,35 @@ pub fn colorspace_rule(rule: &specconv_conversion::Rule) -> &'static str {
     rule.kind()
 }
 
+/// Why this colour space, in words (the summary line, `info`'s `colorspace_reason`).
+pub fn colorspace_reason(rule: &specconv_conversion::Rule) -> String {
+    use specconv_conversion::Rule;
+    match rule {
+        Rule::Flag { overrides: None } => "--colorspace".into(),
+        Rule::Flag { overrides: Some(d) } => format!("--colorspace, overriding the file's {d}"),
+        Rule::Declared(what) => format!("declared by the file: {}", what.join(", ")),
+        Rule::FileRule(name) => format!("the OCIO config's file rule '{name}'"),
+        Rule::Default(why) => format!("default: {why}"),
+    }
+}
+
+/// `subimage 1 'albedo' of 2, channels R,G,B (why)`: what of an input was read.
+pub fn selection(s: &specconv_conversion::Selection) -> String {
+    use specconv_conversion::images::ChannelReason;
+    let sub = s.describe_subimage();
+    let why = match s.channels.reason {
+        ChannelReason::Option => " (--channels)",
+        ChannelReason::Named => "",
+        ChannelReason::InOrder => " (in file order)",
+        ChannelReason::OnlyLayer => " (the only RGB layer; --channels picks another)",
+    };
+    format!(
+        "{}channels {}{why}",
+        if sub.is_empty() { sub } else { sub + ", " },
+        s.channels.names.join(",")
+    )
+}
+
 /// An error message about an input without the input's path, which the record (or the
 /// line) already names: `PATH: what` becomes `what`, `cannot read PATH: what` becomes
 /// `cannot read the input: what`.

@@ -75,7 +75,7 @@ impl Grid {
         if first > self.start + tol || last < self.end - tol {
             return Err(Error::Coverage(format!(
                 "{what} covers {first}–{last} nm, which does not cover the grid {self}; \
-                 choose bands inside that range (e.g. --bands {}:{}:{})",
+                 choose bands inside that range (e.g. {}:{}:{})",
                 first.max(self.start).ceil(),
                 last.min(self.end).floor(),
                 self.step
@@ -184,6 +184,6 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(err.contains("D65 covers 380–780 nm"), "{err}");
-        assert!(err.contains("--bands 380:780:10"), "{err}");
+        assert!(err.contains("(e.g. 380:780:10)"), "{err}");
     }
 }

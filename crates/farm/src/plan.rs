@@ -73,8 +73,8 @@ impl Shard {
         }
         let id = array_task.ok_or_else(|| {
             Error::Shard(
-                "--shard auto/N takes I from $SLURM_ARRAY_TASK_ID, which is not set: give I/N, \
-                 or run inside a Slurm job array"
+                "a shard auto/N takes its index from $SLURM_ARRAY_TASK_ID, which is not set: \
+                 give I/N, or run inside a Slurm job array"
                     .into(),
             )
         })?;

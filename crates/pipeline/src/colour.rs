@@ -64,6 +64,7 @@ impl Alpha {
 /// A transfer function from stored values to linear.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Decode {
+    /// Stored values are linear.
     Linear,
     /// linear = stored^exponent (PNG `gAMA` g: exponent 1/g).
     Power(f64),
@@ -87,9 +88,19 @@ pub enum ToXyz {
     /// Through the OCIO config.
     Ocio(Processor),
     /// The declared transfer function, then a 3×3 matrix to XYZ D65.
-    Matrix { decode: Decode, m: [[f64; 3]; 3] },
+    Matrix {
+        /// The transfer function.
+        decode: Decode,
+        /// Linear RGB to XYZ D65.
+        m: [[f64; 3]; 3],
+    },
     /// Little CMS to the ICC PCS (D50), then Bradford to D65.
-    Icc { pcs: ToPcs, adapt: [[f64; 3]; 3] },
+    Icc {
+        /// The profile's transform to its PCS.
+        pcs: ToPcs,
+        /// D50 to D65 (Bradford).
+        adapt: [[f64; 3]; 3],
+    },
 }
 
 impl fmt::Debug for ToXyz {
@@ -161,8 +172,12 @@ impl ToXyz {
 /// Which rule chose the input colour space.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum Rule {
-    /// `--colorspace`, with the declaration it overrides, if any.
-    Flag { overrides: Option<String> },
+    /// Named by the caller (the command line's `--colorspace`), with the declaration it
+    /// overrides, if any.
+    Flag {
+        /// The file's declaration it overrides, if any.
+        overrides: Option<String>,
+    },
     /// The file's declarations that agree with the one used ("EXR chromaticities", ...).
     Declared(Vec<String>),
     /// The OCIO config's file rule of this name.
@@ -184,26 +199,14 @@ impl Rule {
     }
 }
 
-impl fmt::Display for Rule {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            Rule::Flag { overrides: None } => f.write_str("--colorspace"),
-            Rule::Flag { overrides: Some(d) } => {
-                write!(f, "--colorspace, overriding the file's {d}")
-            }
-            Rule::Declared(what) => write!(f, "declared by the file: {}", what.join(", ")),
-            Rule::FileRule(name) => write!(f, "the OCIO config's file rule '{name}'"),
-            Rule::Default(why) => write!(f, "default: {why}"),
-        }
-    }
-}
-
 /// The input colour space, the rule that chose it, and how its pixels reach XYZ.
 #[derive(Debug)]
 pub struct InputSpace {
     /// The config's name for it, or a description where the config has none.
     pub name: String,
+    /// The rule that chose it.
     pub rule: Rule,
+    /// How its pixels reach XYZ.
     pub to_xyz: ToXyz,
     /// Declarations that were ignored or disagree.
     pub warnings: Vec<String>,

@@ -8,7 +8,6 @@
 //! layer (and its `.A`). Any other layered file is refused with the list of its layers.
 
 use specconv_oiio::{ImageInfo, ImageReader};
-use std::fmt;
 use std::path::Path;
 
 /// `--subimage` and `--channels` as given.
@@ -38,34 +37,24 @@ pub enum ChannelReason {
 pub struct Channels {
     /// Three indices (R, G, B) or one (grey, repeated).
     pub colour: Vec<usize>,
+    /// The alpha channel's index, if any.
     pub alpha: Option<usize>,
     /// Names of the colour channels, then of alpha.
     pub names: Vec<String>,
+    /// Why these channels.
     pub reason: ChannelReason,
-}
-
-impl fmt::Display for Channels {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(&self.names.join(","))?;
-        match self.reason {
-            ChannelReason::Option => f.write_str(" (--channels)"),
-            ChannelReason::Named => Ok(()),
-            ChannelReason::InOrder => f.write_str(" (in file order)"),
-            ChannelReason::OnlyLayer => {
-                f.write_str(" (the only RGB layer; --channels picks another)")
-            }
-        }
-    }
 }
 
 /// What an input is read as: its subimage and channels.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Selection {
+    /// The subimage read (0: the first).
     pub subimage: u32,
     /// Subimages in the file.
     pub subimages: u32,
     /// The subimage's (part) name, empty when it has none.
     pub subimage_name: String,
+    /// The channels read.
     pub channels: Channels,
 }
 
@@ -81,16 +70,6 @@ impl Selection {
             format!(" '{}'", self.subimage_name)
         };
         format!("subimage {}{name} of {}", self.subimage, self.subimages)
-    }
-}
-
-impl fmt::Display for Selection {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let sub = self.describe_subimage();
-        if !sub.is_empty() {
-            write!(f, "{sub}, ")?;
-        }
-        write!(f, "channels {}", self.channels)
     }
 }
 

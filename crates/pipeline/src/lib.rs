@@ -14,6 +14,7 @@
 //! The output keeps the input's data and display windows (OpenEXR gives every MIP level the
 //! data window's origin). [`input`] chooses the subimage and the channels read.
 #![forbid(unsafe_code)]
+#![warn(missing_docs)]
 
 pub mod colour;
 pub mod input;
@@ -128,6 +129,7 @@ pub enum Error {
     Cancelled,
 }
 
+/// The pipeline's results.
 pub type Result<T> = std::result::Result<T, Error>;
 
 /// Which MIP levels to convert.
@@ -155,12 +157,15 @@ pub struct Settings {
     pub input: input::Request,
     /// `--alpha`: whether the input's colour is straight or premultiplied.
     pub alpha: Alpha,
+    /// Half or float samples.
     pub sample: Sample,
+    /// OpenEXR compression of every block.
     pub compression: Compression,
     /// Deflate level of ZIP and ZIPS blocks, 0–9 ([`specconv_exr::zip::DEFAULT_LEVEL`]).
     pub zip_level: u8,
     /// `None` for scanlines, else the tile size.
     pub tile: Option<(usize, usize)>,
+    /// Which MIP levels to convert.
     pub mip: Mip,
     /// Write over an existing output.
     pub overwrite: bool,
@@ -193,10 +198,13 @@ impl Default for Settings {
 /// What a finished conversion did.
 #[derive(Debug, Clone)]
 pub struct Report {
+    /// Width of the full-resolution level.
     pub width: usize,
+    /// Height of the full-resolution level.
     pub height: usize,
     /// Pixels uplifted, over all levels.
     pub pixels: u64,
+    /// MIP levels written.
     pub levels: usize,
     /// The subimage and channels read.
     pub selection: input::Selection,
@@ -234,10 +242,15 @@ struct Counts {
 
 /// A conversion: one input, one output.
 pub struct Job<'a> {
+    /// The image to read.
     pub input: &'a Path,
+    /// The spectral OpenEXR to write.
     pub output: &'a Path,
+    /// The OCIO config the input's colour is managed with.
     pub config: &'a Config,
+    /// The method stack that uplifts every pixel.
     pub method: &'a dyn Method,
+    /// How the output is stored.
     pub settings: &'a Settings,
     /// Set from another thread (a signal handler) to stop the job.
     pub cancel: &'a AtomicBool,

@@ -7,8 +7,8 @@
 use exr::block::chunk::CompressedBlock;
 use exr::meta::attribute::IntegerBounds;
 use exr::meta::BlockDescription;
-use specconv_exr::Compression;
 use specconv_atomic_file::leftovers as leftover_temporaries;
+use specconv_exr::Compression;
 use specconv_pipeline::{convert, Error, Job, Mip, Settings};
 use specconv_spectral::baselines::jakob_cache::TableCache;
 use specconv_spectral::method::MethodName;

@@ -217,7 +217,7 @@ fn method(d: &Description, model: &Model, tables: &TableCache) -> Result<Box<dyn
     if d.method == MethodName::Pca && model.leaves.len() != 1 {
         return Err(Error::Method(format!(
             "pca is the clustered PCA with one cluster, and the model has {}: it needs a \
-             one-cluster model (`specconv train --clusters 1`)",
+             one-cluster model (trained with one cluster)",
             model.leaves.len()
         )));
     }

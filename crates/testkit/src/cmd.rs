@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 
 /// The built `specconv` binary: `$SPECCONV_BIN`, or beside the running test (cargo puts test
-/// binaries in target/<profile>/deps and the crate's binaries one folder up, and builds them
+/// binaries in `target/<profile>/deps` and the crate's binaries one folder up, and builds them
 /// before the integration tests of their package).
 pub fn binary() -> PathBuf {
     if let Some(bin) = std::env::var_os("SPECCONV_BIN") {

@@ -69,13 +69,9 @@ pub enum Error {
          role, so there is no way to CIE XYZ; add one of them to the config's roles"
     )]
     NoInterchangeRole { origin: String },
-    #[error(
-        "colour space '{name}' holds data, not colour, and cannot be uplifted to a spectrum"
-    )]
+    #[error("colour space '{name}' holds data, not colour, and cannot be uplifted to a spectrum")]
     DataColorSpace { name: String },
-    #[error(
-        "OCIO config {origin} has no {what}, so no default colour space for {pixels} pixels"
-    )]
+    #[error("OCIO config {origin} has no {what}, so no default colour space for {pixels} pixels")]
     NoDefault {
         origin: String,
         what: &'static str,

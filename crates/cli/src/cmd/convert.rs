@@ -472,7 +472,13 @@ fn summary_line(r: &Report) -> String {
     let plural = if r.levels == 1 { "" } else { "s" };
     let mut line = format!(
         "{}×{}, {} level{plural}, {} bands, colour space {} ({}), {}",
-        r.width, r.height, r.levels, r.bands, r.colorspace, r.colorspace_rule, r.selection,
+        r.width,
+        r.height,
+        r.levels,
+        r.bands,
+        r.colorspace,
+        records::colorspace_reason(&r.colorspace_rule),
+        records::selection(&r.selection),
     );
     if r.premultiplied {
         line += ", straight alpha premultiplied";

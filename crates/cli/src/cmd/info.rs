@@ -287,7 +287,7 @@ fn show(args: &Args, config: &Config, file: &Path) -> Result<()> {
         declared_color_space: info.declared_color_space.as_deref(),
         colorspace: space.name.clone(),
         colorspace_rule: crate::records::colorspace_rule(&space.rule),
-        colorspace_reason: space.rule.to_string(),
+        colorspace_reason: crate::records::colorspace_reason(&space.rule),
         colorspace_warnings: space.warnings.clone(),
         straight_alpha,
         to_xyz: space.to_xyz.describe(),

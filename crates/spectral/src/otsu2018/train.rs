@@ -110,7 +110,7 @@ pub fn train(set: &TrainingSet, a: &Colorimetry, opts: &TrainOptions) -> Result<
     }
     if set.spectra.len() < opts.min_cluster_size {
         return invalid(format!(
-            "{} spectra are fewer than the minimum cluster size {}; give more spectra or lower --min-cluster-size",
+            "{} spectra are fewer than the minimum cluster size {}; give more spectra or lower the minimum cluster size",
             set.spectra.len(),
             opts.min_cluster_size
         ));
@@ -146,7 +146,7 @@ pub fn train(set: &TrainingSet, a: &Colorimetry, opts: &TrainOptions) -> Result<
             Unfit::IllConditioned(cond) => format!(
                 "the spectra's three main variations look almost alike to the observer under {}, so \
                  colours cannot tell them apart: M's condition number is {cond:.3e} (bound {}); add \
-                 spectra of more varied colours, or raise --max-condition",
+                 spectra of more varied colours, or raise the condition bound",
                 a.illuminant, opts.max_condition
             ),
         })

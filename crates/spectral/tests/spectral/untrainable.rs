@@ -86,7 +86,7 @@ fn a_nearly_singular_m_is_refused_unless_the_bound_allows_it() {
     let set = training_set(spectra);
     let err = train(&set, &a, &small(1)).unwrap_err().to_string();
     assert!(
-        err.contains("look almost alike") && err.contains("raise --max-condition"),
+        err.contains("look almost alike") && err.contains("raise the condition bound"),
         "{err}"
     );
     let loose = TrainOptions {
