@@ -29,6 +29,13 @@ cases=(
   "raw|$images/srgb8.png OUT/a.exr --colorspace Raw"
   "zip-level|$images/srgb8.png OUT/a.exr --compression piz --zip-level 4"
   "threads|$images/srgb8.png OUT/a.exr -j 0"
+  "spectral-alpha|$images/srgba8.tx OUT/s.exr"
+  "spectral-emissive|$images/sky.hdr OUT/e.exr --emissive"
+  "to-rgb|to-rgb OUT/s.exr OUT/r1.exr"
+  "to-rgb-a|to-rgb OUT/s.exr OUT/r2.exr --illuminant A --colorspace ACEScg"
+  "to-rgb-emissive|to-rgb OUT/e.exr OUT/r3.exr"
+  "to-rgb-exists|to-rgb OUT/s.exr OUT/r1.exr"
+  "to-rgb-own-light|to-rgb OUT/e.exr OUT/r4.exr --illuminant D50"
 )
 status=0
 for side in old new; do mkdir -p "$work/$side"; done
@@ -37,7 +44,9 @@ for c in "${cases[@]}"; do
   for side in old new; do
     bin=${!side}
     # shellcheck disable=SC2086
-    (cd "$work/$side" && SPECCONV_CACHE_DIR="$work/cache-$side" "$bin" ${args//OUT/$work/$side} --progress never \
+    progress="--progress never"; case $args in to-rgb*) progress="" ;; esac
+    # shellcheck disable=SC2086
+    (cd "$work/$side" && SPECCONV_CACHE_DIR="$work/cache-$side" "$bin" ${args//OUT/$work/$side} $progress \
       > "$work/$side/$name.json" 2> "$work/$side/$name.err"; echo $? > "$work/$side/$name.rc") || true
     sed -i -E 's/"seconds":[0-9.e-]+/"seconds":_/g' "$work/$side/$name.json"
     sed -i -E 's/[0-9]+\.[0-9]+ s\b/_ s/g; s/in [0-9.]+ (s|ms|min)/in _/g' "$work/$side/$name.err"

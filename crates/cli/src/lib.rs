@@ -165,6 +165,8 @@ pub(crate) fn explain(e: &specconv_conversion::Error) -> String {
             "; choose with --channels LAYER or --channels NAME,NAME,NAME"
         }
         Some(Remedy::NameLayer) => "; choose one with --channels LAYER",
+        Some(Remedy::Replace) => "; pass --force to replace it",
+        Some(Remedy::DropIlluminant) => "; drop --illuminant",
         Some(Remedy::DropZipLevel) | Some(_) | None => "",
     };
     one_line(e) + hint

@@ -50,6 +50,49 @@ pub enum Error {
     /// One conversion failed (the input, its colour, the output; see [`ConversionError`]).
     #[error(transparent)]
     Conversion(#[from] ConversionError),
+    /// An output exists and may not be replaced (outside a conversion's own check).
+    #[error("{} exists", output.display())]
+    Exists {
+        /// The output.
+        output: PathBuf,
+    },
+    /// An emissive file was asked to be lit by an illuminant.
+    #[error("{} is an emission (S0 channels): it is its own light", input.display())]
+    EmissionIsItsOwnLight {
+        /// The file.
+        input: PathBuf,
+    },
+    /// The OCIO config lacks a role that is needed.
+    #[error("the OCIO config has no {role} role{purpose}")]
+    NoRole {
+        /// The role.
+        role: &'static str,
+        /// What it was needed for (with a leading space), or nothing.
+        purpose: &'static str,
+    },
+    /// A spectral EXR cannot be read.
+    #[error("cannot read {}: {source}", path.display())]
+    Read {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        source: specconv_exr::Error,
+    },
+    /// A file cannot be written.
+    #[error("cannot write {}: {source}", path.display())]
+    Write {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        source: specconv_exr::Error,
+    },
+    /// A `specconv*` attribute of a file does not parse.
+    #[error(transparent)]
+    Provenance(#[from] crate::provenance::BadAttribute),
+    /// Colorimetry on a file's bands cannot be set up (an observer or illuminant that does not
+    /// cover them).
+    #[error(transparent)]
+    Colorimetry(specconv_colour::Error),
 }
 
 /// The setting that would fix an error; a front-end says it in its own words.
@@ -72,6 +115,10 @@ pub enum Remedy {
     NameLayer,
     /// Drop the deflate level, or choose a compression that deflates.
     DropZipLevel,
+    /// Replace the existing output.
+    Replace,
+    /// Drop the illuminant (emission is its own light).
+    DropIlluminant,
 }
 
 impl Error {
@@ -79,6 +126,12 @@ impl Error {
     pub fn remedy(&self) -> Option<Remedy> {
         match self {
             Error::ZipLevelWithoutZip { .. } => Some(Remedy::DropZipLevel),
+            Error::Exists { .. } => Some(Remedy::Replace),
+            Error::EmissionIsItsOwnLight { .. } => Some(Remedy::DropIlluminant),
+            Error::NoRole {
+                role: "scene_linear",
+                ..
+            } => Some(Remedy::NameColourSpace),
             Error::Colour(e) => colour_remedy(e),
             Error::Conversion(e) => match e {
                 ConversionError::OutputExists { .. } => Some(Remedy::ReplaceOrSkip),

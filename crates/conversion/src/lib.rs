@@ -31,6 +31,7 @@ pub mod models;
 mod options;
 pub mod provenance;
 pub mod tables;
+pub mod to_rgb;
 
 pub use batch::{Batch, Event, Summary};
 pub use converter::{Converter, Report, Rule, Selection};

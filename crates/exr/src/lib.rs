@@ -13,8 +13,10 @@
 //! whole image.
 #![forbid(unsafe_code)]
 
+pub mod blocks;
 pub mod check;
 pub mod quantize;
+pub mod rgb;
 pub mod zip;
 
 use exr::block::chunk::{
@@ -707,95 +709,57 @@ pub struct SpectralImage {
 /// its `S0.` bands. Polarisation (S1–S3), emission beside reflectance and channels outside
 /// the layout are listed in [`SpectralImage::layout`], not read.
 pub fn read(path: &std::path::Path) -> Result<SpectralImage> {
-    let image = exr::image::read::read_first_flat_layer_from_file(path)?;
-    let layer = image.layer_data;
-    let (width, height) = (layer.size.x(), layer.size.y());
-    let attributes: Vec<(String, String)> = layer
-        .attributes
-        .other
-        .iter()
-        .filter_map(|(k, v)| match v {
-            AttributeValue::Text(t) => Some((k.to_string(), t.to_string())),
-            _ => None,
-        })
-        .collect();
-    let names: Vec<String> = layer
-        .channel_data
-        .list
-        .iter()
-        .map(|c| c.name.to_string())
-        .collect();
-    let layout = Layout::of(names.iter().map(String::as_str));
-    if !layout.is_spectral() {
-        return Err(Error::Invalid(format!(
-            "{} is not a spectral EXR: it has no T.<wavelength>nm or S0.<wavelength>nm channels",
-            path.display()
-        )));
-    }
-    let reflective = !layout.reflective.is_empty();
-    let plane = |c: &exr::image::AnyChannel<exr::image::FlatSamples>| -> Vec<f32> {
-        c.sample_data.values_as_f32().collect()
-    };
-    let mut bands: Vec<(f64, Vec<f32>)> = Vec::new();
-    let mut rerad: Vec<(f64, f64, Vec<f32>)> = Vec::new();
-    let mut alpha = None;
-    for c in &layer.channel_data.list {
-        let name = c.name.to_string();
-        match parse_channel(&name) {
-            Some(Channel::Reflective { nm }) if reflective => bands.push((nm, plane(c))),
-            Some(Channel::Stokes { k: 0, nm }) if !reflective => bands.push((nm, plane(c))),
-            Some(Channel::Reradiation { from_nm, to_nm }) if reflective => {
-                rerad.push((from_nm, to_nm, plane(c)))
+    let mut reader = blocks::BlockReader::open(path)?;
+    let header = reader.header().clone();
+    let plane = || vec![0.0f32; header.width * header.height];
+    let mut bands = vec![plane(); header.wavelengths.len()];
+    let mut rerad = vec![plane(); header.reradiation.len()];
+    let mut alpha = header.alpha.then(plane);
+    while let Some(b) = reader.next_block() {
+        let b = b?;
+        if b.x + b.width > header.width || b.y + b.height > header.height || b.width == 0 {
+            return Err(Error::Invalid(format!(
+                "{}: a block at ({}, {}) of {}×{} lies outside the {}×{} image",
+                path.display(),
+                b.x,
+                b.y,
+                b.width,
+                b.height,
+                header.width,
+                header.height
+            )));
+        }
+        let place = |to: &mut Vec<f32>, from: &[f32]| {
+            for (row, values) in from.chunks_exact(b.width).enumerate() {
+                let start = (b.y + row) * header.width + b.x;
+                to[start..start + b.width].copy_from_slice(values);
             }
-            None if name == "A" => alpha = Some(plane(c)),
-            _ => {}
+        };
+        for (to, from) in bands.iter_mut().zip(&b.bands) {
+            place(to, from);
+        }
+        for (to, from) in rerad.iter_mut().zip(&b.reradiation) {
+            place(to, from);
+        }
+        if let (Some(to), Some(from)) = (alpha.as_mut(), &b.alpha) {
+            place(to, from);
         }
     }
-    bands.sort_by(|a, b| a.0.total_cmp(&b.0));
-    let wavelengths: Vec<f64> = bands.iter().map(|b| b.0).collect();
-    if wavelengths.windows(2).any(|w| w[0] == w[1]) {
-        return Err(Error::Invalid(format!(
-            "{} names one wavelength twice (in two units?)",
-            path.display()
-        )));
-    }
-    let index = |nm: f64, what: &str| {
-        wavelengths
-            .iter()
-            .position(|w| (w - nm).abs() <= 1e-6 * nm)
-            .ok_or_else(|| {
-                Error::Invalid(format!(
-                    "{}: a re-radiation channel's {what} wavelength {nm} nm has no T.{nm}nm \
-                     band; the layout pairs re-radiation with the bands of the diagonal",
-                    path.display()
-                ))
-            })
-    };
-    let mut reradiation = Vec::with_capacity(rerad.len());
-    for (from, to, p) in rerad {
-        reradiation.push((index(from, "incident")?, index(to, "re-radiated")?, p));
-    }
-    let kind = if reflective {
-        Kind::Reflective
-    } else {
-        let units = attributes
-            .iter()
-            .find(|(k, _)| k == "emissiveUnits")
-            .map_or("", |(_, v)| v.as_str());
-        Kind::Emissive {
-            units: units.to_string(),
-        }
-    };
     Ok(SpectralImage {
-        width,
-        height,
-        wavelengths,
-        kind,
-        bands: bands.into_iter().map(|b| b.1).collect(),
-        reradiation,
+        width: header.width,
+        height: header.height,
+        wavelengths: header.wavelengths,
+        kind: header.kind,
+        bands,
+        reradiation: header
+            .reradiation
+            .into_iter()
+            .zip(rerad)
+            .map(|((from, to), p)| (from, to, p))
+            .collect(),
         alpha,
-        layout,
-        attributes,
+        layout: header.layout,
+        attributes: header.attributes,
     })
 }
 

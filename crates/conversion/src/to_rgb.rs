@@ -1,0 +1,220 @@
+//! A spectral EXR integrated back to colour: XYZ as every reader of the layout integrates it,
+//! then a colour space of the OCIO config, written as an RGB(A) OpenEXR. The input is read
+//! block by block; only the colour result (three floats a pixel, and alpha) is held.
+
+use crate::provenance::{ConventionFrom, Provenance};
+use crate::Error;
+use specconv_colour::{EmissionUnits, Illuminant, Integration, Observer};
+use specconv_exr::blocks::{Block, BlockReader};
+use specconv_exr::Kind;
+use specconv_ocio::Config;
+use std::path::Path;
+
+/// What `to-rgb` is asked to do.
+#[derive(Debug, Clone, Default)]
+#[non_exhaustive]
+pub struct ToRgbOptions {
+    /// The OCIO config (as [`crate::Options::ocio`]).
+    pub ocio: Option<String>,
+    /// The output's colour space (`None`: the config's `scene_linear` role).
+    pub colorspace: Option<String>,
+    /// Light reflectances under this illuminant instead of the file's own (reflectance only).
+    pub illuminant: Option<Illuminant>,
+    /// Replace an existing output.
+    pub overwrite: bool,
+}
+
+/// The light a file's values became colour under.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Light {
+    /// Emission: its own light, in a units convention, and why that one.
+    Emission(EmissionUnits, ConventionFrom),
+    /// Reflectance under an illuminant, with this many re-radiation (bispectral) channels.
+    Illuminant(Illuminant, usize),
+}
+
+/// What an integration did.
+#[derive(Debug, Clone)]
+#[non_exhaustive]
+pub struct RgbReport {
+    /// Width of the image.
+    pub width: usize,
+    /// Height of the image.
+    pub height: usize,
+    /// The band wavelengths read, nm.
+    pub wavelengths: Vec<f64>,
+    /// The light.
+    pub light: Light,
+    /// The observer.
+    pub observer: Observer,
+    /// The output's colour space.
+    pub colorspace: String,
+    /// The file holds polarisation (S1–S3), not used.
+    pub polarised: bool,
+    /// The file's emission beside its reflectance was not included.
+    pub emission_left_out: bool,
+    /// Channels outside the spectral layout, not used (an RGB preview beside the spectra).
+    pub unused_channels: Vec<String>,
+}
+
+/// An integration set up once: the config loaded and the output colour space checked.
+pub struct ToRgb {
+    options: ToRgbOptions,
+    config: Config,
+}
+
+impl ToRgb {
+    /// Loads the config and checks the output colour space.
+    pub fn new(options: ToRgbOptions) -> Result<ToRgb, Error> {
+        let config = Config::resolve(options.ocio.as_deref())?;
+        if let Some(name) = &options.colorspace {
+            config.color_space(name)?;
+        }
+        Ok(ToRgb { options, config })
+    }
+
+    /// Integrates `input` and writes `output`.
+    pub fn convert(&self, input: &Path, output: &Path) -> Result<RgbReport, Error> {
+        if output.exists() && !self.options.overwrite {
+            return Err(Error::Exists {
+                output: output.to_path_buf(),
+            });
+        }
+        let read_error = |source| Error::Read {
+            path: input.to_path_buf(),
+            source,
+        };
+        let mut reader = BlockReader::open(input).map_err(read_error)?;
+        let h = reader.header().clone();
+        let recorded = Provenance::from_attributes(&h.attributes)?;
+        let observer = recorded.observer_or_default();
+        let emissive = matches!(h.kind, Kind::Emissive { .. });
+        let light = match (self.options.illuminant, emissive) {
+            (Some(_), true) => {
+                return Err(Error::EmissionIsItsOwnLight {
+                    input: input.to_path_buf(),
+                })
+            }
+            (_, true) => {
+                let (units, from) = recorded.emission_convention();
+                Light::Emission(units, from)
+            }
+            (Some(i), false) => Light::Illuminant(i, h.reradiation.len()),
+            (None, false) => {
+                Light::Illuminant(recorded.illuminant_or_default(), h.reradiation.len())
+            }
+        };
+        let integration = match light {
+            Light::Emission(units, _) => units.integration(&h.wavelengths, observer),
+            Light::Illuminant(i, _) => Integration::reflectance(&h.wavelengths, observer, i),
+        }
+        .map_err(Error::Colorimetry)?;
+        // Bispectral: band o reflects T(o)·I(o) and re-radiates T(i→o)·I(i) from each band i.
+        let lit = match light {
+            Light::Illuminant(i, _) if !h.reradiation.is_empty() => Some(
+                specconv_colour::integration::illuminant_at(i, &h.wavelengths)
+                    .map_err(Error::Colorimetry)?,
+            ),
+            _ => None,
+        };
+        let xyz_space = self
+            .config
+            .role("cie_xyz_d65_interchange")?
+            .ok_or(Error::NoRole {
+                role: "cie_xyz_d65_interchange",
+                purpose: " to convert XYZ from",
+            })?;
+        let colorspace = match self.options.colorspace.clone() {
+            Some(c) => c,
+            None => self.config.role("scene_linear")?.ok_or(Error::NoRole {
+                role: "scene_linear",
+                purpose: "",
+            })?,
+        };
+        let processor = self.config.processor(&xyz_space, &colorspace)?;
+
+        let mut rgb = vec![0.0f32; h.width * h.height * 3];
+        let mut alpha = h.alpha.then(|| vec![0.0f32; h.width * h.height]);
+        while let Some(block) = reader.next_block() {
+            let block = block.map_err(read_error)?;
+            let xyz = xyz_of_block(&block, &h.reradiation, &integration, lit.as_deref());
+            place(&mut rgb, h.width, &block, &xyz, 3);
+            if let (Some(to), Some(from)) = (alpha.as_mut(), &block.alpha) {
+                place(to, h.width, &block, from, 1);
+            }
+        }
+        processor.apply_rgb(&mut rgb)?;
+        let write_error = |source| Error::Write {
+            path: output.to_path_buf(),
+            source,
+        };
+        let pending = specconv_atomic_file::Pending::beside(output)
+            .map_err(|e| write_error(specconv_exr::Error::Exr(e.into())))?;
+        specconv_exr::rgb::write_rgb(
+            std::io::BufWriter::new(pending.file()),
+            (h.width, h.height),
+            &rgb,
+            alpha.as_deref(),
+        )
+        .map_err(write_error)?;
+        pending
+            .commit()
+            .map_err(|e| write_error(specconv_exr::Error::Exr(e.into())))?;
+        let layout = &h.layout;
+        Ok(RgbReport {
+            width: h.width,
+            height: h.height,
+            wavelengths: h.wavelengths.clone(),
+            light,
+            observer,
+            colorspace,
+            polarised: layout.polarised(),
+            emission_left_out: !emissive && !layout.stokes[0].is_empty(),
+            unused_channels: layout.other.clone(),
+        })
+    }
+}
+
+/// Copies a block's values (`per` a pixel) into the image's row-major buffer.
+fn place(to: &mut [f32], width: usize, b: &Block, from: &[f32], per: usize) {
+    for (row, values) in from.chunks_exact(b.width * per).enumerate() {
+        let start = ((b.y + row) * width + b.x) * per;
+        to[start..start + b.width * per].copy_from_slice(values);
+    }
+}
+
+/// XYZ of every pixel of a block (three f32 a pixel) under `integration`; with `lit` (the light
+/// per band), bispectral: band o reflects T(o)·I(o) and re-radiates T(i→o)·I(i) from each band i.
+fn xyz_of_block(
+    b: &Block,
+    reradiation: &[(usize, usize)],
+    integration: &Integration,
+    lit: Option<&[f64]>,
+) -> Vec<f32> {
+    let pixels = b.width * b.height;
+    let mut xyz = vec![0.0f32; pixels * 3];
+    let mut r = vec![0.0f64; b.bands.len()];
+    for p in 0..pixels {
+        for (v, plane) in r.iter_mut().zip(&b.bands) {
+            *v = plane[p] as f64;
+        }
+        if let Some(light) = lit {
+            for ((i, o), plane) in reradiation.iter().zip(&b.reradiation) {
+                if light[*o] > 0.0 {
+                    r[*o] += plane[p] as f64 * light[*i] / light[*o];
+                }
+            }
+        }
+        let c = integration.xyz(&r);
+        xyz[3 * p..3 * p + 3].copy_from_slice(&[c[0] as f32, c[1] as f32, c[2] as f32]);
+    }
+    xyz
+}
+
+impl std::fmt::Debug for ToRgb {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("ToRgb")
+            .field("options", &self.options)
+            .finish_non_exhaustive()
+    }
+}
