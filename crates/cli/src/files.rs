@@ -52,11 +52,6 @@ pub fn write_atomically(path: &Path, bytes: &[u8], inputs: &[&Path]) -> Result<(
         .with_context(|| format!("cannot write {}", path.display()))
 }
 
-/// A spectral EXR, named in the error when it cannot be read.
-pub fn read_spectral(path: &Path) -> Result<specconv_exr::SpectralImage> {
-    specconv_exr::read(path).with_context(|| format!("cannot read {}", path.display()))
-}
-
 /// The model from `--model FILE`, or the built-in one. A model that cannot be read is a
 /// usage error: nothing can be done with it.
 pub fn load_model(path: Option<&Path>) -> Result<specconv_spectral::Model> {
@@ -100,11 +95,4 @@ pub fn fewer_clusters(m: &specconv_spectral::Model) -> Option<String> {
         t.clusters_requested,
         m.leaves.len()
     ))
-}
-
-/// What a spectral EXR records of how it was made ([`specconv_conversion::Provenance`]).
-pub fn provenance(img: &specconv_exr::SpectralImage) -> Result<specconv_conversion::Provenance> {
-    Ok(specconv_conversion::Provenance::from_attributes(
-        &img.attributes,
-    )?)
 }

@@ -87,8 +87,36 @@ pub enum Error {
         source: specconv_exr::Error,
     },
     /// A `specconv*` attribute of a file does not parse.
+    #[error("in {}: {source}", path.display())]
+    BadProvenance {
+        /// The file.
+        path: PathBuf,
+        /// The attribute and why.
+        source: crate::provenance::BadAttribute,
+    },
+    /// A file of emission where reflectances are needed.
+    #[error(
+        "{} holds emission (S0 channels), not reflectances: it has no colour to bounce; \
+         preview reflectance files (T channels)",
+        input.display()
+    )]
+    NotReflectance {
+        /// The file.
+        input: PathBuf,
+    },
+    /// A bispectral file where plain reflectances are needed.
+    #[error(
+        "{} is bispectral (re-radiation channels): its bounces need the whole re-radiation \
+         matrix, which preview does not follow; `to-rgb` shows its colour",
+        input.display()
+    )]
+    Bispectral {
+        /// The file.
+        input: PathBuf,
+    },
+    /// A measurement cannot be set up.
     #[error(transparent)]
-    Provenance(#[from] crate::provenance::BadAttribute),
+    Study(#[from] specconv_study::Error),
     /// Colorimetry on a file's bands cannot be set up (an observer or illuminant that does not
     /// cover them).
     #[error(transparent)]

@@ -29,6 +29,7 @@ mod error;
 pub mod images;
 pub mod models;
 mod options;
+pub mod preview;
 pub mod provenance;
 pub mod tables;
 pub mod to_rgb;

@@ -86,7 +86,11 @@ impl ToRgb {
         };
         let mut reader = BlockReader::open(input).map_err(read_error)?;
         let h = reader.header().clone();
-        let recorded = Provenance::from_attributes(&h.attributes)?;
+        let recorded =
+            Provenance::from_attributes(&h.attributes).map_err(|source| Error::BadProvenance {
+                path: input.to_path_buf(),
+                source,
+            })?;
         let observer = recorded.observer_or_default();
         let emissive = matches!(h.kind, Kind::Emissive { .. });
         let light = match (self.options.illuminant, emissive) {

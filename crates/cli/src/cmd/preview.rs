@@ -1,20 +1,14 @@
 //! `specconv preview`: a spectral texture as it looks after K interreflections with itself.
 
+use crate::explain;
 use crate::files;
 use crate::font::FAMILY;
 use crate::picture::{self, Format};
-use anyhow::{bail, Context, Result};
+use anyhow::Result;
 use plotters::prelude::*;
-use rayon::prelude::*;
 use serde::Serialize;
-use specconv_colour::integration::Onto;
-use specconv_colour::lab::{ciede2000, xyz_to_lab};
-use specconv_colour::mat3::mul_vec as apply;
-use specconv_colour::rgb::{srgb_encode, SRGB};
-use specconv_colour::{Colorimetry, Illuminant};
-use specconv_exr::{Kind, SpectralImage};
-use specconv_study::simulate::SelfBounce;
-use std::path::{Path, PathBuf};
+use specconv_colour::Illuminant;
+use std::path::PathBuf;
 
 /// The most bounces asked for: r^(K+1) of any reflectance below 1 is black long before.
 const MAX_BOUNCES: u32 = 100;
@@ -84,41 +78,30 @@ struct Summary {
 }
 
 pub fn run(args: Args) -> Result<()> {
+    use specconv_conversion::preview::{shade, PreviewOptions};
     Format::of(&args.output, "-o", &[Format::Png])?;
     crate::checks::output_dir(&args.output)?;
     crate::checks::may_write(&args.output, args.force)?;
-    let img = crate::files::read_spectral(&args.input)?;
-    previewable(&img, &args.input)?;
-    let recorded =
-        files::provenance(&img).with_context(|| format!("in {}", args.input.display()))?;
-    let (observer, own) = (
-        recorded.observer_or_default(),
-        recorded.illuminant_or_default(),
-    );
-    let light = args.illuminant.unwrap_or(own);
-    // As every reader: the spectra interpolated onto the observer's 1 nm table, where both
-    // illuminants' tables reach (the layout's reference integration, so K = 0 is `to-rgb`).
-    let limits = [own.range(), light.range()]
-        .into_iter()
-        .flatten()
-        .reduce(|a, b| (a.0.max(b.0), a.1.min(b.1)));
-    let onto = Onto::new(&img.wavelengths, limits)?;
-    let grid = onto.grid;
-    let texture = Colorimetry::new(grid, observer, own)?;
-    let lit = Colorimetry::new(grid, observer, light)?;
-    let bounce = SelfBounce::new(&texture, &lit, args.bounces)?;
-
-    let (w, h) = (img.width, img.height);
-    let pixels = shade(&img, &onto, &bounce, args.diff_rgb);
-    let non_finite = pixels.iter().filter(|p| p.1.is_nan()).count();
-    let finite: Vec<f64> = pixels.iter().map(|p| p.1).filter(|d| !d.is_nan()).collect();
+    let mut options = PreviewOptions::default();
+    options.illuminant = args.illuminant;
+    options.bounces = args.bounces;
+    options.diff_rgb = args.diff_rgb;
+    let shaded = shade(&args.input, &options).map_err(|e| anyhow::anyhow!(explain(&e)))?;
+    let (w, h, light) = (shaded.width, shaded.height, shaded.light);
+    let non_finite = shaded.non_finite;
+    let finite: Vec<f64> = shaded
+        .delta_e
+        .iter()
+        .copied()
+        .filter(|d| !d.is_nan())
+        .collect();
     let max = finite.iter().copied().fold(0.0, f64::max);
     let mean = finite.iter().sum::<f64>() / finite.len().max(1) as f64;
 
     let png = if args.diff_rgb {
-        heat_map(w, h, &pixels, max.max(1.0), args.bounces)?
+        heat_map(w, h, &shaded.delta_e, max.max(1.0), args.bounces)?
     } else {
-        let rgb: Vec<u8> = pixels.iter().flat_map(|p| p.0).collect();
+        let rgb: Vec<u8> = shaded.display.iter().flatten().copied().collect();
         picture::encode_png(&rgb, w as u32, h as u32)?
     };
     files::write_atomically(&args.output, &png, &[args.input.as_path()])?;
@@ -158,70 +141,6 @@ pub fn run(args: Args) -> Result<()> {
     Ok(())
 }
 
-/// Refuses what preview cannot show: emission and bispectral files.
-fn previewable(img: &SpectralImage, input: &Path) -> Result<()> {
-    if !matches!(img.kind, Kind::Reflective) {
-        bail!(
-            "{} holds emission (S0 channels), not reflectances: it has no colour to bounce; \
-             preview reflectance files (T channels)",
-            input.display()
-        );
-    }
-    if !img.reradiation.is_empty() {
-        bail!(
-            "{} is bispectral (re-radiation channels): its bounces need the whole re-radiation \
-             matrix, which preview does not follow; `to-rgb` shows its colour",
-            input.display()
-        );
-    }
-    Ok(())
-}
-
-/// Per pixel: display sRGB after the bounces and, with `diff_rgb`, the CIEDE2000 from RGB
-/// multiplication (NaN where the pixel is not finite).
-fn shade(
-    img: &SpectralImage,
-    onto: &Onto,
-    bounce: &SelfBounce,
-    diff_rgb: bool,
-) -> Vec<([u8; 3], f64)> {
-    let to_display = SRGB.from_xyz(SRGB.white_xyz());
-    let white = bounce.white();
-    (0..img.width * img.height)
-        .into_par_iter()
-        .map_init(
-            || {
-                (
-                    vec![0f32; img.bands.len()],
-                    vec![0f64; onto.grid.len()],
-                    vec![0f32; onto.grid.len()],
-                )
-            },
-            |(bands, fine, r), p| {
-                for (v, plane) in bands.iter_mut().zip(&img.bands) {
-                    *v = plane[p];
-                }
-                if !bands.iter().all(|v| v.is_finite()) {
-                    return ([0; 3], f64::NAN);
-                }
-                onto.apply(bands, fine);
-                r.iter_mut()
-                    .zip(fine.iter())
-                    .for_each(|(r, &v)| *r = v as f32);
-                let xyz = bounce.spectral(r);
-                let display = apply(&to_display, xyz)
-                    .map(|v| (srgb_encode(v.clamp(0.0, 1.0)) * 255.0).round() as u8);
-                let d = if diff_rgb {
-                    ciede2000(xyz_to_lab(xyz, white), xyz_to_lab(bounce.rgb(r), white))
-                } else {
-                    0.0
-                };
-                (display, d)
-            },
-        )
-        .collect()
-}
-
 /// Black → red → yellow → white as ΔE goes from 0 to 1 (of the scale): readable in grey too.
 fn heat(t: f64) -> [u8; 3] {
     let t = if t.is_finite() {
@@ -236,7 +155,7 @@ fn heat(t: f64) -> [u8; 3] {
 const BAR: u32 = 110;
 
 /// The ΔE image with a colour bar and its scale to the right.
-fn heat_map(w: usize, h: usize, pixels: &[([u8; 3], f64)], scale: f64, k: u32) -> Result<Vec<u8>> {
+fn heat_map(w: usize, h: usize, delta_e: &[f64], scale: f64, k: u32) -> Result<Vec<u8>> {
     let (width, height) = (w as u32 + BAR, (h as u32).max(200));
     let mut rgb = picture::render((width, height), |root| {
         root.fill(&WHITE)?;
@@ -263,7 +182,7 @@ fn heat_map(w: usize, h: usize, pixels: &[([u8; 3], f64)], scale: f64, k: u32) -
     for y in 0..h {
         for x in 0..w {
             let i = 3 * (y * width as usize + x);
-            rgb[i..i + 3].copy_from_slice(&heat(pixels[y * w + x].1 / scale));
+            rgb[i..i + 3].copy_from_slice(&heat(delta_e[y * w + x] / scale));
         }
     }
     picture::encode_png(&rgb, width, height)
