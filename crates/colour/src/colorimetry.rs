@@ -7,16 +7,42 @@ use crate::{Error, Grid, Illuminant, Observer};
 /// XYZ of a reflectance r is Σ r·I·x̄ / Σ I·ȳ (likewise Y, Z), so a perfect white has Y = 1
 /// whatever the grid. Under illuminant E this is the paper's Δ·Σ r·x̄ (Eq. 4) up to a
 /// constant factor, which the uplift does not see: M and c_μ scale with it.
+///
+/// ```
+/// use specconv_colour::{colorimetry::xy, Colorimetry, Grid, Illuminant, Observer};
+///
+/// let grid: Grid = "380:730:10".parse()?;
+/// let c = Colorimetry::new(grid, Observer::Cie1931, Illuminant::D65)?;
+/// assert_eq!(c.bands(), 36);
+///
+/// // The perfect reflector is the white: Y = 1, at D65's chromaticity.
+/// let white = c.xyz(&vec![1.0; c.bands()]);
+/// assert!((white[1] - 1.0).abs() < 1e-12);
+/// let [x, y] = xy(white).unwrap();
+/// assert!((x - 0.3127).abs() < 2e-3 && (y - 0.3290).abs() < 2e-3);
+///
+/// // A reflectance of 0.5 everywhere is a grey of half that luminance.
+/// let grey = c.xyz(&vec![0.5; c.bands()]);
+/// assert!((grey[1] - 0.5).abs() < 1e-12);
+/// # Ok::<(), specconv_colour::Error>(())
+/// ```
 #[derive(Debug, Clone)]
 pub struct Colorimetry {
+    /// The bands a reflectance is sampled on; each row of `weights` has one value per band.
     pub grid: Grid,
+    /// The observer whose colour-matching functions `weights` holds, sampled on the grid.
     pub observer: Observer,
+    /// The light the reflectances are seen under; its perfect reflector is the white, Y = 1.
     pub illuminant: Illuminant,
     /// Rows of A: the per-band weights giving X, Y and Z.
     pub weights: [Vec<f64>; 3],
 }
 
 impl Colorimetry {
+    /// A's rows for `grid`, `observer` and `illuminant`: x̄·I, ȳ·I, z̄·I resampled onto the grid
+    /// and divided by Σ I·ȳ. Fails with [`Error::Coverage`] when the observer's or the illuminant's
+    /// table does not cover the grid (the analytic Wyman 2013 fit, E and blackbodies cover any
+    /// grid), and with [`Error::Grid`] when Σ I·ȳ is not positive (the grid sees no light).
     pub fn new(
         grid: Grid,
         observer: Observer,
@@ -39,6 +65,7 @@ impl Colorimetry {
         })
     }
 
+    /// The number of bands: the length of every reflectance given to [`Colorimetry::xyz`].
     pub fn bands(&self) -> usize {
         self.grid.len()
     }

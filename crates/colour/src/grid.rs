@@ -4,10 +4,32 @@ use crate::Error;
 use serde::{Deserialize, Serialize};
 
 /// An evenly spaced wavelength grid, both ends included: `380:730:10` is 380, 390, …, 730 nm.
+///
+/// ```
+/// use specconv_colour::Grid;
+///
+/// let g: Grid = "380:730:10".parse()?;
+/// assert_eq!(g, Grid::PAPER);
+/// assert_eq!((g.len(), g.wavelength(35)), (36, 730.0));
+/// assert_eq!(g.to_string(), "380:730:10");
+/// assert!("380:735:10".parse::<Grid>().is_err()); // not a whole number of steps
+///
+/// // Tabulated data onto the grid, by linear interpolation.
+/// let coarse = Grid::new(400.0, 420.0, 5.0)?;
+/// let values = coarse.resample("t", &[400.0, 410.0, 420.0], &[1.0, 2.0, 4.0])?;
+/// assert_eq!(values, [1.0, 1.5, 2.0, 3.0, 4.0]);
+/// # Ok::<(), specconv_colour::Error>(())
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Grid {
+    /// The first wavelength, nm (> 0).
     pub start: f64,
+    /// The last wavelength, nm, included: `start` plus a whole number of steps.
     pub end: f64,
+    /// The spacing, nm (> 0).
+    ///
+    /// [`Grid::new`] and parsing check the fields; a literal (such as [`Grid::PAPER`]) or a
+    /// deserialised grid is not checked.
     pub step: f64,
 }
 
@@ -19,6 +41,9 @@ impl Grid {
         step: 10.0,
     };
 
+    /// The grid from `start` to `end` (nm, both included) every `step` nm, checked: all finite,
+    /// `0 < start <= end`, `step > 0`, `end - start` a whole number of steps (to 1e-9 relative)
+    /// and at most 100 000 bands. [`Error::Grid`] says which rule failed.
     pub fn new(start: f64, end: f64, step: f64) -> Result<Grid, Error> {
         let bad = |why: &str| Error::Grid(format!("{start}:{end}:{step}: {why}"));
         if !(start.is_finite() && end.is_finite() && step.is_finite()) {
@@ -40,10 +65,12 @@ impl Grid {
         Ok(Grid { start, end, step })
     }
 
+    /// The number of bands, at least 1 (`start == end` is one band).
     pub fn len(&self) -> usize {
         ((self.end - self.start) / self.step).round() as usize + 1
     }
 
+    /// Always `false`: a grid has at least one band.
     pub fn is_empty(&self) -> bool {
         false
     }
@@ -53,6 +80,7 @@ impl Grid {
         self.start + self.step * i as f64
     }
 
+    /// Every wavelength of the grid in nm, ascending ([`Grid::wavelength`] of 0..len).
     pub fn wavelengths(&self) -> Vec<f64> {
         (0..self.len()).map(|i| self.wavelength(i)).collect()
     }

@@ -110,7 +110,9 @@ impl Onto {
 /// XYZ of spectra sampled at given wavelengths: `xyz = Σ_b weights[k][b]·v[b]`.
 #[derive(Debug, Clone)]
 pub struct Integration {
+    /// The band wavelengths (nm, strictly increasing) that the weights are for.
     pub wavelengths: Vec<f64>,
+    /// The weights of X, Y and Z: `weights[k][b]` multiplies the value of band `b`.
     pub weights: [Vec<f64>; 3],
 }
 
@@ -147,6 +149,7 @@ impl Integration {
         self
     }
 
+    /// XYZ of one spectrum, one value per band in the order of `wavelengths`.
     pub fn xyz<T: Copy + Into<f64>>(&self, v: &[T]) -> [f64; 3] {
         self.weights
             .each_ref()
@@ -191,12 +194,15 @@ pub enum EmissionUnits {
 }
 
 impl EmissionUnits {
+    /// Every convention, the default ([`EmissionUnits::Reference`]) first.
     pub const ALL: [EmissionUnits; 3] = [
         EmissionUnits::Reference,
         EmissionUnits::Normalised,
         EmissionUnits::Photometric,
     ];
 
+    /// The name in options and messages (`reference`, `normalised`, `photometric`); `FromStr`
+    /// reads it back, ignoring case, and takes `normalized` too.
     pub fn name(self) -> &'static str {
         match self {
             EmissionUnits::Reference => "reference",

@@ -16,6 +16,7 @@
 //!
 //! This crate knows no uplift method, no image, no file by path, no thread and no FFI.
 #![forbid(unsafe_code)]
+#![warn(missing_docs)]
 
 pub mod colorimetry;
 pub mod grid;
@@ -36,16 +37,28 @@ pub use table::SpectralTable;
 /// What can go wrong with colour data, with what to do about it in the message.
 #[derive(Debug, thiserror::Error)]
 pub enum Error {
+    /// A wavelength grid that cannot be used: malformed (not finite, not increasing, not a whole
+    /// number of steps, more than 100 000 bands), band wavelengths not distinct, or a grid that
+    /// sees no light under the illuminant. The text names the grid and what is wrong.
     #[error("bad wavelength grid {0}")]
     Grid(String),
+    /// Data that does not cover the wavelengths asked for: a table or illuminant that stops inside
+    /// the grid (the text suggests `--bands` inside its range), or bands that do not overlap the
+    /// observer's 360–830 nm at all.
     #[error("{0}")]
     Coverage(String),
+    /// A name that is not known: an observer, an illuminant (or a blackbody temperature outside
+    /// 100–1 000 000 K) or emission units; the text lists what to choose from.
     #[error("unknown {0}")]
     Unknown(String),
+    /// A malformed CSV table ([`SpectralTable::parse`]).
     #[error("{file}, line {line}: {msg}")]
     Csv {
+        /// The `source` name the table was parsed under (a file name).
         file: String,
+        /// The line of the text, counted from 1 (blank lines included).
         line: usize,
+        /// What is wrong on that line.
         msg: String,
     },
 }

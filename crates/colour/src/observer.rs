@@ -19,8 +19,11 @@ pub enum Observer {
 }
 
 impl Observer {
+    /// Every observer, the default (CIE 1931) first.
     pub const ALL: [Observer; 3] = [Observer::Cie1931, Observer::Cie1964, Observer::Wyman2013];
 
+    /// The name in options, messages and serialised settings (`cie1931`, `cie1964`, `wyman2013`,
+    /// as serde writes it); `FromStr` reads it back, ignoring case.
     pub fn name(self) -> &'static str {
         match self {
             Observer::Cie1931 => "cie1931",
@@ -98,10 +101,16 @@ pub fn wyman2013(lambda: f64) -> [f64; 3] {
 pub enum Illuminant {
     /// Equal energy: with it, XYZ is the paper's plain Σ r·x̄ up to a constant factor.
     E,
+    /// CIE standard illuminant D65 (average daylight, about 6504 K), tabulated 300–780 nm at 5 nm.
     D65,
+    /// CIE illuminant D50 (daylight, about 5003 K), tabulated 300–780 nm at 5 nm.
     D50,
+    /// CIE standard illuminant A (incandescent tungsten, 2856 K), tabulated 300–780 nm at 5 nm.
     A,
+    /// CIE fluorescent illuminant F2 (cool white), tabulated 380–780 nm at 5 nm; `FL2` or `F2`.
     FL2,
+    /// CIE fluorescent illuminant F11 (narrow-band, three phosphors), tabulated 380–780 nm at 5 nm;
+    /// `FL11` or `F11`.
     FL11,
     /// Planck's law at a temperature in kelvin.
     Blackbody(f64),

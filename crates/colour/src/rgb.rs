@@ -11,8 +11,12 @@ use nalgebra::{Matrix3, Vector3};
 /// An RGB space: chromaticities of its red, green and blue primaries and of its white.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RgbSpace {
+    /// A short name for messages and reports (`sRGB`, `ACEScg`, or where a file's chromaticities
+    /// came from); it takes no part in the matrices.
     pub name: &'static str,
+    /// CIE 1931 xy of the red, green and blue primaries, in that order.
     pub primaries: [[f64; 2]; 3],
+    /// CIE 1931 xy of the space's own white, the colour of RGB (1, 1, 1).
     pub white: [f64; 2],
 }
 
@@ -183,10 +187,12 @@ pub struct Linear {
 }
 
 impl Linear {
+    /// Linear RGB of an XYZ colour: `to_rgb · xyz`.
     pub fn rgb(&self, xyz: [f64; 3]) -> [f64; 3] {
         mat3::mul_vec(&self.to_rgb, xyz)
     }
 
+    /// XYZ of a linear RGB colour: `to_xyz · rgb`.
     pub fn xyz(&self, rgb: [f64; 3]) -> [f64; 3] {
         mat3::mul_vec(&self.to_xyz, rgb)
     }

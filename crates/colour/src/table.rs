@@ -9,6 +9,7 @@ use std::borrow::Cow;
 pub struct SpectralTable {
     /// Where the table came from (a file name), used in errors and recorded in models.
     pub source: String,
+    /// The wavelength of each row, nm: positive and strictly increasing, at least two.
     pub wavelengths: Vec<f64>,
     /// Sample names, one per column after the wavelength column.
     pub names: Vec<String>,

@@ -21,14 +21,21 @@ use std::path::Path;
 /// What is wrong with a file, or that it could not be read.
 #[derive(Debug, thiserror::Error)]
 pub enum Problem {
+    /// The file cannot hold what its header promises (too short for its chunks, or an offset
+    /// outside it): damaged or truncated.
     #[error("{}: {message}", path.display())]
     Damaged {
+        /// The file checked.
         path: std::path::PathBuf,
+        /// What the header promises and what the file holds.
         message: String,
     },
+    /// The file could not be opened or read.
     #[error("cannot read {}: {source}", path.display())]
     Io {
+        /// The file that could not be read.
         path: std::path::PathBuf,
+        /// The I/O error.
         source: std::io::Error,
     },
 }

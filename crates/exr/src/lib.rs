@@ -12,6 +12,7 @@
 //! compressed chunk, and [`SpectralFile::write`] writes chunks as they come. Nothing holds the
 //! whole image.
 #![forbid(unsafe_code)]
+#![warn(missing_docs)]
 
 pub mod blocks;
 pub mod check;
@@ -35,27 +36,42 @@ use std::io::{Seek, Write};
 pub use exr::block::chunk::Chunk;
 pub use exr::compression::Compression;
 
+/// What can go wrong writing or reading a spectral file.
 #[derive(Debug, thiserror::Error)]
 pub enum Error {
+    /// Something the layout or this crate does not allow, named in the text: an empty image, no
+    /// bands, two bands with one channel name, bad tile size, windows beyond 32-bit coordinates, a
+    /// non-text attribute name, a file without spectral channels, or re-radiation without its
+    /// bands.
     #[error("{0}")]
     Invalid(String),
+    /// An error of the `exr` crate: I/O, or a file it cannot read or write.
     #[error("OpenEXR: {0}")]
     Exr(#[from] exr::error::Error),
 }
 
+/// This crate's result, with [`enum@Error`].
 pub type Result<T> = std::result::Result<T, Error>;
 
 /// Reflectance (`T.` channels) or emission (`S0.` channels with their units).
 #[derive(Debug, Clone, PartialEq)]
 pub enum Kind {
+    /// Reflectance in `T.<λ>nm` channels (a ratio, 1 = all light reflected).
     Reflective,
-    Emissive { units: String },
+    /// Emitted radiance in `S0.<λ>nm` channels.
+    Emissive {
+        /// The `emissiveUnits` attribute as written or read (specconv writes `W.m^-2.sr^-1`);
+        /// empty when a file read has none.
+        units: String,
+    },
 }
 
 /// How each sample is stored.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Sample {
+    /// 16-bit half floats (largest finite value 65504).
     Half,
+    /// 32-bit floats.
     Float,
 }
 
@@ -81,10 +97,17 @@ fn halves(values: &[f32]) -> Vec<half::f16> {
 /// Scanline blocks, or tiles with or without MIP levels.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Blocks {
+    /// Scanline blocks (as many lines per block as the compression takes, e.g. 16 for ZIP); no MIP
+    /// levels.
     Scanlines,
+    /// Tiles of `width × height` pixels, optionally with MIP levels (their sizes round down, as
+    /// OpenImageIO's maketx does).
     Tiles {
+        /// Tile width in pixels (at least 1).
         width: usize,
+        /// Tile height in pixels (at least 1).
         height: usize,
+        /// Whether the file holds a MIP map, every level down to 1×1, rather than one level.
         mip_levels: bool,
     },
 }
@@ -94,6 +117,7 @@ pub enum Blocks {
 /// MIP level that same origin and its own (rounded-down) size, and one display window per file.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Windows {
+    /// Position (x, y) of the data window's top-left pixel.
     pub data_origin: (i32, i32),
     /// Origin and size of the display window.
     pub display: (i32, i32, usize, usize),
@@ -104,17 +128,25 @@ pub struct Windows {
 pub struct Spec {
     /// Size of the data window (the stored pixels).
     pub width: usize,
+    /// Height of the data window in pixels (width above).
     pub height: usize,
     /// `None`: the data window starts at (0, 0) and the display window is the data window.
     pub windows: Option<Windows>,
     /// Band wavelengths in nm, in the order callers pass band values.
     pub wavelengths: Vec<f64>,
+    /// Reflective (`T.`) or emissive (`S0.`) bands; emissive writes the `emissiveUnits` attribute.
     pub kind: Kind,
+    /// Whether the file has an `A` channel; [`SpectralFile::encode`] then takes one alpha
+    /// value per pixel beside the bands.
     pub alpha: bool,
+    /// Half or float storage for every channel, alpha included.
     pub sample: Sample,
+    /// The OpenEXR compression of every block (ZIP and ZIPS through [`zip`], others through the
+    /// `exr` crate).
     pub compression: Compression,
     /// Deflate level of ZIP and ZIPS blocks, 0–9 ([`zip::DEFAULT_LEVEL`] unless asked).
     pub zip_level: u8,
+    /// Scanlines or tiles, and whether tiles have MIP levels.
     pub blocks: Blocks,
     /// Extra string attributes (names prefixed `specconv` by convention).
     pub attributes: Vec<(String, String)>,
@@ -136,11 +168,24 @@ pub fn channel_name(kind: &Kind, wavelength_nm: f64) -> String {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Channel {
     /// `T.<λ>`: reflectance (the diagonal of a bispectral file).
-    Reflective { nm: f64 },
+    Reflective {
+        /// The wavelength, nm.
+        nm: f64,
+    },
     /// `S<k>.<λ>`: the Stokes component k of emission (S0 the radiance, S1–S3 polarisation).
-    Stokes { k: u8, nm: f64 },
+    Stokes {
+        /// The component, 0–3.
+        k: u8,
+        /// The wavelength, nm.
+        nm: f64,
+    },
     /// `T.<λi>.<λo>`: light re-radiated at λo from light received at λi (fluorescence).
-    Reradiation { from_nm: f64, to_nm: f64 },
+    Reradiation {
+        /// λi, the wavelength received, nm.
+        from_nm: f64,
+        /// λo, the wavelength re-radiated, nm.
+        to_nm: f64,
+    },
 }
 
 /// The channel a name denotes, by the reference reader's grammar: a wavelength with a comma
@@ -241,10 +286,29 @@ pub struct Layout {
     /// Channels outside the layout, `A` excepted (e.g. an RGB preview stored beside spectra), in
     /// the order given (a file's, alphabetical).
     pub other: Vec<String>,
+    /// Whether there is an `A` channel.
     pub alpha: bool,
 }
 
 impl Layout {
+    /// Sorts channel names into the layout by [`parse_channel`]: wavelengths in nm, each list
+    /// increasing, whatever the order or the units of the names.
+    ///
+    /// ```
+    /// use specconv_exr::{channel_name, parse_channel_name, Kind, Layout};
+    ///
+    /// // OpenEXR lists channels by name, so 1000 nm comes before 380 nm.
+    /// let names = ["A", "RGB.R", "T.1000,000000nm", "T.380,000000nm", "T.0,55um"];
+    /// let layout = Layout::of(names);
+    /// assert_eq!(layout.reflective, [380.0, 550.0, 1000.0]);
+    /// assert!(layout.alpha && layout.is_spectral() && !layout.polarised());
+    /// assert_eq!(layout.other, ["RGB.R"]);
+    ///
+    /// // The writer's names, and back.
+    /// let name = channel_name(&Kind::Reflective, 380.0);
+    /// assert_eq!(name, "T.380,000000nm");
+    /// assert_eq!(parse_channel_name(&name), Some((false, 380.0)));
+    /// ```
     pub fn of<'a>(names: impl IntoIterator<Item = &'a str>) -> Layout {
         let mut l = Layout::default();
         for name in names {
@@ -265,10 +329,12 @@ impl Layout {
         l
     }
 
+    /// Whether the names hold a spectrum [`read`] can read: any `T.` or `S0.` channel.
     pub fn is_spectral(&self) -> bool {
         !self.reflective.is_empty() || !self.stokes[0].is_empty()
     }
 
+    /// Whether any Stokes component beyond S0 (polarisation) is present.
     pub fn polarised(&self) -> bool {
         self.stokes[1..].iter().any(|s| !s.is_empty())
     }
@@ -279,11 +345,15 @@ impl Layout {
 pub struct Block {
     /// Index of the chunk in the file, in increasing-y order within the header.
     pub chunk: usize,
+    /// MIP level, 0 the full-size image.
     pub level: usize,
     /// Position and size in pixels, within the level.
     pub x: usize,
+    /// Top row of the block within the level; (`x`, `y`) is its top-left pixel.
     pub y: usize,
+    /// Width of the block in pixels; tiles at the right edge are narrower.
     pub width: usize,
+    /// Height of the block in pixels; blocks at the bottom edge are shorter.
     pub height: usize,
 }
 
@@ -298,6 +368,11 @@ pub struct SpectralFile {
 }
 
 impl SpectralFile {
+    /// The header of `spec`: channels named by [`channel_name`] (and `A`), `spectralLayoutVersion`
+    /// = "1.0", `emissiveUnits` for emission, the extra attributes (characters beyond Latin-1
+    /// become `?`). Refuses an empty image, no bands, two wavelengths equal to six decimals, tiles
+    /// of zero size, windows beyond OpenEXR's 32-bit coordinates and attribute names that are not
+    /// plain text.
     pub fn new(spec: Spec) -> Result<SpectralFile> {
         if spec.width == 0 || spec.height == 0 {
             return Err(Error::Invalid(format!(
@@ -415,6 +490,7 @@ impl SpectralFile {
         })
     }
 
+    /// What the file was made from.
     pub fn spec(&self) -> &Spec {
         &self.spec
     }
@@ -688,16 +764,21 @@ impl SpectralFile {
 /// A spectral image read whole (for previews, conversion back to colour and tests).
 #[derive(Debug, Clone)]
 pub struct SpectralImage {
+    /// Width of the image in pixels (of its data window, largest level).
     pub width: usize,
+    /// Height of the image in pixels.
     pub height: usize,
     /// Band wavelengths in nm, increasing; `bands[i]` is the plane of `wavelengths[i]`.
     pub wavelengths: Vec<f64>,
+    /// Reflective when the file has `T.` bands (those are read), else emissive with the file's
+    /// `emissiveUnits` (empty when it has none).
     pub kind: Kind,
     /// One plane per band, row-major: `T.` channels, else `S0.` channels.
     pub bands: Vec<Vec<f32>>,
     /// Re-radiation planes of a bispectral file: (from band, to band, plane), indices into
     /// `wavelengths`; empty otherwise.
     pub reradiation: Vec<(usize, usize, Vec<f32>)>,
+    /// The `A` plane, row-major like the bands; `None` when the file has no `A` channel.
     pub alpha: Option<Vec<f32>>,
     /// Every channel by kind, as [`Layout::of`] sees the names (also what was not read).
     pub layout: Layout,

@@ -32,7 +32,7 @@ fn neighbours(v: f32) -> (f32, f32) {
 
 /// Rounds every band of `spectra` (`n` bands each) to a half value, which a half file stores
 /// exactly, choosing below or above so that XYZ = `weights`·spectrum moves as little as the
-/// bands allow: one pass carrying the colour error, then [`SWEEPS`] passes that flip a band to
+/// bands allow: one pass carrying the colour error, then `SWEEPS` passes that flip a band to
 /// its other neighbour where that brings the colour closer. Spectra with a non-finite band are
 /// rounded to nearest.
 pub fn round_to_half_keeping_colour(weights: &[Vec<f64>; 3], spectra: &mut [f32], n: usize) {

@@ -1,6 +1,6 @@
 //! specconv on a farm: a texture library split across the tasks of one Slurm job array.
 //!
-//! `specconv farm submit` plans the shards ([`plan`]: balanced by pixel count, deterministic),
+//! `specconv farm submit` plans the shards ([`mod@plan`]: balanced by pixel count, deterministic),
 //! writes a job directory ([`manifest`]: inputs, outputs, settings, each round's plan, the
 //! batch script, the task logs) and submits one array with `sbatch`. Each task runs
 //! `specconv convert --json -u` on its list, so its log holds one JSON line per file and a
@@ -10,6 +10,7 @@
 //!
 //! Nothing here reads images or links C++: the CLI measures inputs and passes pixel counts.
 #![forbid(unsafe_code)]
+#![warn(missing_docs)]
 
 pub mod log;
 pub mod manifest;
@@ -24,14 +25,21 @@ pub use status::{FileState, Status, Summary};
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
+/// What can go wrong planning, submitting or reading a farm job; each message says what to do.
 #[derive(Debug, thiserror::Error)]
 pub enum Error {
+    /// A `--shard` that is malformed or names no shard, or `auto/N` outside a Slurm array task.
     #[error("{0}")]
     Shard(String),
+    /// A `manifest.json` that does not parse, or of another layout ([`manifest::FORMAT`]).
     #[error("{0}")]
     Manifest(String),
+    /// A Slurm command that could not run, failed (its standard error is in the text) or printed
+    /// no job id.
     #[error("{0}")]
     Slurm(String),
+    /// A file of the job directory that could not be read or written: what was attempted, and the
+    /// I/O error.
     #[error("{0}: {1}")]
     Io(String, #[source] std::io::Error),
 }
@@ -40,6 +48,7 @@ pub enum Error {
 /// part per pixel of the largest input (OpenImageIO's buffers and the window of strips in
 /// flight). Measured with `/usr/bin/time -v` by scripts/farm_memory.sh; see docs/farm.md.
 pub const MEMORY_BASE_MIB: u64 = 138;
+/// The part per pixel of the largest input, in bytes (see [`MEMORY_BASE_MIB`], in MiB).
 pub const MEMORY_BYTES_PER_PIXEL: f64 = 1.4;
 
 /// Memory to request per task: the measured peak for the largest input, with 50 % headroom.
@@ -51,10 +60,16 @@ pub fn memory_mib(largest_pixels: u64) -> u64 {
 /// A round ready to submit: its folder, the script, the sbatch options and the plan.
 #[derive(Debug, Clone)]
 pub struct Prepared {
+    /// The round's number: its index in [`Manifest::rounds`] once submitted (0 the submission,
+    /// then one per retry).
     pub round: usize,
+    /// The round's folder, `JOBDIR/round-N` ([`manifest::round_dir`]); written by [`submit`].
     pub dir: PathBuf,
+    /// The batch script every task runs ([`manifest::script`]).
     pub script: String,
+    /// The sbatch options ([`manifest::sbatch_options`]), without the script.
     pub sbatch: Vec<String>,
+    /// Per task, the files it converts (indices into [`Manifest::files`], increasing); none empty.
     pub tasks: Vec<Vec<usize>>,
 }
 

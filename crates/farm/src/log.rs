@@ -11,8 +11,10 @@ use std::path::{Path, PathBuf};
 pub struct TaskLog {
     /// The last record of each input.
     pub records: HashMap<PathBuf, Record>,
-    /// Unix times of the start and end events.
+    /// Unix time of the start event; `None` before the task starts.
     pub start: Option<f64>,
+    /// Unix time of the end event; `None` while the task is queued or running, or when it was
+    /// killed before logging it.
     pub end: Option<f64>,
     /// The conversion's exit code, from the end event.
     pub exit: Option<i32>,
@@ -21,15 +23,21 @@ pub struct TaskLog {
 /// One file's outcome.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Record {
+    /// Converted (or up to date), or failed with its error.
     pub outcome: Outcome,
+    /// Pixels converted, as the record says (0 when it gives none).
     pub pixels: u64,
+    /// Seconds the conversion took, as the record says (0 when it gives none).
     pub seconds: f64,
 }
 
+/// What became of one file, by the record's `status`.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Outcome {
     /// Converted, or skipped because its output was up to date.
     Done,
+    /// Failed: the record's error message (its JSON text when it is not a string, "failed (no
+    /// error given)" when it has none).
     Failed(String),
 }
 
@@ -53,6 +61,8 @@ impl TaskLog {
             .unwrap_or_default()
     }
 
+    /// Reads a log's text. Lines that are not JSON, events other than start and end, and records
+    /// of a status this version does not know are skipped; a file's last record counts.
     pub fn parse(text: &str) -> TaskLog {
         let mut log = TaskLog::default();
         for line in text.lines() {

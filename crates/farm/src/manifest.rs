@@ -9,8 +9,11 @@ use std::path::{Path, PathBuf};
 /// Version of the manifest's layout.
 pub const FORMAT: u32 = 1;
 
+/// `manifest.json`, the job directory's record of a job: what to convert, how, and every round
+/// submitted. The fields are its JSON, written by serde (docs/farm.md describes the directory).
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct Manifest {
+    /// The layout version the file was written in; [`Manifest::load`] refuses any but [`FORMAT`].
     pub format: u32,
     /// The specconv binary every task runs (on the shared file system).
     pub specconv: PathBuf,
@@ -18,15 +21,20 @@ pub struct Manifest {
     pub workdir: PathBuf,
     /// The convert options every task gets, besides the ones the farm sets (`--json -u -j`).
     pub convert_options: Vec<String>,
+    /// Every input of the job; rounds refer to them by index.
     pub files: Vec<File>,
+    /// What each task asks of Slurm, the same in every round.
     pub request: Request,
+    /// The rounds submitted, in order: the submission first, then each retry.
     pub rounds: Vec<Round>,
 }
 
 /// One input and where its output goes.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct File {
+    /// The input texture, as the task's `convert` reads it (relative to `workdir` if relative).
     pub input: PathBuf,
+    /// Where its spectral EXR goes; the file is done only when this exists.
     pub output: PathBuf,
     /// Pixels over all levels when planned (0 when the input could not be read then).
     pub pixels: u64,
@@ -35,8 +43,11 @@ pub struct File {
 /// What each array task asks of Slurm.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct Request {
+    /// `--partition`; `None` leaves Slurm's default.
     pub partition: Option<String>,
+    /// `--time`, as sbatch reads it (`30`, `2:00:00`, `1-0`); `None` leaves the partition's limit.
     pub time: Option<String>,
+    /// `--cpus-per-task`, also the threads each conversion uses (`-j`).
     pub cpus_per_task: usize,
     /// Memory per task in MiB.
     pub mem_mib: u64,
@@ -48,15 +59,20 @@ pub struct Request {
 /// [`Manifest::files`]).
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct Round {
+    /// The array job's id, as sbatch printed it.
     pub job_id: String,
+    /// Per array task, the indices of its files.
     pub tasks: Vec<Vec<usize>>,
 }
 
 impl Manifest {
+    /// `JOBDIR/manifest.json`.
     pub fn path(job_dir: &Path) -> PathBuf {
         job_dir.join("manifest.json")
     }
 
+    /// Reads the manifest of a job directory: [`Error::Io`] when it cannot be read (not a job
+    /// directory), [`Error::Manifest`] when it does not parse or has another [`FORMAT`].
     pub fn load(job_dir: &Path) -> Result<Manifest, Error> {
         let path = Manifest::path(job_dir);
         let text = std::fs::read_to_string(&path).map_err(|e| {
@@ -99,10 +115,12 @@ pub fn task_inputs(round_dir: &Path, task: usize) -> PathBuf {
     round_dir.join(format!("task-{task}.inputs"))
 }
 
+/// `task-T.jsonl`: the task's log, its standard output.
 pub fn task_log(round_dir: &Path, task: usize) -> PathBuf {
     round_dir.join(format!("task-{task}.jsonl"))
 }
 
+/// `task-T.err`: the task's standard error.
 pub fn task_stderr(round_dir: &Path, task: usize) -> PathBuf {
     round_dir.join(format!("task-{task}.err"))
 }

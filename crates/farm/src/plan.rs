@@ -10,6 +10,20 @@ use std::str::FromStr;
 /// lightest shard so far (ties to the lowest shard). The heaviest shard then exceeds the mean
 /// by less than the heaviest item, and is within 4/3 of the best possible (Graham 1969). Each
 /// shard lists its items in input order.
+///
+/// ```
+/// use specconv_farm::{plan, Shard};
+///
+/// // Five inputs by pixel count over two tasks: 6 M pixels each.
+/// let pixels = [4_000_000, 1_000_000, 3_000_000, 2_000_000, 2_000_000];
+/// assert_eq!(plan(&pixels, 2), [vec![0, 4], vec![1, 2, 3]]);
+///
+/// // `convert --shard auto/2` in array task 1 converts the second shard.
+/// let shard: Shard = "auto/2".parse()?;
+/// assert_eq!((shard.index(Some("1"))?, shard.count), (1, 2));
+/// assert!("2/2".parse::<Shard>().is_err()); // I counts from 0
+/// # Ok::<(), specconv_farm::Error>(())
+/// ```
 pub fn plan(weights: &[u64], n: usize) -> Vec<Vec<usize>> {
     assert!(n > 0, "a plan needs at least one shard");
     let mut order: Vec<usize> = (0..weights.len()).collect();
@@ -32,6 +46,7 @@ pub fn plan(weights: &[u64], n: usize) -> Vec<Vec<usize>> {
 pub struct Shard {
     /// `None` for `auto`.
     pub index: Option<usize>,
+    /// N, the number of shards (at least 1).
     pub count: usize,
 }
 

@@ -9,6 +9,7 @@ use std::process::Command;
 /// One array task as Slurm sees it.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct TaskState {
+    /// The array task id (`$SLURM_ARRAY_TASK_ID`).
     pub task: usize,
     /// PENDING, RUNNING, COMPLETED, FAILED, CANCELLED, TIMEOUT, OUT_OF_MEMORY, NODE_FAIL…
     pub state: String,

@@ -11,43 +11,63 @@ use std::path::{Path, PathBuf};
 #[derive(Debug, Clone, PartialEq, Serialize)]
 #[serde(tag = "state", rename_all = "lowercase")]
 pub enum FileState {
+    /// Converted (or already up to date) and its output exists.
     Done,
+    /// The latest round's task logged an error for it.
     Failed {
+        /// The error, as the task logged it.
         error: String,
     },
     /// Not converted yet: its task is queued or running (`waiting`), or it ended without
     /// reaching the file (killed, cancelled, out of time), or its output has gone missing.
     Pending {
+        /// Why, in words for the status report.
         why: String,
+        /// Whether its task is still queued or running; a retry takes only files whose task ended.
         waiting: bool,
     },
 }
 
+/// One file's state, from the latest round that planned it.
 #[derive(Debug, Clone, Serialize)]
 pub struct FileStatus {
+    /// The file's index in [`Manifest::files`].
     pub index: usize,
+    /// The input, as in the manifest.
     pub input: PathBuf,
+    /// Its output, as in the manifest.
     pub output: PathBuf,
+    /// The latest round that planned it.
     pub round: usize,
+    /// The task of that round it was given to.
     pub task: usize,
+    /// Done, failed or pending (flattened into the record's `state` field and its details).
     #[serde(flatten)]
     pub state: FileState,
     /// Pixels converted and seconds spent, from the log record (0 without one).
     pub pixels: u64,
+    /// Seconds the conversion took, from the same record (0 without one).
     pub seconds: f64,
 }
 
+/// One array task of one round, from Slurm and the task's log.
 #[derive(Debug, Clone, Serialize)]
 pub struct TaskStatus {
+    /// The round, an index into [`Manifest::rounds`].
     pub round: usize,
+    /// The round's array job id.
     pub job_id: String,
+    /// The array task id within the round.
     pub task: usize,
     /// Slurm's state, or `UNKNOWN` when Slurm no longer knows the job.
     pub state: String,
     /// Slurm's `code:signal`, else the exit code the task's end event logged.
     pub exit: Option<String>,
+    /// How many files the task was given.
     pub files: usize,
+    /// Unix time of the task's start event; `None` before it starts (or when its log is lost).
     pub start: Option<f64>,
+    /// Unix time of the task's end event; `None` while it runs, or when it was killed first.
     pub end: Option<f64>,
 }
 
@@ -59,9 +79,12 @@ impl TaskStatus {
     }
 }
 
+/// Where a job stands ([`Status::read`]): every task and every planned file.
 #[derive(Debug, Clone, Serialize)]
 pub struct Status {
+    /// Every task of every round, round by round.
     pub tasks: Vec<TaskStatus>,
+    /// Every file some round planned, in manifest order.
     pub files: Vec<FileStatus>,
 }
 
@@ -169,6 +192,7 @@ impl Status {
             .collect()
     }
 
+    /// Counts, failures, pending files and throughput, for `farm collect`.
     pub fn summary(&self) -> Summary {
         let count = |p: fn(&FileState) -> bool| self.files.iter().filter(|f| p(&f.state)).count();
         // Wall time of each round: first task start to last task end.
@@ -224,9 +248,13 @@ impl Status {
 /// `farm collect`: counts, each failure with its error, time and throughput over the array.
 #[derive(Debug, Clone, Serialize)]
 pub struct Summary {
+    /// Files some round planned: `done + failed + pending`.
     pub files: usize,
+    /// Files converted whose output exists.
     pub done: usize,
+    /// Files whose latest round logged an error.
     pub failed: usize,
+    /// Files not converted yet: their task is waiting, or ended before reaching them.
     pub pending: usize,
     /// Whether tasks are still queued or running.
     pub running: bool,
@@ -234,19 +262,28 @@ pub struct Summary {
     pub seconds: f64,
     /// Pixels converted (all levels), over that time.
     pub pixels: u64,
+    /// `pixels / seconds`; 0 when no wall time was logged.
     pub pixels_per_second: f64,
+    /// Every failed file with its error.
     pub failures: Vec<Failure>,
+    /// Every pending file with the reason.
     pub pending_files: Vec<Pending>,
 }
 
+/// A failed file, in the [`Summary`].
 #[derive(Debug, Clone, Serialize)]
 pub struct Failure {
+    /// The input that failed.
     pub input: PathBuf,
+    /// The error its task logged.
     pub error: String,
 }
 
+/// A pending file, in the [`Summary`].
 #[derive(Debug, Clone, Serialize)]
 pub struct Pending {
+    /// The input not converted yet.
     pub input: PathBuf,
+    /// Why it is pending (its task is running, ended early, or its output has gone missing).
     pub why: String,
 }

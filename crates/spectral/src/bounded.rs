@@ -7,7 +7,8 @@
 //!
 //! (A: the colorimetry's 3×n map to XYZ): the in-range spectrum nearest to the reconstruction
 //! with exactly the input colour, solved exactly through its dual in three unknowns
-//! ([`solid`]). Spectra already in [0, 1] are returned untouched after one pass of compares.
+//! ([`solid`](specconv_colour::solid)). Spectra already in [0, 1] are returned untouched after
+//! one pass of compares.
 //!
 //! When no spectrum in [0, 1] has colour c (c is outside the object-colour solid, the zonotope
 //! {A·r : 0 ≤ r ≤ 1}), the dual is unbounded and the solve returns a direction u with
@@ -32,7 +33,9 @@ pub enum Outcome {
     /// solve ended on the solid's surface without a certificate). The spectrum returned is the
     /// in-range one whose colour, `reached`, is nearest to the input in CIELAB ([`nearest`]).
     Outside {
+        /// u with u·c > h(u), proof that c is outside the object-colour solid.
         certificate: Option<[f64; 3]>,
+        /// XYZ of the spectrum returned.
         reached: [f64; 3],
     },
     /// NaN or ±Inf in the input: the method's spectrum (NaN) passes through.
@@ -83,6 +86,7 @@ impl<M: Method> Bounded<M> {
         })
     }
 
+    /// The wrapped method.
     pub fn inner(&self) -> &M {
         &self.inner
     }

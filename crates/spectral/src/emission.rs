@@ -74,6 +74,7 @@ pub struct Emissive<M> {
 /// so) gives emission exact under E.
 #[derive(Debug, Clone)]
 pub struct EmissionSetting {
+    /// The convention S0 values are written in.
     pub units: EmissionUnits,
     /// XYZ of S0 as every reader integrates it (the layout's reference, scaled by the units).
     pub emission: Integration,
@@ -158,6 +159,7 @@ impl<M: Method> Emissive<M> {
         })
     }
 
+    /// The wrapped reflectance method.
     pub fn inner(&self) -> &M {
         &self.inner
     }

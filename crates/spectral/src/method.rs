@@ -119,16 +119,22 @@ impl Method for Box<dyn Method> {
 /// Every method by its command-line name.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum MethodName {
+    /// `smits1999`: Smits 1999, seven basis spectra mixed by the colour's RGB.
     Smits1999,
+    /// `meng2015`: Meng et al. 2015, the smoothest spectrum with the colour.
     Meng2015,
+    /// `meng2015-bounded`: Meng et al. 2015 with the spectrum kept in [0, 1].
     Meng2015Bounded,
+    /// `jakob2019`: Jakob & Hanika 2019, a sigmoid of a quadratic per colour, from a table.
     Jakob2019,
     /// The clustered PCA with one cluster (the paper's "PCA only").
     Pca,
+    /// `otsu2018`: the clustered PCA of Otsu et al. 2018 with a trained model.
     Otsu2018,
 }
 
 impl MethodName {
+    /// Every method; `FromStr` accepts exactly their [`MethodName::as_str`] names.
     pub const ALL: [MethodName; 6] = [
         MethodName::Smits1999,
         MethodName::Meng2015,
@@ -138,6 +144,8 @@ impl MethodName {
         MethodName::Otsu2018,
     ];
 
+    /// The command-line name (`smits1999`, `meng2015-bounded`, `otsu2018`, …); `FromStr` reads it
+    /// back.
     pub fn as_str(self) -> &'static str {
         match self {
             MethodName::Smits1999 => "smits1999",

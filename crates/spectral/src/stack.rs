@@ -18,6 +18,7 @@ use specconv_colour::{Colorimetry, EmissionUnits, Grid, Illuminant, Integration,
 /// What to uplift with: everything a command's options select about the method.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Description {
+    /// The method to build (`pca` needs a model of one cluster).
     pub method: MethodName,
     /// Blend width of the clustered methods in xy ([`crate::otsu2018::blend`]); 0 is the
     /// paper's hard switch. The baselines have no clusters and ignore it.
@@ -41,8 +42,11 @@ pub struct Description {
 /// Grid, observer and illuminant, each `None` for the model's.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct Setting {
+    /// The baselines' grid; the model's when `None`.
     pub grid: Option<Grid>,
+    /// The baselines' observer; the model's when `None`.
     pub observer: Option<Observer>,
+    /// The baselines' illuminant (its white has Y = 1); the model's when `None`.
     pub illuminant: Option<Illuminant>,
 }
 

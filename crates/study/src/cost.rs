@@ -13,6 +13,7 @@ use std::time::Instant;
 pub struct Lcg(u64);
 
 impl Lcg {
+    /// The generator whose first state is `seed`: the same seed gives the same numbers everywhere.
     pub fn new(seed: u64) -> Lcg {
         Lcg(seed)
     }

@@ -22,16 +22,24 @@ pub struct Outcome {
 /// Mean, median and maximum.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Stats {
+    /// Arithmetic mean; NaN for no outcomes.
     pub mean: f64,
+    /// Median (the mean of the middle two for an even count); NaN for no outcomes.
     pub median: f64,
+    /// Largest value; NaN for no outcomes.
     pub max: f64,
 }
 
+/// The outcomes of one evaluation in a few numbers ([`summarise`]).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Summary {
+    /// Spectra evaluated.
     pub count: usize,
+    /// Statistics of [`Outcome::delta_e`], the squared spectral error.
     pub delta_e: Stats,
+    /// Largest [`Outcome::roundtrip`] (relative XYZ error of the round trip); 0 for no outcomes.
     pub roundtrip_max: f64,
+    /// Largest [`Outcome::roundtrip_de2000`]; 0 for no outcomes.
     pub roundtrip_de2000_max: f64,
     /// Fraction of reconstructions inside [0, 1].
     pub in_unit_range: f64,
@@ -69,6 +77,8 @@ pub fn evaluate(a: &Colorimetry, up: &dyn Method, spectra: &[Vec<f64>]) -> Vec<O
         .collect()
 }
 
+/// Mean, median and maximum of Δe, the worst round trips and the in-range fraction of
+/// `outcomes` (NaN statistics and fraction when there are none).
 pub fn summarise(outcomes: &[Outcome]) -> Summary {
     let mut de: Vec<f64> = outcomes.iter().map(|o| o.delta_e).collect();
     de.sort_by(f64::total_cmp);

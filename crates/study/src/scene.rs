@@ -5,6 +5,9 @@
 //! Reading files and converting colours are not this crate's: a [`Resolve`] given by the caller
 //! reads measured spectra and turns a colour in a named colour space, or a texture pixel, into
 //! XYZ as `convert` would.
+//!
+//! [`SceneFile`] and the types below it mirror the TOML, one field per key (docs/simulate.md
+//! describes the format); [`build`] checks what serde cannot.
 
 use crate::simulate::{self, Effect, Light, Material, Scene};
 use serde::Deserialize;
@@ -16,10 +19,13 @@ use std::path::{Path, PathBuf};
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SceneFile {
+    /// `bounces = K`: the series up to K reflections. Exactly one of this and `effect` is given.
     #[serde(default)]
     pub bounces: Option<usize>,
+    /// `effect = "direct"` (K = 1) or `"converged"`.
     #[serde(default)]
     pub effect: Option<String>,
+    /// `form_factors`: a preset name or a matrix.
     pub form_factors: FormFactors,
     /// Method names, as `--method` takes them.
     #[serde(default)]
@@ -30,66 +36,98 @@ pub struct SceneFile {
     /// The OCIO config for colours and textures: a built-in name or a file relative to the scene.
     #[serde(default)]
     pub ocio: Option<String>,
+    /// The `[[lights]]` tables; at least one is needed.
     #[serde(default)]
     pub lights: Vec<LightFile>,
+    /// The `[[patches]]` tables; at least one is needed.
     #[serde(default)]
     pub patches: Vec<PatchFile>,
 }
 
+/// `form_factors`: a preset or the matrix itself.
 #[derive(Debug, Deserialize)]
 #[serde(untagged)]
 pub enum FormFactors {
+    /// `"furnace"` (every patch sees only itself) or `"box"` (five walls named floor, ceiling,
+    /// back, left, right); see [`simulate::furnace`] and [`simulate::room`].
     Preset(String),
+    /// n×n form factors, row i the shares of patch i's light reaching each patch, in the order of
+    /// the patches.
     Matrix(Vec<Vec<f64>>),
 }
 
+/// One `[[lights]]` table.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct LightFile {
+    /// A name for reports; the spectrum's name when `None`.
     #[serde(default)]
     pub name: Option<String>,
+    /// Its relative spectral power distribution.
     pub spectrum: SpdFile,
+    /// The factor on the spectrum (finite, ≥ 0).
     pub power: f64,
+    /// The names of the patches that emit it; every patch when `None`.
     #[serde(default)]
     pub patches: Option<Vec<String>>,
 }
 
+/// A light's spectrum: an illuminant by name, or a column of a CSV file.
 #[derive(Debug, Deserialize)]
 #[serde(untagged)]
 pub enum SpdFile {
+    /// An illuminant as `--illuminant` takes it (`D65`, `A`, `blackbody:5500`, …).
     Named(String),
+    /// `{ file = "spd.csv", column = "…" }`: measured power from a spectral table.
     Csv {
+        /// The CSV file, relative to the scene.
         file: PathBuf,
+        /// The column's name; the first sample column when `None`.
         #[serde(default)]
         column: Option<String>,
     },
 }
 
+/// One `[[patches]]` table: a material given by exactly one of `colour`, `spectra` (with
+/// `sample` or `samples`) and `texture` (with `pixel`).
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct PatchFile {
+    /// The patch's name, as lights and the `box` preset refer to it; by default the sample's name,
+    /// or the patch's number from 1.
     #[serde(default)]
     pub name: Option<String>,
+    /// An RGB colour in `colorspace`, converted to XYZ by the [`Resolve`].
     #[serde(default)]
     pub colour: Option<[f64; 3]>,
+    /// The colour space of `colour` or `texture`, as `--colorspace` takes it; the resolver's
+    /// default when `None`.
     #[serde(default)]
     pub colorspace: Option<String>,
+    /// A CSV file of measured spectra, relative to the scene.
     #[serde(default)]
     pub spectra: Option<PathBuf>,
+    /// One sample of `spectra`, by its column name.
     #[serde(default)]
     pub sample: Option<String>,
+    /// Several samples of `spectra`, one patch each.
     #[serde(default)]
     pub samples: Option<Samples>,
+    /// A texture whose pixel is the colour, relative to the scene.
     #[serde(default)]
     pub texture: Option<PathBuf>,
+    /// The pixel `[x, y]` of `texture`, from the top left.
     #[serde(default)]
     pub pixel: Option<[u32; 2]>,
 }
 
+/// `samples`: `"all"` or a list of names.
 #[derive(Debug, Deserialize)]
 #[serde(untagged)]
 pub enum Samples {
+    /// A word; only `"all"` (every column of the table) is accepted.
     All(String),
+    /// The names of the columns to take.
     List(Vec<String>),
 }
 
@@ -115,35 +153,86 @@ pub trait Resolve {
 /// What is wrong with a scene.
 #[derive(Debug, thiserror::Error)]
 pub enum SceneError {
+    /// Not valid TOML, or not the scene format (unknown key, wrong type).
     #[error(transparent)]
     Syntax(#[from] toml::de::Error),
+    /// `bounces` and `effect` both given, or neither.
     #[error("{0}")]
     Effect(&'static str),
+    /// An `effect` other than `direct` and `converged`.
     #[error("unknown effect `{0}`; use \"direct\", \"converged\" or `bounces = K`")]
     UnknownEffect(String),
+    /// A `[[patches]]` table that breaks a rule of the format.
     #[error("patch {patch}: {problem}")]
-    Patch { patch: String, problem: String },
+    Patch {
+        /// The patch's name, or its number from 1.
+        patch: String,
+        /// What is wrong and what to write instead.
+        problem: String,
+    },
+    /// A patch whose colour or texture pixel the resolver could not turn into XYZ.
     #[error("patch {patch}")]
     PatchSource {
+        /// The patch's name, or its number from 1.
         patch: String,
+        /// The resolver's error.
         #[source]
         source: Cause,
     },
+    /// An unknown preset, or a `box` without its five walls.
     #[error("{0}")]
     FormFactors(String),
+    /// A `[[lights]]` table that breaks a rule of the format (unknown column or patch).
     #[error("light {light}: {problem}")]
-    Light { light: usize, problem: String },
+    Light {
+        /// The light's number, from 1.
+        light: usize,
+        /// What is wrong.
+        problem: String,
+    },
+    /// A CSV file of spectra the resolver could not read.
     #[error("cannot read {}", .path.display())]
     Spectra {
+        /// The file, joined to the scene's folder.
         path: PathBuf,
+        /// The resolver's error.
         #[source]
         source: Cause,
     },
+    /// An unknown illuminant, or spectra that do not cover the grid.
     #[error(transparent)]
     Colour(#[from] specconv_colour::Error),
 }
 
 /// Reads a scene file's text.
+///
+/// ```
+/// use specconv_study::scene::{parse, FormFactors, SceneError, SpdFile};
+///
+/// let file = parse(
+///     r#"
+///     bounces = 2
+///     form_factors = "furnace"
+///
+///     [[lights]]
+///     spectrum = "blackbody:5500"
+///     power = 1.0
+///
+///     [[patches]]
+///     name = "grey"
+///     colour = [0.5, 0.5, 0.5]
+///     "#,
+/// )?;
+/// assert_eq!(file.bounces, Some(2));
+/// assert!(matches!(&file.form_factors, FormFactors::Preset(p) if p == "furnace"));
+/// assert!(matches!(&file.lights[0].spectrum, SpdFile::Named(n) if n == "blackbody:5500"));
+/// assert_eq!(file.patches[0].colour, Some([0.5; 3]));
+///
+/// // Unknown keys are refused, not ignored.
+/// let typo = parse("bounce = 2\nform_factors = \"box\"");
+/// assert!(matches!(typo, Err(SceneError::Syntax(_))));
+/// # Ok::<(), SceneError>(())
+/// ```
 pub fn parse(text: &str) -> Result<SceneFile, SceneError> {
     Ok(toml::from_str(text)?)
 }

@@ -47,20 +47,28 @@ pub enum Material {
 /// the patches it names.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Light {
+    /// The light's name in reports.
     pub name: String,
+    /// Relative spectral power on the grid, one value per band (finite, ≥ 0).
     pub spd: Vec<f64>,
+    /// The factor on `spd` (finite, ≥ 0).
     pub power: f64,
+    /// Indices of the patches that emit it.
     pub patches: Vec<usize>,
 }
 
 /// A scene: patches, the form factors between them, lights, and the effect wanted.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Scene {
+    /// The patches' names, one per material.
     pub names: Vec<String>,
+    /// One material per patch.
     pub materials: Vec<Material>,
     /// n×n, row-major by patch: `form_factors[i][j]` is F_ij.
     pub form_factors: Vec<Vec<f64>>,
+    /// The lights; at least one.
     pub lights: Vec<Light>,
+    /// Bounce counts or the converged solution.
     pub effect: Effect,
 }
 
@@ -132,7 +140,20 @@ pub fn perpendicular(w: f64, h: f64, l: f64) -> f64 {
 
 /// Per-wavelength radiosity of patches with reflectances `rho` (n × bands), emission `e`
 /// (n × bands) and form factors `f` (n × n). For `Bounces(K)` the result has K + 1 entries, the
-/// radiosity after 0, 1, …, K reflections; for `Converged`, one.
+/// radiosity after 0, 1, …, K reflections; for `Converged`, one. Each entry is indexed
+/// `[patch][band]`.
+///
+/// ```
+/// use specconv_study::simulate::{furnace, radiosity, Effect};
+///
+/// // One grey patch (ρ = 0.5, one band) in a furnace, emitting 1: B_K = Σ_{k≤K} 0.5^k.
+/// let (rho, e, f) = (vec![vec![0.5]], vec![vec![1.0]], furnace(1));
+/// let b = radiosity(&rho, &e, &f, Effect::Bounces(2))?;
+/// assert_eq!(b, [[[1.0]], [[1.5]], [[1.75]]]);
+/// let b = radiosity(&rho, &e, &f, Effect::Converged)?;
+/// assert!((b[0][0][0] - 2.0).abs() < 1e-12);
+/// # Ok::<(), specconv_study::Error>(())
+/// ```
 pub fn radiosity(
     rho: &[Vec<f64>],
     e: &[Vec<f64>],
@@ -259,6 +280,7 @@ pub struct Outcome {
 }
 
 impl Outcome {
+    /// The rendering named `method` (`measured`, `rgb` or a method's name), if there is one.
     pub fn rendering(&self, method: &str) -> Option<&Rendering> {
         self.renderings.iter().find(|r| r.method == method)
     }

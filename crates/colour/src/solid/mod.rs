@@ -71,6 +71,7 @@ impl Solid {
         }
     }
 
+    /// The number of bands: A's columns, the length of a reflectance.
     pub fn bands(&self) -> usize {
         self.cols.len()
     }

@@ -6,7 +6,7 @@
 //!
 //!   min over 0 ≤ r ≤ 1 of ½‖J·(A·r − x) + Lab(x) − Lab(c)‖² + (μ/2)‖r − r_k‖²
 //!
-//! exactly, through its dual in three unknowns ([`super::solid`]). A step that lowers φ is taken
+//! exactly, through its dual in three unknowns ([`crate::solid`]). A step that lowers φ is taken
 //! and μ shrinks; one that does not is retried with a larger μ. At a fixed point r_k the
 //! proximal term's gradient vanishes, so the limit meets the KKT conditions of the unregularised
 //! problem: its colour is a point of the solid's surface whose outward normal is

@@ -83,6 +83,7 @@ pub struct Fitter {
 }
 
 impl Fitter {
+    /// The fitting problem of colorimetry `a`; needs at least 3 bands ([`Error::Grid`]).
     pub fn new(a: &Colorimetry) -> Result<Fitter, Error> {
         let n = a.bands();
         if n < 3 {
@@ -214,8 +215,11 @@ impl Fitter {
 /// The coefficient table: 3 blocks of res³ cells, `[l][k][j][i]`.
 #[derive(Debug, Clone)]
 pub struct Table {
+    /// Cells per axis of each block (4–256; 64 the paper's).
     pub res: usize,
+    /// What the table was built for ([`Fitter::key`]); a table is used only for its own key.
     pub key: String,
+    /// The sigmoid's three polynomial coefficients per cell, 3·res³ of them.
     pub coefficients: Vec<[f32; 3]>,
 }
 
@@ -303,6 +307,7 @@ pub fn solve_in_turn(fitter: &Fitter, res: usize) -> Vec<Vec<[f32; 3]>> {
         .collect()
 }
 
+/// Refuses a table resolution outside 4–256 ([`Error::Grid`]).
 pub fn check_resolution(res: usize) -> Result<(), Error> {
     if !(4..=256).contains(&res) {
         return Err(Error::Grid(format!(
@@ -368,6 +373,8 @@ impl Jakob2019 {
         c
     }
 
+    /// The method for colorimetry `a` with `table`, which must have been built for it (the same
+    /// [`Fitter::key`], else [`Error::Model`]).
     pub fn new(a: &Colorimetry, table: Table) -> Result<Jakob2019, Error> {
         let f = Fitter::new(a)?;
         let key = f.key(a, table.res);
@@ -482,16 +489,19 @@ impl Method for Jakob2019 {
 pub struct Fnv(u64);
 
 impl Fnv {
+    /// The hash of no bytes (the FNV-1a offset basis).
     pub fn new() -> Fnv {
         Fnv(0xcbf2_9ce4_8422_2325)
     }
 
+    /// Hashes `bytes` in.
     pub fn write(&mut self, bytes: &[u8]) {
         for &b in bytes {
             self.0 = (self.0 ^ b as u64).wrapping_mul(0x0100_0000_01b3);
         }
     }
 
+    /// The hash of every byte written so far.
     pub fn finish(&self) -> u64 {
         self.0
     }

@@ -18,8 +18,11 @@ pub enum Note {
     Stale(PathBuf),
     /// The table was solved, in this many seconds.
     Built {
+        /// The table's resolution, cells per axis.
         res: usize,
+        /// The grid of the colorimetry it was solved for.
         grid: specconv_colour::Grid,
+        /// Wall time of the solve.
         seconds: f64,
     },
     /// The table could not be kept; it is used anyway.

@@ -23,6 +23,8 @@ use crate::{Error, Method};
 use nalgebra::DMatrix;
 use specconv_colour::{Colorimetry, Grid};
 
+/// Meng et al. 2015 on a colorimetry's grid: the smoothest spectrum with the colour (see the
+/// module), unbounded or with 0 ≤ r ≤ 1.
 #[derive(Debug, Clone)]
 pub struct Meng2015 {
     grid: Grid,
@@ -38,6 +40,8 @@ pub struct Meng2015 {
 }
 
 impl Meng2015 {
+    /// The method for colorimetry `a`, `bounded` adding 0 ≤ r ≤ 1 (`meng2015-bounded`). Needs at
+    /// least 4 bands ([`Error::Grid`]).
     pub fn new(a: &Colorimetry, bounded: bool) -> Result<Meng2015, Error> {
         Meng2015::with_upper_bound(a, bounded, 1.0)
     }

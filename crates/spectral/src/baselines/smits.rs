@@ -38,6 +38,8 @@ pub fn basis_table() -> Result<SpectralTable, Error> {
 }
 
 impl Smits1999 {
+    /// The method for colorimetry `a`: the basis spectra on its grid, the working space with its
+    /// white.
     pub fn new(a: &Colorimetry) -> Result<Smits1999, Error> {
         let table = basis_table()?;
         let names = ["white", "cyan", "magenta", "yellow", "red", "green", "blue"];

@@ -9,7 +9,7 @@
 //! leaf map keeps XYZ (A·Tᵢ = I, A·oᵢ = 0), so the blend does too: the round trip stays exact.
 //!
 //! Colours at least w from every split on their path get s ∈ {0, 1} at every split, that is
-//! exactly the hard switch; the uplifter sends only the others here (see [`Blend::safe_box`]).
+//! exactly the hard switch; the uplifter sends only the others here (see `Blend::safe_box`).
 //!
 //! **Width per split.** Across a split line the blended spectrum changes at most at the
 //! smoothstep's largest slope, 1.5 / 2w = 0.75 / w per unit of xy, times the difference

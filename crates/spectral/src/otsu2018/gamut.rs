@@ -20,6 +20,7 @@ pub struct Gamut {
 }
 
 impl Gamut {
+    /// The locus and the solid's facets of colorimetry `a`.
     pub fn new(a: &Colorimetry) -> Gamut {
         let solid = Solid::new(&a.weights);
         let cols = solid.columns();

@@ -11,21 +11,30 @@ use crate::Error;
 use serde::{Deserialize, Serialize};
 use specconv_colour::{Colorimetry, Grid, Illuminant, Observer};
 
+/// The `format` of every model file, checked before anything else is read.
 pub const FORMAT: &str = "specconv-model";
+/// The model file version this specconv writes and reads; others are refused.
 pub const VERSION: u32 = 1;
 
 /// A trained clustered-PCA model.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Model {
+    /// Always [`FORMAT`].
     pub format: String,
+    /// Always [`VERSION`].
     pub version: u32,
+    /// The band grid of μ, B and every spectrum the model makes.
     pub grid: Grid,
+    /// The observer of the colorimetry the model was trained in.
     pub observer: Observer,
+    /// The illuminant of that colorimetry; its perfect reflector has Y = 1.
     pub illuminant: Illuminant,
+    /// How and on what the model was trained (a record; the uplift does not read it).
     pub training: Training,
     /// Node 0 is the root.
     pub tree: Tree,
+    /// The clusters, one per leaf node of the tree.
     pub leaves: Vec<Leaf>,
 }
 
@@ -37,8 +46,11 @@ pub struct Training {
     pub sources: Vec<String>,
     /// Number of spectra.
     pub count: usize,
+    /// The clusters asked for; the model has fewer when no further split lowered the error.
     pub clusters_requested: usize,
+    /// The fewest training spectra a cluster could keep ([`crate::TrainOptions`]).
     pub min_cluster_size: usize,
+    /// The bound on each leaf's condition number of M.
     pub max_condition: f64,
     /// Σ ‖s − r‖² over the training set (Eq. 13).
     pub total_error: f64,
@@ -56,19 +68,25 @@ pub struct Leaf {
     pub basis: [Vec<f64>; 3],
     /// M = A·[b₁ b₂ b₃], row-major (Eq. 6).
     pub m: [[f64; 3]; 3],
+    /// M⁻¹, row-major (Eq. 7).
     pub m_inv: [[f64; 3]; 3],
     /// c_μ = A·μ
     pub c_mean: [f64; 3],
+    /// M's condition number σ_max / σ_min, within the training's `max_condition`.
     pub condition: f64,
     /// Σ ‖s − r‖² over the cluster's training spectra.
     pub error: f64,
 }
 
 impl Model {
+    /// The colorimetry the model was trained in (its grid, observer and illuminant), which its
+    /// uplift is exact under.
     pub fn colorimetry(&self) -> Result<Colorimetry, Error> {
         Ok(Colorimetry::new(self.grid, self.observer, self.illuminant)?)
     }
 
+    /// The model file: pretty-printed JSON ending in a newline, floats in shortest round-trip form,
+    /// so that [`Model::from_json`] reads back an equal model.
     pub fn to_json(&self) -> String {
         let mut s = serde_json::to_string_pretty(self).expect("a model serialises");
         s.push('\n');

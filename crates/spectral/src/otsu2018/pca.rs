@@ -7,6 +7,7 @@ use specconv_colour::Colorimetry;
 /// First-and-second-moment sums of a set of spectra: what PCA and the error need.
 #[derive(Debug, Clone)]
 pub struct Moments {
+    /// Number of spectra added.
     pub count: usize,
     /// Σ s
     pub sum: Vec<f64>,
@@ -15,6 +16,7 @@ pub struct Moments {
 }
 
 impl Moments {
+    /// The moments of no spectra of `n` bands.
     pub fn zero(n: usize) -> Moments {
         Moments {
             count: 0,
@@ -23,6 +25,7 @@ impl Moments {
         }
     }
 
+    /// Adds spectrum `s` (`n` bands).
     pub fn add(&mut self, s: &[f64]) {
         let n = self.sum.len();
         self.count += 1;
@@ -59,6 +62,7 @@ impl Moments {
         (0..n).map(|i| self.outer[i * n + i]).sum()
     }
 
+    /// μ = Σ s / count (NaN when no spectra were added).
     pub fn mean(&self) -> Vec<f64> {
         self.sum.iter().map(|s| s / self.count as f64).collect()
     }
@@ -182,6 +186,8 @@ impl ErrorFloor {
         })
     }
 
+    /// E*, the lower bound on [`Fit::error`] of the spectra added; 0 (no bound) when G is singular
+    /// or too ill-conditioned for E* to be accurate.
     pub fn floor(&self) -> f64 {
         let count = self.count as f64;
         let mean_x = self.sum_x.map(|v| v / count);
@@ -248,6 +254,7 @@ pub struct Fit {
     pub basis: [Vec<f64>; 3],
     /// M = A·[b₁ b₂ b₃] (Eq. 6), row-major.
     pub m: [[f64; 3]; 3],
+    /// M⁻¹, row-major.
     pub m_inv: [[f64; 3]; 3],
     /// σ_max(M) / σ_min(M).
     pub condition: f64,
@@ -408,8 +415,9 @@ fn fitted(
 pub struct Tracker {
     /// The block, row-major n×P: q[b·P + k] is vector k at band b.
     q: Vec<f64>,
-    /// Iterations run and full decompositions fallen back to, for tests and benchmarks.
+    /// Block iterations run, for tests and benchmarks.
     pub iterations: usize,
+    /// Full decompositions fallen back to, for tests and benchmarks.
     pub fallbacks: usize,
 }
 

@@ -17,6 +17,32 @@ use specconv_colour::{Colorimetry, Grid};
 /// first, without a data-dependent branch (a random texture's leaves are unpredictable, and a
 /// mispredicted branch per tree level cost more than the multiply), then the block is
 /// multiplied, every leaf's T and o being hot in L1.
+///
+/// ```
+/// use specconv_spectral::otsu2018::blend::DEFAULT_WIDTH;
+/// use specconv_spectral::{Method, Model, Uplifter};
+///
+/// let model = Model::builtin();
+/// let a = model.colorimetry()?; // CIE 1931 2°, D65, 380–730 nm at 10 nm
+/// let up = Uplifter::new(model)?;
+/// assert_eq!((up.name(), up.bands()), ("otsu2018", 36));
+///
+/// // A reflectance rising from 0.2 to 0.7: its colour, uplifted, gives back that colour
+/// // exactly (Eq. 9), though not the same spectrum.
+/// let s: Vec<f64> = a.grid.wavelengths().iter().map(|l| 0.2 + (l - 380.0) / 700.0).collect();
+/// let c = a.xyz(&s);
+/// let mut r = vec![0.0; up.bands()];
+/// up.uplift_f64(&c, &mut r);
+/// let back = a.xyz(&r);
+/// assert!((0..3).all(|k| (back[k] - c[k]).abs() < 1e-9));
+///
+/// // Blending across cluster boundaries keeps the round trip.
+/// let blended = Uplifter::new(model)?.with_blend(DEFAULT_WIDTH)?;
+/// blended.uplift_f64(&c, &mut r);
+/// let back = a.xyz(&r);
+/// assert!((0..3).all(|k| (back[k] - c[k]).abs() < 1e-9));
+/// # Ok::<(), specconv_spectral::Error>(())
+/// ```
 #[derive(Debug, Clone)]
 pub struct Uplifter {
     grid: Grid,
@@ -81,6 +107,8 @@ const HARD: u32 = u32::MAX;
 const BLEND: u32 = u32::MAX - 1;
 
 impl Uplifter {
+    /// Prepares `model`: T = B·M⁻¹ and o = μ − T·c_μ per leaf, the hard switch of Eq. 10 (no
+    /// blend). Fails only when the model's colorimetry cannot be made.
     pub fn new(model: &Model) -> Result<Uplifter, Error> {
         let n = model.grid.len();
         let colorimetry = model.colorimetry()?;
@@ -155,6 +183,7 @@ impl Uplifter {
         self.blend.as_ref().map_or(Vec::new(), Blend::split_widths)
     }
 
+    /// Bands of every spectrum, the model's grid length.
     pub fn bands(&self) -> usize {
         self.bands
     }

@@ -43,11 +43,17 @@ pub const SMALLEST_CLUSTER: usize = 4;
 /// the Munsell set's well-populated clusters stay below 30 (see the README).
 pub const DEFAULT_MAX_CONDITION: f64 = 100.0;
 
+/// How to train ([`train`]); the default is 8 clusters, at least 20 spectra each, condition
+/// bound [`DEFAULT_MAX_CONDITION`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct TrainOptions {
     /// Number of leaves wanted.
     pub clusters: usize,
+    /// The fewest training spectra a cluster may have, at least [`SMALLEST_CLUSTER`]: a split
+    /// leaving fewer on either side is not taken.
     pub min_cluster_size: usize,
+    /// The bound on each leaf's condition number of M, at least 1: a split making a worse M is
+    /// not taken.
     pub max_condition: f64,
 }
 
@@ -64,8 +70,11 @@ impl Default for TrainOptions {
 /// Measured spectra on the colorimetry's grid, with their names and where they came from.
 #[derive(Debug, Clone, Default)]
 pub struct TrainingSet {
+    /// Where the spectra came from (the tables' file names), recorded in the model.
     pub sources: Vec<String>,
+    /// One name per spectrum, for error messages.
     pub names: Vec<String>,
+    /// The spectra, each on the colorimetry's grid.
     pub spectra: Vec<Vec<f64>>,
 }
 

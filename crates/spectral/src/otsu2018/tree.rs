@@ -5,10 +5,13 @@
 
 use serde::{Deserialize, Serialize};
 
+/// The coordinate of CIE xy a split compares.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 pub enum Axis {
+    /// x, written `"x"` in model files.
     #[serde(rename = "x")]
     X,
+    /// y, written `"y"` in model files.
     #[serde(rename = "y")]
     Y,
 }
@@ -28,13 +31,20 @@ impl Axis {
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase", deny_unknown_fields)]
 pub enum Node {
+    /// A split (see [`Split`], which has the same fields).
     Split {
+        /// The coordinate compared.
         axis: Axis,
+        /// The threshold: a coordinate ≥ `value` goes above.
         value: f64,
+        /// The index of the node for coordinates below `value` (and NaN).
         below: usize,
+        /// The index of the node for coordinates ≥ `value`.
         above: usize,
     },
+    /// A leaf: a cluster of the model.
     Leaf {
+        /// The cluster's index in the model's `leaves`.
         leaf: usize,
     },
 }
@@ -43,9 +53,13 @@ pub enum Node {
 /// ≥ `value`, else to node `below` (Eq. 10; NaN goes below).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Split {
+    /// The coordinate compared.
     pub axis: Axis,
+    /// The threshold.
     pub value: f64,
+    /// The index of the node for coordinates below `value` (and NaN).
     pub below: usize,
+    /// The index of the node for coordinates ≥ `value`.
     pub above: usize,
 }
 
