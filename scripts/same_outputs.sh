@@ -36,6 +36,9 @@ cases=(
   "to-rgb-emissive|to-rgb OUT/e.exr OUT/r3.exr"
   "to-rgb-exists|to-rgb OUT/s.exr OUT/r1.exr"
   "to-rgb-own-light|to-rgb OUT/e.exr OUT/r4.exr --illuminant D50"
+  "preview|preview OUT/s.exr -o OUT/p1.png --bounces 2"
+  "preview-diff|preview OUT/s.exr -o OUT/p2.png --bounces 3 --diff-rgb --illuminant A --json"
+  "preview-emissive|preview OUT/e.exr -o OUT/p3.png"
 )
 status=0
 for side in old new; do mkdir -p "$work/$side"; done
@@ -44,7 +47,7 @@ for c in "${cases[@]}"; do
   for side in old new; do
     bin=${!side}
     # shellcheck disable=SC2086
-    progress="--progress never"; case $args in to-rgb*) progress="" ;; esac
+    progress="--progress never"; case $args in to-rgb*|preview*) progress="" ;; esac
     # shellcheck disable=SC2086
     (cd "$work/$side" && SPECCONV_CACHE_DIR="$work/cache-$side" "$bin" ${args//OUT/$work/$side} $progress \
       > "$work/$side/$name.json" 2> "$work/$side/$name.err"; echo $? > "$work/$side/$name.rc") || true
@@ -57,7 +60,8 @@ for c in "${cases[@]}"; do
       echo "DIFFERENT $name.$f"; diff "$work/old/$name.$f" "$work/new/$name.$f" | head -5 || true; status=1
     fi
   done
-  for out in "$work"/old/*.exr; do
+  for out in "$work"/old/*.exr "$work"/old/*.png; do
+    [ -e "$out" ] || continue
     o=$(basename "$out")
     if ! cmp -s "$out" "$work/new/$o"; then echo "DIFFERENT $name: $o"; status=1; fi
   done

@@ -103,6 +103,12 @@ pub(crate) fn usage(e: impl Into<anyhow::Error>) -> anyhow::Error {
 /// line's last part ends with replaces that part (`cannot read F` and `F is not a spectral
 /// EXR` make `F is not a spectral EXR`).
 pub(crate) fn one_line(e: &(dyn std::error::Error + 'static)) -> String {
+    let hint = std::iter::successors(Some(e), |c| c.source()).find_map(hint);
+    without_hint(e) + hint.as_deref().unwrap_or_default()
+}
+
+/// [`one_line`] without the hint.
+fn without_hint(e: &(dyn std::error::Error + 'static)) -> String {
     let mut line = e.to_string();
     for cause in std::iter::successors(e.source(), |c| c.source()) {
         let cause = cause.to_string();
@@ -133,43 +139,84 @@ pub(crate) fn one_line(e: &(dyn std::error::Error + 'static)) -> String {
     line
 }
 
-/// A library error as the command line says it: its causes on one line, then the option that
-/// would fix it ([`specconv_conversion::Remedy`]), in this program's flags.
+/// A library error as the command line says it: [`one_line`] (with the option that would fix
+/// it), or for the errors of one option, that option's own words.
 pub(crate) fn explain(e: &specconv_conversion::Error) -> String {
-    use specconv_conversion::{Error, Remedy};
-    // Errors of one option, said with its flag.
+    use specconv_conversion::Error;
     match e {
-        Error::ZipLevelWithoutZip { compression } => {
-            return format!(
-                "--zip-level sets the deflate level of zip and zips; --compression {compression} \
-                 has none (drop --zip-level or use --compression zip)"
-            )
-        }
+        Error::ZipLevelWithoutZip { compression } => format!(
+            "--zip-level sets the deflate level of zip and zips; --compression {compression} \
+             has none (drop --zip-level or use --compression zip)"
+        ),
         Error::EmptyTile { width, height } => {
-            return format!("--tile {width} {height}: tiles must be at least 1×1")
+            format!("--tile {width} {height}: tiles must be at least 1×1")
         }
-        Error::NoThreads => return "-j/--threads must be at least 1".into(),
-        _ => {}
+        Error::NoThreads => "-j/--threads must be at least 1".into(),
+        _ => one_line(e),
     }
-    let hint = match e.remedy() {
-        Some(Remedy::ReplaceOrSkip) => {
-            "; pass --force to replace it (or -u to skip outputs that are up to date)"
+}
+
+/// What to pass to fix a cause, in this program's flags: the libraries say which setting
+/// ([`specconv_conversion::Remedy`], typed errors), the command line names it.
+fn hint(cause: &(dyn std::error::Error + 'static)) -> Option<String> {
+    use specconv_conversion::{Error, Remedy};
+    fn colour(e: &specconv_colour::Error) -> Option<String> {
+        match e {
+            specconv_colour::Error::NotCovered {
+                first, last, grid, ..
+            } => Some(format!(
+                "; choose bands inside that range (e.g. --bands {}:{}:{})",
+                first.max(grid.start).ceil(),
+                last.min(grid.end).floor(),
+                grid.step
+            )),
+            _ => None,
         }
-        Some(Remedy::BaseLevelOrTiles) => "; add --mip 0 or drop --scanline",
-        Some(Remedy::BaseLevel) => "; add --mip 0 to convert the full-resolution level only",
-        Some(Remedy::NameColourSpace) => "; pass --colorspace",
-        Some(Remedy::NameEncodingColourSpace) => {
-            "; pass --colorspace with the colour space the texture is encoded in"
+    }
+    fn spectral(e: &specconv_spectral::Error) -> Option<String> {
+        match e {
+            specconv_spectral::Error::NeedsOneCluster { .. } => {
+                Some(" (`specconv train --clusters 1`)".into())
+            }
+            specconv_spectral::Error::Colour(c) => colour(c),
+            _ => None,
         }
-        Some(Remedy::NameChannelsOrLayer) => {
-            "; choose with --channels LAYER or --channels NAME,NAME,NAME"
+    }
+    if let Some(e) = cause.downcast_ref::<Error>() {
+        let flag = match e.remedy() {
+            Some(Remedy::ReplaceOrSkip) => {
+                "; pass --force to replace it (or -u to skip outputs that are up to date)"
+            }
+            Some(Remedy::Replace) => "; pass --force to replace it",
+            Some(Remedy::BaseLevelOrTiles) => "; add --mip 0 or drop --scanline",
+            Some(Remedy::BaseLevel) => "; add --mip 0 to convert the full-resolution level only",
+            Some(Remedy::NameColourSpace) => "; pass --colorspace",
+            Some(Remedy::NameEncodingColourSpace) => {
+                "; pass --colorspace with the colour space the texture is encoded in"
+            }
+            Some(Remedy::NameChannelsOrLayer) => {
+                "; choose with --channels LAYER or --channels NAME,NAME,NAME"
+            }
+            Some(Remedy::NameLayer) => "; choose one with --channels LAYER",
+            Some(Remedy::DropIlluminant) => "; drop --illuminant",
+            Some(_) | None => "",
+        };
+        if !flag.is_empty() {
+            return Some(flag.into());
         }
-        Some(Remedy::NameLayer) => "; choose one with --channels LAYER",
-        Some(Remedy::Replace) => "; pass --force to replace it",
-        Some(Remedy::DropIlluminant) => "; drop --illuminant",
-        Some(Remedy::DropZipLevel) | Some(_) | None => "",
-    };
-    one_line(e) + hint
+        return match e {
+            Error::Method(s) => spectral(s),
+            Error::Colorimetry(c) => colour(c),
+            Error::Model(specconv_conversion::models::ModelError::Invalid(s)) => spectral(s),
+            _ => None,
+        };
+    }
+    if let Some(e) = cause.downcast_ref::<specconv_spectral::Error>() {
+        return spectral(e);
+    }
+    cause
+        .downcast_ref::<specconv_colour::Error>()
+        .and_then(colour)
 }
 
 /// Examples of `specconv --help` and of man/specconv.1.

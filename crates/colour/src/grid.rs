@@ -101,13 +101,12 @@ impl Grid {
         // A tolerance of a millionth of a nanometre absorbs grids written with rounding.
         let tol = 1e-6;
         if first > self.start + tol || last < self.end - tol {
-            return Err(Error::Coverage(format!(
-                "{what} covers {first}–{last} nm, which does not cover the grid {self}; \
-                 choose bands inside that range (e.g. {}:{}:{})",
-                first.max(self.start).ceil(),
-                last.min(self.end).floor(),
-                self.step
-            )));
+            return Err(Error::NotCovered {
+                what: what.to_string(),
+                first,
+                last,
+                grid: *self,
+            });
         }
         let mut out = Vec::with_capacity(self.len());
         let mut j = 0;
@@ -207,11 +206,17 @@ mod tests {
     #[test]
     fn resampling_refuses_a_grid_it_does_not_cover() {
         let g = Grid::new(380.0, 800.0, 10.0).unwrap();
-        let err = g
-            .resample("D65", &[380.0, 780.0], &[1.0, 1.0])
-            .unwrap_err()
-            .to_string();
-        assert!(err.contains("D65 covers 380–780 nm"), "{err}");
-        assert!(err.contains("(e.g. 380:780:10)"), "{err}");
+        let err = g.resample("D65", &[380.0, 780.0], &[1.0, 1.0]).unwrap_err();
+        assert!(
+            matches!(&err, Error::NotCovered { what, first, last, grid }
+                if what == "D65" && *first == 380.0 && *last == 780.0 && *grid == g),
+            "{err:?}"
+        );
+        let text = err.to_string();
+        assert!(text.contains("D65 covers 380–780 nm"), "{text}");
+        assert!(
+            text.contains("does not cover the grid 380:800:10"),
+            "{text}"
+        );
     }
 }

@@ -42,9 +42,21 @@ pub enum Error {
     /// sees no light under the illuminant. The text names the grid and what is wrong.
     #[error("bad wavelength grid {0}")]
     Grid(String),
-    /// Data that does not cover the wavelengths asked for: a table or illuminant that stops inside
-    /// the grid (the text suggests `--bands` inside its range), or bands that do not overlap the
-    /// observer's 360–830 nm at all.
+    /// A table or illuminant that stops inside the grid it is resampled onto (a front-end may
+    /// suggest a grid inside `first`–`last`).
+    #[error("{what} covers {first}–{last} nm, which does not cover the grid {grid}")]
+    NotCovered {
+        /// The table or spectrum.
+        what: String,
+        /// Its first wavelength, nm.
+        first: f64,
+        /// Its last wavelength, nm.
+        last: f64,
+        /// The grid it was to be resampled onto.
+        grid: crate::Grid,
+    },
+    /// Data that does not cover the wavelengths asked for otherwise: a table with no samples, or
+    /// bands that do not overlap the observer's 360–830 nm at all.
     #[error("{0}")]
     Coverage(String),
     /// A name that is not known: an observer, an illuminant (or a blackbody temperature outside

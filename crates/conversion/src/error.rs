@@ -71,7 +71,7 @@ pub enum Error {
         purpose: &'static str,
     },
     /// A spectral EXR cannot be read.
-    #[error("cannot read {}: {source}", path.display())]
+    #[error("cannot read {}", path.display())]
     Read {
         /// The file.
         path: PathBuf,
@@ -79,7 +79,7 @@ pub enum Error {
         source: specconv_exr::Error,
     },
     /// A file cannot be written.
-    #[error("cannot write {}: {source}", path.display())]
+    #[error("cannot write {}", path.display())]
     Write {
         /// The file.
         path: PathBuf,
@@ -87,7 +87,7 @@ pub enum Error {
         source: specconv_exr::Error,
     },
     /// A `specconv*` attribute of a file does not parse.
-    #[error("in {}: {source}", path.display())]
+    #[error("in {}", path.display())]
     BadProvenance {
         /// The file.
         path: PathBuf,

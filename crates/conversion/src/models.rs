@@ -8,7 +8,7 @@ use std::path::Path;
 #[non_exhaustive]
 pub enum ModelError {
     /// It cannot be read.
-    #[error("cannot read model file {}: {source}", path.display())]
+    #[error("cannot read model file {}", path.display())]
     Read {
         /// The file.
         path: std::path::PathBuf,

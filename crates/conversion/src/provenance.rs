@@ -60,7 +60,7 @@ impl ConventionFrom {
 
 /// A recorded value that does not parse.
 #[derive(Debug, thiserror::Error)]
-#[error("in its {attribute} attribute: {source}")]
+#[error("in its {attribute} attribute")]
 pub struct BadAttribute {
     /// The attribute.
     pub attribute: &'static str,

@@ -31,7 +31,7 @@ pub enum Problem {
         message: String,
     },
     /// The file could not be opened or read.
-    #[error("cannot read {}: {source}", path.display())]
+    #[error("cannot read {}", path.display())]
     Io {
         /// The file that could not be read.
         path: std::path::PathBuf,

@@ -117,7 +117,7 @@ pub enum Error {
         dir: PathBuf,
     },
     /// Writing the output failed.
-    #[error("cannot write {}: {source}", path.display())]
+    #[error("cannot write {}", path.display())]
     Io {
         /// The output.
         path: PathBuf,

@@ -62,8 +62,13 @@ pub enum Error {
     /// A blend width that is not finite, or outside the allowed range ([`otsu2018::blend`]).
     #[error("bad blend width {0}")]
     Blend(String),
-    /// A method that cannot be built as described, e.g. `pca` with a model of more than one
-    /// cluster.
-    #[error("{0}")]
-    Method(String),
+    /// `pca` asked of a model with several clusters.
+    #[error(
+        "pca is the clustered PCA with one cluster, and the model has {clusters}: it needs a \
+         one-cluster model"
+    )]
+    NeedsOneCluster {
+        /// The model's clusters.
+        clusters: usize,
+    },
 }

@@ -219,11 +219,9 @@ impl Stack {
 /// The method of `d` alone, in its setting.
 fn method(d: &Description, model: &Model, tables: &TableCache) -> Result<Box<dyn Method>, Error> {
     if d.method == MethodName::Pca && model.leaves.len() != 1 {
-        return Err(Error::Method(format!(
-            "pca is the clustered PCA with one cluster, and the model has {}: it needs a \
-             one-cluster model (trained with one cluster)",
-            model.leaves.len()
-        )));
+        return Err(Error::NeedsOneCluster {
+            clusters: model.leaves.len(),
+        });
     }
     let a = d.setting(model)?;
     Ok(match d.method {

@@ -74,7 +74,8 @@ pub fn run(args: Args) -> Result<()> {
     let stack = methods::build(&args.description(), &model).map_err(|e| match args.method {
         // The one setting a user can fix here: a many-cluster model for pca.
         MethodName::Pca => crate::usage(anyhow::anyhow!(
-            "{e}; or pass --train CSV to train one here"
+            "{}; or pass --train CSV to train one here",
+            crate::one_line(e.as_ref())
         )),
         _ => e,
     })?;
