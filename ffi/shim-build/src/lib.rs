@@ -30,13 +30,14 @@ pub enum Linking {
     Embedded,
 }
 
-/// specconv's shim over OpenImageIO.
+/// specconv's shim over OpenImageIO: embedded, so that commands which read no image do not
+/// load OpenImageIO's ≈260 libraries (issue 19).
 pub const OIIO: Shim = Shim {
     name: "oiio",
     library: "OpenImageIO",
     min_version: "2.4",
     debian_package: "libopenimageio-dev",
-    linking: Linking::Static,
+    linking: Linking::Embedded,
 };
 
 /// specconv's shim over OpenColorIO.
