@@ -120,13 +120,18 @@ impl Shim {
         let soname = format!("libspecconv_{}.so", self.name);
         // The compiler driver links, so the C++ runtime comes along as for any C++ library.
         // `-z defs`: a symbol the library does not provide fails here, not at first use.
+        // `-z now`: the shim's own references are bound when it is loaded (as they were in
+        // the program, which Rust links with `-z now`), so a library that lacks one fails
+        // the load with dlopen's message; the system library's own dependencies keep their
+        // lazy binding, as when the program loaded them at start.
         let mut link = build.get_compiler().to_command();
         link.arg("-shared")
             .arg("-o")
             .arg(out.join(&soname))
             .args(&objects)
             .arg(format!("-Wl,-soname,{soname}"))
-            .args(["-Wl,-z,defs", "-Wl,--as-needed", "-Wl,-O1"]);
+            .args(["-Wl,-z,defs", "-Wl,-z,now", "-Wl,-z,relro"])
+            .args(["-Wl,--as-needed", "-Wl,-O1"]);
         for dir in &lib.link_paths {
             link.arg("-L").arg(dir);
         }
