@@ -17,7 +17,9 @@
 
 #![allow(non_camel_case_types, non_upper_case_globals, non_snake_case)]
 
+// bindgen's dynamic mode writes a method per function, with the C signature and no docs.
 #[rustfmt::skip]
+#[allow(clippy::missing_safety_doc, clippy::too_many_arguments)]
 mod bindings;
 pub use bindings::*;
 
@@ -63,7 +65,9 @@ impl std::error::Error for LoadError {}
 /// call returns the same table, or the same error: a failed load is not retried.
 pub fn shim() -> Result<&'static SpecconvOiio, LoadError> {
     static SHIM: OnceLock<Result<SpecconvOiio, LoadError>> = OnceLock::new();
-    SHIM.get_or_init(|| load(SHIM_SO)).as_ref().map_err(Clone::clone)
+    SHIM.get_or_init(|| load(SHIM_SO))
+        .as_ref()
+        .map_err(Clone::clone)
 }
 
 /// Loads `image` (a shared object exporting the shim's functions): from an in-memory file,
@@ -185,7 +189,10 @@ mod tests {
             panic!("garbage loaded as a shared object");
         };
         let text = e.to_string();
-        assert!(text.starts_with("OpenImageIO could not be loaded: "), "{text}");
+        assert!(
+            text.starts_with("OpenImageIO could not be loaded: "),
+            "{text}"
+        );
         assert!(text.contains("specconv's OpenImageIO shim"), "{text}");
         assert!(text.contains("apt-get install libopenimageio2."), "{text}");
         assert!(!text.contains("/proc/self/fd"), "{text}");

@@ -569,7 +569,8 @@ impl ImageReader {
     /// A string attribute of the file's header (top level), if present.
     pub fn string_attribute(&self, name: &str) -> Result<Option<String>> {
         // One more byte for the terminator the shim writes.
-        let Some(mut buf) = self.attribute(name, 1, self.shim.specconv_oiio_string_attribute)? else {
+        let Some(mut buf) = self.attribute(name, 1, self.shim.specconv_oiio_string_attribute)?
+        else {
             return Ok(None);
         };
         buf.pop();
