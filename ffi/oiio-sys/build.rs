@@ -1,11 +1,7 @@
-//! Compiles the C++ shim and links it to the system OpenImageIO found by pkg-config.
+//! Builds the C++ shim as a shared object linked to the system OpenImageIO found by
+//! pkg-config, `$OUT_DIR/libspecconv_oiio.so`, which `src/lib.rs` embeds. The crate itself
+//! links nothing of OpenImageIO.
 
 fn main() {
-    specconv_shim_build::Shim {
-        name: "oiio",
-        library: "OpenImageIO",
-        min_version: "2.4",
-        debian_package: "libopenimageio-dev",
-    }
-    .build();
+    specconv_shim_build::OIIO.build();
 }

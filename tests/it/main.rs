@@ -8,6 +8,7 @@ mod emission;
 mod farm;
 mod info;
 mod layout;
+mod libraries;
 mod library;
 mod pictures;
 mod runner;

@@ -4,11 +4,5 @@
 
 #[test]
 fn committed_bindings_match_the_header() {
-    specconv_shim_build::Shim {
-        name: "ocio",
-        library: "OpenColorIO",
-        min_version: "2.1",
-        debian_package: "libopencolorio-dev",
-    }
-    .check_bindings(std::path::Path::new(env!("CARGO_MANIFEST_DIR")));
+    specconv_shim_build::OCIO.check_bindings(std::path::Path::new(env!("CARGO_MANIFEST_DIR")));
 }

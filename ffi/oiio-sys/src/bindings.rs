@@ -76,95 +76,70 @@ const _: () = {
         "Offset of field: specconv_oiio_level::alpha_channel",
     ][::std::mem::offset_of!(specconv_oiio_level, alpha_channel) - 44usize];
 };
-unsafe extern "C" {
-    pub fn specconv_oiio_last_error() -> *const ::std::os::raw::c_char;
-}
-unsafe extern "C" {
-    pub fn specconv_oiio_version() -> i32;
-}
-unsafe extern "C" {
-    pub fn specconv_oiio_open(
+pub struct SpecconvOiio {
+    __library: ::libloading::Library,
+    pub specconv_oiio_last_error: unsafe extern "C" fn() -> *const ::std::os::raw::c_char,
+    pub specconv_oiio_version: unsafe extern "C" fn() -> i32,
+    pub specconv_oiio_open: unsafe extern "C" fn(
         path: *const ::std::os::raw::c_char,
         out: *mut *mut specconv_oiio_input,
-    ) -> i32;
-}
-unsafe extern "C" {
-    pub fn specconv_oiio_close(input: *mut specconv_oiio_input);
-}
-unsafe extern "C" {
-    pub fn specconv_oiio_format_name(
+    ) -> i32,
+    pub specconv_oiio_close: unsafe extern "C" fn(input: *mut specconv_oiio_input),
+    pub specconv_oiio_format_name: unsafe extern "C" fn(
         input: *const specconv_oiio_input,
-    ) -> *const ::std::os::raw::c_char;
-}
-unsafe extern "C" {
-    pub fn specconv_oiio_num_subimages(input: *const specconv_oiio_input) -> i32;
-}
-unsafe extern "C" {
-    pub fn specconv_oiio_subimage_name(
+    ) -> *const ::std::os::raw::c_char,
+    pub specconv_oiio_num_subimages: unsafe extern "C" fn(
+        input: *const specconv_oiio_input,
+    ) -> i32,
+    pub specconv_oiio_subimage_name: unsafe extern "C" fn(
         input: *const specconv_oiio_input,
         subimage: i32,
         out: *mut *const ::std::os::raw::c_char,
-    ) -> i32;
-}
-unsafe extern "C" {
-    pub fn specconv_oiio_select_subimage(
+    ) -> i32,
+    pub specconv_oiio_select_subimage: unsafe extern "C" fn(
         input: *mut specconv_oiio_input,
         subimage: i32,
-    ) -> i32;
-}
-unsafe extern "C" {
-    pub fn specconv_oiio_num_levels(input: *const specconv_oiio_input) -> i32;
-}
-unsafe extern "C" {
-    pub fn specconv_oiio_level_info(
+    ) -> i32,
+    pub specconv_oiio_num_levels: unsafe extern "C" fn(
+        input: *const specconv_oiio_input,
+    ) -> i32,
+    pub specconv_oiio_level_info: unsafe extern "C" fn(
         input: *const specconv_oiio_input,
         level: i32,
         out: *mut specconv_oiio_level,
-    ) -> i32;
-}
-unsafe extern "C" {
-    pub fn specconv_oiio_channel_name(
+    ) -> i32,
+    pub specconv_oiio_channel_name: unsafe extern "C" fn(
         input: *const specconv_oiio_input,
         channel: i32,
         out: *mut *const ::std::os::raw::c_char,
-    ) -> i32;
-}
-unsafe extern "C" {
-    pub fn specconv_oiio_channel_format(
+    ) -> i32,
+    pub specconv_oiio_channel_format: unsafe extern "C" fn(
         input: *const specconv_oiio_input,
         channel: i32,
         out: *mut *const ::std::os::raw::c_char,
-    ) -> i32;
-}
-unsafe extern "C" {
-    pub fn specconv_oiio_string_attribute(
+    ) -> i32,
+    pub specconv_oiio_string_attribute: unsafe extern "C" fn(
         input: *const specconv_oiio_input,
         name: *const ::std::os::raw::c_char,
         buf: *mut ::std::os::raw::c_char,
         buf_len: usize,
         len: *mut i64,
-    ) -> i32;
-}
-unsafe extern "C" {
-    pub fn specconv_oiio_numeric_attribute(
+    ) -> i32,
+    pub specconv_oiio_numeric_attribute: unsafe extern "C" fn(
         input: *const specconv_oiio_input,
         name: *const ::std::os::raw::c_char,
         buf: *mut f64,
         buf_len: usize,
         len: *mut i64,
-    ) -> i32;
-}
-unsafe extern "C" {
-    pub fn specconv_oiio_bytes_attribute(
+    ) -> i32,
+    pub specconv_oiio_bytes_attribute: unsafe extern "C" fn(
         input: *const specconv_oiio_input,
         name: *const ::std::os::raw::c_char,
         buf: *mut u8,
         buf_len: usize,
         len: *mut i64,
-    ) -> i32;
-}
-unsafe extern "C" {
-    pub fn specconv_oiio_read_tiles(
+    ) -> i32,
+    pub specconv_oiio_read_tiles: unsafe extern "C" fn(
         input: *mut specconv_oiio_input,
         level: i32,
         xbegin: i32,
@@ -175,10 +150,8 @@ unsafe extern "C" {
         chend: i32,
         out: *mut f32,
         out_len: usize,
-    ) -> i32;
-}
-unsafe extern "C" {
-    pub fn specconv_oiio_read_scanlines(
+    ) -> i32,
+    pub specconv_oiio_read_scanlines: unsafe extern "C" fn(
         input: *mut specconv_oiio_input,
         level: i32,
         ybegin: i32,
@@ -187,5 +160,242 @@ unsafe extern "C" {
         chend: i32,
         out: *mut f32,
         out_len: usize,
-    ) -> i32;
+    ) -> i32,
+}
+impl SpecconvOiio {
+    pub unsafe fn new<P>(path: P) -> Result<Self, ::libloading::Error>
+    where
+        P: AsRef<::std::ffi::OsStr>,
+    {
+        let library = ::libloading::Library::new(path)?;
+        Self::from_library(library)
+    }
+    pub unsafe fn from_library<L>(library: L) -> Result<Self, ::libloading::Error>
+    where
+        L: Into<::libloading::Library>,
+    {
+        let __library = library.into();
+        let specconv_oiio_last_error = __library
+            .get(b"specconv_oiio_last_error\0")
+            .map(|sym| *sym)?;
+        let specconv_oiio_version = __library
+            .get(b"specconv_oiio_version\0")
+            .map(|sym| *sym)?;
+        let specconv_oiio_open = __library.get(b"specconv_oiio_open\0").map(|sym| *sym)?;
+        let specconv_oiio_close = __library
+            .get(b"specconv_oiio_close\0")
+            .map(|sym| *sym)?;
+        let specconv_oiio_format_name = __library
+            .get(b"specconv_oiio_format_name\0")
+            .map(|sym| *sym)?;
+        let specconv_oiio_num_subimages = __library
+            .get(b"specconv_oiio_num_subimages\0")
+            .map(|sym| *sym)?;
+        let specconv_oiio_subimage_name = __library
+            .get(b"specconv_oiio_subimage_name\0")
+            .map(|sym| *sym)?;
+        let specconv_oiio_select_subimage = __library
+            .get(b"specconv_oiio_select_subimage\0")
+            .map(|sym| *sym)?;
+        let specconv_oiio_num_levels = __library
+            .get(b"specconv_oiio_num_levels\0")
+            .map(|sym| *sym)?;
+        let specconv_oiio_level_info = __library
+            .get(b"specconv_oiio_level_info\0")
+            .map(|sym| *sym)?;
+        let specconv_oiio_channel_name = __library
+            .get(b"specconv_oiio_channel_name\0")
+            .map(|sym| *sym)?;
+        let specconv_oiio_channel_format = __library
+            .get(b"specconv_oiio_channel_format\0")
+            .map(|sym| *sym)?;
+        let specconv_oiio_string_attribute = __library
+            .get(b"specconv_oiio_string_attribute\0")
+            .map(|sym| *sym)?;
+        let specconv_oiio_numeric_attribute = __library
+            .get(b"specconv_oiio_numeric_attribute\0")
+            .map(|sym| *sym)?;
+        let specconv_oiio_bytes_attribute = __library
+            .get(b"specconv_oiio_bytes_attribute\0")
+            .map(|sym| *sym)?;
+        let specconv_oiio_read_tiles = __library
+            .get(b"specconv_oiio_read_tiles\0")
+            .map(|sym| *sym)?;
+        let specconv_oiio_read_scanlines = __library
+            .get(b"specconv_oiio_read_scanlines\0")
+            .map(|sym| *sym)?;
+        Ok(SpecconvOiio {
+            __library,
+            specconv_oiio_last_error,
+            specconv_oiio_version,
+            specconv_oiio_open,
+            specconv_oiio_close,
+            specconv_oiio_format_name,
+            specconv_oiio_num_subimages,
+            specconv_oiio_subimage_name,
+            specconv_oiio_select_subimage,
+            specconv_oiio_num_levels,
+            specconv_oiio_level_info,
+            specconv_oiio_channel_name,
+            specconv_oiio_channel_format,
+            specconv_oiio_string_attribute,
+            specconv_oiio_numeric_attribute,
+            specconv_oiio_bytes_attribute,
+            specconv_oiio_read_tiles,
+            specconv_oiio_read_scanlines,
+        })
+    }
+    pub unsafe fn specconv_oiio_last_error(&self) -> *const ::std::os::raw::c_char {
+        (self.specconv_oiio_last_error)()
+    }
+    pub unsafe fn specconv_oiio_version(&self) -> i32 {
+        (self.specconv_oiio_version)()
+    }
+    pub unsafe fn specconv_oiio_open(
+        &self,
+        path: *const ::std::os::raw::c_char,
+        out: *mut *mut specconv_oiio_input,
+    ) -> i32 {
+        (self.specconv_oiio_open)(path, out)
+    }
+    pub unsafe fn specconv_oiio_close(&self, input: *mut specconv_oiio_input) {
+        (self.specconv_oiio_close)(input)
+    }
+    pub unsafe fn specconv_oiio_format_name(
+        &self,
+        input: *const specconv_oiio_input,
+    ) -> *const ::std::os::raw::c_char {
+        (self.specconv_oiio_format_name)(input)
+    }
+    pub unsafe fn specconv_oiio_num_subimages(
+        &self,
+        input: *const specconv_oiio_input,
+    ) -> i32 {
+        (self.specconv_oiio_num_subimages)(input)
+    }
+    pub unsafe fn specconv_oiio_subimage_name(
+        &self,
+        input: *const specconv_oiio_input,
+        subimage: i32,
+        out: *mut *const ::std::os::raw::c_char,
+    ) -> i32 {
+        (self.specconv_oiio_subimage_name)(input, subimage, out)
+    }
+    pub unsafe fn specconv_oiio_select_subimage(
+        &self,
+        input: *mut specconv_oiio_input,
+        subimage: i32,
+    ) -> i32 {
+        (self.specconv_oiio_select_subimage)(input, subimage)
+    }
+    pub unsafe fn specconv_oiio_num_levels(
+        &self,
+        input: *const specconv_oiio_input,
+    ) -> i32 {
+        (self.specconv_oiio_num_levels)(input)
+    }
+    pub unsafe fn specconv_oiio_level_info(
+        &self,
+        input: *const specconv_oiio_input,
+        level: i32,
+        out: *mut specconv_oiio_level,
+    ) -> i32 {
+        (self.specconv_oiio_level_info)(input, level, out)
+    }
+    pub unsafe fn specconv_oiio_channel_name(
+        &self,
+        input: *const specconv_oiio_input,
+        channel: i32,
+        out: *mut *const ::std::os::raw::c_char,
+    ) -> i32 {
+        (self.specconv_oiio_channel_name)(input, channel, out)
+    }
+    pub unsafe fn specconv_oiio_channel_format(
+        &self,
+        input: *const specconv_oiio_input,
+        channel: i32,
+        out: *mut *const ::std::os::raw::c_char,
+    ) -> i32 {
+        (self.specconv_oiio_channel_format)(input, channel, out)
+    }
+    pub unsafe fn specconv_oiio_string_attribute(
+        &self,
+        input: *const specconv_oiio_input,
+        name: *const ::std::os::raw::c_char,
+        buf: *mut ::std::os::raw::c_char,
+        buf_len: usize,
+        len: *mut i64,
+    ) -> i32 {
+        (self.specconv_oiio_string_attribute)(input, name, buf, buf_len, len)
+    }
+    pub unsafe fn specconv_oiio_numeric_attribute(
+        &self,
+        input: *const specconv_oiio_input,
+        name: *const ::std::os::raw::c_char,
+        buf: *mut f64,
+        buf_len: usize,
+        len: *mut i64,
+    ) -> i32 {
+        (self.specconv_oiio_numeric_attribute)(input, name, buf, buf_len, len)
+    }
+    pub unsafe fn specconv_oiio_bytes_attribute(
+        &self,
+        input: *const specconv_oiio_input,
+        name: *const ::std::os::raw::c_char,
+        buf: *mut u8,
+        buf_len: usize,
+        len: *mut i64,
+    ) -> i32 {
+        (self.specconv_oiio_bytes_attribute)(input, name, buf, buf_len, len)
+    }
+    pub unsafe fn specconv_oiio_read_tiles(
+        &self,
+        input: *mut specconv_oiio_input,
+        level: i32,
+        xbegin: i32,
+        xend: i32,
+        ybegin: i32,
+        yend: i32,
+        chbegin: i32,
+        chend: i32,
+        out: *mut f32,
+        out_len: usize,
+    ) -> i32 {
+        (self
+            .specconv_oiio_read_tiles)(
+            input,
+            level,
+            xbegin,
+            xend,
+            ybegin,
+            yend,
+            chbegin,
+            chend,
+            out,
+            out_len,
+        )
+    }
+    pub unsafe fn specconv_oiio_read_scanlines(
+        &self,
+        input: *mut specconv_oiio_input,
+        level: i32,
+        ybegin: i32,
+        yend: i32,
+        chbegin: i32,
+        chend: i32,
+        out: *mut f32,
+        out_len: usize,
+    ) -> i32 {
+        (self
+            .specconv_oiio_read_scanlines)(
+            input,
+            level,
+            ybegin,
+            yend,
+            chbegin,
+            chend,
+            out,
+            out_len,
+        )
+    }
 }

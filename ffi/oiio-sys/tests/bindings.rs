@@ -4,11 +4,5 @@
 
 #[test]
 fn committed_bindings_match_the_header() {
-    specconv_shim_build::Shim {
-        name: "oiio",
-        library: "OpenImageIO",
-        min_version: "2.4",
-        debian_package: "libopenimageio-dev",
-    }
-    .check_bindings(std::path::Path::new(env!("CARGO_MANIFEST_DIR")));
+    specconv_shim_build::OIIO.check_bindings(std::path::Path::new(env!("CARGO_MANIFEST_DIR")));
 }

@@ -15,7 +15,9 @@
 //! unless [`ImageReader::select_subimage`] picks another.
 //!
 //! All `unsafe` is in this file and only calls the C shim of `oiio-sys`, which catches
-//! every C++ exception and reports failures as status codes.
+//! every C++ exception and reports failures as status codes. The shim, and OpenImageIO with
+//! it, is loaded when the first image is opened ([`oiio_sys::shim`]), not when the program
+//! starts; where it cannot be, opening says so ([`Error::Unavailable`]).
 
 use std::ffi::{CStr, CString};
 use std::fmt;
@@ -47,9 +49,14 @@ pub enum Error {
     },
     #[error("{}: OpenImageIO failed unexpectedly: {message}", path.display())]
     Internal { path: PathBuf, message: String },
+    /// OpenImageIO's libraries could not be loaded (at the first image opened).
+    #[error("{}: cannot be read: {source}", path.display())]
+    Unavailable { path: PathBuf, source: LoadError },
 }
 
 pub type Result<T, E = Error> = std::result::Result<T, E>;
+
+pub use sys::LoadError;
 
 /// The stored data type of a channel, as OIIO names it.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -284,6 +291,7 @@ impl Pixels {
 
 /// An open image file. Closing happens on drop.
 pub struct ImageReader {
+    shim: &'static sys::SpecconvOiio,
     raw: NonNull<sys::specconv_oiio_input>,
     info: ImageInfo,
 }
@@ -295,7 +303,7 @@ unsafe impl Send for ImageReader {}
 impl Drop for ImageReader {
     fn drop(&mut self) {
         // SAFETY: raw came from specconv_oiio_open and is freed exactly once, here.
-        unsafe { sys::specconv_oiio_close(self.raw.as_ptr()) }
+        unsafe { self.shim.specconv_oiio_close(self.raw.as_ptr()) }
     }
 }
 
@@ -308,10 +316,10 @@ impl fmt::Debug for ImageReader {
 }
 
 /// The shim's message for the last failure on this thread.
-fn last_error() -> String {
+fn last_error(shim: &sys::SpecconvOiio) -> String {
     // SAFETY: the shim returns a NUL-terminated thread-local string, valid until the next
     // shim call on this thread; it is copied at once.
-    unsafe { CStr::from_ptr(sys::specconv_oiio_last_error()) }
+    unsafe { CStr::from_ptr(shim.specconv_oiio_last_error()) }
         .to_string_lossy()
         .trim()
         .to_owned()
@@ -340,11 +348,13 @@ fn path_to_cstring(path: &Path) -> Option<CString> {
     CString::new(path.to_str()?).ok()
 }
 
-/// Runtime OpenImageIO version as (major, minor, patch).
-pub fn oiio_version() -> (u32, u32, u32) {
+/// Runtime OpenImageIO version as (major, minor, patch); loads OpenImageIO if no image has
+/// been opened yet.
+pub fn oiio_version() -> Result<(u32, u32, u32), LoadError> {
+    let shim = sys::shim()?;
     // SAFETY: a plain query without arguments.
-    let v = unsafe { sys::specconv_oiio_version() }.max(0) as u32;
-    (v / 10000, v / 100 % 100, v % 100)
+    let v = unsafe { shim.specconv_oiio_version() }.max(0) as u32;
+    Ok((v / 10000, v / 100 % 100, v % 100))
 }
 
 impl ImageReader {
@@ -367,11 +377,15 @@ impl ImageReader {
                 message: "the path contains a NUL byte".into(),
             });
         };
+        let shim = match sys::shim() {
+            Ok(shim) => shim,
+            Err(source) => return Err(Error::Unavailable { path, source }),
+        };
         let mut raw = std::ptr::null_mut();
         // SAFETY: c_path is a valid C string for the call; raw receives an owned handle.
-        let status = unsafe { sys::specconv_oiio_open(c_path.as_ptr(), &mut raw) } as u32;
+        let status = unsafe { shim.specconv_oiio_open(c_path.as_ptr(), &mut raw) } as u32;
         if status != sys::SPECCONV_OIIO_OK {
-            let message = last_error();
+            let message = last_error(shim);
             return Err(match status {
                 sys::SPECCONV_OIIO_ERR_UNSUPPORTED => Error::Unsupported { path, message },
                 sys::SPECCONV_OIIO_ERR_OPEN => Error::Open { path, message },
@@ -385,6 +399,7 @@ impl ImageReader {
             });
         };
         let mut reader = ImageReader {
+            shim,
             raw,
             info: ImageInfo {
                 path,
@@ -423,7 +438,10 @@ impl ImageReader {
         }
         let index = i32::try_from(subimage).unwrap_or(i32::MAX);
         // SAFETY: live handle; the shim checks the index.
-        self.check(unsafe { sys::specconv_oiio_select_subimage(self.raw.as_ptr(), index) })?;
+        self.check(unsafe {
+            self.shim
+                .specconv_oiio_select_subimage(self.raw.as_ptr(), index)
+        })?;
         self.info = self.read_info()?;
         self.info.subimage = subimage;
         Ok(())
@@ -435,7 +453,7 @@ impl ImageReader {
 
     fn status_error(&self, status: u32) -> Error {
         let path = self.info.path.clone();
-        let message = last_error();
+        let message = last_error(self.shim);
         match status {
             sys::SPECCONV_OIIO_ERR_READ => Error::Read { path, message },
             sys::SPECCONV_OIIO_ERR_ARGUMENT => Error::InvalidRequest { path, message },
@@ -453,17 +471,17 @@ impl ImageReader {
     }
 
     fn read_info(&self) -> Result<ImageInfo> {
-        let raw = self.raw.as_ptr();
+        let (shim, raw) = (self.shim, self.raw.as_ptr());
         // SAFETY (this block): raw is a live handle; out-pointers point at locals; strings
         // returned are owned by the handle and copied before it can go away.
-        let format_name = shim_str(unsafe { sys::specconv_oiio_format_name(raw) });
-        let subimages = unsafe { sys::specconv_oiio_num_subimages(raw) }.max(1) as u32;
-        let nlevels = unsafe { sys::specconv_oiio_num_levels(raw) };
+        let format_name = shim_str(unsafe { shim.specconv_oiio_format_name(raw) });
+        let subimages = unsafe { shim.specconv_oiio_num_subimages(raw) }.max(1) as u32;
+        let nlevels = unsafe { shim.specconv_oiio_num_levels(raw) };
         let mut levels = Vec::with_capacity(nlevels.max(0) as usize);
         let mut top = None;
         for level in 0..nlevels {
             let mut l = std::mem::MaybeUninit::<sys::specconv_oiio_level>::zeroed();
-            self.check(unsafe { sys::specconv_oiio_level_info(raw, level, l.as_mut_ptr()) })?;
+            self.check(unsafe { shim.specconv_oiio_level_info(raw, level, l.as_mut_ptr()) })?;
             // SAFETY: the shim filled every field on success (and zeroed() covers the rest).
             let l = unsafe { l.assume_init() };
             if l.width <= 0 || l.height <= 0 || l.nchannels <= 0 {
@@ -502,8 +520,8 @@ impl ImageReader {
         for c in 0..top.nchannels {
             let mut name = std::ptr::null();
             let mut format = std::ptr::null();
-            self.check(unsafe { sys::specconv_oiio_channel_name(raw, c, &mut name) })?;
-            self.check(unsafe { sys::specconv_oiio_channel_format(raw, c, &mut format) })?;
+            self.check(unsafe { shim.specconv_oiio_channel_name(raw, c, &mut name) })?;
+            self.check(unsafe { shim.specconv_oiio_channel_format(raw, c, &mut format) })?;
             channels.push(Channel {
                 name: shim_str(name),
                 format: PixelFormat::from_oiio(&shim_str(format)),
@@ -515,7 +533,7 @@ impl ImageReader {
         let mut subimage_names = Vec::with_capacity(subimages as usize);
         for i in 0..subimages as i32 {
             let mut name = std::ptr::null();
-            self.check(unsafe { sys::specconv_oiio_subimage_name(raw, i, &mut name) })?;
+            self.check(unsafe { shim.specconv_oiio_subimage_name(raw, i, &mut name) })?;
             subimage_names.push(shim_str(name));
         }
         Ok(ImageInfo {
@@ -540,18 +558,19 @@ impl ImageReader {
     /// A numeric attribute of the file's header (top level) as its values in order: a
     /// scalar, an array, or an aggregate such as OpenEXR's `chromaticities` (8 values).
     pub fn numeric_attribute(&self, name: &str) -> Result<Option<Vec<f64>>> {
-        self.attribute(name, 0, sys::specconv_oiio_numeric_attribute)
+        self.attribute(name, 0, self.shim.specconv_oiio_numeric_attribute)
     }
 
     /// A byte-array attribute of the file's header (top level), such as `ICCProfile`.
     pub fn bytes_attribute(&self, name: &str) -> Result<Option<Vec<u8>>> {
-        self.attribute(name, 0, sys::specconv_oiio_bytes_attribute)
+        self.attribute(name, 0, self.shim.specconv_oiio_bytes_attribute)
     }
 
     /// A string attribute of the file's header (top level), if present.
     pub fn string_attribute(&self, name: &str) -> Result<Option<String>> {
         // One more byte for the terminator the shim writes.
-        let Some(mut buf) = self.attribute(name, 1, sys::specconv_oiio_string_attribute)? else {
+        let Some(mut buf) = self.attribute(name, 1, self.shim.specconv_oiio_string_attribute)?
+        else {
             return Ok(None);
         };
         buf.pop();
@@ -668,11 +687,12 @@ impl ImageReader {
     }
 
     fn read_tiles_aligned(&mut self, level: usize, r: Region) -> Result<Pixels> {
+        let shim = self.shim;
         self.read_block(r.width(), r.height(), |raw, nch, out, len| {
             // SAFETY: live handle; `out` holds `len` = width*height*channels floats, and the
             // shim writes no more than the region asks for.
             unsafe {
-                sys::specconv_oiio_read_tiles(
+                shim.specconv_oiio_read_tiles(
                     raw,
                     level as i32,
                     r.x0 as i32,
@@ -724,10 +744,11 @@ impl ImageReader {
             };
             return self.read_region(level, region);
         }
+        let shim = self.shim;
         self.read_block(l.width, rows.end - rows.start, |raw, nch, out, len| {
             // SAFETY: as in read_tiles_aligned; the buffer covers full rows of the level.
             unsafe {
-                sys::specconv_oiio_read_scanlines(
+                shim.specconv_oiio_read_scanlines(
                     raw,
                     level as i32,
                     rows.start as i32,

@@ -88,3 +88,10 @@ fn out_of_range_requests_are_refused() {
     let err = scan.read_tile(0, 0, 0).unwrap_err();
     assert!(err.to_string().contains("stored as scanlines"), "{err}");
 }
+
+#[test]
+fn the_runtime_openimageio_is_2_4_or_later() {
+    // Loads OpenImageIO if no test of this binary has yet.
+    let (major, minor, _) = specconv_oiio::oiio_version().unwrap();
+    assert!((major, minor) >= (2, 4), "{major}.{minor}");
+}
