@@ -175,6 +175,10 @@ fn from_temp_file(image: &[u8]) -> Result<SpecconvOiio, String> {
 mod tests {
     use super::*;
 
+    /// The tests that may write a temporary shim run one at a time: one lists what another
+    /// would be writing.
+    static TEMPORARY_FILES: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
     #[test]
     fn the_embedded_shim_loads_and_answers() {
         let shim = shim().expect("the shim loads");
@@ -185,6 +189,7 @@ mod tests {
 
     #[test]
     fn a_broken_object_is_an_error_naming_the_library_not_a_panic() {
+        let _one_at_a_time = TEMPORARY_FILES.lock().unwrap_or_else(|e| e.into_inner());
         let Err(e) = load(b"not a shared object") else {
             panic!("garbage loaded as a shared object");
         };
@@ -200,6 +205,7 @@ mod tests {
 
     #[test]
     fn the_temporary_file_way_loads_too_and_leaves_nothing() {
+        let _one_at_a_time = TEMPORARY_FILES.lock().unwrap_or_else(|e| e.into_inner());
         let shim = from_temp_file(SHIM_SO).unwrap_or_else(|e| panic!("from a file: {e}"));
         // SAFETY: as above.
         assert!(unsafe { shim.specconv_oiio_version() } >= 20400);

@@ -3,13 +3,12 @@
 //! converts every pixel. A colour's `colorspace` is a name of the scene's OCIO config (as
 //! --colorspace; absent: the config's sRGB texture space, convert's default for integer
 //! pixels). A texture pixel is read by OpenImageIO and its colour space chosen by convert's
-//! rules (specconv_pipeline::colour: `colorspace`, else what the file declares, the config's
+//! rules (specconv_conversion::images::pixel_xyz: `colorspace`, else what the file declares, the config's
 //! file rules, the format's default). The colour is a material's: straight alpha is not applied.
 
 use crate::files;
-use anyhow::{anyhow, bail, Context, Result};
+use anyhow::{anyhow, Result};
 use specconv_colour::SpectralTable;
-use specconv_conversion::images::{ImageReader, Region};
 use specconv_conversion::ocio::Config;
 use specconv_study::scene::{self, Cause};
 use std::path::{Path, PathBuf};
@@ -76,60 +75,8 @@ impl scene::Resolve for Resources {
         space: Option<&str>,
     ) -> Result<[f64; 3], Cause> {
         let config = self.config()?;
-        Ok(pixel_xyz(path, pixel, space, config)?)
+        Ok(specconv_conversion::images::pixel_xyz(
+            config, path, pixel, space,
+        )?)
     }
-}
-
-/// XYZ (white Y = 1) of pixel `[x, y]` (from the top left) of the full-resolution level.
-fn pixel_xyz(
-    path: &Path,
-    [x, y]: [u32; 2],
-    colorspace: Option<&str>,
-    config: &Config,
-) -> Result<[f64; 3]> {
-    let mut reader = ImageReader::open(path)
-        .with_context(|| format!("cannot read the texture {}", path.display()))?;
-    let info = reader.info().clone();
-    let (w, h) = (info.width(), info.height());
-    if x >= w || y >= h {
-        bail!(
-            "pixel = [{x}, {y}] is outside {} ({w}×{h}): x runs from 0 to {}, y from 0 to {} \
-             (top left)",
-            path.display(),
-            w - 1,
-            h - 1
-        );
-    }
-    let space = specconv_conversion::images::input_space(config, &reader, colorspace)?;
-    let px = reader.read_region(
-        0,
-        Region {
-            x0: x,
-            y0: y,
-            x1: x + 1,
-            y1: y + 1,
-        },
-    )?;
-    let values = px.pixel(0, 0);
-    // The colour channels as convert takes them.
-    let colour =
-        specconv_conversion::images::colour_channels(info.channels.len(), info.alpha_channel);
-    let Some(rgb) = specconv_conversion::images::colour_of(values, &colour) else {
-        bail!("{} has no colour channels", path.display());
-    };
-    if !rgb.iter().all(|v| v.is_finite()) {
-        bail!(
-            "pixel [{x}, {y}] of {} is {rgb:?}, not a colour; choose another pixel",
-            path.display()
-        );
-    }
-    let xyz = space.to_xyz.convert(rgb)?;
-    if !xyz.iter().all(|v| v.is_finite()) {
-        bail!(
-            "pixel [{x}, {y}] of {} ({rgb:?} in {}) has no finite XYZ",
-            path.display(),
-            space.name
-        );
-    }
-    Ok(xyz.map(f64::from))
 }

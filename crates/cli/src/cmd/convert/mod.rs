@@ -1,14 +1,18 @@
 //! `specconv [convert] INPUT… OUTPUT`: the main job.
 
+mod plan;
+mod printing;
+
+pub(crate) use plan::plan;
+use printing::converted;
+
 use crate::progress::{Progress, Summary};
-use crate::{checks, exit, explain, files, methods, print_error, records, usage};
-use anyhow::{bail, Context, Result};
-use serde::Serialize;
+use crate::{exit, explain, methods, print_error, records, usage};
+use anyhow::Result;
 use specconv_conversion::{
-    Alpha, Batch, Blocks, Compression, Converter, Event, Mip, Options, Report, Rounding, Sample,
+    Alpha, Batch, Blocks, Compression, Converter, Event, Mip, Options, Rounding, Sample,
 };
 use specconv_spectral::method::MethodName;
-use std::io::BufRead;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
@@ -229,72 +233,6 @@ pub struct ReadArgs {
     pub channels: Option<String>,
 }
 
-/// One input's record (`--json`): every key on every record, null where it does not apply
-/// (docs/json.md).
-#[derive(Serialize)]
-struct Record {
-    input: PathBuf,
-    output: PathBuf,
-    /// `ok`, `skipped` or `failed`.
-    status: &'static str,
-    /// Why a skipped input was skipped.
-    skip_reason: Option<&'static str>,
-    /// Why a failed input failed, without its path (the record has it).
-    error: Option<String>,
-    seconds: f64,
-    /// Pixels uplifted, over all levels.
-    pixels: Option<u64>,
-    width: Option<usize>,
-    height: Option<usize>,
-    levels: Option<usize>,
-    bands: Option<usize>,
-    /// The input colour space (the config's name) and the rule that chose it.
-    colorspace: Option<String>,
-    colorspace_rule: Option<&'static str>,
-    /// The subimage read, and the colour (then alpha) channels.
-    subimage: Option<u32>,
-    channels: Option<Vec<String>>,
-    /// Pixels (all levels) projected into [0, 1] and outside the object-colour solid; null
-    /// with --unbounded or --emissive.
-    bounded: Option<BoundedCounts>,
-    non_finite: Option<u64>,
-    above_one: Option<u64>,
-    saturated: Option<u64>,
-}
-
-impl Record {
-    /// A record of an input that was not converted.
-    fn not_converted(input: &Path, output: &Path, status: &'static str, seconds: f64) -> Record {
-        Record {
-            input: input.to_path_buf(),
-            output: output.to_path_buf(),
-            status,
-            skip_reason: None,
-            error: None,
-            seconds,
-            pixels: None,
-            width: None,
-            height: None,
-            levels: None,
-            bands: None,
-            colorspace: None,
-            colorspace_rule: None,
-            subimage: None,
-            channels: None,
-            bounded: None,
-            non_finite: None,
-            above_one: None,
-            saturated: None,
-        }
-    }
-}
-
-#[derive(Serialize)]
-struct BoundedCounts {
-    projected: usize,
-    outside_solid: usize,
-}
-
 /// Runs the conversion of every input; returns the exit status ([`exit`]: all done, any
 /// failed, interrupted). Settings that cannot work for any input are usage errors, found
 /// before the first input.
@@ -380,11 +318,7 @@ fn run_batch(args: &Args, converter: &Converter, pairs: &[(PathBuf, PathBuf)]) -
             Event::Skipped { input, output } => {
                 progress.skip();
                 summary.skipped += 1;
-                let record = Record {
-                    skip_reason: Some("up to date"),
-                    ..Record::not_converted(input, output, "skipped", 0.0)
-                };
-                emit(args, record, "");
+                printing::skipped(args, input, output);
             }
             Event::Converted {
                 input,
@@ -407,11 +341,7 @@ fn run_batch(args: &Args, converter: &Converter, pairs: &[(PathBuf, PathBuf)]) -
                     print_error(&format!("{}: {error}", input.display()));
                 }
                 summary.failed.push((input.to_path_buf(), error.clone()));
-                let record = Record {
-                    error: Some(error),
-                    ..Record::not_converted(input, output, "failed", seconds)
-                };
-                emit(args, record, "");
+                printing::failed(args, (input, output), error, seconds);
             }
             _ => {}
         });
@@ -426,119 +356,6 @@ fn run_batch(args: &Args, converter: &Converter, pairs: &[(PathBuf, PathBuf)]) -
         exit::OK
     } else {
         exit::FAILED
-    }
-}
-
-/// Reports a converted input: its warnings, its record or line.
-fn converted(args: &Args, converter: &Converter, (input, output): (&Path, &Path), r: &Report) {
-    if !args.quiet {
-        for w in &r.warnings {
-            eprintln!("specconv: warning: {}: {w}", input.display());
-        }
-    }
-    let line = summary_line(r)
-        + &r.bounded.map_or(String::new(), |c| {
-            format!(
-                ", {} pixels projected into [0, 1], {} outside the object-colour solid \
-                 (nearest colour in CIELAB)",
-                c.projected, c.outside
-            )
-        })
-        + &range_notes(r, converter);
-    let record = Record {
-        pixels: Some(r.pixels),
-        width: Some(r.width),
-        height: Some(r.height),
-        levels: Some(r.levels),
-        bands: Some(r.bands),
-        colorspace: Some(r.colorspace.clone()),
-        colorspace_rule: Some(records::colorspace_rule(&r.colorspace_rule)),
-        subimage: Some(r.selection.subimage),
-        channels: Some(r.selection.channels.names.clone()),
-        bounded: r.bounded.map(|c| BoundedCounts {
-            projected: c.projected,
-            outside_solid: c.outside,
-        }),
-        non_finite: Some(r.non_finite),
-        above_one: Some(r.above_one),
-        saturated: Some(r.saturated),
-        ..Record::not_converted(input, output, "ok", r.seconds)
-    };
-    emit(args, record, &line);
-}
-
-/// `W×H, L levels, N bands, colour space …, …, S s` of a converted input.
-fn summary_line(r: &Report) -> String {
-    let plural = if r.levels == 1 { "" } else { "s" };
-    let mut line = format!(
-        "{}×{}, {} level{plural}, {} bands, colour space {} ({}), {}",
-        r.width,
-        r.height,
-        r.levels,
-        r.bands,
-        r.colorspace,
-        records::colorspace_reason(&r.colorspace_rule),
-        records::selection(&r.selection),
-    );
-    if r.premultiplied {
-        line += ", straight alpha premultiplied";
-    }
-    if r.non_finite > 0 {
-        line += &format!(", {} pixels NaN or infinite (written as NaN)", r.non_finite);
-    }
-    line + &format!(", {:.2} s", r.seconds)
-}
-
-/// The summary's notes on values out of range: pixels above 1 in reflectance mode (and the
-/// --emissive hint when they are at least 1 % of the image), emission colours no spectrum of
-/// the method matched, values saturated at the half range.
-fn range_notes(r: &Report, converter: &Converter) -> String {
-    let mut notes = String::new();
-    match (r.unmatched, converter.emission_method_name()) {
-        (Some(unmatched), Some(inner)) if unmatched > 0 => {
-            notes += &format!(
-                ", {unmatched} pixels no emission of {inner} matches (outside the spectral locus or \
-                 negative luminance: written with the nearest colour it reached)",
-            );
-        }
-        (Some(_), _) => {}
-        _ if r.above_one > 0 => {
-            let what = if converter.keeps_range() {
-                "moved to the closest colour a reflectance can have"
-            } else {
-                "spectra above 1, not physical reflectances"
-            };
-            notes += &format!(", {} pixels above 1 ({what})", r.above_one);
-            if r.above_one * 100 >= r.pixels {
-                notes += "; an emission or HDR texture? convert it with --emissive";
-            }
-        }
-        _ => {}
-    }
-    if r.saturated > 0 {
-        notes += &format!(
-            ", {} pixels beyond the half range (stored as ±65504; use -d float)",
-            r.saturated
-        );
-    }
-    notes
-}
-
-fn emit(args: &Args, record: Record, line: &str) {
-    if args.json {
-        println!(
-            "{}",
-            serde_json::to_string(&record).expect("a record serialises")
-        );
-    } else if !args.quiet && record.status != "failed" {
-        eprintln!(
-            "{} → {}: {}{line}",
-            record.input.display(),
-            record.output.display(),
-            record
-                .skip_reason
-                .map_or(String::new(), |r| format!("skipped, {r}"))
-        );
     }
 }
 
@@ -559,79 +376,4 @@ impl Args {
     pub(crate) fn colorspace(&self) -> Option<&str> {
         self.colorspace.as_deref()
     }
-}
-
-/// Inputs and their outputs, from the positional paths, `-o DIR` or `--output-template`.
-pub(crate) fn plan(args: &Args) -> Result<(Vec<PathBuf>, Vec<PathBuf>)> {
-    let mut paths = args.paths.clone();
-    let single = args.output.is_none() && args.output_template.is_none();
-    let explicit_output = if single {
-        if paths.len() != 2 {
-            bail!(
-                "give INPUT OUTPUT, or several inputs with -o DIR or --output-template (got {} path{})",
-                paths.len(),
-                if paths.len() == 1 { "" } else { "s" }
-            );
-        }
-        paths.pop()
-    } else {
-        None
-    };
-    let mut inputs = Vec::new();
-    for p in paths {
-        if p.as_os_str() == "-" {
-            for line in std::io::stdin().lock().lines() {
-                let line = line.context("cannot read input paths from standard input")?;
-                if !line.trim().is_empty() {
-                    inputs.push(PathBuf::from(line.trim_end()));
-                }
-            }
-        } else {
-            inputs.push(p);
-        }
-    }
-    let outputs: Vec<PathBuf> = match (&explicit_output, &args.output, &args.output_template) {
-        (Some(o), _, _) => vec![o.clone()],
-        (None, Some(dir), _) => {
-            checks::directory(dir)?;
-            inputs
-                .iter()
-                .map(|i| dir.join(format!("{}_spectral.exr", stem(i))))
-                .collect()
-        }
-        (None, None, Some(t)) => inputs
-            .iter()
-            .map(|i| {
-                let dir = i
-                    .parent()
-                    .filter(|d| !d.as_os_str().is_empty())
-                    .unwrap_or(Path::new("."));
-                PathBuf::from(
-                    t.replace("{dir}", &dir.display().to_string())
-                        .replace("{stem}", &stem(i))
-                        .replace(
-                            "{name}",
-                            &i.file_name()
-                                .map(|n| n.to_string_lossy().into_owned())
-                                .unwrap_or_default(),
-                        ),
-                )
-            })
-            .collect(),
-        (None, None, None) => unreachable!("single conversions have an explicit output"),
-    };
-    let mut seen = std::collections::HashSet::new();
-    for o in &outputs {
-        files::check_output(o, &["exr"], "specconv writes spectral OpenEXR")?;
-        if !seen.insert(o.clone()) {
-            bail!("two inputs would both be written to {}; use a template with {{dir}} or rename them", o.display());
-        }
-        checks::output_dir(o)?;
-    }
-    Ok((inputs, outputs))
-}
-
-fn stem(p: &Path) -> String {
-    p.file_stem()
-        .map_or_else(|| "output".into(), |s| s.to_string_lossy().into_owned())
 }
