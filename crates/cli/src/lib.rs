@@ -9,15 +9,12 @@ use std::io::Write;
 mod checks;
 mod cmd;
 mod files;
-mod font;
 mod man;
 mod methods;
 mod picture;
-mod plot;
 mod progress;
 mod records;
 mod shard;
-mod swatches;
 
 /// Turn textures in any colour space into spectral reflectance images, with the clustered-PCA
 /// uplift of Otsu, Yamamoto and Hachisuka 2018.
@@ -563,7 +560,12 @@ mod tests {
     #[test]
     fn the_environment_section_names_every_variable_read() {
         let root = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."));
-        let not_at_run_time = ["SPECCONV_UPDATE_MAN", "SPECCONV_REGENERATE_BINDINGS"];
+        let not_at_run_time = [
+            "SPECCONV_UPDATE_MAN",
+            "SPECCONV_REGENERATE_BINDINGS",
+            // Build scripts (ffi/shim-build) read what cargo gives them.
+            "OUT_DIR",
+        ];
         let mut read = std::collections::BTreeSet::new();
         let mut dirs = vec![root.join("crates"), root.join("ffi"), root.join("src")];
         while let Some(dir) = dirs.pop() {

@@ -25,6 +25,7 @@
 
 mod batch;
 mod converter;
+pub mod cost;
 mod error;
 pub mod images;
 pub mod models;

@@ -9,7 +9,13 @@ use std::path::{Path, PathBuf};
 /// lower layers; dev-dependencies are free (tests sit above everything).
 const LAYERS: &[&[&str]] = &[
     &["specconv-shim-build", "specconv-atomic-file"],
-    &["specconv-colour", "specconv-exr", "oiio-sys", "ocio-sys"],
+    &[
+        "specconv-colour",
+        "specconv-exr",
+        "oiio-sys",
+        "ocio-sys",
+        "specconv-pictures",
+    ],
     &[
         "specconv-spectral",
         "specconv-oiio",

@@ -2,12 +2,11 @@
 
 use crate::explain;
 use crate::files;
-use crate::font::FAMILY;
-use crate::picture::{self, Format};
+use crate::picture::Format;
 use anyhow::Result;
-use plotters::prelude::*;
 use serde::Serialize;
 use specconv_colour::Illuminant;
+use specconv_pictures::picture;
 use std::path::PathBuf;
 
 /// The most bounces asked for: r^(K+1) of any reflectance below 1 is black long before.
@@ -99,7 +98,12 @@ pub fn run(args: Args) -> Result<()> {
     let mean = finite.iter().sum::<f64>() / finite.len().max(1) as f64;
 
     let png = if args.diff_rgb {
-        heat_map(w, h, &shaded.delta_e, max.max(1.0), args.bounces)?
+        specconv_pictures::heat::heat_map(
+            (w, h),
+            &shaded.delta_e,
+            max.max(1.0),
+            &format!("ΔE00, K={}", args.bounces),
+        )?
     } else {
         let rgb: Vec<u8> = shaded.display.iter().flatten().copied().collect();
         picture::encode_png(&rgb, w as u32, h as u32)?
@@ -139,51 +143,4 @@ pub fn run(args: Args) -> Result<()> {
         );
     }
     Ok(())
-}
-
-/// Black → red → yellow → white as ΔE goes from 0 to 1 (of the scale): readable in grey too.
-fn heat(t: f64) -> [u8; 3] {
-    let t = if t.is_finite() {
-        t.clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    let c = |v: f64| (v.clamp(0.0, 1.0) * 255.0).round() as u8;
-    [c(3.0 * t), c(3.0 * t - 1.0), c(3.0 * t - 2.0)]
-}
-
-const BAR: u32 = 110;
-
-/// The ΔE image with a colour bar and its scale to the right.
-fn heat_map(w: usize, h: usize, delta_e: &[f64], scale: f64, k: u32) -> Result<Vec<u8>> {
-    let (width, height) = (w as u32 + BAR, (h as u32).max(200));
-    let mut rgb = picture::render((width, height), |root| {
-        root.fill(&WHITE)?;
-        let (x0, top, bottom) = (w as i32 + 12, 24, height as i32 - 12);
-        let style = |size| (FAMILY, size).into_font().color(&BLACK);
-        root.draw(&Text::new(format!("ΔE00, K={k}"), (x0, 4), style(12.0)))?;
-        for y in top..=bottom {
-            let t = f64::from(bottom - y) / f64::from(bottom - top);
-            let [r, g, b] = heat(t);
-            root.draw(&Rectangle::new(
-                [(x0, y), (x0 + 18, y + 1)],
-                RGBColor(r, g, b).filled(),
-            ))?;
-        }
-        for (t, y) in [(1.0, top), (0.5, (top + bottom) / 2), (0.0, bottom - 10)] {
-            root.draw(&Text::new(
-                format!("{:.2}", t * scale),
-                (x0 + 24, y),
-                style(12.0),
-            ))?;
-        }
-        Ok(())
-    })?;
-    for y in 0..h {
-        for x in 0..w {
-            let i = 3 * (y * width as usize + x);
-            rgb[i..i + 3].copy_from_slice(&heat(delta_e[y * w + x] / scale));
-        }
-    }
-    picture::encode_png(&rgb, width, height)
 }

@@ -1,17 +1,16 @@
 //! `specconv report`: every method on the same spectra, accuracy and cost in one table.
 
 use crate::picture::Format;
-use crate::{files, methods, plot};
+use crate::{files, methods};
 use anyhow::{bail, Context, Result};
-use rayon::prelude::*;
 use serde::Serialize;
 use specconv_colour::{Colorimetry, Grid};
+use specconv_pictures::plot;
 use specconv_spectral::method::MethodName;
 use specconv_spectral::stack::{Setting, Stack};
 use specconv_spectral::{Method, Model, TrainOptions};
 use specconv_study::{cost, eval};
 use std::path::PathBuf;
-use std::time::Instant;
 
 /// Shown after `--help` and as the man page's EXAMPLES.
 pub const EXAMPLES: &str = "\
@@ -285,20 +284,6 @@ fn clustered(
     Ok((first, eval::summarise(&outcomes)))
 }
 
-/// Seconds to uplift `xyz` tile by tile on one thread, and on the pool.
-fn time(m: &dyn Method, xyz: &[f32], pool: &rayon::ThreadPool) -> (f64, f64) {
-    let n = m.grid().len();
-    let single = cost::time_one_thread(m, xyz);
-    let start = Instant::now();
-    pool.install(|| {
-        xyz.par_chunks(3 * cost::TILE).for_each_init(
-            || vec![0f32; cost::TILE * n],
-            |out, tile| cost::uplift_tiles(m, tile, out),
-        )
-    });
-    (single, start.elapsed().as_secs_f64())
-}
-
 fn row(
     args: &Args,
     pool: &rayon::ThreadPool,
@@ -309,7 +294,7 @@ fn row(
     s: &eval::Summary,
 ) -> Row {
     let xyz = cost::timing_colours(a, args.colours);
-    let (t1, tn) = time(m, &xyz, pool);
+    let (t1, tn) = specconv_conversion::cost::time(m, &xyz, pool);
     let c = args.colours as f64;
     Row {
         method: name.to_string(),

@@ -2,10 +2,11 @@
 
 use super::Report;
 use crate::files;
-use crate::picture::{self, Format};
-use crate::swatches::{self, Block, Cell, Row};
+use crate::picture::Format;
 use anyhow::{bail, Result};
 use serde::Serialize;
+use specconv_pictures::picture;
+use specconv_pictures::swatches::{self, Block, Cell, Row};
 use std::path::{Path, PathBuf};
 
 /// More blocks than this make a picture nobody reads; --patch chooses.
@@ -42,7 +43,7 @@ pub fn check(path: &Path, force: bool, patches: usize) -> Result<()> {
              {MAX_PATCHES} with --patch NAME (repeatable)"
         );
     }
-    crate::font::ensure()
+    Ok(specconv_pictures::font::ensure()?)
 }
 
 /// Draws the report's patches and writes the PNG atomically.

@@ -2,7 +2,7 @@
 //! with fonts registered at run time, and the repository ships none: the system's DejaVu Sans
 //! (Debian: fonts-dejavu-core), or the TrueType file named by `SPECCONV_FONT`.
 
-use anyhow::{anyhow, Result};
+use crate::{Error, Result};
 use plotters::style::FontStyle;
 use std::path::PathBuf;
 use std::sync::OnceLock;
@@ -15,14 +15,14 @@ pub const DEFAULT_FONT: &str = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf"
 
 /// Registers the font for [`FAMILY`] once per process; later calls return the first outcome.
 pub fn ensure() -> Result<()> {
-    static REGISTERED: OnceLock<Result<(), String>> = OnceLock::new();
+    static REGISTERED: OnceLock<std::result::Result<(), String>> = OnceLock::new();
     REGISTERED
         .get_or_init(|| register(std::env::var_os("SPECCONV_FONT").map(PathBuf::from)))
         .clone()
-        .map_err(|e| anyhow!(e))
+        .map_err(Error::Font)
 }
 
-fn register(over: Option<PathBuf>) -> Result<(), String> {
+fn register(over: Option<PathBuf>) -> std::result::Result<(), String> {
     let from_env = over.is_some();
     let path = over.unwrap_or_else(|| PathBuf::from(DEFAULT_FONT));
     let bytes = std::fs::read(&path).map_err(|e| {

@@ -11,17 +11,24 @@ use serde::Serialize;
 /// One block: a title, the column labels, and rows of swatches.
 #[derive(Clone)]
 pub struct Block {
+    /// Above the block.
     pub title: String,
+    /// Above each column.
     pub columns: Vec<String>,
+    /// The rows of swatches.
     pub rows: Vec<Row>,
 }
 
+/// One labelled row of swatches.
 #[derive(Clone)]
 pub struct Row {
+    /// Left of the row.
     pub label: String,
+    /// Its swatches, one per column.
     pub cells: Vec<Cell>,
 }
 
+/// One swatch.
 #[derive(Clone)]
 pub struct Cell {
     /// Display sRGB (encoded), each in [0, 1].
@@ -33,12 +40,19 @@ pub struct Cell {
 /// Where a swatch landed, in pixels: block, row and column indices and its rectangle.
 #[derive(Debug, Clone, Serialize)]
 pub struct Placed {
+    /// Index of its block.
     pub block: usize,
+    /// Index of its row in the block.
     pub row: usize,
+    /// Index of its column.
     pub column: usize,
+    /// Left edge, pixels.
     pub x: u32,
+    /// Top edge, pixels.
     pub y: u32,
+    /// Width, pixels.
     pub width: u32,
+    /// Height, pixels.
     pub height: u32,
 }
 
