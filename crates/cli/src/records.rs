@@ -22,6 +22,11 @@ pub fn colorspace_reason(rule: &specconv_conversion::Rule) -> String {
     }
 }
 
+/// A declaration of the file that was not followed, and how to choose instead.
+pub fn warning(w: &specconv_conversion::Warning) -> String {
+    format!("{w} (pass --colorspace to choose)")
+}
+
 /// `subimage 1 'albedo' of 2, channels R,G,B (why)`: what of an input was read.
 pub fn selection(s: &specconv_conversion::Selection) -> String {
     use specconv_conversion::images::ChannelReason;

@@ -15,7 +15,7 @@ use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
 pub use specconv_pipeline::input::Selection;
-pub use specconv_pipeline::Rule;
+pub use specconv_pipeline::{Rule, Warning};
 
 /// Units of `S0.` channels: radiance, as the layout names it; the scale is the convention of
 /// `specconvEmissionUnits`.
@@ -64,7 +64,7 @@ pub struct Report {
     /// The rule that chose it.
     pub colorspace_rule: Rule,
     /// Declarations of the file that were ignored or disagree.
-    pub warnings: Vec<String>,
+    pub warnings: Vec<Warning>,
     /// Straight colour was multiplied by alpha after conversion.
     pub premultiplied: bool,
     /// Pixels whose colour had a NaN or infinite component.

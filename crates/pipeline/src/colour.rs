@@ -199,6 +199,47 @@ impl Rule {
     }
 }
 
+/// A declaration of the file that was not followed. Said without options: a front-end adds
+/// how to choose the colour space.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Warning {
+    /// A declaration that cannot be used.
+    Ignored {
+        /// The declaration ("ICC profile", …).
+        what: String,
+        /// Why it cannot be used.
+        why: String,
+    },
+    /// Two declarations that disagree: the first is used.
+    Disagree {
+        /// The declaration used.
+        what: String,
+        /// The colour space it says.
+        name: String,
+        /// The declaration not followed.
+        other: String,
+        /// The colour space that one says.
+        other_name: String,
+    },
+}
+
+impl fmt::Display for Warning {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Warning::Ignored { what, why } => write!(f, "the file's {what} is ignored: {why}"),
+            Warning::Disagree {
+                what,
+                name,
+                other,
+                other_name,
+            } => write!(
+                f,
+                "the file's {what} says '{name}' but its {other} says '{other_name}'; using '{name}'"
+            ),
+        }
+    }
+}
+
 /// The input colour space, the rule that chose it, and how its pixels reach XYZ.
 #[derive(Debug)]
 pub struct InputSpace {
@@ -209,7 +250,7 @@ pub struct InputSpace {
     /// How its pixels reach XYZ.
     pub to_xyz: ToXyz,
     /// Declarations that were ignored or disagree.
-    pub warnings: Vec<String>,
+    pub warnings: Vec<Warning>,
 }
 
 /// What a file may declare about its colour.
@@ -436,7 +477,7 @@ pub fn input_space(
     for (what, d) in declarations(reader)? {
         match resolve(config, &d)? {
             Ok((name, route)) => usable.push((what, name, route)),
-            Err(why) => warnings.push(format!("the file's {what} is ignored: {why}")),
+            Err(why) => warnings.push(Warning::Ignored { what, why }),
         }
     }
     if let Some(flag) = flag {
@@ -460,10 +501,12 @@ pub fn input_space(
             if same_conversion(route, &to_xyz) {
                 agreeing.push(other.clone());
             } else {
-                warnings.push(format!(
-                    "the file's {what} says '{name}' but its {other} says '{other_name}'; \
-                     using '{name}' (pass --colorspace to choose)"
-                ));
+                warnings.push(Warning::Disagree {
+                    what: what.clone(),
+                    name: name.clone(),
+                    other: other.clone(),
+                    other_name: other_name.clone(),
+                });
             }
         }
         return Ok(InputSpace {

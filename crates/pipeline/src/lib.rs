@@ -20,7 +20,7 @@ pub mod colour;
 pub mod input;
 mod png;
 
-pub use colour::{input_space, Alpha, InputSpace, Rule, ToXyz};
+pub use colour::{input_space, Alpha, InputSpace, Rule, ToXyz, Warning};
 use rayon::prelude::*;
 use specconv_exr::{Block, Blocks, Chunk, Compression, Kind, Sample, Spec, SpectralFile, Windows};
 use specconv_ocio::Config;
@@ -213,7 +213,7 @@ pub struct Report {
     /// The rule that chose it.
     pub colorspace_rule: Rule,
     /// Declarations of the file that were ignored or disagree.
-    pub warnings: Vec<String>,
+    pub warnings: Vec<Warning>,
     /// Straight colour was multiplied by alpha after conversion.
     pub premultiplied: bool,
     /// Pixels whose colour had a NaN or infinite component (their spectra are NaN).

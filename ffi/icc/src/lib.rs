@@ -20,10 +20,7 @@ use lcms2::{
 pub enum Error {
     #[error("the embedded ICC profile cannot be read by Little CMS: {0}")]
     Parse(String),
-    #[error(
-        "the embedded ICC profile describes {0:?} data, not RGB or grey; pass --colorspace \
-         with the colour space the pixels are in"
-    )]
+    #[error("the embedded ICC profile describes {0:?} data, not RGB or grey")]
     Unsupported(ColorSpaceSignature),
     #[error("Little CMS cannot convert the embedded ICC profile '{name}' to XYZ: {message}")]
     Transform { name: String, message: String },

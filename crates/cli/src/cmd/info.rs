@@ -288,7 +288,7 @@ fn show(args: &Args, config: &Config, file: &Path) -> Result<()> {
         colorspace: space.name.clone(),
         colorspace_rule: crate::records::colorspace_rule(&space.rule),
         colorspace_reason: crate::records::colorspace_reason(&space.rule),
-        colorspace_warnings: space.warnings.clone(),
+        colorspace_warnings: space.warnings.iter().map(crate::records::warning).collect(),
         straight_alpha,
         to_xyz: space.to_xyz.describe(),
         spectral,

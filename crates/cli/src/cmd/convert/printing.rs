@@ -99,6 +99,7 @@ pub(super) fn converted(
 ) {
     if !args.quiet {
         for w in &r.warnings {
+            let w = records::warning(w);
             eprintln!("specconv: warning: {}: {w}", input.display());
         }
     }
