@@ -18,6 +18,7 @@ cases=(
   "bands-smits|$images/rgb16.tif OUT/a.exr --bands 400:700:5 --method smits1999"
   "piz-scanline|$images/photo.jpg OUT/a.exr --compression piz --scanline"
   "photometric|$images/sky.hdr OUT/a.exr --emissive --emission-units photometric -d float"
+  "photometric-half|$images/sky.hdr OUT/a.exr --emissive --emission-units photometric"
   "colour-rounding|$images/float_scanline.exr OUT/a.exr --half-rounding colour --unbounded"
   "tile-level|$images/srgb8.png OUT/a.exr --mip 0 --tile 32 16 --zip-level 6 -j 1"
   "jakob|$images/rgba16.png OUT/a.exr --method jakob2019 --alpha straight"

@@ -4,7 +4,8 @@
 use crate::error::{ConversionError, Error};
 use crate::options::{alpha_name, mip_name, sample_name, Blocks, Options, Rounding};
 use crate::provenance::Provenance;
-use specconv_exr::Kind;
+use specconv_colour::EmissionUnits;
+use specconv_exr::{Kind, Sample};
 use specconv_ocio::Config;
 use specconv_pipeline::{Job, Settings};
 use specconv_spectral::bounded::Counts;
@@ -273,6 +274,35 @@ impl Converter {
     /// The provenance every output records, but for the input's own fields.
     pub fn provenance(&self) -> &Provenance {
         &self.provenance
+    }
+
+    /// What these options will cost in accuracy, said before any input is read.
+    pub fn advice(&self) -> Vec<Advice> {
+        let o = &self.options;
+        let mut advice = Vec::new();
+        if o.emission == Some(EmissionUnits::Photometric) && o.sample == Sample::Half {
+            advice.push(Advice::PhotometricHalf);
+        }
+        advice
+    }
+}
+
+/// A setting that works but costs accuracy.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum Advice {
+    /// Photometric emission in half samples: Y = 683·∫ S0·ȳ dλ puts S0 ≈ Y/73000 a band, below
+    /// half's normal range (6.1e-5) for scenes under ≈4 cd/m², with few digits left far above.
+    PhotometricHalf,
+}
+
+impl std::fmt::Display for Advice {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Advice::PhotometricHalf => f.write_str(
+                "photometric S0 of scenes below a few cd/m² falls below what half resolves",
+            ),
+        }
     }
 }
 

@@ -10,7 +10,7 @@ use crate::progress::{Progress, Summary};
 use crate::{exit, explain, methods, print_error, records, usage};
 use anyhow::Result;
 use specconv_conversion::{
-    Alpha, Batch, Blocks, Compression, Converter, Event, Mip, Options, Rounding, Sample,
+    Advice, Alpha, Batch, Blocks, Compression, Converter, Event, Mip, Options, Rounding, Sample,
 };
 use specconv_spectral::method::MethodName;
 use std::path::{Path, PathBuf};
@@ -247,17 +247,14 @@ pub fn run(args: Args) -> Result<i32> {
     let pairs: Vec<(PathBuf, PathBuf)> = pairs.0.into_iter().zip(pairs.1).collect();
     let converter =
         Converter::new(args.options()).map_err(|e| usage(anyhow::anyhow!(explain(&e))))?;
-    if args.emissive
-        && args.emission_units == specconv_colour::EmissionUnits::Photometric
-        && args.data_type == Sample::Half
-        && !args.quiet
-    {
-        // Y = 683·∫ S0·ȳ dλ: S0 ≈ Y/73000 per band, below half's normal range (6.1e-5) for
-        // scenes under ≈4 cd/m², and few digits left far above.
-        eprintln!(
-            "specconv: note: photometric S0 of scenes below a few cd/m² falls below what half \
-             resolves; use -d float"
-        );
+    if !args.quiet {
+        for advice in converter.advice() {
+            let fix = match advice {
+                Advice::PhotometricHalf => "; use -d float",
+                _ => "",
+            };
+            eprintln!("specconv: note: {advice}{fix}");
+        }
     }
     if args.verbose && !args.quiet {
         eprintln!("config: {}", converter.config_source());
