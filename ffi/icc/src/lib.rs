@@ -10,22 +10,35 @@
 //! The transforms are built in a per-object Little CMS context without cache, so they are
 //! `Send + Sync` and shared by the pipeline's worker threads.
 #![forbid(unsafe_code)]
+#![warn(missing_docs)]
 
 use lcms2::{
     ColorSpaceSignature, DisallowCache, Flags, InfoType, Intent, Locale, PixelFormat,
     ThreadContext, Transform,
 };
 
+/// What can go wrong reading an ICC profile or making its transform to XYZ.
 #[derive(Debug, thiserror::Error)]
 pub enum Error {
+    /// Little CMS cannot parse the profile's bytes ([`Profile::new`]); holds its message.
     #[error("the embedded ICC profile cannot be read by Little CMS: {0}")]
     Parse(String),
+    /// The profile's data colour space is neither RGB nor grey ([`Profile::to_pcs`]); holds
+    /// that colour space's signature.
     #[error("the embedded ICC profile describes {0:?} data, not RGB or grey")]
     Unsupported(ColorSpaceSignature),
+    /// Little CMS cannot make the transform from the profile to PCS XYZ
+    /// ([`Profile::to_pcs`]).
     #[error("Little CMS cannot convert the embedded ICC profile '{name}' to XYZ: {message}")]
-    Transform { name: String, message: String },
+    Transform {
+        /// The profile's description ([`Profile::description`]).
+        name: String,
+        /// Little CMS's message.
+        message: String,
+    },
 }
 
+/// A result whose error is, by default, this crate's [`Error`].
 pub type Result<T, E = Error> = std::result::Result<T, E>;
 
 /// The D50 white of the ICC profile connection space (ICC.1:2022, 7.2.16), Y = 1.

@@ -32,6 +32,7 @@ pub enum BuiltinConfig {
 }
 
 impl BuiltinConfig {
+    /// The config's YAML ([`CG_CONFIG_YAML`] or [`STUDIO_CONFIG_YAML`]).
     pub fn yaml(self) -> &'static str {
         match self {
             Self::Cg => CG_CONFIG_YAML,
@@ -111,8 +112,11 @@ pub enum ConfigSource {
     Env(PathBuf),
     /// A built-in config, by the name that picked it (`aces` when none was given).
     Builtin {
+        /// The name that picked it (`aces` or an `ocio://` name).
         name: String,
+        /// Which built-in config.
         config: BuiltinConfig,
+        /// Whether the name came from `$OCIO` rather than `--ocio` (or no choice at all).
         from_env: bool,
     },
 }

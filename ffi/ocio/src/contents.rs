@@ -11,28 +11,37 @@ use crate::{config_str, cstring, last_error, Config, Error, Processor, Result, X
 /// One view of a display.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct View {
+    /// The view's name.
     pub name: String,
     /// Empty for a view that names a colour space directly.
     pub view_transform: String,
     /// The display colour space, or `<USE_DISPLAY_NAME>` for shared views.
     pub color_space: String,
+    /// The looks the view applies, as the config writes them; empty when none.
     pub looks: String,
 }
 
 /// One look.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Look {
+    /// The look's name.
     pub name: String,
+    /// The colour space the look is applied in.
     pub process_space: String,
 }
 
 /// One file rule.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct FileRule {
+    /// The rule's name.
     pub name: String,
+    /// The colour space the rule gives matching files, as the config writes it.
     pub color_space: String,
+    /// The glob pattern the file name must match, empty when the rule has none.
     pub pattern: String,
+    /// The glob pattern the file extension must match, empty when the rule has none.
     pub extension: String,
+    /// The regular expression the path must match, empty when the rule has none.
     pub regex: String,
 }
 

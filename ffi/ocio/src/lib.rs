@@ -25,6 +25,7 @@
 //!
 //! All `unsafe` of this crate is in this file and `contents.rs`, and only calls the C shim of `ocio-sys`,
 //! which catches every C++ exception.
+#![warn(missing_docs)]
 
 use std::ffi::{CStr, CString};
 use std::fmt;
@@ -45,44 +46,88 @@ pub use contents::{FileRule, Look, View};
 /// What can go wrong with colour management.
 #[derive(Debug, thiserror::Error)]
 pub enum Error {
+    /// There is no config file at the path (nothing there, or not a file); checked before
+    /// OpenColorIO is asked.
     #[error("OCIO config {}: no such file", path.display())]
-    ConfigNotFound { path: PathBuf },
+    ConfigNotFound {
+        /// The config's path.
+        path: PathBuf,
+    },
+    /// An `ocio://` name that picks no built-in config.
     #[error(
         "unknown built-in OCIO config '{name}'; pass a config file or one of the built-in \
          configs: {}",
         quote_list(known)
     )]
-    UnknownBuiltinConfig { name: String, known: Vec<String> },
+    UnknownBuiltinConfig {
+        /// The name given.
+        name: String,
+        /// Every name that picks a built-in config ([`BUILTIN_NAMES`]).
+        known: Vec<String>,
+    },
+    /// OpenColorIO cannot read, parse or validate the config, or fails to answer a question
+    /// about it (its colour spaces, roles, lists, file rules).
     #[error("OCIO config {origin} failed to load: {message}")]
-    ConfigLoad { origin: String, message: String },
+    ConfigLoad {
+        /// Where the config came from, as [`ConfigSource`] displays it.
+        origin: String,
+        /// OpenColorIO's message, through the shim.
+        message: String,
+    },
+    /// The config has no colour space, alias or role of that name.
     #[error(
         "unknown colour space '{name}' in OCIO config {origin}; {}",
         suggest(close)
     )]
     UnknownColorSpace {
+        /// The name asked for.
         name: String,
+        /// Where the config came from, as [`ConfigSource`] displays it.
         origin: String,
+        /// The config's colour spaces with names close to it ([`Config::close_names`]);
+        /// empty when none is close.
         close: Vec<String>,
     },
+    /// The config has neither role that leads to CIE XYZ ([`Config::processor_to_xyz`]).
     #[error(
         "OCIO config {origin} has neither a cie_xyz_d65_interchange nor an aces_interchange \
          role, so there is no way to CIE XYZ; add one of them to the config's roles"
     )]
-    NoInterchangeRole { origin: String },
+    NoInterchangeRole {
+        /// Where the config came from, as [`ConfigSource`] displays it.
+        origin: String,
+    },
+    /// The colour space is a data space (`Raw`, [`ColorSpace::is_data`]), which is not
+    /// converted to CIE XYZ.
     #[error("colour space '{name}' holds data, not colour, and cannot be uplifted to a spectrum")]
-    DataColorSpace { name: String },
+    DataColorSpace {
+        /// The colour space's canonical name.
+        name: String,
+    },
+    /// The config lacks what would give pixels of a kind their default colour space. No
+    /// function of this crate returns it; it is for callers that pick the default.
     #[error("OCIO config {origin} has no {what}, so no default colour space for {pixels} pixels")]
     NoDefault {
+        /// Where the config came from, as [`ConfigSource`] displays it.
         origin: String,
+        /// What the config lacks (a role, a colour space).
         what: &'static str,
+        /// The kind of pixels that have no default.
         pixels: &'static str,
     },
+    /// OpenColorIO cannot build a processor, or apply one.
     #[error("OpenColorIO could not convert '{src}' to '{dst}': {message}")]
     Processor {
+        /// The source colour space (canonical name).
         src: String,
+        /// The destination: a colour space, `DISPLAY / VIEW` for a view, or `CIE XYZ (D65)`
+        /// when an XYZ processor fails to apply.
         dst: String,
+        /// OpenColorIO's message, through the shim.
         message: String,
     },
+    /// An argument that cannot be passed on or that the shim refused: a string with a NUL
+    /// byte, pixel data that is not whole pixels; holds the reason.
     #[error("invalid argument: {0}")]
     Argument(String),
 }
@@ -103,15 +148,22 @@ fn quote_list(names: &[String]) -> String {
         .join(", ")
 }
 
+/// A result whose error is, by default, this crate's [`Error`].
 pub type Result<T, E = Error> = std::result::Result<T, E>;
 
 /// One colour space of a config.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct ColorSpace {
+    /// The canonical name.
     pub name: String,
+    /// Its other names, which the config also accepts.
     pub aliases: Vec<String>,
+    /// Its `family` in the config, empty when none.
     pub family: String,
+    /// Its `encoding` in the config (`scene-linear`, `sdr-video`, `log`, ...), empty when
+    /// none.
     pub encoding: String,
+    /// Its description, trimmed; empty when none.
     pub description: String,
     /// Data, not colour (`Raw`): never converted, never uplifted.
     pub is_data: bool,
@@ -233,6 +285,7 @@ impl Config {
         }
     }
 
+    /// Where the config came from.
     pub fn source(&self) -> &ConfigSource {
         &self.source
     }
@@ -537,6 +590,7 @@ impl Processor {
         &self.src
     }
 
+    /// The destination and, for a processor to CIE XYZ, the role it goes through.
     pub fn route(&self) -> &XyzRoute {
         &self.route
     }

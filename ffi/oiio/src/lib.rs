@@ -18,6 +18,7 @@
 //! every C++ exception and reports failures as status codes. The shim, and OpenImageIO with
 //! it, is loaded when the first image is opened ([`oiio_sys::shim`]), not when the program
 //! starts; where it cannot be, opening says so ([`Error::Unavailable`]).
+#![warn(missing_docs)]
 
 use std::ffi::{CStr, CString};
 use std::fmt;
@@ -30,30 +31,80 @@ use oiio_sys as sys;
 /// What can go wrong opening or reading an image.
 #[derive(Debug, thiserror::Error)]
 pub enum Error {
+    /// The file does not exist (checked before OpenImageIO is asked).
     #[error("{}: no such file", path.display())]
-    NotFound { path: PathBuf },
+    NotFound {
+        /// The path asked for.
+        path: PathBuf,
+    },
+    /// The file cannot be opened as an image or its header cannot be read: OpenImageIO fails
+    /// to open it, it is a directory, its path holds a NUL byte, or it holds no image.
     #[error("{}: cannot be read as an image: {message}", path.display())]
-    Open { path: PathBuf, message: String },
+    Open {
+        /// The image's path.
+        path: PathBuf,
+        /// OpenImageIO's message, or specconv's where it refused the file itself.
+        message: String,
+    },
+    /// A valid image of a kind specconv does not read: deep or volume (3D) images, or a MIP
+    /// level without pixels or channels.
     #[error("{}: {message}", path.display())]
-    Unsupported { path: PathBuf, message: String },
+    Unsupported {
+        /// The image's path.
+        path: PathBuf,
+        /// What the image is that cannot be read.
+        message: String,
+    },
+    /// Pixel data cannot be read: a corrupt or truncated file, or an I/O error.
     #[error("{}: reading pixels failed (is the file truncated or corrupt?): {message}", path.display())]
-    Read { path: PathBuf, message: String },
+    Read {
+        /// The image's path.
+        path: PathBuf,
+        /// OpenImageIO's message.
+        message: String,
+    },
+    /// The caller asked for what the image does not have: a subimage, MIP level, tile, rows
+    /// or region outside it, or tiles of a scanline image.
     #[error("{}: {message}", path.display())]
-    InvalidRequest { path: PathBuf, message: String },
+    InvalidRequest {
+        /// The image's path.
+        path: PathBuf,
+        /// What was asked for and what the image has, or the shim's message where it refused
+        /// the call.
+        message: String,
+    },
+    /// The buffer for a block of pixels cannot be allocated (or its size overflows `usize`).
     #[error("{}: {width}x{height}x{channels} pixels do not fit in memory", path.display())]
     TooLarge {
+        /// The image's path.
         path: PathBuf,
+        /// Width of the block, in pixels.
         width: u32,
+        /// Height of the block, in pixels.
         height: u32,
+        /// Channels per pixel (every channel of the image).
         channels: usize,
     },
+    /// OpenImageIO raised a C++ exception (caught by the shim), or the shim failed in a way
+    /// this crate does not expect there.
     #[error("{}: OpenImageIO failed unexpectedly: {message}", path.display())]
-    Internal { path: PathBuf, message: String },
+    Internal {
+        /// The image's path.
+        path: PathBuf,
+        /// The shim's message (the exception's text, for an exception).
+        message: String,
+    },
     /// OpenImageIO's libraries could not be loaded (at the first image opened).
     #[error("{}: cannot be read: {source}", path.display())]
-    Unavailable { path: PathBuf, source: LoadError },
+    Unavailable {
+        /// The image's path.
+        path: PathBuf,
+        /// Why the shim or OpenImageIO could not be loaded.
+        source: LoadError,
+    },
 }
 
+/// A result whose error is, by default, this crate's [`Error`].
 pub type Result<T, E = Error> = std::result::Result<T, E>;
 
 pub use sys::LoadError;
@@ -61,15 +112,25 @@ pub use sys::LoadError;
 /// The stored data type of a channel, as OIIO names it.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum PixelFormat {
+    /// 8-bit unsigned integer (`uint8`).
     U8,
+    /// 8-bit signed integer (`int8`).
     I8,
+    /// 16-bit unsigned integer (`uint16`).
     U16,
+    /// 16-bit signed integer (`int16`).
     I16,
+    /// 32-bit unsigned integer (`uint` or `uint32`).
     U32,
+    /// 32-bit signed integer (`int` or `int32`).
     I32,
+    /// 16-bit float (`half`).
     Half,
+    /// 32-bit float (`float`).
     Float,
+    /// 64-bit float (`double`).
     Double,
+    /// Any other type, by OpenImageIO's name for it.
     Other(String),
 }
 
@@ -118,26 +179,35 @@ impl fmt::Display for PixelFormat {
 /// One channel of the image.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Channel {
+    /// The channel's name as OpenImageIO reports it (`R`, `A`, `Y`, ...).
     pub name: String,
+    /// The channel's stored data type (it is read as `f32` whatever it is).
     pub format: PixelFormat,
 }
 
 /// A rectangle of the file's pixel space: its origin (which may be negative) and size.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Window {
+    /// Left edge (first column).
     pub x: i32,
+    /// Top edge (first row).
     pub y: i32,
+    /// Width in pixels.
     pub width: u32,
+    /// Height in pixels.
     pub height: u32,
 }
 
 /// Geometry of one MIP level (level 0 is full resolution).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Level {
+    /// Width of the data window (the stored pixels), in pixels.
     pub width: u32,
+    /// Height of the data window, in pixels.
     pub height: u32,
-    /// Data window origin in the file's pixel space.
+    /// Data window origin in the file's pixel space: its left edge.
     pub x: i32,
+    /// Data window origin in the file's pixel space: its top edge.
     pub y: i32,
     /// The display window ("full" window) of the level, as OpenImageIO reports it. OpenEXR
     /// has one per file (part), which OIIO gives level 0; other levels get their data window.
@@ -167,9 +237,11 @@ impl Level {
 /// Everything the reader learns from the header.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct ImageInfo {
+    /// The path the image was opened from.
     pub path: PathBuf,
     /// OIIO's name of the format plugin ("openexr", "tiff", "png", ...).
     pub format_name: String,
+    /// The channels of the subimage (of its level 0), in file order.
     pub channels: Vec<Channel>,
     /// Index of the alpha channel, if the file marks one.
     pub alpha_channel: Option<usize>,
@@ -191,9 +263,11 @@ pub struct ImageInfo {
 }
 
 impl ImageInfo {
+    /// Width of level 0 (full resolution), in pixels.
     pub fn width(&self) -> u32 {
         self.levels[0].width
     }
+    /// Height of level 0 (full resolution), in pixels.
     pub fn height(&self) -> u32 {
         self.levels[0].height
     }
@@ -201,6 +275,7 @@ impl ImageInfo {
     pub fn pixel_format(&self) -> &PixelFormat {
         &self.channels[0].format
     }
+    /// Tile width and height of level 0, `None` for scanline storage.
     pub fn tile_size(&self) -> Option<(u32, u32)> {
         self.levels[0].tile
     }
@@ -241,16 +316,22 @@ impl ImageInfo {
 /// A rectangle of pixels `[x0, x1) × [y0, y1)` of one level.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Region {
+    /// First column.
     pub x0: u32,
+    /// First row.
     pub y0: u32,
+    /// One past the last column.
     pub x1: u32,
+    /// One past the last row.
     pub y1: u32,
 }
 
 impl Region {
+    /// Width in pixels, `x1 - x0`.
     pub fn width(&self) -> u32 {
         self.x1 - self.x0
     }
+    /// Height in pixels, `y1 - y0`.
     pub fn height(&self) -> u32 {
         self.y1 - self.y0
     }
@@ -259,9 +340,13 @@ impl Region {
 /// Pixels read from a level: `width × height × channels` interleaved `f32`, rows top down.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Pixels {
+    /// Width of the block, in pixels.
     pub width: u32,
+    /// Height of the block, in pixels.
     pub height: u32,
+    /// Values per pixel: every channel of the image, in file order.
     pub channels: usize,
+    /// The values, `width × height × channels` of them.
     pub data: Vec<f32>,
 }
 
@@ -447,6 +532,7 @@ impl ImageReader {
         Ok(())
     }
 
+    /// What the header says about the file and its selected subimage.
     pub fn info(&self) -> &ImageInfo {
         &self.info
     }
