@@ -195,12 +195,8 @@ impl Error {
     }
 }
 
-/// Colour management errors that a named colour space fixes.
+/// The colour-management error that naming the colour space fixes: a data space.
 pub fn colour_remedy(e: &specconv_ocio::Error) -> Option<Remedy> {
-    use specconv_ocio::Error as Ocio;
-    match e {
-        Ocio::DataColorSpace { .. } => Some(Remedy::NameEncodingColourSpace),
-        Ocio::NoDefault { .. } => Some(Remedy::NameColourSpace),
-        _ => None,
-    }
+    matches!(e, specconv_ocio::Error::DataColorSpace { .. })
+        .then_some(Remedy::NameEncodingColourSpace)
 }

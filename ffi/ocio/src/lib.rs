@@ -104,17 +104,6 @@ pub enum Error {
         /// The colour space's canonical name.
         name: String,
     },
-    /// The config lacks what would give pixels of a kind their default colour space. No
-    /// function of this crate returns it; it is for callers that pick the default.
-    #[error("OCIO config {origin} has no {what}, so no default colour space for {pixels} pixels")]
-    NoDefault {
-        /// Where the config came from, as [`ConfigSource`] displays it.
-        origin: String,
-        /// What the config lacks (a role, a colour space).
-        what: &'static str,
-        /// The kind of pixels that have no default.
-        pixels: &'static str,
-    },
     /// OpenColorIO cannot build a processor, or apply one.
     #[error("OpenColorIO could not convert '{src}' to '{dst}': {message}")]
     Processor {
