@@ -182,21 +182,10 @@ impl Error {
     pub fn is_cancelled(&self) -> bool {
         matches!(self, Error::Conversion(ConversionError::Cancelled))
     }
-
-    /// The output this error is about, where it names one.
-    pub fn output(&self) -> Option<&PathBuf> {
-        match self {
-            Error::Conversion(
-                ConversionError::OutputExists { output }
-                | ConversionError::InputIsOutput { output },
-            ) => Some(output),
-            _ => None,
-        }
-    }
 }
 
 /// The colour-management error that naming the colour space fixes: a data space.
-pub fn colour_remedy(e: &specconv_ocio::Error) -> Option<Remedy> {
+fn colour_remedy(e: &specconv_ocio::Error) -> Option<Remedy> {
     matches!(e, specconv_ocio::Error::DataColorSpace { .. })
         .then_some(Remedy::NameEncodingColourSpace)
 }

@@ -37,7 +37,7 @@ pub mod to_rgb;
 
 pub use batch::{Batch, Event, Summary};
 pub use converter::{Advice, Converter, Report, Rule, Selection, Warning};
-pub use error::{colour_remedy, ConversionError, Error, Remedy};
+pub use error::{ConversionError, Error, Remedy};
 pub use options::{Alpha, Blocks, Compression, Mip, Options, Rounding, Sample, UnknownName};
 pub use provenance::Provenance;
 pub use specconv_spectral::bounded::Counts;

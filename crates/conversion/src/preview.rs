@@ -88,6 +88,7 @@ pub fn shade(input: &Path, options: &PreviewOptions) -> Result<Shaded, Error> {
     let lit = Colorimetry::new(grid, observer, light).map_err(colorimetry)?;
     let bounce = SelfBounce::new(&texture, &lit, options.bounces)?;
 
+    let to_display = SRGB.from_xyz(SRGB.white_xyz());
     let mut display = vec![[0u8; 3]; h.width * h.height];
     let mut delta_e = vec![0.0f64; h.width * h.height];
     while let Some(block) = reader.next_block() {
@@ -95,8 +96,7 @@ pub fn shade(input: &Path, options: &PreviewOptions) -> Result<Shaded, Error> {
         let shaded = shade_pixels(
             &b.bands,
             b.width * b.height,
-            &onto,
-            &bounce,
+            (&onto, &bounce, &to_display),
             options.diff_rgb,
         );
         for (row, values) in shaded.chunks_exact(b.width).enumerate() {
@@ -118,16 +118,15 @@ pub fn shade(input: &Path, options: &PreviewOptions) -> Result<Shaded, Error> {
     })
 }
 
-/// Per pixel of `bands` (planes of `pixels` values): display sRGB after the bounces and, with
-/// `diff_rgb`, the CIEDE2000 from RGB multiplication (NaN where the pixel is not finite).
+/// Per pixel of `bands` (planes of `pixels` values): display sRGB (`to_display`: XYZ to linear
+/// sRGB) after the bounces and, with `diff_rgb`, the CIEDE2000 from RGB multiplication (NaN
+/// where the pixel is not finite).
 fn shade_pixels(
     bands: &[Vec<f32>],
     pixels: usize,
-    onto: &Onto,
-    bounce: &SelfBounce,
+    (onto, bounce, to_display): (&Onto, &SelfBounce, &[[f64; 3]; 3]),
     diff_rgb: bool,
 ) -> Vec<([u8; 3], f64)> {
-    let to_display = SRGB.from_xyz(SRGB.white_xyz());
     let white = bounce.white();
     (0..pixels)
         .into_par_iter()
@@ -151,7 +150,7 @@ fn shade_pixels(
                     .zip(fine.iter())
                     .for_each(|(r, &v)| *r = v as f32);
                 let xyz = bounce.spectral(r);
-                let display = apply(&to_display, xyz)
+                let display = apply(to_display, xyz)
                     .map(|v| (srgb_encode(v.clamp(0.0, 1.0)) * 255.0).round() as u8);
                 let d = if diff_rgb {
                     ciede2000(xyz_to_lab(xyz, white), xyz_to_lab(bounce.rgb(r), white))
