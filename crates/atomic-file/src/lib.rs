@@ -1,7 +1,20 @@
-//! The one way specconv writes a file: into a temporary file beside the target, renamed over
-//! it only when complete. A failed, cancelled or killed writer leaves no partial target (a
-//! killed one leaves its temporary, which [`leftovers`] finds), and readers of the target see
-//! the old file or the new one, never half of either.
+//! What specconv may write and how it writes it; the rules every command that writes shares.
+//!
+//! - [`Pending`]: a file is written into a temporary file beside its target and renamed over it
+//!   only when complete. A failed, cancelled or killed writer leaves no partial target, and
+//!   readers of the target see the old file or the new one, never half of either.
+//! - Temporary names cannot collide: they carry a random part and are created with `O_EXCL`,
+//!   so writers in other PID namespaces (containers, nodes on one shared file system) never
+//!   share one. Each writer holds a lock on its temporary for as long as it lives; a temporary
+//!   nobody holds belongs to a dead writer, and the next writer of that target removes it
+//!   ([`remove_stale`]). While one writer is live, a second writer of the same target is refused
+//!   ([`Busy`]) instead of both succeeding and one silently replacing the other.
+//! - [`Pending::commit_new`] publishes only if the target does not exist (a hard link, which
+//!   fails on an existing name), so two conversions without `--force` cannot both succeed;
+//!   [`Pending::commit`] replaces the target and keeps its mode and, where permitted, its owner.
+//! - [`plan`]: the files of a whole job checked before the first write, compared as files
+//!   (device and inode, and the directory entry for outputs that do not exist yet), never as
+//!   path strings; [`kind`]: special files refused before any read, side files read bounded.
 //!
 //! ```
 //! use std::io::Write;
@@ -11,7 +24,7 @@
 //! let pending = specconv_atomic_file::Pending::beside(&target)?;
 //! writeln!(pending.file(), "whole or nothing")?;
 //! assert!(!target.exists());
-//! pending.commit()?;
+//! pending.commit_new()?;
 //! assert_eq!(std::fs::read_to_string(&target)?, "whole or nothing\n");
 //! # std::fs::remove_dir_all(&dir)?;
 //! # Ok::<(), std::io::Error>(())
@@ -19,10 +32,16 @@
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
+pub mod kind;
+mod names;
+pub mod plan;
+
+pub use kind::{read_bounded, readable_file, Kind, ReadError};
+pub use plan::{check as check_plan, Place, PlanError, Replace};
+
 use std::fs::File;
 use std::io;
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicU64, Ordering};
 
 /// A file being written for `target`: commit it to rename it into place; drop it to remove it.
 #[derive(Debug)]
@@ -32,29 +51,65 @@ pub struct Pending {
     file: File,
 }
 
+/// Another writer is writing the same target now (its temporary is locked).
+#[derive(Debug, thiserror::Error)]
+#[error(
+    "another specconv is writing {} now (its temporary file {}); wait for it to finish or choose another output",
+    target.display(), other.display()
+)]
+pub struct Busy {
+    /// The target.
+    pub target: PathBuf,
+    /// The other writer's temporary file.
+    pub other: PathBuf,
+}
+
 impl Pending {
     /// Creates a new temporary file beside `target` (same directory, so the rename stays on
-    /// one file system). Its name is new: never a file another writer holds.
+    /// one file system), after removing the temporaries of dead writers of `target`. Fails
+    /// with [`io::ErrorKind::ResourceBusy`] (carrying [`Busy`]) while another writer of
+    /// `target` is live.
     pub fn beside(target: &Path) -> io::Result<Pending> {
-        loop {
-            let temporary = temporary_path(target);
-            match File::options()
+        remove_stale(target);
+        let pending = loop {
+            let temporary = names::temporary(target);
+            let file = match File::options()
+                .read(true)
                 .write(true)
                 .create_new(true)
                 .open(&temporary)
             {
-                Ok(file) => {
-                    return Ok(Pending {
-                        target: target.to_path_buf(),
-                        temporary: Some(temporary),
-                        file,
-                    })
-                }
-                // Another writer's name: take the next.
+                Ok(f) => f,
                 Err(e) if e.kind() == io::ErrorKind::AlreadyExists => continue,
                 Err(e) => return Err(e),
+            };
+            let pending = Pending {
+                target: target.to_path_buf(),
+                temporary: Some(temporary),
+                file,
+            };
+            // Locked and still ours: a cleaner that found it in the instant before the lock
+            // may have removed it; then take a new name. A file system without locks gives
+            // no way to tell live writers from dead ones: the file is written unlocked.
+            match pending.file.try_lock() {
+                Ok(()) if pending.is_still_named() => break pending,
+                Err(std::fs::TryLockError::Error(_)) => break pending,
+                _ => continue,
             }
+        };
+        if let Some(other) = live_temporaries(target)
+            .into_iter()
+            .find(|t| Some(t) != pending.temporary.as_ref())
+        {
+            return Err(io::Error::new(
+                io::ErrorKind::ResourceBusy,
+                Busy {
+                    target: target.to_path_buf(),
+                    other,
+                },
+            ));
         }
+        Ok(pending)
     }
 
     /// The temporary file to write into (`&File` is `Write`).
@@ -62,8 +117,21 @@ impl Pending {
         &self.file
     }
 
-    /// Renames the temporary file over the target.
+    /// Whether the temporary's name still names this file.
+    fn is_still_named(&self) -> bool {
+        use std::os::unix::fs::MetadataExt;
+        let (Some(path), Ok(ours)) = (&self.temporary, self.file.metadata()) else {
+            return false;
+        };
+        std::fs::symlink_metadata(path)
+            .is_ok_and(|m| m.dev() == ours.dev() && m.ino() == ours.ino())
+    }
+
+    /// Renames the temporary file over the target, which keeps the replaced file's mode and,
+    /// where the process may set it, its owner.
     pub fn commit(mut self) -> io::Result<()> {
+        self.file.sync_all()?;
+        self.keep_mode_and_owner()?;
         let temporary = self
             .temporary
             .take()
@@ -73,6 +141,53 @@ impl Pending {
             let _ = std::fs::remove_file(&temporary);
         }
         renamed
+    }
+
+    /// Publishes the temporary file as the target only if no file has that name: fails with
+    /// [`io::ErrorKind::AlreadyExists`] otherwise (another writer finished first), leaving
+    /// the existing file as it was.
+    pub fn commit_new(mut self) -> io::Result<()> {
+        self.file.sync_all()?;
+        let temporary = self
+            .temporary
+            .take()
+            .expect("a pending file has its temporary");
+        // A hard link is created only where no name is: the check and the publishing are one
+        // step. File systems without hard links fall back to a check, then a rename.
+        let published = match std::fs::hard_link(&temporary, &self.target) {
+            Err(e) if e.kind() != io::ErrorKind::AlreadyExists => {
+                if std::fs::symlink_metadata(&self.target).is_ok() {
+                    Err(io::Error::from(io::ErrorKind::AlreadyExists))
+                } else {
+                    std::fs::rename(&temporary, &self.target)
+                }
+            }
+            linked => linked,
+        };
+        let _ = std::fs::remove_file(&temporary);
+        published
+    }
+
+    /// [`Pending::commit`] when `replace` allows it, else [`Pending::commit_new`].
+    pub fn publish(self, replace: Replace) -> io::Result<()> {
+        match replace {
+            Replace::Allowed => self.commit(),
+            Replace::Never => self.commit_new(),
+        }
+    }
+
+    /// Gives the temporary the mode and owner of the file it replaces.
+    fn keep_mode_and_owner(&self) -> io::Result<()> {
+        use std::os::unix::fs::MetadataExt;
+        let Ok(old) = std::fs::metadata(&self.target) else {
+            return Ok(());
+        };
+        if !old.is_file() {
+            return Ok(());
+        }
+        // Not permitted (another user's file, not root): the file becomes ours, as cp's.
+        let _ = std::os::unix::fs::fchown(&self.file, Some(old.uid()), Some(old.gid()));
+        self.file.set_permissions(old.permissions())
     }
 }
 
@@ -84,7 +199,7 @@ impl Drop for Pending {
     }
 }
 
-/// Writes `bytes` to `target` through a [`Pending`] file.
+/// Writes `bytes` to `target` through a [`Pending`] file, replacing it if it exists.
 pub fn write(target: &Path, bytes: &[u8]) -> io::Result<()> {
     use std::io::Write;
     let pending = Pending::beside(target)?;
@@ -92,43 +207,80 @@ pub fn write(target: &Path, bytes: &[u8]) -> io::Result<()> {
     pending.commit()
 }
 
-/// `.NAME.specconv-PID-N.tmp` beside `target`: the process id and a count within the process.
-fn temporary_path(target: &Path) -> PathBuf {
-    static NEXT: AtomicU64 = AtomicU64::new(0);
-    let n = NEXT.fetch_add(1, Ordering::Relaxed);
-    directory_of(target).join(format!("{}{}-{n}.tmp", prefix(target), std::process::id()))
+/// Writes `bytes` to `target` for a command that read `inputs`: the plan checked
+/// ([`check_plan`]: never over an input, an existing target only when `replace` allows), then
+/// written through a [`Pending`] file.
+pub fn write_checked(
+    target: &Path,
+    bytes: &[u8],
+    inputs: &[&Path],
+    replace: Replace,
+) -> Result<(), WriteError> {
+    use std::io::Write;
+    check_plan(inputs, &[target], replace)?;
+    let io = |source| WriteError::Io {
+        path: target.to_path_buf(),
+        source,
+    };
+    let pending = Pending::beside(target).map_err(io)?;
+    pending.file().write_all(bytes).map_err(io)?;
+    pending.publish(replace).map_err(|e| match e.kind() {
+        io::ErrorKind::AlreadyExists => WriteError::Plan(PlanError::Exists {
+            output: target.to_path_buf(),
+            more: 0,
+        }),
+        _ => io(e),
+    })
 }
 
-/// The start every temporary name of `target` shares.
-fn prefix(target: &Path) -> String {
-    let name = target.file_name().map_or_else(
-        || target.display().to_string(),
-        |n| n.to_string_lossy().into_owned(),
-    );
-    format!(".{name}.specconv-")
+/// Why [`write_checked`] wrote nothing.
+#[derive(Debug, thiserror::Error)]
+pub enum WriteError {
+    /// The target may not be written.
+    #[error(transparent)]
+    Plan(#[from] PlanError),
+    /// Writing failed.
+    #[error("cannot write {}", path.display())]
+    Io {
+        /// The target.
+        path: PathBuf,
+        /// Why.
+        #[source]
+        source: io::Error,
+    },
 }
 
-fn directory_of(target: &Path) -> &Path {
-    match target.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d,
-        _ => Path::new("."),
-    }
-}
-
-/// Temporary files of `target` left by writers killed before they could remove them (SIGKILL,
-/// a node lost), whatever their process.
+/// Every temporary file of `target` present now, live or left by a killed writer.
 pub fn leftovers(target: &Path) -> Vec<PathBuf> {
-    let prefix = prefix(target);
-    std::fs::read_dir(directory_of(target))
+    names::temporaries_of(target)
+}
+
+/// Removes the temporary files of `target` that no live writer holds (writers killed before
+/// they could remove them: SIGKILL, a lost node) and returns them. Live writers' files stay.
+pub fn remove_stale(target: &Path) -> Vec<PathBuf> {
+    names::temporaries_of(target)
         .into_iter()
-        .flatten()
-        .filter_map(|e| e.ok())
-        .filter(|e| {
-            let n = e.file_name().to_string_lossy().into_owned();
-            n.starts_with(&prefix) && n.ends_with(".tmp")
-        })
-        .map(|e| e.path())
+        .filter(|t| held(t) == Some(false) && std::fs::remove_file(t).is_ok())
         .collect()
+}
+
+/// The temporary files of `target` that live writers hold.
+fn live_temporaries(target: &Path) -> Vec<PathBuf> {
+    names::temporaries_of(target)
+        .into_iter()
+        .filter(|t| held(t) == Some(true))
+        .collect()
+}
+
+/// Whether a writer holds `temporary` (its lock); `None` when it cannot be told (gone, or not
+/// ours to open).
+fn held(temporary: &Path) -> Option<bool> {
+    let f = File::open(temporary).ok()?;
+    match f.try_lock_shared() {
+        Ok(()) => Some(false),
+        Err(std::fs::TryLockError::WouldBlock) => Some(true),
+        Err(std::fs::TryLockError::Error(_)) => None,
+    }
 }
 
 /// Whether two paths name the same existing file, compared as files (device and inode), not as
@@ -145,7 +297,7 @@ pub fn same_file(a: &Path, b: &Path) -> bool {
 mod tests {
     use super::*;
 
-    fn scratch(name: &str) -> PathBuf {
+    pub(crate) fn scratch(name: &str) -> PathBuf {
         let d = std::env::temp_dir().join(format!("atomic-file-{name}-{}", std::process::id()));
         let _ = std::fs::remove_dir_all(&d);
         std::fs::create_dir_all(&d).unwrap();
@@ -171,26 +323,63 @@ mod tests {
     }
 
     #[test]
-    fn two_writers_of_one_target_never_share_a_temporary() {
+    fn a_second_live_writer_of_one_target_is_refused_and_a_dead_ones_file_is_removed() {
         let d = scratch("two");
         let target = d.join("t.exr");
         let a = Pending::beside(&target).unwrap();
-        let b = Pending::beside(&target).unwrap();
-        assert_ne!(a.temporary, b.temporary);
-        // A name taken by someone else (another process with the same id in another
-        // container) is skipped, not opened.
-        let taken = temporary_path(&target);
-        std::fs::write(&taken, b"theirs").unwrap();
-        let name = taken.file_name().unwrap().to_string_lossy().into_owned();
-        let (head, n) = name.trim_end_matches(".tmp").rsplit_once('-').unwrap();
-        let next: u64 = n.parse::<u64>().unwrap() + 1;
-        std::fs::write(d.join(format!("{head}-{next}.tmp")), b"theirs too").unwrap();
+        let e = Pending::beside(&target).unwrap_err();
+        assert_eq!(e.kind(), io::ErrorKind::ResourceBusy);
+        assert!(e.to_string().contains("another specconv is writing"), "{e}");
+        assert_eq!(
+            leftovers(&target).len(),
+            1,
+            "the refused writer left nothing"
+        );
+        drop(a);
+        // A killed writer's file (no lock held), in this version's names and the old ones.
+        let dead = names::temporary(&target);
+        std::fs::write(&dead, b"theirs").unwrap();
+        let old_style = d.join(".t.exr.specconv-4242-0.tmp");
+        std::fs::write(&old_style, b"older").unwrap();
         let c = Pending::beside(&target).unwrap();
-        c.commit().unwrap();
-        assert_eq!(std::fs::read(&taken).unwrap(), b"theirs");
+        assert!(
+            !dead.exists() && !old_style.exists(),
+            "stale temporaries removed"
+        );
+        c.commit_new().unwrap();
         assert_eq!(std::fs::read(&target).unwrap(), b"");
-        drop((a, b));
-        assert_eq!(leftovers(&target).len(), 2, "the others' files stay");
+        assert!(leftovers(&target).is_empty());
+        std::fs::remove_dir_all(d).unwrap();
+    }
+
+    #[test]
+    fn commit_new_never_replaces_and_commit_keeps_the_mode() {
+        use std::os::unix::fs::PermissionsExt;
+        let d = scratch("new");
+        let target = d.join("t.exr");
+        std::fs::write(&target, b"first").unwrap();
+        let p = Pending::beside(&target).unwrap();
+        std::io::Write::write_all(&mut p.file(), b"second").unwrap();
+        assert_eq!(
+            p.commit_new().unwrap_err().kind(),
+            io::ErrorKind::AlreadyExists
+        );
+        assert_eq!(std::fs::read(&target).unwrap(), b"first");
+        assert!(leftovers(&target).is_empty());
+        std::fs::set_permissions(&target, std::fs::Permissions::from_mode(0o640)).unwrap();
+        write(&target, b"third").unwrap();
+        let mode = std::fs::metadata(&target).unwrap().permissions().mode() & 0o7777;
+        assert_eq!(mode, 0o640);
+        std::fs::remove_dir_all(d).unwrap();
+    }
+
+    #[test]
+    fn a_name_as_long_as_the_file_system_allows_can_be_written() {
+        let d = scratch("long");
+        let target = d.join(format!("{}.exr", "n".repeat(251)));
+        write(&target, b"x").unwrap();
+        assert_eq!(std::fs::read(&target).unwrap(), b"x");
+        assert!(leftovers(&target).is_empty());
         std::fs::remove_dir_all(d).unwrap();
     }
 
@@ -209,16 +398,5 @@ mod tests {
         assert!(!same_file(&a, &d.join("b.exr")));
         assert!(!same_file(&a, &d.join("missing.exr")));
         std::fs::remove_dir_all(d).unwrap();
-    }
-
-    #[test]
-    fn a_target_in_the_current_directory_gets_its_temporary_there() {
-        let p = temporary_path(Path::new("plain.exr"));
-        assert_eq!(p.parent(), Some(Path::new(".")));
-        assert!(p
-            .file_name()
-            .unwrap()
-            .to_string_lossy()
-            .starts_with(".plain.exr.specconv-"));
     }
 }

@@ -44,18 +44,14 @@ pub fn selection(s: &specconv_conversion::Selection) -> String {
     )
 }
 
-/// An error message about an input without the input's path, which the record (or the
-/// line) already names: `PATH: what` becomes `what`, `cannot read PATH: what` becomes
-/// `cannot read the input: what`.
+/// An error message about an input without the leading `PATH: ` that the record (or the line)
+/// already names; paths inside the message stay, so every path it names is the real one.
 pub fn without_input(message: &str, input: &Path) -> String {
     let p = input.display().to_string();
-    if p.is_empty() {
-        return message.to_string();
-    }
     message
         .strip_prefix(&format!("{p}: "))
         .unwrap_or(message)
-        .replace(&p, "the input")
+        .to_string()
 }
 
 #[cfg(test)]
@@ -71,11 +67,15 @@ mod tests {
         );
         assert_eq!(
             without_input("cannot read /tex/gone.png: truncated", p),
-            "cannot read the input: truncated"
+            "cannot read /tex/gone.png: truncated"
         );
+        // A path that contains the input's (`./x` holds `x`) is left whole.
         assert_eq!(
-            without_input("the output x.exr is the input; choose another", p),
-            "the output x.exr is the input; choose another"
+            without_input(
+                "the output ./x is the input x; choose another",
+                Path::new("x")
+            ),
+            "the output ./x is the input x; choose another"
         );
     }
 }

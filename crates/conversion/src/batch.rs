@@ -1,7 +1,9 @@
 //! [`Batch`]: many inputs through one [`Converter`], in order, with the up-to-date check,
 //! cancellation and progress events that every front-end needs.
 
+use crate::converter::recorded;
 use crate::{Converter, Error, Report};
+use specconv_atomic_file::{PlanError, Replace};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -77,7 +79,7 @@ pub struct Summary {
 ///     if let Event::Failed { input, error, .. } = event {
 ///         eprintln!("{}: {error}", input.display());
 ///     }
-/// });
+/// })?;
 /// assert!(!summary.cancelled);
 /// # Ok::<(), specconv_conversion::Error>(())
 /// ```
@@ -99,7 +101,8 @@ impl<'c> Batch<'c> {
     }
 
     /// Skips inputs whose output is up to date ([`Converter::is_up_to_date`]) and replaces
-    /// outputs that are not.
+    /// outputs that specconv made and are out of date; any other existing file at an output's
+    /// path still needs the converter's `overwrite`.
     pub fn update(mut self, update: bool) -> Batch<'c> {
         self.update = update;
         self
@@ -112,8 +115,20 @@ impl<'c> Batch<'c> {
         self
     }
 
-    /// Converts each (input, output) in turn, telling `on` what happens.
-    pub fn run(&self, pairs: &[(PathBuf, PathBuf)], on: &mut (dyn FnMut(Event) + Send)) -> Summary {
+    /// Checks the whole plan before anything is written ([`check_plan`] with the converter's
+    /// `overwrite` and this batch's update).
+    pub fn check(&self, pairs: &[(PathBuf, PathBuf)]) -> Result<(), Error> {
+        check_plan(pairs, self.converter.options().overwrite, self.update)
+    }
+
+    /// Converts each (input, output) in turn, telling `on` what happens, once the plan is
+    /// checked ([`Batch::check`]; its error is returned and nothing is written).
+    pub fn run(
+        &self,
+        pairs: &[(PathBuf, PathBuf)],
+        on: &mut (dyn FnMut(Event) + Send),
+    ) -> Result<Summary, Error> {
+        self.check(pairs)?;
         let never = AtomicBool::new(false);
         let cancel = self.cancel.unwrap_or(&never);
         let overwrite = self.converter.options().overwrite || self.update;
@@ -157,6 +172,47 @@ impl<'c> Batch<'c> {
             }
         }
         summary.cancelled = cancel.load(Ordering::SeqCst);
-        summary
+        Ok(summary)
+    }
+}
+
+/// The rules of a batch's plan, checked before anything is written: no output is any input (as
+/// files: links, `..` and bind mounts are seen through), no two inputs share an output, every
+/// output's directory is there, and an existing output may be replaced: with `overwrite`, or
+/// with `update` when specconv made it (out-of-date ones are replaced, up-to-date ones
+/// skipped). Inputs that are missing or not files fail on their own when their turn comes.
+pub fn check_plan(
+    pairs: &[(PathBuf, PathBuf)],
+    overwrite: bool,
+    update: bool,
+) -> Result<(), Error> {
+    let inputs: Vec<&Path> = pairs.iter().map(|(i, _)| i.as_path()).collect();
+    let outputs: Vec<&Path> = pairs.iter().map(|(_, o)| o.as_path()).collect();
+    let plan = |e: PlanError| Error::Conversion(e.into());
+    specconv_atomic_file::check_plan(&inputs, &outputs, Replace::Allowed).map_err(plan)?;
+    if overwrite {
+        return Ok(());
+    }
+    let existing: Vec<&Path> = outputs
+        .into_iter()
+        .filter(|o| std::fs::symlink_metadata(o).is_ok())
+        .collect();
+    if !update {
+        return match existing.first() {
+            Some(first) => Err(plan(PlanError::Exists {
+                output: first.to_path_buf(),
+                more: existing.len() - 1,
+            })),
+            None => Ok(()),
+        };
+    }
+    // A file at an output's path that specconv did not make is never replaced by -u.
+    let foreign: Vec<&&Path> = existing.iter().filter(|o| recorded(o).is_none()).collect();
+    match foreign.first() {
+        Some(first) => Err(Error::NotMadeBySpecconv {
+            output: first.to_path_buf(),
+            more: foreign.len() - 1,
+        }),
+        None => Ok(()),
     }
 }

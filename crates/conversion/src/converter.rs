@@ -228,10 +228,9 @@ impl Converter {
     pub fn is_up_to_date(&self, input: &Path, output: &Path) -> bool {
         let modified = |p: &Path| std::fs::metadata(p).and_then(|m| m.modified()).ok();
         match (modified(input), modified(output)) {
-            (Some(i), Some(o)) if o >= i => specconv_exr::read_attributes(output)
-                .ok()
-                .and_then(|attrs| Provenance::from_attributes(&attrs).ok())
-                .is_some_and(|p| p.settings == self.provenance.settings),
+            (Some(i), Some(o)) if o >= i => recorded(output).is_some_and(|p| {
+                p.settings == self.provenance.settings && p.source == Some(file_name(input))
+            }),
             _ => false,
         }
     }
@@ -404,4 +403,12 @@ impl std::fmt::Debug for Converter {
             .field("method", &self.method_name())
             .finish_non_exhaustive()
     }
+}
+
+/// What a specconv output records; `None` for any other file.
+pub(crate) fn recorded(output: &Path) -> Option<Provenance> {
+    let attributes = specconv_exr::read_attributes(output).ok()?;
+    Provenance::from_attributes(&attributes)
+        .ok()
+        .filter(|p| p.settings.is_some())
 }

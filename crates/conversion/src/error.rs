@@ -4,6 +4,7 @@
 
 use crate::models::ModelError;
 use crate::options::Compression;
+use specconv_atomic_file::PlanError;
 use std::path::PathBuf;
 
 pub use specconv_pipeline::Error as ConversionError;
@@ -50,12 +51,22 @@ pub enum Error {
     /// One conversion failed (the input, its colour, the output; see [`ConversionError`]).
     #[error(transparent)]
     Conversion(#[from] ConversionError),
-    /// An output exists and may not be replaced (outside a conversion's own check).
-    #[error("{} exists", output.display())]
-    Exists {
-        /// The output.
+    /// An input or output of a command other than a conversion may not be used (the output
+    /// is an input, exists and may not be replaced, has no directory).
+    #[error(transparent)]
+    Plan(#[from] specconv_atomic_file::PlanError),
+    /// Existing files at outputs' paths that specconv did not make: updating replaces only
+    /// specconv's own outputs.
+    #[error("{} exists and is not a specconv output{}, which updating never replaces", output.display(), if *more > 0 { format!(" (and {more} more)") } else { String::new() })]
+    NotMadeBySpecconv {
+        /// The first such output.
         output: PathBuf,
+        /// How many more.
+        more: usize,
     },
+    /// An input is not a file, or is missing.
+    #[error(transparent)]
+    Input(#[from] specconv_atomic_file::ReadError),
     /// An emissive file was asked to be lit by an illuminant.
     #[error("{} is an emission (S0 channels): it is its own light", input.display())]
     EmissionIsItsOwnLight {
@@ -154,7 +165,9 @@ impl Error {
     pub fn remedy(&self) -> Option<Remedy> {
         match self {
             Error::ZipLevelWithoutZip { .. } => Some(Remedy::DropZipLevel),
-            Error::Exists { .. } => Some(Remedy::Replace),
+            Error::Plan(PlanError::Exists { .. }) | Error::NotMadeBySpecconv { .. } => {
+                Some(Remedy::Replace)
+            }
             Error::EmissionIsItsOwnLight { .. } => Some(Remedy::DropIlluminant),
             Error::NoRole {
                 role: "scene_linear",
@@ -162,7 +175,7 @@ impl Error {
             } => Some(Remedy::NameColourSpace),
             Error::Colour(e) => colour_remedy(e),
             Error::Conversion(e) => match e {
-                ConversionError::OutputExists { .. } => Some(Remedy::ReplaceOrSkip),
+                ConversionError::Plan(PlanError::Exists { .. }) => Some(Remedy::ReplaceOrSkip),
                 ConversionError::ScanlineMip { .. } => Some(Remedy::BaseLevelOrTiles),
                 ConversionError::NotAMipMap { .. } => Some(Remedy::BaseLevel),
                 ConversionError::Channels { choose, .. } => choose.map(|c| match c {

@@ -35,7 +35,7 @@ pub mod provenance;
 pub mod tables;
 pub mod to_rgb;
 
-pub use batch::{Batch, Event, Summary};
+pub use batch::{check_plan, Batch, Event, Summary};
 pub use converter::{Advice, Converter, Report, Rule, Selection, Warning};
 pub use error::{ConversionError, Error, Remedy};
 pub use options::{Alpha, Blocks, Compression, Mip, Options, Rounding, Sample, UnknownName};

@@ -4,6 +4,7 @@
 
 use crate::provenance::{ConventionFrom, Provenance};
 use crate::Error;
+use specconv_atomic_file::{PlanError, Replace};
 use specconv_colour::{EmissionUnits, Illuminant, Integration, Observer};
 use specconv_exr::blocks::{Block, BlockReader};
 use specconv_exr::Kind;
@@ -75,11 +76,13 @@ impl ToRgb {
 
     /// Integrates `input` and writes `output`.
     pub fn convert(&self, input: &Path, output: &Path) -> Result<RgbReport, Error> {
-        if output.exists() && !self.options.overwrite {
-            return Err(Error::Exists {
-                output: output.to_path_buf(),
-            });
-        }
+        let replace = if self.options.overwrite {
+            Replace::Allowed
+        } else {
+            Replace::Never
+        };
+        specconv_atomic_file::readable_file(input)?;
+        specconv_atomic_file::check_plan(&[input], &[output], replace)?;
         let read_error = |source| Error::Read {
             path: input.to_path_buf(),
             source,
@@ -152,8 +155,8 @@ impl ToRgb {
             path: output.to_path_buf(),
             source,
         };
-        let pending = specconv_atomic_file::Pending::beside(output)
-            .map_err(|e| write_error(specconv_exr::Error::Exr(e.into())))?;
+        let io_error = |e: std::io::Error| write_error(specconv_exr::Error::Exr(e.into()));
+        let pending = specconv_atomic_file::Pending::beside(output).map_err(io_error)?;
         specconv_exr::rgb::write_rgb(
             std::io::BufWriter::new(pending.file()),
             (h.width, h.height),
@@ -161,9 +164,13 @@ impl ToRgb {
             alpha.as_deref(),
         )
         .map_err(write_error)?;
-        pending
-            .commit()
-            .map_err(|e| write_error(specconv_exr::Error::Exr(e.into())))?;
+        pending.publish(replace).map_err(|e| match e.kind() {
+            std::io::ErrorKind::AlreadyExists => Error::Plan(PlanError::Exists {
+                output: output.to_path_buf(),
+                more: 0,
+            }),
+            _ => io_error(e),
+        })?;
         let layout = &h.layout;
         Ok(RgbReport {
             width: h.width,

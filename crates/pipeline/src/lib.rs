@@ -22,6 +22,7 @@ mod png;
 
 pub use colour::{input_space, Alpha, InputSpace, Rule, ToXyz, Warning};
 use rayon::prelude::*;
+use specconv_atomic_file::{PlanError, Replace};
 use specconv_exr::{Block, Blocks, Chunk, Compression, Kind, Sample, Spec, SpectralFile, Windows};
 use specconv_ocio::Config;
 use specconv_spectral::method::Tally;
@@ -98,24 +99,13 @@ pub enum Error {
         /// Bands of the method.
         want: usize,
     },
-    /// The output is the input (the same file, whatever the paths).
-    #[error("the output {} is the input; choose another output path", output.display())]
-    InputIsOutput {
-        /// The output asked for.
-        output: PathBuf,
-    },
-    /// The output exists and may not be replaced.
-    #[error("{} exists", output.display())]
-    OutputExists {
-        /// The output.
-        output: PathBuf,
-    },
-    /// The output's directory does not exist (outputs are never given new directories).
-    #[error("the output directory {} does not exist; create it first", dir.display())]
-    NoOutputDirectory {
-        /// The directory.
-        dir: PathBuf,
-    },
+    /// The input is not a file (a directory, a device, a FIFO), or is missing.
+    #[error(transparent)]
+    NotAFile(#[from] specconv_atomic_file::ReadError),
+    /// The output may not be written: it is the input, exists and may not be replaced, or has
+    /// no directory.
+    #[error(transparent)]
+    Plan(#[from] specconv_atomic_file::PlanError),
     /// Writing the output failed.
     #[error("cannot write {}", path.display())]
     Io {
@@ -552,10 +542,20 @@ fn write_file(
         return Err(e);
     }
     written?;
-    pending.commit().map_err(|source| Error::Io {
-        path: output.to_path_buf(),
-        source,
-    })?;
+    // Without overwrite, an output another writer published while this one ran is refused,
+    // not replaced.
+    pending
+        .publish(replace_of(job.settings.overwrite))
+        .map_err(|source| match source.kind() {
+            std::io::ErrorKind::AlreadyExists => Error::Plan(PlanError::Exists {
+                output: output.to_path_buf(),
+                more: 0,
+            }),
+            _ => Error::Io {
+                path: output.to_path_buf(),
+                source,
+            },
+        })?;
     Ok((total, counts))
 }
 
@@ -663,24 +663,22 @@ fn strips(file: &SpectralFile) -> Vec<Strip> {
     out
 }
 
-use specconv_atomic_file::same_file;
-
-/// Refuses to write over the input, and over an existing output unless asked to.
+/// Refuses a special file as input (before anything probes it), writing over the input, and
+/// over an existing output unless asked to: the rules every writer shares
+/// (specconv_atomic_file::plan).
 fn refuse_overwrites(input: &Path, output: &Path, overwrite: bool) -> Result<()> {
-    if same_file(input, output) {
-        return Err(Error::InputIsOutput {
-            output: output.to_path_buf(),
-        });
-    }
-    if output.exists() && !overwrite {
-        return Err(Error::OutputExists {
-            output: output.to_path_buf(),
-        });
-    }
-    match output.parent() {
-        Some(d) if !d.as_os_str().is_empty() && !d.is_dir() => Err(Error::NoOutputDirectory {
-            dir: d.to_path_buf(),
-        }),
-        _ => Ok(()),
+    specconv_atomic_file::readable_file(input)?;
+    Ok(specconv_atomic_file::check_plan(
+        &[input],
+        &[output],
+        replace_of(overwrite),
+    )?)
+}
+
+fn replace_of(overwrite: bool) -> Replace {
+    if overwrite {
+        Replace::Allowed
+    } else {
+        Replace::Never
     }
 }

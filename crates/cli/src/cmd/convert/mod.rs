@@ -306,7 +306,7 @@ fn run_batch(args: &Args, converter: &Converter, pairs: &[(PathBuf, PathBuf)]) -
     let mut progress = Progress::new(args.progress, args.quiet, &inputs);
     let mut summary = Summary::default();
     let batch_start = std::time::Instant::now();
-    let ended = Batch::new(converter)
+    let ended = match Batch::new(converter)
         .update(args.update)
         .cancel_on(&cancel)
         .run(pairs, &mut |event| match event {
@@ -341,7 +341,14 @@ fn run_batch(args: &Args, converter: &Converter, pairs: &[(PathBuf, PathBuf)]) -
                 printing::failed(args, (input, output), error, seconds);
             }
             _ => {}
-        });
+        }) {
+        Ok(ended) => ended,
+        // The plan changed since it was checked (a file appeared): nothing was written.
+        Err(e) => {
+            print_error(&explain(&e));
+            return exit::USAGE;
+        }
+    };
     if pairs.len() > 1 && !args.quiet {
         eprintln!("{}", summary.text(batch_start.elapsed().as_secs_f64()));
     }

@@ -65,14 +65,18 @@ pub(crate) fn plan(args: &Args) -> Result<(Vec<PathBuf>, Vec<PathBuf>)> {
             .collect(),
         (None, None, None) => unreachable!("single conversions have an explicit output"),
     };
-    let mut seen = std::collections::HashSet::new();
     for o in &outputs {
         files::check_output(o, &["exr"], "specconv writes spectral OpenEXR")?;
-        if !seen.insert(o.clone()) {
-            bail!("two inputs would both be written to {}; use a template with {{dir}} or rename them", o.display());
-        }
-        checks::output_dir(o)?;
     }
+    // The library's rules, on the whole plan before any shard is taken: every run of a
+    // farm job refuses the same plan.
+    let pairs: Vec<(PathBuf, PathBuf)> = inputs
+        .iter()
+        .cloned()
+        .zip(outputs.iter().cloned())
+        .collect();
+    specconv_conversion::check_plan(&pairs, args.force, args.update)
+        .map_err(|e| anyhow::anyhow!(crate::explain(&e)))?;
     Ok((inputs, outputs))
 }
 
