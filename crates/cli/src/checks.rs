@@ -24,24 +24,6 @@ pub fn input_colorspace(config: &Config, name: Option<&str>) -> Result<()> {
     Ok(())
 }
 
-/// The directory an output goes into exists (outputs are never given new directories).
-pub fn output_dir(output: &Path) -> Result<()> {
-    directory(
-        output
-            .parent()
-            .filter(|d| !d.as_os_str().is_empty())
-            .unwrap_or(Path::new(".")),
-    )
-}
-
-/// An output that exists is replaced only with --force.
-pub fn may_write(output: &Path, force: bool) -> Result<()> {
-    if output.exists() && !force {
-        anyhow::bail!("{} exists; pass --force to replace it", output.display());
-    }
-    Ok(())
-}
-
 /// An output directory (`-o DIR`) exists.
 pub fn directory(dir: &Path) -> Result<()> {
     if dir.is_dir() {

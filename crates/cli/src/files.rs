@@ -1,14 +1,19 @@
 //! Reading inputs and writing outputs safely: an output is written to a temporary file beside
 //! it and renamed into place, so a failed run leaves no partial file.
 
-use anyhow::{bail, Context, Result};
+use anyhow::{Context, Result};
+use specconv_atomic_file::Replace;
 use specconv_colour::SpectralTable;
 use std::path::Path;
 
+/// The largest spectra table read: 64× the largest measured set the project uses (3.7 MB).
+const SPECTRA_LIMIT: u64 = 256 << 20;
+
 /// Reads a spectra CSV file.
 pub fn read_spectra(path: &Path) -> Result<SpectralTable> {
-    let text = std::fs::read_to_string(path)
-        .with_context(|| format!("cannot read spectra file {}", path.display()))?;
+    let bytes = specconv_atomic_file::read_bounded(path, SPECTRA_LIMIT, "spectra table")?;
+    let text = String::from_utf8(bytes)
+        .with_context(|| format!("spectra file {} is not UTF-8 text", path.display()))?;
     let name = path.file_name().map_or_else(
         || path.display().to_string(),
         |n| n.to_string_lossy().into_owned(),
@@ -38,18 +43,36 @@ pub fn check_output(path: &Path, extensions: &[&str], what: &str) -> Result<()> 
     )))
 }
 
-/// Writes `bytes` to `path` atomically, refusing to write over any of `inputs`.
-pub fn write_atomically(path: &Path, bytes: &[u8], inputs: &[&Path]) -> Result<()> {
-    for input in inputs {
-        if specconv_atomic_file::same_file(path, input) {
-            bail!(
-                "the output {} is also an input; choose another output path",
-                path.display()
-            );
-        }
+/// Whether an existing output may be replaced: `--force` given, or a command whose outputs are
+/// always remade (a model, a plot).
+pub fn replace(force: bool) -> Replace {
+    if force {
+        Replace::Allowed
+    } else {
+        Replace::Never
     }
-    specconv_atomic_file::write(path, bytes)
-        .with_context(|| format!("cannot write {}", path.display()))
+}
+
+/// Refuses, before any work, an output that may not be written by a command reading `inputs`
+/// (the library's rules: never an input, in an existing directory, an existing file only
+/// with `replace`): a usage error.
+pub fn check_writable(output: &Path, inputs: &[&Path], replace: Replace) -> Result<()> {
+    specconv_atomic_file::check_plan(inputs, &[output], replace)
+        .map_err(|e| crate::usage(anyhow::anyhow!(crate::explain(&e.into()))))
+}
+
+/// Writes `bytes` to `path` atomically under the same rules, checked again at the write.
+pub fn write_atomically(
+    path: &Path,
+    bytes: &[u8],
+    inputs: &[&Path],
+    replace: Replace,
+) -> Result<()> {
+    use specconv_atomic_file::WriteError;
+    specconv_atomic_file::write_checked(path, bytes, inputs, replace).map_err(|e| match e {
+        WriteError::Plan(p) => anyhow::anyhow!(crate::explain(&p.into())),
+        io => anyhow::Error::new(io),
+    })
 }
 
 /// The model from `--model FILE`, or the built-in one. A model that cannot be read is a

@@ -202,6 +202,9 @@ fn hint(cause: &(dyn std::error::Error + 'static)) -> Option<String> {
             return Some(flag.into());
         }
         return match e {
+            Error::TooManyThreads { .. } => Some("; lower -j/--threads".into()),
+            Error::TileTooLarge(_) => Some(" (--tile W H, --bands)".into()),
+            Error::TooMuchMemory { .. } => Some(" (--bands, --tile W H, -j)".into()),
             Error::Method(s) => spectral(s),
             Error::Colorimetry(c) => colour(c),
             Error::Model(specconv_conversion::models::ModelError::Invalid(s)) => spectral(s),

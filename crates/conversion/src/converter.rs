@@ -11,6 +11,10 @@ use specconv_pipeline::{Job, Settings};
 use specconv_spectral::bounded::Counts;
 use specconv_spectral::stack::{Description, Stack};
 use specconv_spectral::Model;
+
+/// The most worker threads a converter starts: far more than any machine's cores, so a typo
+/// (`-j 100000`) is refused instead of starting a hundred thousand threads.
+pub const MAX_THREADS: usize = 1024;
 use std::path::Path;
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
@@ -104,6 +108,13 @@ impl Converter {
         }
         let pool = match options.threads {
             Some(0) => return Err(Error::NoThreads),
+            Some(n) if n > MAX_THREADS => {
+                return Err(Error::TooManyThreads {
+                    threads: n,
+                    limit: MAX_THREADS,
+                    cores: std::thread::available_parallelism().map_or(1, |c| c.get()),
+                })
+            }
             Some(n) => Some(
                 rayon::ThreadPoolBuilder::new()
                     .num_threads(n)
@@ -125,6 +136,15 @@ impl Converter {
             Some(pool) => pool.install(build),
             None => build(),
         }?;
+        if let Blocks::Tiles(width, height) = options.blocks {
+            // Alpha counted in: refused here, before any input, not at the first one with alpha.
+            let channels = stack.method().grid().len() + 1;
+            specconv_exr::check_block(width, height, channels, options.sample)?;
+            let threads = pool
+                .as_ref()
+                .map_or_else(rayon::current_num_threads, |p| p.current_num_threads());
+            check_memory(width * height, channels, threads)?;
+        }
         let model_description = crate::models::describe(options.model.as_deref(), &model);
         let settings = settings(&options, &stack);
         let provenance = Provenance {
@@ -411,4 +431,23 @@ pub(crate) fn recorded(output: &Path) -> Option<Provenance> {
     Provenance::from_attributes(&attributes)
         .ok()
         .filter(|p| p.settings.is_some())
+}
+
+/// Refuses settings whose blocks in flight need more memory than the machine has: each worker
+/// holds one block's spectra as f32 and as written samples, and its compressed chunk (a fine
+/// `bands` grid makes a 64×64 tile hundreds of megabytes).
+fn check_memory(block_pixels: usize, channels: usize, threads: usize) -> Result<(), Error> {
+    let needed = threads as u64 * block_pixels as u64 * channels as u64 * 12;
+    match physical_memory() {
+        Some(have) if needed > have => Err(Error::TooMuchMemory { needed, have }),
+        _ => Ok(()),
+    }
+}
+
+/// The machine's memory in bytes (`MemTotal` of /proc/meminfo); `None` where unknown.
+fn physical_memory() -> Option<u64> {
+    let text = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = text.lines().find(|l| l.starts_with("MemTotal:"))?;
+    let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kib * 1024)
 }

@@ -33,6 +33,27 @@ pub enum Error {
         /// Height asked for.
         height: usize,
     },
+    /// Tiles larger than OpenEXR's readers accept, at the method's band count.
+    #[error(transparent)]
+    TileTooLarge(#[from] specconv_exr::BlockTooLarge),
+    /// Blocks in flight that need more memory than the machine has.
+    #[error("the blocks in flight would need {} MiB, more than this machine's {} MiB; use fewer bands, smaller tiles or fewer worker threads", needed >> 20, have >> 20)]
+    TooMuchMemory {
+        /// Bytes needed.
+        needed: u64,
+        /// Bytes the machine has.
+        have: u64,
+    },
+    /// More worker threads than the limit.
+    #[error("{threads} worker threads asked for; at most {limit} are started (this machine has {cores} cores)")]
+    TooManyThreads {
+        /// Threads asked for.
+        threads: usize,
+        /// The limit.
+        limit: usize,
+        /// Cores of this machine.
+        cores: usize,
+    },
     /// Zero worker threads.
     #[error("the conversion needs at least one worker thread")]
     NoThreads,

@@ -79,8 +79,8 @@ struct Summary {
 pub fn run(args: Args) -> Result<()> {
     use specconv_conversion::preview::{shade, PreviewOptions};
     Format::of(&args.output, "-o", &[Format::Png])?;
-    crate::checks::output_dir(&args.output)?;
-    crate::checks::may_write(&args.output, args.force)?;
+    let replace = files::replace(args.force);
+    files::check_writable(&args.output, &[args.input.as_path()], replace)?;
     let mut options = PreviewOptions::default();
     options.illuminant = args.illuminant;
     options.bounces = args.bounces;
@@ -108,7 +108,7 @@ pub fn run(args: Args) -> Result<()> {
         let rgb: Vec<u8> = shaded.display.iter().flatten().copied().collect();
         picture::encode_png(&rgb, w as u32, h as u32)?
     };
-    files::write_atomically(&args.output, &png, &[args.input.as_path()])?;
+    files::write_atomically(&args.output, &png, &[args.input.as_path()], replace)?;
 
     let summary = Summary {
         input: args.input.clone(),

@@ -4,6 +4,7 @@ use crate::picture::Format;
 use crate::{files, methods};
 use anyhow::{bail, Context, Result};
 use serde::Serialize;
+use specconv_atomic_file::Replace;
 use specconv_colour::{Colorimetry, Grid};
 use specconv_pictures::plot;
 use specconv_spectral::method::MethodName;
@@ -112,8 +113,15 @@ pub fn run(args: Args) -> Result<()> {
         .as_deref()
         .map(|p| Format::of(p, "--plot", &[Format::Svg, Format::Png]))
         .transpose()?;
+    // A plot is remade as often as the report runs: replaced, never over a spectra file.
+    let inputs: Vec<&std::path::Path> = args
+        .spectra
+        .iter()
+        .chain(&args.train)
+        .map(PathBuf::as_path)
+        .collect();
     if let Some(p) = &args.plot {
-        crate::checks::output_dir(p)?;
+        files::check_writable(p, &inputs, Replace::Allowed)?;
     }
     if args.colours == 0 {
         return Err(crate::usage(anyhow::anyhow!(
@@ -132,7 +140,7 @@ pub fn run(args: Args) -> Result<()> {
             Format::Svg => plot::svg(&points)?.into_bytes(),
             Format::Png => plot::png(&points)?,
         };
-        files::write_atomically(path, &bytes, &[]).context("cannot write the --plot file")?;
+        files::write_atomically(path, &bytes, &inputs, Replace::Allowed)?;
     }
     if args.json {
         println!("{}", serde_json::to_string_pretty(&rows)?);

@@ -1,6 +1,6 @@
 //! `specconv to-rgb`: integrate a spectral EXR back to a colour image, for checks and previews.
 
-use crate::{checks, explain, usage};
+use crate::{explain, usage};
 use anyhow::Result;
 use specconv_colour::Illuminant;
 use std::path::PathBuf;
@@ -49,7 +49,6 @@ pub struct Args {
 pub fn run(args: Args) -> Result<()> {
     use specconv_conversion::to_rgb::{Light, ToRgb, ToRgbOptions};
     crate::files::check_output(&args.output, &["exr"], "to-rgb writes OpenEXR")?;
-    checks::output_dir(&args.output)?;
     let mut options = ToRgbOptions::default();
     options.ocio = args.ocio.clone();
     options.colorspace = args.colorspace.clone();

@@ -2,6 +2,7 @@
 
 use crate::files;
 use anyhow::Result;
+use specconv_atomic_file::Replace;
 use specconv_spectral::otsu2018::train::SMALLEST_CLUSTER;
 use specconv_spectral::TrainOptions;
 use std::path::PathBuf;
@@ -51,8 +52,10 @@ fn min_cluster_size(s: &str) -> Result<usize, String> {
 }
 
 pub fn run(args: Args) -> Result<()> {
-    crate::checks::output_dir(&args.output)?;
     files::check_output(&args.output, &["json"], "train writes a model file (JSON)")?;
+    let inputs: Vec<&std::path::Path> = args.spectra.iter().map(PathBuf::as_path).collect();
+    // A model is remade as often as it is trained: replaced, never over a spectra file.
+    files::check_writable(&args.output, &inputs, Replace::Allowed)?;
     let a = args.colorimetry.on(args.colorimetry.bands)?;
     let set = crate::methods::training_set(&args.spectra, &a.grid)?;
     let opts = TrainOptions {
@@ -63,8 +66,12 @@ pub fn run(args: Args) -> Result<()> {
     let start = std::time::Instant::now();
     let model = specconv_spectral::train(&set, &a, &opts)?;
     let seconds = start.elapsed().as_secs_f64();
-    let inputs: Vec<&std::path::Path> = args.spectra.iter().map(PathBuf::as_path).collect();
-    files::write_atomically(&args.output, model.to_json().as_bytes(), &inputs)?;
+    files::write_atomically(
+        &args.output,
+        model.to_json().as_bytes(),
+        &inputs,
+        Replace::Allowed,
+    )?;
 
     eprintln!(
         "trained {} clusters on {} spectra in {seconds:.3} s; total error Σ‖s − r‖² = {:.6}",

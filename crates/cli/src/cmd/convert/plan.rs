@@ -3,7 +3,6 @@
 use super::Args;
 use crate::{checks, files};
 use anyhow::{bail, Context, Result};
-use std::io::BufRead;
 use std::path::{Path, PathBuf};
 
 /// Inputs and their outputs, from the positional paths, `-o DIR` or `--output-template`.
@@ -25,12 +24,7 @@ pub(crate) fn plan(args: &Args) -> Result<(Vec<PathBuf>, Vec<PathBuf>)> {
     let mut inputs = Vec::new();
     for p in paths {
         if p.as_os_str() == "-" {
-            for line in std::io::stdin().lock().lines() {
-                let line = line.context("cannot read input paths from standard input")?;
-                if !line.trim().is_empty() {
-                    inputs.push(PathBuf::from(line.trim_end()));
-                }
-            }
+            inputs.extend(read_list(std::io::stdin().lock())?);
         } else {
             inputs.push(p);
         }
@@ -80,7 +74,63 @@ pub(crate) fn plan(args: &Args) -> Result<(Vec<PathBuf>, Vec<PathBuf>)> {
     Ok((inputs, outputs))
 }
 
+/// The most a list of inputs on standard input may hold (a million paths of 64 bytes).
+const LIST_LIMIT: u64 = 64 << 20;
+/// The longest path a line may hold (Linux's PATH_MAX).
+const PATH_MAX: usize = 4096;
+
+/// Input paths, one per line, as bytes (a name need not be UTF-8); blank lines skipped. A
+/// list that never ends (`/dev/zero`, `yes`) is refused at the limit instead of filling memory.
+fn read_list(from: impl std::io::Read) -> Result<Vec<PathBuf>> {
+    use std::io::Read;
+    use std::os::unix::ffi::OsStrExt;
+    let mut bytes = Vec::new();
+    from.take(LIST_LIMIT + 1)
+        .read_to_end(&mut bytes)
+        .context("cannot read input paths from standard input")?;
+    if bytes.len() as u64 > LIST_LIMIT {
+        bail!(
+            "the list of inputs on standard input is over {} MiB; split it into several runs",
+            LIST_LIMIT >> 20
+        );
+    }
+    let mut paths = Vec::new();
+    for line in bytes.split(|&b| b == b'\n') {
+        let line = line.strip_suffix(b"\r").unwrap_or(line);
+        if line.iter().all(u8::is_ascii_whitespace) {
+            continue;
+        }
+        if line.len() > PATH_MAX || line.contains(&0) {
+            bail!(
+                "standard input holds a line of {} bytes{} that is no path; give one input path per line",
+                line.len(),
+                if line.contains(&0) { " with a NUL byte" } else { "" }
+            );
+        }
+        paths.push(PathBuf::from(std::ffi::OsStr::from_bytes(line)));
+    }
+    Ok(paths)
+}
+
 fn stem(p: &Path) -> String {
     p.file_stem()
         .map_or_else(|| "output".into(), |s| s.to_string_lossy().into_owned())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::io::Read;
+
+    #[test]
+    fn a_list_is_read_as_bytes_and_an_endless_one_refused() {
+        let list = read_list(&b"a.png\n\n  \nb\xff.png\r\n"[..]).unwrap();
+        assert_eq!(list.len(), 2);
+        assert_eq!(list[1].as_os_str().len(), 6, "the non-UTF-8 byte kept");
+        let zeros = std::io::repeat(0).take(LIST_LIMIT + 10);
+        let e = read_list(zeros).unwrap_err().to_string();
+        assert!(e.contains("over 64 MiB"), "{e}");
+        let e = read_list(&vec![0u8; 100][..]).unwrap_err().to_string();
+        assert!(e.contains("NUL"), "{e}");
+    }
 }

@@ -5,6 +5,7 @@ use crate::files;
 use crate::picture::Format;
 use anyhow::{bail, Result};
 use serde::Serialize;
+use specconv_atomic_file::Replace;
 use specconv_pictures::picture;
 use specconv_pictures::swatches::{self, Block, Cell, Row};
 use std::path::{Path, PathBuf};
@@ -34,9 +35,9 @@ struct Swatch {
 }
 
 /// Refuses, before any work, what would fail at the end.
-pub fn check(path: &Path, force: bool, patches: usize) -> Result<()> {
+pub fn check(path: &Path, (inputs, replace): (&[&Path], Replace), patches: usize) -> Result<()> {
     Format::of(path, "--image", &[Format::Png])?;
-    crate::checks::may_write(path, force)?;
+    files::check_writable(path, inputs, replace)?;
     if patches > MAX_PATCHES {
         bail!(
             "--image draws one block per patch and the scene has {patches}; choose at most \
@@ -47,7 +48,7 @@ pub fn check(path: &Path, force: bool, patches: usize) -> Result<()> {
 }
 
 /// Draws the report's patches and writes the PNG atomically.
-pub fn write(path: &Path, r: &Report, inputs: &[&Path]) -> Result<Written> {
+pub fn write(path: &Path, r: &Report, (inputs, replace): (&[&Path], Replace)) -> Result<Written> {
     let reference = if r.mean_delta_e.is_some() {
         "measured"
     } else {
@@ -102,7 +103,7 @@ pub fn write(path: &Path, r: &Report, inputs: &[&Path]) -> Result<Written> {
         .collect();
     let (size, placed) = swatches::layout(&blocks);
     let png = picture::render_png(size, |root| swatches::draw(root, &blocks))?;
-    files::write_atomically(path, &png, inputs)?;
+    files::write_atomically(path, &png, inputs, replace)?;
     Ok(Written {
         path: path.to_path_buf(),
         width: size.0,

@@ -99,12 +99,13 @@ pub struct Args {
     pub(crate) stack: methods::StackArgs,
 }
 
+/// The largest scene file read (a scene is a few hundred lines of TOML).
+const SCENE_LIMIT: u64 = 16 << 20;
+
 pub fn run(args: Args) -> Result<()> {
-    if let Some(p) = &args.image {
-        crate::checks::output_dir(p)?;
-    }
-    let text = std::fs::read_to_string(&args.scene)
-        .with_context(|| format!("cannot read scene {}", args.scene.display()))?;
+    let text = specconv_atomic_file::read_bounded(&args.scene, SCENE_LIMIT, "scene")?;
+    let text = String::from_utf8(text)
+        .with_context(|| format!("scene {} is not UTF-8 text", args.scene.display()))?;
     let file = scene::parse(&text)
         .with_context(|| format!("{} is not a valid scene", args.scene.display()))?;
     let dir = args.scene.parent().unwrap_or(Path::new("."));
@@ -124,10 +125,14 @@ pub fn run(args: Args) -> Result<()> {
     })?;
     let stacks = stacks(&args, &file, &model)?;
     let selected = select(&args.patch, &scene.names)?;
+    // Every file the scene read, which --image may never replace.
+    let mut read: Vec<&Path> = vec![args.scene.as_path()];
+    read.extend(model_path.as_deref());
+    read.extend(resources.read.iter().map(PathBuf::as_path));
     if let Some(path) = &args.image {
         drawing::check(
             path,
-            args.force,
+            (&read, files::replace(args.force)),
             selected.as_ref().map_or(scene.names.len(), Vec::len),
         )?;
     }
@@ -145,7 +150,11 @@ pub fn run(args: Args) -> Result<()> {
     };
     let mut report = report(&args.scene, &scene, &preset, &out, &a, &per_patch);
     if let Some(path) = &args.image {
-        report.image = Some(drawing::write(path, &report, &[args.scene.as_path()])?);
+        report.image = Some(drawing::write(
+            path,
+            &report,
+            (&read, files::replace(args.force)),
+        )?);
     }
     if args.json {
         println!("{}", serde_json::to_string(&report)?);

@@ -13,11 +13,14 @@ use specconv_conversion::ocio::Config;
 use specconv_study::scene::{self, Cause};
 use std::path::{Path, PathBuf};
 
-/// The resolver of one scene: its folder and OCIO config (loaded when first needed).
+/// The resolver of one scene: its folder and OCIO config (loaded when first needed), and the
+/// files it read (which an output may never replace).
 pub struct Resources {
     ocio: Option<String>,
     dir: PathBuf,
     config: Option<Config>,
+    /// Every spectra file and texture the scene read.
+    pub read: Vec<PathBuf>,
 }
 
 impl Resources {
@@ -28,6 +31,7 @@ impl Resources {
             ocio: ocio.map(str::to_string),
             dir: dir.to_path_buf(),
             config: None,
+            read: Vec::new(),
         }
     }
 
@@ -61,6 +65,7 @@ impl Resources {
 
 impl scene::Resolve for Resources {
     fn spectra(&mut self, path: &Path) -> Result<SpectralTable, Cause> {
+        self.read.push(path.to_path_buf());
         Ok(files::read_spectra(path)?)
     }
 
@@ -74,6 +79,7 @@ impl scene::Resolve for Resources {
         pixel: [u32; 2],
         space: Option<&str>,
     ) -> Result<[f64; 3], Cause> {
+        self.read.push(path.to_path_buf());
         let config = self.config()?;
         Ok(specconv_conversion::images::pixel_xyz(
             config, path, pixel, space,
