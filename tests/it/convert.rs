@@ -303,7 +303,7 @@ fn to_rgb_integrates_back_to_the_input_colours() {
         worst < 1e-4,
         "linear Rec.709 → spectra → linear Rec.709 differs by {worst}"
     );
-    Cmd::to_rgb(&spectral, &back).fails(1, &["exists; pass --force"]);
+    Cmd::to_rgb(&spectral, &back).fails(2, &["exists; pass --force"]);
     Cmd::to_rgb(&input, dir.path("c.exr")).fails(1, &["not a spectral EXR"]);
 }
 
@@ -330,11 +330,11 @@ fn failures_leave_nothing_behind_and_say_what_to_do() {
     let exr = testdata("float_scanline.exr");
     let copy = dir.path("in.exr");
     std::fs::copy(&exr, &copy).unwrap();
-    Cmd::convert(&copy, &copy).fails(1, &["is the input"]);
+    Cmd::convert(&copy, &copy).fails(2, &["is the input"]);
     assert_eq!(std::fs::read(&copy).unwrap(), std::fs::read(&exr).unwrap());
     // An existing output needs --force.
     std::fs::write(&out, b"keep me").unwrap();
-    Cmd::convert(&good, &out).fails(1, &["exists; pass --force"]);
+    Cmd::convert(&good, &out).fails(2, &["exists; pass --force"]);
     assert_eq!(std::fs::read(&out).unwrap(), b"keep me");
     Cmd::convert(&good, &out).arg("--force").ok();
     Cmd::convert(&good, &out)

@@ -121,7 +121,8 @@ fn each_conversion_reports_its_own_counts_and_batches_skip_what_is_up_to_date() 
             Event::Converted { .. } => events.push("converted"),
             Event::Failed { .. } => events.push("failed"),
             _ => {}
-        });
+        })
+        .unwrap();
     assert_eq!(events, ["skipped", "converted"]);
     assert_eq!(
         (summary.converted, summary.skipped, summary.failed),
@@ -134,4 +135,13 @@ fn each_conversion_reports_its_own_counts_and_batches_skip_what_is_up_to_date() 
         Some(specconv_conversion::Remedy::ReplaceOrSkip)
     );
     assert!(!refused.to_string().contains("--"), "{refused}");
+    // A batch whose plan breaks a rule is refused whole, before any event, by cause.
+    let onto_input = vec![pairs[0].clone(), (pairs[0].1.clone(), dir.path("x.exr"))];
+    let mut events = 0;
+    let refused = Batch::new(&converter)
+        .update(true)
+        .run(&onto_input, &mut |_| events += 1)
+        .unwrap_err();
+    assert_eq!(events, 0);
+    assert!(refused.to_string().contains("is the input"), "{refused}");
 }

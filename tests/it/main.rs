@@ -12,6 +12,7 @@ mod libraries;
 mod library;
 mod pictures;
 mod runner;
+mod safety;
 mod simulate;
 mod spectral_layout;
 mod surface;

@@ -153,7 +153,7 @@ fn simulate_draws_one_block_per_patch_with_the_reports_colours() {
     assert!(pic.distinct_colours() > 300, "{}", pic.distinct_colours());
 
     // An existing picture is kept without --force; --patch chooses the blocks.
-    Cmd::new(args(&[])).fails(1, &["exists", "--force"]);
+    Cmd::new(args(&[])).fails(2, &["exists", "--force"]);
     let v: serde_json::Value = Cmd::new(args(&["--force", "--patch", "left"])).ok().json();
     assert_eq!(v["per_patch"].as_array().unwrap().len(), 1);
     assert_eq!(swatches_match_the_report(&v, &Picture::read(&png)), 5 * 9);
@@ -380,7 +380,7 @@ fn preview_refuses_what_it_cannot_show() {
     }
     Cmd::new(["preview", g, "-o", dir.path("x.jpg").to_str().unwrap()]).fails(2, &["*.png"]);
     Cmd::new(["preview", g, "-o", o]).ok();
-    Cmd::new(["preview", g, "-o", o, "--bounces", "1"]).fails(1, &["exists", "--force"]);
+    Cmd::new(["preview", g, "-o", o, "--bounces", "1"]).fails(2, &["exists", "--force"]);
     Cmd::new(["preview", g, "-o", g, "--force"]).fails(2, &["*.png"]);
     assert_eq!(dir.files(), ["grey.exr", "grey_s.exr", "x.png"]);
 }

@@ -82,7 +82,7 @@ fn bad_inputs_get_one_clear_error_and_exit_1() {
         1,
         &[
             "cannot read spectra file /nonexistent/x.csv",
-            "No such file",
+            "no such file",
         ],
     );
     let bad_model = dir.write(
@@ -107,7 +107,7 @@ fn bad_inputs_get_one_clear_error_and_exit_1() {
     let copy = dir.write("cc.json", &std::fs::read_to_string(colorchecker()).unwrap());
     Cmd::train(&copy)
         .args(["--min-cluster-size", "4", "-o", copy.to_str().unwrap()])
-        .fails(1, &["is also an input"]);
+        .fails(2, &["cc.json is the input"]);
     assert_eq!(
         std::fs::read_to_string(&copy).unwrap(),
         std::fs::read_to_string(colorchecker()).unwrap()

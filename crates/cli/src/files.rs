@@ -11,7 +11,8 @@ const SPECTRA_LIMIT: u64 = 256 << 20;
 
 /// Reads a spectra CSV file.
 pub fn read_spectra(path: &Path) -> Result<SpectralTable> {
-    let bytes = specconv_atomic_file::read_bounded(path, SPECTRA_LIMIT, "spectra table")?;
+    let bytes = specconv_atomic_file::read_bounded(path, SPECTRA_LIMIT, "spectra table")
+        .with_context(|| format!("cannot read spectra file {}", path.display()))?;
     let text = String::from_utf8(bytes)
         .with_context(|| format!("spectra file {} is not UTF-8 text", path.display()))?;
     let name = path.file_name().map_or_else(

@@ -101,7 +101,22 @@ pub(crate) fn usage(e: impl Into<anyhow::Error>) -> anyhow::Error {
 /// EXR` make `F is not a spectral EXR`).
 pub(crate) fn one_line(e: &(dyn std::error::Error + 'static)) -> String {
     let hint = std::iter::successors(Some(e), |c| c.source()).find_map(hint);
-    without_hint(e) + hint.as_deref().unwrap_or_default()
+    single_line(&without_hint(e)) + hint.as_deref().unwrap_or_default()
+}
+
+/// A message of several lines (a TOML error's source snippet, a tool's standard error) on one
+/// line: its lines joined by `; `, without the snippet's `N | …` and `| ^` lines.
+fn single_line(text: &str) -> String {
+    let snippet = |l: &str| {
+        l.trim_start_matches(|c: char| c.is_ascii_digit())
+            .trim_start()
+            .starts_with('|')
+    };
+    text.lines()
+        .map(str::trim)
+        .filter(|l| !l.is_empty() && !snippet(l))
+        .collect::<Vec<_>>()
+        .join("; ")
 }
 
 /// [`one_line`] without the hint.
@@ -372,6 +387,15 @@ pub fn man_pages() -> Vec<(String, Vec<u8>)> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_message_of_several_lines_is_one() {
+        let e = std::io::Error::other("TOML parse error at line 1, column 5\n  |\n1 | a = \n  |     ^\nstring values must be quoted\n");
+        assert_eq!(
+            one_line(&e),
+            "TOML parse error at line 1, column 5; string values must be quoted"
+        );
+    }
 
     #[test]
     fn cli_definition_is_consistent() {

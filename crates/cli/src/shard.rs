@@ -11,13 +11,18 @@ pub(crate) fn shard_of(
     inputs: Vec<PathBuf>,
     outputs: Vec<PathBuf>,
 ) -> Result<(Vec<PathBuf>, Vec<PathBuf>)> {
-    let index = shard.index(std::env::var("SLURM_ARRAY_TASK_ID").ok().as_deref())?;
+    let index = index(shard)?;
     let weights: Vec<u64> = inputs.iter().map(|i| pixels(i)).collect();
     let mine = &specconv_farm::plan(&weights, shard.count)[index];
     Ok(mine
         .iter()
         .map(|&k| (inputs[k].clone(), outputs[k].clone()))
         .unzip())
+}
+
+/// This run's shard: I of `I/N`, or `auto/N`'s from $SLURM_ARRAY_TASK_ID.
+pub(crate) fn index(shard: Shard) -> Result<usize> {
+    Ok(shard.index(std::env::var("SLURM_ARRAY_TASK_ID").ok().as_deref())?)
 }
 
 /// Pixels of every level of an input, the weight of the plan; 0 when it cannot be read (it

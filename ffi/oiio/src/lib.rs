@@ -450,10 +450,14 @@ impl ImageReader {
         if !path.exists() {
             return Err(Error::NotFound { path });
         }
-        if path.is_dir() {
+        // A special file (/dev/zero, a FIFO, a terminal) would keep the format probes reading
+        // or waiting for ever: refused by kind before OpenImageIO sees it.
+        if let Err(specconv_atomic_file::ReadError::NotAFile { kind, .. }) =
+            specconv_atomic_file::readable_file(&path)
+        {
             return Err(Error::Open {
                 path,
-                message: "it is a directory".into(),
+                message: format!("it is {kind}, not a file"),
             });
         }
         let Some(c_path) = path_to_cstring(&path) else {

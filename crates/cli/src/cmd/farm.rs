@@ -139,7 +139,8 @@ fn submit(s: Submit, ocio: Option<String>) -> Result<i32> {
     if let Some(o) = &ocio {
         options.splice(0..0, ["--ocio".to_string(), o.clone()]);
     }
-    let (inputs, outputs) = convert::plan(&s.convert).map_err(usage)?;
+    // Every task converts with -u.
+    let (inputs, outputs) = convert::plan(&s.convert, true).map_err(usage)?;
     if inputs.is_empty() {
         return Err(usage(anyhow!("no inputs to submit")));
     }

@@ -49,6 +49,8 @@ pub struct Args {
 pub fn run(args: Args) -> Result<()> {
     use specconv_conversion::to_rgb::{Light, ToRgb, ToRgbOptions};
     crate::files::check_output(&args.output, &["exr"], "to-rgb writes OpenEXR")?;
+    let replace = crate::files::replace(args.force);
+    crate::files::check_writable(&args.output, &[args.input.as_path()], replace)?;
     let mut options = ToRgbOptions::default();
     options.ocio = args.ocio.clone();
     options.colorspace = args.colorspace.clone();

@@ -237,8 +237,12 @@ pub struct ReadArgs {
 /// failed, interrupted). Settings that cannot work for any input are usage errors, found
 /// before the first input.
 pub fn run(args: Args) -> Result<i32> {
-    // Wrong paths on the command line are usage errors.
-    let pairs = plan(&args)
+    // Wrong paths on the command line are usage errors; a shard that cannot be is one
+    // whatever the plan.
+    if let Some(shard) = args.shard {
+        crate::shard::index(shard).map_err(usage)?;
+    }
+    let pairs = plan(&args, args.update)
         .and_then(|(i, o)| match args.shard {
             Some(shard) => crate::shard::shard_of(shard, i, o),
             None => Ok((i, o)),

@@ -5,8 +5,9 @@ use crate::{checks, files};
 use anyhow::{bail, Context, Result};
 use std::path::{Path, PathBuf};
 
-/// Inputs and their outputs, from the positional paths, `-o DIR` or `--output-template`.
-pub(crate) fn plan(args: &Args) -> Result<(Vec<PathBuf>, Vec<PathBuf>)> {
+/// Inputs and their outputs, from the positional paths, `-o DIR` or `--output-template`, once
+/// the library's rules allow the plan; `update` as the runs that will convert it (`-u`).
+pub(crate) fn plan(args: &Args, update: bool) -> Result<(Vec<PathBuf>, Vec<PathBuf>)> {
     let mut paths = args.paths.clone();
     let single = args.output.is_none() && args.output_template.is_none();
     let explicit_output = if single {
@@ -69,7 +70,7 @@ pub(crate) fn plan(args: &Args) -> Result<(Vec<PathBuf>, Vec<PathBuf>)> {
         .cloned()
         .zip(outputs.iter().cloned())
         .collect();
-    specconv_conversion::check_plan(&pairs, args.force, args.update)
+    specconv_conversion::check_plan(&pairs, args.force, update)
         .map_err(|e| anyhow::anyhow!(crate::explain(&e)))?;
     Ok((inputs, outputs))
 }

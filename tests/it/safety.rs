@@ -1,0 +1,366 @@
+//! Nothing lost, nothing corrupt: the attacks of an outside tester on what specconv writes
+//! (issue 20), kept as tests. Each names the case; every one also checks that the inputs'
+//! bytes are unchanged and that no temporary file is left.
+
+use crate::convert::testdata;
+use crate::runner::*;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+/// The bytes of `files`, to compare after a run.
+fn snapshot(files: &[&Path]) -> Vec<Vec<u8>> {
+    files.iter().map(|f| std::fs::read(f).unwrap()).collect()
+}
+
+/// No `.NAME.specconv-….tmp` anywhere under `dir`.
+#[track_caller]
+fn no_temporaries(dir: &Path) {
+    for e in std::fs::read_dir(dir).unwrap() {
+        let e = e.unwrap();
+        let name = e.file_name().to_string_lossy().into_owned();
+        assert!(!name.contains(".specconv-"), "temporary left: {name}");
+        if e.file_type().unwrap().is_dir() {
+            no_temporaries(&e.path());
+        }
+    }
+}
+
+/// A copy of a small test texture in `s`.
+fn texture(s: &Scratch, name: &str) -> PathBuf {
+    let p = s.path(name);
+    std::fs::copy(testdata("srgb8.png"), &p).unwrap();
+    p
+}
+
+/// A texture of `size`² pixels made by oiiotool.
+fn big_texture(s: &Scratch, name: &str, size: u32) -> PathBuf {
+    let p = s.path(name);
+    tool(
+        "oiiotool",
+        &[
+            "--pattern",
+            "noise:type=uniform:min=0.05:max=0.95",
+            &format!("{size}x{size}"),
+            "3",
+            "-d",
+            "uint8",
+            "-o",
+            p.to_str().unwrap(),
+        ],
+    );
+    p
+}
+
+#[test]
+fn a_batch_whose_input_is_another_inputs_output_writes_nothing() {
+    let s = Scratch::new("safety-batch");
+    let x = texture(&s, "x.png");
+    Cmd::convert(&x, s.path("x_spectral.exr")).ok();
+    let spectral = s.path("x_spectral.exr");
+    // The spectral file is made older than its source: -u would replace it.
+    let old = std::time::SystemTime::now() - Duration::from_secs(3600);
+    std::fs::File::options()
+        .write(true)
+        .open(&spectral)
+        .unwrap()
+        .set_modified(old)
+        .unwrap();
+    let before = snapshot(&[&x, &spectral]);
+    for extra in [&["-u"][..], &["--force"], &["-u", "--force"]] {
+        Cmd::new(["convert"])
+            .args(extra)
+            .args(["x.png", "x_spectral.exr", "-o", "."])
+            .current_dir(&s.0)
+            .refused(
+                &s,
+                2,
+                &["the output ./x_spectral.exr is the input x_spectral.exr"],
+            );
+        assert_eq!(snapshot(&[&x, &spectral]), before, "{extra:?}");
+    }
+    // Two inputs a template maps to one file, through `..`.
+    std::fs::create_dir_all(s.path("a")).unwrap();
+    std::fs::create_dir_all(s.path("b")).unwrap();
+    std::fs::create_dir_all(s.path("o2")).unwrap();
+    std::fs::copy(&x, s.path("a/t.png")).unwrap();
+    std::fs::copy(&x, s.path("b/t.png")).unwrap();
+    Cmd::new([
+        "convert",
+        "--output-template",
+        "{dir}/../o2/{stem}.exr",
+        "a/t.png",
+        "b/t.png",
+    ])
+    .current_dir(&s.0)
+    .refused(
+        &s,
+        2,
+        &["a/../o2/t.exr and b/../o2/t.exr are one output file"],
+    );
+    assert!(std::fs::read_dir(s.path("o2")).unwrap().next().is_none());
+    // An existing file specconv did not make is not replaced by -u.
+    let foreign = s.write("foreign.exr", "not ours");
+    Cmd::convert(&x, &foreign)
+        .arg("-u")
+        .refused(&s, 2, &["is not a specconv output", "--force"]);
+    assert_eq!(std::fs::read(&foreign).unwrap(), b"not ours");
+    no_temporaries(&s.0);
+}
+
+#[test]
+fn to_rgb_and_simulate_never_write_over_what_they_read() {
+    let s = Scratch::new("safety-readers");
+    let x = texture(&s, "x.png");
+    let sp = s.path("sp.exr");
+    Cmd::convert(&x, &sp).ok();
+    std::os::unix::fs::symlink(&sp, s.path("link.exr")).unwrap();
+    let before = snapshot(&[&x, &sp]);
+    for output in ["sp.exr", "link.exr", "./sub/../sp.exr"] {
+        std::fs::create_dir_all(s.path("sub")).unwrap();
+        let out = Cmd::to_rgb("sp.exr", output)
+            .arg("--force")
+            .current_dir(&s.0)
+            .run();
+        out.one_error_line(2, &["is the input sp.exr"]);
+    }
+    // A scene's texture as simulate's --image.
+    let scene = s.write(
+        "scene.toml",
+        &format!(
+            "bounces = 1\nform_factors = \"furnace\"\n[[lights]]\nspectrum = \"D65\"\npower = 1\n\
+             [[patches]]\nname = \"tex\"\ntexture = {:?}\npixel = [0, 0]\n",
+            x.to_str().unwrap()
+        ),
+    );
+    Cmd::new(["simulate", "--scene", scene.to_str().unwrap(), "--image"])
+        .arg(&x)
+        .arg("--force")
+        .run()
+        .one_error_line(2, &["x.png is the input"]);
+    Cmd::new(["simulate", "--scene", scene.to_str().unwrap(), "--image"])
+        .arg(&scene.with_extension("png"))
+        .ok();
+    assert_eq!(snapshot(&[&x, &sp]), before);
+    no_temporaries(&s.0);
+}
+
+#[test]
+fn two_conversions_to_one_output_do_not_both_succeed() {
+    let s = Scratch::new("safety-race");
+    let a = big_texture(&s, "a.png", 512);
+    let b = big_texture(&s, "b.png", 512);
+    let before = snapshot(&[&a, &b]);
+    let out = s.path("out.exr");
+    // In two PID namespaces where the machine allows it (the same process ids in both), else
+    // as two plain processes.
+    let namespaces = Command::new("unshare")
+        .args(["--pid", "--fork", "true"])
+        .status()
+        .is_ok_and(|s| s.success());
+    let spawn = |input: &Path| {
+        let mut c = if namespaces {
+            let mut c = Command::new("unshare");
+            c.args(["--pid", "--fork"]).arg(binary());
+            c
+        } else {
+            Command::new(binary())
+        };
+        c.args(["convert", "-q", "--bands", "380:780:2"])
+            .arg(input)
+            .arg(&out)
+            .stdout(Stdio::null())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap()
+    };
+    let (first, second) = (spawn(&a), spawn(&b));
+    let results = [first, second].map(|c| c.wait_with_output().unwrap());
+    let codes: Vec<i32> = results.iter().map(|r| r.status.code().unwrap()).collect();
+    assert_eq!(
+        codes.iter().filter(|&&c| c == 0).count(),
+        1,
+        "exactly one publishes (namespaces: {namespaces}): {codes:?} {:?}",
+        results
+            .iter()
+            .map(|r| String::from_utf8_lossy(&r.stderr).into_owned())
+            .collect::<Vec<_>>()
+    );
+    let loser = results.iter().find(|r| !r.status.success()).unwrap();
+    let said = String::from_utf8_lossy(&loser.stderr);
+    assert!(
+        said.contains("another specconv is writing") || said.contains("exists"),
+        "{said}"
+    );
+    // The published file is whole: oiiotool reads every tile of it.
+    tool("oiiotool", &[out.to_str().unwrap(), "--printstats"]);
+    assert_eq!(snapshot(&[&a, &b]), before);
+    no_temporaries(&s.0);
+}
+
+#[test]
+fn a_killed_conversions_temporary_is_removed_by_the_next_one() {
+    let s = Scratch::new("safety-kill");
+    let x = big_texture(&s, "x.png", 1024);
+    let out = s.path("x.exr");
+    let mut child = Command::new(binary())
+        .args(["convert", "-q", "--bands", "380:780:1", "-j", "1"])
+        .arg(&x)
+        .arg(&out)
+        .spawn()
+        .unwrap();
+    let start = Instant::now();
+    let temporary = loop {
+        let found = specconv_atomic_file::leftovers(&out);
+        if let Some(t) = found.into_iter().next() {
+            break t;
+        }
+        assert!(
+            start.elapsed() < Duration::from_secs(60),
+            "no temporary appeared"
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    child.kill().unwrap();
+    child.wait().unwrap();
+    assert!(
+        temporary.exists() && !out.exists(),
+        "SIGKILL leaves its temporary"
+    );
+    Cmd::convert(&x, &out).arg("-u").ok();
+    assert!(!temporary.exists(), "the next conversion removed it");
+    no_temporaries(&s.0);
+}
+
+#[test]
+fn force_keeps_the_mode_and_long_names_fit() {
+    use std::os::unix::fs::PermissionsExt;
+    let s = Scratch::new("safety-mode");
+    let x = texture(&s, "x.png");
+    let out = s.path("out.exr");
+    Cmd::convert(&x, &out).ok();
+    std::fs::set_permissions(&out, std::fs::Permissions::from_mode(0o640)).unwrap();
+    Cmd::convert(&x, &out).arg("--force").ok();
+    let mode = std::fs::metadata(&out).unwrap().permissions().mode() & 0o777;
+    assert_eq!(mode, 0o640);
+    // The longest name a file may have (255 bytes), though its temporary's would be longer.
+    let long = s.path(&format!("{}.exr", "n".repeat(251)));
+    Cmd::convert(&x, &long).ok();
+    tool("exrheader", &[long.to_str().unwrap()]);
+    Cmd::convert(&x, s.path(&format!("{}.exr", "n".repeat(252)))).refused(
+        &s,
+        2,
+        &["is 256 bytes; file names have at most 255"],
+    );
+    no_temporaries(&s.0);
+}
+
+/// Runs `cmd` with `stdin`; fails the test if it has not ended after 20 s (a hang).
+fn ends(mut cmd: Command, stdin: Stdio) -> (i32, String, Duration) {
+    let start = Instant::now();
+    let mut child = cmd
+        .stdin(stdin)
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            let mut err = String::new();
+            std::io::Read::read_to_string(&mut child.stderr.take().unwrap(), &mut err).unwrap();
+            return (status.code().unwrap(), err, start.elapsed());
+        }
+        if start.elapsed() > Duration::from_secs(20) {
+            let _ = child.kill();
+            panic!("{cmd:?} still running after 20 s");
+        }
+        std::thread::sleep(Duration::from_millis(10));
+    }
+}
+
+#[test]
+fn special_files_are_refused_by_kind_before_any_read() {
+    let s = Scratch::new("safety-special");
+    let x = texture(&s, "x.png");
+    let fifo = s.path("fifo.png");
+    assert!(Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .unwrap()
+        .success());
+    let convert = |input: &Path, extra: &[&str]| {
+        let mut c = Command::new(binary());
+        c.arg("convert").args(extra).arg(input).arg(s.path("o.exr"));
+        c
+    };
+    for (input, kind) in [
+        (Path::new("/dev/zero"), "a character device, not a file"),
+        (Path::new("/dev/urandom"), "a character device, not a file"),
+        (fifo.as_path(), "a FIFO (named pipe), not a file"),
+        (s.0.as_path(), "a directory, not a file"),
+    ] {
+        let (code, err, took) = ends(convert(input, &[]), Stdio::null());
+        assert_eq!(code, 1, "{err}");
+        assert!(err.contains(kind), "{input:?}: {err}");
+        eprintln!("{} refused in {:.3} s", input.display(), took.as_secs_f64());
+        let mut info = Command::new(binary());
+        info.arg("info").arg(input);
+        let (code, err, _) = ends(info, Stdio::null());
+        assert_ne!(code, 0);
+        assert!(err.contains(kind), "info {input:?}: {err}");
+    }
+    // Side files: a model, a list of inputs on standard input that never ends.
+    let (code, err, _) = ends(convert(&x, &["--model", "/dev/zero"]), Stdio::null());
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("/dev/zero: a character device"), "{err}");
+    let mut list = Command::new(binary());
+    list.args(["convert", "-", "-o"]).arg(&s.0);
+    let (code, err, _) = ends(list, Stdio::from(std::fs::File::open("/dev/zero").unwrap()));
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("standard input"), "{err}");
+    assert!(!s.path("o.exr").exists());
+    no_temporaries(&s.0);
+}
+
+#[test]
+fn settings_no_reader_could_open_are_refused_up_front() {
+    let s = Scratch::new("safety-limits");
+    let x = texture(&s, "x.png");
+    let out = s.path("o.exr");
+    // 6000² tiles of 37 half channels are 2.7 GB, past OpenEXR's signed 32-bit block size.
+    for tile in ["6000", "8192", "3000000000"] {
+        Cmd::convert(&x, &out).args(["--tile", tile, tile]).refused(
+            &s,
+            2,
+            &["OpenEXR readers accept at most 2147483647 bytes per block"],
+        );
+    }
+    // Just inside the limit: a file oiiotool opens.
+    Cmd::convert(&x, &out).args(["--tile", "5000", "5000"]).ok();
+    tool("oiiotool", &["--info", out.to_str().unwrap()]);
+    Cmd::convert(&x, s.path("p.exr"))
+        .args(["-j", "100000"])
+        .refused(&s, 2, &["100000 worker threads asked for; at most 1024"]);
+    no_temporaries(&s.0);
+}
+
+#[test]
+fn errors_are_one_line_naming_the_real_path() {
+    let s = Scratch::new("safety-lines");
+    // A TOML error comes in several lines with a source snippet.
+    let scene = s.write("bad.toml", "bounces = \n[[lights]]\n");
+    Cmd::new(["simulate", "--scene", scene.to_str().unwrap()])
+        .run()
+        .one_error_line(1, &["bad.toml", "line 1"]);
+    // An input whose output path contains its name: both paths named as they are.
+    let x = texture(&s, "x.exr");
+    Cmd::convert("x.exr", "./x.exr")
+        .arg("--force")
+        .current_dir(&s.0)
+        .refused(&s, 2, &["the output ./x.exr is the input x.exr"]);
+    assert_eq!(
+        std::fs::read(&x).unwrap(),
+        std::fs::read(testdata("srgb8.png")).unwrap()
+    );
+    no_temporaries(&s.0);
+}
