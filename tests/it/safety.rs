@@ -139,7 +139,7 @@ fn to_rgb_and_simulate_never_write_over_what_they_read() {
         .run()
         .one_error_line(2, &["x.png is the input"]);
     Cmd::new(["simulate", "--scene", scene.to_str().unwrap(), "--image"])
-        .arg(&scene.with_extension("png"))
+        .arg(scene.with_extension("png"))
         .ok();
     assert_eq!(snapshot(&[&x, &sp]), before);
     no_temporaries(&s.0);

@@ -602,7 +602,7 @@ impl Processor {
     }
 
     fn apply(&self, data: &mut [f32], channels: usize) -> Result<()> {
-        if data.len() % channels != 0 {
+        if !data.len().is_multiple_of(channels) {
             return Err(Error::Argument(format!(
                 "{} values are not whole {channels}-channel pixels",
                 data.len()
