@@ -66,11 +66,10 @@ pub struct Busy {
 
 impl Pending {
     /// Creates a new temporary file beside `target` (same directory, so the rename stays on
-    /// one file system), after removing the temporaries of dead writers of `target`. Fails
-    /// with [`io::ErrorKind::ResourceBusy`] (carrying [`Busy`]) while another writer of
-    /// `target` is live.
+    /// one file system) and removes the temporaries of dead writers of `target`. Fails with
+    /// [`io::ErrorKind::ResourceBusy`] (carrying [`Busy`]) while another writer of `target`
+    /// is live.
     pub fn beside(target: &Path) -> io::Result<Pending> {
-        remove_stale(target);
         let pending = loop {
             let temporary = names::temporary(target);
             let file = match File::options()
@@ -97,17 +96,27 @@ impl Pending {
                 _ => continue,
             }
         };
-        if let Some(other) = live_temporaries(target)
-            .into_iter()
-            .find(|t| Some(t) != pending.temporary.as_ref())
-        {
-            return Err(io::Error::new(
-                io::ErrorKind::ResourceBusy,
-                Busy {
-                    target: target.to_path_buf(),
-                    other,
-                },
-            ));
+        // One look at the directory, after ours is locked: of two writers that start at once,
+        // at least the later one sees the other.
+        for other in names::temporaries_of(target) {
+            if Some(&other) == pending.temporary.as_ref() {
+                continue;
+            }
+            match held(&other) {
+                Some(true) => {
+                    return Err(io::Error::new(
+                        io::ErrorKind::ResourceBusy,
+                        Busy {
+                            target: target.to_path_buf(),
+                            other,
+                        },
+                    ))
+                }
+                Some(false) => {
+                    let _ = std::fs::remove_file(&other);
+                }
+                None => {}
+            }
         }
         Ok(pending)
     }
@@ -261,14 +270,6 @@ pub fn remove_stale(target: &Path) -> Vec<PathBuf> {
     names::temporaries_of(target)
         .into_iter()
         .filter(|t| held(t) == Some(false) && std::fs::remove_file(t).is_ok())
-        .collect()
-}
-
-/// The temporary files of `target` that live writers hold.
-fn live_temporaries(target: &Path) -> Vec<PathBuf> {
-    names::temporaries_of(target)
-        .into_iter()
-        .filter(|t| held(t) == Some(true))
         .collect()
 }
 
