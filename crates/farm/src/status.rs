@@ -71,11 +71,17 @@ pub struct TaskStatus {
     pub end: Option<f64>,
 }
 
+/// The state of a task whose round was recorded but never reached Slurm.
+pub const NOT_SUBMITTED: &str = "NOT_SUBMITTED";
+/// The state of a task Slurm could not be asked about (its commands failed): it may run.
+pub const UNREACHABLE: &str = "UNREACHABLE";
+
 impl TaskStatus {
-    /// Queued or running, as Slurm says: a task that logged its end may still be completing,
-    /// and its final state (CANCELLED, TIMEOUT…) is what a status should show.
+    /// Queued or running, as Slurm says, or possibly so (Slurm did not answer): a task that
+    /// logged its end may still be completing, and its final state (CANCELLED, TIMEOUT…) is
+    /// what a status should show.
     pub fn active(&self) -> bool {
-        crate::slurm::active(&self.state)
+        self.state == UNREACHABLE || crate::slurm::active(&self.state)
     }
 }
 
@@ -89,27 +95,40 @@ pub struct Status {
 }
 
 impl Status {
-    /// Combines the manifest, the logs under `job_dir` and Slurm's view of each round's job
-    /// (`slurm(job_id)`, `None` when Slurm has forgotten it).
+    /// Combines the manifest, the logs under `job_dir` and Slurm's view of each submitted
+    /// round's job (`slurm(job_id)`: `None` when Slurm has forgotten it, an error when it could
+    /// not be asked, and then its tasks count as possibly running). Fails only on a log that is
+    /// refused ([`TaskLog::read`]).
     pub fn read(
         job_dir: &Path,
         m: &Manifest,
-        slurm: &mut dyn FnMut(&str) -> Option<Vec<TaskState>>,
-    ) -> Status {
+        slurm: &mut dyn FnMut(&str) -> Result<Option<Vec<TaskState>>, crate::Error>,
+    ) -> Result<Status, crate::Error> {
         let mut tasks = Vec::new();
         let mut logs = Vec::new();
         for (r, round) in m.rounds.iter().enumerate() {
-            let states = slurm(&round.job_id);
+            let states = match &round.job_id {
+                Some(id) => slurm(id).map_err(|_| UNREACHABLE),
+                None => Err(NOT_SUBMITTED),
+            };
             let dir = round_dir(job_dir, r);
             let mut round_logs = Vec::new();
             for (t, files) in round.tasks.iter().enumerate() {
-                let log = TaskLog::read(&task_log(&dir, t));
-                let known = states.as_ref().and_then(|s| s.iter().find(|s| s.task == t));
+                let log = TaskLog::read(&task_log(&dir, t))?;
+                let known = match &states {
+                    Ok(s) => s.as_ref().and_then(|s| s.iter().find(|s| s.task == t)),
+                    Err(_) => None,
+                };
+                let state = match (&states, known) {
+                    (Err(why), _) => why.to_string(),
+                    (Ok(_), Some(s)) => s.state.clone(),
+                    (Ok(_), None) => "UNKNOWN".to_string(),
+                };
                 tasks.push(TaskStatus {
                     round: r,
-                    job_id: round.job_id.clone(),
+                    job_id: round.job_id.clone().unwrap_or_default(),
                     task: t,
-                    state: known.map_or_else(|| "UNKNOWN".to_string(), |s| s.state.clone()),
+                    state,
                     exit: known
                         .and_then(|s| s.exit.clone())
                         .or_else(|| log.exit.map(|e| e.to_string())),
@@ -133,10 +152,9 @@ impl Status {
             }) else {
                 continue;
             };
-            let task = tasks
-                .iter()
-                .find(|s| s.round == r && s.task == t)
-                .expect("every planned task has a status");
+            let Some(task) = tasks.iter().find(|s| s.round == r && s.task == t) else {
+                continue;
+            };
             let record = logs[r][t].records.get(&f.input);
             let state = match record.map(|r| &r.outcome) {
                 Some(Outcome::Done) if f.output.exists() => FileState::Done,
@@ -145,6 +163,17 @@ impl Status {
                     waiting: false,
                 },
                 Some(Outcome::Failed(e)) => FileState::Failed { error: e.clone() },
+                None if task.state == NOT_SUBMITTED => FileState::Pending {
+                    why: format!(
+                        "round {r} was not submitted (interrupted before Slurm took it); \
+                         `specconv farm retry` submits it"
+                    ),
+                    waiting: false,
+                },
+                None if task.state == UNREACHABLE => FileState::Pending {
+                    why: format!("task {t} may still run: Slurm did not answer"),
+                    waiting: true,
+                },
                 None if task.active() => FileState::Pending {
                     why: format!("task {t} is {}", task.state.to_lowercase()),
                     waiting: true,
@@ -171,7 +200,24 @@ impl Status {
                 seconds: record.map_or(0.0, |r| r.seconds),
             });
         }
-        Status { tasks, files }
+        Ok(Status { tasks, files })
+    }
+
+    /// Whether file `index`'s task (in the latest round that planned it) is known to have
+    /// ended, or never reached Slurm: nothing of this job can be writing its output.
+    pub fn ended(&self, index: usize) -> bool {
+        let Some(f) = self.files.iter().find(|f| f.index == index) else {
+            return false;
+        };
+        self.tasks
+            .iter()
+            .find(|t| t.round == f.round && t.task == f.task)
+            .is_some_and(|t| !t.active())
+    }
+
+    /// Whether some round was recorded but never reached Slurm.
+    pub fn not_submitted(&self) -> bool {
+        self.tasks.iter().any(|t| t.state == NOT_SUBMITTED)
     }
 
     /// Whether any task of any round may still run.

@@ -366,6 +366,10 @@ impl Args {
         self.output_template.is_some()
     }
 
+    pub(crate) fn output_template(&self) -> Option<&str> {
+        self.output_template.as_deref()
+    }
+
     pub(crate) fn json_wanted(&self) -> bool {
         self.json
     }
