@@ -614,7 +614,10 @@ fn wait_for(job_dir: &Path) -> Value {
         if c["running"] == false {
             return c;
         }
-        assert!(start.elapsed().as_secs() < 600, "the job never ended (hang guard)");
+        assert!(
+            start.elapsed().as_secs() < 600,
+            "the job never ended (hang guard)"
+        );
         std::thread::sleep(std::time::Duration::from_millis(200));
     }
 }
@@ -647,7 +650,11 @@ fn a_manifest_edited_to_point_outside_is_refused_and_retry_deletes_nothing_there
         "--wait",
         "--json",
     ]);
-    assert_eq!(submitted.code, 1, "{}\n{}", submitted.stdout, submitted.stderr);
+    assert_eq!(
+        submitted.code, 1,
+        "{}\n{}",
+        submitted.stdout, submitted.stderr
+    );
     let job_dir = submitted_job_dir(&submitted);
     texture(&b, 16, 24, 2);
     let inputs = vec![a.clone(), b.clone()];
@@ -682,7 +689,10 @@ fn a_manifest_edited_to_point_outside_is_refused_and_retry_deletes_nothing_there
         );
         run.one_error_line(2, &[precious.to_str().unwrap(), "edited or damaged"]);
     }
-    assert!(!job_dir.join("round-1").exists(), "a refused retry submitted");
+    assert!(
+        !job_dir.join("round-1").exists(),
+        "a refused retry submitted"
+    );
 
     // A plan naming a file the manifest does not list: refused, not a panic.
     let mut m: Value = serde_json::from_str(&original).unwrap();
@@ -742,7 +752,10 @@ fn retry_while_slurm_does_not_answer_removes_no_temporary_of_a_running_task() {
     let start = std::time::Instant::now();
     let writing = || temporaries(&out);
     while writing().is_empty() {
-        assert!(start.elapsed().as_secs() < 600, "the task never started writing");
+        assert!(
+            start.elapsed().as_secs() < 600,
+            "the task never started writing"
+        );
         std::thread::sleep(std::time::Duration::from_millis(20));
     }
     // Stopped mid-file, so its temporary stays while we look.
@@ -769,10 +782,17 @@ fn retry_while_slurm_does_not_answer_removes_no_temporary_of_a_running_task() {
         retried.stdout,
         retried.stderr
     );
-    assert!(!job_dir.join("round-1").exists(), "retry submitted a running file again");
+    assert!(
+        !job_dir.join("round-1").exists(),
+        "retry submitted a running file again"
+    );
     assert!(!retried.stderr.contains("panicked"), "{}", retried.stderr);
     let c = wait_for(&job_dir);
-    assert_eq!((c["done"].as_u64(), c["pending"].as_u64()), (Some(1), Some(0)), "{c}");
+    assert_eq!(
+        (c["done"].as_u64(), c["pending"].as_u64()),
+        (Some(1), Some(0)),
+        "{c}"
+    );
     assert_clean(&dir.0, &inputs, &sums);
 }
 
@@ -795,10 +815,21 @@ fn a_percent_in_the_output_or_job_directory_reaches_slurm_literally() {
     for extra in [vec![], vec!["--job-dir", job.to_str().unwrap()]] {
         let mut args = vec!["submit"];
         args.extend(&names);
-        args.extend(["-o", out.to_str().unwrap(), "--tasks", "2", "--wait", "--json"]);
+        args.extend([
+            "-o",
+            out.to_str().unwrap(),
+            "--tasks",
+            "2",
+            "--wait",
+            "--json",
+        ]);
         args.extend(&extra);
         let submitted = farm(&args);
-        assert_eq!(submitted.code, 0, "{}\n{}", submitted.stdout, submitted.stderr);
+        assert_eq!(
+            submitted.code, 0,
+            "{}\n{}",
+            submitted.stdout, submitted.stderr
+        );
         let job_dir = submitted_job_dir(&submitted);
         assert!(job_dir.to_str().unwrap().contains('%'));
         for t in 0..2 {
@@ -808,7 +839,10 @@ fn a_percent_in_the_output_or_job_directory_reaches_slurm_literally() {
         let status = farm(&["status", job_dir.to_str().unwrap()]);
         assert_eq!(status.code, 0, "{}", status.stdout);
         for p in &inputs {
-            let o = out.join(format!("{}_spectral.exr", p.file_stem().unwrap().to_string_lossy()));
+            let o = out.join(format!(
+                "{}_spectral.exr",
+                p.file_stem().unwrap().to_string_lossy()
+            ));
             assert!(o.is_file(), "{} missing", o.display());
         }
         // -u: the second submission skips them (two files, already converted).
@@ -841,8 +875,16 @@ fn an_interrupted_submit_is_not_submitted_until_retry_submits_it() {
     args.extend(inputs.iter().map(|p| p.to_str().unwrap()));
     args.extend(["-o", out.to_str().unwrap(), "--tasks", "2"]);
     args.extend(["--job-dir", job_dir.to_str().unwrap()]);
-    let killed = Cmd::new(&args).env("PATH", &killing).command().output().unwrap();
-    assert_eq!(killed.status.code(), None, "the submit was meant to be killed");
+    let killed = Cmd::new(&args)
+        .env("PATH", &killing)
+        .command()
+        .output()
+        .unwrap();
+    assert_eq!(
+        killed.status.code(),
+        None,
+        "the submit was meant to be killed"
+    );
     assert!(job_dir.join("manifest.json").is_file());
 
     let status = farm(&["status", job_dir.to_str().unwrap()]);
@@ -851,13 +893,21 @@ fn an_interrupted_submit_is_not_submitted_until_retry_submits_it() {
     let collected = farm(&["collect", job_dir.to_str().unwrap(), "--json"]);
     assert_eq!(collected.code, 1, "{}", collected.stdout);
     let c: Value = serde_json::from_str(&collected.stdout).unwrap();
-    assert_eq!((c["done"].as_u64(), c["pending"].as_u64()), (Some(0), Some(3)), "{c}");
+    assert_eq!(
+        (c["done"].as_u64(), c["pending"].as_u64()),
+        (Some(0), Some(3)),
+        "{c}"
+    );
     let text = farm(&["collect", job_dir.to_str().unwrap()]);
     assert!(text.stdout.contains("not submitted"), "{}", text.stdout);
 
     let retried = farm(&["retry", job_dir.to_str().unwrap(), "--wait"]);
     assert_eq!(retried.code, 0, "{}\n{}", retried.stdout, retried.stderr);
-    assert!(retried.stdout.contains("3 files: 3 done"), "{}", retried.stdout);
+    assert!(
+        retried.stdout.contains("3 files: 3 done"),
+        "{}",
+        retried.stdout
+    );
     assert_clean(&dir.0, &inputs, &sums);
 }
 
@@ -886,14 +936,25 @@ fn two_concurrent_submits_into_one_output_directory_do_not_both_succeed() {
     };
     let spawn = |mut c: Command| {
         use std::process::Stdio;
-        c.stdin(Stdio::null()).stdout(Stdio::piped()).stderr(Stdio::piped());
+        c.stdin(Stdio::null())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped());
         c.spawn().unwrap()
     };
     let (one, two) = (spawn(submit("job1")), spawn(submit("job2")));
-    let (one, two) = (one.wait_with_output().unwrap(), two.wait_with_output().unwrap());
+    let (one, two) = (
+        one.wait_with_output().unwrap(),
+        two.wait_with_output().unwrap(),
+    );
     let runs = [(one, "job1"), (two, "job2")];
-    let ok: Vec<_> = runs.iter().filter(|(o, _)| o.status.code() == Some(0)).collect();
-    let refused: Vec<_> = runs.iter().filter(|(o, _)| o.status.code() != Some(0)).collect();
+    let ok: Vec<_> = runs
+        .iter()
+        .filter(|(o, _)| o.status.code() == Some(0))
+        .collect();
+    let refused: Vec<_> = runs
+        .iter()
+        .filter(|(o, _)| o.status.code() != Some(0))
+        .collect();
     let ids: Vec<String> = ok
         .iter()
         .map(|(o, _)| {
@@ -953,7 +1014,10 @@ fn the_ocio_config_submit_checked_is_the_one_every_task_uses() {
     }
     let sums = checksums(&inputs);
     // $OCIO at submit; the nodes get none (SBATCH_EXPORT=NONE) or another one.
-    for (k, export) in ["NONE", "NONE,OCIO=/nonexistent/config.ocio"].iter().enumerate() {
+    for (k, export) in ["NONE", "NONE,OCIO=/nonexistent/config.ocio"]
+        .iter()
+        .enumerate()
+    {
         let out = dir.path(&format!("out{k}"));
         std::fs::create_dir_all(&out).unwrap();
         let mut args = vec!["farm", "submit"];
@@ -968,7 +1032,10 @@ fn the_ocio_config_submit_checked_is_the_one_every_task_uses() {
             .run();
         assert_eq!(run.code, 0, "{export}:\n{}\n{}", run.stdout, run.stderr);
         for p in &inputs {
-            let o = out.join(format!("{}_spectral.exr", p.file_stem().unwrap().to_string_lossy()));
+            let o = out.join(format!(
+                "{}_spectral.exr",
+                p.file_stem().unwrap().to_string_lossy()
+            ));
             let h = tool("exrheader", &[o.to_str().unwrap()]);
             assert!(h.contains("pinned.ocio"), "{export}: {h}");
         }
@@ -984,7 +1051,10 @@ fn retry_ocio_reaches_the_new_rounds_script() {
     let dir = Scratch::new("farm-retry-ocio");
     let out = dir.path("out");
     std::fs::create_dir_all(&out).unwrap();
-    let (first, second) = (pinned_config(&dir, "first.ocio"), pinned_config(&dir, "second.ocio"));
+    let (first, second) = (
+        pinned_config(&dir, "first.ocio"),
+        pinned_config(&dir, "second.ocio"),
+    );
     let (a, b) = (dir.path("a.png"), dir.path("b.png"));
     texture(&a, 16, 16, 0);
     let job_dir = dir.path("job");
@@ -1004,7 +1074,11 @@ fn retry_ocio_reaches_the_new_rounds_script() {
         job_dir.to_str().unwrap(),
     ])
     .run();
-    assert_eq!(submitted.code, 1, "b is missing:\n{}\n{}", submitted.stdout, submitted.stderr);
+    assert_eq!(
+        submitted.code, 1,
+        "b is missing:\n{}\n{}",
+        submitted.stdout, submitted.stderr
+    );
     texture(&b, 16, 24, 1);
     let inputs = vec![a.clone(), b.clone()];
     let sums = checksums(&inputs);
