@@ -169,47 +169,67 @@ pub fn prepare(
     })
 }
 
-/// Writes the round's folder (script, input lists), records the round in the manifest as not
-/// submitted, submits it and records its job id (each save atomic). A submit killed before
-/// sbatch returns leaves the round recorded without a job id: `status` says "not submitted" and
-/// `retry` submits its files. When sbatch refuses the job, the round and its folder are
-/// removed again.
+/// Records the round in the manifest as not submitted, writes its folder (script, input
+/// lists), submits it and records its job id (each save atomic). A submit killed before sbatch
+/// returns leaves the round recorded without a job id: `status` says "not submitted" and
+/// `retry` submits its files. When the folder cannot be written or sbatch refuses the job, the
+/// round and the folder are removed again.
 pub fn submit(job_dir: &Path, m: &mut Manifest, p: Prepared) -> Result<String, Error> {
+    m.rounds.push(Round {
+        job_id: None,
+        tasks: p.tasks.clone(),
+    });
+    if let Err(e) = m.save(job_dir) {
+        m.rounds.pop();
+        return Err(e);
+    }
+    let submitted = write_round(m, &p).and_then(|script| {
+        slurm::submit(&p.sbatch, &script).inspect_err(|_| {
+            let _ = std::fs::remove_dir_all(&p.dir);
+        })
+    });
+    match submitted {
+        Ok(job_id) => {
+            if let Some(r) = m.rounds.last_mut() {
+                r.job_id = Some(job_id.clone());
+            }
+            m.save(job_dir)?;
+            Ok(job_id)
+        }
+        Err(e) => {
+            m.rounds.pop();
+            m.save(job_dir)?;
+            Err(e)
+        }
+    }
+}
+
+/// Writes a new round's folder: the script and each task's input list; returns the script's
+/// path. The folder must be new (one already there, perhaps a link planted elsewhere, is not
+/// written through); a folder left half-written is removed.
+fn write_round(m: &Manifest, p: &Prepared) -> Result<PathBuf, Error> {
     let io = |what: &Path| {
         let what = what.display().to_string();
         move |e| Error::Io(format!("cannot write {what}"), e)
     };
-    // A new folder: one already there (a link planted elsewhere) is not written through.
     std::fs::create_dir(&p.dir).map_err(io(&p.dir))?;
     let script = p.dir.join("job.sbatch");
-    std::fs::write(&script, &p.script).map_err(io(&script))?;
+    let mut written = std::fs::write(&script, &p.script).map_err(io(&script));
     for (t, files) in p.tasks.iter().enumerate() {
         let list = manifest::task_inputs(&p.dir, t);
         let text: String = files
             .iter()
             .map(|&i| format!("{}\n", m.files[i].input.display()))
             .collect();
-        std::fs::write(&list, text).map_err(io(&list))?;
+        written = written.and_then(|()| std::fs::write(&list, text).map_err(io(&list)));
     }
-    m.rounds.push(Round {
-        job_id: None,
-        tasks: p.tasks,
-    });
-    m.save(job_dir)?;
-    let job_id = match slurm::submit(&p.sbatch, &script) {
-        Ok(id) => id,
+    match written {
+        Ok(()) => Ok(script),
         Err(e) => {
-            m.rounds.pop();
-            m.save(job_dir)?;
             let _ = std::fs::remove_dir_all(&p.dir);
-            return Err(e);
+            Err(e)
         }
-    };
-    if let Some(r) = m.rounds.last_mut() {
-        r.job_id = Some(job_id.clone());
     }
-    m.save(job_dir)?;
-    Ok(job_id)
 }
 
 /// Removes the temporary files that killed tasks left beside the outputs of `files` (indices

@@ -3,7 +3,6 @@
 
 use crate::log::{Outcome, TaskLog};
 use crate::manifest::{round_dir, task_log, Manifest};
-use crate::slurm::TaskState;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 
@@ -102,7 +101,7 @@ impl Status {
     pub fn read(
         job_dir: &Path,
         m: &Manifest,
-        slurm: &mut dyn FnMut(&str) -> Result<Option<Vec<TaskState>>, crate::Error>,
+        slurm: &mut dyn FnMut(&str) -> crate::slurm::Tasks,
     ) -> Result<Status, crate::Error> {
         let mut tasks = Vec::new();
         let mut logs = Vec::new();
@@ -213,11 +212,6 @@ impl Status {
             .iter()
             .find(|t| t.round == f.round && t.task == f.task)
             .is_some_and(|t| !t.active())
-    }
-
-    /// Whether some round was recorded but never reached Slurm.
-    pub fn not_submitted(&self) -> bool {
-        self.tasks.iter().any(|t| t.state == NOT_SUBMITTED)
     }
 
     /// Whether any task of any round may still run.
@@ -332,4 +326,75 @@ pub struct Pending {
     pub input: PathBuf,
     /// Why it is pending (its task is running, ended early, or its output has gone missing).
     pub why: String,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::manifest::{File, Outputs, Request, Round, FORMAT};
+    use crate::slurm::TaskState;
+
+    fn manifest(rounds: Vec<Round>) -> Manifest {
+        Manifest {
+            format: FORMAT,
+            specconv: "/bin/specconv".into(),
+            workdir: "/w".into(),
+            ocio: "aces".into(),
+            outputs: Outputs::Directory("/out".into()),
+            convert_options: vec![],
+            files: (0..3)
+                .map(|k| File {
+                    input: format!("/in/{k}.png").into(),
+                    output: format!("/out/{k}_spectral.exr").into(),
+                    pixels: 1,
+                })
+                .collect(),
+            request: Request {
+                partition: None,
+                time: None,
+                cpus_per_task: 1,
+                mem_mib: 100,
+                limit: None,
+            },
+            rounds,
+        }
+    }
+
+    #[test]
+    fn a_round_never_submitted_is_pending_and_retried_and_one_slurm_did_not_report_is_not() {
+        let m = manifest(vec![
+            Round {
+                job_id: Some("7".into()),
+                tasks: vec![vec![0, 1]],
+            },
+            Round {
+                job_id: None,
+                tasks: vec![vec![2]],
+            },
+        ]);
+        let nowhere = Path::new("/nonexistent/job");
+        let mut unreachable = |_: &str| Err(crate::Error::Slurm("no controller".into()));
+        let s = Status::read(nowhere, &m, &mut unreachable).unwrap();
+        assert_eq!(s.tasks[0].state, UNREACHABLE);
+        assert_eq!(s.tasks[1].state, NOT_SUBMITTED);
+        assert!(s.running());
+        // Files of the round Slurm did not report may be being written: not retried, not
+        // cleaned; the round never submitted is.
+        assert_eq!(s.to_retry(), [2]);
+        assert!(!s.ended(0) && !s.ended(1) && s.ended(2));
+        assert!(
+            matches!(&s.files[2].state, FileState::Pending { why, waiting: false } if why.contains("not submitted"))
+        );
+        // Slurm says the task ended: its files are retried and cleaned.
+        let mut ended = |_: &str| {
+            Ok(Some(vec![TaskState {
+                task: 0,
+                state: "CANCELLED".into(),
+                exit: Some("0:15".into()),
+            }]))
+        };
+        let s = Status::read(nowhere, &m, &mut ended).unwrap();
+        assert_eq!(s.to_retry(), [0, 1, 2]);
+        assert!(s.ended(0) && !s.running());
+    }
 }

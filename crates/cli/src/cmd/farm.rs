@@ -138,20 +138,24 @@ pub fn run(args: Args, ocio: Option<String>) -> Result<i32> {
 }
 
 fn submit(s: Submit, ocio: Option<String>) -> Result<i32> {
-    if s.convert.output_dir().is_none() && !s.convert.has_output_template() {
-        return Err(usage(anyhow!(
-            "farm submit writes many outputs: give -o DIR or --output-template"
-        )));
-    }
+    let outputs = match (s.convert.output_dir(), s.convert.output_template()) {
+        (Some(dir), _) => Outputs::Directory(absolute(dir)?),
+        (None, Some(t)) => Outputs::Template(t.to_string()),
+        (None, None) => {
+            return Err(usage(anyhow!(
+                "farm submit writes many outputs: give -o DIR or --output-template"
+            )))
+        }
+    };
     let options = passed_options().map_err(usage)?;
     // Settings that cannot work for any input fail here, not once in every task.
     let config = checks::config(ocio.as_deref())?;
     checks::input_colorspace(&config, s.convert.colorspace())?;
-    let (inputs, outputs) = convert::plan(&s.convert).map_err(usage)?;
+    let (inputs, planned) = convert::plan(&s.convert).map_err(usage)?;
     if inputs.is_empty() {
         return Err(usage(anyhow!("no inputs to submit")));
     }
-    let files = listed_files(&inputs, &outputs)?;
+    let files = listed_files(&inputs, &planned)?;
     let largest = files.iter().map(|f| f.pixels).max().unwrap_or(0);
     let mem_mib = match &s.mem {
         Some(m) => parse_mem(m)
@@ -171,11 +175,7 @@ fn submit(s: Submit, ocio: Option<String>) -> Result<i32> {
         specconv: std::env::current_exe().context("cannot locate the specconv binary")?,
         workdir: std::env::current_dir().context("cannot read the current directory")?,
         ocio: pinned(&config)?,
-        outputs: match (s.convert.output_dir(), s.convert.output_template()) {
-            (Some(dir), _) => Outputs::Directory(absolute(dir)?),
-            (None, Some(t)) => Outputs::Template(t.to_string()),
-            (None, None) => unreachable!("checked above: -o or --output-template"),
-        },
+        outputs,
         convert_options: options,
         files,
         request: Request {
