@@ -14,8 +14,9 @@ use std::path::{Component, Path, PathBuf};
 /// Version of the manifest's layout.
 pub const FORMAT: u32 = 2;
 
-/// The largest manifest or task log read: far more than a job of a million files writes, far
-/// less than a damaged or hostile file could hold.
+/// The largest manifest or task log read: a manifest of 100 000 files (paths of about 60
+/// characters) measured 18.8 MB, so this holds some 350 000; far less than a damaged or
+/// hostile file could hold.
 pub const MAX_FILE_BYTES: u64 = 64 << 20;
 
 /// `manifest.json`, the job directory's record of a job: what to convert, how, and every round

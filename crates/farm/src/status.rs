@@ -205,13 +205,15 @@ impl Status {
     /// Whether file `index`'s task (in the latest round that planned it) is known to have
     /// ended, or never reached Slurm: nothing of this job can be writing its output.
     pub fn ended(&self, index: usize) -> bool {
-        let Some(f) = self.files.iter().find(|f| f.index == index) else {
+        // Both lists are in order (files by index, tasks by round and task): a retry of many
+        // files stays linear-logarithmic.
+        let Ok(f) = self.files.binary_search_by_key(&index, |f| f.index) else {
             return false;
         };
+        let f = &self.files[f];
         self.tasks
-            .iter()
-            .find(|t| t.round == f.round && t.task == f.task)
-            .is_some_and(|t| !t.active())
+            .binary_search_by_key(&(f.round, f.task), |t| (t.round, t.task))
+            .is_ok_and(|t| !self.tasks[t].active())
     }
 
     /// Whether any task of any round may still run.
