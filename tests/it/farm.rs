@@ -1104,3 +1104,42 @@ fn retry_ocio_reaches_the_new_rounds_script() {
     assert!(h.contains("first.ocio"), "{h}");
     assert_clean(&dir.0, &inputs, &sums);
 }
+
+#[test]
+fn outputs_by_template_pass_the_job_directorys_own_check() {
+    // The farm checks each output against the template as it reads the manifest; submit runs
+    // that check first, so a template convert expands differently would be refused here.
+    let dir = Scratch::new("farm-template");
+    std::fs::create_dir_all(dir.path("lib/wood")).unwrap();
+    std::fs::create_dir_all(dir.path("lib/metal")).unwrap();
+    std::fs::create_dir_all(dir.path("lib/o2")).unwrap();
+    texture(&dir.path("lib/wood/a.png"), 16, 16, 0);
+    texture(&dir.path("lib/metal/b.png"), 16, 16, 1);
+    let inputs = vec![dir.path("lib/wood/a.png"), dir.path("lib/metal/b.png")];
+    let sums = checksums(&inputs);
+    for template in [
+        "{dir}/../o2/{stem}.exr",
+        "lib/o2/{name}.exr",
+        "./lib/./o2/{stem}_s.exr",
+    ] {
+        let dry = Cmd::new([
+            "farm",
+            "submit",
+            "lib/wood/a.png",
+            "./lib/metal/../metal/b.png",
+            "--output-template",
+            template,
+            "--job-dir",
+            "job",
+            "--tasks",
+            "2",
+            "--dry-run",
+        ])
+        .current_dir(&dir.0)
+        .run();
+        assert_eq!(dry.code, 0, "{template}:\n{}\n{}", dry.stdout, dry.stderr);
+        assert!(dry.stdout.contains("--output-template"), "{}", dry.stdout);
+    }
+    assert!(!dir.path("job").exists());
+    assert_clean(&dir.0, &inputs, &sums);
+}
