@@ -622,6 +622,15 @@ fn wait_for(job_dir: &Path) -> Value {
     }
 }
 
+/// Starts a command with its output captured, to run beside another.
+fn spawned(mut c: Command) -> std::process::Child {
+    use std::process::Stdio;
+    c.stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped());
+    c.spawn().unwrap()
+}
+
 fn submitted_job_dir(out: &Output) -> PathBuf {
     let lines = json_lines(&out.stdout);
     assert!(!lines.is_empty(), "{}\n{}", out.stdout, out.stderr);
@@ -901,12 +910,29 @@ fn an_interrupted_submit_is_not_submitted_until_retry_submits_it() {
     let text = farm(&["collect", job_dir.to_str().unwrap()]);
     assert!(text.stdout.contains("not submitted"), "{}", text.stdout);
 
-    let retried = farm(&["retry", job_dir.to_str().unwrap(), "--wait"]);
-    assert_eq!(retried.code, 0, "{}\n{}", retried.stdout, retried.stderr);
-    assert!(
-        retried.stdout.contains("3 files: 3 done"),
-        "{}",
-        retried.stdout
+    // Two retries at once: one submits the round, the other then finds it live (or done).
+    let retry = || Cmd::new(["farm", "retry", job_dir.to_str().unwrap()]).command();
+    let (one, two) = (spawned(retry()), spawned(retry()));
+    let runs = [
+        one.wait_with_output().unwrap(),
+        two.wait_with_output().unwrap(),
+    ];
+    let said: Vec<String> = runs
+        .iter()
+        .map(|o| String::from_utf8_lossy(&o.stdout).into_owned())
+        .collect();
+    assert!(runs.iter().all(|o| o.status.code() == Some(0)), "{said:?}");
+    assert_eq!(
+        said.iter().filter(|s| s.contains("submitted job")).count(),
+        1,
+        "{said:?}"
+    );
+    assert!(!job_dir.join("round-2").exists(), "{said:?}");
+    let c = wait_for(&job_dir);
+    assert_eq!(
+        (c["done"].as_u64(), c["pending"].as_u64()),
+        (Some(3), Some(0)),
+        "{c}"
     );
     assert_clean(&dir.0, &inputs, &sums);
 }
@@ -934,14 +960,7 @@ fn two_concurrent_submits_into_one_output_directory_do_not_both_succeed() {
         args.extend(["--job-dir", job_dir.to_str().unwrap()]);
         Cmd::new(&args).env("PATH", &holding).command()
     };
-    let spawn = |mut c: Command| {
-        use std::process::Stdio;
-        c.stdin(Stdio::null())
-            .stdout(Stdio::piped())
-            .stderr(Stdio::piped());
-        c.spawn().unwrap()
-    };
-    let (one, two) = (spawn(submit("job1")), spawn(submit("job2")));
+    let (one, two) = (spawned(submit("job1")), spawned(submit("job2")));
     let (one, two) = (
         one.wait_with_output().unwrap(),
         two.wait_with_output().unwrap(),

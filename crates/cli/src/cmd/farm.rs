@@ -519,6 +519,10 @@ fn collect(r: &Report) -> Result<i32> {
 
 fn retry(r: &Retry, ocio: Option<String>) -> Result<i32> {
     let job_dir = std::path::absolute(&r.job_dir)?;
+    // Locked before the job's state is read: a second retry of this job waits, then finds this
+    // one's round live instead of submitting the same files again.
+    let dirs = Manifest::load(&job_dir).map_err(farm_error)?.output_dirs();
+    let mut claim = specconv_farm::claim::claim(&job_dir, &dirs).map_err(farm_error)?;
     let (mut m, status) = load(&job_dir)?;
     let again = status.to_retry();
     let waiting = status
@@ -541,7 +545,6 @@ fn retry(r: &Retry, ocio: Option<String>) -> Result<i32> {
     if ocio.is_some() {
         m.ocio = pinned(&checks::config(ocio.as_deref())?)?;
     }
-    let mut claim = specconv_farm::claim::claim(&job_dir, &m.output_dirs()).map_err(farm_error)?;
     specconv_farm::remove_leftovers(&m, &status, &again)?;
     for &i in &again {
         // The input may have been fixed or replaced since: plan on what it is now.
