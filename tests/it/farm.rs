@@ -548,3 +548,617 @@ fn n_shards_convert_every_input_exactly_once_with_the_plan_farm_submit_prints() 
     Cmd::new([names[0], "-o", out.to_str().unwrap(), "--shard", "3/3"])
         .fails(2, &["does not exist"]);
 }
+
+// ---- A job directory checked, not trusted (issue 20, part 3) ----
+
+/// A digest of each file's bytes (FNV-1a), to show inputs are unchanged.
+fn checksums(paths: &[PathBuf]) -> Vec<Option<u64>> {
+    paths
+        .iter()
+        .map(|p| {
+            std::fs::read(p).ok().map(|bytes| {
+                bytes.iter().fold(0xcbf29ce484222325u64, |h, &b| {
+                    (h ^ b as u64).wrapping_mul(0x100000001b3)
+                })
+            })
+        })
+        .collect()
+}
+
+/// Temporary files of specconv (`.NAME.specconv-….tmp`) anywhere under `dir`.
+fn temporaries(dir: &Path) -> Vec<PathBuf> {
+    let mut found = Vec::new();
+    for e in std::fs::read_dir(dir).into_iter().flatten().flatten() {
+        let (path, name) = (e.path(), e.file_name().to_string_lossy().into_owned());
+        if e.file_type().is_ok_and(|t| t.is_dir()) {
+            found.extend(temporaries(&path));
+        } else if name.starts_with('.') && name.contains(".specconv-") && name.ends_with(".tmp") {
+            found.push(path);
+        }
+    }
+    found
+}
+
+/// Every input as it was, and no temporary file left under `dir`.
+#[track_caller]
+fn assert_clean(dir: &Path, inputs: &[PathBuf], sums: &[Option<u64>]) {
+    assert_eq!(checksums(inputs), sums, "an input changed");
+    let left = temporaries(dir);
+    assert!(left.is_empty(), "temporary files left: {left:?}");
+}
+
+/// Executables `name` with the given shell text in `dir`/bin; returns a PATH with them first.
+fn fake_tools(dir: &Scratch, tools: &[(&str, &str)]) -> String {
+    use std::os::unix::fs::PermissionsExt;
+    let bin = dir.path("bin");
+    std::fs::create_dir_all(&bin).unwrap();
+    for (name, text) in tools {
+        let p = bin.join(name);
+        std::fs::write(&p, format!("#!/bin/sh\n{text}\n")).unwrap();
+        std::fs::set_permissions(&p, std::fs::Permissions::from_mode(0o755)).unwrap();
+    }
+    format!(
+        "{}:{}",
+        bin.display(),
+        std::env::var("PATH").unwrap_or_default()
+    )
+}
+
+/// Polls `farm collect` until no task of the job is queued or running; returns its summary.
+fn wait_for(job_dir: &Path) -> Value {
+    let start = std::time::Instant::now();
+    loop {
+        let c: Value =
+            serde_json::from_str(&farm(&["collect", job_dir.to_str().unwrap(), "--json"]).stdout)
+                .unwrap();
+        if c["running"] == false {
+            return c;
+        }
+        assert!(
+            start.elapsed().as_secs() < 600,
+            "the job never ended (hang guard)"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(200));
+    }
+}
+
+/// Starts a command with its output captured, to run beside another.
+fn spawned(mut c: Command) -> std::process::Child {
+    use std::process::Stdio;
+    c.stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped());
+    c.spawn().unwrap()
+}
+
+fn submitted_job_dir(out: &Output) -> PathBuf {
+    let lines = json_lines(&out.stdout);
+    assert!(!lines.is_empty(), "{}\n{}", out.stdout, out.stderr);
+    PathBuf::from(lines[0]["job_dir"].as_str().unwrap())
+}
+
+#[test]
+fn a_manifest_edited_to_point_outside_is_refused_and_retry_deletes_nothing_there() {
+    if !cluster() {
+        return;
+    }
+    let dir = Scratch::new("farm-outside");
+    let out = dir.path("out");
+    std::fs::create_dir_all(&out).unwrap();
+    let (a, b) = (dir.path("a.png"), dir.path("b.png"));
+    texture(&a, 24, 16, 1);
+    // b is missing: its file fails, so a retry has something to do.
+    let submitted = farm(&[
+        "submit",
+        a.to_str().unwrap(),
+        b.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--tasks",
+        "1",
+        "--wait",
+        "--json",
+    ]);
+    assert_eq!(
+        submitted.code, 1,
+        "{}\n{}",
+        submitted.stdout, submitted.stderr
+    );
+    let job_dir = submitted_job_dir(&submitted);
+    texture(&b, 16, 24, 2);
+    let inputs = vec![a.clone(), b.clone()];
+    let sums = checksums(&inputs);
+
+    // Files outside the job: one named like an output, one like its temporary.
+    let victim = dir.path("victim");
+    std::fs::create_dir_all(&victim).unwrap();
+    let precious = victim.join("precious.exr");
+    let decoy = victim.join(".precious.exr.specconv-1-0.tmp");
+    std::fs::write(&precious, b"precious").unwrap();
+    std::fs::write(&decoy, b"also precious").unwrap();
+    let kept = vec![precious.clone(), decoy.clone()];
+    let kept_sums = checksums(&kept);
+
+    let path = job_dir.join("manifest.json");
+    let original = std::fs::read_to_string(&path).unwrap();
+    let mut m: Value = serde_json::from_str(&original).unwrap();
+    let k = (0..2)
+        .find(|&k| m["files"][k]["input"] == b.to_str().unwrap())
+        .unwrap();
+    m["files"][k]["output"] = Value::from(precious.to_str().unwrap());
+    std::fs::write(&path, serde_json::to_string_pretty(&m).unwrap()).unwrap();
+    for command in ["retry", "status", "collect"] {
+        let run = Cmd::new(["farm", command, job_dir.to_str().unwrap()]).run();
+        assert_eq!(
+            checksums(&kept),
+            kept_sums,
+            "{command} changed a file outside the job:\n{}\n{}",
+            run.stdout,
+            run.stderr
+        );
+        run.one_error_line(2, &[precious.to_str().unwrap(), "edited or damaged"]);
+    }
+    assert!(
+        !job_dir.join("round-1").exists(),
+        "a refused retry submitted"
+    );
+
+    // A plan naming a file the manifest does not list: refused, not a panic.
+    let mut m: Value = serde_json::from_str(&original).unwrap();
+    m["rounds"][0]["tasks"][0] = serde_json::json!([0, 99]);
+    std::fs::write(&path, serde_json::to_string_pretty(&m).unwrap()).unwrap();
+    Cmd::new(["farm", "status", job_dir.to_str().unwrap()])
+        .run()
+        .one_error_line(2, &["edited or damaged"]);
+
+    // Restored, the job retries as before.
+    std::fs::write(&path, &original).unwrap();
+    let retried = farm(&["retry", job_dir.to_str().unwrap(), "--wait"]);
+    assert_eq!(retried.code, 0, "{}\n{}", retried.stdout, retried.stderr);
+    assert_eq!(checksums(&kept), kept_sums);
+    std::fs::remove_file(&decoy).unwrap();
+    assert_clean(&dir.0, &inputs, &sums);
+}
+
+#[test]
+fn retry_while_slurm_does_not_answer_removes_no_temporary_of_a_running_task() {
+    if !cluster() {
+        return;
+    }
+    let dir = Scratch::new("farm-running");
+    let out = dir.path("out");
+    std::fs::create_dir_all(&out).unwrap();
+    let big = dir.path("big.exr");
+    tool(
+        "oiiotool",
+        &[
+            "--pattern",
+            "noise:min=0:max=1",
+            "2048x2048",
+            "3",
+            "-d",
+            "half",
+            "-o",
+            big.to_str().unwrap(),
+        ],
+    );
+    let inputs = vec![big.clone()];
+    let sums = checksums(&inputs);
+    let submitted = farm(&[
+        "submit",
+        big.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--tasks",
+        "1",
+        "--json",
+    ]);
+    let job_dir = submitted_job_dir(&submitted);
+    let job_id = json_lines(&submitted.stdout)[0]["job_id"]
+        .as_str()
+        .unwrap()
+        .to_string();
+    let start = std::time::Instant::now();
+    let writing = || temporaries(&out);
+    while writing().is_empty() {
+        assert!(
+            start.elapsed().as_secs() < 600,
+            "the task never started writing"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    // Stopped mid-file, so its temporary stays while we look.
+    tool("scontrol", &["suspend", &format!("{job_id}_0")]);
+    let tmp = writing();
+    let unreachable = fake_tools(
+        &dir,
+        &[
+            (
+                "scontrol",
+                "echo 'slurm_load_jobs error: Unable to contact slurm controller (connect failure)' >&2; exit 1",
+            ),
+            ("sacct", "echo 'sacct: error: Problem talking to the database' >&2; exit 1"),
+        ],
+    );
+    let retried = Cmd::new(["farm", "retry", job_dir.to_str().unwrap()])
+        .env("PATH", &unreachable)
+        .run();
+    let still: Vec<bool> = tmp.iter().map(|p| p.exists()).collect();
+    tool("scontrol", &["resume", &format!("{job_id}_0")]);
+    assert!(
+        still.iter().all(|&s| s),
+        "retry removed the temporary of a running task ({tmp:?}):\n{}\n{}",
+        retried.stdout,
+        retried.stderr
+    );
+    assert!(
+        !job_dir.join("round-1").exists(),
+        "retry submitted a running file again"
+    );
+    assert!(!retried.stderr.contains("panicked"), "{}", retried.stderr);
+    let c = wait_for(&job_dir);
+    assert_eq!(
+        (c["done"].as_u64(), c["pending"].as_u64()),
+        (Some(1), Some(0)),
+        "{c}"
+    );
+    assert_clean(&dir.0, &inputs, &sums);
+}
+
+#[test]
+fn a_percent_in_the_output_or_job_directory_reaches_slurm_literally() {
+    if !cluster() {
+        return;
+    }
+    let dir = Scratch::new("farm-percent");
+    let inputs: Vec<PathBuf> = (0..2).map(|k| dir.path(&format!("p{k}.png"))).collect();
+    for (k, p) in inputs.iter().enumerate() {
+        texture(p, 16 + 8 * k, 16, k);
+    }
+    let sums = checksums(&inputs);
+    let names: Vec<&str> = inputs.iter().map(|p| p.to_str().unwrap()).collect();
+    // -o with patterns, its job directory the default one inside; then --job-dir with them.
+    let out = dir.path("out%j%A_%a%%x");
+    std::fs::create_dir_all(&out).unwrap();
+    let job = dir.path("job%j%%");
+    for extra in [vec![], vec!["--job-dir", job.to_str().unwrap()]] {
+        let mut args = vec!["submit"];
+        args.extend(&names);
+        args.extend([
+            "-o",
+            out.to_str().unwrap(),
+            "--tasks",
+            "2",
+            "--wait",
+            "--json",
+        ]);
+        args.extend(&extra);
+        let submitted = farm(&args);
+        assert_eq!(
+            submitted.code, 0,
+            "{}\n{}",
+            submitted.stdout, submitted.stderr
+        );
+        let job_dir = submitted_job_dir(&submitted);
+        assert!(job_dir.to_str().unwrap().contains('%'));
+        for t in 0..2 {
+            let log = job_dir.join(format!("round-0/task-{t}.jsonl"));
+            assert!(log.is_file(), "{} missing", log.display());
+        }
+        let status = farm(&["status", job_dir.to_str().unwrap()]);
+        assert_eq!(status.code, 0, "{}", status.stdout);
+        for p in &inputs {
+            let o = out.join(format!(
+                "{}_spectral.exr",
+                p.file_stem().unwrap().to_string_lossy()
+            ));
+            assert!(o.is_file(), "{} missing", o.display());
+        }
+        // -u: the second submission skips them (two files, already converted).
+        std::fs::remove_dir_all(&job_dir).unwrap();
+    }
+    // Nothing went to a path Slurm made by expanding the patterns.
+    let mut names = dir.files();
+    names.retain(|n| !n.ends_with(".png") && n != "bin");
+    assert_eq!(names, ["out%j%A_%a%%x"], "{names:?}");
+    assert_clean(&dir.0, &inputs, &sums);
+}
+
+#[test]
+fn an_interrupted_submit_is_not_submitted_until_retry_submits_it() {
+    if !cluster() {
+        return;
+    }
+    let dir = Scratch::new("farm-interrupted");
+    let out = dir.path("out");
+    std::fs::create_dir_all(&out).unwrap();
+    let inputs: Vec<PathBuf> = (0..3).map(|k| dir.path(&format!("i{k}.png"))).collect();
+    for (k, p) in inputs.iter().enumerate() {
+        texture(p, 16, 16 + 8 * k, k);
+    }
+    let sums = checksums(&inputs);
+    let job_dir = dir.path("job");
+    // sbatch that kills the submit: it dies between writing the job directory and Slurm.
+    let killing = fake_tools(&dir, &[("sbatch", "kill -KILL $PPID; exit 1")]);
+    let mut args = vec!["farm", "submit"];
+    args.extend(inputs.iter().map(|p| p.to_str().unwrap()));
+    args.extend(["-o", out.to_str().unwrap(), "--tasks", "2"]);
+    args.extend(["--job-dir", job_dir.to_str().unwrap()]);
+    let killed = Cmd::new(&args)
+        .env("PATH", &killing)
+        .command()
+        .output()
+        .unwrap();
+    assert_eq!(
+        killed.status.code(),
+        None,
+        "the submit was meant to be killed"
+    );
+    assert!(job_dir.join("manifest.json").is_file());
+
+    let status = farm(&["status", job_dir.to_str().unwrap()]);
+    assert_eq!(status.code, 1, "{}\n{}", status.stdout, status.stderr);
+    assert!(status.stdout.contains("not submitted"), "{}", status.stdout);
+    let collected = farm(&["collect", job_dir.to_str().unwrap(), "--json"]);
+    assert_eq!(collected.code, 1, "{}", collected.stdout);
+    let c: Value = serde_json::from_str(&collected.stdout).unwrap();
+    assert_eq!(
+        (c["done"].as_u64(), c["pending"].as_u64()),
+        (Some(0), Some(3)),
+        "{c}"
+    );
+    let text = farm(&["collect", job_dir.to_str().unwrap()]);
+    assert!(text.stdout.contains("not submitted"), "{}", text.stdout);
+
+    // Two retries at once: one submits the round, the other then finds it live (or done).
+    let retry = || Cmd::new(["farm", "retry", job_dir.to_str().unwrap()]).command();
+    let (one, two) = (spawned(retry()), spawned(retry()));
+    let runs = [
+        one.wait_with_output().unwrap(),
+        two.wait_with_output().unwrap(),
+    ];
+    let said: Vec<String> = runs
+        .iter()
+        .map(|o| String::from_utf8_lossy(&o.stdout).into_owned())
+        .collect();
+    assert!(runs.iter().all(|o| o.status.code() == Some(0)), "{said:?}");
+    assert_eq!(
+        said.iter().filter(|s| s.contains("submitted job")).count(),
+        1,
+        "{said:?}"
+    );
+    assert!(!job_dir.join("round-2").exists(), "{said:?}");
+    let c = wait_for(&job_dir);
+    assert_eq!(
+        (c["done"].as_u64(), c["pending"].as_u64()),
+        (Some(3), Some(0)),
+        "{c}"
+    );
+    assert_clean(&dir.0, &inputs, &sums);
+}
+
+#[test]
+fn two_concurrent_submits_into_one_output_directory_do_not_both_succeed() {
+    if !cluster() {
+        return;
+    }
+    let dir = Scratch::new("farm-twice");
+    let out = dir.path("out");
+    std::fs::create_dir_all(&out).unwrap();
+    let inputs: Vec<PathBuf> = (0..2).map(|k| dir.path(&format!("t{k}.png"))).collect();
+    for (k, p) in inputs.iter().enumerate() {
+        texture(p, 16, 16, k);
+    }
+    let sums = checksums(&inputs);
+    // Submitted held, so the first job is certainly live while the second looks.
+    let holding = fake_tools(&dir, &[("sbatch", "exec /usr/bin/sbatch --hold \"$@\"")]);
+    let submit = |job: &str| {
+        let mut args = vec!["farm", "submit"];
+        args.extend(inputs.iter().map(|p| p.to_str().unwrap()));
+        args.extend(["-o", out.to_str().unwrap(), "--tasks", "1", "--json"]);
+        let job_dir = dir.path(job);
+        args.extend(["--job-dir", job_dir.to_str().unwrap()]);
+        Cmd::new(&args).env("PATH", &holding).command()
+    };
+    let (one, two) = (spawned(submit("job1")), spawned(submit("job2")));
+    let (one, two) = (
+        one.wait_with_output().unwrap(),
+        two.wait_with_output().unwrap(),
+    );
+    let runs = [(one, "job1"), (two, "job2")];
+    let ok: Vec<_> = runs
+        .iter()
+        .filter(|(o, _)| o.status.code() == Some(0))
+        .collect();
+    let refused: Vec<_> = runs
+        .iter()
+        .filter(|(o, _)| o.status.code() != Some(0))
+        .collect();
+    let ids: Vec<String> = ok
+        .iter()
+        .map(|(o, _)| {
+            json_lines(&String::from_utf8_lossy(&o.stdout))[0]["job_id"]
+                .as_str()
+                .unwrap()
+                .to_string()
+        })
+        .collect();
+    for id in &ids {
+        tool("scontrol", &["release", id]);
+    }
+    assert_eq!(ok.len(), 1, "both submits succeeded: {ids:?}");
+    let (winner, loser) = (ok[0], refused[0]);
+    let stderr = String::from_utf8_lossy(&loser.0.stderr);
+    assert_eq!(loser.0.status.code(), Some(2), "{stderr}");
+    assert_eq!(stderr.lines().count(), 1, "{stderr}");
+    assert!(
+        stderr.contains(dir.path(winner.1).to_str().unwrap()) && stderr.contains(&ids[0]),
+        "{stderr}"
+    );
+    assert!(!dir.path(loser.1).join("manifest.json").exists());
+    let c = wait_for(&dir.path(winner.1));
+    assert_eq!(c["done"].as_u64(), Some(2), "{c}");
+    // A finished job does not block the next submission.
+    let mut args = vec!["farm", "submit"];
+    args.extend(inputs.iter().map(|p| p.to_str().unwrap()));
+    args.extend(["-o", out.to_str().unwrap(), "--tasks", "1", "--wait"]);
+    let third = Cmd::new(&args).run();
+    assert_eq!(third.code, 0, "{}\n{}", third.stdout, third.stderr);
+    assert_clean(&dir.0, &inputs, &sums);
+}
+
+/// An OCIO config with a colour space the built-in configs lack.
+fn pinned_config(dir: &Scratch, name: &str) -> PathBuf {
+    dir.write(
+        name,
+        "ocio_profile_version: 2.1\n\
+         roles:\n  default: ACES2065-1\n  aces_interchange: ACES2065-1\n  scene_linear: farm_pinned\n\
+         file_rules:\n  - !<Rule> {name: Default, colorspace: default}\n\
+         displays:\n  Monitor:\n    - !<View> {name: Raw, colorspace: ACES2065-1}\n\
+         colorspaces:\n  - !<ColorSpace>\n    name: ACES2065-1\n\
+         \x20 - !<ColorSpace>\n    name: farm_pinned\n    to_scene_reference: !<BuiltinTransform> {style: ACEScg_to_ACES2065-1}\n",
+    )
+}
+
+#[test]
+fn the_ocio_config_submit_checked_is_the_one_every_task_uses() {
+    if !cluster() {
+        return;
+    }
+    let dir = Scratch::new("farm-ocio");
+    let config = pinned_config(&dir, "pinned.ocio");
+    let inputs: Vec<PathBuf> = (0..2).map(|k| dir.path(&format!("c{k}.png"))).collect();
+    for (k, p) in inputs.iter().enumerate() {
+        texture(p, 16, 16, k);
+    }
+    let sums = checksums(&inputs);
+    // $OCIO at submit; the nodes get none (SBATCH_EXPORT=NONE) or another one.
+    for (k, export) in ["NONE", "NONE,OCIO=/nonexistent/config.ocio"]
+        .iter()
+        .enumerate()
+    {
+        let out = dir.path(&format!("out{k}"));
+        std::fs::create_dir_all(&out).unwrap();
+        let mut args = vec!["farm", "submit"];
+        args.extend(inputs.iter().map(|p| p.to_str().unwrap()));
+        args.extend(["-o", out.to_str().unwrap(), "--tasks", "2", "--wait"]);
+        args.extend(["--colorspace", "farm_pinned"]);
+        let job_dir = dir.path(&format!("job{k}"));
+        args.extend(["--job-dir", job_dir.to_str().unwrap()]);
+        let run = Cmd::new(&args)
+            .env("OCIO", &config)
+            .env("SBATCH_EXPORT", export)
+            .run();
+        assert_eq!(run.code, 0, "{export}:\n{}\n{}", run.stdout, run.stderr);
+        for p in &inputs {
+            let o = out.join(format!(
+                "{}_spectral.exr",
+                p.file_stem().unwrap().to_string_lossy()
+            ));
+            let h = tool("exrheader", &[o.to_str().unwrap()]);
+            assert!(h.contains("pinned.ocio"), "{export}: {h}");
+        }
+    }
+    assert_clean(&dir.0, &inputs, &sums);
+}
+
+#[test]
+fn retry_ocio_reaches_the_new_rounds_script() {
+    if !cluster() {
+        return;
+    }
+    let dir = Scratch::new("farm-retry-ocio");
+    let out = dir.path("out");
+    std::fs::create_dir_all(&out).unwrap();
+    let (first, second) = (
+        pinned_config(&dir, "first.ocio"),
+        pinned_config(&dir, "second.ocio"),
+    );
+    let (a, b) = (dir.path("a.png"), dir.path("b.png"));
+    texture(&a, 16, 16, 0);
+    let job_dir = dir.path("job");
+    let submitted = Cmd::new([
+        "--ocio",
+        first.to_str().unwrap(),
+        "farm",
+        "submit",
+        a.to_str().unwrap(),
+        b.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--tasks",
+        "1",
+        "--wait",
+        "--job-dir",
+        job_dir.to_str().unwrap(),
+    ])
+    .run();
+    assert_eq!(
+        submitted.code, 1,
+        "b is missing:\n{}\n{}",
+        submitted.stdout, submitted.stderr
+    );
+    texture(&b, 16, 24, 1);
+    let inputs = vec![a.clone(), b.clone()];
+    let sums = checksums(&inputs);
+    let retried = Cmd::new([
+        "--ocio",
+        second.to_str().unwrap(),
+        "farm",
+        "retry",
+        job_dir.to_str().unwrap(),
+        "--wait",
+    ])
+    .env("SBATCH_EXPORT", "NONE")
+    .run();
+    assert_eq!(retried.code, 0, "{}\n{}", retried.stdout, retried.stderr);
+    let script = std::fs::read_to_string(job_dir.join("round-1/job.sbatch")).unwrap();
+    assert!(
+        script.contains(second.to_str().unwrap()) && !script.contains(first.to_str().unwrap()),
+        "{script}"
+    );
+    let h = tool("exrheader", &[out.join("b_spectral.exr").to_str().unwrap()]);
+    assert!(h.contains("second.ocio"), "{h}");
+    let h = tool("exrheader", &[out.join("a_spectral.exr").to_str().unwrap()]);
+    assert!(h.contains("first.ocio"), "{h}");
+    assert_clean(&dir.0, &inputs, &sums);
+}
+
+#[test]
+fn outputs_by_template_pass_the_job_directorys_own_check() {
+    // The farm checks each output against the template as it reads the manifest; submit runs
+    // that check first, so a template convert expands differently would be refused here.
+    let dir = Scratch::new("farm-template");
+    std::fs::create_dir_all(dir.path("lib/wood")).unwrap();
+    std::fs::create_dir_all(dir.path("lib/metal")).unwrap();
+    std::fs::create_dir_all(dir.path("lib/o2")).unwrap();
+    texture(&dir.path("lib/wood/a.png"), 16, 16, 0);
+    texture(&dir.path("lib/metal/b.png"), 16, 16, 1);
+    let inputs = vec![dir.path("lib/wood/a.png"), dir.path("lib/metal/b.png")];
+    let sums = checksums(&inputs);
+    for template in [
+        "{dir}/../o2/{stem}.exr",
+        "lib/o2/{name}.exr",
+        "./lib/./o2/{stem}_s.exr",
+    ] {
+        let dry = Cmd::new([
+            "farm",
+            "submit",
+            "lib/wood/a.png",
+            "./lib/metal/../metal/b.png",
+            "--output-template",
+            template,
+            "--job-dir",
+            "job",
+            "--tasks",
+            "2",
+            "--dry-run",
+        ])
+        .current_dir(&dir.0)
+        .run();
+        assert_eq!(dry.code, 0, "{template}:\n{}\n{}", dry.stdout, dry.stderr);
+        assert!(dry.stdout.contains("--output-template"), "{}", dry.stdout);
+    }
+    assert!(!dir.path("job").exists());
+    assert_clean(&dir.0, &inputs, &sums);
+}

@@ -45,5 +45,5 @@ pub use specconv_spectral::bounded::Counts;
 /// The OpenColorIO configs and colour spaces every front-end reads colour through (the same
 /// config rules as a conversion: `ocio`, else `$OCIO`, else the built-in ACES config).
 pub mod ocio {
-    pub use specconv_ocio::{is_builtin_name, ColorSpace, Config, Error, Processor};
+    pub use specconv_ocio::{is_builtin_name, ColorSpace, Config, ConfigSource, Error, Processor};
 }

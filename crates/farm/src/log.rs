@@ -54,11 +54,13 @@ struct Line {
 }
 
 impl TaskLog {
-    /// Reads a log; a missing file is an empty log (the task has not started).
-    pub fn read(path: &Path) -> TaskLog {
-        std::fs::read_to_string(path)
-            .map(|t| TaskLog::parse(&t))
-            .unwrap_or_default()
+    /// Reads a log; a missing file is an empty log (the task has not started). One that is not
+    /// a regular file, or is larger than [`crate::manifest::MAX_FILE_BYTES`], is refused.
+    pub fn read(path: &Path) -> Result<TaskLog, crate::Error> {
+        if std::fs::symlink_metadata(path).is_err() {
+            return Ok(TaskLog::default());
+        }
+        crate::manifest::read_bounded(path).map(|t| TaskLog::parse(&t))
     }
 
     /// Reads a log's text. Lines that are not JSON, events other than start and end, and records

@@ -1,13 +1,23 @@
 //! The job directory: `manifest.json` (inputs, outputs, settings, the plan of every round) and
 //! one folder per round (`round-0` for the submission, then one per retry) holding the sbatch
 //! script, each task's input list, its log of JSON lines and its standard error.
+//!
+//! The directory is input like any other: [`Manifest::load`] checks that every path the
+//! manifest names is one the job owns (outputs inside its output directory, rounds planning
+//! only listed files) and refuses files over [`MAX_FILE_BYTES`] before reading them.
 
 use crate::Error;
 use serde::{Deserialize, Serialize};
-use std::path::{Path, PathBuf};
+use std::io::Read;
+use std::path::{Component, Path, PathBuf};
 
 /// Version of the manifest's layout.
-pub const FORMAT: u32 = 1;
+pub const FORMAT: u32 = 2;
+
+/// The largest manifest or task log read: a manifest of 100 000 files (paths of about 60
+/// characters) measured 18.8 MB, so this holds some 350 000; far less than a damaged or
+/// hostile file could hold.
+pub const MAX_FILE_BYTES: u64 = 64 << 20;
 
 /// `manifest.json`, the job directory's record of a job: what to convert, how, and every round
 /// submitted. The fields are its JSON, written by serde (docs/farm.md describes the directory).
@@ -19,22 +29,40 @@ pub struct Manifest {
     pub specconv: PathBuf,
     /// The directory tasks run in (where relative paths in `convert_options` mean something).
     pub workdir: PathBuf,
-    /// The convert options every task gets, besides the ones the farm sets (`--json -u -j`).
+    /// The OCIO config `submit` checked (an absolute file path or a built-in name), passed to
+    /// every task as `--ocio`, so the nodes' `$OCIO` does not matter.
+    pub ocio: String,
+    /// Where outputs go: every [`File::output`] must follow it.
+    pub outputs: Outputs,
+    /// The convert options every task gets, besides the ones the farm sets (`--json -u -j`,
+    /// `--ocio`, and `-o` or `--output-template` from [`Manifest::outputs`]).
     pub convert_options: Vec<String>,
     /// Every input of the job; rounds refer to them by index.
     pub files: Vec<File>,
     /// What each task asks of Slurm, the same in every round.
     pub request: Request,
-    /// The rounds submitted, in order: the submission first, then each retry.
+    /// The rounds, in order: the submission first, then each retry.
     pub rounds: Vec<Round>,
+}
+
+/// Where a job's outputs go, as `submit` was told.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Outputs {
+    /// `-o DIR` (absolute): every output directly inside it.
+    Directory(PathBuf),
+    /// `--output-template`, as given (relative to [`Manifest::workdir`] when relative): every
+    /// output is what it gives for its input.
+    Template(String),
 }
 
 /// One input and where its output goes.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct File {
-    /// The input texture, as the task's `convert` reads it (relative to `workdir` if relative).
+    /// The input texture, an absolute path.
     pub input: PathBuf,
-    /// Where its spectral EXR goes; the file is done only when this exists.
+    /// Where its spectral EXR goes (absolute, as [`Manifest::outputs`] says); the file is done
+    /// only when this exists.
     pub output: PathBuf,
     /// Pixels over all levels when planned (0 when the input could not be read then).
     pub pixels: u64,
@@ -55,12 +83,13 @@ pub struct Request {
     pub limit: Option<usize>,
 }
 
-/// One submission: an array whose task `t` converts the files `tasks[t]` (indices into
+/// One round: an array whose task `t` converts the files `tasks[t]` (indices into
 /// [`Manifest::files`]).
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct Round {
-    /// The array job's id, as sbatch printed it.
-    pub job_id: String,
+    /// The array job's id, as sbatch printed it; `None` while the round is written but not
+    /// submitted (recorded before sbatch runs, so an interrupted submit shows as such).
+    pub job_id: Option<String>,
     /// Per array task, the indices of its files.
     pub tasks: Vec<Vec<usize>>,
 }
@@ -71,18 +100,18 @@ impl Manifest {
         job_dir.join("manifest.json")
     }
 
-    /// Reads the manifest of a job directory: [`Error::Io`] when it cannot be read (not a job
-    /// directory), [`Error::Manifest`] when it does not parse or has another [`FORMAT`].
+    /// Reads and checks the manifest of a job directory: [`Error::Io`] when it cannot be read
+    /// (not a job directory), [`Error::TooLarge`], [`Error::Manifest`] when it does not parse or
+    /// has another [`FORMAT`], [`Error::Untrusted`] when it names what the job does not own
+    /// ([`Manifest::check`]).
     pub fn load(job_dir: &Path) -> Result<Manifest, Error> {
         let path = Manifest::path(job_dir);
-        let text = std::fs::read_to_string(&path).map_err(|e| {
-            Error::Io(
-                format!(
-                    "cannot read {} (is this a job directory of `specconv farm submit`?)",
-                    path.display()
-                ),
+        let text = read_bounded(&path).map_err(|e| match e {
+            Error::Io(what, e) => Error::Io(
+                format!("{what} (is this a job directory of `specconv farm submit`?)"),
                 e,
-            )
+            ),
+            e => e,
         })?;
         let m: Manifest = serde_json::from_str(&text)
             .map_err(|e| Error::Manifest(format!("{}: {e}", path.display())))?;
@@ -93,16 +122,192 @@ impl Manifest {
                 m.format
             )));
         }
+        m.check(job_dir)?;
         Ok(m)
+    }
+
+    /// Checks that the manifest names only what the job owns: absolute paths; every output
+    /// where [`Manifest::outputs`] puts its input's; every round planning listed files, each
+    /// once; every round folder a real folder of the job directory.
+    pub fn check(&self, job_dir: &Path) -> Result<(), Error> {
+        let untrusted = |named: &dyn std::fmt::Display, why: String| Error::Untrusted {
+            manifest: Manifest::path(job_dir),
+            named: named.to_string(),
+            why,
+        };
+        for p in [&self.specconv, &self.workdir] {
+            if !p.is_absolute() {
+                return Err(untrusted(&p.display(), "not an absolute path".into()));
+            }
+        }
+        if let Outputs::Directory(dir) = &self.outputs {
+            if !dir.is_absolute() {
+                return Err(untrusted(&dir.display(), "not an absolute path".into()));
+            }
+        }
+        for f in &self.files {
+            if !f.input.is_absolute() {
+                return Err(untrusted(&f.input.display(), "not an absolute path".into()));
+            }
+            self.outputs
+                .check(&self.workdir, &f.input, &f.output)
+                .map_err(|why| untrusted(&f.output.display(), why))?;
+        }
+        for (r, round) in self.rounds.iter().enumerate() {
+            let mut seen = vec![false; self.files.len()];
+            for &i in round.tasks.iter().flatten() {
+                match seen.get_mut(i) {
+                    Some(s) if !*s => *s = true,
+                    Some(_) => {
+                        return Err(untrusted(
+                            &format!("file {i}"),
+                            format!("planned twice in round {r}"),
+                        ))
+                    }
+                    None => {
+                        return Err(untrusted(
+                            &format!("file {i}"),
+                            format!("in round {r}, where {} files are listed", self.files.len()),
+                        ))
+                    }
+                }
+            }
+            own_folder(&round_dir(job_dir, r))
+                .map_err(|why| untrusted(&round_dir(job_dir, r).display(), why))?;
+        }
+        Ok(())
     }
 
     /// Writes the manifest atomically (temporary file, then rename).
     pub fn save(&self, job_dir: &Path) -> Result<(), Error> {
         let path = Manifest::path(job_dir);
-        let text = serde_json::to_string_pretty(self).expect("a manifest serialises");
+        let text = serde_json::to_string_pretty(self)
+            .map_err(|e| Error::Manifest(format!("cannot write {}: {e}", path.display())))?;
         specconv_atomic_file::write(&path, (text + "\n").as_bytes())
             .map_err(|e| Error::Io(format!("cannot write {}", path.display()), e))
     }
+
+    /// The directories outputs go into, sorted, each once.
+    pub fn output_dirs(&self) -> Vec<PathBuf> {
+        let dirs: std::collections::BTreeSet<PathBuf> = self
+            .files
+            .iter()
+            .filter_map(|f| f.output.parent().map(Path::to_path_buf))
+            .collect();
+        dirs.into_iter().collect()
+    }
+}
+
+impl Outputs {
+    /// Whether `output` is where these rules put `input`'s output (`Err`: why not, in words).
+    pub fn check(&self, workdir: &Path, input: &Path, output: &Path) -> Result<(), String> {
+        if !output.is_absolute() {
+            return Err("not an absolute path".into());
+        }
+        match self {
+            Outputs::Directory(dir) => {
+                let inside = output.parent() == Some(dir.as_path())
+                    && matches!(output.components().next_back(), Some(Component::Normal(_)));
+                if inside {
+                    Ok(())
+                } else {
+                    Err(format!(
+                        "outside the job's output directory {}",
+                        dir.display()
+                    ))
+                }
+            }
+            Outputs::Template(t) => {
+                let want = lexical(&workdir.join(expand(t, input)));
+                if lexical(output) == want {
+                    Ok(())
+                } else {
+                    Err(format!(
+                        "not where the job's output template {t:?} puts {} ({})",
+                        input.display(),
+                        want.display()
+                    ))
+                }
+            }
+        }
+    }
+
+    /// The convert options that send outputs there.
+    pub fn options(&self) -> Vec<String> {
+        match self {
+            Outputs::Directory(d) => vec!["-o".into(), d.display().to_string()],
+            Outputs::Template(t) => vec!["--output-template".into(), t.clone()],
+        }
+    }
+}
+
+/// An output template's path for `input`: `{dir}`, `{stem}` and `{name}` replaced as `convert
+/// --output-template` replaces them (crates/cli, convert's plan).
+pub fn expand(template: &str, input: &Path) -> String {
+    let dir = input
+        .parent()
+        .filter(|d| !d.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    let stem = input
+        .file_stem()
+        .map_or_else(|| "output".into(), |s| s.to_string_lossy().into_owned());
+    let name = input
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    template
+        .replace("{dir}", &dir.display().to_string())
+        .replace("{stem}", &stem)
+        .replace("{name}", &name)
+}
+
+/// A path with `.` components and repeated separators dropped, as `std::path::absolute` leaves
+/// it (`..` kept: no symlink is resolved).
+fn lexical(p: &Path) -> PathBuf {
+    p.components()
+        .filter(|c| !matches!(c, Component::CurDir))
+        .collect()
+}
+
+/// A folder of the job directory: absent (not written yet), or a real folder, not a link to
+/// somewhere else.
+fn own_folder(p: &Path) -> Result<(), String> {
+    match std::fs::symlink_metadata(p) {
+        Ok(m) if m.is_dir() => Ok(()),
+        Ok(_) => Err("not a folder of the job directory (a link or a file)".into()),
+        Err(_) => Ok(()),
+    }
+}
+
+/// A file of the job directory as text: a regular file (not a FIFO, device or link) of at most
+/// [`MAX_FILE_BYTES`].
+pub fn read_bounded(path: &Path) -> Result<String, Error> {
+    let cannot = |e| Error::Io(format!("cannot read {}", path.display()), e);
+    let meta = std::fs::symlink_metadata(path).map_err(cannot)?;
+    if !meta.is_file() {
+        return Err(cannot(std::io::Error::other(
+            "not a regular file of the job directory",
+        )));
+    }
+    if meta.len() > MAX_FILE_BYTES {
+        return Err(Error::TooLarge {
+            path: path.to_path_buf(),
+            limit: MAX_FILE_BYTES,
+        });
+    }
+    let mut text = String::new();
+    std::fs::File::open(path)
+        .map_err(cannot)?
+        .take(MAX_FILE_BYTES + 1)
+        .read_to_string(&mut text)
+        .map_err(cannot)?;
+    if text.len() as u64 > MAX_FILE_BYTES {
+        return Err(Error::TooLarge {
+            path: path.to_path_buf(),
+            limit: MAX_FILE_BYTES,
+        });
+    }
+    Ok(text)
 }
 
 /// The folder of round `r`.
@@ -125,8 +330,29 @@ pub fn task_stderr(round_dir: &Path, task: usize) -> PathBuf {
     round_dir.join(format!("task-{task}.err"))
 }
 
+/// A path as an sbatch filename pattern (`--output`, `--error`) that means the path itself:
+/// `%` doubled (sbatch expands `%j`, `%A`, `%a`…). sbatch drops backslashes and disables
+/// patterns where it sees one, and the script names the folder in a comment, so paths with a
+/// backslash or a line break, or that are not UTF-8, are refused ([`Error::JobDir`]).
+pub fn sbatch_pattern(p: &Path) -> Result<String, Error> {
+    let refuse = |why: &str| Error::JobDir {
+        dir: p.to_path_buf(),
+        why: why.to_string(),
+    };
+    let s = p.to_str().ok_or_else(|| refuse("not UTF-8"))?;
+    if s.contains('\\') {
+        return Err(refuse(
+            "a backslash, which sbatch drops from log file names",
+        ));
+    }
+    if s.contains(['\n', '\r']) {
+        return Err(refuse("a line break"));
+    }
+    Ok(s.replace('%', "%%"))
+}
+
 /// The sbatch options of a round: one array of `tasks` tasks, its logs in `round_dir`.
-pub fn sbatch_options(m: &Manifest, round_dir: &Path, tasks: usize) -> Vec<String> {
+pub fn sbatch_options(m: &Manifest, round_dir: &Path, tasks: usize) -> Result<Vec<String>, Error> {
     let r = &m.request;
     let mut o = vec![
         "--parsable".to_string(),
@@ -138,9 +364,10 @@ pub fn sbatch_options(m: &Manifest, round_dir: &Path, tasks: usize) -> Vec<Strin
         ),
         format!("--cpus-per-task={}", r.cpus_per_task),
         format!("--mem={}M", r.mem_mib),
+        // --chdir takes no patterns (sbatch 22.05).
         format!("--chdir={}", m.workdir.display()),
-        format!("--output={}", round_dir.join("task-%a.jsonl").display()),
-        format!("--error={}", round_dir.join("task-%a.err").display()),
+        format!("--output={}/task-%a.jsonl", sbatch_pattern(round_dir)?),
+        format!("--error={}/task-%a.err", sbatch_pattern(round_dir)?),
     ];
     if let Some(p) = &r.partition {
         o.push(format!("--partition={p}"));
@@ -148,15 +375,17 @@ pub fn sbatch_options(m: &Manifest, round_dir: &Path, tasks: usize) -> Vec<Strin
     if let Some(t) = &r.time {
         o.push(format!("--time={t}"));
     }
-    o
+    Ok(o)
 }
 
 /// The batch script every task runs: convert its list with `-u`, one JSON line per file on
 /// standard output (the task's log), framed by start and end events that carry the time and
-/// the exit code.
+/// the exit code. The OCIO config and the outputs come from the manifest, on the command line.
 pub fn script(m: &Manifest, round_dir: &Path) -> String {
     let mut convert = vec![
         quote(&m.specconv.display().to_string()),
+        "--ocio".into(),
+        quote(&m.ocio),
         "convert".into(),
         "--json".into(),
         "-u".into(),
@@ -165,6 +394,7 @@ pub fn script(m: &Manifest, round_dir: &Path) -> String {
             m.request.cpus_per_task
         ),
     ];
+    convert.extend(m.outputs.options().iter().map(|o| quote(o)));
     convert.extend(m.convert_options.iter().map(|o| quote(o)));
     convert.push("-".into());
     format!(
@@ -216,5 +446,135 @@ mod tests {
         assert_eq!(quote("/a b/c"), "'/a b/c'");
         assert_eq!(quote("it's"), r"'it'\''s'");
         assert_eq!(quote(""), "''");
+    }
+
+    #[test]
+    fn percent_signs_reach_sbatch_literally_and_backslashes_are_refused() {
+        assert_eq!(
+            sbatch_pattern(Path::new("/a%j/b%%")).unwrap(),
+            "/a%%j/b%%%%"
+        );
+        assert_eq!(
+            sbatch_pattern(Path::new("/plain/dir")).unwrap(),
+            "/plain/dir"
+        );
+        for bad in ["/a\\b", "/a\nb"] {
+            let e = sbatch_pattern(Path::new(bad)).unwrap_err().to_string();
+            assert!(e.contains("--job-dir"), "{e}");
+        }
+        let m = manifest(Outputs::Directory("/out".into()), vec![]);
+        let o = sbatch_options(&m, Path::new("/jobs/%A_%a/round-0"), 2).unwrap();
+        assert!(
+            o.contains(&"--output=/jobs/%%A_%%a/round-0/task-%a.jsonl".to_string()),
+            "{o:?}"
+        );
+        assert!(
+            o.contains(&"--error=/jobs/%%A_%%a/round-0/task-%a.err".to_string()),
+            "{o:?}"
+        );
+    }
+
+    fn manifest(outputs: Outputs, files: Vec<(&str, &str)>) -> Manifest {
+        Manifest {
+            format: FORMAT,
+            specconv: "/bin/specconv".into(),
+            workdir: "/work".into(),
+            ocio: "aces".into(),
+            outputs,
+            convert_options: vec![],
+            files: files
+                .into_iter()
+                .map(|(i, o)| File {
+                    input: i.into(),
+                    output: o.into(),
+                    pixels: 1,
+                })
+                .collect(),
+            request: Request {
+                partition: None,
+                time: None,
+                cpus_per_task: 1,
+                mem_mib: 100,
+                limit: None,
+            },
+            rounds: vec![Round {
+                job_id: None,
+                tasks: vec![vec![0]],
+            }],
+        }
+    }
+
+    #[test]
+    fn outputs_are_confined_to_the_output_directory() {
+        let dir = Outputs::Directory("/out".into());
+        let ok = |o: &str| dir.check(Path::new("/w"), Path::new("/in/a.png"), Path::new(o));
+        assert!(ok("/out/a_spectral.exr").is_ok());
+        for outside in [
+            "/etc/passwd",
+            "/out/sub/a.exr",
+            "/out/../etc/a.exr",
+            "/out/..",
+            "/out",
+            "out/a.exr",
+            "/outside/a.exr",
+        ] {
+            let e = ok(outside).unwrap_err();
+            assert!(
+                e.contains("outside the job's output directory /out") || e.contains("absolute"),
+                "{outside}: {e}"
+            );
+        }
+        // A manifest naming one is refused as edited or damaged, naming the path.
+        let jobs = std::env::temp_dir().join(format!("farm-confine-{}", std::process::id()));
+        let m = manifest(dir.clone(), vec![("/in/a.png", "/victim/a.exr")]);
+        let e = m.check(&jobs).unwrap_err().to_string();
+        assert!(
+            e.contains("/victim/a.exr") && e.contains("edited or damaged"),
+            "{e}"
+        );
+        assert!(!e.contains('\n'), "{e}");
+        let mut m = manifest(dir, vec![("/in/a.png", "/out/a.exr")]);
+        assert!(m.check(&jobs).is_ok());
+        m.rounds[0].tasks = vec![vec![0], vec![1]];
+        assert!(m.check(&jobs).unwrap_err().to_string().contains("file 1"));
+        m.rounds[0].tasks = vec![vec![0], vec![0]];
+        assert!(m.check(&jobs).unwrap_err().to_string().contains("twice"));
+    }
+
+    #[test]
+    fn template_outputs_must_be_what_the_template_gives_their_input() {
+        let t = Outputs::Template("{dir}/../spectral/{stem}.exr".into());
+        let w = Path::new("/w");
+        let input = Path::new("/lib/wood/a.png");
+        assert!(t
+            .check(w, input, Path::new("/lib/wood/../spectral/a.exr"))
+            .is_ok());
+        assert!(t
+            .check(w, input, Path::new("/lib/wood/./../spectral//a.exr"))
+            .is_ok());
+        assert!(t.check(w, input, Path::new("/lib/spectral/b.exr")).is_err());
+        assert!(t.check(w, input, Path::new("/etc/a.exr")).is_err());
+        // Relative templates mean what they meant where submit ran.
+        let r = Outputs::Template("out/{name}.exr".into());
+        assert!(r.check(w, input, Path::new("/w/out/a.png.exr")).is_ok());
+        assert!(r
+            .check(w, input, Path::new("/elsewhere/out/a.png.exr"))
+            .is_err());
+    }
+
+    #[test]
+    fn job_directory_files_are_read_only_up_to_the_limit() {
+        let d = std::env::temp_dir().join(format!("farm-bounded-{}", std::process::id()));
+        std::fs::create_dir_all(&d).unwrap();
+        let small = d.join("small");
+        std::fs::write(&small, "{}").unwrap();
+        assert_eq!(read_bounded(&small).unwrap(), "{}");
+        let big = d.join("big");
+        let f = std::fs::File::create(&big).unwrap();
+        f.set_len(MAX_FILE_BYTES + 1).unwrap();
+        let e = read_bounded(&big).unwrap_err().to_string();
+        assert!(e.contains("67108864"), "{e}");
+        assert!(read_bounded(&d).is_err(), "a folder is not read");
+        std::fs::remove_dir_all(&d).unwrap();
     }
 }

@@ -75,9 +75,13 @@ pub fn submit(options: &[String], script: &Path) -> Result<String, Error> {
     Ok(id)
 }
 
+/// What Slurm says of an array job's tasks ([`tasks`]): their states, `None` when it no longer
+/// knows the job, an error when it could not be asked.
+pub type Tasks = Result<Option<Vec<TaskState>>, Error>;
+
 /// The state of every task of an array job, or `None` when Slurm no longer knows the job
 /// (the controller has purged it and there is no accounting).
-pub fn tasks(job_id: &str) -> Result<Option<Vec<TaskState>>, Error> {
+pub fn tasks(job_id: &str) -> Tasks {
     match run("scontrol", &["-o", "show", "job", job_id]) {
         Ok(text) => return Ok(Some(parse_scontrol(&text))),
         Err(Error::Slurm(e)) if e.contains("Invalid job id") => {}

@@ -3,7 +3,6 @@
 
 use crate::log::{Outcome, TaskLog};
 use crate::manifest::{round_dir, task_log, Manifest};
-use crate::slurm::TaskState;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 
@@ -71,11 +70,17 @@ pub struct TaskStatus {
     pub end: Option<f64>,
 }
 
+/// The state of a task whose round was recorded but never reached Slurm.
+pub const NOT_SUBMITTED: &str = "NOT_SUBMITTED";
+/// The state of a task Slurm could not be asked about (its commands failed): it may run.
+pub const UNREACHABLE: &str = "UNREACHABLE";
+
 impl TaskStatus {
-    /// Queued or running, as Slurm says: a task that logged its end may still be completing,
-    /// and its final state (CANCELLED, TIMEOUT…) is what a status should show.
+    /// Queued or running, as Slurm says, or possibly so (Slurm did not answer): a task that
+    /// logged its end may still be completing, and its final state (CANCELLED, TIMEOUT…) is
+    /// what a status should show.
     pub fn active(&self) -> bool {
-        crate::slurm::active(&self.state)
+        self.state == UNREACHABLE || crate::slurm::active(&self.state)
     }
 }
 
@@ -89,27 +94,40 @@ pub struct Status {
 }
 
 impl Status {
-    /// Combines the manifest, the logs under `job_dir` and Slurm's view of each round's job
-    /// (`slurm(job_id)`, `None` when Slurm has forgotten it).
+    /// Combines the manifest, the logs under `job_dir` and Slurm's view of each submitted
+    /// round's job (`slurm(job_id)`: `None` when Slurm has forgotten it, an error when it could
+    /// not be asked, and then its tasks count as possibly running). Fails only on a log that is
+    /// refused ([`TaskLog::read`]).
     pub fn read(
         job_dir: &Path,
         m: &Manifest,
-        slurm: &mut dyn FnMut(&str) -> Option<Vec<TaskState>>,
-    ) -> Status {
+        slurm: &mut dyn FnMut(&str) -> crate::slurm::Tasks,
+    ) -> Result<Status, crate::Error> {
         let mut tasks = Vec::new();
         let mut logs = Vec::new();
         for (r, round) in m.rounds.iter().enumerate() {
-            let states = slurm(&round.job_id);
+            let states = match &round.job_id {
+                Some(id) => slurm(id).map_err(|_| UNREACHABLE),
+                None => Err(NOT_SUBMITTED),
+            };
             let dir = round_dir(job_dir, r);
             let mut round_logs = Vec::new();
             for (t, files) in round.tasks.iter().enumerate() {
-                let log = TaskLog::read(&task_log(&dir, t));
-                let known = states.as_ref().and_then(|s| s.iter().find(|s| s.task == t));
+                let log = TaskLog::read(&task_log(&dir, t))?;
+                let known = match &states {
+                    Ok(s) => s.as_ref().and_then(|s| s.iter().find(|s| s.task == t)),
+                    Err(_) => None,
+                };
+                let state = match (&states, known) {
+                    (Err(why), _) => why.to_string(),
+                    (Ok(_), Some(s)) => s.state.clone(),
+                    (Ok(_), None) => "UNKNOWN".to_string(),
+                };
                 tasks.push(TaskStatus {
                     round: r,
-                    job_id: round.job_id.clone(),
+                    job_id: round.job_id.clone().unwrap_or_default(),
                     task: t,
-                    state: known.map_or_else(|| "UNKNOWN".to_string(), |s| s.state.clone()),
+                    state,
                     exit: known
                         .and_then(|s| s.exit.clone())
                         .or_else(|| log.exit.map(|e| e.to_string())),
@@ -133,10 +151,9 @@ impl Status {
             }) else {
                 continue;
             };
-            let task = tasks
-                .iter()
-                .find(|s| s.round == r && s.task == t)
-                .expect("every planned task has a status");
+            let Some(task) = tasks.iter().find(|s| s.round == r && s.task == t) else {
+                continue;
+            };
             let record = logs[r][t].records.get(&f.input);
             let state = match record.map(|r| &r.outcome) {
                 Some(Outcome::Done) if f.output.exists() => FileState::Done,
@@ -145,6 +162,17 @@ impl Status {
                     waiting: false,
                 },
                 Some(Outcome::Failed(e)) => FileState::Failed { error: e.clone() },
+                None if task.state == NOT_SUBMITTED => FileState::Pending {
+                    why: format!(
+                        "round {r} was not submitted (interrupted before Slurm took it); \
+                         `specconv farm retry` submits it"
+                    ),
+                    waiting: false,
+                },
+                None if task.state == UNREACHABLE => FileState::Pending {
+                    why: format!("task {t} may still run: Slurm did not answer"),
+                    waiting: true,
+                },
                 None if task.active() => FileState::Pending {
                     why: format!("task {t} is {}", task.state.to_lowercase()),
                     waiting: true,
@@ -171,7 +199,21 @@ impl Status {
                 seconds: record.map_or(0.0, |r| r.seconds),
             });
         }
-        Status { tasks, files }
+        Ok(Status { tasks, files })
+    }
+
+    /// Whether file `index`'s task (in the latest round that planned it) is known to have
+    /// ended, or never reached Slurm: nothing of this job can be writing its output.
+    pub fn ended(&self, index: usize) -> bool {
+        // Both lists are in order (files by index, tasks by round and task): a retry of many
+        // files stays linear-logarithmic.
+        let Ok(f) = self.files.binary_search_by_key(&index, |f| f.index) else {
+            return false;
+        };
+        let f = &self.files[f];
+        self.tasks
+            .binary_search_by_key(&(f.round, f.task), |t| (t.round, t.task))
+            .is_ok_and(|t| !self.tasks[t].active())
     }
 
     /// Whether any task of any round may still run.
@@ -286,4 +328,75 @@ pub struct Pending {
     pub input: PathBuf,
     /// Why it is pending (its task is running, ended early, or its output has gone missing).
     pub why: String,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::manifest::{File, Outputs, Request, Round, FORMAT};
+    use crate::slurm::TaskState;
+
+    fn manifest(rounds: Vec<Round>) -> Manifest {
+        Manifest {
+            format: FORMAT,
+            specconv: "/bin/specconv".into(),
+            workdir: "/w".into(),
+            ocio: "aces".into(),
+            outputs: Outputs::Directory("/out".into()),
+            convert_options: vec![],
+            files: (0..3)
+                .map(|k| File {
+                    input: format!("/in/{k}.png").into(),
+                    output: format!("/out/{k}_spectral.exr").into(),
+                    pixels: 1,
+                })
+                .collect(),
+            request: Request {
+                partition: None,
+                time: None,
+                cpus_per_task: 1,
+                mem_mib: 100,
+                limit: None,
+            },
+            rounds,
+        }
+    }
+
+    #[test]
+    fn a_round_never_submitted_is_pending_and_retried_and_one_slurm_did_not_report_is_not() {
+        let m = manifest(vec![
+            Round {
+                job_id: Some("7".into()),
+                tasks: vec![vec![0, 1]],
+            },
+            Round {
+                job_id: None,
+                tasks: vec![vec![2]],
+            },
+        ]);
+        let nowhere = Path::new("/nonexistent/job");
+        let mut unreachable = |_: &str| Err(crate::Error::Slurm("no controller".into()));
+        let s = Status::read(nowhere, &m, &mut unreachable).unwrap();
+        assert_eq!(s.tasks[0].state, UNREACHABLE);
+        assert_eq!(s.tasks[1].state, NOT_SUBMITTED);
+        assert!(s.running());
+        // Files of the round Slurm did not report may be being written: not retried, not
+        // cleaned; the round never submitted is.
+        assert_eq!(s.to_retry(), [2]);
+        assert!(!s.ended(0) && !s.ended(1) && s.ended(2));
+        assert!(
+            matches!(&s.files[2].state, FileState::Pending { why, waiting: false } if why.contains("not submitted"))
+        );
+        // Slurm says the task ended: its files are retried and cleaned.
+        let mut ended = |_: &str| {
+            Ok(Some(vec![TaskState {
+                task: 0,
+                state: "CANCELLED".into(),
+                exit: Some("0:15".into()),
+            }]))
+        };
+        let s = Status::read(nowhere, &m, &mut ended).unwrap();
+        assert_eq!(s.to_retry(), [0, 1, 2]);
+        assert!(s.ended(0) && !s.running());
+    }
 }

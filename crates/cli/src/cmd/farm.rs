@@ -7,6 +7,7 @@ use crate::shard::pixels;
 use crate::{checks, exit, usage};
 use anyhow::{anyhow, bail, Context, Result};
 use clap::{ArgAction, ArgMatches, CommandFactory};
+use specconv_farm::manifest::Outputs;
 use specconv_farm::{slurm, FileState, Manifest, Request, Status};
 use std::path::{Path, PathBuf};
 
@@ -111,9 +112,19 @@ struct Retry {
     wait: bool,
 }
 
-/// Options of `convert` that the farm sets itself, or that mean nothing to a task.
+/// Options of `convert` that the farm sets itself, or that mean nothing to a task; outputs go
+/// in the manifest's `outputs`, from which the script passes them.
 const NOT_PASSED: &[&str] = &[
-    "paths", "json", "quiet", "verbose", "update", "force", "threads", "shard", "output",
+    "paths",
+    "json",
+    "quiet",
+    "verbose",
+    "update",
+    "force",
+    "threads",
+    "shard",
+    "output",
+    "output_template",
 ];
 
 /// Runs a farm command; `ocio` is the global --ocio, passed on to the tasks.
@@ -122,41 +133,36 @@ pub fn run(args: Args, ocio: Option<String>) -> Result<i32> {
         Farm::Submit(s) => submit(*s, ocio),
         Farm::Status(r) => status(&r),
         Farm::Collect(r) => collect(&r),
-        Farm::Retry(r) => retry(&r),
+        Farm::Retry(r) => retry(&r, ocio),
     }
 }
 
 fn submit(s: Submit, ocio: Option<String>) -> Result<i32> {
-    if s.convert.output_dir().is_none() && !s.convert.has_output_template() {
-        return Err(usage(anyhow!(
-            "farm submit writes many outputs: give -o DIR or --output-template"
-        )));
-    }
-    let mut options = passed_options().map_err(usage)?;
+    let outputs = match (s.convert.output_dir(), s.convert.output_template()) {
+        (Some(dir), _) => Outputs::Directory(absolute(dir)?),
+        (None, Some(t)) => Outputs::Template(t.to_string()),
+        (None, None) => {
+            return Err(usage(anyhow!(
+                "farm submit writes many outputs: give -o DIR or --output-template"
+            )))
+        }
+    };
+    let options = passed_options().map_err(usage)?;
     // Settings that cannot work for any input fail here, not once in every task.
     let config = checks::config(ocio.as_deref())?;
     checks::input_colorspace(&config, s.convert.colorspace())?;
-    if let Some(o) = &ocio {
-        options.splice(0..0, ["--ocio".to_string(), o.clone()]);
-    }
     // Every task converts with -u.
-    let (inputs, outputs) = convert::plan(&s.convert, true).map_err(usage)?;
+    let (inputs, planned) = convert::plan(&s.convert, true).map_err(usage)?;
     if inputs.is_empty() {
         return Err(usage(anyhow!("no inputs to submit")));
     }
-    let files = listed_files(&inputs, &outputs)?;
+    let files = listed_files(&inputs, &planned)?;
     let largest = files.iter().map(|f| f.pixels).max().unwrap_or(0);
     let mem_mib = match &s.mem {
         Some(m) => parse_mem(m)
             .ok_or_else(|| usage(anyhow!("--mem {m:?} is not a size such as 800M or 4G")))?,
         None => specconv_farm::memory_mib(largest),
     };
-    if let Some(dir) = s.convert.output_dir() {
-        options.splice(
-            0..0,
-            ["-o".to_string(), absolute(dir)?.display().to_string()],
-        );
-    }
     let job_dir = job_dir_for(&s)?;
     if Manifest::path(&job_dir).exists() {
         return Err(usage(anyhow!(
@@ -169,6 +175,8 @@ fn submit(s: Submit, ocio: Option<String>) -> Result<i32> {
         format: specconv_farm::manifest::FORMAT,
         specconv: std::env::current_exe().context("cannot locate the specconv binary")?,
         workdir: std::env::current_dir().context("cannot read the current directory")?,
+        ocio: pinned(&config)?,
+        outputs,
         convert_options: options,
         files,
         request: Request {
@@ -180,29 +188,62 @@ fn submit(s: Submit, ocio: Option<String>) -> Result<i32> {
         },
         rounds: Vec::new(),
     };
+    // What tasks and later commands will check, checked before anything is written.
+    manifest.check(&job_dir).map_err(farm_error)?;
     let all: Vec<usize> = (0..manifest.files.len()).collect();
-    let prepared = specconv_farm::prepare(&job_dir, &manifest, &all, s.tasks as usize);
+    let prepared =
+        specconv_farm::prepare(&job_dir, &manifest, &all, s.tasks as usize).map_err(farm_error)?;
     if s.dry_run {
         print_plan(&manifest, &prepared);
         return Ok(exit::OK);
     }
+    // Held until the job id is recorded: a second submit into these directories waits, then
+    // sees this job live.
+    let mut claim =
+        specconv_farm::claim::claim(&job_dir, &manifest.output_dirs()).map_err(farm_error)?;
     std::fs::create_dir_all(&job_dir)
         .with_context(|| format!("cannot create the job directory {}", job_dir.display()))?;
-    manifest.save(&job_dir)?;
+    claim.record(&job_dir)?;
     let tasks = prepared.tasks.len();
     let job_id = match specconv_farm::submit(&job_dir, &mut manifest, prepared) {
         Ok(id) => id,
         Err(e) => {
             // Nothing was submitted: leave no job directory behind.
             let _ = std::fs::remove_dir_all(&job_dir);
-            return Err(e.into());
+            return Err(farm_error(e));
         }
     };
+    drop(claim);
     announce(&s.convert, &job_id, &job_dir, tasks, manifest.files.len());
     if s.wait {
         return wait_and_collect(&job_dir, &job_id, s.convert.json_wanted());
     }
     Ok(exit::OK)
+}
+
+/// The OCIO config a command checked, as every task must name it: a file by its absolute path
+/// (`--ocio FILE` or `$OCIO`), a built-in config by the name that picked it.
+fn pinned(config: &specconv_conversion::ocio::Config) -> Result<String> {
+    use specconv_conversion::ocio::ConfigSource;
+    let path = match config.source() {
+        ConfigSource::Builtin { name, .. } => return Ok(name.clone()),
+        ConfigSource::File(p) | ConfigSource::Env(p) => absolute(p)?,
+    };
+    path.to_str().map(str::to_string).ok_or_else(|| {
+        usage(anyhow!(
+            "the OCIO config {} has a name that is not UTF-8, which a task's command line cannot carry; rename it",
+            path.display()
+        ))
+    })
+}
+
+/// A farm error for the CLI: a refused job directory or request is a usage error (exit 2).
+fn farm_error(e: specconv_farm::Error) -> anyhow::Error {
+    if e.refused() {
+        usage(e)
+    } else {
+        e.into()
+    }
 }
 
 fn absolute(p: &Path) -> Result<PathBuf> {
@@ -372,18 +413,17 @@ fn parse_mem(s: &str) -> Option<u64> {
 }
 
 fn load(job_dir: &Path) -> Result<(Manifest, Status)> {
-    let manifest = Manifest::load(job_dir)?;
+    let manifest = Manifest::load(job_dir).map_err(farm_error)?;
     let mut warned = false;
-    let status = Status::read(job_dir, &manifest, &mut |id| match slurm::tasks(id) {
-        Ok(t) => t,
-        Err(e) => {
+    let status = Status::read(job_dir, &manifest, &mut |id| {
+        slurm::tasks(id).inspect_err(|e| {
             if !warned {
-                eprintln!("specconv: warning: {e}; task states come from the logs alone");
+                eprintln!("specconv: warning: {e}; tasks Slurm did not report may still run");
                 warned = true;
             }
-            None
-        }
-    });
+        })
+    })
+    .map_err(farm_error)?;
     Ok((manifest, status))
 }
 
@@ -404,9 +444,12 @@ fn status(r: &Report) -> Result<i32> {
     }
     for (round, sub) in m.rounds.iter().enumerate() {
         println!(
-            "round {round} ({}), job {}:",
+            "round {round} ({}), {}:",
             if round == 0 { "submit" } else { "retry" },
-            sub.job_id
+            sub.job_id.as_ref().map_or_else(
+                || "not submitted (interrupted before Slurm took it)".to_string(),
+                |id| format!("job {id}")
+            )
         );
         for t in status.tasks.iter().filter(|t| t.round == round) {
             println!(
@@ -475,8 +518,12 @@ fn collect(r: &Report) -> Result<i32> {
     Ok(all_done(&status))
 }
 
-fn retry(r: &Retry) -> Result<i32> {
+fn retry(r: &Retry, ocio: Option<String>) -> Result<i32> {
     let job_dir = std::path::absolute(&r.job_dir)?;
+    // Locked before the job's state is read: a second retry of this job waits, then finds this
+    // one's round live instead of submitting the same files again.
+    let dirs = Manifest::load(&job_dir).map_err(farm_error)?.output_dirs();
+    let mut claim = specconv_farm::claim::claim(&job_dir, &dirs).map_err(farm_error)?;
     let (mut m, status) = load(&job_dir)?;
     let again = status.to_retry();
     let waiting = status
@@ -494,21 +541,23 @@ fn retry(r: &Retry) -> Result<i32> {
         }
         return Ok(exit::OK);
     }
+    // --ocio given to retry replaces the config the job was submitted with, checked as submit
+    // checks it.
+    if ocio.is_some() {
+        m.ocio = pinned(&checks::config(ocio.as_deref())?)?;
+    }
+    specconv_farm::remove_leftovers(&m, &status, &again);
     for &i in &again {
-        let f = &mut m.files[i];
-        // A task killed outright (SIGKILL, node lost) could not remove its temporary file.
-        for tmp in specconv_atomic_file::leftovers(&f.output) {
-            std::fs::remove_file(&tmp)
-                .with_context(|| format!("cannot remove the leftover {}", tmp.display()))?;
-        }
         // The input may have been fixed or replaced since: plan on what it is now.
-        f.pixels = pixels(&f.input);
+        m.files[i].pixels = pixels(&m.files[i].input);
     }
     let last = m.rounds.last().map_or(1, |r| r.tasks.len());
     let tasks = r.tasks.map_or(last, |n| n as usize);
-    let prepared = specconv_farm::prepare(&job_dir, &m, &again, tasks);
+    let prepared = specconv_farm::prepare(&job_dir, &m, &again, tasks).map_err(farm_error)?;
     let n = prepared.tasks.len();
-    let job_id = specconv_farm::submit(&job_dir, &mut m, prepared)?;
+    claim.record(&job_dir)?;
+    let job_id = specconv_farm::submit(&job_dir, &mut m, prepared).map_err(farm_error)?;
+    drop(claim);
     println!(
         "submitted job {job_id}: {} in {} (round {})",
         count(again.len(), "file"),

@@ -373,8 +373,8 @@ impl Args {
         self.output.as_deref()
     }
 
-    pub(crate) fn has_output_template(&self) -> bool {
-        self.output_template.is_some()
+    pub(crate) fn output_template(&self) -> Option<&str> {
+        self.output_template.as_deref()
     }
 
     pub(crate) fn json_wanted(&self) -> bool {
