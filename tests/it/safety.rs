@@ -79,6 +79,27 @@ fn a_batch_whose_input_is_another_inputs_output_writes_nothing() {
             );
         assert_eq!(snapshot(&[&x, &spectral]), before, "{extra:?}");
     }
+    // The farm's tasks run with -u: submit refuses the same plan, without any flag.
+    for dry_run in [true, false] {
+        Cmd::new([
+            "farm",
+            "submit",
+            "x.png",
+            "x_spectral.exr",
+            "-o",
+            ".",
+            "--tasks",
+            "1",
+        ])
+        .args(dry_run.then_some("--dry-run"))
+        .current_dir(&s.0)
+        .refused(
+            &s,
+            2,
+            &["the output ./x_spectral.exr is the input x_spectral.exr"],
+        );
+    }
+    assert_eq!(snapshot(&[&x, &spectral]), before);
     // Two inputs a template maps to one file, through `..`.
     std::fs::create_dir_all(s.path("a")).unwrap();
     std::fs::create_dir_all(s.path("b")).unwrap();
