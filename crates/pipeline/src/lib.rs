@@ -516,6 +516,11 @@ fn write_file(
                                 .blocks
                                 .par_iter()
                                 .map(|b| {
+                                    // Checked per block, not only per window: a window of
+                                    // fine-band blocks takes seconds.
+                                    if job.cancel.load(Ordering::Relaxed) {
+                                        return Err(Error::Cancelled);
+                                    }
                                     encode_block(
                                         file,
                                         &space.to_xyz,
