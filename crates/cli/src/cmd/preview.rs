@@ -62,7 +62,9 @@ pub struct Args {
 
 #[derive(Serialize)]
 struct Summary {
+    #[serde(serialize_with = "crate::stdio::serialize_path")]
     input: PathBuf,
+    #[serde(serialize_with = "crate::stdio::serialize_path")]
     output: PathBuf,
     width: usize,
     height: usize,
@@ -108,7 +110,9 @@ pub fn run(args: Args) -> Result<()> {
         let rgb: Vec<u8> = shaded.display.iter().flatten().copied().collect();
         picture::encode_png(&rgb, w as u32, h as u32)?
     };
-    files::write_atomically(&args.output, &png, &[args.input.as_path()])?;
+    crate::signals::writing(|| {
+        files::write_atomically(&args.output, &png, &[args.input.as_path()])
+    })?;
 
     let summary = Summary {
         input: args.input.clone(),
@@ -122,7 +126,7 @@ pub fn run(args: Args) -> Result<()> {
         delta_e_mean: args.diff_rgb.then_some(mean),
     };
     if args.json {
-        println!("{}", serde_json::to_string(&summary)?);
+        outln!("{}", serde_json::to_string(&summary)?)?;
     } else {
         let diff = if args.diff_rgb {
             format!(", CIEDE2000 from RGB multiplication: max {max:.3}, mean {mean:.3}")
@@ -134,7 +138,7 @@ pub fn run(args: Args) -> Result<()> {
         } else {
             String::new()
         };
-        eprintln!(
+        errln!(
             "{} → {}: {w}×{h}, {} bounce{} under {light}{diff}{bad}",
             args.input.display(),
             args.output.display(),

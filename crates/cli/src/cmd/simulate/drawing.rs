@@ -15,6 +15,7 @@ pub const MAX_PATCHES: usize = 16;
 /// What `--image` wrote, for --json: the file and each swatch's rectangle in it.
 #[derive(Serialize)]
 pub struct Written {
+    #[serde(serialize_with = "crate::stdio::serialize_path")]
     path: PathBuf,
     width: u32,
     height: u32,
@@ -102,7 +103,7 @@ pub fn write(path: &Path, r: &Report, inputs: &[&Path]) -> Result<Written> {
         .collect();
     let (size, placed) = swatches::layout(&blocks);
     let png = picture::render_png(size, |root| swatches::draw(root, &blocks))?;
-    files::write_atomically(path, &png, inputs)?;
+    crate::signals::writing(|| files::write_atomically(path, &png, inputs))?;
     Ok(Written {
         path: path.to_path_buf(),
         width: size.0,
