@@ -5,7 +5,8 @@
 //! nothing written. While it writes ([`deferred`]), a signal only sets the writer's cancel
 //! flag: a batch stops within a block (its output not published, its temporary file
 //! removed) and ends with status 130 itself; a single write ([`writing`]) completes or fails
-//! as it would have, then the command ends with status 130.
+//! as it would have, then the command ends with status 130. A second signal to a writer that
+//! has not stopped ends the process at once.
 //!
 //! The handler runs on ctrlc's own thread. It decides under the same lock that a writer takes
 //! to start and to stop writing, so a signal never ends the process between "not yet
@@ -43,8 +44,11 @@ pub(crate) fn install() {
     let _ = ctrlc::set_handler(|| {
         let writer = writer();
         match writer.as_ref() {
-            Some(cancel) => cancel.store(true, Ordering::SeqCst),
-            None => {
+            // The first signal while writing stops the writer cleanly.
+            Some(cancel) if !cancel.swap(true, Ordering::SeqCst) => {}
+            // Before writing, or a second signal to a writer that does not stop (a read that
+            // never ends): at once; as after SIGKILL, a temporary file may stay.
+            _ => {
                 crate::print_error(LINE);
                 // Holding the lock: no write can start before the process is gone.
                 specconv_oiio::exit_now(crate::exit::INTERRUPTED)
