@@ -5,8 +5,8 @@
 //! nothing written. While it writes ([`deferred`]), a signal only sets the writer's cancel
 //! flag: a batch stops within a block (its output not published, its temporary file
 //! removed) and ends with status 130 itself; a single write ([`writing`]) completes or fails
-//! as it would have, then the command ends with status 130. A second signal to a writer that
-//! has not stopped ends the process at once.
+//! as it would have, then the command ends with status 130. A signal to a writer that has not
+//! stopped two seconds after the first ends the process at once.
 //!
 //! The handler runs on ctrlc's own thread. It decides under the same lock that a writer takes
 //! to start and to stop writing, so a signal never ends the process between "not yet
@@ -14,9 +14,23 @@
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
+use std::time::{Duration, Instant};
 
-/// What a signal does now: `None` ends the process; `Some(flag)` sets the writer's flag.
-static WRITER: Mutex<Option<Arc<AtomicBool>>> = Mutex::new(None);
+/// What a signal does now: `None` ends the process; `Some` stops the writer.
+static WRITER: Mutex<Option<Writer>> = Mutex::new(None);
+
+/// A command writing outputs.
+struct Writer {
+    /// Set to stop it.
+    cancel: Arc<AtomicBool>,
+    /// When the first signal came.
+    signalled: Option<Instant>,
+}
+
+/// How long a writer has to stop before another signal ends the process at once. Signals
+/// that come together are one request: scancel signals both a task's script and the
+/// conversion, and the script passes its signal on.
+const PATIENCE: Duration = Duration::from_secs(2);
 
 /// The line every interrupted command ends with.
 pub(crate) const LINE: &str = "interrupted; no partial output was left";
@@ -33,21 +47,24 @@ impl std::fmt::Display for Interrupted {
 
 impl std::error::Error for Interrupted {}
 
-fn writer() -> MutexGuard<'static, Option<Arc<AtomicBool>>> {
+fn writer() -> MutexGuard<'static, Option<Writer>> {
     WRITER.lock().unwrap_or_else(PoisonError::into_inner)
 }
 
 /// Installs the handler; the first thing `main` does.
 pub(crate) fn install() {
     // Without a handler (no thread could be made) the default action still ends the process
-    // and leaves at most a temporary file, which the next conversion of that output removes.
+    // and leaves at most a temporary file, as SIGKILL would.
     let _ = ctrlc::set_handler(|| {
-        let writer = writer();
-        match writer.as_ref() {
-            // The first signal while writing stops the writer cleanly.
-            Some(cancel) if !cancel.swap(true, Ordering::SeqCst) => {}
-            // Before writing, or a second signal to a writer that does not stop (a read that
-            // never ends): at once; as after SIGKILL, a temporary file may stay.
+        let mut writer = writer();
+        match writer.as_mut() {
+            // While writing, signals stop the writer cleanly.
+            Some(w) if w.signalled.is_none_or(|first| first.elapsed() < PATIENCE) => {
+                w.signalled.get_or_insert_with(Instant::now);
+                w.cancel.store(true, Ordering::SeqCst);
+            }
+            // Before writing, or again to a writer that has not stopped (a read that never
+            // ends): at once; as after SIGKILL, a temporary file may stay.
             _ => {
                 crate::print_error(LINE);
                 // Holding the lock: no write can start before the process is gone.
@@ -60,7 +77,10 @@ pub(crate) fn install() {
 /// Runs `f`, which writes outputs and stops when `cancel` is set, with signals setting
 /// `cancel` instead of ending the process.
 pub(crate) fn deferred<T>(cancel: &Arc<AtomicBool>, f: impl FnOnce() -> T) -> T {
-    *writer() = Some(cancel.clone());
+    *writer() = Some(Writer {
+        cancel: cancel.clone(),
+        signalled: None,
+    });
     let result = f();
     *writer() = None;
     result
