@@ -11,6 +11,7 @@ mod layout;
 mod libraries;
 mod library;
 mod pictures;
+mod pipes;
 mod runner;
 mod safety;
 mod simulate;

@@ -4,8 +4,9 @@
 #![forbid(unsafe_code)]
 
 use clap::{CommandFactory, Parser, Subcommand};
-use std::io::Write;
 
+#[macro_use]
+mod stdio;
 mod checks;
 mod cmd;
 mod files;
@@ -15,6 +16,7 @@ mod picture;
 mod progress;
 mod records;
 mod shard;
+mod signals;
 
 /// Turn textures in any colour space into spectral reflectance images, with the clustered-PCA
 /// uplift of Otsu, Yamamoto and Hachisuka 2018.
@@ -61,8 +63,12 @@ pub mod exit {
     pub const USAGE: i32 = 2;
     /// Stopped by SIGINT or SIGTERM; no partial output was left.
     pub const INTERRUPTED: i32 = 130;
+    /// Standard output was closed before the command was done (`| head -1`): 128 + SIGPIPE,
+    /// what a shell reports for a process SIGPIPE killed. The input being converted was
+    /// finished or left as it was; no other was started.
+    pub const PIPE: i32 = 141;
     /// The table as the README and the man pages print it.
-    pub const TABLE: [(i32, &str); 4] = [
+    pub const TABLE: [(i32, &str); 5] = [
         (OK, "everything asked for was done (in a batch: every input converted or up to date)"),
         (
             FAILED,
@@ -73,6 +79,10 @@ pub mod exit {
             "the command line cannot work for any input: an unknown option or value, a colour space or OCIO config that cannot be used, a missing output directory, an unreadable model; checked before the first input, nothing written",
         ),
         (INTERRUPTED, "interrupted by SIGINT or SIGTERM; no partial output left"),
+        (
+            PIPE,
+            "standard output was closed (a reader such as `head` stopped reading): the command stopped quietly; the input being converted was finished or left as it was, no other was started",
+        ),
     ];
 }
 
@@ -273,28 +283,41 @@ enum Command {
 
 /// Runs the command line and returns the process exit code.
 pub fn main() -> i32 {
+    // First: from here on, SIGINT and SIGTERM end every command with status 130.
+    signals::install();
     let cli = match parse(std::env::args_os()) {
         Ok(cli) => cli,
         Err(e) if !e.use_stderr() => {
             // --help and --version
-            let _ = e.print();
-            return exit::OK;
+            return match e.print() {
+                Ok(()) => exit::OK,
+                Err(e) => failed(stdio::StdoutFailed::new(e).into()),
+            };
         }
         Err(e) => {
             print_error(&clap_error_line(&e));
             return exit::USAGE;
         }
     };
-    match run(cli) {
-        Ok(code) => code,
-        Err(e) => {
-            print_error(&one_line(e.as_ref()));
-            if e.chain().any(|c| c.is::<Usage>()) {
-                exit::USAGE
-            } else {
-                exit::FAILED
-            }
+    run(cli).unwrap_or_else(failed)
+}
+
+/// Says why a command failed, once, and returns its exit status. A closed standard output
+/// says nothing: the reader has gone.
+fn failed(e: anyhow::Error) -> i32 {
+    if let Some(out) = stdio::StdoutFailed::in_chain(&e) {
+        if !out.closed() {
+            print_error(&out.to_string());
         }
+        return out.status();
+    }
+    print_error(&one_line(e.as_ref()));
+    if e.chain().any(|c| c.is::<signals::Interrupted>()) {
+        exit::INTERRUPTED
+    } else if e.chain().any(|c| c.is::<Usage>()) {
+        exit::USAGE
+    } else {
+        exit::FAILED
     }
 }
 
@@ -376,7 +399,7 @@ fn run(cli: Cli) -> anyhow::Result<i32> {
 
 /// The one error format of every command: `specconv: error: ` and one line.
 pub(crate) fn print_error(line: &str) {
-    let _ = writeln!(std::io::stderr().lock(), "specconv: error: {line}");
+    errln!("specconv: error: {line}");
 }
 
 /// The man pages, one per command: (file name in man/, roff).
@@ -560,7 +583,13 @@ mod tests {
                     "{name} lacks {section}: give the command `after_long_help = EXAMPLES`"
                 );
             }
-            for code in [exit::OK, exit::FAILED, exit::USAGE, exit::INTERRUPTED] {
+            for code in [
+                exit::OK,
+                exit::FAILED,
+                exit::USAGE,
+                exit::INTERRUPTED,
+                exit::PIPE,
+            ] {
                 assert!(
                     text.contains(&format!(".TP\n\\fB{code}\\fR\n")),
                     "{name}: {code}"

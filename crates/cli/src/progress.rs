@@ -134,7 +134,7 @@ impl Progress {
     pub fn finish(&mut self) {
         self.done += self.weights[self.file];
         if self.mode == Mode::Live {
-            eprint!("\r\x1b[2K");
+            err!("\r\x1b[2K");
         }
     }
 
@@ -162,7 +162,7 @@ impl Progress {
             return;
         }
         self.last = Some(now);
-        eprintln!(
+        errln!(
             "specconv: progress: file {} of {} ({}), {:.0} % of it{}",
             self.file + 1,
             self.weights.len(),

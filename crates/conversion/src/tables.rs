@@ -3,6 +3,7 @@
 
 use specconv_spectral::baselines::jakob::Fitter;
 use specconv_spectral::baselines::jakob_cache::{Note, TableCache};
+use std::io::Write;
 use std::path::PathBuf;
 
 /// Where cached tables live: $SPECCONV_CACHE_DIR, else $XDG_CACHE_HOME/specconv, else
@@ -26,11 +27,13 @@ pub fn in_dir(dir: Option<PathBuf>, tell: fn(&Note)) -> TableCache {
 
 /// Says on standard error what happens to a table (building one takes seconds).
 pub fn print_note(note: &Note) {
-    match note {
-        Note::Built { .. } => eprintln!("specconv: {note}"),
-        _ if note.is_warning() => eprintln!("specconv: warning: {note}"),
-        _ => eprintln!("specconv: note: {note}"),
-    }
+    let kind = match note {
+        Note::Built { .. } => "",
+        _ if note.is_warning() => "warning: ",
+        _ => "note: ",
+    };
+    // Not eprintln!, which panics when standard error is full: a note can go unsaid.
+    let _ = writeln!(std::io::stderr().lock(), "specconv: {kind}{note}");
 }
 
 /// The columns of a Jakob 2019 table on every core.

@@ -480,6 +480,10 @@ fn write_file(
         let mut made: Vec<(usize, Chunk, Counts)> = Vec::new();
         let mut write = |made: Vec<(usize, Chunk, Counts)>| -> specconv_exr::Result<()> {
             for (chunk_index, chunk, c) in made {
+                // A window of fine-band chunks is hundreds of megabytes.
+                if job.cancel.load(Ordering::Relaxed) {
+                    return Err(specconv_exr::Error::Invalid("cancelled".into()));
+                }
                 counts.non_finite += c.non_finite;
                 counts.above_one += c.above_one;
                 counts.saturated += c.saturated;
@@ -506,6 +510,11 @@ fn write_file(
                                 .blocks
                                 .par_iter()
                                 .map(|b| {
+                                    // Checked per block, not only per window: a window of
+                                    // fine-band blocks takes seconds.
+                                    if job.cancel.load(Ordering::Relaxed) {
+                                        return Err(Error::Cancelled);
+                                    }
                                     encode_block(
                                         file,
                                         &space.to_xyz,
@@ -540,6 +549,11 @@ fn write_file(
     });
     if let Some(e) = failure {
         return Err(e);
+    }
+    // Wherever the flag was seen (and whatever error the writer made of it), nothing is
+    // published once it is set.
+    if job.cancel.load(Ordering::Relaxed) {
+        return Err(Error::Cancelled);
     }
     written?;
     // Without overwrite, an output another writer published while this one ran is refused,
@@ -616,6 +630,10 @@ fn encode_block(
     let mut bands = vec![0.0f32; count * n];
     job.method
         .uplift_f32_tallied(&rgb, &mut bands, &mut counts.tally);
+    // Compressing a fine-band block takes as long as uplifting it.
+    if job.cancel.load(Ordering::Relaxed) {
+        return Err(Error::Cancelled);
+    }
     if file.spec().sample == Sample::Half {
         counts.saturated = saturate_half(&mut bands, n);
         if let Some(w) = &job.settings.xyz_weights {

@@ -433,6 +433,18 @@ fn path_to_cstring(path: &Path) -> Option<CString> {
     CString::new(path.to_str()?).ok()
 }
 
+/// Ends the process at once with `code`, as `_exit(2)` does: no exit handlers, no C++ static
+/// destructors. For the thread of a signal handler: `std::process::exit` would run
+/// OpenImageIO's and OpenColorIO's static destructors while another thread may still be inside
+/// those libraries (a crash or a hang instead of the exit status).
+pub fn exit_now(code: i32) -> ! {
+    extern "C" {
+        fn _exit(status: std::ffi::c_int) -> !;
+    }
+    // SAFETY: _exit takes any status, touches no memory of ours and does not return.
+    unsafe { _exit(code) }
+}
+
 /// Runtime OpenImageIO version as (major, minor, patch); loads OpenImageIO if no image has
 /// been opened yet.
 pub fn oiio_version() -> Result<(u32, u32, u32), LoadError> {

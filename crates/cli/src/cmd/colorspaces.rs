@@ -83,21 +83,21 @@ pub fn run(args: Args) -> Result<()> {
             .collect(),
     };
     if args.json {
-        println!("{}", serde_json::to_string_pretty(&report)?);
+        outln!("{}", serde_json::to_string_pretty(&report)?)?;
         return Ok(());
     }
-    println!("config: {}", report.config);
-    println!();
-    println!("roles:");
+    outln!("config: {}", report.config)?;
+    outln!()?;
+    outln!("roles:")?;
     for r in &report.roles {
-        println!(
+        outln!(
             "  {:<24} {}",
             r.role,
             r.color_space.as_deref().unwrap_or("(not defined)")
-        );
+        )?;
     }
-    println!();
-    println!("colour spaces:");
+    outln!()?;
+    outln!("colour spaces:")?;
     for c in &report.color_spaces {
         let mut notes = Vec::new();
         if c.is_data {
@@ -111,9 +111,9 @@ pub fn run(args: Args) -> Result<()> {
         } else {
             format!("  [{}]", notes.join("; "))
         };
-        println!("  {}{notes}", c.name);
+        outln!("  {}{notes}", c.name)?;
         if !c.aliases.is_empty() {
-            println!("      aliases: {}", c.aliases.join(", "));
+            outln!("      aliases: {}", c.aliases.join(", "))?;
         }
     }
     Ok(())

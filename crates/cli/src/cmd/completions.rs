@@ -18,11 +18,13 @@ pub struct Args {
 }
 
 pub fn run(args: Args) -> Result<()> {
+    // Made in memory: clap_complete panics when its writer fails.
+    let mut script = Vec::new();
     clap_complete::generate(
         args.shell,
         &mut crate::Cli::command(),
         "specconv",
-        &mut std::io::stdout(),
+        &mut script,
     );
-    Ok(())
+    Ok(crate::stdio::out_bytes(&script)?)
 }

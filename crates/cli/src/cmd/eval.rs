@@ -120,22 +120,31 @@ pub fn run(args: Args) -> Result<()> {
         if args.per_spectrum {
             v["spectra"] = serde_json::to_value(&rows)?;
         }
-        println!("{}", serde_json::to_string_pretty(&v)?);
+        outln!("{}", serde_json::to_string_pretty(&v)?)?;
         return Ok(());
     }
-    print_text(&args, &name, &described, &summary, &rows);
-    Ok(())
+    Ok(print_text(&args, &name, &described, &summary, &rows)?)
 }
 
 /// The text report: every spectrum's row with --per-spectrum, then the summary.
-fn print_text(args: &Args, name: &str, described: &str, summary: &eval::Summary, rows: &[Row]) {
+fn print_text(
+    args: &Args,
+    name: &str,
+    described: &str,
+    summary: &eval::Summary,
+    rows: &[Row],
+) -> Result<(), crate::stdio::StdoutFailed> {
     if args.per_spectrum {
-        println!(
+        outln!(
             "{:<12} {:>5} {:>9} {:>9} {:>7}  name",
-            "delta_e", "leaf", "roundtrip", "ΔE00", "in_0_1"
-        );
+            "delta_e",
+            "leaf",
+            "roundtrip",
+            "ΔE00",
+            "in_0_1"
+        )?;
         for r in rows {
-            println!(
+            outln!(
                 "{:<12.6} {:>5} {:>9.1e} {:>9.1e} {:>7}  {}",
                 r.outcome.delta_e,
                 r.outcome.leaf.map_or("-".into(), |l| l.to_string()),
@@ -143,30 +152,33 @@ fn print_text(args: &Args, name: &str, described: &str, summary: &eval::Summary,
                 r.outcome.roundtrip_de2000,
                 r.outcome.in_unit_range,
                 r.name
-            );
+            )?;
         }
-        println!();
+        outln!()?;
     }
-    println!("method:     {name}");
+    outln!("method:     {name}")?;
     let what = if args.method.is_clustered() {
         "model"
     } else {
         "setting"
     };
-    println!("{what:<11} {described}", what = format!("{what}:"));
-    println!("spectra:    {}", summary.count);
-    println!(
+    outln!("{what:<11} {described}", what = format!("{what}:"))?;
+    outln!("spectra:    {}", summary.count)?;
+    outln!(
         "Δe = ‖s − r‖²: mean {:.4}  median {:.4}  max {:.4}",
-        summary.delta_e.mean, summary.delta_e.median, summary.delta_e.max
-    );
-    println!(
+        summary.delta_e.mean,
+        summary.delta_e.median,
+        summary.delta_e.max
+    )?;
+    outln!(
         "round trip: max |XYZ(r) − XYZ(s)| / Y(s) = {:.2e}, max CIEDE2000 = {:.2e}",
-        summary.roundtrip_max, summary.roundtrip_de2000_max
-    );
-    println!(
+        summary.roundtrip_max,
+        summary.roundtrip_de2000_max
+    )?;
+    outln!(
         "in [0, 1]:  {:.1} % of reconstructions",
         100.0 * summary.in_unit_range
-    );
+    )
 }
 
 impl Args {

@@ -194,7 +194,7 @@ fn submit(s: Submit, ocio: Option<String>) -> Result<i32> {
     let prepared =
         specconv_farm::prepare(&job_dir, &manifest, &all, s.tasks as usize).map_err(farm_error)?;
     if s.dry_run {
-        print_plan(&manifest, &prepared);
+        print_plan(&manifest, &prepared)?;
         return Ok(exit::OK);
     }
     // Held until the job id is recorded: a second submit into these directories waits, then
@@ -214,7 +214,7 @@ fn submit(s: Submit, ocio: Option<String>) -> Result<i32> {
         }
     };
     drop(claim);
-    announce(&s.convert, &job_id, &job_dir, tasks, manifest.files.len());
+    announce(&s.convert, &job_id, &job_dir, tasks, manifest.files.len())?;
     if s.wait {
         return wait_and_collect(&job_dir, &job_id, s.convert.json_wanted());
     }
@@ -297,41 +297,49 @@ fn job_dir_for(s: &Submit) -> Result<PathBuf> {
 }
 
 /// `--dry-run`: the plan, the sbatch command and the script, as comments and text.
-fn print_plan(manifest: &Manifest, prepared: &specconv_farm::Prepared) {
-    println!(
+fn print_plan(manifest: &Manifest, prepared: &specconv_farm::Prepared) -> Result<()> {
+    outln!(
         "# plan: {} in {}",
         count(manifest.files.len(), "file"),
         count(prepared.tasks.len(), "task")
-    );
+    )?;
     for (t, shard) in prepared.tasks.iter().enumerate() {
         let px: u64 = shard.iter().map(|&i| manifest.files[i].pixels).sum();
-        println!("# task {t}: {}, {px} pixels", count(shard.len(), "file"));
+        outln!("# task {t}: {}, {px} pixels", count(shard.len(), "file"))?;
         for &i in shard {
-            println!("#   {}", manifest.files[i].input.display());
+            outln!("#   {}", manifest.files[i].input.display())?;
         }
     }
-    println!(
+    outln!(
         "# sbatch {} {}",
         prepared.sbatch.join(" "),
         prepared.dir.join("job.sbatch").display()
-    );
-    print!("{}", prepared.script);
+    )?;
+    out!("{}", prepared.script)?;
+    Ok(())
 }
 
-fn announce(convert: &convert::Args, job_id: &str, job_dir: &Path, tasks: usize, files: usize) {
+fn announce(
+    convert: &convert::Args,
+    job_id: &str,
+    job_dir: &Path,
+    tasks: usize,
+    files: usize,
+) -> Result<()> {
     if convert.json_wanted() {
-        println!(
+        outln!(
             "{}",
             serde_json::json!({"job_id": job_id, "job_dir": job_dir, "tasks": tasks, "files": files})
-        );
+        )?;
     } else {
-        println!(
+        outln!(
             "submitted job {job_id}: {} in {}",
             count(files, "file"),
             count(tasks, "task")
-        );
-        println!("job directory: {}", job_dir.display());
+        )?;
+        outln!("job directory: {}", job_dir.display())?;
     }
+    Ok(())
 }
 
 fn wait_and_collect(job_dir: &Path, job_id: &str, json: bool) -> Result<i32> {
@@ -418,7 +426,7 @@ fn load(job_dir: &Path) -> Result<(Manifest, Status)> {
     let status = Status::read(job_dir, &manifest, &mut |id| {
         slurm::tasks(id).inspect_err(|e| {
             if !warned {
-                eprintln!("specconv: warning: {e}; tasks Slurm did not report may still run");
+                errln!("specconv: warning: {e}; tasks Slurm did not report may still run");
                 warned = true;
             }
         })
@@ -439,38 +447,40 @@ fn all_done(status: &Status) -> i32 {
 fn status(r: &Report) -> Result<i32> {
     let (m, status) = load(&r.job_dir)?;
     if r.json {
-        println!("{}", serde_json::to_string(&status)?);
+        outln!("{}", serde_json::to_string(&status)?)?;
         return Ok(all_done(&status));
     }
     for (round, sub) in m.rounds.iter().enumerate() {
-        println!(
+        outln!(
             "round {round} ({}), {}:",
             if round == 0 { "submit" } else { "retry" },
             sub.job_id.as_ref().map_or_else(
                 || "not submitted (interrupted before Slurm took it)".to_string(),
                 |id| format!("job {id}")
             )
-        );
+        )?;
         for t in status.tasks.iter().filter(|t| t.round == round) {
-            println!(
+            outln!(
                 "  task {:<3} {:<13} exit {:<6} {}",
                 t.task,
                 t.state,
                 t.exit.as_deref().unwrap_or("-"),
                 count(t.files, "file")
-            );
+            )?;
         }
     }
     let s = status.summary();
-    println!(
+    outln!(
         "files: {} done, {} failed, {} pending",
-        s.done, s.failed, s.pending
-    );
+        s.done,
+        s.failed,
+        s.pending
+    )?;
     for f in &status.files {
         match &f.state {
             FileState::Done => {}
-            FileState::Failed { error } => println!("  failed   {}: {error}", f.input.display()),
-            FileState::Pending { why, .. } => println!("  pending  {}: {why}", f.input.display()),
+            FileState::Failed { error } => outln!("  failed   {}: {error}", f.input.display())?,
+            FileState::Pending { why, .. } => outln!("  pending  {}: {why}", f.input.display())?,
         }
     }
     Ok(all_done(&status))
@@ -480,10 +490,10 @@ fn collect(r: &Report) -> Result<i32> {
     let (_, status) = load(&r.job_dir)?;
     let s = status.summary();
     if r.json {
-        println!("{}", serde_json::to_string(&s)?);
+        outln!("{}", serde_json::to_string(&s)?)?;
         return Ok(all_done(&status));
     }
-    println!(
+    outln!(
         "{} files: {} done, {} failed, {} pending{}",
         s.files,
         s.done,
@@ -494,26 +504,26 @@ fn collect(r: &Report) -> Result<i32> {
         } else {
             ""
         }
-    );
+    )?;
     if s.seconds > 0.0 {
-        println!(
+        outln!(
             "{:.1} Mpixel in {:.1} s over the array: {:.2} Mpixel/s",
             s.pixels as f64 / 1e6,
             s.seconds,
             s.pixels_per_second / 1e6
-        );
+        )?;
     }
     for f in &s.failures {
-        println!("failed: {}: {}", f.input.display(), f.error);
+        outln!("failed: {}: {}", f.input.display(), f.error)?;
     }
     for p in &s.pending_files {
-        println!("pending: {}: {}", p.input.display(), p.why);
+        outln!("pending: {}: {}", p.input.display(), p.why)?;
     }
     if s.failed + s.pending > 0 && !s.running {
-        println!(
+        outln!(
             "to convert them again: specconv farm retry {}",
             r.job_dir.display()
-        );
+        )?;
     }
     Ok(all_done(&status))
 }
@@ -533,11 +543,9 @@ fn retry(r: &Retry, ocio: Option<String>) -> Result<i32> {
         .count();
     if again.is_empty() {
         if waiting > 0 {
-            println!(
-                "nothing to retry yet: {waiting} files wait for tasks still queued or running"
-            );
+            outln!("nothing to retry yet: {waiting} files wait for tasks still queued or running")?;
         } else {
-            println!("nothing to retry: all {} files are done", m.files.len());
+            outln!("nothing to retry: all {} files are done", m.files.len())?;
         }
         return Ok(exit::OK);
     }
@@ -558,13 +566,13 @@ fn retry(r: &Retry, ocio: Option<String>) -> Result<i32> {
     claim.record(&job_dir)?;
     let job_id = specconv_farm::submit(&job_dir, &mut m, prepared).map_err(farm_error)?;
     drop(claim);
-    println!(
+    outln!(
         "submitted job {job_id}: {} in {} (round {})",
         count(again.len(), "file"),
         count(n, "task"),
         m.rounds.len() - 1
-    );
-    println!("job directory: {}", job_dir.display());
+    )?;
+    outln!("job directory: {}", job_dir.display())?;
     if r.wait {
         return wait_and_collect(&job_dir, &job_id, false);
     }

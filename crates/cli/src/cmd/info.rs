@@ -1,6 +1,7 @@
 //! `specconv info`: what the image reader sees in a file, and which colour space specconv
 //! would read it in.
 
+use crate::stdio::{serialize_path, StdoutFailed};
 use crate::{checks, exit, one_line, print_error};
 use anyhow::Result;
 use serde::Serialize;
@@ -48,7 +49,9 @@ pub struct Args {
 
 #[derive(Serialize)]
 struct Report<'a> {
-    file: String,
+    /// Written losslessly, bytes outside UTF-8 as `\udcXX` (docs/json.md).
+    #[serde(serialize_with = "serialize_path")]
+    file: &'a Path,
     format: &'a str,
     width: u32,
     height: u32,
@@ -219,9 +222,13 @@ pub fn run(args: Args) -> Result<i32> {
     let mut status = exit::OK;
     for (i, file) in args.files.iter().enumerate() {
         if !args.json && i > 0 {
-            println!();
+            outln!()?;
         }
         if let Err(e) = show(&args, &config, file) {
+            // Standard output failing ends the command; a file failing does not.
+            if StdoutFailed::in_chain(&e).is_some() {
+                return Err(e);
+            }
             print_error(&one_line(e.as_ref()));
             status = exit::FAILED;
         }
@@ -260,7 +267,7 @@ fn show(args: &Args, config: &Config, file: &Path) -> Result<()> {
             .map_err(|e| anyhow::anyhow!(crate::explain(&e.into())))?;
     let straight_alpha = specconv_conversion::Alpha::Auto.premultiply(&reader, alpha_channel);
     let report = Report {
-        file: file.display().to_string(),
+        file,
         format: &info.format_name,
         width: info.width(),
         height: info.height(),
@@ -294,9 +301,9 @@ fn show(args: &Args, config: &Config, file: &Path) -> Result<()> {
         spectral,
     };
     if args.json {
-        println!("{}", serde_json::to_string(&report)?);
+        outln!("{}", serde_json::to_string(&report)?)?;
     } else {
-        print_text(&report, info);
+        print_text(&report, info)?;
     }
     Ok(())
 }
@@ -316,10 +323,13 @@ struct SpectralReport<'a> {
 }
 
 /// The text form of `info` for an image that is not spectral.
-fn print_text(r: &Report, info: &specconv_conversion::images::ImageInfo) {
-    println!("file:         {}", r.file);
-    println!("format:       {}", r.format);
-    println!("size:         {} x {}", r.width, r.height);
+fn print_text(
+    r: &Report,
+    info: &specconv_conversion::images::ImageInfo,
+) -> Result<(), StdoutFailed> {
+    outln!("file:         {}", r.file.display())?;
+    outln!("format:       {}", r.format)?;
+    outln!("size:         {} x {}", r.width, r.height)?;
     let names: Vec<String> = r
         .channels
         .iter()
@@ -331,21 +341,21 @@ fn print_text(r: &Report, info: &specconv_conversion::images::ImageInfo) {
             }
         })
         .collect();
-    println!("channels:     {} ({})", r.channels.len(), names.join(", "));
+    outln!("channels:     {} ({})", r.channels.len(), names.join(", "))?;
     if let Some(a) = r.alpha_channel {
-        println!("alpha:        {}", r.channels[a].name);
+        outln!("alpha:        {}", r.channels[a].name)?;
     }
-    println!("pixel format: {}", r.pixel_format);
+    outln!("pixel format: {}", r.pixel_format)?;
     match r.tile_size {
-        Some([w, h]) => println!("storage:      tiles of {w} x {h}"),
-        None => println!("storage:      scanlines"),
+        Some([w, h]) => outln!("storage:      tiles of {w} x {h}")?,
+        None => outln!("storage:      scanlines")?,
     }
     let levels: Vec<String> = r
         .mip_levels
         .iter()
         .map(|[w, h]| format!("{w}x{h}"))
         .collect();
-    println!("MIP levels:   {} ({})", levels.len(), levels.join(" "));
+    outln!("MIP levels:   {} ({})", levels.len(), levels.join(" "))?;
     // As exrheader prints them: first and last pixel, inclusive.
     let corners = |w: &Rect| {
         format!(
@@ -356,37 +366,38 @@ fn print_text(r: &Report, info: &specconv_conversion::images::ImageInfo) {
             i64::from(w.y) + i64::from(w.height) - 1
         )
     };
-    println!("data window:  {}", corners(&r.data_window));
-    println!("display:      {}", corners(&r.display_window));
+    outln!("data window:  {}", corners(&r.data_window))?;
+    outln!("display:      {}", corners(&r.display_window))?;
     if r.subimages > 1 {
-        println!(
+        outln!(
             "subimages:    {} ({}); reading {} (--subimage picks another)",
             r.subimages,
             info.describe_subimages(),
             r.subimage
-        );
+        )?;
     }
     match (&r.colour_channels, &r.channels_problem) {
-        (Some(names), _) => println!(
+        (Some(names), _) => outln!(
             "read as:      {} (chosen by {})",
             names.join(","),
             r.channels_rule.unwrap_or("")
-        ),
-        (None, Some(problem)) => println!("read as:      nothing yet: {problem}"),
+        )?,
+        (None, Some(problem)) => outln!("read as:      nothing yet: {problem}")?,
         (None, None) => {}
     }
     if let Some(label) = r.declared_color_space {
-        println!("OIIO label:   {label} (oiio:ColorSpace)");
+        outln!("OIIO label:   {label} (oiio:ColorSpace)")?;
     }
-    println!("colour space: {}", r.colorspace);
-    println!("chosen by:    {}", r.colorspace_reason);
+    outln!("colour space: {}", r.colorspace)?;
+    outln!("chosen by:    {}", r.colorspace_reason)?;
     for w in &r.colorspace_warnings {
-        println!("warning:      {w}");
+        outln!("warning:      {w}")?;
     }
-    println!("to XYZ:       {}", r.to_xyz);
+    outln!("to XYZ:       {}", r.to_xyz)?;
     if r.straight_alpha {
-        println!("alpha:        straight; colour is converted, then premultiplied");
+        outln!("alpha:        straight; colour is converted, then premultiplied")?;
     }
+    Ok(())
 }
 
 fn spectral_report(file: &Path, reader: &ImageReader, s: Spectral) -> Result<()> {
@@ -411,7 +422,7 @@ fn spectral_report(file: &Path, reader: &ImageReader, s: Spectral) -> Result<()>
         .unwrap_or(0)
         + 1;
     for (k, v) in rows {
-        println!("{:width$} {v}", format!("{k}:"));
+        outln!("{:width$} {v}", format!("{k}:"))?;
     }
     Ok(())
 }

@@ -62,7 +62,9 @@ pub struct Args {
 
 #[derive(Serialize)]
 struct Summary {
+    #[serde(serialize_with = "crate::stdio::serialize_path")]
     input: PathBuf,
+    #[serde(serialize_with = "crate::stdio::serialize_path")]
     output: PathBuf,
     width: usize,
     height: usize,
@@ -122,7 +124,7 @@ pub fn run(args: Args) -> Result<()> {
         delta_e_mean: args.diff_rgb.then_some(mean),
     };
     if args.json {
-        println!("{}", serde_json::to_string(&summary)?);
+        outln!("{}", serde_json::to_string(&summary)?)?;
     } else {
         let diff = if args.diff_rgb {
             format!(", CIEDE2000 from RGB multiplication: max {max:.3}, mean {mean:.3}")
@@ -134,7 +136,7 @@ pub fn run(args: Args) -> Result<()> {
         } else {
             String::new()
         };
-        eprintln!(
+        errln!(
             "{} → {}: {w}×{h}, {} bounce{} under {light}{diff}{bad}",
             args.input.display(),
             args.output.display(),

@@ -1,6 +1,7 @@
 //! `specconv report`: every method on the same spectra, accuracy and cost in one table.
 
 use crate::picture::Format;
+use crate::stdio::StdoutFailed;
 use crate::{files, methods};
 use anyhow::{bail, Context, Result};
 use serde::Serialize;
@@ -143,11 +144,11 @@ pub fn run(args: Args) -> Result<()> {
         files::write_atomically(path, &bytes, &inputs, Replace::Allowed)?;
     }
     if args.json {
-        println!("{}", serde_json::to_string_pretty(&rows)?);
+        outln!("{}", serde_json::to_string_pretty(&rows)?)?;
     } else if args.csv {
-        print_csv(&rows);
+        print_csv(&rows)?;
     } else {
-        print_table(&rows, &args, pool.current_num_threads());
+        print_table(&rows, &args, pool.current_num_threads())?;
     }
     Ok(())
 }
@@ -177,7 +178,7 @@ fn baseline_rows(args: &Args, pool: &rayon::ThreadPool) -> Result<Vec<Row>> {
             _ => String::new(),
         };
         rows.push(row(args, pool, a, m, name.as_str(), setting, &summary));
-        eprintln!("specconv: measured {name}");
+        errln!("specconv: measured {name}");
     }
     Ok(rows)
 }
@@ -223,13 +224,13 @@ fn clustered_rows(args: &Args, pool: &rayon::ThreadPool) -> Result<Vec<Row>> {
             setting = format!("{setting}, {h}-fold");
         }
         if let Some(why) = &fewer {
-            eprintln!("specconv: warning: {name} on {grid}: {why}");
+            errln!("specconv: warning: {name} on {grid}: {why}");
         }
         rows.push(Row {
             note: fewer,
             ..row(args, pool, &a, stack.method(), name, setting, &summary)
         });
-        eprintln!("specconv: measured {name} with {k} clusters on {grid}");
+        errln!("specconv: measured {name} with {k} clusters on {grid}");
     }
     Ok(rows)
 }
@@ -339,14 +340,14 @@ fn rows_for_plot(rows: &[Row]) -> Vec<plot::Point> {
         .collect()
 }
 
-fn print_csv(rows: &[Row]) {
-    println!(
+fn print_csv(rows: &[Row]) -> Result<(), StdoutFailed> {
+    outln!(
         "method,setting,bands,count,delta_e_mean,delta_e_median,delta_e_max,roundtrip_max,\
          roundtrip_de2000_max,in_unit_range,model_bytes,ns_per_colour_1_thread,\
          mpixel_per_s_1_thread,ns_per_colour_all_threads,mpixel_per_s_all_threads,threads,note"
-    );
+    )?;
     for r in rows {
-        println!(
+        outln!(
             "{},\"{}\",{},{},{},{},{},{},{},{},{},{},{},{},{},{},\"{}\"",
             r.method,
             r.setting,
@@ -365,18 +366,19 @@ fn print_csv(rows: &[Row]) {
             r.mpixel_per_s_all_threads,
             r.threads,
             r.note.as_deref().unwrap_or_default()
-        );
+        )?;
     }
+    Ok(())
 }
 
 /// A Markdown table, so that it can be pasted into documents as it is.
-fn print_table(rows: &[Row], args: &Args, threads: usize) {
-    println!(
+fn print_table(rows: &[Row], args: &Args, threads: usize) -> Result<(), StdoutFailed> {
+    outln!(
         "| method | setting | bands | Δe mean | Δe median | Δe max | round trip | ΔE00 max | in [0,1] | bytes | ns/colour (1 thread) | Mpixel/s (1 thread) | Mpixel/s ({threads} threads) |"
-    );
-    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|");
+    )?;
+    outln!("|---|---|---|---|---|---|---|---|---|---|---|---|---|")?;
     for r in rows {
-        println!(
+        outln!(
             "| {} | {} | {} | {:.4} | {:.4} | {:.4} | {:.1e} | {:.2e} | {:.3} | {} | {:.1} | {:.1} | {:.1} |",
             r.method,
             r.setting,
@@ -391,20 +393,21 @@ fn print_table(rows: &[Row], args: &Args, threads: usize) {
             r.ns_per_colour_1_thread,
             r.mpixel_per_s_1_thread,
             r.mpixel_per_s_all_threads,
-        );
+        )?;
     }
-    println!();
-    println!(
+    outln!()?;
+    outln!(
         "{} spectra; {}, {}; cost: f32 uplift of {} colours, {} per tile.",
         rows.first().map_or(0, |r| r.count),
         args.colorimetry.observer,
         args.colorimetry.illuminant,
         args.colours,
         cost::TILE
-    );
+    )?;
     for r in rows {
         if let Some(note) = &r.note {
-            println!("note: {} ({}): {note}", r.method, r.setting);
+            outln!("note: {} ({}): {note}", r.method, r.setting)?;
         }
     }
+    Ok(())
 }

@@ -57,9 +57,12 @@ pub fn run(args: Args) -> Result<()> {
     options.illuminant = args.illuminant;
     options.overwrite = args.force;
     let to_rgb = ToRgb::new(options).map_err(|e| usage(anyhow::anyhow!(explain(&e))))?;
-    let r = to_rgb
-        .convert(&args.input, &args.output)
-        .map_err(|e| anyhow::anyhow!(explain(&e)))?;
+    // Written whole: a signal during it takes effect once it is done.
+    let r = crate::signals::writing(|| {
+        to_rgb
+            .convert(&args.input, &args.output)
+            .map_err(|e| anyhow::anyhow!(explain(&e)))
+    })?;
     let light = match r.light {
         Light::Emission(units, why) => format!("emission, {units} units ({})", why.describe()),
         Light::Illuminant(i, 0) => format!("under {i}"),
@@ -79,7 +82,7 @@ pub fn run(args: Args) -> Result<()> {
         );
     }
     let (wl, n) = (&r.wavelengths, r.wavelengths.len());
-    eprintln!(
+    errln!(
         "{} → {}: {}×{}, {n} bands {}–{} nm {light} ({}) to {}{notes}",
         args.input.display(),
         args.output.display(),

@@ -73,21 +73,23 @@ pub fn run(args: Args) -> Result<()> {
         Replace::Allowed,
     )?;
 
-    eprintln!(
+    errln!(
         "trained {} clusters on {} spectra in {seconds:.3} s; total error Σ‖s − r‖² = {:.6}",
         model.leaves.len(),
         set.spectra.len(),
         model.training.total_error
     );
     for (k, leaf) in model.leaves.iter().enumerate() {
-        eprintln!(
+        errln!(
             "  cluster {k}: {:5} spectra, error {:10.6}, condition of M {:8.2}",
-            leaf.count, leaf.error, leaf.condition
+            leaf.count,
+            leaf.error,
+            leaf.condition
         );
     }
     if let Some(why) = files::fewer_clusters(&model) {
-        eprintln!("specconv: warning: {why}");
+        errln!("specconv: warning: {why}");
     }
-    eprintln!("wrote {}", args.output.display());
+    errln!("wrote {}", args.output.display());
     Ok(())
 }

@@ -7,7 +7,8 @@ pub(crate) use plan::plan;
 use printing::converted;
 
 use crate::progress::{Progress, Summary};
-use crate::{exit, explain, methods, print_error, records, usage};
+use crate::stdio::StdoutFailed;
+use crate::{exit, explain, methods, print_error, records, signals, usage};
 use anyhow::Result;
 use specconv_conversion::{
     Advice, Alpha, Batch, Blocks, Compression, Converter, Event, Mip, Options, Rounding, Sample,
@@ -257,14 +258,14 @@ pub fn run(args: Args) -> Result<i32> {
                 Advice::PhotometricHalf => "; use -d float",
                 _ => "",
             };
-            eprintln!("specconv: note: {advice}{fix}");
+            errln!("specconv: note: {advice}{fix}");
         }
     }
     if args.verbose && !args.quiet {
-        eprintln!("config: {}", converter.config_source());
-        eprintln!("model:  {}", converter.model_description());
+        errln!("config: {}", converter.config_source());
+        errln!("model:  {}", converter.model_description());
     }
-    Ok(run_batch(&args, &converter, &pairs))
+    run_batch(&args, &converter, &pairs)
 }
 
 impl Args {
@@ -298,28 +299,32 @@ impl Args {
     }
 }
 
-/// Converts every input in turn, printing as it goes; returns the exit status.
-fn run_batch(args: &Args, converter: &Converter, pairs: &[(PathBuf, PathBuf)]) -> i32 {
+/// Converts every input in turn, printing as it goes; returns the exit status. SIGINT and
+/// SIGTERM stop the input being converted (its temporary file removed) and the batch; so does
+/// a failed write to standard output, after the record of an input that is done.
+fn run_batch(args: &Args, converter: &Converter, pairs: &[(PathBuf, PathBuf)]) -> Result<i32> {
     let cancel = Arc::new(AtomicBool::new(false));
-    {
-        let cancel = cancel.clone();
-        // SIGINT and SIGTERM stop the job between windows; its temporary file is removed.
-        let _ = ctrlc::set_handler(move || cancel.store(true, Ordering::SeqCst));
-    }
     let inputs: Vec<PathBuf> = pairs.iter().map(|(i, _)| i.clone()).collect();
     let mut progress = Progress::new(args.progress, args.quiet, &inputs);
     let mut summary = Summary::default();
+    let mut stdout: Option<StdoutFailed> = None;
+    // The first failed write stops the batch; later records are not attempted.
+    let mut said = |written: Result<(), StdoutFailed>| {
+        if let Err(e) = written {
+            cancel.store(true, Ordering::SeqCst);
+            stdout.get_or_insert(e);
+        }
+    };
     let batch_start = std::time::Instant::now();
-    let ended = match Batch::new(converter)
-        .update(args.update)
-        .cancel_on(&cancel)
-        .run(pairs, &mut |event| match event {
+    let batch = Batch::new(converter).update(args.update).cancel_on(&cancel);
+    let ended = signals::deferred(&cancel, || {
+        batch.run(pairs, &mut |event| match event {
             Event::Started { index, input } => progress.start(index, input),
             Event::Progress { done, total } => progress.update(done, total),
             Event::Skipped { input, output } => {
                 progress.skip();
                 summary.skipped += 1;
-                printing::skipped(args, input, output);
+                said(printing::skipped(args, input, output));
             }
             Event::Converted {
                 input,
@@ -328,7 +333,7 @@ fn run_batch(args: &Args, converter: &Converter, pairs: &[(PathBuf, PathBuf)]) -
             } => {
                 progress.finish();
                 summary.converted += 1;
-                converted(args, converter, (input, output), report);
+                said(converted(args, converter, (input, output), report));
             }
             Event::Failed {
                 input,
@@ -342,29 +347,34 @@ fn run_batch(args: &Args, converter: &Converter, pairs: &[(PathBuf, PathBuf)]) -
                     print_error(&format!("{}: {error}", input.display()));
                 }
                 summary.failed.push((input.to_path_buf(), error.clone()));
-                printing::failed(args, (input, output), error, seconds);
+                said(printing::failed(args, (input, output), error, seconds));
             }
             _ => {}
-        }) {
+        })
+    });
+    let ended = match ended {
         Ok(ended) => ended,
         // The plan changed since it was checked (a file appeared): nothing was written.
         Err(e) => {
             print_error(&explain(&e));
-            return exit::USAGE;
+            return Ok(exit::USAGE);
         }
     };
     if pairs.len() > 1 && !args.quiet {
-        eprintln!("{}", summary.text(batch_start.elapsed().as_secs_f64()));
+        errln!("{}", summary.text(batch_start.elapsed().as_secs_f64()));
+    }
+    if let Some(e) = stdout {
+        return Err(e.into());
     }
     if ended.cancelled {
-        print_error("interrupted; no partial output was left");
-        return exit::INTERRUPTED;
+        print_error(signals::LINE);
+        return Ok(exit::INTERRUPTED);
     }
-    if summary.failed.is_empty() {
+    Ok(if summary.failed.is_empty() {
         exit::OK
     } else {
         exit::FAILED
-    }
+    })
 }
 
 impl Args {

@@ -2,6 +2,7 @@
 
 use super::Args;
 use crate::records;
+use crate::stdio::{serialize_path, StdoutFailed};
 use serde::Serialize;
 use specconv_conversion::{Converter, Report};
 use std::path::{Path, PathBuf};
@@ -10,7 +11,10 @@ use std::path::{Path, PathBuf};
 /// (docs/json.md).
 #[derive(Serialize)]
 struct Record {
+    /// Paths are written losslessly, bytes outside UTF-8 as `\udcXX` (docs/json.md).
+    #[serde(serialize_with = "serialize_path")]
     input: PathBuf,
+    #[serde(serialize_with = "serialize_path")]
     output: PathBuf,
     /// `ok`, `skipped` or `failed`.
     status: &'static str,
@@ -73,21 +77,26 @@ struct BoundedCounts {
 }
 
 /// Reports an input skipped because its output is up to date.
-pub(super) fn skipped(args: &Args, input: &Path, output: &Path) {
+pub(super) fn skipped(args: &Args, input: &Path, output: &Path) -> Result<(), StdoutFailed> {
     let record = Record {
         skip_reason: Some("up to date"),
         ..Record::not_converted(input, output, "skipped", 0.0)
     };
-    emit(args, record, "");
+    emit(args, record, "")
 }
 
 /// Reports a failed input (its error line is printed by the caller unless `--json`).
-pub(super) fn failed(args: &Args, (input, output): (&Path, &Path), error: String, seconds: f64) {
+pub(super) fn failed(
+    args: &Args,
+    (input, output): (&Path, &Path),
+    error: String,
+    seconds: f64,
+) -> Result<(), StdoutFailed> {
     let record = Record {
         error: Some(error),
         ..Record::not_converted(input, output, "failed", seconds)
     };
-    emit(args, record, "");
+    emit(args, record, "")
 }
 
 /// Reports a converted input: its warnings, its record or line.
@@ -96,11 +105,11 @@ pub(super) fn converted(
     converter: &Converter,
     (input, output): (&Path, &Path),
     r: &Report,
-) {
+) -> Result<(), StdoutFailed> {
     if !args.quiet {
         for w in &r.warnings {
             let w = records::warning(w);
-            eprintln!("specconv: warning: {}: {w}", input.display());
+            errln!("specconv: warning: {}: {w}", input.display());
         }
     }
     let line = summary_line(r)
@@ -131,7 +140,7 @@ pub(super) fn converted(
         saturated: Some(r.saturated),
         ..Record::not_converted(input, output, "ok", r.seconds)
     };
-    emit(args, record, &line);
+    emit(args, record, &line)
 }
 
 /// `W×H, L levels, N bands, colour space …, …, S s` of a converted input.
@@ -191,14 +200,14 @@ fn range_notes(r: &Report, converter: &Converter) -> String {
     notes
 }
 
-fn emit(args: &Args, record: Record, line: &str) {
+/// A record on standard output (`--json`), else a line on standard error.
+fn emit(args: &Args, record: Record, line: &str) -> Result<(), StdoutFailed> {
     if args.json {
-        println!(
-            "{}",
-            serde_json::to_string(&record).expect("a record serialises")
-        );
-    } else if !args.quiet && record.status != "failed" {
-        eprintln!(
+        // Every field serialises (paths included, by serialize_path): nothing to fail.
+        return outln!("{}", serde_json::to_string(&record).unwrap_or_default());
+    }
+    if !args.quiet && record.status != "failed" {
+        errln!(
             "{} → {}: {}{line}",
             record.input.display(),
             record.output.display(),
@@ -207,4 +216,5 @@ fn emit(args: &Args, record: Record, line: &str) {
                 .map_or(String::new(), |r| format!("skipped, {r}"))
         );
     }
+    Ok(())
 }

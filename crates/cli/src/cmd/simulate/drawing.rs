@@ -16,6 +16,7 @@ pub const MAX_PATCHES: usize = 16;
 /// What `--image` wrote, for --json: the file and each swatch's rectangle in it.
 #[derive(Serialize)]
 pub struct Written {
+    #[serde(serialize_with = "crate::stdio::serialize_path")]
     path: PathBuf,
     width: u32,
     height: u32,

@@ -1,5 +1,6 @@
 //! `specconv simulate`: the colour shift of interreflection in a small declarative scene.
 
+use crate::stdio::StdoutFailed;
 use crate::{files, methods};
 use anyhow::{anyhow, Context, Result};
 use serde::Serialize;
@@ -157,9 +158,9 @@ pub fn run(args: Args) -> Result<()> {
         )?);
     }
     if args.json {
-        println!("{}", serde_json::to_string(&report)?);
+        outln!("{}", serde_json::to_string(&report)?)?;
     } else {
-        print_text(&report);
+        print_text(&report)?;
     }
     Ok(())
 }
@@ -321,45 +322,46 @@ fn select(wanted: &[String], names: &[String]) -> Result<Option<Vec<usize>>> {
         .map(Some)
 }
 
-fn print_text(r: &Report) {
-    println!(
+fn print_text(r: &Report) -> Result<(), StdoutFailed> {
+    outln!(
         "scene {}: {} patches, form factors {}, lights {}",
         r.scene,
         r.patches,
         r.form_factors,
         r.lights.join(", ")
-    );
+    )?;
     let table = |title: &str, rows: &BTreeMap<String, Vec<f64>>| {
-        println!("\n{title}");
-        print!("{:<18}", "bounces");
+        outln!("\n{title}")?;
+        out!("{:<18}", "bounces")?;
         for c in &r.counts {
-            print!("{c:>10}");
+            out!("{c:>10}")?;
         }
-        println!();
+        outln!()?;
         // Methods in the scene's order, then rgb.
         for m in r.methods.iter().filter_map(|m| rows.get_key_value(m)) {
-            print!("{:<18}", m.0);
+            out!("{:<18}", m.0)?;
             for v in m.1 {
-                print!("{v:>10.4}");
+                out!("{v:>10.4}")?;
             }
-            println!();
+            outln!()?;
         }
+        Ok(())
     };
     if let Some(m) = &r.mean_delta_e {
-        table("mean CIEDE2000 from the measured reference", m);
+        table("mean CIEDE2000 from the measured reference", m)?;
     }
     table(
         "mean CIEDE2000 from plain RGB multiplication",
         &r.mean_delta_e_rgb,
-    );
+    )?;
     for p in &r.per_patch {
-        println!(
+        outln!(
             "\npatch {}: sRGB hex and CIEDE2000 (from measured / from rgb)",
             p.name
-        );
+        )?;
         for m in &r.methods {
             let cells = &p.colours[m];
-            print!("  {m:<16}");
+            out!("  {m:<16}")?;
             for c in cells {
                 let hex: String = c
                     .srgb
@@ -367,11 +369,12 @@ fn print_text(r: &Report) {
                     .map(|v| format!("{:02x}", (v * 255.0).round() as u8))
                     .collect();
                 match c.delta_e {
-                    Some(d) => print!(" #{hex} {d:>6.3}/{:<6.3}", c.delta_e_rgb),
-                    None => print!(" #{hex} {:>6.3}", c.delta_e_rgb),
+                    Some(d) => out!(" #{hex} {d:>6.3}/{:<6.3}", c.delta_e_rgb)?,
+                    None => out!(" #{hex} {:>6.3}", c.delta_e_rgb)?,
                 }
             }
-            println!();
+            outln!()?;
         }
     }
+    Ok(())
 }

@@ -1,0 +1,98 @@
+//! SIGINT, SIGTERM and SIGHUP, from the start of `main` on, for every command.
+//!
+//! Until a command writes an output, a signal ends the process at once, whatever it is doing
+//! (parsing, loading a model, building tables, reading a file): one line, exit status 130,
+//! nothing written. While it writes ([`deferred`]), a signal only sets the writer's cancel
+//! flag: a batch stops within a block (its output not published, its temporary file
+//! removed) and ends with status 130 itself; a single write ([`writing`]) completes or fails
+//! as it would have, then the command ends with status 130. A signal to a writer that has not
+//! stopped two seconds after the first ends the process at once.
+//!
+//! The handler runs on ctrlc's own thread. It decides under the same lock that a writer takes
+//! to start and to stop writing, so a signal never ends the process between "not yet
+//! writing" and a temporary file being made.
+
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
+use std::time::{Duration, Instant};
+
+/// What a signal does now: `None` ends the process; `Some` stops the writer.
+static WRITER: Mutex<Option<Writer>> = Mutex::new(None);
+
+/// A command writing outputs.
+struct Writer {
+    /// Set to stop it.
+    cancel: Arc<AtomicBool>,
+    /// When the first signal came.
+    signalled: Option<Instant>,
+}
+
+/// How long a writer has to stop before another signal ends the process at once. Signals
+/// that come together are one request: scancel signals both a task's script and the
+/// conversion, and the script passes its signal on.
+const PATIENCE: Duration = Duration::from_secs(2);
+
+/// The line every interrupted command ends with.
+pub(crate) const LINE: &str = "interrupted; no partial output was left";
+
+/// A signal came while an output was written; the command ends with status 130.
+#[derive(Debug)]
+pub(crate) struct Interrupted;
+
+impl std::fmt::Display for Interrupted {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(LINE)
+    }
+}
+
+impl std::error::Error for Interrupted {}
+
+fn writer() -> MutexGuard<'static, Option<Writer>> {
+    WRITER.lock().unwrap_or_else(PoisonError::into_inner)
+}
+
+/// Installs the handler; the first thing `main` does.
+pub(crate) fn install() {
+    // Without a handler (no thread could be made) the default action still ends the process
+    // and leaves at most a temporary file, as SIGKILL would.
+    let _ = ctrlc::set_handler(|| {
+        let mut writer = writer();
+        match writer.as_mut() {
+            // While writing, signals stop the writer cleanly.
+            Some(w) if w.signalled.is_none_or(|first| first.elapsed() < PATIENCE) => {
+                w.signalled.get_or_insert_with(Instant::now);
+                w.cancel.store(true, Ordering::SeqCst);
+            }
+            // Before writing, or again to a writer that has not stopped (a read that never
+            // ends): at once; as after SIGKILL, a temporary file may stay.
+            _ => {
+                crate::print_error(LINE);
+                // Holding the lock: no write can start before the process is gone.
+                specconv_conversion::exit_now(crate::exit::INTERRUPTED)
+            }
+        }
+    });
+}
+
+/// Runs `f`, which writes outputs and stops when `cancel` is set, with signals setting
+/// `cancel` instead of ending the process.
+pub(crate) fn deferred<T>(cancel: &Arc<AtomicBool>, f: impl FnOnce() -> T) -> T {
+    *writer() = Some(Writer {
+        cancel: cancel.clone(),
+        signalled: None,
+    });
+    let result = f();
+    *writer() = None;
+    result
+}
+
+/// Runs `f`, a write that cannot stop midway (an atomic write of a whole file), with
+/// signals deferred: a signal during it gives [`Interrupted`] once it is done.
+pub(crate) fn writing<T>(f: impl FnOnce() -> anyhow::Result<T>) -> anyhow::Result<T> {
+    let cancel = Arc::new(AtomicBool::new(false));
+    let result = deferred(&cancel, f);
+    if cancel.load(Ordering::SeqCst) {
+        return Err(Interrupted.into());
+    }
+    result
+}

@@ -1,0 +1,177 @@
+//! Everything the program prints goes through here, never through `println!` or `eprintln!`,
+//! which panic when the stream is closed or full (clippy.toml forbids them in this crate).
+//!
+//! Standard output is what scripts read, so a write that fails there stops the command: its
+//! error, [`StdoutFailed`], travels up with `?` (a batch sets its cancel flag and stops after
+//! the current input). A closed pipe (`| head -1`) ends the command quietly with exit status
+//! 141, what a shell reports for a process killed by SIGPIPE, so that `set -o pipefail` sees
+//! it; any other failure (`> /dev/full`) is one error line and exit status 1. Standard error
+//! is for people: a write that fails there is ignored (there is nowhere left to say it).
+
+use std::fmt;
+use std::io::{ErrorKind, Write};
+use std::path::Path;
+
+/// A write to standard output failed; the command stops.
+#[derive(Debug)]
+pub(crate) struct StdoutFailed(std::io::Error);
+
+impl fmt::Display for StdoutFailed {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "cannot write to standard output: {}", self.0)
+    }
+}
+
+impl std::error::Error for StdoutFailed {}
+
+impl StdoutFailed {
+    /// The failure of a write to standard output made elsewhere (clap's help).
+    pub(crate) fn new(e: std::io::Error) -> StdoutFailed {
+        StdoutFailed(e)
+    }
+
+    /// The exit status: [`crate::exit::PIPE`] when the reader went away, else
+    /// [`crate::exit::FAILED`].
+    pub(crate) fn status(&self) -> i32 {
+        if self.closed() {
+            crate::exit::PIPE
+        } else {
+            crate::exit::FAILED
+        }
+    }
+
+    /// The reader closed the pipe (EPIPE): the command ends without a word, as it would
+    /// have by SIGPIPE.
+    pub(crate) fn closed(&self) -> bool {
+        self.0.kind() == ErrorKind::BrokenPipe
+    }
+
+    /// The failure anywhere in `e`'s chain of causes.
+    pub(crate) fn in_chain(e: &anyhow::Error) -> Option<&StdoutFailed> {
+        e.chain().find_map(|c| c.downcast_ref::<StdoutFailed>())
+    }
+}
+
+/// Writes `args` to standard output and flushes, so that a failure shows here, not at exit.
+pub(crate) fn out(args: fmt::Arguments) -> Result<(), StdoutFailed> {
+    let mut stdout = std::io::stdout().lock();
+    stdout
+        .write_fmt(args)
+        .and_then(|()| stdout.flush())
+        .map_err(StdoutFailed)
+}
+
+/// Writes `bytes` to standard output (a generated script, completions).
+pub(crate) fn out_bytes(bytes: &[u8]) -> Result<(), StdoutFailed> {
+    let mut stdout = std::io::stdout().lock();
+    stdout
+        .write_all(bytes)
+        .and_then(|()| stdout.flush())
+        .map_err(StdoutFailed)
+}
+
+/// Writes `args` to standard error; a failure is ignored.
+pub(crate) fn err(args: fmt::Arguments) {
+    let _ = std::io::stderr().lock().write_fmt(args);
+}
+
+/// `println!` that returns [`StdoutFailed`] instead of panicking.
+macro_rules! outln {
+    () => {
+        $crate::stdio::out(format_args!("\n"))
+    };
+    ($($arg:tt)*) => {
+        $crate::stdio::out(format_args!("{}\n", format_args!($($arg)*)))
+    };
+}
+
+/// `print!` that returns [`StdoutFailed`] instead of panicking.
+macro_rules! out {
+    ($($arg:tt)*) => {
+        $crate::stdio::out(format_args!($($arg)*))
+    };
+}
+
+/// `eprintln!` that never panics.
+macro_rules! errln {
+    ($($arg:tt)*) => {
+        $crate::stdio::err(format_args!("{}\n", format_args!($($arg)*)))
+    };
+}
+
+/// `eprint!` that never panics.
+macro_rules! err {
+    ($($arg:tt)*) => {
+        $crate::stdio::err(format_args!($($arg)*))
+    };
+}
+
+/// A path as a JSON string, losslessly: valid UTF-8 as `serde_json` writes it, and each byte
+/// that is not part of valid UTF-8 as `\udcXX`, the lone low surrogate U+DC00 + byte (Python's
+/// "surrogateescape": `os.fsencode(json.loads(line)["input"])` gives back the exact bytes).
+/// docs/json.md.
+pub(crate) fn json_path(path: &Path) -> String {
+    use std::os::unix::ffi::OsStrExt;
+    let mut json = String::from("\"");
+    for chunk in path.as_os_str().as_bytes().utf8_chunks() {
+        let valid = serde_json::to_string(chunk.valid()).unwrap_or_default();
+        // Without its quotes; a &str always serialises.
+        json += valid
+            .get(1..valid.len().saturating_sub(1))
+            .unwrap_or_default();
+        for byte in chunk.invalid() {
+            json += &format!("\\udc{byte:02x}");
+        }
+    }
+    json + "\""
+}
+
+/// `#[serde(serialize_with = "…")]` for path fields of JSON records: [`json_path`], written
+/// as it is (serde_json makes no lone surrogates from a `String`).
+pub(crate) fn serialize_path<S: serde::Serializer>(
+    path: &Path,
+    serializer: S,
+) -> Result<S::Ok, S::Error> {
+    use serde::Serialize;
+    serde_json::value::RawValue::from_string(json_path(path))
+        .map_err(serde::ser::Error::custom)?
+        .serialize(serializer)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::ffi::OsStr;
+    use std::os::unix::ffi::OsStrExt;
+
+    #[test]
+    fn paths_are_json_strings_and_bytes_outside_utf8_are_lone_surrogates() {
+        let p = |b: &[u8]| json_path(Path::new(OsStr::from_bytes(b)));
+        assert_eq!(p(b"a/b.png"), r#""a/b.png""#);
+        assert_eq!(p("é \"q\"\\\n".as_bytes()), r#""é \"q\"\\\n""#);
+        assert_eq!(p(b"a\xffb\xc3.png"), r#""a\udcffb\udcc3.png""#);
+        assert_eq!(p(b"\x80"), r#""\udc80""#);
+    }
+
+    /// Python's json and os.fsencode give back the exact bytes: the escaping is the one a
+    /// script can undo (the test kit's Python: $SPECCONV_PYTHON, else python3).
+    #[test]
+    fn python_decodes_the_escaped_path_to_the_same_bytes() {
+        let bytes: &[u8] = b"/t/caf\xe9 \"\xff\xfe\"/\xc3\xa9\xed\xa0\x80.png";
+        #[derive(serde::Serialize)]
+        struct Record<'a> {
+            #[serde(serialize_with = "serialize_path")]
+            input: &'a Path,
+        }
+        let record = serde_json::to_string(&Record {
+            input: Path::new(OsStr::from_bytes(bytes)),
+        })
+        .unwrap();
+        let decoded = specconv_testkit::cmd::python_output([
+            "-c",
+            "import json, os, sys; sys.stdout.buffer.write(os.fsencode(json.loads(sys.argv[1])['input']))",
+            &record,
+        ]);
+        assert_eq!(decoded, bytes, "{record}");
+    }
+}
