@@ -34,6 +34,7 @@
 
 pub mod kind;
 mod names;
+pub mod outputs;
 pub mod plan;
 
 pub use kind::{read_bounded, readable_file, Kind, ReadError};

@@ -8,6 +8,7 @@
 
 use crate::Error;
 use serde::{Deserialize, Serialize};
+use specconv_atomic_file::outputs;
 use std::io::Read;
 use std::path::{Component, Path, PathBuf};
 
@@ -218,7 +219,7 @@ impl Outputs {
                 }
             }
             Outputs::Template(t) => {
-                let want = lexical(&workdir.join(expand(t, input)));
+                let want = lexical(&workdir.join(outputs::from_template(t, input)));
                 if lexical(output) == want {
                     Ok(())
                 } else {
@@ -239,26 +240,6 @@ impl Outputs {
             Outputs::Template(t) => vec!["--output-template".into(), t.clone()],
         }
     }
-}
-
-/// An output template's path for `input`: `{dir}`, `{stem}` and `{name}` replaced as `convert
-/// --output-template` replaces them (crates/cli, convert's plan).
-pub fn expand(template: &str, input: &Path) -> String {
-    let dir = input
-        .parent()
-        .filter(|d| !d.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    let stem = input
-        .file_stem()
-        .map_or_else(|| "output".into(), |s| s.to_string_lossy().into_owned());
-    let name = input
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    template
-        .replace("{dir}", &dir.display().to_string())
-        .replace("{stem}", &stem)
-        .replace("{name}", &name)
 }
 
 /// A path with `.` components and repeated separators dropped, as `std::path::absolute` leaves

@@ -3,7 +3,8 @@
 use super::Args;
 use crate::{checks, files};
 use anyhow::{bail, Context, Result};
-use std::path::{Path, PathBuf};
+use specconv_atomic_file::outputs;
+use std::path::PathBuf;
 
 /// Inputs and their outputs, from the positional paths, `-o DIR` or `--output-template`, once
 /// the library's rules allow the plan; `update` as the runs that will convert it (`-u`).
@@ -36,27 +37,12 @@ pub(crate) fn plan(args: &Args, update: bool) -> Result<(Vec<PathBuf>, Vec<PathB
             checks::directory(dir)?;
             inputs
                 .iter()
-                .map(|i| dir.join(format!("{}_spectral.exr", stem(i))))
+                .map(|i| outputs::in_directory(dir, i))
                 .collect()
         }
         (None, None, Some(t)) => inputs
             .iter()
-            .map(|i| {
-                let dir = i
-                    .parent()
-                    .filter(|d| !d.as_os_str().is_empty())
-                    .unwrap_or(Path::new("."));
-                PathBuf::from(
-                    t.replace("{dir}", &dir.display().to_string())
-                        .replace("{stem}", &stem(i))
-                        .replace(
-                            "{name}",
-                            &i.file_name()
-                                .map(|n| n.to_string_lossy().into_owned())
-                                .unwrap_or_default(),
-                        ),
-                )
-            })
+            .map(|i| outputs::from_template(t, i))
             .collect(),
         (None, None, None) => unreachable!("single conversions have an explicit output"),
     };
@@ -111,11 +97,6 @@ fn read_list(from: impl std::io::Read) -> Result<Vec<PathBuf>> {
         paths.push(PathBuf::from(std::ffi::OsStr::from_bytes(line)));
     }
     Ok(paths)
-}
-
-fn stem(p: &Path) -> String {
-    p.file_stem()
-        .map_or_else(|| "output".into(), |s| s.to_string_lossy().into_owned())
 }
 
 #[cfg(test)]
