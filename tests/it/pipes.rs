@@ -48,19 +48,6 @@ impl Inputs {
     }
 }
 
-/// No `.NAME.specconv-*.tmp` (or any `.tmp`) under `dir`.
-#[track_caller]
-fn no_temporaries(dir: &Path) {
-    for e in std::fs::read_dir(dir).unwrap() {
-        let p = e.unwrap().path();
-        if p.is_dir() {
-            no_temporaries(&p);
-        }
-        let name = p.file_name().unwrap().to_string_lossy().into_owned();
-        assert!(!name.ends_with(".tmp"), "left behind: {}", p.display());
-    }
-}
-
 /// Runs `cmd` with standard output a pipe, reads `lines` lines and closes the pipe; returns
 /// the exit status (None: killed by a signal), standard error and the lines read.
 fn close_after(cmd: &Cmd, lines: usize) -> (Option<i32>, String, Vec<String>) {
@@ -113,7 +100,7 @@ fn convert_json_stops_the_batch_cleanly_when_its_reader_closes_the_pipe() {
     let dir = Scratch::new("pipes-convert");
     // Each conversion takes longer than the reader takes to close the pipe, whatever the load.
     let noise_exr = dir.path("noise.exr");
-    noise(&noise_exr, 512);
+    noise(&noise_exr, 512, "half");
     let names = ["a.exr", "b.exr", "c.exr"].map(OsStr::new);
     let inputs = Inputs::copies(&dir, &noise_exr, &names);
     std::fs::remove_file(&noise_exr).unwrap();
@@ -232,23 +219,6 @@ fn json_paths_that_are_not_utf8_round_trip_through_python() {
     no_temporaries(&dir.0);
 }
 
-/// A `size`² noise image, written by oiiotool.
-fn noise(path: &Path, size: usize) {
-    tool(
-        "oiiotool",
-        &[
-            "--pattern",
-            "noise:min=0:max=1",
-            &format!("{size}x{size}"),
-            "3",
-            "-d",
-            "half",
-            "-o",
-            path.to_str().unwrap(),
-        ],
-    );
-}
-
 /// SIGTERM while a conversion with 801 bands writes acts within the block being made, not
 /// after a whole window of them: exit 130, nothing left. The bound is generous (timing
 /// decides no test); the time it took is printed (0.05–0.2 s here, 1.9 s before).
@@ -256,7 +226,7 @@ fn noise(path: &Path, size: usize) {
 fn sigterm_in_a_fine_band_conversion_acts_at_once() {
     let dir = Scratch::new("pipes-term");
     let input = dir.path("noise.exr");
-    noise(&input, 1024);
+    noise(&input, 1024, "half");
     let before = std::fs::read(&input).unwrap();
     let output = dir.path("out.exr");
     let child = Cmd::convert(&input, &output)

@@ -22,3 +22,38 @@ pub fn munsell() -> PathBuf {
 pub fn colorchecker() -> PathBuf {
     shared(&format!("spectra/{}", specconv_testkit::COLORCHECKER))
 }
+
+/// No temporary file (`.NAME.specconv-….tmp`, or any `.tmp`) anywhere under `dir`.
+#[track_caller]
+pub fn no_temporaries(dir: &std::path::Path) {
+    for e in std::fs::read_dir(dir).unwrap() {
+        let p = e.unwrap().path();
+        if p.is_dir() {
+            no_temporaries(&p);
+        }
+        let name = p.file_name().unwrap().to_string_lossy().into_owned();
+        assert!(
+            !(name.ends_with(".tmp") || (name.contains(".specconv-") && name != ".specconv-farm")),
+            "left behind: {}",
+            p.display()
+        );
+    }
+}
+
+/// A `size`² image of uniform noise in (0, 1), written by oiiotool in sample type `data_type`
+/// (`uint8`, `half`, …) to `path` (its extension says the format).
+pub fn noise(path: &std::path::Path, size: usize, data_type: &str) {
+    tool(
+        "oiiotool",
+        &[
+            "--pattern",
+            "noise:min=0:max=1",
+            &format!("{size}x{size}"),
+            "3",
+            "-d",
+            data_type,
+            "-o",
+            path.to_str().unwrap(),
+        ],
+    );
+}

@@ -13,19 +13,6 @@ fn snapshot(files: &[&Path]) -> Vec<Vec<u8>> {
     files.iter().map(|f| std::fs::read(f).unwrap()).collect()
 }
 
-/// No `.NAME.specconv-….tmp` anywhere under `dir`.
-#[track_caller]
-fn no_temporaries(dir: &Path) {
-    for e in std::fs::read_dir(dir).unwrap() {
-        let e = e.unwrap();
-        let name = e.file_name().to_string_lossy().into_owned();
-        assert!(!name.contains(".specconv-"), "temporary left: {name}");
-        if e.file_type().unwrap().is_dir() {
-            no_temporaries(&e.path());
-        }
-    }
-}
-
 /// A copy of a small test texture in `s`.
 fn texture(s: &Scratch, name: &str) -> PathBuf {
     let p = s.path(name);
@@ -33,22 +20,10 @@ fn texture(s: &Scratch, name: &str) -> PathBuf {
     p
 }
 
-/// A texture of `size`² pixels made by oiiotool.
-fn big_texture(s: &Scratch, name: &str, size: u32) -> PathBuf {
+/// A texture of `size`² noise pixels in `s`.
+fn big_texture(s: &Scratch, name: &str, size: usize) -> PathBuf {
     let p = s.path(name);
-    tool(
-        "oiiotool",
-        &[
-            "--pattern",
-            "noise:type=uniform:min=0.05:max=0.95",
-            &format!("{size}x{size}"),
-            "3",
-            "-d",
-            "uint8",
-            "-o",
-            p.to_str().unwrap(),
-        ],
-    );
+    noise(&p, size, "uint8");
     p
 }
 

@@ -9,7 +9,6 @@
 use crate::Error;
 use serde::{Deserialize, Serialize};
 use specconv_atomic_file::outputs;
-use std::io::Read;
 use std::path::{Component, Path, PathBuf};
 
 /// Version of the manifest's layout.
@@ -263,32 +262,25 @@ fn own_folder(p: &Path) -> Result<(), String> {
 /// A file of the job directory as text: a regular file (not a FIFO, device or link) of at most
 /// [`MAX_FILE_BYTES`].
 pub fn read_bounded(path: &Path) -> Result<String, Error> {
+    use specconv_atomic_file::ReadError;
     let cannot = |e| Error::Io(format!("cannot read {}", path.display()), e);
-    let meta = std::fs::symlink_metadata(path).map_err(cannot)?;
-    if !meta.is_file() {
+    // A link is not the job's own file, whatever it leads to.
+    if std::fs::symlink_metadata(path).is_ok_and(|m| m.file_type().is_symlink()) {
         return Err(cannot(std::io::Error::other(
             "not a regular file of the job directory",
         )));
     }
-    if meta.len() > MAX_FILE_BYTES {
-        return Err(Error::TooLarge {
-            path: path.to_path_buf(),
-            limit: MAX_FILE_BYTES,
-        });
-    }
-    let mut text = String::new();
-    std::fs::File::open(path)
-        .map_err(cannot)?
-        .take(MAX_FILE_BYTES + 1)
-        .read_to_string(&mut text)
-        .map_err(cannot)?;
-    if text.len() as u64 > MAX_FILE_BYTES {
-        return Err(Error::TooLarge {
-            path: path.to_path_buf(),
-            limit: MAX_FILE_BYTES,
-        });
-    }
-    Ok(text)
+    let bytes = specconv_atomic_file::read_bounded(path, MAX_FILE_BYTES, "job file").map_err(
+        |e| match e {
+            ReadError::TooLarge { .. } => Error::TooLarge {
+                path: path.to_path_buf(),
+                limit: MAX_FILE_BYTES,
+            },
+            ReadError::Io { source, .. } => cannot(source),
+            other => cannot(std::io::Error::other(other.to_string())),
+        },
+    )?;
+    String::from_utf8(bytes).map_err(|_| cannot(std::io::Error::other("not UTF-8 text")))
 }
 
 /// The folder of round `r`.
