@@ -429,19 +429,7 @@ fn batches_convert_the_good_inputs_report_each_and_exit_1_for_the_bad() {
 fn sigterm_mid_write_leaves_no_partial_file() {
     let dir = Scratch::new("convert-term");
     let big = dir.path("big.exr");
-    tool(
-        "oiiotool",
-        &[
-            "--pattern",
-            "noise:min=0:max=1",
-            "3000x3000",
-            "3",
-            "-d",
-            "half",
-            "-o",
-            big.to_str().unwrap(),
-        ],
-    );
+    noise(&big, 3000, "half");
     let out = dir.path("out.exr");
     let child = Cmd::convert(&big, &out)
         .args(["-j", "1"])

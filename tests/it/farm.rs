@@ -343,19 +343,7 @@ fn a_task_cancelled_mid_file_leaves_no_partial_output_and_retry_completes_it() {
     std::fs::create_dir_all(&out).unwrap();
     // Big enough that one thread takes seconds: the task is cancelled while writing it.
     let big = dir.path("big.exr");
-    tool(
-        "oiiotool",
-        &[
-            "--pattern",
-            "noise:min=0:max=1",
-            "2048x2048",
-            "3",
-            "-d",
-            "half",
-            "-o",
-            big.to_str().unwrap(),
-        ],
-    );
+    noise(&big, 2048, "half");
     let small: Vec<PathBuf> = (0..3).map(|k| dir.path(&format!("small{k}.png"))).collect();
     for (k, p) in small.iter().enumerate() {
         texture(p, 32, 32, k);
@@ -729,19 +717,7 @@ fn retry_while_slurm_does_not_answer_removes_no_temporary_of_a_running_task() {
     let out = dir.path("out");
     std::fs::create_dir_all(&out).unwrap();
     let big = dir.path("big.exr");
-    tool(
-        "oiiotool",
-        &[
-            "--pattern",
-            "noise:min=0:max=1",
-            "2048x2048",
-            "3",
-            "-d",
-            "half",
-            "-o",
-            big.to_str().unwrap(),
-        ],
-    );
+    noise(&big, 2048, "half");
     let inputs = vec![big.clone()];
     let sums = checksums(&inputs);
     let submitted = farm(&[
