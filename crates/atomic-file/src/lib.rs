@@ -71,7 +71,17 @@ impl Pending {
     /// [`io::ErrorKind::ResourceBusy`] (carrying [`Busy`]) while another writer of `target`
     /// is live.
     pub fn beside(target: &Path) -> io::Result<Pending> {
+        let mut attempts = 0;
         let pending = loop {
+            // A name or lock lost to another process is rare and passes; a thousand in a row
+            // is a file system that never gives one.
+            attempts += 1;
+            if attempts > 1000 {
+                return Err(io::Error::other(format!(
+                    "cannot create and lock a temporary file beside {}",
+                    target.display()
+                )));
+            }
             let temporary = names::temporary(target);
             let file = match File::options()
                 .read(true)
