@@ -409,6 +409,40 @@ pub fn quote(s: &str) -> String {
     }
 }
 
+/// A manifest for the crate's tests: these outputs and (input, output) files, one pixel each,
+/// and these rounds.
+#[cfg(test)]
+pub(crate) fn example(
+    outputs: Outputs,
+    files: Vec<(PathBuf, PathBuf)>,
+    rounds: Vec<Round>,
+) -> Manifest {
+    Manifest {
+        format: FORMAT,
+        specconv: "/bin/specconv".into(),
+        workdir: "/work".into(),
+        ocio: "aces".into(),
+        outputs,
+        convert_options: vec![],
+        files: files
+            .into_iter()
+            .map(|(input, output)| File {
+                input,
+                output,
+                pixels: 1,
+            })
+            .collect(),
+        request: Request {
+            partition: None,
+            time: None,
+            cpus_per_task: 1,
+            mem_mib: 100,
+            limit: None,
+        },
+        rounds,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -448,33 +482,18 @@ mod tests {
     }
 
     fn manifest(outputs: Outputs, files: Vec<(&str, &str)>) -> Manifest {
-        Manifest {
-            format: FORMAT,
-            specconv: "/bin/specconv".into(),
-            workdir: "/work".into(),
-            ocio: "aces".into(),
+        let files = files
+            .into_iter()
+            .map(|(i, o)| (i.into(), o.into()))
+            .collect();
+        example(
             outputs,
-            convert_options: vec![],
-            files: files
-                .into_iter()
-                .map(|(i, o)| File {
-                    input: i.into(),
-                    output: o.into(),
-                    pixels: 1,
-                })
-                .collect(),
-            request: Request {
-                partition: None,
-                time: None,
-                cpus_per_task: 1,
-                mem_mib: 100,
-                limit: None,
-            },
-            rounds: vec![Round {
+            files,
+            vec![Round {
                 job_id: None,
                 tasks: vec![vec![0]],
             }],
-        }
+        )
     }
 
     #[test]

@@ -333,33 +333,19 @@ pub struct Pending {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::manifest::{File, Outputs, Request, Round, FORMAT};
+    use crate::manifest::{Outputs, Round};
     use crate::slurm::TaskState;
 
     fn manifest(rounds: Vec<Round>) -> Manifest {
-        Manifest {
-            format: FORMAT,
-            specconv: "/bin/specconv".into(),
-            workdir: "/w".into(),
-            ocio: "aces".into(),
-            outputs: Outputs::Directory("/out".into()),
-            convert_options: vec![],
-            files: (0..3)
-                .map(|k| File {
-                    input: format!("/in/{k}.png").into(),
-                    output: format!("/out/{k}_spectral.exr").into(),
-                    pixels: 1,
-                })
-                .collect(),
-            request: Request {
-                partition: None,
-                time: None,
-                cpus_per_task: 1,
-                mem_mib: 100,
-                limit: None,
-            },
-            rounds,
-        }
+        let files = (0..3)
+            .map(|k| {
+                (
+                    format!("/in/{k}.png").into(),
+                    format!("/out/{k}_spectral.exr").into(),
+                )
+            })
+            .collect();
+        crate::manifest::example(Outputs::Directory("/out".into()), files, rounds)
     }
 
     #[test]
