@@ -210,8 +210,6 @@ fn hint(cause: &(dyn std::error::Error + 'static)) -> Option<String> {
                 "; pass --force to replace it (or -u to skip outputs that are up to date)"
             }
             Some(Remedy::Replace) => "; pass --force to replace it",
-            Some(Remedy::BaseLevelOrTiles) => "; add --mip 0 or drop --scanline",
-            Some(Remedy::BaseLevel) => "; add --mip 0 to convert the full-resolution level only",
             Some(Remedy::NameColourSpace) => "; pass --colorspace",
             Some(Remedy::NameEncodingColourSpace) => {
                 "; pass --colorspace with the colour space the texture is encoded in"

@@ -161,10 +161,6 @@ pub enum Error {
 pub enum Remedy {
     /// Replace the existing output, or skip outputs that are up to date.
     ReplaceOrSkip,
-    /// Convert the full-resolution level only, or write tiles.
-    BaseLevelOrTiles,
-    /// Convert the full-resolution level only.
-    BaseLevel,
     /// Name the input's colour space.
     NameColourSpace,
     /// Name the colour space the texture is encoded in (the file's is a data space).
@@ -197,8 +193,6 @@ impl Error {
             Error::Colour(e) => colour_remedy(e),
             Error::Conversion(e) => match e {
                 ConversionError::Plan(PlanError::Exists { .. }) => Some(Remedy::ReplaceOrSkip),
-                ConversionError::ScanlineMip { .. } => Some(Remedy::BaseLevelOrTiles),
-                ConversionError::NotAMipMap { .. } => Some(Remedy::BaseLevel),
                 ConversionError::Channels { choose, .. } => choose.map(|c| match c {
                     specconv_pipeline::input::Choose::ChannelsOrLayer => {
                         Remedy::NameChannelsOrLayer

@@ -18,6 +18,7 @@
 
 pub mod colour;
 pub mod input;
+mod mip;
 mod png;
 
 pub use colour::{input_space, Alpha, InputSpace, Rule, ToXyz, Warning};
@@ -63,34 +64,6 @@ pub enum Error {
     /// The format's default colour space cannot be reached in the config.
     #[error("{0}")]
     DefaultColourSpace(String),
-    /// Scanline files hold one level and the input has several.
-    #[error("{} has {levels} MIP levels, which scanline files cannot hold", input.display())]
-    ScanlineMip {
-        /// The input.
-        input: PathBuf,
-        /// Its levels.
-        levels: usize,
-    },
-    /// The input's levels are not an OpenEXR MIP map's.
-    #[error(
-        "{}: its {levels} MIP levels are not the {needed} levels of halving sizes an OpenEXR MIP map has \
-         (level {level}: {have:?} where {want:?} is needed)",
-        input.display()
-    )]
-    NotAMipMap {
-        /// The input.
-        input: PathBuf,
-        /// Its levels.
-        levels: usize,
-        /// The levels an OpenEXR MIP map of its size has.
-        needed: usize,
-        /// The first level that differs.
-        level: usize,
-        /// That level's size in the input.
-        have: Option<(usize, usize)>,
-        /// The size it needs.
-        want: (usize, usize),
-    },
     /// The weights half rounding keeps the colour under are not on the method's grid.
     #[error("the XYZ weights have {have} bands where the method makes {want}")]
     Weights {
@@ -122,10 +95,12 @@ pub enum Error {
 /// The pipeline's results.
 pub type Result<T> = std::result::Result<T, Error>;
 
-/// Which MIP levels to convert.
+/// Whether a tiled output is a MIP map.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Mip {
-    /// Every level the input has, each uplifted from its own input level.
+    /// Every level down to 1×1, each filtered from the spectra of the level above ([`mip`]);
+    /// level 0 is uplifted from the input's full-resolution level (its own smaller levels,
+    /// if any, are not read).
     All,
     /// The full-resolution level only.
     Base,
@@ -349,19 +324,14 @@ fn output_file(
     selection: &input::Selection,
     attributes: &[(String, String)],
 ) -> Result<SpectralFile> {
-    let mip = job.settings.mip == Mip::All && info.levels.len() > 1;
+    // Every tiled output is a MIP map made from its own spectra (module `mip`); the input's
+    // smaller levels, if any, are not read.
     let blocks = match job.settings.tile {
-        None if mip => {
-            return Err(Error::ScanlineMip {
-                input: job.input.to_path_buf(),
-                levels: info.levels.len(),
-            })
-        }
         None => Blocks::Scanlines,
         Some((width, height)) => Blocks::Tiles {
             width,
             height,
-            mip_levels: mip,
+            mip_levels: job.settings.mip == Mip::All,
         },
     };
     let top = info.levels[0];
@@ -386,26 +356,13 @@ fn output_file(
         blocks,
         attributes: attributes.to_vec(),
     })?;
-    // Every output level comes from the input level of the same size.
-    for level in 0..file.levels() {
-        let want = file.level_size(level);
-        let have = info
-            .levels
-            .get(level)
-            .map(|l| (l.width as usize, l.height as usize));
-        if have != Some(want) || (mip && info.levels.len() != file.levels()) {
-            return Err(Error::NotAMipMap {
-                input: job.input.to_path_buf(),
-                levels: info.levels.len(),
-                needed: file.levels(),
-                level,
-                have,
-                want,
-            });
-        }
-    }
     Ok(file)
 }
+
+/// One block made: its chunk, what its pixels had, and (for a MIP map) its values — the
+/// spectra before rounding, alpha after each spectrum when the file has it — for the smaller
+/// levels.
+type Made = (usize, Chunk, Counts, Option<Vec<f32>>);
 
 /// Reads, converts, uplifts and writes every window of `file`; returns the pixels uplifted and
 /// what they had.
@@ -426,7 +383,22 @@ fn write_file(
             });
         }
     }
-    let strips = strips(file);
+    // Level 0 is read and uplifted; the smaller levels are made from its spectra.
+    let (strips, smaller): (Vec<Strip>, Vec<Strip>) =
+        strips(file).into_iter().partition(|s| s.level == 0);
+    let smaller: std::collections::HashMap<(usize, usize), Vec<Block>> = smaller
+        .into_iter()
+        .map(|s| ((s.level, s.y), s.blocks))
+        .collect();
+    let values = file.values_per_pixel();
+    let mut cascade = (file.levels() > 1).then(|| {
+        let sizes: Vec<_> = (0..file.levels()).map(|l| file.level_size(l)).collect();
+        let tile_height = match file.spec().blocks {
+            Blocks::Tiles { height, .. } => height,
+            Blocks::Scanlines => 1,
+        };
+        mip::Cascade::new(&sizes, tile_height, values)
+    });
     let total: u64 = strips
         .iter()
         .map(|s| (file.level_size(s.level).0 * s.height) as u64)
@@ -474,12 +446,25 @@ fn write_file(
         failure = Some(e);
         specconv_exr::Error::Invalid("aborted".into())
     };
+    // Blocks of the smaller levels made from strips of the smaller levels.
+    let encode_made = |strips: &[mip::MadeStrip]| -> Result<Vec<Made>> {
+        strips
+            .par_iter()
+            .flat_map(|strip| {
+                smaller[&(strip.level, strip.y)]
+                    .par_iter()
+                    .map(move |b| encode_made_block(file, job, b, strip))
+            })
+            .collect()
+    };
     let written = file.write(BufWriter::with_capacity(1 << 20, pending.file()), |sink| {
         // Window i's blocks are made while window i + 1 is read and window i − 1's chunks are
         // written, in file order: the writer never holds up the threads that compress.
-        let mut made: Vec<(usize, Chunk, Counts)> = Vec::new();
-        let mut write = |made: Vec<(usize, Chunk, Counts)>| -> specconv_exr::Result<()> {
-            for (chunk_index, chunk, c) in made {
+        let mut made: Vec<Made> = Vec::new();
+        // Strips of smaller levels that window i − 1 completed: encoded with window i.
+        let mut completed: Vec<mip::MadeStrip> = Vec::new();
+        let mut write = |made: Vec<Made>| -> specconv_exr::Result<()> {
+            for (chunk_index, chunk, c, _) in made {
                 // A window of fine-band chunks is hundreds of megabytes.
                 if job.cancel.load(Ordering::Relaxed) {
                     return Err(specconv_exr::Error::Invalid("cancelled".into()));
@@ -500,35 +485,41 @@ fn write_file(
                 .take()
                 .expect("each window is read before it is processed");
             let previous = std::mem::take(&mut made);
+            let lower = std::mem::take(&mut completed);
             let (chunks, (read_next, wrote)) = rayon::join(
-                || -> Result<Vec<(usize, Chunk, Counts)>> {
-                    let strips: Vec<Vec<_>> = window
-                        .par_iter()
-                        .zip(rows.par_iter())
-                        .map(|(strip, px)| {
-                            strip
-                                .blocks
+                || -> Result<(Vec<Vec<Made>>, Vec<Made>)> {
+                    let (strips, lower) = rayon::join(
+                        || {
+                            window
                                 .par_iter()
-                                .map(|b| {
-                                    // Checked per block, not only per window: a window of
-                                    // fine-band blocks takes seconds.
-                                    if job.cancel.load(Ordering::Relaxed) {
-                                        return Err(Error::Cancelled);
-                                    }
-                                    encode_block(
-                                        file,
-                                        &space.to_xyz,
-                                        job,
-                                        b,
-                                        px,
-                                        colour,
-                                        (alpha, premultiply),
-                                    )
+                                .zip(rows.par_iter())
+                                .map(|(strip, px)| {
+                                    strip
+                                        .blocks
+                                        .par_iter()
+                                        .map(|b| {
+                                            // Checked per block, not only per window: a
+                                            // window of fine-band blocks takes seconds.
+                                            if job.cancel.load(Ordering::Relaxed) {
+                                                return Err(Error::Cancelled);
+                                            }
+                                            encode_block(
+                                                file,
+                                                &space.to_xyz,
+                                                job,
+                                                b,
+                                                px,
+                                                colour,
+                                                (alpha, premultiply),
+                                            )
+                                        })
+                                        .collect::<Result<Vec<_>>>()
                                 })
-                                .collect::<Result<_>>()
-                        })
-                        .collect::<Result<_>>()?;
-                    Ok(strips.into_iter().flatten().collect())
+                                .collect::<Result<Vec<_>>>()
+                        },
+                        || encode_made(&lower),
+                    );
+                    Ok((strips?, lower?))
                 },
                 || {
                     let wrote = write(previous);
@@ -538,14 +529,27 @@ fn write_file(
             );
             wrote?;
             next = read_next.map_err(&mut fail)?;
-            made = chunks.map_err(&mut fail)?;
+            let (strips, lower) = chunks.map_err(&mut fail)?;
+            if let Some(cascade) = cascade.as_mut() {
+                for (strip, blocks) in window.iter().zip(&strips) {
+                    let rows = strip_rows(file, strip, blocks, values);
+                    completed.extend(cascade.push(&rows, file.level_size(0).0));
+                }
+            }
+            made = strips.into_iter().flatten().chain(lower).collect();
             done += window
                 .iter()
                 .map(|s| (file.level_size(s.level).0 * s.height) as u64)
                 .sum::<u64>();
             progress(done, total);
         }
-        write(made)
+        write(made)?;
+        // The smaller levels' last strips: the 1×1 level at least.
+        if job.cancel.load(Ordering::Relaxed) {
+            return Err(fail(Error::Cancelled));
+        }
+        let last = encode_made(&completed).map_err(&mut fail)?;
+        write(last)
     });
     if let Some(e) = failure {
         return Err(e);
@@ -573,6 +577,55 @@ fn write_file(
     Ok((total, counts))
 }
 
+/// A level-0 strip's values, row by row across its blocks, from the blocks' own values.
+fn strip_rows(file: &SpectralFile, strip: &Strip, blocks: &[Made], values: usize) -> Vec<f32> {
+    let width = file.level_size(0).0;
+    let mut rows = vec![0.0f32; width * strip.height * values];
+    for (b, made) in strip.blocks.iter().zip(blocks) {
+        let v = made.3.as_deref().expect("a MIP map keeps level 0's values");
+        for y in 0..b.height {
+            let from = &v[y * b.width * values..(y + 1) * b.width * values];
+            let at = (y * width + b.x) * values;
+            rows[at..at + from.len()].copy_from_slice(from);
+        }
+    }
+    rows
+}
+
+/// Encodes one block of a smaller level from its strip's values.
+fn encode_made_block(
+    file: &SpectralFile,
+    job: &Job,
+    b: &Block,
+    strip: &mip::MadeStrip,
+) -> Result<Made> {
+    if job.cancel.load(Ordering::Relaxed) {
+        return Err(Error::Cancelled);
+    }
+    let n = job.method.grid().len();
+    let values = file.values_per_pixel();
+    let mut bands = Vec::with_capacity(b.width * b.height * n);
+    let mut a = file
+        .spec()
+        .alpha
+        .then(|| Vec::with_capacity(b.width * b.height));
+    for y in 0..b.height {
+        let row = (y * strip.width + b.x) * values;
+        for px in strip.rows[row..row + b.width * values].chunks_exact(values) {
+            bands.extend_from_slice(&px[..n]);
+            if let Some(a) = a.as_mut() {
+                a.push(px[n]);
+            }
+        }
+    }
+    let (chunk, saturated) = finish_block(file, job, b, bands, a.as_deref())?;
+    let counts = Counts {
+        saturated,
+        ..Counts::default()
+    };
+    Ok((b.chunk, chunk, counts, None))
+}
+
 pub use input::colour_channels;
 
 /// A pixel's RGB from its colour channels ([`input::Channels::colour`]): a single grey channel is repeated; `None` when
@@ -597,7 +650,7 @@ fn encode_block(
     strip: &specconv_oiio::Pixels,
     colour: &[usize],
     (alpha, premultiply): (Option<usize>, bool),
-) -> Result<(usize, Chunk, Counts)> {
+) -> Result<Made> {
     let count = b.width * b.height;
     let mut rgb = Vec::with_capacity(count * 3);
     let mut a = alpha.map(|_| Vec::with_capacity(count));
@@ -634,14 +687,38 @@ fn encode_block(
     if job.cancel.load(Ordering::Relaxed) {
         return Err(Error::Cancelled);
     }
+    // The smaller levels are filtered from the spectra before they are rounded.
+    let kept = (file.levels() > 1).then(|| match &a {
+        Some(a) => bands
+            .chunks_exact(n)
+            .zip(a)
+            .flat_map(|(s, &alpha)| s.iter().copied().chain([alpha]))
+            .collect(),
+        None => bands.clone(),
+    });
+    let (chunk, saturated) = finish_block(file, job, b, bands, a.as_deref())?;
+    counts.saturated = saturated;
+    Ok((b.chunk, chunk, counts, kept))
+}
+
+/// Rounds a block's spectra as the file stores them (half: finite values kept finite, and
+/// the colour kept when asked) and compresses it; returns the chunk and the spectra clamped.
+fn finish_block(
+    file: &SpectralFile,
+    job: &Job,
+    b: &Block,
+    mut bands: Vec<f32>,
+    alpha: Option<&[f32]>,
+) -> Result<(Chunk, u64)> {
+    let n = job.method.grid().len();
+    let mut saturated = 0;
     if file.spec().sample == Sample::Half {
-        counts.saturated = saturate_half(&mut bands, n);
+        saturated = saturate_half(&mut bands, n);
         if let Some(w) = &job.settings.xyz_weights {
             specconv_exr::quantize::round_to_half_keeping_colour(w, &mut bands, n);
         }
     }
-    let chunk = file.encode(b, &bands, a.as_deref())?;
-    Ok((b.chunk, chunk, counts))
+    Ok((file.encode(b, &bands, alpha)?, saturated))
 }
 
 /// Clamps finite values beyond the half range to ±65504, so that a finite colour never becomes
