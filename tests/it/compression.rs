@@ -146,6 +146,7 @@ fn write(
         zip_level: level,
         blocks,
         attributes: vec![],
+        float_attributes: vec![],
     })
     .unwrap();
     let path = dir.path(&format!(

@@ -206,6 +206,10 @@ fn hint(cause: &(dyn std::error::Error + 'static)) -> Option<String> {
     }
     if let Some(e) = cause.downcast_ref::<Error>() {
         let flag = match e.remedy() {
+            Some(Remedy::RepairNonFinite) => {
+                "; repair them with --fixnan box3 (or black), or write them as they are with --fixnan none"
+            }
+            Some(Remedy::RepairBlack) => "; repair them with --fixnan black",
             Some(Remedy::ReplaceOrSkip) => {
                 "; pass --force to replace it (or -u to skip outputs that are up to date)"
             }

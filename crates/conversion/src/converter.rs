@@ -2,7 +2,9 @@
 //! [`Report`].
 
 use crate::error::{ConversionError, Error};
-use crate::options::{alpha_name, mip_name, sample_name, Blocks, Options, Rounding};
+use crate::options::{
+    alpha_name, mip_name, non_finite_name, sample_name, Blocks, Mip, Options, Rounding,
+};
 use crate::provenance::Provenance;
 use specconv_colour::EmissionUnits;
 use specconv_exr::{Kind, Sample};
@@ -56,10 +58,21 @@ pub struct Report {
     pub width: usize,
     /// Height of the full-resolution level.
     pub height: usize,
-    /// Pixels uplifted, over all levels.
+    /// Pixels uplifted (level 0: smaller levels are filtered from its spectra).
     pub pixels: u64,
     /// MIP levels written.
     pub levels: usize,
+    /// Wrap modes recorded (tiled outputs), and whether the input declared them.
+    pub wrap: Option<(crate::WrapModes, bool)>,
+    /// Pixels of the input with NaN or infinite values in a channel read, and whether they
+    /// were repaired (else they were kept: refused inputs fail).
+    pub non_finite_input: (u64, bool),
+    /// Every pixel was the same: written as one tile.
+    pub constant: bool,
+    /// Alpha was 1 everywhere and was not written.
+    pub opaque_dropped: bool,
+    /// The hash of the source pixels `-u` compares.
+    pub source_hash: String,
     /// Bands of every spectrum.
     pub bands: usize,
     /// The subimage and the channels read.
@@ -228,6 +241,11 @@ impl Converter {
             height: r.height,
             pixels: r.pixels,
             levels: r.levels,
+            wrap: r.wrap,
+            non_finite_input: r.non_finite_input,
+            constant: r.constant,
+            opaque_dropped: r.opaque_dropped,
+            source_hash: r.source_hash,
             bands: self.stack.method().grid().len(),
             selection: r.selection,
             colorspace: r.colorspace,
@@ -370,6 +388,10 @@ fn settings(o: &Options, stack: &Stack) -> Settings {
             Blocks::Scanlines => None,
         },
         mip: o.mip,
+        wrap: o.wrap,
+        non_finite: o.non_finite,
+        constant_detect: o.constant_detect,
+        opaque_detect: o.opaque_detect,
         overwrite: o.overwrite,
         attributes: Vec::new(),
     }
@@ -396,6 +418,21 @@ fn settings_tag(o: &Options, model: &str, stack: &Stack, config: &Config) -> Str
         o.colorspace.as_deref().unwrap_or("auto"),
         alpha_name(o.alpha),
         config.source(),
+    );
+    // MIP levels filtered from the spectra (maketx's box); outputs of earlier versions, whose
+    // levels were uplifted from the input's own, lack it and are rebuilt.
+    if o.mip == Mip::All && o.blocks != Blocks::Scanlines {
+        tag += " filter=box";
+    }
+    if let Some((s, t)) = o.wrap {
+        tag += &format!(" wrap={s},{t}");
+    }
+    // What the survey may change (docs/guide.md, "Texture prep").
+    tag += &format!(
+        " nan={} constant-detect={} opaque-detect={}",
+        non_finite_name(o.non_finite),
+        o.constant_detect,
+        o.opaque_detect
     );
     if let Some(e) = stack.emission() {
         tag += &format!(" emission-units={}", e.units);

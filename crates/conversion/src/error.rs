@@ -161,6 +161,10 @@ pub enum Error {
 pub enum Remedy {
     /// Replace the existing output, or skip outputs that are up to date.
     ReplaceOrSkip,
+    /// Repair NaN and infinite input values, or keep them.
+    RepairNonFinite,
+    /// Repair NaN and infinite input values with black (too many for a 3×3 repair).
+    RepairBlack,
     /// Name the input's colour space.
     NameColourSpace,
     /// Name the colour space the texture is encoded in (the file's is a data space).
@@ -193,6 +197,8 @@ impl Error {
             Error::Colour(e) => colour_remedy(e),
             Error::Conversion(e) => match e {
                 ConversionError::Plan(PlanError::Exists { .. }) => Some(Remedy::ReplaceOrSkip),
+                ConversionError::NonFinite { .. } => Some(Remedy::RepairNonFinite),
+                ConversionError::TooManyNonFinite { .. } => Some(Remedy::RepairBlack),
                 ConversionError::Channels { choose, .. } => choose.map(|c| match c {
                     specconv_pipeline::input::Choose::ChannelsOrLayer => {
                         Remedy::NameChannelsOrLayer

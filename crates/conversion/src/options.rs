@@ -6,6 +6,8 @@ use specconv_spectral::method::MethodName;
 use std::path::PathBuf;
 
 pub use specconv_exr::Sample;
+pub use specconv_pipeline::survey::NonFinite;
+pub use specconv_pipeline::texture::{Wrap, WrapModes, WRAP_NAMES};
 pub use specconv_pipeline::{Alpha, Mip};
 
 /// Everything that makes a conversion what it is. Start from [`Options::default`] (the
@@ -56,8 +58,16 @@ pub struct Options {
     pub zip_level: Option<u8>,
     /// Tiles of this size, or scanlines.
     pub blocks: Blocks,
-    /// Which MIP levels to convert.
+    /// Whether a tiled output is a MIP map (its levels filtered from the spectra).
     pub mip: Mip,
+    /// Wrap modes a tiled output records (`None`: the input's, else black as maketx's).
+    pub wrap: Option<WrapModes>,
+    /// NaN and infinite input values: refused (the default), repaired, or kept.
+    pub non_finite: NonFinite,
+    /// Write a texture whose pixels are all the same as one tile (default: yes).
+    pub constant_detect: bool,
+    /// Leave out an alpha that is 1 everywhere (default: yes).
+    pub opaque_detect: bool,
     /// Worker threads (`None`: one per core).
     pub threads: Option<usize>,
     /// Replace an existing output.
@@ -86,6 +96,10 @@ impl Default for Options {
             zip_level: None,
             blocks: Blocks::Tiles(64, 64),
             mip: Mip::All,
+            wrap: None,
+            non_finite: NonFinite::Refuse,
+            constant_detect: true,
+            opaque_detect: true,
             threads: None,
             overwrite: false,
             table_dir: None,
@@ -226,6 +240,15 @@ pub(crate) fn mip_name(m: Mip) -> &'static str {
     match m {
         Mip::All => "all",
         Mip::Base => "0",
+    }
+}
+
+pub(crate) fn non_finite_name(n: NonFinite) -> &'static str {
+    match n {
+        NonFinite::Refuse => "refuse",
+        NonFinite::Black => "black",
+        NonFinite::Box3 => "box3",
+        NonFinite::Keep => "keep",
     }
 }
 

@@ -204,6 +204,8 @@ pub struct Spec {
     pub blocks: Blocks,
     /// Extra string attributes (names prefixed `specconv` by convention).
     pub attributes: Vec<(String, String)>,
+    /// Extra float attributes (a texture's `fovcot`).
+    pub float_attributes: Vec<(String, f32)>,
 }
 
 /// The channel name of a band: `T.550,000000nm` or `S0.550,000000nm`.
@@ -541,6 +543,25 @@ impl SpectralFile {
             }
             text(k, v);
         }
+        // The exr crate keeps `wrapmodes` (a texture's, OpenImageIO's name) in a field of its own.
+        if let Some(AttributeValue::Text(wrap)) = header
+            .own_attributes
+            .other
+            .remove(&Text::new_or_panic("wrapmodes"))
+        {
+            header.own_attributes.wrap_mode_name = Some(wrap);
+        }
+        for (k, v) in &spec.float_attributes {
+            let Some(name) = Text::new_or_none(k).filter(|_| !k.is_empty()) else {
+                return Err(Error::Invalid(format!(
+                    "attribute name '{k}' is not plain text"
+                )));
+            };
+            header
+                .own_attributes
+                .other
+                .insert(name, AttributeValue::F32(*v));
+        }
         let source = named.into_iter().map(|(_, i)| i).collect();
         Ok(SpectralFile {
             spec,
@@ -562,6 +583,12 @@ impl SpectralFile {
     /// Values stored per pixel: the bands, and alpha if any.
     pub fn values_per_pixel(&self) -> usize {
         self.spec.wavelengths.len() + usize::from(self.spec.alpha)
+    }
+
+    /// `values` given per band (in the order of `Spec::wavelengths`), then alpha, put in the
+    /// order of the file's channels (sorted by name).
+    pub fn in_channel_order<T: Copy>(&self, values: &[T]) -> Vec<T> {
+        self.source.iter().map(|&i| values[i]).collect()
     }
 
     /// Number of MIP levels the file has (1 unless MIP-mapped): ⌊log₂ max(w, h)⌋ + 1.
@@ -983,6 +1010,7 @@ mod tests {
             zip_level: zip::DEFAULT_LEVEL,
             blocks,
             attributes: vec![("specconvMethod".into(), "otsu2018".into())],
+            float_attributes: vec![],
         }
     }
 

@@ -133,6 +133,7 @@ fn main() {
             mip_levels: false,
         },
         attributes: vec![],
+        float_attributes: vec![],
     };
     let ours = SpectralFile::new(spec(Compression::ZIP16)).unwrap();
     let raw = SpectralFile::new(spec(Compression::Uncompressed)).unwrap();

@@ -20,6 +20,8 @@ pub mod colour;
 pub mod input;
 mod mip;
 mod png;
+pub mod survey;
+pub mod texture;
 
 pub use colour::{input_space, Alpha, InputSpace, Rule, ToXyz, Warning};
 use rayon::prelude::*;
@@ -64,6 +66,33 @@ pub enum Error {
     /// The format's default colour space cannot be reached in the config.
     #[error("{0}")]
     DefaultColourSpace(String),
+    /// NaN or infinite values in the channels read, refused.
+    #[error(
+        "{}: {pixels} pixel(s) of rows {}–{} have NaN or infinite values (the first at x {}, y {}); \
+         every filter that reads them, MIP levels included, spreads them",
+        input.display(), rows.0, rows.1 - 1, first.0, first.1
+    )]
+    NonFinite {
+        /// The input.
+        input: PathBuf,
+        /// Such pixels found (the pass stops at the first rows that have any).
+        pixels: u64,
+        /// The first (x, y).
+        first: (usize, usize),
+        /// The rows read when they were found.
+        rows: (usize, usize),
+    },
+    /// More non-finite pixels than box3 repairs.
+    #[error(
+        "{}: more than {limit} pixels have NaN or infinite values, more than a 3×3 repair keeps",
+        input.display()
+    )]
+    TooManyNonFinite {
+        /// The input.
+        input: PathBuf,
+        /// [`survey::BOX3_LIMIT`].
+        limit: u64,
+    },
     /// The weights half rounding keeps the colour under are not on the method's grid.
     #[error("the XYZ weights have {have} bands where the method makes {want}")]
     Weights {
@@ -132,6 +161,15 @@ pub struct Settings {
     pub tile: Option<(usize, usize)>,
     /// Which MIP levels to convert.
     pub mip: Mip,
+    /// Wrap modes recorded in a tiled output; `None`: the input's, else
+    /// [`texture::DEFAULT_WRAP`].
+    pub wrap: Option<texture::WrapModes>,
+    /// What happens to NaN and infinite values in the channels read.
+    pub non_finite: survey::NonFinite,
+    /// A texture whose pixels are all the same is written as one tile.
+    pub constant_detect: bool,
+    /// An alpha that is 1 everywhere is not written.
+    pub opaque_detect: bool,
     /// Write over an existing output.
     pub overwrite: bool,
     /// Attributes recorded in the output (model, method, observer, illuminant…).
@@ -154,6 +192,10 @@ impl Default for Settings {
             zip_level: specconv_exr::zip::DEFAULT_LEVEL,
             tile: Some((64, 64)),
             mip: Mip::All,
+            wrap: None,
+            non_finite: survey::NonFinite::Refuse,
+            constant_detect: true,
+            opaque_detect: true,
             overwrite: false,
             attributes: Vec::new(),
         }
@@ -167,10 +209,20 @@ pub struct Report {
     pub width: usize,
     /// Height of the full-resolution level.
     pub height: usize,
-    /// Pixels uplifted, over all levels.
+    /// Pixels uplifted (level 0's: the smaller levels are filtered, not uplifted).
     pub pixels: u64,
     /// MIP levels written.
     pub levels: usize,
+    /// Wrap modes recorded (tiled outputs), and whether the input declared them.
+    pub wrap: Option<(texture::WrapModes, bool)>,
+    /// Pixels with NaN or infinite values in a channel read, and whether they were repaired.
+    pub non_finite_input: (u64, bool),
+    /// Every pixel was the same: written as one tile.
+    pub constant: bool,
+    /// Alpha was 1 everywhere and was not written.
+    pub opaque_dropped: bool,
+    /// [`survey::Survey::hash`].
+    pub source_hash: String,
     /// The subimage and channels read.
     pub selection: input::Selection,
     /// The input colour space ([`colour`]'s rule).
@@ -244,6 +296,9 @@ pub struct Opened<'a> {
     selection: input::Selection,
     space: InputSpace,
     premultiply: bool,
+    /// The wrap modes, and whether the input declared them.
+    wrap: (texture::WrapModes, bool),
+    survey: survey::Survey,
 }
 
 /// Opens `job`'s input: refuses to write over the input or an existing output (unless the
@@ -258,6 +313,20 @@ pub fn open<'a>(job: &'a Job<'a>) -> Result<Opened<'a>> {
         .settings
         .alpha
         .premultiply(&reader, selection.channels.alpha);
+    let declared = texture::declared(&reader);
+    let wrap = match (job.settings.wrap, declared) {
+        (Some(w), _) => (w, false),
+        (None, Some(w)) => (w, true),
+        (None, None) => (texture::DEFAULT_WRAP, false),
+    };
+    let mut reader = reader;
+    let survey = survey::survey(
+        job,
+        &mut reader,
+        (&selection.channels.colour, selection.channels.alpha),
+        &space.to_xyz,
+        premultiply,
+    )?;
     Ok(Opened {
         job,
         reader,
@@ -265,6 +334,8 @@ pub fn open<'a>(job: &'a Job<'a>) -> Result<Opened<'a>> {
         selection,
         space,
         premultiply,
+        wrap,
+        survey,
     })
 }
 
@@ -288,26 +359,46 @@ impl Opened<'_> {
             selection,
             space,
             premultiply,
+            wrap,
+            survey,
         } = self;
-        let file = output_file(job, &info, &selection, attributes)?;
-        write_file(
+        let dropped = job.settings.opaque_detect && survey.opaque;
+        let alpha = selection.channels.alpha.filter(|_| !dropped);
+        let constant = survey
+            .constant
+            .as_deref()
+            .filter(|_| job.settings.constant_detect && job.settings.tile.is_some());
+        let file = output_file(
             job,
-            &file,
-            &mut reader,
-            &selection,
-            (&space, premultiply),
-            progress,
-        )
-        .map(|(total, counts)| Report {
+            &info,
+            (alpha.is_some(), constant.is_some()),
+            attributes,
+            wrap.0,
+            &survey,
+        )?;
+        let reading = Reading {
+            to_xyz: &space.to_xyz,
+            colour: &selection.channels.colour,
+            alpha,
+            premultiply: premultiply && alpha.is_some(),
+            repair: &survey.repair,
+        };
+        let (total, counts) = write_file(job, &file, &mut reader, &reading, constant, progress)?;
+        Ok(Report {
             width: info.width() as usize,
             height: info.height() as usize,
             pixels: total,
             levels: file.levels(),
+            wrap: job.settings.tile.map(|_| wrap),
+            non_finite_input: (survey.non_finite, survey.repaired),
+            constant: constant.is_some(),
+            opaque_dropped: dropped,
+            source_hash: survey.hash.clone(),
             selection,
             colorspace: space.name,
             colorspace_rule: space.rule,
             warnings: space.warnings,
-            premultiplied: premultiply,
+            premultiplied: premultiply && alpha.is_some(),
             non_finite: counts.non_finite,
             above_one: counts.above_one,
             saturated: counts.saturated,
@@ -316,13 +407,16 @@ impl Opened<'_> {
     }
 }
 
-/// The output's description: its size and windows, bands, blocks and levels (checked against
-/// the input's), with `attributes`.
+/// The output's description: its size and windows, bands, blocks and levels, with
+/// `attributes`, the texture's and what the survey found. `(alpha, constant)`: whether alpha
+/// is written, and whether the texture is written as one tile of its constant colour.
 fn output_file(
     job: &Job,
     info: &specconv_oiio::ImageInfo,
-    selection: &input::Selection,
+    (alpha, constant): (bool, bool),
     attributes: &[(String, String)],
+    wrap: texture::WrapModes,
+    survey: &survey::Survey,
 ) -> Result<SpectralFile> {
     // Every tiled output is a MIP map made from its own spectra (module `mip`); the input's
     // smaller levels, if any, are not read.
@@ -335,28 +429,72 @@ fn output_file(
         },
     };
     let top = info.levels[0];
-    let file = SpectralFile::new(Spec {
-        width: info.width() as usize,
-        height: info.height() as usize,
-        windows: Some(Windows {
-            data_origin: (top.x, top.y),
-            display: (
-                top.display.x,
-                top.display.y,
-                top.display.width as usize,
-                top.display.height as usize,
-            ),
-        }),
+    let (mut width, mut height) = (info.width() as usize, info.height() as usize);
+    let mut windows = Windows {
+        data_origin: (top.x, top.y),
+        display: (
+            top.display.x,
+            top.display.y,
+            top.display.width as usize,
+            top.display.height as usize,
+        ),
+    };
+    if let (true, Some((tw, th))) = (constant, job.settings.tile) {
+        // One tile, as maketx --constant-color-detect: the display window is the data
+        // window, so that lookups over [0, 1] read it all.
+        (width, height) = (width.min(tw), height.min(th));
+        windows.display = (top.x, top.y, width, height);
+    }
+    // A tiled output is a texture: its wrap modes and format, as maketx writes them.
+    let (mut extra, fovcot) = match blocks {
+        Blocks::Tiles { .. } => (
+            texture::attributes(wrap),
+            vec![(
+                "fovcot".to_string(),
+                texture::fovcot(windows.display.2, windows.display.3),
+            )],
+        ),
+        Blocks::Scanlines => (Vec::new(), Vec::new()),
+    };
+    extra.push((survey::SOURCE_HASH.to_string(), survey.hash.clone()));
+    let spec = Spec {
+        width,
+        height,
+        windows: Some(windows),
         wavelengths: job.method.grid().wavelengths(),
         kind: job.settings.kind.clone(),
-        alpha: selection.channels.alpha.is_some(),
+        alpha,
         sample: job.settings.sample,
         compression: job.settings.compression,
         zip_level: job.settings.zip_level,
         blocks,
-        attributes: attributes.to_vec(),
-    })?;
-    Ok(file)
+        attributes: attributes.iter().cloned().chain(extra).collect(),
+        float_attributes: fovcot,
+    };
+    let file = SpectralFile::new(spec.clone())?;
+    // The average in the file's channel order, as OpenImageIO's texture system reports it.
+    let Some(average) = &survey.average else {
+        return Ok(file);
+    };
+    let n = job.method.grid().len();
+    let values: Vec<f64> = average[..n]
+        .iter()
+        .copied()
+        .chain(alpha.then(|| average.get(n).copied().unwrap_or(1.0)))
+        .collect();
+    let text = file
+        .in_channel_order(&values)
+        .iter()
+        .map(|v| (*v as f32).to_string())
+        .collect::<Vec<_>>()
+        .join(",");
+    let mut spec = spec;
+    spec.attributes
+        .push(("oiio:AverageColor".into(), text.clone()));
+    if constant {
+        spec.attributes.push(("oiio:ConstantColor".into(), text));
+    }
+    Ok(SpectralFile::new(spec)?)
 }
 
 /// One block made: its chunk, what its pixels had, and (for a MIP map) its values — the
@@ -370,8 +508,8 @@ fn write_file(
     job: &Job,
     file: &SpectralFile,
     reader: &mut specconv_oiio::ImageReader,
-    selection: &input::Selection,
-    (space, premultiply): (&InputSpace, bool),
+    reading: &Reading,
+    constant: Option<&[f32]>,
     progress: &mut dyn FnMut(u64, u64),
 ) -> Result<(u64, Counts)> {
     let output = job.output;
@@ -425,7 +563,16 @@ fn write_file(
      -> Result<Vec<specconv_oiio::Pixels>> {
         window
             .iter()
-            .map(|s| Ok(reader.read_scanlines(s.level, s.y as u32..(s.y + s.height) as u32)?))
+            .map(|s| match constant {
+                // Nothing to read: every pixel is this one.
+                Some(px) => Ok(specconv_oiio::Pixels {
+                    width: file.level_size(0).0 as u32,
+                    height: s.height as u32,
+                    channels: px.len(),
+                    data: px.repeat(file.level_size(0).0 * s.height),
+                }),
+                None => Ok(reader.read_scanlines(s.level, s.y as u32..(s.y + s.height) as u32)?),
+            })
             .collect()
     };
     // The first window is read before the output exists: a file whose pixels cannot be read
@@ -436,8 +583,6 @@ fn write_file(
         path: output.to_path_buf(),
         source,
     })?;
-    let colour = &selection.channels.colour;
-    let alpha = selection.channels.alpha;
     let mut done = 0u64;
     let mut counts = Counts::default();
     // The writer speaks specconv_exr's errors; ours wait here and win over its abort.
@@ -503,15 +648,7 @@ fn write_file(
                                             if job.cancel.load(Ordering::Relaxed) {
                                                 return Err(Error::Cancelled);
                                             }
-                                            encode_block(
-                                                file,
-                                                &space.to_xyz,
-                                                job,
-                                                b,
-                                                px,
-                                                colour,
-                                                (alpha, premultiply),
-                                            )
+                                            encode_block(file, job, reading, b, px)
                                         })
                                         .collect::<Result<Vec<_>>>()
                                 })
@@ -639,27 +776,40 @@ pub fn colour_of(px: &[f32], colour: &[usize]) -> Option<[f32; 3]> {
     }
 }
 
-/// Colour-converts, uplifts and compresses one block from its strip's pixels. With
-/// `premultiply` the colour is straight: multiplied by alpha once converted, as OpenEXR stores
-/// colour premultiplied.
-fn encode_block(
-    file: &SpectralFile,
-    to_xyz: &ToXyz,
+/// How a strip's pixels become colour: the channels read, their repair, the conversion.
+struct Reading<'a> {
+    to_xyz: &'a ToXyz,
+    colour: &'a [usize],
+    alpha: Option<usize>,
+    /// The colour is straight: multiplied by alpha once converted, as OpenEXR stores colour
+    /// premultiplied.
+    premultiply: bool,
+    repair: &'a survey::Repair,
+}
+
+/// Uplifts one block of a strip whose first row is row `strip_y` of level 0: its spectra, its
+/// alpha (when read) and what its pixels had.
+fn uplift_block(
     job: &Job,
+    reading: &Reading,
     b: &Block,
     strip: &specconv_oiio::Pixels,
-    colour: &[usize],
-    (alpha, premultiply): (Option<usize>, bool),
-) -> Result<Made> {
+    strip_y: usize,
+) -> Result<(Vec<f32>, Option<Vec<f32>>, Counts)> {
     let count = b.width * b.height;
     let mut rgb = Vec::with_capacity(count * 3);
-    let mut a = alpha.map(|_| Vec::with_capacity(count));
+    let mut a = reading.alpha.map(|_| Vec::with_capacity(count));
     let mut counts = Counts::default();
+    let mut fixed: Vec<f32>;
     for y in 0..b.height {
         for x in b.x..b.x + b.width {
-            let px = strip.pixel(x as u32, y as u32);
-            rgb.extend_from_slice(&colour_of(px, colour).unwrap_or([0.0; 3]));
-            if let (Some(a), Some(c)) = (a.as_mut(), alpha) {
+            let mut px = strip.pixel(x as u32, y as u32);
+            if reading.repair.fixes(px, reading.colour, reading.alpha) {
+                fixed = reading.repair.fixed(px, reading, (x, strip_y + y));
+                px = &fixed;
+            }
+            rgb.extend_from_slice(&colour_of(px, reading.colour).unwrap_or([0.0; 3]));
+            if let (Some(a), Some(c)) = (a.as_mut(), reading.alpha) {
                 a.push(px[c]);
             }
         }
@@ -669,8 +819,8 @@ fn encode_block(
         .chunks_exact(3)
         .map(|c| c.iter().any(|&v| v > ABOVE_ONE))
         .collect();
-    to_xyz.apply_rgb(&mut rgb)?;
-    if let (true, Some(a)) = (premultiply, &a) {
+    reading.to_xyz.apply_rgb(&mut rgb)?;
+    if let (true, Some(a)) = (reading.premultiply, &a) {
         for (c, alpha) in rgb.chunks_exact_mut(3).zip(a) {
             c.iter_mut().for_each(|v| *v *= alpha);
         }
@@ -683,6 +833,19 @@ fn encode_block(
     let mut bands = vec![0.0f32; count * n];
     job.method
         .uplift_f32_tallied(&rgb, &mut bands, &mut counts.tally);
+    Ok((bands, a, counts))
+}
+
+/// Colour-converts, uplifts and compresses one block from its strip's pixels.
+fn encode_block(
+    file: &SpectralFile,
+    job: &Job,
+    reading: &Reading,
+    b: &Block,
+    strip: &specconv_oiio::Pixels,
+) -> Result<Made> {
+    let (bands, a, mut counts) = uplift_block(job, reading, b, strip, b.y)?;
+    let n = job.method.grid().len();
     // Compressing a fine-band block takes as long as uplifting it.
     if job.cancel.load(Ordering::Relaxed) {
         return Err(Error::Cancelled);

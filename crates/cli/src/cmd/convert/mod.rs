@@ -11,7 +11,8 @@ use crate::stdio::StdoutFailed;
 use crate::{exit, explain, methods, print_error, records, signals, usage};
 use anyhow::Result;
 use specconv_conversion::{
-    Advice, Alpha, Batch, Blocks, Compression, Converter, Event, Mip, Options, Rounding, Sample,
+    Advice, Alpha, Batch, Blocks, Compression, Converter, Event, Mip, NonFinite, Options, Rounding,
+    Sample, WrapModes,
 };
 use specconv_spectral::method::MethodName;
 use std::path::{Path, PathBuf};
@@ -78,6 +79,18 @@ fn rounding(name: &str) -> Rounding {
     } else {
         Rounding::Nearest
     }
+}
+
+fn fixnan(name: &str) -> NonFinite {
+    match name {
+        "black" => NonFinite::Black,
+        "box3" => NonFinite::Box3,
+        _ => NonFinite::Keep,
+    }
+}
+
+fn wrap_modes(text: &str) -> std::result::Result<WrapModes, String> {
+    specconv_conversion::parse_wrapmodes(text)
 }
 
 fn mip(name: &str) -> Mip {
@@ -182,10 +195,33 @@ pub struct Args {
     /// Write scanlines instead of tiles (no MIP levels).
     #[arg(long, conflicts_with = "tile")]
     scanline: bool,
-    /// `all`: every MIP level the input has, each uplifted from its own level; `0`: the full
+    /// `all`: a MIP map (tiled outputs), each level filtered from the spectra of the level
+    /// above as maketx filters (the input's own smaller levels are not read); `0`: the full
     /// resolution only.
     #[arg(long, default_value = "all", value_parser = one_of(&["all", "0"], mip))]
     mip: Mip,
+    /// Wrap modes the texture records, `MODE` or `S,T` (black, clamp, periodic, mirror);
+    /// default: the input's (a maketx texture's), else black, as maketx.
+    #[arg(long, value_name = "MODE[,MODE]", value_parser = wrap_modes)]
+    wrap: Option<WrapModes>,
+    /// Repair NaN and infinite input values: `box3` (the average of the finite 3×3
+    /// neighbours), `black` (0), or `none` to write them as they are. Without it such an input
+    /// is refused (as maketx --checknan).
+    #[arg(long, value_name = "HOW", conflicts_with = "checknan",
+          value_parser = one_of(&["none", "black", "box3"], fixnan))]
+    fixnan: Option<NonFinite>,
+    /// Refuse inputs with NaN or infinite values (the default; for maketx habits).
+    #[arg(long)]
+    checknan: bool,
+    /// Write a texture whose pixels are all the same as one tile, recording
+    /// oiio:ConstantColor (default true, as maketx --constant-color-detect).
+    #[arg(long, value_name = "BOOL", num_args = 0..=1, default_value_t = true,
+          default_missing_value = "true", action = clap::ArgAction::Set)]
+    constant_color_detect: bool,
+    /// Leave out an alpha that is 1 everywhere (default true, as maketx --opaque-detect).
+    #[arg(long, value_name = "BOOL", num_args = 0..=1, default_value_t = true,
+          default_missing_value = "true", action = clap::ArgAction::Set)]
+    opaque_detect: bool,
     /// Worker threads (default: one per core).
     #[arg(short = 'j', long, value_name = "N")]
     threads: Option<usize>,
@@ -293,6 +329,10 @@ impl Args {
             Blocks::Tiles(self.tile[0], self.tile[1])
         };
         o.mip = self.mip;
+        o.wrap = self.wrap;
+        o.non_finite = self.fixnan.unwrap_or(NonFinite::Refuse);
+        o.constant_detect = self.constant_color_detect;
+        o.opaque_detect = self.opaque_detect;
         o.threads = self.threads;
         o.overwrite = self.force;
         o

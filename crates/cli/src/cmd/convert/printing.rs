@@ -41,6 +41,16 @@ struct Record {
     non_finite: Option<u64>,
     above_one: Option<u64>,
     saturated: Option<u64>,
+    /// Input pixels with NaN or infinite values repaired (--fixnan black or box3).
+    non_finite_repaired: Option<u64>,
+    /// The wrap modes the texture records (`s,t`); null for scanline outputs.
+    wrap: Option<String>,
+    /// Every pixel was the same: written as one tile.
+    constant: Option<bool>,
+    /// Alpha was 1 everywhere and was left out.
+    alpha_dropped: Option<bool>,
+    /// The hash of the source pixels that -u compares.
+    source_hash: Option<String>,
 }
 
 impl Record {
@@ -66,6 +76,11 @@ impl Record {
             non_finite: None,
             above_one: None,
             saturated: None,
+            non_finite_repaired: None,
+            wrap: None,
+            constant: None,
+            alpha_dropped: None,
+            source_hash: None,
         }
     }
 }
@@ -138,6 +153,15 @@ pub(super) fn converted(
         non_finite: Some(r.non_finite),
         above_one: Some(r.above_one),
         saturated: Some(r.saturated),
+        non_finite_repaired: Some(if r.non_finite_input.1 {
+            r.non_finite_input.0
+        } else {
+            0
+        }),
+        wrap: r.wrap.map(|((s, t), _)| format!("{s},{t}")),
+        constant: Some(r.constant),
+        alpha_dropped: Some(r.opaque_dropped),
+        source_hash: Some(r.source_hash.clone()),
         ..Record::not_converted(input, output, "ok", r.seconds)
     };
     emit(args, record, &line)
@@ -158,6 +182,19 @@ fn summary_line(r: &Report) -> String {
     );
     if r.premultiplied {
         line += ", straight alpha premultiplied";
+    }
+    if r.opaque_dropped {
+        line += ", alpha 1 everywhere (left out)";
+    }
+    if r.constant {
+        line += ", one colour (written as one tile)";
+    }
+    if let (n, true) = r.non_finite_input {
+        line += &format!(", {n} pixels with NaN or infinite values repaired");
+    }
+    if let Some(((s, t), declared)) = r.wrap {
+        let from = if declared { " (the input's)" } else { "" };
+        line += &format!(", wrap {s},{t}{from}");
     }
     if r.non_finite > 0 {
         line += &format!(", {} pixels NaN or infinite (written as NaN)", r.non_finite);

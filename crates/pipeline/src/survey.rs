@@ -1,0 +1,376 @@
+//! One pass over the input's full-resolution level before anything is written: what the
+//! header must say and what the pixels need, known before the first block is made.
+//!
+//! - NaN and infinities in the channels read: refused (as `maketx --checknan`), repaired
+//!   (`--fixnan black|box3`, as OpenImageIO's `fixNonFinite`) or, only when asked, kept.
+//! - A constant texture (every pixel the same), written as one tile (`maketx
+//!   --constant-color-detect`); an alpha that is 1 everywhere, dropped (`--opaque-detect`).
+//! - The average of the output's channels (`oiio:AverageColor`, which OpenImageIO's texture
+//!   system reports), from the uplifted spectra.
+//! - A hash of the source pixels as read, which `-u` compares: a source replaced by another
+//!   image is rebuilt whatever its modification time.
+
+use super::{uplift_block, Error, Job, Reading, Result, ToXyz};
+use rayon::prelude::*;
+use specconv_exr::Block;
+use specconv_oiio::{ImageReader, Pixels};
+use std::collections::HashMap;
+
+/// The header attribute that records the hash of the source pixels.
+pub const SOURCE_HASH: &str = "specconvSourceHash";
+
+/// Non-finite pixels `box3` repairs at most: each is kept until its block is made.
+pub const BOX3_LIMIT: u64 = 1 << 22;
+
+/// What happens to NaN and infinite values in the channels read (colour and alpha).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum NonFinite {
+    /// The input is refused (maketx `--checknan`).
+    Refuse,
+    /// Each such value becomes 0.
+    Black,
+    /// Each such value becomes the average of the finite values of that channel among its
+    /// 3×3 neighbours (0 when none is finite), as OpenImageIO's `fixNonFinite` box3.
+    Box3,
+    /// Written as they are (their spectra are NaN, and so is every MIP level filtered from
+    /// them).
+    Keep,
+}
+
+/// How non-finite values of the channels read are replaced while blocks are made.
+#[derive(Debug, Default)]
+pub(crate) enum Repair {
+    /// Nothing replaced.
+    #[default]
+    None,
+    /// Replaced by 0.
+    Black,
+    /// The repaired pixel of each (x, y) that had one.
+    Box3(HashMap<(usize, usize), Vec<f32>>),
+}
+
+impl Repair {
+    /// Whether pixel `px` needs repair: a repair is asked and a channel read is not finite.
+    #[inline]
+    pub(crate) fn fixes(&self, px: &[f32], colour: &[usize], alpha: Option<usize>) -> bool {
+        !matches!(self, Repair::None) && !finite(px, colour, alpha)
+    }
+
+    /// Pixel `px` at (x, y) of level 0, repaired.
+    pub(crate) fn fixed(&self, px: &[f32], reading: &Reading, at: (usize, usize)) -> Vec<f32> {
+        match self {
+            Repair::Box3(fixed) => {
+                if let Some(p) = fixed.get(&at) {
+                    return p.clone();
+                }
+            }
+            Repair::None | Repair::Black => {}
+        }
+        let mut p = px.to_vec();
+        for c in read_channels(reading.colour, reading.alpha) {
+            if !p[c].is_finite() {
+                p[c] = 0.0;
+            }
+        }
+        p
+    }
+}
+
+fn read_channels(colour: &[usize], alpha: Option<usize>) -> impl Iterator<Item = usize> + '_ {
+    colour.iter().copied().chain(alpha)
+}
+
+#[inline]
+fn finite(px: &[f32], colour: &[usize], alpha: Option<usize>) -> bool {
+    read_channels(colour, alpha).all(|c| px[c].is_finite())
+}
+
+/// What the pass found.
+#[derive(Debug)]
+pub struct Survey {
+    /// Pixels with a NaN or infinite value in a channel read, and the first of them (x, y).
+    pub non_finite: u64,
+    /// The first such pixel.
+    pub first_non_finite: Option<(usize, usize)>,
+    /// Whether they were repaired.
+    pub repaired: bool,
+    /// Every pixel has these values (all the channels read from the file), when it does.
+    pub constant: Option<Vec<f32>>,
+    /// Alpha is read and 1 everywhere.
+    pub opaque: bool,
+    /// The hash of the source pixels (`xxh3-128:` and 32 hex digits).
+    pub hash: String,
+    /// Mean of each band over level 0, then of alpha when it is read; `None` when a value is
+    /// not finite.
+    pub average: Option<Vec<f64>>,
+    pub(crate) repair: Repair,
+}
+
+/// Rows read at a time: about a million pixels, at least one row.
+fn rows_per_read(width: usize) -> usize {
+    ((1 << 20) / width.max(1)).max(1)
+}
+
+/// The hash of level 0's pixels as `reader` reads them (every channel, as float), as
+/// [`Survey::hash`] records it.
+pub fn source_hash(reader: &mut ImageReader) -> Result<String> {
+    let (width, height) = (reader.info().width(), reader.info().height());
+    let mut hash = Hasher::new(width, height);
+    let step = rows_per_read(width as usize) as u32;
+    let mut y = 0;
+    while y < height {
+        let end = (y + step).min(height);
+        hash.update(&reader.read_scanlines(0, y..end)?);
+        y = end;
+    }
+    Ok(hash.finish())
+}
+
+struct Hasher(xxhash_rust::xxh3::Xxh3);
+
+impl Hasher {
+    fn new(width: u32, height: u32) -> Hasher {
+        let mut h = xxhash_rust::xxh3::Xxh3::new();
+        h.update(&width.to_le_bytes());
+        h.update(&height.to_le_bytes());
+        Hasher(h)
+    }
+
+    fn update(&mut self, px: &Pixels) {
+        h_update(&mut self.0, px);
+    }
+
+    fn finish(&self) -> String {
+        format!("xxh3-128:{:032x}", self.0.digest128())
+    }
+}
+
+fn h_update(h: &mut xxhash_rust::xxh3::Xxh3, px: &Pixels) {
+    let mut bytes = Vec::with_capacity(px.data.len() * 4);
+    for v in &px.data {
+        bytes.extend_from_slice(&v.to_le_bytes());
+    }
+    h.update(&bytes);
+}
+
+/// Surveys level 0 through `reader` (left at its end: reread it from the start).
+pub(crate) fn survey(
+    job: &Job,
+    reader: &mut ImageReader,
+    (colour, alpha): (&[usize], Option<usize>),
+    to_xyz: &ToXyz,
+    premultiply: bool,
+) -> Result<Survey> {
+    let policy = job.settings.non_finite;
+    let (width, height) = (
+        reader.info().width() as usize,
+        reader.info().height() as usize,
+    );
+    let mut hash = Hasher::new(width as u32, height as u32);
+    let mut found = Survey {
+        non_finite: 0,
+        first_non_finite: None,
+        repaired: matches!(policy, NonFinite::Black | NonFinite::Box3),
+        constant: None,
+        opaque: alpha.is_some(),
+        hash: String::new(),
+        average: None,
+        repair: match policy {
+            NonFinite::Black => Repair::Black,
+            NonFinite::Box3 => Repair::Box3(HashMap::new()),
+            NonFinite::Refuse | NonFinite::Keep => Repair::None,
+        },
+    };
+    let mut first: Option<Vec<f32>> = None;
+    let mut constant = true;
+    let n = job.method.grid().len();
+    let mut sums = vec![0.0f64; n + usize::from(alpha.is_some())];
+    // Strip k − 1 waits for strip k: box3 repairs its last row from strip k's first.
+    let mut previous: Option<(usize, Pixels, Vec<(usize, usize)>)> = None;
+    let mut above: Option<Vec<f32>> = None;
+    let step = rows_per_read(width);
+    let mut y = 0;
+    while y <= height {
+        let strip = if y < height {
+            let end = (y + step).min(height);
+            let px = reader.read_scanlines(0, y as u32..end as u32)?;
+            hash.update(&px);
+            let mut bad = Vec::new();
+            for (i, p) in px.data.chunks_exact(px.channels).enumerate() {
+                let at = (i % width, y + i / width);
+                if !finite(p, colour, alpha) {
+                    found.non_finite += 1;
+                    found.first_non_finite.get_or_insert(at);
+                    bad.push(at);
+                }
+                if found.opaque && alpha.is_some_and(|a| p[a] != 1.0) {
+                    found.opaque = false;
+                }
+                if constant {
+                    match &first {
+                        None => first = Some(p.to_vec()),
+                        Some(f) => {
+                            constant = read_channels(colour, alpha)
+                                .all(|c| f[c].to_bits() == p[c].to_bits());
+                        }
+                    }
+                }
+            }
+            if policy == NonFinite::Refuse && found.non_finite > 0 {
+                return Err(Error::NonFinite {
+                    input: job.input.to_path_buf(),
+                    pixels: found.non_finite,
+                    first: found.first_non_finite.expect("counted"),
+                    rows: (y, end),
+                });
+            }
+            if policy == NonFinite::Box3 && found.non_finite > BOX3_LIMIT {
+                return Err(Error::TooManyNonFinite {
+                    input: job.input.to_path_buf(),
+                    limit: BOX3_LIMIT,
+                });
+            }
+            Some((y, px, bad))
+        } else {
+            None
+        };
+        if let Some((y0, px, bad)) = previous.take() {
+            let below = strip.as_ref().map(|(_, next, _)| row(next, 0));
+            if let Repair::Box3(fixed) = &mut found.repair {
+                for &(x, py) in &bad {
+                    let p = box3(
+                        &px,
+                        y0,
+                        (x, py),
+                        above.as_deref(),
+                        below.as_deref(),
+                        (colour, alpha),
+                    );
+                    fixed.insert((x, py), p);
+                }
+            }
+            let reading = Reading {
+                to_xyz,
+                colour,
+                alpha,
+                premultiply,
+                repair: &found.repair,
+            };
+            add_spectra(job, &reading, &px, y0, width, &mut sums)?;
+            above = Some(row(&px, px.height as usize - 1));
+        }
+        previous = strip;
+        if y == height {
+            break;
+        }
+        y = (y + step).min(height);
+    }
+    found.repaired &= found.non_finite > 0;
+    found.constant = if constant { first } else { None };
+    found.hash = hash.finish();
+    let count = (width * height) as f64;
+    found.average = sums
+        .iter()
+        .all(|s| s.is_finite())
+        .then(|| sums.iter().map(|s| s / count).collect());
+    Ok(found)
+}
+
+/// Row `y` of a strip, every channel.
+fn row(px: &Pixels, y: usize) -> Vec<f32> {
+    let w = px.width as usize * px.channels;
+    px.data[y * w..(y + 1) * w].to_vec()
+}
+
+/// Pixel (x, y) of level 0 repaired from its 3×3 neighbours: the strip holds rows from `y0`,
+/// `above` and `below` are the rows just outside it (if any).
+fn box3(
+    px: &Pixels,
+    y0: usize,
+    (x, y): (usize, usize),
+    above: Option<&[f32]>,
+    below: Option<&[f32]>,
+    (colour, alpha): (&[usize], Option<usize>),
+) -> Vec<f32> {
+    let (w, ch) = (px.width as usize, px.channels);
+    let strip_rows = px.height as usize;
+    let value = |nx: usize, ny: isize, c: usize| -> Option<f32> {
+        let v = if ny < y0 as isize {
+            above.map(|r| r[nx * ch + c])
+        } else if ny >= (y0 + strip_rows) as isize {
+            below.map(|r| r[nx * ch + c])
+        } else {
+            Some(px.pixel(nx as u32, (ny as usize - y0) as u32)[c])
+        };
+        v.filter(|v| v.is_finite())
+    };
+    let mut out = px.pixel(x as u32, (y - y0) as u32).to_vec();
+    for c in read_channels(colour, alpha) {
+        if out[c].is_finite() {
+            continue;
+        }
+        let (mut sum, mut count) = (0.0f64, 0u32);
+        for dy in -1isize..=1 {
+            for dx in -1isize..=1 {
+                let nx = x as isize + dx;
+                let ny = y as isize + dy;
+                if (dx, dy) == (0, 0) || nx < 0 || nx >= w as isize || ny < 0 {
+                    continue;
+                }
+                if let Some(v) = value(nx as usize, ny, c) {
+                    sum += f64::from(v);
+                    count += 1;
+                }
+            }
+        }
+        out[c] = if count == 0 {
+            0.0
+        } else {
+            (sum / f64::from(count)) as f32
+        };
+    }
+    out
+}
+
+/// Adds the spectra (and alpha) of every pixel of a strip to `sums`.
+fn add_spectra(
+    job: &Job,
+    reading: &Reading,
+    px: &Pixels,
+    y0: usize,
+    width: usize,
+    sums: &mut [f64],
+) -> Result<()> {
+    let n = job.method.grid().len();
+    let blocks: Vec<Block> = (0..width)
+        .step_by(64)
+        .map(|x| Block {
+            chunk: 0,
+            level: 0,
+            x,
+            y: y0,
+            width: 64.min(width - x),
+            height: px.height as usize,
+        })
+        .collect();
+    let partial: Vec<Vec<f64>> = blocks
+        .par_iter()
+        .map(|b| -> Result<Vec<f64>> {
+            let (bands, a, _) = uplift_block(job, reading, b, px, y0)?;
+            let mut s = vec![0.0f64; sums.len()];
+            for spectrum in bands.chunks_exact(n) {
+                for (s, &v) in s.iter_mut().zip(spectrum) {
+                    *s += f64::from(v);
+                }
+            }
+            if let Some(a) = a {
+                s[n] = a.iter().map(|&v| f64::from(v)).sum();
+            }
+            Ok(s)
+        })
+        .collect::<Result<_>>()?;
+    for p in partial {
+        sums.iter_mut().zip(p).for_each(|(s, p)| *s += p);
+    }
+    Ok(())
+}
