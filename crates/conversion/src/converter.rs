@@ -228,6 +228,7 @@ impl Converter {
                 source_colorspace: Some(opened.colorspace().to_string()),
                 config: Some(self.config.source().to_string()),
                 source: Some(file_name(input)),
+                source_stat: crate::provenance::source_stat(input),
                 ..self.provenance.clone()
             };
             opened.write(&provenance.to_attributes(), progress)
@@ -261,16 +262,30 @@ impl Converter {
         })
     }
 
-    /// Whether `output` is newer than `input` and was written with these same settings (as
-    /// `maketx -u` decides).
+    /// Whether `output` is newer than `input`, was written with these same settings from an
+    /// input of this name, and from these pixels: the input's size and change times are the
+    /// ones recorded, or else the hash of its pixels is (a source replaced by another image
+    /// with an older time is rebuilt; a library copied elsewhere is not).
     pub fn is_up_to_date(&self, input: &Path, output: &Path) -> bool {
         let modified = |p: &Path| std::fs::metadata(p).and_then(|m| m.modified()).ok();
-        match (modified(input), modified(output)) {
-            (Some(i), Some(o)) if o >= i => recorded(output).is_some_and(|p| {
-                p.settings == self.provenance.settings && p.source == Some(file_name(input))
-            }),
-            _ => false,
+        let Some(p) = (match (modified(input), modified(output)) {
+            (Some(i), Some(o)) if o >= i => recorded(output),
+            _ => None,
+        }) else {
+            return false;
+        };
+        if p.settings != self.provenance.settings || p.source != Some(file_name(input)) {
+            return false;
         }
+        if p.source_stat.is_some() && p.source_stat == crate::provenance::source_stat(input) {
+            return true;
+        }
+        let request = specconv_pipeline::input::Request {
+            subimage: self.options.subimage.clone(),
+            channels: self.options.channels.clone(),
+        };
+        p.source_hash.is_some()
+            && specconv_pipeline::source_hash(input, &request).ok() == p.source_hash
     }
 
     /// The options it was built from.

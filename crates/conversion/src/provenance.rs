@@ -34,6 +34,31 @@ pub struct Provenance {
     pub config: Option<String>,
     /// The input's file name.
     pub source: Option<String>,
+    /// The input's size and change times when it was read ([`source_stat`]): while they
+    /// stay the same, `-u` need not read the input to compare its hash.
+    pub source_stat: Option<String>,
+    /// The hash of the input's pixels (written by the pipeline, read here for `-u`).
+    pub source_hash: Option<String>,
+}
+
+/// The attribute of [`Provenance::source_stat`].
+pub const SOURCE_STAT: &str = "specconvSourceStat";
+
+/// `size=… mtime=… ctime=…` of a file (nanoseconds): a replaced or rewritten file changes its
+/// ctime, which no tool can set back; a copied library (rsync, cp -a) changes it too, and is
+/// then compared by hash.
+pub fn source_stat(path: &std::path::Path) -> Option<String> {
+    use std::os::unix::fs::MetadataExt;
+    let m = std::fs::metadata(path).ok()?;
+    Some(format!(
+        "size={} mtime={}.{:09} ctime={}.{:09} ino={}",
+        m.size(),
+        m.mtime(),
+        m.mtime_nsec(),
+        m.ctime(),
+        m.ctime_nsec(),
+        m.ino()
+    ))
 }
 
 /// Why a file's emission convention is the one [`Provenance::emission_convention`] gives.
@@ -84,6 +109,7 @@ impl Provenance {
             ("specconvSourceColorspace", text(&self.source_colorspace)),
             ("specconvConfig", text(&self.config)),
             ("specconvSource", text(&self.source)),
+            (SOURCE_STAT, text(&self.source_stat)),
         ]
         .into_iter()
         .filter_map(|(k, v)| v.map(|v| (k.to_string(), v)))
@@ -124,6 +150,8 @@ impl Provenance {
             source_colorspace: attr("specconvSourceColorspace"),
             config: attr("specconvConfig"),
             source: attr("specconvSource"),
+            source_stat: attr(SOURCE_STAT),
+            source_hash: attr(specconv_pipeline::survey::SOURCE_HASH),
         })
     }
 

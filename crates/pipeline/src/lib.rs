@@ -921,6 +921,14 @@ fn strips(file: &SpectralFile) -> Vec<Strip> {
     out
 }
 
+/// The hash of `input`'s full-resolution pixels in the subimage `request` names, as
+/// conversions record it ([`survey::Survey::hash`]).
+pub fn source_hash(input: &Path, request: &input::Request) -> Result<String> {
+    specconv_atomic_file::readable_file(input)?;
+    let (mut reader, _) = input::open(input, request)?;
+    survey::source_hash(&mut reader)
+}
+
 /// Refuses a special file as input (before anything probes it), writing over the input, and
 /// over an existing output unless asked to: the rules every writer shares
 /// (specconv_atomic_file::plan).
