@@ -755,12 +755,10 @@ fn encode_made_block(
             }
         }
     }
-    let (chunk, saturated) = finish_block(file, job, b, bands, a.as_deref())?;
-    let counts = Counts {
-        saturated,
-        ..Counts::default()
-    };
-    Ok((b.chunk, chunk, counts, None))
+    // Counted on level 0 only: a smaller level's value beyond the half range comes from one
+    // there.
+    let (chunk, _) = finish_block(file, job, b, bands, a.as_deref())?;
+    Ok((b.chunk, chunk, Counts::default(), None))
 }
 
 pub use input::colour_channels;

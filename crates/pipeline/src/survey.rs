@@ -238,14 +238,8 @@ pub(crate) fn survey(
             let below = strip.as_ref().map(|(_, next, _)| row(next, 0));
             if let Repair::Box3(fixed) = &mut found.repair {
                 for &(x, py) in &bad {
-                    let p = box3(
-                        &px,
-                        y0,
-                        (x, py),
-                        above.as_deref(),
-                        below.as_deref(),
-                        (colour, alpha),
-                    );
+                    let rows = (above.as_deref(), below.as_deref());
+                    let p = box3(&px, y0, (x, py), rows, fixed, (colour, alpha));
                     fixed.insert((x, py), p);
                 }
             }
@@ -283,24 +277,28 @@ fn row(px: &Pixels, y: usize) -> Vec<f32> {
 }
 
 /// Pixel (x, y) of level 0 repaired from its 3×3 neighbours: the strip holds rows from `y0`,
-/// `above` and `below` are the rows just outside it (if any).
+/// `rows` are the rows just above and below it (if any). As OpenImageIO's `fixNonFinite`
+/// box3 (which repairs in place, in order): a neighbour before (x, y) in row order counts as
+/// already repaired (`fixed`).
 fn box3(
     px: &Pixels,
     y0: usize,
     (x, y): (usize, usize),
-    above: Option<&[f32]>,
-    below: Option<&[f32]>,
+    (above, below): (Option<&[f32]>, Option<&[f32]>),
+    fixed: &HashMap<(usize, usize), Vec<f32>>,
     (colour, alpha): (&[usize], Option<usize>),
 ) -> Vec<f32> {
     let (w, ch) = (px.width as usize, px.channels);
     let strip_rows = px.height as usize;
-    let value = |nx: usize, ny: isize, c: usize| -> Option<f32> {
-        let v = if ny < y0 as isize {
+    let value = |nx: usize, ny: usize, c: usize| -> Option<f32> {
+        let v = if let Some(p) = fixed.get(&(nx, ny)) {
+            Some(p[c])
+        } else if ny < y0 {
             above.map(|r| r[nx * ch + c])
-        } else if ny >= (y0 + strip_rows) as isize {
+        } else if ny >= y0 + strip_rows {
             below.map(|r| r[nx * ch + c])
         } else {
-            Some(px.pixel(nx as u32, (ny as usize - y0) as u32)[c])
+            Some(px.pixel(nx as u32, (ny - y0) as u32)[c])
         };
         v.filter(|v| v.is_finite())
     };
@@ -309,25 +307,19 @@ fn box3(
         if out[c].is_finite() {
             continue;
         }
-        let (mut sum, mut count) = (0.0f64, 0u32);
-        for dy in -1isize..=1 {
-            for dx in -1isize..=1 {
-                let nx = x as isize + dx;
-                let ny = y as isize + dy;
-                if (dx, dy) == (0, 0) || nx < 0 || nx >= w as isize || ny < 0 {
+        let (mut sum, mut count) = (0.0f32, 0u32);
+        for ny in y.saturating_sub(1)..=y + 1 {
+            for nx in x.saturating_sub(1)..=(x + 1).min(w - 1) {
+                if (nx, ny) == (x, y) {
                     continue;
                 }
-                if let Some(v) = value(nx as usize, ny, c) {
-                    sum += f64::from(v);
+                if let Some(v) = value(nx, ny, c) {
+                    sum += v;
                     count += 1;
                 }
             }
         }
-        out[c] = if count == 0 {
-            0.0
-        } else {
-            (sum / f64::from(count)) as f32
-        };
+        out[c] = if count == 0 { 0.0 } else { sum / count as f32 };
     }
     out
 }

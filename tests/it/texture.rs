@@ -1,0 +1,407 @@
+//! Texture prep (docs/guide.md, "Textures"): MIP maps made from the spectra, checked against
+//! maketx and OpenImageIO's TextureSystem; wrap modes and texture attributes as maketx writes
+//! them; NaN refused or repaired as OpenImageIO repairs them; constant and opaque textures;
+//! `-u` by the hash of the source pixels.
+
+use crate::runner::*;
+use std::path::Path;
+
+fn s(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
+
+/// oiiotool's `--info -v` of a file.
+fn info(p: &Path) -> String {
+    tool("oiiotool", &["--info", "-v", s(p)])
+}
+
+/// The `MIP-map levels:` line oiiotool prints.
+fn levels_line(p: &Path) -> String {
+    info(p)
+        .lines()
+        .find(|l| l.contains("MIP-map levels"))
+        .map(|l| l.trim().to_string())
+        .unwrap_or_default()
+}
+
+/// The largest difference oiiotool's --diff reports between level `level` of two files.
+fn max_difference(a: &Path, b: &Path, level: usize) -> f64 {
+    let out = std::process::Command::new("oiiotool")
+        .args([s(a), "--selectmip", &level.to_string(), s(b)])
+        .args(["--selectmip", &level.to_string(), "--diff"])
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&out.stdout).into_owned();
+    if text.contains("PASS") && !text.contains("Max error") {
+        return 0.0;
+    }
+    let line = text
+        .lines()
+        .find(|l| l.contains("Max error"))
+        .unwrap_or_else(|| panic!("no difference reported:\n{text}"));
+    line.split('=')
+        .nth(1)
+        .unwrap()
+        .split_whitespace()
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap()
+}
+
+/// A smooth linear float image of `w × h` in (0.1, 0.7): colours a reflectance has.
+fn linear_image(path: &Path, w: usize, h: usize) {
+    tool(
+        "oiiotool",
+        &[
+            "--pattern",
+            "noise:type=uniform:min=0.1:max=0.7",
+            &format!("{w}x{h}"),
+            "3",
+            "--blur",
+            "3x3",
+            "-d",
+            "float",
+            "-o",
+            s(path),
+        ],
+    );
+}
+
+#[test]
+fn mip_levels_are_maketx_filtering_the_spectra_with_maketx_sizes() {
+    let dir = Scratch::new("texture-maketx");
+    // Odd sizes: maketx samples bilinearly at each texel's centre there, a 2×2 box elsewhere.
+    let input = dir.path("in.exr");
+    linear_image(&input, 61, 47);
+    let png = dir.path("in.png");
+    tool("oiiotool", &[s(&input), "-d", "uint8", "-o", s(&png)]);
+    let out = dir.path("out.exr");
+    Cmd::convert(&input, &out).args(["-d", "float"]).ok();
+
+    // The same level sizes as maketx makes of the same input, for a float EXR and a PNG.
+    let tx = dir.path("in.tx");
+    tool("maketx", &[s(&input), "-o", s(&tx)]);
+    assert_eq!(levels_line(&out), levels_line(&tx));
+    assert_eq!(
+        levels_line(&out),
+        "MIP-map levels: 61x47 30x23 15x11 7x5 3x2 1x1"
+    );
+    let png_out = dir.path("png.exr");
+    Cmd::convert(&png, &png_out).ok();
+    assert_eq!(levels_line(&png_out), levels_line(&out));
+
+    // Level k is maketx's filter applied to our level 0's spectra: maketx itself, run on
+    // level 0 extracted as a 36-channel float image, makes the same levels.
+    let level0 = dir.path("level0.exr");
+    tool("oiiotool", &[s(&out), "--selectmip", "0", "-o", s(&level0)]);
+    let reference = dir.path("level0.tx");
+    tool("maketx", &[s(&level0), "-o", s(&reference)]);
+    for level in 1..6 {
+        let d = max_difference(&out, &reference, level);
+        assert!(d <= 1e-5, "level {level}: {d}");
+    }
+}
+
+#[test]
+fn the_texture_system_reads_box_filtered_spectra_at_each_footprint() {
+    let dir = Scratch::new("texture-lookup");
+    let input = dir.path("in.exr");
+    linear_image(&input, 64, 32);
+    let out = dir.path("out.exr");
+    Cmd::convert(&input, &out).ok();
+    let v = script_json("texture_lookup.py", [&out]);
+    let levels = v["levels"].as_array().unwrap();
+    assert_eq!(levels.len(), 7, "{v}");
+    for (k, l) in levels.iter().enumerate() {
+        // Half samples: within half a unit in the last place of values below 1 (2^-11),
+        // plus the rounding of every level on its own.
+        let d = l["max_difference"].as_f64().unwrap();
+        assert!(d <= 1e-3, "level {k}: {d} from level 0 box-filtered ({v})");
+        if k > 0 {
+            let moved = l["moved_from_level_0"].as_f64().unwrap();
+            assert!(moved > 1e-2, "level {k} reads as level 0 does ({v})");
+        }
+    }
+    // oiio:AverageColor is the mean of level 0 (half samples against the float sums).
+    let avg = v["averagecolor_difference"].as_f64().unwrap();
+    assert!(avg <= 1e-3, "{v}");
+}
+
+#[test]
+fn wrap_modes_come_from_maketx_inputs_or_the_option() {
+    let dir = Scratch::new("texture-wrap");
+    let png = dir.path("in.png");
+    noise(&png, 16, "uint8");
+    let tx = dir.path("in.tx");
+    tool("maketx", &["--wrap", "periodic", s(&png), "-o", s(&tx)]);
+    let out = dir.path("tx.exr");
+    let json = Cmd::convert(&tx, &out).arg("--json").ok().json();
+    assert_eq!(json["wrap"], "periodic,periodic");
+    let i = info(&out);
+    assert!(i.contains("wrapmodes: \"periodic,periodic\""), "{i}");
+    assert!(i.contains("textureformat: \"Plain Texture\""), "{i}");
+    assert!(i.contains("fovcot: 1"), "{i}");
+
+    let set = dir.path("set.exr");
+    Cmd::convert(&tx, &set)
+        .args(["--wrap", "clamp,mirror"])
+        .ok();
+    assert!(info(&set).contains("wrapmodes: \"clamp,mirror\""));
+    // Without one from the input or the option: maketx's default.
+    let plain = dir.path("plain.exr");
+    Cmd::convert(&png, &plain).ok();
+    assert!(info(&plain).contains("wrapmodes: \"black,black\""));
+    Cmd::convert(&png, dir.path("x.exr"))
+        .args(["--wrap", "repeat"])
+        .fails(2, &["'repeat' is not a wrap mode", "periodic"]);
+}
+
+/// A linear float image with NaN and infinite values: oiiotool's square root of a picture
+/// with negative squares, and an infinity from a division by zero.
+fn image_with_nan(path: &Path) {
+    python_output([
+        "-c",
+        "import sys, numpy as np, OpenImageIO as oiio\n\
+         a = np.tile(np.linspace(0.1, 0.6, 24, dtype=np.float32)[None, :, None], (16, 1, 3))\n\
+         a[3, 5, 1] = np.nan; a[3, 6, :] = np.nan; a[15, 23, 0] = np.inf; a[8, 0, 2] = -np.inf\n\
+         o = oiio.ImageOutput.create(sys.argv[1])\n\
+         o.open(sys.argv[1], oiio.ImageSpec(24, 16, 3, 'float')); o.write_image(a); o.close()",
+        s(path),
+    ]);
+}
+
+#[test]
+fn nan_is_refused_by_default_and_repaired_as_openimageio_repairs_it() {
+    let dir = Scratch::new("texture-nan");
+    let input = dir.path("nan.exr");
+    image_with_nan(&input);
+    // maketx --checknan refuses the same file.
+    let maketx = std::process::Command::new("maketx")
+        .args(["--checknan", s(&input), "-o", s(&dir.path("x.tx"))])
+        .output()
+        .unwrap();
+    assert!(!maketx.status.success());
+
+    let out = dir.path("out.exr");
+    Cmd::convert(&input, &out).fails(
+        1,
+        &["4 pixel(s)", "NaN or infinite", "x 5, y 3", "--fixnan box3"],
+    );
+    assert!(!out.exists());
+    no_temporaries(&dir.0);
+    Cmd::convert(&input, &out)
+        .arg("--checknan")
+        .fails(1, &["NaN or infinite"]);
+
+    // Repaired as oiiotool --fixnan repairs (OpenImageIO's fixNonFinite): the same output as
+    // converting oiiotool's repaired image.
+    for how in ["box3", "black"] {
+        let ours = dir.path(&format!("{how}.exr"));
+        let json = Cmd::convert(&input, &ours)
+            .args(["--fixnan", how, "--json"])
+            .ok()
+            .json();
+        assert_eq!(json["non_finite_repaired"], 4, "{json}");
+        assert_eq!(json["non_finite"], 0, "{json}");
+        let fixed = dir.path(&format!("fixed-{how}.exr"));
+        tool("oiiotool", &[s(&input), "--fixnan", how, "-o", s(&fixed)]);
+        let theirs = dir.path(&format!("theirs-{how}.exr"));
+        Cmd::convert(&fixed, &theirs).ok();
+        for level in 0..5 {
+            assert_eq!(
+                max_difference(&ours, &theirs, level),
+                0.0,
+                "{how} level {level}"
+            );
+        }
+    }
+    // Kept when asked: the spectra of those pixels are NaN.
+    let kept = dir.path("kept.exr");
+    let json = Cmd::convert(&input, &kept)
+        .args(["--fixnan", "none", "--json"])
+        .ok()
+        .json();
+    assert_eq!(json["non_finite"], 4, "{json}");
+    Cmd::convert(&input, dir.path("y.exr"))
+        .args(["--fixnan", "box3", "--checknan"])
+        .fails(2, &["--checknan"]);
+}
+
+#[test]
+fn constant_textures_are_one_tile_and_opaque_alpha_is_left_out() {
+    let dir = Scratch::new("texture-constant");
+    let input = dir.path("grey.exr");
+    tool(
+        "oiiotool",
+        &[
+            "--pattern",
+            "constant:color=0.2,0.4,0.3,1",
+            "300x200",
+            "4",
+            "-d",
+            "half",
+            "-o",
+            s(&input),
+        ],
+    );
+    let out = dir.path("out.exr");
+    let json = Cmd::convert(&input, &out).arg("--json").ok().json();
+    assert_eq!(json["constant"], true);
+    assert_eq!(json["alpha_dropped"], true);
+    let i = info(&out);
+    assert!(i.contains("64 x   64, 36 channel"), "{i}");
+    assert!(i.contains("oiio:ConstantColor"), "{i}");
+    assert!(!i.contains(" A,") && !i.contains("A, T."), "{i}");
+    // The colour of the one tile is the input's: to-rgb reads it back as linear Rec.709.
+    let back = dir.path("back.exr");
+    Cmd::to_rgb(&out, &back)
+        .args(["--colorspace", "Linear Rec.709 (sRGB)"])
+        .ok();
+    let stats = tool("oiiotool", &["--stats", s(&back)]);
+    let avg = stats
+        .lines()
+        .find(|l| l.contains("Stats Avg"))
+        .unwrap()
+        .to_string();
+    let v: Vec<f64> = avg
+        .split(':')
+        .nth(1)
+        .unwrap()
+        .split_whitespace()
+        .filter_map(|t| t.parse().ok())
+        .take(3)
+        .collect();
+    for (got, want) in v.iter().zip([0.2, 0.4, 0.3]) {
+        assert!((got - want).abs() < 2e-3, "{avg}");
+    }
+
+    let full = dir.path("full.exr");
+    let json = Cmd::convert(&input, &full)
+        .args([
+            "--constant-color-detect=false",
+            "--opaque-detect=false",
+            "--json",
+        ])
+        .ok()
+        .json();
+    assert_eq!(json["constant"], false);
+    let i = info(&full);
+    assert!(i.contains("300 x  200, 37 channel"), "{i}");
+}
+
+#[test]
+fn update_rebuilds_a_source_replaced_by_another_image_with_an_older_time() {
+    let dir = Scratch::new("texture-update");
+    let out = dir.path("out");
+    std::fs::create_dir(&out).unwrap();
+    let input = dir.path("a.exr");
+    linear_image(&input, 32, 32);
+    let status = |json: serde_json::Value| json["status"].as_str().unwrap().to_string();
+    let run = || {
+        Cmd::new(["-u", s(&input), "-o", s(&out), "--json"])
+            .ok()
+            .json()
+    };
+    assert_eq!(status(run()), "ok");
+    assert_eq!(status(run()), "skipped");
+    // The same pixels in a new file with the same time (a library copied with cp -p or
+    // rsync): still up to date, by the hash.
+    let copy = dir.path("copy.exr");
+    tool("cp", &["-p", s(&input), s(&copy)]);
+    std::fs::rename(&copy, &input).unwrap();
+    assert_eq!(status(run()), "skipped");
+    // Another image with a time older than the output's: rebuilt (maketx -u rebuilds it too).
+    let other = dir.path("other.exr");
+    tool(
+        "oiiotool",
+        &[
+            "--pattern",
+            "checker",
+            "32x32",
+            "3",
+            "-d",
+            "float",
+            "-o",
+            s(&other),
+        ],
+    );
+    tool("touch", &["-d", "2001-01-01", s(&other)]);
+    std::fs::rename(&other, &input).unwrap();
+    assert_eq!(status(run()), "ok");
+    assert_eq!(status(run()), "skipped");
+}
+
+#[test]
+fn levels_filtered_from_spectra_keep_the_colour_of_level_0_uplifting_levels_does_not() {
+    // docs/guide.md's measurement: an 8-bit sRGB .tx (maketx filters its encoded values) and
+    // a linear float .tx (filtered linearly: what is left is the uplift's non-linearity).
+    let dir = Scratch::new("texture-consistency");
+    let linear = dir.path("linear.exr");
+    linear_image(&linear, 64, 64);
+    let png = dir.path("srgb.png");
+    tool(
+        "oiiotool",
+        &[
+            s(&linear),
+            "--colorconvert",
+            "linear",
+            "sRGB",
+            "-d",
+            "uint8",
+            "-o",
+            s(&png),
+        ],
+    );
+    for (name, source) in [("srgb8", &png), ("linear", &linear)] {
+        let tx = dir.path(&format!("{name}.tx"));
+        tool("maketx", &[s(source), "-o", s(&tx)]);
+        let filtered = dir.path(&format!("{name}-filtered.exr"));
+        Cmd::convert(&tx, &filtered).ok();
+        let mut uplifted = Vec::new();
+        for level in 0..7 {
+            let extracted = dir.path(&format!("{name}-level{level}.exr"));
+            tool(
+                "oiiotool",
+                &[
+                    s(&tx),
+                    "--selectmip",
+                    &level.to_string(),
+                    "-d",
+                    "float",
+                    "-o",
+                    s(&extracted),
+                ],
+            );
+            let out = dir.path(&format!("{name}-uplifted{level}.exr"));
+            let cs = if name == "srgb8" {
+                "sRGB - Texture"
+            } else {
+                "Linear Rec.709 (sRGB)"
+            };
+            Cmd::convert(&extracted, &out)
+                .args(["--mip", "0", "--colorspace", cs])
+                .ok();
+            uplifted.push(out);
+        }
+        let args: Vec<&Path> = std::iter::once(filtered.as_path())
+            .chain(uplifted.iter().map(|p| p.as_path()))
+            .collect();
+        let v = script_json("mip_consistency.py", &args);
+        eprintln!("{name}: {v}");
+        let rows = v.as_array().unwrap();
+        assert_eq!(rows.len(), 7);
+        let mut worst_uplifted: f64 = 0.0;
+        for row in rows {
+            for ill in ["D65", "A", "FL11"] {
+                // Filtered spectra: the colour of level 0 averaged, under every light, but for
+                // half rounding.
+                let f = row[format!("filtered_{ill}")][1].as_f64().unwrap();
+                assert!(f < 0.1, "{name} {ill}: {row}");
+                worst_uplifted =
+                    worst_uplifted.max(row[format!("uplifted_{ill}")][0].as_f64().unwrap());
+            }
+        }
+        assert!(worst_uplifted.is_finite());
+    }
+}
