@@ -786,7 +786,24 @@ impl SpectralFile {
     /// Writes the header, then every chunk that `produce` hands to its callback (any order,
     /// each exactly once), then completes the offset table. `out` should be buffered. The
     /// callback may be sent to another thread, so that chunks are written while others are made.
-    pub fn write<W, F>(&self, mut out: W, produce: F) -> Result<()>
+    pub fn write<W, F>(&self, out: W, produce: F) -> Result<()>
+    where
+        W: Write + Seek + Send,
+        F: FnOnce(&mut (dyn FnMut(usize, Chunk) -> Result<()> + Send)) -> Result<()>,
+    {
+        self.write_then(out, produce, Vec::new)
+    }
+
+    /// As [`SpectralFile::write`], then gives string attributes the values `late` returns
+    /// once every chunk is written (what is known only then, such as an average): each must
+    /// already be in the header with a value of the same length in bytes, which nothing after
+    /// the header moves for.
+    pub fn write_then<W, F>(
+        &self,
+        mut out: W,
+        produce: F,
+        late: impl FnOnce() -> Vec<(String, String)>,
+    ) -> Result<()>
     where
         W: Write + Seek + Send,
         F: FnOnce(&mut (dyn FnMut(usize, Chunk) -> Result<()> + Send)) -> Result<()>,
@@ -813,38 +830,56 @@ impl SpectralFile {
             (Some(e), _) => Err(e),
             (None, r) => {
                 r?;
-                self.sort_attributes(&mut out)
+                let mut header = self.header.clone();
+                for (name, value) in late() {
+                    let key = Text::new_or_panic(&name);
+                    let same = match header.own_attributes.other.get(&key) {
+                        Some(AttributeValue::Text(t)) => t.as_slice().len() == value.len(),
+                        _ => false,
+                    };
+                    let text = Text::new_or_none(&value).filter(|_| same).ok_or_else(|| {
+                        Error::Invalid(format!(
+                            "attribute {name} was not reserved with {} bytes of plain text",
+                            value.len()
+                        ))
+                    })?;
+                    header
+                        .own_attributes
+                        .other
+                        .insert(key, AttributeValue::Text(text));
+                }
+                sort_attributes(&header, &mut out)
             }
         }
     }
+}
 
-    /// Writes the header's attributes again over themselves, in name order: the `exr` crate
-    /// writes them in the order of a `HashMap`, which changes from run to run, and the same
-    /// image must give the same bytes. The header keeps its length, so nothing moves.
-    fn sort_attributes(&self, out: &mut (impl Write + Seek)) -> Result<()> {
-        let mut written = Vec::new();
-        self.header.write(&mut written)?;
-        let mut attributes: Vec<_> = self.header.all_named_attributes().collect();
-        attributes.sort_by(|a, b| a.0.cmp(b.0));
-        let mut sorted = Vec::with_capacity(written.len());
-        for (name, value) in &attributes {
-            exr::meta::attribute::write(name, value, &mut sorted)?;
-        }
-        exr::meta::sequence_end::write(&mut sorted)?;
-        if sorted.len() != written.len() {
-            // Not the header the exr crate wrote: leave it as it is (a valid file, only its
-            // attribute order unsorted) rather than write over what follows it.
-            return Ok(());
-        }
-        // After the magic number and the version field.
-        let mut rewrite = || -> std::io::Result<()> {
-            out.seek(std::io::SeekFrom::Start(8))?;
-            out.write_all(&sorted)?;
-            out.seek(std::io::SeekFrom::End(0))?;
-            out.flush()
-        };
-        Ok(rewrite().map_err(exr::error::Error::from)?)
+/// Writes `header`'s attributes again over the header written, in name order: the `exr` crate
+/// writes them in the order of a `HashMap`, which changes from run to run, and the same image
+/// must give the same bytes. `header` has the length of the one written, so nothing moves.
+fn sort_attributes(header: &Header, out: &mut (impl Write + Seek)) -> Result<()> {
+    let mut written = Vec::new();
+    header.write(&mut written)?;
+    let mut attributes: Vec<_> = header.all_named_attributes().collect();
+    attributes.sort_by(|a, b| a.0.cmp(b.0));
+    let mut sorted = Vec::with_capacity(written.len());
+    for (name, value) in &attributes {
+        exr::meta::attribute::write(name, value, &mut sorted)?;
     }
+    exr::meta::sequence_end::write(&mut sorted)?;
+    if sorted.len() != written.len() {
+        // Not the header the exr crate wrote: leave it as it is (a valid file, only its
+        // attribute order unsorted) rather than write over what follows it.
+        return Ok(());
+    }
+    // After the magic number and the version field.
+    let mut rewrite = || -> std::io::Result<()> {
+        out.seek(std::io::SeekFrom::Start(8))?;
+        out.write_all(&sorted)?;
+        out.seek(std::io::SeekFrom::End(0))?;
+        out.flush()
+    };
+    Ok(rewrite().map_err(exr::error::Error::from)?)
 }
 
 /// A spectral image read whole (for previews, conversion back to colour and tests).

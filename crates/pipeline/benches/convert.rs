@@ -8,7 +8,9 @@
 //!   written in the same layout, with our ZIP (libdeflate) and with the `exr` crate's own ZIP
 //!   (miniz_oxide), which is what the conversion used before;
 //! - `oiiotool OUT.exr --compression zip -o …`: OpenImageIO re-encoding the same output;
-//! - the whole default conversion with every MIP level.
+//! - the whole default conversion with every MIP level (filtered from level 0's spectra);
+//! - `pipeline::open` alone: the header checks and the survey of level 0 (NaN, constant,
+//!   opaque, the average spectrum, the source hash), which reads and uplifts level 0 once more.
 //!
 //! Prints medians of three, the ratios the project tracks and the file sizes. Run with
 //! `cargo bench -p specconv-pipeline --bench convert`; the machine's load is the reader's to
@@ -223,13 +225,32 @@ fn main() {
                     run(&zip_mip, &path("out-mip.exr"))
                 })
             });
+            let t_open = median(|| {
+                let out = path("out.exr");
+                let job = Job {
+                    input: &input,
+                    output: &out,
+                    config: &config,
+                    method,
+                    settings: &zip,
+                    cancel: &cancel,
+                };
+                let s = Instant::now();
+                let opened = specconv_pipeline::open(&job).unwrap();
+                let t = s.elapsed().as_secs_f64();
+                drop(opened);
+                t
+            });
             println!(
                 "threads {n}: default conversion of photo.tx (2048², level 0, ZIP) {t_zip:.3} s; \
                  --compression none {t_none:.3} s ({:.2}×); encode alone {t_encode:.3} s, with the exr crate's ZIP {t_exr:.3} s ({:.2}× ours); \
-                 oiiotool's ZIP re-encode of the output {t_oiio:.3} s (conversion {:.2}× it); every MIP level {t_mip:.3} s",
+                 oiiotool's ZIP re-encode of the output {t_oiio:.3} s (conversion {:.2}× it); every MIP level {t_mip:.3} s ({:.2}× level 0 alone); \
+                 the survey (open) {t_open:.3} s ({:.2} of the level-0 conversion)",
                 t_zip / t_none,
                 t_exr / t_encode,
                 t_zip / t_oiio,
+                t_mip / t_zip,
+                t_open / t_zip,
             );
             zip_times.push((t_zip, t_none, t_mip));
         });

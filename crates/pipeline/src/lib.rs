@@ -324,8 +324,6 @@ pub fn open<'a>(job: &'a Job<'a>) -> Result<Opened<'a>> {
         job,
         &mut reader,
         (&selection.channels.colour, selection.channels.alpha),
-        &space.to_xyz,
-        premultiply,
     )?;
     Ok(Opened {
         job,
@@ -471,36 +469,71 @@ fn output_file(
         attributes: attributes.iter().cloned().chain(extra).collect(),
         float_attributes: fovcot,
     };
-    let file = SpectralFile::new(spec.clone())?;
-    // The average in the file's channel order, as OpenImageIO's texture system reports it.
-    let Some(average) = &survey.average else {
-        return Ok(file);
-    };
-    let n = job.method.grid().len();
-    let values: Vec<f64> = average[..n]
-        .iter()
-        .copied()
-        .chain(alpha.then(|| average.get(n).copied().unwrap_or(1.0)))
-        .collect();
-    let text = file
-        .in_channel_order(&values)
-        .iter()
-        .map(|v| (*v as f32).to_string())
-        .collect::<Vec<_>>()
-        .join(",");
+    // The average of each channel, known once level 0 is made: its place kept here, its
+    // value written then (`average_attributes`).
     let mut spec = spec;
-    spec.attributes
-        .push(("oiio:AverageColor".into(), text.clone()));
+    let placeholder = average_text(&vec![0.0; usize::from(alpha) + spec.wavelengths.len()]);
+    spec.attributes.push((AVERAGE.into(), placeholder.clone()));
     if constant {
-        spec.attributes.push(("oiio:ConstantColor".into(), text));
+        spec.attributes.push((CONSTANT.into(), placeholder));
     }
     Ok(SpectralFile::new(spec)?)
+}
+
+/// What OpenImageIO's texture system reports as a texture's average colour.
+const AVERAGE: &str = "oiio:AverageColor";
+/// What it answers every lookup of a constant texture with.
+const CONSTANT: &str = "oiio:ConstantColor";
+
+/// Values as `oiio:AverageColor` lists them, each in 13 characters (`+1.234568e-01`), so that
+/// the text's length does not depend on them.
+fn average_text(values: &[f64]) -> String {
+    values
+        .iter()
+        .map(|v| {
+            if !v.is_finite() {
+                return format!("{v:>13}");
+            }
+            let text = format!("{v:+.6e}");
+            let (mantissa, exponent) = text.split_once('e').expect("{:e} has an exponent");
+            let exponent: i32 = exponent.parse().expect("{:e}'s exponent is an integer");
+            format!(
+                "{mantissa}e{}{:02}",
+                if exponent < 0 { '-' } else { '+' },
+                exponent.abs()
+            )
+        })
+        .collect::<Vec<_>>()
+        .join(",")
+}
+
+/// The average (and, for a constant texture, the constant) colour attributes of `file`, from
+/// the sums of level 0's values (bands, then alpha) over its `pixels`.
+fn average_attributes(file: &SpectralFile, sums: &[f64], pixels: u64) -> Vec<(String, String)> {
+    let mean: Vec<f64> = sums.iter().map(|s| s / pixels as f64).collect();
+    let text = average_text(&file.in_channel_order(&mean));
+    let constant = file
+        .spec()
+        .attributes
+        .iter()
+        .any(|(k, _)| k == CONSTANT)
+        .then(|| (CONSTANT.to_string(), text.clone()));
+    std::iter::once((AVERAGE.to_string(), text))
+        .chain(constant)
+        .collect()
 }
 
 /// One block made: its chunk, what its pixels had, and (for a MIP map) its values — the
 /// spectra before rounding, alpha after each spectrum when the file has it — for the smaller
 /// levels.
-type Made = (usize, Chunk, Counts, Option<Vec<f32>>);
+struct Made {
+    index: usize,
+    chunk: Chunk,
+    counts: Counts,
+    kept: Option<Vec<f32>>,
+    /// Level 0: the sums of its values, bands then alpha (for the average); else empty.
+    sums: Vec<f64>,
+}
 
 /// Reads, converts, uplifts and writes every window of `file`; returns the pixels uplifted and
 /// what they had.
@@ -602,92 +635,112 @@ fn write_file(
             })
             .collect()
     };
-    let written = file.write(BufWriter::with_capacity(1 << 20, pending.file()), |sink| {
-        // Window i's blocks are made while window i + 1 is read and window i − 1's chunks are
-        // written, in file order: the writer never holds up the threads that compress.
-        let mut made: Vec<Made> = Vec::new();
-        // Strips of smaller levels that window i − 1 completed: encoded with window i.
-        let mut completed: Vec<mip::MadeStrip> = Vec::new();
-        let mut write = |made: Vec<Made>| -> specconv_exr::Result<()> {
-            for (chunk_index, chunk, c, _) in made {
-                // A window of fine-band chunks is hundreds of megabytes.
-                if job.cancel.load(Ordering::Relaxed) {
-                    return Err(specconv_exr::Error::Invalid("cancelled".into()));
+    // Level 0's sums, for the average the header gets once they are all made.
+    let sums = std::sync::Mutex::new(vec![0.0f64; file.values_per_pixel()]);
+    let level0 = (file.level_size(0).0 * file.level_size(0).1) as u64;
+    let late = || average_attributes(file, &sums.lock().expect("no panic holds it"), level0);
+    let out = BufWriter::with_capacity(1 << 20, pending.file());
+    let written = file.write_then(
+        out,
+        |sink| {
+            // Window i's blocks are made while window i + 1 is read and window i − 1's chunks are
+            // written, in file order: the writer never holds up the threads that compress.
+            let mut made: Vec<Made> = Vec::new();
+            // Strips of smaller levels that window i − 1 completed: encoded with window i.
+            let mut completed: Vec<mip::MadeStrip> = Vec::new();
+            let mut write = |made: Vec<Made>| -> specconv_exr::Result<()> {
+                for Made {
+                    index: chunk_index,
+                    chunk,
+                    counts: c,
+                    sums: block_sums,
+                    ..
+                } in made
+                {
+                    if !block_sums.is_empty() {
+                        let mut sums = sums.lock().expect("no panic holds it");
+                        sums.iter_mut().zip(block_sums).for_each(|(s, b)| *s += b);
+                    }
+                    // A window of fine-band chunks is hundreds of megabytes.
+                    if job.cancel.load(Ordering::Relaxed) {
+                        return Err(specconv_exr::Error::Invalid("cancelled".into()));
+                    }
+                    counts.non_finite += c.non_finite;
+                    counts.above_one += c.above_one;
+                    counts.saturated += c.saturated;
+                    counts.tally += c.tally;
+                    sink(chunk_index, chunk)?;
                 }
-                counts.non_finite += c.non_finite;
-                counts.above_one += c.above_one;
-                counts.saturated += c.saturated;
-                counts.tally += c.tally;
-                sink(chunk_index, chunk)?;
+                Ok(())
+            };
+            for (i, window) in windows.iter().enumerate() {
+                if job.cancel.load(Ordering::Relaxed) {
+                    return Err(fail(Error::Cancelled));
+                }
+                let rows = next
+                    .take()
+                    .expect("each window is read before it is processed");
+                let previous = std::mem::take(&mut made);
+                let lower = std::mem::take(&mut completed);
+                let (chunks, (read_next, wrote)) = rayon::join(
+                    || -> Result<(Vec<Vec<Made>>, Vec<Made>)> {
+                        let (strips, lower) = rayon::join(
+                            || {
+                                window
+                                    .par_iter()
+                                    .zip(rows.par_iter())
+                                    .map(|(strip, px)| {
+                                        strip
+                                            .blocks
+                                            .par_iter()
+                                            .map(|b| {
+                                                // Checked per block, not only per window: a
+                                                // window of fine-band blocks takes seconds.
+                                                if job.cancel.load(Ordering::Relaxed) {
+                                                    return Err(Error::Cancelled);
+                                                }
+                                                encode_block(file, job, reading, b, px)
+                                            })
+                                            .collect::<Result<Vec<_>>>()
+                                    })
+                                    .collect::<Result<Vec<_>>>()
+                            },
+                            || encode_made(&lower),
+                        );
+                        Ok((strips?, lower?))
+                    },
+                    || {
+                        let wrote = write(previous);
+                        let read = windows.get(i + 1).map(|w| read(reader, w)).transpose();
+                        (read, wrote)
+                    },
+                );
+                wrote?;
+                next = read_next.map_err(&mut fail)?;
+                let (strips, lower) = chunks.map_err(&mut fail)?;
+                if let Some(cascade) = cascade.as_mut() {
+                    for (strip, blocks) in window.iter().zip(&strips) {
+                        let rows = strip_rows(file, strip, blocks, values);
+                        completed.extend(cascade.push(&rows, file.level_size(0).0));
+                    }
+                }
+                made = strips.into_iter().flatten().chain(lower).collect();
+                done += window
+                    .iter()
+                    .map(|s| (file.level_size(s.level).0 * s.height) as u64)
+                    .sum::<u64>();
+                progress(done, total);
             }
-            Ok(())
-        };
-        for (i, window) in windows.iter().enumerate() {
+            write(made)?;
+            // The smaller levels' last strips: the 1×1 level at least.
             if job.cancel.load(Ordering::Relaxed) {
                 return Err(fail(Error::Cancelled));
             }
-            let rows = next
-                .take()
-                .expect("each window is read before it is processed");
-            let previous = std::mem::take(&mut made);
-            let lower = std::mem::take(&mut completed);
-            let (chunks, (read_next, wrote)) = rayon::join(
-                || -> Result<(Vec<Vec<Made>>, Vec<Made>)> {
-                    let (strips, lower) = rayon::join(
-                        || {
-                            window
-                                .par_iter()
-                                .zip(rows.par_iter())
-                                .map(|(strip, px)| {
-                                    strip
-                                        .blocks
-                                        .par_iter()
-                                        .map(|b| {
-                                            // Checked per block, not only per window: a
-                                            // window of fine-band blocks takes seconds.
-                                            if job.cancel.load(Ordering::Relaxed) {
-                                                return Err(Error::Cancelled);
-                                            }
-                                            encode_block(file, job, reading, b, px)
-                                        })
-                                        .collect::<Result<Vec<_>>>()
-                                })
-                                .collect::<Result<Vec<_>>>()
-                        },
-                        || encode_made(&lower),
-                    );
-                    Ok((strips?, lower?))
-                },
-                || {
-                    let wrote = write(previous);
-                    let read = windows.get(i + 1).map(|w| read(reader, w)).transpose();
-                    (read, wrote)
-                },
-            );
-            wrote?;
-            next = read_next.map_err(&mut fail)?;
-            let (strips, lower) = chunks.map_err(&mut fail)?;
-            if let Some(cascade) = cascade.as_mut() {
-                for (strip, blocks) in window.iter().zip(&strips) {
-                    let rows = strip_rows(file, strip, blocks, values);
-                    completed.extend(cascade.push(&rows, file.level_size(0).0));
-                }
-            }
-            made = strips.into_iter().flatten().chain(lower).collect();
-            done += window
-                .iter()
-                .map(|s| (file.level_size(s.level).0 * s.height) as u64)
-                .sum::<u64>();
-            progress(done, total);
-        }
-        write(made)?;
-        // The smaller levels' last strips: the 1×1 level at least.
-        if job.cancel.load(Ordering::Relaxed) {
-            return Err(fail(Error::Cancelled));
-        }
-        let last = encode_made(&completed).map_err(&mut fail)?;
-        write(last)
-    });
+            let last = encode_made(&completed).map_err(&mut fail)?;
+            write(last)
+        },
+        late,
+    );
     if let Some(e) = failure {
         return Err(e);
     }
@@ -719,7 +772,10 @@ fn strip_rows(file: &SpectralFile, strip: &Strip, blocks: &[Made], values: usize
     let width = file.level_size(0).0;
     let mut rows = vec![0.0f32; width * strip.height * values];
     for (b, made) in strip.blocks.iter().zip(blocks) {
-        let v = made.3.as_deref().expect("a MIP map keeps level 0's values");
+        let v = made
+            .kept
+            .as_deref()
+            .expect("a MIP map keeps level 0's values");
         for y in 0..b.height {
             let from = &v[y * b.width * values..(y + 1) * b.width * values];
             let at = (y * width + b.x) * values;
@@ -758,7 +814,13 @@ fn encode_made_block(
     // Counted on level 0 only: a smaller level's value beyond the half range comes from one
     // there.
     let (chunk, _) = finish_block(file, job, b, bands, a.as_deref())?;
-    Ok((b.chunk, chunk, Counts::default(), None))
+    Ok(Made {
+        index: b.chunk,
+        chunk,
+        counts: Counts::default(),
+        kept: None,
+        sums: Vec::new(),
+    })
 }
 
 pub use input::colour_channels;
@@ -857,9 +919,25 @@ fn encode_block(
             .collect(),
         None => bands.clone(),
     });
+    // Level 0's sums, before rounding, for the average.
+    let mut sums = vec![0.0f64; file.values_per_pixel()];
+    for spectrum in bands.chunks_exact(n) {
+        sums.iter_mut()
+            .zip(spectrum)
+            .for_each(|(s, &v)| *s += f64::from(v));
+    }
+    if let Some(a) = &a {
+        sums[n] = a.iter().map(|&v| f64::from(v)).sum();
+    }
     let (chunk, saturated) = finish_block(file, job, b, bands, a.as_deref())?;
     counts.saturated = saturated;
-    Ok((b.chunk, chunk, counts, kept))
+    Ok(Made {
+        index: b.chunk,
+        chunk,
+        counts,
+        kept,
+        sums,
+    })
 }
 
 /// Rounds a block's spectra as the file stores them (half: finite values kept finite, and

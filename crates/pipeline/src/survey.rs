@@ -5,14 +5,10 @@
 //!   (`--fixnan black|box3`, as OpenImageIO's `fixNonFinite`) or, only when asked, kept.
 //! - A constant texture (every pixel the same), written as one tile (`maketx
 //!   --constant-color-detect`); an alpha that is 1 everywhere, dropped (`--opaque-detect`).
-//! - The average of the output's channels (`oiio:AverageColor`, which OpenImageIO's texture
-//!   system reports), from the uplifted spectra.
 //! - A hash of the source pixels as read, which `-u` compares: a source replaced by another
 //!   image is rebuilt whatever its modification time.
 
-use super::{uplift_block, Error, Job, Reading, Result, ToXyz};
-use rayon::prelude::*;
-use specconv_exr::Block;
+use super::{Error, Job, Reading, Result};
 use specconv_oiio::{ImageReader, Pixels};
 use std::collections::HashMap;
 
@@ -100,11 +96,11 @@ pub struct Survey {
     pub opaque: bool,
     /// The hash of the source pixels (`xxh3-128:` and 32 hex digits).
     pub hash: String,
-    /// Mean of each band over level 0, then of alpha when it is read; `None` when a value is
-    /// not finite.
-    pub average: Option<Vec<f64>>,
     pub(crate) repair: Repair,
 }
+
+/// Rows read from `y`, and where among them a channel read is not finite.
+type Read = (usize, Pixels, Vec<(usize, usize)>);
 
 /// Rows read at a time: about a million pixels, at least one row.
 fn rows_per_read(width: usize) -> usize {
@@ -137,7 +133,8 @@ impl Hasher {
     }
 
     fn update(&mut self, px: &Pixels) {
-        h_update(&mut self.0, px);
+        let bytes: Vec<u8> = px.data.iter().flat_map(|v| v.to_le_bytes()).collect();
+        self.0.update(&bytes);
     }
 
     fn finish(&self) -> String {
@@ -145,21 +142,11 @@ impl Hasher {
     }
 }
 
-fn h_update(h: &mut xxhash_rust::xxh3::Xxh3, px: &Pixels) {
-    let mut bytes = Vec::with_capacity(px.data.len() * 4);
-    for v in &px.data {
-        bytes.extend_from_slice(&v.to_le_bytes());
-    }
-    h.update(&bytes);
-}
-
 /// Surveys level 0 through `reader` (left at its end: reread it from the start).
 pub(crate) fn survey(
     job: &Job,
     reader: &mut ImageReader,
     (colour, alpha): (&[usize], Option<usize>),
-    to_xyz: &ToXyz,
-    premultiply: bool,
 ) -> Result<Survey> {
     let policy = job.settings.non_finite;
     let (width, height) = (
@@ -174,7 +161,6 @@ pub(crate) fn survey(
         constant: None,
         opaque: alpha.is_some(),
         hash: String::new(),
-        average: None,
         repair: match policy {
             NonFinite::Black => Repair::Black,
             NonFinite::Box3 => Repair::Box3(HashMap::new()),
@@ -183,10 +169,8 @@ pub(crate) fn survey(
     };
     let mut first: Option<Vec<f32>> = None;
     let mut constant = true;
-    let n = job.method.grid().len();
-    let mut sums = vec![0.0f64; n + usize::from(alpha.is_some())];
     // Strip k − 1 waits for strip k: box3 repairs its last row from strip k's first.
-    let mut previous: Option<(usize, Pixels, Vec<(usize, usize)>)> = None;
+    let mut previous: Option<Read> = None;
     let mut above: Option<Vec<f32>> = None;
     let step = rows_per_read(width);
     let mut y = 0;
@@ -243,14 +227,6 @@ pub(crate) fn survey(
                     fixed.insert((x, py), p);
                 }
             }
-            let reading = Reading {
-                to_xyz,
-                colour,
-                alpha,
-                premultiply,
-                repair: &found.repair,
-            };
-            add_spectra(job, &reading, &px, y0, width, &mut sums)?;
             above = Some(row(&px, px.height as usize - 1));
         }
         previous = strip;
@@ -262,11 +238,6 @@ pub(crate) fn survey(
     found.repaired &= found.non_finite > 0;
     found.constant = if constant { first } else { None };
     found.hash = hash.finish();
-    let count = (width * height) as f64;
-    found.average = sums
-        .iter()
-        .all(|s| s.is_finite())
-        .then(|| sums.iter().map(|s| s / count).collect());
     Ok(found)
 }
 
@@ -322,47 +293,4 @@ fn box3(
         out[c] = if count == 0 { 0.0 } else { sum / count as f32 };
     }
     out
-}
-
-/// Adds the spectra (and alpha) of every pixel of a strip to `sums`.
-fn add_spectra(
-    job: &Job,
-    reading: &Reading,
-    px: &Pixels,
-    y0: usize,
-    width: usize,
-    sums: &mut [f64],
-) -> Result<()> {
-    let n = job.method.grid().len();
-    let blocks: Vec<Block> = (0..width)
-        .step_by(64)
-        .map(|x| Block {
-            chunk: 0,
-            level: 0,
-            x,
-            y: y0,
-            width: 64.min(width - x),
-            height: px.height as usize,
-        })
-        .collect();
-    let partial: Vec<Vec<f64>> = blocks
-        .par_iter()
-        .map(|b| -> Result<Vec<f64>> {
-            let (bands, a, _) = uplift_block(job, reading, b, px, y0)?;
-            let mut s = vec![0.0f64; sums.len()];
-            for spectrum in bands.chunks_exact(n) {
-                for (s, &v) in s.iter_mut().zip(spectrum) {
-                    *s += f64::from(v);
-                }
-            }
-            if let Some(a) = a {
-                s[n] = a.iter().map(|&v| f64::from(v)).sum();
-            }
-            Ok(s)
-        })
-        .collect::<Result<_>>()?;
-    for p in partial {
-        sums.iter_mut().zip(p).for_each(|(s, p)| *s += p);
-    }
-    Ok(())
 }

@@ -379,6 +379,18 @@ fn passed_options_of(submit: &ArgMatches) -> Result<Vec<String>> {
                     words.push(flag.clone());
                 }
             }
+            // `--opaque-detect=false`: a value that must be joined to its flag.
+            _ if arg.is_require_equals_set() => {
+                for occurrence in submit.get_raw_occurrences(id).into_iter().flatten() {
+                    let values: Vec<String> = occurrence
+                        .map(|v| v.to_string_lossy().into_owned())
+                        .collect();
+                    words.push(match values.as_slice() {
+                        [] => flag.clone(),
+                        _ => format!("{flag}={}", values.join(",")),
+                    });
+                }
+            }
             _ => {
                 for occurrence in submit.get_raw_occurrences(id).into_iter().flatten() {
                     words.push(flag.clone());
@@ -621,12 +633,45 @@ mod tests {
                 "-j",
                 "3",
                 "--json",
+                "--opaque-detect=false",
+                "--constant-color-detect",
+                "--fixnan",
+                "box3",
             ])
             .unwrap();
         let submit = find_submit(&m).unwrap();
+        let words = passed_options_of(submit).unwrap();
+        let mut sorted = words.clone();
+        sorted.sort();
         assert_eq!(
-            passed_options_of(submit).unwrap(),
-            ["--method", "smits1999", "--unbounded", "--tile", "32", "32"]
+            sorted,
+            [
+                "--constant-color-detect=true",
+                "--fixnan",
+                "--method",
+                "--opaque-detect=false",
+                "--tile",
+                "--unbounded",
+                "32",
+                "32",
+                "box3",
+                "smits1999"
+            ]
+        );
+        // What a task is given parses to the same options.
+        let task = crate::Cli::command()
+            .try_get_matches_from(
+                ["specconv", "convert", "a.png", "b.exr"]
+                    .into_iter()
+                    .map(String::from)
+                    .chain(words),
+            )
+            .unwrap();
+        let (_, convert) = task.subcommand().unwrap();
+        assert_eq!(convert.get_one::<bool>("opaque_detect"), Some(&false));
+        assert_eq!(
+            convert.get_one::<bool>("constant_color_detect"),
+            Some(&true)
         );
         assert!(Submit::from_arg_matches(submit).unwrap().tasks == 2);
     }

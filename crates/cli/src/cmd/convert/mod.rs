@@ -215,12 +215,12 @@ pub struct Args {
     checknan: bool,
     /// Write a texture whose pixels are all the same as one tile, recording
     /// oiio:ConstantColor (default true, as maketx --constant-color-detect).
-    #[arg(long, value_name = "BOOL", num_args = 0..=1, default_value_t = true,
-          default_missing_value = "true", action = clap::ArgAction::Set)]
+    #[arg(long, value_name = "BOOL", num_args = 0..=1, require_equals = true,
+          default_value_t = true, default_missing_value = "true", action = clap::ArgAction::Set)]
     constant_color_detect: bool,
     /// Leave out an alpha that is 1 everywhere (default true, as maketx --opaque-detect).
-    #[arg(long, value_name = "BOOL", num_args = 0..=1, default_value_t = true,
-          default_missing_value = "true", action = clap::ArgAction::Set)]
+    #[arg(long, value_name = "BOOL", num_args = 0..=1, require_equals = true,
+          default_value_t = true, default_missing_value = "true", action = clap::ArgAction::Set)]
     opaque_detect: bool,
     /// Worker threads (default: one per core).
     #[arg(short = 'j', long, value_name = "N")]
