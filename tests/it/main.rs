@@ -17,4 +17,5 @@ mod safety;
 mod simulate;
 mod spectral_layout;
 mod surface;
+mod texture_prep;
 mod train_eval;

@@ -36,6 +36,7 @@ pub mod kind;
 mod names;
 pub mod outputs;
 pub mod plan;
+pub mod udim;
 
 pub use kind::{read_bounded, readable_file, Kind, ReadError};
 pub use plan::{check as check_plan, Place, PlanError, Replace};

@@ -218,7 +218,8 @@ impl Outputs {
                 }
             }
             Outputs::Template(t) => {
-                let want = lexical(&workdir.join(outputs::from_template(t, input)));
+                let planned = outputs::from_template(t, input).map_err(|e| e.to_string())?;
+                let want = lexical(&workdir.join(planned));
                 if lexical(output) == want {
                     Ok(())
                 } else {

@@ -24,6 +24,7 @@ Examples:
   specconv convert albedo.tx albedo_spectral.exr
   specconv convert --colorspace ACEScg -d float plate.exr plate_spectral.exr
   specconv convert textures/*.png -o spectral -u --json > convert.jsonl
+  specconv convert 'wood.<UDIM>.png' --output-template '{dir}/{stem}_spectral.{udim}.exr'
   specconv convert sky.hdr sky_spectral.exr --emissive
   find textures -name '*.tx' | specconv convert - -o spectral --progress always 2> convert.log
 ";
@@ -103,14 +104,19 @@ fn mip(name: &str) -> Mip {
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// Input textures, then the output file when converting one; `-` reads input paths from
-    /// standard input, one per line.
+    /// standard input, one per line. A UDIM pattern (`wood.<UDIM>.png`, `<udim>` or
+    /// `%(UDIM)d` in the file name) stands for the tiles that exist, in tile order; converting
+    /// one pattern, name the output with the token too (`wood_spectral.<UDIM>.exr`).
     #[arg(value_name = "INPUT… [OUTPUT]", required = true)]
     paths: Vec<PathBuf>,
     /// Write every output into this directory, as STEM_spectral.exr.
     #[arg(short, long, value_name = "DIR", conflicts_with = "output_template")]
     output: Option<PathBuf>,
     /// Output path for each input; {dir}, {stem} and {name} are the input's directory, name
-    /// without extension and file name.
+    /// without extension and file name, {udim} its UDIM tile number (1001…) and {tile} the
+    /// same tile as u1_v1. With {udim} or {tile}, {stem} leaves the tile number out:
+    /// '{dir}/{stem}_spectral.{udim}.exr' makes wood_spectral.1001.exr of wood.1001.png. Any
+    /// other {field} is refused before anything is written.
     #[arg(long, value_name = "TEMPLATE")]
     output_template: Option<String>,
     /// The global --ocio (see `specconv --help`).
