@@ -124,3 +124,170 @@ fn careless_udim_and_template_lines_are_refused_before_anything_is_written() {
         .args(["--output-template", &format!("{d}/all.exr")])
         .refused(&dir, 2, &["which two inputs would write"]);
 }
+
+/// The built-in ACES config with a studio's file rules: `*_normal.*` and `*_mask.*` are `Raw`.
+fn studio_config(dir: &Scratch) -> std::path::PathBuf {
+    let yaml = specconv_ocio::CG_CONFIG_YAML.replace(
+        "  - !<Rule> {name: Default, colorspace: ACES2065-1}",
+        "  - !<Rule> {name: normals, colorspace: Raw, pattern: \"*_normal\", extension: \"*\"}\n  - !<Rule> {name: masks, colorspace: Raw, pattern: \"*_mask\", extension: \"*\"}\n  - !<Rule> {name: Default, colorspace: ACES2065-1}",
+    );
+    assert_ne!(yaml, specconv_ocio::CG_CONFIG_YAML);
+    dir.write("studio.ocio", &yaml)
+}
+
+/// A studio's library: a one-channel roughness map, a normal map its config calls Raw, and an
+/// albedo.
+fn library(dir: &Scratch) {
+    tool(
+        "oiiotool",
+        &[
+            "--pattern",
+            "noise:min=0.2:max=0.8",
+            "32x32",
+            "1",
+            "-d",
+            "uint8",
+            "-o",
+            dir.path("brick_roughness.png").to_str().unwrap(),
+        ],
+    );
+    constant(&dir.path("brick_normal.png"), 32, "0.541,0.439,1.0", &["-d", "uint8"]);
+    constant(&dir.path("brick_albedo.png"), 32, "0.6,0.4,0.2", &["-d", "uint8"]);
+}
+
+#[test]
+fn data_maps_are_skipped_by_default_never_uplifted_and_not_failures() {
+    let dir = Scratch::new("data-skip");
+    library(&dir);
+    let config = studio_config(&dir);
+    let out = dir.path("out");
+    std::fs::create_dir(&out).unwrap();
+    let names = ["brick_roughness.png", "brick_normal.png", "brick_albedo.png"];
+    let mut args: Vec<String> = vec!["--ocio".into(), config.to_str().unwrap().into()];
+    args.extend(names.iter().map(|n| dir.path(n).to_str().unwrap().to_owned()));
+    args.extend(["-o".into(), out.to_str().unwrap().into(), "--json".into()]);
+    let run = Cmd::new(&args).ok();
+    let records = run.json_lines();
+    let field = |i: usize, k: &str| records[i][k].as_str().unwrap_or("null").to_owned();
+    assert_eq!(field(0, "status"), "data", "{records:?}");
+    assert_eq!(field(0, "role"), "data");
+    assert_eq!(field(0, "colorspace_rule"), "default");
+    assert_eq!(field(1, "status"), "data");
+    assert_eq!(field(1, "colorspace"), "Raw");
+    assert_eq!(field(1, "colorspace_rule"), "file-rule");
+    assert_eq!(field(2, "status"), "ok");
+    assert_eq!(field(2, "role"), "colour");
+    assert!(
+        run.stderr.contains("1 converted, 0 skipped, 2 data textures skipped, 0 failed"),
+        "{}",
+        run.stderr
+    );
+    // Only the albedo was written.
+    let written: Vec<_> = std::fs::read_dir(&out).unwrap().map(|e| e.unwrap().file_name()).collect();
+    assert_eq!(written, ["brick_albedo_spectral.exr"]);
+    // `--colorspace raw` makes any texture data; info says so and names the file.
+    let normal = dir.path("brick_normal.png");
+    let v = Cmd::new(["info", "--json", "--colorspace", "raw", normal.to_str().unwrap()])
+        .ok()
+        .json();
+    assert_eq!(v["role"], "data");
+    assert_eq!(v["colorspace_rule"], "colorspace-option");
+    let text = Cmd::new(["--ocio", config.to_str().unwrap(), "info", normal.to_str().unwrap()]).ok();
+    assert!(
+        text.stdout.contains("brick_normal.png") && text.stdout.contains("role:         data"),
+        "{}",
+        text.stdout
+    );
+    // A single channel its colour space calls colour is achromatic colour, and uplifted.
+    let rough = dir.path("brick_roughness.png");
+    let v = Cmd::convert(&rough, out.join("grey.exr"))
+        .args(["--colorspace", "sRGB - Texture", "--json"])
+        .ok()
+        .json();
+    assert_eq!(v["status"], "ok");
+    assert_eq!(v["role"], "achromatic");
+    assert_eq!(v["bands"], 36);
+}
+
+#[test]
+fn data_copy_writes_a_mipmapped_data_texture_with_the_values_and_metadata_kept() {
+    let dir = Scratch::new("data-copy");
+    library(&dir);
+    let config = studio_config(&dir);
+    // A maketx texture with wrap modes, as a studio's normal map is often delivered.
+    let tx = dir.path("wall_normal.tx");
+    tool(
+        "maketx",
+        &[
+            dir.path("brick_normal.png").to_str().unwrap(),
+            "--swrap",
+            "periodic",
+            "--twrap",
+            "clamp",
+            "-o",
+            tx.to_str().unwrap(),
+        ],
+    );
+    for (input, output) in [("brick_roughness.png", "rough.exr"), ("wall_normal.tx", "normal.exr")] {
+        let v = Cmd::convert(dir.path(input), dir.path(output))
+            .args(["--ocio", config.to_str().unwrap(), "--data", "copy", "--json"])
+            .ok()
+            .json();
+        assert_eq!(v["status"], "copied", "{v}");
+        assert_eq!(v["role"], "data");
+        assert_eq!(v["levels"], 6);
+        let info = tool("oiiotool", &["--info", "-v", dir.path(output).to_str().unwrap()]);
+        // maketx's level sizes, tiled, unconverted (no spectral channels), provenance kept.
+        assert!(info.contains("MIP-map levels: 32x32 16x16 8x8 4x4 2x2 1x1"), "{info}");
+        assert!(info.contains("tile size: 64 x 64"), "{info}");
+        assert!(!info.contains("T.550"), "{info}");
+        assert!(info.contains("specconvSourceColorspace: \"Raw\""), "{info}");
+        // The values are the input's, as oiiotool reads both (8-bit steps are 1/255).
+        let diff = std::process::Command::new("oiiotool")
+            .args([dir.path(input).to_str().unwrap(), dir.path(output).to_str().unwrap()])
+            .args(["--fail", "0.001", "--warn", "0.001", "--diff"])
+            .output()
+            .unwrap();
+        let said = String::from_utf8_lossy(&diff.stdout);
+        assert!(said.contains("PASS"), "{said}");
+    }
+    let normal = tool("oiiotool", &["--info", "-v", dir.path("normal.exr").to_str().unwrap()]);
+    assert!(normal.contains("wrapmodes: \"periodic,clamp\""), "{normal}");
+    no_temporaries(&dir.0);
+}
+
+#[test]
+fn careless_data_lines_fail_clearly_and_never_touch_the_input() {
+    let dir = Scratch::new("data-careless");
+    library(&dir);
+    let rough_exr = dir.path("rough.exr");
+    tool(
+        "oiiotool",
+        &[
+            dir.path("brick_roughness.png").to_str().unwrap(),
+            "-d",
+            "half",
+            "-o",
+            rough_exr.to_str().unwrap(),
+        ],
+    );
+    let before = std::fs::read(&rough_exr).unwrap();
+    // Copying a data texture onto itself, with or without --force: refused, input unchanged.
+    for extra in [&[][..], &["--force"][..]] {
+        Cmd::convert(&rough_exr, &rough_exr)
+            .args(["--data", "copy"])
+            .args(extra)
+            .refused(&dir, 2, &["is the input"]);
+    }
+    assert_eq!(std::fs::read(&rough_exr).unwrap(), before);
+    // --data fail: a failure (exit 1), with advice for a data map, not for colour.
+    let out = Cmd::convert(dir.path("brick_roughness.png"), dir.path("r.exr"))
+        .args(["--data", "fail"])
+        .run();
+    out.one_error_line(1, &["brick_roughness.png", "a data texture (one channel", "--data copy"]);
+    assert!(!dir.path("r.exr").exists());
+    // A data policy that is no policy.
+    Cmd::convert(dir.path("brick_roughness.png"), dir.path("r.exr"))
+        .args(["--data", "uplift"])
+        .fails(2, &["uplift"]);
+}

@@ -138,6 +138,15 @@ impl Pending {
         &self.file
     }
 
+    /// The temporary's path, for a writer that can only be given a path (OpenImageIO's
+    /// `make_texture`). Such a writer that renames its own file over it leaves this one's lock
+    /// on the replaced file: sync the new file before publishing.
+    pub fn path(&self) -> &Path {
+        self.temporary
+            .as_deref()
+            .expect("a pending file has its temporary until published")
+    }
+
     /// Whether the temporary's name still names this file.
     fn is_still_named(&self) -> bool {
         use std::os::unix::fs::MetadataExt;

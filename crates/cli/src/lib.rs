@@ -221,6 +221,10 @@ fn hint(cause: &(dyn std::error::Error + 'static)) -> Option<String> {
             }
             Some(Remedy::NameLayer) => "; choose one with --channels LAYER",
             Some(Remedy::DropIlluminant) => "; drop --illuminant",
+            Some(Remedy::DataTexture) => {
+                "; --data skip leaves it out, --data copy writes it through as a data texture, \
+                 and --colorspace NAME reads it as colour if it is one"
+            }
             Some(_) | None => "",
         };
         if !flag.is_empty() {

@@ -179,6 +179,9 @@ pub enum Remedy {
     Replace,
     /// Drop the illuminant (emission is its own light).
     DropIlluminant,
+    /// A data texture: skip it, write it through as data, or name its colour space if it is
+    /// colour.
+    DataTexture,
 }
 
 impl Error {
@@ -206,6 +209,7 @@ impl Error {
                     specconv_pipeline::input::Choose::OneLayer => Remedy::NameLayer,
                 }),
                 ConversionError::Color(e) => colour_remedy(e),
+                ConversionError::Data(_) => Some(Remedy::DataTexture),
                 _ => None,
             },
             _ => None,

@@ -36,9 +36,12 @@ pub mod tables;
 pub mod to_rgb;
 
 pub use batch::{check_plan, Batch, Event, Summary};
-pub use converter::{Advice, Converter, Report, Rule, Selection, Warning};
+pub use converter::{Advice, Converter, DataOutcome, Report, Role, Rule, Selection, Warning};
 pub use error::{ConversionError, Error, Remedy};
-pub use options::{Alpha, Blocks, Compression, Mip, Options, Rounding, Sample, UnknownName};
+pub use options::{
+    Alpha, Blocks, Compression, DataPolicy, Mip, Options, Rounding, Sample, UnknownName,
+};
+pub use specconv_pipeline::DataTexture;
 pub use provenance::Provenance;
 /// Ends the process at once, without C++ static destructors: for a signal handler's thread
 /// while the libraries may be in use (`specconv_oiio::exit_now`).

@@ -17,10 +17,11 @@
 #![warn(missing_docs)]
 
 pub mod colour;
+pub mod data;
 pub mod input;
 mod png;
 
-pub use colour::{input_space, Alpha, InputSpace, Rule, ToXyz, Warning};
+pub use colour::{input_space, texture_space, Alpha, DataTexture, InputSpace, Rule, ToXyz, Warning};
 use rayon::prelude::*;
 use specconv_atomic_file::{PlanError, Replace};
 use specconv_exr::{Block, Blocks, Chunk, Compression, Kind, Sample, Spec, SpectralFile, Windows};
@@ -117,6 +118,9 @@ pub enum Error {
     /// Stopped through the job's cancel flag.
     #[error("cancelled")]
     Cancelled,
+    /// The input holds data, not colour ([`colour::texture_space`]): it is never uplifted.
+    #[error(transparent)]
+    Data(Box<DataTexture>),
 }
 
 /// The pipeline's results.
@@ -278,7 +282,7 @@ pub fn open<'a>(job: &'a Job<'a>) -> Result<Opened<'a>> {
     specconv_exr::check::check_input(job.input)?;
     let (reader, selection) = input::open(job.input, &job.settings.input)?;
     let info = reader.info().clone();
-    let space = input_space(job.config, &reader, job.settings.colorspace.as_deref())?;
+    let space = texture_space(job.config, &reader, &selection, job.settings.colorspace.as_deref())?;
     let premultiply = job
         .settings
         .alpha

@@ -11,7 +11,8 @@ use crate::stdio::StdoutFailed;
 use crate::{exit, explain, methods, print_error, records, signals, usage};
 use anyhow::Result;
 use specconv_conversion::{
-    Advice, Alpha, Batch, Blocks, Compression, Converter, Event, Mip, Options, Rounding, Sample,
+    Advice, Alpha, Batch, Blocks, Compression, Converter, DataPolicy, Event, Mip, Options,
+    Rounding, Sample,
 };
 use specconv_spectral::method::MethodName;
 use std::path::{Path, PathBuf};
@@ -81,6 +82,14 @@ fn rounding(name: &str) -> Rounding {
     }
 }
 
+fn data_policy(name: &str) -> DataPolicy {
+    match name {
+        "copy" => DataPolicy::Copy,
+        "fail" => DataPolicy::Fail,
+        _ => DataPolicy::Skip,
+    }
+}
+
 fn mip(name: &str) -> Mip {
     if name == "0" {
         Mip::Base
@@ -136,6 +145,14 @@ pub struct Args {
     /// premultiplied: OpenEXR stores premultiplied colour.
     #[arg(long, value_name = "HOW", value_enum, default_value_t = AlphaArg::Auto)]
     alpha: AlphaArg,
+    /// What to do with a data texture (roughness, normal map, mask), which is never uplifted:
+    /// one whose colour space is data (OCIO isdata, such as Raw: by --colorspace, the file, or
+    /// the config's file rules), or one channel that only the format's default would call
+    /// colour. `skip` writes nothing (status `data`, not a failure); `copy` writes it through
+    /// as a tiled, MIP-mapped data texture, values and metadata kept (OpenImageIO's
+    /// make_texture, as maketx); `fail` counts it as a failure.
+    #[arg(long, value_name = "HOW", default_value = "skip", value_parser = one_of(&["skip", "copy", "fail"], data_policy))]
+    data: DataPolicy,
     /// Uplift method: otsu2018 (the clustered PCA of the model), pca (a one-cluster model),
     /// smits1999, meng2015, meng2015-bounded or jakob2019.
     #[arg(long, value_name = "NAME", default_value = "otsu2018")]
@@ -204,7 +221,7 @@ pub struct Args {
     /// Print one JSON object per input on standard output, every key on every record (null
     /// where it does not apply): input, output, status (ok, skipped, failed), skip_reason,
     /// error, seconds, pixels, width, height, levels, bands, colorspace, colorspace_rule,
-    /// subimage, channels, bounded, non_finite, above_one, saturated. See docs/json.md.
+    /// subimage, channels, role, bounded, non_finite, above_one, saturated. See docs/json.md.
     #[arg(long)]
     json: bool,
     /// Progress on standard error: `auto` shows a live line on a terminal (file i of n, the
@@ -301,6 +318,7 @@ impl Args {
         o.mip = self.mip;
         o.threads = self.threads;
         o.overwrite = self.force;
+        o.data = self.data;
         o
     }
 }
@@ -340,6 +358,15 @@ fn run_batch(args: &Args, converter: &Converter, pairs: &[(PathBuf, PathBuf)]) -
                 progress.finish();
                 summary.converted += 1;
                 said(converted(args, converter, (input, output), report));
+            }
+            Event::Data {
+                input,
+                output,
+                report,
+            } => {
+                progress.finish();
+                summary.data.push(report.data);
+                said(printing::data(args, (input, output), report));
             }
             Event::Failed {
                 input,
