@@ -291,3 +291,127 @@ fn careless_data_lines_fail_clearly_and_never_touch_the_input() {
         .args(["--data", "uplift"])
         .fails(2, &["uplift"]);
 }
+
+/// Mean XYZ (D65) of `path` as colour-science computes it from the file's own declaration:
+/// its `chromaticities` (OpenEXR's Rec.709/D65 when it has none), Bradford-adapted to D65;
+/// with whether it has `acesImageContainerFlag`.
+fn xyz_as_declared(path: &Path) -> (Vec<f64>, bool) {
+    const CODE: &str = r#"
+import sys, json, numpy as np, OpenImageIO as oiio, colour
+buf = oiio.ImageBuf(sys.argv[1])
+spec = buf.spec()
+rgb = np.asarray(buf.get_pixels(oiio.FLOAT))[..., :3].reshape(-1, 3).mean(axis=0)
+c = spec.getattribute("chromaticities")
+if c is None:
+    c = (0.64, 0.33, 0.30, 0.60, 0.15, 0.06, 0.3127, 0.3290)
+primaries, white = np.array(c[:6]).reshape(3, 2), np.array(c[6:8])
+xyz = colour.normalised_primary_matrix(primaries, white) @ rgb
+xyz = colour.adaptation.chromatic_adaptation_VonKries(
+    xyz, colour.xy_to_XYZ(white), colour.xy_to_XYZ([0.3127, 0.3290]), transform="Bradford")
+flag = spec.getattribute("acesImageContainerFlag")
+print(json.dumps({"xyz": list(map(float, xyz)), "aces": flag == 1}))
+"#;
+    let out = python_output(["-c", CODE, path.to_str().unwrap()]);
+    let v = json(&String::from_utf8_lossy(&out));
+    let xyz = v["xyz"].as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect();
+    (xyz, v["aces"].as_bool().unwrap())
+}
+
+#[test]
+fn to_rgb_declares_the_space_it_writes_so_other_readers_get_the_input_colour() {
+    let dir = Scratch::new("to-rgb-declared");
+    // An ACEScg texture, declared by its AP1 chromaticities, as a studio's EXRs are.
+    let input = dir.path("plate.exr");
+    constant(
+        &input,
+        8,
+        "0.45,0.30,0.12",
+        &[
+            "--attrib:type=float[8]",
+            "chromaticities",
+            "0.713,0.293,0.165,0.830,0.128,0.044,0.32168,0.33767",
+            "-d",
+            "float",
+        ],
+    );
+    let (want, _) = xyz_as_declared(&input);
+    let spectral = dir.path("plate_spectral.exr");
+    Cmd::convert(&input, &spectral).args(["-d", "float"]).ok();
+    for (space, aces) in [(None, false), (Some("ACES2065-1"), true), (Some("Linear Rec.2020"), false)] {
+        let back = dir.path("back.exr");
+        let mut cmd = Cmd::to_rgb(&spectral, &back).arg("--force");
+        if let Some(s) = space {
+            cmd = cmd.args(["--colorspace", s]);
+        }
+        cmd.ok();
+        let (got, flag) = xyz_as_declared(&back);
+        assert_eq!(flag, aces, "{space:?}");
+        for k in 0..3 {
+            assert!(
+                (got[k] - want[k]).abs() < 1e-3,
+                "{space:?}: {got:?} read back, {want:?} in"
+            );
+        }
+        let header = tool("exrheader", &[back.to_str().unwrap()]);
+        assert!(header.contains("chromaticities"), "{header}");
+        // specconv's own reader takes it as the space written.
+        let v = Cmd::new(["info", "--json", back.to_str().unwrap()]).ok().json();
+        assert_eq!(v["colorspace"], space.unwrap_or("ACEScg"), "{v}");
+        assert_eq!(v["colorspace_rule"], "declared");
+    }
+}
+
+#[test]
+fn a_studio_configs_default_rule_outranks_the_format_default_and_info_says_so() {
+    let dir = Scratch::new("default-rule");
+    // The built-in ACES config as a studio's file: its Default rule is ACES2065-1.
+    let config = dir.write("studio.ocio", specconv_ocio::CG_CONFIG_YAML);
+    let exr = dir.path("plate.exr");
+    constant(&exr, 4, "0.3,0.2,0.1", &["-d", "half"]);
+    let png = dir.path("paint.png");
+    constant(&png, 4, "0.3,0.2,0.1", &["-d", "uint8"]);
+    let info = |ocio: &Path, file: &Path| {
+        Cmd::new(["--ocio", ocio.to_str().unwrap(), "info", "--json", file.to_str().unwrap()])
+            .ok()
+            .json()
+    };
+    let v = info(&config, &exr);
+    assert_eq!(v["colorspace"], "ACES2065-1", "{v}");
+    assert_eq!(v["colorspace_rule"], "file-rule");
+    let reason = v["colorspace_reason"].as_str().unwrap();
+    assert!(reason.contains("'Default' file rule") && reason.contains("studio's policy"), "{reason}");
+    // The same config from $OCIO.
+    let v = Cmd::new(["info", "--json", exr.to_str().unwrap()])
+        .env("OCIO", &config)
+        .ok()
+        .json();
+    assert_eq!(v["colorspace"], "ACES2065-1");
+    // Built in, the same config is nobody's policy: the OpenEXR default applies.
+    let v = info(Path::new("aces"), &exr);
+    assert_eq!(v["colorspace"], "Linear Rec.709 (sRGB)");
+    assert_eq!(v["colorspace_rule"], "default");
+    // Integer pixels stay sRGB texture whatever a Default rule says.
+    let v = info(&config, &png);
+    assert_eq!(v["colorspace"], "sRGB - Texture");
+    // And info names the file in every error, first.
+    let bad = dir.write("bad.exr", "not an image");
+    Cmd::new(["info", bad.to_str().unwrap()])
+        .run()
+        .one_error_line(1, &["bad.exr: "]);
+}
+
+#[test]
+fn a_spectral_input_is_refused_with_one_line_saying_what_to_do() {
+    let dir = Scratch::new("spectral-input");
+    let png = dir.path("albedo.png");
+    constant(&png, 8, "0.6,0.4,0.2", &["-d", "uint8"]);
+    let spectral = dir.path("albedo_spectral.exr");
+    Cmd::convert(&png, &spectral).ok();
+    let out = Cmd::convert(&spectral, dir.path("again.exr")).run();
+    out.one_error_line(
+        1,
+        &["already a spectral image (36 bands of reflectance, 380–730 nm", "to-rgb", "--bands"],
+    );
+    assert!(!out.stderr.contains("T.380"), "no list of channels: {}", out.stderr);
+    assert!(!dir.path("again.exr").exists());
+}

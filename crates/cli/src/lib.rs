@@ -221,6 +221,11 @@ fn hint(cause: &(dyn std::error::Error + 'static)) -> Option<String> {
             }
             Some(Remedy::NameLayer) => "; choose one with --channels LAYER",
             Some(Remedy::DropIlluminant) => "; drop --illuminant",
+            Some(Remedy::AlreadySpectral) => {
+                "; use it as it is (`specconv info` shows its bands), `specconv to-rgb` gives its \
+                 colour, and converting its colour source with --bands START:END:STEP gives \
+                 another grid (--channels R,G,B reads a colour preview it holds instead)"
+            }
             Some(Remedy::DataTexture) => {
                 "; --data skip leaves it out, --data copy writes it through as a data texture, \
                  and --colorspace NAME reads it as colour if it is one"

@@ -182,6 +182,9 @@ pub enum Remedy {
     /// A data texture: skip it, write it through as data, or name its colour space if it is
     /// colour.
     DataTexture,
+    /// A spectral image as input: use it as it is, integrate it to colour, or convert its
+    /// colour source on the grid wanted; channels of a colour preview can be named.
+    AlreadySpectral,
 }
 
 impl Error {
@@ -210,6 +213,7 @@ impl Error {
                 }),
                 ConversionError::Color(e) => colour_remedy(e),
                 ConversionError::Data(_) => Some(Remedy::DataTexture),
+                ConversionError::Spectral { .. } => Some(Remedy::AlreadySpectral),
                 _ => None,
             },
             _ => None,

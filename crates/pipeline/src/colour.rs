@@ -8,6 +8,11 @@
 //!    (not OpenImageIO's own labels "Linear" and "sRGB", which it gives every OpenEXR file
 //!    and most integer files whatever they hold);
 //! 3. the OCIO config's `file_rules`, when a rule other than the default one matches the path;
+//!    and for float pixels, the config's Default rule when the config is a file the user gave
+//!    (`--ocio FILE`, `$OCIO`): a studio's config is its policy for files that declare nothing.
+//!    The built-in configs' Default rule (ACES2065-1) is no one's policy for a file, and
+//!    integer pixels are display-encoded textures whatever a config's Default rule (made for
+//!    scene-linear EXRs) says: a studio that means otherwise writes a rule for them;
 //! 4. the format's default: float pixels are linear Rec.709 with a D65 white (the OpenEXR
 //!    specification's meaning of a file without `chromaticities`), integer pixels sRGB texture.
 //!
@@ -189,6 +194,9 @@ pub enum Rule {
     Declared(Vec<String>),
     /// The OCIO config's file rule of this name.
     FileRule(String),
+    /// The Default file rule of a config the user gave (a file), for float pixels that declare
+    /// nothing; holds the rule's name.
+    ConfigDefault(String),
     /// The format's default, with its reason.
     Default(&'static str),
 }
@@ -200,7 +208,7 @@ impl Rule {
         match self {
             Rule::Flag { .. } => "colorspace-option",
             Rule::Declared(_) => "declared",
-            Rule::FileRule(_) => "file-rule",
+            Rule::FileRule(_) | Rule::ConfigDefault(_) => "file-rule",
             Rule::Default(_) => "default",
         }
     }
@@ -497,7 +505,9 @@ impl DataTexture {
         match &self.rule {
             Rule::Flag { .. } => format!("colour space '{}', as asked", self.name),
             Rule::Declared(what) => format!("colour space '{}', declared by its {}", self.name, what.join(", ")),
-            Rule::FileRule(rule) => format!("colour space '{}', by the OCIO config's file rule '{rule}'", self.name),
+            Rule::FileRule(rule) | Rule::ConfigDefault(rule) => {
+                format!("colour space '{}', by the OCIO config's file rule '{rule}'", self.name)
+            }
             Rule::Default(why) => (*why).to_owned(),
         }
     }
@@ -635,6 +645,28 @@ pub fn input_space(
         });
     }
     let integer = info.pixel_format().is_integer();
+    let users = matches!(
+        config.source(),
+        specconv_ocio::ConfigSource::File(_) | specconv_ocio::ConfigSource::Env(_)
+    );
+    if users && !integer {
+        let default = config
+            .file_rules()?
+            .into_iter()
+            .find(|r| r.name.eq_ignore_ascii_case("default"));
+        if let Some(rule) = default {
+            let cs = config.color_space(&rule.color_space)?;
+            if cs.is_data {
+                return Err(data(cs.name, Rule::ConfigDefault(rule.name)));
+            }
+            return Ok(InputSpace {
+                to_xyz: ToXyz::Ocio(config.processor_to_xyz(&cs.name)?),
+                name: cs.name,
+                rule: Rule::ConfigDefault(rule.name),
+                warnings,
+            });
+        }
+    }
     let (d, why) = if integer {
         if let Some(name) = config.srgb_texture()? {
             return Ok(InputSpace {

@@ -118,6 +118,22 @@ pub enum Error {
     /// Stopped through the job's cancel flag.
     #[error("cancelled")]
     Cancelled,
+    /// The input is a spectral image already ([`input::open`]): it is not uplifted again.
+    #[error(
+        "{}: already a spectral image ({} bands of {}, {}–{} nm, the Fichet 2021 layout): \
+         its spectra are not uplifted again from a colour",
+        path.display(), bands, if *emissive { "emission" } else { "reflectance" }, range_nm.0, range_nm.1
+    )]
+    Spectral {
+        /// The input.
+        path: PathBuf,
+        /// `S0.` channels (emission) rather than `T.` (reflectance).
+        emissive: bool,
+        /// Its bands.
+        bands: usize,
+        /// Its first and last wavelengths.
+        range_nm: (f64, f64),
+    },
     /// The input holds data, not colour ([`colour::texture_space`]): it is never uplifted.
     #[error(transparent)]
     Data(Box<DataTexture>),

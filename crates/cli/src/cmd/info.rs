@@ -232,7 +232,9 @@ pub fn run(args: Args) -> Result<i32> {
             if StdoutFailed::in_chain(&e).is_some() {
                 return Err(e);
             }
-            print_error(&one_line(e.as_ref()));
+            // Every error names its file, once, first.
+            let line = crate::records::without_input(&one_line(e.as_ref()), file);
+            print_error(&format!("{}: {line}", file.display()));
             status = exit::FAILED;
         }
     }
