@@ -28,7 +28,12 @@ fn wood_tiles(dir: &Scratch) {
         (1002, "0.5,0.3,0.1"),
         (1011, "0.2,0.4,0.6"),
     ] {
-        constant(&dir.path(&format!("wood.{n}.png")), 16, rgb, &["-d", "uint8"]);
+        constant(
+            &dir.path(&format!("wood.{n}.png")),
+            16,
+            rgb,
+            &["-d", "uint8"],
+        );
     }
 }
 
@@ -72,14 +77,21 @@ fn a_single_pattern_names_its_outputs_by_the_same_token() {
     let dir = Scratch::new("udim-single");
     wood_tiles(&dir);
     let d = dir.0.display();
-    Cmd::convert(format!("{d}/wood.<UDIM>.png"), format!("{d}/out.<UDIM>.exr")).ok();
+    Cmd::convert(
+        format!("{d}/wood.<UDIM>.png"),
+        format!("{d}/out.<UDIM>.exr"),
+    )
+    .ok();
     for n in [1001, 1002, 1011] {
         assert!(dir.path(&format!("out.{n}.exr")).is_file());
     }
     // `-o DIR` keeps each tile's number in its name, so tiles never share an output.
     let o = dir.path("o");
     std::fs::create_dir(&o).unwrap();
-    Cmd::new([format!("{d}/wood.<UDIM>.png")]).arg("-o").arg(&o).ok();
+    Cmd::new([format!("{d}/wood.<UDIM>.png")])
+        .arg("-o")
+        .arg(&o)
+        .ok();
     let mut names: Vec<String> = std::fs::read_dir(&o)
         .unwrap()
         .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
@@ -103,7 +115,14 @@ fn careless_udim_and_template_lines_are_refused_before_anything_is_written() {
     // A typo in a field: exit 2 naming it and the fields there are.
     Cmd::new([format!("{d}/wood.1001.png").as_str()])
         .args(["--output-template", &format!("{d}/{{stme}}_spectral.exr")])
-        .refused(&dir, 2, &["unknown field {stme}", "{dir}, {stem}, {name}, {udim}, {tile}"]);
+        .refused(
+            &dir,
+            2,
+            &[
+                "unknown field {stme}",
+                "{dir}, {stem}, {name}, {udim}, {tile}",
+            ],
+        );
     Cmd::new([format!("{d}/wood.1001.png").as_str()])
         .args(["--output-template", &format!("{d}/{{stem.exr")])
         .refused(&dir, 2, &["no '}' closes"]);
@@ -112,8 +131,11 @@ fn careless_udim_and_template_lines_are_refused_before_anything_is_written() {
         .args(["-o", &d])
         .refused(&dir, 2, &["no UDIM tile matches", "wod.<UDIM>.png"]);
     // A pattern into one output without the token would write every tile over one file.
-    Cmd::convert(format!("{d}/wood.<UDIM>.png"), format!("{d}/wood.exr"))
-        .refused(&dir, 2, &["UDIM pattern (3 tiles)", "wood.<UDIM>.exr"]);
+    Cmd::convert(format!("{d}/wood.<UDIM>.png"), format!("{d}/wood.exr")).refused(
+        &dir,
+        2,
+        &["UDIM pattern (3 tiles)", "wood.<UDIM>.exr"],
+    );
     // {udim} for an input with no tile number.
     constant(&dir.path("plain.png"), 8, "0.5,0.5,0.5", &["-d", "uint8"]);
     Cmd::new([format!("{d}/plain.png").as_str()])
@@ -151,8 +173,18 @@ fn library(dir: &Scratch) {
             dir.path("brick_roughness.png").to_str().unwrap(),
         ],
     );
-    constant(&dir.path("brick_normal.png"), 32, "0.541,0.439,1.0", &["-d", "uint8"]);
-    constant(&dir.path("brick_albedo.png"), 32, "0.6,0.4,0.2", &["-d", "uint8"]);
+    constant(
+        &dir.path("brick_normal.png"),
+        32,
+        "0.541,0.439,1.0",
+        &["-d", "uint8"],
+    );
+    constant(
+        &dir.path("brick_albedo.png"),
+        32,
+        "0.6,0.4,0.2",
+        &["-d", "uint8"],
+    );
 }
 
 #[test]
@@ -162,9 +194,17 @@ fn data_maps_are_skipped_by_default_never_uplifted_and_not_failures() {
     let config = studio_config(&dir);
     let out = dir.path("out");
     std::fs::create_dir(&out).unwrap();
-    let names = ["brick_roughness.png", "brick_normal.png", "brick_albedo.png"];
+    let names = [
+        "brick_roughness.png",
+        "brick_normal.png",
+        "brick_albedo.png",
+    ];
     let mut args: Vec<String> = vec!["--ocio".into(), config.to_str().unwrap().into()];
-    args.extend(names.iter().map(|n| dir.path(n).to_str().unwrap().to_owned()));
+    args.extend(
+        names
+            .iter()
+            .map(|n| dir.path(n).to_str().unwrap().to_owned()),
+    );
     args.extend(["-o".into(), out.to_str().unwrap().into(), "--json".into()]);
     let run = Cmd::new(&args).ok();
     let records = run.json_lines();
@@ -178,21 +218,37 @@ fn data_maps_are_skipped_by_default_never_uplifted_and_not_failures() {
     assert_eq!(field(2, "status"), "ok");
     assert_eq!(field(2, "role"), "colour");
     assert!(
-        run.stderr.contains("1 converted, 0 skipped, 2 data textures skipped, 0 failed"),
+        run.stderr
+            .contains("1 converted, 0 skipped, 2 data textures skipped, 0 failed"),
         "{}",
         run.stderr
     );
     // Only the albedo was written.
-    let written: Vec<_> = std::fs::read_dir(&out).unwrap().map(|e| e.unwrap().file_name()).collect();
+    let written: Vec<_> = std::fs::read_dir(&out)
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
     assert_eq!(written, ["brick_albedo_spectral.exr"]);
     // `--colorspace raw` makes any texture data; info says so and names the file.
     let normal = dir.path("brick_normal.png");
-    let v = Cmd::new(["info", "--json", "--colorspace", "raw", normal.to_str().unwrap()])
-        .ok()
-        .json();
+    let v = Cmd::new([
+        "info",
+        "--json",
+        "--colorspace",
+        "raw",
+        normal.to_str().unwrap(),
+    ])
+    .ok()
+    .json();
     assert_eq!(v["role"], "data");
     assert_eq!(v["colorspace_rule"], "colorspace-option");
-    let text = Cmd::new(["--ocio", config.to_str().unwrap(), "info", normal.to_str().unwrap()]).ok();
+    let text = Cmd::new([
+        "--ocio",
+        config.to_str().unwrap(),
+        "info",
+        normal.to_str().unwrap(),
+    ])
+    .ok();
     assert!(
         text.stdout.contains("brick_normal.png") && text.stdout.contains("role:         data"),
         "{}",
@@ -228,30 +284,51 @@ fn data_copy_writes_a_mipmapped_data_texture_with_the_values_and_metadata_kept()
             tx.to_str().unwrap(),
         ],
     );
-    for (input, output) in [("brick_roughness.png", "rough.exr"), ("wall_normal.tx", "normal.exr")] {
+    for (input, output) in [
+        ("brick_roughness.png", "rough.exr"),
+        ("wall_normal.tx", "normal.exr"),
+    ] {
         let v = Cmd::convert(dir.path(input), dir.path(output))
-            .args(["--ocio", config.to_str().unwrap(), "--data", "copy", "--json"])
+            .args([
+                "--ocio",
+                config.to_str().unwrap(),
+                "--data",
+                "copy",
+                "--json",
+            ])
             .ok()
             .json();
         assert_eq!(v["status"], "copied", "{v}");
         assert_eq!(v["role"], "data");
         assert_eq!(v["levels"], 6);
-        let info = tool("oiiotool", &["--info", "-v", dir.path(output).to_str().unwrap()]);
+        let info = tool(
+            "oiiotool",
+            &["--info", "-v", dir.path(output).to_str().unwrap()],
+        );
         // maketx's level sizes, tiled, unconverted (no spectral channels), provenance kept.
-        assert!(info.contains("MIP-map levels: 32x32 16x16 8x8 4x4 2x2 1x1"), "{info}");
+        assert!(
+            info.contains("MIP-map levels: 32x32 16x16 8x8 4x4 2x2 1x1"),
+            "{info}"
+        );
         assert!(info.contains("tile size: 64 x 64"), "{info}");
         assert!(!info.contains("T.550"), "{info}");
         assert!(info.contains("specconvSourceColorspace: \"Raw\""), "{info}");
         // The values are the input's, as oiiotool reads both (8-bit steps are 1/255).
         let diff = std::process::Command::new("oiiotool")
-            .args([dir.path(input).to_str().unwrap(), dir.path(output).to_str().unwrap()])
+            .args([
+                dir.path(input).to_str().unwrap(),
+                dir.path(output).to_str().unwrap(),
+            ])
             .args(["--fail", "0.001", "--warn", "0.001", "--diff"])
             .output()
             .unwrap();
         let said = String::from_utf8_lossy(&diff.stdout);
         assert!(said.contains("PASS"), "{said}");
     }
-    let normal = tool("oiiotool", &["--info", "-v", dir.path("normal.exr").to_str().unwrap()]);
+    let normal = tool(
+        "oiiotool",
+        &["--info", "-v", dir.path("normal.exr").to_str().unwrap()],
+    );
     assert!(normal.contains("wrapmodes: \"periodic,clamp\""), "{normal}");
     no_temporaries(&dir.0);
 }
@@ -284,7 +361,14 @@ fn careless_data_lines_fail_clearly_and_never_touch_the_input() {
     let out = Cmd::convert(dir.path("brick_roughness.png"), dir.path("r.exr"))
         .args(["--data", "fail"])
         .run();
-    out.one_error_line(1, &["brick_roughness.png", "a data texture (one channel", "--data copy"]);
+    out.one_error_line(
+        1,
+        &[
+            "brick_roughness.png",
+            "a data texture (one channel",
+            "--data copy",
+        ],
+    );
     assert!(!dir.path("r.exr").exists());
     // A data policy that is no policy.
     Cmd::convert(dir.path("brick_roughness.png"), dir.path("r.exr"))
@@ -313,7 +397,12 @@ print(json.dumps({"xyz": list(map(float, xyz)), "aces": flag == 1}))
 "#;
     let out = python_output(["-c", CODE, path.to_str().unwrap()]);
     let v = json(&String::from_utf8_lossy(&out));
-    let xyz = v["xyz"].as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect();
+    let xyz = v["xyz"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|x| x.as_f64().unwrap())
+        .collect();
     (xyz, v["aces"].as_bool().unwrap())
 }
 
@@ -337,7 +426,11 @@ fn to_rgb_declares_the_space_it_writes_so_other_readers_get_the_input_colour() {
     let (want, _) = xyz_as_declared(&input);
     let spectral = dir.path("plate_spectral.exr");
     Cmd::convert(&input, &spectral).args(["-d", "float"]).ok();
-    for (space, aces) in [(None, false), (Some("ACES2065-1"), true), (Some("Linear Rec.2020"), false)] {
+    for (space, aces) in [
+        (None, false),
+        (Some("ACES2065-1"), true),
+        (Some("Linear Rec.2020"), false),
+    ] {
         let back = dir.path("back.exr");
         let mut cmd = Cmd::to_rgb(&spectral, &back).arg("--force");
         if let Some(s) = space {
@@ -355,7 +448,9 @@ fn to_rgb_declares_the_space_it_writes_so_other_readers_get_the_input_colour() {
         let header = tool("exrheader", &[back.to_str().unwrap()]);
         assert!(header.contains("chromaticities"), "{header}");
         // specconv's own reader takes it as the space written.
-        let v = Cmd::new(["info", "--json", back.to_str().unwrap()]).ok().json();
+        let v = Cmd::new(["info", "--json", back.to_str().unwrap()])
+            .ok()
+            .json();
         assert_eq!(v["colorspace"], space.unwrap_or("ACEScg"), "{v}");
         assert_eq!(v["colorspace_rule"], "declared");
     }
@@ -371,15 +466,24 @@ fn a_studio_configs_default_rule_outranks_the_format_default_and_info_says_so() 
     let png = dir.path("paint.png");
     constant(&png, 4, "0.3,0.2,0.1", &["-d", "uint8"]);
     let info = |ocio: &Path, file: &Path| {
-        Cmd::new(["--ocio", ocio.to_str().unwrap(), "info", "--json", file.to_str().unwrap()])
-            .ok()
-            .json()
+        Cmd::new([
+            "--ocio",
+            ocio.to_str().unwrap(),
+            "info",
+            "--json",
+            file.to_str().unwrap(),
+        ])
+        .ok()
+        .json()
     };
     let v = info(&config, &exr);
     assert_eq!(v["colorspace"], "ACES2065-1", "{v}");
     assert_eq!(v["colorspace_rule"], "file-rule");
     let reason = v["colorspace_reason"].as_str().unwrap();
-    assert!(reason.contains("'Default' file rule") && reason.contains("studio's policy"), "{reason}");
+    assert!(
+        reason.contains("'Default' file rule") && reason.contains("studio's policy"),
+        "{reason}"
+    );
     // The same config from $OCIO.
     let v = Cmd::new(["info", "--json", exr.to_str().unwrap()])
         .env("OCIO", &config)
@@ -410,8 +514,16 @@ fn a_spectral_input_is_refused_with_one_line_saying_what_to_do() {
     let out = Cmd::convert(&spectral, dir.path("again.exr")).run();
     out.one_error_line(
         1,
-        &["already a spectral image (36 bands of reflectance, 380–730 nm", "to-rgb", "--bands"],
+        &[
+            "already a spectral image (36 bands of reflectance, 380–730 nm",
+            "to-rgb",
+            "--bands",
+        ],
     );
-    assert!(!out.stderr.contains("T.380"), "no list of channels: {}", out.stderr);
+    assert!(
+        !out.stderr.contains("T.380"),
+        "no list of channels: {}",
+        out.stderr
+    );
     assert!(!dir.path("again.exr").exists());
 }

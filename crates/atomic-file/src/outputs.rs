@@ -26,7 +26,10 @@ pub fn in_directory(dir: &Path, input: &Path) -> PathBuf {
 #[non_exhaustive]
 pub enum TemplateError {
     /// A `{field}` that is not one of [`FIELDS`].
-    #[error("the output template {template:?} has an unknown field {{{field}}}; its fields are {}", known_fields())]
+    #[error(
+        "the output template {template:?} has an unknown field {{{field}}}; its fields are {}",
+        known_fields()
+    )]
     UnknownField {
         /// The template.
         template: String,
@@ -34,7 +37,10 @@ pub enum TemplateError {
         field: String,
     },
     /// A `{` with no `}` after it.
-    #[error("the output template {template:?} has a '{{' that no '}}' closes; its fields are {}", known_fields())]
+    #[error(
+        "the output template {template:?} has a '{{' that no '}}' closes; its fields are {}",
+        known_fields()
+    )]
     Unclosed {
         /// The template.
         template: String,
@@ -86,7 +92,7 @@ impl Template {
         let mut literal = Vec::new();
         let mut rest = text;
         while let Some(open) = rest.find('{') {
-            literal.extend_from_slice(rest[..open].as_bytes());
+            literal.extend_from_slice(&rest.as_bytes()[..open]);
             let after = &rest[open + 1..];
             let close = after.find('}').ok_or_else(|| TemplateError::Unclosed {
                 template: text.to_owned(),
@@ -153,8 +159,12 @@ impl Template {
                 Piece::Stem if tile.is_some() => out.extend(udim::stem_without_tile(input)),
                 Piece::Stem => out.extend(udim::stem(input)),
                 Piece::Name => out.extend_from_slice(name),
-                Piece::Udim => out.extend_from_slice(tile.unwrap_or_default().to_string().as_bytes()),
-                Piece::Tile => out.extend_from_slice(udim::uv_tile(tile.unwrap_or(udim::FIRST)).as_bytes()),
+                Piece::Udim => {
+                    out.extend_from_slice(tile.unwrap_or_default().to_string().as_bytes())
+                }
+                Piece::Tile => {
+                    out.extend_from_slice(udim::uv_tile(tile.unwrap_or(udim::FIRST)).as_bytes())
+                }
             }
         }
         Ok(PathBuf::from(OsString::from_vec(out)))
@@ -216,7 +226,9 @@ mod tests {
             from_template("{stem}_spectral.exr", Path::new("wood.1012.png")).unwrap(),
             Path::new("wood.1012_spectral.exr")
         );
-        let e = from_template(t, Path::new("wood.png")).unwrap_err().to_string();
+        let e = from_template(t, Path::new("wood.png"))
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("wood.png has no tile number"), "{e}");
     }
 

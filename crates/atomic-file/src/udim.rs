@@ -103,7 +103,10 @@ pub fn expand(pattern: &Path) -> Result<Option<Vec<Tile>>, UdimError> {
     if !is_pattern(pattern) {
         return Ok(None);
     }
-    let name = pattern.file_name().map(|n| n.as_bytes()).unwrap_or_default();
+    let name = pattern
+        .file_name()
+        .map(|n| n.as_bytes())
+        .unwrap_or_default();
     let Some((at, len)) = token_in(name) else {
         return Err(UdimError::InDirectory {
             pattern: pattern.to_path_buf(),
@@ -219,7 +222,12 @@ pub fn substitute(pattern: &Path, number: u32) -> PathBuf {
     let bytes = pattern.as_os_str().as_bytes();
     match token_in(bytes) {
         Some((at, len)) => {
-            let out = [&bytes[..at], number.to_string().as_bytes(), &bytes[at + len..]].concat();
+            let out = [
+                &bytes[..at],
+                number.to_string().as_bytes(),
+                &bytes[at + len..],
+            ]
+            .concat();
             PathBuf::from(OsString::from_vec(out))
         }
         None => pattern.to_path_buf(),
@@ -246,7 +254,10 @@ mod tests {
         assert_eq!(tile_number(Path::new("wood.10010.png")), None);
         assert_eq!(tile_number(Path::new("wood.png")), None);
         assert_eq!(stem_without_tile(Path::new("wood.1001.png")), b"wood");
-        assert_eq!(stem_without_tile(Path::new("wood_1001_col.png")), b"wood_col");
+        assert_eq!(
+            stem_without_tile(Path::new("wood_1001_col.png")),
+            b"wood_col"
+        );
         assert_eq!(stem_without_tile(Path::new("wood.png")), b"wood");
         assert_eq!(uv_tile(1001), "u1_v1");
         assert_eq!(uv_tile(1010), "u10_v1");
@@ -265,7 +276,12 @@ mod tests {
     fn a_pattern_expands_to_the_tiles_that_exist_in_order() {
         let dir = std::env::temp_dir().join(format!("udim-expand-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
-        for n in ["wood.1011.png", "wood.1001.png", "wood.1002.png", "wood.999.png"] {
+        for n in [
+            "wood.1011.png",
+            "wood.1001.png",
+            "wood.1002.png",
+            "wood.999.png",
+        ] {
             std::fs::write(dir.join(n), b"").unwrap();
         }
         std::fs::write(dir.join("wood.1003.exr"), b"").unwrap();
@@ -281,7 +297,9 @@ mod tests {
         assert!(expand(&dir.join("wood.png")).unwrap().is_none());
         let none = expand(&dir.join("oak.<UDIM>.png")).unwrap_err().to_string();
         assert!(none.contains("no UDIM tile matches"), "{none}");
-        let e = expand(&dir.join("<UDIM>/wood.png")).unwrap_err().to_string();
+        let e = expand(&dir.join("<UDIM>/wood.png"))
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("in the file name"), "{e}");
         std::fs::write(dir.join("1001_scan_2019.png"), b"").unwrap();
         let e = expand(&dir.join("<UDIM>_scan_2019.png"))

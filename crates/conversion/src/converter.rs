@@ -336,7 +336,7 @@ impl Converter {
                     attributes: &provenance.to_attributes(),
                 };
                 let levels = specconv_pipeline::data::copy(input, output, &how)
-                    .map_err(|e| Error::Conversion(e))?;
+                    .map_err(Error::Conversion)?;
                 (DataOutcome::Copied, levels)
             }
         };

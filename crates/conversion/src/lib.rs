@@ -41,11 +41,11 @@ pub use error::{ConversionError, Error, Remedy};
 pub use options::{
     Alpha, Blocks, Compression, DataPolicy, Mip, Options, Rounding, Sample, UnknownName,
 };
-pub use specconv_pipeline::DataTexture;
 pub use provenance::Provenance;
 /// Ends the process at once, without C++ static destructors: for a signal handler's thread
 /// while the libraries may be in use (`specconv_oiio::exit_now`).
 pub use specconv_oiio::exit_now;
+pub use specconv_pipeline::DataTexture;
 pub use specconv_spectral::bounded::Counts;
 
 /// The OpenColorIO configs and colour spaces every front-end reads colour through (the same

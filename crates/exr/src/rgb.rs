@@ -49,10 +49,9 @@ pub fn write_rgb_declared(
             white: Vec2(c[6], c[7]),
         });
         if declared.aces_container {
-            attributes.other.insert(
-                Text::from("acesImageContainerFlag"),
-                AttributeValue::I32(1),
-            );
+            attributes
+                .other
+                .insert(Text::from("acesImageContainerFlag"), AttributeValue::I32(1));
         }
         if let Some(name) = declared.colorspace_name.as_deref() {
             if let Some(text) = Text::new_or_none(name) {

@@ -504,9 +504,16 @@ impl DataTexture {
     pub fn why(&self) -> String {
         match &self.rule {
             Rule::Flag { .. } => format!("colour space '{}', as asked", self.name),
-            Rule::Declared(what) => format!("colour space '{}', declared by its {}", self.name, what.join(", ")),
+            Rule::Declared(what) => format!(
+                "colour space '{}', declared by its {}",
+                self.name,
+                what.join(", ")
+            ),
             Rule::FileRule(rule) | Rule::ConfigDefault(rule) => {
-                format!("colour space '{}', by the OCIO config's file rule '{rule}'", self.name)
+                format!(
+                    "colour space '{}', by the OCIO config's file rule '{rule}'",
+                    self.name
+                )
             }
             Rule::Default(why) => (*why).to_owned(),
         }
@@ -580,7 +587,10 @@ pub fn input_space(
                 } else {
                     warnings.push(Warning::Ignored {
                         what,
-                        why: format!("'{}' is a data colour space and a colour was declared first", cs.name),
+                        why: format!(
+                            "'{}' is a data colour space and a colour was declared first",
+                            cs.name
+                        ),
                     });
                 }
                 continue;

@@ -21,7 +21,9 @@ pub mod data;
 pub mod input;
 mod png;
 
-pub use colour::{input_space, texture_space, Alpha, DataTexture, InputSpace, Rule, ToXyz, Warning};
+pub use colour::{
+    input_space, texture_space, Alpha, DataTexture, InputSpace, Rule, ToXyz, Warning,
+};
 use rayon::prelude::*;
 use specconv_atomic_file::{PlanError, Replace};
 use specconv_exr::{Block, Blocks, Chunk, Compression, Kind, Sample, Spec, SpectralFile, Windows};
@@ -298,7 +300,12 @@ pub fn open<'a>(job: &'a Job<'a>) -> Result<Opened<'a>> {
     specconv_exr::check::check_input(job.input)?;
     let (reader, selection) = input::open(job.input, &job.settings.input)?;
     let info = reader.info().clone();
-    let space = texture_space(job.config, &reader, &selection, job.settings.colorspace.as_deref())?;
+    let space = texture_space(
+        job.config,
+        &reader,
+        &selection,
+        job.settings.colorspace.as_deref(),
+    )?;
     let premultiply = job
         .settings
         .alpha

@@ -460,7 +460,8 @@ pub fn make_texture(input: &Path, output: &Path, spec: &TextureSpec) -> Result<(
     let (Some(c_in), Some(c_out)) = (path_to_cstring(input), path_to_cstring(output)) else {
         return Err(refuse("the path contains a NUL byte"));
     };
-    let c_compression = CString::new(spec.compression.as_str()).map_err(|_| refuse("bad compression"))?;
+    let c_compression =
+        CString::new(spec.compression.as_str()).map_err(|_| refuse("bad compression"))?;
     let mut names = Vec::new();
     let mut values = Vec::new();
     for (k, v) in &spec.attributes {

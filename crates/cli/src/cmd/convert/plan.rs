@@ -82,7 +82,11 @@ pub(crate) fn plan(args: &Args, update: bool) -> Result<(Vec<PathBuf>, Vec<PathB
 
 /// The output of `INPUT OUTPUT`: `output` itself, or for a UDIM pattern one per tile, named by
 /// the same token in `output` (`wood.<UDIM>.png wood_spectral.<UDIM>.exr`).
-fn single_outputs(output: &std::path::Path, input: &std::path::Path, tiles: &[u32]) -> Result<Vec<PathBuf>> {
+fn single_outputs(
+    output: &std::path::Path,
+    input: &std::path::Path,
+    tiles: &[u32],
+) -> Result<Vec<PathBuf>> {
     match (udim::is_pattern(input), udim::is_pattern(output)) {
         (false, false) => Ok(vec![output.to_path_buf()]),
         (true, true) => Ok(tiles.iter().map(|&n| udim::substitute(output, n)).collect()),
