@@ -325,6 +325,13 @@ fn data_copy_writes_a_mipmapped_data_texture_with_the_values_and_metadata_kept()
         let said = String::from_utf8_lossy(&diff.stdout);
         assert!(said.contains("PASS"), "{said}");
     }
+    // The copy records the settings that made it: -u finds it up to date.
+    let again = Cmd::convert(dir.path("brick_roughness.png"), dir.path("rough.exr"))
+        .args(["--ocio", config.to_str().unwrap()])
+        .args(["--data", "copy", "-u", "--json"])
+        .ok()
+        .json();
+    assert_eq!(again["status"], "skipped", "{again}");
     let normal = tool(
         "oiiotool",
         &["--info", "-v", dir.path("normal.exr").to_str().unwrap()],
