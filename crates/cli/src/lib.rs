@@ -69,7 +69,7 @@ pub mod exit {
     pub const PIPE: i32 = 141;
     /// The table as the README and the man pages print it.
     pub const TABLE: [(i32, &str); 5] = [
-        (OK, "everything asked for was done (in a batch: every input converted or up to date)"),
+        (OK, "everything asked for was done (in a batch: every input converted, up to date, or a data texture skipped or written through by --data)"),
         (
             FAILED,
             "an input, output or other file failed (in a batch: at least one input failed; the others were converted)",

@@ -202,6 +202,9 @@ fn summary_line(r: &Report) -> String {
         records::colorspace_reason(&r.colorspace_rule),
         records::selection(&r.selection),
     );
+    if r.role == specconv_conversion::Role::Achromatic {
+        line += ", one channel read as achromatic colour (its colour space says colour)";
+    }
     if r.premultiplied {
         line += ", straight alpha premultiplied";
     }
