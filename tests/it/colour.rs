@@ -230,10 +230,11 @@ fn a_config_file_rule_chooses_by_path_when_the_file_declares_nothing() {
         v["colorspace_reason"],
         "the OCIO config's file rule 'acescg'"
     );
-    // Another name: only the default rule matches, so the format's default applies.
+    // Another name: only the Default rule matches; a config given as a file is the studio's
+    // policy, so its Default rule (ACES2065-1) comes before the format's default.
     let v = info(&make("wall.exr", false), &ocio);
-    assert_eq!(v["colorspace"], "Linear Rec.709 (sRGB)");
-    assert_eq!(v["colorspace_rule"], "default");
+    assert_eq!(v["colorspace"], "ACES2065-1");
+    assert_eq!(v["colorspace_rule"], "file-rule");
     // A declaration comes before the config's rules.
     let v = info(&make("tiles_acescg.exr", true), &ocio);
     assert_eq!(v["colorspace"], "Linear Rec.2020");

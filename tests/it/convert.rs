@@ -345,7 +345,7 @@ fn failures_leave_nothing_behind_and_say_what_to_do() {
     assert_eq!(std::fs::read(&out).unwrap(), b"keep me");
     Cmd::convert(&good, &out).arg("--force").ok();
     Cmd::convert(&good, &out)
-        .args(["--force", "--colorspace", "Raw"])
+        .args(["--force", "--colorspace", "Raw", "--data", "fail"])
         .fails(2, &["holds data, not colour"]);
     Cmd::convert(&good, &out)
         .args(["--force", "--colorspace", "srgb_txt"])

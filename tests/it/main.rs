@@ -18,4 +18,5 @@ mod simulate;
 mod spectral_layout;
 mod surface;
 mod texture;
+mod texture_prep;
 mod train_eval;

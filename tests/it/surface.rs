@@ -32,7 +32,10 @@ fn settings_that_cannot_work_fail_once_before_the_first_input() {
         Cmd::new(a).run()
     };
     batch(&["--colorspace", "ACEScgg"]).one_error_line(2, &["unknown colour space 'ACEScgg'"]);
-    batch(&["--colorspace", "Raw"]).one_error_line(2, &["holds data, not colour"]);
+    // A data space names data textures (skipped or copied by --data): only `--data fail`
+    // makes it fail every input.
+    batch(&["--colorspace", "Raw", "--data", "fail"])
+        .one_error_line(2, &["holds data, not colour"]);
     batch(&["--ocio", "/no/such.ocio"]).one_error_line(2, &["/no/such.ocio: no such file"]);
     let c = testdata("ocio/no_interchange.ocio");
     batch(&["--ocio", arg(&c), "--colorspace", "linear"]).one_error_line(

@@ -36,6 +36,7 @@ pub mod kind;
 mod names;
 pub mod outputs;
 pub mod plan;
+pub mod udim;
 
 pub use kind::{read_bounded, readable_file, Kind, ReadError};
 pub use plan::{check as check_plan, Place, PlanError, Replace};
@@ -135,6 +136,15 @@ impl Pending {
     /// The temporary file to write into (`&File` is `Write`).
     pub fn file(&self) -> &File {
         &self.file
+    }
+
+    /// The temporary's path, for a writer that can only be given a path (OpenImageIO's
+    /// `make_texture`). Such a writer that renames its own file over it leaves this one's lock
+    /// on the replaced file: sync the new file before publishing.
+    pub fn path(&self) -> &Path {
+        self.temporary
+            .as_deref()
+            .expect("a pending file has its temporary until published")
     }
 
     /// Whether the temporary's name still names this file.

@@ -1,56 +1,184 @@
 //! Where a conversion's output goes, from its input: `-o DIR` gives `DIR/STEM_spectral.exr`, an
-//! output template replaces `{dir}`, `{stem}` and `{name}`. One definition for the command line
-//! and the farm's check of a job's outputs. Names are kept byte for byte: an input named in
-//! bytes that are not UTF-8 gets an output of those bytes, not of replacement characters.
+//! output template replaces its fields ([`FIELDS`]). One definition for the command line and
+//! the farm's check of a job's outputs. Names are kept byte for byte: an input named in bytes
+//! that are not UTF-8 gets an output of those bytes, not of replacement characters.
+//!
+//! A template is checked whole before any input is planned ([`Template::parse`]): a field
+//! that is not one of [`FIELDS`] (a typo such as `{stme}`) is refused, never written literally.
 
+use crate::udim;
 use std::ffi::OsString;
 use std::os::unix::ffi::{OsStrExt, OsStringExt};
 use std::path::{Path, PathBuf};
 
+/// The fields of an output template, as `{name}`.
+pub const FIELDS: [&str; 5] = ["dir", "stem", "name", "udim", "tile"];
+
 /// `DIR/STEM_spectral.exr` for `input`.
 pub fn in_directory(dir: &Path, input: &Path) -> PathBuf {
-    let mut name = stem(input);
+    let mut name = udim::stem(input);
     name.extend_from_slice(b"_spectral.exr");
     dir.join(OsString::from_vec(name))
 }
 
-/// `template` with `{dir}` (the input's directory, `.` for none), `{stem}` (its name without
-/// the extension) and `{name}` (its file name) replaced.
-pub fn from_template(template: &str, input: &Path) -> PathBuf {
-    let dir = input
-        .parent()
-        .filter(|d| !d.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    let name = input.file_name().map(|n| n.as_bytes()).unwrap_or_default();
-    let mut out = Vec::new();
-    let mut rest = template.as_bytes();
-    while !rest.is_empty() {
-        let field: Option<(&[u8], Vec<u8>)> = [
-            (&b"{dir}"[..], dir.as_os_str().as_bytes().to_vec()),
-            (b"{stem}", stem(input)),
-            (b"{name}", name.to_vec()),
-        ]
-        .into_iter()
-        .find(|(key, _)| rest.starts_with(key));
-        match field {
-            Some((key, value)) => {
-                out.extend_from_slice(&value);
-                rest = &rest[key.len()..];
-            }
-            None => {
-                out.push(rest[0]);
-                rest = &rest[1..];
-            }
-        }
-    }
-    PathBuf::from(OsString::from_vec(out))
+/// Why a template cannot name an output.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
+pub enum TemplateError {
+    /// A `{field}` that is not one of [`FIELDS`].
+    #[error(
+        "the output template {template:?} has an unknown field {{{field}}}; its fields are {}",
+        known_fields()
+    )]
+    UnknownField {
+        /// The template.
+        template: String,
+        /// The field as written, without braces.
+        field: String,
+    },
+    /// A `{` with no `}` after it.
+    #[error(
+        "the output template {template:?} has a '{{' that no '}}' closes; its fields are {}",
+        known_fields()
+    )]
+    Unclosed {
+        /// The template.
+        template: String,
+    },
+    /// `{udim}` or `{tile}` for an input without a tile number in its name.
+    #[error(
+        "the output template {template:?} names the UDIM tile, but {} has no tile number \
+         ({}–{}) in its name",
+        input.display(), udim::FIRST, udim::LAST
+    )]
+    NoTile {
+        /// The template.
+        template: String,
+        /// The input.
+        input: PathBuf,
+    },
 }
 
-/// The input's name without its extension; `output` for a path without a name.
-fn stem(input: &Path) -> Vec<u8> {
-    input
-        .file_stem()
-        .map_or_else(|| b"output".to_vec(), |s| s.as_bytes().to_vec())
+fn known_fields() -> String {
+    FIELDS.map(|f| format!("{{{f}}}")).join(", ")
+}
+
+/// One piece of a template.
+#[derive(Debug, Clone, PartialEq, Eq)]
+enum Piece {
+    Text(Vec<u8>),
+    Dir,
+    Stem,
+    Name,
+    Udim,
+    Tile,
+}
+
+/// An output template, its fields checked: `{dir}` (the input's directory, `.` for none),
+/// `{stem}` (its name without the extension), `{name}` (its file name), `{udim}` (its UDIM tile
+/// number, 1001…) and `{tile}` (the same tile as `u1_v1`, OpenImageIO's `<UVTILE>`). In a
+/// template that names the tile, `{stem}` leaves the tile number out: `{stem}_spectral.{udim}.exr`
+/// makes `wood_spectral.1001.exr` of `wood.1001.png`.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Template {
+    text: String,
+    pieces: Vec<Piece>,
+}
+
+impl Template {
+    /// Checks `text`: every `{` opens one of [`FIELDS`].
+    pub fn parse(text: &str) -> Result<Template, TemplateError> {
+        let mut pieces = Vec::new();
+        let mut literal = Vec::new();
+        let mut rest = text;
+        while let Some(open) = rest.find('{') {
+            literal.extend_from_slice(&rest.as_bytes()[..open]);
+            let after = &rest[open + 1..];
+            let close = after.find('}').ok_or_else(|| TemplateError::Unclosed {
+                template: text.to_owned(),
+            })?;
+            let field = &after[..close];
+            let piece = match field {
+                "dir" => Piece::Dir,
+                "stem" => Piece::Stem,
+                "name" => Piece::Name,
+                "udim" => Piece::Udim,
+                "tile" => Piece::Tile,
+                _ => {
+                    return Err(TemplateError::UnknownField {
+                        template: text.to_owned(),
+                        field: field.to_owned(),
+                    })
+                }
+            };
+            if !literal.is_empty() {
+                pieces.push(Piece::Text(std::mem::take(&mut literal)));
+            }
+            pieces.push(piece);
+            rest = &after[close + 1..];
+        }
+        literal.extend_from_slice(rest.as_bytes());
+        if !literal.is_empty() {
+            pieces.push(Piece::Text(literal));
+        }
+        Ok(Template {
+            text: text.to_owned(),
+            pieces,
+        })
+    }
+
+    /// Whether the template names the UDIM tile (`{udim}` or `{tile}`).
+    pub fn names_tile(&self) -> bool {
+        self.pieces
+            .iter()
+            .any(|p| matches!(p, Piece::Udim | Piece::Tile))
+    }
+
+    /// The output of `input`.
+    pub fn apply(&self, input: &Path) -> Result<PathBuf, TemplateError> {
+        let dir = input
+            .parent()
+            .filter(|d| !d.as_os_str().is_empty())
+            .unwrap_or(Path::new("."));
+        let name = input.file_name().map(|n| n.as_bytes()).unwrap_or_default();
+        let tile = if self.names_tile() {
+            Some(
+                udim::tile_number(input).ok_or_else(|| TemplateError::NoTile {
+                    template: self.text.clone(),
+                    input: input.to_path_buf(),
+                })?,
+            )
+        } else {
+            None
+        };
+        let mut out = Vec::new();
+        for piece in &self.pieces {
+            match piece {
+                Piece::Text(t) => out.extend_from_slice(t),
+                Piece::Dir => out.extend_from_slice(dir.as_os_str().as_bytes()),
+                Piece::Stem if tile.is_some() => out.extend(udim::stem_without_tile(input)),
+                Piece::Stem => out.extend(udim::stem(input)),
+                Piece::Name => out.extend_from_slice(name),
+                Piece::Udim => {
+                    out.extend_from_slice(tile.unwrap_or_default().to_string().as_bytes())
+                }
+                Piece::Tile => {
+                    out.extend_from_slice(udim::uv_tile(tile.unwrap_or(udim::FIRST)).as_bytes())
+                }
+            }
+        }
+        Ok(PathBuf::from(OsString::from_vec(out)))
+    }
+
+    /// The template as written.
+    pub fn as_str(&self) -> &str {
+        &self.text
+    }
+}
+
+/// `template` ([`Template`]) applied to `input`.
+pub fn from_template(template: &str, input: &Path) -> Result<PathBuf, TemplateError> {
+    Template::parse(template)?.apply(input)
 }
 
 #[cfg(test)]
@@ -67,17 +195,65 @@ mod tests {
         );
         assert_eq!(
             from_template("{dir}/../o/{stem}.{name}.exr", input)
+                .unwrap()
                 .as_os_str()
                 .as_bytes(),
             b"tex/../o/a\xff.a\xff.png.exr"
         );
         assert_eq!(
-            from_template("{stem}.exr", Path::new("x.png")),
+            from_template("{stem}.exr", Path::new("x.png")).unwrap(),
             Path::new("x.exr")
         );
         assert_eq!(
-            from_template("{dir}/{stem}", Path::new("x.png")),
+            from_template("{dir}/{stem}", Path::new("x.png")).unwrap(),
             Path::new("./x")
         );
+    }
+
+    #[test]
+    fn tiles_keep_the_studio_convention() {
+        let t = "{dir}/{stem}_spectral.{udim}.exr";
+        assert_eq!(
+            from_template(t, Path::new("tex/wood.1012.png")).unwrap(),
+            Path::new("tex/wood_spectral.1012.exr")
+        );
+        assert_eq!(
+            from_template("{stem}_{tile}.exr", Path::new("wood_1012.png")).unwrap(),
+            Path::new("wood_u2_v2.exr")
+        );
+        // Without a tile field the stem keeps its number, so tiles stay apart.
+        assert_eq!(
+            from_template("{stem}_spectral.exr", Path::new("wood.1012.png")).unwrap(),
+            Path::new("wood.1012_spectral.exr")
+        );
+        let e = from_template(t, Path::new("wood.png"))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("wood.png has no tile number"), "{e}");
+    }
+
+    #[test]
+    fn an_unknown_field_is_refused_with_the_known_ones() {
+        let e = Template::parse("{dir}/{stme}.exr").unwrap_err();
+        assert_eq!(
+            e,
+            TemplateError::UnknownField {
+                template: "{dir}/{stme}.exr".into(),
+                field: "stme".into()
+            }
+        );
+        let text = e.to_string();
+        assert!(
+            text.contains("{stme}") && text.contains("{dir}, {stem}, {name}, {udim}, {tile}"),
+            "{text}"
+        );
+        assert!(matches!(
+            Template::parse("{stem.exr"),
+            Err(TemplateError::Unclosed { .. })
+        ));
+        assert!(matches!(
+            Template::parse("{}.exr"),
+            Err(TemplateError::UnknownField { .. })
+        ));
     }
 }

@@ -69,7 +69,7 @@ pub mod exit {
     pub const PIPE: i32 = 141;
     /// The table as the README and the man pages print it.
     pub const TABLE: [(i32, &str); 5] = [
-        (OK, "everything asked for was done (in a batch: every input converted or up to date)"),
+        (OK, "everything asked for was done (in a batch: every input converted, up to date, or a data texture skipped or written through by --data)"),
         (
             FAILED,
             "an input, output or other file failed (in a batch: at least one input failed; the others were converted)",
@@ -223,6 +223,15 @@ fn hint(cause: &(dyn std::error::Error + 'static)) -> Option<String> {
             }
             Some(Remedy::NameLayer) => "; choose one with --channels LAYER",
             Some(Remedy::DropIlluminant) => "; drop --illuminant",
+            Some(Remedy::AlreadySpectral) => {
+                "; use it as it is (`specconv info` shows its bands), `specconv to-rgb` gives its \
+                 colour, and converting its colour source with --bands START:END:STEP gives \
+                 another grid (--channels R,G,B reads a colour preview it holds instead)"
+            }
+            Some(Remedy::DataTexture) => {
+                "; --data skip leaves it out, --data copy writes it through as a data texture, \
+                 and --colorspace NAME reads it as colour if it is one"
+            }
             Some(_) | None => "",
         };
         if !flag.is_empty() {

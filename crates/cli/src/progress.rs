@@ -206,6 +206,8 @@ pub fn duration(seconds: f64) -> String {
 pub struct Summary {
     pub converted: usize,
     pub skipped: usize,
+    /// What became of each data texture.
+    pub data: Vec<Option<specconv_conversion::DataOutcome>>,
     /// Each failed input with its error.
     pub failed: Vec<(PathBuf, String)>,
 }
@@ -213,8 +215,20 @@ pub struct Summary {
 impl Summary {
     /// `specconv: 10 converted, 1 skipped, 2 failed in 3 min 05 s`, then each failure again.
     pub fn text(&self, seconds: f64) -> String {
+        use specconv_conversion::DataOutcome;
+        let count = |o: DataOutcome| self.data.iter().filter(|d| **d == Some(o)).count();
+        let mut data = String::new();
+        for (n, what) in [
+            (count(DataOutcome::Skipped), "skipped"),
+            (count(DataOutcome::Copied), "written through"),
+        ] {
+            if n > 0 {
+                let s = if n == 1 { "" } else { "s" };
+                data += &format!(", {n} data texture{s} {what}");
+            }
+        }
         let mut text = format!(
-            "specconv: {} converted, {} skipped, {} failed in {}",
+            "specconv: {} converted, {} skipped{data}, {} failed in {}",
             self.converted,
             self.skipped,
             self.failed.len(),
@@ -244,6 +258,7 @@ mod tests {
         let s = Summary {
             converted: 10,
             skipped: 1,
+            data: Vec::new(),
             failed: vec![
                 ("a.png".into(), "no such file".into()),
                 ("b.exr".into(), "truncated".into()),

@@ -18,6 +18,10 @@ pub fn colorspace_reason(rule: &specconv_conversion::Rule) -> String {
         Rule::Flag { overrides: Some(d) } => format!("--colorspace, overriding the file's {d}"),
         Rule::Declared(what) => format!("declared by the file: {}", what.join(", ")),
         Rule::FileRule(name) => format!("the OCIO config's file rule '{name}'"),
+        Rule::ConfigDefault(name) => format!(
+            "the OCIO config's '{name}' file rule: a config given by --ocio or $OCIO is the \
+             studio's policy for float files that declare nothing, before the format's default"
+        ),
         Rule::Default(why) => format!("default: {why}"),
     }
 }

@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 
 /// What a batch says as it goes. Every input gets `Started` and then exactly one of
-/// `Skipped`, `Converted` or `Failed`, unless the batch is cancelled during it.
+/// `Skipped`, `Converted`, `Data` or `Failed`, unless the batch is cancelled during it.
 #[derive(Debug)]
 #[non_exhaustive]
 pub enum Event<'a> {
@@ -42,6 +42,16 @@ pub enum Event<'a> {
         /// What the conversion did.
         report: &'a Report,
     },
+    /// A data texture (a roughness or normal map): never uplifted, skipped or written through
+    /// by the converter's data policy (`report.data` says which). Not a failure.
+    Data {
+        /// The input.
+        input: &'a Path,
+        /// Its output.
+        output: &'a Path,
+        /// What was done.
+        report: &'a Report,
+    },
     /// Failed; the batch goes on with the next input.
     Failed {
         /// The input.
@@ -65,6 +75,8 @@ pub struct Summary {
     pub skipped: usize,
     /// Inputs that failed.
     pub failed: usize,
+    /// Data textures, skipped or written through.
+    pub data: usize,
     /// The batch was cancelled; the input it was on was left as it was.
     pub cancelled: bool,
 }
@@ -150,6 +162,14 @@ impl<'c> Batch<'c> {
                         on(Event::Progress { done, total })
                     });
             match result {
+                Ok(report) if report.data.is_some() => {
+                    summary.data += 1;
+                    on(Event::Data {
+                        input,
+                        output,
+                        report: &report,
+                    });
+                }
                 Ok(report) => {
                     summary.converted += 1;
                     on(Event::Converted {

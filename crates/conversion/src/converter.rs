@@ -3,7 +3,7 @@
 
 use crate::error::{ConversionError, Error};
 use crate::options::{
-    alpha_name, mip_name, non_finite_name, sample_name, Blocks, Mip, Options, Rounding,
+    alpha_name, mip_name, non_finite_name, sample_name, Blocks, DataPolicy, Mip, Options, Rounding,
 };
 use crate::provenance::Provenance;
 use specconv_colour::EmissionUnits;
@@ -71,7 +71,7 @@ pub struct Report {
     pub constant: bool,
     /// Alpha was 1 everywhere and was not written.
     pub opaque_dropped: bool,
-    /// The hash of the source pixels `-u` compares.
+    /// The hash of the source pixels `-u` compares (empty for a data texture).
     pub source_hash: String,
     /// Bands of every spectrum.
     pub bands: usize,
@@ -97,6 +97,41 @@ pub struct Report {
     pub unmatched: Option<u64>,
     /// Seconds the conversion took.
     pub seconds: f64,
+    /// What the texture was read as: colour, one achromatic channel, or data.
+    pub role: Role,
+    /// For a data texture, what was done with it; `None` for colour.
+    pub data: Option<DataOutcome>,
+}
+
+/// What a texture holds ([`specconv_pipeline::colour::texture_space`]'s rule).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Role {
+    /// Colour, three channels.
+    Colour,
+    /// One channel read as achromatic colour (its colour space says it is colour).
+    Achromatic,
+    /// Data, not colour: never uplifted.
+    Data,
+}
+
+impl Role {
+    /// The name records give it: `colour`, `achromatic` or `data`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Role::Colour => "colour",
+            Role::Achromatic => "achromatic",
+            Role::Data => "data",
+        }
+    }
+}
+
+/// What was done with a data texture ([`DataPolicy`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum DataOutcome {
+    /// Nothing written.
+    Skipped,
+    /// Written through as a data texture.
+    Copied,
 }
 
 impl Converter {
@@ -139,7 +174,11 @@ impl Converter {
         let config = Config::resolve(options.ocio.as_deref())?;
         if let Some(name) = options.colorspace.as_deref() {
             let cs = config.color_space(name)?;
-            config.processor_to_xyz(&cs.name)?;
+            // A data space names data textures, which the data policy takes care of, unless
+            // every input would fail.
+            if !cs.is_data || options.data == DataPolicy::Fail {
+                config.processor_to_xyz(&cs.name)?;
+            }
         }
         let model = crate::models::load(options.model.as_deref())?;
         let tables = crate::tables::in_dir(options.table_dir.clone(), crate::tables::print_note);
@@ -236,8 +275,21 @@ impl Converter {
         let r = match &self.pool {
             Some(pool) => pool.install(run),
             None => run(),
-        }?;
+        };
+        let r = match r {
+            Err(ConversionError::Data(data)) => {
+                return self.data_texture(input, output, overwrite, *data, start)
+            }
+            other => other?,
+        };
+        let role = if r.selection.channels.colour.len() == 1 {
+            Role::Achromatic
+        } else {
+            Role::Colour
+        };
         Ok(Report {
+            role,
+            data: None,
             width: r.width,
             height: r.height,
             pixels: r.pixels,
@@ -259,6 +311,90 @@ impl Converter {
             bounded: self.stack.counts_bounded().then_some(r.tally.bounded),
             unmatched: self.stack.emissive().map(|_| r.tally.unmatched),
             seconds: start.elapsed().as_secs_f64(),
+        })
+    }
+
+    /// A data texture, by the data policy: skipped, written through, or a failure.
+    fn data_texture(
+        &self,
+        input: &Path,
+        output: &Path,
+        overwrite: bool,
+        data: specconv_pipeline::DataTexture,
+        start: Instant,
+    ) -> Result<Report, Error> {
+        let outcome = match self.options.data {
+            DataPolicy::Fail => {
+                return Err(Error::Conversion(ConversionError::Data(Box::new(data))))
+            }
+            DataPolicy::Skip => (DataOutcome::Skipped, 0),
+            DataPolicy::Copy => {
+                let (tile_width, tile_height) = match self.options.blocks {
+                    Blocks::Tiles(w, h) => (w, h),
+                    // A texture is tiled whatever the colour outputs are.
+                    Blocks::Scanlines => (64, 64),
+                };
+                let provenance = Provenance {
+                    source_colorspace: Some(data.name.clone()),
+                    config: Some(self.config.source().to_string()),
+                    source: Some(file_name(input)),
+                    source_stat: crate::provenance::source_stat(input),
+                    settings: self.provenance.settings.clone(),
+                    version: self.provenance.version.clone(),
+                    ..Provenance::default()
+                };
+                let compression = self.options.compression.to_string();
+                let selection = data.selection.as_ref();
+                let how = specconv_pipeline::data::Copy {
+                    subimage: selection.map_or(0, |s| s.subimage),
+                    tile: (
+                        u32::try_from(tile_width).unwrap_or(u32::MAX),
+                        u32::try_from(tile_height).unwrap_or(u32::MAX),
+                    ),
+                    compression: &compression,
+                    overwrite,
+                    attributes: &provenance.to_attributes(),
+                };
+                let levels = specconv_pipeline::data::copy(input, output, &how)
+                    .map_err(Error::Conversion)?;
+                (DataOutcome::Copied, levels)
+            }
+        };
+        let selection = data.selection.clone().unwrap_or_else(|| Selection {
+            subimage: 0,
+            subimages: 1,
+            subimage_name: String::new(),
+            channels: specconv_pipeline::input::Channels {
+                colour: Vec::new(),
+                alpha: None,
+                names: Vec::new(),
+                reason: specconv_pipeline::input::ChannelReason::Named,
+            },
+        });
+        Ok(Report {
+            width: data.size.0 as usize,
+            height: data.size.1 as usize,
+            pixels: 0,
+            levels: outcome.1,
+            wrap: None,
+            non_finite_input: (0, false),
+            constant: false,
+            opaque_dropped: false,
+            source_hash: String::new(),
+            bands: 0,
+            selection,
+            colorspace: data.name,
+            colorspace_rule: data.rule,
+            warnings: Vec::new(),
+            premultiplied: false,
+            non_finite: 0,
+            above_one: 0,
+            saturated: 0,
+            bounded: None,
+            unmatched: None,
+            seconds: start.elapsed().as_secs_f64(),
+            role: Role::Data,
+            data: Some(outcome.0),
         })
     }
 
@@ -451,6 +587,10 @@ fn settings_tag(o: &Options, model: &str, stack: &Stack, config: &Config) -> Str
     );
     if let Some(e) = stack.emission() {
         tag += &format!(" emission-units={}", e.units);
+    }
+    // Only when not the default, so that outputs of earlier versions stay up to date.
+    if o.data != DataPolicy::Skip {
+        tag += &format!(" data={}", o.data.name());
     }
     for (k, v) in [("subimage", &o.subimage), ("channels", &o.channels)] {
         if let Some(v) = v {

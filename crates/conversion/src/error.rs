@@ -179,6 +179,12 @@ pub enum Remedy {
     Replace,
     /// Drop the illuminant (emission is its own light).
     DropIlluminant,
+    /// A data texture: skip it, write it through as data, or name its colour space if it is
+    /// colour.
+    DataTexture,
+    /// A spectral image as input: use it as it is, integrate it to colour, or convert its
+    /// colour source on the grid wanted; channels of a colour preview can be named.
+    AlreadySpectral,
 }
 
 impl Error {
@@ -206,6 +212,8 @@ impl Error {
                     specconv_pipeline::input::Choose::OneLayer => Remedy::NameLayer,
                 }),
                 ConversionError::Color(e) => colour_remedy(e),
+                ConversionError::Data(_) => Some(Remedy::DataTexture),
+                ConversionError::Spectral { .. } => Some(Remedy::AlreadySpectral),
                 _ => None,
             },
             _ => None,

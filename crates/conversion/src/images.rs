@@ -21,6 +21,47 @@ pub use specconv_oiio::{ImageInfo, ImageReader, Region, Window};
 pub use specconv_pipeline::input::{choose_channels, open_subimage, ChannelReason};
 pub use specconv_pipeline::{colour_channels, colour_of, input_space, InputSpace};
 
+/// What an image's colour is read as, by the conversion's rule.
+#[derive(Debug)]
+pub enum ReadAs {
+    /// Colour, in this space.
+    Colour(InputSpace),
+    /// Data, never uplifted ([`specconv_pipeline::colour::texture_space`]).
+    Data(Box<specconv_pipeline::DataTexture>),
+}
+
+/// What `reader`'s image is read as when `channels` carry its colour (`None`: channels not
+/// chosen, so the single-channel rule is not applied), as a conversion decides it.
+pub fn read_as(
+    config: &specconv_ocio::Config,
+    reader: &ImageReader,
+    channels: Option<&specconv_pipeline::input::Channels>,
+    colorspace: Option<&str>,
+) -> Result<ReadAs, specconv_pipeline::Error> {
+    let info = reader.info();
+    let chosen = match channels {
+        Some(c) => {
+            let selection = specconv_pipeline::input::Selection {
+                subimage: info.subimage,
+                subimages: info.subimages,
+                subimage_name: info
+                    .subimage_names
+                    .get(info.subimage as usize)
+                    .cloned()
+                    .unwrap_or_default(),
+                channels: c.clone(),
+            };
+            specconv_pipeline::texture_space(config, reader, &selection, colorspace)
+        }
+        None => input_space(config, reader, colorspace),
+    };
+    match chosen {
+        Ok(space) => Ok(ReadAs::Colour(space)),
+        Err(specconv_pipeline::Error::Data(d)) => Ok(ReadAs::Data(d)),
+        Err(e) => Err(e),
+    }
+}
+
 /// Why one pixel's colour cannot be had.
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]

@@ -36,17 +36,18 @@ pub mod tables;
 pub mod to_rgb;
 
 pub use batch::{check_plan, Batch, Event, Summary};
-pub use converter::{Advice, Converter, Report, Rule, Selection, Warning};
+pub use converter::{Advice, Converter, DataOutcome, Report, Role, Rule, Selection, Warning};
 pub use error::{ConversionError, Error, Remedy};
 pub use options::{
-    Alpha, Blocks, Compression, Mip, NonFinite, Options, Rounding, Sample, UnknownName, Wrap,
-    WrapModes, WRAP_NAMES,
+    Alpha, Blocks, Compression, DataPolicy, Mip, NonFinite, Options, Rounding, Sample, UnknownName,
+    Wrap, WrapModes, WRAP_NAMES,
 };
 pub use provenance::Provenance;
 /// Ends the process at once, without C++ static destructors: for a signal handler's thread
 /// while the libraries may be in use (`specconv_oiio::exit_now`).
 pub use specconv_oiio::exit_now;
 pub use specconv_pipeline::texture::parse_wrapmodes;
+pub use specconv_pipeline::DataTexture;
 pub use specconv_spectral::bounded::Counts;
 
 /// The OpenColorIO configs and colour spaces every front-end reads colour through (the same

@@ -74,6 +74,33 @@ pub struct Options {
     pub overwrite: bool,
     /// Where the Jakob 2019 tables are kept (`None`: [`crate::tables::cache_dir`]).
     pub table_dir: Option<PathBuf>,
+    /// What becomes of a data texture (a roughness or normal map): never uplifted.
+    pub data: DataPolicy,
+}
+
+/// What a conversion does with a texture that holds data, not colour
+/// ([`specconv_pipeline::DataTexture`]): it is never uplifted.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum DataPolicy {
+    /// Write nothing; the report says it is data ([`crate::DataOutcome::Skipped`]). Not a
+    /// failure.
+    #[default]
+    Skip,
+    /// Write it through as a tiled, MIP-mapped data texture, its values unconverted.
+    Copy,
+    /// Fail, saying it is data.
+    Fail,
+}
+
+impl DataPolicy {
+    /// The name the command line and `specconvSettings` give it.
+    pub fn name(self) -> &'static str {
+        match self {
+            DataPolicy::Skip => "skip",
+            DataPolicy::Copy => "copy",
+            DataPolicy::Fail => "fail",
+        }
+    }
 }
 
 impl Default for Options {
@@ -103,6 +130,7 @@ impl Default for Options {
             threads: None,
             overwrite: false,
             table_dir: None,
+            data: DataPolicy::Skip,
         }
     }
 }

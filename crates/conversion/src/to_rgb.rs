@@ -139,6 +139,7 @@ impl ToRgb {
             })?,
         };
         let processor = self.config.processor(&xyz_space, &colorspace)?;
+        let declared = declaration(&self.config, &colorspace, &xyz_space)?;
 
         let mut rgb = vec![0.0f32; h.width * h.height * 3];
         let mut alpha = h.alpha.then(|| vec![0.0f32; h.width * h.height]);
@@ -157,11 +158,12 @@ impl ToRgb {
         };
         let io_error = |e: std::io::Error| write_error(specconv_exr::Error::Exr(e.into()));
         let pending = specconv_atomic_file::Pending::beside(output).map_err(io_error)?;
-        specconv_exr::rgb::write_rgb(
+        specconv_exr::rgb::write_rgb_declared(
             std::io::BufWriter::new(pending.file()),
             (h.width, h.height),
             &rgb,
             alpha.as_deref(),
+            &declared,
         )
         .map_err(write_error)?;
         pending.publish(replace).map_err(|e| match e.kind() {
@@ -187,6 +189,68 @@ impl ToRgb {
 }
 
 /// Copies a block's values (`per` a pixel) into the image's row-major buffer.
+/// D65 as OCIO's CIE-XYZ-D65 has it (x 0.3127, y 0.3290, Y = 1).
+const D65: [f64; 3] = [0.3127 / 0.3290, 1.0, (1.0 - 0.3127 - 0.3290) / 0.3290];
+
+/// What a file of values in `colorspace` declares, so that other readers (OpenImageIO,
+/// colour-science, `info`) take them as that space: its name always; for a linear space its
+/// `chromaticities` — the canonical ones of ACES2065-1 (with `acesImageContainerFlag`), ACEScg,
+/// Rec.709 and Rec.2020 when the config's conversion is theirs (Bradford to D65), else the
+/// primaries and white as the config places them in XYZ D65, which give the same conversion.
+/// A non-linear space (an sRGB-encoded one) gets no chromaticities: they mean linear values.
+fn declaration(
+    config: &Config,
+    colorspace: &str,
+    xyz_space: &str,
+) -> Result<specconv_exr::rgb::Declaration, Error> {
+    use specconv_colour::rgb;
+    let cs = config.color_space(colorspace)?;
+    let mut declared = specconv_exr::rgb::Declaration {
+        colorspace_name: Some(cs.name.clone()),
+        ..Default::default()
+    };
+    if cs.is_data {
+        return Ok(declared);
+    }
+    let to_xyz = config.processor(&cs.name, xyz_space)?;
+    let xyz = |c: [f32; 3]| -> Result<[f64; 3], Error> { Ok(to_xyz.convert(c)?.map(f64::from)) };
+    let columns = [
+        xyz([1.0, 0.0, 0.0])?,
+        xyz([0.0, 1.0, 0.0])?,
+        xyz([0.0, 0.0, 1.0])?,
+    ];
+    let linear_at = |c: [f32; 3]| -> Result<bool, Error> {
+        let got = xyz(c)?;
+        Ok((0..3).all(|k| {
+            let want: f64 = (0..3).map(|j| columns[j][k] * f64::from(c[j])).sum();
+            (got[k] - want).abs() <= 1e-4
+        }))
+    };
+    if !(linear_at([0.5, 0.5, 0.5])? && linear_at([0.2, 0.05, 0.7])?) {
+        return Ok(declared);
+    }
+    let same = |m: &[[f64; 3]; 3]| {
+        (0..3).all(|row| (0..3).all(|col| (m[row][col] - columns[col][row]).abs() <= 1e-4))
+    };
+    let xy = |v: [f64; 3]| {
+        let sum = v[0] + v[1] + v[2];
+        [(v[0] / sum) as f32, (v[1] / sum) as f32]
+    };
+    for space in [rgb::ACES2065_1, rgb::ACESCG, rgb::SRGB, rgb::REC2020] {
+        if space.to_xyz_adapted(D65).is_some_and(|m| same(&m)) {
+            let [[rx, ry], [gx, gy], [bx, by]] = space.primaries.map(|p| p.map(|v| v as f32));
+            let [wx, wy] = space.white.map(|v| v as f32);
+            declared.chromaticities = Some([rx, ry, gx, gy, bx, by, wx, wy]);
+            declared.aces_container = space.primaries == rgb::ACES2065_1.primaries;
+            return Ok(declared);
+        }
+    }
+    let white = xyz([1.0, 1.0, 1.0])?;
+    let [r, g, b, w] = [columns[0], columns[1], columns[2], white].map(xy);
+    declared.chromaticities = Some([r[0], r[1], g[0], g[1], b[0], b[1], w[0], w[1]]);
+    Ok(declared)
+}
+
 fn place(to: &mut [f32], width: usize, b: &Block, from: &[f32], per: usize) {
     for (row, values) in from.chunks_exact(b.width * per).enumerate() {
         let start = ((b.y + row) * width + b.x) * per;

@@ -9,27 +9,75 @@ use std::io::{Seek, Write};
 /// pixel) to `out`, as OpenEXR's RGB(A) file writer does.
 pub fn write_rgb(
     out: impl Write + Seek,
-    (width, height): (usize, usize),
+    size: (usize, usize),
     rgb: &[f32],
     alpha: Option<&[f32]>,
 ) -> Result<()> {
+    write_rgb_declared(out, size, rgb, alpha, &Declaration::default())
+}
+
+/// What an RGB file declares of its colour, so that other readers take its values as the
+/// colour space they are in.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Declaration {
+    /// `chromaticities`: red, green, blue and white x, y (linear values).
+    pub chromaticities: Option<[f32; 8]>,
+    /// `acesImageContainerFlag` = 1: ACES2065-1 (SMPTE ST 2065-4).
+    pub aces_container: bool,
+    /// A colour-space name as OpenImageIO's `oiio:ColorSpace` holds it.
+    pub colorspace_name: Option<String>,
+}
+
+/// [`write_rgb`] with the colour declared.
+pub fn write_rgb_declared(
+    out: impl Write + Seek,
+    (width, height): (usize, usize),
+    rgb: &[f32],
+    alpha: Option<&[f32]>,
+    declared: &Declaration,
+) -> Result<()> {
+    use exr::meta::attribute::{AttributeValue, Chromaticities, Text};
     let px = |p: Vec2<usize>| {
         let i = p.y() * width + p.x();
         (rgb[3 * i], rgb[3 * i + 1], rgb[3 * i + 2])
     };
+    let declare = |attributes: &mut exr::meta::header::ImageAttributes| {
+        attributes.chromaticities = declared.chromaticities.map(|c| Chromaticities {
+            red: Vec2(c[0], c[1]),
+            green: Vec2(c[2], c[3]),
+            blue: Vec2(c[4], c[5]),
+            white: Vec2(c[6], c[7]),
+        });
+        if declared.aces_container {
+            attributes
+                .other
+                .insert(Text::from("acesImageContainerFlag"), AttributeValue::I32(1));
+        }
+        if let Some(name) = declared.colorspace_name.as_deref() {
+            if let Some(text) = Text::new_or_none(name) {
+                attributes
+                    .other
+                    .insert(Text::from("oiio:ColorSpace"), AttributeValue::Text(text));
+            }
+        }
+    };
     match alpha {
-        Some(a) => Image::from_channels(
-            (width, height),
-            SpecificChannels::rgba(|p: Vec2<usize>| {
-                let (r, g, b) = px(p);
-                (r, g, b, a[p.y() * width + p.x()])
-            }),
-        )
-        .write()
-        .to_buffered(out)?,
-        None => Image::from_channels((width, height), SpecificChannels::rgb(px))
-            .write()
-            .to_buffered(out)?,
+        Some(a) => {
+            let mut image = Image::from_channels(
+                (width, height),
+                SpecificChannels::rgba(|p: Vec2<usize>| {
+                    let (r, g, b) = px(p);
+                    (r, g, b, a[p.y() * width + p.x()])
+                }),
+            );
+            declare(&mut image.attributes);
+            image.write().to_buffered(out)?
+        }
+        None => {
+            let mut image = Image::from_channels((width, height), SpecificChannels::rgb(px));
+            declare(&mut image.attributes);
+            image.write().to_buffered(out)?
+        }
     }
     Ok(())
 }

@@ -84,7 +84,8 @@ impl TaskLog {
                             Some(other) => other.to_string(),
                             None => "failed (no error given)".into(),
                         }),
-                        Some("ok" | "converted" | "skipped") => Outcome::Done,
+                        // A data texture skipped or written through is done, not failed.
+                        Some("ok" | "converted" | "skipped" | "data" | "copied") => Outcome::Done,
                         // A status this version does not know: not counted as done.
                         _ => continue,
                     };
@@ -115,6 +116,7 @@ mod tests {
             "{\"input\":\"/a.png\",\"output\":\"/o/a.exr\",\"status\":\"ok\",\"seconds\":1.5,\"pixels\":64}\n",
             "{\"input\":\"/b.png\",\"status\":\"failed\",\"seconds\":0.1,\"pixels\":0,\"error\":\"cannot open\"}\n",
             "{\"input\":\"/c.png\",\"status\":\"skipped\",\"seconds\":0,\"pixels\":0}\n",
+            "{\"input\":\"/n.png\",\"status\":\"data\",\"seconds\":0,\"pixels\":null}\n",
             "{\"event\":\"end\",\"task\":1,\"unix\":103.0,\"exit\":1}\n",
             "{\"input\":\"/d.png\",\"sta",
         ));
@@ -122,12 +124,13 @@ mod tests {
             (log.start, log.end, log.exit),
             (Some(100.5), Some(103.0), Some(1))
         );
-        assert_eq!(log.records.len(), 3);
+        assert_eq!(log.records.len(), 4);
         assert_eq!(log.records[Path::new("/a.png")].pixels, 64);
         assert_eq!(
             log.records[Path::new("/b.png")].outcome,
             Outcome::Failed("cannot open".into())
         );
         assert_eq!(log.records[Path::new("/c.png")].outcome, Outcome::Done);
+        assert_eq!(log.records[Path::new("/n.png")].outcome, Outcome::Done);
     }
 }

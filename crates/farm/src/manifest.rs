@@ -218,7 +218,8 @@ impl Outputs {
                 }
             }
             Outputs::Template(t) => {
-                let want = lexical(&workdir.join(outputs::from_template(t, input)));
+                let planned = outputs::from_template(t, input).map_err(|e| e.to_string())?;
+                let want = lexical(&workdir.join(planned));
                 if lexical(output) == want {
                     Ok(())
                 } else {
@@ -552,6 +553,20 @@ mod tests {
         assert!(r
             .check(w, input, Path::new("/elsewhere/out/a.png.exr"))
             .is_err());
+        // UDIM tiles: the command line's names, by the same rule.
+        let u = Outputs::Template("{dir}/{stem}_spectral.{udim}.exr".into());
+        let tile = Path::new("/lib/wood.1012.png");
+        assert!(u
+            .check(w, tile, Path::new("/lib/wood_spectral.1012.exr"))
+            .is_ok());
+        let e = u.check(w, input, Path::new("/lib/wood/a.exr")).unwrap_err();
+        assert!(e.contains("no tile number"), "{e}");
+        // A manifest edited to a template with an unknown field is refused, not followed.
+        let typo = Outputs::Template("{dir}/{stme}.exr".into());
+        let e = typo
+            .check(w, input, Path::new("/lib/wood/a.exr"))
+            .unwrap_err();
+        assert!(e.contains("unknown field {stme}"), "{e}");
     }
 
     #[test]

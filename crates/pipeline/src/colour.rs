@@ -8,11 +8,22 @@
 //!    (not OpenImageIO's own labels "Linear" and "sRGB", which it gives every OpenEXR file
 //!    and most integer files whatever they hold);
 //! 3. the OCIO config's `file_rules`, when a rule other than the default one matches the path;
+//!    and for float pixels, the config's Default rule when the config is a file the user gave
+//!    (`--ocio FILE`, `$OCIO`): a studio's config is its policy for files that declare nothing.
+//!    The built-in configs' Default rule (ACES2065-1) is no one's policy for a file, and
+//!    integer pixels are display-encoded textures whatever a config's Default rule (made for
+//!    scene-linear EXRs) says: a studio that means otherwise writes a rule for them;
 //! 4. the format's default: float pixels are linear Rec.709 with a D65 white (the OpenEXR
 //!    specification's meaning of a file without `chromaticities`), integer pixels sRGB texture.
 //!
 //! Declarations that disagree (their conversions to XYZ differ) give a warning naming both and
 //! the one used.
+//!
+//! **Data textures** ([`texture_space`]): when the colour space chosen is a data space (OCIO
+//! `isdata`: `Raw`, by `--colorspace`, a declared name or a file rule), or when one channel is
+//! read as colour and only the format's default (rule 4) would call it colour, the texture
+//! holds numbers (roughness, normals, masks), not colour, and is never uplifted
+//! ([`DataTexture`]). A single channel is achromatic colour only when rules 1–3 say so.
 //!
 //! **The routes to XYZ** ([`ToXyz`]): an OCIO processor, when the config has the colour space
 //! (a declaration by primaries, white and transfer is matched to the config's colour space
@@ -21,12 +32,13 @@
 //! after the declared transfer function; or, for an ICC profile, Little CMS to its D50 PCS
 //! (relative colorimetric) then Bradford to D65.
 
-use crate::{png, Error, Result};
+use crate::{input, png, Error, Result};
 use specconv_colour::rgb::{self, RgbSpace};
 use specconv_icc::ToPcs;
 use specconv_ocio::{Config, Processor};
 use specconv_oiio::ImageReader;
 use std::fmt;
+use std::path::PathBuf;
 
 /// D65 as OCIO's CIE-XYZ-D65 has it: the chromaticity (0.3127, 0.3290) of ITU-R BT.709, Y = 1.
 const D65: [f64; 3] = [0.3127 / 0.3290, 1.0, (1.0 - 0.3127 - 0.3290) / 0.3290];
@@ -182,6 +194,9 @@ pub enum Rule {
     Declared(Vec<String>),
     /// The OCIO config's file rule of this name.
     FileRule(String),
+    /// The Default file rule of a config the user gave (a file), for float pixels that declare
+    /// nothing; holds the rule's name.
+    ConfigDefault(String),
     /// The format's default, with its reason.
     Default(&'static str),
 }
@@ -193,7 +208,7 @@ impl Rule {
         match self {
             Rule::Flag { .. } => "colorspace-option",
             Rule::Declared(_) => "declared",
-            Rule::FileRule(_) => "file-rule",
+            Rule::FileRule(_) | Rule::ConfigDefault(_) => "file-rule",
             Rule::Default(_) => "default",
         }
     }
@@ -464,6 +479,85 @@ fn describe_space(label: &str, s: &RgbSpace, decode: Decode) -> String {
     )
 }
 
+/// A texture that holds data, not colour: never uplifted ([module rules](self)).
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("{}: a data texture ({}): it holds numbers, not colour, and is never uplifted to a spectrum", path.display(), self.why())]
+pub struct DataTexture {
+    /// The input.
+    pub path: PathBuf,
+    /// The data colour space (the config's name, `Raw` in most configs).
+    pub name: String,
+    /// The rule that chose it; [`Rule::Default`] for a single channel no rule calls colour.
+    pub rule: Rule,
+    /// The subimage and channels it would be read as; `None` where not chosen yet.
+    pub selection: Option<input::Selection>,
+    /// Width and height of its full-resolution level.
+    pub size: (u32, u32),
+}
+
+/// Why a single channel is data: the rule [`texture_space`] applies.
+pub const SINGLE_CHANNEL: &str =
+    "one channel, and neither the caller, the file nor the config's file rules call it colour";
+
+impl DataTexture {
+    /// Why it is data, in words.
+    pub fn why(&self) -> String {
+        match &self.rule {
+            Rule::Flag { .. } => format!("colour space '{}', as asked", self.name),
+            Rule::Declared(what) => format!(
+                "colour space '{}', declared by its {}",
+                self.name,
+                what.join(", ")
+            ),
+            Rule::FileRule(rule) | Rule::ConfigDefault(rule) => {
+                format!(
+                    "colour space '{}', by the OCIO config's file rule '{rule}'",
+                    self.name
+                )
+            }
+            Rule::Default(why) => (*why).to_owned(),
+        }
+    }
+}
+
+/// The config's data colour space, for a texture that is data by no colour space's say.
+fn data_space_name(config: &Config) -> String {
+    config
+        .color_spaces()
+        .ok()
+        .and_then(|all| all.into_iter().find(|c| c.is_data))
+        .map_or_else(|| "data".to_owned(), |c| c.name)
+}
+
+/// [`input_space`] for the channels `selection` reads: a data space, or one channel that only
+/// the format's default would call colour, is a [`DataTexture`] (as [`Error::Data`]).
+pub fn texture_space(
+    config: &Config,
+    reader: &ImageReader,
+    selection: &input::Selection,
+    flag: Option<&str>,
+) -> Result<InputSpace> {
+    let with_selection = |mut d: DataTexture| {
+        d.selection = Some(selection.clone());
+        Error::Data(Box::new(d))
+    };
+    let space = match input_space(config, reader, flag) {
+        Err(Error::Data(d)) => return Err(with_selection(*d)),
+        other => other?,
+    };
+    if selection.channels.colour.len() == 1 && matches!(space.rule, Rule::Default(_)) {
+        let info = reader.info();
+        return Err(with_selection(DataTexture {
+            path: info.path.clone(),
+            name: data_space_name(config),
+            rule: Rule::Default(SINGLE_CHANNEL),
+            selection: None,
+            size: (info.width(), info.height()),
+        }));
+    }
+    Ok(space)
+}
+
 /// Chooses the input colour space of the open file by the rule of this module.
 pub fn input_space(
     config: &Config,
@@ -471,10 +565,37 @@ pub fn input_space(
     flag: Option<&str>,
 ) -> Result<InputSpace> {
     let info = reader.info();
+    let data = |name: String, rule: Rule| {
+        Error::Data(Box::new(DataTexture {
+            path: info.path.clone(),
+            name,
+            rule,
+            selection: None,
+            size: (info.width(), info.height()),
+        }))
+    };
     let mut warnings = Vec::new();
     // Resolve every declaration once: the first usable one decides, the others are compared.
     let mut usable: Vec<(String, String, ToXyz)> = Vec::new();
+    // A data space declared before any colour: it decides, unless the caller names a space.
+    let mut declared_data: Option<(String, String)> = None;
     for (what, d) in declarations(reader)? {
+        if let Declared::Named(name) = &d {
+            if let Some(cs) = config.find_color_space(name)?.filter(|cs| cs.is_data) {
+                if usable.is_empty() && declared_data.is_none() {
+                    declared_data = Some((what, cs.name));
+                } else {
+                    warnings.push(Warning::Ignored {
+                        what,
+                        why: format!(
+                            "'{}' is a data colour space and a colour was declared first",
+                            cs.name
+                        ),
+                    });
+                }
+                continue;
+            }
+        }
         match resolve(config, &d)? {
             Ok((name, route)) => usable.push((what, name, route)),
             Err(why) => warnings.push(Warning::Ignored { what, why }),
@@ -482,6 +603,9 @@ pub fn input_space(
     }
     if let Some(flag) = flag {
         let cs = config.color_space(flag)?;
+        if cs.is_data {
+            return Err(data(cs.name, Rule::Flag { overrides: None }));
+        }
         let to_xyz = ToXyz::Ocio(config.processor_to_xyz(&cs.name)?);
         let overrides = usable
             .first()
@@ -493,6 +617,9 @@ pub fn input_space(
             to_xyz,
             warnings: Vec::new(),
         });
+    }
+    if let Some((what, name)) = declared_data {
+        return Err(data(name, Rule::Declared(vec![what])));
     }
     if !usable.is_empty() {
         let (what, name, to_xyz) = usable.remove(0);
@@ -517,6 +644,9 @@ pub fn input_space(
         });
     }
     if let Some((name, rule)) = config.file_rule(&info.path)? {
+        if config.color_space(&name)?.is_data {
+            return Err(data(name, Rule::FileRule(rule)));
+        }
         return Ok(InputSpace {
             to_xyz: ToXyz::Ocio(config.processor_to_xyz(&name)?),
             name,
@@ -525,6 +655,28 @@ pub fn input_space(
         });
     }
     let integer = info.pixel_format().is_integer();
+    let users = matches!(
+        config.source(),
+        specconv_ocio::ConfigSource::File(_) | specconv_ocio::ConfigSource::Env(_)
+    );
+    if users && !integer {
+        let default = config
+            .file_rules()?
+            .into_iter()
+            .find(|r| r.name.eq_ignore_ascii_case("default"));
+        if let Some(rule) = default {
+            let cs = config.color_space(&rule.color_space)?;
+            if cs.is_data {
+                return Err(data(cs.name, Rule::ConfigDefault(rule.name)));
+            }
+            return Ok(InputSpace {
+                to_xyz: ToXyz::Ocio(config.processor_to_xyz(&cs.name)?),
+                name: cs.name,
+                rule: Rule::ConfigDefault(rule.name),
+                warnings,
+            });
+        }
+    }
     let (d, why) = if integer {
         if let Some(name) = config.srgb_texture()? {
             return Ok(InputSpace {

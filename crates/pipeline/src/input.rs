@@ -73,10 +73,15 @@ impl Selection {
     }
 }
 
-/// Opens `path` on the subimage asked for and chooses its channels.
+/// Opens `path` on the subimage asked for and chooses its channels. A spectral image (the
+/// Fichet 2021 layout: `T.` or `S0.` channels) is refused unless channels are asked for: it is
+/// already spectra, and uplifting a preview of it would throw them away.
 pub fn open(path: &Path, request: &Request) -> crate::Result<(ImageReader, Selection)> {
     let reader = open_subimage(path, request.subimage.as_deref())?;
     let info = reader.info();
+    if request.channels.is_none() {
+        refuse_spectral(info)?;
+    }
     let channels = choose_channels(info, request.channels.as_deref())?;
     let selection = Selection {
         subimage: info.subimage,
@@ -89,6 +94,25 @@ pub fn open(path: &Path, request: &Request) -> crate::Result<(ImageReader, Selec
         channels,
     };
     Ok((reader, selection))
+}
+
+/// [`crate::Error::Spectral`] for an image in the spectral layout.
+fn refuse_spectral(info: &ImageInfo) -> crate::Result<()> {
+    let layout = specconv_exr::Layout::of(info.channels.iter().map(|c| c.name.as_str()));
+    if !layout.is_spectral() {
+        return Ok(());
+    }
+    let (emissive, bands) = if layout.reflective.is_empty() {
+        (true, &layout.stokes[0])
+    } else {
+        (false, &layout.reflective)
+    };
+    Err(crate::Error::Spectral {
+        path: info.path.clone(),
+        emissive,
+        bands: bands.len(),
+        range_nm: (bands[0], bands[bands.len() - 1]),
+    })
 }
 
 /// Opens `path` on subimage `which` (`N` or a name; the first when `None`).

@@ -17,13 +17,16 @@
 #![warn(missing_docs)]
 
 pub mod colour;
+pub mod data;
 pub mod input;
 mod mip;
 mod png;
 pub mod survey;
 pub mod texture;
 
-pub use colour::{input_space, Alpha, InputSpace, Rule, ToXyz, Warning};
+pub use colour::{
+    input_space, texture_space, Alpha, DataTexture, InputSpace, Rule, ToXyz, Warning,
+};
 use rayon::prelude::*;
 use specconv_atomic_file::{PlanError, Replace};
 use specconv_exr::{Block, Blocks, Chunk, Compression, Kind, Sample, Spec, SpectralFile, Windows};
@@ -119,6 +122,25 @@ pub enum Error {
     /// Stopped through the job's cancel flag.
     #[error("cancelled")]
     Cancelled,
+    /// The input is a spectral image already ([`input::open`]): it is not uplifted again.
+    #[error(
+        "{}: already a spectral image ({} bands of {}, {}–{} nm, the Fichet 2021 layout): \
+         its spectra are not uplifted again from a colour",
+        path.display(), bands, if *emissive { "emission" } else { "reflectance" }, range_nm.0, range_nm.1
+    )]
+    Spectral {
+        /// The input.
+        path: PathBuf,
+        /// `S0.` channels (emission) rather than `T.` (reflectance).
+        emissive: bool,
+        /// Its bands.
+        bands: usize,
+        /// Its first and last wavelengths.
+        range_nm: (f64, f64),
+    },
+    /// The input holds data, not colour ([`colour::texture_space`]): it is never uplifted.
+    #[error(transparent)]
+    Data(Box<DataTexture>),
 }
 
 /// The pipeline's results.
@@ -308,7 +330,12 @@ pub fn open<'a>(job: &'a Job<'a>) -> Result<Opened<'a>> {
     specconv_exr::check::check_input(job.input)?;
     let (reader, selection) = input::open(job.input, &job.settings.input)?;
     let info = reader.info().clone();
-    let space = input_space(job.config, &reader, job.settings.colorspace.as_deref())?;
+    let space = texture_space(
+        job.config,
+        &reader,
+        &selection,
+        job.settings.colorspace.as_deref(),
+    )?;
     let premultiply = job
         .settings
         .alpha

@@ -5,6 +5,8 @@
 
 #include "specconv_oiio.h"
 
+#include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/imagebufalgo.h>
 #include <OpenImageIO/imageio.h>
 
 #include <cstring>
@@ -366,6 +368,44 @@ int32_t specconv_oiio_read_scanlines(specconv_oiio_input *input, int32_t level, 
                                        chbegin, chend, OIIO::TypeFloat, out))
             return fail(SPECCONV_OIIO_ERR_READ,
                         input_error(*input->in, "reading scanlines failed"));
+        return SPECCONV_OIIO_OK;
+    });
+}
+
+int32_t specconv_oiio_make_texture(const char *input, int32_t subimage, const char *output,
+                                   int32_t tile_width, int32_t tile_height,
+                                   const char *compression, const char *const *names,
+                                   const char *const *values, size_t count) {
+    return guard([&]() -> int32_t {
+        if (input == nullptr || output == nullptr || compression == nullptr ||
+            (count > 0 && (names == nullptr || values == nullptr)))
+            return fail(SPECCONV_OIIO_ERR_ARGUMENT, "null argument");
+        if (tile_width <= 0 || tile_height <= 0 || subimage < 0)
+            return fail(SPECCONV_OIIO_ERR_ARGUMENT, "tiles need a size and subimages count from 0");
+        OIIO::ImageBuf source(input, subimage, 0);
+        if (!source.read(subimage, 0, true))
+            return fail(SPECCONV_OIIO_ERR_READ, source.geterror());
+        OIIO::ImageSpec config;
+        config.tile_width = tile_width;
+        config.tile_height = tile_height;
+        config.tile_depth = 1;
+        config.attribute("compression", compression);
+        // The output's name need not end in .exr (a temporary): say the format.
+        config.attribute("maketx:fileformatname", "openexr");
+        // make_texture writes "black,black" unless told: keep the input's.
+        std::string wrap = source.spec().get_string_attribute("wrapmodes");
+        if (!wrap.empty())
+            config.attribute("wrapmodes", wrap);
+        for (size_t i = 0; i < count; ++i) {
+            if (names[i] == nullptr || values[i] == nullptr)
+                return fail(SPECCONV_OIIO_ERR_ARGUMENT, "null attribute");
+            config.attribute(names[i], values[i]);
+        }
+        if (!OIIO::ImageBufAlgo::make_texture(OIIO::ImageBufAlgo::MakeTxTexture, source, output,
+                                              config)) {
+            std::string msg = OIIO::geterror();
+            return fail(SPECCONV_OIIO_ERR_READ, msg.empty() ? "make_texture failed" : msg);
+        }
         return SPECCONV_OIIO_OK;
     });
 }

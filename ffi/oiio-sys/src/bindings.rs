@@ -161,6 +161,17 @@ pub struct SpecconvOiio {
         out: *mut f32,
         out_len: usize,
     ) -> i32,
+    pub specconv_oiio_make_texture: unsafe extern "C" fn(
+        input: *const ::std::os::raw::c_char,
+        subimage: i32,
+        output: *const ::std::os::raw::c_char,
+        tile_width: i32,
+        tile_height: i32,
+        compression: *const ::std::os::raw::c_char,
+        names: *const *const ::std::os::raw::c_char,
+        values: *const *const ::std::os::raw::c_char,
+        count: usize,
+    ) -> i32,
 }
 impl SpecconvOiio {
     pub unsafe fn new<P>(path: P) -> Result<Self, ::libloading::Error>
@@ -224,6 +235,9 @@ impl SpecconvOiio {
         let specconv_oiio_read_scanlines = __library
             .get(b"specconv_oiio_read_scanlines\0")
             .map(|sym| *sym)?;
+        let specconv_oiio_make_texture = __library
+            .get(b"specconv_oiio_make_texture\0")
+            .map(|sym| *sym)?;
         Ok(SpecconvOiio {
             __library,
             specconv_oiio_last_error,
@@ -243,6 +257,7 @@ impl SpecconvOiio {
             specconv_oiio_bytes_attribute,
             specconv_oiio_read_tiles,
             specconv_oiio_read_scanlines,
+            specconv_oiio_make_texture,
         })
     }
     pub unsafe fn specconv_oiio_last_error(&self) -> *const ::std::os::raw::c_char {
@@ -396,6 +411,31 @@ impl SpecconvOiio {
             chend,
             out,
             out_len,
+        )
+    }
+    pub unsafe fn specconv_oiio_make_texture(
+        &self,
+        input: *const ::std::os::raw::c_char,
+        subimage: i32,
+        output: *const ::std::os::raw::c_char,
+        tile_width: i32,
+        tile_height: i32,
+        compression: *const ::std::os::raw::c_char,
+        names: *const *const ::std::os::raw::c_char,
+        values: *const *const ::std::os::raw::c_char,
+        count: usize,
+    ) -> i32 {
+        (self
+            .specconv_oiio_make_texture)(
+            input,
+            subimage,
+            output,
+            tile_width,
+            tile_height,
+            compression,
+            names,
+            values,
+            count,
         )
     }
 }

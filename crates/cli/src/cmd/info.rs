@@ -6,7 +6,7 @@ use crate::{checks, exit, one_line, print_error};
 use anyhow::Result;
 use serde::Serialize;
 use specconv_conversion::images::{choose_channels, open_subimage, ChannelReason};
-use specconv_conversion::images::{ImageReader, Window};
+use specconv_conversion::images::{ImageReader, ReadAs, Window};
 use specconv_conversion::ocio::Config;
 use std::path::{Path, PathBuf};
 
@@ -84,6 +84,9 @@ struct Report<'a> {
     straight_alpha: bool,
     /// How the colour space reaches CIE XYZ (D65).
     to_xyz: String,
+    /// `colour`, `achromatic` (one channel its colour space calls colour) or `data` (never
+    /// uplifted).
+    role: &'static str,
     spectral: Option<Spectral>,
 }
 
@@ -229,7 +232,9 @@ pub fn run(args: Args) -> Result<i32> {
             if StdoutFailed::in_chain(&e).is_some() {
                 return Err(e);
             }
-            print_error(&one_line(e.as_ref()));
+            // Every error names its file, once, first.
+            let line = crate::records::without_input(&one_line(e.as_ref()), file);
+            print_error(&format!("{}: {line}", file.display()));
             status = exit::FAILED;
         }
     }
@@ -247,24 +252,50 @@ fn show(args: &Args, config: &Config, file: &Path) -> Result<()> {
     };
     let info = reader.info();
     // A file whose channels cannot be chosen alone is still described, with the reason.
-    let (colour_channels, channels_rule, channels_problem, alpha_channel) =
-        match choose_channels(info, args.read.channels.as_deref()) {
-            Ok(c) => (
-                Some(c.names),
-                Some(match c.reason {
-                    ChannelReason::Option => "channels-option",
-                    ChannelReason::Named => "names",
-                    ChannelReason::InOrder => "order",
-                    ChannelReason::OnlyLayer => "only-rgb-layer",
-                }),
-                None,
-                c.alpha,
+    let chosen = choose_channels(info, args.read.channels.as_deref());
+    let (colour_channels, channels_rule, channels_problem, alpha_channel) = match &chosen {
+        Ok(c) => (
+            Some(c.names.clone()),
+            Some(match c.reason {
+                ChannelReason::Option => "channels-option",
+                ChannelReason::Named => "names",
+                ChannelReason::InOrder => "order",
+                ChannelReason::OnlyLayer => "only-rgb-layer",
+            }),
+            None,
+            c.alpha,
+        ),
+        Err(e) => (None, None, Some(e.to_string()), info.alpha_channel),
+    };
+    let read_as = specconv_conversion::images::read_as(
+        config,
+        &reader,
+        chosen.as_ref().ok(),
+        args.colorspace.as_deref(),
+    )
+    .map_err(|e| anyhow::anyhow!(crate::explain(&e.into())))?;
+    let (space_name, rule, warnings, to_xyz, role) = match read_as {
+        ReadAs::Colour(space) => {
+            let one = chosen.as_ref().is_ok_and(|c| c.colour.len() == 1);
+            (
+                space.name,
+                space.rule,
+                space.warnings,
+                space.to_xyz.describe(),
+                if one { "achromatic" } else { "colour" },
+            )
+        }
+        ReadAs::Data(d) => (
+            d.name.clone(),
+            d.rule.clone(),
+            Vec::new(),
+            format!(
+                "none: a data texture ({}), never uplifted (convert --data copy writes it through)",
+                d.why()
             ),
-            Err(e) => (None, None, Some(e.to_string()), info.alpha_channel),
-        };
-    let space =
-        specconv_conversion::images::input_space(config, &reader, args.colorspace.as_deref())
-            .map_err(|e| anyhow::anyhow!(crate::explain(&e.into())))?;
+            "data",
+        ),
+    };
     let straight_alpha = specconv_conversion::Alpha::Auto.premultiply(&reader, alpha_channel);
     let report = Report {
         file,
@@ -292,12 +323,13 @@ fn show(args: &Args, config: &Config, file: &Path) -> Result<()> {
         channels_rule,
         channels_problem,
         declared_color_space: info.declared_color_space.as_deref(),
-        colorspace: space.name.clone(),
-        colorspace_rule: crate::records::colorspace_rule(&space.rule),
-        colorspace_reason: crate::records::colorspace_reason(&space.rule),
-        colorspace_warnings: space.warnings.iter().map(crate::records::warning).collect(),
+        colorspace: space_name,
+        colorspace_rule: crate::records::colorspace_rule(&rule),
+        colorspace_reason: crate::records::colorspace_reason(&rule),
+        colorspace_warnings: warnings.iter().map(crate::records::warning).collect(),
         straight_alpha,
-        to_xyz: space.to_xyz.describe(),
+        to_xyz,
+        role,
         spectral,
     };
     if args.json {
@@ -393,6 +425,7 @@ fn print_text(
     for w in &r.colorspace_warnings {
         outln!("warning:      {w}")?;
     }
+    outln!("role:         {}", r.role)?;
     outln!("to XYZ:       {}", r.to_xyz)?;
     if r.straight_alpha {
         outln!("alpha:        straight; colour is converted, then premultiplied")?;

@@ -24,7 +24,9 @@ Examples:
 /// normalised; other writers: the layout's reference, XYZ = Σ S0·x̄). Polarised files use S0;
 /// channels outside the layout (an RGB preview beside the spectra) are listed, not used.
 /// XYZ is converted through OpenColorIO from CIE-XYZ-D65 to --colorspace and written as a
-/// float RGB OpenEXR (RGBA when the input has alpha).
+/// float RGB OpenEXR (RGBA when the input has alpha) that declares that space: its
+/// chromaticities (and acesImageContainerFlag for ACES2065-1) and its name, so that other
+/// readers take the values as that colour.
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// A spectral OpenEXR (Fichet et al. 2021 layout), e.g. written by specconv.

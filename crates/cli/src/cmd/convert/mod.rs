@@ -11,8 +11,8 @@ use crate::stdio::StdoutFailed;
 use crate::{exit, explain, methods, print_error, records, signals, usage};
 use anyhow::Result;
 use specconv_conversion::{
-    Advice, Alpha, Batch, Blocks, Compression, Converter, Event, Mip, NonFinite, Options, Rounding,
-    Sample, WrapModes,
+    Advice, Alpha, Batch, Blocks, Compression, Converter, DataPolicy, Event, Mip, NonFinite,
+    Options, Rounding, Sample, WrapModes,
 };
 use specconv_spectral::method::MethodName;
 use std::path::{Path, PathBuf};
@@ -25,6 +25,7 @@ Examples:
   specconv convert albedo.tx albedo_spectral.exr
   specconv convert --colorspace ACEScg -d float plate.exr plate_spectral.exr
   specconv convert textures/*.png -o spectral -u --json > convert.jsonl
+  specconv convert 'wood.<UDIM>.png' --output-template '{dir}/{stem}_spectral.{udim}.exr'
   specconv convert sky.hdr sky_spectral.exr --emissive
   find textures -name '*.tx' | specconv convert - -o spectral --progress always 2> convert.log
 ";
@@ -93,6 +94,14 @@ fn wrap_modes(text: &str) -> std::result::Result<WrapModes, String> {
     specconv_conversion::parse_wrapmodes(text)
 }
 
+fn data_policy(name: &str) -> DataPolicy {
+    match name {
+        "copy" => DataPolicy::Copy,
+        "fail" => DataPolicy::Fail,
+        _ => DataPolicy::Skip,
+    }
+}
+
 fn mip(name: &str) -> Mip {
     if name == "0" {
         Mip::Base
@@ -116,14 +125,19 @@ fn mip(name: &str) -> Mip {
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// Input textures, then the output file when converting one; `-` reads input paths from
-    /// standard input, one per line.
+    /// standard input, one per line. A UDIM pattern (`wood.<UDIM>.png`, `<udim>` or
+    /// `%(UDIM)d` in the file name) stands for the tiles that exist, in tile order; converting
+    /// one pattern, name the output with the token too (`wood_spectral.<UDIM>.exr`).
     #[arg(value_name = "INPUT… [OUTPUT]", required = true)]
     paths: Vec<PathBuf>,
     /// Write every output into this directory, as STEM_spectral.exr.
     #[arg(short, long, value_name = "DIR", conflicts_with = "output_template")]
     output: Option<PathBuf>,
     /// Output path for each input; {dir}, {stem} and {name} are the input's directory, name
-    /// without extension and file name.
+    /// without extension and file name, {udim} its UDIM tile number (1001…) and {tile} the
+    /// same tile as u1_v1. With {udim} or {tile}, {stem} leaves the tile number out:
+    /// '{dir}/{stem}_spectral.{udim}.exr' makes wood_spectral.1001.exr of wood.1001.png. Any
+    /// other {field} is refused before anything is written.
     #[arg(long, value_name = "TEMPLATE")]
     output_template: Option<String>,
     /// The global --ocio (see `specconv --help`).
@@ -143,6 +157,14 @@ pub struct Args {
     /// premultiplied: OpenEXR stores premultiplied colour.
     #[arg(long, value_name = "HOW", value_enum, default_value_t = AlphaArg::Auto)]
     alpha: AlphaArg,
+    /// What to do with a data texture (roughness, normal map, mask), which is never uplifted:
+    /// one whose colour space is data (OCIO isdata, such as Raw: by --colorspace, the file, or
+    /// the config's file rules), or one channel that only the format's default would call
+    /// colour. `skip` writes nothing (status `data`, not a failure); `copy` writes it through
+    /// as a tiled, MIP-mapped data texture, values and metadata kept (OpenImageIO's
+    /// make_texture, as maketx); `fail` counts it as a failure.
+    #[arg(long, value_name = "HOW", default_value = "skip", value_parser = one_of(&["skip", "copy", "fail"], data_policy))]
+    data: DataPolicy,
     /// Uplift method: otsu2018 (the clustered PCA of the model), pca (a one-cluster model),
     /// smits1999, meng2015, meng2015-bounded or jakob2019.
     #[arg(long, value_name = "NAME", default_value = "otsu2018")]
@@ -234,7 +256,7 @@ pub struct Args {
     /// Print one JSON object per input on standard output, every key on every record (null
     /// where it does not apply): input, output, status (ok, skipped, failed), skip_reason,
     /// error, seconds, pixels, width, height, levels, bands, colorspace, colorspace_rule,
-    /// subimage, channels, bounded, non_finite, above_one, saturated. See docs/json.md.
+    /// subimage, channels, role, bounded, non_finite, above_one, saturated. See docs/json.md.
     #[arg(long)]
     json: bool,
     /// Progress on standard error: `auto` shows a live line on a terminal (file i of n, the
@@ -335,6 +357,7 @@ impl Args {
         o.opaque_detect = self.opaque_detect;
         o.threads = self.threads;
         o.overwrite = self.force;
+        o.data = self.data;
         o
     }
 }
@@ -374,6 +397,15 @@ fn run_batch(args: &Args, converter: &Converter, pairs: &[(PathBuf, PathBuf)]) -
                 progress.finish();
                 summary.converted += 1;
                 said(converted(args, converter, (input, output), report));
+            }
+            Event::Data {
+                input,
+                output,
+                report,
+            } => {
+                progress.finish();
+                summary.data.push(report.data);
+                said(printing::data(args, (input, output), report));
             }
             Event::Failed {
                 input,

@@ -3,12 +3,19 @@
 use super::Args;
 use crate::{checks, files};
 use anyhow::{bail, Context, Result};
-use specconv_atomic_file::outputs;
+use specconv_atomic_file::{outputs, udim};
 use std::path::PathBuf;
 
 /// Inputs and their outputs, from the positional paths, `-o DIR` or `--output-template`, once
-/// the library's rules allow the plan; `update` as the runs that will convert it (`-u`).
+/// the library's rules allow the plan; `update` as the runs that will convert it (`-u`). UDIM
+/// patterns (`wood.<UDIM>.png`) stand for the tiles that exist, in tile order.
 pub(crate) fn plan(args: &Args, update: bool) -> Result<(Vec<PathBuf>, Vec<PathBuf>)> {
+    // A template that cannot name outputs is refused before any input is looked at.
+    let template = args
+        .output_template
+        .as_deref()
+        .map(outputs::Template::parse)
+        .transpose()?;
     let mut paths = args.paths.clone();
     let single = args.output.is_none() && args.output_template.is_none();
     let explicit_output = if single {
@@ -23,16 +30,28 @@ pub(crate) fn plan(args: &Args, update: bool) -> Result<(Vec<PathBuf>, Vec<PathB
     } else {
         None
     };
-    let mut inputs = Vec::new();
+    let mut listed = Vec::new();
     for p in paths {
         if p.as_os_str() == "-" {
-            inputs.extend(read_list(std::io::stdin().lock())?);
+            listed.extend(read_list(std::io::stdin().lock())?);
         } else {
-            inputs.push(p);
+            listed.push(p);
         }
     }
-    let outputs: Vec<PathBuf> = match (&explicit_output, &args.output, &args.output_template) {
-        (Some(o), _, _) => vec![o.clone()],
+    let mut inputs = Vec::new();
+    // The tile numbers of a single conversion's pattern, for an output named by one.
+    let mut tiles = Vec::new();
+    for p in listed {
+        match udim::expand(&p)? {
+            Some(found) => {
+                tiles.extend(found.iter().map(|t| t.number));
+                inputs.extend(found.into_iter().map(|t| t.path));
+            }
+            None => inputs.push(p),
+        }
+    }
+    let outputs: Vec<PathBuf> = match (&explicit_output, &args.output, &template) {
+        (Some(o), _, _) => single_outputs(o, &args.paths[0], &tiles)?,
         (None, Some(dir), _) => {
             checks::directory(dir)?;
             inputs
@@ -42,8 +61,8 @@ pub(crate) fn plan(args: &Args, update: bool) -> Result<(Vec<PathBuf>, Vec<PathB
         }
         (None, None, Some(t)) => inputs
             .iter()
-            .map(|i| outputs::from_template(t, i))
-            .collect(),
+            .map(|i| t.apply(i))
+            .collect::<Result<_, _>>()?,
         (None, None, None) => unreachable!("single conversions have an explicit output"),
     };
     for o in &outputs {
@@ -59,6 +78,32 @@ pub(crate) fn plan(args: &Args, update: bool) -> Result<(Vec<PathBuf>, Vec<PathB
     specconv_conversion::check_plan(&pairs, args.force, update)
         .map_err(|e| anyhow::anyhow!(crate::explain(&e)))?;
     Ok((inputs, outputs))
+}
+
+/// The output of `INPUT OUTPUT`: `output` itself, or for a UDIM pattern one per tile, named by
+/// the same token in `output` (`wood.<UDIM>.png wood_spectral.<UDIM>.exr`).
+fn single_outputs(
+    output: &std::path::Path,
+    input: &std::path::Path,
+    tiles: &[u32],
+) -> Result<Vec<PathBuf>> {
+    match (udim::is_pattern(input), udim::is_pattern(output)) {
+        (false, false) => Ok(vec![output.to_path_buf()]),
+        (true, true) => Ok(tiles.iter().map(|&n| udim::substitute(output, n)).collect()),
+        (true, false) => bail!(
+            "{} is a UDIM pattern ({} tile{}): name the output with the token too (such as {}), \
+             or use --output-template with {{udim}}",
+            input.display(),
+            tiles.len(),
+            if tiles.len() == 1 { "" } else { "s" },
+            output.with_extension("").display().to_string() + ".<UDIM>.exr"
+        ),
+        (false, true) => bail!(
+            "the output {} has a UDIM token but the input {} is no UDIM pattern",
+            output.display(),
+            input.display()
+        ),
+    }
 }
 
 /// The most a list of inputs on standard input may hold (a million paths of 64 bytes).

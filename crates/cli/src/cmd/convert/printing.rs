@@ -35,6 +35,8 @@ struct Record {
     /// The subimage read, and the colour (then alpha) channels.
     subimage: Option<u32>,
     channels: Option<Vec<String>>,
+    /// `colour`, `achromatic` (one channel its colour space calls colour) or `data`.
+    role: Option<&'static str>,
     /// Pixels (all levels) projected into [0, 1] and outside the object-colour solid; null
     /// with --unbounded or --emissive.
     bounded: Option<BoundedCounts>,
@@ -72,6 +74,7 @@ impl Record {
             colorspace_rule: None,
             subimage: None,
             channels: None,
+            role: None,
             bounded: None,
             non_finite: None,
             above_one: None,
@@ -146,6 +149,7 @@ pub(super) fn converted(
         colorspace_rule: Some(records::colorspace_rule(&r.colorspace_rule)),
         subimage: Some(r.selection.subimage),
         channels: Some(r.selection.channels.names.clone()),
+        role: Some(r.role.name()),
         bounded: r.bounded.map(|c| BoundedCounts {
             projected: c.projected,
             outside_solid: c.outside,
@@ -161,10 +165,52 @@ pub(super) fn converted(
         wrap: r.wrap.map(|((s, t), _)| format!("{s},{t}")),
         constant: Some(r.constant),
         alpha_dropped: Some(r.opaque_dropped),
-        source_hash: Some(r.source_hash.clone()),
+        source_hash: Some(r.source_hash.clone()).filter(|h| !h.is_empty()),
         ..Record::not_converted(input, output, "ok", r.seconds)
     };
     emit(args, record, &line)
+}
+
+/// Reports a data texture: skipped (status `data`) or written through (status `copied`).
+pub(super) fn data(
+    args: &Args,
+    (input, output): (&Path, &Path),
+    r: &Report,
+) -> Result<(), StdoutFailed> {
+    let copied = r.data == Some(specconv_conversion::DataOutcome::Copied);
+    let why = records::colorspace_reason(&r.colorspace_rule);
+    let line = if copied {
+        format!(
+            "a data texture (colour space {}, {why}): written through, {} levels, not uplifted",
+            r.colorspace, r.levels
+        )
+    } else {
+        format!(
+            "a data texture (colour space {}, {why}): skipped, never uplifted (--data copy writes \
+             it through)",
+            r.colorspace
+        )
+    };
+    let status = if copied { "copied" } else { "data" };
+    let record = Record {
+        width: Some(r.width),
+        height: Some(r.height),
+        levels: copied.then_some(r.levels),
+        colorspace: Some(r.colorspace.clone()),
+        colorspace_rule: Some(records::colorspace_rule(&r.colorspace_rule)),
+        subimage: Some(r.selection.subimage),
+        channels: (!r.selection.channels.names.is_empty())
+            .then(|| r.selection.channels.names.clone()),
+        role: Some(r.role.name()),
+        ..Record::not_converted(input, output, status, r.seconds)
+    };
+    if args.json {
+        return emit(args, record, "");
+    }
+    if !args.quiet {
+        errln!("{} → {}: {line}", input.display(), output.display());
+    }
+    Ok(())
 }
 
 /// `W×H, L levels, N bands, colour space …, …, S s` of a converted input.
@@ -180,6 +226,9 @@ fn summary_line(r: &Report) -> String {
         records::colorspace_reason(&r.colorspace_rule),
         records::selection(&r.selection),
     );
+    if r.role == specconv_conversion::Role::Achromatic {
+        line += ", one channel read as achromatic colour (its colour space says colour)";
+    }
     if r.premultiplied {
         line += ", straight alpha premultiplied";
     }
