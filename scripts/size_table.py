@@ -7,7 +7,7 @@ Each texture (an 8-bit sRGB .tx, as scripts/bench_textures.sh makes) is cropped 
 512x512 and converted by SPECCONV with the default settings (a 36-band half ZIP MIP map) and with
 each other band grid and compression below. Bytes per texel: the whole file (every MIP level)
 over level 0's texels. The RGB reference: the same crop as maketx makes a half ZIP MIP-mapped
-texture of it (linear Rec.709).
+texture of it (linear Rec.709, by oiiotool's sRGB decoding).
 
 Colour: level 0 read with OpenImageIO and integrated as the layout's reference implementation
 (afichet/spectral-exr) integrates reflectance, here under D65, A and F11: each spectrum
@@ -40,7 +40,7 @@ VARIANTS = [
     ("380:730:10 (36), half, pxr24", ["--compression", "pxr24"]),
     ("380:730:10 (36), half, b44", ["--compression", "b44"]),
     ("380:730:10 (36), half, dwaa", ["--compression", "dwaa"]),
-    ("380:730:20 (18), half, zip", ["--bands", "380:730:20"]),
+    ("380:720:20 (18), half, zip", ["--bands", "380:720:20"]),
     ("400:700:10 (31), half, zip", ["--bands", "400:700:10"]),
     ("380:780:5 (81), half, zip", ["--bands", "380:780:5"]),
 ]
@@ -103,11 +103,14 @@ def main(specconv, textures):
             subprocess.run(
                 ["oiiotool", tx, "--cut", "512x512+768+768", "-o", crop], check=True
             )
+            linear = os.path.join(tmp, f"{name}_linear.exr")
+            subprocess.run(
+                ["oiiotool", crop, "--colorconvert", "sRGB", "linear", "-d", "half", "-o", linear],
+                check=True,
+            )
             rgb = os.path.join(tmp, f"{name}_rgb.exr")
             subprocess.run(
-                ["maketx", crop, "--colorconvert", "sRGB", "linear", "-d", "half",
-                 "--compression", "zip", "-o", rgb],
-                check=True,
+                ["maketx", linear, "-d", "half", "--compression", "zip", "-o", rgb], check=True
             )
             rgb_bytes = os.path.getsize(rgb) / 512**2
             rgb_lab = lab_of_rgb(rgb)
