@@ -41,16 +41,7 @@ pub fn read_as(
     let info = reader.info();
     let chosen = match channels {
         Some(c) => {
-            let selection = specconv_pipeline::input::Selection {
-                subimage: info.subimage,
-                subimages: info.subimages,
-                subimage_name: info
-                    .subimage_names
-                    .get(info.subimage as usize)
-                    .cloned()
-                    .unwrap_or_default(),
-                channels: c.clone(),
-            };
+            let selection = specconv_pipeline::input::Selection::of(info, c.clone());
             specconv_pipeline::texture_space(config, reader, &selection, colorspace)
         }
         None => input_space(config, reader, colorspace),

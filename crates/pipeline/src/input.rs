@@ -59,6 +59,22 @@ pub struct Selection {
 }
 
 impl Selection {
+    /// `channels` of the subimage `info` describes.
+    pub fn of(info: &ImageInfo, channels: Channels) -> Selection {
+        Selection {
+            subimage: info.subimage,
+            subimages: info.subimages,
+            subimage_name: info
+                .subimage_names
+                .get(info.subimage as usize)
+                .cloned()
+                .unwrap_or_default(),
+            channels,
+        }
+    }
+}
+
+impl Selection {
     /// `subimage 1 'albedo' of 2, ` for files with several subimages, else empty.
     pub fn describe_subimage(&self) -> String {
         if self.subimages <= 1 {
@@ -83,16 +99,7 @@ pub fn open(path: &Path, request: &Request) -> crate::Result<(ImageReader, Selec
         refuse_spectral(info)?;
     }
     let channels = choose_channels(info, request.channels.as_deref())?;
-    let selection = Selection {
-        subimage: info.subimage,
-        subimages: info.subimages,
-        subimage_name: info
-            .subimage_names
-            .get(info.subimage as usize)
-            .cloned()
-            .unwrap_or_default(),
-        channels,
-    };
+    let selection = Selection::of(info, channels);
     Ok((reader, selection))
 }
 
