@@ -29,11 +29,7 @@ fn parse() -> SpectralTable {
 }
 
 fn training_set(t: &SpectralTable, grid: &Grid) -> TrainingSet {
-    TrainingSet {
-        sources: vec![FILE.into()],
-        names: t.names.clone(),
-        spectra: t.resampled(grid).unwrap(),
-    }
+    TrainingSet::from_table(t, grid).unwrap()
 }
 
 fn munsell(grid: &Grid) -> TrainingSet {

@@ -37,12 +37,7 @@ pub const MUNSELL: &str = "munsell1269_matte_380-800_1nm.csv";
 pub const COLORCHECKER: &str = "colorchecker_n_ohta_380-780_5nm.csv";
 
 pub fn set(file: &str, grid: &Grid) -> TrainingSet {
-    let t = table(file);
-    TrainingSet {
-        sources: vec![t.source.clone()],
-        names: t.names.clone(),
-        spectra: t.resampled(grid).unwrap(),
-    }
+    TrainingSet::from_table(&table(file), grid).unwrap()
 }
 
 /// The paper's setting: Wyman 2013 observer, no illuminant weighting, 380–730 nm at 10 nm.

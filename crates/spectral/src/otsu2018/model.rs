@@ -52,8 +52,26 @@ pub struct Training {
     pub min_cluster_size: usize,
     /// The bound on each leaf's condition number of M.
     pub max_condition: f64,
-    /// Σ ‖s − r‖² over the training set (Eq. 13).
+    /// Σ w·‖s − r‖² over the training set (Eq. 13; w = 1 unless the sets are weighted).
     pub total_error: f64,
+    /// Per source: its spectra, their weight in training and the terms of use of the data.
+    /// Absent in files written before sources were recorded.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub sets: Vec<SetRecord>,
+}
+
+/// One source of a model's training data, as the model records it.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SetRecord {
+    /// The spectra table's file name.
+    pub source: String,
+    /// Spectra taken from it.
+    pub count: usize,
+    /// The weight of each of its spectra in the summed error (1: unweighted).
+    pub weight: f64,
+    /// The terms its data may be used under, as its origin states them.
+    pub licence: String,
 }
 
 /// One cluster.
@@ -139,6 +157,17 @@ impl Model {
             return Err("the model has no leaves".into());
         }
         self.tree.validate(self.leaves.len())?;
+        if let Some(s) = self
+            .training
+            .sets
+            .iter()
+            .find(|s| !(s.weight.is_finite() && s.weight > 0.0))
+        {
+            return Err(format!(
+                "training set {} has weight {}: weights must be finite and above 0",
+                s.source, s.weight
+            ));
+        }
         let a = self.colorimetry().map_err(|e| e.to_string())?;
         for (k, leaf) in self.leaves.iter().enumerate() {
             let at = |what: &str| format!("leaf {k}: {what}");

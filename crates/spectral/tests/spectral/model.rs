@@ -142,6 +142,7 @@ fn untrainable_sets_give_clear_errors() {
         sources: vec!["x".into()],
         names: vec!["grey".into(); 30],
         spectra: vec![vec![0.5; n]; 30],
+        ..Default::default()
     };
     let err = train(&same, &a, &TrainOptions::default())
         .unwrap_err()
