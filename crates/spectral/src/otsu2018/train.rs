@@ -238,10 +238,25 @@ impl TrainingSet {
             .map(|(p, w)| w * p.set.spectra.len() as f64)
             .sum();
         let scale = total as f64 / mass;
-        let mut out = TrainingSet::default();
         let uniform = raw.iter().all(|&w| w * scale == 1.0);
-        for (p, w) in parts.iter().zip(&raw) {
-            let w = if uniform { 1.0 } else { w * scale };
+        let weighted: Vec<Part> = parts
+            .iter()
+            .zip(&raw)
+            .map(|(p, w)| Part {
+                weight: if uniform { 1.0 } else { w * scale },
+                ..p.clone()
+            })
+            .collect();
+        Ok(TrainingSet::weighted(&weighted))
+    }
+
+    /// The parts as one training set, each part's spectra weighing its `weight` as it is (no
+    /// balancing or scaling: a model's recorded sets give its training set back bit for bit).
+    pub fn weighted(parts: &[Part]) -> TrainingSet {
+        let mut out = TrainingSet::default();
+        let uniform = parts.iter().all(|p| p.weight == 1.0);
+        for p in parts {
+            let w = p.weight;
             out.sources.extend(p.set.sources.iter().cloned());
             out.names.extend(p.set.names.iter().cloned());
             out.spectra.extend(p.set.spectra.iter().cloned());
@@ -256,7 +271,7 @@ impl TrainingSet {
                 licence: p.licence.clone(),
             });
         }
-        Ok(out)
+        out
     }
 }
 
@@ -380,17 +395,23 @@ pub fn train(set: &TrainingSet, a: &Colorimetry, opts: &TrainOptions) -> Result<
             });
         let Some((k, _)) = pick else { break };
         let split = clusters[k]
-            .take()
-            .and_then(|c| c.best.flatten())
+            .as_mut()
+            .and_then(|c| c.best.take().flatten())
             .expect("picked cluster has a split");
+        // The split search checked both sides with tracked eigenvectors; at the edge of the
+        // condition bound the exact ones can fall just outside it. Then the cluster stays.
+        let sides = cluster(set, a, opts, split.below)
+            .and_then(|below| Ok([below, cluster(set, a, opts, split.above)?]));
+        let Ok(sides) = sides else {
+            if let Some(c) = clusters[k].as_mut() {
+                c.best = Some(None);
+            }
+            continue;
+        };
+        clusters[k] = None;
         let new = [clusters.len(), clusters.len() + 1];
         tree.split_leaf(k, split.axis, split.value, new);
-        for members in [split.below, split.above] {
-            // The split search already checked both sides' conditioning.
-            let c = cluster(set, a, opts, members)
-                .map_err(|_| Error::Training("internal: a split side lost its fit".into()))?;
-            clusters.push(Some(c));
-        }
+        clusters.extend(sides.map(Some));
         live += 1;
     }
 

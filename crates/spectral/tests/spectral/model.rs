@@ -18,18 +18,48 @@ fn default_model() -> Model {
 }
 
 #[test]
-fn builtin_model_is_what_train_makes_from_shared() {
-    let retrained = default_model();
-    let builtin = Model::builtin();
-    // Bit for bit: JSON floats round-trip exactly, so compare values and text.
-    assert!(*builtin == retrained, "the embedded model differs from a retrain: regenerate crates/spectral/models/default.json with `specconv train` (see README)");
-    assert_eq!(builtin.to_json(), retrained.to_json());
-    assert_eq!(builtin.leaves.len(), 8);
-    assert_eq!(builtin.training.min_cluster_size, 20);
-    assert!(builtin
-        .leaves
-        .iter()
-        .all(|l| l.count >= 20 && l.condition <= builtin.training.max_condition));
+fn builtin_models_are_what_train_makes_from_shared() {
+    for b in specconv_spectral::otsu2018::model::BUILTIN {
+        let builtin = Model::builtin_named(b.name).unwrap();
+        let retrained = retrain(builtin);
+        // Bit for bit: JSON floats round-trip exactly, so compare values and text.
+        assert!(*builtin == retrained, "the embedded model {} differs from a retrain: regenerate crates/spectral/models/{}.json with `specconv train` (docs/methods.md)", b.name, b.name);
+        assert_eq!(builtin.to_json(), retrained.to_json());
+        assert!(builtin.leaves.iter().all(|l| l.count >= builtin.training.min_cluster_size
+            && l.condition <= builtin.training.max_condition));
+        // Every source says under which terms its data may be used.
+        assert!(!builtin.training.sets.is_empty());
+        for s in &builtin.training.sets {
+            assert_eq!(s.licence, specconv_spectral::otsu2018::train::known_licence(&s.source));
+        }
+    }
+    assert!(std::ptr::eq(Model::builtin(), Model::builtin_named("default").unwrap()));
+}
+
+#[test]
+fn the_paper_model_is_munsell_alone_and_unchanged() {
+    // The model that was the built-in one until the default was retrained: 8 clusters on the
+    // Munsell set, CIE 1931, D65, minimum 20, unweighted. Its numbers must not move.
+    let paper = Model::builtin_named("paper").unwrap();
+    assert!(*paper == default_model());
+    assert_eq!(paper.leaves.len(), 8);
+    assert_eq!(paper.training.min_cluster_size, 20);
+    assert_eq!(paper.training.total_error, 17.978871748824027);
+    assert_eq!(paper.training.sets.len(), 1);
+    assert_eq!(paper.training.sets[0].weight, 1.0);
+}
+
+#[test]
+fn the_open_model_is_trained_on_open_data_only() {
+    let open = Model::builtin_named("open").unwrap();
+    for s in &open.training.sets {
+        assert!(
+            s.licence.starts_with("public domain") || s.licence.starts_with("MIT"),
+            "{}: {}",
+            s.source,
+            s.licence
+        );
+    }
 }
 
 #[test]
