@@ -194,7 +194,10 @@ pub fn weighted_set(
     w: &WeightArgs,
 ) -> Result<specconv_spectral::TrainingSet> {
     use specconv_spectral::otsu2018::train::known_licence;
-    for (flag, count) in [("--weights", w.weights.len()), ("--licence", w.licences.len())] {
+    for (flag, count) in [
+        ("--weights", w.weights.len()),
+        ("--licence", w.licences.len()),
+    ] {
         if count != 0 && count != paths.len() {
             return Err(crate::usage(anyhow::anyhow!(
                 "{count} values of {flag} for {} --spectra files: give one per file, in their order",

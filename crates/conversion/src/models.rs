@@ -35,7 +35,11 @@ pub enum ModelError {
 }
 
 fn names() -> String {
-    BUILTIN.iter().map(|b| b.name).collect::<Vec<_>>().join(", ")
+    BUILTIN
+        .iter()
+        .map(|b| b.name)
+        .collect::<Vec<_>>()
+        .join(", ")
 }
 
 /// The built-in model a `--model` value names: a bare word (no directory, no extension) that

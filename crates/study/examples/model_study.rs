@@ -11,9 +11,9 @@
 //! over sets, the worst set, and each recipe's training time on all its sets.
 
 use specconv_colour::{Colorimetry, Grid, Illuminant, Observer, SpectralTable};
+use specconv_spectral::bounded::Bounded;
 use specconv_spectral::otsu2018::blend::DEFAULT_WIDTH;
 use specconv_spectral::otsu2018::train::known_licence;
-use specconv_spectral::bounded::Bounded;
 use specconv_spectral::{Part, TrainOptions, TrainingSet, Uplifter};
 use specconv_study::eval;
 use specconv_study::sets::{held_out_by_set, Holdout, Recipe, Scores};
@@ -177,7 +177,11 @@ fn main() {
     println!(
         "held out: {:?}; {}",
         study.holdout,
-        if study.bounded { "bounded" } else { "unbounded" }
+        if study.bounded {
+            "bounded"
+        } else {
+            "unbounded"
+        }
     );
     let wants = |s: &str| args.is_empty() || args.iter().any(|a| a == s);
     let base = || options(8, 20, 100.0);
@@ -199,7 +203,12 @@ fn main() {
         for k in [8, 16, 32] {
             let t = std::time::Instant::now();
             let m = specconv_spectral::train(&all, &study.a, &options(k, 20, 100.0)).unwrap();
-            println!("{} spectra, k = {k}: {} leaves in {:.3} s", all.spectra.len(), m.leaves.len(), t.elapsed().as_secs_f64());
+            println!(
+                "{} spectra, k = {k}: {} leaves in {:.3} s",
+                all.spectra.len(),
+                m.leaves.len(),
+                t.elapsed().as_secs_f64()
+            );
         }
         return;
     }
@@ -219,7 +228,8 @@ fn main() {
         let rows: Vec<Row> = [4, 8, 12, 16, 24, 32]
             .iter()
             .flat_map(|&k| {
-                [0.5, 1.0].map(|b| row(&format!("all k{k} bal {b}"), &ALL, b, options(k, 20, 100.0)))
+                [0.5, 1.0]
+                    .map(|b| row(&format!("all k{k} bal {b}"), &ALL, b, options(k, 20, 100.0)))
             })
             .collect();
         study.table("All sets by clusters and balance (min 20)", &rows);
@@ -228,7 +238,14 @@ fn main() {
         let rows: Vec<Row> = [10, 20, 40, 80]
             .iter()
             .flat_map(|&m| {
-                [8, 16].map(|k| row(&format!("all k{k} min {m}"), &ALL, 1.0, options(k, m, 100.0)))
+                [8, 16].map(|k| {
+                    row(
+                        &format!("all k{k} min {m}"),
+                        &ALL,
+                        1.0,
+                        options(k, m, 100.0),
+                    )
+                })
             })
             .collect();
         study.table("All sets by minimum cluster size (balance 1)", &rows);
@@ -238,22 +255,40 @@ fn main() {
             .iter()
             .map(|&c| row(&format!("all k16 cond {c}"), &ALL, 1.0, options(16, 20, c)))
             .collect();
-        study.table("All sets by condition bound (k = 16, min 20, balance 1)", &rows);
+        study.table(
+            "All sets by condition bound (k = 16, min 20, balance 1)",
+            &rows,
+        );
     }
     if wants("blend") {
         let rows: Vec<Row> = [0.0, 0.01, 0.02, 0.05]
             .iter()
             .map(|&w| Row {
                 blend: w,
-                ..row(&format!("all k16 blend {w}"), &ALL, 1.0, options(16, 20, 100.0))
+                ..row(
+                    &format!("all k16 blend {w}"),
+                    &ALL,
+                    1.0,
+                    options(16, 20, 100.0),
+                )
             })
             .collect();
         study.table("All sets by blend width (k = 16, min 20, balance 1)", &rows);
     }
     if wants("sets") {
         let rows = vec![
-            row("munsell+cc k16", &["munsell", "cc"], 1.0, options(16, 20, 100.0)),
-            row("munsell+man k16", &["munsell", "man"], 1.0, options(16, 20, 100.0)),
+            row(
+                "munsell+cc k16",
+                &["munsell", "cc"],
+                1.0,
+                options(16, 20, 100.0),
+            ),
+            row(
+                "munsell+man k16",
+                &["munsell", "man"],
+                1.0,
+                options(16, 20, 100.0),
+            ),
             row(
                 "all but minerals k16",
                 &["munsell", "cc", "veg", "man", "soil", "rhodo"],
@@ -274,10 +309,20 @@ fn main() {
         let rows: Vec<Row> = [8, 16, 32]
             .iter()
             .flat_map(|&k| {
-                [0.0, 0.5, 1.0].map(|b| row(&format!("open k{k} bal {b}"), &OPEN, b, options(k, 20, 100.0)))
+                [0.0, 0.5, 1.0].map(|b| {
+                    row(
+                        &format!("open k{k} bal {b}"),
+                        &OPEN,
+                        b,
+                        options(k, 20, 100.0),
+                    )
+                })
             })
             .collect();
-        study.table("Open data (USGS ×4, Rhododendron) by clusters and balance", &rows);
+        study.table(
+            "Open data (USGS ×4, Rhododendron) by clusters and balance",
+            &rows,
+        );
     }
     if wants("open-weights") {
         let weighted = |label: &str, man: f64, k: usize, min: usize, b: f64| Row {
@@ -293,8 +338,18 @@ fn main() {
             weighted("open man×8 k16", 8.0, 16, 20, 1.0),
             weighted("open man×4 k16 min 10", 4.0, 16, 10, 1.0),
             weighted("open man×4 k32 min 10", 4.0, 32, 10, 1.0),
-            row("open but minerals k16", &["veg", "man", "soil", "rhodo"], 1.0, options(16, 20, 100.0)),
-            row("open man only k8 min 10", &["man"], 0.0, options(8, 10, 100.0)),
+            row(
+                "open but minerals k16",
+                &["veg", "man", "soil", "rhodo"],
+                1.0,
+                options(16, 20, 100.0),
+            ),
+            row(
+                "open man only k8 min 10",
+                &["man"],
+                0.0,
+                options(8, 10, 100.0),
+            ),
         ];
         study.table("Open data: what closes the gap", &rows);
     }
@@ -311,7 +366,9 @@ fn parse_row(spec: &str) -> Row {
     let parts = names
         .iter()
         .map(|n| {
-            let (name, w) = n.split_once('*').map_or((n.as_str(), 1.0), |(a, b)| (a, b.parse().unwrap()));
+            let (name, w) = n
+                .split_once('*')
+                .map_or((n.as_str(), 1.0), |(a, b)| (a, b.parse().unwrap()));
             let short = SETS.iter().find(|(s, _)| *s == name).expect("a set name").0;
             (short, w)
         })

@@ -237,7 +237,10 @@ fn clustered_rows(args: &Args, pool: &rayon::ThreadPool) -> Result<Vec<Row>> {
         if args.by_set {
             setting = format!("{setting}, by set");
         }
-        let note = [fewer, by_set_note].into_iter().flatten().collect::<Vec<_>>();
+        let note = [fewer, by_set_note]
+            .into_iter()
+            .flatten()
+            .collect::<Vec<_>>();
         rows.push(Row {
             note: (!note.is_empty()).then(|| note.join("; ")),
             ..row(args, pool, &a, stack.method(), name, setting, &summary)

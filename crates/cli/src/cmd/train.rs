@@ -93,10 +93,7 @@ pub fn run(args: Args) -> Result<()> {
     if let Some(why) = files::fewer_clusters(&model) {
         errln!("specconv: warning: {why}");
     }
-    errln!(
-        "data: {}",
-        specconv_conversion::models::sources(&model)
-    );
+    errln!("data: {}", specconv_conversion::models::sources(&model));
     errln!("wrote {}", args.output.display());
     Ok(())
 }

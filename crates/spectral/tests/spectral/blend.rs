@@ -157,7 +157,10 @@ fn the_default_width_makes_the_paper_models_boundaries_continuous() {
 
 #[test]
 fn the_default_width_makes_the_builtin_models_boundaries_continuous() {
-    assert_every_boundary_continuous("built-in", Model::builtin());
+    // Every built-in model: the default, the paper's and the open one.
+    for b in specconv_spectral::otsu2018::model::BUILTIN {
+        assert_every_boundary_continuous(b.name, Model::builtin_named(b.name).unwrap());
+    }
 }
 
 #[test]

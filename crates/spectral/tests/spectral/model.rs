@@ -25,15 +25,24 @@ fn builtin_models_are_what_train_makes_from_shared() {
         // Bit for bit: JSON floats round-trip exactly, so compare values and text.
         assert!(*builtin == retrained, "the embedded model {} differs from a retrain: regenerate crates/spectral/models/{}.json with `specconv train` (docs/methods.md)", b.name, b.name);
         assert_eq!(builtin.to_json(), retrained.to_json());
-        assert!(builtin.leaves.iter().all(|l| l.count >= builtin.training.min_cluster_size
-            && l.condition <= builtin.training.max_condition));
+        assert!(builtin
+            .leaves
+            .iter()
+            .all(|l| l.count >= builtin.training.min_cluster_size
+                && l.condition <= builtin.training.max_condition));
         // Every source says under which terms its data may be used.
         assert!(!builtin.training.sets.is_empty());
         for s in &builtin.training.sets {
-            assert_eq!(s.licence, specconv_spectral::otsu2018::train::known_licence(&s.source));
+            assert_eq!(
+                s.licence,
+                specconv_spectral::otsu2018::train::known_licence(&s.source)
+            );
         }
     }
-    assert!(std::ptr::eq(Model::builtin(), Model::builtin_named("default").unwrap()));
+    assert!(std::ptr::eq(
+        Model::builtin(),
+        Model::builtin_named("default").unwrap()
+    ));
 }
 
 #[test]
@@ -75,8 +84,13 @@ fn training_is_deterministic_and_files_read_back_bit_for_bit() {
 
 #[test]
 fn every_munsell_spectrum_round_trips_in_f64_and_f32_agrees() {
+    for b in specconv_spectral::otsu2018::model::BUILTIN {
+        round_trips_in_f64_and_f32_agrees(Model::builtin_named(b.name).unwrap());
+    }
+}
+
+fn round_trips_in_f64_and_f32_agrees(model: &Model) {
     let a = default_setting();
-    let model = Model::builtin();
     let up = Uplifter::new(model).unwrap();
     let spectra = set(MUNSELL, &a.grid).spectra;
     let s = eval::summarise(&eval::evaluate(&a, &up, &spectra));
