@@ -51,7 +51,7 @@ fn eval_uses_the_builtin_model_and_prints_a_readable_summary() {
     let out = Cmd::eval(colorchecker()).run();
     let text = out.ok();
     assert!(
-        text.contains("model:      built-in (8 clusters, cie1931, D65, 380:730:10 nm"),
+        text.contains("model:      built-in default (11 clusters, cie1931, D65, 380:730:10 nm"),
         "{text}"
     );
     assert!(text.contains("spectra:    24"), "{text}");

@@ -84,6 +84,8 @@ pub fn load(path: Option<&Path>) -> Result<Model, ModelError> {
 
 /// A model's one-line description, as outputs record it (`specconvModel`) and reports show
 /// it: which model, its setting, and the data it was trained on with their weights and terms.
+/// ASCII only: readers of EXR text attributes differ on anything else (colour-science 0.4.7's
+/// fails on a non-ASCII byte), so other characters of a file name or licence become `?`.
 pub fn describe(path: Option<&Path>, m: &Model) -> String {
     let name = match path {
         None => format!("built-in {}", BUILTIN[0].name),
@@ -92,7 +94,7 @@ pub fn describe(path: Option<&Path>, m: &Model) -> String {
             None => p.display().to_string(),
         },
     };
-    format!(
+    let text = format!(
         "{name} ({} clusters, {}, {}, {} nm, trained on {} spectra from {})",
         m.leaves.len(),
         m.observer,
@@ -100,7 +102,10 @@ pub fn describe(path: Option<&Path>, m: &Model) -> String {
         m.grid,
         m.training.count,
         sources(m)
-    )
+    );
+    text.chars()
+        .map(|c| if c.is_ascii() { c } else { '?' })
+        .collect()
 }
 
 /// The data a model was trained on: each source with its weight (when not 1) and licence.
@@ -116,7 +121,7 @@ pub fn sources(m: &Model) -> String {
             let weight = if s.weight == 1.0 {
                 String::new()
             } else {
-                format!(" ×{:.3}", s.weight)
+                format!(", weight {:.3}", s.weight)
             };
             format!("{} ({}{weight}; {})", s.source, s.count, s.licence)
         })

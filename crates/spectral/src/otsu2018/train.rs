@@ -115,7 +115,7 @@ pub const KNOWN_LICENCES: [(&str, &str); 7] = [
     ),
     (
         "rhododendron_leaves_380-780_5nm.csv",
-        "MIT (© 2022 Beth McDonald, emcdona1/leaf_reflectance_spectroscopy)",
+        "MIT (c) 2022 Beth McDonald, emcdona1/leaf_reflectance_spectroscopy",
     ),
     (
         "colorchecker_n_ohta_380-780_5nm.csv",

@@ -142,10 +142,11 @@ fn assert_every_boundary_continuous(name: &str, model: &Model) {
         assert!(h.largest > 0.1, "hard {h:?}");
         assert!(s.largest < 1e-3, "blended {s:?}");
     }
-    // Only the splits that need it are widened.
+    // Only the splits that need it are widened: some are, and on models with more than two
+    // splits some are not (the open model's two both border far extrapolation).
     assert!(widths.iter().any(|&(_, w)| w > DEFAULT_WIDTH), "{widths:?}");
     assert!(
-        widths.iter().any(|&(_, w)| w == DEFAULT_WIDTH),
+        widths.len() <= 2 || widths.iter().any(|&(_, w)| w == DEFAULT_WIDTH),
         "{widths:?}"
     );
 }
