@@ -374,3 +374,36 @@ fn builtin_models_are_named_and_say_their_data_and_licences() {
         assert!(text.contains(w), "{w}: {text}");
     }
 }
+
+#[test]
+fn outputs_say_which_model_made_them() {
+    let dir = Scratch::new("which-model");
+    let input = crate::convert::testdata("srgb8.png");
+    for (flags, want) in [
+        (&[][..], "built-in default (11 clusters"),
+        (&["--model", "paper"][..], "built-in paper (8 clusters"),
+        (&["--model", "open"][..], "built-in open ("),
+    ] {
+        let out = dir.path("out.exr");
+        let run = Cmd::new(["--ocio", "aces", "--force", "--json"])
+            .args(flags)
+            .arg(&input)
+            .arg(&out)
+            .run();
+        let record = &run.json_lines()[0];
+        let model = record["model"].as_str().unwrap().to_string();
+        assert!(model.starts_with(want), "{model}");
+        assert!(
+            model.contains("licence")
+                || model.contains("public domain")
+                || model.contains("non-commercial"),
+            "{model}"
+        );
+        // The file says the same, read by the EXR reader.
+        let attrs = specconv_exr::read_attributes(&out).unwrap();
+        assert!(
+            attrs.contains(&("specconvModel".to_string(), model.clone())),
+            "{attrs:?}"
+        );
+    }
+}

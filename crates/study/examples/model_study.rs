@@ -91,7 +91,9 @@ impl Study {
         };
         for p in [2, 3] {
             for (s, n) in man.spectra.iter().zip(&man.names) {
-                powers.spectra.push(s.iter().map(|v| v.max(0.0).powi(p)).collect());
+                powers
+                    .spectra
+                    .push(s.iter().map(|v| v.max(0.0).powi(p)).collect());
                 powers.names.push(format!("{n}^{p}"));
             }
         }
@@ -129,15 +131,21 @@ impl Study {
         let start = std::time::Instant::now();
         let model = recipe.train(&self.a).unwrap();
         let seconds = start.elapsed().as_secs_f64();
-        let scores = held_out_by_set(&recipe, &self.sets[..7], &self.a, self.holdout, |m, held| {
-            let up = Uplifter::new(m)?.with_blend(r.blend)?;
-            Ok::<_, specconv_spectral::Error>(if self.bounded {
-                let b = Bounded::new(up, self.a.clone())?;
-                eval::evaluate(&self.a, &b, held)
-            } else {
-                eval::evaluate(&self.a, &up, held)
-            })
-        })
+        let scores = held_out_by_set(
+            &recipe,
+            &self.sets[..7],
+            &self.a,
+            self.holdout,
+            |m, held| {
+                let up = Uplifter::new(m)?.with_blend(r.blend)?;
+                Ok::<_, specconv_spectral::Error>(if self.bounded {
+                    let b = Bounded::new(up, self.a.clone())?;
+                    eval::evaluate(&self.a, &b, held)
+                } else {
+                    eval::evaluate(&self.a, &up, held)
+                })
+            },
+        )
         .unwrap();
         (scores, seconds, model.leaves.len())
     }

@@ -141,6 +141,7 @@ pub fn run(args: Args) -> Result<()> {
     if args.json {
         let mut v = serde_json::to_value(&summary)?;
         v["method"] = name.as_str().into();
+        v["model"] = described.as_str().into();
         if args.per_spectrum {
             v["spectra"] = serde_json::to_value(&rows)?;
         }

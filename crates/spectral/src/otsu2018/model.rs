@@ -254,7 +254,7 @@ pub struct Builtin {
 pub const BUILTIN: [Builtin; 3] = [
     Builtin {
         name: "default",
-        summary: "the default: Munsell, ColorChecker, USGS and Rhododendron sets, weighted (Munsell data: non-commercial use only)",
+        summary: "Munsell, ColorChecker, USGS and Rhododendron sets, weighted (Munsell data: non-commercial use only)",
         json: include_str!("../../models/default.json"),
     },
     Builtin {

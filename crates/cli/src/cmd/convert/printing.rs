@@ -41,6 +41,8 @@ struct Record {
     non_finite: Option<u64>,
     above_one: Option<u64>,
     saturated: Option<u64>,
+    /// The model that made the spectra, as the output's `specconvModel` records it.
+    model: Option<String>,
 }
 
 impl Record {
@@ -66,6 +68,7 @@ impl Record {
             non_finite: None,
             above_one: None,
             saturated: None,
+            model: None,
         }
     }
 }
@@ -138,6 +141,7 @@ pub(super) fn converted(
         non_finite: Some(r.non_finite),
         above_one: Some(r.above_one),
         saturated: Some(r.saturated),
+        model: Some(converter.model_description().to_string()),
         ..Record::not_converted(input, output, "ok", r.seconds)
     };
     emit(args, record, &line)
