@@ -219,7 +219,7 @@ pub fn weighted_set(
             set,
         });
     }
-    Ok(specconv_spectral::TrainingSet::union(&parts, w.balance).map_err(crate::usage)?)
+    specconv_spectral::TrainingSet::union(&parts, w.balance).map_err(crate::usage)
 }
 
 #[cfg(test)]

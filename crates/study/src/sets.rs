@@ -304,7 +304,7 @@ mod tests {
         assert!((scores.mean_of_sets - (30.0 + 40.0 + 70.0) / 3.0).abs() < 1e-12);
 
         // K-fold: the set's other folds join the other sets.
-        let (_, seen) = run(&recipe, &[a.clone()], Holdout::Folds(4));
+        let (_, seen) = run(&recipe, std::slice::from_ref(&a), Holdout::Folds(4));
         assert_eq!(seen, vec![(60, 10); 4]);
         // A recipe of one set has no other: K-fold within it.
         let single = Recipe {
