@@ -405,5 +405,12 @@ fn outputs_say_which_model_made_them() {
             attrs.contains(&("specconvModel".to_string(), model.clone())),
             "{attrs:?}"
         );
+        // And `info` shows it.
+        let info = Cmd::new(["info"]).arg(&out).run();
+        let text = info.ok();
+        assert!(
+            text.contains(&format!("specconvModel:            {want}")),
+            "{text}"
+        );
     }
 }
