@@ -414,3 +414,40 @@ fn outputs_say_which_model_made_them() {
         );
     }
 }
+
+#[test]
+fn report_by_set_scores_each_file_held_out() {
+    let (cc, man) = (colorchecker(), usgs("manmade"));
+    let out = Cmd::new(["report", "--by-set", "--json", "--clusters", "1,2"])
+        .args([
+            "--steps",
+            "10",
+            "--colours",
+            "1000",
+            "--min-cluster-size",
+            "10",
+        ])
+        .args(["--spectra"])
+        .arg(&cc)
+        .args(["--spectra"])
+        .arg(&man)
+        .run();
+    let rows = json(out.ok());
+    let clustered: Vec<&serde_json::Value> = rows
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|r| r["setting"].as_str().unwrap().contains("by set"))
+        .collect();
+    assert_eq!(clustered.len(), 2, "{rows}");
+    for r in clustered {
+        // Every spectrum of both files, each scored by the model of the other file.
+        assert_eq!(r["count"], 24 + 138);
+        let note = r["note"].as_str().unwrap();
+        assert!(note.contains("by set: mean over 2 files"), "{note}");
+    }
+    Cmd::new(["report", "--by-set", "--holdout", "2"])
+        .args(["--spectra"])
+        .arg(&cc)
+        .fails(2, &["--holdout"]);
+}

@@ -21,6 +21,7 @@
 //! | duplicated spectra among others | trained: a copy weighs as one more measurement (a copy never splits from its original: same xy) |
 //! | a band that is zero in every spectrum | trained: that band is zero in μ and B, so 0 in every uplift |
 //! | a split whose side would be rank-deficient or ill-conditioned | not taken: training stops with fewer clusters when no other split helps (the CLI warns) |
+//! | the best split's side fits with tracked eigenvectors but its exact ones fall just outside the condition bound (seen on weighted mixes of sets, never on the Munsell set) | that cluster is kept whole; the others may still split |
 //!
 //! Spectra may be weighted ([`TrainingSet::weights`], made by [`TrainingSet::union`]): the
 //! error summed and minimised is then Σ w·‖s − r‖², each cluster's mean and scatter are

@@ -371,3 +371,53 @@ proptest! {
         }
     }
 }
+
+#[test]
+fn a_weight_of_three_is_a_spectrum_counted_three_times() {
+    // One cluster: the weighted mean, scatter, basis and error are those of the set with every
+    // spectrum of the weighted file repeated, up to rounding.
+    let a = default_setting();
+    let cc = set(COLORCHECKER, &a.grid);
+    let soils = set("usgs_splib07a_soils_380-780_5nm.csv", &a.grid);
+    let part = |set: &specconv_spectral::TrainingSet, weight| specconv_spectral::Part {
+        set: set.clone(),
+        weight,
+        licence: String::new(),
+    };
+    let weighted = specconv_spectral::TrainingSet::weighted(&[part(&cc, 3.0), part(&soils, 1.0)]);
+    let mut repeated = specconv_spectral::TrainingSet::weighted(&[part(&soils, 1.0)]);
+    for _ in 0..3 {
+        repeated.spectra.extend(cc.spectra.iter().cloned());
+        repeated.names.extend(cc.names.iter().cloned());
+    }
+    let opts = TrainOptions {
+        clusters: 1,
+        min_cluster_size: 4,
+        ..TrainOptions::default()
+    };
+    let (w, r) = (
+        train(&weighted, &a, &opts).unwrap(),
+        train(&repeated, &a, &opts).unwrap(),
+    );
+    let close = |x: &[f64], y: &[f64], tol: f64| x.iter().zip(y).all(|(p, q)| (p - q).abs() <= tol);
+    assert!(close(&w.leaves[0].mean, &r.leaves[0].mean, 1e-12));
+    for k in 0..3 {
+        assert!(
+            close(&w.leaves[0].basis[k], &r.leaves[0].basis[k], 1e-9),
+            "b{k}"
+        );
+    }
+    let (ew, er) = (w.training.total_error, r.training.total_error);
+    assert!((ew - er).abs() <= 1e-9 * er, "{ew} against {er}");
+    // Unweighted, the ColorChecker counts once: another model.
+    let once = train(
+        &specconv_spectral::TrainingSet::weighted(&[part(&cc, 1.0), part(&soils, 1.0)]),
+        &a,
+        &opts,
+    )
+    .unwrap();
+    assert!(!close(&once.leaves[0].mean, &w.leaves[0].mean, 1e-6));
+    // The model records the weights it was trained with.
+    assert_eq!(w.training.sets[0].weight, 3.0);
+    assert_eq!(w.training.sets[0].count, 24);
+}
