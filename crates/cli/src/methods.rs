@@ -193,6 +193,17 @@ pub fn weighted_set(
     grid: &specconv_colour::Grid,
     w: &WeightArgs,
 ) -> Result<specconv_spectral::TrainingSet> {
+    let parts = weighted_parts(paths, grid, w)?;
+    specconv_spectral::TrainingSet::union(&parts, w.balance).map_err(crate::usage)
+}
+
+/// The --spectra files, one part each, with the weights and licences of `w` (before
+/// [`WeightArgs::balance`], which [`specconv_spectral::TrainingSet::union`] applies).
+pub fn weighted_parts(
+    paths: &[PathBuf],
+    grid: &specconv_colour::Grid,
+    w: &WeightArgs,
+) -> Result<Vec<specconv_spectral::Part>> {
     use specconv_spectral::otsu2018::train::known_licence;
     for (flag, count) in [
         ("--weights", w.weights.len()),
@@ -219,7 +230,7 @@ pub fn weighted_set(
             set,
         });
     }
-    specconv_spectral::TrainingSet::union(&parts, w.balance).map_err(crate::usage)
+    Ok(parts)
 }
 
 #[cfg(test)]

@@ -284,26 +284,9 @@ mod by_set {
     ) -> Result<Recipe> {
         let pca = args.method == MethodName::Pca;
         if !args.train.is_empty() {
-            let set = methods::weighted_set(&args.train, grid, &args.weights)?;
-            // One part per file, with the weight the union gave it (balance included).
-            let mut parts = Vec::with_capacity(set.sets.len());
-            let mut first = 0;
-            for record in &set.sets {
-                let range = first..first + record.count;
-                first = range.end;
-                let mut part = set.subset(|k| range.contains(&k));
-                part.sources = vec![record.source.clone()];
-                part.sets.retain(|s| s.source == record.source);
-                part.weights.clear();
-                parts.push(Part {
-                    set: part,
-                    weight: record.weight,
-                    licence: record.licence.clone(),
-                });
-            }
             return Ok(Recipe {
-                parts,
-                balance: 0.0,
+                parts: methods::weighted_parts(&args.train, grid, &args.weights)?,
+                balance: args.weights.balance,
                 options: TrainOptions {
                     clusters: if pca { 1 } else { args.clusters },
                     min_cluster_size: args.min_cluster_size,

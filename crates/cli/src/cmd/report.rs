@@ -325,26 +325,11 @@ fn by_set(
             "--by-set leaves one --spectra file out at a time: give at least two"
         )));
     }
-    let all = methods::weighted_set(&args.spectra, &a.grid, &args.weights)?;
-    let mut parts = Vec::with_capacity(all.sets.len());
-    let mut first = 0;
-    for record in &all.sets {
-        let range = first..first + record.count;
-        first = range.end;
-        let mut set = all.subset(|k| range.contains(&k));
-        set.sources = vec![record.source.clone()];
-        set.sets.retain(|s| s.source == record.source);
-        set.weights.clear();
-        parts.push(specconv_spectral::Part {
-            set,
-            weight: record.weight,
-            licence: record.licence.clone(),
-        });
-    }
+    let parts = methods::weighted_parts(&args.spectra, &a.grid, &args.weights)?;
     let tests: Vec<_> = parts.iter().map(|p| p.set.clone()).collect();
     let recipe = Recipe {
         parts,
-        balance: 0.0,
+        balance: args.weights.balance,
         options,
     };
     let mut outcomes = Vec::new();
