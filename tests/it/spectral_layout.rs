@@ -401,7 +401,15 @@ fn each_emission_convention_round_trips_and_normalised_is_flat() {
         );
         reference(&flat)[0][1]
     };
+    let mut compared = 0;
     for ((r, n), p) in at[0].iter().zip(&at[1]).zip(&at[2]) {
+        // A band the spectrum does not emit in is zero in every convention (the default
+        // model's spectrum of this pixel has such bands): no factor to read there.
+        if *r == 0.0 {
+            assert_eq!((*n, *p), (0.0, 0.0));
+            continue;
+        }
+        compared += 1;
         let normalised = *n as f64 / *r as f64;
         let photometric = *r as f64 / *p as f64;
         assert!(
@@ -410,6 +418,7 @@ fn each_emission_convention_round_trips_and_normalised_is_flat() {
         );
         assert!((photometric / 683.0 - 1.0).abs() < 1e-5, "{photometric}");
     }
+    assert!(compared > at[0].len() / 2, "{compared} bands compared");
     eprintln!("normalised / reference = ∫ȳ dλ (380–730 nm) = {ybar_integral:.4}");
 
     // The flat check: S0 = 1 everywhere is Y = 1 when normalised, recorded or (an older

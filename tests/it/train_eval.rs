@@ -51,7 +51,7 @@ fn eval_uses_the_builtin_model_and_prints_a_readable_summary() {
     let out = Cmd::eval(colorchecker()).run();
     let text = out.ok();
     assert!(
-        text.contains("model:      built-in (8 clusters, cie1931, D65, 380:730:10 nm"),
+        text.contains("model:      built-in default (11 clusters, cie1931, D65, 380:730:10 nm"),
         "{text}"
     );
     assert!(text.contains("spectra:    24"), "{text}");
@@ -189,4 +189,265 @@ fn untrainable_spectra_get_one_clear_error_and_no_model() {
         out.fails(1, &["specconv: error: cannot train: ", case.error]);
         assert!(!model.exists(), "{}: a model was written", case.name);
     }
+}
+
+fn usgs(which: &str) -> std::path::PathBuf {
+    shared(&format!("spectra/usgs_splib07a_{which}_380-780_5nm.csv"))
+}
+
+#[test]
+fn eval_by_set_scores_each_file_with_a_model_trained_without_it() {
+    let (cc, man, soils) = (colorchecker(), usgs("manmade"), usgs("soils"));
+    let small = ["--clusters", "2", "--min-cluster-size", "10"];
+    // The recipe: man-made and soils; the ColorChecker is not in it.
+    let out = Cmd::eval(&cc)
+        .args(["--spectra"])
+        .arg(&man)
+        .args(["--spectra"])
+        .arg(&soils)
+        .args(["--by-set", "--json", "--train"])
+        .arg(&man)
+        .args(["--train"])
+        .arg(&soils)
+        .args(small)
+        .run();
+    let v = json(out.ok());
+    let sets = v["sets"].as_array().unwrap();
+    let hows: Vec<&str> = sets.iter().map(|s| s["how"].as_str().unwrap()).collect();
+    assert_eq!(hows, ["unseen", "left-out", "left-out"]);
+    // Each figure is what plain eval gives with the model trained on the other files.
+    let plain = |spectra: &std::path::Path, train: &[&std::path::Path]| {
+        let mut cmd = Cmd::eval(spectra).args(["--json"]).args(small);
+        for t in train {
+            cmd = cmd.args(["--train"]).arg(t);
+        }
+        json(cmd.run().ok())["delta_e"]["mean"].as_f64().unwrap()
+    };
+    let want = [
+        plain(&cc, &[&man, &soils]),
+        plain(&man, &[&soils]),
+        plain(&soils, &[&man]),
+    ];
+    for (s, w) in sets.iter().zip(want) {
+        assert_eq!(s["summary"]["delta_e"]["mean"].as_f64().unwrap(), w, "{s}");
+    }
+    let worst = want.iter().copied().fold(f64::MIN, f64::max);
+    assert_eq!(v["worst"].as_f64().unwrap(), worst);
+    assert!((v["mean_of_sets"].as_f64().unwrap() - want.iter().sum::<f64>() / 3.0).abs() < 1e-15);
+    // The text names the held-out kind of each row and the worst set.
+    let text = Cmd::eval(&cc)
+        .args(["--spectra"])
+        .arg(&man)
+        .args(["--by-set", "--train"])
+        .arg(&man)
+        .args(["--train"])
+        .arg(&soils)
+        .args(small)
+        .run();
+    let text = text.ok();
+    assert!(text.contains("| not trained on | 24 |"), "{text}");
+    assert!(text.contains("| left out | 138 |"), "{text}");
+    assert!(text.contains("worst set:"), "{text}");
+    // Baselines are not trained: nothing to hold out.
+    Cmd::eval(&cc)
+        .args(["--by-set", "--method", "smits1999"])
+        .fails(2, &["--by-set measures trained models"]);
+}
+
+#[test]
+fn eval_by_set_of_a_builtin_model_uses_its_recorded_recipe() {
+    // The paper model records one set, Munsell: held out by 10-fold within it.
+    let out = Cmd::eval(munsell())
+        .args(["--spectra"])
+        .arg(colorchecker())
+        .args(["--by-set", "--model", "paper", "--json"])
+        .run();
+    let v = json(out.ok());
+    assert_eq!(v["sets"][0]["how"], serde_json::json!({"folds": 10}));
+    assert_eq!(v["sets"][1]["how"], "unseen");
+    // The ColorChecker is not in its recipe: its figure is the paper model's own.
+    let direct = Cmd::eval(colorchecker())
+        .args(["--model", "paper", "--json"])
+        .run();
+    assert_eq!(
+        v["sets"][1]["summary"]["delta_e"]["mean"],
+        json(direct.ok())["delta_e"]["mean"]
+    );
+    // A model whose recorded sets are not among --spectra says which file to give.
+    Cmd::eval(colorchecker())
+        .args(["--by-set", "--model", "paper"])
+        .fails(
+            2,
+            &["trained on munsell1269_matte_380-800_1nm.csv", "--spectra"],
+        );
+}
+
+#[test]
+fn train_records_weights_balance_and_licences_in_the_model() {
+    let dir = Scratch::new("weights");
+    let model = dir.path("w.json");
+    let (cc, man) = (colorchecker(), usgs("manmade"));
+    let read = |args: &[&str]| {
+        Cmd::train(&cc)
+            .args(["--spectra"])
+            .arg(&man)
+            .args(["--clusters", "2", "--min-cluster-size", "10", "-o"])
+            .arg(&model)
+            .args(args)
+            .run()
+            .ok();
+        json(&std::fs::read_to_string(&model).unwrap())["training"]["sets"].clone()
+    };
+    let sets = read(&["--weights", "3,1"]);
+    let w = |v: &serde_json::Value, k: usize| v[k]["weight"].as_f64().unwrap();
+    assert_eq!(sets[0]["source"], "colorchecker_n_ohta_380-780_5nm.csv");
+    assert_eq!(sets[0]["count"], 24);
+    assert!((w(&sets, 0) / w(&sets, 1) - 3.0).abs() < 1e-12);
+    // Weights average 1 over the spectra.
+    assert!((24.0 * w(&sets, 0) + 138.0 * w(&sets, 1) - 162.0).abs() < 1e-9);
+    // The licences are those of ../shared/spectra/README.md.
+    assert!(sets[1]["licence"]
+        .as_str()
+        .unwrap()
+        .starts_with("public domain"));
+    assert!(sets[0]["licence"].as_str().unwrap().contains("not stated"));
+    // Balance 1: each file weighs the same in total.
+    let sets = read(&["--balance", "1", "--licence", "mine", "--licence", "theirs"]);
+    assert!((24.0 * w(&sets, 0) - 138.0 * w(&sets, 1)).abs() < 1e-9);
+    assert_eq!(sets[0]["licence"], "mine");
+    // Unweighted: every weight exactly 1.
+    let sets = read(&[]);
+    assert_eq!((w(&sets, 0), w(&sets, 1)), (1.0, 1.0));
+    Cmd::train(&cc)
+        .args(["--weights", "1,2", "-o"])
+        .arg(&model)
+        .fails(2, &["2 values of --weights for 1 --spectra files"]);
+    Cmd::train(&cc)
+        .args(["--weights", "0", "-o"])
+        .arg(&model)
+        .fails(2, &["finite weight above 0"]);
+}
+
+#[test]
+fn builtin_models_are_named_and_say_their_data_and_licences() {
+    for (name, clusters, words) in [
+        (
+            "paper",
+            "8 clusters",
+            &["munsell1269", "non-commercial"][..],
+        ),
+        (
+            "open",
+            "clusters",
+            &["usgs_splib07a", "public domain", "MIT"][..],
+        ),
+    ] {
+        let out = Cmd::eval(colorchecker()).args(["--model", name]).run();
+        let text = out.ok();
+        assert!(
+            text.contains(&format!("model:      built-in {name} (")),
+            "{text}"
+        );
+        assert!(text.contains(clusters), "{text}");
+        for w in words {
+            assert!(text.contains(w), "{name}: {w}: {text}");
+        }
+        assert!(!(name == "open" && text.contains("munsell")), "{text}");
+    }
+    Cmd::eval(colorchecker()).args(["--model", "papers"]).fails(
+        2,
+        &[
+            "no built-in model is called 'papers'",
+            "default, paper, open",
+        ],
+    );
+    let version = Cmd::new(["--version"]).run();
+    let text = version.ok();
+    for w in [
+        "default:",
+        "paper:",
+        "open:",
+        "non-commercial",
+        "public domain",
+        "MIT",
+    ] {
+        assert!(text.contains(w), "{w}: {text}");
+    }
+}
+
+#[test]
+fn outputs_say_which_model_made_them() {
+    let dir = Scratch::new("which-model");
+    let input = crate::convert::testdata("srgb8.png");
+    for (flags, want) in [
+        (&[][..], "built-in default (11 clusters"),
+        (&["--model", "paper"][..], "built-in paper (8 clusters"),
+        (&["--model", "open"][..], "built-in open ("),
+    ] {
+        let out = dir.path("out.exr");
+        let run = Cmd::new(["--ocio", "aces", "--force", "--json"])
+            .args(flags)
+            .arg(&input)
+            .arg(&out)
+            .run();
+        let record = &run.json_lines()[0];
+        let model = record["model"].as_str().unwrap().to_string();
+        assert!(model.starts_with(want), "{model}");
+        assert!(
+            model.contains("licence")
+                || model.contains("public domain")
+                || model.contains("non-commercial"),
+            "{model}"
+        );
+        // The file says the same, read by the EXR reader.
+        let attrs = specconv_exr::read_attributes(&out).unwrap();
+        assert!(
+            attrs.contains(&("specconvModel".to_string(), model.clone())),
+            "{attrs:?}"
+        );
+        // And `info` shows it.
+        let info = Cmd::new(["info"]).arg(&out).run();
+        let text = info.ok();
+        assert!(
+            text.contains(&format!("specconvModel:            {want}")),
+            "{text}"
+        );
+    }
+}
+
+#[test]
+fn report_by_set_scores_each_file_held_out() {
+    let (cc, man) = (colorchecker(), usgs("manmade"));
+    let out = Cmd::new(["report", "--by-set", "--json", "--clusters", "1,2"])
+        .args([
+            "--steps",
+            "10",
+            "--colours",
+            "1000",
+            "--min-cluster-size",
+            "10",
+        ])
+        .args(["--spectra"])
+        .arg(&cc)
+        .args(["--spectra"])
+        .arg(&man)
+        .run();
+    let rows = json(out.ok());
+    let clustered: Vec<&serde_json::Value> = rows
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|r| r["setting"].as_str().unwrap().contains("by set"))
+        .collect();
+    assert_eq!(clustered.len(), 2, "{rows}");
+    for r in clustered {
+        // Every spectrum of both files, each scored by the model of the other file.
+        assert_eq!(r["count"], 24 + 138);
+        let note = r["note"].as_str().unwrap();
+        assert!(note.contains("by set: mean over 2 files"), "{note}");
+    }
+    Cmd::new(["report", "--by-set", "--holdout", "2"])
+        .args(["--spectra"])
+        .arg(&cc)
+        .fails(2, &["--holdout"]);
 }

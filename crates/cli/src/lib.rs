@@ -27,6 +27,7 @@ mod signals;
 #[command(
     name = "specconv",
     version,
+    long_version = long_version(),
     max_term_width = 100,
     subcommand_negates_reqs = true,
     after_long_help = EXAMPLES
@@ -38,6 +39,29 @@ pub struct Cli {
     global: Global,
     #[command(flatten)]
     convert: cmd::convert::Args,
+}
+
+/// `--version`: the version, and the built-in models with the data they were trained on and
+/// its terms of use (a studio must know which model it may ship textures from).
+fn long_version() -> &'static str {
+    static TEXT: std::sync::OnceLock<String> = std::sync::OnceLock::new();
+    TEXT.get_or_init(|| {
+        let mut s = format!(
+            "{}\nbuilt-in models (--model NAME):",
+            env!("CARGO_PKG_VERSION")
+        );
+        for b in specconv_spectral::otsu2018::model::BUILTIN {
+            let m = specconv_spectral::Model::builtin_named(b.name).expect("built in");
+            s.push_str(&format!(
+                "\n  {}: {}\n    {} clusters, trained on {}",
+                b.name,
+                b.summary,
+                m.leaves.len(),
+                specconv_conversion::models::sources(m)
+            ));
+        }
+        s
+    })
 }
 
 /// Options every command takes, before or after the subcommand's name.

@@ -26,9 +26,10 @@ pub struct BlendArg {
 /// The options of the method stack that `convert` and `simulate` share, with one default each.
 #[derive(Debug, Clone, clap::Args)]
 pub struct StackArgs {
-    /// Model file from `specconv train`; the built-in model when absent. Its grid, observer and
-    /// illuminant are those of the output, whatever the method.
-    #[arg(long, value_name = "MODEL")]
+    /// A built-in model by name (default, paper, open: `specconv --version` lists them with
+    /// their data and licences) or a model file from `specconv train`; the built-in default when
+    /// absent. Its grid, observer and illuminant are those of the output, whatever the method.
+    #[arg(long, value_name = "NAME|MODEL")]
     pub model: Option<PathBuf>,
     #[command(flatten)]
     pub blend: BlendArg,
@@ -164,14 +165,72 @@ pub fn training_set(
     paths: &[PathBuf],
     grid: &specconv_colour::Grid,
 ) -> Result<specconv_spectral::TrainingSet> {
-    let mut set = specconv_spectral::TrainingSet::default();
-    for path in paths {
-        let table = crate::files::read_spectra(path)?;
-        set.spectra.extend(table.resampled(grid)?);
-        set.names.extend(table.names.iter().cloned());
-        set.sources.push(table.source);
+    weighted_set(paths, grid, &WeightArgs::default())
+}
+
+/// How `train` weighs its --spectra files and what it records of their terms of use.
+#[derive(Debug, Clone, Default, clap::Args)]
+pub struct WeightArgs {
+    /// Weight of each --spectra file's spectra, in their order (default 1 each): a file of
+    /// weight 2 counts as if each of its spectra were there twice. Recorded in the model.
+    #[arg(long, value_name = "W,…", value_delimiter = ',')]
+    pub weights: Vec<f64>,
+    /// How far set sizes are evened out, 0 to 1: 0 lets every spectrum count the same (the
+    /// largest file decides most), 1 lets every file count the same in total, 0.5 between
+    /// (weights ∝ size^−balance, times --weights, averaging 1).
+    #[arg(long, value_name = "B", default_value_t = 0.0)]
+    pub balance: f64,
+    /// The terms of use of each --spectra file's data, in their order, recorded in the model
+    /// (default: the licence ../shared/spectra/README.md states for the file name, else
+    /// "unknown").
+    #[arg(long = "licence", value_name = "TEXT")]
+    pub licences: Vec<String>,
+}
+
+/// The --spectra files as one training set, weighted and with their licences.
+pub fn weighted_set(
+    paths: &[PathBuf],
+    grid: &specconv_colour::Grid,
+    w: &WeightArgs,
+) -> Result<specconv_spectral::TrainingSet> {
+    let parts = weighted_parts(paths, grid, w)?;
+    specconv_spectral::TrainingSet::union(&parts, w.balance).map_err(crate::usage)
+}
+
+/// The --spectra files, one part each, with the weights and licences of `w` (before
+/// [`WeightArgs::balance`], which [`specconv_spectral::TrainingSet::union`] applies).
+pub fn weighted_parts(
+    paths: &[PathBuf],
+    grid: &specconv_colour::Grid,
+    w: &WeightArgs,
+) -> Result<Vec<specconv_spectral::Part>> {
+    use specconv_spectral::otsu2018::train::known_licence;
+    for (flag, count) in [
+        ("--weights", w.weights.len()),
+        ("--licence", w.licences.len()),
+    ] {
+        if count != 0 && count != paths.len() {
+            return Err(crate::usage(anyhow::anyhow!(
+                "{count} values of {flag} for {} --spectra files: give one per file, in their order",
+                paths.len()
+            )));
+        }
     }
-    Ok(set)
+    let mut parts = Vec::with_capacity(paths.len());
+    for (k, path) in paths.iter().enumerate() {
+        let table = crate::files::read_spectra(path)?;
+        let set = specconv_spectral::TrainingSet::from_table(&table, grid)?;
+        parts.push(specconv_spectral::Part {
+            weight: w.weights.get(k).copied().unwrap_or(1.0),
+            licence: w
+                .licences
+                .get(k)
+                .cloned()
+                .unwrap_or_else(|| known_licence(&table.source).to_string()),
+            set,
+        });
+    }
+    Ok(parts)
 }
 
 #[cfg(test)]

@@ -1,5 +1,7 @@
-//! The model a conversion uplifts with: the built-in one or a file from `specconv train`.
+//! The model a conversion uplifts with: a built-in one by name (`default`, `paper`, `open`:
+//! [`specconv_spectral::otsu2018::model::BUILTIN`]) or a file from `specconv train`.
 
+use specconv_spectral::otsu2018::model::BUILTIN;
 use specconv_spectral::Model;
 use std::path::Path;
 
@@ -24,17 +26,49 @@ pub enum ModelError {
     /// It is not a model.
     #[error(transparent)]
     Invalid(#[from] specconv_spectral::Error),
+    /// A bare name (no directory, no extension) that is neither a built-in model nor a file.
+    #[error("no built-in model is called '{name}' and there is no such file; the built-in models are {}; a model file ends in .json", names())]
+    UnknownBuiltin {
+        /// The name given.
+        name: String,
+    },
+}
+
+fn names() -> String {
+    BUILTIN
+        .iter()
+        .map(|b| b.name)
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// The built-in model a `--model` value names: a bare word (no directory, no extension) that
+/// is one of [`BUILTIN`]'s names, unless a file of that name exists.
+pub fn builtin_name(path: &Path) -> Option<&'static str> {
+    let word = path.to_str()?;
+    let b = BUILTIN.iter().find(|b| b.name == word)?;
+    (!path.exists()).then_some(b.name)
 }
 
 /// The largest model file read: 1024 clusters on 1 nm bands would be ≈64 MB of JSON (scaled
 /// from the built-in model: 45 KB for 8 clusters on 36 bands).
 pub const MODEL_LIMIT: u64 = 256 << 20;
 
-/// The model of `path`, or the built-in one.
+/// The model of `path`: a built-in one by name ([`builtin_name`]), a file, or without a path
+/// the built-in default.
 pub fn load(path: Option<&Path>) -> Result<Model, ModelError> {
     let Some(path) = path else {
         return Ok(Model::builtin().clone());
     };
+    if let Some(name) = builtin_name(path) {
+        return Ok(Model::builtin_named(name).expect("a built-in name").clone());
+    }
+    let bare = path.extension().is_none() && path.components().count() == 1;
+    if bare && !path.exists() {
+        return Err(ModelError::UnknownBuiltin {
+            name: path.display().to_string(),
+        });
+    }
     let bytes =
         specconv_atomic_file::read_bounded(path, MODEL_LIMIT, "model").map_err(|source| {
             ModelError::Read {
@@ -48,16 +82,49 @@ pub fn load(path: Option<&Path>) -> Result<Model, ModelError> {
     Ok(Model::from_json(&path.display().to_string(), &text)?)
 }
 
-/// A model's one-line description, as outputs record it (`specconvModel`) and reports show it.
+/// A model's one-line description, as outputs record it (`specconvModel`) and reports show
+/// it: which model, its setting, and the data it was trained on with their weights and terms.
+/// ASCII only: readers of EXR text attributes differ on anything else (colour-science 0.4.7's
+/// fails on a non-ASCII byte), so other characters of a file name or licence become `?`.
 pub fn describe(path: Option<&Path>, m: &Model) -> String {
-    format!(
-        "{} ({} clusters, {}, {}, {} nm, trained on {} spectra from {})",
-        path.map_or_else(|| "built-in".to_string(), |p| p.display().to_string()),
+    let name = match path {
+        None => format!("built-in {}", BUILTIN[0].name),
+        Some(p) => match builtin_name(p) {
+            Some(name) => format!("built-in {name}"),
+            None => p.display().to_string(),
+        },
+    };
+    let text = format!(
+        "{name} ({} clusters, {}, {}, {} nm, trained on {} spectra from {})",
         m.leaves.len(),
         m.observer,
         m.illuminant,
         m.grid,
         m.training.count,
-        m.training.sources.join(", ")
-    )
+        sources(m)
+    );
+    text.chars()
+        .map(|c| if c.is_ascii() { c } else { '?' })
+        .collect()
+}
+
+/// The data a model was trained on: each source with its weight (when not 1) and licence.
+pub fn sources(m: &Model) -> String {
+    if m.training.sets.is_empty() {
+        return format!("{}; licences not recorded", m.training.sources.join(", "));
+    }
+    let sets: Vec<String> = m
+        .training
+        .sets
+        .iter()
+        .map(|s| {
+            let weight = if s.weight == 1.0 {
+                String::new()
+            } else {
+                format!(", weight {:.3}", s.weight)
+            };
+            format!("{} ({}{weight}; {})", s.source, s.count, s.licence)
+        })
+        .collect();
+    sets.join(", ")
 }

@@ -18,11 +18,7 @@ fn main() {
     let text = std::fs::read_to_string(format!("{dir}/spectra/{file}")).expect("the Munsell CSV");
     let table = SpectralTable::parse(file, &text).unwrap();
     let a = Colorimetry::new(Grid::PAPER, Observer::Cie1931, Illuminant::D65).unwrap();
-    let set = TrainingSet {
-        sources: vec![file.into()],
-        names: table.names.clone(),
-        spectra: table.resampled(&a.grid).unwrap(),
-    };
+    let set = TrainingSet::from_table(&table, &a.grid).unwrap();
     let opts = TrainOptions {
         clusters: arg(1, 8),
         min_cluster_size: arg(2, 20),

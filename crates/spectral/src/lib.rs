@@ -30,7 +30,7 @@ pub mod stack;
 pub use method::Method;
 pub use otsu2018::model::Model;
 pub use otsu2018::runtime::Uplifter;
-pub use otsu2018::train::{train, TrainOptions, TrainingSet};
+pub use otsu2018::train::{train, Part, TrainOptions, TrainingSet};
 
 /// Everything that can go wrong in the uplift, with what to do about it in the message.
 #[derive(Debug, thiserror::Error)]

@@ -31,11 +31,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         "paper" => {
             let a =
                 specconv_colour::Colorimetry::new(Grid::PAPER, Observer::Wyman2013, Illuminant::E)?;
-            let set = TrainingSet {
-                sources: vec![file.into()],
-                names: table.names.clone(),
-                spectra: table.resampled(&a.grid)?,
-            };
+            let set = TrainingSet::from_table(&table, &a.grid)?;
             let opts = TrainOptions {
                 clusters: 8,
                 min_cluster_size: 4,

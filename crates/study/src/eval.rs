@@ -133,19 +133,11 @@ pub fn cross_validate<E: From<specconv_spectral::Error>>(
     let mut outcomes = Vec::new();
     let mut first = None;
     for f in 0..folds {
-        let mut rest = TrainingSet {
-            sources: set.sources.clone(),
-            ..TrainingSet::default()
-        };
-        let mut held = Vec::new();
-        for (i, (s, n)) in set.spectra.iter().zip(&set.names).enumerate() {
-            if i % folds == f {
-                held.push(s.clone());
-            } else {
-                rest.spectra.push(s.clone());
-                rest.names.push(n.clone());
-            }
-        }
+        let rest = set.subset(|i| i % folds != f);
+        let held: Vec<Vec<f64>> = (f..set.spectra.len())
+            .step_by(folds)
+            .map(|i| set.spectra[i].clone())
+            .collect();
         let model = train(&rest, a, opts)?;
         outcomes.extend(held_out(&model, &held)?);
         first.get_or_insert(model);

@@ -2,6 +2,8 @@
 //!
 //! - [`eval`]: reconstruction error, round trip and range of a method on measured spectra, and
 //!   K-fold cross-validation of trained models.
+//! - [`sets`]: cross-validation across measured sets (leave one set out), a training
+//!   recipe's held-out score per set and on its worst set.
 //! - [`cost`]: what a method's uplift costs, timed on a fixed sequence of random colours (and
 //!   the workspace's one seeded generator, [`cost::Lcg`]).
 //! - [`extrapolation`]: how large a model's spectra get on whole gamuts, per leaf.
@@ -16,6 +18,7 @@ pub mod cost;
 pub mod eval;
 pub mod extrapolation;
 pub mod scene;
+pub mod sets;
 pub mod simulate;
 
 /// What can go wrong in a study, with what to do about it in the message.

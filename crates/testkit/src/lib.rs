@@ -37,12 +37,41 @@ pub const MUNSELL: &str = "munsell1269_matte_380-800_1nm.csv";
 pub const COLORCHECKER: &str = "colorchecker_n_ohta_380-780_5nm.csv";
 
 pub fn set(file: &str, grid: &Grid) -> TrainingSet {
-    let t = table(file);
-    TrainingSet {
-        sources: vec![t.source.clone()],
-        names: t.names.clone(),
-        spectra: t.resampled(grid).unwrap(),
-    }
+    TrainingSet::from_table(&table(file), grid).unwrap()
+}
+
+/// Every measured set in ../shared/spectra, by file name (its README lists them).
+pub const ALL_SETS: [&str; 7] = [
+    MUNSELL,
+    COLORCHECKER,
+    "usgs_splib07a_vegetation_380-780_5nm.csv",
+    "usgs_splib07a_manmade_380-780_5nm.csv",
+    "usgs_splib07a_soils_380-780_5nm.csv",
+    "usgs_splib07a_minerals_380-780_5nm.csv",
+    "rhododendron_leaves_380-780_5nm.csv",
+];
+
+/// A model trained again from what it records: its sets read from ../shared with their
+/// recorded weights and licences, its options and its colorimetry.
+pub fn retrain(m: &specconv_spectral::Model) -> specconv_spectral::Model {
+    let a = m.colorimetry().unwrap();
+    let parts: Vec<specconv_spectral::Part> = m
+        .training
+        .sets
+        .iter()
+        .map(|r| specconv_spectral::Part {
+            set: set(&r.source, &a.grid),
+            weight: r.weight,
+            licence: r.licence.clone(),
+        })
+        .collect();
+    let t = &m.training;
+    let opts = TrainOptions {
+        clusters: t.clusters_requested,
+        min_cluster_size: t.min_cluster_size,
+        max_condition: t.max_condition,
+    };
+    specconv_spectral::train(&TrainingSet::weighted(&parts), &a, &opts).unwrap()
 }
 
 /// The paper's setting: Wyman 2013 observer, no illuminant weighting, 380–730 nm at 10 nm.

@@ -13,6 +13,8 @@ Examples:
   specconv eval --spectra colorchecker.csv
   specconv eval --spectra colorchecker.csv --method jakob2019
   specconv eval --spectra colorchecker.csv --train munsell.csv --clusters 16
+  specconv eval --by-set --model default --spectra munsell.csv --spectra cc.csv --spectra usgs.csv
+  specconv eval --by-set --train a.csv --train b.csv --balance 1 --spectra a.csv --spectra b.csv --spectra c.csv
 ";
 
 /// Measure a method on measured spectra: uplift each from its own XYZ and compare.
@@ -23,6 +25,15 @@ Examples:
 /// trained here on --train, or the built-in model; their grid, observer and illuminant are the
 /// model's. The baselines use --observer, --illuminant and --bands, by default those of the
 /// model.
+///
+/// With --by-set, each --spectra file is scored on spectra the model was not trained on, and
+/// the report gives every file's figures, their mean and the worst file: a file that is not
+/// in the training recipe is uplifted by the recipe's model; one that is, by the model trained
+/// on the recipe's other files (leave one set out; --folds K: on the other files and the
+/// file's other K − 1 folds; a recipe of that one file alone: 10-fold within it). The recipe
+/// is --train with --weights, --balance, --clusters and --min-cluster-size, or else the
+/// model's own: its recorded sets, weights and options (each recorded set's file among
+/// --spectra).
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// Measured spectra (CSV, as for train). Repeat for several files.
@@ -32,8 +43,9 @@ pub struct Args {
     /// meng2015-bounded (values kept in [0, 1] where possible) or jakob2019.
     #[arg(long, value_name = "NAME", default_value = "otsu2018")]
     method: MethodName,
-    /// Model file from `specconv train`; the built-in model when absent.
-    #[arg(long, value_name = "MODEL", conflicts_with = "train")]
+    /// A built-in model by name (default, paper, open) or a model file from `specconv train`;
+    /// the built-in default when absent.
+    #[arg(long, value_name = "NAME|MODEL", conflicts_with = "train")]
     model: Option<PathBuf>,
     /// Train the clustered model here on these spectra (CSV) instead of reading one.
     #[arg(long, value_name = "CSV")]
@@ -44,6 +56,15 @@ pub struct Args {
     /// Smallest cluster of the model trained with --train.
     #[arg(long, value_name = "N", default_value_t = TrainOptions::default().min_cluster_size)]
     min_cluster_size: usize,
+    #[command(flatten)]
+    weights: methods::WeightArgs,
+    /// Score each --spectra file held out of the training (leave one set out); see above.
+    #[arg(long)]
+    by_set: bool,
+    /// With --by-set: hold out K folds of each file in the recipe, training on the others'
+    /// spectra and the file's other folds.
+    #[arg(long, value_name = "K", requires = "by_set", value_parser = clap::value_parser!(u32).range(2..))]
+    folds: Option<u32>,
     #[command(flatten)]
     setting: methods::SettingArgs,
     #[command(flatten)]
@@ -70,6 +91,9 @@ struct Row<'a> {
 }
 
 pub fn run(args: Args) -> Result<()> {
+    if args.by_set {
+        return by_set::run(&args);
+    }
     let (model, described) = model(&args)?;
     let stack = methods::build(&args.description(), &model).map_err(|e| match args.method {
         // The one setting a user can fix here: a many-cluster model for pca.
@@ -117,6 +141,7 @@ pub fn run(args: Args) -> Result<()> {
     if args.json {
         let mut v = serde_json::to_value(&summary)?;
         v["method"] = name.as_str().into();
+        v["model"] = described.as_str().into();
         if args.per_spectrum {
             v["spectra"] = serde_json::to_value(&rows)?;
         }
@@ -198,7 +223,7 @@ fn model(args: &Args) -> Result<(Model, String)> {
         return Ok((base, described));
     }
     let a = args.setting.colorimetry(&base)?;
-    let set = methods::training_set(&args.train, &a.grid)?;
+    let set = methods::weighted_set(&args.train, &a.grid, &args.weights)?;
     let opts = TrainOptions {
         clusters: if args.method == MethodName::Pca {
             1
@@ -212,4 +237,142 @@ fn model(args: &Args) -> Result<(Model, String)> {
     let described =
         specconv_conversion::models::describe(None, &model).replacen("built-in", "trained here", 1);
     Ok((model, described))
+}
+
+/// `eval --by-set`: cross-validation across the --spectra files.
+mod by_set {
+    use super::Args;
+    use crate::methods;
+    use anyhow::{anyhow, Result};
+    use specconv_spectral::method::MethodName;
+    use specconv_spectral::{Model, Part, TrainOptions, TrainingSet};
+    use specconv_study::eval;
+    use specconv_study::sets::{held_out_by_set, Holdout, Recipe, Scores};
+
+    pub(super) fn run(args: &Args) -> Result<()> {
+        if !args.method.is_clustered() {
+            return Err(crate::usage(anyhow!(
+                "--by-set measures trained models: use --method otsu2018 or pca ({} is not trained)",
+                args.method
+            )));
+        }
+        let base = crate::files::load_model(args.model.as_deref())?;
+        let a = args.setting.colorimetry(&base)?;
+        let mut tests = Vec::with_capacity(args.spectra.len());
+        for path in &args.spectra {
+            let table = crate::files::read_spectra(path)?;
+            tests.push(TrainingSet::from_table(&table, &a.grid)?);
+        }
+        let recipe = recipe(args, &base, &tests, &a.grid)?;
+        let d = args.description();
+        let holdout = args
+            .folds
+            .map_or(Holdout::Set, |k| Holdout::Folds(k as usize));
+        let scores = held_out_by_set(&recipe, &tests, &a, holdout, |m, held| {
+            let stack = methods::build(&d, m)?;
+            Ok::<_, anyhow::Error>(eval::evaluate(stack.colorimetry(), stack.method(), held))
+        })?;
+        print(args, &recipe, &scores)
+    }
+
+    /// --train's recipe, or the model's recorded one.
+    fn recipe(
+        args: &Args,
+        model: &Model,
+        tests: &[TrainingSet],
+        grid: &specconv_colour::Grid,
+    ) -> Result<Recipe> {
+        let pca = args.method == MethodName::Pca;
+        if !args.train.is_empty() {
+            return Ok(Recipe {
+                parts: methods::weighted_parts(&args.train, grid, &args.weights)?,
+                balance: args.weights.balance,
+                options: TrainOptions {
+                    clusters: if pca { 1 } else { args.clusters },
+                    min_cluster_size: args.min_cluster_size,
+                    ..TrainOptions::default()
+                },
+            });
+        }
+        let t = &model.training;
+        if t.sets.is_empty() {
+            return Err(crate::usage(anyhow!(
+                "the model does not record its training sets: give them with --train"
+            )));
+        }
+        let mut parts = Vec::with_capacity(t.sets.len());
+        for record in &t.sets {
+            let Some(set) = tests.iter().find(|s| s.sources == [record.source.clone()]) else {
+                return Err(crate::usage(anyhow!(
+                    "the model was trained on {}, which is not among --spectra: give that file with --spectra",
+                    record.source
+                )));
+            };
+            parts.push(Part {
+                set: set.clone(),
+                weight: record.weight,
+                licence: record.licence.clone(),
+            });
+        }
+        Ok(Recipe {
+            parts,
+            balance: 0.0,
+            options: TrainOptions {
+                clusters: if pca { 1 } else { t.clusters_requested },
+                min_cluster_size: t.min_cluster_size,
+                max_condition: t.max_condition,
+            },
+        })
+    }
+
+    fn print(args: &Args, recipe: &Recipe, scores: &Scores) -> Result<()> {
+        let trained: Vec<String> = recipe
+            .parts
+            .iter()
+            .map(|p| {
+                let name = p.set.sources.join(", ");
+                if p.weight == 1.0 {
+                    name
+                } else {
+                    format!("{name} ×{:.3}", p.weight)
+                }
+            })
+            .collect();
+        if args.json {
+            let mut v = serde_json::to_value(scores)?;
+            v["method"] = args.method.as_str().into();
+            v["trained_on"] = trained.into();
+            outln!("{}", serde_json::to_string_pretty(&v)?)?;
+            return Ok(());
+        }
+        outln!("method:     {}", args.method)?;
+        outln!(
+            "recipe:     {} clusters, min {}, condition ≤ {}, trained on {}",
+            recipe.options.clusters,
+            recipe.options.min_cluster_size,
+            recipe.options.max_condition,
+            trained.join(", ")
+        )?;
+        outln!("| set | held out | spectra | Δe mean | Δe median | Δe max | in [0,1] |")?;
+        outln!("|---|---|---|---|---|---|---|")?;
+        for s in &scores.sets {
+            outln!(
+                "| {} | {} | {} | {:.4} | {:.4} | {:.4} | {:.3} |",
+                s.source,
+                s.how,
+                s.summary.count,
+                s.summary.delta_e.mean,
+                s.summary.delta_e.median,
+                s.summary.delta_e.max,
+                s.summary.in_unit_range
+            )?;
+        }
+        outln!("mean over sets: Δe {:.4}", scores.mean_of_sets)?;
+        outln!(
+            "worst set:      Δe {:.4} ({})",
+            scores.worst,
+            scores.worst_set
+        )?;
+        Ok(())
+    }
 }

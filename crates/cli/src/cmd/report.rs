@@ -19,6 +19,7 @@ pub const EXAMPLES: &str = "\
 Examples:
   specconv report --spectra colorchecker.csv --train munsell.csv --plot cost.svg
   specconv report --spectra munsell.csv --holdout 5 --csv > table.csv
+  specconv report --by-set --spectra munsell.csv --spectra usgs_soils.csv --spectra leaves.csv
 ";
 
 /// Measure every uplift method on the same measured spectra: accuracy against cost.
@@ -33,15 +34,22 @@ Examples:
 /// thread and on all, measured in this run over --colours random linear sRGB colours, 4096 per
 /// tile. The clustered models are trained on --train (default: --spectra itself, the paper's
 /// Table 1 setting) or, with --holdout K, K-fold on --spectra: trained on K−1 parts, evaluated
-/// on the held-out one.
+/// on the held-out one; or, with --by-set, leave one set out: each --spectra file evaluated by
+/// the model trained on the other files (weighted by --weights and --balance), the row's
+/// figures over all files, and its note the mean over files and the worst file.
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// Measured spectra to evaluate on (CSV). Repeat for several files.
     #[arg(long, value_name = "CSV", required = true)]
     spectra: Vec<PathBuf>,
     /// Spectra to train the clustered models on (default: --spectra).
-    #[arg(long, value_name = "CSV", conflicts_with = "holdout")]
+    #[arg(long, value_name = "CSV", conflicts_with_all = ["holdout", "by_set"])]
     train: Vec<PathBuf>,
+    /// Leave one set out: each --spectra file scored by the models trained on the others.
+    #[arg(long, conflicts_with = "holdout")]
+    by_set: bool,
+    #[command(flatten)]
+    weights: methods::WeightArgs,
     /// K-fold cross-validation of the clustered models on --spectra (K ≥ 2).
     #[arg(long, value_name = "K", value_parser = clap::value_parser!(u32).range(2..))]
     holdout: Option<u32>,
@@ -201,7 +209,7 @@ fn clustered_rows(args: &Args, pool: &rayon::ThreadPool) -> Result<Vec<Row>> {
     let mut rows = Vec::new();
     for (k, grid, bounded) in rows_of.collect::<Vec<_>>() {
         let a = args.colorimetry.on(grid)?;
-        let (model, summary) = clustered(args, &a, k, bounded)?;
+        let (model, summary, by_set_note) = clustered(args, &a, k, bounded)?;
         let stack = uplifter(args, &model, bounded)?;
         let name = match (k, bounded) {
             (1, _) => "pca",
@@ -226,8 +234,15 @@ fn clustered_rows(args: &Args, pool: &rayon::ThreadPool) -> Result<Vec<Row>> {
         if let Some(why) = &fewer {
             errln!("specconv: warning: {name} on {grid}: {why}");
         }
+        if args.by_set {
+            setting = format!("{setting}, by set");
+        }
+        let note = [fewer, by_set_note]
+            .into_iter()
+            .flatten()
+            .collect::<Vec<_>>();
         rows.push(Row {
-            note: fewer,
+            note: (!note.is_empty()).then(|| note.join("; ")),
             ..row(args, pool, &a, stack.method(), name, setting, &summary)
         });
         errln!("specconv: measured {name} with {k} clusters on {grid}");
@@ -262,17 +277,20 @@ fn clustered(
     a: &Colorimetry,
     k: usize,
     bounded: bool,
-) -> Result<(Model, eval::Summary)> {
+) -> Result<(Model, eval::Summary, Option<String>)> {
     let opts = TrainOptions {
         clusters: k,
         min_cluster_size: args.min_cluster_size,
         ..TrainOptions::default()
     };
-    let eval_set = methods::training_set(&args.spectra, &a.grid)?;
     let evaluate = |model: &Model, spectra: &[Vec<f64>]| -> Result<Vec<eval::Outcome>> {
         let stack = uplifter(args, model, bounded)?;
         Ok(eval::evaluate(a, stack.method(), spectra))
     };
+    if args.by_set {
+        return by_set(args, a, opts, evaluate);
+    }
+    let eval_set = methods::training_set(&args.spectra, &a.grid)?;
     let Some(folds) = args.holdout.map(|h| h as usize) else {
         let train = if args.train.is_empty() {
             eval_set.clone()
@@ -281,7 +299,7 @@ fn clustered(
         };
         let model = specconv_spectral::train(&train, a, &opts)?;
         let s = eval::summarise(&evaluate(&model, &eval_set.spectra)?);
-        return Ok((model, s));
+        return Ok((model, s, None));
     };
     if eval_set.spectra.len() < folds {
         bail!(
@@ -290,7 +308,45 @@ fn clustered(
         );
     }
     let (first, outcomes) = eval::cross_validate(&eval_set, a, &opts, folds, evaluate)?;
-    Ok((first, eval::summarise(&outcomes)))
+    Ok((first, eval::summarise(&outcomes), None))
+}
+
+/// Leave one set out over the --spectra files: the model on all of them (for timing), the
+/// summary over every held-out spectrum, and a note with the mean over files and the worst.
+fn by_set(
+    args: &Args,
+    a: &Colorimetry,
+    options: TrainOptions,
+    evaluate: impl Fn(&Model, &[Vec<f64>]) -> Result<Vec<eval::Outcome>>,
+) -> Result<(Model, eval::Summary, Option<String>)> {
+    use specconv_study::sets::{held_out_by_set, Holdout, Recipe};
+    if args.spectra.len() < 2 {
+        return Err(crate::usage(anyhow::anyhow!(
+            "--by-set leaves one --spectra file out at a time: give at least two"
+        )));
+    }
+    let parts = methods::weighted_parts(&args.spectra, &a.grid, &args.weights)?;
+    let tests: Vec<_> = parts.iter().map(|p| p.set.clone()).collect();
+    let recipe = Recipe {
+        parts,
+        balance: args.weights.balance,
+        options,
+    };
+    let mut outcomes = Vec::new();
+    let scores = held_out_by_set(&recipe, &tests, a, Holdout::Set, |m, held| {
+        let o = evaluate(m, held)?;
+        outcomes.extend(o.iter().cloned());
+        Ok::<_, anyhow::Error>(o)
+    })?;
+    let model = recipe.train(a)?;
+    let note = format!(
+        "by set: mean over {} files Δe {:.4}, worst {:.4} ({})",
+        scores.sets.len(),
+        scores.mean_of_sets,
+        scores.worst,
+        scores.worst_set
+    );
+    Ok((model, eval::summarise(&outcomes), Some(note)))
 }
 
 fn row(

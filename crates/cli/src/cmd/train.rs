@@ -12,6 +12,7 @@ pub const EXAMPLES: &str = "\
 Examples:
   specconv train --spectra munsell.csv --clusters 8 -o munsell8.json
   specconv train --spectra a.csv --spectra b.csv --bands 380:780:5 --illuminant E -o model.json
+  specconv train --spectra big.csv --spectra small.csv --balance 1 --licence CC0 --licence MIT -o m.json
 ";
 
 /// Train a clustered-PCA model on measured reflectance spectra.
@@ -38,6 +39,8 @@ pub struct Args {
     #[arg(long, value_name = "BOUND", default_value_t = TrainOptions::default().max_condition)]
     max_condition: f64,
     #[command(flatten)]
+    weights: crate::methods::WeightArgs,
+    #[command(flatten)]
     colorimetry: crate::methods::ColorimetryArgs,
     /// Where to write the model (JSON).
     #[arg(short, long, value_name = "MODEL")]
@@ -57,7 +60,7 @@ pub fn run(args: Args) -> Result<()> {
     // A model is remade as often as it is trained: replaced, never over a spectra file.
     files::check_writable(&args.output, &inputs, Replace::Allowed)?;
     let a = args.colorimetry.on(args.colorimetry.bands)?;
-    let set = crate::methods::training_set(&args.spectra, &a.grid)?;
+    let set = crate::methods::weighted_set(&args.spectra, &a.grid, &args.weights)?;
     let opts = TrainOptions {
         clusters: args.clusters,
         min_cluster_size: args.min_cluster_size,
@@ -90,6 +93,7 @@ pub fn run(args: Args) -> Result<()> {
     if let Some(why) = files::fewer_clusters(&model) {
         errln!("specconv: warning: {why}");
     }
+    errln!("data: {}", specconv_conversion::models::sources(&model));
     errln!("wrote {}", args.output.display());
     Ok(())
 }

@@ -52,8 +52,26 @@ pub struct Training {
     pub min_cluster_size: usize,
     /// The bound on each leaf's condition number of M.
     pub max_condition: f64,
-    /// Σ ‖s − r‖² over the training set (Eq. 13).
+    /// Σ w·‖s − r‖² over the training set (Eq. 13; w = 1 unless the sets are weighted).
     pub total_error: f64,
+    /// Per source: its spectra, their weight in training and the terms of use of the data.
+    /// Absent in files written before sources were recorded.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub sets: Vec<SetRecord>,
+}
+
+/// One source of a model's training data, as the model records it.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SetRecord {
+    /// The spectra table's file name.
+    pub source: String,
+    /// Spectra taken from it.
+    pub count: usize,
+    /// The weight of each of its spectra in the summed error (1: unweighted).
+    pub weight: f64,
+    /// The terms its data may be used under, as its origin states them.
+    pub licence: String,
 }
 
 /// One cluster.
@@ -139,6 +157,17 @@ impl Model {
             return Err("the model has no leaves".into());
         }
         self.tree.validate(self.leaves.len())?;
+        if let Some(s) = self
+            .training
+            .sets
+            .iter()
+            .find(|s| !(s.weight.is_finite() && s.weight > 0.0))
+        {
+            return Err(format!(
+                "training set {} has weight {}: weights must be finite and above 0",
+                s.source, s.weight
+            ));
+        }
         let a = self.colorimetry().map_err(|e| e.to_string())?;
         for (k, leaf) in self.leaves.iter().enumerate() {
             let at = |what: &str| format!("leaf {k}: {what}");
@@ -191,13 +220,51 @@ impl Model {
             .walk(specconv_colour::colorimetry::xy(xyz).unwrap_or(white))
     }
 
-    /// The built-in model: 8 clusters trained by `specconv train` on the Munsell matte set,
-    /// CIE 1931 2°, D65, 380–730 nm at 10 nm, default minimum cluster size and condition bound.
+    /// The built-in default model ([`BUILTIN`]'s first).
     pub fn builtin() -> &'static Model {
-        static MODEL: std::sync::OnceLock<Model> = std::sync::OnceLock::new();
-        MODEL.get_or_init(|| {
-            Model::from_json("built-in model", include_str!("../../models/default.json"))
-                .expect("the built-in model is valid (checked by its test)")
-        })
+        Model::builtin_named(BUILTIN[0].name).expect("the default is built in")
+    }
+
+    /// The built-in model of that name ([`BUILTIN`]), or `None`.
+    pub fn builtin_named(name: &str) -> Option<&'static Model> {
+        static MODELS: [std::sync::OnceLock<Model>; 3] = [const { std::sync::OnceLock::new() }; 3];
+        let k = BUILTIN.iter().position(|b| b.name == name)?;
+        Some(MODELS[k].get_or_init(|| {
+            let b = &BUILTIN[k];
+            Model::from_json(&format!("built-in model {}", b.name), b.json)
+                .expect("the built-in models are valid (checked by their tests)")
+        }))
     }
 }
+
+/// A model built into specconv, by name.
+#[derive(Debug, Clone, Copy)]
+pub struct Builtin {
+    /// The name that `--model` takes.
+    pub name: &'static str,
+    /// What it is, in a line: its data and their terms.
+    pub summary: &'static str,
+    /// The model file.
+    pub json: &'static str,
+}
+
+/// The built-in models, the default first. Each is what `specconv train` makes from
+/// ../shared/spectra with the options its file records (tests retrain them bit for bit);
+/// docs/methods.md has the study that chose them and their figures.
+pub const BUILTIN: [Builtin; 3] = [
+    Builtin {
+        name: "default",
+        summary: "Munsell, ColorChecker, USGS and Rhododendron sets, weighted (Munsell data: non-commercial use only)",
+        json: include_str!("../../models/default.json"),
+    },
+    Builtin {
+        name: "paper",
+        summary: "the paper's dataset I: 8 clusters on the Munsell matte set (non-commercial use only), reproduces Table 1",
+        json: include_str!("../../models/paper.json"),
+    },
+    Builtin {
+        name: "open",
+        summary: "open data only: USGS Spectral Library 7 sets (public domain) and Rhododendron leaves (MIT), for commercial use",
+        json: include_str!("../../models/open.json"),
+    },
+];

@@ -1,5 +1,9 @@
 //! One cluster's PCA and its uplift matrices (Eq. 5–8), and its reconstruction error computed
 //! from the scatter matrix alone, so that split search never revisits the spectra.
+//!
+//! Spectra may carry weights (training that does not let the largest set decide): every sum
+//! below is Σ w·(…), the mean is Σ w·s / Σ w and the error Σ w·‖s − r‖². A weight is applied
+//! as `w·s` before anything else is multiplied, so a weight of 1 changes no bit.
 
 use nalgebra::{DMatrix, Matrix3, SymmetricEigen};
 use specconv_colour::Colorimetry;
@@ -9,9 +13,11 @@ use specconv_colour::Colorimetry;
 pub struct Moments {
     /// Number of spectra added.
     pub count: usize,
-    /// Σ s
+    /// Σ w, the weights of the spectra added (their count when all weigh 1).
+    pub weight: f64,
+    /// Σ w·s
     pub sum: Vec<f64>,
-    /// Σ s·sᵀ, row-major n×n.
+    /// Σ w·s·sᵀ, row-major n×n.
     pub outer: Vec<f64>,
 }
 
@@ -20,20 +26,28 @@ impl Moments {
     pub fn zero(n: usize) -> Moments {
         Moments {
             count: 0,
+            weight: 0.0,
             sum: vec![0.0; n],
             outer: vec![0.0; n * n],
         }
     }
 
-    /// Adds spectrum `s` (`n` bands).
+    /// Adds spectrum `s` (`n` bands) with weight 1.
     pub fn add(&mut self, s: &[f64]) {
+        self.add_weighted(s, 1.0);
+    }
+
+    /// Adds spectrum `s` (`n` bands) with weight `w`.
+    pub fn add_weighted(&mut self, s: &[f64], w: f64) {
         let n = self.sum.len();
         self.count += 1;
+        self.weight += w;
         for i in 0..n {
-            self.sum[i] += s[i];
+            let wsi = w * s[i];
+            self.sum[i] += wsi;
             let row = &mut self.outer[i * n..(i + 1) * n];
             for (o, sj) in row.iter_mut().zip(s) {
-                *o += s[i] * sj;
+                *o += wsi * sj;
             }
         }
     }
@@ -48,6 +62,7 @@ impl Moments {
     /// [`Moments::minus`] into `out` (of the same size), which the split search reuses.
     pub fn minus_into(&self, other: &Moments, out: &mut Moments) {
         out.count = self.count - other.count;
+        out.weight = self.weight - other.weight;
         for ((o, a), b) in out.sum.iter_mut().zip(&self.sum).zip(&other.sum) {
             *o = a - b;
         }
@@ -56,18 +71,18 @@ impl Moments {
         }
     }
 
-    /// Σ ‖s‖², the scale for [`check_rank`].
+    /// Σ w·‖s‖², the scale for [`check_rank`].
     pub fn energy(&self) -> f64 {
         let n = self.sum.len();
         (0..n).map(|i| self.outer[i * n + i]).sum()
     }
 
-    /// μ = Σ s / count (NaN when no spectra were added).
+    /// μ = Σ w·s / Σ w (NaN when no spectra were added).
     pub fn mean(&self) -> Vec<f64> {
-        self.sum.iter().map(|s| s / self.count as f64).collect()
+        self.sum.iter().map(|s| s / self.weight).collect()
     }
 
-    /// The scatter matrix Σ (s − μ)(s − μ)ᵀ = Σ s·sᵀ − N·μ·μᵀ.
+    /// The scatter matrix Σ w·(s − μ)(s − μ)ᵀ = Σ w·s·sᵀ − (Σ w)·μ·μᵀ.
     pub fn scatter(&self) -> Vec<f64> {
         let mut c = Vec::new();
         self.scatter_into(&mut c, &mut Vec::new());
@@ -79,9 +94,9 @@ impl Moments {
     pub fn scatter_into(&self, c: &mut Vec<f64>, mu: &mut Vec<f64>) {
         let n = self.sum.len();
         mu.clear();
-        mu.extend(self.sum.iter().map(|s| s / self.count as f64));
+        mu.extend(self.sum.iter().map(|s| s / self.weight));
         c.resize(n * n, 0.0);
-        let count = self.count as f64;
+        let count = self.weight;
         let rows = c.chunks_exact_mut(n).zip(self.outer.chunks_exact(n));
         for ((row, outer), &mi) in rows.zip(mu.iter()) {
             for ((cij, &oij), &mj) in row.iter_mut().zip(outer).zip(mu.iter()) {
@@ -103,16 +118,17 @@ pub struct ErrorFloor {
     /// origin at the whole cluster's mean, the sums of a part cancel little when centred.
     origin: Vec<f64>,
     origin_x: [f64; 3],
-    count: usize,
-    /// Σ s
+    /// Σ w
+    weight: f64,
+    /// Σ w·s
     sum: Vec<f64>,
-    /// Σ ‖s‖²
+    /// Σ w·‖s‖²
     energy: f64,
-    /// Σ x with x = A·s
+    /// Σ w·x with x = A·s
     sum_x: [f64; 3],
-    /// Σ x·xᵀ
+    /// Σ w·x·xᵀ
     xx: [[f64; 3]; 3],
-    /// Σ s·xᵀ, row-major n×3.
+    /// Σ w·s·xᵀ, row-major n×3.
     sx: Vec<[f64; 3]>,
 }
 
@@ -123,7 +139,7 @@ impl ErrorFloor {
         ErrorFloor {
             origin: origin.to_vec(),
             origin_x: a.xyz(origin),
-            count: 0,
+            weight: 0.0,
             sum: vec![0.0; n],
             energy: 0.0,
             sum_x: [0.0; 3],
@@ -132,9 +148,14 @@ impl ErrorFloor {
         }
     }
 
-    /// Adds spectrum `s` with its XYZ `x` = A·s.
+    /// Adds spectrum `s` with its XYZ `x` = A·s, weight 1.
     pub fn add(&mut self, s: &[f64], x: [f64; 3]) {
-        self.count += 1;
+        self.add_weighted(s, x, 1.0);
+    }
+
+    /// Adds spectrum `s` with its XYZ `x` = A·s and weight `w`.
+    pub fn add_weighted(&mut self, s: &[f64], x: [f64; 3], w: f64) {
+        self.weight += w;
         let x: [f64; 3] = std::array::from_fn(|j| x[j] - self.origin_x[j]);
         for (((m, sx), &v), &o) in self
             .sum
@@ -144,20 +165,22 @@ impl ErrorFloor {
             .zip(&self.origin)
         {
             let v = v - o;
-            *m += v;
-            self.energy += v * v;
-            (0..3).for_each(|j| sx[j] += v * x[j]);
+            let wv = w * v;
+            *m += wv;
+            self.energy += wv * v;
+            (0..3).for_each(|j| sx[j] += wv * x[j]);
         }
         for i in 0..3 {
-            self.sum_x[i] += x[i];
-            (0..3).for_each(|j| self.xx[i][j] += x[i] * x[j]);
+            let wx = w * x[i];
+            self.sum_x[i] += wx;
+            (0..3).for_each(|j| self.xx[i][j] += wx * x[j]);
         }
     }
 
     /// `self − other` into `out`, for the far side of a split.
     pub fn minus_into(&self, other: &ErrorFloor, out: &mut ErrorFloor) {
         debug_assert!(self.origin == other.origin && self.origin == out.origin);
-        out.count = self.count - other.count;
+        out.weight = self.weight - other.weight;
         out.energy = self.energy - other.energy;
         for ((o, a), b) in out.sum.iter_mut().zip(&self.sum).zip(&other.sum) {
             *o = a - b;
@@ -171,7 +194,7 @@ impl ErrorFloor {
 
     /// tr(C), the error of reconstructing every spectrum by the mean.
     pub fn variance(&self) -> f64 {
-        let count = self.count as f64;
+        let count = self.weight;
         self.energy - self.sum.iter().map(|s| s * s).sum::<f64>() / count
     }
 
@@ -179,7 +202,7 @@ impl ErrorFloor {
     /// for G⁻¹ to be computed accurately.
     /// G = A·C·Aᵀ, the scatter of the colours.
     pub fn colour_scatter(&self) -> [[f64; 3]; 3] {
-        let count = self.count as f64;
+        let count = self.weight;
         let mean_x = self.sum_x.map(|v| v / count);
         std::array::from_fn(|i| {
             std::array::from_fn(|j| self.xx[i][j] - count * mean_x[i] * mean_x[j])
@@ -189,7 +212,7 @@ impl ErrorFloor {
     /// E*, the lower bound on [`Fit::error`] of the spectra added; 0 (no bound) when G is singular
     /// or too ill-conditioned for E* to be accurate.
     pub fn floor(&self) -> f64 {
-        let count = self.count as f64;
+        let count = self.weight;
         let mean_x = self.sum_x.map(|v| v / count);
         let g = self.colour_scatter();
         let g = Matrix3::from_fn(|i, j| g[i][j]);
@@ -224,23 +247,34 @@ impl ErrorFloor {
 
 /// The scatter matrix of a set of spectra computed around their mean (two passes, for accuracy).
 pub fn centred_scatter(spectra: &[&[f64]]) -> (Vec<f64>, Vec<f64>) {
+    weighted_scatter(spectra, |_| 1.0)
+}
+
+/// [`centred_scatter`] with spectrum k weighing `weight(k)`: the weighted mean and
+/// Σ w·(s − μ)(s − μ)ᵀ.
+pub fn weighted_scatter(spectra: &[&[f64]], weight: impl Fn(usize) -> f64) -> (Vec<f64>, Vec<f64>) {
     let n = spectra[0].len();
     let mut mu = vec![0.0; n];
-    for s in spectra {
+    let mut total = 0.0;
+    for (k, s) in spectra.iter().enumerate() {
+        let w = weight(k);
+        total += w;
         for (m, v) in mu.iter_mut().zip(*s) {
-            *m += v;
+            *m += w * v;
         }
     }
-    mu.iter_mut().for_each(|m| *m /= spectra.len() as f64);
+    mu.iter_mut().for_each(|m| *m /= total);
     let mut c = vec![0.0; n * n];
     let mut d = vec![0.0; n];
-    for s in spectra {
+    for (k, s) in spectra.iter().enumerate() {
+        let w = weight(k);
         for i in 0..n {
             d[i] = s[i] - mu[i];
         }
         for i in 0..n {
+            let wdi = w * d[i];
             for j in 0..n {
-                c[i * n + j] += d[i] * d[j];
+                c[i * n + j] += wdi * d[j];
             }
         }
     }

@@ -21,14 +21,21 @@
 //! | duplicated spectra among others | trained: a copy weighs as one more measurement (a copy never splits from its original: same xy) |
 //! | a band that is zero in every spectrum | trained: that band is zero in μ and B, so 0 in every uplift |
 //! | a split whose side would be rank-deficient or ill-conditioned | not taken: training stops with fewer clusters when no other split helps (the CLI warns) |
+//! | the best split's side fits with tracked eigenvectors but its exact ones fall just outside the condition bound (seen on weighted mixes of sets, never on the Munsell set) | that cluster is kept whole; the others may still split |
+//!
+//! Spectra may be weighted ([`TrainingSet::weights`], made by [`TrainingSet::union`]): the
+//! error summed and minimised is then Σ w·‖s − r‖², each cluster's mean and scatter are
+//! weighted, and a set of many similar spectra no longer outvotes a small set of other
+//! colours. The minimum cluster size still counts spectra. Weights of 1 give the unweighted
+//! model bit for bit.
 //!
 //! No regularisation is applied: a Tikhonov term on B or M would break the exact round trip
 //! (Eq. 9) or make up a component the data does not have, so a leaf either has three real
 //! components and a bounded M, or it is not made.
 
-use super::model::{Leaf, Training, FORMAT, VERSION};
+use super::model::{Leaf, SetRecord, Training, FORMAT, VERSION};
 use super::pca::{
-    centred_scatter, check_rank, check_rank_products, fit, fit_basis, fit_products, top_three,
+    check_rank, check_rank_products, fit, fit_basis, fit_products, top_three, weighted_scatter,
     ErrorFloor, Moments, Tracker, Unfit,
 };
 use super::tree::{Axis, Tree};
@@ -76,6 +83,197 @@ pub struct TrainingSet {
     pub names: Vec<String>,
     /// The spectra, each on the colorimetry's grid.
     pub spectra: Vec<Vec<f64>>,
+    /// One weight per spectrum (finite, above 0), or none: every spectrum weighs 1.
+    pub weights: Vec<f64>,
+    /// Per source, its count, weight and licence, recorded in the model as they are; none
+    /// when not known.
+    pub sets: Vec<SetRecord>,
+}
+
+/// The terms of use of the measured sets in `../shared/spectra`, by file name, as its README
+/// states them (their origins: UEF spectral database, USGS Data Series 1035, the repository
+/// emcdona1/leaf_reflectance_spectroscopy, colour-science 0.4.7).
+pub const KNOWN_LICENCES: [(&str, &str); 7] = [
+    (
+        "munsell1269_matte_380-800_1nm.csv",
+        "non-commercial use only (University of Eastern Finland spectral database)",
+    ),
+    (
+        "usgs_splib07a_vegetation_380-780_5nm.csv",
+        "public domain (USGS Spectral Library 7, doi:10.5066/F7RR1WDJ)",
+    ),
+    (
+        "usgs_splib07a_manmade_380-780_5nm.csv",
+        "public domain (USGS Spectral Library 7, doi:10.5066/F7RR1WDJ)",
+    ),
+    (
+        "usgs_splib07a_soils_380-780_5nm.csv",
+        "public domain (USGS Spectral Library 7, doi:10.5066/F7RR1WDJ)",
+    ),
+    (
+        "usgs_splib07a_minerals_380-780_5nm.csv",
+        "public domain (USGS Spectral Library 7, doi:10.5066/F7RR1WDJ)",
+    ),
+    (
+        "rhododendron_leaves_380-780_5nm.csv",
+        "MIT (c) 2022 Beth McDonald, emcdona1/leaf_reflectance_spectroscopy",
+    ),
+    (
+        "colorchecker_n_ohta_380-780_5nm.csv",
+        "not stated by its origin (N. Ohta's measurement, shipped in colour-science 0.4.7, BSD-3-Clause)",
+    ),
+];
+
+/// What a table whose file name is not in [`KNOWN_LICENCES`] records, unless told.
+pub const UNKNOWN_LICENCE: &str = "unknown (not stated when the model was trained)";
+
+/// The licence [`KNOWN_LICENCES`] gives a file name, or [`UNKNOWN_LICENCE`].
+pub fn known_licence(source: &str) -> &'static str {
+    KNOWN_LICENCES
+        .iter()
+        .find(|(file, _)| *file == source)
+        .map_or(UNKNOWN_LICENCE, |(_, licence)| licence)
+}
+
+/// One source's part of a [`TrainingSet::union`]: its spectra (one source each), the weight
+/// asked for it and its licence.
+#[derive(Debug, Clone)]
+pub struct Part {
+    /// The spectra, one source.
+    pub set: TrainingSet,
+    /// How much its spectra count, before balancing (1: as any other).
+    pub weight: f64,
+    /// Its terms of use.
+    pub licence: String,
+}
+
+impl TrainingSet {
+    /// A table's spectra on `grid`, unweighted, with the licence [`known_licence`] gives it.
+    pub fn from_table(
+        table: &specconv_colour::SpectralTable,
+        grid: &specconv_colour::Grid,
+    ) -> Result<TrainingSet, Error> {
+        let spectra = table.resampled(grid)?;
+        Ok(TrainingSet {
+            sources: vec![table.source.clone()],
+            names: table.names.clone(),
+            sets: vec![SetRecord {
+                source: table.source.clone(),
+                count: spectra.len(),
+                weight: 1.0,
+                licence: known_licence(&table.source).to_string(),
+            }],
+            spectra,
+            weights: Vec::new(),
+        })
+    }
+
+    /// The spectra for which `keep(k)` holds, with their weights, and the sets' counts
+    /// recounted (the sets' spectra lie in the order of [`TrainingSet::sets`]).
+    pub fn subset(&self, keep: impl Fn(usize) -> bool) -> TrainingSet {
+        let mut out = TrainingSet {
+            sources: self.sources.clone(),
+            sets: self.sets.clone(),
+            ..TrainingSet::default()
+        };
+        let mut first = 0;
+        let recounted = self.sets.iter().map(|s| s.count).sum::<usize>() == self.spectra.len();
+        for (j, record) in self.sets.iter().enumerate() {
+            let range = first..first + record.count;
+            first = range.end;
+            if recounted {
+                out.sets[j].count = range.filter(|&k| keep(k)).count();
+            }
+        }
+        for (k, s) in self.spectra.iter().enumerate() {
+            if keep(k) {
+                out.spectra.push(s.clone());
+                out.names
+                    .push(self.names.get(k).cloned().unwrap_or_default());
+                if !self.weights.is_empty() {
+                    out.weights.push(self.weights[k]);
+                }
+            }
+        }
+        out
+    }
+
+    /// The weight of spectrum `k`.
+    #[inline]
+    pub fn weight(&self, k: usize) -> f64 {
+        self.weights.get(k).copied().unwrap_or(1.0)
+    }
+
+    /// The parts as one training set. Spectrum weights are each part's weight times
+    /// (mean part size / part size)^`balance`, scaled so that they average 1: `balance` 0 lets
+    /// every spectrum count the same (the largest set decides most), 1 lets every set count
+    /// the same in total whatever its size. Unweighted (no weights stored) when every weight
+    /// comes out 1.
+    pub fn union(parts: &[Part], balance: f64) -> Result<TrainingSet, Error> {
+        let bad = |msg: String| Err(Error::Training(msg));
+        if !(balance.is_finite() && (0.0..=1.0).contains(&balance)) {
+            return bad(format!("the balance must be in [0, 1], not {balance}"));
+        }
+        if let Some(p) = parts
+            .iter()
+            .find(|p| !(p.weight.is_finite() && p.weight > 0.0))
+        {
+            return bad(format!(
+                "the weight of {} is {}: give a finite weight above 0",
+                p.set.sources.join(", "),
+                p.weight
+            ));
+        }
+        let total: usize = parts.iter().map(|p| p.set.spectra.len()).sum();
+        if total == 0 {
+            return bad("no spectra to train on".into());
+        }
+        let mean_size = total as f64 / parts.len() as f64;
+        let raw: Vec<f64> = parts
+            .iter()
+            .map(|p| p.weight * (mean_size / p.set.spectra.len().max(1) as f64).powf(balance))
+            .collect();
+        let mass: f64 = parts
+            .iter()
+            .zip(&raw)
+            .map(|(p, w)| w * p.set.spectra.len() as f64)
+            .sum();
+        let scale = total as f64 / mass;
+        let uniform = raw.iter().all(|&w| w * scale == 1.0);
+        let weighted: Vec<Part> = parts
+            .iter()
+            .zip(&raw)
+            .map(|(p, w)| Part {
+                weight: if uniform { 1.0 } else { w * scale },
+                ..p.clone()
+            })
+            .collect();
+        Ok(TrainingSet::weighted(&weighted))
+    }
+
+    /// The parts as one training set, each part's spectra weighing its `weight` as it is (no
+    /// balancing or scaling: a model's recorded sets give its training set back bit for bit).
+    pub fn weighted(parts: &[Part]) -> TrainingSet {
+        let mut out = TrainingSet::default();
+        let uniform = parts.iter().all(|p| p.weight == 1.0);
+        for p in parts {
+            let w = p.weight;
+            out.sources.extend(p.set.sources.iter().cloned());
+            out.names.extend(p.set.names.iter().cloned());
+            out.spectra.extend(p.set.spectra.iter().cloned());
+            if !uniform {
+                out.weights
+                    .extend(std::iter::repeat_n(w, p.set.spectra.len()));
+            }
+            out.sets.push(SetRecord {
+                source: p.set.sources.join(", "),
+                count: p.set.spectra.len(),
+                weight: w,
+                licence: p.licence.clone(),
+            });
+        }
+        out
+    }
 }
 
 struct Cluster {
@@ -107,6 +305,24 @@ pub fn train(set: &TrainingSet, a: &Colorimetry, opts: &TrainOptions) -> Result<
     }
     if opts.max_condition.is_nan() || opts.max_condition < 1.0 {
         return invalid("the condition bound must be at least 1".into());
+    }
+    if !set.weights.is_empty() && set.weights.len() != set.spectra.len() {
+        return invalid(format!(
+            "{} weights for {} spectra: give one weight per spectrum, or none",
+            set.weights.len(),
+            set.spectra.len()
+        ));
+    }
+    if let Some(k) = set
+        .weights
+        .iter()
+        .position(|w| !(w.is_finite() && *w > 0.0))
+    {
+        let name = set.names.get(k).map_or("?", String::as_str);
+        return invalid(format!(
+            "spectrum '{name}' has weight {}: weights must be finite and above 0",
+            set.weights[k]
+        ));
     }
     if set.spectra.len() < SMALLEST_CLUSTER {
         let only = match set.spectra.len() {
@@ -180,17 +396,23 @@ pub fn train(set: &TrainingSet, a: &Colorimetry, opts: &TrainOptions) -> Result<
             });
         let Some((k, _)) = pick else { break };
         let split = clusters[k]
-            .take()
-            .and_then(|c| c.best.flatten())
+            .as_mut()
+            .and_then(|c| c.best.take().flatten())
             .expect("picked cluster has a split");
+        // The split search checked both sides with tracked eigenvectors; at the edge of the
+        // condition bound the exact ones can fall just outside it. Then the cluster stays.
+        let sides = cluster(set, a, opts, split.below)
+            .and_then(|below| Ok([below, cluster(set, a, opts, split.above)?]));
+        let Ok(sides) = sides else {
+            if let Some(c) = clusters[k].as_mut() {
+                c.best = Some(None);
+            }
+            continue;
+        };
+        clusters[k] = None;
         let new = [clusters.len(), clusters.len() + 1];
         tree.split_leaf(k, split.axis, split.value, new);
-        for members in [split.below, split.above] {
-            // The split search already checked both sides' conditioning.
-            let c = cluster(set, a, opts, members)
-                .map_err(|_| Error::Training("internal: a split side lost its fit".into()))?;
-            clusters.push(Some(c));
-        }
+        clusters.extend(sides.map(Some));
         live += 1;
     }
 
@@ -217,6 +439,7 @@ pub fn train(set: &TrainingSet, a: &Colorimetry, opts: &TrainOptions) -> Result<
             min_cluster_size: opts.min_cluster_size,
             max_condition: opts.max_condition,
             total_error,
+            sets: set.sets.clone(),
         },
         tree,
         leaves,
@@ -227,6 +450,11 @@ fn refs<'a>(set: &'a TrainingSet, members: &[usize]) -> Vec<&'a [f64]> {
     members.iter().map(|&i| set.spectra[i].as_slice()).collect()
 }
 
+/// The weighted mean and scatter of a cluster's spectra.
+fn scatter(set: &TrainingSet, members: &[usize]) -> (Vec<f64>, Vec<f64>) {
+    weighted_scatter(&refs(set, members), |k| set.weight(members[k]))
+}
+
 /// A cluster with its exact error, or why it cannot be fitted.
 fn cluster(
     set: &TrainingSet,
@@ -234,10 +462,12 @@ fn cluster(
     opts: &TrainOptions,
     members: Vec<usize>,
 ) -> Result<Cluster, Unfit> {
-    let spectra = refs(set, &members);
-    let (_, c) = centred_scatter(&spectra);
+    let (_, c) = scatter(set, &members);
     let basis = top_three(&c, a.bands());
-    let energy = spectra.iter().map(|s| super::pca::dot(s, s)).sum();
+    let energy = members
+        .iter()
+        .map(|&i| set.weight(i) * super::pca::dot(&set.spectra[i], &set.spectra[i]))
+        .sum();
     check_rank(&c, &basis, energy)?;
     let error = fit_basis(&c, a, opts.max_condition, basis)?.error;
     Ok(Cluster {
@@ -248,7 +478,7 @@ fn cluster(
 }
 
 fn leaf(set: &TrainingSet, a: &Colorimetry, members: &[usize]) -> Leaf {
-    let (mean, c) = centred_scatter(&refs(set, members));
+    let (mean, c) = scatter(set, members);
     // Conditioning was checked when the split was chosen; rounding must not undo a leaf now.
     let f = fit(&c, a, f64::INFINITY).expect("a leaf chosen by training is invertible");
     Leaf {
@@ -284,8 +514,11 @@ fn best_split(
         return None;
     }
     let spectrum = |i: usize| set.spectra[i].as_slice();
+    let weight = |i: usize| set.weight(i);
     let mut total = Moments::zero(n);
-    members.iter().for_each(|&i| total.add(spectrum(i)));
+    members
+        .iter()
+        .for_each(|&i| total.add_weighted(spectrum(i), weight(i)));
     let orders: [Vec<usize>; 2] = std::array::from_fn(|ax| {
         let mut order = members.to_vec();
         order.sort_by(|&i, &j| xy[i][ax].total_cmp(&xy[j][ax]).then(i.cmp(&j)));
@@ -316,14 +549,14 @@ fn best_split(
     let mut whole = ErrorFloor::zero(&origin, a);
     members
         .iter()
-        .for_each(|&i| whole.add(spectrum(i), a.xyz(spectrum(i))));
+        .for_each(|&i| whole.add_weighted(spectrum(i), a.xyz(spectrum(i)), weight(i)));
     let mut far = whole.clone();
     let floors: [Vec<f64>; 2] = std::array::from_fn(|ax| {
         let mut below = ErrorFloor::zero(&origin, a);
         let mut floors = vec![f64::INFINITY; members.len()];
         for k in 1..members.len() {
             let i = orders[ax][k - 1];
-            below.add(spectrum(i), a.xyz(spectrum(i)));
+            below.add_weighted(spectrum(i), a.xyz(spectrum(i)), weight(i));
             if splits_at(ax, k) {
                 whole.minus_into(&below, &mut far);
                 floors[k] = below.floor() + far.floor();
@@ -342,7 +575,9 @@ fn best_split(
     let (mut c1, mut c2, mut mu) = (Vec::new(), Vec::new(), Vec::new());
     for &(ax, k) in by_floor.iter().take(PROBES) {
         let mut below = Moments::zero(n);
-        orders[ax][..k].iter().for_each(|&i| below.add(spectrum(i)));
+        orders[ax][..k]
+            .iter()
+            .for_each(|&i| below.add_weighted(spectrum(i), weight(i)));
         total.minus_into(&below, &mut above);
         below.scatter_into(&mut c1, &mut mu);
         above.scatter_into(&mut c2, &mut mu);
@@ -367,9 +602,9 @@ fn best_split(
             let (mut track_below, mut track_above) = (Tracker::default(), Tracker::default());
             let mut last = 0;
             for k in 1..order.len() {
-                let s = spectrum(order[k - 1]);
-                below.add(s);
-                colours_below.add(s, a.xyz(s));
+                let (s, w) = (spectrum(order[k - 1]), weight(order[k - 1]));
+                below.add_weighted(s, w);
+                colours_below.add_weighted(s, a.xyz(s), w);
                 if floors[ax][k] > limit {
                     continue;
                 }

@@ -87,8 +87,13 @@ fn every_srgb_colour_of_a_33_cube_is_in_range_with_its_xyz_or_certified_outside(
                 certificate,
                 reached,
             } => {
-                let u = certificate.expect("a certificate for every sRGB colour outside");
-                assert!(certifies(a, c, u), "{c:?}: {u:?} certifies nothing");
+                match certificate {
+                    Some(u) => assert!(certifies(a, c, u), "{c:?}: {u:?} certifies nothing"),
+                    // On the solid's surface to rounding (the default model's white, Y = 1 +
+                    // 4e-16, was uplifted a hair above 1): no certificate, and its colour is
+                    // reached all the same.
+                    None => assert!(in_range_with_xyz(a, c, &r, 1e-9), "{c:?}: {r:?}"),
+                }
                 assert!(in_range_with_xyz(a, reached, &r, 1e-9), "{c:?}");
             }
             Outcome::NotFinite => panic!("{c:?}"),

@@ -18,18 +18,57 @@ fn default_model() -> Model {
 }
 
 #[test]
-fn builtin_model_is_what_train_makes_from_shared() {
-    let retrained = default_model();
-    let builtin = Model::builtin();
-    // Bit for bit: JSON floats round-trip exactly, so compare values and text.
-    assert!(*builtin == retrained, "the embedded model differs from a retrain: regenerate crates/spectral/models/default.json with `specconv train` (see README)");
-    assert_eq!(builtin.to_json(), retrained.to_json());
-    assert_eq!(builtin.leaves.len(), 8);
-    assert_eq!(builtin.training.min_cluster_size, 20);
-    assert!(builtin
-        .leaves
-        .iter()
-        .all(|l| l.count >= 20 && l.condition <= builtin.training.max_condition));
+fn builtin_models_are_what_train_makes_from_shared() {
+    for b in specconv_spectral::otsu2018::model::BUILTIN {
+        let builtin = Model::builtin_named(b.name).unwrap();
+        let retrained = retrain(builtin);
+        // Bit for bit: JSON floats round-trip exactly, so compare values and text.
+        assert!(*builtin == retrained, "the embedded model {} differs from a retrain: regenerate crates/spectral/models/{}.json with `specconv train` (docs/methods.md)", b.name, b.name);
+        assert_eq!(builtin.to_json(), retrained.to_json());
+        assert!(builtin
+            .leaves
+            .iter()
+            .all(|l| l.count >= builtin.training.min_cluster_size
+                && l.condition <= builtin.training.max_condition));
+        // Every source says under which terms its data may be used.
+        assert!(!builtin.training.sets.is_empty());
+        for s in &builtin.training.sets {
+            assert_eq!(
+                s.licence,
+                specconv_spectral::otsu2018::train::known_licence(&s.source)
+            );
+        }
+    }
+    assert!(std::ptr::eq(
+        Model::builtin(),
+        Model::builtin_named("default").unwrap()
+    ));
+}
+
+#[test]
+fn the_paper_model_is_munsell_alone_and_unchanged() {
+    // The model that was the built-in one until the default was retrained: 8 clusters on the
+    // Munsell set, CIE 1931, D65, minimum 20, unweighted. Its numbers must not move.
+    let paper = Model::builtin_named("paper").unwrap();
+    assert!(*paper == default_model());
+    assert_eq!(paper.leaves.len(), 8);
+    assert_eq!(paper.training.min_cluster_size, 20);
+    assert_eq!(paper.training.total_error, 17.978871748824027);
+    assert_eq!(paper.training.sets.len(), 1);
+    assert_eq!(paper.training.sets[0].weight, 1.0);
+}
+
+#[test]
+fn the_open_model_is_trained_on_open_data_only() {
+    let open = Model::builtin_named("open").unwrap();
+    for s in &open.training.sets {
+        assert!(
+            s.licence.starts_with("public domain") || s.licence.starts_with("MIT"),
+            "{}: {}",
+            s.source,
+            s.licence
+        );
+    }
 }
 
 #[test]
@@ -45,8 +84,13 @@ fn training_is_deterministic_and_files_read_back_bit_for_bit() {
 
 #[test]
 fn every_munsell_spectrum_round_trips_in_f64_and_f32_agrees() {
+    for b in specconv_spectral::otsu2018::model::BUILTIN {
+        round_trips_in_f64_and_f32_agrees(Model::builtin_named(b.name).unwrap());
+    }
+}
+
+fn round_trips_in_f64_and_f32_agrees(model: &Model) {
     let a = default_setting();
-    let model = Model::builtin();
     let up = Uplifter::new(model).unwrap();
     let spectra = set(MUNSELL, &a.grid).spectra;
     let s = eval::summarise(&eval::evaluate(&a, &up, &spectra));
@@ -142,6 +186,7 @@ fn untrainable_sets_give_clear_errors() {
         sources: vec!["x".into()],
         names: vec!["grey".into(); 30],
         spectra: vec![vec![0.5; n]; 30],
+        ..Default::default()
     };
     let err = train(&same, &a, &TrainOptions::default())
         .unwrap_err()
@@ -325,4 +370,54 @@ proptest! {
             prop_assert!((*p as f64 - q).abs() <= 1e-5 * (1.0 + q.abs()));
         }
     }
+}
+
+#[test]
+fn a_weight_of_three_is_a_spectrum_counted_three_times() {
+    // One cluster: the weighted mean, scatter, basis and error are those of the set with every
+    // spectrum of the weighted file repeated, up to rounding.
+    let a = default_setting();
+    let cc = set(COLORCHECKER, &a.grid);
+    let soils = set("usgs_splib07a_soils_380-780_5nm.csv", &a.grid);
+    let part = |set: &specconv_spectral::TrainingSet, weight| specconv_spectral::Part {
+        set: set.clone(),
+        weight,
+        licence: String::new(),
+    };
+    let weighted = specconv_spectral::TrainingSet::weighted(&[part(&cc, 3.0), part(&soils, 1.0)]);
+    let mut repeated = specconv_spectral::TrainingSet::weighted(&[part(&soils, 1.0)]);
+    for _ in 0..3 {
+        repeated.spectra.extend(cc.spectra.iter().cloned());
+        repeated.names.extend(cc.names.iter().cloned());
+    }
+    let opts = TrainOptions {
+        clusters: 1,
+        min_cluster_size: 4,
+        ..TrainOptions::default()
+    };
+    let (w, r) = (
+        train(&weighted, &a, &opts).unwrap(),
+        train(&repeated, &a, &opts).unwrap(),
+    );
+    let close = |x: &[f64], y: &[f64], tol: f64| x.iter().zip(y).all(|(p, q)| (p - q).abs() <= tol);
+    assert!(close(&w.leaves[0].mean, &r.leaves[0].mean, 1e-12));
+    for k in 0..3 {
+        assert!(
+            close(&w.leaves[0].basis[k], &r.leaves[0].basis[k], 1e-9),
+            "b{k}"
+        );
+    }
+    let (ew, er) = (w.training.total_error, r.training.total_error);
+    assert!((ew - er).abs() <= 1e-9 * er, "{ew} against {er}");
+    // Unweighted, the ColorChecker counts once: another model.
+    let once = train(
+        &specconv_spectral::TrainingSet::weighted(&[part(&cc, 1.0), part(&soils, 1.0)]),
+        &a,
+        &opts,
+    )
+    .unwrap();
+    assert!(!close(&once.leaves[0].mean, &w.leaves[0].mean, 1e-6));
+    // The model records the weights it was trained with.
+    assert_eq!(w.training.sets[0].weight, 3.0);
+    assert_eq!(w.training.sets[0].count, 24);
 }

@@ -17,6 +17,7 @@ fn training_set(spectra: Vec<Vec<f64>>) -> TrainingSet {
         sources: vec!["synthetic".into()],
         names: (0..spectra.len()).map(|k| format!("s{k}")).collect(),
         spectra,
+        ..TrainingSet::default()
     }
 }
 

@@ -53,6 +53,8 @@ struct Record {
     alpha_dropped: Option<bool>,
     /// The hash of the source pixels that -u compares.
     source_hash: Option<String>,
+    /// The model that made the spectra, as the output's `specconvModel` records it.
+    model: Option<String>,
 }
 
 impl Record {
@@ -84,6 +86,7 @@ impl Record {
             constant: None,
             alpha_dropped: None,
             source_hash: None,
+            model: None,
         }
     }
 }
@@ -166,6 +169,7 @@ pub(super) fn converted(
         constant: Some(r.constant),
         alpha_dropped: Some(r.opaque_dropped),
         source_hash: Some(r.source_hash.clone()).filter(|h| !h.is_empty()),
+        model: Some(converter.model_description().to_string()),
         ..Record::not_converted(input, output, "ok", r.seconds)
     };
     emit(args, record, &line)
