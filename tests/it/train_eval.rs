@@ -51,7 +51,7 @@ fn eval_uses_the_builtin_model_and_prints_a_readable_summary() {
     let out = Cmd::eval(colorchecker()).run();
     let text = out.ok();
     assert!(
-        text.contains("model:      built-in default (11 clusters, cie1931, D65, 380:730:10 nm"),
+        text.contains("model:      built-in paper (8 clusters, cie1931, D65, 380:730:10 nm"),
         "{text}"
     );
     assert!(text.contains("spectra:    24"), "{text}");
@@ -380,8 +380,8 @@ fn outputs_say_which_model_made_them() {
     let dir = Scratch::new("which-model");
     let input = crate::convert::testdata("srgb8.png");
     for (flags, want) in [
-        (&[][..], "built-in default (11 clusters"),
-        (&["--model", "paper"][..], "built-in paper (8 clusters"),
+        (&[][..], "built-in paper (8 clusters"),
+        (&["--model", "broad"][..], "built-in broad (11 clusters"),
         (&["--model", "open"][..], "built-in open ("),
     ] {
         let out = dir.path("out.exr");

@@ -13,7 +13,7 @@ Examples:
   specconv eval --spectra colorchecker.csv
   specconv eval --spectra colorchecker.csv --method jakob2019
   specconv eval --spectra colorchecker.csv --train munsell.csv --clusters 16
-  specconv eval --by-set --model default --spectra munsell.csv --spectra cc.csv --spectra usgs.csv
+  specconv eval --by-set --model broad --spectra munsell.csv --spectra cc.csv --spectra usgs.csv
   specconv eval --by-set --train a.csv --train b.csv --balance 1 --spectra a.csv --spectra b.csv --spectra c.csv
 ";
 

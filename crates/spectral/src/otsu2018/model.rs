@@ -253,14 +253,14 @@ pub struct Builtin {
 /// docs/methods.md has the study that chose them and their figures.
 pub const BUILTIN: [Builtin; 3] = [
     Builtin {
-        name: "default",
-        summary: "Munsell, ColorChecker, USGS and Rhododendron sets, weighted (Munsell data: non-commercial use only)",
-        json: include_str!("../../models/default.json"),
+        name: "paper",
+        summary: "the default: the paper's dataset I, 8 clusters on the Munsell matte set (non-commercial use only), reproduces Table 1",
+        json: include_str!("../../models/paper.json"),
     },
     Builtin {
-        name: "paper",
-        summary: "the paper's dataset I: 8 clusters on the Munsell matte set (non-commercial use only), reproduces Table 1",
-        json: include_str!("../../models/paper.json"),
+        name: "broad",
+        summary: "Munsell, ColorChecker, USGS and Rhododendron sets, weighted: far better on plants, soils, minerals and man-made materials, 1.5x the paper model's error on Munsell colours (Munsell data: non-commercial use only)",
+        json: include_str!("../../models/broad.json"),
     },
     Builtin {
         name: "open",

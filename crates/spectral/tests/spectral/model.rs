@@ -39,15 +39,16 @@ fn builtin_models_are_what_train_makes_from_shared() {
             );
         }
     }
+    // The default is the paper's model (docs/methods.md says why).
     assert!(std::ptr::eq(
         Model::builtin(),
-        Model::builtin_named("default").unwrap()
+        Model::builtin_named("paper").unwrap()
     ));
 }
 
 #[test]
 fn the_paper_model_is_munsell_alone_and_unchanged() {
-    // The model that was the built-in one until the default was retrained: 8 clusters on the
+    // The built-in default since the beginning: 8 clusters on the
     // Munsell set, CIE 1931, D65, minimum 20, unweighted. Its numbers must not move.
     let paper = Model::builtin_named("paper").unwrap();
     assert!(*paper == default_model());
