@@ -337,6 +337,11 @@ fn builtin_models_are_named_and_say_their_data_and_licences() {
             &["munsell1269", "non-commercial"][..],
         ),
         (
+            "broad",
+            "11 clusters",
+            &["munsell1269", "usgs_splib07a", "non-commercial"][..],
+        ),
+        (
             "open",
             "clusters",
             &["usgs_splib07a", "public domain", "MIT"][..],
@@ -356,16 +361,13 @@ fn builtin_models_are_named_and_say_their_data_and_licences() {
     }
     Cmd::eval(colorchecker()).args(["--model", "papers"]).fails(
         2,
-        &[
-            "no built-in model is called 'papers'",
-            "default, paper, open",
-        ],
+        &["no built-in model is called 'papers'", "paper, broad, open"],
     );
     let version = Cmd::new(["--version"]).run();
     let text = version.ok();
     for w in [
-        "default:",
-        "paper:",
+        "paper: the default",
+        "broad:",
         "open:",
         "non-commercial",
         "public domain",
