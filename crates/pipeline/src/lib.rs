@@ -149,7 +149,7 @@ pub type Result<T> = std::result::Result<T, Error>;
 /// Whether a tiled output is a MIP map.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Mip {
-    /// Every level down to 1×1, each filtered from the spectra of the level above ([`mip`]);
+    /// Every level down to 1×1, each filtered from the spectra of the level above (module `mip`);
     /// level 0 is uplifted from the input's full-resolution level (its own smaller levels,
     /// if any, are not read).
     All,
