@@ -175,6 +175,10 @@ pub(crate) fn survey(
     let step = rows_per_read(width);
     let mut y = 0;
     while y <= height {
+        // A survey of a large texture takes seconds: an interrupt is heard between reads.
+        if job.cancel.load(std::sync::atomic::Ordering::Relaxed) {
+            return Err(Error::Cancelled);
+        }
         let strip = if y < height {
             let end = (y + step).min(height);
             let px = reader.read_scanlines(0, y as u32..end as u32)?;
