@@ -16,11 +16,11 @@ export RUSTFLAGS="-Cpasses=sancov-module -Cllvm-args=-sanitizer-coverage-level=4
 # --target keeps the flags off build scripts and proc macros, as cargo-fuzz does.
 cargo build --locked --release --target "$triple" --bins
 
-# Seeds: the built-in model, the repository's own tables and two small hand-written CSVs
+# Seeds: the built-in models, the repository's own tables and two small hand-written CSVs
 # (quoting, CRLF, exponents, blank lines, uneven steps); never the measured spectra.
 work="$CARGO_TARGET_DIR/fuzz-work"
 rm -rf "$work" && mkdir -p "$work/csv" "$work/model" "$work/artifacts"
-cp ../crates/spectral/models/default.json "$work/model/"
+cp ../crates/spectral/models/*.json "$work/model/"
 cp seeds/*.csv ../crates/spectral/data/smits1999_basis.csv \
   ../crates/colour/data/cie_illuminant_f2_380-780_5nm.csv "$work/csv/"
 
