@@ -337,6 +337,16 @@ fn data_copy_writes_a_mipmapped_data_texture_with_the_values_and_metadata_kept()
         &["--info", "-v", dir.path("normal.exr").to_str().unwrap()],
     );
     assert!(normal.contains("wrapmodes: \"periodic,clamp\""), "{normal}");
+    // --wrap names a copy's wrap modes as it names a spectral texture's.
+    Cmd::convert(&tx, dir.path("wrapped.exr"))
+        .args(["--ocio", config.to_str().unwrap()])
+        .args(["--data", "copy", "--wrap", "mirror,black"])
+        .ok();
+    let wrapped = tool(
+        "oiiotool",
+        &["--info", "-v", dir.path("wrapped.exr").to_str().unwrap()],
+    );
+    assert!(wrapped.contains("wrapmodes: \"mirror,black\""), "{wrapped}");
     no_temporaries(&dir.0);
 }
 

@@ -344,6 +344,11 @@ impl Converter {
                     ..Provenance::default()
                 };
                 let compression = self.options.compression.to_string();
+                // `--wrap` names the copy's wrap modes too (else make_texture keeps the input's).
+                let mut attributes = provenance.to_attributes();
+                if let Some((s, t)) = self.options.wrap {
+                    attributes.push(("wrapmodes".into(), format!("{s},{t}")));
+                }
                 let selection = data.selection.as_ref();
                 let how = specconv_pipeline::data::Copy {
                     subimage: selection.map_or(0, |s| s.subimage),
@@ -353,7 +358,7 @@ impl Converter {
                     ),
                     compression: &compression,
                     overwrite,
-                    attributes: &provenance.to_attributes(),
+                    attributes: &attributes,
                 };
                 let levels = specconv_pipeline::data::copy(input, output, &how)
                     .map_err(Error::Conversion)?;
