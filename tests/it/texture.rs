@@ -176,6 +176,7 @@ fn nan_is_refused_by_default_and_repaired_as_openimageio_repairs_it() {
     let dir = Scratch::new("texture-nan");
     let input = dir.path("nan.exr");
     image_with_nan(&input);
+    let before = std::fs::read(&input).unwrap();
     // maketx --checknan refuses the same file.
     let maketx = std::process::Command::new("maketx")
         .args(["--checknan", s(&input), "-o", s(&dir.path("x.tx"))])
@@ -226,6 +227,12 @@ fn nan_is_refused_by_default_and_repaired_as_openimageio_repairs_it() {
     Cmd::convert(&input, dir.path("y.exr"))
         .args(["--fixnan", "box3", "--checknan"])
         .fails(2, &["--checknan"]);
+    // A repair repairs what is read, never the file: the input is byte for byte as it was,
+    // also when it is named as its own output.
+    Cmd::convert(&input, &input)
+        .args(["--fixnan", "box3", "--force"])
+        .fails(2, &["is the input"]);
+    assert_eq!(std::fs::read(&input).unwrap(), before);
 }
 
 #[test]
