@@ -86,7 +86,9 @@ def _define(variant: str):
         """Spectra on a wavelength list, [h, w, n] rows top to bottom, looked up trilinearly."""
 
         def _setup(self, props, wavelengths, values, source: str) -> None:
-            wavelengths = np.asarray(wavelengths, dtype=np.float64)
+            # Mitsuba's wavelengths are float32: a band at 400 nm must hold a lookup at 400 nm
+            # even when a reader's unit conversion left it at 400.00000000000006.
+            wavelengths = np.asarray(wavelengths, dtype=np.float32).astype(np.float64)
             values = np.asarray(values, dtype=np.float32)
             order = np.argsort(wavelengths)
             wavelengths, values = wavelengths[order], values[..., order]
@@ -237,7 +239,7 @@ def _model(name: str):
 
 def _resolve(path: str) -> str:
     """A scene's relative path, found as Mitsuba finds its own (the scene's folder first)."""
-    return str(mi.Thread.thread().file_resolver().resolve(path))
+    return str(mi.file_resolver().resolve(path))
 
 
 def _mean(wavelengths: np.ndarray, values: np.ndarray) -> float:

@@ -44,7 +44,7 @@ def write_reflectance(path: str, wavelengths, values) -> None:
     values = np.asarray(values, dtype=np.float32)
     h, w, n = values.shape
     spec = oiio.ImageSpec(w, h, n, "half")
-    spec.channelnames = tuple(f"T.{lam:.6f}".replace(".", ",") + "nm" for lam in wavelengths)
+    spec.channelnames = tuple("T." + f"{lam:.6f}".replace(".", ",") + "nm" for lam in wavelengths)
     spec.attribute("spectralLayoutVersion", "1.0")
     out = oiio.ImageOutput.create(path)
     assert out.open(path, spec), out.geterror()
