@@ -140,16 +140,12 @@ def register_bounds(mi, specconv) -> None:
     """The two per-lookup textures: measured here, not shipped (per texel was chosen)."""
     import drjit as dr
 
-    def xyz_of(path):
-        bitmap = mi.Bitmap(path)
-        rgb = np.array(bitmap.convert(mi.Bitmap.PixelFormat.RGB, mi.Struct.Type.Float32,
-                                      bitmap.srgb_gamma()), dtype=np.float32)
-        return specconv.rgb_to_xyz(rgb, "sRGB - Texture")
+    import specconv.mitsuba
 
     class Bound(mi.Texture):
         def __init__(self, props):
             mi.Texture.__init__(self, props)
-            xyz = xyz_of(props["filename"])
+            xyz = specconv.mitsuba.texel_xyz(props["filename"])
             self.tex = mi.Texture2f(mi.TensorXf(xyz), use_accel=False)
             model = specconv.Model.builtin()
             self.w0 = float(model.wavelengths[0])

@@ -204,18 +204,8 @@ def _define(variant: str):
         def __init__(self, props):
             mi.Texture.__init__(self, props)
             path = _resolve(props["filename"])
-            bitmap = mi.Bitmap(path)
-            # Code values as stored: the colour space (through OCIO) decodes them, not Mitsuba.
-            rgb = np.array(
-                bitmap.convert(mi.Bitmap.PixelFormat.RGB, mi.Struct.Type.Float32, bitmap.srgb_gamma()),
-                dtype=np.float32,
-            )
-            default_space = "sRGB - Texture" if bitmap.srgb_gamma() else "Linear Rec.709 (sRGB)"
-            colorspace = props.get("colorspace", default_space)
-            config = props.get("config", "aces")
-            model_name = props.get("model", "")
-            model = _model(model_name)
-            xyz = specconv.rgb_to_xyz(rgb, colorspace, config=config)
+            xyz = texel_xyz(path, props.get("colorspace", ""), props.get("config", "aces"))
+            model = _model(props.get("model", ""))
             spectra = specconv.uplift(xyz, model=model, bounded=bool(props.get("bounded", True)))
             self._setup(props, model.wavelengths, spectra, path)
 
@@ -228,6 +218,21 @@ def _to_uv(props, jit: bool):
         return None
     m = np.array(props["to_uv"].matrix, dtype=np.float64)[np.ix_([0, 1, 3], [0, 1, 3])]
     return mi.Transform3f(m) if jit else mi.ScalarTransform3f(m)
+
+
+def texel_xyz(path: str, colorspace: str = "", config: str = "aces") -> np.ndarray:
+    """CIE XYZ [h, w, 3] of an RGB texture's texels, rows as stored, as ``specconv_rgb`` reads
+    them: Mitsuba's reader, then the colour space through OCIO (``colorspace`` empty: "sRGB -
+    Texture" for sRGB-encoded files, else "Linear Rec.709 (sRGB)")."""
+    bitmap = mi.Bitmap(path)
+    # Code values as stored: the colour space (through OCIO) decodes them, not Mitsuba.
+    rgb = np.array(
+        bitmap.convert(mi.Bitmap.PixelFormat.RGB, mi.Struct.Type.Float32, bitmap.srgb_gamma()),
+        dtype=np.float32,
+    )
+    if not colorspace:
+        colorspace = "sRGB - Texture" if bitmap.srgb_gamma() else "Linear Rec.709 (sRGB)"
+    return np.asarray(specconv.rgb_to_xyz(rgb, colorspace, config=config), dtype=np.float32)
 
 
 def _model(name: str):
