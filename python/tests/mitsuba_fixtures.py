@@ -22,10 +22,11 @@ LAMBDA = np.arange(360.0, 831.0, 1.0)
 SHAPE = colour.SpectralShape(360, 830, 1)
 
 
-def read_reflectance(path: str) -> tuple[np.ndarray, np.ndarray]:
+def read_reflectance(path: str, level: int = 0) -> tuple[np.ndarray, np.ndarray]:
     """(wavelengths [n], values [h, w, n]) of a Fichet reflectance file, rows as stored."""
     inp = oiio.ImageInput.open(path)
     assert inp is not None, oiio.geterror()
+    assert inp.seek_subimage(0, level), f"{path} has no MIP level {level}"
     spec = inp.spec()
     pixels = inp.read_image(0, 0, 0, spec.nchannels, "float")
     inp.close()

@@ -258,6 +258,17 @@ def test_lookup_is_bitmaps_bilinear_and_the_references_linear_interpolation(vari
                                        err_msg=f"{filter_type}, {wrap_mode}")
 
 
+def test_level_reads_that_mip_level(variant, files):
+    """Mitsuba gives textures no footprint; `level` reads a coarser level the file holds."""
+    wavelengths, values = ref.read_reflectance(files["exr"], level=1)
+    h, w, _ = values.shape
+    tex = _texture({"type": "specconv_spectral", "filename": files["exr"], "level": 1})
+    assert tuple(tex.resolution()) == (w, h)
+    centres = np.stack(np.meshgrid((np.arange(w) + 0.5) / w, (np.arange(h) + 0.5) / h), axis=-1)
+    ours = _eval(tex, centres.reshape(-1, 2), wavelengths).reshape(h, w, -1)
+    np.testing.assert_allclose(ours, values, rtol=0, atol=2e-6)
+
+
 def test_plate_under_white_is_the_files_spectra(variant, files, estimator):
     image = _render({"type": "specconv_spectral", "filename": files["exr"]}, "D65")
     _check_render(image, files["wavelengths"], files["values"], "D65", estimator)
