@@ -7,12 +7,13 @@ sensor's wavelength sampling; `mitsuba_fixtures.Estimator` computes its per-samp
 deviation σ from Mitsuba's own sampling functions, and every tolerance below is
     5 σ / √N  (+ δ, the measured gap between Mitsuba's continuous integral and colour-science's
                1 nm sum, itself asserted below 1e-3)
-for N samples: each pixel (N = spp) and each colour patch (N = 36 pixels × spp). With ≈3 000
-pixel comparisons per render a 5σ bound is crossed by chance with probability ≈ 2·10⁻³; the
-seeds are fixed, so a run passes or fails the same way every time.
+for N samples: each pixel (N = spp) and each colour patch (N = 36 pixels × spp). With 1 728
+values per render (576 pixels × XYZ) a 5σ bound is crossed by chance with probability ≈ 10⁻³;
+the seeds are fixed, so a run passes or fails the same way every time.
 
-The source is a 16×16 sRGB PNG of 4×4 patches, 4 px each: bilinear filtering leaves each
-patch's middle 3×3 texels' span constant, which a 32×32 render covers with 6×6 whole pixels.
+The source is a 16×16 sRGB PNG of 4×4 patches, 4 px each: bilinear filtering leaves each patch
+one colour between its outer texel centres (3 texels wide), which a 32×32 render covers with
+6×6 whole pixels; the pixels across patch edges are the lookup test's (against `bitmap`).
 """
 
 from __future__ import annotations
