@@ -28,7 +28,7 @@ def read_reflectance(path: str, level: int = 0) -> tuple[np.ndarray, np.ndarray]
     assert inp is not None, oiio.geterror()
     assert inp.seek_subimage(0, level), f"{path} has no MIP level {level}"
     spec = inp.spec()
-    pixels = inp.read_image(0, 0, 0, spec.nchannels, "float")
+    pixels = inp.read_image(0, level, 0, spec.nchannels, "float")
     inp.close()
     bands = [
         (float(m.group(1).replace(",", ".")), c)

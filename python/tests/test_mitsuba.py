@@ -75,7 +75,7 @@ def files(tmp_path_factory):
     exr = str(d / "patches_spectral.exr")
     specconv.convert([png], exr)
     emission = str(d / "patches_emission.exr")
-    specconv.convert([png], emission, emissive=True)
+    specconv.convert([png], emission, emission="reference")
     wavelengths, values = ref.read_reflectance(exr)
     return dict(dir=d, png=png, exr=exr, emission=emission, wavelengths=wavelengths, values=values)
 
