@@ -135,54 +135,7 @@ pub(crate) fn usage(e: impl Into<anyhow::Error>) -> anyhow::Error {
 /// EXR` make `F is not a spectral EXR`).
 pub(crate) fn one_line(e: &(dyn std::error::Error + 'static)) -> String {
     let hint = std::iter::successors(Some(e), |c| c.source()).find_map(hint);
-    single_line(&without_hint(e)) + hint.as_deref().unwrap_or_default()
-}
-
-/// A message of several lines (a TOML error's source snippet, a tool's standard error) on one
-/// line: its lines joined by `; `, without the snippet's `N | …` and `| ^` lines.
-fn single_line(text: &str) -> String {
-    let snippet = |l: &str| {
-        l.trim_start_matches(|c: char| c.is_ascii_digit())
-            .trim_start()
-            .starts_with('|')
-    };
-    text.lines()
-        .map(str::trim)
-        .filter(|l| !l.is_empty() && !snippet(l))
-        .collect::<Vec<_>>()
-        .join("; ")
-}
-
-/// [`one_line`] without the hint.
-fn without_hint(e: &(dyn std::error::Error + 'static)) -> String {
-    let mut line = e.to_string();
-    for cause in std::iter::successors(e.source(), |c| c.source()) {
-        let cause = cause.to_string();
-        if line.contains(&cause) {
-            continue;
-        }
-        if let Some((head, rest)) = cause.split_once(": ") {
-            if line.ends_with(head) {
-                line = format!("{line}: {rest}");
-                continue;
-            }
-        }
-        // `cannot read F` and `F is not a spectral EXR`: the cause, naming the same file
-        // first, says it all.
-        let (before, last) = line.rsplit_once(": ").unwrap_or(("", &line));
-        let named = last.split_whitespace().last().unwrap_or_default();
-        let a_path = named.len() > 1 && named.contains(['/', '.']);
-        line = if a_path && cause.starts_with(named) {
-            if before.is_empty() {
-                cause
-            } else {
-                format!("{before}: {cause}")
-            }
-        } else {
-            format!("{line}: {cause}")
-        };
-    }
-    line
+    specconv_conversion::message(e) + hint.as_deref().unwrap_or_default()
 }
 
 /// A library error as the command line says it: [`one_line`] (with the option that would fix

@@ -1,8 +1,6 @@
 //! Pieces of the JSON records that `convert --json` and `info --json` print for scripts
 //! (docs/json.md): every record of a command has every key, `null` where it does not apply.
 
-use std::path::Path;
-
 /// The rule that chose the input colour space, as records name it: `colorspace-option`
 /// (--colorspace), `declared` (what the file declares), `file-rule` (the OCIO config's file
 /// rules) or `default` (the format's default) — docs/colour.md.
@@ -48,38 +46,4 @@ pub fn selection(s: &specconv_conversion::Selection) -> String {
     )
 }
 
-/// An error message about an input without the leading `PATH: ` that the record (or the line)
-/// already names; paths inside the message stay, so every path it names is the real one.
-pub fn without_input(message: &str, input: &Path) -> String {
-    let p = input.display().to_string();
-    message
-        .strip_prefix(&format!("{p}: "))
-        .unwrap_or(message)
-        .to_string()
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn the_input_path_is_left_out() {
-        let p = Path::new("/tex/gone.png");
-        assert_eq!(
-            without_input("/tex/gone.png: no such file", p),
-            "no such file"
-        );
-        assert_eq!(
-            without_input("cannot read /tex/gone.png: truncated", p),
-            "cannot read /tex/gone.png: truncated"
-        );
-        // A path that contains the input's (`./x` holds `x`) is left whole.
-        assert_eq!(
-            without_input(
-                "the output ./x is the input x; choose another",
-                Path::new("x")
-            ),
-            "the output ./x is the input x; choose another"
-        );
-    }
-}
+pub use specconv_conversion::record::without_input;

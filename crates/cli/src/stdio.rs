@@ -10,7 +10,6 @@
 
 use std::fmt;
 use std::io::{ErrorKind, Write};
-use std::path::Path;
 
 /// A write to standard output failed; the command stops.
 #[derive(Debug)]
@@ -106,52 +105,15 @@ macro_rules! err {
     };
 }
 
-/// A path as a JSON string, losslessly: valid UTF-8 as `serde_json` writes it, and each byte
-/// that is not part of valid UTF-8 as `\udcXX`, the lone low surrogate U+DC00 + byte (Python's
-/// "surrogateescape": `os.fsencode(json.loads(line)["input"])` gives back the exact bytes).
-/// docs/json.md.
-pub(crate) fn json_path(path: &Path) -> String {
-    use std::os::unix::ffi::OsStrExt;
-    let mut json = String::from("\"");
-    for chunk in path.as_os_str().as_bytes().utf8_chunks() {
-        let valid = serde_json::to_string(chunk.valid()).unwrap_or_default();
-        // Without its quotes; a &str always serialises.
-        json += valid
-            .get(1..valid.len().saturating_sub(1))
-            .unwrap_or_default();
-        for byte in chunk.invalid() {
-            json += &format!("\\udc{byte:02x}");
-        }
-    }
-    json + "\""
-}
-
-/// `#[serde(serialize_with = "…")]` for path fields of JSON records: [`json_path`], written
-/// as it is (serde_json makes no lone surrogates from a `String`).
-pub(crate) fn serialize_path<S: serde::Serializer>(
-    path: &Path,
-    serializer: S,
-) -> Result<S::Ok, S::Error> {
-    use serde::Serialize;
-    serde_json::value::RawValue::from_string(json_path(path))
-        .map_err(serde::ser::Error::custom)?
-        .serialize(serializer)
-}
+/// Paths in JSON records, written losslessly (the conversion library's rule, docs/json.md).
+pub(crate) use specconv_conversion::record::serialize_path;
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use std::ffi::OsStr;
     use std::os::unix::ffi::OsStrExt;
-
-    #[test]
-    fn paths_are_json_strings_and_bytes_outside_utf8_are_lone_surrogates() {
-        let p = |b: &[u8]| json_path(Path::new(OsStr::from_bytes(b)));
-        assert_eq!(p(b"a/b.png"), r#""a/b.png""#);
-        assert_eq!(p("é \"q\"\\\n".as_bytes()), r#""é \"q\"\\\n""#);
-        assert_eq!(p(b"a\xffb\xc3.png"), r#""a\udcffb\udcc3.png""#);
-        assert_eq!(p(b"\x80"), r#""\udc80""#);
-    }
+    use std::path::Path;
 
     /// Python's json and os.fsencode give back the exact bytes: the escaping is the one a
     /// script can undo (the test kit's Python: $SPECCONV_PYTHON, else python3).

@@ -187,6 +187,22 @@ pub enum Remedy {
     AlreadySpectral,
 }
 
+/// What an error is about, for a front-end that sorts errors by kind (the Python package's
+/// exception classes): decided here, once, from the typed cause.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum Cause {
+    /// A setting is wrong (a colour space, a model, a grid, a tile size).
+    Setting,
+    /// An input cannot be converted as asked (NaN pixels, a data texture, channels to choose).
+    Input,
+    /// A file cannot be read or written, or may not be (missing, not an image, unreadable, an
+    /// output that is an input).
+    File,
+    /// An output exists and replacing it was not asked for.
+    Exists,
+}
+
 impl Error {
     /// The setting that would fix it, when one would.
     pub fn remedy(&self) -> Option<Remedy> {
@@ -220,6 +236,36 @@ impl Error {
         }
     }
 
+    /// What the error is about ([`Cause`]).
+    pub fn cause(&self) -> Cause {
+        use specconv_oiio::Error as Image;
+        match self {
+            Error::Plan(PlanError::Exists { .. })
+            | Error::Conversion(ConversionError::Plan(PlanError::Exists { .. }))
+            | Error::NotMadeBySpecconv { .. } => Cause::Exists,
+            Error::Plan(_)
+            | Error::Input(_)
+            | Error::Read { .. }
+            | Error::Write { .. }
+            | Error::Model(ModelError::Read { .. }) => Cause::File,
+            Error::Conversion(
+                ConversionError::Plan(_)
+                | ConversionError::Output(_)
+                | ConversionError::NotAFile(_)
+                // Missing, not an image, unreadable: as Python's own image readers say it.
+                | ConversionError::Input(
+                    Image::NotFound { .. } | Image::Open { .. } | Image::Read { .. },
+                ),
+            ) => Cause::File,
+            Error::Conversion(c) if io_in_chain(c) => Cause::File,
+            Error::Conversion(_)
+            | Error::EmissionIsItsOwnLight { .. }
+            | Error::NotReflectance { .. }
+            | Error::Bispectral { .. } => Cause::Input,
+            _ => Cause::Setting,
+        }
+    }
+
     /// Whether the output was left alone because the run was cancelled.
     pub fn is_cancelled(&self) -> bool {
         matches!(self, Error::Conversion(ConversionError::Cancelled))
@@ -227,7 +273,65 @@ impl Error {
 }
 
 /// The colour-management error that naming the colour space fixes: a data space.
+/// Whether an I/O error is among the causes of `e`.
+fn io_in_chain(e: &(dyn std::error::Error + 'static)) -> bool {
+    std::iter::successors(Some(e), |c| c.source()).any(|c| c.is::<std::io::Error>())
+}
+
 fn colour_remedy(e: &specconv_ocio::Error) -> Option<Remedy> {
     matches!(e, specconv_ocio::Error::DataColorSpace { .. })
         .then_some(Remedy::NameEncodingColourSpace)
+}
+
+/// An error and its causes on one line, each cause once (`cannot read F: why`), as every
+/// front-end says it before naming its own remedy ([`Error::remedy`]).
+pub fn message(e: &(dyn std::error::Error + 'static)) -> String {
+    single_line(&chain(e))
+}
+
+/// A message of several lines (a TOML error's source snippet, a tool's standard error) on one
+/// line: its lines joined by `; `, without the snippet's `N | …` and `| ^` lines.
+fn single_line(text: &str) -> String {
+    let snippet = |l: &str| {
+        l.trim_start_matches(|c: char| c.is_ascii_digit())
+            .trim_start()
+            .starts_with('|')
+    };
+    text.lines()
+        .map(str::trim)
+        .filter(|l| !l.is_empty() && !snippet(l))
+        .collect::<Vec<_>>()
+        .join("; ")
+}
+
+/// The cause chain of `e`.
+fn chain(e: &(dyn std::error::Error + 'static)) -> String {
+    let mut line = e.to_string();
+    for cause in std::iter::successors(e.source(), |c| c.source()) {
+        let cause = cause.to_string();
+        if line.contains(&cause) {
+            continue;
+        }
+        if let Some((head, rest)) = cause.split_once(": ") {
+            if line.ends_with(head) {
+                line = format!("{line}: {rest}");
+                continue;
+            }
+        }
+        // `cannot read F` and `F is not a spectral EXR`: the cause, naming the same file
+        // first, says it all.
+        let (before, last) = line.rsplit_once(": ").unwrap_or(("", &line));
+        let named = last.split_whitespace().last().unwrap_or_default();
+        let a_path = named.len() > 1 && named.contains(['/', '.']);
+        line = if a_path && cause.starts_with(named) {
+            if before.is_empty() {
+                cause
+            } else {
+                format!("{before}: {cause}")
+            }
+        } else {
+            format!("{line}: {cause}")
+        };
+    }
+    line
 }

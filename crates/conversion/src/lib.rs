@@ -10,6 +10,7 @@
 //! - [`Batch`]: inputs in turn, with the up-to-date check (`-u`), cancellation and progress
 //!   [`Event`]s.
 //! - [`provenance`]: the `specconv*` attributes, written and read in one place.
+//! - [`record`]: what every front-end says of each input (`convert --json`'s records).
 //! - [`models`] and [`tables`]: the model and the Jakob 2019 table cache every front-end shares.
 //!
 //! ```no_run
@@ -32,15 +33,16 @@ pub mod models;
 mod options;
 pub mod preview;
 pub mod provenance;
+pub mod record;
 pub mod tables;
 pub mod to_rgb;
 
 pub use batch::{check_plan, Batch, Event, Summary};
 pub use converter::{Advice, Converter, DataOutcome, Report, Role, Rule, Selection, Warning};
-pub use error::{ConversionError, Error, Remedy};
+pub use error::{message, Cause, ConversionError, Error, Remedy};
 pub use options::{
-    Alpha, Blocks, Compression, DataPolicy, Mip, NonFinite, Options, Rounding, Sample, UnknownName,
-    Wrap, WrapModes, WRAP_NAMES,
+    alpha_name, mip_name, non_finite_name, sample_name, Alpha, Blocks, Compression, DataPolicy,
+    Mip, NonFinite, Options, Rounding, Sample, UnknownName, Wrap, WrapModes, WRAP_NAMES,
 };
 pub use provenance::Provenance;
 /// Ends the process at once, without C++ static destructors: for a signal handler's thread

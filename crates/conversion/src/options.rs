@@ -205,7 +205,8 @@ impl Compression {
         matches!(self, Compression::Zip | Compression::Zips)
     }
 
-    pub(crate) fn exr(self) -> specconv_exr::Compression {
+    /// The `exr` crate's name for it.
+    pub fn exr(self) -> specconv_exr::Compression {
         use specconv_exr::Compression as C;
         match self {
             Compression::None => C::Uncompressed,
@@ -255,23 +256,24 @@ impl std::str::FromStr for Compression {
     }
 }
 
-/// Names of the choices that are not plain enums of this crate, as `specconvSettings` spells
-/// them.
-pub(crate) fn sample_name(s: Sample) -> &'static str {
+/// The name of a sample type, as `specconvSettings` and the front-ends spell it.
+pub fn sample_name(s: Sample) -> &'static str {
     match s {
         Sample::Half => "half",
         Sample::Float => "float",
     }
 }
 
-pub(crate) fn mip_name(m: Mip) -> &'static str {
+/// The name of a MIP choice (`all` or `0`).
+pub fn mip_name(m: Mip) -> &'static str {
     match m {
         Mip::All => "all",
         Mip::Base => "0",
     }
 }
 
-pub(crate) fn non_finite_name(n: NonFinite) -> &'static str {
+/// The name of a NaN policy (`refuse`, `black`, `box3`, `keep`).
+pub fn non_finite_name(n: NonFinite) -> &'static str {
     match n {
         NonFinite::Refuse => "refuse",
         NonFinite::Black => "black",
@@ -280,7 +282,8 @@ pub(crate) fn non_finite_name(n: NonFinite) -> &'static str {
     }
 }
 
-pub(crate) fn alpha_name(a: Alpha) -> &'static str {
+/// The name of an alpha reading (`auto`, `straight`, `premultiplied`).
+pub fn alpha_name(a: Alpha) -> &'static str {
     match a {
         Alpha::Auto => "auto",
         Alpha::Straight => "straight",

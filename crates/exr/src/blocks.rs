@@ -14,6 +14,9 @@ pub struct Header {
     pub width: usize,
     /// Height of the data window, in pixels.
     pub height: usize,
+    /// Number of MIP levels in the file (1 when it has none); `width` and `height` are those
+    /// of the level being read.
+    pub levels: usize,
     /// Band wavelengths in nm, increasing; a [`Block`]'s `bands[i]` is `wavelengths[i]`'s.
     pub wavelengths: Vec<f64>,
     /// Reflectance (`T.` channels read) or emission (`S0.` channels read).
@@ -71,6 +74,11 @@ pub struct BlockReader {
 impl BlockReader {
     /// Opens `path` and reads its header: the pixels are read by [`BlockReader::next_block`].
     pub fn open(path: &Path) -> Result<BlockReader> {
+        BlockReader::open_level(path, 0)
+    }
+
+    /// As [`BlockReader::open`], for MIP level `level` (0 is the largest).
+    pub fn open_level(path: &Path, level: usize) -> Result<BlockReader> {
         let file =
             std::io::BufReader::new(std::fs::File::open(path).map_err(exr::error::Error::from)?);
         let reader = exr::block::read(file, false)?;
@@ -78,11 +86,21 @@ impl BlockReader {
             .headers()
             .first()
             .ok_or_else(|| Error::Invalid(format!("{} has no image part", path.display())))?;
-        let header = header_of(path, first)?;
+        let mut header = header_of(path, first)?;
+        let (levels, size) = levels_of(first, level);
+        if level >= levels {
+            return Err(Error::Invalid(format!(
+                "{} has {levels} MIP level{}: there is no level {level}",
+                path.display(),
+                if levels == 1 { "" } else { "s" }
+            )));
+        }
+        (header.width, header.height) = size;
+        header.levels = levels;
         let channels = first.channels.clone();
         let blocks = reader
             .filter_chunks(false, |_, _, block| {
-                block.layer == 0 && block.level == exr::math::Vec2(0, 0)
+                block.layer == 0 && block.level == exr::math::Vec2(level, level)
             })?
             .sequential_decompressor(false);
         Ok(BlockReader {
@@ -146,6 +164,27 @@ impl BlockReader {
             }
         }
         Ok(out)
+    }
+}
+
+/// The number of MIP levels of a part (RIP maps: their levels along the diagonal) and the size
+/// of `level`.
+fn levels_of(h: &exr::meta::header::Header, level: usize) -> (usize, (usize, usize)) {
+    use exr::meta::attribute::LevelMode;
+    use exr::meta::BlockDescription;
+    let (width, height) = (h.layer_size.x(), h.layer_size.y());
+    match h.blocks {
+        BlockDescription::Tiles(t) if t.level_mode != LevelMode::Singular => {
+            let r = t.rounding_mode;
+            let count = |full| exr::meta::compute_level_count(r, full);
+            let levels = match t.level_mode {
+                LevelMode::RipMap => count(width).min(count(height)),
+                _ => count(width.max(height)),
+            };
+            let size = |full| exr::meta::compute_level_size(r, full, level.min(levels - 1));
+            (levels, (size(width), size(height)))
+        }
+        _ => (1, (width, height)),
     }
 }
 
@@ -240,6 +279,7 @@ fn header_of(path: &Path, h: &exr::meta::header::Header) -> Result<Header> {
     Ok(Header {
         width: size.x(),
         height: size.y(),
+        levels: 1,
         wavelengths,
         kind,
         reradiation,

@@ -905,13 +905,21 @@ pub struct SpectralImage {
     pub layout: Layout,
     /// Text attributes of the header.
     pub attributes: Vec<(String, String)>,
+    /// Number of MIP levels in the file (1 when it has none).
+    pub levels: usize,
 }
 
 /// Reads the largest level of a spectral EXR: its `T.` bands (with re-radiation, if any), else
 /// its `S0.` bands. Polarisation (S1–S3), emission beside reflectance and channels outside
 /// the layout are listed in [`SpectralImage::layout`], not read.
 pub fn read(path: &std::path::Path) -> Result<SpectralImage> {
-    let mut reader = blocks::BlockReader::open(path)?;
+    read_level(path, 0)
+}
+
+/// As [`read`], MIP level `level` of the file (0 is the largest; [`blocks::Header::levels`]
+/// says how many there are).
+pub fn read_level(path: &std::path::Path, level: usize) -> Result<SpectralImage> {
+    let mut reader = blocks::BlockReader::open_level(path, level)?;
     let header = reader.header().clone();
     let plane = || vec![0.0f32; header.width * header.height];
     let mut bands = vec![plane(); header.wavelengths.len()];
@@ -962,6 +970,7 @@ pub fn read(path: &std::path::Path) -> Result<SpectralImage> {
         alpha,
         layout: header.layout,
         attributes: header.attributes,
+        levels: header.levels,
     })
 }
 

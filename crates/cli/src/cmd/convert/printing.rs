@@ -2,108 +2,14 @@
 
 use super::Args;
 use crate::records;
-use crate::stdio::{serialize_path, StdoutFailed};
-use serde::Serialize;
+use crate::stdio::StdoutFailed;
+use specconv_conversion::record::Record;
 use specconv_conversion::{Converter, Report};
-use std::path::{Path, PathBuf};
-
-/// One input's record (`--json`): every key on every record, null where it does not apply
-/// (docs/json.md).
-#[derive(Serialize)]
-struct Record {
-    /// Paths are written losslessly, bytes outside UTF-8 as `\udcXX` (docs/json.md).
-    #[serde(serialize_with = "serialize_path")]
-    input: PathBuf,
-    #[serde(serialize_with = "serialize_path")]
-    output: PathBuf,
-    /// `ok`, `skipped` or `failed`.
-    status: &'static str,
-    /// Why a skipped input was skipped.
-    skip_reason: Option<&'static str>,
-    /// Why a failed input failed, without its path (the record has it).
-    error: Option<String>,
-    seconds: f64,
-    /// Pixels uplifted, over all levels.
-    pixels: Option<u64>,
-    width: Option<usize>,
-    height: Option<usize>,
-    levels: Option<usize>,
-    bands: Option<usize>,
-    /// The input colour space (the config's name) and the rule that chose it.
-    colorspace: Option<String>,
-    colorspace_rule: Option<&'static str>,
-    /// The subimage read, and the colour (then alpha) channels.
-    subimage: Option<u32>,
-    channels: Option<Vec<String>>,
-    /// `colour`, `achromatic` (one channel its colour space calls colour) or `data`.
-    role: Option<&'static str>,
-    /// Pixels (all levels) projected into [0, 1] and outside the object-colour solid; null
-    /// with --unbounded or --emissive.
-    bounded: Option<BoundedCounts>,
-    non_finite: Option<u64>,
-    above_one: Option<u64>,
-    saturated: Option<u64>,
-    /// Input pixels with NaN or infinite values repaired (--fixnan black or box3).
-    non_finite_repaired: Option<u64>,
-    /// The wrap modes the texture records (`s,t`); null for scanline outputs.
-    wrap: Option<String>,
-    /// Every pixel was the same: written as one tile.
-    constant: Option<bool>,
-    /// Alpha was 1 everywhere and was left out.
-    alpha_dropped: Option<bool>,
-    /// The hash of the source pixels that -u compares.
-    source_hash: Option<String>,
-    /// The model that made the spectra, as the output's `specconvModel` records it.
-    model: Option<String>,
-}
-
-impl Record {
-    /// A record of an input that was not converted.
-    fn not_converted(input: &Path, output: &Path, status: &'static str, seconds: f64) -> Record {
-        Record {
-            input: input.to_path_buf(),
-            output: output.to_path_buf(),
-            status,
-            skip_reason: None,
-            error: None,
-            seconds,
-            pixels: None,
-            width: None,
-            height: None,
-            levels: None,
-            bands: None,
-            colorspace: None,
-            colorspace_rule: None,
-            subimage: None,
-            channels: None,
-            role: None,
-            bounded: None,
-            non_finite: None,
-            above_one: None,
-            saturated: None,
-            non_finite_repaired: None,
-            wrap: None,
-            constant: None,
-            alpha_dropped: None,
-            source_hash: None,
-            model: None,
-        }
-    }
-}
-
-#[derive(Serialize)]
-struct BoundedCounts {
-    projected: usize,
-    outside_solid: usize,
-}
+use std::path::Path;
 
 /// Reports an input skipped because its output is up to date.
 pub(super) fn skipped(args: &Args, input: &Path, output: &Path) -> Result<(), StdoutFailed> {
-    let record = Record {
-        skip_reason: Some("up to date"),
-        ..Record::not_converted(input, output, "skipped", 0.0)
-    };
-    emit(args, record, "")
+    emit(args, Record::skipped(input, output), "")
 }
 
 /// Reports a failed input (its error line is printed by the caller unless `--json`).
@@ -113,11 +19,7 @@ pub(super) fn failed(
     error: String,
     seconds: f64,
 ) -> Result<(), StdoutFailed> {
-    let record = Record {
-        error: Some(error),
-        ..Record::not_converted(input, output, "failed", seconds)
-    };
-    emit(args, record, "")
+    emit(args, Record::failed(input, output, error, seconds), "")
 }
 
 /// Reports a converted input: its warnings, its record or line.
@@ -142,36 +44,7 @@ pub(super) fn converted(
             )
         })
         + &range_notes(r, converter);
-    let record = Record {
-        pixels: Some(r.pixels),
-        width: Some(r.width),
-        height: Some(r.height),
-        levels: Some(r.levels),
-        bands: Some(r.bands),
-        colorspace: Some(r.colorspace.clone()),
-        colorspace_rule: Some(records::colorspace_rule(&r.colorspace_rule)),
-        subimage: Some(r.selection.subimage),
-        channels: Some(r.selection.channels.names.clone()),
-        role: Some(r.role.name()),
-        bounded: r.bounded.map(|c| BoundedCounts {
-            projected: c.projected,
-            outside_solid: c.outside,
-        }),
-        non_finite: Some(r.non_finite),
-        above_one: Some(r.above_one),
-        saturated: Some(r.saturated),
-        non_finite_repaired: Some(if r.non_finite_input.1 {
-            r.non_finite_input.0
-        } else {
-            0
-        }),
-        wrap: r.wrap.map(|((s, t), _)| format!("{s},{t}")),
-        constant: Some(r.constant),
-        alpha_dropped: Some(r.opaque_dropped),
-        source_hash: Some(r.source_hash.clone()).filter(|h| !h.is_empty()),
-        model: Some(converter.model_description().to_string()),
-        ..Record::not_converted(input, output, "ok", r.seconds)
-    };
+    let record = Record::converted(converter, input, output, r);
     emit(args, record, &line)
 }
 
@@ -195,19 +68,7 @@ pub(super) fn data(
             r.colorspace
         )
     };
-    let status = if copied { "copied" } else { "data" };
-    let record = Record {
-        width: Some(r.width),
-        height: Some(r.height),
-        levels: copied.then_some(r.levels),
-        colorspace: Some(r.colorspace.clone()),
-        colorspace_rule: Some(records::colorspace_rule(&r.colorspace_rule)),
-        subimage: Some(r.selection.subimage),
-        channels: (!r.selection.channels.names.is_empty())
-            .then(|| r.selection.channels.names.clone()),
-        role: Some(r.role.name()),
-        ..Record::not_converted(input, output, status, r.seconds)
-    };
+    let record = Record::data(input, output, r);
     if args.json {
         return emit(args, record, "");
     }
@@ -293,16 +154,15 @@ fn range_notes(r: &Report, converter: &Converter) -> String {
 /// A record on standard output (`--json`), else a line on standard error.
 fn emit(args: &Args, record: Record, line: &str) -> Result<(), StdoutFailed> {
     if args.json {
-        // Every field serialises (paths included, by serialize_path): nothing to fail.
-        return outln!("{}", serde_json::to_string(&record).unwrap_or_default());
+        return outln!("{}", record.to_json());
     }
-    if !args.quiet && record.status != "failed" {
+    if !args.quiet && record.status() != "failed" {
         errln!(
             "{} → {}: {}{line}",
-            record.input.display(),
-            record.output.display(),
+            record.input().display(),
+            record.output().display(),
             record
-                .skip_reason
+                .skip_reason()
                 .map_or(String::new(), |r| format!("skipped, {r}"))
         );
     }

@@ -1,0 +1,126 @@
+"""Type stubs of the compiled module (python/src)."""
+from os import PathLike
+from pathlib import Path
+from typing import Any, Callable, Literal, Optional, Sequence, Union
+
+import numpy as np
+import numpy.typing as npt
+
+_Path = Union[str, PathLike[str]]
+_Array = npt.ArrayLike
+
+__version__: str
+
+class Model:
+    @staticmethod
+    def builtin(name: Optional[str] = None) -> Model: ...
+    @staticmethod
+    def builtin_names() -> list[str]: ...
+    @staticmethod
+    def load(path: _Path) -> Model: ...
+    @staticmethod
+    def train(
+        spectra: _Array,
+        wavelengths: _Array,
+        *,
+        clusters: int = 8,
+        min_cluster_size: int = 20,
+        max_condition: float = 100.0,
+        weights: Optional[_Array] = None,
+        bands: str = "380:730:10",
+        observer: str = "cie1931",
+        illuminant: str = "D65",
+        source: str = "numpy",
+        licence: Optional[str] = None,
+    ) -> Model: ...
+    def save(self, path: _Path) -> None: ...
+    @property
+    def wavelengths(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def clusters(self) -> int: ...
+    @property
+    def observer(self) -> str: ...
+    @property
+    def illuminant(self) -> str: ...
+    @property
+    def sources(self) -> str: ...
+    @property
+    def description(self) -> str: ...
+    @property
+    def path(self) -> Optional[str]: ...
+
+class SpectralImage:
+    wavelengths: npt.NDArray[np.float64]
+    values: npt.NDArray[np.float32]
+    alpha: Optional[npt.NDArray[np.float32]]
+    kind: Literal["reflectance", "emission"]
+    units: Optional[str]
+    levels: int
+    level: int
+    attributes: dict[str, str]
+
+def uplift(
+    xyz: _Array,
+    model: Optional[Model] = None,
+    *,
+    bounded: bool = True,
+    blend: float = 0.02,
+    method: str = "otsu2018",
+    bands: Optional[str] = None,
+    emission: Optional[str] = None,
+) -> npt.NDArray[Any]: ...
+def spectra_to_xyz(
+    spectra: _Array,
+    wavelengths: _Array,
+    *,
+    illuminant: str = "D65",
+    observer: str = "cie1931",
+    emission: Optional[str] = None,
+) -> npt.NDArray[np.float64]: ...
+def rgb_to_xyz(rgb: _Array, colorspace: str, config: Optional[str] = "aces") -> npt.NDArray[Any]: ...
+def convert(
+    inputs: Union[_Path, Sequence[_Path]],
+    outputs: Union[_Path, Sequence[_Path]],
+    *,
+    ocio: Optional[str] = None,
+    colorspace: Optional[str] = None,
+    alpha: Literal["auto", "straight", "premultiplied"] = "auto",
+    subimage: Optional[str] = None,
+    channels: Optional[str] = None,
+    method: str = "otsu2018",
+    model: Union[None, str, PathLike[str], Model] = None,
+    blend: float = 0.02,
+    bounded: bool = True,
+    bands: Optional[str] = None,
+    emission: Optional[str] = None,
+    sample: Literal["half", "float"] = "half",
+    rounding: Optional[Literal["nearest", "colour"]] = None,
+    compression: str = "zip",
+    zip_level: Optional[int] = None,
+    tile: Optional[tuple[int, int]] = (64, 64),
+    mip: bool = True,
+    wrap: Optional[str] = None,
+    non_finite: Literal["refuse", "black", "box3", "keep"] = "refuse",
+    constant_detect: bool = True,
+    opaque_detect: bool = True,
+    threads: Optional[int] = None,
+    overwrite: bool = False,
+    update: bool = False,
+    data: Literal["skip", "copy", "fail"] = "skip",
+    errors: Literal["raise", "record"] = "raise",
+    progress: Optional[Callable[[int, Path, int, int], Any]] = None,
+) -> list[dict[str, Any]]: ...
+def read_spectral(path: _Path, *, level: int = 0) -> SpectralImage: ...
+def write_spectral(
+    path: _Path,
+    wavelengths: _Array,
+    values: _Array,
+    *,
+    alpha: Optional[_Array] = None,
+    emission_units: Optional[str] = None,
+    sample: Literal["half", "float"] = "half",
+    compression: str = "zip",
+    tile: Optional[tuple[int, int]] = (64, 64),
+    attributes: Optional[dict[str, str]] = None,
+    overwrite: bool = False,
+) -> None: ...

@@ -1,0 +1,68 @@
+//! numpy arrays in and out: any leading shape, float32 kept float32, anything else as float64.
+
+use numpy::ndarray::{ArrayD, IxDyn};
+use numpy::{IntoPyArray, PyArrayDyn, PyArrayMethods, PyUntypedArrayMethods};
+use pyo3::prelude::*;
+
+/// Values of an array whose last axis has `last` entries (`None`: any), flattened in C order,
+/// with the leading shape.
+pub enum Values {
+    F32(Vec<usize>, Vec<f32>),
+    F64(Vec<usize>, Vec<f64>),
+}
+
+/// `array` as [`Values`]: float32 as it is, any other numbers as float64.
+pub fn values(array: &Bound<'_, PyAny>, last: Option<usize>, what: &str) -> PyResult<Values> {
+    let py = array.py();
+    let as_f64 = || -> PyResult<Bound<'_, PyArrayDyn<f64>>> {
+        let np = py.import("numpy")?;
+        let converted = np
+            .call_method1("asarray", (array, np.getattr("float64")?))
+            .map_err(|e| crate::errors::Kind::Option.err(format!("{what}: {e}")))?;
+        Ok(converted.cast_into::<PyArrayDyn<f64>>()?)
+    };
+    let shape_of = |shape: &[usize]| -> PyResult<Vec<usize>> {
+        let ok = match last {
+            Some(n) => shape.last() == Some(&n),
+            None => !shape.is_empty(),
+        };
+        if !ok {
+            let want = last.map_or("at least one axis".to_string(), |n| {
+                format!("a last axis of {n}")
+            });
+            return Err(crate::errors::Kind::Option
+                .err(format!("{what} has shape {shape:?}; it needs {want}")));
+        }
+        Ok(shape[..shape.len() - 1].to_vec())
+    };
+    if let Ok(a) = array.cast::<PyArrayDyn<f32>>() {
+        let lead = shape_of(a.shape())?;
+        let v = a.readonly().as_array().iter().copied().collect();
+        return Ok(Values::F32(lead, v));
+    }
+    let a = as_f64()?;
+    let lead = shape_of(a.shape())?;
+    let v = a.readonly().as_array().iter().copied().collect();
+    Ok(Values::F64(lead, v))
+}
+
+/// `values` as an array of shape `lead + [last]`.
+pub fn array<'py, T: numpy::Element>(
+    py: Python<'py>,
+    lead: &[usize],
+    last: usize,
+    values: Vec<T>,
+) -> PyResult<Bound<'py, PyArrayDyn<T>>> {
+    let mut shape = lead.to_vec();
+    shape.push(last);
+    let a = ArrayD::from_shape_vec(IxDyn(&shape), values)
+        .map_err(|e| crate::errors::Kind::Option.err(e.to_string()))?;
+    Ok(a.into_pyarray(py))
+}
+
+/// A 1-D float64 array.
+pub fn vector<'py>(py: Python<'py>, values: &[f64]) -> Bound<'py, PyArrayDyn<f64>> {
+    ArrayD::from_shape_vec(IxDyn(&[values.len()]), values.to_vec())
+        .expect("a vector's shape is its length")
+        .into_pyarray(py)
+}

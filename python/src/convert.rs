@@ -1,0 +1,337 @@
+//! `specconv.convert`: the command line's conversion, by [`specconv_conversion::Batch`], with
+//! Ctrl-C heard while the GIL is released and progress told to a Python callback.
+
+use crate::errors::{conversion, option, Kind};
+use crate::model::Model;
+use pyo3::prelude::*;
+use specconv_conversion::record::{without_input, Record};
+use specconv_conversion::{Batch, Blocks, Converter, Event, Options};
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc;
+use std::time::Duration;
+
+/// What the batch's thread tells the caller's.
+enum Said {
+    Started(usize, PathBuf),
+    Progress(u64, u64),
+    Record(String),
+    Failed(Kind, String),
+}
+
+/// Inputs or outputs: one path or a sequence of them.
+#[derive(FromPyObject)]
+pub enum Paths {
+    One(PathBuf),
+    Many(Vec<PathBuf>),
+}
+
+impl Paths {
+    fn list(self) -> Vec<PathBuf> {
+        match self {
+            Paths::One(p) => vec![p],
+            Paths::Many(v) => v,
+        }
+    }
+}
+
+/// The model option: a built-in name or file, or a `Model` that has one.
+#[derive(FromPyObject)]
+pub enum ModelArg<'py> {
+    Object(Bound<'py, Model>),
+    Path(PathBuf),
+}
+
+/// A name among choices, with the choices in the error.
+fn choose<T: Copy>(
+    what: &str,
+    name: &str,
+    all: &[T],
+    name_of: fn(T) -> &'static str,
+) -> PyResult<T> {
+    all.iter()
+        .copied()
+        .find(|&c| name_of(c) == name)
+        .ok_or_else(|| {
+            let names: Vec<&str> = all.iter().map(|&c| name_of(c)).collect();
+            Kind::Option.err(format!(
+                "unknown {what} '{name}'; choose one of {}",
+                names.join(", ")
+            ))
+        })
+}
+
+/// Converts `inputs` (a path or a list) to spectral OpenEXR files, as `specconv convert` does
+/// with the same options, byte for byte. `outputs`: a file (one input), a list of files (one
+/// per input), or an existing directory (`DIR/STEM_spectral.exr`). Returns one record per
+/// input, as `convert --json` prints them (docs/json.md). `errors="raise"` stops at the first
+/// failed input and raises its exception (earlier outputs stay); `"record"` carries on and
+/// records it. `progress(index, input, pixels_done, pixels_total)` is called as it goes.
+/// Ctrl-C stops it, leaving no partial output, and raises `KeyboardInterrupt`.
+#[pyfunction]
+#[pyo3(signature = (inputs, outputs, *, ocio=None, colorspace=None, alpha="auto",
+                    subimage=None, channels=None, method="otsu2018", model=None,
+                    blend=specconv_spectral::otsu2018::blend::DEFAULT_WIDTH, bounded=true,
+                    bands=None, emission=None, sample="half", rounding=None, compression="zip",
+                    zip_level=None, tile=Some((64, 64)), mip=true, wrap=None,
+                    non_finite="refuse", constant_detect=true, opaque_detect=true,
+                    threads=None, overwrite=false, update=false, data="skip",
+                    errors="raise", progress=None))]
+#[allow(clippy::too_many_arguments)]
+pub fn convert<'py>(
+    py: Python<'py>,
+    inputs: Paths,
+    outputs: Paths,
+    ocio: Option<String>,
+    colorspace: Option<String>,
+    alpha: &str,
+    subimage: Option<String>,
+    channels: Option<String>,
+    method: &str,
+    model: Option<ModelArg<'py>>,
+    blend: f64,
+    bounded: bool,
+    bands: Option<&str>,
+    emission: Option<&str>,
+    sample: &str,
+    rounding: Option<&str>,
+    compression: &str,
+    zip_level: Option<u8>,
+    tile: Option<(usize, usize)>,
+    mip: bool,
+    wrap: Option<&str>,
+    non_finite: &str,
+    constant_detect: bool,
+    opaque_detect: bool,
+    threads: Option<usize>,
+    overwrite: bool,
+    update: bool,
+    data: &str,
+    errors: &str,
+    progress: Option<Bound<'py, PyAny>>,
+) -> PyResult<Vec<Bound<'py, PyAny>>> {
+    use specconv_conversion as c;
+    let raise = match errors {
+        "raise" => true,
+        "record" => false,
+        _ => {
+            return Err(Kind::Option.err(format!(
+                "errors must be 'raise' or 'record', not '{errors}'"
+            )))
+        }
+    };
+    let mut o = Options::default();
+    o.ocio = ocio;
+    o.colorspace = colorspace;
+    o.alpha = choose(
+        "alpha",
+        alpha,
+        &[c::Alpha::Auto, c::Alpha::Straight, c::Alpha::Premultiplied],
+        c::alpha_name,
+    )?;
+    o.subimage = subimage;
+    o.channels = channels;
+    o.method = method.parse().map_err(option)?;
+    o.model = match model {
+        None => None,
+        Some(ModelArg::Path(p)) => Some(p),
+        Some(ModelArg::Object(m)) => Some(m.get().origin().ok_or_else(|| {
+            Kind::Option.err("this model was trained in Python and not saved: save it (model.save(path)) so that outputs can name it")
+        })?),
+    };
+    o.blend = blend;
+    o.bounded = bounded;
+    o.bands = bands.map(str::parse).transpose().map_err(option)?;
+    o.emission = emission.map(str::parse).transpose().map_err(option)?;
+    o.sample = choose(
+        "sample",
+        sample,
+        &[c::Sample::Half, c::Sample::Float],
+        c::sample_name,
+    )?;
+    o.rounding = rounding
+        .map(|r| match r {
+            "nearest" => Ok(c::Rounding::Nearest),
+            "colour" | "color" => Ok(c::Rounding::Colour),
+            _ => Err(Kind::Option.err(format!(
+                "unknown rounding '{r}'; choose one of nearest, colour"
+            ))),
+        })
+        .transpose()?;
+    o.compression = compression.parse().map_err(option)?;
+    o.zip_level = zip_level;
+    o.blocks = match tile {
+        Some((w, h)) => Blocks::Tiles(w, h),
+        None => Blocks::Scanlines,
+    };
+    o.mip = if mip { c::Mip::All } else { c::Mip::Base };
+    o.wrap = wrap
+        .map(c::parse_wrapmodes)
+        .transpose()
+        .map_err(|e| Kind::Option.err(e))?;
+    o.non_finite = choose(
+        "non_finite",
+        non_finite,
+        &[
+            c::NonFinite::Refuse,
+            c::NonFinite::Black,
+            c::NonFinite::Box3,
+            c::NonFinite::Keep,
+        ],
+        c::non_finite_name,
+    )?;
+    o.constant_detect = constant_detect;
+    o.opaque_detect = opaque_detect;
+    o.threads = threads;
+    o.overwrite = overwrite;
+    o.data = choose(
+        "data",
+        data,
+        &[
+            c::DataPolicy::Skip,
+            c::DataPolicy::Copy,
+            c::DataPolicy::Fail,
+        ],
+        c::DataPolicy::name,
+    )?;
+    let pairs = plan(inputs.list(), outputs.list())?;
+    let converter = py.detach(|| Converter::new(o)).map_err(conversion)?;
+    run(py, &converter, &pairs, update, raise, progress)
+}
+
+/// Each input with its output.
+fn plan(inputs: Vec<PathBuf>, outputs: Vec<PathBuf>) -> PyResult<Vec<(PathBuf, PathBuf)>> {
+    if inputs.is_empty() {
+        return Err(Kind::Option.err("no inputs"));
+    }
+    match &outputs[..] {
+        [dir] if dir.is_dir() => Ok(inputs
+            .into_iter()
+            .map(|i| {
+                let o = specconv_atomic_file::outputs::in_directory(dir, &i);
+                (i, o)
+            })
+            .collect()),
+        _ if outputs.len() == inputs.len() => Ok(inputs.into_iter().zip(outputs).collect()),
+        [one] => Err(Kind::Option.err(format!(
+            "{} inputs and one output {}, which is not a directory: give a directory that \
+             exists or one output per input",
+            inputs.len(),
+            one.display()
+        ))),
+        _ => Err(Kind::Option.err(format!(
+            "{} inputs and {} outputs: give one output per input, or a directory",
+            inputs.len(),
+            outputs.len()
+        ))),
+    }
+}
+
+/// The batch on a thread of its own while this one, holding the GIL between waits, hears
+/// signals and calls `progress`.
+fn run<'py>(
+    py: Python<'py>,
+    converter: &Converter,
+    pairs: &[(PathBuf, PathBuf)],
+    update: bool,
+    raise: bool,
+    progress: Option<Bound<'py, PyAny>>,
+) -> PyResult<Vec<Bound<'py, PyAny>>> {
+    let cancel = AtomicBool::new(false);
+    let (tx, rx) = mpsc::channel::<Said>();
+    // Shared with the waits that release the GIL (which may run on any thread).
+    let rx = std::sync::Mutex::new(rx);
+    let mut records = Vec::new();
+    let mut failure: Option<PyErr> = None;
+    let mut index = (0, PathBuf::new());
+    let json = py.import("json")?;
+    let ended = std::thread::scope(|s| {
+        let worker = s.spawn(|| {
+            let batch = Batch::new(converter).update(update).cancel_on(&cancel);
+            let tell = |said| {
+                let _ = tx.send(said);
+            };
+            let ended = batch.run(pairs, &mut |event| match event {
+                Event::Started { index, input } => tell(Said::Started(index, input.into())),
+                Event::Progress { done, total } => tell(Said::Progress(done, total)),
+                Event::Skipped { input, output } => {
+                    tell(Said::Record(Record::skipped(input, output).to_json()))
+                }
+                Event::Converted {
+                    input,
+                    output,
+                    report,
+                } => tell(Said::Record(
+                    Record::converted(converter, input, output, report).to_json(),
+                )),
+                Event::Data {
+                    input,
+                    output,
+                    report,
+                } => tell(Said::Record(Record::data(input, output, report).to_json())),
+                Event::Failed {
+                    input,
+                    output,
+                    error,
+                    seconds,
+                } => {
+                    let message = without_input(&crate::errors::message(error), input);
+                    let record = Record::failed(input, output, message.clone(), seconds);
+                    tell(Said::Record(record.to_json()));
+                    if raise {
+                        tell(Said::Failed(
+                            crate::errors::kind(error),
+                            format!("{}: {message}", input.display()),
+                        ));
+                        cancel.store(true, Ordering::SeqCst);
+                    }
+                }
+                _ => {}
+            });
+            drop(tx);
+            ended
+        });
+        loop {
+            let said = py.detach(|| {
+                rx.lock()
+                    .map_err(|_| mpsc::RecvTimeoutError::Disconnected)?
+                    .recv_timeout(Duration::from_millis(50))
+            });
+            let heard = match said {
+                Ok(Said::Started(i, input)) => {
+                    index = (i, input);
+                    call(&progress, (index.0, index.1.clone(), 0u64, 0u64))
+                }
+                Ok(Said::Progress(done, total)) => {
+                    call(&progress, (index.0, index.1.clone(), done, total))
+                }
+                Ok(Said::Record(r)) => json.call_method1("loads", (r,)).map(|r| records.push(r)),
+                Ok(Said::Failed(kind, message)) => Err(kind.err(message)),
+                Err(mpsc::RecvTimeoutError::Timeout) => Ok(()),
+                Err(mpsc::RecvTimeoutError::Disconnected) => break,
+            }
+            .and_then(|()| py.check_signals());
+            if let Err(e) = heard {
+                cancel.store(true, Ordering::SeqCst);
+                failure.get_or_insert(e);
+            }
+        }
+        worker.join()
+    });
+    if let Some(e) = failure {
+        return Err(e);
+    }
+    match ended {
+        Ok(Ok(_summary)) => Ok(records),
+        Ok(Err(e)) => Err(conversion(e)),
+        Err(_) => Err(Kind::Input.err("the conversion stopped unexpectedly")),
+    }
+}
+
+/// Calls the progress callback, if any.
+fn call(progress: &Option<Bound<'_, PyAny>>, args: (usize, PathBuf, u64, u64)) -> PyResult<()> {
+    if let Some(p) = progress {
+        p.call1(args)?;
+    }
+    Ok(())
+}

@@ -1,0 +1,229 @@
+//! Spectral OpenEXR files in the layout of Fichet et al. 2021, read into and written from numpy
+//! arrays by the project's reader and writer (what `convert` writes and `to-rgb` reads).
+
+use crate::arrays::Values;
+use crate::errors::{option, Kind};
+use numpy::ndarray::{Array2, Array3};
+use numpy::IntoPyArray;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use specconv_exr::{Blocks, Kind as Bands, Spec, SpectralFile};
+use std::path::PathBuf;
+
+/// One MIP level of a spectral file.
+#[pyclass(module = "specconv", frozen)]
+pub struct SpectralImage {
+    /// Band wavelengths, nm, increasing.
+    #[pyo3(get)]
+    wavelengths: Py<PyAny>,
+    /// float32, shape (height, width, bands), rows from the top as the file stores them.
+    #[pyo3(get)]
+    values: Py<PyAny>,
+    /// float32, shape (height, width), or `None` when the file has no `A` channel.
+    #[pyo3(get)]
+    alpha: Py<PyAny>,
+    /// `"reflectance"` (`T.` channels) or `"emission"` (`S0.` channels).
+    #[pyo3(get)]
+    kind: &'static str,
+    /// The `emissiveUnits` of an emission file (`None` for reflectance).
+    #[pyo3(get)]
+    units: Option<String>,
+    /// Number of MIP levels in the file.
+    #[pyo3(get)]
+    levels: usize,
+    /// The level read (0 is the largest).
+    #[pyo3(get)]
+    level: usize,
+    /// The header's text attributes.
+    #[pyo3(get)]
+    attributes: Py<PyAny>,
+}
+
+#[pymethods]
+impl SpectralImage {
+    fn __repr__(&self, py: Python<'_>) -> String {
+        let shape = self
+            .values
+            .bind(py)
+            .getattr("shape")
+            .map_or(String::new(), |s| s.to_string());
+        format!(
+            "<specconv.SpectralImage {} {shape}, level {} of {}>",
+            self.kind, self.level, self.levels
+        )
+    }
+}
+
+/// Reads MIP level `level` (0: the largest) of a spectral EXR: its `T.` bands (reflectance),
+/// else its `S0.` bands (emission), any wavelengths the layout allows, and `A`.
+#[pyfunction]
+#[pyo3(signature = (path, *, level=0))]
+pub fn read_spectral(py: Python<'_>, path: PathBuf, level: usize) -> PyResult<SpectralImage> {
+    let image = py
+        .detach(|| specconv_exr::read_level(&path, level))
+        .map_err(|source| {
+            crate::errors::conversion(specconv_conversion::Error::Read {
+                path: path.clone(),
+                source,
+            })
+        })?;
+    let (w, h, n) = (image.width, image.height, image.wavelengths.len());
+    let mut interleaved = vec![0f32; w * h * n];
+    for (b, plane) in image.bands.iter().enumerate() {
+        for (p, &v) in plane.iter().enumerate() {
+            interleaved[p * n + b] = v;
+        }
+    }
+    let shaped = Array3::from_shape_vec((h, w, n), interleaved)
+        .map_err(|e| Kind::Input.err(e.to_string()))?;
+    let alpha = match image.alpha {
+        Some(a) => Array2::from_shape_vec((h, w), a)
+            .map_err(|e| Kind::Input.err(e.to_string()))?
+            .into_pyarray(py)
+            .into_any()
+            .unbind(),
+        None => py.None(),
+    };
+    let attributes = PyDict::new(py);
+    for (k, v) in &image.attributes {
+        attributes.set_item(k, v)?;
+    }
+    let (kind, units) = match image.kind {
+        Bands::Reflective => ("reflectance", None),
+        Bands::Emissive { units } => ("emission", Some(units)),
+    };
+    Ok(SpectralImage {
+        wavelengths: crate::arrays::vector(py, &image.wavelengths)
+            .into_any()
+            .unbind(),
+        values: shaped.into_pyarray(py).into_any().unbind(),
+        alpha,
+        kind,
+        units,
+        levels: image.levels,
+        level,
+        attributes: attributes.into_any().unbind(),
+    })
+}
+
+/// Writes `values` (shape (height, width, bands), rows from the top) at `wavelengths` (nm) as
+/// a spectral EXR with one level: reflectance (`T.` channels), or with `emission_units` emission
+/// (`S0.` channels and that `emissiveUnits`); `alpha` (height, width) as `A`. Written beside
+/// the target and renamed into place; an existing `path` only with `overwrite`.
+#[pyfunction]
+#[pyo3(signature = (path, wavelengths, values, *, alpha=None, emission_units=None,
+                    sample="half", compression="zip", tile=Some((64, 64)), attributes=None,
+                    overwrite=false))]
+#[allow(clippy::too_many_arguments)]
+pub fn write_spectral(
+    py: Python<'_>,
+    path: PathBuf,
+    wavelengths: &Bound<'_, PyAny>,
+    values: &Bound<'_, PyAny>,
+    alpha: Option<&Bound<'_, PyAny>>,
+    emission_units: Option<String>,
+    sample: &str,
+    compression: &str,
+    tile: Option<(usize, usize)>,
+    attributes: Option<std::collections::BTreeMap<String, String>>,
+    overwrite: bool,
+) -> PyResult<()> {
+    let as_f32 = |v: Values| match v {
+        Values::F32(lead, v) => (lead, v),
+        Values::F64(lead, v) => (lead, v.into_iter().map(|x| x as f32).collect()),
+    };
+    let wavelengths: Vec<f64> = match crate::arrays::values(wavelengths, None, "wavelengths")? {
+        Values::F32(_, v) => v.into_iter().map(f64::from).collect(),
+        Values::F64(_, v) => v,
+    };
+    let n = wavelengths.len();
+    let (lead, bands) = as_f32(values_of(values, n)?);
+    let [height, width] = lead[..] else {
+        return Err(Kind::Option.err(format!(
+            "values must have shape (height, width, {n}), not {} axes",
+            lead.len() + 1
+        )));
+    };
+    let alpha = match alpha {
+        None => None,
+        Some(a) => {
+            let (shape, a) = as_f32(crate::arrays::values(a, Some(width), "alpha")?);
+            if shape != [height] {
+                return Err(Kind::Option.err(format!(
+                    "alpha must have shape ({height}, {width}), like values"
+                )));
+            }
+            Some(a)
+        }
+    };
+    let sample = [specconv_exr::Sample::Half, specconv_exr::Sample::Float]
+        .into_iter()
+        .find(|&s| specconv_conversion::sample_name(s) == sample)
+        .ok_or_else(|| {
+            Kind::Option.err(format!("sample must be 'half' or 'float', not '{sample}'"))
+        })?;
+    let compression: specconv_conversion::Compression = compression.parse().map_err(option)?;
+    let spec = Spec {
+        width,
+        height,
+        windows: None,
+        wavelengths,
+        kind: match emission_units {
+            Some(units) => Bands::Emissive { units },
+            None => Bands::Reflective,
+        },
+        alpha: alpha.is_some(),
+        sample,
+        compression: compression.exr(),
+        zip_level: specconv_exr::zip::DEFAULT_LEVEL,
+        blocks: match tile {
+            Some((w, h)) => Blocks::Tiles {
+                width: w,
+                height: h,
+                mip_levels: false,
+            },
+            None => Blocks::Scanlines,
+        },
+        attributes: attributes.unwrap_or_default().into_iter().collect(),
+        float_attributes: Vec::new(),
+    };
+    let written = py.detach(|| -> PyResult<()> {
+        let file = SpectralFile::new(spec).map_err(|e| Kind::Option.err(e.to_string()))?;
+        let mut bytes = std::io::Cursor::new(Vec::new());
+        file.write(&mut bytes, |sink| {
+            for b in file.blocks() {
+                let mut block = Vec::with_capacity(b.width * b.height * n);
+                let mut a = alpha.as_ref().map(|_| Vec::new());
+                for y in b.y..b.y + b.height {
+                    let row = (y * width + b.x)..(y * width + b.x + b.width);
+                    block.extend_from_slice(&bands[row.start * n..row.end * n]);
+                    if let (Some(a), Some(all)) = (a.as_mut(), &alpha) {
+                        a.extend_from_slice(&all[row]);
+                    }
+                }
+                sink(b.chunk, file.encode(&b, &block, a.as_deref())?)?;
+            }
+            Ok(())
+        })
+        .map_err(|e| Kind::Input.err(e.to_string()))?;
+        let replace = if overwrite {
+            specconv_atomic_file::Replace::Allowed
+        } else {
+            specconv_atomic_file::Replace::Never
+        };
+        specconv_atomic_file::write_checked(&path, bytes.get_ref(), &[], replace).map_err(|e| {
+            use specconv_atomic_file::{PlanError, WriteError};
+            let kind = match e {
+                WriteError::Plan(PlanError::Exists { .. }) => Kind::Exists,
+                _ => Kind::File,
+            };
+            kind.err(specconv_conversion::message(&e))
+        })
+    });
+    written
+}
+
+/// The values of a (height, width, bands) array.
+fn values_of(values: &Bound<'_, PyAny>, n: usize) -> PyResult<Values> {
+    crate::arrays::values(values, Some(n), "values")
+}

@@ -1,0 +1,239 @@
+//! `specconv.Model`: a clustered-PCA model, built in, loaded from a file or trained on numpy
+//! spectra, and the method stacks built from it (cached: building one resamples the model).
+
+use crate::errors::Kind;
+use pyo3::prelude::*;
+use specconv_spectral::otsu2018::model::BUILTIN;
+use specconv_spectral::stack::Stack;
+use std::collections::HashMap;
+use std::path::PathBuf;
+use std::sync::{Arc, Mutex};
+
+/// A clustered-PCA model (Otsu et al. 2018): `Model.builtin()`, `Model.load(path)` or
+/// `Model.train(spectra, wavelengths)`.
+#[pyclass(module = "specconv", frozen)]
+pub struct Model {
+    pub inner: Arc<specconv_spectral::Model>,
+    /// What `convert`'s `model` option names it by: a built-in name or a file; `None` for a
+    /// model trained here and not saved.
+    pub origin: Mutex<Option<PathBuf>>,
+    /// Stacks built for `uplift`, by their description.
+    stacks: Mutex<HashMap<String, Arc<Stack>>>,
+}
+
+impl Model {
+    fn new(inner: specconv_spectral::Model, origin: Option<PathBuf>) -> Model {
+        Model {
+            inner: Arc::new(inner),
+            origin: Mutex::new(origin),
+            stacks: Mutex::new(HashMap::new()),
+        }
+    }
+
+    /// Where `convert` finds it.
+    pub fn origin(&self) -> Option<PathBuf> {
+        self.origin.lock().map_or(None, |o| o.clone())
+    }
+
+    /// The stack `options` describe on this model, built once.
+    pub fn stack(&self, options: &specconv_conversion::Options) -> PyResult<Arc<Stack>> {
+        let description = options.description();
+        let key = format!("{description:?}");
+        if let Some(s) = self.stacks.lock().ok().and_then(|m| m.get(&key).cloned()) {
+            return Ok(s);
+        }
+        let tables = specconv_conversion::tables::in_dir(None, |_| {});
+        let stack = Stack::build(&description, &self.inner, &tables)
+            .map(Arc::new)
+            .map_err(crate::errors::option)?;
+        if let Ok(mut m) = self.stacks.lock() {
+            m.insert(key, stack.clone());
+        }
+        Ok(stack)
+    }
+
+    /// The built-in default.
+    pub fn default_model() -> Model {
+        Model::new(
+            specconv_spectral::Model::builtin().clone(),
+            Some(BUILTIN[0].name.into()),
+        )
+    }
+}
+
+fn describe(origin: Option<PathBuf>, m: &specconv_spectral::Model) -> String {
+    match origin {
+        Some(p) => specconv_conversion::models::describe(Some(&p), m),
+        None => specconv_conversion::models::describe(Some("(trained in Python)".as_ref()), m),
+    }
+}
+
+#[pymethods]
+impl Model {
+    /// A built-in model by name (`None`: the default, the paper's); `specconv --version` lists
+    /// them.
+    #[staticmethod]
+    #[pyo3(signature = (name=None))]
+    fn builtin(name: Option<&str>) -> PyResult<Model> {
+        let name = name.unwrap_or(BUILTIN[0].name);
+        let m = specconv_spectral::Model::builtin_named(name).ok_or_else(|| {
+            let names: Vec<&str> = BUILTIN.iter().map(|b| b.name).collect();
+            Kind::Option.err(format!(
+                "no built-in model is called '{name}'; the built-in models are {}",
+                names.join(", ")
+            ))
+        })?;
+        Ok(Model::new(m.clone(), Some(name.into())))
+    }
+
+    /// The built-in models' names, the default first.
+    #[staticmethod]
+    fn builtin_names() -> Vec<&'static str> {
+        BUILTIN.iter().map(|b| b.name).collect()
+    }
+
+    /// A model file written by `specconv train` or `Model.save`.
+    #[staticmethod]
+    fn load(py: Python<'_>, path: PathBuf) -> PyResult<Model> {
+        let m = py
+            .detach(|| specconv_conversion::models::load(Some(&path)))
+            .map_err(|e| crate::errors::conversion(e.into()))?;
+        Ok(Model::new(m, Some(path)))
+    }
+
+    /// Trains a model on measured reflectances `spectra` (one per row, values at `wavelengths`
+    /// nm), as `specconv train` does: `clusters` leaves of at least `min_cluster_size` spectra,
+    /// each with a condition number of M below `max_condition`, on the grid `bands`
+    /// ("START:END:STEP" nm) under `observer` and `illuminant`. `weights`: one per spectrum.
+    /// `source` and `licence` are recorded in the model (and in every file it makes).
+    #[staticmethod]
+    #[pyo3(signature = (spectra, wavelengths, *, clusters=8, min_cluster_size=20,
+                        max_condition=specconv_spectral::otsu2018::train::DEFAULT_MAX_CONDITION,
+                        weights=None, bands="380:730:10", observer="cie1931", illuminant="D65",
+                        source="numpy", licence=None))]
+    #[allow(clippy::too_many_arguments)]
+    fn train(
+        py: Python<'_>,
+        spectra: &Bound<'_, PyAny>,
+        wavelengths: &Bound<'_, PyAny>,
+        clusters: usize,
+        min_cluster_size: usize,
+        max_condition: f64,
+        weights: Option<&Bound<'_, PyAny>>,
+        bands: &str,
+        observer: &str,
+        illuminant: &str,
+        source: &str,
+        licence: Option<String>,
+    ) -> PyResult<Model> {
+        use crate::arrays::{values, Values};
+        let flat = |v: Values| match v {
+            Values::F32(lead, v) => (lead, v.into_iter().map(f64::from).collect::<Vec<_>>()),
+            Values::F64(lead, v) => (lead, v),
+        };
+        let (_, wavelengths) = flat(values(wavelengths, None, "wavelengths")?);
+        let n = wavelengths.len();
+        let (lead, spectra) = flat(values(spectra, Some(n), "spectra")?);
+        if lead.len() != 1 {
+            return Err(Kind::Option.err(format!(
+                "spectra must be 2-D (one spectrum of {n} values per row), not {} axes",
+                lead.len() + 1
+            )));
+        }
+        let weights = match weights {
+            None => Vec::new(),
+            Some(w) => {
+                let (_, w) = flat(values(w, Some(lead[0]), "weights")?);
+                w
+            }
+        };
+        let grid: specconv_colour::Grid = bands.parse().map_err(crate::errors::option)?;
+        let observer = observer.parse().map_err(crate::errors::option)?;
+        let illuminant = illuminant.parse().map_err(crate::errors::option)?;
+        let opts = specconv_spectral::TrainOptions {
+            clusters,
+            min_cluster_size,
+            max_condition,
+        };
+        let model = py.detach(|| -> Result<_, specconv_spectral::Error> {
+            let table = specconv_colour::SpectralTable {
+                source: source.to_string(),
+                wavelengths,
+                names: (0..lead[0]).map(|k| format!("spectrum {k}")).collect(),
+                columns: spectra.chunks_exact(n).map(<[f64]>::to_vec).collect(),
+            };
+            let mut set = specconv_spectral::TrainingSet::from_table(&table, &grid)?;
+            if let Some(l) = licence {
+                set.sets.iter_mut().for_each(|s| s.licence = l.clone());
+            }
+            set.weights = weights;
+            let a = specconv_colour::Colorimetry::new(grid, observer, illuminant)?;
+            specconv_spectral::train(&set, &a, &opts)
+        });
+        Ok(Model::new(model.map_err(crate::errors::option)?, None))
+    }
+
+    /// Writes the model as JSON (what `specconv train` writes), replacing `path`.
+    fn save(&self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
+        let json = self.inner.to_json();
+        py.detach(|| {
+            specconv_atomic_file::write_checked(
+                &path,
+                json.as_bytes(),
+                &[],
+                specconv_atomic_file::Replace::Allowed,
+            )
+        })
+        .map_err(|e| Kind::File.err(specconv_conversion::message(&e)))?;
+        if let Ok(mut o) = self.origin.lock() {
+            *o = Some(path);
+        }
+        Ok(())
+    }
+
+    /// The wavelengths (nm) of the spectra it makes.
+    #[getter]
+    fn wavelengths<'py>(&self, py: Python<'py>) -> Bound<'py, numpy::PyArrayDyn<f64>> {
+        crate::arrays::vector(py, &self.inner.grid.wavelengths())
+    }
+
+    /// Number of clusters.
+    #[getter]
+    fn clusters(&self) -> usize {
+        self.inner.leaves.len()
+    }
+
+    /// The observer it was trained with (`cie1931`, …).
+    #[getter]
+    fn observer(&self) -> String {
+        self.inner.observer.to_string()
+    }
+
+    /// The illuminant it was trained under.
+    #[getter]
+    fn illuminant(&self) -> String {
+        self.inner.illuminant.to_string()
+    }
+
+    /// The data it was trained on, with their weights and terms of use.
+    #[getter]
+    fn sources(&self) -> String {
+        specconv_conversion::models::sources(&self.inner)
+    }
+
+    /// The one-line description outputs record (`specconvModel`).
+    #[getter]
+    fn description(&self) -> String {
+        describe(self.origin(), &self.inner)
+    }
+
+    /// The built-in name or file it came from; `None` when trained here and not saved.
+    #[getter]
+    fn path(&self) -> Option<PathBuf> {
+        self.origin()
+    }
+
+    fn __repr__(&self) -> String {
+        format!("<specconv.Model {}>", self.description())
+    }
+}
