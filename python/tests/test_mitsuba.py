@@ -310,8 +310,6 @@ def test_metamerism_against_mitsubas_own_uplift(variant, files, estimator, light
     assert (gap <= 5e-3 * white).all(), gap / white
     bound = 5 * difference.std(axis=-2) / np.sqrt(SPP * count[..., None]) + gap
     measured = ours_means - theirs_means
-    print(f"\n{light}: predicted difference (ours - bitmap) XYZ per patch\n{np.round(predicted, 4)}"
-          f"\nmeasured - predicted\n{np.round(measured - predicted, 4)}\nbound\n{np.round(bound, 4)}")
     assert (np.abs(measured - predicted) <= bound).all(), (
         f"under {light}: measured − predicted difference up to "
         f"{np.abs(measured - predicted).max():.5f}, bound {bound.min():.5f}"
