@@ -44,6 +44,7 @@ def main() -> int:
     import OpenImageIO as oiio
 
     import specconv
+    import specconv.mitsuba
 
     work = args.work or tempfile.mkdtemp(prefix="specconv-bench-")
     os.makedirs(work, exist_ok=True)
@@ -69,7 +70,8 @@ def main() -> int:
     print(f"convert (baking): {convert_s:.2f} s")
     sizes = {p: os.path.getsize(p) for p in (png, rgb_exr, baked)}
     for p, size in sizes.items():
-        print(f"  {os.path.basename(p):32s} {size / 1e6:8.2f} MB  ({size / sizes[rgb_exr]:.1f}× RGB half EXR)")
+        ratio = size / sizes[rgb_exr]
+        print(f"  {os.path.basename(p):32s} {size / 1e6:8.2f} MB  ({ratio:.1f}× RGB half EXR)")
 
     for variant in args.variants.split(","):
         try:
@@ -77,8 +79,6 @@ def main() -> int:
         except Exception as e:  # an LLVM variant without a usable libLLVM
             print(f"{variant}: unavailable ({e})")
             continue
-        import specconv.mitsuba
-
         specconv.mitsuba.register()
         register_bounds(mi, specconv)
         textures = {
@@ -105,7 +105,9 @@ def scene(mi, texture: dict, res: int, spp: int) -> dict:
         "integrator": {"type": "direct", "emitter_samples": 0, "bsdf_samples": 1},
         "sensor": {
             "type": "orthographic",
-            "to_world": mi.ScalarTransform4f().look_at(origin=[0, 0, 5], target=[0, 0, 0], up=[0, 1, 0]),
+            "to_world": mi.ScalarTransform4f().look_at(
+                origin=[0, 0, 5], target=[0, 0, 0], up=[0, 1, 0]
+            ),
             "film": {"type": "hdrfilm", "width": res, "height": res, "pixel_format": "xyz"},
             "sampler": {"type": "independent", "sample_count": spp},
         },
@@ -140,8 +142,6 @@ def register_bounds(mi, specconv) -> None:
     """The two per-lookup textures: measured here, not shipped (per texel was chosen)."""
     import drjit as dr
 
-    import specconv.mitsuba
-
     class Bound(mi.Texture):
         def __init__(self, props):
             mi.Texture.__init__(self, props)
@@ -154,8 +154,11 @@ def register_bounds(mi, specconv) -> None:
             # One leaf's T (n×3) and o (n), as four channels over wavelength.
             rng = np.random.default_rng(0)
             table = rng.random((n, 4)).astype(np.float32) * 0.1
-            self.leaf = mi.Texture1f(mi.TensorXf(table[:, None, :].reshape(n, 4)), use_accel=False,
-                                     wrap_mode=dr.WrapMode.Clamp)
+            self.leaf = mi.Texture1f(
+                mi.TensorXf(table[:, None, :].reshape(n, 4)),
+                use_accel=False,
+                wrap_mode=dr.WrapMode.Clamp,
+            )
             self.n = n
 
         def eval(self, si, active=True):

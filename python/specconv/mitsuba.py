@@ -123,7 +123,9 @@ def _define(variant: str):
             if self._regular:
                 return (lam - w0) / self._step
             if jit:
-                k = dr.binary_search(0, n - 1, lambda i: dr.gather(mi.Float, self._wl_jit, i) <= lam)
+                k = dr.binary_search(
+                    0, n - 1, lambda i: dr.gather(mi.Float, self._wl_jit, i) <= lam
+                )
                 j = dr.minimum(dr.maximum(k, 1) - 1, n - 2)  # unsigned: never k - 1 below 0
                 a = dr.gather(mi.Float, self._wl_jit, j)
                 b = dr.gather(mi.Float, self._wl_jit, j + 1)

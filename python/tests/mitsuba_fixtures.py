@@ -88,8 +88,11 @@ def predicted_xyz(wavelengths, values, name: str) -> np.ndarray:
     """XYZ (Y = 1 white) that colour-science computes for reflectances under an illuminant."""
     sd_illuminant = colour.SpectralDistribution(illuminant(name), LAMBDA)
     xyz = colour.msds_to_XYZ(
-        at_1nm(wavelengths, values), CMFS.align(SHAPE), sd_illuminant,
-        method="Integration", shape=SHAPE,
+        at_1nm(wavelengths, values),
+        CMFS.align(SHAPE),
+        sd_illuminant,
+        method="Integration",
+        shape=SHAPE,
     )
     return np.asarray(xyz) / 100.0
 

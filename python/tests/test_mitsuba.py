@@ -104,7 +104,9 @@ def variant(request, estimator):
 def _sensor(spp: int) -> dict:
     return {
         "type": "orthographic",
-        "to_world": mi.ScalarTransform4f().look_at(origin=[0, 0, 5], target=[0, 0, 0], up=[0, 1, 0]),
+        "to_world": mi.ScalarTransform4f().look_at(
+            origin=[0, 0, 5], target=[0, 0, 0], up=[0, 1, 0]
+        ),
         "film": {
             "type": "hdrfilm",
             "width": RES,
@@ -133,8 +135,12 @@ def _render(reflectance: dict, light: str, spp: int = SPP, integrator=None) -> n
 def _layout():
     """Each pixel's texel (row as stored, column) from Mitsuba's own uv, and which pixels see
     one constant patch colour (their whole footprint in a patch's constant span)."""
-    uv = _render({"type": "uniform", "value": 1.0}, "D65", spp=64,
-                 integrator={"type": "aov", "aovs": "uv:uv"})[..., :2]
+    uv = _render(
+        {"type": "uniform", "value": 1.0},
+        "D65",
+        spp=64,
+        integrator={"type": "aov", "aovs": "uv:uv"},
+    )[..., :2]
     uv = (np.round(uv * RES - 0.5) + 0.5) / RES  # the pixel's centre: the mean of its uv
     texel = np.floor(uv * TEXELS).astype(int)  # u → column; v → row, as `bitmap` reads it
     local = (uv * TEXELS) % PATCH  # position inside the patch, in texels
@@ -172,7 +178,8 @@ def _gap(estimator, wavelengths, spectra, light):
     GAPS.append((gap / white).max())
     assert (gap <= 5e-3 * white).all(), (
         f"Mitsuba's and colour-science's integrals differ by up to {(gap / white).max():.2%} "
-        "of white")
+        "of white"
+    )
     return gap
 
 
@@ -196,7 +203,9 @@ def _check_render(image, wavelengths, values, light, estimator):
     patch_spectra = _patch_spectra(values)
     expected = ref.predicted_xyz(wavelengths, patch_spectra, light)
     _, sigma = estimator.mean_and_sigma(wavelengths, patch_spectra, light)
-    bound = 5 * sigma / np.sqrt(SPP * count[..., None]) + _gap(estimator, wavelengths, patch_spectra, light)
+    bound = 5 * sigma / np.sqrt(SPP * count[..., None]) + _gap(
+        estimator, wavelengths, patch_spectra, light
+    )
     assert (np.abs(means - expected) <= bound).all(), (np.abs(means - expected) / bound).max()
     return means, bound
 
@@ -238,20 +247,37 @@ def test_lookup_is_bitmaps_bilinear_and_the_references_linear_interpolation(vari
     ref.write_reflectance(path, wavelengths, values)
     uvs = np.concatenate([rng.random((60, 2)) * 3 - 1, [[0.0, 0.0], [1.0, 1.0], [0.5, 0.999]]])
     # Wavelengths: each band, between bands, and outside the file's range.
-    probes = np.concatenate([wavelengths, [401.0, 430.0, 452.5, 600.0, 699.9, 380.0, 399.9, 700.1, 800.0]])
+    probes = np.concatenate(
+        [wavelengths, [401.0, 430.0, 452.5, 600.0, 699.9, 380.0, 399.9, 700.1, 800.0]]
+    )
     for filter_type in ("bilinear", "nearest"):
         for wrap_mode in ("repeat", "clamp", "mirror"):
             ours = _eval(
-                _texture({"type": "specconv_spectral", "filename": path,
-                          "filter_type": filter_type, "wrap_mode": wrap_mode}),
-                uvs, probes,
+                _texture(
+                    {
+                        "type": "specconv_spectral",
+                        "filename": path,
+                        "filter_type": filter_type,
+                        "wrap_mode": wrap_mode,
+                    }
+                ),
+                uvs,
+                probes,
             )
             bands = np.stack(
                 [
                     _eval(
-                        _texture({"type": "bitmap", "bitmap": mi.Bitmap(values[..., [b]]), "raw": True,
-                                  "filter_type": filter_type, "wrap_mode": wrap_mode}),
-                        uvs, [550.0],
+                        _texture(
+                            {
+                                "type": "bitmap",
+                                "bitmap": mi.Bitmap(values[..., [b]]),
+                                "raw": True,
+                                "filter_type": filter_type,
+                                "wrap_mode": wrap_mode,
+                            }
+                        ),
+                        uvs,
+                        [550.0],
                     )[:, 0]
                     for b in range(len(wavelengths))
                 ],
@@ -260,8 +286,9 @@ def test_lookup_is_bitmaps_bilinear_and_the_references_linear_interpolation(vari
             expected = np.stack(
                 [np.interp(probes, wavelengths, b, left=0.0, right=0.0) for b in bands]
             )
-            np.testing.assert_allclose(ours, expected, rtol=0, atol=2e-6,
-                                       err_msg=f"{filter_type}, {wrap_mode}")
+            np.testing.assert_allclose(
+                ours, expected, rtol=0, atol=2e-6, err_msg=f"{filter_type}, {wrap_mode}"
+            )
 
 
 def test_level_reads_that_mip_level(variant, files):
@@ -300,11 +327,13 @@ def test_metamerism_against_mitsubas_own_uplift(variant, files, estimator, light
     their_spectra = _eval(_texture(bitmap), uvs, ref.LAMBDA).reshape(4, 4, -1)
     ours_spectra = _patch_spectra(values)
     predicted = ref.predicted_xyz(wavelengths, ours_spectra, light) - ref.predicted_xyz(
-        ref.LAMBDA, their_spectra, light)
+        ref.LAMBDA, their_spectra, light
+    )
     # Same scene, same seed, a texture draws no random numbers: both renders see the same
     # wavelengths per sample, so the difference's noise is that of the difference of estimates.
     difference = estimator.samples(wavelengths, ours_spectra, light) - estimator.samples(
-        ref.LAMBDA, their_spectra, light)
+        ref.LAMBDA, their_spectra, light
+    )
     gap = np.abs(difference.mean(axis=-2) - predicted)
     white = ref.predicted_xyz(ref.LAMBDA, np.ones(len(ref.LAMBDA)), light)
     assert (gap <= 5e-3 * white).all(), gap / white
@@ -319,7 +348,7 @@ def test_metamerism_against_mitsubas_own_uplift(variant, files, estimator, light
         assert np.abs(predicted).max() < 2e-3, np.abs(predicted).max()
     else:
         # Metamerism the render resolves: several patches part by far more than the noise.
-        assert (np.abs(predicted) > 4 * bound).any(axis=-1).sum() >= 4, (predicted / bound)
+        assert (np.abs(predicted) > 4 * bound).any(axis=-1).sum() >= 4, predicted / bound
 
 
 def test_render_time_texture_renders_the_baked_image(variant, files, estimator):
