@@ -225,16 +225,22 @@ def _to_uv(props, jit: bool):
 def texel_xyz(path: str, colorspace: str = "", config: str = "aces") -> np.ndarray:
     """CIE XYZ [h, w, 3] of an RGB texture's texels, rows as stored, as ``specconv_rgb`` reads
     them: Mitsuba's reader, then the colour space through OCIO (``colorspace`` empty: "sRGB -
-    Texture" for sRGB-encoded files, else "Linear Rec.709 (sRGB)")."""
+    Texture" for sRGB-encoded files, else "Linear Rec.709 (sRGB)"), premultiplied by alpha as
+    ``convert`` uplifts it (straight colour decoded first; OpenEXR's is premultiplied already)."""
     bitmap = mi.Bitmap(path)
+    alpha = bitmap.has_alpha()
+    fmt = mi.Bitmap.PixelFormat.RGBA if alpha else mi.Bitmap.PixelFormat.RGB
     # Code values as stored: the colour space (through OCIO) decodes them, not Mitsuba.
-    rgb = np.array(
-        bitmap.convert(mi.Bitmap.PixelFormat.RGB, mi.Struct.Type.Float32, bitmap.srgb_gamma()),
-        dtype=np.float32,
+    pixels = np.array(
+        bitmap.convert(fmt, mi.Struct.Type.Float32, bitmap.srgb_gamma()), dtype=np.float32
     )
     if not colorspace:
         colorspace = "sRGB - Texture" if bitmap.srgb_gamma() else "Linear Rec.709 (sRGB)"
-    return np.asarray(specconv.rgb_to_xyz(rgb, colorspace, config=config), dtype=np.float32)
+    rgb = np.ascontiguousarray(pixels[..., :3])
+    xyz = np.asarray(specconv.rgb_to_xyz(rgb, colorspace, config=config), dtype=np.float32)
+    if alpha and not bitmap.premultiplied_alpha():
+        xyz *= pixels[..., 3:]
+    return xyz
 
 
 def _model(name: str):

@@ -351,7 +351,7 @@ def test_metamerism_against_mitsubas_own_uplift(variant, files, estimator, light
         assert (np.abs(predicted) > 4 * bound).any(axis=-1).sum() >= 4, predicted / bound
 
 
-def test_render_time_texture_renders_the_baked_image(variant, files, estimator):
+def test_render_time_texture_renders_the_baked_image(variant, files, estimator, tmp_path):
     """From the PNG and the default model, at load: the baked file's spectra (the file rounds
     them to half floats) and, with the same seed, its image within the noise."""
     rgb = {"type": "specconv_rgb", "filename": files["png"]}
@@ -365,6 +365,23 @@ def test_render_time_texture_renders_the_baked_image(variant, files, estimator):
     # (measured ≤ 4.2e-6 on a 1024² photograph), enough to land a value on the neighbouring
     # half: within one half-float step of the file, 2⁻¹⁰ relative (2⁻²⁴ among subnormals).
     np.testing.assert_allclose(theirs, values, rtol=2.0**-10, atol=2.0**-24)
+
+    # Straight alpha (PNG) is premultiplied after decoding, as convert does before uplifting.
+    import OpenImageIO as oiio
+
+    rgba = np.random.default_rng(3).random((4, 5, 4))
+    rgba[..., 3] = np.linspace(0.1, 1.0, 20).reshape(4, 5)
+    png = str(tmp_path / "straight_alpha.png")
+    out = oiio.ImageOutput.create(png)
+    out.open(png, oiio.ImageSpec(5, 4, 4, "uint8"))
+    out.write_image(rgba.astype(np.float32))
+    out.close()
+    exr = str(tmp_path / "straight_alpha_spectral.exr")
+    specconv.convert([png], exr)
+    wl, expected = ref.read_reflectance(exr)
+    centres = np.stack(np.meshgrid((np.arange(5) + 0.5) / 5, (np.arange(4) + 0.5) / 4), axis=-1)
+    ours = _eval(_texture({"type": "specconv_rgb", "filename": png}), centres.reshape(-1, 2), wl)
+    np.testing.assert_allclose(ours.reshape(4, 5, -1), expected, rtol=2.0**-10, atol=2.0**-24)
 
     light = "A"
     a, b = _render(rgb, light), _render(baked, light)
