@@ -3,7 +3,8 @@
     python python/bench/render.py IMAGE [--res 256] [--spp 16] [--variants scalar_spectral,...]
 
 One run, one machine: every time is reported with its ratio to Mitsuba's `bitmap` of the same
-source in the same variant (timing is relative, never absolute). The scene is the tests' plate
+source in the same variant (timing is relative, never absolute); each texture's render is the
+best of --rounds, the textures interleaved in every round. The scene is the tests' plate
 (an orthographic camera filling it, a uniform illuminant-A environment, BSDF sampling).
 
 Textures compared:
@@ -36,6 +37,7 @@ def main() -> int:
     ap.add_argument("image", help="an 8-bit sRGB image (PNG, JPEG)")
     ap.add_argument("--res", type=int, default=256, help="render width and height")
     ap.add_argument("--spp", type=int, default=16)
+    ap.add_argument("--rounds", type=int, default=3, help="renders per texture; the best counts")
     ap.add_argument("--variants", default="scalar_spectral,llvm_ad_spectral")
     ap.add_argument("--work", default=None, help="folder for the converted files (default: temp)")
     args = ap.parse_args()
@@ -91,11 +93,19 @@ def main() -> int:
             textures["per-lookup (uplift)"] = {"type": "bench_lookup_uplift", "filename": png}
         print(f"\n{variant}")
         print(f"  {'texture':22s} {'load s':>8s} {'render s':>9s} {'× bitmap':>9s}  texel memory")
-        reference = None
+        loads, scenes = {}, {}
         for name, tex in textures.items():
-            load, render, memory = time_render(mi, tex, args.res, args.spp)
-            reference = reference or render
-            print(f"  {name:22s} {load:8.2f} {render:9.2f} {render / reference:9.2f}  {memory}")
+            t = time.perf_counter()
+            scenes[name] = mi.load_dict(scene(mi, tex, args.res, args.spp))
+            loads[name] = time.perf_counter() - t
+            mi.render(scenes[name], seed=0)  # LLVM compiles here: time the cached kernel below
+        renders = best_of_rounds(mi, scenes, args.rounds)
+        for name in textures:
+            ratio = renders[name] / renders["bitmap"]
+            print(
+                f"  {name:22s} {loads[name]:8.2f} {renders[name]:9.2f} {ratio:9.2f}  "
+                f"{memory(mi, scenes[name])}"
+            )
     return 0
 
 
@@ -116,26 +126,26 @@ def scene(mi, texture: dict, res: int, spp: int) -> dict:
     }
 
 
-def time_render(mi, texture: dict, res: int, spp: int):
-    t = time.perf_counter()
-    s = mi.load_dict(scene(mi, texture, res, spp))
-    load = time.perf_counter() - t
-    # The LLVM variants compile on the first render: time the next ones (the cached kernel),
-    # the best of two against a shared machine's hiccups.
-    np.array(mi.render(s, seed=0))
-    render = float("inf")
-    for seed in (1, 2):
-        t = time.perf_counter()
-        np.array(mi.render(s, seed=seed))
-        render = min(render, time.perf_counter() - t)
-    bsdf = s.shapes()[0].bsdf()
-    tex = mi.traverse(bsdf)
-    memory = ""
-    for key in tex.keys():
+def best_of_rounds(mi, scenes: dict, rounds: int) -> dict:
+    """Each scene's fastest render over `rounds` rounds, the scenes interleaved in every round:
+    a shared machine's load then weighs on all of them alike."""
+    best = {name: float("inf") for name in scenes}
+    for r in range(rounds):
+        for name, s in scenes.items():
+            t = time.perf_counter()
+            np.array(mi.render(s, seed=1 + r))
+            best[name] = min(best[name], time.perf_counter() - t)
+    return best
+
+
+def memory(mi, s) -> str:
+    """The texture's texel storage, from its traversed `data` tensor."""
+    params = mi.traverse(s.shapes()[0].bsdf())
+    for key in params.keys():
         if key.endswith("data"):
-            value = tex[key]
-            memory = f"{np.prod(value.shape)} values ({'x'.join(map(str, value.shape))})"
-    return load, render, memory
+            shape = params[key].shape
+            return f"{np.prod(shape)} values ({'x'.join(map(str, shape))})"
+    return ""
 
 
 def register_bounds(mi, specconv) -> None:
