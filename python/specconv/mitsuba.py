@@ -11,7 +11,7 @@
 ``specconv_spectral`` reads a Fichet 2021 reflectance file (ours or any other writer's, any
 wavelength list). ``specconv_rgb`` reads an RGB texture and uplifts every texel once, at load,
 with a specconv model (``specconv.rgb_to_xyz`` then ``specconv.uplift``: the spectra ``convert``
-would bake), so a scene ships the RGB file, not the ≈15× larger spectral one. Per texel was
+would bake), so a scene ships the RGB file, not the 14× larger spectral one. Per texel was
 chosen over per lookup by measured render time (docs/renderers.md, python/bench/render.py).
 
 Both then evaluate alike, as Mitsuba's own ``bitmap`` does in space and as the layout's reference
