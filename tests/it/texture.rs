@@ -485,7 +485,10 @@ fn every_maketx_filter_makes_the_levels_maketx_makes_of_our_level_0() {
         assert_eq!(json["filter"], name, "{json}");
         let reference = dir.path(&format!("{name}.tx"));
         let level0 = level0(&out, &dir, &format!("{name}-0.exr"));
-        tool("maketx", &["--filter", name, s(&level0), "-o", s(&reference)]);
+        tool(
+            "maketx",
+            &["--filter", name, s(&level0), "-o", s(&reference)],
+        );
         assert_eq!(levels_line(&out), levels_line(&reference), "{name}");
         let d = largest(&level_diff(&out, &reference, true));
         eprintln!("{name}: largest difference from maketx {d:.2e}");
@@ -520,7 +523,10 @@ fn negative_lobes_are_clamped_to_reflectance_and_otherwise_maketx_levels() {
     assert!(clamped > 0, "{json}");
     let reference = dir.path("ref.tx");
     let level0 = level0(&out, &dir, "level0.exr");
-    tool("maketx", &["--filter", "lanczos3", s(&level0), "-o", s(&reference)]);
+    tool(
+        "maketx",
+        &["--filter", "lanczos3", s(&level0), "-o", s(&reference)],
+    );
     // maketx's own levels leave [0, 1]; ours are its levels clamped into it.
     let (below, above) = range(&level_diff(&out, &reference, false));
     let (our_min, our_max) = range(&level_diff(&reference, &out, false));
@@ -530,7 +536,10 @@ fn negative_lobes_are_clamped_to_reflectance_and_otherwise_maketx_levels() {
          [{our_min:.4}, {our_max:.4}]; {clamped} pixels clamped; largest difference from \
          maketx's clamped {d:.2e}"
     );
-    assert!(below < 0.0 && above > 1.0, "no ringing to clamp: [{below}, {above}]");
+    assert!(
+        below < 0.0 && above > 1.0,
+        "no ringing to clamp: [{below}, {above}]"
+    );
     assert!(our_min >= 0.0 && our_max <= 1.0, "[{our_min}, {our_max}]");
     assert!(d <= 2e-6, "{d}");
 }
@@ -572,7 +581,14 @@ fn resize_makes_maketx_power_of_two_levels_from_the_spectra() {
         let reference = dir.path(&format!("{name}.tx"));
         tool(
             "maketx",
-            &["--resize", "--filter", name, s(&level0), "-o", s(&reference)],
+            &[
+                "--resize",
+                "--filter",
+                name,
+                s(&level0),
+                "-o",
+                s(&reference),
+            ],
         );
         let d = largest(&level_diff(&out, &reference, true));
         eprintln!("--resize --filter {name}: largest difference from maketx {d:.2e}");

@@ -39,8 +39,8 @@ pub use batch::{check_plan, Batch, Event, Summary};
 pub use converter::{Advice, Converter, DataOutcome, Report, Role, Rule, Selection, Warning};
 pub use error::{ConversionError, Error, Remedy};
 pub use options::{
-    Alpha, Blocks, Compression, DataPolicy, Filter, Mip, NonFinite, Options, Rounding, Sample, UnknownName,
-    Wrap, WrapModes, WRAP_NAMES,
+    Alpha, Blocks, Compression, DataPolicy, Filter, Mip, NonFinite, Options, Rounding, Sample,
+    UnknownName, Wrap, WrapModes, WRAP_NAMES,
 };
 pub use provenance::Provenance;
 /// Ends the process at once, without C++ static destructors: for a signal handler's thread

@@ -25,10 +25,10 @@ mod png;
 pub mod survey;
 pub mod texture;
 
-pub use filter::Filter;
 pub use colour::{
     input_space, texture_space, Alpha, DataTexture, InputSpace, Rule, ToXyz, Warning,
 };
+pub use filter::Filter;
 use rayon::prelude::*;
 use specconv_atomic_file::{PlanError, Replace};
 use specconv_exr::{Block, Blocks, Chunk, Compression, Kind, Sample, Spec, SpectralFile, Windows};

@@ -165,27 +165,27 @@ impl Level {
             Axis::new(filter, source.1, size.1),
         );
         // maketx's `resize_block` for box, and when enlarging for triangle too.
-        let kernel = if filter == Filter::Box || (step == Step::Resize && filter == Filter::Triangle)
-        {
-            Kernel::Separable {
-                columns: bilinear(source.0, size.0),
-                rows: bilinear(source.1, size.1),
-                open: VecDeque::new(),
-            }
-        } else if filter.separable() {
-            Kernel::Separable {
-                columns: x.taps(filter),
-                rows: y.taps(filter),
-                open: VecDeque::new(),
-            }
-        } else {
-            Kernel::Radial {
-                filter,
-                x,
-                y,
-                window: VecDeque::new(),
-            }
-        };
+        let kernel =
+            if filter == Filter::Box || (step == Step::Resize && filter == Filter::Triangle) {
+                Kernel::Separable {
+                    columns: bilinear(source.0, size.0),
+                    rows: bilinear(source.1, size.1),
+                    open: VecDeque::new(),
+                }
+            } else if filter.separable() {
+                Kernel::Separable {
+                    columns: x.taps(filter),
+                    rows: y.taps(filter),
+                    open: VecDeque::new(),
+                }
+            } else {
+                Kernel::Radial {
+                    filter,
+                    x,
+                    y,
+                    window: VecDeque::new(),
+                }
+            };
         Level {
             width: size.0,
             height: size.1,
@@ -502,7 +502,12 @@ mod tests {
     }
 
     /// OpenImageIO's `resize` of a one-value image, pixel by pixel, in 2-D.
-    fn resize(src: &[f32], (sw, sh): (usize, usize), (dw, dh): (usize, usize), f: Filter) -> Vec<f32> {
+    fn resize(
+        src: &[f32],
+        (sw, sh): (usize, usize),
+        (dw, dh): (usize, usize),
+        f: Filter,
+    ) -> Vec<f32> {
         let (ax, ay) = (Axis::new(f, sw, dw), Axis::new(f, sh, dh));
         let mut out = Vec::new();
         for y in 0..dh {

@@ -11,8 +11,8 @@ use crate::stdio::StdoutFailed;
 use crate::{exit, explain, methods, print_error, records, signals, usage};
 use anyhow::Result;
 use specconv_conversion::{
-    Advice, Alpha, Batch, Blocks, Compression, Converter, DataPolicy, Event, Filter, Mip, NonFinite,
-    Options, Rounding, Sample, WrapModes,
+    Advice, Alpha, Batch, Blocks, Compression, Converter, DataPolicy, Event, Filter, Mip,
+    NonFinite, Options, Rounding, Sample, WrapModes,
 };
 use specconv_spectral::method::MethodName;
 use std::path::{Path, PathBuf};
