@@ -184,6 +184,8 @@ fn gaussian(x: f32, k: f32) -> f32 {
 }
 
 /// OpenImageIO 2.4's `fast_exp` (fmath.h): `fast_exp2(x / ln 2)`.
+// Its polynomial's coefficients as fmath.h spells them (rounded to f32, as C++ rounds them).
+#[allow(clippy::excessive_precision)]
 fn fast_exp(x: f32) -> f32 {
     let x = (x * (1.0 / std::f64::consts::LN_2) as f32).clamp(-126.0, 126.0);
     let m = x as i32;
