@@ -6,11 +6,15 @@
   mipmap INPUT OUTPUT  writes INPUT as a tiled, MIP-mapped OpenEXR (16x16 tiles, levels rounded
                        down, each level every 2^L-th pixel) that keeps INPUT's data and display
                        windows: maketx fills the display window instead.
+  diff A B [LO HI]     JSON list, one entry per MIP level of A: its size, B's, the largest
+                       difference of their pixels read as float (B's clamped into [LO, HI] when
+                       given), and the smallest and largest of B's values before that.
 """
 import hashlib
 import json
 import sys
 
+import numpy as np
 import OpenImageIO as oiio
 
 
@@ -66,10 +70,34 @@ def mipmap(src, dst):
     out.close()
 
 
+def diff(a_path, b_path, limits):
+    a, b = oiio.ImageInput.open(a_path), oiio.ImageInput.open(b_path)
+    if a is None or b is None:
+        sys.exit(oiio.geterror())
+    out = []
+    level = 0
+    while a.seek_subimage(0, level):
+        x = a.read_image(0, level, 0, a.spec().nchannels, "float")
+        entry = {"level": level, "size": [a.spec().width, a.spec().height], "other": None}
+        if b.seek_subimage(0, level):
+            y = b.read_image(0, level, 0, b.spec().nchannels, "float")
+            entry["other"] = [b.spec().width, b.spec().height]
+            entry["min"], entry["max"] = float(y.min()), float(y.max())
+            if limits:
+                y = np.clip(y, *limits)
+            if x.shape == y.shape:
+                entry["max_difference"] = float(np.abs(x - y).max())
+        out.append(entry)
+        level += 1
+    print(json.dumps(out))
+
+
 if __name__ == "__main__":
     if sys.argv[1] == "describe":
         describe(sys.argv[2])
     elif sys.argv[1] == "mipmap":
         mipmap(sys.argv[2], sys.argv[3])
+    elif sys.argv[1] == "diff":
+        diff(sys.argv[2], sys.argv[3], [float(v) for v in sys.argv[4:6]])
     else:
         sys.exit(__doc__)

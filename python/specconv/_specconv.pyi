@@ -99,6 +99,8 @@ def convert(
     zip_level: Optional[int] = None,
     tile: Optional[tuple[int, int]] = (64, 64),
     mip: bool = True,
+    filter: str = "box",
+    resize: bool = False,
     wrap: Optional[str] = None,
     non_finite: Literal["refuse", "black", "box3", "keep"] = "refuse",
     constant_detect: bool = True,

@@ -73,7 +73,7 @@ fn choose<T: Copy>(
                     subimage=None, channels=None, method="otsu2018", model=None,
                     blend=specconv_spectral::otsu2018::blend::DEFAULT_WIDTH, bounded=true,
                     bands=None, emission=None, sample="half", rounding=None, compression="zip",
-                    zip_level=None, tile=Some((64, 64)), mip=true, wrap=None,
+                    zip_level=None, tile=Some((64, 64)), mip=true, filter="box", resize=false, wrap=None,
                     non_finite="refuse", constant_detect=true, opaque_detect=true,
                     threads=None, overwrite=false, update=false, data="skip",
                     errors="raise", progress=None))]
@@ -99,6 +99,8 @@ pub fn convert<'py>(
     zip_level: Option<u8>,
     tile: Option<(usize, usize)>,
     mip: bool,
+    filter: &str,
+    resize: bool,
     wrap: Option<&str>,
     non_finite: &str,
     constant_detect: bool,
@@ -165,6 +167,8 @@ pub fn convert<'py>(
         None => Blocks::Scanlines,
     };
     o.mip = if mip { c::Mip::All } else { c::Mip::Base };
+    o.filter = choose("filter", filter, &c::Filter::ALL, c::Filter::name)?;
+    o.resize = resize;
     o.wrap = wrap
         .map(c::parse_wrapmodes)
         .transpose()

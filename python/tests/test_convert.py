@@ -24,6 +24,7 @@ OPTIONS = [
     ({"bands": "400:700:5", "model": "broad", "wrap": "periodic", "mip": False},
      ["--bands", "400:700:5", "--model", "broad", "--wrap", "periodic", "--mip", "0"]),
     ({"tile": None, "bounded": False}, ["--scanline", "--unbounded"]),
+    ({"filter": "lanczos3", "resize": True}, ["--filter", "lanczos3", "--resize"]),
 ]
 
 

@@ -412,3 +412,213 @@ fn levels_filtered_from_spectra_keep_the_colour_of_level_0_uplifting_levels_does
         assert!(worst_uplifted.is_finite());
     }
 }
+
+/// tests/oiio_levels.py's `diff` of every level of `ours` against `theirs` (theirs clamped
+/// into [0, 1] when `clamped`): per level, the sizes, the largest difference and the smallest
+/// and largest of their values.
+fn level_diff(ours: &Path, theirs: &Path, clamped: bool) -> Vec<serde_json::Value> {
+    let mut args = vec!["diff", s(ours), s(theirs)];
+    if clamped {
+        args.extend(["0", "1"]);
+    }
+    script_json("oiio_levels.py", args)
+        .as_array()
+        .unwrap()
+        .clone()
+}
+
+/// The largest difference over every level (each the same size in both files).
+fn largest(diff: &[serde_json::Value]) -> f64 {
+    diff.iter()
+        .map(|l| {
+            assert_eq!(l["size"], l["other"], "level sizes differ: {l}");
+            l["max_difference"].as_f64().unwrap()
+        })
+        .fold(0.0, f64::max)
+}
+
+/// Level 0 of a converted texture as a plain float image, for maketx to filter.
+fn level0(out: &Path, dir: &Scratch, name: &str) -> std::path::PathBuf {
+    let level0 = dir.path(name);
+    tool("oiiotool", &[s(out), "--selectmip", "0", "-o", s(&level0)]);
+    level0
+}
+
+#[test]
+fn every_maketx_filter_makes_the_levels_maketx_makes_of_our_level_0() {
+    let dir = Scratch::new("texture-filters");
+    // Odd sizes for the separable filters; a square for the radial ones, which maketx 2.4
+    // aborts on when the two directions' filter radii differ.
+    let odd = dir.path("odd.exr");
+    linear_image(&odd, 61, 47);
+    let square = dir.path("square.exr");
+    linear_image(&square, 32, 32);
+    for name in [
+        "box",
+        "triangle",
+        "gaussian",
+        "sharp-gaussian",
+        "catmull-rom",
+        "blackman-harris",
+        "sinc",
+        "lanczos3",
+        "radial-lanczos3",
+        "nuke-lanczos6",
+        "mitchell",
+        "bspline",
+        "disk",
+        "cubic",
+        "keys",
+        "simon",
+        "rifman",
+    ] {
+        let input = if name.contains("radial") || name == "disk" {
+            &square
+        } else {
+            &odd
+        };
+        let out = dir.path(&format!("{name}.exr"));
+        let json = Cmd::convert(input, &out)
+            .args(["-d", "float", "--filter", name, "--json"])
+            .ok()
+            .json();
+        assert_eq!(json["filter"], name, "{json}");
+        let reference = dir.path(&format!("{name}.tx"));
+        let level0 = level0(&out, &dir, &format!("{name}-0.exr"));
+        tool(
+            "maketx",
+            &["--filter", name, s(&level0), "-o", s(&reference)],
+        );
+        assert_eq!(levels_line(&out), levels_line(&reference), "{name}");
+        let d = largest(&level_diff(&out, &reference, true));
+        eprintln!("{name}: largest difference from maketx {d:.2e}");
+        assert!(d <= 2e-6, "{name}: {d}");
+    }
+}
+
+#[test]
+fn negative_lobes_are_clamped_to_reflectance_and_otherwise_maketx_levels() {
+    let dir = Scratch::new("texture-lobes");
+    // Sharp edges between near-black and near-white: lanczos3 rings past both.
+    let input = dir.path("checker.exr");
+    tool(
+        "oiiotool",
+        &[
+            "--pattern",
+            "checker:width=3:height=3:color1=0.02,0.02,0.02:color2=0.95,0.95,0.95",
+            "48x48",
+            "3",
+            "-d",
+            "float",
+            "-o",
+            s(&input),
+        ],
+    );
+    let out = dir.path("out.exr");
+    let json = Cmd::convert(&input, &out)
+        .args(["-d", "float", "--filter", "lanczos3", "--json"])
+        .ok()
+        .json();
+    let clamped = json["clamped"].as_u64().unwrap();
+    assert!(clamped > 0, "{json}");
+    let reference = dir.path("ref.tx");
+    let level0 = level0(&out, &dir, "level0.exr");
+    tool(
+        "maketx",
+        &["--filter", "lanczos3", s(&level0), "-o", s(&reference)],
+    );
+    // maketx's own levels leave [0, 1]; ours are its levels clamped into it.
+    let (below, above) = range(&level_diff(&out, &reference, false));
+    let (our_min, our_max) = range(&level_diff(&reference, &out, false));
+    let d = largest(&level_diff(&out, &reference, true));
+    eprintln!(
+        "lanczos3 on a checker: maketx's levels reach [{below:.4}, {above:.4}], ours \
+         [{our_min:.4}, {our_max:.4}]; {clamped} pixels clamped; largest difference from \
+         maketx's clamped {d:.2e}"
+    );
+    assert!(
+        below < 0.0 && above > 1.0,
+        "no ringing to clamp: [{below}, {above}]"
+    );
+    assert!(our_min >= 0.0 && our_max <= 1.0, "[{our_min}, {our_max}]");
+    assert!(d <= 2e-6, "{d}");
+}
+
+/// The smallest and largest of the second file's values over its levels.
+fn range(diff: &[serde_json::Value]) -> (f64, f64) {
+    diff.iter().fold((f64::MAX, f64::MIN), |(lo, hi), l| {
+        (
+            lo.min(l["min"].as_f64().unwrap()),
+            hi.max(l["max"].as_f64().unwrap()),
+        )
+    })
+}
+
+#[test]
+fn resize_makes_maketx_power_of_two_levels_from_the_spectra() {
+    let dir = Scratch::new("texture-resize");
+    let input = dir.path("in.exr");
+    linear_image(&input, 61, 47);
+    // maketx --resize's level sizes for the same input.
+    let tx = dir.path("in.tx");
+    tool("maketx", &["--resize", s(&input), "-o", s(&tx)]);
+    // The spectra at the input's size: the level 0 maketx resizes for reference.
+    let plain = dir.path("plain.exr");
+    Cmd::convert(&input, &plain).args(["-d", "float"]).ok();
+    let level0 = level0(&plain, &dir, "level0.exr");
+    for name in ["box", "lanczos3", "gaussian"] {
+        let out = dir.path(&format!("{name}.exr"));
+        let json = Cmd::convert(&input, &out)
+            .args(["-d", "float", "--resize", "--filter", name, "--json"])
+            .ok()
+            .json();
+        assert_eq!(json["levels"], 7, "{json}");
+        assert_eq!(levels_line(&out), levels_line(&tx));
+        assert_eq!(
+            levels_line(&out),
+            "MIP-map levels: 64x64 32x32 16x16 8x8 4x4 2x2 1x1"
+        );
+        let reference = dir.path(&format!("{name}.tx"));
+        tool(
+            "maketx",
+            &[
+                "--resize",
+                "--filter",
+                name,
+                s(&level0),
+                "-o",
+                s(&reference),
+            ],
+        );
+        let d = largest(&level_diff(&out, &reference, true));
+        eprintln!("--resize --filter {name}: largest difference from maketx {d:.2e}");
+        assert!(d <= 2e-6, "{name}: {d}");
+    }
+    // The filter and the resize are settings: -u rebuilds when either changes.
+    let status = |args: &[&str]| {
+        Cmd::convert(&input, dir.path("u.exr"))
+            .args(["-u", "--json"])
+            .args(args)
+            .ok()
+            .json()["status"]
+            .as_str()
+            .unwrap()
+            .to_string()
+    };
+    assert_eq!(status(&[]), "ok");
+    assert_eq!(status(&["--filter", "box"]), "skipped");
+    assert_eq!(status(&["--filter", "lanczos3"]), "ok");
+    assert_eq!(status(&["--filter", "lanczos3", "--resize"]), "ok");
+    assert_eq!(status(&["--filter", "lanczos3", "--resize"]), "skipped");
+}
+
+#[test]
+fn an_unknown_filter_is_a_usage_error_that_lists_them() {
+    let dir = Scratch::new("texture-filter-name");
+    let input = dir.path("in.exr");
+    linear_image(&input, 8, 8);
+    Cmd::convert(&input, dir.path("out.exr"))
+        .args(["--filter", "lanczos"])
+        .fails(2, &["lanczos3", "radial-lanczos3", "box", "mitchell"]);
+    assert!(!dir.path("out.exr").exists());
+}

@@ -91,6 +91,13 @@ pub struct Report {
     pub above_one: u64,
     /// Pixels with a band beyond the half range, stored as ±65504.
     pub saturated: u64,
+    /// Pixels of made levels (and of a resized level 0) clamped after a filter with negative
+    /// lobes pushed a band out of range (`[0, 1]` for bounded reflectance) or alpha out of
+    /// [0, 1].
+    pub clamped: u64,
+    /// The filter the levels were made with; `None` when none was made (one level, not
+    /// resized).
+    pub filter: Option<crate::Filter>,
     /// Bounded reflectance: the outcomes of the projection into [0, 1]; `None` otherwise.
     pub bounded: Option<Counts>,
     /// Emission: colours no emission spectrum of the method matched; `None` otherwise.
@@ -308,6 +315,8 @@ impl Converter {
             non_finite: r.non_finite,
             above_one: r.above_one,
             saturated: r.saturated,
+            clamped: r.clamped,
+            filter: (r.levels > 1 || self.options.resize).then_some(self.options.filter),
             bounded: self.stack.counts_bounded().then_some(r.tally.bounded),
             unmatched: self.stack.emissive().map(|_| r.tally.unmatched),
             seconds: start.elapsed().as_secs_f64(),
@@ -349,6 +358,8 @@ impl Converter {
                 if let Some((s, t)) = self.options.wrap {
                     attributes.push(("wrapmodes".into(), format!("{s},{t}")));
                 }
+                // Its levels with the same filter (maketx filters the data as it is).
+                attributes.push(("maketx:filtername".into(), self.options.filter.to_string()));
                 let selection = data.selection.as_ref();
                 let how = specconv_pipeline::data::Copy {
                     subimage: selection.map_or(0, |s| s.subimage),
@@ -395,6 +406,8 @@ impl Converter {
             non_finite: 0,
             above_one: 0,
             saturated: 0,
+            clamped: 0,
+            filter: (outcome.1 > 1).then_some(self.options.filter),
             bounded: None,
             unmatched: None,
             seconds: start.elapsed().as_secs_f64(),
@@ -544,6 +557,15 @@ fn settings(o: &Options, stack: &Stack) -> Settings {
             Blocks::Scanlines => None,
         },
         mip: o.mip,
+        filter: o.filter,
+        resize: o.resize,
+        // What a filter's negative lobes may not push a band beyond: a bounded reflectance
+        // stays in [0, 1]; nothing physical is negative.
+        band_range: if o.bounded && o.emission.is_none() {
+            (0.0, 1.0)
+        } else {
+            (0.0, f32::INFINITY)
+        },
         wrap: o.wrap,
         non_finite: o.non_finite,
         constant_detect: o.constant_detect,
@@ -575,10 +597,15 @@ fn settings_tag(o: &Options, model: &str, stack: &Stack, config: &Config) -> Str
         alpha_name(o.alpha),
         config.source(),
     );
-    // MIP levels filtered from the spectra (maketx's box); outputs of earlier versions, whose
-    // levels were uplifted from the input's own, lack it and are rebuilt.
-    if o.mip == Mip::All && o.blocks != Blocks::Scanlines {
-        tag += " filter=box";
+    // MIP levels filtered from the spectra (box, maketx's default, unless asked); outputs of
+    // earlier versions, whose levels were uplifted from the input's own, lack it and are
+    // rebuilt.
+    if (o.mip == Mip::All && o.blocks != Blocks::Scanlines) || o.resize {
+        tag += &format!(" filter={}", o.filter);
+    }
+    // Only when asked, so that outputs of earlier versions stay up to date.
+    if o.resize {
+        tag += " resize=pow2";
     }
     if let Some((s, t)) = o.wrap {
         tag += &format!(" wrap={s},{t}");

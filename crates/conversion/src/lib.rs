@@ -42,7 +42,7 @@ pub use converter::{Advice, Converter, DataOutcome, Report, Role, Rule, Selectio
 pub use error::{message, Cause, ConversionError, Error, Remedy};
 pub use options::{
     alpha_name, mip_name, non_finite_name, sample_name, Alpha, Blocks, Compression, DataPolicy,
-    Mip, NonFinite, Options, Rounding, Sample, UnknownName, Wrap, WrapModes, WRAP_NAMES,
+    Filter, Mip, NonFinite, Options, Rounding, Sample, UnknownName, Wrap, WrapModes, WRAP_NAMES,
 };
 pub use provenance::Provenance;
 /// Ends the process at once, without C++ static destructors: for a signal handler's thread

@@ -8,7 +8,7 @@ use std::path::PathBuf;
 pub use specconv_exr::Sample;
 pub use specconv_pipeline::survey::NonFinite;
 pub use specconv_pipeline::texture::{Wrap, WrapModes, WRAP_NAMES};
-pub use specconv_pipeline::{Alpha, Mip};
+pub use specconv_pipeline::{Alpha, Filter, Mip};
 
 /// Everything that makes a conversion what it is. Start from [`Options::default`] (the
 /// command line's defaults) and set what differs; [`crate::Converter::new`] checks it all once.
@@ -60,6 +60,11 @@ pub struct Options {
     pub blocks: Blocks,
     /// Whether a tiled output is a MIP map (its levels filtered from the spectra).
     pub mip: Mip,
+    /// The filter MIP levels are made with (maketx's `--filter`; box by default).
+    pub filter: Filter,
+    /// Resize level 0 to the next power of two in each direction, filtering the spectra
+    /// (maketx's `--resize`).
+    pub resize: bool,
     /// Wrap modes a tiled output records (`None`: the input's, else black as maketx's).
     pub wrap: Option<WrapModes>,
     /// NaN and infinite input values: refused (the default), repaired, or kept.
@@ -123,6 +128,8 @@ impl Default for Options {
             zip_level: None,
             blocks: Blocks::Tiles(64, 64),
             mip: Mip::All,
+            filter: Filter::Box,
+            resize: false,
             wrap: None,
             non_finite: NonFinite::Refuse,
             constant_detect: true,

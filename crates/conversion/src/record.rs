@@ -45,6 +45,11 @@ pub struct Record {
     non_finite_repaired: Option<u64>,
     /// The wrap modes the texture records (`s,t`); null for scanline outputs.
     wrap: Option<String>,
+    /// The filter the MIP levels (and a resized level 0) were made with; null when none was
+    /// made.
+    filter: Option<&'static str>,
+    /// Pixels of made levels clamped after a filter's negative lobes pushed them out of range.
+    clamped: Option<u64>,
     /// Every pixel was the same: written as one tile.
     constant: Option<bool>,
     /// Alpha was 1 everywhere and was left out.
@@ -87,6 +92,8 @@ impl Record {
             saturated: None,
             non_finite_repaired: None,
             wrap: None,
+            filter: None,
+            clamped: None,
             constant: None,
             alpha_dropped: None,
             source_hash: None,
@@ -137,6 +144,8 @@ impl Record {
                 0
             }),
             wrap: r.wrap.map(|((s, t), _)| format!("{s},{t}")),
+            filter: r.filter.map(|f| f.name()),
+            clamped: Some(r.clamped),
             constant: Some(r.constant),
             alpha_dropped: Some(r.opaque_dropped),
             source_hash: Some(r.source_hash.clone()).filter(|h| !h.is_empty()),

@@ -18,6 +18,7 @@
 
 pub mod colour;
 pub mod data;
+pub mod filter;
 pub mod input;
 mod mip;
 mod png;
@@ -27,6 +28,7 @@ pub mod texture;
 pub use colour::{
     input_space, texture_space, Alpha, DataTexture, InputSpace, Rule, ToXyz, Warning,
 };
+pub use filter::Filter;
 use rayon::prelude::*;
 use specconv_atomic_file::{PlanError, Replace};
 use specconv_exr::{Block, Blocks, Chunk, Compression, Kind, Sample, Spec, SpectralFile, Windows};
@@ -183,6 +185,14 @@ pub struct Settings {
     pub tile: Option<(usize, usize)>,
     /// Which MIP levels to convert.
     pub mip: Mip,
+    /// The filter MIP levels (and a resized level 0) are made with.
+    pub filter: Filter,
+    /// Level 0 is the input's spectra resized to the next power of two in each direction
+    /// (maketx `--resize`), with `filter`.
+    pub resize: bool,
+    /// The range a filter with negative lobes ([`Filter::has_negative_lobes`]) keeps the
+    /// bands it makes in: [0, 1] for bounded reflectance. Alpha is kept in [0, 1].
+    pub band_range: (f32, f32),
     /// Wrap modes recorded in a tiled output; `None`: the input's, else
     /// [`texture::DEFAULT_WRAP`].
     pub wrap: Option<texture::WrapModes>,
@@ -214,6 +224,9 @@ impl Default for Settings {
             zip_level: specconv_exr::zip::DEFAULT_LEVEL,
             tile: Some((64, 64)),
             mip: Mip::All,
+            filter: Filter::Box,
+            resize: false,
+            band_range: (0.0, 1.0),
             wrap: None,
             non_finite: survey::NonFinite::Refuse,
             constant_detect: true,
@@ -261,6 +274,9 @@ pub struct Report {
     pub above_one: u64,
     /// Pixels with a finite band beyond the half range, stored as ±65504 instead of ±∞.
     pub saturated: u64,
+    /// Pixels of made levels whose values a filter with negative lobes pushed out of range,
+    /// clamped ([`Settings::band_range`]).
+    pub clamped: u64,
     /// What the method's adapters counted over this job's pixels (bounded outcomes, unmatched
     /// emission): this job's alone.
     pub tally: Tally,
@@ -276,6 +292,7 @@ struct Counts {
     non_finite: u64,
     above_one: u64,
     saturated: u64,
+    clamped: u64,
     tally: Tally,
 }
 
@@ -393,7 +410,7 @@ impl Opened<'_> {
             .constant
             .as_deref()
             .filter(|_| job.settings.constant_detect && job.settings.tile.is_some());
-        let file = output_file(
+        let (file, source) = output_file(
             job,
             &info,
             (alpha.is_some(), constant.is_some()),
@@ -408,7 +425,14 @@ impl Opened<'_> {
             premultiply: premultiply && alpha.is_some(),
             repair: &survey.repair,
         };
-        let (total, counts) = write_file(job, &file, &mut reader, &reading, constant, progress)?;
+        let (total, counts) = write_file(
+            job,
+            (&file, source),
+            &mut reader,
+            &reading,
+            constant,
+            progress,
+        )?;
         Ok(Report {
             width: info.width() as usize,
             height: info.height() as usize,
@@ -427,13 +451,15 @@ impl Opened<'_> {
             non_finite: counts.non_finite,
             above_one: counts.above_one,
             saturated: counts.saturated,
+            clamped: counts.clamped,
             tally: counts.tally,
         })
     }
 }
 
 /// The output's description: its size and windows, bands, blocks and levels, with
-/// `attributes`, the texture's and what the survey found. `(alpha, constant)`: whether alpha
+/// `attributes`, the texture's and what the survey found; and the size of the spectra level 0
+/// is made of (the input's, or a constant texture's tile). `(alpha, constant)`: whether alpha
 /// is written, and whether the texture is written as one tile of its constant colour.
 fn output_file(
     job: &Job,
@@ -442,7 +468,7 @@ fn output_file(
     attributes: &[(String, String)],
     wrap: texture::WrapModes,
     survey: &survey::Survey,
-) -> Result<SpectralFile> {
+) -> Result<(SpectralFile, (usize, usize))> {
     // Every tiled output is a MIP map made from its own spectra (module `mip`); the input's
     // smaller levels, if any, are not read.
     let blocks = match job.settings.tile {
@@ -469,6 +495,12 @@ fn output_file(
         // window, so that lookups over [0, 1] read it all.
         (width, height) = (width.min(tw), height.min(th));
         windows.display = (top.x, top.y, width, height);
+    }
+    let source = (width, height);
+    if job.settings.resize {
+        // maketx --resize: each size up to a power of two, and the texture spans it.
+        (width, height) = (width.next_power_of_two(), height.next_power_of_two());
+        windows.display = (windows.display.0, windows.display.1, width, height);
     }
     // A tiled output is a texture: its wrap modes and format, as maketx writes them.
     let (mut extra, fovcot) = match blocks {
@@ -504,7 +536,7 @@ fn output_file(
     if constant {
         spec.attributes.push((CONSTANT.into(), placeholder));
     }
-    Ok(SpectralFile::new(spec)?)
+    Ok((SpectralFile::new(spec)?, source))
 }
 
 /// What OpenImageIO's texture system reports as a texture's average colour.
@@ -550,23 +582,24 @@ fn average_attributes(file: &SpectralFile, sums: &[f64], pixels: u64) -> Vec<(St
         .collect()
 }
 
-/// One block made: its chunk, what its pixels had, and (for a MIP map) its values — the
-/// spectra before rounding, alpha after each spectrum when the file has it — for the smaller
-/// levels.
+/// One block made: its chunk (none for the input's spectra that a resized level 0 is made
+/// of), what its pixels had, and (for a MIP map) its values — the spectra before rounding,
+/// alpha after each spectrum when the file has it — for the smaller levels.
 struct Made {
     index: usize,
-    chunk: Chunk,
+    chunk: Option<Chunk>,
     counts: Counts,
     kept: Option<Vec<f32>>,
     /// Level 0: the sums of its values, bands then alpha (for the average); else empty.
     sums: Vec<f64>,
 }
 
-/// Reads, converts, uplifts and writes every window of `file`; returns the pixels uplifted and
+/// Reads, converts, uplifts and writes every window of `file`, whose level 0 is made from
+/// spectra of size `source` (resized when it is not level 0's); returns the pixels uplifted and
 /// what they had.
 fn write_file(
     job: &Job,
-    file: &SpectralFile,
+    (file, source): (&SpectralFile, (usize, usize)),
     reader: &mut specconv_oiio::ImageReader,
     reading: &Reading,
     constant: Option<&[f32]>,
@@ -581,33 +614,44 @@ fn write_file(
             });
         }
     }
-    // Level 0 is read and uplifted; the smaller levels are made from its spectra.
-    let (strips, smaller): (Vec<Strip>, Vec<Strip>) =
-        strips(file).into_iter().partition(|s| s.level == 0);
+    // Level 0 is read and uplifted; the smaller levels are made from its spectra. Resized,
+    // the input is read and uplifted, and every level made from its spectra.
+    let resized = file.level_size(0) != source;
+    let (strips, smaller): (Vec<Strip>, Vec<Strip>) = strips(file)
+        .into_iter()
+        .partition(|s| s.level == 0 && !resized);
+    let strips = if resized {
+        input_strips(file, source)
+    } else {
+        strips
+    };
     let smaller: std::collections::HashMap<(usize, usize), Vec<Block>> = smaller
         .into_iter()
         .map(|s| ((s.level, s.y), s.blocks))
         .collect();
     let values = file.values_per_pixel();
-    let mut cascade = (file.levels() > 1).then(|| {
-        let sizes: Vec<_> = (0..file.levels()).map(|l| file.level_size(l)).collect();
-        let tile_height = match file.spec().blocks {
-            Blocks::Tiles { height, .. } => height,
-            Blocks::Scanlines => 1,
-        };
-        mip::Cascade::new(&sizes, tile_height, values)
+    let mut cascade = (file.levels() > 1 || resized).then(|| {
+        let sizes: Vec<_> = resized
+            .then_some(source)
+            .into_iter()
+            .chain((0..file.levels()).map(|l| file.level_size(l)))
+            .collect();
+        mip::Cascade::new(
+            &sizes,
+            block_height(file),
+            values,
+            job.settings.filter,
+            resized,
+        )
     });
-    let total: u64 = strips
-        .iter()
-        .map(|s| (file.level_size(s.level).0 * s.height) as u64)
-        .sum();
+    let total: u64 = strips.iter().map(|s| (source.0 * s.height) as u64).sum();
     // Enough strips per window to keep every thread busy, at least one.
     let budget = (rayon::current_num_threads() * 8 * 64 * 64) as u64;
     let mut windows = Vec::new();
     let mut current: Vec<Strip> = Vec::new();
     let mut pixels = 0u64;
     for s in strips {
-        pixels += (file.level_size(s.level).0 * s.height) as u64;
+        pixels += (source.0 * s.height) as u64;
         current.push(s);
         if pixels >= budget {
             windows.push(std::mem::take(&mut current));
@@ -626,10 +670,10 @@ fn write_file(
             .map(|s| match constant {
                 // Nothing to read: every pixel is this one.
                 Some(px) => Ok(specconv_oiio::Pixels {
-                    width: file.level_size(0).0 as u32,
+                    width: source.0 as u32,
                     height: s.height as u32,
                     channels: px.len(),
-                    data: px.repeat(file.level_size(0).0 * s.height),
+                    data: px.repeat(source.0 * s.height),
                 }),
                 None => Ok(reader.read_scanlines(s.level, s.y as u32..(s.y + s.height) as u32)?),
             })
@@ -695,8 +739,11 @@ fn write_file(
                     counts.non_finite += c.non_finite;
                     counts.above_one += c.above_one;
                     counts.saturated += c.saturated;
+                    counts.clamped += c.clamped;
                     counts.tally += c.tally;
-                    sink(chunk_index, chunk)?;
+                    if let Some(chunk) = chunk {
+                        sink(chunk_index, chunk)?;
+                    }
                 }
                 Ok(())
             };
@@ -726,7 +773,7 @@ fn write_file(
                                                 if job.cancel.load(Ordering::Relaxed) {
                                                     return Err(Error::Cancelled);
                                                 }
-                                                encode_block(file, job, reading, b, px)
+                                                encode_block(file, job, reading, b, px, resized)
                                             })
                                             .collect::<Result<Vec<_>>>()
                                     })
@@ -747,14 +794,14 @@ fn write_file(
                 let (strips, lower) = chunks.map_err(&mut fail)?;
                 if let Some(cascade) = cascade.as_mut() {
                     for (strip, blocks) in window.iter().zip(&strips) {
-                        let rows = strip_rows(file, strip, blocks, values);
-                        completed.extend(cascade.push(&rows, file.level_size(0).0));
+                        let rows = strip_rows(source.0, strip, blocks, values);
+                        completed.extend(cascade.push(&rows, source.0));
                     }
                 }
                 made = strips.into_iter().flatten().chain(lower).collect();
                 done += window
                     .iter()
-                    .map(|s| (file.level_size(s.level).0 * s.height) as u64)
+                    .map(|s| (source.0 * s.height) as u64)
                     .sum::<u64>();
                 progress(done, total);
             }
@@ -794,9 +841,47 @@ fn write_file(
     Ok((total, counts))
 }
 
-/// A level-0 strip's values, row by row across its blocks, from the blocks' own values.
-fn strip_rows(file: &SpectralFile, strip: &Strip, blocks: &[Made], values: usize) -> Vec<f32> {
-    let width = file.level_size(0).0;
+/// The rows of the blocks of one strip of the file: its tile height, or its scanline blocks'.
+fn block_height(file: &SpectralFile) -> usize {
+    match file.spec().blocks {
+        Blocks::Tiles { height, .. } => height,
+        Blocks::Scanlines => file.blocks().first().map_or(1, |b| b.height),
+    }
+}
+
+/// The strips the input is read in when level 0 is resized from it: rows of blocks of the
+/// file's block size, over the input's `size`. Their blocks are not the file's (no chunk).
+fn input_strips(file: &SpectralFile, (width, height): (usize, usize)) -> Vec<Strip> {
+    let (bw, bh) = match file.spec().blocks {
+        Blocks::Tiles { width, height, .. } => (width, height),
+        Blocks::Scanlines => (width, block_height(file)),
+    };
+    (0..height)
+        .step_by(bh)
+        .map(|y| {
+            let h = bh.min(height - y);
+            Strip {
+                level: 0,
+                y,
+                height: h,
+                blocks: (0..width)
+                    .step_by(bw)
+                    .map(|x| Block {
+                        chunk: usize::MAX,
+                        level: 0,
+                        x,
+                        y,
+                        width: bw.min(width - x),
+                        height: h,
+                    })
+                    .collect(),
+            }
+        })
+        .collect()
+}
+
+/// A strip's values, `width` pixels a row across its blocks, from the blocks' own values.
+fn strip_rows(width: usize, strip: &Strip, blocks: &[Made], values: usize) -> Vec<f32> {
     let mut rows = vec![0.0f32; width * strip.height * values];
     for (b, made) in strip.blocks.iter().zip(blocks) {
         let v = made
@@ -838,16 +923,72 @@ fn encode_made_block(
             }
         }
     }
-    // Counted on level 0 only: a smaller level's value beyond the half range comes from one
-    // there.
-    let (chunk, _) = finish_block(file, job, b, bands, a.as_deref())?;
+    let clamped = keep_in_range(job.settings, &mut bands, a.as_deref_mut(), n);
+    // A resized level 0 is made here: its sums for the average, and its values beyond the half
+    // range counted (a smaller level's come from one there).
+    let level0 = strip.level == 0;
+    let sums = if level0 {
+        level_sums(&bands, a.as_deref(), n)
+    } else {
+        Vec::new()
+    };
+    let (chunk, saturated) = finish_block(file, job, b, bands, a.as_deref())?;
     Ok(Made {
         index: b.chunk,
-        chunk,
-        counts: Counts::default(),
+        chunk: Some(chunk),
+        counts: Counts {
+            saturated: if level0 { saturated } else { 0 },
+            clamped,
+            ..Counts::default()
+        },
         kept: None,
-        sums: Vec::new(),
+        sums,
     })
+}
+
+/// Clamps what a filter with negative lobes pushed out of range: bands into the settings'
+/// `band_range`, alpha into [0, 1]; returns the pixels it changed. Filters without them only
+/// average, and are left alone (their values are level 0's, averaged).
+fn keep_in_range(
+    settings: &Settings,
+    bands: &mut [f32],
+    mut alpha: Option<&mut [f32]>,
+    n: usize,
+) -> u64 {
+    if !settings.filter.has_negative_lobes() {
+        return 0;
+    }
+    let (lo, hi) = settings.band_range;
+    let mut changed = 0;
+    for (i, spectrum) in bands.chunks_exact_mut(n).enumerate() {
+        let mut any = false;
+        for v in spectrum.iter_mut() {
+            let kept = v.clamp(lo, hi);
+            any |= kept != *v;
+            *v = kept;
+        }
+        if let Some(a) = alpha.as_deref_mut() {
+            let kept = a[i].clamp(0.0, 1.0);
+            any |= kept != a[i];
+            a[i] = kept;
+        }
+        changed += u64::from(any);
+    }
+    changed
+}
+
+/// The sums of a block's values, bands then alpha, for the average of level 0.
+fn level_sums(bands: &[f32], alpha: Option<&[f32]>, n: usize) -> Vec<f64> {
+    let mut sums = vec![0.0f64; n + usize::from(alpha.is_some())];
+    for spectrum in bands.chunks_exact(n) {
+        sums.iter_mut()
+            .zip(spectrum)
+            .for_each(|(s, &v)| *s += f64::from(v));
+    }
+    if let Some(a) = alpha {
+        sums[n] = a.iter().map(|&v| f64::from(v)).sum();
+    }
+    sums
 }
 
 pub use input::colour_channels;
@@ -923,13 +1064,15 @@ fn uplift_block(
     Ok((bands, a, counts))
 }
 
-/// Colour-converts, uplifts and compresses one block from its strip's pixels.
+/// Colour-converts, uplifts and compresses one block from its strip's pixels; `resized`: only
+/// uplifts it, keeping its spectra for the level 0 made of them.
 fn encode_block(
     file: &SpectralFile,
     job: &Job,
     reading: &Reading,
     b: &Block,
     strip: &specconv_oiio::Pixels,
+    resized: bool,
 ) -> Result<Made> {
     let (bands, a, mut counts) = uplift_block(job, reading, b, strip, b.y)?;
     let n = job.method.grid().len();
@@ -938,7 +1081,7 @@ fn encode_block(
         return Err(Error::Cancelled);
     }
     // The smaller levels are filtered from the spectra before they are rounded.
-    let kept = (file.levels() > 1).then(|| match &a {
+    let kept = (file.levels() > 1 || resized).then(|| match &a {
         Some(a) => bands
             .chunks_exact(n)
             .zip(a)
@@ -946,21 +1089,22 @@ fn encode_block(
             .collect(),
         None => bands.clone(),
     });
+    if resized {
+        return Ok(Made {
+            index: b.chunk,
+            chunk: None,
+            counts,
+            kept,
+            sums: Vec::new(),
+        });
+    }
     // Level 0's sums, before rounding, for the average.
-    let mut sums = vec![0.0f64; file.values_per_pixel()];
-    for spectrum in bands.chunks_exact(n) {
-        sums.iter_mut()
-            .zip(spectrum)
-            .for_each(|(s, &v)| *s += f64::from(v));
-    }
-    if let Some(a) = &a {
-        sums[n] = a.iter().map(|&v| f64::from(v)).sum();
-    }
+    let sums = level_sums(&bands, a.as_deref(), n);
     let (chunk, saturated) = finish_block(file, job, b, bands, a.as_deref())?;
     counts.saturated = saturated;
     Ok(Made {
         index: b.chunk,
-        chunk,
+        chunk: Some(chunk),
         counts,
         kept,
         sums,

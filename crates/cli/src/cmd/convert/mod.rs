@@ -11,8 +11,8 @@ use crate::stdio::StdoutFailed;
 use crate::{exit, explain, methods, print_error, records, signals, usage};
 use anyhow::Result;
 use specconv_conversion::{
-    Advice, Alpha, Batch, Blocks, Compression, Converter, DataPolicy, Event, Mip, NonFinite,
-    Options, Rounding, Sample, WrapModes,
+    Advice, Alpha, Batch, Blocks, Compression, Converter, DataPolicy, Event, Filter, Mip,
+    NonFinite, Options, Rounding, Sample, WrapModes,
 };
 use specconv_spectral::method::MethodName;
 use std::path::{Path, PathBuf};
@@ -100,6 +100,10 @@ fn data_policy(name: &str) -> DataPolicy {
         "fail" => DataPolicy::Fail,
         _ => DataPolicy::Skip,
     }
+}
+
+fn filter(name: &str) -> Filter {
+    Filter::from_name(name).expect("clap lets only the listed names through")
 }
 
 fn mip(name: &str) -> Mip {
@@ -222,6 +226,19 @@ pub struct Args {
     /// resolution only.
     #[arg(long, default_value = "all", value_parser = one_of(&["all", "0"], mip))]
     mip: Mip,
+    /// The filter each MIP level is made with from the spectra of the level above, as maketx's
+    /// `--filter`: `box` (its default: the 2×2 average, bilinear at odd sizes) or one of
+    /// OpenImageIO's. Filters with negative lobes (lanczos3, catmull-rom, mitchell, sinc, the
+    /// cubics) clamp what they push out of range: bands into [0, 1] (bounded reflectance) or
+    /// above 0, alpha into [0, 1].
+    #[arg(long, value_name = "NAME", default_value = "box",
+          value_parser = one_of(&Filter::NAMES, filter))]
+    filter: Filter,
+    /// Resize level 0 up to the next power of two in each direction, as maketx's `--resize`:
+    /// the input is uplifted at its own size and its spectra resampled with --filter (box and
+    /// triangle: bilinearly, as maketx).
+    #[arg(long)]
+    resize: bool,
     /// Wrap modes the texture records, `MODE` or `S,T` (black, clamp, periodic, mirror);
     /// default: the input's (a maketx texture's), else black, as maketx.
     #[arg(long, value_name = "MODE[,MODE]", value_parser = wrap_modes)]
@@ -351,6 +368,8 @@ impl Args {
             Blocks::Tiles(self.tile[0], self.tile[1])
         };
         o.mip = self.mip;
+        o.filter = self.filter;
+        o.resize = self.resize;
         o.wrap = self.wrap;
         o.non_finite = self.fixnan.unwrap_or(NonFinite::Refuse);
         o.constant_detect = self.constant_color_detect;

@@ -110,6 +110,16 @@ fn summary_line(r: &Report) -> String {
         let from = if declared { " (the input's)" } else { "" };
         line += &format!(", wrap {s},{t}{from}");
     }
+    match r.filter {
+        Some(f) if f != specconv_conversion::Filter::Box => line += &format!(", filter {f}"),
+        _ => {}
+    }
+    if r.clamped > 0 {
+        line += &format!(
+            ", {} filtered pixels clamped (the filter's negative lobes)",
+            r.clamped
+        );
+    }
     if r.non_finite > 0 {
         line += &format!(", {} pixels NaN or infinite (written as NaN)", r.non_finite);
     }
