@@ -39,15 +39,15 @@ RES = 32
 TEXELS = 16
 PATCH = 4  # texels per patch side
 
-# drjit's LLVM backend needs LLVM ≥ 17 (Debian 12's 14–16 abort on `fminimum`): run it only
-# where DRJIT_LIBLLVM_PATH names one (CI: libllvm19).
+# Dr.Jit's LLVM backend aborts on Debian 12's LLVM 15 and 16 (`fminimum`) and works on its
+# libllvm19: run it only where DRJIT_LIBLLVM_PATH names a working one (CI: libllvm19).
 VARIANTS = [
     "scalar_spectral",
     pytest.param(
         "llvm_ad_spectral",
         marks=pytest.mark.skipif(
             not os.environ.get("DRJIT_LIBLLVM_PATH"),
-            reason="DRJIT_LIBLLVM_PATH unset: drjit's LLVM backend needs LLVM >= 17 "
+            reason="DRJIT_LIBLLVM_PATH unset: Dr.Jit's LLVM backend aborts on LLVM 15 and 16 "
             "(Debian 12: apt-get install libllvm19, then "
             "DRJIT_LIBLLVM_PATH=/usr/lib/x86_64-linux-gnu/libLLVM.so.19.1)",
         ),
