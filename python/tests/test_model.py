@@ -27,8 +27,8 @@ def test_training_from_numpy_is_the_cli_s_model(tmp_path, shared, cli):
     assert ours == theirs
     assert model.clusters == 8 and model.wavelengths.size == 36
     assert "non-commercial" in model.sources
-    # The paper's model is this training: the built-in default.
-    builtin = specconv.Model.builtin()
+    # The paper's model is this training.
+    builtin = specconv.Model.builtin("paper")
     xyz = np.array([[0.2, 0.15, 0.1], [0.05, 0.1, 0.3]])
     np.testing.assert_array_equal(specconv.uplift(xyz, model), specconv.uplift(xyz, builtin))
 
@@ -46,7 +46,7 @@ def test_a_saved_model_loads_and_converts_by_name(tmp_path, shared, png):
 
 
 def test_model_errors():
-    with pytest.raises(specconv.OptionError, match="paper, broad, open"):
+    with pytest.raises(specconv.OptionError, match="extended, paper, broad, open"):
         specconv.Model.builtin("munsell")
     with pytest.raises(specconv.FileError):
         specconv.Model.load("/nonexistent/model.json")

@@ -51,7 +51,7 @@ fn eval_uses_the_builtin_model_and_prints_a_readable_summary() {
     let out = Cmd::eval(colorchecker()).run();
     let text = out.ok();
     assert!(
-        text.contains("model:      built-in paper (8 clusters, cie1931, D65, 380:730:10 nm"),
+        text.contains("model:      built-in extended (8 clusters, cie1931, D65, 380:730:10 nm"),
         "{text}"
     );
     assert!(text.contains("spectra:    24"), "{text}");
@@ -332,6 +332,16 @@ fn train_records_weights_balance_and_licences_in_the_model() {
 fn builtin_models_are_named_and_say_their_data_and_licences() {
     for (name, clusters, words) in [
         (
+            "extended",
+            "8 clusters",
+            &[
+                "munsell1269",
+                "usgs_splib07a",
+                "rhododendron",
+                "non-commercial",
+            ][..],
+        ),
+        (
             "paper",
             "8 clusters",
             &["munsell1269", "non-commercial"][..],
@@ -361,12 +371,16 @@ fn builtin_models_are_named_and_say_their_data_and_licences() {
     }
     Cmd::eval(colorchecker()).args(["--model", "papers"]).fails(
         2,
-        &["no built-in model is called 'papers'", "paper, broad, open"],
+        &[
+            "no built-in model is called 'papers'",
+            "extended, paper, broad, open",
+        ],
     );
     let version = Cmd::new(["--version"]).run();
     let text = version.ok();
     for w in [
-        "paper: the default",
+        "extended: the default",
+        "paper: the paper",
         "broad:",
         "open:",
         "non-commercial",
@@ -382,7 +396,8 @@ fn outputs_say_which_model_made_them() {
     let dir = Scratch::new("which-model");
     let input = crate::convert::testdata("srgb8.png");
     for (flags, want) in [
-        (&[][..], "built-in paper (8 clusters"),
+        (&[][..], "built-in extended (8 clusters"),
+        (&["--model", "paper"][..], "built-in paper (8 clusters"),
         (&["--model", "broad"][..], "built-in broad (11 clusters"),
         (&["--model", "open"][..], "built-in open ("),
     ] {

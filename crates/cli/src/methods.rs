@@ -26,7 +26,7 @@ pub struct BlendArg {
 /// The options of the method stack that `convert` and `simulate` share, with one default each.
 #[derive(Debug, Clone, clap::Args)]
 pub struct StackArgs {
-    /// A built-in model by name (paper, the default; broad; open: `specconv --version` lists them with
+    /// A built-in model by name (extended, the default; paper; broad; open: `specconv --version` lists them with
     /// their data and licences) or a model file from `specconv train`; the built-in default when
     /// absent. Its grid, observer and illuminant are those of the output, whatever the method.
     #[arg(long, value_name = "NAME|MODEL")]

@@ -1,4 +1,4 @@
-//! The model a conversion uplifts with: a built-in one by name (`paper`, the default; `broad`, `open`:
+//! The model a conversion uplifts with: a built-in one by name (`extended`, the default; `paper`, `broad`, `open`:
 //! [`specconv_spectral::otsu2018::model::BUILTIN`]) or a file from `specconv train`.
 
 use specconv_spectral::otsu2018::model::BUILTIN;

@@ -247,10 +247,11 @@ fn hard_inputs_through_bounded() {
     let counts = bounded.uplift_f32_counted(&[0.2, f32::NAN, 0.1], &mut r32);
     assert_eq!(counts.not_finite, 1);
     assert!(r32.iter().all(|v| v.is_nan()));
-    // White exactly: the perfect reflector.
+    // White exactly: the perfect reflector, to the projection's precision (the paper model's
+    // is within 1e-9, the extended model's one band 1.1e-8 below 1; half floats step by 5e-4).
     let counts = bounded.uplift_f64_counted(&a.white_xyz(), &mut r);
     assert!(counts.outside == 0, "{counts:?}");
-    assert!(r.iter().all(|v| (v - 1.0).abs() < 1e-9), "{r:?}");
+    assert!(r.iter().all(|v| (v - 1.0).abs() < 1e-7), "{r:?}");
 }
 
 /// The Lagrange multipliers of the equality constraints from the free bands (least squares),

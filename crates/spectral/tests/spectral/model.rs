@@ -39,16 +39,16 @@ fn builtin_models_are_what_train_makes_from_shared() {
             );
         }
     }
-    // The default is the paper's model (docs/methods.md says why).
+    // The default is the extended model (docs/methods.md says why); the paper's stays by name.
     assert!(std::ptr::eq(
         Model::builtin(),
-        Model::builtin_named("paper").unwrap()
+        Model::builtin_named("extended").unwrap()
     ));
 }
 
 #[test]
 fn the_paper_model_is_munsell_alone_and_unchanged() {
-    // The built-in default since the beginning: 8 clusters on the
+    // The built-in default until issue 23: 8 clusters on the
     // Munsell set, CIE 1931, D65, minimum 20, unweighted. Its numbers must not move.
     let paper = Model::builtin_named("paper").unwrap();
     assert!(*paper == default_model());
