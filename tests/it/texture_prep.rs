@@ -266,6 +266,68 @@ fn data_maps_are_skipped_by_default_never_uplifted_and_not_failures() {
 }
 
 #[test]
+fn data_copy_resizes_to_powers_of_two_as_maketx_does() {
+    let dir = Scratch::new("data-copy-resize");
+    let config = studio_config(&dir);
+    // A mask of a size that is no power of two (its name makes it Raw by the studio's rules).
+    let rough = dir.path("odd_mask.png");
+    tool(
+        "oiiotool",
+        &[
+            "--pattern",
+            "noise:min=0:max=1:seed=5",
+            "40x24",
+            "1",
+            "-d",
+            "uint8",
+            "-o",
+            rough.to_str().unwrap(),
+        ],
+    );
+    let ours = dir.path("rough.exr");
+    let v = Cmd::convert(&rough, &ours)
+        .args(["--ocio", config.to_str().unwrap()])
+        .args([
+            "--data", "copy", "--resize", "--filter", "lanczos3", "--json",
+        ])
+        .ok()
+        .json();
+    assert_eq!(v["status"], "copied", "{v}");
+    let theirs = dir.path("maketx.exr");
+    tool(
+        "maketx",
+        &[
+            rough.to_str().unwrap(),
+            "--resize",
+            "--filter",
+            "lanczos3",
+            "-o",
+            theirs.to_str().unwrap(),
+        ],
+    );
+    let levels = |p: &std::path::Path| {
+        let info = tool("oiiotool", &["--info", "-v", p.to_str().unwrap()]);
+        info.lines()
+            .find(|l| l.contains("MIP-map levels"))
+            .map(|l| l.trim().to_string())
+            .unwrap_or_else(|| panic!("{info}"))
+    };
+    assert_eq!(
+        levels(&ours),
+        "MIP-map levels: 64x32 32x16 16x8 8x4 4x2 2x1 1x1"
+    );
+    assert_eq!(levels(&ours), levels(&theirs));
+    // The same resized values as maketx's (level 0).
+    let diff = std::process::Command::new("oiiotool")
+        .args([ours.to_str().unwrap(), theirs.to_str().unwrap()])
+        .args(["--fail", "0.002", "--warn", "0.002", "--diff"])
+        .output()
+        .unwrap();
+    let said = String::from_utf8_lossy(&diff.stdout);
+    assert!(said.contains("PASS"), "{said}");
+}
+
+#[test]
 fn data_copy_writes_a_mipmapped_data_texture_with_the_values_and_metadata_kept() {
     let dir = Scratch::new("data-copy");
     library(&dir);

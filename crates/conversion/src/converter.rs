@@ -360,6 +360,11 @@ impl Converter {
                 }
                 // Its levels with the same filter (maketx filters the data as it is).
                 attributes.push(("maketx:filtername".into(), self.options.filter.to_string()));
+                // And level 0 resized to powers of two as maketx's --resize (OpenImageIO reads
+                // the integer from the string).
+                if self.options.resize {
+                    attributes.push(("maketx:resize".into(), "1".into()));
+                }
                 let selection = data.selection.as_ref();
                 let how = specconv_pipeline::data::Copy {
                     subimage: selection.map_or(0, |s| s.subimage),
