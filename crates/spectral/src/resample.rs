@@ -129,6 +129,18 @@ impl<M: Method> Method for Resampled<M> {
 
     fn uplift_f32_tallied(&self, xyz: &[f32], out: &mut [f32], tally: &mut Tally) {
         let (n0, n) = (self.inner.grid().len(), self.colorimetry.bands());
+        if self.same_grid {
+            // Corrected in place: no spectra to hold twice (the block's copy cost page faults
+            // and as long as the correction; the same arithmetic, so the same bits).
+            self.inner.uplift_f32_tallied(xyz, out, tally);
+            let mut scratch = vec![0.0; n];
+            for (c, r) in xyz.chunks_exact(3).zip(out.chunks_exact_mut(n)) {
+                let c = [c[0] as f64, c[1] as f64, c[2] as f64];
+                self.resample(c, r, &mut scratch);
+                r.iter_mut().zip(&scratch).for_each(|(o, &v)| *o = v as f32);
+            }
+            return;
+        }
         let mut tmp = vec![0.0f32; xyz.len() / 3 * n0];
         self.inner.uplift_f32_tallied(xyz, &mut tmp, tally);
         let mut scratch = vec![0.0; n];
