@@ -70,7 +70,7 @@ fn describe(origin: Option<PathBuf>, m: &specconv_spectral::Model) -> String {
 
 #[pymethods]
 impl Model {
-    /// A built-in model by name (`None`: the default, the paper's); `specconv --version` lists
+    /// A built-in model by name (`None`: the default, `extended`); `specconv --version` lists
     /// them.
     #[staticmethod]
     #[pyo3(signature = (name=None))]
