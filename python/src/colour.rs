@@ -40,13 +40,9 @@ pub fn uplift<'py>(
         .map(str::parse::<EmissionUnits>)
         .transpose()
         .map_err(option)?;
-    let default;
     let model = match model {
         Some(m) => m.get(),
-        None => {
-            default = Model::default_model();
-            &default
-        }
+        None => Model::default_model(),
     };
     let stack = model.stack(&options)?;
     let n = stack.method().grid().len();

@@ -52,12 +52,15 @@ impl Model {
         Ok(stack)
     }
 
-    /// The built-in default.
-    pub fn default_model() -> Model {
-        Model::new(
-            specconv_spectral::Model::builtin().clone(),
-            Some(BUILTIN[0].name.into()),
-        )
+    /// The built-in default, one for the process (so its stacks are built once).
+    pub fn default_model() -> &'static Model {
+        static DEFAULT: std::sync::OnceLock<Model> = std::sync::OnceLock::new();
+        DEFAULT.get_or_init(|| {
+            Model::new(
+                specconv_spectral::Model::builtin().clone(),
+                Some(BUILTIN[0].name.into()),
+            )
+        })
     }
 }
 
