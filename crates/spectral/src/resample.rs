@@ -42,19 +42,7 @@ impl<M: Method> Resampled<M> {
                 (i, j, t - i as f64)
             })
             .collect();
-        let a = &colorimetry.weights;
-        let gram = Matrix3::from_fn(|i, j| a[i].iter().zip(&a[j]).map(|(x, y)| x * y).sum::<f64>());
-        let inv = gram.try_inverse().ok_or_else(|| {
-            Error::Grid(format!(
-                "{}: the grid cannot tell X, Y and Z apart",
-                colorimetry.grid
-            ))
-        })?;
-        let correction = std::array::from_fn(|k| {
-            (0..colorimetry.bands())
-                .map(|b| (0..3).map(|i| a[i][b] * inv[(i, k)]).sum())
-                .collect()
-        });
+        let correction = correction(&colorimetry)?;
         let same_grid = from == colorimetry.grid;
         // On its own grid only the colour is corrected (to another integration): same name.
         let name = if same_grid {
@@ -99,6 +87,24 @@ impl<M: Method> Resampled<M> {
             *v = *v + k0 * e[0] + k1 * e[1] + k2 * e[2];
         }
     }
+}
+
+/// Aᵀ(AAᵀ)⁻¹ by columns, A the XYZ rows of `colorimetry`: the smallest change of a spectrum per
+/// unit of XYZ error (one n-vector per XYZ component).
+pub(crate) fn correction(colorimetry: &Colorimetry) -> Result<[Vec<f64>; 3], Error> {
+    let a = &colorimetry.weights;
+    let gram = Matrix3::from_fn(|i, j| a[i].iter().zip(&a[j]).map(|(x, y)| x * y).sum::<f64>());
+    let inv = gram.try_inverse().ok_or_else(|| {
+        Error::Grid(format!(
+            "{}: the grid cannot tell X, Y and Z apart",
+            colorimetry.grid
+        ))
+    })?;
+    Ok(std::array::from_fn(|k| {
+        (0..colorimetry.bands())
+            .map(|b| (0..3).map(|i| a[i][b] * inv[(i, k)]).sum())
+            .collect()
+    }))
 }
 
 impl<M: Method> Method for Resampled<M> {

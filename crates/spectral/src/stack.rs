@@ -3,6 +3,9 @@
 //!
 //!   clustered or baseline → resampled onto the output grid → bounded (counted) → emissive
 //!
+//! (On the model's own grid the clustered methods fold the resampling's colour correction into
+//! their affine maps instead: the same spectra, without a pass over them.)
+//!
 //! with the counters of its adapters. `convert`, `eval`, `report` and `simulate` all build
 //! here, so the same options give the same spectra in every command.
 
@@ -147,11 +150,11 @@ impl Stack {
     /// Builds `d`; `model` is the clustered methods' model (and the baselines' setting where
     /// `d.baseline` leaves it open), `tables` gives the Jakob 2019 table.
     pub fn build(d: &Description, model: &Model, tables: &TableCache) -> Result<Stack, Error> {
-        let mut m = method(d, model, tables)?;
         let (colorimetry, emission) = d.output(model)?;
+        let (mut m, corrected) = method(d, model, tables, &colorimetry)?;
         // The readers' integration differs from the method's band sums by ≈0.1 %, which
-        // Resampled corrects even on the method's own grid.
-        if d.exact_under == ExactUnder::Readers || colorimetry.grid != m.grid() {
+        // Resampled corrects even on the method's own grid (unless the method did).
+        if (d.exact_under == ExactUnder::Readers && !corrected) || colorimetry.grid != m.grid() {
             m = Box::new(Resampled::new(m, colorimetry.clone())?);
         }
         if d.bounded {
@@ -216,17 +219,29 @@ impl Stack {
     }
 }
 
-/// The method of `d` alone, in its setting.
-fn method(d: &Description, model: &Model, tables: &TableCache) -> Result<Box<dyn Method>, Error> {
+/// The method of `d` in its setting, and whether it is already exact under the output's
+/// `colorimetry`: the clustered methods fold the readers' correction into their maps when the
+/// output is on the model's grid (the same spectra as [`Resampled`], a quarter of the time per
+/// pixel: issue 22's profile).
+fn method(
+    d: &Description,
+    model: &Model,
+    tables: &TableCache,
+    colorimetry: &Colorimetry,
+) -> Result<(Box<dyn Method>, bool), Error> {
     if d.method == MethodName::Pca && model.leaves.len() != 1 {
         return Err(Error::NeedsOneCluster {
             clusters: model.leaves.len(),
         });
     }
     let a = d.setting(model)?;
-    Ok(match d.method {
+    let m: Box<dyn Method> = match d.method {
         MethodName::Pca | MethodName::Otsu2018 => {
-            Box::new(Uplifter::new(model)?.with_blend(d.blend)?)
+            let up = Uplifter::new(model)?.with_blend(d.blend)?;
+            if d.exact_under == ExactUnder::Readers && colorimetry.grid == model.grid {
+                return Ok((Box::new(up.exact_under(colorimetry)?), true));
+            }
+            Box::new(up)
         }
         MethodName::Smits1999 => Box::new(Smits1999::new(&a)?),
         MethodName::Meng2015 => Box::new(Meng2015::new(&a, false)?),
@@ -234,7 +249,8 @@ fn method(d: &Description, model: &Model, tables: &TableCache) -> Result<Box<dyn
         MethodName::Jakob2019 => {
             Box::new(Jakob2019::new(&a, tables.table(&a, d.jakob_resolution)?)?)
         }
-    })
+    };
+    Ok((m, false))
 }
 
 #[cfg(test)]
@@ -313,6 +329,66 @@ mod tests {
                 .uplift_f32_tallied(&c32[..3], &mut r32[..n], &mut again);
             assert_eq!(again.bounded.in_range + again.bounded.projected, 1);
         }
+    }
+
+    #[test]
+    fn folding_the_readers_correction_gives_the_resampled_spectra() {
+        // The stack folds the correction into the maps; Resampled applies it per spectrum.
+        // Both must give the same spectra for every kind of input: blended, hard-switched,
+        // dark (scaled offset), negative, HDR, past the overflow guard, black, NaN.
+        let model = Model::builtin();
+        let mut d = Description::convert_default(MethodName::Otsu2018);
+        d.bounded = false;
+        let folded = Stack::build(&d, model, &TableCache::none()).unwrap();
+        let (readers, _) = d.output(model).unwrap();
+        let per_pixel = Resampled::new(
+            Uplifter::new(model).unwrap().with_blend(d.blend).unwrap(),
+            readers.clone(),
+        )
+        .unwrap();
+        let white = readers.xyz(&vec![1.0; 36]);
+        let mut colours = vec![[0.0; 3], [f64::NAN, 0.2, 0.3], [2e-4, 1e-4, 3e-4]];
+        colours.extend([[-0.1, 0.05, 0.2], [40.0, 35.0, 20.0], [3e37, 1e37, 2e37]]);
+        colours.extend((0..400).map(|i| {
+            let (x, y) = (
+                0.15 + (i % 20) as f64 * 0.027,
+                0.08 + (i / 20) as f64 * 0.031,
+            );
+            [x / y * 0.3, 0.3, (1.0 - x - y) / y * 0.3]
+        }));
+        colours.push(white);
+        let (mut a, mut b) = (vec![0.0; 36], vec![0.0; 36]);
+        let (mut a32, mut b32) = (vec![0.0f32; 36], vec![0.0f32; 36]);
+        for c in &colours {
+            folded.method().uplift_f64(c, &mut a);
+            per_pixel.uplift_f64(c, &mut b);
+            let scale = a.iter().fold(1.0f64, |m, v| m.max(v.abs()));
+            for (x, y) in a.iter().zip(&b) {
+                let same = (x.is_nan() && y.is_nan()) || (x - y).abs() <= 1e-12 * scale;
+                assert!(same, "{c:?}: {x} against {y}");
+            }
+            let c32 = c.map(|v| v as f32);
+            folded.method().uplift_f32(&c32, &mut a32);
+            per_pixel.uplift_f32(&c32, &mut b32);
+            let scale = a32.iter().fold(1.0f32, |m, v| m.max(v.abs()));
+            for (x, y) in a32.iter().zip(&b32) {
+                let same = (x.is_nan() && y.is_nan()) || (x - y).abs() <= 2e-6 * scale;
+                assert!(same, "{c:?}: {x} against {y} in f32");
+            }
+        }
+        assert_eq!(folded.method().name(), "otsu2018");
+        let other = Colorimetry::new(
+            "400:700:5".parse().unwrap(),
+            Observer::Cie1931,
+            Illuminant::D65,
+        )
+        .unwrap();
+        let e = Uplifter::new(model)
+            .unwrap()
+            .exact_under(&other)
+            .err()
+            .unwrap();
+        assert!(e.to_string().contains("model's grid"), "{e}");
     }
 
     #[test]
