@@ -57,6 +57,16 @@ def test_uplift_keeps_any_leading_shape_and_float32():
         specconv.uplift(np.zeros(3), bands="700:400:5")
 
 
+@pytest.mark.parametrize("dtype", [np.float32, np.float64])
+def test_uplift_reads_any_memory_order(dtype):
+    """Fortran order, reversed and strided views are read by index, as numpy indexes them."""
+    xyz = colourchecker_xyz().astype(dtype).reshape(6, 4, 3)
+    spectra = specconv.uplift(xyz)
+    np.testing.assert_array_equal(specconv.uplift(np.asfortranarray(xyz)), spectra)
+    np.testing.assert_array_equal(specconv.uplift(xyz[::-1, ::2]), spectra[::-1, ::2])
+    assert specconv.uplift(np.zeros((0, 3), dtype)).shape == (0, 36)
+
+
 def test_uplift_on_another_grid_and_unbounded():
     xyz = colourchecker_xyz()
     s = specconv.uplift(xyz, bands="400:700:5")
