@@ -229,6 +229,49 @@ fn a_killed_conversions_temporary_is_removed_by_the_next_one() {
 }
 
 #[test]
+fn a_killed_data_copys_files_are_removed_by_the_next_one() {
+    // OpenImageIO writes a data copy through a temporary of its own: killed mid-write, that
+    // one is left too, and the next writer of the target removes it with the rest.
+    let s = Scratch::new("safety-kill-copy");
+    let x = big_texture(&s, "x.png", 4096);
+    let out = s.path("x.exr");
+    let copy = ["convert", "-q", "--colorspace", "Raw", "--data", "copy"];
+    let mut child = Command::new(binary())
+        .args(copy)
+        .arg(&x)
+        .arg(&out)
+        .spawn()
+        .unwrap();
+    let start = Instant::now();
+    let left = loop {
+        let found = specconv_atomic_file::leftovers(&out);
+        if found.iter().any(|t| t.to_string_lossy().ends_with(".temp.tmp")) {
+            break found;
+        }
+        assert!(
+            start.elapsed() < Duration::from_secs(60) && child.try_wait().unwrap().is_none(),
+            "OpenImageIO's temporary never appeared"
+        );
+        std::thread::sleep(Duration::from_millis(5));
+    };
+    // Mid-write, a second writer of the target is refused and removes nothing.
+    let second = Cmd::new(copy).arg(&x).arg(&out).run();
+    assert!(
+        second.code != 0 && second.stderr.contains("another specconv is writing"),
+        "{}",
+        second.stderr
+    );
+    assert!(left.iter().all(|t| t.exists()));
+    child.kill().unwrap();
+    child.wait().unwrap();
+    assert!(!out.exists(), "nothing published");
+    Cmd::new(copy).arg(&x).arg(&out).ok();
+    assert!(left.iter().all(|t| !t.exists()), "the next copy removed {left:?}");
+    tool("oiiotool", &[out.to_str().unwrap(), "--printstats"]);
+    no_temporaries(&s.0);
+}
+
+#[test]
 fn force_keeps_the_mode_and_long_names_fit() {
     use std::os::unix::fs::PermissionsExt;
     let s = Scratch::new("safety-mode");

@@ -51,6 +51,9 @@ pub struct Pending {
     target: PathBuf,
     temporary: Option<PathBuf>,
     file: File,
+    /// The path given to a writer that writes by path ([`Pending::path_for_writer`]): the
+    /// file to publish instead of `temporary`, which stays locked meanwhile.
+    companion: Option<PathBuf>,
 }
 
 /// Another writer is writing the same target now (its temporary is locked).
@@ -98,6 +101,7 @@ impl Pending {
                 target: target.to_path_buf(),
                 temporary: Some(temporary),
                 file,
+                companion: None,
             };
             // Locked and still ours: a cleaner that found it in the instant before the lock
             // may have removed it; then take a new name. A file system without locks gives
@@ -109,25 +113,24 @@ impl Pending {
             }
         };
         // One look at the directory, after ours is locked: of two writers that start at once,
-        // at least the later one sees the other.
-        for other in names::temporaries_of(target) {
-            if Some(&other) == pending.temporary.as_ref() {
-                continue;
-            }
-            match held(&other) {
-                Some(true) => {
-                    return Err(io::Error::new(
-                        io::ErrorKind::ResourceBusy,
-                        Busy {
-                            target: target.to_path_buf(),
-                            other,
-                        },
-                    ))
-                }
-                Some(false) => {
-                    let _ = std::fs::remove_file(&other);
-                }
-                None => {}
+        // at least the later one sees the other. A live writer's unlocked files (those of a
+        // writer by path) are only safe while nothing is removed beside a held one.
+        let others: Vec<PathBuf> = names::temporaries_of(target)
+            .into_iter()
+            .filter(|other| Some(other) != pending.temporary.as_ref())
+            .collect();
+        if let Some(other) = others.iter().find(|other| held(other) == Some(true)) {
+            return Err(io::Error::new(
+                io::ErrorKind::ResourceBusy,
+                Busy {
+                    target: target.to_path_buf(),
+                    other: other.clone(),
+                },
+            ));
+        }
+        for other in others {
+            if held(&other) == Some(false) {
+                let _ = std::fs::remove_file(&other);
             }
         }
         Ok(pending)
@@ -138,13 +141,31 @@ impl Pending {
         &self.file
     }
 
-    /// The temporary's path, for a writer that can only be given a path (OpenImageIO's
-    /// `make_texture`). Such a writer that renames its own file over it leaves this one's lock
-    /// on the replaced file: sync the new file before publishing.
-    pub fn path(&self) -> &Path {
-        self.temporary
-            .as_deref()
-            .expect("a pending file has its temporary until published")
+    /// A path for a writer that can only be given one and that may rename a file of its own
+    /// over it (OpenImageIO's `make_texture`): another temporary name of the target, not
+    /// created here. What the writer leaves at this path is what gets published. Meanwhile
+    /// this temporary stays locked, so other writers of the target are refused and nothing of
+    /// this writer's (not even the writer's own temporary) is taken for a dead writer's; a
+    /// killed writer's files are all temporaries of the target, removed by the next writer.
+    pub fn path_for_writer(&mut self) -> &Path {
+        let target = &self.target;
+        self.companion
+            .get_or_insert_with(|| names::temporary(target))
+    }
+
+    /// The file to publish and its path, taken so that drop leaves it: the writer by path's
+    /// (which must exist), else the temporary.
+    fn take_published(&mut self) -> io::Result<(PathBuf, File)> {
+        if let Some(companion) = &self.companion {
+            let file = File::open(companion)?;
+            return Ok((self.companion.take().expect("just seen"), file));
+        }
+        let file = self.file.try_clone()?;
+        let temporary = self
+            .temporary
+            .take()
+            .expect("a pending file has its temporary until published");
+        Ok((temporary, file))
     }
 
     /// Whether the temporary's name still names this file.
@@ -160,16 +181,15 @@ impl Pending {
     /// Renames the temporary file over the target, which keeps the replaced file's mode and,
     /// where the process may set it, its owner.
     pub fn commit(mut self) -> io::Result<()> {
-        self.file.sync_all()?;
-        self.keep_mode_and_owner()?;
-        let temporary = self
-            .temporary
-            .take()
-            .expect("a pending file has its temporary");
-        let renamed = std::fs::rename(&temporary, &self.target);
+        let (temporary, file) = self.take_published()?;
+        let renamed = file
+            .sync_all()
+            .and_then(|()| self.keep_mode_and_owner(&file))
+            .and_then(|()| std::fs::rename(&temporary, &self.target));
         if renamed.is_err() {
             let _ = std::fs::remove_file(&temporary);
         }
+        // Drop removes the locked temporary of a writer by path, now that its file is out.
         renamed
     }
 
@@ -177,11 +197,11 @@ impl Pending {
     /// [`io::ErrorKind::AlreadyExists`] otherwise (another writer finished first), leaving
     /// the existing file as it was.
     pub fn commit_new(mut self) -> io::Result<()> {
-        self.file.sync_all()?;
-        let temporary = self
-            .temporary
-            .take()
-            .expect("a pending file has its temporary");
+        let (temporary, file) = self.take_published()?;
+        if let Err(e) = file.sync_all() {
+            let _ = std::fs::remove_file(&temporary);
+            return Err(e);
+        }
         // A hard link is created only where no name is: the check and the publishing are one
         // step. File systems without hard links fall back to a check, then a rename.
         let published = match std::fs::hard_link(&temporary, &self.target) {
@@ -207,7 +227,7 @@ impl Pending {
     }
 
     /// Gives the temporary the mode and owner of the file it replaces.
-    fn keep_mode_and_owner(&self) -> io::Result<()> {
+    fn keep_mode_and_owner(&self, file: &File) -> io::Result<()> {
         use std::os::unix::fs::MetadataExt;
         let Ok(old) = std::fs::metadata(&self.target) else {
             return Ok(());
@@ -216,14 +236,18 @@ impl Pending {
             return Ok(());
         }
         // Not permitted (another user's file, not root): the file becomes ours, as cp's.
-        let _ = std::os::unix::fs::fchown(&self.file, Some(old.uid()), Some(old.gid()));
-        self.file.set_permissions(old.permissions())
+        let _ = std::os::unix::fs::fchown(file, Some(old.uid()), Some(old.gid()));
+        file.set_permissions(old.permissions())
     }
 }
 
 impl Drop for Pending {
     fn drop(&mut self) {
-        if let Some(t) = self.temporary.take() {
+        // The locked one last: until it goes, other writers keep away from the rest.
+        for t in [self.companion.take(), self.temporary.take()]
+            .into_iter()
+            .flatten()
+        {
             let _ = std::fs::remove_file(t);
         }
     }
@@ -285,11 +309,15 @@ pub fn leftovers(target: &Path) -> Vec<PathBuf> {
     names::temporaries_of(target)
 }
 
-/// Removes the temporary files of `target` that no live writer holds (writers killed before
-/// they could remove them: SIGKILL, a lost node) and returns them. Live writers' files stay.
+/// Removes the temporary files of `target` left by writers killed before they could remove
+/// them (SIGKILL, a lost node) and returns them: all of them when no live writer holds one,
+/// else none (a live writer by path has files it cannot lock, [`Pending::path_for_writer`]).
 pub fn remove_stale(target: &Path) -> Vec<PathBuf> {
-    names::temporaries_of(target)
-        .into_iter()
+    let all = names::temporaries_of(target);
+    if all.iter().any(|t| held(t) == Some(true)) {
+        return Vec::new();
+    }
+    all.into_iter()
         .filter(|t| held(t) == Some(false) && std::fs::remove_file(t).is_ok())
         .collect()
 }
@@ -371,6 +399,70 @@ mod tests {
         c.commit_new().unwrap();
         assert_eq!(std::fs::read(&target).unwrap(), b"");
         assert!(leftovers(&target).is_empty());
+        std::fs::remove_dir_all(d).unwrap();
+    }
+
+    /// What OpenImageIO's `make_texture` does with a path it is given: writes
+    /// `STEM.XXXXXXXX.temp.tmp` beside it, then renames that over the path.
+    fn write_as_make_texture(path: &Path, bytes: &[u8]) -> PathBuf {
+        let name = path.file_name().unwrap().to_str().unwrap();
+        let own = path.with_file_name(name.replace(".tmp", ".5bce1f2c.temp.tmp"));
+        std::fs::write(&own, bytes).unwrap();
+        own
+    }
+
+    #[test]
+    fn a_writer_by_path_keeps_others_out_and_what_it_leaves_is_published() {
+        let d = scratch("by-path");
+        let target = d.join("t.exr");
+        std::fs::write(&target, b"old").unwrap();
+        let mut a = Pending::beside(&target).unwrap();
+        let path = a.path_for_writer().to_path_buf();
+        assert_eq!(a.path_for_writer(), path, "one path per pending file");
+        let own = write_as_make_texture(&path, b"new");
+        // Mid-write: the writer's own temporary is not locked, yet it is not a dead writer's.
+        assert_eq!(leftovers(&target).len(), 2);
+        assert!(remove_stale(&target).is_empty());
+        let e = Pending::beside(&target).unwrap_err();
+        assert_eq!(e.kind(), io::ErrorKind::ResourceBusy);
+        assert!(own.exists(), "the refused writer removed nothing");
+        std::fs::rename(&own, &path).unwrap();
+        assert!(Pending::beside(&target).is_err());
+        a.commit().unwrap();
+        assert_eq!(std::fs::read(&target).unwrap(), b"new");
+        assert!(leftovers(&target).is_empty());
+        assert_eq!(std::fs::read_dir(&d).unwrap().count(), 1);
+
+        // Publishing what the writer did not leave fails, and leaves nothing either.
+        let mut b = Pending::beside(&target).unwrap();
+        b.path_for_writer();
+        assert_eq!(b.commit_new().unwrap_err().kind(), io::ErrorKind::NotFound);
+        let mut c = Pending::beside(&target).unwrap();
+        let path = c.path_for_writer().to_path_buf();
+        std::fs::write(&path, b"newer").unwrap();
+        drop(c);
+        assert!(leftovers(&target).is_empty());
+        assert_eq!(std::fs::read(&target).unwrap(), b"new");
+
+        // A killed writer by path leaves three unlocked files; the next writer removes them.
+        let dead = [names::temporary(&target), names::temporary(&target)];
+        std::fs::write(&dead[0], b"").unwrap();
+        let own = write_as_make_texture(&dead[1], b"half");
+        assert_eq!(leftovers(&target).len(), 2);
+        std::fs::write(&dead[1], b"whole").unwrap();
+        assert_eq!(leftovers(&target).len(), 3);
+        // Names that only look alike are another target's or nobody's: kept.
+        let alike = [
+            ".t.exr.specconv-12ab.x.temp.tmp",
+            ".t.exr.specconv-.1234.temp.tmp",
+        ];
+        for n in alike {
+            std::fs::write(d.join(n), b"").unwrap();
+        }
+        Pending::beside(&target).unwrap().commit().unwrap();
+        assert!(!own.exists() && !dead[0].exists() && !dead[1].exists());
+        assert!(leftovers(&target).is_empty());
+        assert!(alike.iter().all(|n| d.join(n).exists()));
         std::fs::remove_dir_all(d).unwrap();
     }
 

@@ -33,18 +33,33 @@ pub(crate) fn temporaries_of(target: &Path) -> Vec<PathBuf> {
         .filter(|e| {
             let n = e.file_name();
             let n = n.as_bytes();
-            // The middle is this version's random digits or an older one's PID-COUNT: a
-            // longer name that merely starts like the target's is another target's.
             n.len() > prefix.len() + END.len()
                 && n.starts_with(&prefix)
                 && n.ends_with(END)
-                && n[prefix.len()..n.len() - END.len()]
-                    .iter()
-                    .all(|c| c.is_ascii_hexdigit() || *c == b'-')
+                && is_middle(&n[prefix.len()..n.len() - END.len()])
         })
         .map(|e| e.path())
         .collect()
 }
+
+/// Whether `middle` (between `.NAME.specconv-` and `.tmp`) is one of ours: this version's
+/// random digits or an older one's PID-COUNT, or either followed by `.DIGITS.temp`, the
+/// temporary OpenImageIO's `make_texture` makes of a path it is given (`.tmp` replaced by
+/// `.%%%%%%%%.temp.tmp`). A longer name that merely starts like the target's is another
+/// target's.
+fn is_middle(middle: &[u8]) -> bool {
+    let ours = |m: &[u8]| !m.is_empty() && m.iter().all(|c| c.is_ascii_hexdigit() || *c == b'-');
+    match middle.strip_suffix(OIIO_TEMP) {
+        Some(rest) => rest
+            .iter()
+            .rposition(|&c| c == b'.')
+            .is_some_and(|dot| ours(&rest[..dot]) && ours(&rest[dot + 1..])),
+        None => ours(middle),
+    }
+}
+
+/// What OpenImageIO's `make_texture` puts before the extension of its own temporary.
+const OIIO_TEMP: &[u8] = b".temp";
 
 /// `.NAME.specconv-`, with NAME cut and hashed when the whole would not fit.
 fn prefix(target: &Path) -> Vec<u8> {

@@ -31,19 +31,18 @@ pub fn copy(input: &Path, output: &Path, how: &Copy) -> Result<usize> {
         path: output.to_path_buf(),
         source,
     };
-    let pending = specconv_atomic_file::Pending::beside(output).map_err(io)?;
+    let mut pending = specconv_atomic_file::Pending::beside(output).map_err(io)?;
     let spec = TextureSpec {
         subimage: how.subimage,
         tile: how.tile,
         compression: how.compression.to_owned(),
         attributes: how.attributes.to_vec(),
     };
-    specconv_oiio::make_texture(input, pending.path(), &spec)?;
-    // OpenImageIO renamed its own file over the temporary: that one is what gets published.
-    std::fs::File::open(pending.path())
-        .and_then(|f| f.sync_all())
-        .map_err(io)?;
-    let levels = specconv_oiio::ImageReader::open(pending.path())?
+    // OpenImageIO writes its own temporary and renames it over the path it is given: a path
+    // of the pending file's, which stays locked until the result is published.
+    let written = pending.path_for_writer().to_path_buf();
+    specconv_oiio::make_texture(input, &written, &spec)?;
+    let levels = specconv_oiio::ImageReader::open(&written)?
         .info()
         .levels
         .len();

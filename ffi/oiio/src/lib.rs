@@ -449,8 +449,9 @@ pub struct TextureSpec {
 /// Writes `input` through, its values unconverted, as a tiled, MIP-mapped OpenEXR texture at
 /// `output` with OpenImageIO's `ImageBufAlgo::make_texture` (what maketx runs): box-filtered
 /// levels, the input's metadata and wrap modes kept, `spec`'s attributes added. OpenImageIO
-/// writes its own temporary beside `output` and renames it over `output`, so `output` should be
-/// a temporary of the caller's that is published when this returns.
+/// writes its own temporary beside `output` (`output`'s extension replaced by
+/// `.XXXXXXXX.temp` and the extension) and renames it over `output`, so `output` should be a
+/// temporary path of the caller's, published when this returns.
 pub fn make_texture(input: &Path, output: &Path, spec: &TextureSpec) -> Result<()> {
     let path = input.to_path_buf();
     let refuse = |message: &str| Error::InvalidRequest {
