@@ -145,3 +145,28 @@ fn each_conversion_reports_its_own_counts_and_batches_skip_what_is_up_to_date() 
     assert_eq!(events, 0);
     assert!(refused.to_string().contains("is the input"), "{refused}");
 }
+
+/// `to-rgb` through the library stops when its cancel flag is set (a signal in the CLI, a
+/// front-end's stop button): `is_cancelled`, nothing published and no temporary left; the
+/// same call without the flag writes what the command line writes.
+#[test]
+fn a_cancelled_integration_writes_nothing() {
+    use specconv_conversion::to_rgb::{ToRgb, ToRgbOptions};
+    use std::sync::atomic::AtomicBool;
+    let dir = Scratch::new("library-to-rgb-cancel");
+    let spectral = dir.path("s.exr");
+    Cmd::convert(testdata("srgb8.png"), &spectral).ok();
+    let to_rgb = ToRgb::new(ToRgbOptions::default()).unwrap();
+    let out = dir.path("rgb.exr");
+    let e = to_rgb
+        .convert_cancellable(&spectral, &out, &AtomicBool::new(true))
+        .unwrap_err();
+    assert!(e.is_cancelled(), "{e}");
+    assert_eq!(dir.files(), ["s.exr"], "nothing published, no temporary");
+    to_rgb
+        .convert_cancellable(&spectral, &out, &AtomicBool::new(false))
+        .unwrap();
+    let by_cli = dir.path("cli.exr");
+    Cmd::new(["to-rgb"]).arg(&spectral).arg(&by_cli).ok();
+    assert_eq!(bytes(&out), bytes(&by_cli));
+}

@@ -245,7 +245,10 @@ fn a_killed_data_copys_files_are_removed_by_the_next_one() {
     let start = Instant::now();
     let left = loop {
         let found = specconv_atomic_file::leftovers(&out);
-        if found.iter().any(|t| t.to_string_lossy().ends_with(".temp.tmp")) {
+        if found
+            .iter()
+            .any(|t| t.to_string_lossy().ends_with(".temp.tmp"))
+        {
             break found;
         }
         assert!(
@@ -266,7 +269,10 @@ fn a_killed_data_copys_files_are_removed_by_the_next_one() {
     child.wait().unwrap();
     assert!(!out.exists(), "nothing published");
     Cmd::new(copy).arg(&x).arg(&out).ok();
-    assert!(left.iter().all(|t| !t.exists()), "the next copy removed {left:?}");
+    assert!(
+        left.iter().all(|t| !t.exists()),
+        "the next copy removed {left:?}"
+    );
     tool("oiiotool", &[out.to_str().unwrap(), "--printstats"]);
     no_temporaries(&s.0);
 }

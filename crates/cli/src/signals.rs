@@ -3,10 +3,9 @@
 //! Until a command writes an output, a signal ends the process at once, whatever it is doing
 //! (parsing, loading a model, building tables, reading a file): one line, exit status 130,
 //! nothing written. While it writes ([`deferred`]), a signal only sets the writer's cancel
-//! flag: a batch stops within a block (its output not published, its temporary file
-//! removed) and ends with status 130 itself; a single write ([`writing`]) completes or fails
-//! as it would have, then the command ends with status 130. A signal to a writer that has not
-//! stopped two seconds after the first ends the process at once.
+//! flag: a batch, or `to-rgb`, stops within a block (its output not published, its temporary
+//! file removed) and ends with status 130. A signal to a writer that has not stopped two
+//! seconds after the first ends the process at once.
 //!
 //! The handler runs on ctrlc's own thread. It decides under the same lock that a writer takes
 //! to start and to stop writing, so a signal never ends the process between "not yet
@@ -83,16 +82,5 @@ pub(crate) fn deferred<T>(cancel: &Arc<AtomicBool>, f: impl FnOnce() -> T) -> T 
     });
     let result = f();
     *writer() = None;
-    result
-}
-
-/// Runs `f`, a write that cannot stop midway (an atomic write of a whole file), with
-/// signals deferred: a signal during it gives [`Interrupted`] once it is done.
-pub(crate) fn writing<T>(f: impl FnOnce() -> anyhow::Result<T>) -> anyhow::Result<T> {
-    let cancel = Arc::new(AtomicBool::new(false));
-    let result = deferred(&cancel, f);
-    if cancel.load(Ordering::SeqCst) {
-        return Err(Interrupted.into());
-    }
     result
 }

@@ -2,6 +2,7 @@
 //! then a colour space of the OCIO config, written as an RGB(A) OpenEXR. The input is read
 //! block by block; only the colour result (three floats a pixel, and alpha) is held.
 
+use crate::error::ConversionError;
 use crate::provenance::{ConventionFrom, Provenance};
 use crate::Error;
 use specconv_atomic_file::{PlanError, Replace};
@@ -10,6 +11,7 @@ use specconv_exr::blocks::{Block, BlockReader};
 use specconv_exr::Kind;
 use specconv_ocio::Config;
 use std::path::Path;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 /// What `to-rgb` is asked to do.
 #[derive(Debug, Clone, Default)]
@@ -76,6 +78,24 @@ impl ToRgb {
 
     /// Integrates `input` and writes `output`.
     pub fn convert(&self, input: &Path, output: &Path) -> Result<RgbReport, Error> {
+        self.convert_cancellable(input, output, &AtomicBool::new(false))
+    }
+
+    /// As [`ToRgb::convert`]; setting `cancel` (from a signal handler, another thread) stops
+    /// it between blocks of the input or before the output is published, with
+    /// [`Error::is_cancelled`] and nothing written.
+    pub fn convert_cancellable(
+        &self,
+        input: &Path,
+        output: &Path,
+        cancel: &AtomicBool,
+    ) -> Result<RgbReport, Error> {
+        let cancelled = || -> Result<(), Error> {
+            if cancel.load(Ordering::SeqCst) {
+                return Err(Error::Conversion(ConversionError::Cancelled));
+            }
+            Ok(())
+        };
         let replace = if self.options.overwrite {
             Replace::Allowed
         } else {
@@ -144,6 +164,7 @@ impl ToRgb {
         let mut rgb = vec![0.0f32; h.width * h.height * 3];
         let mut alpha = h.alpha.then(|| vec![0.0f32; h.width * h.height]);
         while let Some(block) = reader.next_block() {
+            cancelled()?;
             let block = block.map_err(read_error)?;
             let xyz = xyz_of_block(&block, &h.reradiation, &integration, lit.as_deref());
             place(&mut rgb, h.width, &block, &xyz, 3);
@@ -166,6 +187,8 @@ impl ToRgb {
             &declared,
         )
         .map_err(write_error)?;
+        // The last moment to stop: dropped, the temporary goes.
+        cancelled()?;
         pending.publish(replace).map_err(|e| match e.kind() {
             std::io::ErrorKind::AlreadyExists => Error::Plan(PlanError::Exists {
                 output: output.to_path_buf(),

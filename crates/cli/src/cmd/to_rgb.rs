@@ -59,12 +59,14 @@ pub fn run(args: Args) -> Result<()> {
     options.illuminant = args.illuminant;
     options.overwrite = args.force;
     let to_rgb = ToRgb::new(options).map_err(|e| usage(anyhow::anyhow!(explain(&e))))?;
-    // Written whole: a signal during it takes effect once it is done.
-    let r = crate::signals::writing(|| {
-        to_rgb
-            .convert(&args.input, &args.output)
-            .map_err(|e| anyhow::anyhow!(explain(&e)))
-    })?;
+    // A signal stops the integration between blocks, or the write before it is published.
+    let cancel = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+    let r = match crate::signals::deferred(&cancel, || {
+        to_rgb.convert_cancellable(&args.input, &args.output, &cancel)
+    }) {
+        Err(e) if e.is_cancelled() => return Err(crate::signals::Interrupted.into()),
+        r => r.map_err(|e| anyhow::anyhow!(explain(&e)))?,
+    };
     let light = match r.light {
         Light::Emission(units, why) => format!("emission, {units} units ({})", why.describe()),
         Light::Illuminant(i, 0) => format!("under {i}"),
