@@ -5,10 +5,12 @@
 //!   readers of the target see the old file or the new one, never half of either.
 //! - Temporary names cannot collide: they carry a random part and are created with `O_EXCL`,
 //!   so writers in other PID namespaces (containers, nodes on one shared file system) never
-//!   share one. Each writer holds a lock on its temporary for as long as it lives; a temporary
-//!   nobody holds belongs to a dead writer, and the next writer of that target removes it
-//!   ([`remove_stale`]). While one writer is live, a second writer of the same target is refused
-//!   ([`Busy`]) instead of both succeeding and one silently replacing the other.
+//!   share one. Each writer holds a lock on its temporary for as long as it lives; when no
+//!   temporary of a target is held, they all belong to dead writers, and the next writer of
+//!   that target removes them ([`remove_stale`]; beside a held one nothing is removed, since a
+//!   writer given a path, [`Pending::path_for_writer`], has files it cannot lock). While one
+//!   writer is live, a second writer of the same target is refused ([`Busy`]) instead of both
+//!   succeeding and one silently replacing the other.
 //! - [`Pending::commit_new`] publishes only if the target does not exist (a hard link, which
 //!   fails on an existing name), so two conversions without `--force` cannot both succeed;
 //!   [`Pending::commit`] replaces the target and keeps its mode and, where permitted, its owner.
