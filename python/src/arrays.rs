@@ -58,7 +58,7 @@ fn copied<T: numpy::Element + Copy>(a: &Bound<'_, PyArrayDyn<T>>) -> Vec<T> {
 
 /// A zeroed array of shape `lead + [last]`, allocated by numpy: its allocator asks the kernel
 /// for huge pages for large arrays, so filling one costs a fraction of the page faults of a
-/// `Vec` handed over (the faults were ≈60 % of `uplift`'s time, issue 22's profile).
+/// `Vec` handed over (the faults and unmapping were ⅔ of `uplift`'s time, issue 22's profile).
 pub fn zeros<'py, T: numpy::Element>(
     py: Python<'py>,
     lead: &[usize],

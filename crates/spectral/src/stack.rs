@@ -221,8 +221,8 @@ impl Stack {
 
 /// The method of `d` in its setting, and whether it is already exact under the output's
 /// `colorimetry`: the clustered methods fold the readers' correction into their maps when the
-/// output is on the model's grid (the same spectra as [`Resampled`], a quarter of the time per
-/// pixel: issue 22's profile).
+/// output is on the model's grid (the same spectra as [`Resampled`], whose per-pixel
+/// correction was a quarter of an unbounded uplift's time in issue 22's profile).
 fn method(
     d: &Description,
     model: &Model,

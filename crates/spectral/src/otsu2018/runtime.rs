@@ -175,9 +175,9 @@ impl Uplifter {
     /// The maps corrected so that each spectrum's XYZ under `colorimetry` (on the model's grid:
     /// another integration of it, such as every reader's) is the input colour exactly:
     /// T' = T + K·(I − A·T) and o' = o − K·A·o, with A the XYZ rows of `colorimetry` and
-    /// K = Aᵀ(AAᵀ)⁻¹. These are the spectra [`crate::resample::Resampled`] makes on the same grid, whose
-    /// correction is linear, so blends (Σ wᵢ = 1) and the dark colours' scaled maps are
-    /// corrected alike; folded into the maps, it costs nothing per pixel. Blend widths are
+    /// K = Aᵀ(AAᵀ)⁻¹. These are the spectra [`crate::resample::Resampled`] makes on the same
+    /// grid, whose correction is linear, so blends (Σ wᵢ = 1) and the dark colours' scaled maps
+    /// are corrected alike; folded into the maps, it costs nothing per pixel. Blend widths are
     /// measured on the maps in use when [`Uplifter::with_blend`] is called.
     pub fn exact_under(mut self, colorimetry: &Colorimetry) -> Result<Uplifter, Error> {
         if colorimetry.grid != self.grid {
