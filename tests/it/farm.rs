@@ -592,6 +592,42 @@ fn fake_tools(dir: &Scratch, tools: &[(&str, &str)]) -> String {
     )
 }
 
+/// Waits until the `specconv convert` writing into `out` is stopped (SIGSTOP, state T) or, with
+/// `stopped` false, runs again or has ended; fails after 60 s.
+fn converting_is_stopped(out: &Path, stopped: bool) {
+    let out = out.to_str().unwrap();
+    let states = || -> Vec<char> {
+        std::fs::read_dir("/proc")
+            .unwrap()
+            .filter_map(|e| {
+                let dir = e.ok()?.path();
+                let cmdline = std::fs::read(dir.join("cmdline")).ok()?;
+                let args: Vec<&[u8]> = cmdline.split(|&b| b == 0).collect();
+                let ours = args.contains(&&b"convert"[..])
+                    && args.iter().any(|a| a.starts_with(out.as_bytes()));
+                let stat = std::fs::read_to_string(dir.join("stat")).ok()?;
+                // The state follows the command name, which is in parentheses.
+                let state = stat.rsplit_once(") ")?.1.chars().next()?;
+                ours.then_some(state)
+            })
+            .collect()
+    };
+    let start = std::time::Instant::now();
+    loop {
+        let now = states();
+        // Resumed, it may also have ended already.
+        if (!now.is_empty() || !stopped) && now.iter().all(|&s| (s == 'T') == stopped) {
+            return;
+        }
+        assert!(
+            start.elapsed().as_secs() < 60,
+            "the conversion into {out} is not {} ({now:?})",
+            if stopped { "stopped" } else { "running" }
+        );
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+}
+
 /// Polls `farm collect` until no task of the job is queued or running; returns its summary.
 fn wait_for(job_dir: &Path) -> Value {
     let start = std::time::Instant::now();
@@ -743,8 +779,12 @@ fn retry_while_slurm_does_not_answer_removes_no_temporary_of_a_running_task() {
         );
         std::thread::sleep(std::time::Duration::from_millis(20));
     }
-    // Stopped mid-file, so its temporary stays while we look.
-    tool("scontrol", &["suspend", &format!("{job_id}_0")]);
+    // Stopped mid-file, so its temporary stays while we look. slurmd stops the task after
+    // scontrol returns; a resume that overtakes the stop left the task stopped for good (CI:
+    // resume 61 ms after suspend, then a 600 s hang), so each is waited for.
+    let task = format!("{job_id}_0");
+    tool("scontrol", &["suspend", &task]);
+    converting_is_stopped(&out, true);
     let tmp = writing();
     let unreachable = fake_tools(
         &dir,
@@ -760,7 +800,8 @@ fn retry_while_slurm_does_not_answer_removes_no_temporary_of_a_running_task() {
         .env("PATH", &unreachable)
         .run();
     let still: Vec<bool> = tmp.iter().map(|p| p.exists()).collect();
-    tool("scontrol", &["resume", &format!("{job_id}_0")]);
+    tool("scontrol", &["resume", &task]);
+    converting_is_stopped(&out, false);
     assert!(
         still.iter().all(|&s| s),
         "retry removed the temporary of a running task ({tmp:?}):\n{}\n{}",
