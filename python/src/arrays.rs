@@ -2,6 +2,7 @@
 
 use numpy::ndarray::{ArrayD, IxDyn};
 use numpy::{IntoPyArray, PyArrayDyn, PyArrayMethods, PyUntypedArrayMethods};
+use pyo3::exceptions::PyMemoryError;
 use pyo3::prelude::*;
 
 /// Values of an array whose last axis has `last` entries (`None`: any), flattened in C order,
@@ -18,7 +19,10 @@ pub fn values(array: &Bound<'_, PyAny>, last: Option<usize>, what: &str) -> PyRe
         let np = py.import("numpy")?;
         let converted = np
             .call_method1("asarray", (array, np.getattr("float64")?))
-            .map_err(|e| crate::errors::Kind::Option.err(format!("{what}: {e}")))?;
+            .map_err(|e| match e.is_instance_of::<PyMemoryError>(py) {
+                true => e,
+                false => crate::errors::Kind::Option.err(format!("{what}: {e}")),
+            })?;
         Ok(converted.cast_into::<PyArrayDyn<f64>>()?)
     };
     let shape_of = |shape: &[usize]| -> PyResult<Vec<usize>> {
@@ -37,36 +41,46 @@ pub fn values(array: &Bound<'_, PyAny>, last: Option<usize>, what: &str) -> PyRe
     };
     if let Ok(a) = array.cast::<PyArrayDyn<f32>>() {
         let lead = shape_of(a.shape())?;
-        return Ok(Values::F32(lead, copied(a)));
+        return Ok(Values::F32(lead, copied(a, what)?));
     }
     let a = as_f64()?;
     let lead = shape_of(a.shape())?;
-    Ok(Values::F64(lead, copied(&a)))
+    Ok(Values::F64(lead, copied(&a, what)?))
 }
 
 /// The values in C order, owned: the work runs without the GIL, when Python code could change
 /// the array. One copy of memory when the array is C-contiguous (`as_slice` also takes Fortran
 /// order, whose memory is not in C order).
-fn copied<T: numpy::Element + Copy>(a: &Bound<'_, PyArrayDyn<T>>) -> Vec<T> {
+/// A copy that memory cannot hold (a broadcast view of 10¹² colours costs numpy nothing) is a
+/// `MemoryError`, not an aborted process.
+fn copied<T: numpy::Element + Copy>(a: &Bound<'_, PyArrayDyn<T>>, what: &str) -> PyResult<Vec<T>> {
     let c_order = a.is_c_contiguous();
     let a = a.readonly();
+    let mut v = Vec::new();
+    v.try_reserve_exact(a.len()).map_err(|_| {
+        PyMemoryError::new_err(format!("{what}: {} values do not fit in memory", a.len()))
+    })?;
     match a.as_slice() {
-        Ok(v) if c_order => v.to_vec(),
-        _ => a.as_array().iter().copied().collect(),
+        Ok(s) if c_order => v.extend_from_slice(s),
+        _ => v.extend(a.as_array().iter().copied()),
     }
+    Ok(v)
 }
 
 /// A zeroed array of shape `lead + [last]`, allocated by numpy: its allocator asks the kernel
 /// for huge pages for large arrays, so filling one costs a fraction of the page faults of a
 /// `Vec` handed over (the faults and unmapping were ⅔ of `uplift`'s time, issue 22's profile).
+/// Made by `numpy.zeros`, so an array too large is numpy's `MemoryError`, not a panic.
 pub fn zeros<'py, T: numpy::Element>(
     py: Python<'py>,
     lead: &[usize],
     last: usize,
-) -> Bound<'py, PyArrayDyn<T>> {
+) -> PyResult<Bound<'py, PyArrayDyn<T>>> {
     let mut shape = lead.to_vec();
     shape.push(last);
-    PyArrayDyn::zeros(py, IxDyn(&shape), false)
+    let dtype = numpy::dtype::<T>(py);
+    let array = py.import("numpy")?.call_method1("zeros", (shape, dtype))?;
+    Ok(array.cast_into::<PyArrayDyn<T>>()?)
 }
 
 /// `values` as an array of shape `lead + [last]`.

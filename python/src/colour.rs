@@ -48,14 +48,14 @@ pub fn uplift<'py>(
     let n = stack.method().grid().len();
     Ok(match values(xyz, Some(3), "xyz")? {
         Values::F32(lead, v) => {
-            let out = zeros::<f32>(py, &lead, n);
+            let out = zeros::<f32>(py, &lead, n)?;
             let mut spectra = out.readwrite();
             let spectra = spectra.as_slice_mut()?;
             py.detach(|| kernel(&stack, &v, spectra));
             out.into_any()
         }
         Values::F64(lead, v) => {
-            let out = zeros::<f64>(py, &lead, n);
+            let out = zeros::<f64>(py, &lead, n)?;
             let mut spectra = out.readwrite();
             let spectra = spectra.as_slice_mut()?;
             py.detach(|| {

@@ -67,6 +67,28 @@ def test_uplift_reads_any_memory_order(dtype):
     assert specconv.uplift(np.zeros((0, 3), dtype)).shape == (0, 36)
 
 
+def overcommits_always():
+    """Whether the kernel grants any allocation (vm.overcommit_memory 1): then a copy too large
+    for memory is granted and filled until the OOM killer acts, not refused."""
+    try:
+        with open("/proc/sys/vm/overcommit_memory") as f:
+            return f.read().strip() == "1"
+    except OSError:
+        return True
+
+
+@pytest.mark.skipif(overcommits_always(), reason="the kernel would grant the allocation")
+def test_what_memory_cannot_hold_is_a_memory_error():
+    """A broadcast view of 10^12 colours costs numpy nothing; its copy is 12 TB."""
+    for dtype in (np.float32, np.int64):
+        huge = np.broadcast_to(np.ones(3, dtype), (10**12, 3))
+        with pytest.raises(MemoryError):
+            specconv.uplift(huge)
+    with pytest.raises(MemoryError, match="spectra"):
+        specconv.spectra_to_xyz(np.broadcast_to(np.float32(0.5), (10**12, 36)),
+                                np.arange(380, 740, 10))
+
+
 def test_uplift_on_another_grid_and_unbounded():
     xyz = colourchecker_xyz()
     s = specconv.uplift(xyz, bands="400:700:5")
