@@ -194,37 +194,51 @@ fn two_conversions_to_one_output_do_not_both_succeed() {
     no_temporaries(&s.0);
 }
 
+/// Starts `specconv ARGS INPUT OUTPUT` and waits until the temporaries of `output` include one
+/// that `seen` accepts; returns the running process and those temporaries.
+fn running_until(
+    args: &[&str],
+    input: &Path,
+    output: &Path,
+    seen: impl Fn(&Path) -> bool,
+) -> (std::process::Child, Vec<PathBuf>) {
+    let mut child = Command::new(binary())
+        .args(args)
+        .arg(input)
+        .arg(output)
+        .spawn()
+        .unwrap();
+    let start = Instant::now();
+    loop {
+        let found = specconv_atomic_file::leftovers(output);
+        if found.iter().any(|t| seen(t)) {
+            return (child, found);
+        }
+        assert!(
+            start.elapsed() < Duration::from_secs(60) && child.try_wait().unwrap().is_none(),
+            "no such temporary appeared ({found:?})"
+        );
+        std::thread::sleep(Duration::from_millis(5));
+    }
+}
+
 #[test]
 fn a_killed_conversions_temporary_is_removed_by_the_next_one() {
     let s = Scratch::new("safety-kill");
     let x = big_texture(&s, "x.png", 1024);
+    let before = snapshot(&[&x]);
     let out = s.path("x.exr");
-    let mut child = Command::new(binary())
-        .args(["convert", "-q", "--bands", "380:780:1", "-j", "1"])
-        .arg(&x)
-        .arg(&out)
-        .spawn()
-        .unwrap();
-    let start = Instant::now();
-    let temporary = loop {
-        let found = specconv_atomic_file::leftovers(&out);
-        if let Some(t) = found.into_iter().next() {
-            break t;
-        }
-        assert!(
-            start.elapsed() < Duration::from_secs(60),
-            "no temporary appeared"
-        );
-        std::thread::sleep(Duration::from_millis(20));
-    };
+    let args = ["convert", "-q", "--bands", "380:780:1", "-j", "1"];
+    let (mut child, left) = running_until(&args, &x, &out, |_| true);
     child.kill().unwrap();
     child.wait().unwrap();
     assert!(
-        temporary.exists() && !out.exists(),
+        left[0].exists() && !out.exists(),
         "SIGKILL leaves its temporary"
     );
     Cmd::convert(&x, &out).arg("-u").ok();
-    assert!(!temporary.exists(), "the next conversion removed it");
+    assert!(!left[0].exists(), "the next conversion removed it");
+    assert_eq!(snapshot(&[&x]), before);
     no_temporaries(&s.0);
 }
 
@@ -234,29 +248,11 @@ fn a_killed_data_copys_files_are_removed_by_the_next_one() {
     // one is left too, and the next writer of the target removes it with the rest.
     let s = Scratch::new("safety-kill-copy");
     let x = big_texture(&s, "x.png", 4096);
+    let before = snapshot(&[&x]);
     let out = s.path("x.exr");
     let copy = ["convert", "-q", "--colorspace", "Raw", "--data", "copy"];
-    let mut child = Command::new(binary())
-        .args(copy)
-        .arg(&x)
-        .arg(&out)
-        .spawn()
-        .unwrap();
-    let start = Instant::now();
-    let left = loop {
-        let found = specconv_atomic_file::leftovers(&out);
-        if found
-            .iter()
-            .any(|t| t.to_string_lossy().ends_with(".temp.tmp"))
-        {
-            break found;
-        }
-        assert!(
-            start.elapsed() < Duration::from_secs(60) && child.try_wait().unwrap().is_none(),
-            "OpenImageIO's temporary never appeared"
-        );
-        std::thread::sleep(Duration::from_millis(5));
-    };
+    let oiio_temporary = |t: &Path| t.to_string_lossy().ends_with(".temp.tmp");
+    let (mut child, left) = running_until(&copy, &x, &out, oiio_temporary);
     // Mid-write, a second writer of the target is refused and removes nothing.
     let second = Cmd::new(copy).arg(&x).arg(&out).run();
     assert!(
@@ -274,6 +270,7 @@ fn a_killed_data_copys_files_are_removed_by_the_next_one() {
         "the next copy removed {left:?}"
     );
     tool("oiiotool", &[out.to_str().unwrap(), "--printstats"]);
+    assert_eq!(snapshot(&[&x]), before);
     no_temporaries(&s.0);
 }
 
