@@ -206,11 +206,7 @@ pub fn write_spectral(
             Ok(())
         })
         .map_err(|e| Kind::Input.err(e.to_string()))?;
-        let replace = if overwrite {
-            specconv_atomic_file::Replace::Allowed
-        } else {
-            specconv_atomic_file::Replace::Never
-        };
+        let replace = specconv_atomic_file::Replace::when(overwrite);
         specconv_atomic_file::write_checked(&path, bytes.get_ref(), &[], replace).map_err(|e| {
             use specconv_atomic_file::{PlanError, WriteError};
             let kind = match e {

@@ -41,7 +41,7 @@ pub mod plan;
 pub mod udim;
 
 pub use kind::{read_bounded, readable_file, Kind, ReadError};
-pub use plan::{check as check_plan, Place, PlanError, Replace};
+pub use plan::{check as check_plan, Place, Places, PlanError, Replace};
 
 use std::fs::File;
 use std::io;

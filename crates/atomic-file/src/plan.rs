@@ -2,8 +2,13 @@
 //! directory there. Files are compared as files: an existing file by device and inode, an
 //! output that does not exist yet by its directory's device and inode and its name, so links,
 //! `..`, bind mounts and other aliases of a directory are seen through.
+//!
+//! Every check is linear in the number of files: identities go into hash maps, and each
+//! directory is looked at once ([`Places`]), so a job of 100,000 inputs is checked in as many
+//! `stat` calls as it has files.
 
 use crate::kind::Kind;
+use std::collections::HashMap;
 use std::ffi::OsString;
 use std::path::{Path, PathBuf};
 
@@ -14,6 +19,18 @@ pub enum Replace {
     Never,
     /// Existing outputs are replaced (`--force`), or replaced when out of date (`-u`).
     Allowed,
+}
+
+impl Replace {
+    /// `Allowed` when overwriting was asked for, else `Never`: the one reading of every
+    /// front-end's overwrite setting (`--force`, `overwrite=True`).
+    pub fn when(overwrite: bool) -> Replace {
+        if overwrite {
+            Replace::Allowed
+        } else {
+            Replace::Never
+        }
+    }
 }
 
 /// Why a job may not start; nothing has been read or written.
@@ -77,14 +94,40 @@ pub struct Place {
 impl Place {
     /// The place of `path`; `None` when its directory does not exist.
     pub fn of(path: &Path) -> Option<Place> {
+        Places::default().of(path)
+    }
+}
+
+/// Places of many paths, each directory looked at once: paths of one folder cost one `stat`
+/// of it in all, not one each.
+#[derive(Debug, Default)]
+pub struct Places {
+    directories: HashMap<PathBuf, Option<(u64, u64)>>,
+}
+
+impl Places {
+    /// The place of `path` ([`Place::of`]).
+    pub fn of(&mut self, path: &Path) -> Option<Place> {
         use std::os::unix::fs::MetadataExt;
         let name = path.file_name()?.to_os_string();
-        let d = std::fs::metadata(crate::names::directory_of(path)).ok()?;
-        Some(Place {
-            directory: (d.dev(), d.ino()),
-            name,
-        })
+        let dir = crate::names::directory_of(path);
+        let directory = match self.directories.get(dir) {
+            Some(known) => *known,
+            None => {
+                let id = std::fs::metadata(dir).ok().map(|d| (d.dev(), d.ino()));
+                self.directories.insert(dir.to_path_buf(), id);
+                id
+            }
+        }?;
+        Some(Place { directory, name })
     }
+}
+
+/// A file as the file system knows it (device and inode, through links); `None` when nothing
+/// is there.
+fn file_id(path: &Path) -> Option<(u64, u64)> {
+    use std::os::unix::fs::MetadataExt;
+    std::fs::metadata(path).ok().map(|m| (m.dev(), m.ino()))
 }
 
 /// Checks a job that reads `inputs` and writes `outputs`; the first problem found, in the
@@ -92,29 +135,19 @@ impl Place {
 /// missing or not files are each input's own failure ([`crate::readable_file`]), found when
 /// it is read.
 pub fn check(inputs: &[&Path], outputs: &[&Path], replace: Replace) -> Result<(), PlanError> {
-    let mut places = Vec::with_capacity(outputs.len());
-    for output in outputs {
-        places.push(output_place(output)?);
+    let mut known = Places::default();
+    let places = output_places(outputs, &mut known)?;
+    if let Some((o, i)) = output_is_input(inputs, outputs, &places, &mut known) {
+        return Err(PlanError::OutputIsInput {
+            output: outputs[o].to_path_buf(),
+            input: inputs[i].to_path_buf(),
+        });
     }
-    let input_places: Vec<Option<Place>> = inputs.iter().map(|i| Place::of(i)).collect();
-    for (output, place) in outputs.iter().zip(&places) {
-        if let Some(i) = inputs.iter().zip(&input_places).find_map(|(input, p)| {
-            (p.as_ref() == Some(place) || crate::same_file(output, input)).then_some(input)
-        }) {
-            return Err(PlanError::OutputIsInput {
-                output: output.to_path_buf(),
-                input: i.to_path_buf(),
-            });
-        }
-    }
-    let mut seen = std::collections::HashMap::new();
-    for (output, place) in outputs.iter().zip(places) {
-        if let Some(first) = seen.insert(place, *output) {
-            return Err(PlanError::SharedOutput {
-                first: first.to_path_buf(),
-                second: output.to_path_buf(),
-            });
-        }
+    if let Some((first, second)) = shared_output(&places) {
+        return Err(PlanError::SharedOutput {
+            first: outputs[first].to_path_buf(),
+            second: outputs[second].to_path_buf(),
+        });
     }
     if replace == Replace::Never {
         let existing: Vec<&&Path> = outputs
@@ -131,8 +164,55 @@ pub fn check(inputs: &[&Path], outputs: &[&Path], replace: Replace) -> Result<()
     Ok(())
 }
 
+/// Every output's place, once its name, directory and kind allow writing it; the first output
+/// that does not is the error.
+pub fn output_places(outputs: &[&Path], known: &mut Places) -> Result<Vec<Place>, PlanError> {
+    outputs.iter().map(|o| output_place(o, known)).collect()
+}
+
+/// The first output (by position) that is one of the inputs, as files: its position and that
+/// of the first input it is. `places` are the outputs' ([`output_places`]). An output is an
+/// input when it is at the input's place (the same directory entry, whether or not it exists
+/// yet) or is the same existing file (a hard or symbolic link to it).
+pub fn output_is_input(
+    inputs: &[&Path],
+    outputs: &[&Path],
+    places: &[Place],
+    known: &mut Places,
+) -> Option<(usize, usize)> {
+    let mut by_place: HashMap<Place, usize> = HashMap::with_capacity(inputs.len());
+    let mut by_file: HashMap<(u64, u64), usize> = HashMap::with_capacity(inputs.len());
+    for (k, input) in inputs.iter().enumerate() {
+        if let Some(p) = known.of(input) {
+            by_place.entry(p).or_insert(k);
+        }
+        if let Some(f) = file_id(input) {
+            by_file.entry(f).or_insert(k);
+        }
+    }
+    outputs
+        .iter()
+        .zip(places)
+        .enumerate()
+        .find_map(|(o, (output, place))| {
+            let at = by_place.get(place).copied();
+            let same = file_id(output).and_then(|f| by_file.get(&f).copied());
+            at.into_iter().chain(same).min().map(|i| (o, i))
+        })
+}
+
+/// The first two outputs (by the second's position) that are one file, by their places
+/// ([`output_places`]).
+pub fn shared_output(places: &[Place]) -> Option<(usize, usize)> {
+    let mut seen: HashMap<&Place, usize> = HashMap::with_capacity(places.len());
+    places
+        .iter()
+        .enumerate()
+        .find_map(|(k, place)| seen.insert(place, k).map(|first| (first, k)))
+}
+
 /// An output's place, once its name, directory and kind allow writing it.
-fn output_place(output: &Path) -> Result<Place, PlanError> {
+fn output_place(output: &Path, known: &mut Places) -> Result<Place, PlanError> {
     use std::os::unix::ffi::OsStrExt;
     let length = output.file_name().map_or(0, |n| n.as_bytes().len());
     if length > 255 {
@@ -150,7 +230,7 @@ fn output_place(output: &Path) -> Result<Place, PlanError> {
             })
         }
     }
-    Place::of(output).ok_or_else(|| PlanError::NoDirectory {
+    known.of(output).ok_or_else(|| PlanError::NoDirectory {
         dir: crate::names::directory_of(output).to_path_buf(),
     })
 }

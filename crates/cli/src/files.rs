@@ -44,16 +44,6 @@ pub fn check_output(path: &Path, extensions: &[&str], what: &str) -> Result<()> 
     )))
 }
 
-/// Whether an existing output may be replaced: `--force` given, or a command whose outputs are
-/// always remade (a model, a plot).
-pub fn replace(force: bool) -> Replace {
-    if force {
-        Replace::Allowed
-    } else {
-        Replace::Never
-    }
-}
-
 /// Refuses, before any work, an output that may not be written by a command reading `inputs`
 /// (the library's rules: never an input, in an existing directory, an existing file only
 /// with `replace`): a usage error.

@@ -96,11 +96,7 @@ impl ToRgb {
             }
             Ok(())
         };
-        let replace = if self.options.overwrite {
-            Replace::Allowed
-        } else {
-            Replace::Never
-        };
+        let replace = Replace::when(self.options.overwrite);
         specconv_atomic_file::readable_file(input)?;
         specconv_atomic_file::check_plan(&[input], &[output], replace)?;
         let read_error = |source| Error::Read {

@@ -2,7 +2,8 @@
 //! normal map, [`crate::colour::DataTexture`]) is never uplifted; asked to, it is written as
 //! the tiled, MIP-mapped OpenEXR texture maketx would make of it, its values unconverted.
 
-use crate::{replace_of, Error, Result};
+use crate::{Error, Result};
+use specconv_atomic_file::Replace;
 use specconv_oiio::TextureSpec;
 use std::path::Path;
 
@@ -26,7 +27,7 @@ pub struct Copy<'a> {
 /// temporary published only when complete; never over the input. Returns the levels written.
 pub fn copy(input: &Path, output: &Path, how: &Copy) -> Result<usize> {
     specconv_atomic_file::readable_file(input)?;
-    specconv_atomic_file::check_plan(&[input], &[output], replace_of(how.overwrite))?;
+    specconv_atomic_file::check_plan(&[input], &[output], Replace::when(how.overwrite))?;
     let io = |source| Error::Io {
         path: output.to_path_buf(),
         source,
@@ -46,6 +47,6 @@ pub fn copy(input: &Path, output: &Path, how: &Copy) -> Result<usize> {
         .info()
         .levels
         .len();
-    pending.publish(replace_of(how.overwrite)).map_err(io)?;
+    pending.publish(Replace::when(how.overwrite)).map_err(io)?;
     Ok(levels)
 }

@@ -827,7 +827,7 @@ fn write_file(
     // Without overwrite, an output another writer published while this one ran is refused,
     // not replaced.
     pending
-        .publish(replace_of(job.settings.overwrite))
+        .publish(Replace::when(job.settings.overwrite))
         .map_err(|source| match source.kind() {
             std::io::ErrorKind::AlreadyExists => Error::Plan(PlanError::Exists {
                 output: output.to_path_buf(),
@@ -1184,14 +1184,6 @@ fn refuse_overwrites(input: &Path, output: &Path, overwrite: bool) -> Result<()>
     Ok(specconv_atomic_file::check_plan(
         &[input],
         &[output],
-        replace_of(overwrite),
+        Replace::when(overwrite),
     )?)
-}
-
-fn replace_of(overwrite: bool) -> Replace {
-    if overwrite {
-        Replace::Allowed
-    } else {
-        Replace::Never
-    }
 }

@@ -81,7 +81,7 @@ struct Summary {
 pub fn run(args: Args) -> Result<()> {
     use specconv_conversion::preview::{shade, PreviewOptions};
     Format::of(&args.output, "-o", &[Format::Png])?;
-    let replace = files::replace(args.force);
+    let replace = specconv_atomic_file::Replace::when(args.force);
     files::check_writable(&args.output, &[args.input.as_path()], replace)?;
     let mut options = PreviewOptions::default();
     options.illuminant = args.illuminant;

@@ -51,7 +51,7 @@ pub struct Args {
 pub fn run(args: Args) -> Result<()> {
     use specconv_conversion::to_rgb::{Light, ToRgb, ToRgbOptions};
     crate::files::check_output(&args.output, &["exr"], "to-rgb writes OpenEXR")?;
-    let replace = crate::files::replace(args.force);
+    let replace = specconv_atomic_file::Replace::when(args.force);
     crate::files::check_writable(&args.output, &[args.input.as_path()], replace)?;
     let mut options = ToRgbOptions::default();
     options.ocio = args.ocio.clone();

@@ -133,7 +133,7 @@ pub fn run(args: Args) -> Result<()> {
     if let Some(path) = &args.image {
         drawing::check(
             path,
-            (&read, files::replace(args.force)),
+            (&read, specconv_atomic_file::Replace::when(args.force)),
             selected.as_ref().map_or(scene.names.len(), Vec::len),
         )?;
     }
@@ -154,7 +154,7 @@ pub fn run(args: Args) -> Result<()> {
         report.image = Some(drawing::write(
             path,
             &report,
-            (&read, files::replace(args.force)),
+            (&read, specconv_atomic_file::Replace::when(args.force)),
         )?);
     }
     if args.json {
