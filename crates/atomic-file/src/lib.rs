@@ -17,6 +17,8 @@
 //! - [`plan`]: the files of a whole job checked before the first write, compared as files
 //!   (device and inode, and the directory entry for outputs that do not exist yet), never as
 //!   path strings; [`kind`]: special files refused before any read, side files read bounded.
+//! - [`shards`]: which files of a job each of N runs converts, one split for the conversion
+//!   library's `--shard` and the farm's tasks.
 //!
 //! ```
 //! use std::io::Write;
@@ -38,6 +40,7 @@ pub mod kind;
 mod names;
 pub mod outputs;
 pub mod plan;
+pub mod shards;
 pub mod udim;
 
 pub use kind::{read_bounded, readable_file, Kind, ReadError};

@@ -1,15 +1,13 @@
 //! The shard plan: which inputs each of N tasks converts. Deterministic (the same weights give
-//! the same plan on every machine and in every task) and balanced by pixel count.
+//! the same plan on every machine and in every task) and balanced by pixel count; the split
+//! itself is `specconv_atomic_file::shards`, below this crate and the conversion library, so
+//! that `farm submit` and `convert --shard` split alike.
 
 use crate::Error;
 use std::str::FromStr;
 
-/// Splits items of the given weights (pixels) into `n` shards of nearly equal total weight.
-///
-/// Longest processing time first: items in decreasing weight (ties by position) each go to the
-/// lightest shard so far (ties to the lowest shard). The heaviest shard then exceeds the mean
-/// by less than the heaviest item, and is within 4/3 of the best possible (Graham 1969). Each
-/// shard lists its items in input order.
+/// Splits items of the given weights (pixels) into `n` shards of nearly equal total weight:
+/// [`specconv_atomic_file::shards::split`], the one split `convert --shard` plans by too.
 ///
 /// ```
 /// use specconv_farm::{plan, Shard};
@@ -26,19 +24,7 @@ use std::str::FromStr;
 /// ```
 pub fn plan(weights: &[u64], n: usize) -> Vec<Vec<usize>> {
     assert!(n > 0, "a plan needs at least one shard");
-    let mut order: Vec<usize> = (0..weights.len()).collect();
-    order.sort_by(|&a, &b| weights[b].cmp(&weights[a]).then(a.cmp(&b)));
-    let mut load = vec![0u64; n];
-    let mut shards = vec![Vec::new(); n];
-    for i in order {
-        let lightest = (0..n).min_by_key(|&s| (load[s], s)).expect("n > 0 shards");
-        load[lightest] += weights[i];
-        shards[lightest].push(i);
-    }
-    for s in &mut shards {
-        s.sort_unstable();
-    }
-    shards
+    specconv_atomic_file::shards::split(weights, n)
 }
 
 /// `--shard I/N`, or `auto/N` with I from `$SLURM_ARRAY_TASK_ID`.
@@ -104,39 +90,6 @@ impl Shard {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn every_item_lands_in_exactly_one_shard_and_loads_stay_within_the_heaviest_item() {
-        // Uneven sizes: a few large textures among many small ones, and zero-pixel (unreadable)
-        // inputs.
-        let weights: Vec<u64> = (0..37u64)
-            .map(|i| (i * 7919 % 23) * (1 << (i % 5)) * 1000)
-            .collect();
-        for n in 1..=9 {
-            let shards = plan(&weights, n);
-            assert_eq!(shards.len(), n);
-            let mut seen: Vec<usize> = shards.iter().flatten().copied().collect();
-            seen.sort_unstable();
-            assert_eq!(seen, (0..weights.len()).collect::<Vec<_>>(), "n = {n}");
-            let loads: Vec<u64> = shards
-                .iter()
-                .map(|s| s.iter().map(|&i| weights[i]).sum())
-                .collect();
-            let heaviest = *weights.iter().max().unwrap();
-            let (min, max) = (*loads.iter().min().unwrap(), *loads.iter().max().unwrap());
-            assert!(max - min <= heaviest, "n = {n}: loads {loads:?}");
-            assert!(shards.iter().all(|s| s.windows(2).all(|w| w[0] < w[1])));
-        }
-    }
-
-    #[test]
-    fn the_plan_is_the_same_every_time_and_ties_go_by_position() {
-        let w = [5, 5, 5, 5, 1];
-        assert_eq!(plan(&w, 2), vec![vec![0, 2, 4], vec![1, 3]]);
-        assert_eq!(plan(&w, 2), plan(&w, 2));
-        // More shards than items: the rest are empty.
-        assert_eq!(plan(&[3, 9], 3), vec![vec![1], vec![0], vec![]]);
-    }
 
     #[test]
     fn shards_parse_and_auto_reads_the_array_task() {
