@@ -1,9 +1,8 @@
 //! [`Batch`]: many inputs through one [`Converter`], in order, with the up-to-date check,
 //! cancellation and progress events that every front-end needs.
 
-use crate::converter::recorded;
+use crate::plan::check_plan;
 use crate::{Converter, Error, Report};
-use specconv_atomic_file::{PlanError, Replace};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -193,46 +192,5 @@ impl<'c> Batch<'c> {
         }
         summary.cancelled = cancel.load(Ordering::SeqCst);
         Ok(summary)
-    }
-}
-
-/// The rules of a batch's plan, checked before anything is written: no output is any input (as
-/// files: links, `..` and bind mounts are seen through), no two inputs share an output, every
-/// output's directory is there, and an existing output may be replaced: with `overwrite`, or
-/// with `update` when specconv made it (out-of-date ones are replaced, up-to-date ones
-/// skipped). Inputs that are missing or not files fail on their own when their turn comes.
-pub fn check_plan(
-    pairs: &[(PathBuf, PathBuf)],
-    overwrite: bool,
-    update: bool,
-) -> Result<(), Error> {
-    let inputs: Vec<&Path> = pairs.iter().map(|(i, _)| i.as_path()).collect();
-    let outputs: Vec<&Path> = pairs.iter().map(|(_, o)| o.as_path()).collect();
-    let plan = |e: PlanError| Error::Conversion(e.into());
-    specconv_atomic_file::check_plan(&inputs, &outputs, Replace::Allowed).map_err(plan)?;
-    if overwrite {
-        return Ok(());
-    }
-    let existing: Vec<&Path> = outputs
-        .into_iter()
-        .filter(|o| std::fs::symlink_metadata(o).is_ok())
-        .collect();
-    if !update {
-        return match existing.first() {
-            Some(first) => Err(plan(PlanError::Exists {
-                output: first.to_path_buf(),
-                more: existing.len() - 1,
-            })),
-            None => Ok(()),
-        };
-    }
-    // A file at an output's path that specconv did not make is never replaced by -u.
-    let foreign: Vec<&&Path> = existing.iter().filter(|o| recorded(o).is_none()).collect();
-    match foreign.first() {
-        Some(first) => Err(Error::NotMadeBySpecconv {
-            output: first.to_path_buf(),
-            more: foreign.len() - 1,
-        }),
-        None => Ok(()),
     }
 }

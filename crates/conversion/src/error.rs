@@ -4,6 +4,8 @@
 
 use crate::models::ModelError;
 use crate::options::Compression;
+use crate::plan;
+use specconv_atomic_file::udim::UdimError;
 use specconv_atomic_file::PlanError;
 use std::path::PathBuf;
 
@@ -76,15 +78,10 @@ pub enum Error {
     /// is an input, exists and may not be replaced, has no directory).
     #[error(transparent)]
     Plan(#[from] specconv_atomic_file::PlanError),
-    /// Existing files at outputs' paths that specconv did not make: updating replaces only
-    /// specconv's own outputs.
-    #[error("{} exists and is not a specconv output{}, which updating never replaces", output.display(), if *more > 0 { format!(" (and {more} more)") } else { String::new() })]
-    NotMadeBySpecconv {
-        /// The first such output.
-        output: PathBuf,
-        /// How many more.
-        more: usize,
-    },
+    /// A batch's plan that may not start ([`crate::plan`]): its outputs, their files, its
+    /// shards.
+    #[error(transparent)]
+    Planning(#[from] crate::plan::Error),
     /// An input is not a file, or is missing.
     #[error(transparent)]
     Input(#[from] specconv_atomic_file::ReadError),
@@ -185,6 +182,8 @@ pub enum Remedy {
     /// A spectral image as input: use it as it is, integrate it to colour, or convert its
     /// colour source on the grid wanted; channels of a colour preview can be named.
     AlreadySpectral,
+    /// A UDIM pattern into one output: name the outputs by a template with the tile instead.
+    TileTemplate,
 }
 
 /// What an error is about, for a front-end that sorts errors by kind (the Python package's
@@ -208,9 +207,12 @@ impl Error {
     pub fn remedy(&self) -> Option<Remedy> {
         match self {
             Error::ZipLevelWithoutZip { .. } => Some(Remedy::DropZipLevel),
-            Error::Plan(PlanError::Exists { .. }) | Error::NotMadeBySpecconv { .. } => {
-                Some(Remedy::Replace)
+            Error::Plan(PlanError::Exists { .. })
+            | Error::Planning(plan::Error::NotMadeBySpecconv { .. }) => Some(Remedy::Replace),
+            Error::Planning(plan::Error::Files(PlanError::Exists { .. })) => {
+                Some(Remedy::ReplaceOrSkip)
             }
+            Error::Planning(plan::Error::PatternIntoOneFile { .. }) => Some(Remedy::TileTemplate),
             Error::EmissionIsItsOwnLight { .. } => Some(Remedy::DropIlluminant),
             Error::NoRole {
                 role: "scene_linear",
@@ -242,7 +244,17 @@ impl Error {
         match self {
             Error::Plan(PlanError::Exists { .. })
             | Error::Conversion(ConversionError::Plan(PlanError::Exists { .. }))
-            | Error::NotMadeBySpecconv { .. } => Cause::Exists,
+            | Error::Planning(
+                plan::Error::Files(PlanError::Exists { .. })
+                | plan::Error::NotMadeBySpecconv { .. },
+            ) => Cause::Exists,
+            // A pattern with no tiles is a missing input; one that cannot be listed, unreadable.
+            Error::Planning(
+                plan::Error::Files(_)
+                | plan::Error::NoDirectory { .. }
+                | plan::Error::Udim(UdimError::NoTiles { .. } | UdimError::List { .. }),
+            ) => Cause::File,
+            Error::Planning(_) => Cause::Setting,
             Error::Plan(_)
             | Error::Input(_)
             | Error::Read { .. }

@@ -7,6 +7,9 @@
 //! - [`Converter`]: built once from options, checked up front ([`Error`] by cause, with the
 //!   [`Remedy`] that would fix it); [`Converter::convert`] returns a [`Report`] of that call
 //!   alone — nothing is shared between calls.
+//! - [`Plan`]: which file each input becomes ([`Outputs`]: files, a directory, a template;
+//!   UDIM patterns), checked as a whole, split into shards, existing outputs refused per shard
+//!   ([`plan`]).
 //! - [`Batch`]: inputs in turn, with the up-to-date check (`-u`), cancellation and progress
 //!   [`Event`]s.
 //! - [`provenance`]: the `specconv*` attributes, written and read in one place.
@@ -31,19 +34,21 @@ mod error;
 pub mod images;
 pub mod models;
 mod options;
+pub mod plan;
 pub mod preview;
 pub mod provenance;
 pub mod record;
 pub mod tables;
 pub mod to_rgb;
 
-pub use batch::{check_plan, Batch, Event, Summary};
+pub use batch::{Batch, Event, Summary};
 pub use converter::{Advice, Converter, DataOutcome, Report, Role, Rule, Selection, Warning};
 pub use error::{message, Cause, ConversionError, Error, Remedy};
 pub use options::{
     alpha_name, mip_name, non_finite_name, sample_name, Alpha, Blocks, Compression, DataPolicy,
     Filter, Mip, NonFinite, Options, Rounding, Sample, UnknownName, Wrap, WrapModes, WRAP_NAMES,
 };
+pub use plan::{check_plan, Outputs, Plan};
 pub use provenance::Provenance;
 /// Ends the process at once, without C++ static destructors: for a signal handler's thread
 /// while the libraries may be in use (`specconv_oiio::exit_now`).
