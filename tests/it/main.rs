@@ -12,6 +12,7 @@ mod libraries;
 mod library;
 mod pictures;
 mod pipes;
+mod plans;
 mod runner;
 mod safety;
 mod simulate;

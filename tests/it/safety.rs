@@ -92,7 +92,7 @@ fn a_batch_whose_input_is_another_inputs_output_writes_nothing() {
     .refused(
         &s,
         2,
-        &["a/../o2/t.exr and b/../o2/t.exr are one output file"],
+        &["a/t.png and b/t.png would both write a/../o2/t.exr and b/../o2/t.exr, one file"],
     );
     assert!(std::fs::read_dir(s.path("o2")).unwrap().next().is_none());
     // An existing file specconv did not make is not replaced by -u.

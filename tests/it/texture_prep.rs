@@ -144,7 +144,11 @@ fn careless_udim_and_template_lines_are_refused_before_anything_is_written() {
     // A template without the tile that sends every tile to one name.
     Cmd::new([format!("{d}/wood.<UDIM>.png").as_str()])
         .args(["--output-template", &format!("{d}/all.exr")])
-        .refused(&dir, 2, &["which two inputs would write"]);
+        .refused(
+            &dir,
+            2,
+            &["wood.1001.png and ", "wood.1002.png would both write"],
+        );
 }
 
 /// The built-in ACES config with a studio's file rules: `*_normal.*` and `*_mask.*` are `Raw`.

@@ -5,7 +5,6 @@
 use crate::usage;
 use anyhow::Result;
 use specconv_conversion::ocio::Config;
-use std::path::Path;
 
 /// The OCIO config of `--ocio`, else `$OCIO`, else the built-in ACES config.
 pub fn config(ocio: Option<&str>) -> Result<Config> {
@@ -25,16 +24,4 @@ pub fn input_colorspace(config: &Config, name: Option<&str>) -> Result<()> {
         }
     }
     Ok(())
-}
-
-/// An output directory (`-o DIR`) exists.
-pub fn directory(dir: &Path) -> Result<()> {
-    if dir.is_dir() {
-        Ok(())
-    } else {
-        Err(usage(anyhow::anyhow!(
-            "the output directory {} does not exist; create it first",
-            dir.display()
-        )))
-    }
 }

@@ -209,6 +209,7 @@ fn hint(cause: &(dyn std::error::Error + 'static)) -> Option<String> {
                 "; --data skip leaves it out, --data copy writes it through as a data texture, \
                  and --colorspace NAME reads it as colour if it is one"
             }
+            Some(Remedy::TileTemplate) => ", or use --output-template with {udim}",
             Some(_) | None => "",
         };
         if !flag.is_empty() {

@@ -3,10 +3,10 @@
 //! inputs are measured, the convert options passed on, and the results reported.
 
 use crate::cmd::convert;
-use crate::shard::pixels;
 use crate::{checks, exit, usage};
 use anyhow::{anyhow, bail, Context, Result};
 use clap::{ArgAction, ArgMatches, CommandFactory};
+use specconv_conversion::plan::weight;
 use specconv_farm::manifest::Outputs;
 use specconv_farm::{slurm, FileState, Manifest, Request, Status};
 use std::path::{Path, PathBuf};
@@ -152,11 +152,11 @@ fn submit(s: Submit, ocio: Option<String>) -> Result<i32> {
     let config = checks::config(ocio.as_deref())?;
     checks::input_colorspace(&config, s.convert.colorspace())?;
     // Every task converts with -u.
-    let (inputs, planned) = convert::plan(&s.convert, true).map_err(usage)?;
-    if inputs.is_empty() {
+    let plan = convert::for_farm(&s.convert).map_err(usage)?;
+    if plan.is_empty() {
         return Err(usage(anyhow!("no inputs to submit")));
     }
-    let files = listed_files(&inputs, &planned)?;
+    let files = listed_files(plan.pairs())?;
     let largest = files.iter().map(|f| f.pixels).max().unwrap_or(0);
     let mem_mib = match &s.mem {
         Some(m) => parse_mem(m)
@@ -251,12 +251,9 @@ fn absolute(p: &Path) -> Result<PathBuf> {
 }
 
 /// The manifest's files: absolute paths (tasks may start elsewhere) and pixel counts.
-fn listed_files(
-    inputs: &[PathBuf],
-    outputs: &[PathBuf],
-) -> Result<Vec<specconv_farm::manifest::File>> {
+fn listed_files(pairs: &[(PathBuf, PathBuf)]) -> Result<Vec<specconv_farm::manifest::File>> {
     let mut files = Vec::new();
-    for (i, o) in inputs.iter().zip(outputs) {
+    for (i, o) in pairs {
         if i.to_string_lossy().contains('\n') {
             bail!(
                 "{:?}: input paths with a newline cannot be listed for a task; rename it",
@@ -266,7 +263,7 @@ fn listed_files(
         files.push(specconv_farm::manifest::File {
             input: absolute(i)?,
             output: absolute(o)?,
-            pixels: pixels(i),
+            pixels: weight(i),
         });
     }
     Ok(files)
@@ -569,7 +566,7 @@ fn retry(r: &Retry, ocio: Option<String>) -> Result<i32> {
     specconv_farm::remove_leftovers(&m, &status, &again);
     for &i in &again {
         // The input may have been fixed or replaced since: plan on what it is now.
-        m.files[i].pixels = pixels(&m.files[i].input);
+        m.files[i].pixels = weight(&m.files[i].input);
     }
     let last = m.rounds.last().map_or(1, |r| r.tasks.len());
     let tasks = r.tasks.map_or(last, |n| n as usize);

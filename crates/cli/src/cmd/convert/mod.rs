@@ -3,7 +3,7 @@
 mod plan;
 mod printing;
 
-pub(crate) use plan::plan;
+pub(crate) use plan::for_farm;
 use printing::converted;
 
 use crate::progress::{Progress, Summary};
@@ -318,13 +318,7 @@ pub fn run(args: Args) -> Result<i32> {
     if let Some(shard) = args.shard {
         crate::shard::index(shard).map_err(usage)?;
     }
-    let pairs = plan(&args, args.update)
-        .and_then(|(i, o)| match args.shard {
-            Some(shard) => crate::shard::shard_of(shard, i, o),
-            None => Ok((i, o)),
-        })
-        .map_err(usage)?;
-    let pairs: Vec<(PathBuf, PathBuf)> = pairs.0.into_iter().zip(pairs.1).collect();
+    let pairs = plan::this_run(&args).map_err(usage)?;
     let converter =
         Converter::new(args.options()).map_err(|e| usage(anyhow::anyhow!(explain(&e))))?;
     if !args.quiet {

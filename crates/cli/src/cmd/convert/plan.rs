@@ -1,21 +1,22 @@
-//! Inputs and their outputs, from the command line's paths.
+//! Inputs and their outputs, from the command line's paths: the arguments, and the list on
+//! standard input, handed to the library's plan ([`specconv_conversion::plan`]), which owns
+//! every rule (output names, UDIM patterns, identities, shards, existing outputs).
 
 use super::Args;
-use crate::{checks, files};
 use anyhow::{bail, Context, Result};
-use specconv_atomic_file::{outputs, udim};
+use specconv_conversion::plan::{self, Outputs, Plan};
 use std::path::PathBuf;
 
-/// Inputs and their outputs, from the positional paths, `-o DIR` or `--output-template`, once
-/// the library's rules allow the plan; `update` as the runs that will convert it (`-u`). UDIM
-/// patterns (`wood.<UDIM>.png`) stand for the tiles that exist, in tile order.
-pub(crate) fn plan(args: &Args, update: bool) -> Result<(Vec<PathBuf>, Vec<PathBuf>)> {
+/// The whole plan of the command line's inputs and outputs: the positional paths (`-` reads
+/// a list on standard input), into the explicit output, `-o DIR` or `--output-template`.
+fn whole(args: &Args) -> Result<Plan> {
     // A template that cannot name outputs is refused before any input is looked at.
     let template = args
         .output_template
         .as_deref()
-        .map(outputs::Template::parse)
-        .transpose()?;
+        .map(Outputs::template)
+        .transpose()
+        .map_err(planned)?;
     let mut paths = args.paths.clone();
     let single = args.output.is_none() && args.output_template.is_none();
     let explicit_output = if single {
@@ -30,80 +31,47 @@ pub(crate) fn plan(args: &Args, update: bool) -> Result<(Vec<PathBuf>, Vec<PathB
     } else {
         None
     };
-    let mut listed = Vec::new();
+    let mut inputs = Vec::new();
     for p in paths {
         if p.as_os_str() == "-" {
-            listed.extend(read_list(std::io::stdin().lock())?);
+            inputs.extend(read_list(std::io::stdin().lock())?);
         } else {
-            listed.push(p);
+            inputs.push(p);
         }
     }
-    let mut inputs = Vec::new();
-    // The tile numbers of a single conversion's pattern, for an output named by one.
-    let mut tiles = Vec::new();
-    for p in listed {
-        match udim::expand(&p)? {
-            Some(found) => {
-                tiles.extend(found.iter().map(|t| t.number));
-                inputs.extend(found.into_iter().map(|t| t.path));
-            }
-            None => inputs.push(p),
-        }
-    }
-    let outputs: Vec<PathBuf> = match (&explicit_output, &args.output, &template) {
-        (Some(o), _, _) => single_outputs(o, &args.paths[0], &tiles)?,
-        (None, Some(dir), _) => {
-            checks::directory(dir)?;
-            inputs
-                .iter()
-                .map(|i| outputs::in_directory(dir, i))
-                .collect()
-        }
-        (None, None, Some(t)) => inputs
-            .iter()
-            .map(|i| t.apply(i))
-            .collect::<Result<_, _>>()?,
+    let outputs = match (explicit_output, &args.output, template) {
+        (Some(o), _, _) => Outputs::Files(vec![o]),
+        (None, Some(dir), _) => Outputs::Directory(dir.clone()),
+        (None, None, Some(t)) => t,
         (None, None, None) => unreachable!("single conversions have an explicit output"),
     };
-    for o in &outputs {
-        files::check_output(o, &["exr"], "specconv writes spectral OpenEXR")?;
-    }
-    // The library's rules, on the whole plan before any shard is taken: every run of a
-    // farm job refuses the same plan.
-    let pairs: Vec<(PathBuf, PathBuf)> = inputs
-        .iter()
-        .cloned()
-        .zip(outputs.iter().cloned())
-        .collect();
-    specconv_conversion::check_plan(&pairs, args.force, update)
-        .map_err(|e| anyhow::anyhow!(crate::explain(&e)))?;
-    Ok((inputs, outputs))
+    Plan::new(inputs, &outputs).map_err(planned)
 }
 
-/// The output of `INPUT OUTPUT`: `output` itself, or for a UDIM pattern one per tile, named by
-/// the same token in `output` (`wood.<UDIM>.png wood_spectral.<UDIM>.exr`).
-fn single_outputs(
-    output: &std::path::Path,
-    input: &std::path::Path,
-    tiles: &[u32],
-) -> Result<Vec<PathBuf>> {
-    match (udim::is_pattern(input), udim::is_pattern(output)) {
-        (false, false) => Ok(vec![output.to_path_buf()]),
-        (true, true) => Ok(tiles.iter().map(|&n| udim::substitute(output, n)).collect()),
-        (true, false) => bail!(
-            "{} is a UDIM pattern ({} tile{}): name the output with the token too (such as {}), \
-             or use --output-template with {{udim}}",
-            input.display(),
-            tiles.len(),
-            if tiles.len() == 1 { "" } else { "s" },
-            output.with_extension("").display().to_string() + ".<UDIM>.exr"
-        ),
-        (false, true) => bail!(
-            "the output {} has a UDIM token but the input {} is no UDIM pattern",
-            output.display(),
-            input.display()
-        ),
+/// The pairs this run converts: the whole plan, or `--shard`'s part of it, once no output of
+/// theirs exists that may not be replaced (`--force`, `-u`). Outputs of other shards are never
+/// looked at, so shards run side by side in any order.
+pub(crate) fn this_run(args: &Args) -> Result<Vec<(PathBuf, PathBuf)>> {
+    let mut plan = whole(args)?;
+    if let Some(shard) = args.shard {
+        let index = crate::shard::index(shard)?;
+        plan = plan.shard(index, shard.count).map_err(planned)?;
     }
+    plan.check_existing(args.force, args.update)
+        .map_err(planned)?;
+    Ok(plan.into_pairs())
+}
+
+/// The whole plan for `farm submit`, whose tasks all convert with `-u`: every output checked.
+pub(crate) fn for_farm(args: &Args) -> Result<Plan> {
+    let plan = whole(args)?;
+    plan.check_existing(args.force, true).map_err(planned)?;
+    Ok(plan)
+}
+
+/// A plan's error as a library error, so that the command line's hint (`--force`) follows it.
+fn planned(e: plan::Error) -> anyhow::Error {
+    anyhow::anyhow!(crate::explain(&specconv_conversion::Error::from(e)))
 }
 
 /// The most a list of inputs on standard input may hold (a million paths of 64 bytes).

@@ -1,0 +1,279 @@
+//! The plan of a batch as a careless or hostile user meets it (issue 30): shards that run in
+//! any order or side by side, two inputs aimed at one output, an output that is an input under
+//! another name. The rules are the library's (specconv_conversion::plan); these run the binary.
+
+use crate::convert::testdata;
+use crate::runner::*;
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+/// Five small inputs of different sizes (the split weighs pixels), each name its own stem.
+fn inputs(s: &Scratch) -> Vec<PathBuf> {
+    [
+        "srgb8.png",
+        "rgb16.png",
+        "photo.jpg",
+        "rgba16.png",
+        "srgba8.png",
+    ]
+    .iter()
+    .enumerate()
+    .map(|(k, name)| {
+        let ext = Path::new(name).extension().unwrap().to_str().unwrap();
+        let p = s.path(&format!("t{k}.{ext}"));
+        std::fs::copy(testdata(name), &p).unwrap();
+        p
+    })
+    .collect()
+}
+
+/// `convert INPUTS -o OUT --shard I/N --json --mip 0`, without -u or --force.
+fn shard(inputs: &[PathBuf], out: &Path, i: usize, n: usize) -> Cmd {
+    Cmd::new(["convert"])
+        .args(inputs)
+        .arg("-o")
+        .arg(out)
+        .args(["--json", "--mip", "0", "--progress", "never"])
+        .args(["--shard", &format!("{i}/{n}")])
+}
+
+/// The inputs a run's records say it converted; every record `ok`.
+#[track_caller]
+fn converted(out: &Output) -> Vec<String> {
+    out.json_lines()
+        .iter()
+        .map(|r| {
+            assert_eq!(r["status"], "ok", "{r}");
+            r["input"].as_str().unwrap().to_string()
+        })
+        .collect()
+}
+
+/// How many times each input was converted, over several runs.
+fn tally(runs: &[Vec<String>]) -> BTreeMap<String, usize> {
+    let mut seen = BTreeMap::new();
+    for input in runs.iter().flatten() {
+        *seen.entry(input.clone()).or_insert(0) += 1;
+    }
+    seen
+}
+
+#[track_caller]
+fn each_once(runs: &[Vec<String>], inputs: &[PathBuf]) {
+    let expected: BTreeMap<String, usize> = inputs
+        .iter()
+        .map(|p| (p.to_str().unwrap().to_string(), 1))
+        .collect();
+    assert_eq!(tally(runs), expected, "{runs:?}");
+}
+
+#[test]
+fn shards_in_any_order_convert_every_input_exactly_once_without_update_or_force() {
+    let s = Scratch::new("plans-shard-order");
+    let inputs = inputs(&s);
+    let orders = [
+        [0, 1, 2],
+        [0, 2, 1],
+        [1, 0, 2],
+        [1, 2, 0],
+        [2, 0, 1],
+        [2, 1, 0],
+    ];
+    for (k, order) in orders.iter().enumerate() {
+        let out = s.path(&format!("out{k}"));
+        std::fs::create_dir_all(&out).unwrap();
+        let runs: Vec<Vec<String>> = order
+            .iter()
+            .map(|&i| converted(&shard(&inputs, &out, i, 3).ok()))
+            .collect();
+        each_once(&runs, &inputs);
+        assert_eq!(std::fs::read_dir(&out).unwrap().count(), inputs.len());
+        // A shard run again still finds its own outputs, and only its own, in its way.
+        let again = shard(&inputs, &out, order[0], 3).fails(2, &["exists"]);
+        let named = again.stderr.split(" exists").next().unwrap().to_string();
+        let own: Vec<String> = runs[0]
+            .iter()
+            .map(|i| {
+                let stem = Path::new(i).file_stem().unwrap().to_str().unwrap();
+                out.join(format!("{stem}_spectral.exr"))
+                    .to_str()
+                    .unwrap()
+                    .to_string()
+            })
+            .collect();
+        assert!(
+            own.iter().any(|o| named.ends_with(o.as_str())),
+            "{named} is not one of {own:?}"
+        );
+        // With -u every shard skips what it made.
+        for i in 0..3 {
+            let records = shard(&inputs, &out, i, 3).arg("-u").ok().json_lines();
+            assert!(
+                records.iter().all(|r| r["status"] == "skipped"),
+                "{records:?}"
+            );
+        }
+    }
+    no_temporaries(&s.0);
+}
+
+/// Starts a shard run, its output captured.
+fn start(cmd: Cmd) -> std::process::Child {
+    cmd.command()
+        .stdin(std::process::Stdio::null())
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap()
+}
+
+/// Waits for a started run; asserts success; the inputs it converted.
+#[track_caller]
+fn finish(child: std::process::Child) -> Vec<String> {
+    let o = child.wait_with_output().unwrap();
+    let out = Output {
+        code: o.status.code().unwrap(),
+        stdout: String::from_utf8_lossy(&o.stdout).into_owned(),
+        stderr: String::from_utf8_lossy(&o.stderr).into_owned(),
+    };
+    out.ok();
+    converted(&out)
+}
+
+/// Outputs published in `dir` (not temporaries).
+fn published(dir: &Path) -> usize {
+    std::fs::read_dir(dir)
+        .unwrap()
+        .filter(|e| {
+            let name = e.as_ref().unwrap().file_name();
+            name.to_string_lossy().ends_with("_spectral.exr")
+        })
+        .count()
+}
+
+#[test]
+fn shards_side_by_side_convert_every_input_exactly_once() {
+    let s = Scratch::new("plans-shard-parallel");
+    let mut inputs = inputs(&s);
+    // One larger texture, so that its shard is still at work while the others start.
+    let big = s.path("big.png");
+    noise(&big, 384, "uint8");
+    inputs.push(big);
+    // All three started at once, as GNU parallel or a farm's array starts them.
+    let out = s.path("at-once");
+    std::fs::create_dir_all(&out).unwrap();
+    let children: Vec<_> = (0..3).map(|i| start(shard(&inputs, &out, i, 3))).collect();
+    let runs: Vec<Vec<String>> = children.into_iter().map(finish).collect();
+    each_once(&runs, &inputs);
+    assert_eq!(published(&out), inputs.len());
+    // One shard ahead: the others start once it has published an output, while it may
+    // still be converting (a scheduler's uneven start).
+    for first in 0..3 {
+        let out = s.path(&format!("after-{first}"));
+        std::fs::create_dir_all(&out).unwrap();
+        let mut ahead = start(shard(&inputs, &out, first, 3));
+        let waited = std::time::Instant::now();
+        while published(&out) == 0 && ahead.try_wait().unwrap().is_none() {
+            assert!(
+                waited.elapsed().as_secs() < 120,
+                "no output from shard {first}"
+            );
+            std::thread::sleep(std::time::Duration::from_millis(5));
+        }
+        let others: Vec<_> = (0..3)
+            .filter(|&i| i != first)
+            .map(|i| start(shard(&inputs, &out, i, 3)))
+            .collect();
+        let mut runs = vec![finish(ahead)];
+        runs.extend(others.into_iter().map(finish));
+        each_once(&runs, &inputs);
+        assert_eq!(published(&out), inputs.len());
+    }
+    no_temporaries(&s.0);
+}
+
+#[test]
+fn two_inputs_for_one_output_are_both_named_in_every_shard() {
+    let s = Scratch::new("plans-collide");
+    let png = s.path("brick.png");
+    std::fs::copy(testdata("srgb8.png"), &png).unwrap();
+    let tx = s.path("brick.tx");
+    std::fs::copy(testdata("srgba8.tx"), &tx).unwrap();
+    std::fs::create_dir_all(s.path("conv")).unwrap();
+    let line = "brick.png and brick.tx would both write conv/brick_spectral.exr; give each input \
+                its own output";
+    Cmd::new(["convert", "brick.png", "brick.tx", "-o", "conv"])
+        .current_dir(&s.0)
+        .refused(&s, 2, &[line]);
+    // The two inputs fall in different shards: each shard refuses the whole plan.
+    for i in 0..2 {
+        Cmd::new(["convert", "brick.png", "brick.tx", "-o", "conv", "--force"])
+            .args(["--shard", &format!("{i}/2")])
+            .current_dir(&s.0)
+            .refused(&s, 2, &[line]);
+    }
+    // One input given twice, from standard input.
+    Cmd::new(["convert", "-", "-o", "conv"])
+        .stdin("brick.png\nbrick.png\n")
+        .current_dir(&s.0)
+        .refused(&s, 2, &["brick.png is given twice"]);
+    // Spelled apart, one file: both inputs and both spellings.
+    Cmd::new(["convert", "brick.png", "brick.tx"])
+        .args(["--output-template", "conv/../conv/{dir}/x.exr"])
+        .current_dir(&s.0)
+        .refused(&s, 2, &["brick.png and brick.tx would both write"]);
+    assert!(std::fs::read_dir(s.path("conv")).unwrap().next().is_none());
+}
+
+#[test]
+fn an_output_that_is_an_input_is_refused_by_any_name_and_in_every_shard() {
+    let s = Scratch::new("plans-identity");
+    let x = s.path("x.exr");
+    std::fs::copy(testdata("half_tiled_alpha.exr"), &x).unwrap();
+    let y = s.path("y.png");
+    std::fs::copy(testdata("srgb8.png"), &y).unwrap();
+    std::os::unix::fs::symlink("y.png", s.path("link.exr")).unwrap();
+    std::fs::hard_link(&y, s.path("hard.exr")).unwrap();
+    std::fs::create_dir_all(s.path("sub")).unwrap();
+    let before: Vec<Vec<u8>> = [&x, &y].iter().map(|p| std::fs::read(p).unwrap()).collect();
+    for flags in [&[][..], &["--force"], &["-u"], &["-u", "--force"]] {
+        // INPUT OUTPUT: a symbolic link to it, a hard link to it, `./` and `..` spellings.
+        for (input, output) in [
+            ("y.png", "link.exr"),
+            ("y.png", "hard.exr"),
+            ("x.exr", "./x.exr"),
+            ("x.exr", "sub/../x.exr"),
+        ] {
+            Cmd::new(["convert", input, output])
+                .args(flags)
+                .current_dir(&s.0)
+                .refused(&s, 2, &["is the input"]);
+        }
+        // A batch whose template names another input through a link, in whichever shard.
+        for shard in [None, Some("0/2"), Some("1/2")] {
+            Cmd::new(["convert", "x.exr", "y.png"])
+                .args(["--output-template", "{dir}/sub/../link.exr"])
+                .args(flags)
+                .args(shard.map(|s| ["--shard", s]).into_iter().flatten())
+                .current_dir(&s.0)
+                .refused(&s, 2, &["is the input"]);
+        }
+    }
+    let after: Vec<Vec<u8>> = [&x, &y].iter().map(|p| std::fs::read(p).unwrap()).collect();
+    assert!(after == before, "an input changed");
+    no_temporaries(&s.0);
+}
+
+#[test]
+fn one_output_for_a_list_of_inputs_is_refused_not_cut_short() {
+    let s = Scratch::new("plans-one-output");
+    let inputs = inputs(&s);
+    let list: String = inputs[..2]
+        .iter()
+        .map(|p| format!("{}\n", p.display()))
+        .collect();
+    Cmd::new(["convert", "-", "one.exr"])
+        .stdin(list)
+        .current_dir(&s.0)
+        .refused(&s, 2, &["2 inputs and one output one.exr"]);
+}
