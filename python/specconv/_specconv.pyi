@@ -80,8 +80,9 @@ def spectra_to_xyz(
 def rgb_to_xyz(rgb: _Array, colorspace: str, config: Optional[str] = "aces") -> npt.NDArray[Any]: ...
 def convert(
     inputs: Union[_Path, Sequence[_Path]],
-    outputs: Union[_Path, Sequence[_Path]],
+    outputs: Union[None, _Path, Sequence[_Path]] = None,
     *,
+    output_template: Optional[str] = None,
     ocio: Optional[str] = None,
     colorspace: Optional[str] = None,
     alpha: Literal["auto", "straight", "premultiplied"] = "auto",

@@ -61,15 +61,17 @@ fn choose<T: Copy>(
         })
 }
 
-/// Converts `inputs` (a path or a list) to spectral OpenEXR files, as `specconv convert` does
-/// with the same options, byte for byte. `outputs`: a file (one input), a list of files (one
-/// per input), or an existing directory (`DIR/STEM_spectral.exr`). Returns one record per
+/// Converts `inputs` (a path or a list; a UDIM pattern such as `wood.<UDIM>.png` stands for
+/// its tiles) to spectral OpenEXR files, as `specconv convert` does with the same options,
+/// byte for byte. `outputs`: a file (one input), a list of files (one per input; a pattern's
+/// names its tiles with the token too), or an existing directory (`DIR/STEM_spectral.exr`); or
+/// instead `output_template` (`{dir}`, `{stem}`, `{name}`, `{udim}`, `{tile}`). Returns one record per
 /// input, as `convert --json` prints them (docs/json.md). `errors="raise"` stops at the first
 /// failed input and raises its exception (earlier outputs stay); `"record"` carries on and
 /// records it. `progress(index, input, pixels_done, pixels_total)` is called as it goes.
 /// Ctrl-C stops it, leaving no partial output, and raises `KeyboardInterrupt`.
 #[pyfunction]
-#[pyo3(signature = (inputs, outputs, *, ocio=None, colorspace=None, alpha="auto",
+#[pyo3(signature = (inputs, outputs=None, *, output_template=None, ocio=None, colorspace=None, alpha="auto",
                     subimage=None, channels=None, method="otsu2018", model=None,
                     blend=specconv_spectral::otsu2018::blend::DEFAULT_WIDTH, bounded=true,
                     bands=None, emission=None, sample="half", rounding=None, compression="zip",
@@ -81,7 +83,8 @@ fn choose<T: Copy>(
 pub fn convert<'py>(
     py: Python<'py>,
     inputs: Paths,
-    outputs: Paths,
+    outputs: Option<Paths>,
+    output_template: Option<&str>,
     ocio: Option<String>,
     colorspace: Option<String>,
     alpha: &str,
@@ -198,37 +201,9 @@ pub fn convert<'py>(
         ],
         c::DataPolicy::name,
     )?;
-    let pairs = plan(inputs.list(), outputs.list())?;
+    let pairs = crate::plan::pairs(py, inputs.list(), outputs.map(Paths::list), output_template)?;
     let converter = py.detach(|| Converter::new(o)).map_err(conversion)?;
     run(py, &converter, &pairs, update, raise, progress)
-}
-
-/// Each input with its output.
-fn plan(inputs: Vec<PathBuf>, outputs: Vec<PathBuf>) -> PyResult<Vec<(PathBuf, PathBuf)>> {
-    if inputs.is_empty() {
-        return Err(Kind::Option.err("no inputs"));
-    }
-    match &outputs[..] {
-        [dir] if dir.is_dir() => Ok(inputs
-            .into_iter()
-            .map(|i| {
-                let o = specconv_atomic_file::outputs::in_directory(dir, &i);
-                (i, o)
-            })
-            .collect()),
-        _ if outputs.len() == inputs.len() => Ok(inputs.into_iter().zip(outputs).collect()),
-        [one] => Err(Kind::Option.err(format!(
-            "{} inputs and one output {}, which is not a directory: give a directory that \
-             exists or one output per input",
-            inputs.len(),
-            one.display()
-        ))),
-        _ => Err(Kind::Option.err(format!(
-            "{} inputs and {} outputs: give one output per input, or a directory",
-            inputs.len(),
-            outputs.len()
-        ))),
-    }
 }
 
 /// The batch on a thread of its own while this one, holding the GIL between waits, hears

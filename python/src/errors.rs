@@ -83,6 +83,7 @@ fn hint(remedy: Option<Remedy>) -> &'static str {
         Some(Remedy::AlreadySpectral) => {
             "; read it with specconv.read_spectral, or convert its colour source instead"
         }
+        Some(Remedy::TileTemplate) => ", or pass output_template= with {udim}",
         _ => "",
     }
 }

@@ -10,6 +10,7 @@ mod convert;
 mod errors;
 mod files;
 mod model;
+mod plan;
 
 use pyo3::prelude::*;
 

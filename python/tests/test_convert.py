@@ -89,11 +89,14 @@ def test_bad_input_raises_the_documented_exception_and_writes_nothing(tmp_path, 
         specconv.convert(path, tmp_path / "a.exr", non_finite="zero")
     with pytest.raises(TypeError):
         specconv.convert(path, tmp_path / "a.exr", fixnan="box3")
-    # The input named as its own output is refused before anything is read or written.
-    before = path.read_bytes()
-    with pytest.raises(specconv.FileError, match="input"):
+    # The input named as its own output is refused before anything is read or written (a
+    # PNG first for not being OpenEXR).
+    before = path.read_bytes(), bad.read_bytes()
+    with pytest.raises(specconv.OptionError, match="ending in .exr"):
         specconv.convert(path, path)
-    assert path.read_bytes() == before
+    with pytest.raises(specconv.FileError, match="is the input"):
+        specconv.convert(bad, bad, overwrite=True)
+    assert (path.read_bytes(), bad.read_bytes()) == before
     existing = tmp_path / "existing.exr"
     existing.write_bytes(b"not ours")
     with pytest.raises(specconv.OutputExistsError, match="overwrite=True"):
