@@ -5,7 +5,7 @@ use crate::error::{ConversionError, Error};
 use crate::options::{
     alpha_name, mip_name, non_finite_name, sample_name, Blocks, DataPolicy, Mip, Options, Rounding,
 };
-use crate::provenance::Provenance;
+use crate::provenance::{recorded, Provenance};
 use specconv_colour::EmissionUnits;
 use specconv_exr::{Kind, Sample};
 use specconv_ocio::Config;
@@ -652,14 +652,6 @@ impl std::fmt::Debug for Converter {
             .field("method", &self.method_name())
             .finish_non_exhaustive()
     }
-}
-
-/// What a specconv output records; `None` for any other file.
-pub(crate) fn recorded(output: &Path) -> Option<Provenance> {
-    let attributes = specconv_exr::read_attributes(output).ok()?;
-    Provenance::from_attributes(&attributes)
-        .ok()
-        .filter(|p| p.settings.is_some())
 }
 
 /// Refuses settings whose blocks in flight need more memory than the machine has: each worker

@@ -31,7 +31,7 @@
 //! # Ok::<(), specconv_conversion::plan::Error>(())
 //! ```
 
-use crate::converter::recorded;
+use crate::provenance::recorded;
 use specconv_atomic_file::outputs::{self as naming, Template, TemplateError};
 use specconv_atomic_file::udim::{self, UdimError};
 use specconv_atomic_file::{plan as files, Places, PlanError};

@@ -177,6 +177,14 @@ impl Provenance {
     }
 }
 
+/// What a specconv output records; `None` for any other file.
+pub(crate) fn recorded(output: &std::path::Path) -> Option<Provenance> {
+    let attributes = specconv_exr::read_attributes(output).ok()?;
+    Provenance::from_attributes(&attributes)
+        .ok()
+        .filter(|p| p.settings.is_some())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
