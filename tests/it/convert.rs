@@ -30,8 +30,8 @@ fn input_xyz(input: &Path, level: usize) -> (usize, usize, Vec<[f32; 3]>) {
     let mut reader = specconv_oiio::ImageReader::open(input).unwrap();
     let info = reader.info().clone();
     let config = specconv_ocio::Config::resolve(Some("aces")).unwrap();
-    let space = specconv_pipeline::input_space(&config, &reader, None).unwrap();
-    let premultiply = specconv_pipeline::Alpha::Auto.premultiply(&reader, info.alpha_channel);
+    let space = specconv_conversion::images::input_space(&config, &reader, None).unwrap();
+    let premultiply = specconv_conversion::Alpha::Auto.premultiply(&reader, info.alpha_channel);
     let px = reader.read_level(level).unwrap();
     let colour: Vec<usize> = (0..px.channels)
         .filter(|&c| Some(c) != info.alpha_channel)

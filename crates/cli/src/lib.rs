@@ -12,6 +12,7 @@ mod cmd;
 mod files;
 mod man;
 mod methods;
+mod options;
 mod picture;
 mod progress;
 mod records;

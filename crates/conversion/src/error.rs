@@ -7,7 +7,7 @@ use crate::options::Compression;
 use specconv_atomic_file::PlanError;
 use std::path::PathBuf;
 
-pub use specconv_pipeline::Error as ConversionError;
+pub use crate::pipeline::Error as ConversionError;
 
 /// Why a [`crate::Converter`] could not be built, or one conversion failed.
 #[derive(Debug, thiserror::Error)]
@@ -222,10 +222,8 @@ impl Error {
                 ConversionError::NonFinite { .. } => Some(Remedy::RepairNonFinite),
                 ConversionError::TooManyNonFinite { .. } => Some(Remedy::RepairBlack),
                 ConversionError::Channels { choose, .. } => choose.map(|c| match c {
-                    specconv_pipeline::input::Choose::ChannelsOrLayer => {
-                        Remedy::NameChannelsOrLayer
-                    }
-                    specconv_pipeline::input::Choose::OneLayer => Remedy::NameLayer,
+                    crate::pipeline::input::Choose::ChannelsOrLayer => Remedy::NameChannelsOrLayer,
+                    crate::pipeline::input::Choose::OneLayer => Remedy::NameLayer,
                 }),
                 ConversionError::Color(e) => colour_remedy(e),
                 ConversionError::Data(_) => Some(Remedy::DataTexture),

@@ -15,19 +15,19 @@ pub fn pixel_count(path: &Path) -> Result<u64, ReadError> {
         .sum())
 }
 
+pub use crate::pipeline::input::{choose_channels, open_subimage, ChannelReason};
+pub use crate::pipeline::{colour_channels, colour_of, input_space, InputSpace};
 /// Reading images as a conversion reads them: the same subimage, channel and colour-space
 /// rules, for front-ends that describe or sample an image (`info`, a scene's texture pixel).
 pub use specconv_oiio::{ImageInfo, ImageReader, Region, Window};
-pub use specconv_pipeline::input::{choose_channels, open_subimage, ChannelReason};
-pub use specconv_pipeline::{colour_channels, colour_of, input_space, InputSpace};
 
 /// What an image's colour is read as, by the conversion's rule.
 #[derive(Debug)]
 pub enum ReadAs {
     /// Colour, in this space.
     Colour(InputSpace),
-    /// Data, never uplifted ([`specconv_pipeline::colour::texture_space`]).
-    Data(Box<specconv_pipeline::DataTexture>),
+    /// Data, never uplifted (`crate::pipeline::colour::texture_space`).
+    Data(Box<crate::pipeline::DataTexture>),
 }
 
 /// What `reader`'s image is read as when `channels` carry its colour (`None`: channels not
@@ -35,20 +35,20 @@ pub enum ReadAs {
 pub fn read_as(
     config: &specconv_ocio::Config,
     reader: &ImageReader,
-    channels: Option<&specconv_pipeline::input::Channels>,
+    channels: Option<&crate::pipeline::input::Channels>,
     colorspace: Option<&str>,
-) -> Result<ReadAs, specconv_pipeline::Error> {
+) -> Result<ReadAs, crate::pipeline::Error> {
     let info = reader.info();
     let chosen = match channels {
         Some(c) => {
-            let selection = specconv_pipeline::input::Selection::of(info, c.clone());
-            specconv_pipeline::texture_space(config, reader, &selection, colorspace)
+            let selection = crate::pipeline::input::Selection::of(info, c.clone());
+            crate::pipeline::texture_space(config, reader, &selection, colorspace)
         }
         None => input_space(config, reader, colorspace),
     };
     match chosen {
         Ok(space) => Ok(ReadAs::Colour(space)),
-        Err(specconv_pipeline::Error::Data(d)) => Ok(ReadAs::Data(d)),
+        Err(crate::pipeline::Error::Data(d)) => Ok(ReadAs::Data(d)),
         Err(e) => Err(e),
     }
 }
@@ -122,7 +122,7 @@ pub enum PixelError {
     },
     /// Its colour space cannot be chosen or reached.
     #[error(transparent)]
-    Colour(#[from] specconv_pipeline::Error),
+    Colour(#[from] crate::pipeline::Error),
 }
 
 /// XYZ (white Y = 1) of pixel `[x, y]` (from the top left) of the full-resolution level, read

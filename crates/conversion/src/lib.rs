@@ -30,26 +30,29 @@ pub mod cost;
 mod error;
 pub mod images;
 pub mod models;
+mod named;
 mod options;
+mod pipeline;
 pub mod preview;
 pub mod provenance;
 pub mod record;
 pub mod tables;
 pub mod to_rgb;
 
+pub use crate::pipeline::texture::parse_wrapmodes;
+pub use crate::pipeline::DataTexture;
 pub use batch::{check_plan, Batch, Event, Summary};
 pub use converter::{Advice, Converter, DataOutcome, Report, Role, Rule, Selection, Warning};
 pub use error::{message, Cause, ConversionError, Error, Remedy};
+pub use named::{Named, UnknownName};
 pub use options::{
-    alpha_name, mip_name, non_finite_name, sample_name, Alpha, Blocks, Compression, DataPolicy,
-    Filter, Mip, NonFinite, Options, Rounding, Sample, UnknownName, Wrap, WrapModes, WRAP_NAMES,
+    About, Alpha, BadValue, Blocks, Compression, DataPolicy, Filter, Key, Mip, NonFinite, Options,
+    Rounding, Sample, Wrap, WrapModes, WRAP_NAMES,
 };
 pub use provenance::Provenance;
 /// Ends the process at once, without C++ static destructors: for a signal handler's thread
 /// while the libraries may be in use (`specconv_oiio::exit_now`).
 pub use specconv_oiio::exit_now;
-pub use specconv_pipeline::texture::parse_wrapmodes;
-pub use specconv_pipeline::DataTexture;
 pub use specconv_spectral::bounded::Counts;
 
 /// The OpenColorIO configs and colour spaces every front-end reads colour through (the same

@@ -22,7 +22,7 @@ const LAYERS: &[&[&str]] = &[
         "specconv-ocio",
         "specconv-icc",
     ],
-    &["specconv-study", "specconv-pipeline", "specconv-farm"],
+    &["specconv-study", "specconv-farm"],
     &["specconv-conversion"],
     &["specconv-cli", "specconv-testkit"],
     &["specconv"],
@@ -32,7 +32,7 @@ const LAYERS: &[&[&str]] = &[
 const SCIENCE: &[&str] = &["specconv-colour", "specconv-spectral", "specconv-study"];
 const NOT_FOR_SCIENCE: &[&str] = &[
     "specconv-exr",
-    "specconv-pipeline",
+    "specconv-conversion",
     "specconv-oiio",
     "specconv-ocio",
     "oiio-sys",
@@ -95,7 +95,6 @@ fn the_cli_is_a_front_end_of_the_conversion_library() {
     let (name, deps) = dependencies(&root().join("crates/cli/Cargo.toml"));
     assert_eq!(name, "specconv-cli");
     for below in [
-        "specconv-pipeline",
         "specconv-oiio",
         "specconv-ocio",
         "specconv-icc",

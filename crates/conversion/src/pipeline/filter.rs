@@ -37,61 +37,6 @@ pub enum Filter {
 }
 
 impl Filter {
-    /// Every filter, in the order maketx's help lists them.
-    pub const ALL: [Filter; 17] = [
-        Filter::Box,
-        Filter::Triangle,
-        Filter::Gaussian,
-        Filter::SharpGaussian,
-        Filter::CatmullRom,
-        Filter::BlackmanHarris,
-        Filter::Sinc,
-        Filter::Lanczos3,
-        Filter::RadialLanczos3,
-        Filter::NukeLanczos6,
-        Filter::Mitchell,
-        Filter::Bspline,
-        Filter::Disk,
-        Filter::Cubic,
-        Filter::Keys,
-        Filter::Simon,
-        Filter::Rifman,
-    ];
-
-    /// Every name, as [`Filter::ALL`].
-    pub const NAMES: [&'static str; 17] = [
-        "box",
-        "triangle",
-        "gaussian",
-        "sharp-gaussian",
-        "catmull-rom",
-        "blackman-harris",
-        "sinc",
-        "lanczos3",
-        "radial-lanczos3",
-        "nuke-lanczos6",
-        "mitchell",
-        "bspline",
-        "disk",
-        "cubic",
-        "keys",
-        "simon",
-        "rifman",
-    ];
-
-    /// Its name, as maketx's `--filter` takes it.
-    pub fn name(self) -> &'static str {
-        Filter::NAMES[self as usize]
-    }
-
-    /// The filter of that name.
-    pub fn from_name(name: &str) -> Option<Filter> {
-        Filter::NAMES
-            .iter()
-            .position(|n| *n == name)
-            .map(|i| Filter::ALL[i])
-    }
-
     /// Whether it has negative lobes: it can push a filtered value below the smallest (or above
     /// the largest) of those it weighs.
     pub fn has_negative_lobes(self) -> bool {
@@ -168,7 +113,7 @@ impl Filter {
 
 impl fmt::Display for Filter {
     fn fmt(&self, f: &mut fmt::Formatter) -> fmt::Result {
-        f.write_str(self.name())
+        f.write_str(crate::Named::name(*self))
     }
 }
 
@@ -307,14 +252,7 @@ fn cubic(x: f32, a: f32) -> f32 {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn names_round_trip() {
-        for f in Filter::ALL {
-            assert_eq!(Filter::from_name(f.name()), Some(f));
-        }
-        assert_eq!(Filter::from_name("lanczos"), None);
-    }
+    use crate::Named;
 
     #[test]
     fn fast_exp_is_close_to_exp() {
@@ -326,7 +264,7 @@ mod tests {
 
     #[test]
     fn every_filter_peaks_at_its_centre_and_ends_at_its_width() {
-        for f in Filter::ALL {
+        for &f in Filter::ALL {
             let w = f.width();
             assert!(f.at((0.0, 0.0), (w, w)) > 0.0, "{f}");
             assert_eq!(f.at((w * 0.51, 0.0), (w, w)), 0.0, "{f}");

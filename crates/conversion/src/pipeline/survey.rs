@@ -148,7 +148,7 @@ pub(crate) fn survey(
     reader: &mut ImageReader,
     (colour, alpha): (&[usize], Option<usize>),
 ) -> Result<Survey> {
-    let policy = job.settings.non_finite;
+    let policy = job.options.non_finite;
     let (width, height) = (
         reader.info().width() as usize,
         reader.info().height() as usize,

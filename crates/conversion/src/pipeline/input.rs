@@ -92,7 +92,7 @@ impl Selection {
 /// Opens `path` on the subimage asked for and chooses its channels. A spectral image (the
 /// Fichet 2021 layout: `T.` or `S0.` channels) is refused unless channels are asked for: it is
 /// already spectra, and uplifting a preview of it would throw them away.
-pub fn open(path: &Path, request: &Request) -> crate::Result<(ImageReader, Selection)> {
+pub fn open(path: &Path, request: &Request) -> super::Result<(ImageReader, Selection)> {
     let reader = open_subimage(path, request.subimage.as_deref())?;
     let info = reader.info();
     if request.channels.is_none() {
@@ -103,8 +103,8 @@ pub fn open(path: &Path, request: &Request) -> crate::Result<(ImageReader, Selec
     Ok((reader, selection))
 }
 
-/// [`crate::Error::Spectral`] for an image in the spectral layout.
-fn refuse_spectral(info: &ImageInfo) -> crate::Result<()> {
+/// [`super::Error::Spectral`] for an image in the spectral layout.
+fn refuse_spectral(info: &ImageInfo) -> super::Result<()> {
     let layout = specconv_exr::Layout::of(info.channels.iter().map(|c| c.name.as_str()));
     if !layout.is_spectral() {
         return Ok(());
@@ -114,7 +114,7 @@ fn refuse_spectral(info: &ImageInfo) -> crate::Result<()> {
     } else {
         (false, &layout.reflective)
     };
-    Err(crate::Error::Spectral {
+    Err(super::Error::Spectral {
         path: info.path.clone(),
         emissive,
         bands: bands.len(),
@@ -123,7 +123,7 @@ fn refuse_spectral(info: &ImageInfo) -> crate::Result<()> {
 }
 
 /// Opens `path` on subimage `which` (`N` or a name; the first when `None`).
-pub fn open_subimage(path: &Path, which: Option<&str>) -> crate::Result<ImageReader> {
+pub fn open_subimage(path: &Path, which: Option<&str>) -> super::Result<ImageReader> {
     let mut reader = ImageReader::open(path)?;
     if let Some(which) = which {
         let index = reader.info().find_subimage(which)?;
@@ -150,7 +150,7 @@ pub fn colour_channels(channels: usize, alpha: Option<usize>) -> Vec<usize> {
 }
 
 /// The colour and alpha channels of `info` (see the module's rules), or `request`'s.
-pub fn choose_channels(info: &ImageInfo, request: Option<&str>) -> crate::Result<Channels> {
+pub fn choose_channels(info: &ImageInfo, request: Option<&str>) -> super::Result<Channels> {
     let names: Vec<&str> = info.channels.iter().map(|c| c.name.as_str()).collect();
     let find = |name: &str| names.iter().position(|n| *n == name);
     let build = |colour: Vec<usize>, alpha: Option<usize>, reason| {
@@ -163,7 +163,7 @@ pub fn choose_channels(info: &ImageInfo, request: Option<&str>) -> crate::Result
             reason,
         }
     };
-    let refuse_as = |what: String, choose: Option<Choose>| crate::Error::Channels {
+    let refuse_as = |what: String, choose: Option<Choose>| super::Error::Channels {
         path: info.path.clone(),
         what,
         channels: format!("{}{}", names.join(", "), describe_layers(&names)),

@@ -32,7 +32,7 @@
 //! after the declared transfer function; or, for an ICC profile, Little CMS to its D50 PCS
 //! (relative colorimetric) then Bradford to D65.
 
-use crate::{input, png, Error, Result};
+use super::{input, png, Error, Result};
 use specconv_colour::rgb::{self, RgbSpace};
 use specconv_icc::ToPcs;
 use specconv_ocio::{Config, Processor};
@@ -479,7 +479,7 @@ fn describe_space(label: &str, s: &RgbSpace, decode: Decode) -> String {
     )
 }
 
-/// A texture that holds data, not colour: never uplifted ([module rules](self)).
+/// A texture that holds data, not colour: never uplifted (the module's rules).
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 #[error("{}: a data texture ({}): it holds numbers, not colour, and is never uplifted to a spectrum", path.display(), self.why())]
 pub struct DataTexture {
