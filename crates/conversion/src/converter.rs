@@ -5,10 +5,10 @@ use crate::error::{ConversionError, Error};
 use crate::options::{settings_tag, Blocks, DataPolicy, Options, Resolved};
 use crate::pipeline::{Job, Storage};
 use crate::provenance::Provenance;
+use crate::report::{DataOutcome, Report, Role};
 use specconv_colour::EmissionUnits;
 use specconv_exr::Sample;
 use specconv_ocio::Config;
-use specconv_spectral::bounded::Counts;
 use specconv_spectral::stack::{Description, Stack};
 use specconv_spectral::Model;
 
@@ -42,97 +42,6 @@ pub struct Converter {
     storage: Storage,
     provenance: Provenance,
     pool: Option<rayon::ThreadPool>,
-}
-
-/// What one conversion did, and nothing else's.
-#[derive(Debug, Clone)]
-#[non_exhaustive]
-pub struct Report {
-    /// Size of the full-resolution level.
-    pub width: usize,
-    /// Height of the full-resolution level.
-    pub height: usize,
-    /// Pixels uplifted (level 0: smaller levels are filtered from its spectra).
-    pub pixels: u64,
-    /// MIP levels written.
-    pub levels: usize,
-    /// Wrap modes recorded (tiled outputs), and whether the input declared them.
-    pub wrap: Option<(crate::WrapModes, bool)>,
-    /// Pixels of the input with NaN or infinite values in a channel read, and whether they
-    /// were repaired (else they were kept: refused inputs fail).
-    pub non_finite_input: (u64, bool),
-    /// Every pixel was the same: written as one tile.
-    pub constant: bool,
-    /// Alpha was 1 everywhere and was not written.
-    pub opaque_dropped: bool,
-    /// The hash of the source pixels `-u` compares (empty for a data texture).
-    pub source_hash: String,
-    /// Bands of every spectrum.
-    pub bands: usize,
-    /// The subimage and the channels read.
-    pub selection: Selection,
-    /// The input's colour space (the config's name, or a description).
-    pub colorspace: String,
-    /// The rule that chose it.
-    pub colorspace_rule: Rule,
-    /// Declarations of the file that were ignored or disagree.
-    pub warnings: Vec<Warning>,
-    /// Straight colour was multiplied by alpha after conversion.
-    pub premultiplied: bool,
-    /// Pixels whose colour had a NaN or infinite component.
-    pub non_finite: u64,
-    /// Pixels above 1 (an input channel or Y above `crate::pipeline::ABOVE_ONE`).
-    pub above_one: u64,
-    /// Pixels with a band beyond the half range, stored as ±65504.
-    pub saturated: u64,
-    /// Pixels of made levels (and of a resized level 0) clamped after a filter with negative
-    /// lobes pushed a band out of range (`[0, 1]` for bounded reflectance) or alpha out of
-    /// [0, 1].
-    pub clamped: u64,
-    /// The filter the levels were made with; `None` when none was made (one level, not
-    /// resized).
-    pub filter: Option<crate::Filter>,
-    /// Bounded reflectance: the outcomes of the projection into [0, 1]; `None` otherwise.
-    pub bounded: Option<Counts>,
-    /// Emission: colours no emission spectrum of the method matched; `None` otherwise.
-    pub unmatched: Option<u64>,
-    /// Seconds the conversion took.
-    pub seconds: f64,
-    /// What the texture was read as: colour, one achromatic channel, or data.
-    pub role: Role,
-    /// For a data texture, what was done with it; `None` for colour.
-    pub data: Option<DataOutcome>,
-}
-
-/// What a texture holds (`crate::pipeline::colour::texture_space`'s rule).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Role {
-    /// Colour, three channels.
-    Colour,
-    /// One channel read as achromatic colour (its colour space says it is colour).
-    Achromatic,
-    /// Data, not colour: never uplifted.
-    Data,
-}
-
-impl Role {
-    /// The name records give it: `colour`, `achromatic` or `data`.
-    pub fn name(self) -> &'static str {
-        match self {
-            Role::Colour => "colour",
-            Role::Achromatic => "achromatic",
-            Role::Data => "data",
-        }
-    }
-}
-
-/// What was done with a data texture ([`DataPolicy`]).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum DataOutcome {
-    /// Nothing written.
-    Skipped,
-    /// Written through as a data texture.
-    Copied,
 }
 
 impl Converter {

@@ -25,6 +25,7 @@
 #![warn(missing_docs)]
 
 mod batch;
+mod choices;
 mod converter;
 pub mod cost;
 mod error;
@@ -36,13 +37,14 @@ mod pipeline;
 pub mod preview;
 pub mod provenance;
 pub mod record;
+mod report;
 pub mod tables;
 pub mod to_rgb;
 
 pub use crate::pipeline::texture::parse_wrapmodes;
 pub use crate::pipeline::DataTexture;
 pub use batch::{check_plan, Batch, Event, Summary};
-pub use converter::{Advice, Converter, DataOutcome, Report, Role, Rule, Selection, Warning};
+pub use converter::{Advice, Converter, Rule, Selection, Warning};
 pub use error::{message, Cause, ConversionError, Error, Remedy};
 pub use named::{Named, UnknownName};
 pub use options::{
@@ -50,6 +52,7 @@ pub use options::{
     Rounding, Sample, Wrap, WrapModes, WRAP_NAMES,
 };
 pub use provenance::Provenance;
+pub use report::{DataOutcome, Report, Role};
 /// Ends the process at once, without C++ static destructors: for a signal handler's thread
 /// while the libraries may be in use (`specconv_oiio::exit_now`).
 pub use specconv_oiio::exit_now;

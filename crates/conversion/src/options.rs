@@ -5,14 +5,13 @@
 //! from it (tests in each fail when one accepts what is not defined here), and the `-u` tag
 //! ([`settings_tag`]) is made from every field.
 
-use crate::named::{Named, UnknownName};
+use crate::named::Named;
 use specconv_colour::{EmissionUnits, Grid};
 use specconv_spectral::method::MethodName;
 use std::path::PathBuf;
 
-pub use crate::pipeline::survey::NonFinite;
+pub use crate::choices::{Alpha, Compression, DataPolicy, Filter, Mip, NonFinite, Rounding};
 pub use crate::pipeline::texture::{Wrap, WrapModes, WRAP_NAMES};
-pub use crate::pipeline::{Alpha, Filter, Mip};
 pub use specconv_exr::Sample;
 
 /// Everything that makes a conversion what it is. Start from [`Options::default`] (the
@@ -88,20 +87,6 @@ pub struct Options {
     pub data: DataPolicy,
 }
 
-/// What a conversion does with a texture that holds data, not colour
-/// ([`crate::pipeline::DataTexture`]): it is never uplifted.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum DataPolicy {
-    /// Write nothing; the report says it is data ([`crate::DataOutcome::Skipped`]). Not a
-    /// failure.
-    #[default]
-    Skip,
-    /// Write it through as a tiled, MIP-mapped data texture, its values unconverted.
-    Copy,
-    /// Fail, saying it is data.
-    Fail,
-}
-
 impl Default for Options {
     fn default() -> Options {
         Options {
@@ -136,15 +121,6 @@ impl Default for Options {
     }
 }
 
-/// How half samples are rounded.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Rounding {
-    /// Each band on its own.
-    Nearest,
-    /// Band by band, the half below or above that moves the spectrum's XYZ least.
-    Colour,
-}
-
 /// Tiles of a size, or scanlines.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Blocks {
@@ -153,67 +129,6 @@ pub enum Blocks {
     /// Scanlines (no MIP levels).
     Scanlines,
 }
-
-/// The output compressions of OpenEXR.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-#[allow(missing_docs)]
-pub enum Compression {
-    None,
-    Rle,
-    Zips,
-    Zip,
-    Piz,
-    Pxr24,
-    B44,
-    B44a,
-    Dwaa,
-    Dwab,
-}
-
-impl Compression {
-    /// Whether it deflates (and so takes a level).
-    pub fn deflates(self) -> bool {
-        matches!(self, Compression::Zip | Compression::Zips)
-    }
-
-    /// The `exr` crate's name for it.
-    pub fn exr(self) -> specconv_exr::Compression {
-        use specconv_exr::Compression as C;
-        match self {
-            Compression::None => C::Uncompressed,
-            Compression::Rle => C::RLE,
-            Compression::Zips => C::ZIP1,
-            Compression::Zip => C::ZIP16,
-            Compression::Piz => C::PIZ,
-            Compression::Pxr24 => C::PXR24,
-            Compression::B44 => C::B44,
-            Compression::B44a => C::B44A,
-            Compression::Dwaa => C::DWAA(None),
-            Compression::Dwab => C::DWAB(None),
-        }
-    }
-}
-
-/// Display and `FromStr` by [`Named`], for the choices this crate owns.
-macro_rules! text_by_name {
-    ($($ty:ty),+) => {$(
-        impl std::fmt::Display for $ty {
-            fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-                f.write_str(Named::name(*self))
-            }
-        }
-
-        impl std::str::FromStr for $ty {
-            type Err = UnknownName;
-
-            fn from_str(s: &str) -> Result<$ty, UnknownName> {
-                <$ty as Named>::from_name(s)
-            }
-        }
-    )+};
-}
-
-text_by_name!(Compression, Rounding, DataPolicy);
 
 /// One option of a conversion. [`Key::about`] says how every front-end names it; the
 /// compiler makes every `match` on it (the text of a value, its parsing, the tag) cover a new

@@ -6,35 +6,8 @@
 //! by the size ratio); each has OpenImageIO's default width, scaled by the ratio when enlarging
 //! (maketx's `setup_filter`).
 
+use crate::choices::Filter;
 use std::f32::consts::PI;
-use std::fmt;
-
-/// A filter by its maketx name.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-#[allow(missing_docs)]
-pub enum Filter {
-    /// maketx's default: not OpenImageIO's box `resize` but its bilinear `resize_block` (the
-    /// 2×2 average where a size halves).
-    #[default]
-    Box,
-    Triangle,
-    Gaussian,
-    SharpGaussian,
-    CatmullRom,
-    BlackmanHarris,
-    Sinc,
-    Lanczos3,
-    RadialLanczos3,
-    /// Nuke's name for lanczos3 (it counts the full width).
-    NukeLanczos6,
-    Mitchell,
-    Bspline,
-    Disk,
-    Cubic,
-    Keys,
-    Simon,
-    Rifman,
-}
 
 impl Filter {
     /// Whether it has negative lobes: it can push a filtered value below the smallest (or above
@@ -108,12 +81,6 @@ impl Filter {
             }
             f => f.along(x, width) * f.along(y, height),
         }
-    }
-}
-
-impl fmt::Display for Filter {
-    fn fmt(&self, f: &mut fmt::Formatter) -> fmt::Result {
-        f.write_str(crate::Named::name(*self))
     }
 }
 

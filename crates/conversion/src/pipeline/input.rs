@@ -7,6 +7,7 @@
 //! every image format names them; else, when exactly one layer holds `.R`, `.G` and `.B`, that
 //! layer (and its `.A`). Any other layered file is refused with the list of its layers.
 
+pub use crate::report::{ChannelReason, Channels, Selection};
 use specconv_oiio::{ImageInfo, ImageReader};
 use std::path::Path;
 
@@ -17,45 +18,6 @@ pub struct Request {
     pub subimage: Option<String>,
     /// `R,G,B[,A]` (one to four channel names), or a layer name such as `diffuse`.
     pub channels: Option<String>,
-}
-
-/// Why these channels carry the colour.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum ChannelReason {
-    /// `--channels`.
-    Option,
-    /// The channels are named R, G, B.
-    Named,
-    /// The file's channels, in order (no layers; no R, G, B names).
-    InOrder,
-    /// The only layer with R, G and B channels.
-    OnlyLayer,
-}
-
-/// The channels read as colour and alpha.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Channels {
-    /// Three indices (R, G, B) or one (grey, repeated).
-    pub colour: Vec<usize>,
-    /// The alpha channel's index, if any.
-    pub alpha: Option<usize>,
-    /// Names of the colour channels, then of alpha.
-    pub names: Vec<String>,
-    /// Why these channels.
-    pub reason: ChannelReason,
-}
-
-/// What an input is read as: its subimage and channels.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Selection {
-    /// The subimage read (0: the first).
-    pub subimage: u32,
-    /// Subimages in the file.
-    pub subimages: u32,
-    /// The subimage's (part) name, empty when it has none.
-    pub subimage_name: String,
-    /// The channels read.
-    pub channels: Channels,
 }
 
 impl Selection {
@@ -71,21 +33,6 @@ impl Selection {
                 .unwrap_or_default(),
             channels,
         }
-    }
-}
-
-impl Selection {
-    /// `subimage 1 'albedo' of 2, ` for files with several subimages, else empty.
-    pub fn describe_subimage(&self) -> String {
-        if self.subimages <= 1 {
-            return String::new();
-        }
-        let name = if self.subimage_name.is_empty() {
-            String::new()
-        } else {
-            format!(" '{}'", self.subimage_name)
-        };
-        format!("subimage {}{name} of {}", self.subimage, self.subimages)
     }
 }
 

@@ -19,7 +19,7 @@
 //! filter's, summed across then down) or the window of source rows its filter reaches (the
 //! radial ones), and the rows of its current strip of blocks.
 
-use super::filter::Filter;
+use crate::choices::Filter;
 use rayon::prelude::*;
 use std::collections::VecDeque;
 

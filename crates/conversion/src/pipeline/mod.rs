@@ -25,11 +25,10 @@ mod png;
 pub mod survey;
 pub mod texture;
 
-use crate::{Options, Report, Role, Rounding};
-pub use colour::{
-    input_space, texture_space, Alpha, DataTexture, InputSpace, Rule, ToXyz, Warning,
-};
-pub use filter::Filter;
+use crate::choices::Mip;
+use crate::report::{Report, Role};
+use crate::{Options, Rounding};
+pub use colour::{input_space, texture_space, DataTexture, InputSpace, Rule, ToXyz, Warning};
 use rayon::prelude::*;
 use specconv_atomic_file::{PlanError, Replace};
 use specconv_exr::{Block, Blocks, Chunk, Kind, Sample, Spec, SpectralFile, Windows};
@@ -149,17 +148,6 @@ pub enum Error {
 
 /// The pipeline's results.
 pub type Result<T> = std::result::Result<T, Error>;
-
-/// Whether a tiled output is a MIP map.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Mip {
-    /// Every level down to 1×1, each filtered from the spectra of the level above (module `mip`);
-    /// level 0 is uplifted from the input's full-resolution level (its own smaller levels,
-    /// if any, are not read).
-    All,
-    /// The full-resolution level only.
-    Base,
-}
 
 /// How the spectra are stored, as the options and the method stack decide it together
 /// ([`Storage::of`]): everything a job needs beyond the options themselves.

@@ -241,8 +241,23 @@ pub fn run(args: Args) -> Result<i32> {
         })
         .map_err(usage)?;
     let pairs: Vec<(PathBuf, PathBuf)> = pairs.0.into_iter().zip(pairs.1).collect();
-    let converter =
-        Converter::new(args.options()).map_err(|e| usage(anyhow::anyhow!(explain(&e))))?;
+    run_pairs(&args, args.options(), &pairs)
+}
+
+/// A farm task's batch ([`crate::cmd::farm`]): `pairs` with `options`, reported as `convert
+/// --json -u --progress never` reports.
+pub(crate) fn run_task(options: Options, pairs: &[(PathBuf, PathBuf)]) -> Result<i32> {
+    use clap::FromArgMatches;
+    let words = ["task", "--json", "-u", "--progress", "never", "-"];
+    let matches = <Args as clap::Args>::augment_args(clap::Command::new("task"))
+        .try_get_matches_from(words)?;
+    let args = Args::from_arg_matches(&matches)?;
+    run_pairs(&args, options, pairs)
+}
+
+/// Converts `pairs` with `options`, as `args` asks them reported.
+fn run_pairs(args: &Args, options: Options, pairs: &[(PathBuf, PathBuf)]) -> Result<i32> {
+    let converter = Converter::new(options).map_err(|e| usage(anyhow::anyhow!(explain(&e))))?;
     if !args.quiet {
         for advice in converter.advice() {
             let fix = match advice {
@@ -256,7 +271,7 @@ pub fn run(args: Args) -> Result<i32> {
         errln!("config: {}", converter.config_source());
         errln!("model:  {}", converter.model_description());
     }
-    run_batch(&args, &converter, &pairs)
+    run_batch(args, &converter, pairs)
 }
 
 impl Args {
@@ -394,6 +409,10 @@ impl Args {
 
     pub(crate) fn output_template(&self) -> Option<&str> {
         self.output_template.as_deref()
+    }
+
+    pub(crate) fn sharded(&self) -> bool {
+        self.shard.is_some()
     }
 
     pub(crate) fn json_wanted(&self) -> bool {
