@@ -42,9 +42,10 @@ pub enum ModelArg<'py> {
     Path(PathBuf),
 }
 
-/// A choice by the library's names ([`Named`]), with the library's message when it is none.
-pub(crate) fn pick<T: Named>(text: &str) -> PyResult<T> {
-    T::from_name(text).map_err(|e| Kind::Option.err(e.to_string()))
+/// The keyword `keyword`'s choice by the library's names ([`Named`]), with the library's
+/// message, naming the keyword, when it is none.
+pub(crate) fn pick<T: Named>(keyword: &str, text: &str) -> PyResult<T> {
+    T::from_name(text).map_err(|e| Kind::Option.err(format!("{keyword}: {e}")))
 }
 
 /// The options of a conversion as the library defines them, one dict each: `name` (the keyword
@@ -135,10 +136,10 @@ pub fn convert<'py>(
     let mut o = Options::default();
     o.ocio = ocio;
     o.colorspace = colorspace;
-    o.alpha = pick(alpha)?;
+    o.alpha = pick("alpha", alpha)?;
     o.subimage = subimage;
     o.channels = channels;
-    o.method = pick(method)?;
+    o.method = pick("method", method)?;
     o.model = match model {
         None => None,
         Some(ModelArg::Path(p)) => Some(p),
@@ -149,29 +150,29 @@ pub fn convert<'py>(
     o.blend = blend;
     o.bounded = bounded;
     o.bands = bands.map(str::parse).transpose().map_err(option)?;
-    o.emission = emission.map(pick).transpose()?;
-    o.sample = pick(sample)?;
-    o.rounding = rounding.map(pick).transpose()?;
-    o.compression = pick(compression)?;
+    o.emission = emission.map(|e| pick("emission", e)).transpose()?;
+    o.sample = pick("sample", sample)?;
+    o.rounding = rounding.map(|r| pick("rounding", r)).transpose()?;
+    o.compression = pick("compression", compression)?;
     o.zip_level = zip_level;
     o.blocks = match tile {
         Some((w, h)) => Blocks::Tiles(w, h),
         None => Blocks::Scanlines,
     };
     o.mip = if mip { c::Mip::All } else { c::Mip::Base };
-    o.filter = pick(filter)?;
+    o.filter = pick("filter", filter)?;
     o.resize = resize;
     if let Some(wrap) = wrap {
         o.set(Key::Wrap, Some(wrap))
             .map_err(|e| Kind::Option.err(e.to_string()))?;
     }
-    o.non_finite = pick(non_finite)?;
+    o.non_finite = pick("non_finite", non_finite)?;
     o.constant_detect = constant_detect;
     o.opaque_detect = opaque_detect;
     o.threads = threads;
     o.overwrite = overwrite;
     o.table_dir = table_dir;
-    o.data = pick(data)?;
+    o.data = pick("data", data)?;
     let pairs = plan(inputs.list(), outputs.list())?;
     let converter = py.detach(|| Converter::new(o)).map_err(conversion)?;
     run(py, &converter, &pairs, update, raise, progress)

@@ -156,8 +156,9 @@ pub fn write_spectral(
             Some(a)
         }
     };
-    let sample: specconv_exr::Sample = crate::convert::pick(sample)?;
-    let compression: specconv_conversion::Compression = crate::convert::pick(compression)?;
+    let sample: specconv_exr::Sample = crate::convert::pick("sample", sample)?;
+    let compression: specconv_conversion::Compression =
+        crate::convert::pick("compression", compression)?;
     let spec = Spec {
         width,
         height,

@@ -62,7 +62,9 @@ def test_every_option_is_a_keyword_and_every_keyword_an_option():
 
 def test_defaults_are_the_librarys():
     for name, default in keywords().items():
-        if name in FRONT_END:
+        # pyo3 shows `...` for a default written as a Rust expression (the library's own
+        # constant, such as blend's); the stub test below checks what it says.
+        if name in FRONT_END or default is Ellipsis:
             continue
         want = OPTIONS[name]["default"]
         if name == "blend":
