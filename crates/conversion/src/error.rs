@@ -4,6 +4,7 @@
 
 use crate::models::ModelError;
 use crate::options::Compression;
+use crate::wrapped::{ColourError, ImageError};
 use specconv_atomic_file::PlanError;
 use std::path::PathBuf;
 
@@ -62,7 +63,7 @@ pub enum Error {
     Threads(String),
     /// The OCIO config, or a colour space named in the options, cannot be used.
     #[error(transparent)]
-    Colour(#[from] specconv_ocio::Error),
+    Colour(#[from] ColourError),
     /// The model cannot be used.
     #[error(transparent)]
     Model(#[from] ModelError),
@@ -153,6 +154,20 @@ pub enum Error {
     /// cover them).
     #[error(transparent)]
     Colorimetry(specconv_colour::Error),
+    /// A spectral EXR's attributes cannot be read ([`crate::describe`]).
+    #[error(transparent)]
+    Attributes(specconv_exr::Error),
+    /// A `specconv*` attribute of a described file does not parse ([`crate::describe`]).
+    #[error(transparent)]
+    Provenance(crate::provenance::BadAttribute),
+}
+
+// Inside this crate only: no front-end names an FFI type.
+#[doc(hidden)]
+impl From<specconv_ocio::Error> for Error {
+    fn from(e: specconv_ocio::Error) -> Error {
+        Error::Colour(e.into())
+    }
 }
 
 /// The setting that would fix an error; a front-end says it in its own words.
@@ -245,21 +260,23 @@ impl Error {
             | Error::Input(_)
             | Error::Read { .. }
             | Error::Write { .. }
+            | Error::Attributes(_)
             | Error::Model(ModelError::Read { .. }) => Cause::File,
             Error::Conversion(
                 ConversionError::Plan(_)
                 | ConversionError::Output(_)
                 | ConversionError::NotAFile(_)
                 // Missing, not an image, unreadable: as Python's own image readers say it.
-                | ConversionError::Input(
+                | ConversionError::Input(ImageError(
                     Image::NotFound { .. } | Image::Open { .. } | Image::Read { .. },
-                ),
+                )),
             ) => Cause::File,
             Error::Conversion(c) if io_in_chain(c) => Cause::File,
             Error::Conversion(_)
             | Error::EmissionIsItsOwnLight { .. }
             | Error::NotReflectance { .. }
-            | Error::Bispectral { .. } => Cause::Input,
+            | Error::Bispectral { .. }
+            | Error::Provenance(_) => Cause::Input,
             _ => Cause::Setting,
         }
     }
@@ -270,15 +287,14 @@ impl Error {
     }
 }
 
-/// The colour-management error that naming the colour space fixes: a data space.
 /// Whether an I/O error is among the causes of `e`.
 fn io_in_chain(e: &(dyn std::error::Error + 'static)) -> bool {
     std::iter::successors(Some(e), |c| c.source()).any(|c| c.is::<std::io::Error>())
 }
 
-fn colour_remedy(e: &specconv_ocio::Error) -> Option<Remedy> {
-    matches!(e, specconv_ocio::Error::DataColorSpace { .. })
-        .then_some(Remedy::NameEncodingColourSpace)
+/// The colour-management error that naming the colour space fixes: a data space.
+fn colour_remedy(e: &ColourError) -> Option<Remedy> {
+    e.is_data_space().then_some(Remedy::NameEncodingColourSpace)
 }
 
 /// An error and its causes on one line, each cause once (`cannot read F: why`), as every
