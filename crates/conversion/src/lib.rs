@@ -55,7 +55,7 @@ pub use converter::{Advice, Converter, DataOutcome, Report, Role, Rule, Selectio
 pub use describe::{
     describe, Channel, ChannelChoice, ChannelReason, Description, ReadAs, SpectralFacts, Window,
 };
-pub use error::{message, Cause, ConversionError, Error, Remedy};
+pub use error::{message, remedy_of, Cause, ConversionError, Error, Remedy};
 pub use named::{Named, UnknownName};
 pub use options::{
     About, Alpha, BadValue, Blocks, Compression, DataPolicy, Filter, Key, Mip, NonFinite, Options,
