@@ -287,11 +287,11 @@ fn submit(s: Submit, ocio: Option<String>) -> Result<i32> {
 
 /// The OCIO config a command checked, as every task must name it: a file by its absolute path
 /// (`--ocio FILE` or `$OCIO`), a built-in config by the name that picked it.
-fn pinned(config: &specconv_conversion::ocio::Config) -> Result<String> {
-    use specconv_conversion::ocio::ConfigSource;
-    let path = match config.source() {
-        ConfigSource::Builtin { name, .. } => return Ok(name.clone()),
-        ConfigSource::File(p) | ConfigSource::Env(p) => absolute(p)?,
+fn pinned(config: &specconv_conversion::ColourConfig) -> Result<String> {
+    use specconv_conversion::ConfigOrigin;
+    let path = match config.origin() {
+        ConfigOrigin::Builtin(name) => return Ok(name),
+        ConfigOrigin::File(p) | ConfigOrigin::Env(p) => absolute(&p)?,
     };
     path.to_str().map(str::to_string).ok_or_else(|| {
         usage(anyhow!(

@@ -51,7 +51,7 @@ const REC709: RgbSpace = rgb::SRGB;
 impl Alpha {
     /// Whether colour must be multiplied by alpha after conversion, given the alpha channel
     /// selected (none: nothing to multiply by).
-    pub fn premultiply(self, reader: &ImageReader, alpha: Option<usize>) -> bool {
+    pub(crate) fn premultiply(self, reader: &ImageReader, alpha: Option<usize>) -> bool {
         let info = reader.info();
         alpha.is_some()
             && match self {

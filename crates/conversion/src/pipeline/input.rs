@@ -22,7 +22,7 @@ pub struct Request {
 
 impl Selection {
     /// `channels` of the subimage `info` describes.
-    pub fn of(info: &ImageInfo, channels: Channels) -> Selection {
+    pub(crate) fn of(info: &ImageInfo, channels: Channels) -> Selection {
         Selection {
             subimage: info.subimage,
             subimages: info.subimages,

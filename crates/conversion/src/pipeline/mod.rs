@@ -47,10 +47,10 @@ use std::sync::atomic::{AtomicBool, Ordering};
 pub enum Error {
     /// The input could not be read.
     #[error(transparent)]
-    Input(#[from] specconv_oiio::Error),
+    Input(#[from] crate::wrapped::ImageError),
     /// The input's colour could not be managed.
     #[error(transparent)]
-    Color(#[from] specconv_ocio::Error),
+    Color(#[from] crate::wrapped::ColourError),
     /// The output could not be written.
     #[error(transparent)]
     Output(#[from] specconv_exr::Error),
@@ -144,6 +144,22 @@ pub enum Error {
     /// The input holds data, not colour (`colour::texture_space`): it is never uplifted.
     #[error(transparent)]
     Data(Box<DataTexture>),
+}
+
+// Inside this crate only: no front-end names an FFI type.
+#[doc(hidden)]
+impl From<specconv_oiio::Error> for Error {
+    fn from(e: specconv_oiio::Error) -> Error {
+        Error::Input(e.into())
+    }
+}
+
+// Inside this crate only: no front-end names an FFI type.
+#[doc(hidden)]
+impl From<specconv_ocio::Error> for Error {
+    fn from(e: specconv_ocio::Error) -> Error {
+        Error::Color(e.into())
+    }
 }
 
 /// The pipeline's results.
