@@ -184,15 +184,46 @@ impl Installation {
     }
 
     fn run(&self, program: &str, args: &[&Path]) -> Output {
-        let out = Command::new(self.0.join(program))
-            .args(args)
-            .output()
-            .expect("the installed binary runs");
-        Output {
-            code: out.status.code().expect("exited, not killed"),
-            stdout: String::from_utf8_lossy(&out.stdout).into_owned(),
-            stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
+        output(Command::new(self.0.join(program)).args(args))
+    }
+
+    /// Runs `program` as on a locked-down render node where the machine allows it (user and
+    /// mount namespaces, `unshare -rm`): the installation mounted read-only (even to root) and
+    /// /tmp a new, empty `noexec` tmpfs; else as [`Installation::run`] (the folders are
+    /// read-only to all but root).
+    fn run_sealed(&self, program: &str, args: &[&Path]) -> Output {
+        const SEAL: &str = "mount -t tmpfs -o noexec,nosuid,nodev tmpfs /tmp && \
+                            mount --bind \"$1\" \"$1\" && mount -o remount,bind,ro \"$1\" && \
+                            shift && exec \"$@\"";
+        // The checkout and target folder must not be under the /tmp that is replaced.
+        let outside = [env!("CARGO_MANIFEST_DIR"), env!("CARGO_TARGET_TMPDIR")]
+            .iter()
+            .all(|p| !Path::new(p).starts_with("/tmp"));
+        let namespaces = outside
+            && Command::new("unshare")
+                .args(["-rm", "true"])
+                .status()
+                .is_ok_and(|s| s.success());
+        if !namespaces {
+            eprintln!("no user and mount namespaces here (or the checkout is in /tmp): run as is");
+            return self.run(program, args);
         }
+        output(
+            Command::new("unshare")
+                .args(["-rm", "--propagation", "private", "sh", "-c", SEAL, "sh"])
+                .arg(&self.0)
+                .arg(self.0.join(program))
+                .args(args),
+        )
+    }
+}
+
+fn output(command: &mut Command) -> Output {
+    let out = command.output().expect("the installed binary runs");
+    Output {
+        code: out.status.code().expect("exited, not killed"),
+        stdout: String::from_utf8_lossy(&out.stdout).into_owned(),
+        stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
     }
 }
 
@@ -228,10 +259,16 @@ fn make_writable(root: &Path) -> std::io::Result<()> {
 }
 
 /// The binary and its shim copied into a read-only folder, and into a read-only `bin/` and
-/// `lib/specconv/` prefix: each converts, and writes nothing where it is installed.
+/// `lib/specconv/` prefix: each converts with /tmp `noexec` (where namespaces allow), and
+/// writes nothing where it is installed.
 #[test]
 fn a_copy_with_its_shim_works_from_a_read_only_folder() {
-    let dir = Scratch::new("libraries-installed");
+    // Not under /tmp, which the sealed run replaces.
+    let dir = Installation(
+        Path::new(env!("CARGO_TARGET_TMPDIR"))
+            .join(format!("libraries-installed-out-{}", std::process::id())),
+    );
+    std::fs::create_dir_all(&dir.0).unwrap();
     for (name, files, program) in [
         (
             "beside",
@@ -249,9 +286,9 @@ fn a_copy_with_its_shim_works_from_a_read_only_folder() {
     ] {
         let installed = install(name, files);
         let before = installed.listing();
-        let output = dir.path(&format!("{name}.exr"));
+        let output = dir.0.join(format!("{name}.exr"));
         installed
-            .run(program, &[&testdata("srgb8.png"), &output])
+            .run_sealed(program, &[&testdata("srgb8.png"), &output])
             .ok();
         assert_eq!(specconv_exr::read(&output).unwrap().bands.len(), 36);
         assert_eq!(
