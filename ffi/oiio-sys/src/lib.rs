@@ -87,6 +87,7 @@ impl fmt::Display for LoadError {
                     .iter()
                     .map(|d| d.join(SHIM_FILE).display().to_string())
                     .collect();
+                let first = looked.first().map_or(Path::new("/"), |d| d.as_path());
                 write!(
                     f,
                     "specconv's OpenImageIO shim is not installed with {}: no {}. It is built \
@@ -95,7 +96,7 @@ impl fmt::Display for LoadError {
                      copy it into {} (docs/install.md)",
                     object.display(),
                     paths.join(" nor "),
-                    looked[0].display()
+                    first.display()
                 )
             }
             Failure::Foreign { path, id } => write!(
@@ -162,7 +163,7 @@ pub fn search_dirs(object: &Path) -> Vec<PathBuf> {
 /// (`/proc/self/exe`, symbolic links resolved) where this code is in the program, else the
 /// path the shared object holding it (the Python extension module) was loaded from, resolved
 /// the same way.
-pub fn own_object() -> Result<PathBuf, String> {
+fn own_object() -> Result<PathBuf, String> {
     let ours = containing_object(own_object as fn() -> Result<PathBuf, String> as *const c_void)
         .ok_or("dladdr does not know this code's object")?;
     // SAFETY: getauxval only reads the auxiliary vector; AT_PHDR is the address of the
