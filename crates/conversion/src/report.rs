@@ -86,7 +86,7 @@ impl Role {
     }
 }
 
-/// What was done with a data texture ([`DataPolicy`]).
+/// What was done with a data texture ([`crate::DataPolicy`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum DataOutcome {
     /// Nothing written.
