@@ -367,6 +367,25 @@ fn print_plan(manifest: &Manifest, prepared: &specconv_farm::Prepared) -> Result
         count(manifest.files.len(), "file"),
         count(prepared.tasks.len(), "task")
     )?;
+    // What every task converts with: the manifest's, as `farm task` reads them.
+    match &manifest.outputs {
+        Outputs::Directory(d) => outln!("# outputs: directory {}", d.display())?,
+        Outputs::Template(t) => outln!("# outputs: template {t}")?,
+    }
+    let options: Vec<String> = manifest
+        .options
+        .iter()
+        .map(|(k, v)| format!("{k}={v}"))
+        .collect();
+    outln!("# config: {}", manifest.ocio)?;
+    outln!(
+        "# options: {}",
+        if options.is_empty() {
+            "the defaults".to_string()
+        } else {
+            options.join(" ")
+        }
+    )?;
     for (t, shard) in prepared.tasks.iter().enumerate() {
         let px: u64 = shard.iter().map(|&i| manifest.files[i].pixels).sum();
         outln!("# task {t}: {}, {px} pixels", count(shard.len(), "file"))?;
