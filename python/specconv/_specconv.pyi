@@ -95,7 +95,7 @@ def convert(
     bands: Optional[str] = None,
     emission: Optional[str] = None,
     sample: Literal["half", "float"] = "half",
-    rounding: Optional[Literal["nearest", "colour"]] = None,
+    rounding: Optional[Literal["nearest", "colour", "color"]] = None,
     compression: str = "zip",
     zip_level: Optional[int] = None,
     tile: Optional[tuple[int, int]] = (64, 64),
@@ -108,11 +108,13 @@ def convert(
     opaque_detect: bool = True,
     threads: Optional[int] = None,
     overwrite: bool = False,
+    table_dir: Optional[_Path] = None,
     update: bool = False,
     data: Literal["skip", "copy", "fail"] = "skip",
     errors: Literal["raise", "record"] = "raise",
     progress: Optional[Callable[[int, Path, int, int], Any]] = None,
 ) -> list[dict[str, Any]]: ...
+def options() -> list[dict[str, Any]]: ...
 def read_spectral(path: _Path, *, level: int = 0) -> SpectralImage: ...
 def write_spectral(
     path: _Path,

@@ -163,12 +163,10 @@ pub fn rgb_to_xyz<'py>(
     colorspace: &str,
     config: Option<&str>,
 ) -> PyResult<Bound<'py, PyAny>> {
-    let colour = |e: specconv_conversion::ocio::Error| {
-        crate::errors::conversion(specconv_conversion::Error::Colour(e))
-    };
+    let colour = crate::errors::conversion;
     let processor = py.detach(|| {
-        let config = specconv_conversion::ocio::Config::resolve(config)?;
-        config.processor_to_xyz(colorspace)
+        let config = specconv_conversion::ColourConfig::resolve(config)?;
+        config.to_xyz(colorspace)
     });
     let processor = processor.map_err(colour)?;
     let apply = |mut v: Vec<f32>| -> PyResult<Vec<f32>> {

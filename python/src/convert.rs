@@ -5,7 +5,7 @@ use crate::errors::{conversion, option, Kind};
 use crate::model::Model;
 use pyo3::prelude::*;
 use specconv_conversion::record::{without_input, Record};
-use specconv_conversion::{Batch, Blocks, Converter, Event, Options};
+use specconv_conversion::{Batch, Blocks, Converter, Event, Key, Named, Options};
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc;
@@ -42,23 +42,33 @@ pub enum ModelArg<'py> {
     Path(PathBuf),
 }
 
-/// A name among choices, with the choices in the error.
-fn choose<T: Copy>(
-    what: &str,
-    name: &str,
-    all: &[T],
-    name_of: fn(T) -> &'static str,
-) -> PyResult<T> {
-    all.iter()
-        .copied()
-        .find(|&c| name_of(c) == name)
-        .ok_or_else(|| {
-            let names: Vec<&str> = all.iter().map(|&c| name_of(c)).collect();
-            Kind::Option.err(format!(
-                "unknown {what} '{name}'; choose one of {}",
-                names.join(", ")
-            ))
+/// The keyword `keyword`'s choice by the library's names ([`Named`]), with the library's
+/// message, naming the keyword, when it is none.
+pub(crate) fn pick<T: Named>(keyword: &str, text: &str) -> PyResult<T> {
+    T::from_name(text).map_err(|e| Kind::Option.err(format!("{keyword}: {e}")))
+}
+
+/// The options of a conversion as the library defines them, one dict each: `name` (the keyword
+/// of `convert`), `default` (its text, `None` when unset), `choices` and `aliases` (a choice's
+/// names and other spellings, else `None`), `help`, and `changes_output`. `convert`'s keywords,
+/// defaults and stubs are checked against it (python/tests/test_options.py).
+#[pyfunction]
+pub fn options(py: Python<'_>) -> PyResult<Vec<Bound<'_, pyo3::types::PyDict>>> {
+    let defaults = Options::default();
+    Key::ALL
+        .into_iter()
+        .map(|key| {
+            let about = key.about();
+            let d = pyo3::types::PyDict::new(py);
+            d.set_item("name", about.name)?;
+            d.set_item("default", defaults.text(key))?;
+            d.set_item("choices", about.choices.as_ref().map(|c| c.0.clone()))?;
+            d.set_item("aliases", about.choices.as_ref().map(|c| c.1.clone()))?;
+            d.set_item("help", about.help)?;
+            d.set_item("changes_output", about.changes_output)?;
+            Ok(d)
         })
+        .collect()
 }
 
 /// Converts `inputs` (a path or a list; a UDIM pattern such as `wood.<UDIM>.png` stands for
@@ -77,7 +87,7 @@ fn choose<T: Copy>(
                     bands=None, emission=None, sample="half", rounding=None, compression="zip",
                     zip_level=None, tile=Some((64, 64)), mip=true, filter="box", resize=false, wrap=None,
                     non_finite="refuse", constant_detect=true, opaque_detect=true,
-                    threads=None, overwrite=false, update=false, data="skip",
+                    threads=None, overwrite=false, table_dir=None, update=false, data="skip",
                     errors="raise", progress=None))]
 #[allow(clippy::too_many_arguments)]
 pub fn convert<'py>(
@@ -110,6 +120,7 @@ pub fn convert<'py>(
     opaque_detect: bool,
     threads: Option<usize>,
     overwrite: bool,
+    table_dir: Option<PathBuf>,
     update: bool,
     data: &str,
     errors: &str,
@@ -128,15 +139,10 @@ pub fn convert<'py>(
     let mut o = Options::default();
     o.ocio = ocio;
     o.colorspace = colorspace;
-    o.alpha = choose(
-        "alpha",
-        alpha,
-        &[c::Alpha::Auto, c::Alpha::Straight, c::Alpha::Premultiplied],
-        c::alpha_name,
-    )?;
+    o.alpha = pick("alpha", alpha)?;
     o.subimage = subimage;
     o.channels = channels;
-    o.method = method.parse().map_err(option)?;
+    o.method = pick("method", method)?;
     o.model = match model {
         None => None,
         Some(ModelArg::Path(p)) => Some(p),
@@ -147,60 +153,29 @@ pub fn convert<'py>(
     o.blend = blend;
     o.bounded = bounded;
     o.bands = bands.map(str::parse).transpose().map_err(option)?;
-    o.emission = emission.map(str::parse).transpose().map_err(option)?;
-    o.sample = choose(
-        "sample",
-        sample,
-        &[c::Sample::Half, c::Sample::Float],
-        c::sample_name,
-    )?;
-    o.rounding = rounding
-        .map(|r| match r {
-            "nearest" => Ok(c::Rounding::Nearest),
-            "colour" | "color" => Ok(c::Rounding::Colour),
-            _ => Err(Kind::Option.err(format!(
-                "unknown rounding '{r}'; choose one of nearest, colour"
-            ))),
-        })
-        .transpose()?;
-    o.compression = compression.parse().map_err(option)?;
+    o.emission = emission.map(|e| pick("emission", e)).transpose()?;
+    o.sample = pick("sample", sample)?;
+    o.rounding = rounding.map(|r| pick("rounding", r)).transpose()?;
+    o.compression = pick("compression", compression)?;
     o.zip_level = zip_level;
     o.blocks = match tile {
         Some((w, h)) => Blocks::Tiles(w, h),
         None => Blocks::Scanlines,
     };
     o.mip = if mip { c::Mip::All } else { c::Mip::Base };
-    o.filter = choose("filter", filter, &c::Filter::ALL, c::Filter::name)?;
+    o.filter = pick("filter", filter)?;
     o.resize = resize;
-    o.wrap = wrap
-        .map(c::parse_wrapmodes)
-        .transpose()
-        .map_err(|e| Kind::Option.err(e))?;
-    o.non_finite = choose(
-        "non_finite",
-        non_finite,
-        &[
-            c::NonFinite::Refuse,
-            c::NonFinite::Black,
-            c::NonFinite::Box3,
-            c::NonFinite::Keep,
-        ],
-        c::non_finite_name,
-    )?;
+    if let Some(wrap) = wrap {
+        o.set(Key::Wrap, Some(wrap))
+            .map_err(|e| Kind::Option.err(e.to_string()))?;
+    }
+    o.non_finite = pick("non_finite", non_finite)?;
     o.constant_detect = constant_detect;
     o.opaque_detect = opaque_detect;
     o.threads = threads;
     o.overwrite = overwrite;
-    o.data = choose(
-        "data",
-        data,
-        &[
-            c::DataPolicy::Skip,
-            c::DataPolicy::Copy,
-            c::DataPolicy::Fail,
-        ],
-        c::DataPolicy::name,
-    )?;
+    o.table_dir = table_dir;
+    o.data = pick("data", data)?;
     let pairs = crate::plan::pairs(py, inputs.list(), outputs.map(Paths::list), output_template)?;
     let converter = py.detach(|| Converter::new(o)).map_err(conversion)?;
     run(py, &converter, &pairs, update, raise, progress)

@@ -4,7 +4,7 @@
 
 use pyo3::prelude::*;
 use pyo3::types::PyType;
-use specconv_conversion::{Cause, Error, Remedy};
+use specconv_conversion::{Cause, Error, Key, Remedy};
 
 /// The exception classes of `specconv.errors`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -56,41 +56,82 @@ pub fn kind(e: &Error) -> Kind {
     }
 }
 
-/// What to pass to fix it, in this package's keywords.
-fn hint(remedy: Option<Remedy>) -> &'static str {
+/// A keyword of this package: the option's name ([`Key::about`]).
+fn kw(key: Key) -> &'static str {
+    key.about().name
+}
+
+/// What to pass to fix it, in this package's keywords ([`Remedy::keys`] named by
+/// [`Key::about`]).
+fn hint(remedy: Option<Remedy>) -> String {
+    let Some(remedy) = remedy else {
+        return String::new();
+    };
     match remedy {
-        Some(Remedy::ReplaceOrSkip) => {
-            "; pass overwrite=True to replace it (or update=True to skip outputs that are up to date)"
+        Remedy::ReplaceOrSkip => format!(
+            "; pass {}=True to replace it (or update=True to skip outputs that are up to date)",
+            kw(Key::Overwrite)
+        ),
+        Remedy::Replace => format!("; pass {}=True to replace it", kw(Key::Overwrite)),
+        Remedy::RepairNonFinite => format!(
+            "; repair them with {0}=\"box3\" (or \"black\"), or write them as they are with {0}=\"keep\"",
+            kw(Key::NonFinite)
+        ),
+        Remedy::RepairBlack => format!("; repair them with {}=\"black\"", kw(Key::NonFinite)),
+        Remedy::NameColourSpace => format!("; pass {}=NAME", kw(Key::Colorspace)),
+        Remedy::NameEncodingColourSpace => format!(
+            "; pass {}= the colour space the texture is encoded in",
+            kw(Key::Colorspace)
+        ),
+        Remedy::NameChannelsOrLayer => format!(
+            "; choose with {0}=\"LAYER\" or {0}=\"NAME,NAME,NAME\"",
+            kw(Key::Channels)
+        ),
+        Remedy::NameLayer => format!("; choose one with {}=\"LAYER\"", kw(Key::Channels)),
+        Remedy::DropZipLevel => format!(
+            "; drop {} or use {}=\"zip\"",
+            kw(Key::ZipLevel),
+            kw(Key::Compression)
+        ),
+        Remedy::ZipLevelInRange => format!("; pass {} from 0 to 9", kw(Key::ZipLevel)),
+        Remedy::NonEmptyTiles => format!(
+            "; pass {}=(W, H) of at least 1×1, or {}=None for scanlines",
+            kw(Key::Tile),
+            kw(Key::Tile)
+        ),
+        Remedy::SomeThreads => format!("; pass {}= at least 1", kw(Key::Threads)),
+        Remedy::FewerThreads => format!("; pass fewer {}=", kw(Key::Threads)),
+        Remedy::SmallerBlocks | Remedy::LessMemory => {
+            let names: Vec<String> = remedy.keys().iter().map(|&k| format!("{}=", kw(k))).collect();
+            format!(" ({})", names.join(", "))
         }
-        Some(Remedy::Replace) => "; pass overwrite=True to replace it",
-        Some(Remedy::RepairNonFinite) => {
-            "; repair them with non_finite=\"box3\" (or \"black\"), or write them as they are with non_finite=\"keep\""
+        Remedy::BandsInside { start, end, step } => format!(
+            "; choose bands inside that range (e.g. {}=\"{start}:{end}:{step}\")",
+            kw(Key::Bands)
+        ),
+        Remedy::OneClusterModel => format!(
+            "; pass {}= a model of one cluster (specconv.Model.train(..., clusters=1))",
+            kw(Key::Model)
+        ),
+        Remedy::DataTexture => format!(
+            "; {0}=\"skip\" leaves it out, {0}=\"copy\" writes it through as a data texture, and \
+             {1}=NAME reads it as colour if it is one",
+            kw(Key::Data),
+            kw(Key::Colorspace)
+        ),
+        Remedy::AlreadySpectral => {
+            "; read it with specconv.read_spectral, or convert its colour source instead".into()
         }
-        Some(Remedy::RepairBlack) => "; repair them with non_finite=\"black\"",
-        Some(Remedy::NameColourSpace) => "; pass colorspace=NAME",
-        Some(Remedy::NameEncodingColourSpace) => {
-            "; pass colorspace= the colour space the texture is encoded in"
-        }
-        Some(Remedy::NameChannelsOrLayer) => {
-            "; choose with channels=\"LAYER\" or channels=\"NAME,NAME,NAME\""
-        }
-        Some(Remedy::NameLayer) => "; choose one with channels=\"LAYER\"",
-        Some(Remedy::DropZipLevel) => "; drop zip_level or use compression=\"zip\"",
-        Some(Remedy::DataTexture) => {
-            "; data=\"skip\" leaves it out, data=\"copy\" writes it through as a data texture, and \
-             colorspace=NAME reads it as colour if it is one"
-        }
-        Some(Remedy::AlreadySpectral) => {
-            "; read it with specconv.read_spectral, or convert its colour source instead"
-        }
-        Some(Remedy::TileTemplate) => ", or pass output_template= with {udim}",
-        _ => "",
+        Remedy::TileTemplate => ", or pass output_template= with {udim}".into(),
+        // Looking at a spectral file under a light: not this package's.
+        Remedy::DropIlluminant => String::new(),
+        _ => String::new(),
     }
 }
 
 /// A conversion error's message with the keyword that fixes it.
 pub fn message(e: &Error) -> String {
-    specconv_conversion::message(e) + hint(e.remedy())
+    specconv_conversion::message(e) + &hint(e.remedy())
 }
 
 /// A conversion error as its exception.

@@ -2,7 +2,7 @@
 //! arrays by the project's reader and writer (what `convert` writes and `to-rgb` reads).
 
 use crate::arrays::Values;
-use crate::errors::{option, Kind};
+use crate::errors::Kind;
 use numpy::ndarray::{Array2, Array3};
 use numpy::IntoPyArray;
 use pyo3::prelude::*;
@@ -156,13 +156,9 @@ pub fn write_spectral(
             Some(a)
         }
     };
-    let sample = [specconv_exr::Sample::Half, specconv_exr::Sample::Float]
-        .into_iter()
-        .find(|&s| specconv_conversion::sample_name(s) == sample)
-        .ok_or_else(|| {
-            Kind::Option.err(format!("sample must be 'half' or 'float', not '{sample}'"))
-        })?;
-    let compression: specconv_conversion::Compression = compression.parse().map_err(option)?;
+    let sample: specconv_exr::Sample = crate::convert::pick("sample", sample)?;
+    let compression: specconv_conversion::Compression =
+        crate::convert::pick("compression", compression)?;
     let spec = Spec {
         width,
         height,

@@ -23,6 +23,7 @@ fn _specconv(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(colour::rgb_to_xyz, m)?)?;
     m.add_function(wrap_pyfunction!(colour::_kernel_seconds, m)?)?;
     m.add_function(wrap_pyfunction!(convert::convert, m)?)?;
+    m.add_function(wrap_pyfunction!(convert::options, m)?)?;
     m.add_class::<files::SpectralImage>()?;
     m.add_function(wrap_pyfunction!(files::read_spectral, m)?)?;
     m.add_function(wrap_pyfunction!(files::write_spectral, m)?)?;

@@ -5,6 +5,7 @@ use crate::errors::Kind;
 use pyo3::prelude::*;
 use specconv_spectral::otsu2018::model::BUILTIN;
 use specconv_spectral::stack::Stack;
+use specconv_spectral::TrainOptions;
 use std::collections::HashMap;
 use std::path::PathBuf;
 use std::sync::{Arc, Mutex};
@@ -110,8 +111,9 @@ impl Model {
     /// ("START:END:STEP" nm) under `observer` and `illuminant`. `weights`: one per spectrum.
     /// `source` and `licence` are recorded in the model (and in every file it makes).
     #[staticmethod]
-    #[pyo3(signature = (spectra, wavelengths, *, clusters=8, min_cluster_size=20,
-                        max_condition=specconv_spectral::otsu2018::train::DEFAULT_MAX_CONDITION,
+    #[pyo3(signature = (spectra, wavelengths, *, clusters=TrainOptions::default().clusters,
+                        min_cluster_size=TrainOptions::default().min_cluster_size,
+                        max_condition=TrainOptions::default().max_condition,
                         weights=None, bands="380:730:10", observer="cie1931", illuminant="D65",
                         source="numpy", licence=None))]
     #[allow(clippy::too_many_arguments)]

@@ -29,9 +29,18 @@ fn textures() -> Vec<PathBuf> {
 fn input_xyz(input: &Path, level: usize) -> (usize, usize, Vec<[f32; 3]>) {
     let mut reader = specconv_oiio::ImageReader::open(input).unwrap();
     let info = reader.info().clone();
-    let config = specconv_ocio::Config::resolve(Some("aces")).unwrap();
-    let space = specconv_pipeline::input_space(&config, &reader, None).unwrap();
-    let premultiply = specconv_pipeline::Alpha::Auto.premultiply(&reader, info.alpha_channel);
+    // The colour space and alpha the library chooses; the route to XYZ is OpenColorIO's own.
+    let options = specconv_conversion::Options::default();
+    let config = specconv_conversion::ColourConfig::resolve(Some("aces")).unwrap();
+    let d = specconv_conversion::describe(&config, input, &options).unwrap();
+    let Ok(specconv_conversion::ReadAs::Colour { space, .. }) = &d.colour else {
+        panic!("{} is not read as colour: {:?}", input.display(), d.colour)
+    };
+    let to_xyz = specconv_ocio::Config::resolve(Some("aces"))
+        .unwrap()
+        .processor_to_xyz(space)
+        .unwrap();
+    let premultiply = d.straight_alpha;
     let px = reader.read_level(level).unwrap();
     let colour: Vec<usize> = (0..px.channels)
         .filter(|&c| Some(c) != info.alpha_channel)
@@ -48,7 +57,7 @@ fn input_xyz(input: &Path, level: usize) -> (usize, usize, Vec<[f32; 3]>) {
             }
         })
         .collect();
-    space.to_xyz.apply_rgb(&mut rgb).unwrap();
+    to_xyz.apply_rgb(&mut rgb).unwrap();
     if premultiply {
         let a = info.alpha_channel.unwrap();
         for (c, p) in rgb

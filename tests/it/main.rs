@@ -10,6 +10,7 @@ mod info;
 mod layout;
 mod libraries;
 mod library;
+mod options;
 mod pictures;
 mod pipes;
 mod plans;

@@ -4,24 +4,21 @@
 
 use crate::usage;
 use anyhow::Result;
-use specconv_conversion::ocio::Config;
+use specconv_conversion::ColourConfig;
 
 /// The OCIO config of `--ocio`, else `$OCIO`, else the built-in ACES config.
-pub fn config(ocio: Option<&str>) -> Result<Config> {
-    Config::resolve(ocio).map_err(usage)
+pub fn config(ocio: Option<&str>) -> Result<ColourConfig> {
+    ColourConfig::resolve(ocio).map_err(usage)
 }
 
 /// A colour space named on the command line (`--colorspace`) exists in `config` and reaches
 /// CIE XYZ, so every input read in it can be converted; or is a data space, which names data
 /// textures (never uplifted: convert's `--data` says what becomes of them).
-pub fn input_colorspace(config: &Config, name: Option<&str>) -> Result<()> {
-    let explained =
-        |e: specconv_conversion::ocio::Error| usage(anyhow::anyhow!(crate::explain(&e.into())));
+pub fn input_colorspace(config: &ColourConfig, name: Option<&str>) -> Result<()> {
     if let Some(name) = name {
-        let cs = config.color_space(name).map_err(explained)?;
-        if !cs.is_data {
-            config.processor_to_xyz(&cs.name).map_err(explained)?;
-        }
+        config
+            .check_input_colour_space(name)
+            .map_err(|e| usage(anyhow::anyhow!(crate::explain(&e))))?;
     }
     Ok(())
 }

@@ -12,6 +12,7 @@ mod cmd;
 mod files;
 mod man;
 mod methods;
+mod options;
 mod picture;
 mod progress;
 mod records;
@@ -156,81 +157,99 @@ pub(crate) fn explain(e: &specconv_conversion::Error) -> String {
 }
 
 /// What to pass to fix a cause, in this program's flags: the libraries say which setting
-/// ([`specconv_conversion::Remedy`], typed errors), the command line names it.
+/// ([`specconv_conversion::remedy_of`]: a [`specconv_conversion::Remedy`] and its options),
+/// the command line names each option by its flag ([`flag`]).
 fn hint(cause: &(dyn std::error::Error + 'static)) -> Option<String> {
-    use specconv_conversion::{Error, Remedy};
-    fn colour(e: &specconv_colour::Error) -> Option<String> {
-        match e {
-            specconv_colour::Error::NotCovered {
-                first, last, grid, ..
-            } => Some(format!(
-                "; choose bands inside that range (e.g. --bands {}:{}:{})",
-                first.max(grid.start).ceil(),
-                last.min(grid.end).floor(),
-                grid.step
-            )),
-            _ => None,
+    use specconv_conversion::{Key, Remedy};
+    let remedy = specconv_conversion::remedy_of(cause)?;
+    let f = flag;
+    Some(match remedy {
+        Remedy::RepairNonFinite => format!(
+            "; repair them with {0} box3 (or black), or write them as they are with {0} none",
+            f(Key::NonFinite)
+        ),
+        Remedy::RepairBlack => format!("; repair them with {} black", f(Key::NonFinite)),
+        Remedy::ReplaceOrSkip => format!(
+            "; pass {} to replace it (or -u to skip outputs that are up to date)",
+            f(Key::Overwrite)
+        ),
+        Remedy::Replace => format!("; pass {} to replace it", f(Key::Overwrite)),
+        Remedy::NameColourSpace => format!("; pass {}", f(Key::Colorspace)),
+        Remedy::NameEncodingColourSpace => format!(
+            "; pass {} with the colour space the texture is encoded in",
+            f(Key::Colorspace)
+        ),
+        Remedy::NameChannelsOrLayer => format!(
+            "; choose with {0} LAYER or {0} NAME,NAME,NAME",
+            f(Key::Channels)
+        ),
+        Remedy::NameLayer => format!("; choose one with {} LAYER", f(Key::Channels)),
+        // to-rgb's and preview's option, not a conversion's.
+        Remedy::DropIlluminant => "; drop --illuminant".into(),
+        // Output naming, the command line's own.
+        Remedy::TileTemplate => ", or use --output-template with {udim}".into(),
+        Remedy::AlreadySpectral => format!(
+            "; use it as it is (`specconv info` shows its bands), `specconv to-rgb` gives its \
+             colour, and converting its colour source with {} START:END:STEP gives another grid \
+             ({} R,G,B reads a colour preview it holds instead)",
+            f(Key::Bands),
+            f(Key::Channels)
+        ),
+        Remedy::DataTexture => format!(
+            "; {0} skip leaves it out, {0} copy writes it through as a data texture, and {1} \
+             NAME reads it as colour if it is one",
+            f(Key::Data),
+            f(Key::Colorspace)
+        ),
+        Remedy::FewerThreads => format!("; lower {}", f(Key::Threads)),
+        Remedy::SmallerBlocks | Remedy::LessMemory => {
+            let flags: Vec<String> = remedy.keys().iter().map(|&k| f(k)).collect();
+            format!(" ({})", flags.join(", "))
         }
-    }
-    fn spectral(e: &specconv_spectral::Error) -> Option<String> {
-        match e {
-            specconv_spectral::Error::NeedsOneCluster { .. } => {
-                Some(" (`specconv train --clusters 1`)".into())
-            }
-            specconv_spectral::Error::Colour(c) => colour(c),
-            _ => None,
-        }
-    }
-    if let Some(e) = cause.downcast_ref::<Error>() {
-        let flag = match e.remedy() {
-            Some(Remedy::RepairNonFinite) => {
-                "; repair them with --fixnan box3 (or black), or write them as they are with --fixnan none"
-            }
-            Some(Remedy::RepairBlack) => "; repair them with --fixnan black",
-            Some(Remedy::ReplaceOrSkip) => {
-                "; pass --force to replace it (or -u to skip outputs that are up to date)"
-            }
-            Some(Remedy::Replace) => "; pass --force to replace it",
-            Some(Remedy::NameColourSpace) => "; pass --colorspace",
-            Some(Remedy::NameEncodingColourSpace) => {
-                "; pass --colorspace with the colour space the texture is encoded in"
-            }
-            Some(Remedy::NameChannelsOrLayer) => {
-                "; choose with --channels LAYER or --channels NAME,NAME,NAME"
-            }
-            Some(Remedy::NameLayer) => "; choose one with --channels LAYER",
-            Some(Remedy::DropIlluminant) => "; drop --illuminant",
-            Some(Remedy::AlreadySpectral) => {
-                "; use it as it is (`specconv info` shows its bands), `specconv to-rgb` gives its \
-                 colour, and converting its colour source with --bands START:END:STEP gives \
-                 another grid (--channels R,G,B reads a colour preview it holds instead)"
-            }
-            Some(Remedy::DataTexture) => {
-                "; --data skip leaves it out, --data copy writes it through as a data texture, \
-                 and --colorspace NAME reads it as colour if it is one"
-            }
-            Some(Remedy::TileTemplate) => ", or use --output-template with {udim}",
-            Some(_) | None => "",
-        };
-        if !flag.is_empty() {
-            return Some(flag.into());
-        }
-        return match e {
-            Error::TooManyThreads { .. } => Some("; lower -j/--threads".into()),
-            Error::TileTooLarge(_) => Some(" (--tile W H, --bands)".into()),
-            Error::TooMuchMemory { .. } => Some(" (--bands, --tile W H, -j)".into()),
-            Error::Method(s) => spectral(s),
-            Error::Colorimetry(c) => colour(c),
-            Error::Model(specconv_conversion::models::ModelError::Invalid(s)) => spectral(s),
-            _ => None,
-        };
-    }
-    if let Some(e) = cause.downcast_ref::<specconv_spectral::Error>() {
-        return spectral(e);
-    }
-    cause
-        .downcast_ref::<specconv_colour::Error>()
-        .and_then(colour)
+        Remedy::BandsInside { start, end, step } => format!(
+            "; choose bands inside that range (e.g. {} {start}:{end}:{step})",
+            f(Key::Bands)
+        ),
+        Remedy::ZipLevelInRange => format!("; give {} 0 to 9", f(Key::ZipLevel)),
+        // A training setting, not a conversion's.
+        Remedy::OneClusterModel => " (`specconv train --clusters 1`)".into(),
+        // [`explain`] words these errors whole, in the option's own terms.
+        Remedy::DropZipLevel | Remedy::NonEmptyTiles | Remedy::SomeThreads => return None,
+        _ => return None,
+    })
+}
+
+/// How the command line spells an option: its first flag as `convert` defines it, with its
+/// short form and the names of its values where it takes several (`-j/--threads`,
+/// `--tile W H`, `--fixnan`).
+fn flag(key: specconv_conversion::Key) -> String {
+    static FLAGS: std::sync::OnceLock<Vec<(specconv_conversion::Key, String)>> =
+        std::sync::OnceLock::new();
+    let flags = FLAGS.get_or_init(|| {
+        let command = Cli::command();
+        specconv_conversion::Key::ALL
+            .into_iter()
+            .filter_map(|k| {
+                let long = *k.about().flags.first()?;
+                let arg = command.get_arguments().find(|a| a.get_long() == Some(long));
+                let mut text = format!("--{long}");
+                if let Some(short) = arg.and_then(|a| a.get_short()) {
+                    text = format!("-{short}/{text}");
+                }
+                let values = arg.and_then(|a| a.get_value_names()).unwrap_or_default();
+                if values.len() > 1 {
+                    for v in values {
+                        text = format!("{text} {v}");
+                    }
+                }
+                Some((k, text))
+            })
+            .collect()
+    });
+    flags
+        .iter()
+        .find(|(k, _)| *k == key)
+        .map_or_else(String::new, |(_, text)| text.clone())
 }
 
 /// Examples of `specconv --help` and of man/specconv.1.
@@ -406,6 +425,62 @@ mod tests {
         assert_eq!(
             one_line(&e),
             "TOML parse error at line 1, column 5; string values must be quoted"
+        );
+    }
+
+    #[test]
+    fn options_are_spelt_by_their_flags() {
+        use specconv_conversion::Key;
+        assert_eq!(flag(Key::Threads), "-j/--threads");
+        assert_eq!(flag(Key::Tile), "--tile W H");
+        assert_eq!(flag(Key::Overwrite), "--force");
+        assert_eq!(flag(Key::NonFinite), "--fixnan");
+        // Every option the command line has a flag for is spelt by one it accepts.
+        for key in Key::ALL {
+            let Some(long) = key.about().flags.first() else {
+                continue;
+            };
+            assert!(flag(key).contains(&format!("--{long}")), "{key:?}");
+        }
+    }
+
+    #[test]
+    fn the_remedies_of_the_library_are_said_in_flags() {
+        use specconv_conversion::Error;
+        let said = |e: &(dyn std::error::Error + 'static)| one_line(e);
+        let threads = Error::TooManyThreads {
+            threads: 9,
+            limit: 8,
+            cores: 2,
+        };
+        assert!(
+            said(&threads).ends_with("; lower -j/--threads"),
+            "{}",
+            said(&threads)
+        );
+        let memory = Error::TooMuchMemory {
+            needed: 1 << 40,
+            have: 1 << 30,
+        };
+        assert!(said(&memory).ends_with(" (--bands, --tile W H, -j/--threads)"));
+        let grid = specconv_colour::Error::NotCovered {
+            what: "the cie1931 observer".into(),
+            first: 360.0,
+            last: 830.0,
+            grid: "300:700:10".parse().unwrap(),
+        };
+        assert!(
+            said(&grid).ends_with("; choose bands inside that range (e.g. --bands 360:700:10)"),
+            "{}",
+            said(&grid)
+        );
+        let pca = specconv_spectral::Error::NeedsOneCluster { clusters: 8 };
+        assert!(said(&pca).ends_with(" (`specconv train --clusters 1`)"));
+        // Errors whose whole message the command line words itself take no hint.
+        assert_eq!(said(&Error::NoThreads), Error::NoThreads.to_string());
+        assert_eq!(
+            explain(&Error::NoThreads),
+            "-j/--threads must be at least 1"
         );
     }
 

@@ -7,7 +7,7 @@ use crate::Cli;
 use clap::CommandFactory;
 
 /// Every environment variable the program reads, and what for.
-pub const ENVIRONMENT: [(&str, &str); 7] = [
+pub const ENVIRONMENT: [(&str, &str); 8] = [
     (
         "OCIO",
         "The OCIO config used when --ocio is not given (convert, info, colorspaces, to-rgb, and simulate scenes without `ocio`): a file, `aces` or a built-in name such as ocio://default or ocio://studio-config-latest; unset or empty: the built-in ACES config.",
@@ -25,6 +25,10 @@ pub const ENVIRONMENT: [(&str, &str); 7] = [
     (
         "SLURM_ARRAY_TASK_ID",
         "The shard `convert --shard auto/N` converts (Slurm sets it in each task of a job array).",
+    ),
+    (
+        "SLURM_CPUS_PER_TASK",
+        "The threads a `farm` task converts with (Slurm sets it from --cpus-per-task; default the job's request).",
     ),
     (
         "SPECCONV_PROGRESS_SECONDS",
@@ -49,12 +53,15 @@ pub fn pages() -> Vec<(String, Vec<u8>)> {
             .collect();
         let cmd = sub.display_name(name.clone());
         pages.push((format!("{name}.1"), page(&cmd, name, &others)));
-        // A command with commands of its own (farm) has a page for each, as git's do.
-        let nested: Vec<String> = cmd
-            .get_subcommands()
+        // A command with commands of its own (farm) has a page for each, as git's do; a hidden
+        // one (`farm task`, which only a job's script runs) has none.
+        let shown: Vec<&clap::Command> =
+            cmd.get_subcommands().filter(|s| !s.is_hide_set()).collect();
+        let nested: Vec<String> = shown
+            .iter()
             .map(|s| format!("{name}-{}", s.get_name()))
             .collect();
-        for (inner, inner_name) in cmd.get_subcommands().zip(&nested) {
+        for (inner, inner_name) in shown.into_iter().zip(&nested) {
             let others: Vec<String> = std::iter::once(name.clone())
                 .chain(nested.iter().filter(|n| *n != inner_name).cloned())
                 .collect();

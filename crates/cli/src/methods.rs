@@ -19,7 +19,7 @@ pub struct BlendArg {
     /// width: a boundary whose two sides differ a lot is widened so that no spectrum jumps by
     /// more than 1e-3 between colours 1e-5 apart. 0 is the paper's hard switch. The default
     /// keeps the paper's Table 1 (Munsell mean Δe 0.01378 against 0.01379).
-    #[arg(long = "blend", value_name = "WIDTH", default_value_t = specconv_spectral::otsu2018::blend::DEFAULT_WIDTH)]
+    #[arg(long = "blend", value_name = "WIDTH", default_value_t = specconv_conversion::Options::default().blend)]
     pub width: f64,
 }
 

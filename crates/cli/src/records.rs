@@ -31,7 +31,7 @@ pub fn warning(w: &specconv_conversion::Warning) -> String {
 
 /// `subimage 1 'albedo' of 2, channels R,G,B (why)`: what of an input was read.
 pub fn selection(s: &specconv_conversion::Selection) -> String {
-    use specconv_conversion::images::ChannelReason;
+    use specconv_conversion::ChannelReason;
     let sub = s.describe_subimage();
     let why = match s.channels.reason {
         ChannelReason::Option => " (--channels)",

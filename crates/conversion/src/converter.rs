@@ -2,15 +2,13 @@
 //! [`Report`].
 
 use crate::error::{ConversionError, Error};
-use crate::options::{
-    alpha_name, mip_name, non_finite_name, sample_name, Blocks, DataPolicy, Mip, Options, Rounding,
-};
+use crate::options::{settings_tag, Blocks, DataPolicy, Options, Resolved};
+use crate::pipeline::{Job, Storage};
 use crate::provenance::{recorded, Provenance};
+use crate::report::{DataOutcome, Report, Role};
 use specconv_colour::EmissionUnits;
-use specconv_exr::{Kind, Sample};
+use specconv_exr::Sample;
 use specconv_ocio::Config;
-use specconv_pipeline::{Job, Settings};
-use specconv_spectral::bounded::Counts;
 use specconv_spectral::stack::{Description, Stack};
 use specconv_spectral::Model;
 
@@ -21,12 +19,8 @@ use std::path::Path;
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
-pub use specconv_pipeline::input::Selection;
-pub use specconv_pipeline::{Rule, Warning};
-
-/// Units of `S0.` channels: radiance, as the layout names it; the scale is the convention of
-/// `specconvEmissionUnits`.
-const EMISSIVE_UNITS: &str = "W.m^-2.sr^-1";
+pub use crate::pipeline::input::Selection;
+pub use crate::pipeline::{Rule, Warning};
 
 /// A conversion set up once: the config loaded, the colour space checked, the model loaded and
 /// the method built. Every call of [`Converter::convert`] is independent: the same input gives
@@ -45,100 +39,9 @@ pub struct Converter {
     model: Model,
     model_description: String,
     stack: Stack,
-    settings: Settings,
+    storage: Storage,
     provenance: Provenance,
     pool: Option<rayon::ThreadPool>,
-}
-
-/// What one conversion did, and nothing else's.
-#[derive(Debug, Clone)]
-#[non_exhaustive]
-pub struct Report {
-    /// Size of the full-resolution level.
-    pub width: usize,
-    /// Height of the full-resolution level.
-    pub height: usize,
-    /// Pixels uplifted (level 0: smaller levels are filtered from its spectra).
-    pub pixels: u64,
-    /// MIP levels written.
-    pub levels: usize,
-    /// Wrap modes recorded (tiled outputs), and whether the input declared them.
-    pub wrap: Option<(crate::WrapModes, bool)>,
-    /// Pixels of the input with NaN or infinite values in a channel read, and whether they
-    /// were repaired (else they were kept: refused inputs fail).
-    pub non_finite_input: (u64, bool),
-    /// Every pixel was the same: written as one tile.
-    pub constant: bool,
-    /// Alpha was 1 everywhere and was not written.
-    pub opaque_dropped: bool,
-    /// The hash of the source pixels `-u` compares (empty for a data texture).
-    pub source_hash: String,
-    /// Bands of every spectrum.
-    pub bands: usize,
-    /// The subimage and the channels read.
-    pub selection: Selection,
-    /// The input's colour space (the config's name, or a description).
-    pub colorspace: String,
-    /// The rule that chose it.
-    pub colorspace_rule: Rule,
-    /// Declarations of the file that were ignored or disagree.
-    pub warnings: Vec<Warning>,
-    /// Straight colour was multiplied by alpha after conversion.
-    pub premultiplied: bool,
-    /// Pixels whose colour had a NaN or infinite component.
-    pub non_finite: u64,
-    /// Pixels above 1 (an input channel or Y above [`specconv_pipeline::ABOVE_ONE`]).
-    pub above_one: u64,
-    /// Pixels with a band beyond the half range, stored as ±65504.
-    pub saturated: u64,
-    /// Pixels of made levels (and of a resized level 0) clamped after a filter with negative
-    /// lobes pushed a band out of range (`[0, 1]` for bounded reflectance) or alpha out of
-    /// [0, 1].
-    pub clamped: u64,
-    /// The filter the levels were made with; `None` when none was made (one level, not
-    /// resized).
-    pub filter: Option<crate::Filter>,
-    /// Bounded reflectance: the outcomes of the projection into [0, 1]; `None` otherwise.
-    pub bounded: Option<Counts>,
-    /// Emission: colours no emission spectrum of the method matched; `None` otherwise.
-    pub unmatched: Option<u64>,
-    /// Seconds the conversion took.
-    pub seconds: f64,
-    /// What the texture was read as: colour, one achromatic channel, or data.
-    pub role: Role,
-    /// For a data texture, what was done with it; `None` for colour.
-    pub data: Option<DataOutcome>,
-}
-
-/// What a texture holds ([`specconv_pipeline::colour::texture_space`]'s rule).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Role {
-    /// Colour, three channels.
-    Colour,
-    /// One channel read as achromatic colour (its colour space says it is colour).
-    Achromatic,
-    /// Data, not colour: never uplifted.
-    Data,
-}
-
-impl Role {
-    /// The name records give it: `colour`, `achromatic` or `data`.
-    pub fn name(self) -> &'static str {
-        match self {
-            Role::Colour => "colour",
-            Role::Achromatic => "achromatic",
-            Role::Data => "data",
-        }
-    }
-}
-
-/// What was done with a data texture ([`DataPolicy`]).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum DataOutcome {
-    /// Nothing written.
-    Skipped,
-    /// Written through as a data texture.
-    Copied,
 }
 
 impl Converter {
@@ -205,14 +108,23 @@ impl Converter {
             check_memory(width * height, channels, threads)?;
         }
         let model_description = crate::models::describe(options.model.as_deref(), &model);
-        let settings = settings(&options, &stack);
+        let storage = Storage::of(&options, &stack);
         let provenance = Provenance {
             model: Some(model_description.clone()),
             method: Some(stack.method().name().to_string()),
             blend: Some(stack.blend().to_string()),
             observer: Some(model.observer),
             illuminant: Some(model.illuminant),
-            settings: Some(settings_tag(&options, &model_description, &stack, &config)),
+            settings: Some(settings_tag(
+                &options,
+                Resolved {
+                    model: &model_description,
+                    method: stack.method().name(),
+                    blend: stack.blend(),
+                    config: &config.source().to_string(),
+                    by_colour: storage.xyz_weights.is_some(),
+                },
+            )),
             emission_units: stack.emission().map(|e| e.units),
             version: Some(env!("CARGO_PKG_VERSION").to_string()),
             ..Provenance::default()
@@ -223,7 +135,7 @@ impl Converter {
             model,
             model_description,
             stack,
-            settings,
+            storage,
             provenance,
             pool,
         })
@@ -256,20 +168,18 @@ impl Converter {
         progress: &mut (dyn FnMut(u64, u64) + Send),
     ) -> Result<Report, Error> {
         let start = Instant::now();
-        let settings = Settings {
-            overwrite,
-            ..self.settings.clone()
-        };
         let job = Job {
             input,
             output,
             config: &self.config,
-            method: self.stack.method(),
-            settings: &settings,
+            stack: &self.stack,
+            options: &self.options,
+            storage: &self.storage,
+            overwrite,
             cancel,
         };
-        let mut run = || -> Result<specconv_pipeline::Report, ConversionError> {
-            let opened = specconv_pipeline::open(&job)?;
+        let mut run = || -> Result<Report, ConversionError> {
+            let opened = crate::pipeline::open(&job)?;
             let provenance = Provenance {
                 source_colorspace: Some(opened.colorspace().to_string()),
                 config: Some(self.config.source().to_string()),
@@ -279,48 +189,20 @@ impl Converter {
             };
             opened.write(&provenance.to_attributes(), progress)
         };
-        let r = match &self.pool {
+        let report = match &self.pool {
             Some(pool) => pool.install(run),
             None => run(),
         };
-        let r = match r {
+        match report {
             Err(ConversionError::Data(data)) => {
-                return self.data_texture(input, output, overwrite, *data, start)
+                self.data_texture(input, output, overwrite, *data, start)
             }
-            other => other?,
-        };
-        let role = if r.selection.channels.colour.len() == 1 {
-            Role::Achromatic
-        } else {
-            Role::Colour
-        };
-        Ok(Report {
-            role,
-            data: None,
-            width: r.width,
-            height: r.height,
-            pixels: r.pixels,
-            levels: r.levels,
-            wrap: r.wrap,
-            non_finite_input: r.non_finite_input,
-            constant: r.constant,
-            opaque_dropped: r.opaque_dropped,
-            source_hash: r.source_hash,
-            bands: self.stack.method().grid().len(),
-            selection: r.selection,
-            colorspace: r.colorspace,
-            colorspace_rule: r.colorspace_rule,
-            warnings: r.warnings,
-            premultiplied: r.premultiplied,
-            non_finite: r.non_finite,
-            above_one: r.above_one,
-            saturated: r.saturated,
-            clamped: r.clamped,
-            filter: (r.levels > 1 || self.options.resize).then_some(self.options.filter),
-            bounded: self.stack.counts_bounded().then_some(r.tally.bounded),
-            unmatched: self.stack.emissive().map(|_| r.tally.unmatched),
-            seconds: start.elapsed().as_secs_f64(),
-        })
+            Err(e) => Err(e.into()),
+            Ok(report) => Ok(Report {
+                seconds: start.elapsed().as_secs_f64(),
+                ..report
+            }),
+        }
     }
 
     /// A data texture, by the data policy: skipped, written through, or a failure.
@@ -329,7 +211,7 @@ impl Converter {
         input: &Path,
         output: &Path,
         overwrite: bool,
-        data: specconv_pipeline::DataTexture,
+        data: crate::pipeline::DataTexture,
         start: Instant,
     ) -> Result<Report, Error> {
         let outcome = match self.options.data {
@@ -366,7 +248,7 @@ impl Converter {
                     attributes.push(("maketx:resize".into(), "1".into()));
                 }
                 let selection = data.selection.as_ref();
-                let how = specconv_pipeline::data::Copy {
+                let how = crate::pipeline::data::Copy {
                     subimage: selection.map_or(0, |s| s.subimage),
                     tile: (
                         u32::try_from(tile_width).unwrap_or(u32::MAX),
@@ -376,8 +258,8 @@ impl Converter {
                     overwrite,
                     attributes: &attributes,
                 };
-                let levels = specconv_pipeline::data::copy(input, output, &how)
-                    .map_err(Error::Conversion)?;
+                let levels =
+                    crate::pipeline::data::copy(input, output, &how).map_err(Error::Conversion)?;
                 (DataOutcome::Copied, levels)
             }
         };
@@ -385,11 +267,11 @@ impl Converter {
             subimage: 0,
             subimages: 1,
             subimage_name: String::new(),
-            channels: specconv_pipeline::input::Channels {
+            channels: crate::pipeline::input::Channels {
                 colour: Vec::new(),
                 alpha: None,
                 names: Vec::new(),
-                reason: specconv_pipeline::input::ChannelReason::Named,
+                reason: crate::pipeline::input::ChannelReason::Named,
             },
         });
         Ok(Report {
@@ -439,12 +321,8 @@ impl Converter {
         if p.source_stat.is_some() && p.source_stat == crate::provenance::source_stat(input) {
             return true;
         }
-        let request = specconv_pipeline::input::Request {
-            subimage: self.options.subimage.clone(),
-            channels: self.options.channels.clone(),
-        };
         p.source_hash.is_some()
-            && specconv_pipeline::source_hash(input, &request).ok() == p.source_hash
+            && crate::pipeline::source_hash(input, &self.options.request()).ok() == p.source_hash
     }
 
     /// The options it was built from.
@@ -518,6 +396,14 @@ impl std::fmt::Display for Advice {
 }
 
 impl Options {
+    /// What of the input is read: the subimage and the channels.
+    pub(crate) fn request(&self) -> crate::pipeline::input::Request {
+        crate::pipeline::input::Request {
+            subimage: self.subimage.clone(),
+            channels: self.channels.clone(),
+        }
+    }
+
     /// The method stack these options describe.
     pub fn description(&self) -> Description {
         Description {
@@ -528,113 +414,6 @@ impl Options {
             ..Description::convert_default(self.method)
         }
     }
-}
-
-/// The pipeline's settings of every output.
-fn settings(o: &Options, stack: &Stack) -> Settings {
-    let by_colour = o.rounding.unwrap_or(if o.emission.is_some() {
-        Rounding::Colour
-    } else {
-        Rounding::Nearest
-    }) == Rounding::Colour;
-    Settings {
-        kind: match o.emission {
-            Some(_) => Kind::Emissive {
-                units: EMISSIVE_UNITS.into(),
-            },
-            None => Kind::Reflective,
-        },
-        xyz_weights: by_colour.then(|| match stack.emission() {
-            Some(e) => e.emission.weights.clone(),
-            None => stack.colorimetry().weights.clone(),
-        }),
-        colorspace: o.colorspace.clone(),
-        input: specconv_pipeline::input::Request {
-            subimage: o.subimage.clone(),
-            channels: o.channels.clone(),
-        },
-        alpha: o.alpha,
-        sample: o.sample,
-        compression: o.compression.exr(),
-        zip_level: o.zip_level.unwrap_or(specconv_exr::zip::DEFAULT_LEVEL),
-        tile: match o.blocks {
-            Blocks::Tiles(w, h) => Some((w, h)),
-            Blocks::Scanlines => None,
-        },
-        mip: o.mip,
-        filter: o.filter,
-        resize: o.resize,
-        // What a filter's negative lobes may not push a band beyond: a bounded reflectance
-        // stays in [0, 1]; nothing physical is negative.
-        band_range: if o.bounded && o.emission.is_none() {
-            (0.0, 1.0)
-        } else {
-            (0.0, f32::INFINITY)
-        },
-        wrap: o.wrap,
-        non_finite: o.non_finite,
-        constant_detect: o.constant_detect,
-        opaque_detect: o.opaque_detect,
-        overwrite: o.overwrite,
-        attributes: Vec::new(),
-    }
-}
-
-/// `specconvSettings`: everything that makes an output what it is, for `-u`. Its text is kept
-/// as earlier versions wrote it, so that their outputs stay up to date.
-fn settings_tag(o: &Options, model: &str, stack: &Stack, config: &Config) -> String {
-    let compression = match o.zip_level {
-        Some(level) => format!("{} zip-level={level}", o.compression),
-        None => o.compression.to_string(),
-    };
-    let tile = match o.blocks {
-        Blocks::Scanlines => "scanline".to_string(),
-        Blocks::Tiles(w, h) => format!("{w}x{h}"),
-    };
-    let mut tag = format!(
-        "model={model} method={} blend={} data-type={} compression={compression} tile={tile} \
-         mip={} colorspace={} alpha={} config={}",
-        stack.method().name(),
-        stack.blend(),
-        sample_name(o.sample),
-        mip_name(o.mip),
-        o.colorspace.as_deref().unwrap_or("auto"),
-        alpha_name(o.alpha),
-        config.source(),
-    );
-    // MIP levels filtered from the spectra (box, maketx's default, unless asked); outputs of
-    // earlier versions, whose levels were uplifted from the input's own, lack it and are
-    // rebuilt.
-    if (o.mip == Mip::All && o.blocks != Blocks::Scanlines) || o.resize {
-        tag += &format!(" filter={}", o.filter);
-    }
-    // Only when asked, so that outputs of earlier versions stay up to date.
-    if o.resize {
-        tag += " resize=pow2";
-    }
-    if let Some((s, t)) = o.wrap {
-        tag += &format!(" wrap={s},{t}");
-    }
-    // What the survey may change (docs/guide.md, "Texture prep").
-    tag += &format!(
-        " nan={} constant-detect={} opaque-detect={}",
-        non_finite_name(o.non_finite),
-        o.constant_detect,
-        o.opaque_detect
-    );
-    if let Some(e) = stack.emission() {
-        tag += &format!(" emission-units={}", e.units);
-    }
-    // Only when not the default, so that outputs of earlier versions stay up to date.
-    if o.data != DataPolicy::Skip {
-        tag += &format!(" data={}", o.data.name());
-    }
-    for (k, v) in [("subimage", &o.subimage), ("channels", &o.channels)] {
-        if let Some(v) = v {
-            tag += &format!(" {k}={v}");
-        }
-    }
-    tag
 }
 
 /// The input's file name, as `specconvSource` records it.

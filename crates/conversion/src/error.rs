@@ -3,13 +3,14 @@
 //! setting its own way (the CLI's flags, the Python package's keywords).
 
 use crate::models::ModelError;
-use crate::options::Compression;
+use crate::options::{Compression, Key};
 use crate::plan;
+use crate::wrapped::{ColourError, ImageError};
 use specconv_atomic_file::udim::UdimError;
 use specconv_atomic_file::PlanError;
 use std::path::PathBuf;
 
-pub use specconv_pipeline::Error as ConversionError;
+pub use crate::pipeline::Error as ConversionError;
 
 /// Why a [`crate::Converter`] could not be built, or one conversion failed.
 #[derive(Debug, thiserror::Error)]
@@ -64,7 +65,7 @@ pub enum Error {
     Threads(String),
     /// The OCIO config, or a colour space named in the options, cannot be used.
     #[error(transparent)]
-    Colour(#[from] specconv_ocio::Error),
+    Colour(#[from] ColourError),
     /// The model cannot be used.
     #[error(transparent)]
     Model(#[from] ModelError),
@@ -150,10 +151,26 @@ pub enum Error {
     /// cover them).
     #[error(transparent)]
     Colorimetry(specconv_colour::Error),
+    /// A spectral EXR's attributes cannot be read ([`crate::describe`]).
+    #[error(transparent)]
+    Attributes(specconv_exr::Error),
+    /// A `specconv*` attribute of a described file does not parse ([`crate::describe`]).
+    #[error(transparent)]
+    Provenance(crate::provenance::BadAttribute),
 }
 
-/// The setting that would fix an error; a front-end says it in its own words.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+// Inside this crate only: no front-end names an FFI type.
+#[doc(hidden)]
+impl From<specconv_ocio::Error> for Error {
+    fn from(e: specconv_ocio::Error) -> Error {
+        Error::Colour(e.into())
+    }
+}
+
+/// The setting that would fix an error ([`Error::remedy`], [`remedy_of`]): the options it
+/// changes ([`Remedy::keys`]), which each front-end names its own way from [`Key::about`]
+/// (the command line's flags, the Python package's keywords), and what to do with them.
+#[derive(Debug, Clone, Copy, PartialEq)]
 #[non_exhaustive]
 pub enum Remedy {
     /// Replace the existing output, or skip outputs that are up to date.
@@ -172,6 +189,29 @@ pub enum Remedy {
     NameLayer,
     /// Drop the deflate level, or choose a compression that deflates.
     DropZipLevel,
+    /// A deflate level from 0 to 9.
+    ZipLevelInRange,
+    /// Tiles of at least 1×1.
+    NonEmptyTiles,
+    /// At least one worker thread.
+    SomeThreads,
+    /// Fewer worker threads.
+    FewerThreads,
+    /// Smaller tiles or fewer bands: blocks that OpenEXR's readers accept.
+    SmallerBlocks,
+    /// Fewer bands, smaller tiles or fewer worker threads: blocks in flight that fit in memory.
+    LessMemory,
+    /// A wavelength grid inside the range a table covers; this one would do.
+    BandsInside {
+        /// First wavelength, nm.
+        start: f64,
+        /// Last wavelength, nm.
+        end: f64,
+        /// Spacing, nm.
+        step: f64,
+    },
+    /// A model of one cluster (`pca` takes no other): one trained with one cluster.
+    OneClusterModel,
     /// Replace the existing output.
     Replace,
     /// Drop the illuminant (emission is its own light).
@@ -184,6 +224,31 @@ pub enum Remedy {
     AlreadySpectral,
     /// A UDIM pattern into one output: name the outputs by a template with the tile instead.
     TileTemplate,
+}
+
+impl Remedy {
+    /// The conversion options it changes, first the one it is mostly about; none where the
+    /// setting is not a conversion's (an illuminant to look under, a model's training).
+    pub fn keys(&self) -> &'static [Key] {
+        match self {
+            Remedy::ReplaceOrSkip | Remedy::Replace => &[Key::Overwrite],
+            Remedy::RepairNonFinite | Remedy::RepairBlack => &[Key::NonFinite],
+            Remedy::NameColourSpace | Remedy::NameEncodingColourSpace => &[Key::Colorspace],
+            Remedy::NameChannelsOrLayer | Remedy::NameLayer => &[Key::Channels],
+            Remedy::DropZipLevel => &[Key::ZipLevel, Key::Compression],
+            Remedy::ZipLevelInRange => &[Key::ZipLevel],
+            Remedy::NonEmptyTiles => &[Key::Tile],
+            Remedy::SomeThreads | Remedy::FewerThreads => &[Key::Threads],
+            Remedy::SmallerBlocks => &[Key::Tile, Key::Bands],
+            Remedy::LessMemory => &[Key::Bands, Key::Tile, Key::Threads],
+            Remedy::BandsInside { .. } => &[Key::Bands],
+            Remedy::OneClusterModel => &[Key::Model],
+            // The output naming of the front-end (`--output-template`, `output_template=`).
+            Remedy::DropIlluminant | Remedy::TileTemplate => &[],
+            Remedy::DataTexture => &[Key::Data, Key::Colorspace],
+            Remedy::AlreadySpectral => &[Key::Bands, Key::Channels],
+        }
+    }
 }
 
 /// What an error is about, for a front-end that sorts errors by kind (the Python package's
@@ -203,10 +268,17 @@ pub enum Cause {
 }
 
 impl Error {
-    /// The setting that would fix it, when one would.
+    /// The setting that would fix it, when one would (every rule of every front-end: a
+    /// test below lists the errors a setting fixes).
     pub fn remedy(&self) -> Option<Remedy> {
         match self {
             Error::ZipLevelWithoutZip { .. } => Some(Remedy::DropZipLevel),
+            Error::ZipLevel { .. } => Some(Remedy::ZipLevelInRange),
+            Error::EmptyTile { .. } => Some(Remedy::NonEmptyTiles),
+            Error::TileTooLarge(_) => Some(Remedy::SmallerBlocks),
+            Error::TooMuchMemory { .. } => Some(Remedy::LessMemory),
+            Error::TooManyThreads { .. } => Some(Remedy::FewerThreads),
+            Error::NoThreads => Some(Remedy::SomeThreads),
             Error::Plan(PlanError::Exists { .. })
             | Error::Planning(plan::Error::NotMadeBySpecconv { .. }) => Some(Remedy::Replace),
             Error::Planning(plan::Error::Files(PlanError::Exists { .. })) => {
@@ -219,17 +291,21 @@ impl Error {
                 ..
             } => Some(Remedy::NameColourSpace),
             Error::Colour(e) => colour_remedy(e),
+            Error::Method(e) | Error::Model(ModelError::Invalid(e)) => spectral_remedy(e),
+            Error::Study(specconv_study::Error::Spectral(e)) => spectral_remedy(e),
+            Error::Colorimetry(e) | Error::Study(specconv_study::Error::Colour(e)) => {
+                colorimetry_remedy(e)
+            }
             Error::Conversion(e) => match e {
                 ConversionError::Plan(PlanError::Exists { .. }) => Some(Remedy::ReplaceOrSkip),
                 ConversionError::NonFinite { .. } => Some(Remedy::RepairNonFinite),
                 ConversionError::TooManyNonFinite { .. } => Some(Remedy::RepairBlack),
                 ConversionError::Channels { choose, .. } => choose.map(|c| match c {
-                    specconv_pipeline::input::Choose::ChannelsOrLayer => {
-                        Remedy::NameChannelsOrLayer
-                    }
-                    specconv_pipeline::input::Choose::OneLayer => Remedy::NameLayer,
+                    crate::pipeline::input::Choose::ChannelsOrLayer => Remedy::NameChannelsOrLayer,
+                    crate::pipeline::input::Choose::OneLayer => Remedy::NameLayer,
                 }),
                 ConversionError::Color(e) => colour_remedy(e),
+                ConversionError::DefaultColourSpace(_) => Some(Remedy::NameColourSpace),
                 ConversionError::Data(_) => Some(Remedy::DataTexture),
                 ConversionError::Spectral { .. } => Some(Remedy::AlreadySpectral),
                 _ => None,
@@ -259,21 +335,23 @@ impl Error {
             | Error::Input(_)
             | Error::Read { .. }
             | Error::Write { .. }
+            | Error::Attributes(_)
             | Error::Model(ModelError::Read { .. }) => Cause::File,
             Error::Conversion(
                 ConversionError::Plan(_)
                 | ConversionError::Output(_)
                 | ConversionError::NotAFile(_)
                 // Missing, not an image, unreadable: as Python's own image readers say it.
-                | ConversionError::Input(
+                | ConversionError::Input(ImageError(
                     Image::NotFound { .. } | Image::Open { .. } | Image::Read { .. },
-                ),
+                )),
             ) => Cause::File,
             Error::Conversion(c) if io_in_chain(c) => Cause::File,
             Error::Conversion(_)
             | Error::EmissionIsItsOwnLight { .. }
             | Error::NotReflectance { .. }
-            | Error::Bispectral { .. } => Cause::Input,
+            | Error::Bispectral { .. }
+            | Error::Provenance(_) => Cause::Input,
             _ => Cause::Setting,
         }
     }
@@ -284,15 +362,61 @@ impl Error {
     }
 }
 
-/// The colour-management error that naming the colour space fixes: a data space.
 /// Whether an I/O error is among the causes of `e`.
 fn io_in_chain(e: &(dyn std::error::Error + 'static)) -> bool {
     std::iter::successors(Some(e), |c| c.source()).any(|c| c.is::<std::io::Error>())
 }
 
-fn colour_remedy(e: &specconv_ocio::Error) -> Option<Remedy> {
-    matches!(e, specconv_ocio::Error::DataColorSpace { .. })
-        .then_some(Remedy::NameEncodingColourSpace)
+/// The colour-management error that naming the colour space fixes: a data space.
+fn colour_remedy(e: &ColourError) -> Option<Remedy> {
+    e.is_data_space().then_some(Remedy::NameEncodingColourSpace)
+}
+
+/// The remedy of an uplift method's error: a model of one cluster for `pca`, a grid inside
+/// what the tables cover.
+fn spectral_remedy(e: &specconv_spectral::Error) -> Option<Remedy> {
+    match e {
+        specconv_spectral::Error::NeedsOneCluster { .. } => Some(Remedy::OneClusterModel),
+        specconv_spectral::Error::Colour(c) => colorimetry_remedy(c),
+        _ => None,
+    }
+}
+
+/// The remedy of colorimetry's error: for a table that stops inside the grid, the grid
+/// inside what it covers (whole nanometres, the same step).
+fn colorimetry_remedy(e: &specconv_colour::Error) -> Option<Remedy> {
+    match e {
+        specconv_colour::Error::NotCovered {
+            first, last, grid, ..
+        } => Some(Remedy::BandsInside {
+            start: first.max(grid.start).ceil(),
+            end: last.min(grid.end).floor(),
+            step: grid.step,
+        }),
+        _ => None,
+    }
+}
+
+/// The remedy of one cause of an error chain, whichever library it comes from: this crate's
+/// [`Error`] ([`Error::remedy`]), or the uplift's and colorimetry's errors that other commands
+/// (training, evaluation) meet. A front-end walks the chain and says the first it finds.
+pub fn remedy_of(cause: &(dyn std::error::Error + 'static)) -> Option<Remedy> {
+    if let Some(e) = cause.downcast_ref::<Error>() {
+        return e.remedy();
+    }
+    if let Some(e) = cause.downcast_ref::<specconv_spectral::Error>() {
+        return spectral_remedy(e);
+    }
+    if let Some(e) = cause.downcast_ref::<specconv_study::Error>() {
+        return match e {
+            specconv_study::Error::Spectral(e) => spectral_remedy(e),
+            specconv_study::Error::Colour(e) => colorimetry_remedy(e),
+            _ => None,
+        };
+    }
+    cause
+        .downcast_ref::<specconv_colour::Error>()
+        .and_then(colorimetry_remedy)
 }
 
 /// An error and its causes on one line, each cause once (`cannot read F: why`), as every
@@ -346,4 +470,373 @@ fn chain(e: &(dyn std::error::Error + 'static)) -> String {
         };
     }
     line
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::pipeline::input::Choose;
+    use std::collections::BTreeSet;
+
+    /// The name of `e`'s variant (of the conversion's error, for [`Error::Conversion`]) and
+    /// whether a setting fixes it. Exhaustive: a new variant must be decided here, named in
+    /// [`VARIANTS`] and given a sample in [`every_error`].
+    fn decided(e: &Error) -> (&'static str, bool) {
+        match e {
+            Error::ZipLevelWithoutZip { .. } => ("ZipLevelWithoutZip", true),
+            Error::ZipLevel { .. } => ("ZipLevel", true),
+            Error::EmptyTile { .. } => ("EmptyTile", true),
+            Error::TileTooLarge(_) => ("TileTooLarge", true),
+            Error::TooMuchMemory { .. } => ("TooMuchMemory", true),
+            Error::TooManyThreads { .. } => ("TooManyThreads", true),
+            Error::NoThreads => ("NoThreads", true),
+            // The system refused: no setting.
+            Error::Threads(_) => ("Threads", false),
+            // A data space named where a colour is needed: name the encoding instead.
+            Error::Colour(c) => ("Colour", c.is_data_space()),
+            Error::Model(ModelError::Invalid(e)) => ("Model(Invalid)", spectral_fixable(e)),
+            Error::Model(_) => ("Model", false),
+            Error::Method(e) => ("Method", spectral_fixable(e)),
+            Error::Conversion(c) => match c {
+                ConversionError::Input(_) => ("Conversion::Input", false),
+                ConversionError::Color(c) => ("Conversion::Color", c.is_data_space()),
+                ConversionError::Output(_) => ("Conversion::Output", false),
+                ConversionError::Damaged(_) => ("Conversion::Damaged", false),
+                ConversionError::Channels { choose, .. } => {
+                    ("Conversion::Channels", choose.is_some())
+                }
+                ConversionError::DefaultColourSpace(_) => ("Conversion::DefaultColourSpace", true),
+                ConversionError::NonFinite { .. } => ("Conversion::NonFinite", true),
+                ConversionError::TooManyNonFinite { .. } => ("Conversion::TooManyNonFinite", true),
+                // The method's own colorimetry: not a setting.
+                ConversionError::Weights { .. } => ("Conversion::Weights", false),
+                ConversionError::NotAFile(_) => ("Conversion::NotAFile", false),
+                ConversionError::Plan(p) => {
+                    ("Conversion::Plan", matches!(p, PlanError::Exists { .. }))
+                }
+                ConversionError::Io { .. } => ("Conversion::Io", false),
+                ConversionError::Cancelled => ("Conversion::Cancelled", false),
+                ConversionError::Spectral { .. } => ("Conversion::Spectral", true),
+                ConversionError::Data(_) => ("Conversion::Data", true),
+            },
+            Error::Plan(p) => ("Plan", matches!(p, PlanError::Exists { .. })),
+            // Whether a plan's error is fixable is the plan's own test's.
+            Error::Planning(plan::Error::NotMadeBySpecconv { .. }) => {
+                ("Planning::NotMadeBySpecconv", true)
+            }
+            Error::Planning(plan::Error::PatternIntoOneFile { .. }) => {
+                ("Planning::PatternIntoOneFile", true)
+            }
+            Error::Planning(plan::Error::Files(p)) => {
+                ("Planning::Files", matches!(p, PlanError::Exists { .. }))
+            }
+            Error::Planning(_) => ("Planning", false),
+            Error::Input(_) => ("Input", false),
+            Error::EmissionIsItsOwnLight { .. } => ("EmissionIsItsOwnLight", true),
+            // Only the input colour space's role can be stood in for by naming one.
+            Error::NoRole { role, .. } => ("NoRole", *role == "scene_linear"),
+            Error::Read { .. } => ("Read", false),
+            Error::Write { .. } => ("Write", false),
+            Error::BadProvenance { .. } => ("BadProvenance", false),
+            // Another file is needed, not another setting.
+            Error::NotReflectance { .. } => ("NotReflectance", false),
+            Error::Bispectral { .. } => ("Bispectral", false),
+            Error::Study(specconv_study::Error::Colour(e)) => ("Study", colour_fixable(e)),
+            Error::Study(specconv_study::Error::Spectral(e)) => ("Study", spectral_fixable(e)),
+            Error::Study(_) => ("Study", false),
+            Error::Colorimetry(e) => ("Colorimetry", colour_fixable(e)),
+            Error::Attributes(_) => ("Attributes", false),
+            Error::Provenance(_) => ("Provenance", false),
+        }
+    }
+
+    /// A grid that a table does not cover: choose one inside.
+    fn colour_fixable(e: &specconv_colour::Error) -> bool {
+        matches!(e, specconv_colour::Error::NotCovered { .. })
+    }
+
+    /// `pca` with a model of several clusters, or a grid not covered.
+    fn spectral_fixable(e: &specconv_spectral::Error) -> bool {
+        match e {
+            specconv_spectral::Error::NeedsOneCluster { .. } => true,
+            specconv_spectral::Error::Colour(c) => colour_fixable(c),
+            _ => false,
+        }
+    }
+
+    /// Every name [`decided`] gives.
+    const VARIANTS: &[&str] = &[
+        "ZipLevelWithoutZip",
+        "ZipLevel",
+        "EmptyTile",
+        "TileTooLarge",
+        "TooMuchMemory",
+        "TooManyThreads",
+        "NoThreads",
+        "Threads",
+        "Colour",
+        "Model(Invalid)",
+        "Model",
+        "Method",
+        "Conversion::Input",
+        "Conversion::Color",
+        "Conversion::Output",
+        "Conversion::Damaged",
+        "Conversion::Channels",
+        "Conversion::DefaultColourSpace",
+        "Conversion::NonFinite",
+        "Conversion::TooManyNonFinite",
+        "Conversion::Weights",
+        "Conversion::NotAFile",
+        "Conversion::Plan",
+        "Conversion::Io",
+        "Conversion::Cancelled",
+        "Conversion::Spectral",
+        "Conversion::Data",
+        "Plan",
+        "Planning::NotMadeBySpecconv",
+    "Planning::Files",
+        "Input",
+        "EmissionIsItsOwnLight",
+        "NoRole",
+        "Read",
+        "Write",
+        "BadProvenance",
+        "NotReflectance",
+        "Bispectral",
+        "Study",
+        "Colorimetry",
+        "Attributes",
+        "Provenance",
+    ];
+
+    fn not_covered() -> specconv_colour::Error {
+        specconv_colour::Error::NotCovered {
+            what: "the cie1931 observer".into(),
+            first: 360.0,
+            last: 830.0,
+            grid: specconv_colour::Grid {
+                start: 300.0,
+                end: 700.0,
+                step: 10.0,
+            },
+        }
+    }
+
+    /// Samples of every variant, fixable and not.
+    fn every_error() -> Vec<Error> {
+        let p = || PathBuf::from("/t/a.exr");
+        let data_space = || specconv_ocio::Error::DataColorSpace { name: "Raw".into() };
+        let no_config = || specconv_ocio::Error::ConfigNotFound { path: p() };
+        let exists = || PlanError::Exists {
+            output: p(),
+            more: 0,
+        };
+        let not_a_file = || specconv_atomic_file::ReadError::NotAFile {
+            path: p(),
+            kind: specconv_atomic_file::Kind::Directory,
+        };
+        let one_cluster = || specconv_spectral::Error::NeedsOneCluster { clusters: 8 };
+        let bad_attribute = || crate::provenance::BadAttribute {
+            attribute: "specconvBands",
+            source: specconv_colour::Error::Grid("1:0:1".into()),
+        };
+        let channels = |choose| ConversionError::Channels {
+            path: p(),
+            what: "no R, G, B".into(),
+            channels: "X, Y".into(),
+            choose,
+        };
+        let conversion = [
+            ConversionError::Input(specconv_oiio::Error::NotFound { path: p() }.into()),
+            ConversionError::Color(data_space().into()),
+            ConversionError::Color(no_config().into()),
+            ConversionError::Output(specconv_exr::Error::Invalid("no bands".into())),
+            ConversionError::Damaged(specconv_exr::check::Problem::Damaged {
+                path: p(),
+                message: "short".into(),
+            }),
+            channels(Some(Choose::ChannelsOrLayer)),
+            channels(Some(Choose::OneLayer)),
+            channels(None),
+            ConversionError::DefaultColourSpace("none".into()),
+            ConversionError::NonFinite {
+                input: p(),
+                pixels: 1,
+                first: (0, 0),
+                rows: (0, 1),
+            },
+            ConversionError::TooManyNonFinite {
+                input: p(),
+                limit: 10,
+            },
+            ConversionError::Weights { have: 3, want: 36 },
+            ConversionError::NotAFile(not_a_file()),
+            ConversionError::Plan(exists()),
+            ConversionError::Plan(PlanError::OutputIsInput {
+                output: p(),
+                input: p(),
+            }),
+            ConversionError::Io {
+                path: p(),
+                source: std::io::Error::other("full"),
+            },
+            ConversionError::Cancelled,
+            ConversionError::Spectral {
+                path: p(),
+                emissive: false,
+                bands: 36,
+                range_nm: (380.0, 730.0),
+            },
+            ConversionError::Data(Box::new(crate::DataTexture {
+                path: p(),
+                name: "Raw".into(),
+                rule: crate::Rule::Flag { overrides: None },
+                selection: None,
+                size: (1, 1),
+            })),
+        ];
+        let mut all = vec![
+            Error::ZipLevelWithoutZip {
+                compression: Compression::Piz,
+            },
+            Error::ZipLevel { level: 12 },
+            Error::EmptyTile {
+                width: 0,
+                height: 4,
+            },
+            Error::TileTooLarge(specconv_exr::BlockTooLarge {
+                width: 5000,
+                height: 5000,
+                channels: 402,
+                bytes_per_sample: 2,
+                bytes: 20_100_000_000,
+            }),
+            Error::TooMuchMemory {
+                needed: 1 << 40,
+                have: 1 << 30,
+            },
+            Error::TooManyThreads {
+                threads: 100_000,
+                limit: 1024,
+                cores: 2,
+            },
+            Error::NoThreads,
+            Error::Threads("no".into()),
+            Error::Colour(data_space().into()),
+            Error::Colour(no_config().into()),
+            Error::Model(ModelError::Invalid(one_cluster())),
+            Error::Model(ModelError::Invalid(specconv_spectral::Error::Blend(
+                "-1".into(),
+            ))),
+            Error::Model(ModelError::NotText { path: p() }),
+            Error::Method(one_cluster()),
+            Error::Method(specconv_spectral::Error::Colour(not_covered())),
+            Error::Method(specconv_spectral::Error::Blend("-1".into())),
+            Error::Plan(exists()),
+            Error::Plan(PlanError::OutputIsInput {
+                output: p(),
+                input: p(),
+            }),
+            Error::Planning(plan::Error::NotMadeBySpecconv {
+                output: p(),
+                more: 0,
+            }),
+            Error::Planning(plan::Error::Files(exists())),
+            Error::Input(not_a_file()),
+            Error::EmissionIsItsOwnLight { input: p() },
+            Error::NoRole {
+                role: "scene_linear",
+                purpose: "",
+            },
+            Error::NoRole {
+                role: "color_picking",
+                purpose: "",
+            },
+            Error::Read {
+                path: p(),
+                source: specconv_exr::Error::Invalid("no bands".into()),
+            },
+            Error::Write {
+                path: p(),
+                source: specconv_exr::Error::Invalid("no bands".into()),
+            },
+            Error::BadProvenance {
+                path: p(),
+                source: bad_attribute(),
+            },
+            Error::NotReflectance { input: p() },
+            Error::Bispectral { input: p() },
+            Error::Study(specconv_study::Error::Colour(not_covered())),
+            Error::Study(specconv_study::Error::Spectral(one_cluster())),
+            Error::Study(specconv_study::Error::Scene("no light".into())),
+            Error::Colorimetry(not_covered()),
+            Error::Colorimetry(specconv_colour::Error::Grid("1:0:1".into())),
+            Error::Attributes(specconv_exr::Error::Invalid("no bands".into())),
+            Error::Provenance(bad_attribute()),
+        ];
+        all.extend(conversion.into_iter().map(Error::Conversion));
+        all
+    }
+
+    #[test]
+    fn every_error_a_setting_fixes_has_a_remedy() {
+        let errors = every_error();
+        let seen: BTreeSet<&str> = errors.iter().map(|e| decided(e).0).collect();
+        let listed: BTreeSet<&str> = VARIANTS.iter().copied().collect();
+        assert_eq!(
+            seen, listed,
+            "a variant without a sample, or one not listed"
+        );
+        for e in &errors {
+            let (name, fixable) = decided(e);
+            let remedy = e.remedy();
+            assert_eq!(
+                remedy.is_some(),
+                fixable,
+                "{name} ({e}): remedy {remedy:?}, yet a setting {} fix it",
+                if fixable { "does" } else { "does not" }
+            );
+            // Every remedy names the options it changes, but those that are not a
+            // conversion's (the illuminant of to-rgb, a model's training is the model's).
+            if let Some(r) = remedy {
+                assert!(
+                    !r.keys().is_empty() || r == Remedy::DropIlluminant,
+                    "{name}: {r:?} names no option"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn remedies_are_found_in_the_errors_of_the_science_too() {
+        // `train` and `eval` meet these without this crate's Error around them.
+        let grid = remedy_of(&not_covered());
+        assert_eq!(
+            grid,
+            Some(Remedy::BandsInside {
+                start: 360.0,
+                end: 700.0,
+                step: 10.0
+            })
+        );
+        assert_eq!(
+            remedy_of(&specconv_spectral::Error::NeedsOneCluster { clusters: 2 }),
+            Some(Remedy::OneClusterModel)
+        );
+        assert_eq!(
+            remedy_of(&specconv_study::Error::Colour(not_covered())),
+            grid
+        );
+        assert_eq!(remedy_of(&std::io::Error::other("x")), None);
+        assert_eq!(
+            remedy_of(&Error::TooManyThreads {
+                threads: 9,
+                limit: 8,
+                cores: 2
+            })
+            .map(|r| r.keys()),
+            Some(&[Key::Threads][..])
+        );
+    }
 }

@@ -1,56 +1,21 @@
-//! What a front-end may ask of an image without converting it.
+//! What a front-end may ask of an image without converting it: its weight in a plan, the
+//! colour of one pixel. [`crate::describe`] says all the rest.
 
+use crate::colour_config::ColourConfig;
+use crate::pipeline::{colour_channels, colour_of, input_space};
+use crate::wrapped::ImageError;
+use specconv_oiio::{ImageReader, Region};
 use std::path::{Path, PathBuf};
 
-pub use specconv_oiio::Error as ReadError;
-
 /// Pixels of every level of an image (its weight in a farm's plan).
-pub fn pixel_count(path: &Path) -> Result<u64, ReadError> {
-    let reader = specconv_oiio::ImageReader::open(path)?;
+pub fn pixel_count(path: &Path) -> Result<u64, ImageError> {
+    let reader = ImageReader::open(path)?;
     Ok(reader
         .info()
         .levels
         .iter()
         .map(|l| u64::from(l.width) * u64::from(l.height))
         .sum())
-}
-
-/// Reading images as a conversion reads them: the same subimage, channel and colour-space
-/// rules, for front-ends that describe or sample an image (`info`, a scene's texture pixel).
-pub use specconv_oiio::{ImageInfo, ImageReader, Region, Window};
-pub use specconv_pipeline::input::{choose_channels, open_subimage, ChannelReason};
-pub use specconv_pipeline::{colour_channels, colour_of, input_space, InputSpace};
-
-/// What an image's colour is read as, by the conversion's rule.
-#[derive(Debug)]
-pub enum ReadAs {
-    /// Colour, in this space.
-    Colour(InputSpace),
-    /// Data, never uplifted ([`specconv_pipeline::colour::texture_space`]).
-    Data(Box<specconv_pipeline::DataTexture>),
-}
-
-/// What `reader`'s image is read as when `channels` carry its colour (`None`: channels not
-/// chosen, so the single-channel rule is not applied), as a conversion decides it.
-pub fn read_as(
-    config: &specconv_ocio::Config,
-    reader: &ImageReader,
-    channels: Option<&specconv_pipeline::input::Channels>,
-    colorspace: Option<&str>,
-) -> Result<ReadAs, specconv_pipeline::Error> {
-    let info = reader.info();
-    let chosen = match channels {
-        Some(c) => {
-            let selection = specconv_pipeline::input::Selection::of(info, c.clone());
-            specconv_pipeline::texture_space(config, reader, &selection, colorspace)
-        }
-        None => input_space(config, reader, colorspace),
-    };
-    match chosen {
-        Ok(space) => Ok(ReadAs::Colour(space)),
-        Err(specconv_pipeline::Error::Data(d)) => Ok(ReadAs::Data(d)),
-        Err(e) => Err(e),
-    }
 }
 
 /// Why one pixel's colour cannot be had.
@@ -63,11 +28,11 @@ pub enum PixelError {
         /// The image.
         path: PathBuf,
         /// Why.
-        source: ReadError,
+        source: ImageError,
     },
     /// Its pixels cannot be read.
     #[error(transparent)]
-    Read(#[from] ReadError),
+    Read(#[from] ImageError),
     /// The pixel is not in the image.
     #[error(
         "pixel = [{x}, {y}] is outside {} ({width}×{height}): x runs from 0 to {}, y from 0 to {} \
@@ -122,7 +87,7 @@ pub enum PixelError {
     },
     /// Its colour space cannot be chosen or reached.
     #[error(transparent)]
-    Colour(#[from] specconv_pipeline::Error),
+    Colour(#[from] crate::pipeline::Error),
 }
 
 /// XYZ (white Y = 1) of pixel `[x, y]` (from the top left) of the full-resolution level, read
@@ -130,14 +95,14 @@ pub enum PixelError {
 /// else what the file declares, the config's file rules, the format's default). The colour
 /// is a material's: straight alpha is not applied.
 pub fn pixel_xyz(
-    config: &specconv_ocio::Config,
+    config: &ColourConfig,
     path: &Path,
     [x, y]: [u32; 2],
     colorspace: Option<&str>,
 ) -> Result<[f64; 3], PixelError> {
-    let mut reader = ImageReader::open(path).map_err(|source| PixelError::Open {
+    let mut reader = ImageReader::open(path).map_err(|e| PixelError::Open {
         path: path.to_path_buf(),
-        source,
+        source: e.into(),
     })?;
     let info = reader.info().clone();
     let (width, height) = (info.width(), info.height());
@@ -150,14 +115,14 @@ pub fn pixel_xyz(
             height,
         });
     }
-    let space = input_space(config, &reader, colorspace)?;
+    let space = input_space(&config.0, &reader, colorspace)?;
     let region = Region {
         x0: x,
         y0: y,
         x1: x + 1,
         y1: y + 1,
     };
-    let px = reader.read_region(0, region)?;
+    let px = reader.read_region(0, region).map_err(ImageError)?;
     let colour = colour_channels(info.channels.len(), info.alpha_channel);
     let Some(rgb) = colour_of(px.pixel(0, 0), &colour) else {
         return Err(PixelError::NoColour {

@@ -15,6 +15,12 @@
 //! - [`provenance`]: the `specconv*` attributes, written and read in one place.
 //! - [`record`]: what every front-end says of each input (`convert --json`'s records).
 //! - [`models`] and [`tables`]: the model and the Jakob 2019 table cache every front-end shares.
+//! - [`describe`]: what a conversion would make of an image, without converting it (`info`);
+//!   [`ColourConfig`]: the OCIO config, its colour spaces and routes to XYZ, as plain data.
+//!
+//! No type of the C++ libraries (OpenImageIO, OpenColorIO, Little CMS) is part of this API:
+//! front-ends reach them only through it, and their errors are wrapped ([`ImageError`],
+//! [`ColourError`]) with their messages kept.
 //!
 //! ```no_run
 //! use specconv_conversion::{Converter, Options};
@@ -28,37 +34,48 @@
 #![warn(missing_docs)]
 
 mod batch;
+mod choices;
+mod colour_config;
 mod converter;
 pub mod cost;
+mod describe;
 mod error;
 pub mod images;
 pub mod models;
+mod named;
 mod options;
+mod pipeline;
 pub mod plan;
 pub mod preview;
 pub mod provenance;
 pub mod record;
+mod report;
 pub mod tables;
 pub mod to_rgb;
+mod wrapped;
 
+pub use crate::pipeline::DataTexture;
 pub use batch::{Batch, Event, Summary};
-pub use converter::{Advice, Converter, DataOutcome, Report, Role, Rule, Selection, Warning};
-pub use error::{message, Cause, ConversionError, Error, Remedy};
+pub use colour_config::{is_builtin_config, ColourConfig, ColourSpace, ConfigOrigin, XyzTransform};
+pub use converter::{Advice, Converter, Rule, Selection, Warning};
+pub use describe::{
+    describe, Channel, ChannelChoice, ChannelReason, Description, ReadAs, SpectralFacts, Window,
+};
+pub use error::{message, remedy_of, Cause, ConversionError, Error, Remedy};
+pub use named::{Named, UnknownName};
 pub use options::{
-    alpha_name, mip_name, non_finite_name, sample_name, Alpha, Blocks, Compression, DataPolicy,
-    Filter, Mip, NonFinite, Options, Rounding, Sample, UnknownName, Wrap, WrapModes, WRAP_NAMES,
+    About, Alpha, BadValue, Blocks, Compression, DataPolicy, Filter, Key, Mip, NonFinite, Options,
+    Rounding, Sample, Wrap, WrapModes, WRAP_NAMES,
 };
 pub use plan::{check_plan, Outputs, Plan};
 pub use provenance::Provenance;
-/// Ends the process at once, without C++ static destructors: for a signal handler's thread
-/// while the libraries may be in use (`specconv_oiio::exit_now`).
-pub use specconv_oiio::exit_now;
-pub use specconv_pipeline::texture::parse_wrapmodes;
-pub use specconv_pipeline::DataTexture;
-pub use specconv_spectral::bounded::Counts;
+pub use report::{DataOutcome, Report, Role};
+pub use wrapped::{ColourError, ImageError};
 
-/// The OpenColorIO configs and colour spaces every front-end reads colour through (the same
-/// config rules as a conversion: `ocio`, else `$OCIO`, else the built-in ACES config).
-pub mod ocio {
-    pub use specconv_ocio::{is_builtin_name, ColorSpace, Config, ConfigSource, Error, Processor};
+/// Ends the process at once with `code`, without exit handlers or C++ static destructors: for
+/// a signal handler's thread while OpenImageIO or OpenColorIO may be in use on another
+/// (`std::process::exit` would run their destructors under it: a crash or a hang instead of
+/// the exit status).
+pub fn exit_now(code: i32) -> ! {
+    specconv_oiio::exit_now(code)
 }

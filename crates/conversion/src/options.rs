@@ -1,14 +1,18 @@
-//! What a conversion is asked to do: [`Options`], every choice typed, each with its name as
-//! the command line and the `specconvSettings` attribute spell it.
+//! What a conversion is asked to do: [`Options`], the one description of a conversion. Each
+//! option is one [`Key`]: its name, the command line's flags, its choices ([`Named`]), one line
+//! of help and whether it changes what is written ([`Key::about`]); its value as text is
+//! [`Options::text`] and [`Options::set`] reads it back. Front-ends derive their arguments
+//! from it (tests in each fail when one accepts what is not defined here), and the `-u` tag
+//! ([`settings_tag`]) is made from every field.
 
+use crate::named::Named;
 use specconv_colour::{EmissionUnits, Grid};
 use specconv_spectral::method::MethodName;
 use std::path::PathBuf;
 
+pub use crate::choices::{Alpha, Compression, DataPolicy, Filter, Mip, NonFinite, Rounding};
+pub use crate::pipeline::texture::{Wrap, WrapModes, WRAP_NAMES};
 pub use specconv_exr::Sample;
-pub use specconv_pipeline::survey::NonFinite;
-pub use specconv_pipeline::texture::{Wrap, WrapModes, WRAP_NAMES};
-pub use specconv_pipeline::{Alpha, Filter, Mip};
 
 /// Everything that makes a conversion what it is. Start from [`Options::default`] (the
 /// command line's defaults) and set what differs; [`crate::Converter::new`] checks it all once.
@@ -83,31 +87,6 @@ pub struct Options {
     pub data: DataPolicy,
 }
 
-/// What a conversion does with a texture that holds data, not colour
-/// ([`specconv_pipeline::DataTexture`]): it is never uplifted.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum DataPolicy {
-    /// Write nothing; the report says it is data ([`crate::DataOutcome::Skipped`]). Not a
-    /// failure.
-    #[default]
-    Skip,
-    /// Write it through as a tiled, MIP-mapped data texture, its values unconverted.
-    Copy,
-    /// Fail, saying it is data.
-    Fail,
-}
-
-impl DataPolicy {
-    /// The name the command line and `specconvSettings` give it.
-    pub fn name(self) -> &'static str {
-        match self {
-            DataPolicy::Skip => "skip",
-            DataPolicy::Copy => "copy",
-            DataPolicy::Fail => "fail",
-        }
-    }
-}
-
 impl Default for Options {
     fn default() -> Options {
         Options {
@@ -142,15 +121,6 @@ impl Default for Options {
     }
 }
 
-/// How half samples are rounded.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Rounding {
-    /// Each band on its own.
-    Nearest,
-    /// Band by band, the half below or above that moves the spectrum's XYZ least.
-    Colour,
-}
-
 /// Tiles of a size, or scanlines.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Blocks {
@@ -160,140 +130,424 @@ pub enum Blocks {
     Scanlines,
 }
 
-/// The output compressions of OpenEXR.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// One option of a conversion. [`Key::about`] says how every front-end names it; the
+/// compiler makes every `match` on it (the text of a value, its parsing, the tag) cover a new
+/// one.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 #[allow(missing_docs)]
-pub enum Compression {
-    None,
-    Rle,
-    Zips,
-    Zip,
-    Piz,
-    Pxr24,
-    B44,
-    B44a,
-    Dwaa,
-    Dwab,
+pub enum Key {
+    Ocio,
+    Colorspace,
+    Alpha,
+    Subimage,
+    Channels,
+    Method,
+    Model,
+    Blend,
+    Bounded,
+    Bands,
+    Emission,
+    Sample,
+    Rounding,
+    Compression,
+    ZipLevel,
+    Tile,
+    Mip,
+    Filter,
+    Resize,
+    Wrap,
+    NonFinite,
+    ConstantDetect,
+    OpaqueDetect,
+    Threads,
+    Overwrite,
+    TableDir,
+    Data,
 }
 
-impl Compression {
-    /// Every compression, in the order the help lists them.
-    pub const ALL: [Compression; 10] = [
-        Compression::None,
-        Compression::Rle,
-        Compression::Zips,
-        Compression::Zip,
-        Compression::Piz,
-        Compression::Pxr24,
-        Compression::B44,
-        Compression::B44a,
-        Compression::Dwaa,
-        Compression::Dwab,
+/// How front-ends name an option, and what it does.
+#[derive(Debug, Clone, PartialEq, Eq)]
+#[non_exhaustive]
+pub struct About {
+    /// Its name: the Python keyword, the key of a farm manifest.
+    pub name: &'static str,
+    /// The command line's long flags that set it (without `--`); none where the command line
+    /// has no flag for it.
+    pub flags: &'static [&'static str],
+    /// For a choice, its names ([`Named::names`]) and the other spellings it accepts.
+    pub choices: Option<(Vec<&'static str>, Vec<&'static str>)>,
+    /// One line of help.
+    pub help: &'static str,
+    /// Whether it changes the bytes written (the `-u` tag must tell two values apart).
+    pub changes_output: bool,
+}
+
+/// The names and the other spellings of a choice.
+fn choices<T: Named>() -> Option<(Vec<&'static str>, Vec<&'static str>)> {
+    let aliases = T::ALL.iter().flat_map(|v| v.aliases().iter().copied());
+    Some((T::names(), aliases.collect()))
+}
+
+impl Key {
+    /// Every option, in the order help lists them.
+    pub const ALL: [Key; 27] = [
+        Key::Ocio,
+        Key::Colorspace,
+        Key::Alpha,
+        Key::Subimage,
+        Key::Channels,
+        Key::Method,
+        Key::Model,
+        Key::Blend,
+        Key::Bounded,
+        Key::Bands,
+        Key::Emission,
+        Key::Sample,
+        Key::Rounding,
+        Key::Compression,
+        Key::ZipLevel,
+        Key::Tile,
+        Key::Mip,
+        Key::Filter,
+        Key::Resize,
+        Key::Wrap,
+        Key::NonFinite,
+        Key::ConstantDetect,
+        Key::OpaqueDetect,
+        Key::Threads,
+        Key::Overwrite,
+        Key::TableDir,
+        Key::Data,
     ];
 
-    /// The name the command line and `specconvSettings` give it.
-    pub fn name(self) -> &'static str {
-        match self {
-            Compression::None => "none",
-            Compression::Rle => "rle",
-            Compression::Zips => "zips",
-            Compression::Zip => "zip",
-            Compression::Piz => "piz",
-            Compression::Pxr24 => "pxr24",
-            Compression::B44 => "b44",
-            Compression::B44a => "b44a",
-            Compression::Dwaa => "dwaa",
-            Compression::Dwab => "dwab",
+    /// How front-ends name it, its choices and help.
+    pub fn about(self) -> About {
+        let (name, flags, choices, help, changes_output): (_, &'static [&'static str], _, _, _) =
+            match self {
+                Key::Ocio => ("ocio", &["ocio"], None, "the OCIO config: a file, `aces` or an `ocio://` name (unset: $OCIO, else the built-in ACES config)", true),
+                Key::Colorspace => ("colorspace", &["colorspace"], None, "the input's colour space, overriding what the file declares", true),
+                Key::Alpha => ("alpha", &["alpha"], choices::<Alpha>(), "whether the input's colour is straight or premultiplied by alpha", true),
+                Key::Subimage => ("subimage", &["subimage"], None, "the subimage (OpenEXR part) to read: its index or name", true),
+                Key::Channels => ("channels", &["channels"], None, "the channels that carry the colour: R,G,B[,A], Y[,A] or a layer", true),
+                Key::Method => ("method", &["method"], choices::<MethodName>(), "the uplift method", true),
+                Key::Model => ("model", &["model"], None, "a built-in model by name or a model file from `specconv train`", true),
+                Key::Blend => ("blend", &["blend"], None, "blend width of the clustered methods in CIE xy; 0 is the paper's hard switch", true),
+                Key::Bounded => ("bounded", &["bounded", "unbounded"], None, "keep every reflectance in [0, 1] with its colour", true),
+                Key::Bands => ("bands", &["bands"], None, "the output's wavelength grid START:END:STEP in nm (unset: the model's)", true),
+                Key::Emission => ("emission", &["emissive", "emission-units"], choices::<EmissionUnits>(), "write emission in these units instead of reflectance", true),
+                Key::Sample => ("sample", &["data-type"], choices::<Sample>(), "half or float samples", true),
+                Key::Rounding => ("rounding", &["half-rounding"], choices::<Rounding>(), "how half samples are rounded (unset: nearest for reflectance, colour for emission)", true),
+                Key::Compression => ("compression", &["compression"], choices::<Compression>(), "the output's compression", true),
+                Key::ZipLevel => ("zip_level", &["zip-level"], None, "deflate level of zip and zips, 0–9 (unset: the measured default)", true),
+                Key::Tile => ("tile", &["tile", "scanline"], None, "tiles WxH, or `scanline`", true),
+                Key::Mip => ("mip", &["mip"], choices::<Mip>(), "every MIP level (`all`) or the full resolution only (`0`)", true),
+                Key::Filter => ("filter", &["filter"], choices::<Filter>(), "the filter MIP levels are made with (maketx's names)", true),
+                Key::Resize => ("resize", &["resize"], None, "resize level 0 to powers of two, as maketx --resize", true),
+                Key::Wrap => ("wrap", &["wrap"], None, "wrap modes a tiled output records, MODE or S,T (unset: the input's, else black)", true),
+                Key::NonFinite => ("non_finite", &["fixnan", "checknan"], choices::<NonFinite>(), "NaN and infinite input values: refused, repaired or kept", true),
+                Key::ConstantDetect => ("constant_detect", &["constant-color-detect"], None, "write a texture of one colour as one tile", true),
+                Key::OpaqueDetect => ("opaque_detect", &["opaque-detect"], None, "leave out an alpha that is 1 everywhere", true),
+                Key::Threads => ("threads", &["threads"], None, "worker threads (unset: one per core)", false),
+                Key::Overwrite => ("overwrite", &["force"], None, "replace an existing output", false),
+                Key::TableDir => ("table_dir", &[], None, "where the Jakob 2019 tables are kept (unset: the cache directory)", false),
+                Key::Data => ("data", &["data"], choices::<DataPolicy>(), "what becomes of a data texture (never uplifted): skipped, copied or a failure", true),
+            };
+        About {
+            name,
+            flags,
+            choices,
+            help,
+            changes_output,
         }
     }
 
-    /// Whether it deflates (and so takes a level).
-    pub fn deflates(self) -> bool {
-        matches!(self, Compression::Zip | Compression::Zips)
-    }
-
-    /// The `exr` crate's name for it.
-    pub fn exr(self) -> specconv_exr::Compression {
-        use specconv_exr::Compression as C;
-        match self {
-            Compression::None => C::Uncompressed,
-            Compression::Rle => C::RLE,
-            Compression::Zips => C::ZIP1,
-            Compression::Zip => C::ZIP16,
-            Compression::Piz => C::PIZ,
-            Compression::Pxr24 => C::PXR24,
-            Compression::B44 => C::B44,
-            Compression::B44a => C::B44A,
-            Compression::Dwaa => C::DWAA(None),
-            Compression::Dwab => C::DWAB(None),
-        }
+    /// The option of this name ([`About::name`]).
+    pub fn from_name(name: &str) -> Option<Key> {
+        Key::ALL.into_iter().find(|k| k.about().name == name)
     }
 }
 
-impl std::fmt::Display for Compression {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(self.name())
-    }
-}
-
-/// A name that is not one of a choice's.
+/// An option's text that does not read as its value.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
-#[error("unknown {what} '{name}'; choose one of {}", choices.join(", "))]
-pub struct UnknownName {
-    /// What was named.
-    pub what: &'static str,
-    /// The name given.
-    pub name: String,
-    /// The names there are.
-    pub choices: Vec<&'static str>,
+#[error("option {key}: {why}")]
+pub struct BadValue {
+    /// The option's name.
+    pub key: &'static str,
+    /// Why.
+    pub why: String,
 }
 
-impl std::str::FromStr for Compression {
-    type Err = UnknownName;
+impl Options {
+    /// Every option's value as text ([`Options::set`] reads it back); `None` where it is
+    /// unset (decided by the input, the model or the machine).
+    pub fn text(&self, key: Key) -> Option<String> {
+        let word = |b: bool| Some(b.to_string());
+        let name = |n: &str| Some(n.to_string());
+        match key {
+            Key::Ocio => self.ocio.clone(),
+            Key::Colorspace => self.colorspace.clone(),
+            Key::Alpha => name(self.alpha.name()),
+            Key::Subimage => self.subimage.clone(),
+            Key::Channels => self.channels.clone(),
+            Key::Method => name(Named::name(self.method)),
+            Key::Model => self.model.as_ref().map(|p| p.display().to_string()),
+            Key::Blend => Some(self.blend.to_string()),
+            Key::Bounded => word(self.bounded),
+            Key::Bands => self.bands.map(|g| g.to_string()),
+            Key::Emission => self.emission.map(|u| Named::name(u).to_string()),
+            Key::Sample => name(self.sample.name()),
+            Key::Rounding => self.rounding.map(|r| r.name().to_string()),
+            Key::Compression => name(self.compression.name()),
+            Key::ZipLevel => self.zip_level.map(|l| l.to_string()),
+            Key::Tile => Some(match self.blocks {
+                Blocks::Tiles(w, h) => format!("{w}x{h}"),
+                Blocks::Scanlines => "scanline".into(),
+            }),
+            Key::Mip => name(self.mip.name()),
+            Key::Filter => name(Named::name(self.filter)),
+            Key::Resize => word(self.resize),
+            Key::Wrap => self.wrap.map(|(s, t)| format!("{s},{t}")),
+            Key::NonFinite => name(self.non_finite.name()),
+            Key::ConstantDetect => word(self.constant_detect),
+            Key::OpaqueDetect => word(self.opaque_detect),
+            Key::Threads => self.threads.map(|n| n.to_string()),
+            Key::Overwrite => word(self.overwrite),
+            Key::TableDir => self.table_dir.as_ref().map(|p| p.display().to_string()),
+            Key::Data => name(self.data.name()),
+        }
+    }
 
-    fn from_str(s: &str) -> Result<Compression, UnknownName> {
-        Compression::ALL
-            .into_iter()
-            .find(|c| c.name() == s)
-            .ok_or_else(|| UnknownName {
-                what: "compression",
-                name: s.to_string(),
-                choices: Compression::ALL.map(Compression::name).to_vec(),
-            })
+    /// Sets an option from its text ([`Options::text`]'s form); `None` unsets it (the default
+    /// for an option that cannot be unset).
+    pub fn set(&mut self, key: Key, text: Option<&str>) -> Result<(), BadValue> {
+        let bad = |why: String| BadValue {
+            key: key.about().name,
+            why,
+        };
+        let Some(text) = text else {
+            self.unset(key);
+            return Ok(());
+        };
+        fn named<T: Named>(text: &str) -> Result<T, String> {
+            T::from_name(text).map_err(|e| e.to_string())
+        }
+        fn number<T: std::str::FromStr>(text: &str, what: &str) -> Result<T, String> {
+            text.trim()
+                .parse()
+                .map_err(|_| format!("'{text}' is not {what}"))
+        }
+        let boolean = |text: &str| match text.to_ascii_lowercase().as_str() {
+            "true" | "1" | "yes" | "on" => Ok(true),
+            "false" | "0" | "no" | "off" => Ok(false),
+            _ => Err(format!("'{text}' is neither true nor false")),
+        };
+        let owned = || Some(text.to_string());
+        match key {
+            Key::Ocio => self.ocio = owned(),
+            Key::Colorspace => self.colorspace = owned(),
+            Key::Alpha => self.alpha = named(text).map_err(bad)?,
+            Key::Subimage => self.subimage = owned(),
+            Key::Channels => self.channels = owned(),
+            Key::Method => self.method = named(text).map_err(bad)?,
+            Key::Model => self.model = Some(PathBuf::from(text)),
+            Key::Blend => self.blend = number(text, "a width in CIE xy").map_err(bad)?,
+            Key::Bounded => self.bounded = boolean(text).map_err(bad)?,
+            Key::Bands => {
+                self.bands = Some(
+                    text.parse()
+                        .map_err(|e: specconv_colour::Error| bad(e.to_string()))?,
+                )
+            }
+            Key::Emission => self.emission = Some(named(text).map_err(bad)?),
+            Key::Sample => self.sample = named(text).map_err(bad)?,
+            Key::Rounding => self.rounding = Some(named(text).map_err(bad)?),
+            Key::Compression => self.compression = named(text).map_err(bad)?,
+            Key::ZipLevel => {
+                self.zip_level = Some(number(text, "a deflate level 0–9").map_err(bad)?)
+            }
+            Key::Tile => self.blocks = parse_blocks(text).map_err(bad)?,
+            Key::Mip => self.mip = named(text).map_err(bad)?,
+            Key::Filter => self.filter = named(text).map_err(bad)?,
+            Key::Resize => self.resize = boolean(text).map_err(bad)?,
+            Key::Wrap => {
+                self.wrap = Some(crate::pipeline::texture::parse_wrapmodes(text).map_err(bad)?)
+            }
+            Key::NonFinite => self.non_finite = named(text).map_err(bad)?,
+            Key::ConstantDetect => self.constant_detect = boolean(text).map_err(bad)?,
+            Key::OpaqueDetect => self.opaque_detect = boolean(text).map_err(bad)?,
+            Key::Threads => self.threads = Some(number(text, "a number of threads").map_err(bad)?),
+            Key::Overwrite => self.overwrite = boolean(text).map_err(bad)?,
+            Key::TableDir => self.table_dir = Some(PathBuf::from(text)),
+            Key::Data => self.data = named(text).map_err(bad)?,
+        }
+        Ok(())
     }
 }
 
-/// The name of a sample type, as `specconvSettings` and the front-ends spell it.
-pub fn sample_name(s: Sample) -> &'static str {
-    match s {
-        Sample::Half => "half",
-        Sample::Float => "float",
+impl Options {
+    /// Sets an option back to its default.
+    pub fn unset(&mut self, key: Key) {
+        let d = Options::default();
+        match key {
+            Key::Ocio => self.ocio = d.ocio,
+            Key::Colorspace => self.colorspace = d.colorspace,
+            Key::Alpha => self.alpha = d.alpha,
+            Key::Subimage => self.subimage = d.subimage,
+            Key::Channels => self.channels = d.channels,
+            Key::Method => self.method = d.method,
+            Key::Model => self.model = d.model,
+            Key::Blend => self.blend = d.blend,
+            Key::Bounded => self.bounded = d.bounded,
+            Key::Bands => self.bands = d.bands,
+            Key::Emission => self.emission = d.emission,
+            Key::Sample => self.sample = d.sample,
+            Key::Rounding => self.rounding = d.rounding,
+            Key::Compression => self.compression = d.compression,
+            Key::ZipLevel => self.zip_level = d.zip_level,
+            Key::Tile => self.blocks = d.blocks,
+            Key::Mip => self.mip = d.mip,
+            Key::Filter => self.filter = d.filter,
+            Key::Resize => self.resize = d.resize,
+            Key::Wrap => self.wrap = d.wrap,
+            Key::NonFinite => self.non_finite = d.non_finite,
+            Key::ConstantDetect => self.constant_detect = d.constant_detect,
+            Key::OpaqueDetect => self.opaque_detect = d.opaque_detect,
+            Key::Threads => self.threads = d.threads,
+            Key::Overwrite => self.overwrite = d.overwrite,
+            Key::TableDir => self.table_dir = d.table_dir,
+            Key::Data => self.data = d.data,
+        }
     }
 }
 
-/// The name of a MIP choice (`all` or `0`).
-pub fn mip_name(m: Mip) -> &'static str {
-    match m {
-        Mip::All => "all",
-        Mip::Base => "0",
+/// `WxH` (or `W H`, `W,H`) tiles, or `scanline`.
+fn parse_blocks(text: &str) -> Result<Blocks, String> {
+    if text.eq_ignore_ascii_case("scanline") || text.eq_ignore_ascii_case("scanlines") {
+        return Ok(Blocks::Scanlines);
+    }
+    let parts: Vec<&str> = text
+        .split(['x', 'X', ',', ' '])
+        .filter(|p| !p.is_empty())
+        .collect();
+    match parts.as_slice() {
+        [w, h] => match (w.parse(), h.parse()) {
+            (Ok(w), Ok(h)) => Ok(Blocks::Tiles(w, h)),
+            _ => Err(format!("'{text}' is not a tile size WxH")),
+        },
+        _ => Err(format!(
+            "'{text}' is neither a tile size WxH nor `scanline`"
+        )),
     }
 }
 
-/// The name of a NaN policy (`refuse`, `black`, `box3`, `keep`).
-pub fn non_finite_name(n: NonFinite) -> &'static str {
-    match n {
-        NonFinite::Refuse => "refuse",
-        NonFinite::Black => "black",
-        NonFinite::Box3 => "box3",
-        NonFinite::Keep => "keep",
-    }
+/// What the options leave to the model, the method stack and the config, as outputs record it.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Resolved<'a> {
+    /// The model, described ([`crate::models::describe`]).
+    pub model: &'a str,
+    /// The method stack's name (bounded, resampled and emission adapters included).
+    pub method: &'a str,
+    /// The blend width the stack uses.
+    pub blend: f64,
+    /// The OCIO config's source.
+    pub config: &'a str,
+    /// Half samples are rounded to keep the colour.
+    pub by_colour: bool,
 }
 
-/// The name of an alpha reading (`auto`, `straight`, `premultiplied`).
-pub fn alpha_name(a: Alpha) -> &'static str {
-    match a {
-        Alpha::Auto => "auto",
-        Alpha::Straight => "straight",
-        Alpha::Premultiplied => "premultiplied",
+/// `specconvSettings`: every option that changes what is written, for `-u`. Every field of
+/// [`Options`] is named below (no `..`), so a new option cannot be left out; the tests change
+/// each option and check the tag changes. The text is kept as earlier versions wrote it (an
+/// option at its old default adds nothing), so that their outputs stay up to date.
+pub(crate) fn settings_tag(o: &Options, r: Resolved) -> String {
+    let Options {
+        // In the config's source, the method's name and the model's description.
+        ocio: _,
+        method: _,
+        model: _,
+        bounded: _,
+        bands: _,
+        blend: _,
+        colorspace,
+        alpha,
+        subimage,
+        channels,
+        emission,
+        sample,
+        rounding,
+        compression,
+        zip_level,
+        blocks,
+        mip,
+        filter,
+        resize,
+        wrap,
+        non_finite,
+        constant_detect,
+        opaque_detect,
+        data,
+        // Neither changes a byte.
+        threads: _,
+        overwrite: _,
+        table_dir: _,
+    } = o;
+    let compression = match zip_level {
+        Some(level) => format!("{compression} zip-level={level}"),
+        None => compression.to_string(),
+    };
+    let tile = match blocks {
+        Blocks::Scanlines => "scanline".to_string(),
+        Blocks::Tiles(w, h) => format!("{w}x{h}"),
+    };
+    let mut tag = format!(
+        "model={} method={} blend={} data-type={} compression={compression} tile={tile} \
+         mip={} colorspace={} alpha={} config={}",
+        r.model,
+        r.method,
+        r.blend,
+        sample.name(),
+        mip.name(),
+        colorspace.as_deref().unwrap_or("auto"),
+        alpha.name(),
+        r.config,
+    );
+    // MIP levels filtered from the spectra (box, maketx's default, unless asked); outputs of
+    // earlier versions, whose levels were uplifted from the input's own, lack it and are
+    // rebuilt.
+    if (*mip == Mip::All && *blocks != Blocks::Scanlines) || *resize {
+        tag += &format!(" filter={filter}");
     }
+    if *resize {
+        tag += " resize=pow2";
+    }
+    if let Some((s, t)) = wrap {
+        tag += &format!(" wrap={s},{t}");
+    }
+    // What the survey may change (docs/guide.md, "Texture prep").
+    tag += &format!(
+        " nan={} constant-detect={constant_detect} opaque-detect={opaque_detect}",
+        non_finite.name(),
+    );
+    if let Some(units) = emission {
+        tag += &format!(" emission-units={}", Named::name(*units));
+    }
+    // The rounding when it is not the kind's default (which earlier versions left implied).
+    let kind_default = emission.is_some();
+    if r.by_colour != kind_default && *sample == Sample::Half {
+        let rounding = rounding.unwrap_or(if r.by_colour {
+            Rounding::Colour
+        } else {
+            Rounding::Nearest
+        });
+        tag += &format!(" half-rounding={rounding}");
+    }
+    if *data != DataPolicy::Skip {
+        tag += &format!(" data={data}");
+    }
+    for (k, v) in [("subimage", subimage), ("channels", channels)] {
+        if let Some(v) = v {
+            tag += &format!(" {k}={v}");
+        }
+    }
+    tag
 }

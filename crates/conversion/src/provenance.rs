@@ -151,7 +151,7 @@ impl Provenance {
             config: attr("specconvConfig"),
             source: attr("specconvSource"),
             source_stat: attr(SOURCE_STAT),
-            source_hash: attr(specconv_pipeline::survey::SOURCE_HASH),
+            source_hash: attr(crate::pipeline::survey::SOURCE_HASH),
         })
     }
 

@@ -144,7 +144,7 @@ impl Record {
                 0
             }),
             wrap: r.wrap.map(|((s, t), _)| format!("{s},{t}")),
-            filter: r.filter.map(|f| f.name()),
+            filter: r.filter.map(crate::Named::name),
             clamped: Some(r.clamped),
             constant: Some(r.constant),
             alpha_dropped: Some(r.opaque_dropped),

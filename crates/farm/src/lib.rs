@@ -70,6 +70,14 @@ pub enum Error {
         /// The limit, in bytes.
         limit: u64,
     },
+    /// A task the manifest does not plan (a script run with another job's numbers).
+    #[error("the job has no task {task} in round {round}")]
+    NoSuchTask {
+        /// The round asked for.
+        round: usize,
+        /// The task asked for.
+        task: usize,
+    },
     /// A job directory whose path sbatch cannot be given as a log file name.
     #[error("the job directory {} holds {why}: sbatch cannot name its logs there; choose another --job-dir", dir.display())]
     JobDir {
@@ -162,7 +170,7 @@ pub fn prepare(
     let dir = manifest::round_dir(job_dir, round);
     Ok(Prepared {
         round,
-        script: manifest::script(m, &dir),
+        script: manifest::script(m, job_dir, round),
         sbatch: manifest::sbatch_options(m, &dir, shards.len())?,
         dir,
         tasks: shards,

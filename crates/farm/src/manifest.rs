@@ -12,7 +12,7 @@ use specconv_atomic_file::outputs;
 use std::path::{Component, Path, PathBuf};
 
 /// Version of the manifest's layout.
-pub const FORMAT: u32 = 2;
+pub const FORMAT: u32 = 3;
 
 /// The largest manifest or task log read: a manifest of 100 000 files (paths of about 60
 /// characters) measured 18.8 MB, so this holds some 350 000; far less than a damaged or
@@ -27,16 +27,18 @@ pub struct Manifest {
     pub format: u32,
     /// The specconv binary every task runs (on the shared file system).
     pub specconv: PathBuf,
-    /// The directory tasks run in (where relative paths in `convert_options` mean something).
+    /// The directory tasks run in (where relative paths in `options` mean something).
     pub workdir: PathBuf,
     /// The OCIO config `submit` checked (an absolute file path or a built-in name), passed to
     /// every task as `--ocio`, so the nodes' `$OCIO` does not matter.
     pub ocio: String,
     /// Where outputs go: every [`File::output`] must follow it.
     pub outputs: Outputs,
-    /// The convert options every task gets, besides the ones the farm sets (`--json -u -j`,
-    /// `--ocio`, and `-o` or `--output-template` from [`Manifest::outputs`]).
-    pub convert_options: Vec<String>,
+    /// The conversion's options every task converts with, by the conversion library's names
+    /// and in its text (`specconv_conversion::Key`, `Options::text`): those that differ from
+    /// the defaults. The farm sets the rest itself: the config ([`Manifest::ocio`]), the threads
+    /// (`--cpus-per-task`) and the up-to-date check (always on).
+    pub options: std::collections::BTreeMap<String, String>,
     /// Every input of the job; rounds refer to them by index.
     pub files: Vec<File>,
     /// What each task asks of Slurm, the same in every round.
@@ -196,6 +198,22 @@ impl Manifest {
             .collect();
         dirs.into_iter().collect()
     }
+
+    /// The (input, output) files task `task` of round `round` converts, in order.
+    pub fn task_files(&self, round: usize, task: usize) -> Result<Vec<(PathBuf, PathBuf)>, Error> {
+        let files = self
+            .rounds
+            .get(round)
+            .and_then(|r| r.tasks.get(task))
+            .ok_or(Error::NoSuchTask { round, task })?;
+        files
+            .iter()
+            .map(|&i| {
+                let f = self.files.get(i).ok_or(Error::NoSuchTask { round, task })?;
+                Ok((f.input.clone(), f.output.clone()))
+            })
+            .collect()
+    }
 }
 
 impl Outputs {
@@ -230,14 +248,6 @@ impl Outputs {
                     ))
                 }
             }
-        }
-    }
-
-    /// The convert options that send outputs there.
-    pub fn options(&self) -> Vec<String> {
-        match self {
-            Outputs::Directory(d) => vec!["-o".into(), d.display().to_string()],
-            Outputs::Template(t) => vec!["--output-template".into(), t.clone()],
         }
     }
 }
@@ -352,34 +362,42 @@ pub fn sbatch_options(m: &Manifest, round_dir: &Path, tasks: usize) -> Result<Ve
     Ok(o)
 }
 
-/// The batch script every task runs: convert its list with `-u`, one JSON line per file on
-/// standard output (the task's log), framed by start and end events that carry the time and
-/// the exit code. The OCIO config and the outputs come from the manifest, on the command line.
-pub fn script(m: &Manifest, round_dir: &Path) -> String {
-    let mut convert = vec![
-        quote(&m.specconv.display().to_string()),
-        "--ocio".into(),
-        quote(&m.ocio),
-        "convert".into(),
-        "--json".into(),
-        "-u".into(),
-        format!(
-            "-j \"${{SLURM_CPUS_PER_TASK:-{}}}\"",
-            m.request.cpus_per_task
-        ),
-    ];
-    convert.extend(m.outputs.options().iter().map(|o| quote(o)));
-    convert.extend(m.convert_options.iter().map(|o| quote(o)));
-    convert.push("-".into());
+/// The command line a task runs, `specconv farm task JOBDIR --round R --task T`: made here
+/// only, and read only by the `farm task` command. The conversion's options are not on it:
+/// the task reads them from the manifest.
+pub fn task_command(m: &Manifest, job_dir: &Path, round: usize, task: &str) -> Vec<String> {
+    vec![
+        m.specconv.display().to_string(),
+        "farm".into(),
+        "task".into(),
+        job_dir.display().to_string(),
+        "--round".into(),
+        round.to_string(),
+        "--task".into(),
+        task.into(),
+    ]
+}
+
+/// The batch script every task runs: `farm task` on its files ([`task_command`]), one JSON line
+/// per file on standard output (the task's log), framed by start and end events that carry the
+/// time and the exit code.
+pub fn script(m: &Manifest, job_dir: &Path, round: usize) -> String {
+    let command: Vec<String> = task_command(m, job_dir, round, "T")
+        .iter()
+        .map(|w| match w.as_str() {
+            "T" => "\"$t\"".to_string(),
+            w => quote(w),
+        })
+        .collect();
     format!(
         r#"#!/bin/bash
-# specconv farm: one task of a job array converts the inputs listed in its task-N.inputs.
-# Written by `specconv farm`; its manifest is {manifest}.
+# specconv farm: one task of a job array converts its files of round {round} (task-N.inputs lists
+# them). Written by `specconv farm`; its manifest is {manifest}.
 t=$SLURM_ARRAY_TASK_ID
 echo "{{\"event\":\"start\",\"task\":$t,\"unix\":$(date +%s.%N)}}"
 # In the background, so that a SIGTERM (scancel, time limit) reaching this shell is passed on
 # and waited for: the conversion stops between windows and removes its temporary file.
-{convert} < {dir}/task-$t.inputs &
+{command} < /dev/null &
 pid=$!
 trap 'kill -TERM $pid 2>/dev/null' TERM INT
 wait $pid
@@ -388,13 +406,8 @@ while kill -0 $pid 2>/dev/null; do wait $pid; code=$?; done
 echo "{{\"event\":\"end\",\"task\":$t,\"unix\":$(date +%s.%N),\"exit\":$code}}"
 exit $code
 "#,
-        manifest = round_dir
-            .parent()
-            .unwrap_or(round_dir)
-            .join("manifest.json")
-            .display(),
-        convert = convert.join(" "),
-        dir = quote(&round_dir.display().to_string()),
+        manifest = Manifest::path(job_dir).display(),
+        command = command.join(" "),
     )
 }
 
@@ -424,7 +437,7 @@ pub(crate) fn example(
         workdir: "/work".into(),
         ocio: "aces".into(),
         outputs,
-        convert_options: vec![],
+        options: Default::default(),
         files: files
             .into_iter()
             .map(|(input, output)| File {

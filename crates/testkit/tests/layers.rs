@@ -22,9 +22,10 @@ const LAYERS: &[&[&str]] = &[
         "specconv-ocio",
         "specconv-icc",
     ],
-    &["specconv-study", "specconv-pipeline", "specconv-farm"],
+    &["specconv-study", "specconv-farm"],
     &["specconv-conversion"],
-    &["specconv-cli", "specconv-testkit"],
+    // The front-ends: the command line and the Python package.
+    &["specconv-cli", "specconv-python", "specconv-testkit"],
     &["specconv"],
 ];
 
@@ -32,7 +33,7 @@ const LAYERS: &[&[&str]] = &[
 const SCIENCE: &[&str] = &["specconv-colour", "specconv-spectral", "specconv-study"];
 const NOT_FOR_SCIENCE: &[&str] = &[
     "specconv-exr",
-    "specconv-pipeline",
+    "specconv-conversion",
     "specconv-oiio",
     "specconv-ocio",
     "oiio-sys",
@@ -52,7 +53,7 @@ fn layer(name: &str) -> Option<usize> {
 
 /// The manifests of the workspace: the root's and every member's.
 fn manifests() -> Vec<PathBuf> {
-    let mut out = vec![root().join("Cargo.toml")];
+    let mut out = vec![root().join("Cargo.toml"), root().join("python/Cargo.toml")];
     for dir in ["crates", "ffi"] {
         let mut members: Vec<_> = std::fs::read_dir(root().join(dir))
             .unwrap()
@@ -87,46 +88,121 @@ fn dependencies(manifest: &Path) -> (String, Vec<String>) {
     (name, deps)
 }
 
-/// The command line reaches the C and C++ libraries, and the conversion's rules, only through
-/// the conversion library, so that every front-end gets the same rules; and it spells no
-/// `specconv*` attribute (provenance is the library's).
-#[test]
-fn the_cli_is_a_front_end_of_the_conversion_library() {
-    let (name, deps) = dependencies(&root().join("crates/cli/Cargo.toml"));
-    assert_eq!(name, "specconv-cli");
-    for below in [
-        "specconv-pipeline",
-        "specconv-oiio",
-        "specconv-ocio",
-        "specconv-icc",
-        "oiio-sys",
-        "ocio-sys",
-    ] {
-        assert!(
-            !deps.iter().any(|d| d == below),
-            "specconv-cli depends on {below}: reach it through specconv-conversion"
-        );
-    }
-    assert!(deps.iter().any(|d| d == "specconv-conversion"), "{deps:?}");
-    let mut dirs = vec![root().join("crates/cli/src")];
+/// The crates that wrap C and C++ (OpenImageIO, OpenColorIO, Little CMS) and build their shims.
+const FFI: &[&str] = &[
+    "specconv-oiio",
+    "specconv-ocio",
+    "specconv-icc",
+    "oiio-sys",
+    "ocio-sys",
+    "specconv-shim-build",
+];
+
+/// The front-ends, by manifest and sources.
+const FRONT_ENDS: &[(&str, &str, &str)] = &[
+    ("specconv-cli", "crates/cli/Cargo.toml", "crates/cli/src"),
+    ("specconv-python", "python/Cargo.toml", "python/src"),
+];
+
+/// The `.rs` files under `dir`.
+fn sources(dir: &Path) -> Vec<PathBuf> {
+    let mut out = Vec::new();
+    let mut dirs = vec![dir.to_path_buf()];
     while let Some(dir) = dirs.pop() {
         for entry in std::fs::read_dir(&dir).unwrap() {
             let p = entry.unwrap().path();
             if p.is_dir() {
                 dirs.push(p);
             } else if p.extension().is_some_and(|e| e == "rs") {
-                let text = std::fs::read_to_string(&p).unwrap();
-                for (i, _) in text.match_indices("\"specconv") {
-                    let next = text[i + 9..].chars().next().unwrap_or(' ');
-                    assert!(
-                        !next.is_ascii_uppercase(),
-                        "{} spells a specconv attribute: use specconv_conversion::provenance",
-                        p.display()
-                    );
-                }
+                out.push(p);
             }
         }
     }
+    out.sort();
+    out
+}
+
+/// The command line and the Python package reach the C and C++ libraries, and the
+/// conversion's rules, only through the conversion library, so that every front-end gets the
+/// same rules: neither depends on an FFI crate nor names one in its code (the facade's API
+/// holds none of their types). The Python package may use the pure-Rust crates beneath the
+/// facade (the science for its array functions, the spectral EXR crate for reading and
+/// writing files, atomic files), as the CLI does. Neither spells a `specconv*` attribute
+/// (provenance is the library's). One dependency is for the build alone: the Python package's
+/// build script copies the OpenImageIO shim that oiio-sys built into the package (cargo tells
+/// only a direct dependent where, `DEP_SPECCONV_OIIO_SHIM`, and shim-build copies it); its code
+/// names no FFI crate.
+#[test]
+fn the_front_ends_reach_the_libraries_only_through_the_conversion_library() {
+    const FOR_THE_BUILD_ONLY: &[(&str, &str)] = &[
+        ("specconv-python", "oiio-sys"),
+        ("specconv-python", "specconv-shim-build"),
+    ];
+    for &(package, manifest, src) in FRONT_ENDS {
+        let (name, deps) = dependencies(&root().join(manifest));
+        assert_eq!(name, package);
+        for below in FFI {
+            if FOR_THE_BUILD_ONLY.contains(&(package, below)) {
+                continue;
+            }
+            assert!(
+                !deps.iter().any(|d| d == below),
+                "{package} depends on {below}: reach it through specconv-conversion"
+            );
+        }
+        assert!(
+            deps.iter().any(|d| d == "specconv-conversion"),
+            "{package}: {deps:?}"
+        );
+        for p in sources(&root().join(src)) {
+            let text = std::fs::read_to_string(&p).unwrap();
+            let code = code(&text);
+            for ffi in FFI {
+                let path = ffi.replace('-', "_");
+                assert!(
+                    !code.contains(&format!("{path}::")) && !code.contains(&format!("use {path}")),
+                    "{} names {ffi}: reach it through specconv_conversion",
+                    p.display()
+                );
+            }
+            for (i, _) in text.match_indices("\"specconv") {
+                let next = text[i + 9..].chars().next().unwrap_or(' ');
+                assert!(
+                    !next.is_ascii_uppercase(),
+                    "{} spells a specconv attribute: use specconv_conversion::provenance",
+                    p.display()
+                );
+            }
+        }
+    }
+}
+
+/// The facade hands out no FFI crate: no `pub use` of one anywhere in its sources (its own
+/// types wrap what front-ends need, `ColourConfig`, `describe`, `ImageError`).
+#[test]
+fn the_conversion_library_reexports_no_ffi_crate() {
+    for p in sources(&root().join("crates/conversion/src")) {
+        let code = code(&std::fs::read_to_string(&p).unwrap());
+        for ffi in FFI {
+            let path = ffi.replace('-', "_");
+            assert!(
+                !code.contains(&format!("pub use {path}")),
+                "{} re-exports {ffi}: wrap what a front-end needs in a type of the facade",
+                p.display()
+            );
+        }
+    }
+}
+
+/// The checks above see what they look for.
+#[test]
+fn the_front_end_checks_see_ffi_names() {
+    let code = code("use specconv_oiio::ImageReader; // specconv_ocio:: in a comment\n");
+    assert!(code.contains("specconv_oiio::"));
+    assert!(!code.contains("specconv_ocio::"));
+    let (name, deps) = dependencies(&root().join("python/Cargo.toml"));
+    assert_eq!(name, "specconv-python");
+    assert!(deps.iter().any(|d| d == "pyo3"), "{deps:?}");
 }
 
 #[test]

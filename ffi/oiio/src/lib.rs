@@ -16,8 +16,9 @@
 //!
 //! All `unsafe` is in this file and only calls the C shim of `oiio-sys`, which catches
 //! every C++ exception and reports failures as status codes. The shim, and OpenImageIO with
-//! it, is loaded when the first image is opened ([`oiio_sys::shim`]), not when the program
-//! starts; where it cannot be, opening says so ([`Error::Unavailable`]).
+//! it, is loaded when the first image is opened ([`oiio_sys::shim`]), from the file installed
+//! beside the program or module, not when the program starts; where it cannot be, opening says
+//! so, naming where it looked ([`Error::Unavailable`]).
 #![warn(missing_docs)]
 
 use std::ffi::{CStr, CString};

@@ -2,7 +2,7 @@
 //! `shim/specconv_<name>.{h,cpp}` over one system library found by pkg-config.
 #![forbid(unsafe_code)]
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// One C++ shim and the system library it wraps.
 pub struct Shim {
@@ -22,22 +22,22 @@ pub enum Linking {
     /// A static library linked into the program: the system library is loaded when the
     /// program starts, and the bindings are plain `extern "C"` declarations.
     Static,
-    /// A shared object of its own (`$OUT_DIR/libspecconv_<name>.so`), linked to the system
-    /// library, that the `-sys` crate embeds and loads on first use: the program does not
-    /// depend on the system library until then. The bindings are a table of function
+    /// A shared object of its own, `libspecconv_<name>.so`, linked to the system library and
+    /// installed beside the program, which the `-sys` crate opens on first use: the program
+    /// does not depend on the system library until then. The bindings are a table of function
     /// pointers resolved at load (bindgen's dynamic mode, struct `Specconv<Name>`, through
-    /// `libloading`).
-    Embedded,
+    /// `libloading`). See [`Shim::build`] for where the object is put.
+    Dynamic,
 }
 
-/// specconv's shim over OpenImageIO: embedded, so that commands which read no image do not
-/// load OpenImageIO's ≈260 libraries (issue 19).
+/// specconv's shim over OpenImageIO: a shared object loaded on first use, so that commands
+/// which read no image do not load OpenImageIO's ≈260 libraries (issue 19).
 pub const OIIO: Shim = Shim {
     name: "oiio",
     library: "OpenImageIO",
     min_version: "2.4",
     debian_package: "libopenimageio-dev",
-    linking: Linking::Embedded,
+    linking: Linking::Dynamic,
 };
 
 /// specconv's shim over OpenColorIO.
@@ -52,8 +52,16 @@ pub const OCIO: Shim = Shim {
 impl Shim {
     /// For build.rs: probes the library (exiting with an install hint when it is missing) and
     /// compiles the shim as C++17 against it: linked into the program ([`Linking::Static`]),
-    /// or as the shared object `$OUT_DIR/libspecconv_<name>.so` ([`Linking::Embedded`]),
-    /// which links to the library itself while the program does not.
+    /// or ([`Linking::Dynamic`]) as the shared object `libspecconv_<name>.so`, which links to
+    /// the library itself while the program does not.
+    ///
+    /// A dynamic shim is linked in `$OUT_DIR` and copied to where cargo puts what it builds
+    /// ([`install_dirs`]), so that `target/<profile>/specconv`, `cargo run`, tests, benches
+    /// and examples find it beside them. It also gets an id, a hash of its header and source
+    /// that the shared object exports as `specconv_<name>_shim_id`: the `-sys` crate refuses a
+    /// shim of another build before calling any of its functions. For the crates that depend
+    /// on the `-sys` crate directly, build.rs says where the object is (`cargo:shim=PATH`, read
+    /// as `DEP_SPECCONV_<NAME>_SHIM`: the Python package copies it next to its module).
     pub fn build(&self) {
         let (header, source) = (
             format!("shim/specconv_{}.h", self.name),
@@ -61,8 +69,8 @@ impl Shim {
         );
         println!("cargo:rerun-if-changed={header}");
         println!("cargo:rerun-if-changed={source}");
-        let embedded = self.linking == Linking::Embedded;
-        if embedded {
+        let dynamic = self.linking == Linking::Dynamic;
+        if dynamic {
             // What pkg-config's own metadata, turned off below, would have said.
             for var in [
                 "PKG_CONFIG_PATH",
@@ -74,8 +82,8 @@ impl Shim {
         }
         let lib = match pkg_config::Config::new()
             .atleast_version(self.min_version)
-            // Embedded: the shared object links the library, the program must not.
-            .cargo_metadata(!embedded)
+            // Dynamic: the shared object links the library, the program must not.
+            .cargo_metadata(!dynamic)
             .probe(self.library)
         {
             Ok(lib) => lib,
@@ -93,14 +101,6 @@ impl Shim {
             }
         };
         println!("cargo:version={}", lib.version);
-        if embedded {
-            // For the message that says which library to install when loading fails.
-            println!(
-                "cargo:rustc-env=SPECCONV_{}_BUILT_AGAINST={}",
-                self.name.to_uppercase(),
-                lib.version
-            );
-        }
         let mut build = cc::Build::new();
         build
             .cpp(true)
@@ -114,26 +114,48 @@ impl Shim {
         for (name, value) in &lib.defines {
             build.define(name, value.as_deref());
         }
-        if !embedded {
+        if !dynamic {
             build.compile(&format!("specconv_{}_shim", self.name));
             return;
         }
-        build.pic(true).cargo_metadata(false);
-        let objects = build.compile_intermediates();
         let out = PathBuf::from(std::env::var_os("OUT_DIR").expect("cargo sets OUT_DIR"));
+        let upper = self.name.to_uppercase();
+        // For the message that says which library to install when loading fails.
+        println!(
+            "cargo:rustc-env=SPECCONV_{upper}_BUILT_AGAINST={}",
+            lib.version
+        );
+        let read =
+            |path: &str| std::fs::read(path).unwrap_or_else(|e| panic!("cannot read {path}: {e}"));
+        let id = shim_id(&[&read(&header), &read(&source)]);
+        println!("cargo:rustc-env=SPECCONV_{upper}_SHIM_ID={id}");
+        // Generated, so that the id never appears in the header (nor in the bindings).
+        let id_source = out.join(format!("specconv_{}_shim_id.cpp", self.name));
+        std::fs::write(
+            &id_source,
+            format!(
+                "// Generated by specconv-shim-build: which build of the shim this is.\n\
+                 extern \"C\" __attribute__((visibility(\"default\"))) \
+                 const char specconv_{}_shim_id[] = \"{id}\";\n",
+                self.name
+            ),
+        )
+        .expect("OUT_DIR is writable");
+        build.file(&id_source).pic(true).cargo_metadata(false);
+        let objects = build.compile_intermediates();
         let soname = format!("libspecconv_{}.so", self.name);
+        let built = out.join(&soname);
         // The compiler driver links, so the C++ runtime comes along as for any C++ library.
         // `-z defs`: a symbol the library does not provide fails here, not at first use.
         // `-z now`: the shim's own references are bound when it is loaded (as they were in
         // the program, which Rust links with `-z now`), so a library that lacks one fails
         // the load with dlopen's message; the system library's own dependencies keep their
-        // lazy binding, as when the program loaded them at start. `--strip-debug`: the
-        // program carries the object and copies it to memory when it loads it; DWARF was
-        // 1.2 of its 1.3 MB.
+        // lazy binding, as when the program loaded them at start. `--strip-debug`: the object
+        // is installed beside every program and package; DWARF was 1.2 of its 1.3 MB.
         let mut link = build.get_compiler().to_command();
         link.arg("-shared")
             .arg("-o")
-            .arg(out.join(&soname))
+            .arg(&built)
             .args(&objects)
             .arg(format!("-Wl,-soname,{soname}"))
             .args(["-Wl,-z,defs", "-Wl,-z,now", "-Wl,-z,relro"])
@@ -151,17 +173,28 @@ impl Shim {
             .status()
             .unwrap_or_else(|e| panic!("cannot run the linker for {soname}: {e}"));
         assert!(status.success(), "linking {soname} failed: {link:?}");
+        println!("cargo:shim={}", built.display());
+        match install_dirs(&out) {
+            Some(dirs) => {
+                for dir in dirs {
+                    copy_replacing(&built, &dir.join(&soname));
+                }
+            }
+            None => println!(
+                "cargo:warning=OUT_DIR ({}) is not where cargo's layout puts it: {soname} was \
+                 not copied beside the programs; copy {} there",
+                out.display(),
+                built.display()
+            ),
+        }
     }
 
-    /// For the bindings test: fails when `src/bindings.rs` under `crate_dir` is not what bindgen
-    /// makes of the shim header; rewrites it instead when SPECCONV_REGENERATE_BINDINGS is set
-    /// (ffi/regenerate-bindings.sh).
     #[cfg(feature = "bindings")]
     pub fn check_bindings(&self, crate_dir: &std::path::Path) {
         let header = format!("shim/specconv_{}.h", self.name);
         let prefix = format!("specconv_{}_.*", self.name);
         let mut builder = bindgen::Builder::default();
-        if self.linking == Linking::Embedded {
+        if self.linking == Linking::Dynamic {
             // `Specconv<Name>`: the functions as a table of pointers, all resolved at load.
             let mut name = self.name.to_owned();
             name[..1].make_ascii_uppercase();
@@ -194,5 +227,102 @@ impl Shim {
             committed == generated,
             "src/bindings.rs is stale: the shim header changed. Run ffi/regenerate-bindings.sh"
         );
+    }
+}
+
+/// Where cargo puts the programs built with the build script whose `OUT_DIR` is `out`: the
+/// profile's folder (`target/<profile>/`, binaries and `cargo run`), its `deps/` (tests and
+/// benches) and `examples/`. Cargo's layout is not a documented interface, but it has been
+/// the same since 1.0: `OUT_DIR` is `<target>/<profile>/build/<package>-<hash>/out`
+/// (`<target>/<triple>/<profile>/…` with `--target`), so the profile's folder is three up.
+/// `None` where `out` is not laid out so (a `build.build-dir` set apart from the target
+/// folder puts it elsewhere).
+pub fn install_dirs(out: &Path) -> Option<Vec<PathBuf>> {
+    let build = out.parent()?.parent()?;
+    if out.file_name()? != "out" || build.file_name()? != "build" {
+        return None;
+    }
+    let profile = build.parent()?;
+    Some(vec![
+        profile.to_owned(),
+        profile.join("deps"),
+        profile.join("examples"),
+    ])
+}
+
+/// Copies `from` to `to` through a temporary name and a rename, keeping `from`'s modification
+/// time (as `cp -p`: a build script can watch the copy with `rerun-if-changed` without
+/// rerunning on every build). A program that has the old object mapped keeps it, where writing
+/// over it in place would change its code under it.
+pub fn copy_replacing(from: &Path, to: &Path) {
+    let dir = to.parent().expect("a file in a folder");
+    let temporary = dir.join(format!(
+        ".{}.{}.tmp",
+        to.file_name().expect("a file name").to_string_lossy(),
+        std::process::id()
+    ));
+    let copied = std::fs::create_dir_all(dir)
+        .and_then(|()| std::fs::copy(from, &temporary))
+        .and_then(|_| {
+            let modified = std::fs::metadata(from)?.modified()?;
+            std::fs::File::options()
+                .write(true)
+                .open(&temporary)?
+                .set_modified(modified)
+        })
+        .and_then(|()| std::fs::rename(&temporary, to));
+    if let Err(e) = copied {
+        let _ = std::fs::remove_file(&temporary);
+        panic!("cannot copy {} to {}: {e}", from.display(), to.display());
+    }
+}
+
+/// A shim's id: FNV-1a (64 bits) over its files, in hex. It tells builds apart; it is no
+/// defence against a forged object (whoever can write beside the program can run code).
+fn shim_id(files: &[&[u8]]) -> String {
+    let mut hash: u64 = 0xcbf2_9ce4_8422_2325;
+    for file in files {
+        for &byte in file.iter().chain(&(file.len() as u64).to_le_bytes()) {
+            hash ^= u64::from(byte);
+            hash = hash.wrapping_mul(0x0000_0100_0000_01b3);
+        }
+    }
+    format!("{hash:016x}")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_programs_folders_are_three_up_from_out_dir() {
+        let out = Path::new("/w/target/release/build/oiio-sys-0123abcd/out");
+        assert_eq!(
+            install_dirs(out).unwrap(),
+            [
+                Path::new("/w/target/release"),
+                Path::new("/w/target/release/deps"),
+                Path::new("/w/target/release/examples"),
+            ]
+        );
+        let cross = Path::new("/w/target/x86_64-unknown-linux-gnu/debug/build/oiio-sys-1/out");
+        assert_eq!(
+            install_dirs(cross).unwrap()[0],
+            Path::new("/w/target/x86_64-unknown-linux-gnu/debug")
+        );
+        assert_eq!(install_dirs(Path::new("/somewhere/else/out")), None);
+        assert_eq!(install_dirs(Path::new("/w/target/debug/build/x")), None);
+    }
+
+    #[test]
+    fn ids_tell_files_apart_and_are_stable() {
+        let id = shim_id(&[b"header", b"source"]);
+        assert_eq!(id.len(), 16);
+        assert_eq!(id, shim_id(&[b"header", b"source"]));
+        assert_ne!(id, shim_id(&[b"header", b"sourcf"]));
+        // Moving a byte from one file to the other is another shim.
+        assert_ne!(id, shim_id(&[b"headers", b"ource"]));
+        // FNV-1a's published test vector: the empty input hashes to the offset basis.
+        assert_eq!(shim_id(&[]), "cbf29ce484222325");
     }
 }

@@ -67,10 +67,10 @@ pub fn run(args: Args) -> Result<()> {
         });
     }
     let report = Report {
-        config: config.source().to_string(),
+        config: config.describe_origin(),
         roles,
         color_spaces: config
-            .color_spaces()?
+            .colour_spaces()?
             .into_iter()
             .map(|c| Space {
                 name: c.name,

@@ -5,10 +5,11 @@
 use crate::cmd::convert;
 use crate::{checks, exit, usage};
 use anyhow::{anyhow, bail, Context, Result};
-use clap::{ArgAction, ArgMatches, CommandFactory};
 use specconv_conversion::plan::weight;
+use specconv_conversion::{Key, Options};
 use specconv_farm::manifest::Outputs;
 use specconv_farm::{slurm, FileState, Manifest, Request, Status};
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 pub const EXAMPLES: &str = "\
@@ -47,6 +48,10 @@ enum Farm {
     /// Resubmit only the files that failed or that ended tasks did not reach.
     #[command(after_long_help = EXAMPLES)]
     Retry(Retry),
+    /// One array task's work, as the job's script runs it: the task's files with the job's
+    /// options, read from its manifest.
+    #[command(hide = true)]
+    Task(Task),
 }
 
 /// Submit a job array converting INPUT… (or `-`: paths on standard input) into -o DIR.
@@ -112,20 +117,24 @@ struct Retry {
     wait: bool,
 }
 
-/// Options of `convert` that the farm sets itself, or that mean nothing to a task; outputs go
-/// in the manifest's `outputs`, from which the script passes them.
-const NOT_PASSED: &[&str] = &[
-    "paths",
-    "json",
-    "quiet",
-    "verbose",
-    "update",
-    "force",
-    "threads",
-    "shard",
-    "output",
-    "output_template",
-];
+/// `farm task JOBDIR --round R --task T`, the command line `specconv_farm::manifest::task_command`
+/// makes for the job's script.
+#[derive(Debug, clap::Args)]
+struct Task {
+    /// The job directory.
+    #[arg(value_name = "JOBDIR")]
+    job_dir: PathBuf,
+    /// The round (0: the submission, then one per retry).
+    #[arg(long, value_name = "R")]
+    round: usize,
+    /// The array task ($SLURM_ARRAY_TASK_ID).
+    #[arg(long, value_name = "T")]
+    task: usize,
+}
+
+/// Options the farm sets itself: the config is the manifest's, threads are the task's CPUs,
+/// and outputs are replaced only when out of date.
+const SET_BY_THE_FARM: [Key; 3] = [Key::Ocio, Key::Threads, Key::Overwrite];
 
 /// Runs a farm command; `ocio` is the global --ocio, passed on to the tasks.
 pub fn run(args: Args, ocio: Option<String>) -> Result<i32> {
@@ -134,7 +143,57 @@ pub fn run(args: Args, ocio: Option<String>) -> Result<i32> {
         Farm::Status(r) => status(&r),
         Farm::Collect(r) => collect(&r),
         Farm::Retry(r) => retry(&r, ocio),
+        Farm::Task(t) => task(&t),
     }
+}
+
+/// The options of a job, as the manifest records them: those that differ from the library's
+/// defaults, by the library's names and text, but for what the farm sets itself.
+fn recorded_options(options: &Options) -> BTreeMap<String, String> {
+    let defaults = Options::default();
+    Key::ALL
+        .into_iter()
+        .filter(|k| !SET_BY_THE_FARM.contains(k))
+        .filter_map(|k| {
+            let text = options.text(k)?;
+            (Some(&text) != defaults.text(k).as_ref()).then(|| (k.about().name.to_string(), text))
+        })
+        .collect()
+}
+
+/// The options a task converts with: the manifest's, with the farm's own.
+fn task_options(m: &Manifest, job_dir: &Path) -> Result<Options> {
+    let mut options = Options::default();
+    for (name, text) in &m.options {
+        let key = Key::from_name(name)
+            .filter(|k| !SET_BY_THE_FARM.contains(k))
+            .ok_or_else(|| {
+                anyhow!(
+                    "{} names an option {name:?} that this specconv does not take: submit the job again with this version",
+                    Manifest::path(job_dir).display()
+                )
+            })?;
+        options
+            .set(key, Some(text))
+            .with_context(|| format!("in {}", Manifest::path(job_dir).display()))?;
+    }
+    options.ocio = Some(m.ocio.clone());
+    let cpus = std::env::var("SLURM_CPUS_PER_TASK")
+        .ok()
+        .and_then(|c| c.parse().ok())
+        .unwrap_or(m.request.cpus_per_task);
+    options.threads = Some(cpus);
+    Ok(options)
+}
+
+/// One array task: its files, converted with the job's options, skipping outputs up to date,
+/// a JSON record per file on standard output.
+fn task(t: &Task) -> Result<i32> {
+    let job_dir = absolute(&t.job_dir)?;
+    let m = Manifest::load(&job_dir).map_err(farm_error)?;
+    let pairs = m.task_files(t.round, t.task).map_err(farm_error)?;
+    let options = task_options(&m, &job_dir).map_err(usage)?;
+    convert::run_task(options, &pairs)
 }
 
 fn submit(s: Submit, ocio: Option<String>) -> Result<i32> {
@@ -147,7 +206,12 @@ fn submit(s: Submit, ocio: Option<String>) -> Result<i32> {
             )))
         }
     };
-    let options = passed_options().map_err(usage)?;
+    if s.convert.sharded() {
+        return Err(usage(anyhow!(
+            "farm submit plans the shards itself: drop --shard"
+        )));
+    }
+    let options = recorded_options(&s.convert.options());
     // Settings that cannot work for any input fail here, not once in every task.
     let config = checks::config(ocio.as_deref())?;
     checks::input_colorspace(&config, s.convert.colorspace())?;
@@ -177,7 +241,7 @@ fn submit(s: Submit, ocio: Option<String>) -> Result<i32> {
         workdir: std::env::current_dir().context("cannot read the current directory")?,
         ocio: pinned(&config)?,
         outputs,
-        convert_options: options,
+        options,
         files,
         request: Request {
             partition: s.partition.clone(),
@@ -223,11 +287,11 @@ fn submit(s: Submit, ocio: Option<String>) -> Result<i32> {
 
 /// The OCIO config a command checked, as every task must name it: a file by its absolute path
 /// (`--ocio FILE` or `$OCIO`), a built-in config by the name that picked it.
-fn pinned(config: &specconv_conversion::ocio::Config) -> Result<String> {
-    use specconv_conversion::ocio::ConfigSource;
-    let path = match config.source() {
-        ConfigSource::Builtin { name, .. } => return Ok(name.clone()),
-        ConfigSource::File(p) | ConfigSource::Env(p) => absolute(p)?,
+fn pinned(config: &specconv_conversion::ColourConfig) -> Result<String> {
+    use specconv_conversion::ConfigOrigin;
+    let path = match config.origin() {
+        ConfigOrigin::Builtin(name) => return Ok(name),
+        ConfigOrigin::File(p) | ConfigOrigin::Env(p) => absolute(&p)?,
     };
     path.to_str().map(str::to_string).ok_or_else(|| {
         usage(anyhow!(
@@ -300,6 +364,25 @@ fn print_plan(manifest: &Manifest, prepared: &specconv_farm::Prepared) -> Result
         count(manifest.files.len(), "file"),
         count(prepared.tasks.len(), "task")
     )?;
+    // What every task converts with: the manifest's, as `farm task` reads them.
+    match &manifest.outputs {
+        Outputs::Directory(d) => outln!("# outputs: directory {}", d.display())?,
+        Outputs::Template(t) => outln!("# outputs: template {t}")?,
+    }
+    let options: Vec<String> = manifest
+        .options
+        .iter()
+        .map(|(k, v)| format!("{k}={v}"))
+        .collect();
+    outln!("# config: {}", manifest.ocio)?;
+    outln!(
+        "# options: {}",
+        if options.is_empty() {
+            "the defaults".to_string()
+        } else {
+            options.join(" ")
+        }
+    )?;
     for (t, shard) in prepared.tasks.iter().enumerate() {
         let px: u64 = shard.iter().map(|&i| manifest.files[i].pixels).sum();
         outln!("# task {t}: {}, {px} pixels", count(shard.len(), "file"))?;
@@ -345,69 +428,6 @@ fn wait_and_collect(job_dir: &Path, job_id: &str, json: bool) -> Result<i32> {
         job_dir: job_dir.to_path_buf(),
         json,
     })
-}
-
-/// The convert options given on the command line, as words to pass to every task (defaults
-/// are left out: tasks get the same ones).
-fn passed_options() -> Result<Vec<String>> {
-    let matches = crate::Cli::command().try_get_matches_from(std::env::args_os())?;
-    passed_options_of(find_submit(&matches).context("farm submit's options were not found")?)
-}
-
-fn passed_options_of(submit: &ArgMatches) -> Result<Vec<String>> {
-    let convert = <convert::Args as clap::Args>::augment_args(clap::Command::new("convert"));
-    let mut words = Vec::new();
-    for arg in convert.get_arguments() {
-        let id = arg.get_id().as_str();
-        if NOT_PASSED.contains(&id)
-            || submit.value_source(id) != Some(clap::parser::ValueSource::CommandLine)
-        {
-            continue;
-        }
-        let flag = format!(
-            "--{}",
-            arg.get_long()
-                .context("convert options all have a long name")?
-        );
-        match arg.get_action() {
-            ArgAction::SetTrue | ArgAction::SetFalse => words.push(flag),
-            ArgAction::Count => {
-                for _ in 0..submit.get_count(id) {
-                    words.push(flag.clone());
-                }
-            }
-            // `--opaque-detect=false`: a value that must be joined to its flag.
-            _ if arg.is_require_equals_set() => {
-                for occurrence in submit.get_raw_occurrences(id).into_iter().flatten() {
-                    let values: Vec<String> = occurrence
-                        .map(|v| v.to_string_lossy().into_owned())
-                        .collect();
-                    words.push(match values.as_slice() {
-                        [] => flag.clone(),
-                        _ => format!("{flag}={}", values.join(",")),
-                    });
-                }
-            }
-            _ => {
-                for occurrence in submit.get_raw_occurrences(id).into_iter().flatten() {
-                    words.push(flag.clone());
-                    words.extend(occurrence.map(|v| v.to_string_lossy().into_owned()));
-                }
-            }
-        }
-    }
-    if submit.value_source("shard") == Some(clap::parser::ValueSource::CommandLine) {
-        bail!("farm submit plans the shards itself: drop --shard");
-    }
-    Ok(words)
-}
-
-fn find_submit(m: &ArgMatches) -> Option<&ArgMatches> {
-    match m.subcommand() {
-        Some(("submit", s)) => Some(s),
-        Some((_, s)) => find_submit(s),
-        None => None,
-    }
 }
 
 /// `800M`, `4G`, `4000` (MiB, as sbatch reads it) → MiB.
@@ -596,7 +616,7 @@ fn count(n: usize, what: &str) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use clap::FromArgMatches;
+    use clap::Parser;
 
     #[test]
     fn memory_sizes_read_as_sbatch_reads_them() {
@@ -608,68 +628,87 @@ mod tests {
         assert_eq!(parse_mem("0"), None);
     }
 
+    /// What submit records is what a task converts with: every option given, by the
+    /// library's names, and nothing the farm sets itself.
     #[test]
-    fn submit_passes_on_the_convert_options_given_and_nothing_else() {
-        let cli = crate::Cli::command();
-        let m = cli
-            .try_get_matches_from([
-                "specconv",
-                "farm",
-                "submit",
-                "a.png",
-                "-o",
-                "out",
-                "--tasks",
-                "2",
-                "--method",
-                "smits1999",
-                "--tile",
-                "32",
-                "32",
-                "--unbounded",
-                "-j",
-                "3",
-                "--json",
-                "--opaque-detect=false",
-                "--constant-color-detect",
-                "--fixnan",
-                "box3",
-            ])
-            .unwrap();
-        let submit = find_submit(&m).unwrap();
-        let words = passed_options_of(submit).unwrap();
-        let mut sorted = words.clone();
-        sorted.sort();
+    fn a_task_converts_with_the_options_given_to_submit_and_nothing_else() {
+        let cli = crate::Cli::try_parse_from([
+            "specconv",
+            "farm",
+            "submit",
+            "a.png",
+            "-o",
+            "out",
+            "--tasks",
+            "2",
+            "--method",
+            "smits1999",
+            "--tile",
+            "32",
+            "32",
+            "--unbounded",
+            "-j",
+            "3",
+            "--force",
+            "--json",
+            "--opaque-detect=false",
+            "--constant-color-detect",
+            "--fixnan",
+            "box3",
+        ])
+        .unwrap();
+        let Some(crate::Command::Farm(Args {
+            command: Farm::Submit(s),
+        })) = cli.command
+        else {
+            panic!("farm submit")
+        };
+        let given = s.convert.options();
+        let recorded = recorded_options(&given);
+        let names: Vec<&str> = recorded.keys().map(String::as_str).collect();
         assert_eq!(
-            sorted,
-            [
-                "--constant-color-detect=true",
-                "--fixnan",
-                "--method",
-                "--opaque-detect=false",
-                "--tile",
-                "--unbounded",
-                "32",
-                "32",
-                "box3",
-                "smits1999"
-            ]
+            names,
+            ["bounded", "method", "non_finite", "opaque_detect", "tile"]
         );
-        // What a task is given parses to the same options.
-        let task = crate::Cli::command()
-            .try_get_matches_from(
-                ["specconv", "convert", "a.png", "b.exr"]
-                    .into_iter()
-                    .map(String::from)
-                    .chain(words),
-            )
-            .unwrap();
-        let (_, convert) = task.subcommand().unwrap();
-        assert_eq!(convert.get_one::<bool>("opaque_detect"), Some(&false));
-        assert_eq!(
-            convert.get_one::<bool>("constant_color_detect"),
-            Some(&true)
-        );
-        assert!(Submit::from_arg_matches(submit).unwrap().tasks == 2);
+        let m = specconv_farm::Manifest {
+            options: recorded,
+            ..example_manifest()
+        };
+        let task = task_options(&m, Path::new("/job")).unwrap();
+        for key in Key::ALL {
+            match key {
+                Key::Ocio => assert_eq!(task.ocio.as_deref(), Some("aces")),
+                Key::Threads => assert_eq!(task.threads, Some(1)),
+                Key::Overwrite => assert!(!task.overwrite, "a task never replaces"),
+                _ => assert_eq!(task.text(key), given.text(key), "{key:?}"),
+            }
+        }
+        // A tampered manifest's unknown option is refused, naming it.
+        let mut bad = m.clone();
+        bad.options.insert("threads".into(), "9".into());
+        let e = task_options(&bad, Path::new("/job"))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("\"threads\""), "{e}");
+    }
+
+    fn example_manifest() -> specconv_farm::Manifest {
+        specconv_farm::Manifest {
+            format: specconv_farm::manifest::FORMAT,
+            specconv: "/bin/specconv".into(),
+            workdir: "/work".into(),
+            ocio: "aces".into(),
+            outputs: Outputs::Directory("/out".into()),
+            options: BTreeMap::new(),
+            files: Vec::new(),
+            request: Request {
+                partition: None,
+                time: None,
+                cpus_per_task: 1,
+                mem_mib: 100,
+                limit: None,
+            },
+            rounds: Vec::new(),
+        }
     }
 }

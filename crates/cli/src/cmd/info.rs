@@ -5,9 +5,7 @@ use crate::stdio::{serialize_path, StdoutFailed};
 use crate::{checks, exit, one_line, print_error};
 use anyhow::Result;
 use serde::Serialize;
-use specconv_conversion::images::{choose_channels, open_subimage, ChannelReason};
-use specconv_conversion::images::{ImageReader, ReadAs, Window};
-use specconv_conversion::ocio::Config;
+use specconv_conversion::{ChannelReason, ColourConfig, Description, ReadAs, SpectralFacts};
 use std::path::{Path, PathBuf};
 
 /// Shown after `--help` and as the man page's EXAMPLES.
@@ -99,8 +97,8 @@ struct Rect {
     height: u32,
 }
 
-impl From<Window> for Rect {
-    fn from(w: Window) -> Rect {
+impl From<specconv_conversion::Window> for Rect {
+    fn from(w: specconv_conversion::Window) -> Rect {
         Rect {
             x: w.x,
             y: w.y,
@@ -141,93 +139,44 @@ struct Spectral {
     specconv: std::collections::BTreeMap<String, String>,
 }
 
-/// The spectral facts of a file whose channels follow the layout; `None` for other images.
-fn spectral_facts(file: &std::path::Path, reader: &ImageReader) -> Result<Option<Spectral>> {
-    let info = reader.info();
-    let layout = specconv_exr::Layout::of(info.channels.iter().map(|c| c.name.as_str()));
-    if !layout.is_spectral() {
-        return Ok(None);
-    }
-    let attributes = specconv_exr::read_attributes(file)?;
-    let attr = |name: &str| {
-        attributes
-            .iter()
-            .find(|(k, _)| k == name)
-            .map(|(_, v)| v.clone())
-    };
-    let reflective = !layout.reflective.is_empty();
-    let emissive = !layout.stokes[0].is_empty();
-    let bands = if reflective {
-        &layout.reflective
-    } else {
-        &layout.stokes[0]
-    };
-    let mut kind = String::from(match (reflective, layout.reradiation.is_empty()) {
-        (true, false) => "bispectral",
-        (true, true) => "reflective",
-        (false, _) => "emissive",
-    });
-    if reflective && emissive {
-        kind += " and emissive";
-    }
-    if layout.polarised() {
-        kind += ", polarised";
-    }
-    let (first, last) = (bands[0], bands[bands.len() - 1]);
-    let step = (bands.len() > 1)
-        .then(|| (last - first) / (bands.len() - 1) as f64)
-        .filter(|step| {
-            bands
-                .iter()
-                .enumerate()
-                .all(|(i, w)| (w - (first + step * i as f64)).abs() <= 1e-3)
-        });
-    let convention = if emissive {
+impl From<SpectralFacts> for Spectral {
+    fn from(s: SpectralFacts) -> Spectral {
         use specconv_conversion::provenance::ConventionFrom;
-        let provenance = specconv_conversion::Provenance::from_attributes(&attributes)?;
-        Some(match provenance.emission_convention() {
-            (units, ConventionFrom::Recorded) => units.to_string(),
-            (_, ConventionFrom::OlderSpecconv) => "normalised (an older specconv file)".into(),
-            (_, ConventionFrom::Layout) => "reference (the layout's default)".into(),
-        })
-    } else {
-        None
-    };
-    let [_, s1, s2, s3] = layout.stokes.clone();
-    Ok(Some(Spectral {
-        kind,
-        bands: bands.len(),
-        range_nm: [first, last],
-        step_nm: step,
-        reflective_nm: layout.reflective.clone(),
-        emissive_nm: layout.stokes[0].clone(),
-        polarised_nm: [s1, s2, s3],
-        reradiation: layout.reradiation.len(),
-        // In the file's (alphabetical) order, whatever order the reader lists them in.
-        other_channels: {
-            let mut o = layout.other.clone();
-            o.sort();
-            o
-        },
-        emissive_units: emissive.then(|| attr("emissiveUnits")).flatten(),
-        emission_convention: convention,
-        specconv: attributes
-            .into_iter()
-            .filter(|(k, _)| k.starts_with("specconv"))
-            .collect(),
-    }))
+        Spectral {
+            kind: s.kind,
+            bands: s.bands,
+            range_nm: s.range_nm,
+            step_nm: s.step_nm,
+            reflective_nm: s.reflective_nm,
+            emissive_nm: s.emissive_nm,
+            polarised_nm: s.polarised_nm,
+            reradiation: s.reradiation,
+            other_channels: s.other_channels,
+            emissive_units: s.emissive_units,
+            emission_convention: s.emission_convention.map(|c| match c {
+                (units, ConventionFrom::Recorded) => units.to_string(),
+                (_, ConventionFrom::OlderSpecconv) => "normalised (an older specconv file)".into(),
+                (_, ConventionFrom::Layout) => "reference (the layout's default)".into(),
+            }),
+            specconv: s.specconv,
+        }
+    }
 }
 
 /// Shows every file; returns the exit status (1 when a file could not be shown).
 pub fn run(args: Args) -> Result<i32> {
     let config = checks::config(args.ocio.as_deref())?;
     checks::input_colorspace(&config, args.colorspace.as_deref())?;
+    let mut options = specconv_conversion::Options::default();
+    options.colorspace.clone_from(&args.colorspace);
+    options.subimage.clone_from(&args.read.subimage);
+    options.channels.clone_from(&args.read.channels);
     let mut status = exit::OK;
     for (i, file) in args.files.iter().enumerate() {
         if !args.json && i > 0 {
             outln!()?;
         }
-        if let Err(e) = show(&args, &config, file) {
+        if let Err(e) = show(&args, &config, &options, file) {
             // Standard output failing ends the command; a file failing does not.
             if StdoutFailed::in_chain(&e).is_some() {
                 return Err(e);
@@ -241,19 +190,20 @@ pub fn run(args: Args) -> Result<i32> {
     Ok(status)
 }
 
-fn show(args: &Args, config: &Config, file: &Path) -> Result<()> {
-    let reader = open_subimage(file, args.read.subimage.as_deref())?;
+fn show(
+    args: &Args,
+    config: &ColourConfig,
+    options: &specconv_conversion::Options,
+    file: &Path,
+) -> Result<()> {
+    let d = specconv_conversion::describe(config, file, options)?;
     // Text: a spectral file's facts instead of a colour-space choice; JSON keeps one schema
     // for every file, the facts under `spectral`.
-    let spectral = spectral_facts(file, &reader)?;
-    let spectral = match spectral {
-        Some(s) if !args.json => return spectral_report(file, &reader, s),
-        other => other,
-    };
-    let info = reader.info();
+    if let (Some(s), false) = (&d.spectral, args.json) {
+        return spectral_report(file, &d, s.clone().into());
+    }
     // A file whose channels cannot be chosen alone is still described, with the reason.
-    let chosen = choose_channels(info, args.read.channels.as_deref());
-    let (colour_channels, channels_rule, channels_problem, alpha_channel) = match &chosen {
+    let (colour_channels, channels_rule, channels_problem) = match &d.channel_choice {
         Ok(c) => (
             Some(c.names.clone()),
             Some(match c.reason {
@@ -263,79 +213,69 @@ fn show(args: &Args, config: &Config, file: &Path) -> Result<()> {
                 ChannelReason::OnlyLayer => "only-rgb-layer",
             }),
             None,
-            c.alpha,
         ),
-        Err(e) => (None, None, Some(e.to_string()), info.alpha_channel),
+        Err(problem) => (None, None, Some(problem.clone())),
     };
-    let read_as = specconv_conversion::images::read_as(
-        config,
-        &reader,
-        chosen.as_ref().ok(),
-        args.colorspace.as_deref(),
-    )
-    .map_err(|e| anyhow::anyhow!(crate::explain(&e.into())))?;
-    let (space_name, rule, warnings, to_xyz, role) = match read_as {
-        ReadAs::Colour(space) => {
-            let one = chosen.as_ref().is_ok_and(|c| c.colour.len() == 1);
-            (
-                space.name,
-                space.rule,
-                space.warnings,
-                space.to_xyz.describe(),
-                if one { "achromatic" } else { "colour" },
-            )
-        }
-        ReadAs::Data(d) => (
-            d.name.clone(),
-            d.rule.clone(),
-            Vec::new(),
+    let read_as = match &d.colour {
+        Ok(r) => r,
+        Err(e) => return Err(anyhow::anyhow!(crate::explain(e))),
+    };
+    let (space_name, rule, warnings, to_xyz) = match read_as {
+        ReadAs::Colour {
+            space,
+            rule,
+            warnings,
+            to_xyz,
+            ..
+        } => (space.clone(), rule, warnings.as_slice(), to_xyz.clone()),
+        ReadAs::Data { space, rule, why } => (
+            space.clone(),
+            rule,
+            &[][..],
             format!(
-                "none: a data texture ({}), never uplifted (convert --data copy writes it through)",
-                d.why()
+                "none: a data texture ({why}), never uplifted (convert --data copy writes it through)"
             ),
-            "data",
         ),
     };
-    let straight_alpha = specconv_conversion::Alpha::Auto.premultiply(&reader, alpha_channel);
     let report = Report {
         file,
-        format: &info.format_name,
-        width: info.width(),
-        height: info.height(),
-        channels: info
+        format: &d.format,
+        width: d.width,
+        height: d.height,
+        channels: d
             .channels
             .iter()
             .map(|c| Channel {
                 name: &c.name,
-                format: c.format.to_string(),
+                format: c.format.clone(),
             })
             .collect(),
-        alpha_channel: info.alpha_channel,
-        pixel_format: info.pixel_format().to_string(),
-        tile_size: info.tile_size().map(|(w, h)| [w, h]),
-        mip_levels: info.levels.iter().map(|l| [l.width, l.height]).collect(),
-        data_window: info.levels[0].data().into(),
-        display_window: info.levels[0].display.into(),
-        subimages: info.subimages,
-        subimage: info.subimage,
-        subimage_names: &info.subimage_names,
+        alpha_channel: d.alpha_channel,
+        pixel_format: d.pixel_format.clone(),
+        tile_size: d.tile_size,
+        mip_levels: d.levels.clone(),
+        data_window: d.data_window.into(),
+        display_window: d.display_window.into(),
+        subimages: d.subimages,
+        subimage: d.subimage,
+        subimage_names: &d.subimage_names,
         colour_channels,
         channels_rule,
         channels_problem,
-        declared_color_space: info.declared_color_space.as_deref(),
+        declared_color_space: d.declared_colour_space.as_deref(),
         colorspace: space_name,
-        colorspace_rule: crate::records::colorspace_rule(&rule),
-        colorspace_reason: crate::records::colorspace_reason(&rule),
+        colorspace_rule: crate::records::colorspace_rule(rule),
+        colorspace_reason: crate::records::colorspace_reason(rule),
         colorspace_warnings: warnings.iter().map(crate::records::warning).collect(),
-        straight_alpha,
+        straight_alpha: d.straight_alpha,
         to_xyz,
-        role,
-        spectral,
+        role: read_as.role().name(),
+        spectral: d.spectral.clone().map(Spectral::from),
     };
     if args.json {
         outln!("{}", serde_json::to_string(&report)?)?;
     } else {
-        print_text(&report, info)?;
+        print_text(&report, &d)?;
     }
     Ok(())
 }
@@ -355,10 +295,7 @@ struct SpectralReport<'a> {
 }
 
 /// The text form of `info` for an image that is not spectral.
-fn print_text(
-    r: &Report,
-    info: &specconv_conversion::images::ImageInfo,
-) -> Result<(), StdoutFailed> {
+fn print_text(r: &Report, d: &Description) -> Result<(), StdoutFailed> {
     outln!("file:         {}", r.file.display())?;
     outln!("format:       {}", r.format)?;
     outln!("size:         {} x {}", r.width, r.height)?;
@@ -404,7 +341,7 @@ fn print_text(
         outln!(
             "subimages:    {} ({}); reading {} (--subimage picks another)",
             r.subimages,
-            info.describe_subimages(),
+            d.describe_subimages(),
             r.subimage
         )?;
     }
@@ -433,18 +370,17 @@ fn print_text(
     Ok(())
 }
 
-fn spectral_report(file: &Path, reader: &ImageReader, s: Spectral) -> Result<()> {
-    let info = reader.info();
+fn spectral_report(file: &Path, d: &Description, s: Spectral) -> Result<()> {
     let r = SpectralReport {
         file: file.display().to_string(),
-        format: &info.format_name,
-        width: info.width(),
-        height: info.height(),
-        channels: info.channels.len(),
-        pixel_format: info.pixel_format().to_string(),
-        tile_size: info.tile_size().map(|(w, h)| [w, h]),
-        mip_levels: info.levels.iter().map(|l| [l.width, l.height]).collect(),
-        alpha: info.alpha_channel.is_some(),
+        format: &d.format,
+        width: d.width,
+        height: d.height,
+        channels: d.channels.len(),
+        pixel_format: d.pixel_format.clone(),
+        tile_size: d.tile_size,
+        mip_levels: d.levels.clone(),
+        alpha: d.alpha_channel.is_some(),
         spectral: s,
     };
     let rows = spectral_rows(&r);

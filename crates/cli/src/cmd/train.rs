@@ -27,7 +27,7 @@ pub struct Args {
     #[arg(long, value_name = "CSV", required = true)]
     spectra: Vec<PathBuf>,
     /// Number of clusters (leaves of the tree).
-    #[arg(long, value_name = "K", default_value_t = 8)]
+    #[arg(long, value_name = "K", default_value_t = TrainOptions::default().clusters)]
     clusters: usize,
     /// Smallest number of spectra in a cluster. Small clusters fit their training spectra
     /// closely but generalise badly; the paper's Table 1 used 4.

@@ -6,12 +6,13 @@ mod printing;
 pub(crate) use plan::for_farm;
 use printing::converted;
 
+use crate::options::{default_of, named, parsed};
 use crate::progress::{Progress, Summary};
 use crate::stdio::StdoutFailed;
 use crate::{exit, explain, methods, print_error, records, signals, usage};
 use anyhow::Result;
 use specconv_conversion::{
-    Advice, Alpha, Batch, Blocks, Compression, Converter, DataPolicy, Event, Filter, Mip,
+    Advice, Alpha, Batch, Blocks, Compression, Converter, DataPolicy, Event, Filter, Key, Mip,
     NonFinite, Options, Rounding, Sample, WrapModes,
 };
 use specconv_spectral::method::MethodName;
@@ -29,90 +30,6 @@ Examples:
   specconv convert sky.hdr sky_spectral.exr --emissive
   find textures -name '*.tx' | specconv convert - -o spectral --progress always 2> convert.log
 ";
-
-/// `--alpha`, as typed (a value enum keeps [`Args`] small).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-enum AlphaArg {
-    Auto,
-    Straight,
-    Premultiplied,
-}
-
-impl From<AlphaArg> for Alpha {
-    fn from(a: AlphaArg) -> Alpha {
-        match a {
-            AlphaArg::Auto => Alpha::Auto,
-            AlphaArg::Straight => Alpha::Straight,
-            AlphaArg::Premultiplied => Alpha::Premultiplied,
-        }
-    }
-}
-
-/// A parser of one of a library enum's names: the help lists `names`, each parsed by `from`.
-fn one_of<T: Clone + Send + Sync + 'static>(
-    names: &'static [&'static str],
-    from: fn(&str) -> T,
-) -> impl clap::builder::TypedValueParser<Value = T> {
-    use clap::builder::TypedValueParser;
-    clap::builder::PossibleValuesParser::new(names).map(move |s| from(&s))
-}
-
-const COMPRESSIONS: [&str; 10] = [
-    "none", "rle", "zips", "zip", "piz", "pxr24", "b44", "b44a", "dwaa", "dwab",
-];
-
-fn compression(name: &str) -> Compression {
-    name.parse()
-        .expect("clap lets only the listed names through")
-}
-
-fn sample(name: &str) -> Sample {
-    if name == "float" {
-        Sample::Float
-    } else {
-        Sample::Half
-    }
-}
-
-fn rounding(name: &str) -> Rounding {
-    if name == "colour" {
-        Rounding::Colour
-    } else {
-        Rounding::Nearest
-    }
-}
-
-fn fixnan(name: &str) -> NonFinite {
-    match name {
-        "black" => NonFinite::Black,
-        "box3" => NonFinite::Box3,
-        _ => NonFinite::Keep,
-    }
-}
-
-fn wrap_modes(text: &str) -> std::result::Result<WrapModes, String> {
-    specconv_conversion::parse_wrapmodes(text)
-}
-
-fn data_policy(name: &str) -> DataPolicy {
-    match name {
-        "copy" => DataPolicy::Copy,
-        "fail" => DataPolicy::Fail,
-        _ => DataPolicy::Skip,
-    }
-}
-
-fn filter(name: &str) -> Filter {
-    Filter::from_name(name).expect("clap lets only the listed names through")
-}
-
-fn mip(name: &str) -> Mip {
-    if name == "0" {
-        Mip::Base
-    } else {
-        Mip::All
-    }
-}
 
 /// Convert textures to spectral OpenEXR images (the default command).
 ///
@@ -159,19 +76,19 @@ pub struct Args {
     /// as the file says (PNG straight, OpenEXR premultiplied), or force either for files that
     /// say it wrong (as oiiotool's --no-autopremult). Straight colour is converted, then
     /// premultiplied: OpenEXR stores premultiplied colour.
-    #[arg(long, value_name = "HOW", value_enum, default_value_t = AlphaArg::Auto)]
-    alpha: AlphaArg,
+    #[arg(long, value_name = "HOW", default_value = default_of(Key::Alpha), value_parser = named::<Alpha>())]
+    alpha: Alpha,
     /// What to do with a data texture (roughness, normal map, mask), which is never uplifted:
     /// one whose colour space is data (OCIO isdata, such as Raw: by --colorspace, the file, or
     /// the config's file rules), or one channel that only the format's default would call
     /// colour. `skip` writes nothing (status `data`, not a failure); `copy` writes it through
     /// as a tiled, MIP-mapped data texture, values and metadata kept (OpenImageIO's
     /// make_texture, as maketx); `fail` counts it as a failure.
-    #[arg(long, value_name = "HOW", default_value = "skip", value_parser = one_of(&["skip", "copy", "fail"], data_policy))]
+    #[arg(long, value_name = "HOW", default_value = default_of(Key::Data), value_parser = named::<DataPolicy>())]
     data: DataPolicy,
     /// Uplift method: otsu2018 (the clustered PCA of the model), pca (a one-cluster model),
     /// smits1999, meng2015, meng2015-bounded or jakob2019.
-    #[arg(long, value_name = "NAME", default_value = "otsu2018")]
+    #[arg(long, value_name = "NAME", default_value = default_of(Key::Method), value_parser = named::<MethodName>())]
     method: MethodName,
     #[command(flatten)]
     pub(crate) stack: methods::StackArgs,
@@ -191,12 +108,13 @@ pub struct Args {
     #[arg(
         long,
         value_name = "UNITS",
-        default_value = "reference",
+        default_value = Options::default().emission.unwrap_or_default().to_string(),
+        value_parser = named::<specconv_colour::EmissionUnits>(),
         requires = "emissive"
     )]
     emission_units: specconv_colour::EmissionUnits,
     /// Sample type of the output.
-    #[arg(short = 'd', long = "data-type", value_name = "TYPE", default_value = "half", value_parser = one_of(&["half", "float"], sample))]
+    #[arg(short = 'd', long = "data-type", value_name = "TYPE", default_value = default_of(Key::Sample), value_parser = named::<Sample>())]
     data_type: Sample,
     /// How half samples are rounded: `nearest` rounds each band on its own (the colour moves
     /// by up to ≈3e-4 relative, below what half can resolve per band); `colour` picks, band by
@@ -204,19 +122,19 @@ pub struct Args {
     /// (≈5× smaller colour error, ≈1.5× the conversion time of a 36-band ZIP file).
     /// Default: `nearest` for reflectances, `colour` for --emissive, whose dark pixels' S0
     /// values (∫ S0·x̄ dλ = XYZ: ≈1/107 of Y per band) fall where half has few digits.
-    #[arg(long, value_name = "HOW", value_parser = one_of(&["nearest", "colour"], rounding))]
+    #[arg(long, value_name = "HOW", value_parser = named::<Rounding>())]
     half_rounding: Option<Rounding>,
     /// Output compression. The lossless ones: none, rle, zips, zip, piz, pxr24 (for half;
     /// float loses 8 bits); b44, b44a, dwaa and dwab lose precision (docs/compression.md
     /// compares them all).
-    #[arg(long, default_value = "zip", value_parser = one_of(&COMPRESSIONS, compression))]
+    #[arg(long, default_value = default_of(Key::Compression), value_parser = named::<Compression>())]
     compression: Compression,
     /// Deflate level of zip and zips, 0 (stored) to 9 (smallest), as OpenEXR's
     /// zipCompressionLevel; the default is the measured best trade (docs/compression.md).
     #[arg(long, value_name = "LEVEL", value_parser = clap::value_parser!(u8).range(0..=9))]
     zip_level: Option<u8>,
     /// Tile width and height of the output.
-    #[arg(long, num_args = 2, value_names = ["W", "H"], default_values_t = [64usize, 64])]
+    #[arg(long, num_args = 2, value_names = ["W", "H"], default_values_t = crate::options::default_tile())]
     tile: Vec<usize>,
     /// Write scanlines instead of tiles (no MIP levels).
     #[arg(long, conflicts_with = "tile")]
@@ -224,15 +142,14 @@ pub struct Args {
     /// `all`: a MIP map (tiled outputs), each level filtered from the spectra of the level
     /// above as maketx filters (the input's own smaller levels are not read); `0`: the full
     /// resolution only.
-    #[arg(long, default_value = "all", value_parser = one_of(&["all", "0"], mip))]
+    #[arg(long, default_value = default_of(Key::Mip), value_parser = named::<Mip>())]
     mip: Mip,
     /// The filter each MIP level is made with from the spectra of the level above, as maketx's
     /// `--filter`: `box` (its default: the 2×2 average, bilinear at odd sizes) or one of
     /// OpenImageIO's. Filters with negative lobes (lanczos3, catmull-rom, mitchell, sinc, the
     /// cubics) clamp what they push out of range: bands into [0, 1] (bounded reflectance) or
     /// above 0, alpha into [0, 1].
-    #[arg(long, value_name = "NAME", default_value = "box",
-          value_parser = one_of(&Filter::NAMES, filter))]
+    #[arg(long, value_name = "NAME", default_value = default_of(Key::Filter), value_parser = named::<Filter>())]
     filter: Filter,
     /// Resize level 0 up to the next power of two in each direction, as maketx's `--resize`:
     /// the input is uplifted at its own size and its spectra resampled with --filter (box and
@@ -241,13 +158,12 @@ pub struct Args {
     resize: bool,
     /// Wrap modes the texture records, `MODE` or `S,T` (black, clamp, periodic, mirror);
     /// default: the input's (a maketx texture's), else black, as maketx.
-    #[arg(long, value_name = "MODE[,MODE]", value_parser = wrap_modes)]
+    #[arg(long, value_name = "MODE[,MODE]", value_parser = parsed(Key::Wrap, |o| o.wrap))]
     wrap: Option<WrapModes>,
     /// Repair NaN and infinite input values: `box3` (the average of the finite 3×3
     /// neighbours), `black` (0), or `none` to write them as they are. Without it such an input
     /// is refused (as maketx --checknan).
-    #[arg(long, value_name = "HOW", conflicts_with = "checknan",
-          value_parser = one_of(&["none", "black", "box3"], fixnan))]
+    #[arg(long, value_name = "HOW", conflicts_with = "checknan", value_parser = named::<NonFinite>())]
     fixnan: Option<NonFinite>,
     /// Refuse inputs with NaN or infinite values (the default; for maketx habits).
     #[arg(long)]
@@ -255,11 +171,11 @@ pub struct Args {
     /// Write a texture whose pixels are all the same as one tile, recording
     /// oiio:ConstantColor (default true, as maketx --constant-color-detect).
     #[arg(long, value_name = "BOOL", num_args = 0..=1, require_equals = true,
-          default_value_t = true, default_missing_value = "true", action = clap::ArgAction::Set)]
+          default_value_t = Options::default().constant_detect, default_missing_value = "true", action = clap::ArgAction::Set)]
     constant_color_detect: bool,
     /// Leave out an alpha that is 1 everywhere (default true, as maketx --opaque-detect).
     #[arg(long, value_name = "BOOL", num_args = 0..=1, require_equals = true,
-          default_value_t = true, default_missing_value = "true", action = clap::ArgAction::Set)]
+          default_value_t = Options::default().opaque_detect, default_missing_value = "true", action = clap::ArgAction::Set)]
     opaque_detect: bool,
     /// Worker threads (default: one per core).
     #[arg(short = 'j', long, value_name = "N")]
@@ -319,8 +235,23 @@ pub fn run(args: Args) -> Result<i32> {
         crate::shard::index(shard).map_err(usage)?;
     }
     let pairs = plan::this_run(&args).map_err(usage)?;
-    let converter =
-        Converter::new(args.options()).map_err(|e| usage(anyhow::anyhow!(explain(&e))))?;
+    run_pairs(&args, args.options(), &pairs)
+}
+
+/// A farm task's batch ([`crate::cmd::farm`]): `pairs` with `options`, reported as `convert
+/// --json -u --progress never` reports.
+pub(crate) fn run_task(options: Options, pairs: &[(PathBuf, PathBuf)]) -> Result<i32> {
+    use clap::FromArgMatches;
+    let words = ["task", "--json", "-u", "--progress", "never", "-"];
+    let matches = <Args as clap::Args>::augment_args(clap::Command::new("task"))
+        .try_get_matches_from(words)?;
+    let args = Args::from_arg_matches(&matches)?;
+    run_pairs(&args, options, pairs)
+}
+
+/// Converts `pairs` with `options`, as `args` asks them reported.
+fn run_pairs(args: &Args, options: Options, pairs: &[(PathBuf, PathBuf)]) -> Result<i32> {
+    let converter = Converter::new(options).map_err(|e| usage(anyhow::anyhow!(explain(&e))))?;
     if !args.quiet {
         for advice in converter.advice() {
             let fix = match advice {
@@ -334,7 +265,7 @@ pub fn run(args: Args) -> Result<i32> {
         errln!("config: {}", converter.config_source());
         errln!("model:  {}", converter.model_description());
     }
-    run_batch(&args, &converter, &pairs)
+    run_batch(args, &converter, pairs)
 }
 
 impl Args {
@@ -343,7 +274,7 @@ impl Args {
         let mut o = Options::default();
         o.ocio = self.ocio.clone();
         o.colorspace = self.colorspace.clone();
-        o.alpha = self.alpha.into();
+        o.alpha = self.alpha;
         o.subimage = self.read.subimage.clone();
         o.channels = self.read.channels.clone();
         o.method = self.method;
@@ -365,7 +296,9 @@ impl Args {
         o.filter = self.filter;
         o.resize = self.resize;
         o.wrap = self.wrap;
-        o.non_finite = self.fixnan.unwrap_or(NonFinite::Refuse);
+        if let Some(fix) = self.fixnan {
+            o.non_finite = fix;
+        }
         o.constant_detect = self.constant_color_detect;
         o.opaque_detect = self.opaque_detect;
         o.threads = self.threads;
@@ -470,6 +403,10 @@ impl Args {
 
     pub(crate) fn output_template(&self) -> Option<&str> {
         self.output_template.as_deref()
+    }
+
+    pub(crate) fn sharded(&self) -> bool {
+        self.shard.is_some()
     }
 
     pub(crate) fn json_wanted(&self) -> bool {

@@ -9,7 +9,7 @@
 use crate::files;
 use anyhow::{anyhow, Result};
 use specconv_colour::SpectralTable;
-use specconv_conversion::ocio::Config;
+use specconv_conversion::ColourConfig;
 use specconv_study::scene::{self, Cause};
 use std::path::{Path, PathBuf};
 
@@ -18,7 +18,7 @@ use std::path::{Path, PathBuf};
 pub struct Resources {
     ocio: Option<String>,
     dir: PathBuf,
-    config: Option<Config>,
+    config: Option<ColourConfig>,
     /// Every spectra file and texture the scene read.
     pub read: Vec<PathBuf>,
 }
@@ -35,16 +35,16 @@ impl Resources {
         }
     }
 
-    fn config(&mut self) -> Result<&Config> {
+    fn config(&mut self) -> Result<&ColourConfig> {
         if self.config.is_none() {
             let path = self.ocio.as_ref().map(|o| {
-                if specconv_conversion::ocio::is_builtin_name(o) {
+                if specconv_conversion::is_builtin_config(o) {
                     o.clone()
                 } else {
                     self.dir.join(o).display().to_string()
                 }
             });
-            self.config = Some(Config::resolve(path.as_deref())?);
+            self.config = Some(ColourConfig::resolve(path.as_deref())?);
         }
         Ok(self.config.as_ref().expect("loaded above"))
     }
@@ -52,13 +52,20 @@ impl Resources {
     fn colour_xyz(&mut self, rgb: [f64; 3], space: Option<&str>) -> Result<[f64; 3]> {
         let config = self.config()?;
         let name = match space {
-            Some(s) => config.color_space(s)?.name,
+            Some(s) => config.colour_space(s)?.name,
             None => config.srgb_texture()?.ok_or_else(|| {
                 anyhow!("the OCIO config has no sRGB texture space; give the colour's `colorspace`")
             })?,
         };
         let mut px = rgb.map(|v| v as f32);
-        config.processor_to_xyz(&name)?.apply_rgb(&mut px)?;
+        // Said as it is: the remedies of a conversion's errors name convert's flags, not the
+        // scene's keys (a data space as a colour's `colorspace`).
+        let said = |e: specconv_conversion::Error| anyhow!(specconv_conversion::message(&e));
+        config
+            .to_xyz(&name)
+            .map_err(said)?
+            .apply_rgb(&mut px)
+            .map_err(said)?;
         Ok(px.map(f64::from))
     }
 }

@@ -25,15 +25,16 @@ mod png;
 pub mod survey;
 pub mod texture;
 
-pub use colour::{
-    input_space, texture_space, Alpha, DataTexture, InputSpace, Rule, ToXyz, Warning,
-};
-pub use filter::Filter;
+use crate::choices::Mip;
+use crate::report::{Report, Role};
+use crate::{Options, Rounding};
+pub use colour::{input_space, texture_space, DataTexture, InputSpace, Rule, ToXyz, Warning};
 use rayon::prelude::*;
 use specconv_atomic_file::{PlanError, Replace};
-use specconv_exr::{Block, Blocks, Chunk, Compression, Kind, Sample, Spec, SpectralFile, Windows};
+use specconv_exr::{Block, Blocks, Chunk, Kind, Sample, Spec, SpectralFile, Windows};
 use specconv_ocio::Config;
 use specconv_spectral::method::Tally;
+use specconv_spectral::stack::Stack;
 use specconv_spectral::Method;
 use std::io::BufWriter;
 use std::path::{Path, PathBuf};
@@ -46,10 +47,10 @@ use std::sync::atomic::{AtomicBool, Ordering};
 pub enum Error {
     /// The input could not be read.
     #[error(transparent)]
-    Input(#[from] specconv_oiio::Error),
+    Input(#[from] crate::wrapped::ImageError),
     /// The input's colour could not be managed.
     #[error(transparent)]
-    Color(#[from] specconv_ocio::Error),
+    Color(#[from] crate::wrapped::ColourError),
     /// The output could not be written.
     #[error(transparent)]
     Output(#[from] specconv_exr::Error),
@@ -95,7 +96,7 @@ pub enum Error {
     TooManyNonFinite {
         /// The input.
         input: PathBuf,
-        /// [`survey::BOX3_LIMIT`].
+        /// `survey::BOX3_LIMIT`.
         limit: u64,
     },
     /// The weights half rounding keeps the colour under are not on the method's grid.
@@ -124,7 +125,7 @@ pub enum Error {
     /// Stopped through the job's cancel flag.
     #[error("cancelled")]
     Cancelled,
-    /// The input is a spectral image already ([`input::open`]): it is not uplifted again.
+    /// The input is a spectral image already (`input::open`): it is not uplifted again.
     #[error(
         "{}: already a spectral image ({} bands of {}, {}–{} nm, the Fichet 2021 layout): \
          its spectra are not uplifted again from a colour",
@@ -140,146 +141,77 @@ pub enum Error {
         /// Its first and last wavelengths.
         range_nm: (f64, f64),
     },
-    /// The input holds data, not colour ([`colour::texture_space`]): it is never uplifted.
+    /// The input holds data, not colour (`colour::texture_space`): it is never uplifted.
     #[error(transparent)]
     Data(Box<DataTexture>),
+}
+
+// Inside this crate only: no front-end names an FFI type.
+#[doc(hidden)]
+impl From<specconv_oiio::Error> for Error {
+    fn from(e: specconv_oiio::Error) -> Error {
+        Error::Input(e.into())
+    }
+}
+
+// Inside this crate only: no front-end names an FFI type.
+#[doc(hidden)]
+impl From<specconv_ocio::Error> for Error {
+    fn from(e: specconv_ocio::Error) -> Error {
+        Error::Color(e.into())
+    }
 }
 
 /// The pipeline's results.
 pub type Result<T> = std::result::Result<T, Error>;
 
-/// Whether a tiled output is a MIP map.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Mip {
-    /// Every level down to 1×1, each filtered from the spectra of the level above (module `mip`);
-    /// level 0 is uplifted from the input's full-resolution level (its own smaller levels,
-    /// if any, are not read).
-    All,
-    /// The full-resolution level only.
-    Base,
-}
-
-/// How the output is stored.
+/// How the spectra are stored, as the options and the method stack decide it together
+/// ([`Storage::of`]): everything a job needs beyond the options themselves.
 #[derive(Debug, Clone)]
-pub struct Settings {
-    /// Reflectance (`T.` channels) or emission (`S0.` channels with their units); the method
-    /// makes the matching spectra.
+pub(crate) struct Storage {
+    /// Reflectance (`T.` channels) or emission (`S0.` channels with their units).
     pub kind: Kind,
     /// Per band, the weights of X, Y and Z with which the spectra will be read back (the
     /// method's colorimetry): half samples are rounded to keep that colour
     /// ([`specconv_exr::quantize`]); `None` rounds to nearest.
     pub xyz_weights: Option<[Vec<f64>; 3]>,
-    /// `--colorspace`: the input's colour space, overriding what the file declares.
-    pub colorspace: Option<String>,
-    /// `--subimage` and `--channels`: what of the input is read.
-    pub input: input::Request,
-    /// `--alpha`: whether the input's colour is straight or premultiplied.
-    pub alpha: Alpha,
-    /// Half or float samples.
-    pub sample: Sample,
-    /// OpenEXR compression of every block.
-    pub compression: Compression,
-    /// Deflate level of ZIP and ZIPS blocks, 0–9 ([`specconv_exr::zip::DEFAULT_LEVEL`]).
-    pub zip_level: u8,
-    /// `None` for scanlines, else the tile size.
-    pub tile: Option<(usize, usize)>,
-    /// Which MIP levels to convert.
-    pub mip: Mip,
-    /// The filter MIP levels (and a resized level 0) are made with.
-    pub filter: Filter,
-    /// Level 0 is the input's spectra resized to the next power of two in each direction
-    /// (maketx `--resize`), with `filter`.
-    pub resize: bool,
     /// The range a filter with negative lobes ([`Filter::has_negative_lobes`]) keeps the
     /// bands it makes in: [0, 1] for bounded reflectance. Alpha is kept in [0, 1].
     pub band_range: (f32, f32),
-    /// Wrap modes recorded in a tiled output; `None`: the input's, else
-    /// [`texture::DEFAULT_WRAP`].
-    pub wrap: Option<texture::WrapModes>,
-    /// What happens to NaN and infinite values in the channels read.
-    pub non_finite: survey::NonFinite,
-    /// A texture whose pixels are all the same is written as one tile.
-    pub constant_detect: bool,
-    /// An alpha that is 1 everywhere is not written.
-    pub opaque_detect: bool,
-    /// Write over an existing output.
-    pub overwrite: bool,
-    /// Attributes recorded in the output (model, method, observer, illuminant…).
-    pub attributes: Vec<(String, String)>,
 }
 
-impl Default for Settings {
-    /// `convert`'s defaults: reflectance, half rounded to nearest, ZIP at the default level,
-    /// 64×64 tiles, every MIP level, the file's own colour space and channels; an existing
-    /// output is kept.
-    fn default() -> Settings {
-        Settings {
-            kind: Kind::Reflective,
-            xyz_weights: None,
-            colorspace: None,
-            input: Default::default(),
-            alpha: Alpha::Auto,
-            sample: Sample::Half,
-            compression: Compression::ZIP16,
-            zip_level: specconv_exr::zip::DEFAULT_LEVEL,
-            tile: Some((64, 64)),
-            mip: Mip::All,
-            filter: Filter::Box,
-            resize: false,
-            band_range: (0.0, 1.0),
-            wrap: None,
-            non_finite: survey::NonFinite::Refuse,
-            constant_detect: true,
-            opaque_detect: true,
-            overwrite: false,
-            attributes: Vec::new(),
+/// Units of `S0.` channels: radiance, as the layout names it; the scale is the convention of
+/// `specconvEmissionUnits`.
+const EMISSIVE_UNITS: &str = "W.m^-2.sr^-1";
+
+impl Storage {
+    /// What `options` make of `stack`'s spectra.
+    pub fn of(options: &Options, stack: &Stack) -> Storage {
+        let by_colour = options.rounding.unwrap_or(if options.emission.is_some() {
+            Rounding::Colour
+        } else {
+            Rounding::Nearest
+        }) == Rounding::Colour;
+        Storage {
+            kind: match options.emission {
+                Some(_) => Kind::Emissive {
+                    units: EMISSIVE_UNITS.into(),
+                },
+                None => Kind::Reflective,
+            },
+            xyz_weights: by_colour.then(|| match stack.emission() {
+                Some(e) => e.emission.weights.clone(),
+                None => stack.colorimetry().weights.clone(),
+            }),
+            // What a filter's negative lobes may not push a band beyond: a bounded reflectance
+            // stays in [0, 1]; nothing physical is negative.
+            band_range: if options.bounded && options.emission.is_none() {
+                (0.0, 1.0)
+            } else {
+                (0.0, f32::INFINITY)
+            },
         }
     }
-}
-
-/// What a finished conversion did.
-#[derive(Debug, Clone)]
-pub struct Report {
-    /// Width of the full-resolution level.
-    pub width: usize,
-    /// Height of the full-resolution level.
-    pub height: usize,
-    /// Pixels uplifted (level 0's: the smaller levels are filtered, not uplifted).
-    pub pixels: u64,
-    /// MIP levels written.
-    pub levels: usize,
-    /// Wrap modes recorded (tiled outputs), and whether the input declared them.
-    pub wrap: Option<(texture::WrapModes, bool)>,
-    /// Pixels with NaN or infinite values in a channel read, and whether they were repaired.
-    pub non_finite_input: (u64, bool),
-    /// Every pixel was the same: written as one tile.
-    pub constant: bool,
-    /// Alpha was 1 everywhere and was not written.
-    pub opaque_dropped: bool,
-    /// [`survey::Survey::hash`].
-    pub source_hash: String,
-    /// The subimage and channels read.
-    pub selection: input::Selection,
-    /// The input colour space ([`colour`]'s rule).
-    pub colorspace: String,
-    /// The rule that chose it.
-    pub colorspace_rule: Rule,
-    /// Declarations of the file that were ignored or disagree.
-    pub warnings: Vec<Warning>,
-    /// Straight colour was multiplied by alpha after conversion.
-    pub premultiplied: bool,
-    /// Pixels whose colour had a NaN or infinite component (their spectra are NaN).
-    pub non_finite: u64,
-    /// Pixels above 1: an input channel or Y above [`ABOVE_ONE`]. No reflectance has Y > 1.
-    pub above_one: u64,
-    /// Pixels with a finite band beyond the half range, stored as ±65504 instead of ±∞.
-    pub saturated: u64,
-    /// Pixels of made levels whose values a filter with negative lobes pushed out of range,
-    /// clamped ([`Settings::band_range`]).
-    pub clamped: u64,
-    /// What the method's adapters counted over this job's pixels (bounded outcomes, unmatched
-    /// emission): this job's alone.
-    pub tally: Tally,
 }
 
 /// Values above this count as above 1: 0.1 % of headroom, so that the rounding of colour
@@ -297,7 +229,7 @@ struct Counts {
 }
 
 /// A conversion: one input, one output.
-pub struct Job<'a> {
+pub(crate) struct Job<'a> {
     /// The image to read.
     pub input: &'a Path,
     /// The spectral OpenEXR to write.
@@ -305,11 +237,30 @@ pub struct Job<'a> {
     /// The OCIO config the input's colour is managed with.
     pub config: &'a Config,
     /// The method stack that uplifts every pixel.
-    pub method: &'a dyn Method,
-    /// How the output is stored.
-    pub settings: &'a Settings,
+    pub stack: &'a Stack,
+    /// What the conversion is asked to do.
+    pub options: &'a Options,
+    /// How the spectra are stored.
+    pub storage: &'a Storage,
+    /// Write over an existing output (the options', or a batch's update of its own output).
+    pub overwrite: bool,
     /// Set from another thread (a signal handler) to stop the job.
     pub cancel: &'a AtomicBool,
+}
+
+impl Job<'_> {
+    /// The method every pixel is uplifted with.
+    fn method(&self) -> &dyn Method {
+        self.stack.method()
+    }
+
+    /// The tile size, or `None` for scanlines.
+    fn tile(&self) -> Option<(usize, usize)> {
+        match self.options.blocks {
+            crate::Blocks::Tiles(w, h) => Some((w, h)),
+            crate::Blocks::Scanlines => None,
+        }
+    }
 }
 
 /// One row of blocks: the unit read from the input.
@@ -318,12 +269,6 @@ struct Strip {
     y: usize,
     height: usize,
     blocks: Vec<Block>,
-}
-
-/// Runs a job: [`open`], then [`Opened::write`] with the settings' attributes. `progress`
-/// hears (pixels done, pixels in all) after every window.
-pub fn convert(job: &Job, progress: &mut dyn FnMut(u64, u64)) -> Result<Report> {
-    open(job)?.write(&job.settings.attributes, progress)
 }
 
 /// An input opened for a job: the output may be written, the input's header is sound, its
@@ -343,22 +288,22 @@ pub struct Opened<'a> {
 /// Opens `job`'s input: refuses to write over the input or an existing output (unless the
 /// settings allow it), checks an OpenEXR input's header, chooses channels and colour space.
 pub fn open<'a>(job: &'a Job<'a>) -> Result<Opened<'a>> {
-    refuse_overwrites(job.input, job.output, job.settings.overwrite)?;
+    refuse_overwrites(job.input, job.output, job.overwrite)?;
     specconv_exr::check::check_input(job.input)?;
-    let (reader, selection) = input::open(job.input, &job.settings.input)?;
+    let (reader, selection) = input::open(job.input, &job.options.request())?;
     let info = reader.info().clone();
     let space = texture_space(
         job.config,
         &reader,
         &selection,
-        job.settings.colorspace.as_deref(),
+        job.options.colorspace.as_deref(),
     )?;
     let premultiply = job
-        .settings
+        .options
         .alpha
         .premultiply(&reader, selection.channels.alpha);
     let declared = texture::declared(&reader);
-    let wrap = match (job.settings.wrap, declared) {
+    let wrap = match (job.options.wrap, declared) {
         (Some(w), _) => (w, false),
         (None, Some(w)) => (w, true),
         (None, None) => (texture::DEFAULT_WRAP, false),
@@ -404,12 +349,12 @@ impl Opened<'_> {
             wrap,
             survey,
         } = self;
-        let dropped = job.settings.opaque_detect && survey.opaque;
+        let dropped = job.options.opaque_detect && survey.opaque;
         let alpha = selection.channels.alpha.filter(|_| !dropped);
         let constant = survey
             .constant
             .as_deref()
-            .filter(|_| job.settings.constant_detect && job.settings.tile.is_some());
+            .filter(|_| job.options.constant_detect && job.tile().is_some());
         let (file, source) = output_file(
             job,
             &info,
@@ -433,16 +378,25 @@ impl Opened<'_> {
             constant,
             progress,
         )?;
+        let levels = file.levels();
+        let stack = job.stack;
         Ok(Report {
+            role: if selection.channels.colour.len() == 1 {
+                Role::Achromatic
+            } else {
+                Role::Colour
+            },
+            data: None,
             width: info.width() as usize,
             height: info.height() as usize,
             pixels: total,
-            levels: file.levels(),
-            wrap: job.settings.tile.map(|_| wrap),
+            levels,
+            wrap: job.tile().map(|_| wrap),
             non_finite_input: (survey.non_finite, survey.repaired),
             constant: constant.is_some(),
             opaque_dropped: dropped,
             source_hash: survey.hash.clone(),
+            bands: stack.method().grid().len(),
             selection,
             colorspace: space.name,
             colorspace_rule: space.rule,
@@ -452,7 +406,11 @@ impl Opened<'_> {
             above_one: counts.above_one,
             saturated: counts.saturated,
             clamped: counts.clamped,
-            tally: counts.tally,
+            filter: (levels > 1 || job.options.resize).then_some(job.options.filter),
+            bounded: stack.counts_bounded().then_some(counts.tally.bounded),
+            unmatched: stack.emissive().map(|_| counts.tally.unmatched),
+            // The converter times the whole call.
+            seconds: 0.0,
         })
     }
 }
@@ -471,12 +429,12 @@ fn output_file(
 ) -> Result<(SpectralFile, (usize, usize))> {
     // Every tiled output is a MIP map made from its own spectra (module `mip`); the input's
     // smaller levels, if any, are not read.
-    let blocks = match job.settings.tile {
+    let blocks = match job.tile() {
         None => Blocks::Scanlines,
         Some((width, height)) => Blocks::Tiles {
             width,
             height,
-            mip_levels: job.settings.mip == Mip::All,
+            mip_levels: job.options.mip == Mip::All,
         },
     };
     let top = info.levels[0];
@@ -490,14 +448,14 @@ fn output_file(
             top.display.height as usize,
         ),
     };
-    if let (true, Some((tw, th))) = (constant, job.settings.tile) {
+    if let (true, Some((tw, th))) = (constant, job.tile()) {
         // One tile, as maketx --constant-color-detect: the display window is the data
         // window, so that lookups over [0, 1] read it all.
         (width, height) = (width.min(tw), height.min(th));
         windows.display = (top.x, top.y, width, height);
     }
     let source = (width, height);
-    if job.settings.resize {
+    if job.options.resize {
         // maketx --resize: each size up to a power of two, and the texture spans it.
         (width, height) = (width.next_power_of_two(), height.next_power_of_two());
         windows.display = (windows.display.0, windows.display.1, width, height);
@@ -518,12 +476,15 @@ fn output_file(
         width,
         height,
         windows: Some(windows),
-        wavelengths: job.method.grid().wavelengths(),
-        kind: job.settings.kind.clone(),
+        wavelengths: job.method().grid().wavelengths(),
+        kind: job.storage.kind.clone(),
         alpha,
-        sample: job.settings.sample,
-        compression: job.settings.compression,
-        zip_level: job.settings.zip_level,
+        sample: job.options.sample,
+        compression: job.options.compression.exr(),
+        zip_level: job
+            .options
+            .zip_level
+            .unwrap_or(specconv_exr::zip::DEFAULT_LEVEL),
         blocks,
         attributes: attributes.iter().cloned().chain(extra).collect(),
         float_attributes: fovcot,
@@ -606,11 +567,11 @@ fn write_file(
     progress: &mut dyn FnMut(u64, u64),
 ) -> Result<(u64, Counts)> {
     let output = job.output;
-    if let Some(w) = &job.settings.xyz_weights {
-        if w.iter().any(|row| row.len() != job.method.grid().len()) {
+    if let Some(w) = &job.storage.xyz_weights {
+        if w.iter().any(|row| row.len() != job.method().grid().len()) {
             return Err(Error::Weights {
                 have: w[0].len(),
-                want: job.method.grid().len(),
+                want: job.method().grid().len(),
             });
         }
     }
@@ -640,7 +601,7 @@ fn write_file(
             &sizes,
             block_height(file),
             values,
-            job.settings.filter,
+            job.options.filter,
             resized,
         )
     });
@@ -827,7 +788,7 @@ fn write_file(
     // Without overwrite, an output another writer published while this one ran is refused,
     // not replaced.
     pending
-        .publish(Replace::when(job.settings.overwrite))
+        .publish(Replace::when(job.overwrite))
         .map_err(|source| match source.kind() {
             std::io::ErrorKind::AlreadyExists => Error::Plan(PlanError::Exists {
                 output: output.to_path_buf(),
@@ -907,7 +868,7 @@ fn encode_made_block(
     if job.cancel.load(Ordering::Relaxed) {
         return Err(Error::Cancelled);
     }
-    let n = job.method.grid().len();
+    let n = job.method().grid().len();
     let values = file.values_per_pixel();
     let mut bands = Vec::with_capacity(b.width * b.height * n);
     let mut a = file
@@ -923,7 +884,7 @@ fn encode_made_block(
             }
         }
     }
-    let clamped = keep_in_range(job.settings, &mut bands, a.as_deref_mut(), n);
+    let clamped = keep_in_range(job, &mut bands, a.as_deref_mut(), n);
     // A resized level 0 is made here: its sums for the average, and its values beyond the half
     // range counted (a smaller level's come from one there).
     let level0 = strip.level == 0;
@@ -949,16 +910,11 @@ fn encode_made_block(
 /// Clamps what a filter with negative lobes pushed out of range: bands into the settings'
 /// `band_range`, alpha into [0, 1]; returns the pixels it changed. Filters without them only
 /// average, and are left alone (their values are level 0's, averaged).
-fn keep_in_range(
-    settings: &Settings,
-    bands: &mut [f32],
-    mut alpha: Option<&mut [f32]>,
-    n: usize,
-) -> u64 {
-    if !settings.filter.has_negative_lobes() {
+fn keep_in_range(job: &Job, bands: &mut [f32], mut alpha: Option<&mut [f32]>, n: usize) -> u64 {
+    if !job.options.filter.has_negative_lobes() {
         return 0;
     }
-    let (lo, hi) = settings.band_range;
+    let (lo, hi) = job.storage.band_range;
     let mut changed = 0;
     for (i, spectrum) in bands.chunks_exact_mut(n).enumerate() {
         let mut any = false;
@@ -993,7 +949,7 @@ fn level_sums(bands: &[f32], alpha: Option<&[f32]>, n: usize) -> Vec<f64> {
 
 pub use input::colour_channels;
 
-/// A pixel's RGB from its colour channels ([`input::Channels::colour`]): a single grey channel is repeated; `None` when
+/// A pixel's RGB from its colour channels (`input::Channels::colour`): a single grey channel is repeated; `None` when
 /// the image has no colour channel.
 #[inline]
 pub fn colour_of(px: &[f32], colour: &[usize]) -> Option<[f32; 3]> {
@@ -1005,7 +961,7 @@ pub fn colour_of(px: &[f32], colour: &[usize]) -> Option<[f32; 3]> {
 }
 
 /// How a strip's pixels become colour: the channels read, their repair, the conversion.
-struct Reading<'a> {
+pub(crate) struct Reading<'a> {
     to_xyz: &'a ToXyz,
     colour: &'a [usize],
     alpha: Option<usize>,
@@ -1057,9 +1013,9 @@ fn uplift_block(
         counts.non_finite += u64::from(!c.iter().all(|v| v.is_finite()));
         counts.above_one += u64::from(*above || c[1] > ABOVE_ONE);
     }
-    let n = job.method.grid().len();
+    let n = job.method().grid().len();
     let mut bands = vec![0.0f32; count * n];
-    job.method
+    job.method()
         .uplift_f32_tallied(&rgb, &mut bands, &mut counts.tally);
     Ok((bands, a, counts))
 }
@@ -1075,7 +1031,7 @@ fn encode_block(
     resized: bool,
 ) -> Result<Made> {
     let (bands, a, mut counts) = uplift_block(job, reading, b, strip, b.y)?;
-    let n = job.method.grid().len();
+    let n = job.method().grid().len();
     // Compressing a fine-band block takes as long as uplifting it.
     if job.cancel.load(Ordering::Relaxed) {
         return Err(Error::Cancelled);
@@ -1120,11 +1076,11 @@ fn finish_block(
     mut bands: Vec<f32>,
     alpha: Option<&[f32]>,
 ) -> Result<(Chunk, u64)> {
-    let n = job.method.grid().len();
+    let n = job.method().grid().len();
     let mut saturated = 0;
     if file.spec().sample == Sample::Half {
         saturated = saturate_half(&mut bands, n);
-        if let Some(w) = &job.settings.xyz_weights {
+        if let Some(w) = &job.storage.xyz_weights {
             specconv_exr::quantize::round_to_half_keeping_colour(w, &mut bands, n);
         }
     }

@@ -7,6 +7,7 @@
 //! every image format names them; else, when exactly one layer holds `.R`, `.G` and `.B`, that
 //! layer (and its `.A`). Any other layered file is refused with the list of its layers.
 
+pub use crate::report::{ChannelReason, Channels, Selection};
 use specconv_oiio::{ImageInfo, ImageReader};
 use std::path::Path;
 
@@ -19,48 +20,9 @@ pub struct Request {
     pub channels: Option<String>,
 }
 
-/// Why these channels carry the colour.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum ChannelReason {
-    /// `--channels`.
-    Option,
-    /// The channels are named R, G, B.
-    Named,
-    /// The file's channels, in order (no layers; no R, G, B names).
-    InOrder,
-    /// The only layer with R, G and B channels.
-    OnlyLayer,
-}
-
-/// The channels read as colour and alpha.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Channels {
-    /// Three indices (R, G, B) or one (grey, repeated).
-    pub colour: Vec<usize>,
-    /// The alpha channel's index, if any.
-    pub alpha: Option<usize>,
-    /// Names of the colour channels, then of alpha.
-    pub names: Vec<String>,
-    /// Why these channels.
-    pub reason: ChannelReason,
-}
-
-/// What an input is read as: its subimage and channels.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Selection {
-    /// The subimage read (0: the first).
-    pub subimage: u32,
-    /// Subimages in the file.
-    pub subimages: u32,
-    /// The subimage's (part) name, empty when it has none.
-    pub subimage_name: String,
-    /// The channels read.
-    pub channels: Channels,
-}
-
 impl Selection {
     /// `channels` of the subimage `info` describes.
-    pub fn of(info: &ImageInfo, channels: Channels) -> Selection {
+    pub(crate) fn of(info: &ImageInfo, channels: Channels) -> Selection {
         Selection {
             subimage: info.subimage,
             subimages: info.subimages,
@@ -74,25 +36,10 @@ impl Selection {
     }
 }
 
-impl Selection {
-    /// `subimage 1 'albedo' of 2, ` for files with several subimages, else empty.
-    pub fn describe_subimage(&self) -> String {
-        if self.subimages <= 1 {
-            return String::new();
-        }
-        let name = if self.subimage_name.is_empty() {
-            String::new()
-        } else {
-            format!(" '{}'", self.subimage_name)
-        };
-        format!("subimage {}{name} of {}", self.subimage, self.subimages)
-    }
-}
-
 /// Opens `path` on the subimage asked for and chooses its channels. A spectral image (the
 /// Fichet 2021 layout: `T.` or `S0.` channels) is refused unless channels are asked for: it is
 /// already spectra, and uplifting a preview of it would throw them away.
-pub fn open(path: &Path, request: &Request) -> crate::Result<(ImageReader, Selection)> {
+pub fn open(path: &Path, request: &Request) -> super::Result<(ImageReader, Selection)> {
     let reader = open_subimage(path, request.subimage.as_deref())?;
     let info = reader.info();
     if request.channels.is_none() {
@@ -103,8 +50,8 @@ pub fn open(path: &Path, request: &Request) -> crate::Result<(ImageReader, Selec
     Ok((reader, selection))
 }
 
-/// [`crate::Error::Spectral`] for an image in the spectral layout.
-fn refuse_spectral(info: &ImageInfo) -> crate::Result<()> {
+/// [`super::Error::Spectral`] for an image in the spectral layout.
+fn refuse_spectral(info: &ImageInfo) -> super::Result<()> {
     let layout = specconv_exr::Layout::of(info.channels.iter().map(|c| c.name.as_str()));
     if !layout.is_spectral() {
         return Ok(());
@@ -114,7 +61,7 @@ fn refuse_spectral(info: &ImageInfo) -> crate::Result<()> {
     } else {
         (false, &layout.reflective)
     };
-    Err(crate::Error::Spectral {
+    Err(super::Error::Spectral {
         path: info.path.clone(),
         emissive,
         bands: bands.len(),
@@ -123,7 +70,7 @@ fn refuse_spectral(info: &ImageInfo) -> crate::Result<()> {
 }
 
 /// Opens `path` on subimage `which` (`N` or a name; the first when `None`).
-pub fn open_subimage(path: &Path, which: Option<&str>) -> crate::Result<ImageReader> {
+pub fn open_subimage(path: &Path, which: Option<&str>) -> super::Result<ImageReader> {
     let mut reader = ImageReader::open(path)?;
     if let Some(which) = which {
         let index = reader.info().find_subimage(which)?;
@@ -150,7 +97,7 @@ pub fn colour_channels(channels: usize, alpha: Option<usize>) -> Vec<usize> {
 }
 
 /// The colour and alpha channels of `info` (see the module's rules), or `request`'s.
-pub fn choose_channels(info: &ImageInfo, request: Option<&str>) -> crate::Result<Channels> {
+pub fn choose_channels(info: &ImageInfo, request: Option<&str>) -> super::Result<Channels> {
     let names: Vec<&str> = info.channels.iter().map(|c| c.name.as_str()).collect();
     let find = |name: &str| names.iter().position(|n| *n == name);
     let build = |colour: Vec<usize>, alpha: Option<usize>, reason| {
@@ -163,7 +110,7 @@ pub fn choose_channels(info: &ImageInfo, request: Option<&str>) -> crate::Result
             reason,
         }
     };
-    let refuse_as = |what: String, choose: Option<Choose>| crate::Error::Channels {
+    let refuse_as = |what: String, choose: Option<Choose>| super::Error::Channels {
         path: info.path.clone(),
         what,
         channels: format!("{}{}", names.join(", "), describe_layers(&names)),

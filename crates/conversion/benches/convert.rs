@@ -8,26 +8,23 @@
 //!   written in the same layout, with our ZIP (libdeflate) and with the `exr` crate's own ZIP
 //!   (miniz_oxide), which is what the conversion used before;
 //! - `oiiotool OUT.exr --compression zip -o …`: OpenImageIO re-encoding the same output;
-//! - the whole default conversion with every MIP level (filtered from level 0's spectra);
-//! - `pipeline::open` alone: the header checks and the survey of level 0 (NaN, constant,
-//!   opaque, the average spectrum, the source hash), which reads and uplifts level 0 once more.
+//! - the whole default conversion with every MIP level (filtered from level 0's spectra).
 //!
 //! Prints medians of three, the ratios the project tracks and the file sizes. Run with
-//! `cargo bench -p specconv-pipeline --bench convert`; the machine's load is the reader's to
+//! `cargo bench -p specconv-conversion --bench convert`; the machine's load is the reader's to
 //! report (ratios are what carries over).
 
 use exr::block::{BlockIndex, UncompressedBlock};
 use exr::math::Vec2;
 use rayon::prelude::*;
+use specconv_conversion::{Converter, Mip, Options};
 use specconv_exr::{Block, Blocks, Chunk, Compression, Kind, Sample, Spec, SpectralFile};
-use specconv_pipeline::{convert, Job, Mip, Settings};
 use specconv_spectral::baselines::jakob_cache::TableCache;
 use specconv_spectral::method::MethodName;
 use specconv_spectral::stack::{Description, Stack};
 use specconv_spectral::Model;
 use std::path::{Path, PathBuf};
 use std::process::Command;
-use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
 fn texture(dir: &Path) -> PathBuf {
@@ -96,26 +93,20 @@ fn main() {
     let default = Description::convert_default(MethodName::Otsu2018);
     let stack = Stack::build(&default, model, &TableCache::none()).unwrap();
     let method = stack.method();
-    let settings = |compression, mip| Settings {
-        compression,
-        mip,
-        overwrite: true,
-        ..Settings::default()
+    // The conversion as every front-end runs it, on the pool the caller installs.
+    let converter = |compression, mip| {
+        let mut o = Options::default();
+        o.ocio = Some("aces".into());
+        o.compression = compression;
+        o.mip = mip;
+        o.overwrite = true;
+        Converter::new(o).unwrap()
     };
-    let zip = settings(Compression::ZIP16, Mip::Base);
-    let none = settings(Compression::Uncompressed, Mip::Base);
-    let zip_mip = settings(Compression::ZIP16, Mip::All);
-    let cancel = AtomicBool::new(false);
-    let run = |settings: &Settings, output: &Path| {
-        let job = Job {
-            input: &input,
-            output,
-            config: &config,
-            method,
-            settings,
-            cancel: &cancel,
-        };
-        convert(&job, &mut |_, _| {}).unwrap();
+    let zip = converter(specconv_conversion::Compression::Zip, Mip::Base);
+    let none = converter(specconv_conversion::Compression::None, Mip::Base);
+    let zip_mip = converter(specconv_conversion::Compression::Zip, Mip::All);
+    let run = |converter: &Converter, output: &Path| {
+        converter.convert(&input, output).unwrap();
     };
 
     // The encode's input: every block's spectra, as the conversion computes them.
@@ -225,32 +216,14 @@ fn main() {
                     run(&zip_mip, &path("out-mip.exr"))
                 })
             });
-            let t_open = median(|| {
-                let out = path("out.exr");
-                let job = Job {
-                    input: &input,
-                    output: &out,
-                    config: &config,
-                    method,
-                    settings: &zip,
-                    cancel: &cancel,
-                };
-                let s = Instant::now();
-                let opened = specconv_pipeline::open(&job).unwrap();
-                let t = s.elapsed().as_secs_f64();
-                drop(opened);
-                t
-            });
             println!(
                 "threads {n}: default conversion of photo.tx (2048², level 0, ZIP) {t_zip:.3} s; \
                  --compression none {t_none:.3} s ({:.2}×); encode alone {t_encode:.3} s, with the exr crate's ZIP {t_exr:.3} s ({:.2}× ours); \
-                 oiiotool's ZIP re-encode of the output {t_oiio:.3} s (conversion {:.2}× it); every MIP level {t_mip:.3} s ({:.2}× level 0 alone); \
-                 the survey (open) {t_open:.3} s ({:.2} of the level-0 conversion)",
+                 oiiotool's ZIP re-encode of the output {t_oiio:.3} s (conversion {:.2}× it); every MIP level {t_mip:.3} s ({:.2}× level 0 alone)",
                 t_zip / t_none,
                 t_exr / t_encode,
                 t_zip / t_oiio,
                 t_mip / t_zip,
-                t_open / t_zip,
             );
             zip_times.push((t_zip, t_none, t_mip));
         });

@@ -19,7 +19,7 @@
 //! filter's, summed across then down) or the window of source rows its filter reaches (the
 //! radial ones), and the rows of its current strip of blocks.
 
-use crate::filter::Filter;
+use crate::choices::Filter;
 use rayon::prelude::*;
 use std::collections::VecDeque;
 
@@ -489,7 +489,11 @@ mod tests {
     fn streamed_levels_are_the_whole_level_filtered() {
         let (w, h) = (13, 11);
         let image: Vec<f32> = (0..w * h).map(|v| ((v * 7919) % 101) as f32).collect();
-        for filter in Filter::ALL.into_iter().filter(|f| *f != Filter::Box) {
+        for filter in crate::Named::ALL
+            .iter()
+            .copied()
+            .filter(|f: &Filter| *f != Filter::Box)
+        {
             let streamed = filtered(w, h, &image, 3, filter);
             let s = sizes(w, h);
             for k in 1..s.len() {

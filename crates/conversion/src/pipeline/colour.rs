@@ -32,7 +32,9 @@
 //! after the declared transfer function; or, for an ICC profile, Little CMS to its D50 PCS
 //! (relative colorimetric) then Bradford to D65.
 
-use crate::{input, png, Error, Result};
+use super::{input, png, Error, Result};
+use crate::choices::Alpha;
+pub use crate::report::{Rule, Warning};
 use specconv_colour::rgb::{self, RgbSpace};
 use specconv_icc::ToPcs;
 use specconv_ocio::{Config, Processor};
@@ -46,23 +48,10 @@ const D65: [f64; 3] = [0.3127 / 0.3290, 1.0, (1.0 - 0.3127 - 0.3290) / 0.3290];
 /// OpenEXR's default chromaticities (ITU-R BT.709 primaries, D65 white).
 const REC709: RgbSpace = rgb::SRGB;
 
-/// How straight and premultiplied alpha are told apart (`--alpha`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum Alpha {
-    /// As the file says: straight where OpenImageIO reports unassociated alpha (PNG, TIFF
-    /// with unassociated extra samples), premultiplied otherwise (OpenEXR and the rest).
-    #[default]
-    Auto,
-    /// The colour is straight: converted, then multiplied by alpha.
-    Straight,
-    /// The colour is premultiplied already: converted as it is.
-    Premultiplied,
-}
-
 impl Alpha {
     /// Whether colour must be multiplied by alpha after conversion, given the alpha channel
     /// selected (none: nothing to multiply by).
-    pub fn premultiply(self, reader: &ImageReader, alpha: Option<usize>) -> bool {
+    pub(crate) fn premultiply(self, reader: &ImageReader, alpha: Option<usize>) -> bool {
         let info = reader.info();
         alpha.is_some()
             && match self {
@@ -176,80 +165,6 @@ impl ToXyz {
             ToXyz::Icc { pcs, .. } => format!(
                 "Little CMS, ICC profile '{}' to its D50 PCS (relative colorimetric), then Bradford to D65",
                 pcs.name()
-            ),
-        }
-    }
-}
-
-/// Which rule chose the input colour space.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub enum Rule {
-    /// Named by the caller (the command line's `--colorspace`), with the declaration it
-    /// overrides, if any.
-    Flag {
-        /// The file's declaration it overrides, if any.
-        overrides: Option<String>,
-    },
-    /// The file's declarations that agree with the one used ("EXR chromaticities", ...).
-    Declared(Vec<String>),
-    /// The OCIO config's file rule of this name.
-    FileRule(String),
-    /// The Default file rule of a config the user gave (a file), for float pixels that declare
-    /// nothing; holds the rule's name.
-    ConfigDefault(String),
-    /// The format's default, with its reason.
-    Default(&'static str),
-}
-
-impl Rule {
-    /// The rule's keyword, as JSON records name it: `colorspace-option`, `declared`, `file-rule` or
-    /// `default`.
-    pub fn kind(&self) -> &'static str {
-        match self {
-            Rule::Flag { .. } => "colorspace-option",
-            Rule::Declared(_) => "declared",
-            Rule::FileRule(_) | Rule::ConfigDefault(_) => "file-rule",
-            Rule::Default(_) => "default",
-        }
-    }
-}
-
-/// A declaration of the file that was not followed. Said without options: a front-end adds
-/// how to choose the colour space.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub enum Warning {
-    /// A declaration that cannot be used.
-    Ignored {
-        /// The declaration ("ICC profile", …).
-        what: String,
-        /// Why it cannot be used.
-        why: String,
-    },
-    /// Two declarations that disagree: the first is used.
-    Disagree {
-        /// The declaration used.
-        what: String,
-        /// The colour space it says.
-        name: String,
-        /// The declaration not followed.
-        other: String,
-        /// The colour space that one says.
-        other_name: String,
-    },
-}
-
-impl fmt::Display for Warning {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            Warning::Ignored { what, why } => write!(f, "the file's {what} is ignored: {why}"),
-            Warning::Disagree {
-                what,
-                name,
-                other,
-                other_name,
-            } => write!(
-                f,
-                "the file's {what} says '{name}' but its {other} says '{other_name}'; using '{name}'"
             ),
         }
     }
@@ -479,7 +394,7 @@ fn describe_space(label: &str, s: &RgbSpace, decode: Decode) -> String {
     )
 }
 
-/// A texture that holds data, not colour: never uplifted ([module rules](self)).
+/// A texture that holds data, not colour: never uplifted (the module's rules).
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 #[error("{}: a data texture ({}): it holds numbers, not colour, and is never uplifted to a spectrum", path.display(), self.why())]
 pub struct DataTexture {

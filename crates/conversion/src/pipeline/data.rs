@@ -2,7 +2,7 @@
 //! normal map, [`crate::colour::DataTexture`]) is never uplifted; asked to, it is written as
 //! the tiled, MIP-mapped OpenEXR texture maketx would make of it, its values unconverted.
 
-use crate::{Error, Result};
+use super::{Error, Result};
 use specconv_atomic_file::Replace;
 use specconv_oiio::TextureSpec;
 use std::path::Path;

@@ -9,6 +9,7 @@
 //!   image is rebuilt whatever its modification time.
 
 use super::{Error, Job, Reading, Result};
+use crate::choices::NonFinite;
 use specconv_oiio::{ImageReader, Pixels};
 use std::collections::HashMap;
 
@@ -17,21 +18,6 @@ pub const SOURCE_HASH: &str = "specconvSourceHash";
 
 /// Non-finite pixels `box3` repairs at most: each is kept until its block is made.
 pub const BOX3_LIMIT: u64 = 1 << 22;
-
-/// What happens to NaN and infinite values in the channels read (colour and alpha).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum NonFinite {
-    /// The input is refused (maketx `--checknan`).
-    Refuse,
-    /// Each such value becomes 0.
-    Black,
-    /// Each such value becomes the average of the finite values of that channel among its
-    /// 3×3 neighbours (0 when none is finite), as OpenImageIO's `fixNonFinite` box3.
-    Box3,
-    /// Written as they are (their spectra are NaN, and so is every MIP level filtered from
-    /// them).
-    Keep,
-}
 
 /// How non-finite values of the channels read are replaced while blocks are made.
 #[derive(Debug, Default)]
@@ -148,7 +134,7 @@ pub(crate) fn survey(
     reader: &mut ImageReader,
     (colour, alpha): (&[usize], Option<usize>),
 ) -> Result<Survey> {
-    let policy = job.settings.non_finite;
+    let policy = job.options.non_finite;
     let (width, height) = (
         reader.info().width() as usize,
         reader.info().height() as usize,

@@ -8,12 +8,7 @@ use exr::block::chunk::CompressedBlock;
 use exr::meta::attribute::IntegerBounds;
 use exr::meta::BlockDescription;
 use specconv_atomic_file::leftovers as leftover_temporaries;
-use specconv_exr::Compression;
-use specconv_pipeline::{convert, Error, Job, Mip, Settings};
-use specconv_spectral::baselines::jakob_cache::TableCache;
-use specconv_spectral::method::MethodName;
-use specconv_spectral::stack::{Description, Stack};
-use specconv_spectral::Model;
+use specconv_conversion::{Blocks, Compression, Converter, Error, Mip, Options, Report};
 use specconv_testkit::cmd::{tool, Scratch};
 use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -43,14 +38,17 @@ fn noise_input(dir: &Scratch) -> std::path::PathBuf {
     input
 }
 
-fn settings(tile: Option<(usize, usize)>, compression: Compression) -> Settings {
-    Settings {
-        compression,
-        tile,
-        mip: Mip::Base,
-        overwrite: true,
-        ..Settings::default()
-    }
+fn settings(tile: Option<(usize, usize)>, compression: Compression) -> Options {
+    let mut o = Options::default();
+    o.ocio = Some("aces".into());
+    o.compression = compression;
+    o.blocks = match tile {
+        Some((w, h)) => Blocks::Tiles(w, h),
+        None => Blocks::Scanlines,
+    };
+    o.mip = Mip::Base;
+    o.overwrite = true;
+    o
 }
 
 /// Converts `input` to `output` on a pool of `threads` threads with the CLI's default stack
@@ -58,34 +56,18 @@ fn settings(tile: Option<(usize, usize)>, compression: Compression) -> Settings 
 fn run(
     input: &Path,
     output: &Path,
-    settings: &Settings,
+    settings: &Options,
     threads: usize,
     cancel: &AtomicBool,
     progress: &mut (dyn FnMut(u64, u64) + Send),
-) -> Result<specconv_pipeline::Report, Error> {
-    let config = specconv_ocio::Config::resolve(Some("aces")).unwrap();
-    let model = Model::builtin();
-    // The CLI's default stack, built as convert builds it (blended, corrected onto the
-    // readers' integration, bounded).
-    let default = Description::convert_default(MethodName::Otsu2018);
-    let stack = Stack::build(&default, model, &TableCache::none()).unwrap();
-    let method = stack.method();
-    let job = Job {
-        input,
-        output,
-        config: &config,
-        method,
-        settings,
-        cancel,
-    };
-    rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .unwrap()
-        .install(|| convert(&job, progress))
+) -> Result<Report, Error> {
+    let mut options = settings.clone();
+    options.threads = Some(threads);
+    let converter = Converter::new(options).unwrap();
+    converter.convert_with(input, output, cancel, progress)
 }
 
-fn converted(input: &Path, output: &Path, settings: &Settings, threads: usize) -> Vec<(u64, u64)> {
+fn converted(input: &Path, output: &Path, settings: &Options, threads: usize) -> Vec<(u64, u64)> {
     let mut heard = Vec::new();
     run(
         input,
@@ -133,9 +115,9 @@ fn blocks_are_written_in_file_order() {
     let dir = Scratch::new("pipeline-order");
     let input = noise_input(&dir);
     for (name, tile, compression) in [
-        ("tiles.exr", Some((64, 64)), Compression::ZIP16),
-        ("zip16.exr", None, Compression::ZIP16),
-        ("zips.exr", None, Compression::ZIP1),
+        ("tiles.exr", Some((64, 64)), Compression::Zip),
+        ("zip16.exr", None, Compression::Zip),
+        ("zips.exr", None, Compression::Zips),
     ] {
         let output = dir.path(name);
         let heard = converted(&input, &output, &settings(tile, compression), 1);
@@ -181,7 +163,7 @@ fn windows_and_partial_tiles_are_kept() {
         ("scan.exr", None),
     ] {
         let output = dir.path(name);
-        converted(&input, &output, &settings(tile, Compression::ZIP16), 2);
+        converted(&input, &output, &settings(tile, Compression::Zip), 2);
         let image = read(&output);
         assert_eq!(image.layer_data.len(), 1);
         let layer = &image.layer_data[0];
@@ -231,10 +213,10 @@ fn cancelled_jobs_leave_nothing() {
     let input = noise_input(&dir);
     let output = dir.path("out.exr");
     for tile in [Some((64, 64)), None] {
-        let s = settings(tile, Compression::ZIP16);
+        let s = settings(tile, Compression::Zip);
         let before = AtomicBool::new(true);
         let r = run(&input, &output, &s, 1, &before, &mut |_, _| {});
-        assert!(matches!(r, Err(Error::Cancelled)), "{:?}", r.err());
+        assert!(r.as_ref().is_err_and(Error::is_cancelled), "{:?}", r.err());
         // Cancelled from the progress callback after the first window.
         let midway = AtomicBool::new(false);
         let mut windows = 0;
@@ -243,7 +225,7 @@ fn cancelled_jobs_leave_nothing() {
             assert!(done < total, "the job finished before it was cancelled");
             midway.store(true, Ordering::Relaxed);
         });
-        assert!(matches!(r, Err(Error::Cancelled)), "{:?}", r.err());
+        assert!(r.as_ref().is_err_and(Error::is_cancelled), "{:?}", r.err());
         assert_eq!(windows, 1);
         assert!(!output.exists());
         assert!(leftover_temporaries(&output).is_empty());
@@ -258,9 +240,9 @@ fn the_bytes_do_not_depend_on_the_thread_count() {
     let dir = Scratch::new("pipeline-threads");
     let input = noise_input(&dir);
     for (tile, compression) in [
-        (Some((64, 64)), Compression::ZIP16),
-        (None, Compression::ZIP16),
-        (None, Compression::ZIP1),
+        (Some((64, 64)), Compression::Zip),
+        (None, Compression::Zip),
+        (None, Compression::Zips),
     ] {
         let s = settings(tile, compression);
         let bytes: Vec<Vec<u8>> = [1, 2, 4]

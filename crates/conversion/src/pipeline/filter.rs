@@ -6,92 +6,10 @@
 //! by the size ratio); each has OpenImageIO's default width, scaled by the ratio when enlarging
 //! (maketx's `setup_filter`).
 
+use crate::choices::Filter;
 use std::f32::consts::PI;
-use std::fmt;
-
-/// A filter by its maketx name.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-#[allow(missing_docs)]
-pub enum Filter {
-    /// maketx's default: not OpenImageIO's box `resize` but its bilinear `resize_block` (the
-    /// 2×2 average where a size halves).
-    #[default]
-    Box,
-    Triangle,
-    Gaussian,
-    SharpGaussian,
-    CatmullRom,
-    BlackmanHarris,
-    Sinc,
-    Lanczos3,
-    RadialLanczos3,
-    /// Nuke's name for lanczos3 (it counts the full width).
-    NukeLanczos6,
-    Mitchell,
-    Bspline,
-    Disk,
-    Cubic,
-    Keys,
-    Simon,
-    Rifman,
-}
 
 impl Filter {
-    /// Every filter, in the order maketx's help lists them.
-    pub const ALL: [Filter; 17] = [
-        Filter::Box,
-        Filter::Triangle,
-        Filter::Gaussian,
-        Filter::SharpGaussian,
-        Filter::CatmullRom,
-        Filter::BlackmanHarris,
-        Filter::Sinc,
-        Filter::Lanczos3,
-        Filter::RadialLanczos3,
-        Filter::NukeLanczos6,
-        Filter::Mitchell,
-        Filter::Bspline,
-        Filter::Disk,
-        Filter::Cubic,
-        Filter::Keys,
-        Filter::Simon,
-        Filter::Rifman,
-    ];
-
-    /// Every name, as [`Filter::ALL`].
-    pub const NAMES: [&'static str; 17] = [
-        "box",
-        "triangle",
-        "gaussian",
-        "sharp-gaussian",
-        "catmull-rom",
-        "blackman-harris",
-        "sinc",
-        "lanczos3",
-        "radial-lanczos3",
-        "nuke-lanczos6",
-        "mitchell",
-        "bspline",
-        "disk",
-        "cubic",
-        "keys",
-        "simon",
-        "rifman",
-    ];
-
-    /// Its name, as maketx's `--filter` takes it.
-    pub fn name(self) -> &'static str {
-        Filter::NAMES[self as usize]
-    }
-
-    /// The filter of that name.
-    pub fn from_name(name: &str) -> Option<Filter> {
-        Filter::NAMES
-            .iter()
-            .position(|n| *n == name)
-            .map(|i| Filter::ALL[i])
-    }
-
     /// Whether it has negative lobes: it can push a filtered value below the smallest (or above
     /// the largest) of those it weighs.
     pub fn has_negative_lobes(self) -> bool {
@@ -163,12 +81,6 @@ impl Filter {
             }
             f => f.along(x, width) * f.along(y, height),
         }
-    }
-}
-
-impl fmt::Display for Filter {
-    fn fmt(&self, f: &mut fmt::Formatter) -> fmt::Result {
-        f.write_str(self.name())
     }
 }
 
@@ -307,14 +219,7 @@ fn cubic(x: f32, a: f32) -> f32 {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn names_round_trip() {
-        for f in Filter::ALL {
-            assert_eq!(Filter::from_name(f.name()), Some(f));
-        }
-        assert_eq!(Filter::from_name("lanczos"), None);
-    }
+    use crate::Named;
 
     #[test]
     fn fast_exp_is_close_to_exp() {
@@ -326,7 +231,7 @@ mod tests {
 
     #[test]
     fn every_filter_peaks_at_its_centre_and_ends_at_its_width() {
-        for f in Filter::ALL {
+        for &f in Filter::ALL {
             let w = f.width();
             assert!(f.at((0.0, 0.0), (w, w)) > 0.0, "{f}");
             assert_eq!(f.at((w * 0.51, 0.0), (w, w)), 0.0, "{f}");

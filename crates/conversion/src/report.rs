@@ -1,0 +1,224 @@
+//! [`Report`]: what one conversion did, filled by the job itself (the one translation of a
+//! conversion's facts on the way up to every front-end).
+
+use specconv_spectral::bounded::Counts;
+use std::fmt;
+
+/// What one conversion did, and nothing else's.
+#[derive(Debug, Clone)]
+#[non_exhaustive]
+pub struct Report {
+    /// Size of the full-resolution level.
+    pub width: usize,
+    /// Height of the full-resolution level.
+    pub height: usize,
+    /// Pixels uplifted (level 0: smaller levels are filtered from its spectra).
+    pub pixels: u64,
+    /// MIP levels written.
+    pub levels: usize,
+    /// Wrap modes recorded (tiled outputs), and whether the input declared them.
+    pub wrap: Option<(crate::WrapModes, bool)>,
+    /// Pixels of the input with NaN or infinite values in a channel read, and whether they
+    /// were repaired (else they were kept: refused inputs fail).
+    pub non_finite_input: (u64, bool),
+    /// Every pixel was the same: written as one tile.
+    pub constant: bool,
+    /// Alpha was 1 everywhere and was not written.
+    pub opaque_dropped: bool,
+    /// The hash of the source pixels `-u` compares (empty for a data texture).
+    pub source_hash: String,
+    /// Bands of every spectrum.
+    pub bands: usize,
+    /// The subimage and the channels read.
+    pub selection: Selection,
+    /// The input's colour space (the config's name, or a description).
+    pub colorspace: String,
+    /// The rule that chose it.
+    pub colorspace_rule: Rule,
+    /// Declarations of the file that were ignored or disagree.
+    pub warnings: Vec<Warning>,
+    /// Straight colour was multiplied by alpha after conversion.
+    pub premultiplied: bool,
+    /// Pixels whose colour had a NaN or infinite component.
+    pub non_finite: u64,
+    /// Pixels above 1 (an input channel or Y above `crate::pipeline::ABOVE_ONE`).
+    pub above_one: u64,
+    /// Pixels with a band beyond the half range, stored as ±65504.
+    pub saturated: u64,
+    /// Pixels of made levels (and of a resized level 0) clamped after a filter with negative
+    /// lobes pushed a band out of range (`[0, 1]` for bounded reflectance) or alpha out of
+    /// [0, 1].
+    pub clamped: u64,
+    /// The filter the levels were made with; `None` when none was made (one level, not
+    /// resized).
+    pub filter: Option<crate::Filter>,
+    /// Bounded reflectance: the outcomes of the projection into [0, 1]; `None` otherwise.
+    pub bounded: Option<Counts>,
+    /// Emission: colours no emission spectrum of the method matched; `None` otherwise.
+    pub unmatched: Option<u64>,
+    /// Seconds the conversion took.
+    pub seconds: f64,
+    /// What the texture was read as: colour, one achromatic channel, or data.
+    pub role: Role,
+    /// For a data texture, what was done with it; `None` for colour.
+    pub data: Option<DataOutcome>,
+}
+
+/// What a texture holds (`crate::pipeline::colour::texture_space`'s rule).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Role {
+    /// Colour, three channels.
+    Colour,
+    /// One channel read as achromatic colour (its colour space says it is colour).
+    Achromatic,
+    /// Data, not colour: never uplifted.
+    Data,
+}
+
+impl Role {
+    /// The name records give it: `colour`, `achromatic` or `data`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Role::Colour => "colour",
+            Role::Achromatic => "achromatic",
+            Role::Data => "data",
+        }
+    }
+}
+
+/// What was done with a data texture ([`crate::DataPolicy`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum DataOutcome {
+    /// Nothing written.
+    Skipped,
+    /// Written through as a data texture.
+    Copied,
+}
+
+/// Which rule chose the input colour space.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Rule {
+    /// Named by the caller (the command line's `--colorspace`), with the declaration it
+    /// overrides, if any.
+    Flag {
+        /// The file's declaration it overrides, if any.
+        overrides: Option<String>,
+    },
+    /// The file's declarations that agree with the one used ("EXR chromaticities", ...).
+    Declared(Vec<String>),
+    /// The OCIO config's file rule of this name.
+    FileRule(String),
+    /// The Default file rule of a config the user gave (a file), for float pixels that declare
+    /// nothing; holds the rule's name.
+    ConfigDefault(String),
+    /// The format's default, with its reason.
+    Default(&'static str),
+}
+
+impl Rule {
+    /// The rule's keyword, as JSON records name it: `colorspace-option`, `declared`, `file-rule` or
+    /// `default`.
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Rule::Flag { .. } => "colorspace-option",
+            Rule::Declared(_) => "declared",
+            Rule::FileRule(_) | Rule::ConfigDefault(_) => "file-rule",
+            Rule::Default(_) => "default",
+        }
+    }
+}
+
+/// A declaration of the file that was not followed. Said without options: a front-end adds
+/// how to choose the colour space.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Warning {
+    /// A declaration that cannot be used.
+    Ignored {
+        /// The declaration ("ICC profile", …).
+        what: String,
+        /// Why it cannot be used.
+        why: String,
+    },
+    /// Two declarations that disagree: the first is used.
+    Disagree {
+        /// The declaration used.
+        what: String,
+        /// The colour space it says.
+        name: String,
+        /// The declaration not followed.
+        other: String,
+        /// The colour space that one says.
+        other_name: String,
+    },
+}
+
+impl fmt::Display for Warning {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Warning::Ignored { what, why } => write!(f, "the file's {what} is ignored: {why}"),
+            Warning::Disagree {
+                what,
+                name,
+                other,
+                other_name,
+            } => write!(
+                f,
+                "the file's {what} says '{name}' but its {other} says '{other_name}'; using '{name}'"
+            ),
+        }
+    }
+}
+
+/// Why these channels carry the colour.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ChannelReason {
+    /// `--channels`.
+    Option,
+    /// The channels are named R, G, B.
+    Named,
+    /// The file's channels, in order (no layers; no R, G, B names).
+    InOrder,
+    /// The only layer with R, G and B channels.
+    OnlyLayer,
+}
+
+/// The channels read as colour and alpha.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Channels {
+    /// Three indices (R, G, B) or one (grey, repeated).
+    pub colour: Vec<usize>,
+    /// The alpha channel's index, if any.
+    pub alpha: Option<usize>,
+    /// Names of the colour channels, then of alpha.
+    pub names: Vec<String>,
+    /// Why these channels.
+    pub reason: ChannelReason,
+}
+
+/// What an input is read as: its subimage and channels.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Selection {
+    /// The subimage read (0: the first).
+    pub subimage: u32,
+    /// Subimages in the file.
+    pub subimages: u32,
+    /// The subimage's (part) name, empty when it has none.
+    pub subimage_name: String,
+    /// The channels read.
+    pub channels: Channels,
+}
+
+impl Selection {
+    /// `subimage 1 'albedo' of 2, ` for files with several subimages, else empty.
+    pub fn describe_subimage(&self) -> String {
+        if self.subimages <= 1 {
+            return String::new();
+        }
+        let name = if self.subimage_name.is_empty() {
+            String::new()
+        } else {
+            format!(" '{}'", self.subimage_name)
+        };
+        format!("subimage {}{name} of {}", self.subimage, self.subimages)
+    }
+}

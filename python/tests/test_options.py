@@ -1,0 +1,108 @@
+"""specconv.convert's keywords against the library's one description of a conversion
+(specconv.options(), the same table the command line is checked against): every option is a
+keyword, every keyword is an option or the front-end's own, defaults are the library's, the stub
+says the same, and a choice takes exactly the library's names and spellings."""
+import ast
+import inspect
+import pathlib
+
+import pytest
+
+import specconv
+
+# convert's keywords that are not options of a conversion: what to convert, where to, and how
+# the call reports.
+FRONT_END = {"inputs", "outputs", "output_template", "update", "errors", "progress"}
+
+OPTIONS = {o["name"]: o for o in specconv.options()}
+
+
+def as_text(name, value):
+    """A keyword's default in the library's text form (Options::text)."""
+    if value is None:
+        return None
+    if name == "mip":  # mip=True is every level ("all"), False the first ("0")
+        return "all" if value else "0"
+    if name == "tile":
+        return "%dx%d" % value
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    return str(value)
+
+
+def keywords():
+    sig = inspect.signature(specconv.convert)
+    return {
+        n: p.default
+        for n, p in sig.parameters.items()
+        if p.kind == inspect.Parameter.KEYWORD_ONLY or n in FRONT_END
+    }
+
+
+def stub_keywords():
+    """convert's keywords, defaults and Literal choices as the stub (_specconv.pyi) writes them."""
+    stub = pathlib.Path(specconv.__file__).with_name("_specconv.pyi")
+    tree = ast.parse(stub.read_text())
+    fn = next(n for n in tree.body if isinstance(n, ast.FunctionDef) and n.name == "convert")
+    out = {}
+    for arg, default in zip(fn.args.kwonlyargs, fn.args.kw_defaults):
+        literals = [
+            n.value
+            for n in ast.walk(arg.annotation)
+            if isinstance(n, ast.Constant) and isinstance(n.value, str)
+        ] if "Literal" in ast.unparse(arg.annotation) else None
+        out[arg.arg] = (ast.literal_eval(default) if default is not None else None, literals)
+    return out
+
+
+def test_every_option_is_a_keyword_and_every_keyword_an_option():
+    got = set(keywords()) - FRONT_END - {"inputs", "outputs"}
+    assert got == set(OPTIONS), (got - set(OPTIONS), set(OPTIONS) - got)
+
+
+def test_defaults_are_the_librarys():
+    for name, default in keywords().items():
+        # pyo3 shows `...` for a default written as a Rust expression (the library's own
+        # constant, such as blend's); the stub test below checks what it says.
+        if name in FRONT_END or default is Ellipsis:
+            continue
+        want = OPTIONS[name]["default"]
+        if name == "blend":
+            assert default == pytest.approx(float(want)), name
+        else:
+            assert as_text(name, default) == want, name
+
+
+def test_the_stub_says_what_the_library_defines():
+    stub = stub_keywords()
+    assert set(stub) - FRONT_END == set(OPTIONS)
+    for name, option in OPTIONS.items():
+        default, literals = stub[name]
+        if name == "blend":
+            assert default == pytest.approx(float(option["default"]))
+        else:
+            assert as_text(name, default) == option["default"], name
+        if literals is not None:
+            assert option["choices"] is not None, name
+            spellings = set(option["choices"]) | set(option["aliases"])
+            assert set(option["choices"]) <= set(literals) <= spellings, name
+
+
+@pytest.mark.parametrize(
+    "name", sorted(n for n, o in OPTIONS.items() if o["choices"] and n != "mip")
+)
+def test_a_choice_takes_the_librarys_names_and_no_other(tmp_path, name):
+    option = OPTIONS[name]
+    missing = tmp_path / "missing.png"
+    spellings = option["choices"] + option["aliases"]
+    if name == "method":  # building jakob2019's tables or a PCA model takes minutes
+        spellings = [option["default"]]
+    for spelling in spellings:
+        # A valid name gets as far as the input, which does not exist.
+        with pytest.raises(specconv.Error) as e:
+            specconv.convert(missing, tmp_path / "out.exr", **{name: spelling})
+        assert "unknown" not in str(e.value), (name, spelling, str(e.value))
+    with pytest.raises(specconv.OptionError) as e:
+        specconv.convert(missing, tmp_path / "out.exr", **{name: "bogus"})
+    message = str(e.value)
+    assert "bogus" in message and all(c in message for c in option["choices"]), message
