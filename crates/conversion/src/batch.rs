@@ -129,7 +129,11 @@ impl<'c> Batch<'c> {
     /// Checks the whole plan before anything is written ([`check_plan`] with the converter's
     /// `overwrite` and this batch's update).
     pub fn check(&self, pairs: &[(PathBuf, PathBuf)]) -> Result<(), Error> {
-        check_plan(pairs, self.converter.options().overwrite, self.update)
+        Ok(check_plan(
+            pairs,
+            self.converter.options().overwrite,
+            self.update,
+        )?)
     }
 
     /// Converts each (input, output) in turn, telling `on` what happens, once the plan is

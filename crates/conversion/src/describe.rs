@@ -249,15 +249,7 @@ pub fn describe(
 impl Description {
     /// `0 'beauty', 1 'albedo'`: every subimage, by index and name.
     pub fn describe_subimages(&self) -> String {
-        (0..self.subimages as usize)
-            .map(
-                |i| match self.subimage_names.get(i).filter(|n| !n.is_empty()) {
-                    Some(name) => format!("{i} '{name}'"),
-                    None => i.to_string(),
-                },
-            )
-            .collect::<Vec<_>>()
-            .join(", ")
+        specconv_oiio::describe_subimages(self.subimages, &self.subimage_names)
     }
 }
 

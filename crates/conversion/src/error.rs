@@ -595,7 +595,7 @@ mod tests {
         "Conversion::Data",
         "Plan",
         "Planning::NotMadeBySpecconv",
-    "Planning::Files",
+        "Planning::Files",
         "Input",
         "EmissionIsItsOwnLight",
         "NoRole",

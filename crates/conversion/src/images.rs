@@ -7,17 +7,6 @@ use crate::wrapped::ImageError;
 use specconv_oiio::{ImageReader, Region};
 use std::path::{Path, PathBuf};
 
-/// Pixels of every level of an image (its weight in a farm's plan).
-pub fn pixel_count(path: &Path) -> Result<u64, ImageError> {
-    let reader = ImageReader::open(path)?;
-    Ok(reader
-        .info()
-        .levels
-        .iter()
-        .map(|l| u64::from(l.width) * u64::from(l.height))
-        .sum())
-}
-
 /// Why one pixel's colour cannot be had.
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]

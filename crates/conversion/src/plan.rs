@@ -315,7 +315,14 @@ impl Plan {
 /// The weight of an input in a split: the pixels of all its levels; 0 when it cannot be read
 /// (it fails fast wherever it lands). `farm submit` records the same for its tasks.
 pub fn weight(input: &Path) -> u64 {
-    crate::images::pixel_count(input).unwrap_or(0)
+    specconv_oiio::ImageReader::open(input).map_or(0, |reader| {
+        reader
+            .info()
+            .levels
+            .iter()
+            .map(|l| u64::from(l.width) * u64::from(l.height))
+            .sum()
+    })
 }
 
 /// The output of a given input names its tiles exactly when the input is a UDIM pattern.
@@ -354,9 +361,9 @@ pub fn check_plan(
     pairs: &[(PathBuf, PathBuf)],
     overwrite: bool,
     update: bool,
-) -> Result<(), crate::Error> {
+) -> Result<(), Error> {
     check_files(pairs)?;
-    Ok(check_existing(pairs, overwrite, update)?)
+    check_existing(pairs, overwrite, update)
 }
 
 /// Outputs' names, directories and kinds, then outputs that are inputs, then inputs that share

@@ -302,16 +302,19 @@ impl ImageInfo {
 
     /// `0 'beauty', 1 'albedo'`: every subimage, for messages.
     pub fn describe_subimages(&self) -> String {
-        (0..self.subimages as usize)
-            .map(
-                |i| match self.subimage_names.get(i).filter(|n| !n.is_empty()) {
-                    Some(name) => format!("{i} '{name}'"),
-                    None => i.to_string(),
-                },
-            )
-            .collect::<Vec<_>>()
-            .join(", ")
+        describe_subimages(self.subimages, &self.subimage_names)
     }
+}
+
+/// `0 'beauty', 1 'albedo'`: `count` subimages by index and (where they have one) name.
+pub fn describe_subimages(count: u32, names: &[String]) -> String {
+    (0..count as usize)
+        .map(|i| match names.get(i).filter(|n| !n.is_empty()) {
+            Some(name) => format!("{i} '{name}'"),
+            None => i.to_string(),
+        })
+        .collect::<Vec<_>>()
+        .join(", ")
 }
 
 /// A rectangle of pixels `[x0, x1) × [y0, y1)` of one level.
