@@ -122,7 +122,6 @@ impl Converter {
                     method: stack.method().name(),
                     blend: stack.blend(),
                     config: &config.source().to_string(),
-                    by_colour: storage.xyz_weights.is_some(),
                 },
             )),
             emission_units: stack.emission().map(|e| e.units),

@@ -420,6 +420,23 @@ impl Options {
     }
 }
 
+impl Options {
+    /// How half samples are rounded unless asked: to keep the colour for emission, whose dark
+    /// pixels' S0 values fall where half has few digits; each band to nearest for reflectance.
+    pub(crate) fn default_rounding(&self) -> Rounding {
+        if self.emission.is_some() {
+            Rounding::Colour
+        } else {
+            Rounding::Nearest
+        }
+    }
+
+    /// How half samples are rounded: as asked, else [`Options::default_rounding`].
+    pub(crate) fn rounding_in_effect(&self) -> Rounding {
+        self.rounding.unwrap_or_else(|| self.default_rounding())
+    }
+}
+
 /// `WxH` (or `W H`, `W,H`) tiles, or `scanline`.
 fn parse_blocks(text: &str) -> Result<Blocks, String> {
     if text.eq_ignore_ascii_case("scanline") || text.eq_ignore_ascii_case("scanlines") {
@@ -451,8 +468,6 @@ pub(crate) struct Resolved<'a> {
     pub blend: f64,
     /// The OCIO config's source.
     pub config: &'a str,
-    /// Half samples are rounded to keep the colour.
-    pub by_colour: bool,
 }
 
 /// `specconvSettings`: every option that changes what is written, for `-u`. Every field of
@@ -474,7 +489,8 @@ pub(crate) fn settings_tag(o: &Options, r: Resolved) -> String {
         channels,
         emission,
         sample,
-        rounding,
+        // Read with the kind's default (`rounding_in_effect`) below.
+        rounding: _,
         compression,
         zip_level,
         blocks,
@@ -532,14 +548,8 @@ pub(crate) fn settings_tag(o: &Options, r: Resolved) -> String {
         tag += &format!(" emission-units={}", Named::name(*units));
     }
     // The rounding when it is not the kind's default (which earlier versions left implied).
-    let kind_default = emission.is_some();
-    if r.by_colour != kind_default && *sample == Sample::Half {
-        let rounding = rounding.unwrap_or(if r.by_colour {
-            Rounding::Colour
-        } else {
-            Rounding::Nearest
-        });
-        tag += &format!(" half-rounding={rounding}");
+    if o.rounding_in_effect() != o.default_rounding() && *sample == Sample::Half {
+        tag += &format!(" half-rounding={}", o.rounding_in_effect());
     }
     if *data != DataPolicy::Skip {
         tag += &format!(" data={data}");

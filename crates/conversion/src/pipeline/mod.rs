@@ -187,11 +187,7 @@ const EMISSIVE_UNITS: &str = "W.m^-2.sr^-1";
 impl Storage {
     /// What `options` make of `stack`'s spectra.
     pub fn of(options: &Options, stack: &Stack) -> Storage {
-        let by_colour = options.rounding.unwrap_or(if options.emission.is_some() {
-            Rounding::Colour
-        } else {
-            Rounding::Nearest
-        }) == Rounding::Colour;
+        let by_colour = options.rounding_in_effect() == Rounding::Colour;
         Storage {
             kind: match options.emission {
                 Some(_) => Kind::Emissive {
