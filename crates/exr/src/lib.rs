@@ -798,59 +798,78 @@ impl SpectralFile {
     /// once every chunk is written (what is known only then, such as an average): each must
     /// already be in the header with a value of the same length in bytes, which nothing after
     /// the header moves for.
-    pub fn write_then<W, F>(
+    ///
+    /// `produce` speaks its caller's error type `E`: an error it returns (a cancellation, a
+    /// failed read) aborts the file and comes back unchanged; the writer's own errors, the
+    /// sink's included, become `E` through `From`.
+    pub fn write_then<W, F, E>(
         &self,
         mut out: W,
         produce: F,
         late: impl FnOnce() -> Vec<(String, String)>,
-    ) -> Result<()>
+    ) -> std::result::Result<(), E>
     where
         W: Write + Seek + Send,
-        F: FnOnce(&mut (dyn FnMut(usize, Chunk) -> Result<()> + Send)) -> Result<()>,
+        F: FnOnce(&mut (dyn FnMut(usize, Chunk) -> Result<()> + Send)) -> std::result::Result<(), E>,
+        E: From<Error>,
+    {
+        self.write_chunks(&mut out, produce)?;
+        let header = self.header_with(late())?;
+        Ok(sort_attributes(&header, &mut out)?)
+    }
+
+    /// Writes the header and the chunks `produce` hands to its sink, then the offset table;
+    /// an error of `produce` aborts the file and is returned as it is.
+    fn write_chunks<W, F, E>(&self, out: &mut W, produce: F) -> std::result::Result<(), E>
+    where
+        W: Write + Seek + Send,
+        F: FnOnce(&mut (dyn FnMut(usize, Chunk) -> Result<()> + Send)) -> std::result::Result<(), E>,
+        E: From<Error>,
     {
         use exr::block::writer::ChunksWriter;
-        let mut failure = None;
+        // The exr crate's callback may return only its own error, which carries nothing: the
+        // producer's result is kept as it is and the exr crate is told to abort.
+        let mut produced = Ok(());
         let written = exr::block::write(
-            &mut out,
+            out,
             smallvec::smallvec![self.header.clone()],
             true,
             |_meta, writer| {
                 let mut sink = |index: usize, chunk: Chunk| -> Result<()> {
                     Ok(writer.write_chunk(index, chunk)?)
                 };
-                if let Err(e) = produce(&mut sink) {
-                    failure = Some(e);
-                    // Abort the file: the caller discards it.
-                    return Err(exr::error::Error::Aborted);
+                produced = produce(&mut sink);
+                match produced {
+                    Ok(()) => Ok(()),
+                    Err(_) => Err(exr::error::Error::Aborted),
                 }
-                Ok(())
             },
         );
-        match (failure, written) {
-            (Some(e), _) => Err(e),
-            (None, r) => {
-                r?;
-                let mut header = self.header.clone();
-                for (name, value) in late() {
-                    let key = Text::new_or_panic(&name);
-                    let same = match header.own_attributes.other.get(&key) {
-                        Some(AttributeValue::Text(t)) => t.as_slice().len() == value.len(),
-                        _ => false,
-                    };
-                    let text = Text::new_or_none(&value).filter(|_| same).ok_or_else(|| {
-                        Error::Invalid(format!(
-                            "attribute {name} was not reserved with {} bytes of plain text",
-                            value.len()
-                        ))
-                    })?;
-                    header
-                        .own_attributes
-                        .other
-                        .insert(key, AttributeValue::Text(text));
-                }
-                sort_attributes(&header, &mut out)
-            }
+        produced?;
+        Ok(written.map_err(Error::from)?)
+    }
+
+    /// The header with the `late` values of attributes it reserved (same name, same length).
+    fn header_with(&self, late: Vec<(String, String)>) -> Result<Header> {
+        let mut header = self.header.clone();
+        for (name, value) in late {
+            let key = Text::new_or_panic(&name);
+            let same = match header.own_attributes.other.get(&key) {
+                Some(AttributeValue::Text(t)) => t.as_slice().len() == value.len(),
+                _ => false,
+            };
+            let text = Text::new_or_none(&value).filter(|_| same).ok_or_else(|| {
+                Error::Invalid(format!(
+                    "attribute {name} was not reserved with {} bytes of plain text",
+                    value.len()
+                ))
+            })?;
+            header
+                .own_attributes
+                .other
+                .insert(key, AttributeValue::Text(text));
         }
+        Ok(header)
     }
 }
 
@@ -1146,5 +1165,32 @@ mod tests {
         assert_eq!(err.to_string(), "input went away");
         let bad = f.encode(&f.blocks()[0], &[0.0; 3], None).unwrap_err();
         assert!(bad.to_string().contains("needs"), "{bad}");
+    }
+
+    /// A caller's own error, as `write_then` hands it back.
+    #[derive(Debug)]
+    enum Caller {
+        Stopped,
+        Writer(Error),
+    }
+
+    impl From<Error> for Caller {
+        fn from(e: Error) -> Caller {
+            Caller::Writer(e)
+        }
+    }
+
+    #[test]
+    fn a_producers_own_error_comes_back_unchanged_and_the_writers_become_it() {
+        let f = SpectralFile::new(spec(Blocks::Scanlines, false)).unwrap();
+        let mut buf = std::io::Cursor::new(Vec::new());
+        let stopped = f.write_then(&mut buf, |_| Err(Caller::Stopped), Vec::new);
+        assert!(matches!(stopped, Err(Caller::Stopped)), "{stopped:?}");
+        // A chunk the file has no place for: the sink's error, through `From`.
+        let b = &f.blocks()[0];
+        let chunk = f.encode(b, &vec![0.0; b.width * b.height * 3], None).unwrap();
+        let mut buf = std::io::Cursor::new(Vec::new());
+        let sunk = f.write_then(&mut buf, |sink| Ok(sink(usize::MAX, chunk)?), Vec::new);
+        assert!(matches!(sunk, Err(Caller::Writer(Error::Exr(_)))), "{sunk:?}");
     }
 }
