@@ -430,68 +430,19 @@ impl SpectralFile {
     /// of zero size, windows beyond OpenEXR's 32-bit coordinates and attribute names that are not
     /// plain text.
     pub fn new(spec: Spec) -> Result<SpectralFile> {
-        if spec.width == 0 || spec.height == 0 {
-            return Err(Error::Invalid(format!(
-                "an image of {}×{} pixels has nothing to write",
-                spec.width, spec.height
-            )));
-        }
-        if spec.wavelengths.is_empty() {
-            return Err(Error::Invalid(
-                "a spectral image needs at least one band".into(),
-            ));
-        }
+        check_not_empty(&spec)?;
+        let named = named_channels(&spec)?;
         let sample_type = match spec.sample {
             Sample::Half => SampleType::F16,
             Sample::Float => SampleType::F32,
         };
-        let mut named: Vec<(String, usize)> = spec
-            .wavelengths
-            .iter()
-            .enumerate()
-            .map(|(i, &w)| (channel_name(&spec.kind, w), i))
-            .collect();
-        if spec.alpha {
-            named.push(("A".into(), spec.wavelengths.len()));
-        }
-        named.sort();
-        if named.windows(2).any(|w| w[0].0 == w[1].0) {
-            return Err(Error::Invalid(
-                "two bands have the same wavelength to six decimals".into(),
-            ));
-        }
         let channels = named
             .iter()
             .map(|(name, _)| {
                 ChannelDescription::new(Text::new_or_panic(name), sample_type, name == "A")
             })
             .collect();
-        let blocks = match spec.blocks {
-            Blocks::Scanlines => {
-                let lines = spec.compression.scan_lines_per_block();
-                check_block(spec.width, lines, named.len(), spec.sample)?;
-                BlockDescription::ScanLines
-            }
-            Blocks::Tiles {
-                width,
-                height,
-                mip_levels,
-            } => {
-                if width == 0 || height == 0 {
-                    return Err(Error::Invalid("tiles must be at least 1×1".into()));
-                }
-                check_block(width, height, named.len(), spec.sample)?;
-                BlockDescription::Tiles(TileDescription {
-                    tile_size: Vec2(width, height),
-                    level_mode: if mip_levels {
-                        LevelMode::MipMap
-                    } else {
-                        LevelMode::Singular
-                    },
-                    rounding_mode: RoundingMode::Down,
-                })
-            }
-        };
+        let blocks = block_description(&spec, named.len())?;
         let mut header = Header::new(
             Text::new_or_panic("spectral"),
             Vec2(spec.width, spec.height),
@@ -500,68 +451,9 @@ impl SpectralFile {
         .with_encoding(spec.compression, blocks, LineOrder::Increasing);
         header.own_attributes.layer_name = None;
         if let Some(w) = spec.windows {
-            let (x, y, width, height) = w.display;
-            let bounds = |x: i32, y: i32, width: usize, height: usize| {
-                let fits = |origin: i32, size: usize| {
-                    size > 0 && i64::from(origin) + size as i64 - 1 <= i64::from(i32::MAX)
-                };
-                (fits(x, width) && fits(y, height))
-                    .then(|| IntegerBounds::new(Vec2(x, y), Vec2(width, height)))
-            };
-            let (Some(data), Some(display)) = (
-                bounds(w.data_origin.0, w.data_origin.1, spec.width, spec.height),
-                bounds(x, y, width, height),
-            ) else {
-                return Err(Error::Invalid(format!(
-                    "the data window at {:?} of {}×{} or the display window {:?} does not fit OpenEXR's 32-bit coordinates",
-                    w.data_origin, spec.width, spec.height, w.display
-                )));
-            };
-            header.own_attributes.layer_position = data.position;
-            header.shared_attributes.display_window = display;
+            set_windows(&mut header, &spec, w)?;
         }
-        let mut text = |name: &str, value: &str| {
-            // EXR text is Latin-1; anything else is replaced rather than refused.
-            let value: String = value
-                .chars()
-                .map(|c| if (c as u32) < 256 { c } else { '?' })
-                .collect();
-            header.own_attributes.other.insert(
-                Text::new_or_panic(name),
-                AttributeValue::Text(Text::new_or_panic(value)),
-            );
-        };
-        text("spectralLayoutVersion", "1.0");
-        if let Kind::Emissive { units } = &spec.kind {
-            text("emissiveUnits", units);
-        }
-        for (k, v) in &spec.attributes {
-            if Text::new_or_none(k).is_none() || k.is_empty() {
-                return Err(Error::Invalid(format!(
-                    "attribute name '{k}' is not plain text"
-                )));
-            }
-            text(k, v);
-        }
-        // The exr crate keeps `wrapmodes` (a texture's, OpenImageIO's name) in a field of its own.
-        if let Some(AttributeValue::Text(wrap)) = header
-            .own_attributes
-            .other
-            .remove(&Text::new_or_panic("wrapmodes"))
-        {
-            header.own_attributes.wrap_mode_name = Some(wrap);
-        }
-        for (k, v) in &spec.float_attributes {
-            let Some(name) = Text::new_or_none(k).filter(|_| !k.is_empty()) else {
-                return Err(Error::Invalid(format!(
-                    "attribute name '{k}' is not plain text"
-                )));
-            };
-            header
-                .own_attributes
-                .other
-                .insert(name, AttributeValue::F32(*v));
-        }
+        set_attributes(&mut header, &spec)?;
         let source = named.into_iter().map(|(_, i)| i).collect();
         Ok(SpectralFile {
             spec,
@@ -810,7 +702,9 @@ impl SpectralFile {
     ) -> std::result::Result<(), E>
     where
         W: Write + Seek + Send,
-        F: FnOnce(&mut (dyn FnMut(usize, Chunk) -> Result<()> + Send)) -> std::result::Result<(), E>,
+        F: FnOnce(
+            &mut (dyn FnMut(usize, Chunk) -> Result<()> + Send),
+        ) -> std::result::Result<(), E>,
         E: From<Error>,
     {
         self.write_chunks(&mut out, produce)?;
@@ -823,7 +717,9 @@ impl SpectralFile {
     fn write_chunks<W, F, E>(&self, out: &mut W, produce: F) -> std::result::Result<(), E>
     where
         W: Write + Seek + Send,
-        F: FnOnce(&mut (dyn FnMut(usize, Chunk) -> Result<()> + Send)) -> std::result::Result<(), E>,
+        F: FnOnce(
+            &mut (dyn FnMut(usize, Chunk) -> Result<()> + Send),
+        ) -> std::result::Result<(), E>,
         E: From<Error>,
     {
         use exr::block::writer::ChunksWriter;
@@ -871,6 +767,146 @@ impl SpectralFile {
         }
         Ok(header)
     }
+}
+
+/// Refuses an image without pixels or without bands.
+fn check_not_empty(spec: &Spec) -> Result<()> {
+    if spec.width == 0 || spec.height == 0 {
+        return Err(Error::Invalid(format!(
+            "an image of {}×{} pixels has nothing to write",
+            spec.width, spec.height
+        )));
+    }
+    if spec.wavelengths.is_empty() {
+        return Err(Error::Invalid(
+            "a spectral image needs at least one band".into(),
+        ));
+    }
+    Ok(())
+}
+
+/// The channels' names, sorted as OpenEXR stores them, each with where its value sits among a
+/// pixel's inputs (band index, or `bands` for alpha); refuses two bands of one name.
+fn named_channels(spec: &Spec) -> Result<Vec<(String, usize)>> {
+    let mut named: Vec<(String, usize)> = spec
+        .wavelengths
+        .iter()
+        .enumerate()
+        .map(|(i, &w)| (channel_name(&spec.kind, w), i))
+        .collect();
+    if spec.alpha {
+        named.push(("A".into(), spec.wavelengths.len()));
+    }
+    named.sort();
+    if named.windows(2).any(|w| w[0].0 == w[1].0) {
+        return Err(Error::Invalid(
+            "two bands have the same wavelength to six decimals".into(),
+        ));
+    }
+    Ok(named)
+}
+
+/// Scanlines or tiles (a MIP map or one level) of `channels` channels; refuses tiles of zero
+/// size and blocks over [`MAX_BLOCK_BYTES`].
+fn block_description(spec: &Spec, channels: usize) -> Result<BlockDescription> {
+    match spec.blocks {
+        Blocks::Scanlines => {
+            let lines = spec.compression.scan_lines_per_block();
+            check_block(spec.width, lines, channels, spec.sample)?;
+            Ok(BlockDescription::ScanLines)
+        }
+        Blocks::Tiles {
+            width,
+            height,
+            mip_levels,
+        } => {
+            if width == 0 || height == 0 {
+                return Err(Error::Invalid("tiles must be at least 1×1".into()));
+            }
+            check_block(width, height, channels, spec.sample)?;
+            Ok(BlockDescription::Tiles(TileDescription {
+                tile_size: Vec2(width, height),
+                level_mode: if mip_levels {
+                    LevelMode::MipMap
+                } else {
+                    LevelMode::Singular
+                },
+                rounding_mode: RoundingMode::Down,
+            }))
+        }
+    }
+}
+
+/// Gives `header` the data window's origin and the display window of `w`; refuses windows
+/// beyond OpenEXR's 32-bit coordinates.
+fn set_windows(header: &mut Header, spec: &Spec, w: Windows) -> Result<()> {
+    let (x, y, width, height) = w.display;
+    let bounds = |x: i32, y: i32, width: usize, height: usize| {
+        let fits = |origin: i32, size: usize| {
+            size > 0 && i64::from(origin) + size as i64 - 1 <= i64::from(i32::MAX)
+        };
+        (fits(x, width) && fits(y, height))
+            .then(|| IntegerBounds::new(Vec2(x, y), Vec2(width, height)))
+    };
+    let (Some(data), Some(display)) = (
+        bounds(w.data_origin.0, w.data_origin.1, spec.width, spec.height),
+        bounds(x, y, width, height),
+    ) else {
+        return Err(Error::Invalid(format!(
+            "the data window at {:?} of {}×{} or the display window {:?} does not fit OpenEXR's 32-bit coordinates",
+            w.data_origin, spec.width, spec.height, w.display
+        )));
+    };
+    header.own_attributes.layer_position = data.position;
+    header.shared_attributes.display_window = display;
+    Ok(())
+}
+
+/// Gives `header` the layout's attributes and `spec`'s own, text (Latin-1; anything else is
+/// replaced rather than refused) and float; refuses attribute names that are not plain text.
+fn set_attributes(header: &mut Header, spec: &Spec) -> Result<()> {
+    let mut text = |name: &str, value: &str| {
+        let value: String = value
+            .chars()
+            .map(|c| if (c as u32) < 256 { c } else { '?' })
+            .collect();
+        header.own_attributes.other.insert(
+            Text::new_or_panic(name),
+            AttributeValue::Text(Text::new_or_panic(value)),
+        );
+    };
+    text("spectralLayoutVersion", "1.0");
+    if let Kind::Emissive { units } = &spec.kind {
+        text("emissiveUnits", units);
+    }
+    for (k, v) in &spec.attributes {
+        if Text::new_or_none(k).is_none() || k.is_empty() {
+            return Err(Error::Invalid(format!(
+                "attribute name '{k}' is not plain text"
+            )));
+        }
+        text(k, v);
+    }
+    // The exr crate keeps `wrapmodes` (a texture's, OpenImageIO's name) in a field of its own.
+    if let Some(AttributeValue::Text(wrap)) = header
+        .own_attributes
+        .other
+        .remove(&Text::new_or_panic("wrapmodes"))
+    {
+        header.own_attributes.wrap_mode_name = Some(wrap);
+    }
+    for (k, v) in &spec.float_attributes {
+        let Some(name) = Text::new_or_none(k).filter(|_| !k.is_empty()) else {
+            return Err(Error::Invalid(format!(
+                "attribute name '{k}' is not plain text"
+            )));
+        };
+        header
+            .own_attributes
+            .other
+            .insert(name, AttributeValue::F32(*v));
+    }
+    Ok(())
 }
 
 /// Writes `header`'s attributes again over the header written, in name order: the `exr` crate
@@ -1188,9 +1224,14 @@ mod tests {
         assert!(matches!(stopped, Err(Caller::Stopped)), "{stopped:?}");
         // A chunk the file has no place for: the sink's error, through `From`.
         let b = &f.blocks()[0];
-        let chunk = f.encode(b, &vec![0.0; b.width * b.height * 3], None).unwrap();
+        let chunk = f
+            .encode(b, &vec![0.0; b.width * b.height * 3], None)
+            .unwrap();
         let mut buf = std::io::Cursor::new(Vec::new());
         let sunk = f.write_then(&mut buf, |sink| Ok(sink(usize::MAX, chunk)?), Vec::new);
-        assert!(matches!(sunk, Err(Caller::Writer(Error::Exr(_)))), "{sunk:?}");
+        assert!(
+            matches!(sunk, Err(Caller::Writer(Error::Exr(_)))),
+            "{sunk:?}"
+        );
     }
 }

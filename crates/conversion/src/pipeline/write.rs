@@ -7,8 +7,8 @@
 //! ([`SpectralFile::write_then`]), so a cancellation is [`Error::Cancelled`] where it is seen.
 
 use super::{
-    average_attributes, encode_block, encode_made_block, mip, replace_of, Counts, Error, Job,
-    Made, Reading, Result, Strip,
+    average_attributes, encode_block, encode_made_block, mip, replace_of, Counts, Error, Job, Made,
+    Reading, Result, Strip,
 };
 use rayon::prelude::*;
 use specconv_atomic_file::{Pending, PlanError};
@@ -494,4 +494,3 @@ fn strips(file: &SpectralFile) -> Vec<Strip> {
     }
     out
 }
-
