@@ -658,17 +658,17 @@ impl<'a> SplitSearch<'a> {
 
     /// The floor of every split on axis `ax`, in O(n) each ([`ErrorFloor`]).
     fn floors_on(&self, ax: usize) -> Vec<f64> {
-        let len = self.orders[ax].len();
+        let order = &self.orders[ax];
         let mut below = ErrorFloor::zero(&self.origin, self.a);
         let mut far = self.whole.clone();
-        let mut floors = vec![f64::INFINITY; len];
-        for k in 1..len {
-            let i = self.orders[ax][k - 1];
+        let mut floors = vec![f64::INFINITY; order.len()];
+        for (k, floor) in floors.iter_mut().enumerate().skip(1) {
+            let i = order[k - 1];
             let s = self.spectrum(i);
             below.add_weighted(s, self.a.xyz(s), self.weight(i));
             if self.splits_at(ax, k) {
                 self.whole.minus_into(&below, &mut far);
-                floors[k] = below.floor() + far.floor();
+                *floor = below.floor() + far.floor();
             }
         }
         floors
