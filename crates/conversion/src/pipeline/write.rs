@@ -81,7 +81,8 @@ pub(super) fn write_file(
         |sink| production.run(&mut ordered, sink, progress),
         late,
     );
-    // Wherever the flag was seen, nothing is published once it is set.
+    // Once the flag is set nothing is published, and the caller hears that it was cancelled,
+    // whatever else failed meanwhile (a read, the writer's I/O).
     if job.cancel.load(Ordering::Relaxed) {
         return Err(Error::Cancelled);
     }
