@@ -128,10 +128,6 @@ pub fn write_spectral(
     attributes: Option<std::collections::BTreeMap<String, String>>,
     overwrite: bool,
 ) -> PyResult<()> {
-    let as_f32 = |v: Values| match v {
-        Values::F32(lead, v) => (lead, v),
-        Values::F64(lead, v) => (lead, v.into_iter().map(|x| x as f32).collect()),
-    };
     let wavelengths: Vec<f64> = match crate::arrays::values(wavelengths, None, "wavelengths")? {
         Values::F32(_, v) => v.into_iter().map(f64::from).collect(),
         Values::F64(_, v) => v,
@@ -144,18 +140,7 @@ pub fn write_spectral(
             lead.len() + 1
         )));
     };
-    let alpha = match alpha {
-        None => None,
-        Some(a) => {
-            let (shape, a) = as_f32(crate::arrays::values(a, Some(width), "alpha")?);
-            if shape != [height] {
-                return Err(Kind::Option.err(format!(
-                    "alpha must have shape ({height}, {width}), like values"
-                )));
-            }
-            Some(a)
-        }
-    };
+    let alpha = alpha.map(|a| alpha_of(a, (height, width))).transpose()?;
     let sample: specconv_exr::Sample = crate::convert::pick("sample", sample)?;
     let compression: specconv_conversion::Compression =
         crate::convert::pick("compression", compression)?;
@@ -183,36 +168,67 @@ pub fn write_spectral(
         attributes: attributes.unwrap_or_default().into_iter().collect(),
         float_attributes: Vec::new(),
     };
-    let written = py.detach(|| -> PyResult<()> {
+    py.detach(|| -> PyResult<()> {
         let file = SpectralFile::new(spec).map_err(|e| Kind::Option.err(e.to_string()))?;
-        let mut bytes = std::io::Cursor::new(Vec::new());
-        file.write(&mut bytes, |sink| {
-            for b in file.blocks() {
-                let mut block = Vec::with_capacity(b.width * b.height * n);
-                let mut a = alpha.as_ref().map(|_| Vec::new());
-                for y in b.y..b.y + b.height {
-                    let row = (y * width + b.x)..(y * width + b.x + b.width);
-                    block.extend_from_slice(&bands[row.start * n..row.end * n]);
-                    if let (Some(a), Some(all)) = (a.as_mut(), &alpha) {
-                        a.extend_from_slice(&all[row]);
-                    }
+        let bytes = encoded(&file, &bands, alpha.as_deref())?;
+        publish(&path, &bytes, overwrite)
+    })
+}
+
+/// Values as float32, and the shape before their last axis.
+fn as_f32(v: Values) -> (Vec<usize>, Vec<f32>) {
+    match v {
+        Values::F32(lead, v) => (lead, v),
+        Values::F64(lead, v) => (lead, v.into_iter().map(|x| x as f32).collect()),
+    }
+}
+
+/// An alpha array of shape (height, width), as float32.
+fn alpha_of(alpha: &Bound<'_, PyAny>, (height, width): (usize, usize)) -> PyResult<Vec<f32>> {
+    let (shape, a) = as_f32(crate::arrays::values(alpha, Some(width), "alpha")?);
+    if shape != [height] {
+        return Err(Kind::Option.err(format!(
+            "alpha must have shape ({height}, {width}), like values"
+        )));
+    }
+    Ok(a)
+}
+
+/// The bytes of `file` made of `bands` (bands a pixel, rows of the file's width) and `alpha`.
+fn encoded(file: &SpectralFile, bands: &[f32], alpha: Option<&[f32]>) -> PyResult<Vec<u8>> {
+    let (width, n) = (file.spec().width, file.spec().wavelengths.len());
+    let mut bytes = std::io::Cursor::new(Vec::new());
+    file.write(&mut bytes, |sink| {
+        for b in file.blocks() {
+            let mut block = Vec::with_capacity(b.width * b.height * n);
+            let mut a = alpha.map(|_| Vec::new());
+            for y in b.y..b.y + b.height {
+                let row = (y * width + b.x)..(y * width + b.x + b.width);
+                block.extend_from_slice(&bands[row.start * n..row.end * n]);
+                if let (Some(a), Some(all)) = (a.as_mut(), alpha) {
+                    a.extend_from_slice(&all[row]);
                 }
-                sink(b.chunk, file.encode(&b, &block, a.as_deref())?)?;
             }
-            Ok(())
-        })
-        .map_err(|e| Kind::Input.err(e.to_string()))?;
-        let replace = specconv_atomic_file::Replace::when(overwrite);
-        specconv_atomic_file::write_checked(&path, bytes.get_ref(), &[], replace).map_err(|e| {
-            use specconv_atomic_file::{PlanError, WriteError};
-            let kind = match e {
-                WriteError::Plan(PlanError::Exists { .. }) => Kind::Exists,
-                _ => Kind::File,
-            };
-            kind.err(specconv_conversion::message(&e))
-        })
-    });
-    written
+            sink(b.chunk, file.encode(&b, &block, a.as_deref())?)?;
+        }
+        Ok(())
+    })
+    .map_err(|e| Kind::Input.err(e.to_string()))?;
+    Ok(bytes.into_inner())
+}
+
+/// Writes `bytes` beside `path` and renames them into place; an existing `path` only with
+/// `overwrite`.
+fn publish(path: &std::path::Path, bytes: &[u8], overwrite: bool) -> PyResult<()> {
+    let replace = specconv_atomic_file::Replace::when(overwrite);
+    specconv_atomic_file::write_checked(path, bytes, &[], replace).map_err(|e| {
+        use specconv_atomic_file::{PlanError, WriteError};
+        let kind = match e {
+            WriteError::Plan(PlanError::Exists { .. }) => Kind::Exists,
+            _ => Kind::File,
+        };
+        kind.err(specconv_conversion::message(&e))
+    })
 }
 
 /// The values of a (height, width, bands) array.

@@ -96,14 +96,9 @@ impl ToRgb {
             }
             Ok(())
         };
-        let replace = Replace::when(self.options.overwrite);
         specconv_atomic_file::readable_file(input)?;
-        specconv_atomic_file::check_plan(&[input], &[output], replace)?;
-        let read_error = |source| Error::Read {
-            path: input.to_path_buf(),
-            source,
-        };
-        let mut reader = BlockReader::open(input).map_err(read_error)?;
+        specconv_atomic_file::check_plan(&[input], &[output], self.replace())?;
+        let mut reader = BlockReader::open(input).map_err(read_error(input))?;
         let h = reader.header().clone();
         let recorded =
             Provenance::from_attributes(&h.attributes).map_err(|source| Error::BadProvenance {
@@ -112,7 +107,48 @@ impl ToRgb {
             })?;
         let observer = recorded.observer_or_default();
         let emissive = matches!(h.kind, Kind::Emissive { .. });
-        let light = match (self.options.illuminant, emissive) {
+        let light = self.light(input, &h, &recorded)?;
+        let (integration, lit) = integration(&light, &h, observer)?;
+        let (xyz_space, colorspace) = self.spaces()?;
+        let processor = self.config.processor(&xyz_space, &colorspace)?;
+        let declared = declaration(&self.config, &colorspace, &xyz_space)?;
+        let (mut rgb, alpha) = integrate(
+            (&mut reader, &h, input),
+            (&integration, lit.as_deref()),
+            &cancelled,
+        )?;
+        processor.apply_rgb(&mut rgb)?;
+        let image = ((h.width, h.height), rgb.as_slice(), alpha.as_deref());
+        self.write(output, image, &declared, &cancelled)?;
+        let layout = &h.layout;
+        Ok(RgbReport {
+            width: h.width,
+            height: h.height,
+            wavelengths: h.wavelengths.clone(),
+            light,
+            observer,
+            colorspace,
+            polarised: layout.polarised(),
+            emission_left_out: !emissive && !layout.stokes[0].is_empty(),
+            unused_channels: layout.other.clone(),
+        })
+    }
+
+    fn replace(&self) -> Replace {
+        Replace::when(self.options.overwrite)
+    }
+
+    /// The light the file's values become colour under: emission its own (in the units
+    /// convention recorded), reflectance the illuminant asked for or the one recorded. An
+    /// illuminant asked for emission is refused.
+    fn light(
+        &self,
+        input: &Path,
+        h: &specconv_exr::blocks::Header,
+        recorded: &Provenance,
+    ) -> Result<Light, Error> {
+        let emissive = matches!(h.kind, Kind::Emissive { .. });
+        Ok(match (self.options.illuminant, emissive) {
             (Some(_), true) => {
                 return Err(Error::EmissionIsItsOwnLight {
                     input: input.to_path_buf(),
@@ -126,20 +162,11 @@ impl ToRgb {
             (None, false) => {
                 Light::Illuminant(recorded.illuminant_or_default(), h.reradiation.len())
             }
-        };
-        let integration = match light {
-            Light::Emission(units, _) => units.integration(&h.wavelengths, observer),
-            Light::Illuminant(i, _) => Integration::reflectance(&h.wavelengths, observer, i),
-        }
-        .map_err(Error::Colorimetry)?;
-        // Bispectral: band o reflects T(o)·I(o) and re-radiates T(i→o)·I(i) from each band i.
-        let lit = match light {
-            Light::Illuminant(i, _) if !h.reradiation.is_empty() => Some(
-                specconv_colour::integration::illuminant_at(i, &h.wavelengths)
-                    .map_err(Error::Colorimetry)?,
-            ),
-            _ => None,
-        };
+        })
+    }
+
+    /// The config's XYZ space and the output's colour space (asked for, or `scene_linear`).
+    fn spaces(&self) -> Result<(String, String), Error> {
         let xyz_space = self
             .config
             .role("cie_xyz_d65_interchange")?
@@ -154,21 +181,18 @@ impl ToRgb {
                 purpose: "",
             })?,
         };
-        let processor = self.config.processor(&xyz_space, &colorspace)?;
-        let declared = declaration(&self.config, &colorspace, &xyz_space)?;
+        Ok((xyz_space, colorspace))
+    }
 
-        let mut rgb = vec![0.0f32; h.width * h.height * 3];
-        let mut alpha = h.alpha.then(|| vec![0.0f32; h.width * h.height]);
-        while let Some(block) = reader.next_block() {
-            cancelled()?;
-            let block = block.map_err(read_error)?;
-            let xyz = xyz_of_block(&block, &h.reradiation, &integration, lit.as_deref());
-            place(&mut rgb, h.width, &block, &xyz, 3);
-            if let (Some(to), Some(from)) = (alpha.as_mut(), &block.alpha) {
-                place(to, h.width, &block, from, 1);
-            }
-        }
-        processor.apply_rgb(&mut rgb)?;
+    /// Writes `rgb` (and alpha) of `size` to a temporary beside `output`, declared as
+    /// `declared`, and publishes it unless cancelled by then.
+    fn write(
+        &self,
+        output: &Path,
+        (size, rgb, alpha): ((usize, usize), &[f32], Option<&[f32]>),
+        declared: &specconv_exr::rgb::Declaration,
+        cancelled: &dyn Fn() -> Result<(), Error>,
+    ) -> Result<(), Error> {
         let write_error = |source| Error::Write {
             path: output.to_path_buf(),
             source,
@@ -177,37 +201,77 @@ impl ToRgb {
         let pending = specconv_atomic_file::Pending::beside(output).map_err(io_error)?;
         specconv_exr::rgb::write_rgb_declared(
             std::io::BufWriter::new(pending.file()),
-            (h.width, h.height),
-            &rgb,
-            alpha.as_deref(),
-            &declared,
+            size,
+            rgb,
+            alpha,
+            declared,
         )
         .map_err(write_error)?;
         // The last moment to stop: dropped, the temporary goes.
         cancelled()?;
-        pending.publish(replace).map_err(|e| match e.kind() {
+        pending.publish(self.replace()).map_err(|e| match e.kind() {
             std::io::ErrorKind::AlreadyExists => Error::Plan(PlanError::Exists {
                 output: output.to_path_buf(),
                 more: 0,
             }),
             _ => io_error(e),
-        })?;
-        let layout = &h.layout;
-        Ok(RgbReport {
-            width: h.width,
-            height: h.height,
-            wavelengths: h.wavelengths.clone(),
-            light,
-            observer,
-            colorspace,
-            polarised: layout.polarised(),
-            emission_left_out: !emissive && !layout.stokes[0].is_empty(),
-            unused_channels: layout.other.clone(),
         })
     }
 }
 
-/// Copies a block's values (`per` a pixel) into the image's row-major buffer.
+/// [`Error::Read`] of `input`.
+fn read_error(input: &Path) -> impl Fn(specconv_exr::Error) -> Error + '_ {
+    |source| Error::Read {
+        path: input.to_path_buf(),
+        source,
+    }
+}
+
+/// How the file's values become XYZ under `light`; and, for a bispectral file under an
+/// illuminant, the light per band that its re-radiation is lit by.
+fn integration(
+    light: &Light,
+    h: &specconv_exr::blocks::Header,
+    observer: Observer,
+) -> Result<(Integration, Option<Vec<f64>>), Error> {
+    let integration = match light {
+        Light::Emission(units, _) => units.integration(&h.wavelengths, observer),
+        Light::Illuminant(i, _) => Integration::reflectance(&h.wavelengths, observer, *i),
+    }
+    .map_err(Error::Colorimetry)?;
+    // Bispectral: band o reflects T(o)·I(o) and re-radiates T(i→o)·I(i) from each band i.
+    let lit = match light {
+        Light::Illuminant(i, _) if !h.reradiation.is_empty() => Some(
+            specconv_colour::integration::illuminant_at(*i, &h.wavelengths)
+                .map_err(Error::Colorimetry)?,
+        ),
+        _ => None,
+    };
+    Ok((integration, lit))
+}
+
+/// Every block of `reader` (the file `input`, its header `h`) integrated to XYZ: the image's
+/// XYZ, three floats a pixel, and its alpha when it has one. `cancelled` is asked before each
+/// block.
+fn integrate(
+    (reader, h, input): (&mut BlockReader, &specconv_exr::blocks::Header, &Path),
+    (integration, lit): (&Integration, Option<&[f64]>),
+    cancelled: &dyn Fn() -> Result<(), Error>,
+) -> Result<(Vec<f32>, Option<Vec<f32>>), Error> {
+    let mut rgb = vec![0.0f32; h.width * h.height * 3];
+    let mut alpha = h.alpha.then(|| vec![0.0f32; h.width * h.height]);
+    while let Some(block) = reader.next_block() {
+        cancelled()?;
+        let block = block.map_err(read_error(input))?;
+        let xyz = xyz_of_block(&block, &h.reradiation, integration, lit);
+        place(&mut rgb, h.width, &block, &xyz, 3);
+        if let (Some(to), Some(from)) = (alpha.as_mut(), &block.alpha) {
+            place(to, h.width, &block, from, 1);
+        }
+    }
+    Ok((rgb, alpha))
+}
+
 /// D65 as OCIO's CIE-XYZ-D65 has it (x 0.3127, y 0.3290, Y = 1).
 const D65: [f64; 3] = [0.3127 / 0.3290, 1.0, (1.0 - 0.3127 - 0.3290) / 0.3290];
 
@@ -270,6 +334,7 @@ fn declaration(
     Ok(declared)
 }
 
+/// Copies a block's values (`per` a pixel) into the image's row-major buffer.
 fn place(to: &mut [f32], width: usize, b: &Block, from: &[f32], per: usize) {
     for (row, values) in from.chunks_exact(b.width * per).enumerate() {
         let start = ((b.y + row) * width + b.x) * per;

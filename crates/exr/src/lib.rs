@@ -430,68 +430,19 @@ impl SpectralFile {
     /// of zero size, windows beyond OpenEXR's 32-bit coordinates and attribute names that are not
     /// plain text.
     pub fn new(spec: Spec) -> Result<SpectralFile> {
-        if spec.width == 0 || spec.height == 0 {
-            return Err(Error::Invalid(format!(
-                "an image of {}×{} pixels has nothing to write",
-                spec.width, spec.height
-            )));
-        }
-        if spec.wavelengths.is_empty() {
-            return Err(Error::Invalid(
-                "a spectral image needs at least one band".into(),
-            ));
-        }
+        check_not_empty(&spec)?;
+        let named = named_channels(&spec)?;
         let sample_type = match spec.sample {
             Sample::Half => SampleType::F16,
             Sample::Float => SampleType::F32,
         };
-        let mut named: Vec<(String, usize)> = spec
-            .wavelengths
-            .iter()
-            .enumerate()
-            .map(|(i, &w)| (channel_name(&spec.kind, w), i))
-            .collect();
-        if spec.alpha {
-            named.push(("A".into(), spec.wavelengths.len()));
-        }
-        named.sort();
-        if named.windows(2).any(|w| w[0].0 == w[1].0) {
-            return Err(Error::Invalid(
-                "two bands have the same wavelength to six decimals".into(),
-            ));
-        }
         let channels = named
             .iter()
             .map(|(name, _)| {
                 ChannelDescription::new(Text::new_or_panic(name), sample_type, name == "A")
             })
             .collect();
-        let blocks = match spec.blocks {
-            Blocks::Scanlines => {
-                let lines = spec.compression.scan_lines_per_block();
-                check_block(spec.width, lines, named.len(), spec.sample)?;
-                BlockDescription::ScanLines
-            }
-            Blocks::Tiles {
-                width,
-                height,
-                mip_levels,
-            } => {
-                if width == 0 || height == 0 {
-                    return Err(Error::Invalid("tiles must be at least 1×1".into()));
-                }
-                check_block(width, height, named.len(), spec.sample)?;
-                BlockDescription::Tiles(TileDescription {
-                    tile_size: Vec2(width, height),
-                    level_mode: if mip_levels {
-                        LevelMode::MipMap
-                    } else {
-                        LevelMode::Singular
-                    },
-                    rounding_mode: RoundingMode::Down,
-                })
-            }
-        };
+        let blocks = block_description(&spec, named.len())?;
         let mut header = Header::new(
             Text::new_or_panic("spectral"),
             Vec2(spec.width, spec.height),
@@ -500,68 +451,9 @@ impl SpectralFile {
         .with_encoding(spec.compression, blocks, LineOrder::Increasing);
         header.own_attributes.layer_name = None;
         if let Some(w) = spec.windows {
-            let (x, y, width, height) = w.display;
-            let bounds = |x: i32, y: i32, width: usize, height: usize| {
-                let fits = |origin: i32, size: usize| {
-                    size > 0 && i64::from(origin) + size as i64 - 1 <= i64::from(i32::MAX)
-                };
-                (fits(x, width) && fits(y, height))
-                    .then(|| IntegerBounds::new(Vec2(x, y), Vec2(width, height)))
-            };
-            let (Some(data), Some(display)) = (
-                bounds(w.data_origin.0, w.data_origin.1, spec.width, spec.height),
-                bounds(x, y, width, height),
-            ) else {
-                return Err(Error::Invalid(format!(
-                    "the data window at {:?} of {}×{} or the display window {:?} does not fit OpenEXR's 32-bit coordinates",
-                    w.data_origin, spec.width, spec.height, w.display
-                )));
-            };
-            header.own_attributes.layer_position = data.position;
-            header.shared_attributes.display_window = display;
+            set_windows(&mut header, &spec, w)?;
         }
-        let mut text = |name: &str, value: &str| {
-            // EXR text is Latin-1; anything else is replaced rather than refused.
-            let value: String = value
-                .chars()
-                .map(|c| if (c as u32) < 256 { c } else { '?' })
-                .collect();
-            header.own_attributes.other.insert(
-                Text::new_or_panic(name),
-                AttributeValue::Text(Text::new_or_panic(value)),
-            );
-        };
-        text("spectralLayoutVersion", "1.0");
-        if let Kind::Emissive { units } = &spec.kind {
-            text("emissiveUnits", units);
-        }
-        for (k, v) in &spec.attributes {
-            if Text::new_or_none(k).is_none() || k.is_empty() {
-                return Err(Error::Invalid(format!(
-                    "attribute name '{k}' is not plain text"
-                )));
-            }
-            text(k, v);
-        }
-        // The exr crate keeps `wrapmodes` (a texture's, OpenImageIO's name) in a field of its own.
-        if let Some(AttributeValue::Text(wrap)) = header
-            .own_attributes
-            .other
-            .remove(&Text::new_or_panic("wrapmodes"))
-        {
-            header.own_attributes.wrap_mode_name = Some(wrap);
-        }
-        for (k, v) in &spec.float_attributes {
-            let Some(name) = Text::new_or_none(k).filter(|_| !k.is_empty()) else {
-                return Err(Error::Invalid(format!(
-                    "attribute name '{k}' is not plain text"
-                )));
-            };
-            header
-                .own_attributes
-                .other
-                .insert(name, AttributeValue::F32(*v));
-        }
+        set_attributes(&mut header, &spec)?;
         let source = named.into_iter().map(|(_, i)| i).collect();
         Ok(SpectralFile {
             spec,
@@ -798,60 +690,223 @@ impl SpectralFile {
     /// once every chunk is written (what is known only then, such as an average): each must
     /// already be in the header with a value of the same length in bytes, which nothing after
     /// the header moves for.
-    pub fn write_then<W, F>(
+    ///
+    /// `produce` speaks its caller's error type `E`: an error it returns (a cancellation, a
+    /// failed read) aborts the file and comes back unchanged; the writer's own errors, the
+    /// sink's included, become `E` through `From`.
+    pub fn write_then<W, F, E>(
         &self,
         mut out: W,
         produce: F,
         late: impl FnOnce() -> Vec<(String, String)>,
-    ) -> Result<()>
+    ) -> std::result::Result<(), E>
     where
         W: Write + Seek + Send,
-        F: FnOnce(&mut (dyn FnMut(usize, Chunk) -> Result<()> + Send)) -> Result<()>,
+        F: FnOnce(
+            &mut (dyn FnMut(usize, Chunk) -> Result<()> + Send),
+        ) -> std::result::Result<(), E>,
+        E: From<Error>,
+    {
+        self.write_chunks(&mut out, produce)?;
+        let header = self.header_with(late())?;
+        Ok(sort_attributes(&header, &mut out)?)
+    }
+
+    /// Writes the header and the chunks `produce` hands to its sink, then the offset table;
+    /// an error of `produce` aborts the file and is returned as it is.
+    fn write_chunks<W, F, E>(&self, out: &mut W, produce: F) -> std::result::Result<(), E>
+    where
+        W: Write + Seek + Send,
+        F: FnOnce(
+            &mut (dyn FnMut(usize, Chunk) -> Result<()> + Send),
+        ) -> std::result::Result<(), E>,
+        E: From<Error>,
     {
         use exr::block::writer::ChunksWriter;
-        let mut failure = None;
+        // The exr crate's callback may return only its own error, which carries nothing: the
+        // producer's result is kept as it is and the exr crate is told to abort.
+        let mut produced = Ok(());
         let written = exr::block::write(
-            &mut out,
+            out,
             smallvec::smallvec![self.header.clone()],
             true,
             |_meta, writer| {
                 let mut sink = |index: usize, chunk: Chunk| -> Result<()> {
                     Ok(writer.write_chunk(index, chunk)?)
                 };
-                if let Err(e) = produce(&mut sink) {
-                    failure = Some(e);
-                    // Abort the file: the caller discards it.
-                    return Err(exr::error::Error::Aborted);
+                produced = produce(&mut sink);
+                match produced {
+                    Ok(()) => Ok(()),
+                    Err(_) => Err(exr::error::Error::Aborted),
                 }
-                Ok(())
             },
         );
-        match (failure, written) {
-            (Some(e), _) => Err(e),
-            (None, r) => {
-                r?;
-                let mut header = self.header.clone();
-                for (name, value) in late() {
-                    let key = Text::new_or_panic(&name);
-                    let same = match header.own_attributes.other.get(&key) {
-                        Some(AttributeValue::Text(t)) => t.as_slice().len() == value.len(),
-                        _ => false,
-                    };
-                    let text = Text::new_or_none(&value).filter(|_| same).ok_or_else(|| {
-                        Error::Invalid(format!(
-                            "attribute {name} was not reserved with {} bytes of plain text",
-                            value.len()
-                        ))
-                    })?;
-                    header
-                        .own_attributes
-                        .other
-                        .insert(key, AttributeValue::Text(text));
-                }
-                sort_attributes(&header, &mut out)
+        produced?;
+        Ok(written.map_err(Error::from)?)
+    }
+
+    /// The header with the `late` values of attributes it reserved (same name, same length).
+    fn header_with(&self, late: Vec<(String, String)>) -> Result<Header> {
+        let mut header = self.header.clone();
+        for (name, value) in late {
+            let key = Text::new_or_panic(&name);
+            let same = match header.own_attributes.other.get(&key) {
+                Some(AttributeValue::Text(t)) => t.as_slice().len() == value.len(),
+                _ => false,
+            };
+            let text = Text::new_or_none(&value).filter(|_| same).ok_or_else(|| {
+                Error::Invalid(format!(
+                    "attribute {name} was not reserved with {} bytes of plain text",
+                    value.len()
+                ))
+            })?;
+            header
+                .own_attributes
+                .other
+                .insert(key, AttributeValue::Text(text));
+        }
+        Ok(header)
+    }
+}
+
+/// Refuses an image without pixels or without bands.
+fn check_not_empty(spec: &Spec) -> Result<()> {
+    if spec.width == 0 || spec.height == 0 {
+        return Err(Error::Invalid(format!(
+            "an image of {}×{} pixels has nothing to write",
+            spec.width, spec.height
+        )));
+    }
+    if spec.wavelengths.is_empty() {
+        return Err(Error::Invalid(
+            "a spectral image needs at least one band".into(),
+        ));
+    }
+    Ok(())
+}
+
+/// The channels' names, sorted as OpenEXR stores them, each with where its value sits among a
+/// pixel's inputs (band index, or `bands` for alpha); refuses two bands of one name.
+fn named_channels(spec: &Spec) -> Result<Vec<(String, usize)>> {
+    let mut named: Vec<(String, usize)> = spec
+        .wavelengths
+        .iter()
+        .enumerate()
+        .map(|(i, &w)| (channel_name(&spec.kind, w), i))
+        .collect();
+    if spec.alpha {
+        named.push(("A".into(), spec.wavelengths.len()));
+    }
+    named.sort();
+    if named.windows(2).any(|w| w[0].0 == w[1].0) {
+        return Err(Error::Invalid(
+            "two bands have the same wavelength to six decimals".into(),
+        ));
+    }
+    Ok(named)
+}
+
+/// Scanlines or tiles (a MIP map or one level) of `channels` channels; refuses tiles of zero
+/// size and blocks over [`MAX_BLOCK_BYTES`].
+fn block_description(spec: &Spec, channels: usize) -> Result<BlockDescription> {
+    match spec.blocks {
+        Blocks::Scanlines => {
+            let lines = spec.compression.scan_lines_per_block();
+            check_block(spec.width, lines, channels, spec.sample)?;
+            Ok(BlockDescription::ScanLines)
+        }
+        Blocks::Tiles {
+            width,
+            height,
+            mip_levels,
+        } => {
+            if width == 0 || height == 0 {
+                return Err(Error::Invalid("tiles must be at least 1×1".into()));
             }
+            check_block(width, height, channels, spec.sample)?;
+            Ok(BlockDescription::Tiles(TileDescription {
+                tile_size: Vec2(width, height),
+                level_mode: if mip_levels {
+                    LevelMode::MipMap
+                } else {
+                    LevelMode::Singular
+                },
+                rounding_mode: RoundingMode::Down,
+            }))
         }
     }
+}
+
+/// Gives `header` the data window's origin and the display window of `w`; refuses windows
+/// beyond OpenEXR's 32-bit coordinates.
+fn set_windows(header: &mut Header, spec: &Spec, w: Windows) -> Result<()> {
+    let (x, y, width, height) = w.display;
+    let bounds = |x: i32, y: i32, width: usize, height: usize| {
+        let fits = |origin: i32, size: usize| {
+            size > 0 && i64::from(origin) + size as i64 - 1 <= i64::from(i32::MAX)
+        };
+        (fits(x, width) && fits(y, height))
+            .then(|| IntegerBounds::new(Vec2(x, y), Vec2(width, height)))
+    };
+    let (Some(data), Some(display)) = (
+        bounds(w.data_origin.0, w.data_origin.1, spec.width, spec.height),
+        bounds(x, y, width, height),
+    ) else {
+        return Err(Error::Invalid(format!(
+            "the data window at {:?} of {}×{} or the display window {:?} does not fit OpenEXR's 32-bit coordinates",
+            w.data_origin, spec.width, spec.height, w.display
+        )));
+    };
+    header.own_attributes.layer_position = data.position;
+    header.shared_attributes.display_window = display;
+    Ok(())
+}
+
+/// Gives `header` the layout's attributes and `spec`'s own, text (Latin-1; anything else is
+/// replaced rather than refused) and float; refuses attribute names that are not plain text.
+fn set_attributes(header: &mut Header, spec: &Spec) -> Result<()> {
+    let mut text = |name: &str, value: &str| {
+        let value: String = value
+            .chars()
+            .map(|c| if (c as u32) < 256 { c } else { '?' })
+            .collect();
+        header.own_attributes.other.insert(
+            Text::new_or_panic(name),
+            AttributeValue::Text(Text::new_or_panic(value)),
+        );
+    };
+    text("spectralLayoutVersion", "1.0");
+    if let Kind::Emissive { units } = &spec.kind {
+        text("emissiveUnits", units);
+    }
+    for (k, v) in &spec.attributes {
+        if Text::new_or_none(k).is_none() || k.is_empty() {
+            return Err(Error::Invalid(format!(
+                "attribute name '{k}' is not plain text"
+            )));
+        }
+        text(k, v);
+    }
+    // The exr crate keeps `wrapmodes` (a texture's, OpenImageIO's name) in a field of its own.
+    if let Some(AttributeValue::Text(wrap)) = header
+        .own_attributes
+        .other
+        .remove(&Text::new_or_panic("wrapmodes"))
+    {
+        header.own_attributes.wrap_mode_name = Some(wrap);
+    }
+    for (k, v) in &spec.float_attributes {
+        let Some(name) = Text::new_or_none(k).filter(|_| !k.is_empty()) else {
+            return Err(Error::Invalid(format!(
+                "attribute name '{k}' is not plain text"
+            )));
+        };
+        header
+            .own_attributes
+            .other
+            .insert(name, AttributeValue::F32(*v));
+    }
+    Ok(())
 }
 
 /// Writes `header`'s attributes again over the header written, in name order: the `exr` crate
@@ -1146,5 +1201,37 @@ mod tests {
         assert_eq!(err.to_string(), "input went away");
         let bad = f.encode(&f.blocks()[0], &[0.0; 3], None).unwrap_err();
         assert!(bad.to_string().contains("needs"), "{bad}");
+    }
+
+    /// A caller's own error, as `write_then` hands it back.
+    #[derive(Debug)]
+    enum Caller {
+        Stopped,
+        Writer(Error),
+    }
+
+    impl From<Error> for Caller {
+        fn from(e: Error) -> Caller {
+            Caller::Writer(e)
+        }
+    }
+
+    #[test]
+    fn a_producers_own_error_comes_back_unchanged_and_the_writers_become_it() {
+        let f = SpectralFile::new(spec(Blocks::Scanlines, false)).unwrap();
+        let mut buf = std::io::Cursor::new(Vec::new());
+        let stopped = f.write_then(&mut buf, |_| Err(Caller::Stopped), Vec::new);
+        assert!(matches!(stopped, Err(Caller::Stopped)), "{stopped:?}");
+        // A chunk the file has no place for: the sink's error, through `From`.
+        let b = &f.blocks()[0];
+        let chunk = f
+            .encode(b, &vec![0.0; b.width * b.height * 3], None)
+            .unwrap();
+        let mut buf = std::io::Cursor::new(Vec::new());
+        let sunk = f.write_then(&mut buf, |sink| Ok(sink(usize::MAX, chunk)?), Vec::new);
+        assert!(
+            matches!(sunk, Err(Caller::Writer(Error::Exr(_)))),
+            "{sunk:?}"
+        );
     }
 }

@@ -69,6 +69,29 @@ impl Shim {
         );
         println!("cargo:rerun-if-changed={header}");
         println!("cargo:rerun-if-changed={source}");
+        let lib = self.probe();
+        println!("cargo:version={}", lib.version);
+        let mut build = cc::Build::new();
+        build
+            .cpp(true)
+            .std("c++17")
+            .file(&source)
+            .include("shim")
+            .warnings(true);
+        for dir in &lib.include_paths {
+            build.include(dir);
+        }
+        for (name, value) in &lib.defines {
+            build.define(name, value.as_deref());
+        }
+        match self.linking {
+            Linking::Static => build.compile(&format!("specconv_{}_shim", self.name)),
+            Linking::Dynamic => self.build_shared(build, &lib, (&header, &source)),
+        }
+    }
+
+    /// The library through pkg-config; exits with what to install when it is missing.
+    fn probe(&self) -> pkg_config::Library {
         let dynamic = self.linking == Linking::Dynamic;
         if dynamic {
             // What pkg-config's own metadata, turned off below, would have said.
@@ -80,7 +103,7 @@ impl Shim {
                 println!("cargo:rerun-if-env-changed={var}");
             }
         }
-        let lib = match pkg_config::Config::new()
+        match pkg_config::Config::new()
             .atleast_version(self.min_version)
             // Dynamic: the shared object links the library, the program must not.
             .cargo_metadata(!dynamic)
@@ -99,25 +122,17 @@ impl Shim {
                 );
                 std::process::exit(1);
             }
-        };
-        println!("cargo:version={}", lib.version);
-        let mut build = cc::Build::new();
-        build
-            .cpp(true)
-            .std("c++17")
-            .file(&source)
-            .include("shim")
-            .warnings(true);
-        for dir in &lib.include_paths {
-            build.include(dir);
         }
-        for (name, value) in &lib.defines {
-            build.define(name, value.as_deref());
-        }
-        if !dynamic {
-            build.compile(&format!("specconv_{}_shim", self.name));
-            return;
-        }
+    }
+
+    /// A dynamic shim: `build` with its id compiled in, linked as `libspecconv_<name>.so`
+    /// against `lib`, and copied beside cargo's programs.
+    fn build_shared(
+        &self,
+        mut build: cc::Build,
+        lib: &pkg_config::Library,
+        (header, source): (&str, &str),
+    ) {
         let out = PathBuf::from(std::env::var_os("OUT_DIR").expect("cargo sets OUT_DIR"));
         let upper = self.name.to_uppercase();
         // For the message that says which library to install when loading fails.
@@ -127,7 +142,7 @@ impl Shim {
         );
         let read =
             |path: &str| std::fs::read(path).unwrap_or_else(|e| panic!("cannot read {path}: {e}"));
-        let id = shim_id(&[&read(&header), &read(&source)]);
+        let id = shim_id(&[&read(header), &read(source)]);
         println!("cargo:rustc-env=SPECCONV_{upper}_SHIM_ID={id}");
         // Generated, so that the id never appears in the header (nor in the bindings).
         let id_source = out.join(format!("specconv_{}_shim_id.cpp", self.name));
@@ -142,37 +157,9 @@ impl Shim {
         )
         .expect("OUT_DIR is writable");
         build.file(&id_source).pic(true).cargo_metadata(false);
-        let objects = build.compile_intermediates();
         let soname = format!("libspecconv_{}.so", self.name);
         let built = out.join(&soname);
-        // The compiler driver links, so the C++ runtime comes along as for any C++ library.
-        // `-z defs`: a symbol the library does not provide fails here, not at first use.
-        // `-z now`: the shim's own references are bound when it is loaded (as they were in
-        // the program, which Rust links with `-z now`), so a library that lacks one fails
-        // the load with dlopen's message; the system library's own dependencies keep their
-        // lazy binding, as when the program loaded them at start. `--strip-debug`: the object
-        // is installed beside every program and package; DWARF was 1.2 of its 1.3 MB.
-        let mut link = build.get_compiler().to_command();
-        link.arg("-shared")
-            .arg("-o")
-            .arg(&built)
-            .args(&objects)
-            .arg(format!("-Wl,-soname,{soname}"))
-            .args(["-Wl,-z,defs", "-Wl,-z,now", "-Wl,-z,relro"])
-            .args(["-Wl,--as-needed", "-Wl,-O1", "-Wl,--strip-debug"]);
-        for dir in &lib.link_paths {
-            link.arg("-L").arg(dir);
-        }
-        for name in &lib.libs {
-            link.arg(format!("-l{name}"));
-        }
-        for args in &lib.ld_args {
-            link.arg(format!("-Wl,{}", args.join(",")));
-        }
-        let status = link
-            .status()
-            .unwrap_or_else(|e| panic!("cannot run the linker for {soname}: {e}"));
-        assert!(status.success(), "linking {soname} failed: {link:?}");
+        link_shared(&build, lib, &soname, &built);
         println!("cargo:shim={}", built.display());
         match install_dirs(&out) {
             Some(dirs) => {
@@ -228,6 +215,40 @@ impl Shim {
             "src/bindings.rs is stale: the shim header changed. Run ffi/regenerate-bindings.sh"
         );
     }
+}
+
+/// Compiles `build`'s sources and links them as the shared object `built` (named `soname`)
+/// against `lib`.
+fn link_shared(build: &cc::Build, lib: &pkg_config::Library, soname: &str, built: &Path) {
+    let objects = build.compile_intermediates();
+    // The compiler driver links, so the C++ runtime comes along as for any C++ library.
+    // `-z defs`: a symbol the library does not provide fails here, not at first use.
+    // `-z now`: the shim's own references are bound when it is loaded (as they were in
+    // the program, which Rust links with `-z now`), so a library that lacks one fails
+    // the load with dlopen's message; the system library's own dependencies keep their
+    // lazy binding, as when the program loaded them at start. `--strip-debug`: the object
+    // is installed beside every program and package; DWARF was 1.2 of its 1.3 MB.
+    let mut link = build.get_compiler().to_command();
+    link.arg("-shared")
+        .arg("-o")
+        .arg(built)
+        .args(&objects)
+        .arg(format!("-Wl,-soname,{soname}"))
+        .args(["-Wl,-z,defs", "-Wl,-z,now", "-Wl,-z,relro"])
+        .args(["-Wl,--as-needed", "-Wl,-O1", "-Wl,--strip-debug"]);
+    for dir in &lib.link_paths {
+        link.arg("-L").arg(dir);
+    }
+    for name in &lib.libs {
+        link.arg(format!("-l{name}"));
+    }
+    for args in &lib.ld_args {
+        link.arg(format!("-Wl,{}", args.join(",")));
+    }
+    let status = link
+        .status()
+        .unwrap_or_else(|e| panic!("cannot run the linker for {soname}: {e}"));
+    assert!(status.success(), "linking {soname} failed: {link:?}");
 }
 
 /// Where cargo puts the programs built with the build script whose `OUT_DIR` is `out`: the

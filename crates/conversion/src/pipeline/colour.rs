@@ -473,34 +473,62 @@ pub fn texture_space(
     Ok(space)
 }
 
-/// Chooses the input colour space of the open file by the rule of this module.
+/// Chooses the input colour space of the open file by the rule of this module: the flag, the
+/// file's declarations, the config's file rules, its Default rule, the format's default.
 pub fn input_space(
     config: &Config,
     reader: &ImageReader,
     flag: Option<&str>,
 ) -> Result<InputSpace> {
     let info = reader.info();
-    let data = |name: String, rule: Rule| {
-        Error::Data(Box::new(DataTexture {
-            path: info.path.clone(),
-            name,
-            rule,
-            selection: None,
-            size: (info.width(), info.height()),
-        }))
+    let Evidence {
+        usable,
+        declared_data,
+        mut warnings,
+    } = evidence(config, reader)?;
+    if let Some(flag) = flag {
+        return by_flag(config, info, flag, usable.first());
+    }
+    if let Some((what, name)) = declared_data {
+        return Err(data_texture(info, name, Rule::Declared(vec![what])));
+    }
+    let space = if !usable.is_empty() {
+        by_declarations(usable, &mut warnings)
+    } else if let Some(space) = by_file_rule(config, info)? {
+        space
+    } else if let Some(space) = by_config_default(config, info)? {
+        space
+    } else {
+        by_format_default(config, info)?
     };
-    let mut warnings = Vec::new();
-    // Resolve every declaration once: the first usable one decides, the others are compared.
-    let mut usable: Vec<(String, String, ToXyz)> = Vec::new();
-    // A data space declared before any colour: it decides, unless the caller names a space.
-    let mut declared_data: Option<(String, String)> = None;
+    Ok(InputSpace { warnings, ..space })
+}
+
+/// What the file declares, every declaration resolved once.
+struct Evidence {
+    /// The colour declarations the config can convert: what declared it, the space's name,
+    /// and the conversion. The first usable one decides, the others are compared.
+    usable: Vec<(String, String, ToXyz)>,
+    /// A data space declared before any colour: it decides, unless the caller names a space.
+    declared_data: Option<(String, String)>,
+    /// The declarations left out, and why.
+    warnings: Vec<Warning>,
+}
+
+/// Resolves every declaration of the open file in `config`.
+fn evidence(config: &Config, reader: &ImageReader) -> Result<Evidence> {
+    let mut found = Evidence {
+        usable: Vec::new(),
+        declared_data: None,
+        warnings: Vec::new(),
+    };
     for (what, d) in declarations(reader)? {
         if let Declared::Named(name) = &d {
             if let Some(cs) = config.find_color_space(name)?.filter(|cs| cs.is_data) {
-                if usable.is_empty() && declared_data.is_none() {
-                    declared_data = Some((what, cs.name));
+                if found.usable.is_empty() && found.declared_data.is_none() {
+                    found.declared_data = Some((what, cs.name));
                 } else {
-                    warnings.push(Warning::Ignored {
+                    found.warnings.push(Warning::Ignored {
                         what,
                         why: format!(
                             "'{}' is a data colour space and a colour was declared first",
@@ -512,93 +540,134 @@ pub fn input_space(
             }
         }
         match resolve(config, &d)? {
-            Ok((name, route)) => usable.push((what, name, route)),
-            Err(why) => warnings.push(Warning::Ignored { what, why }),
+            Ok((name, route)) => found.usable.push((what, name, route)),
+            Err(why) => found.warnings.push(Warning::Ignored { what, why }),
         }
     }
-    if let Some(flag) = flag {
-        let cs = config.color_space(flag)?;
-        if cs.is_data {
-            return Err(data(cs.name, Rule::Flag { overrides: None }));
+    Ok(found)
+}
+
+/// [`Error::Data`] for the open file in the data space `name`, chosen by `rule`.
+fn data_texture(info: &specconv_oiio::ImageInfo, name: String, rule: Rule) -> Error {
+    Error::Data(Box::new(DataTexture {
+        path: info.path.clone(),
+        name,
+        rule,
+        selection: None,
+        size: (info.width(), info.height()),
+    }))
+}
+
+/// The space the caller named; `first`, the declaration that would have decided, is named
+/// when it converts otherwise. The declarations' warnings are not given: the flag settles them.
+fn by_flag(
+    config: &Config,
+    info: &specconv_oiio::ImageInfo,
+    flag: &str,
+    first: Option<&(String, String, ToXyz)>,
+) -> Result<InputSpace> {
+    let cs = config.color_space(flag)?;
+    if cs.is_data {
+        return Err(data_texture(info, cs.name, Rule::Flag { overrides: None }));
+    }
+    let to_xyz = ToXyz::Ocio(config.processor_to_xyz(&cs.name)?);
+    let overrides = first
+        .filter(|(_, _, route)| !same_conversion(route, &to_xyz))
+        .map(|(what, name, _)| format!("{what} ({name})"));
+    Ok(InputSpace {
+        name: cs.name,
+        rule: Rule::Flag { overrides },
+        to_xyz,
+        warnings: Vec::new(),
+    })
+}
+
+/// The first of the `usable` declarations (at least one), with those that agree with it; a
+/// warning for each that does not.
+fn by_declarations(
+    mut usable: Vec<(String, String, ToXyz)>,
+    warnings: &mut Vec<Warning>,
+) -> InputSpace {
+    let (what, name, to_xyz) = usable.remove(0);
+    let mut agreeing = vec![what.clone()];
+    for (other, other_name, route) in &usable {
+        if same_conversion(route, &to_xyz) {
+            agreeing.push(other.clone());
+        } else {
+            warnings.push(Warning::Disagree {
+                what: what.clone(),
+                name: name.clone(),
+                other: other.clone(),
+                other_name: other_name.clone(),
+            });
         }
-        let to_xyz = ToXyz::Ocio(config.processor_to_xyz(&cs.name)?);
-        let overrides = usable
-            .first()
-            .filter(|(_, _, route)| !same_conversion(route, &to_xyz))
-            .map(|(what, name, _)| format!("{what} ({name})"));
-        return Ok(InputSpace {
-            name: cs.name,
-            rule: Rule::Flag { overrides },
-            to_xyz,
-            warnings: Vec::new(),
-        });
     }
-    if let Some((what, name)) = declared_data {
-        return Err(data(name, Rule::Declared(vec![what])));
+    InputSpace {
+        name,
+        rule: Rule::Declared(agreeing),
+        to_xyz,
+        warnings: Vec::new(),
     }
-    if !usable.is_empty() {
-        let (what, name, to_xyz) = usable.remove(0);
-        let mut agreeing = vec![what.clone()];
-        for (other, other_name, route) in &usable {
-            if same_conversion(route, &to_xyz) {
-                agreeing.push(other.clone());
-            } else {
-                warnings.push(Warning::Disagree {
-                    what: what.clone(),
-                    name: name.clone(),
-                    other: other.clone(),
-                    other_name: other_name.clone(),
-                });
-            }
-        }
-        return Ok(InputSpace {
-            name,
-            rule: Rule::Declared(agreeing),
-            to_xyz,
-            warnings,
-        });
+}
+
+/// The space of the config's explicit file rule that matches the file's path, if one does.
+fn by_file_rule(config: &Config, info: &specconv_oiio::ImageInfo) -> Result<Option<InputSpace>> {
+    let Some((name, rule)) = config.file_rule(&info.path)? else {
+        return Ok(None);
+    };
+    if config.color_space(&name)?.is_data {
+        return Err(data_texture(info, name, Rule::FileRule(rule)));
     }
-    if let Some((name, rule)) = config.file_rule(&info.path)? {
-        if config.color_space(&name)?.is_data {
-            return Err(data(name, Rule::FileRule(rule)));
-        }
-        return Ok(InputSpace {
-            to_xyz: ToXyz::Ocio(config.processor_to_xyz(&name)?),
-            name,
-            rule: Rule::FileRule(rule),
-            warnings,
-        });
-    }
-    let integer = info.pixel_format().is_integer();
+    Ok(Some(InputSpace {
+        to_xyz: ToXyz::Ocio(config.processor_to_xyz(&name)?),
+        name,
+        rule: Rule::FileRule(rule),
+        warnings: Vec::new(),
+    }))
+}
+
+/// The space of the Default rule of a config the user gave (a file or `$OCIO`), for float
+/// pixels only: integer pixels go to the format's default.
+fn by_config_default(
+    config: &Config,
+    info: &specconv_oiio::ImageInfo,
+) -> Result<Option<InputSpace>> {
     let users = matches!(
         config.source(),
         specconv_ocio::ConfigSource::File(_) | specconv_ocio::ConfigSource::Env(_)
     );
-    if users && !integer {
-        let default = config
-            .file_rules()?
-            .into_iter()
-            .find(|r| r.name.eq_ignore_ascii_case("default"));
-        if let Some(rule) = default {
-            let cs = config.color_space(&rule.color_space)?;
-            if cs.is_data {
-                return Err(data(cs.name, Rule::ConfigDefault(rule.name)));
-            }
-            return Ok(InputSpace {
-                to_xyz: ToXyz::Ocio(config.processor_to_xyz(&cs.name)?),
-                name: cs.name,
-                rule: Rule::ConfigDefault(rule.name),
-                warnings,
-            });
-        }
+    if !users || info.pixel_format().is_integer() {
+        return Ok(None);
     }
-    let (d, why) = if integer {
+    let default = config
+        .file_rules()?
+        .into_iter()
+        .find(|r| r.name.eq_ignore_ascii_case("default"));
+    let Some(rule) = default else {
+        return Ok(None);
+    };
+    let cs = config.color_space(&rule.color_space)?;
+    if cs.is_data {
+        return Err(data_texture(info, cs.name, Rule::ConfigDefault(rule.name)));
+    }
+    Ok(Some(InputSpace {
+        to_xyz: ToXyz::Ocio(config.processor_to_xyz(&cs.name)?),
+        name: cs.name,
+        rule: Rule::ConfigDefault(rule.name),
+        warnings: Vec::new(),
+    }))
+}
+
+/// The format's default: integer pixels are sRGB texture (the config's, else our own), float
+/// pixels without chromaticities linear Rec.709 (OpenEXR).
+fn by_format_default(config: &Config, info: &specconv_oiio::ImageInfo) -> Result<InputSpace> {
+    let (d, why) = if info.pixel_format().is_integer() {
         if let Some(name) = config.srgb_texture()? {
             return Ok(InputSpace {
                 to_xyz: ToXyz::Ocio(config.processor_to_xyz(&name)?),
                 name,
                 rule: Rule::Default("integer pixels are sRGB texture"),
-                warnings,
+                warnings: Vec::new(),
             });
         }
         (
@@ -624,6 +693,6 @@ pub fn input_space(
         name,
         rule: Rule::Default(why),
         to_xyz,
-        warnings,
+        warnings: Vec::new(),
     })
 }

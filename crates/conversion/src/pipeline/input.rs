@@ -98,74 +98,147 @@ pub fn colour_channels(channels: usize, alpha: Option<usize>) -> Vec<usize> {
 
 /// The colour and alpha channels of `info` (see the module's rules), or `request`'s.
 pub fn choose_channels(info: &ImageInfo, request: Option<&str>) -> super::Result<Channels> {
-    let names: Vec<&str> = info.channels.iter().map(|c| c.name.as_str()).collect();
-    let find = |name: &str| names.iter().position(|n| *n == name);
-    let build = |colour: Vec<usize>, alpha: Option<usize>, reason| {
-        let mut listed: Vec<String> = colour.iter().map(|&c| names[c].to_owned()).collect();
-        listed.extend(alpha.map(|a| names[a].to_owned()));
+    let names = Names {
+        info,
+        names: info.channels.iter().map(|c| c.name.as_str()).collect(),
+    };
+    match request {
+        Some(request) => names.requested(request.trim()),
+        None => names.by_rule(),
+    }
+}
+
+/// The channel names of an image, and what is said about them.
+struct Names<'a> {
+    info: &'a ImageInfo,
+    names: Vec<&'a str>,
+}
+
+impl Names<'_> {
+    fn find(&self, name: &str) -> Option<usize> {
+        self.names.iter().position(|n| *n == name)
+    }
+
+    /// The channels `colour` and `alpha`, with their names and why they were chosen.
+    fn channels(
+        &self,
+        colour: Vec<usize>,
+        alpha: Option<usize>,
+        reason: ChannelReason,
+    ) -> Channels {
+        let mut listed: Vec<String> = colour.iter().map(|&c| self.names[c].to_owned()).collect();
+        listed.extend(alpha.map(|a| self.names[a].to_owned()));
         Channels {
             colour,
             alpha,
             names: listed,
             reason,
         }
-    };
-    let refuse_as = |what: String, choose: Option<Choose>| super::Error::Channels {
-        path: info.path.clone(),
-        what,
-        channels: format!("{}{}", names.join(", "), describe_layers(&names)),
-        choose,
-    };
-    let refuse = |what: String| refuse_as(what, None);
-    // A layer's R, G, B (or Y) and A, if it has them.
-    let layer = |prefix: &str| -> Option<(Vec<usize>, Option<usize>)> {
-        let of = |c: &str| find(&format!("{prefix}{c}"));
+    }
+
+    /// [`super::Error::Channels`]: `what` is wrong, and what naming would settle it.
+    fn refuse_as(&self, what: String, choose: Option<Choose>) -> super::Error {
+        super::Error::Channels {
+            path: self.info.path.clone(),
+            what,
+            channels: format!("{}{}", self.names.join(", "), describe_layers(&self.names)),
+            choose,
+        }
+    }
+
+    fn refuse(&self, what: String) -> super::Error {
+        self.refuse_as(what, None)
+    }
+
+    /// A layer's R, G, B (or Y) and A, if it has them.
+    fn layer(&self, prefix: &str) -> Option<(Vec<usize>, Option<usize>)> {
+        let of = |c: &str| self.find(&format!("{prefix}{c}"));
         let alpha = of("A");
         match (of("R"), of("G"), of("B"), of("Y")) {
             (Some(r), Some(g), Some(b), _) => Some((vec![r, g, b], alpha)),
             (_, _, _, Some(y)) => Some((vec![y], alpha)),
             _ => None,
         }
-    };
+    }
 
-    if let Some(request) = request {
-        let request = request.trim();
+    /// The channels `request` names: a list, a layer, or one grey channel.
+    fn requested(&self, request: &str) -> super::Result<Channels> {
         if request.contains(',') {
-            let mut picked = Vec::new();
-            for name in request.split(',').map(str::trim) {
-                picked
-                    .push(find(name).ok_or_else(|| refuse(format!("it has no channel '{name}'")))?);
-            }
-            // One grey, grey and alpha, RGB, or RGBA.
-            let (colour, alpha) = match picked.len() {
-                2 => (vec![picked[0]], Some(picked[1])),
-                3 => (picked, None),
-                4 => (picked[..3].to_vec(), Some(picked[3])),
-                n => {
-                    let hint = "give R,G,B or R,G,B,A (or Y or Y,A for grey)";
-                    return Err(refuse(format!("{n} channels were asked for; {hint}")));
-                }
-            };
-            return Ok(build(colour, alpha, ChannelReason::Option));
+            return self.listed(request);
         }
-        if let Some((colour, alpha)) = layer(&format!("{request}.")) {
-            return Ok(build(colour, alpha, ChannelReason::Option));
+        if let Some((colour, alpha)) = self.layer(&format!("{request}.")) {
+            return Ok(self.channels(colour, alpha, ChannelReason::Option));
         }
-        return match find(request) {
-            Some(grey) => Ok(build(vec![grey], None, ChannelReason::Option)),
-            None => Err(refuse(format!(
+        match self.find(request) {
+            Some(grey) => Ok(self.channels(vec![grey], None, ChannelReason::Option)),
+            None => Err(self.refuse(format!(
                 "it has no layer or channel '{request}' (a layer needs {request}.R, .G and .B, or {request}.Y)"
             ))),
-        };
+        }
     }
 
-    if let (Some(r), Some(g), Some(b)) = (find("R"), find("G"), find("B")) {
-        return Ok(build(vec![r, g, b], find("A"), ChannelReason::Named));
+    /// The channels of a list of names: one grey, grey and alpha, RGB, or RGBA.
+    fn listed(&self, request: &str) -> super::Result<Channels> {
+        let mut picked = Vec::new();
+        for name in request.split(',').map(str::trim) {
+            picked.push(
+                self.find(name)
+                    .ok_or_else(|| self.refuse(format!("it has no channel '{name}'")))?,
+            );
+        }
+        let (colour, alpha) = match picked.len() {
+            2 => (vec![picked[0]], Some(picked[1])),
+            3 => (picked, None),
+            4 => (picked[..3].to_vec(), Some(picked[3])),
+            n => {
+                let hint = "give R,G,B or R,G,B,A (or Y or Y,A for grey)";
+                return Err(self.refuse(format!("{n} channels were asked for; {hint}")));
+            }
+        };
+        Ok(self.channels(colour, alpha, ChannelReason::Option))
     }
-    if !names.iter().any(|n| n.contains('.')) {
-        let colour = colour_channels(names.len(), info.alpha_channel);
+
+    /// The channels the module's rules choose: R, G, B; the first channels of an image
+    /// without layers; the only layer with R, G and B.
+    fn by_rule(&self) -> super::Result<Channels> {
+        if let (Some(r), Some(g), Some(b)) = (self.find("R"), self.find("G"), self.find("B")) {
+            return Ok(self.channels(vec![r, g, b], self.find("A"), ChannelReason::Named));
+        }
+        if !self.names.iter().any(|n| n.contains('.')) {
+            return self.in_order();
+        }
+        let rgb_layers: Vec<&str> = layers(&self.names)
+            .into_iter()
+            .filter(|l| {
+                ["R", "G", "B"]
+                    .iter()
+                    .all(|c| self.find(&format!("{l}.{c}")).is_some())
+            })
+            .collect();
+        match rgb_layers.as_slice() {
+            [only] => {
+                let (colour, alpha) = self
+                    .layer(&format!("{only}."))
+                    .expect("the layer has R, G, B");
+                Ok(self.channels(colour, alpha, ChannelReason::OnlyLayer))
+            }
+            [] => Err(self.refuse_as(
+                "its channels are in layers and none holds R, G and B".into(),
+                Some(Choose::ChannelsOrLayer),
+            )),
+            several => Err(self.refuse_as(
+                format!("several layers hold R, G and B ({})", several.join(", ")),
+                Some(Choose::OneLayer),
+            )),
+        }
+    }
+
+    /// The first three channels that are not alpha, or the first as grey.
+    fn in_order(&self) -> super::Result<Channels> {
+        let alpha = self.info.alpha_channel;
+        let colour = colour_channels(self.names.len(), alpha);
         if colour.is_empty() {
-            return Err(refuse("it has no colour channel".into()));
+            return Err(self.refuse("it has no colour channel".into()));
         }
         // Two channels that are not alpha are not a colour: read the first as grey.
         let colour = if colour.len() == 3 {
@@ -173,29 +246,7 @@ pub fn choose_channels(info: &ImageInfo, request: Option<&str>) -> super::Result
         } else {
             colour[..1].to_vec()
         };
-        return Ok(build(colour, info.alpha_channel, ChannelReason::InOrder));
-    }
-    let rgb_layers: Vec<&str> = layers(&names)
-        .into_iter()
-        .filter(|l| {
-            ["R", "G", "B"]
-                .iter()
-                .all(|c| find(&format!("{l}.{c}")).is_some())
-        })
-        .collect();
-    match rgb_layers.as_slice() {
-        [only] => {
-            let (colour, alpha) = layer(&format!("{only}.")).expect("the layer has R, G, B");
-            Ok(build(colour, alpha, ChannelReason::OnlyLayer))
-        }
-        [] => Err(refuse_as(
-            "its channels are in layers and none holds R, G and B".into(),
-            Some(Choose::ChannelsOrLayer),
-        )),
-        several => Err(refuse_as(
-            format!("several layers hold R, G and B ({})", several.join(", ")),
-            Some(Choose::OneLayer),
-        )),
+        Ok(self.channels(colour, alpha, ChannelReason::InOrder))
     }
 }
 

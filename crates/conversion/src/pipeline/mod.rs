@@ -24,21 +24,21 @@ mod mip;
 mod png;
 pub mod survey;
 pub mod texture;
+mod write;
 
 use crate::choices::Mip;
 use crate::report::{Report, Role};
 use crate::{Options, Rounding};
 pub use colour::{input_space, texture_space, DataTexture, InputSpace, Rule, ToXyz, Warning};
-use rayon::prelude::*;
-use specconv_atomic_file::{PlanError, Replace};
+use specconv_atomic_file::Replace;
 use specconv_exr::{Block, Blocks, Chunk, Kind, Sample, Spec, SpectralFile, Windows};
 use specconv_ocio::Config;
 use specconv_spectral::method::Tally;
 use specconv_spectral::stack::Stack;
 use specconv_spectral::Method;
-use std::io::BufWriter;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
+use write::write_file;
 
 /// Why a conversion failed, by cause. Messages name no command-line option: a front-end adds
 /// its own hint (the CLI's flags, the Python package's keywords).
@@ -551,309 +551,6 @@ struct Made {
     sums: Vec<f64>,
 }
 
-/// Reads, converts, uplifts and writes every window of `file`, whose level 0 is made from
-/// spectra of size `source` (resized when it is not level 0's); returns the pixels uplifted and
-/// what they had.
-fn write_file(
-    job: &Job,
-    (file, source): (&SpectralFile, (usize, usize)),
-    reader: &mut specconv_oiio::ImageReader,
-    reading: &Reading,
-    constant: Option<&[f32]>,
-    progress: &mut dyn FnMut(u64, u64),
-) -> Result<(u64, Counts)> {
-    let output = job.output;
-    if let Some(w) = &job.storage.xyz_weights {
-        if w.iter().any(|row| row.len() != job.method().grid().len()) {
-            return Err(Error::Weights {
-                have: w[0].len(),
-                want: job.method().grid().len(),
-            });
-        }
-    }
-    // Level 0 is read and uplifted; the smaller levels are made from its spectra. Resized,
-    // the input is read and uplifted, and every level made from its spectra.
-    let resized = file.level_size(0) != source;
-    let (strips, smaller): (Vec<Strip>, Vec<Strip>) = strips(file)
-        .into_iter()
-        .partition(|s| s.level == 0 && !resized);
-    let strips = if resized {
-        input_strips(file, source)
-    } else {
-        strips
-    };
-    let smaller: std::collections::HashMap<(usize, usize), Vec<Block>> = smaller
-        .into_iter()
-        .map(|s| ((s.level, s.y), s.blocks))
-        .collect();
-    let values = file.values_per_pixel();
-    let mut cascade = (file.levels() > 1 || resized).then(|| {
-        let sizes: Vec<_> = resized
-            .then_some(source)
-            .into_iter()
-            .chain((0..file.levels()).map(|l| file.level_size(l)))
-            .collect();
-        mip::Cascade::new(
-            &sizes,
-            block_height(file),
-            values,
-            job.options.filter,
-            resized,
-        )
-    });
-    let total: u64 = strips.iter().map(|s| (source.0 * s.height) as u64).sum();
-    // Enough strips per window to keep every thread busy, at least one.
-    let budget = (rayon::current_num_threads() * 8 * 64 * 64) as u64;
-    let mut windows = Vec::new();
-    let mut current: Vec<Strip> = Vec::new();
-    let mut pixels = 0u64;
-    for s in strips {
-        pixels += (source.0 * s.height) as u64;
-        current.push(s);
-        if pixels >= budget {
-            windows.push(std::mem::take(&mut current));
-            pixels = 0;
-        }
-    }
-    if !current.is_empty() {
-        windows.push(current);
-    }
-
-    let read = |reader: &mut specconv_oiio::ImageReader,
-                window: &[Strip]|
-     -> Result<Vec<specconv_oiio::Pixels>> {
-        window
-            .iter()
-            .map(|s| match constant {
-                // Nothing to read: every pixel is this one.
-                Some(px) => Ok(specconv_oiio::Pixels {
-                    width: source.0 as u32,
-                    height: s.height as u32,
-                    channels: px.len(),
-                    data: px.repeat(source.0 * s.height),
-                }),
-                None => Ok(reader.read_scanlines(s.level, s.y as u32..(s.y + s.height) as u32)?),
-            })
-            .collect()
-    };
-    // The first window is read before the output exists: a file whose pixels cannot be read
-    // fails here, leaving nothing behind.
-    let mut next = windows.first().map(|w| read(reader, w)).transpose()?;
-
-    let pending = specconv_atomic_file::Pending::beside(output).map_err(|source| Error::Io {
-        path: output.to_path_buf(),
-        source,
-    })?;
-    let mut done = 0u64;
-    let mut counts = Counts::default();
-    // The writer speaks specconv_exr's errors; ours wait here and win over its abort.
-    let mut failure: Option<Error> = None;
-    let mut fail = |e: Error| {
-        failure = Some(e);
-        specconv_exr::Error::Invalid("aborted".into())
-    };
-    // Blocks of the smaller levels made from strips of the smaller levels.
-    let encode_made = |strips: &[mip::MadeStrip]| -> Result<Vec<Made>> {
-        strips
-            .par_iter()
-            .flat_map(|strip| {
-                smaller[&(strip.level, strip.y)]
-                    .par_iter()
-                    .map(move |b| encode_made_block(file, job, b, strip))
-            })
-            .collect()
-    };
-    // Level 0's sums, for the average the header gets once they are all made.
-    let sums = std::sync::Mutex::new(vec![0.0f64; file.values_per_pixel()]);
-    let level0 = (file.level_size(0).0 * file.level_size(0).1) as u64;
-    let late = || average_attributes(file, &sums.lock().expect("no panic holds it"), level0);
-    let out = BufWriter::with_capacity(1 << 20, pending.file());
-    let written = file.write_then(
-        out,
-        |sink| {
-            // Window i's blocks are made while window i + 1 is read and window i − 1's chunks are
-            // written, in file order: the writer never holds up the threads that compress.
-            let mut made: Vec<Made> = Vec::new();
-            // Strips of smaller levels that window i − 1 completed: encoded with window i.
-            let mut completed: Vec<mip::MadeStrip> = Vec::new();
-            let mut write = |made: Vec<Made>| -> specconv_exr::Result<()> {
-                for Made {
-                    index: chunk_index,
-                    chunk,
-                    counts: c,
-                    sums: block_sums,
-                    ..
-                } in made
-                {
-                    if !block_sums.is_empty() {
-                        let mut sums = sums.lock().expect("no panic holds it");
-                        sums.iter_mut().zip(block_sums).for_each(|(s, b)| *s += b);
-                    }
-                    // A window of fine-band chunks is hundreds of megabytes.
-                    if job.cancel.load(Ordering::Relaxed) {
-                        return Err(specconv_exr::Error::Invalid("cancelled".into()));
-                    }
-                    counts.non_finite += c.non_finite;
-                    counts.above_one += c.above_one;
-                    counts.saturated += c.saturated;
-                    counts.clamped += c.clamped;
-                    counts.tally += c.tally;
-                    if let Some(chunk) = chunk {
-                        sink(chunk_index, chunk)?;
-                    }
-                }
-                Ok(())
-            };
-            for (i, window) in windows.iter().enumerate() {
-                if job.cancel.load(Ordering::Relaxed) {
-                    return Err(fail(Error::Cancelled));
-                }
-                let rows = next
-                    .take()
-                    .expect("each window is read before it is processed");
-                let previous = std::mem::take(&mut made);
-                let lower = std::mem::take(&mut completed);
-                let (chunks, (read_next, wrote)) = rayon::join(
-                    || -> Result<(Vec<Vec<Made>>, Vec<Made>)> {
-                        let (strips, lower) = rayon::join(
-                            || {
-                                window
-                                    .par_iter()
-                                    .zip(rows.par_iter())
-                                    .map(|(strip, px)| {
-                                        strip
-                                            .blocks
-                                            .par_iter()
-                                            .map(|b| {
-                                                // Checked per block, not only per window: a
-                                                // window of fine-band blocks takes seconds.
-                                                if job.cancel.load(Ordering::Relaxed) {
-                                                    return Err(Error::Cancelled);
-                                                }
-                                                encode_block(file, job, reading, b, px, resized)
-                                            })
-                                            .collect::<Result<Vec<_>>>()
-                                    })
-                                    .collect::<Result<Vec<_>>>()
-                            },
-                            || encode_made(&lower),
-                        );
-                        Ok((strips?, lower?))
-                    },
-                    || {
-                        let wrote = write(previous);
-                        let read = windows.get(i + 1).map(|w| read(reader, w)).transpose();
-                        (read, wrote)
-                    },
-                );
-                wrote?;
-                next = read_next.map_err(&mut fail)?;
-                let (strips, lower) = chunks.map_err(&mut fail)?;
-                if let Some(cascade) = cascade.as_mut() {
-                    for (strip, blocks) in window.iter().zip(&strips) {
-                        let rows = strip_rows(source.0, strip, blocks, values);
-                        completed.extend(cascade.push(&rows, source.0));
-                    }
-                }
-                made = strips.into_iter().flatten().chain(lower).collect();
-                done += window
-                    .iter()
-                    .map(|s| (source.0 * s.height) as u64)
-                    .sum::<u64>();
-                progress(done, total);
-            }
-            write(made)?;
-            // The smaller levels' last strips: the 1×1 level at least.
-            if job.cancel.load(Ordering::Relaxed) {
-                return Err(fail(Error::Cancelled));
-            }
-            let last = encode_made(&completed).map_err(&mut fail)?;
-            write(last)
-        },
-        late,
-    );
-    if let Some(e) = failure {
-        return Err(e);
-    }
-    // Wherever the flag was seen (and whatever error the writer made of it), nothing is
-    // published once it is set.
-    if job.cancel.load(Ordering::Relaxed) {
-        return Err(Error::Cancelled);
-    }
-    written?;
-    // Without overwrite, an output another writer published while this one ran is refused,
-    // not replaced.
-    pending
-        .publish(Replace::when(job.overwrite))
-        .map_err(|source| match source.kind() {
-            std::io::ErrorKind::AlreadyExists => Error::Plan(PlanError::Exists {
-                output: output.to_path_buf(),
-                more: 0,
-            }),
-            _ => Error::Io {
-                path: output.to_path_buf(),
-                source,
-            },
-        })?;
-    Ok((total, counts))
-}
-
-/// The rows of the blocks of one strip of the file: its tile height, or its scanline blocks'.
-fn block_height(file: &SpectralFile) -> usize {
-    match file.spec().blocks {
-        Blocks::Tiles { height, .. } => height,
-        Blocks::Scanlines => file.blocks().first().map_or(1, |b| b.height),
-    }
-}
-
-/// The strips the input is read in when level 0 is resized from it: rows of blocks of the
-/// file's block size, over the input's `size`. Their blocks are not the file's (no chunk).
-fn input_strips(file: &SpectralFile, (width, height): (usize, usize)) -> Vec<Strip> {
-    let (bw, bh) = match file.spec().blocks {
-        Blocks::Tiles { width, height, .. } => (width, height),
-        Blocks::Scanlines => (width, block_height(file)),
-    };
-    (0..height)
-        .step_by(bh)
-        .map(|y| {
-            let h = bh.min(height - y);
-            Strip {
-                level: 0,
-                y,
-                height: h,
-                blocks: (0..width)
-                    .step_by(bw)
-                    .map(|x| Block {
-                        chunk: usize::MAX,
-                        level: 0,
-                        x,
-                        y,
-                        width: bw.min(width - x),
-                        height: h,
-                    })
-                    .collect(),
-            }
-        })
-        .collect()
-}
-
-/// A strip's values, `width` pixels a row across its blocks, from the blocks' own values.
-fn strip_rows(width: usize, strip: &Strip, blocks: &[Made], values: usize) -> Vec<f32> {
-    let mut rows = vec![0.0f32; width * strip.height * values];
-    for (b, made) in strip.blocks.iter().zip(blocks) {
-        let v = made
-            .kept
-            .as_deref()
-            .expect("a MIP map keeps level 0's values");
-        for y in 0..b.height {
-            let from = &v[y * b.width * values..(y + 1) * b.width * values];
-            let at = (y * width + b.x) * values;
-            rows[at..at + from.len()].copy_from_slice(from);
-        }
-    }
-    rows
-}
-
 /// Encodes one block of a smaller level from its strip's values.
 fn encode_made_block(
     file: &SpectralFile,
@@ -1101,23 +798,6 @@ fn saturate_half(bands: &mut [f32], n: usize) -> u64 {
         clamped += u64::from(any);
     }
     clamped
-}
-
-/// Groups the file's blocks into rows (they come level by level, row by row).
-fn strips(file: &SpectralFile) -> Vec<Strip> {
-    let mut out: Vec<Strip> = Vec::new();
-    for b in file.blocks() {
-        match out.last_mut() {
-            Some(s) if s.level == b.level && s.y == b.y => s.blocks.push(b),
-            _ => out.push(Strip {
-                level: b.level,
-                y: b.y,
-                height: b.height,
-                blocks: vec![b],
-            }),
-        }
-    }
-    out
 }
 
 /// The hash of `input`'s full-resolution pixels in the subimage `request` names, as

@@ -132,29 +132,18 @@ impl Hasher {
 pub(crate) fn survey(
     job: &Job,
     reader: &mut ImageReader,
-    (colour, alpha): (&[usize], Option<usize>),
+    channels: (&[usize], Option<usize>),
 ) -> Result<Survey> {
-    let policy = job.options.non_finite;
     let (width, height) = (
         reader.info().width() as usize,
         reader.info().height() as usize,
     );
     let mut hash = Hasher::new(width as u32, height as u32);
-    let mut found = Survey {
-        non_finite: 0,
-        first_non_finite: None,
-        repaired: matches!(policy, NonFinite::Black | NonFinite::Box3),
-        constant: None,
-        opaque: alpha.is_some(),
-        hash: String::new(),
-        repair: match policy {
-            NonFinite::Black => Repair::Black,
-            NonFinite::Box3 => Repair::Box3(HashMap::new()),
-            NonFinite::Refuse | NonFinite::Keep => Repair::None,
-        },
+    let mut found = Survey::start(job.options.non_finite, channels.1.is_some());
+    let mut same = Same {
+        first: None,
+        constant: true,
     };
-    let mut first: Option<Vec<f32>> = None;
-    let mut constant = true;
     // Strip k − 1 waits for strip k: box3 repairs its last row from strip k's first.
     let mut previous: Option<Read> = None;
     let mut above: Option<Vec<f32>> = None;
@@ -169,55 +158,14 @@ pub(crate) fn survey(
             let end = (y + step).min(height);
             let px = reader.read_scanlines(0, y as u32..end as u32)?;
             hash.update(&px);
-            let mut bad = Vec::new();
-            for (i, p) in px.data.chunks_exact(px.channels).enumerate() {
-                let at = (i % width, y + i / width);
-                if !finite(p, colour, alpha) {
-                    found.non_finite += 1;
-                    found.first_non_finite.get_or_insert(at);
-                    bad.push(at);
-                }
-                if found.opaque && alpha.is_some_and(|a| p[a] != 1.0) {
-                    found.opaque = false;
-                }
-                if constant {
-                    match &first {
-                        None => first = Some(p.to_vec()),
-                        Some(f) => {
-                            constant = read_channels(colour, alpha)
-                                .all(|c| f[c].to_bits() == p[c].to_bits());
-                        }
-                    }
-                }
-            }
-            if policy == NonFinite::Refuse && found.non_finite > 0 {
-                return Err(Error::NonFinite {
-                    input: job.input.to_path_buf(),
-                    pixels: found.non_finite,
-                    first: found.first_non_finite.expect("counted"),
-                    rows: (y, end),
-                });
-            }
-            if policy == NonFinite::Box3 && found.non_finite > BOX3_LIMIT {
-                return Err(Error::TooManyNonFinite {
-                    input: job.input.to_path_buf(),
-                    limit: BOX3_LIMIT,
-                });
-            }
+            let bad = found.scan(&mut same, &px, (width, y), channels);
+            found.check_non_finite(job, (y, end))?;
             Some((y, px, bad))
         } else {
             None
         };
-        if let Some((y0, px, bad)) = previous.take() {
-            let below = strip.as_ref().map(|(_, next, _)| row(next, 0));
-            if let Repair::Box3(fixed) = &mut found.repair {
-                for &(x, py) in &bad {
-                    let rows = (above.as_deref(), below.as_deref());
-                    let p = box3(&px, y0, (x, py), rows, fixed, (colour, alpha));
-                    fixed.insert((x, py), p);
-                }
-            }
-            above = Some(row(&px, px.height as usize - 1));
+        if let Some(read) = previous.take() {
+            above = Some(found.repair_box3(read, strip.as_ref(), above.as_deref(), channels));
         }
         previous = strip;
         if y == height {
@@ -226,9 +174,116 @@ pub(crate) fn survey(
         y = (y + step).min(height);
     }
     found.repaired &= found.non_finite > 0;
-    found.constant = if constant { first } else { None };
+    found.constant = if same.constant { same.first } else { None };
     found.hash = hash.finish();
     Ok(found)
+}
+
+/// Whether every pixel so far has the first one's values (in the channels read).
+struct Same {
+    first: Option<Vec<f32>>,
+    constant: bool,
+}
+
+impl Same {
+    #[inline]
+    fn take(&mut self, p: &[f32], (colour, alpha): (&[usize], Option<usize>)) {
+        if !self.constant {
+            return;
+        }
+        match &self.first {
+            None => self.first = Some(p.to_vec()),
+            Some(f) => {
+                self.constant =
+                    read_channels(colour, alpha).all(|c| f[c].to_bits() == p[c].to_bits());
+            }
+        }
+    }
+}
+
+impl Survey {
+    /// Nothing found yet; alpha opaque until a pixel says otherwise, when it is read.
+    fn start(policy: NonFinite, alpha: bool) -> Survey {
+        Survey {
+            non_finite: 0,
+            first_non_finite: None,
+            repaired: matches!(policy, NonFinite::Black | NonFinite::Box3),
+            constant: None,
+            opaque: alpha,
+            hash: String::new(),
+            repair: match policy {
+                NonFinite::Black => Repair::Black,
+                NonFinite::Box3 => Repair::Box3(HashMap::new()),
+                NonFinite::Refuse | NonFinite::Keep => Repair::None,
+            },
+        }
+    }
+
+    /// Counts the non-finite pixels of `px` (rows from `y`, `width` pixels a row), and whether
+    /// alpha stays 1 and the pixels the same; returns where a channel read is not finite.
+    fn scan(
+        &mut self,
+        same: &mut Same,
+        px: &Pixels,
+        (width, y): (usize, usize),
+        (colour, alpha): (&[usize], Option<usize>),
+    ) -> Vec<(usize, usize)> {
+        let mut bad = Vec::new();
+        for (i, p) in px.data.chunks_exact(px.channels).enumerate() {
+            let at = (i % width, y + i / width);
+            if !finite(p, colour, alpha) {
+                self.non_finite += 1;
+                self.first_non_finite.get_or_insert(at);
+                bad.push(at);
+            }
+            if self.opaque && alpha.is_some_and(|a| p[a] != 1.0) {
+                self.opaque = false;
+            }
+            same.take(p, (colour, alpha));
+        }
+        bad
+    }
+
+    /// Refuses the input once `rows` were read when non-finite values are refused, or are more
+    /// than box3 repairs.
+    fn check_non_finite(&self, job: &Job, rows: (usize, usize)) -> Result<()> {
+        let policy = job.options.non_finite;
+        if policy == NonFinite::Refuse && self.non_finite > 0 {
+            return Err(Error::NonFinite {
+                input: job.input.to_path_buf(),
+                pixels: self.non_finite,
+                first: self.first_non_finite.expect("counted"),
+                rows,
+            });
+        }
+        if policy == NonFinite::Box3 && self.non_finite > BOX3_LIMIT {
+            return Err(Error::TooManyNonFinite {
+                input: job.input.to_path_buf(),
+                limit: BOX3_LIMIT,
+            });
+        }
+        Ok(())
+    }
+
+    /// Repairs (for box3) the bad pixels of the strip `read`, between the row `above` it and
+    /// the first of the strip read `next`; returns its last row, the next strip's above.
+    fn repair_box3(
+        &mut self,
+        (y0, px, bad): Read,
+        next: Option<&Read>,
+        above: Option<&[f32]>,
+        channels: (&[usize], Option<usize>),
+    ) -> Vec<f32> {
+        let below = next.map(|(_, next, _)| row(next, 0));
+        if let Repair::Box3(fixed) = &mut self.repair {
+            for &(x, py) in &bad {
+                let rows = (above, below.as_deref());
+                let p = box3(&px, y0, (x, py), rows, fixed, channels);
+                fixed.insert((x, py), p);
+            }
+        }
+        row(&px, px.height as usize - 1)
+    }
 }
 
 /// Row `y` of a strip, every channel.

@@ -293,7 +293,17 @@ struct Candidate {
 
 /// Trains a model. Deterministic: the same data and options give the same model, bit for bit.
 pub fn train(set: &TrainingSet, a: &Colorimetry, opts: &TrainOptions) -> Result<Model, Error> {
-    let n = a.bands();
+    check_training(set, opts)?;
+    let xy = chromaticities(set, a)?;
+    let count = set.spectra.len();
+    let root = cluster(set, a, opts, (0..count).collect())
+        .map_err(|why| Error::Training(unfit_root(why, count, a, opts)))?;
+    let (tree, clusters) = grow(set, &xy, a, opts, root);
+    Ok(model(set, a, opts, tree, &clusters))
+}
+
+/// Refuses options and data that cannot make a model (see the module's table), saying why.
+fn check_training(set: &TrainingSet, opts: &TrainOptions) -> Result<(), Error> {
     let invalid = |msg: String| Err(Error::Training(msg));
     if opts.clusters == 0 {
         return invalid("the number of clusters must be at least 1".into());
@@ -340,6 +350,12 @@ pub fn train(set: &TrainingSet, a: &Colorimetry, opts: &TrainOptions) -> Result<
             opts.min_cluster_size
         ));
     }
+    Ok(())
+}
+
+/// The xy of every spectrum, what the tree splits on; refuses a spectrum that reflects no light.
+fn chromaticities(set: &TrainingSet, a: &Colorimetry) -> Result<Vec<[f64; 2]>, Error> {
+    let n = a.bands();
     let mut xy = Vec::with_capacity(set.spectra.len());
     for (k, s) in set.spectra.iter().enumerate() {
         debug_assert_eq!(s.len(), n);
@@ -347,54 +363,58 @@ pub fn train(set: &TrainingSet, a: &Colorimetry, opts: &TrainOptions) -> Result<
             Some(c) => xy.push(c),
             None => {
                 let name = set.names.get(k).map_or("?", String::as_str);
-                return invalid(format!(
+                return Err(Error::Training(format!(
                     "spectrum '{name}' reflects no light on {} under {}: it has no chromaticity to cluster by; remove it",
                     a.grid, a.illuminant
-                ));
+                )));
             }
         }
     }
+    Ok(xy)
+}
 
-    let count = set.spectra.len();
-    let root = cluster(set, a, opts, (0..count).collect()).map_err(|why| {
-        Error::Training(match why {
-            Unfit::Rank(0) => format!(
-                "all {count} spectra are identical spectra (up to rounding): principal components \
-                 need spectra that differ; give spectra of different colours"
-            ),
-            Unfit::Rank(k) => format!(
-                "the {count} spectra vary in only {k} independent direction{} (as copies or mixtures \
-                 of {} spectra do), but the model needs 3, one per XYZ component; add spectra of other colours",
-                if k == 1 { "" } else { "s" },
-                k + 1
-            ),
-            Unfit::IllConditioned(cond) => format!(
-                "the spectra's three main variations look almost alike to the observer under {}, so \
-                 colours cannot tell them apart: M's condition number is {cond:.3e} (bound {}); add \
-                 spectra of more varied colours, or raise the condition bound",
-                a.illuminant, opts.max_condition
-            ),
-        })
-    })?;
-    // tree[i] = Leaf { leaf: k } refers to clusters[k] until the end, where they are numbered.
+/// Why the `count` spectra, as one cluster, make no leaf, in words that say what to add.
+fn unfit_root(why: Unfit, count: usize, a: &Colorimetry, opts: &TrainOptions) -> String {
+    match why {
+        Unfit::Rank(0) => format!(
+            "all {count} spectra are identical spectra (up to rounding): principal components \
+             need spectra that differ; give spectra of different colours"
+        ),
+        Unfit::Rank(k) => format!(
+            "the {count} spectra vary in only {k} independent direction{} (as copies or mixtures \
+             of {} spectra do), but the model needs 3, one per XYZ component; add spectra of other colours",
+            if k == 1 { "" } else { "s" },
+            k + 1
+        ),
+        Unfit::IllConditioned(cond) => format!(
+            "the spectra's three main variations look almost alike to the observer under {}, so \
+             colours cannot tell them apart: M's condition number is {cond:.3e} (bound {}); add \
+             spectra of more varied colours, or raise the condition bound",
+            a.illuminant, opts.max_condition
+        ),
+    }
+}
+
+/// Splits, one at a time, the cluster whose best split lowers the summed error most, until
+/// there are `opts.clusters` or no split lowers it. In the tree returned, `Leaf { leaf: k }`
+/// refers to `clusters[k]` (`None` once split).
+fn grow(
+    set: &TrainingSet,
+    xy: &[[f64; 2]],
+    a: &Colorimetry,
+    opts: &TrainOptions,
+    root: Cluster,
+) -> (Tree, Vec<Option<Cluster>>) {
     let mut tree = Tree::single_leaf();
     let mut clusters = vec![Some(root)];
     let mut live = 1;
     while live < opts.clusters {
         for c in clusters.iter_mut().flatten() {
             if c.best.is_none() {
-                c.best = Some(best_split(set, &xy, a, opts, &c.members, c.error));
+                c.best = Some(best_split(set, xy, a, opts, &c.members, c.error));
             }
         }
-        let pick = clusters
-            .iter()
-            .enumerate()
-            .filter_map(|(k, c)| Some((k, c.as_ref()?.best.as_ref()?.as_ref()?.gain)))
-            .fold(None, |best: Option<(usize, f64)>, (k, g)| match best {
-                Some((_, bg)) if bg >= g => best,
-                _ => Some((k, g)),
-            });
-        let Some((k, _)) = pick else { break };
+        let Some(k) = most_gain(&clusters) else { break };
         let split = clusters[k]
             .as_mut()
             .and_then(|c| c.best.take().flatten())
@@ -415,8 +435,31 @@ pub fn train(set: &TrainingSet, a: &Colorimetry, opts: &TrainOptions) -> Result<
         clusters.extend(sides.map(Some));
         live += 1;
     }
+    (tree, clusters)
+}
 
-    // Number the remaining clusters in order of creation, and fit their leaves exactly.
+/// The cluster whose best split gains most (the first of equals), if any has a split.
+fn most_gain(clusters: &[Option<Cluster>]) -> Option<usize> {
+    clusters
+        .iter()
+        .enumerate()
+        .filter_map(|(k, c)| Some((k, c.as_ref()?.best.as_ref()?.as_ref()?.gain)))
+        .fold(None, |best: Option<(usize, f64)>, (k, g)| match best {
+            Some((_, bg)) if bg >= g => best,
+            _ => Some((k, g)),
+        })
+        .map(|(k, _)| k)
+}
+
+/// The model of the grown `tree`: the remaining clusters numbered in order of creation, their
+/// leaves fitted exactly.
+fn model(
+    set: &TrainingSet,
+    a: &Colorimetry,
+    opts: &TrainOptions,
+    mut tree: Tree,
+    clusters: &[Option<Cluster>],
+) -> Model {
     let mut number = vec![usize::MAX; clusters.len()];
     let mut leaves = Vec::new();
     for (k, c) in clusters.iter().enumerate() {
@@ -426,7 +469,7 @@ pub fn train(set: &TrainingSet, a: &Colorimetry, opts: &TrainOptions) -> Result<
     }
     tree.renumber_leaves(&number);
     let total_error = leaves.iter().map(|l| l.error).sum();
-    Ok(Model {
+    Model {
         format: FORMAT.into(),
         version: VERSION,
         grid: a.grid,
@@ -443,7 +486,7 @@ pub fn train(set: &TrainingSet, a: &Colorimetry, opts: &TrainOptions) -> Result<
         },
         tree,
         leaves,
-    })
+    }
 }
 
 fn refs<'a>(set: &'a TrainingSet, members: &[usize]) -> Vec<&'a [f64]> {
@@ -508,145 +551,23 @@ fn best_split(
     members: &[usize],
     error: f64,
 ) -> Option<Candidate> {
-    let n = a.bands();
-    let min = opts.min_cluster_size;
-    if members.len() < 2 * min {
+    if members.len() < 2 * opts.min_cluster_size {
         return None;
     }
-    let spectrum = |i: usize| set.spectra[i].as_slice();
-    let weight = |i: usize| set.weight(i);
-    let mut total = Moments::zero(n);
-    members
-        .iter()
-        .for_each(|&i| total.add_weighted(spectrum(i), weight(i)));
-    let orders: [Vec<usize>; 2] = std::array::from_fn(|ax| {
-        let mut order = members.to_vec();
-        order.sort_by(|&i, &j| xy[i][ax].total_cmp(&xy[j][ax]).then(i.cmp(&j)));
-        order
-    });
-    // A split at k puts order[..k] below; it needs both sides of at least `min` spectra and
-    // two distinct coordinates to split between.
-    let splits_at = |ax: usize, k: usize| {
-        let order = &orders[ax];
-        !(k < min || order.len() - k < min || xy[order[k - 1]][ax] >= xy[order[k]][ax])
-    };
-    // Both sides need three real components and a well-conditioned M.
-    let side = |c: &[f64], m: &Moments, basis: [Vec<f64>; 3]| {
-        let f = fit_basis(c, a, opts.max_condition, basis)?;
-        check_rank(c, &f.basis, m.energy()).map(|()| f.error)
-    };
-    // The same with tracked eigenvectors, from C·B and the colour sums: O(n), not O(n²).
-    let tracked_side = |c: &[f64], m: &Moments, colours: &ErrorFloor, tracker: &mut Tracker| {
-        let (basis, cb) = tracker.top_three(c, n);
-        let trace_c = (0..n).map(|i| c[i * n + i]).sum();
-        let g = colours.colour_scatter();
-        let f = fit_products(a, opts.max_condition, basis, &cb, &g, trace_c)?;
-        check_rank_products(&f.basis, &cb, m.energy()).map(|()| f.error)
-    };
-
-    // Each candidate's floor, +∞ where there is no candidate.
-    let origin = total.mean();
-    let mut whole = ErrorFloor::zero(&origin, a);
-    members
-        .iter()
-        .for_each(|&i| whole.add_weighted(spectrum(i), a.xyz(spectrum(i)), weight(i)));
-    let mut far = whole.clone();
-    let floors: [Vec<f64>; 2] = std::array::from_fn(|ax| {
-        let mut below = ErrorFloor::zero(&origin, a);
-        let mut floors = vec![f64::INFINITY; members.len()];
-        for k in 1..members.len() {
-            let i = orders[ax][k - 1];
-            below.add_weighted(spectrum(i), a.xyz(spectrum(i)), weight(i));
-            if splits_at(ax, k) {
-                whole.minus_into(&below, &mut far);
-                floors[k] = below.floor() + far.floor();
-            }
-        }
-        floors
-    });
-    // The exact summed error of the candidate with the lowest floor that fits bounds the best.
-    let mut by_floor: Vec<(usize, usize)> = (0..2)
-        .flat_map(|ax| (1..members.len()).map(move |k| (ax, k)))
-        .filter(|&(ax, k)| floors[ax][k].is_finite())
-        .collect();
-    by_floor.sort_by(|p, q| floors[p.0][p.1].total_cmp(&floors[q.0][q.1]).then(p.cmp(q)));
-    let mut bound = None;
-    let mut above = Moments::zero(n);
-    let (mut c1, mut c2, mut mu) = (Vec::new(), Vec::new(), Vec::new());
-    for &(ax, k) in by_floor.iter().take(PROBES) {
-        let mut below = Moments::zero(n);
-        orders[ax][..k]
-            .iter()
-            .for_each(|&i| below.add_weighted(spectrum(i), weight(i)));
-        total.minus_into(&below, &mut above);
-        below.scatter_into(&mut c1, &mut mu);
-        above.scatter_into(&mut c2, &mut mu);
-        let sides = side(&c1, &below, top_three(&c1, n))
-            .and_then(|e1| Ok(e1 + side(&c2, &above, top_three(&c2, n))?));
-        if let Ok(sum) = sides {
-            bound = Some(sum);
-            break;
-        }
-    }
-    // Far above the floors' rounding and the tracked errors' own: those depend on where the
-    // tracker started by up to 7.5e-7 of the error (measured on the Munsell set), so a margin
-    // of 1e-4 leaves two orders of magnitude.
-    let margin = |sum: f64| 1e-4 * sum + 1e-9 * whole.variance();
-
-    // (summed error, axis, position in that axis' order, split value)
-    let mut search = |limit: f64| {
-        let mut best: Option<(f64, usize, usize, f64)> = None;
-        for (ax, order) in orders.iter().enumerate() {
-            let mut below = Moments::zero(n);
-            let mut colours_below = ErrorFloor::zero(&origin, a);
-            let (mut track_below, mut track_above) = (Tracker::default(), Tracker::default());
-            let mut last = 0;
-            for k in 1..order.len() {
-                let (s, w) = (spectrum(order[k - 1]), weight(order[k - 1]));
-                below.add_weighted(s, w);
-                colours_below.add_weighted(s, a.xyz(s), w);
-                if floors[ax][k] > limit {
-                    continue;
-                }
-                // Far from the last candidate evaluated, a fresh decomposition beats iterating.
-                if k - last > TRACK_GAP {
-                    (track_below, track_above) = (Tracker::default(), Tracker::default());
-                }
-                last = k;
-                total.minus_into(&below, &mut above);
-                below.scatter_into(&mut c1, &mut mu);
-                above.scatter_into(&mut c2, &mut mu);
-                whole.minus_into(&colours_below, &mut far);
-                let Ok(e1) = tracked_side(&c1, &below, &colours_below, &mut track_below) else {
-                    continue;
-                };
-                let Ok(e2) = tracked_side(&c2, &above, &far, &mut track_above) else {
-                    continue;
-                };
-                let sum = e1 + e2;
-                if best.as_ref().is_none_or(|b| sum < b.0) {
-                    // Split halfway between the two sides' colours (Eq. 10: above means ≥ value).
-                    let (lo, hi) = (xy[order[k - 1]][ax], xy[order[k]][ax]);
-                    let mid = 0.5 * (lo + hi);
-                    let value = if mid > lo { mid } else { hi };
-                    best = Some((sum, ax, k, value));
-                }
-            }
-        }
-        best
-    };
+    let search = SplitSearch::new(set, xy, a, opts, members);
     // A candidate skipped has an error above its floor > bound + 2·margin: it cannot beat a
     // split found within bound + margin. Otherwise (the bound's split did not fit with tracked
     // eigenvectors, at the edge of the condition bound), every candidate is searched.
-    let best = match bound {
-        Some(bound) => search(bound + 2.0 * margin(bound))
-            .filter(|b| b.0 <= bound + margin(bound))
-            .or_else(|| search(f64::INFINITY)),
-        None => search(f64::INFINITY),
+    let best = match search.bound() {
+        Some(bound) => search
+            .best(bound + 2.0 * search.margin(bound))
+            .filter(|b| b.0 <= bound + search.margin(bound))
+            .or_else(|| search.best(f64::INFINITY)),
+        None => search.best(f64::INFINITY),
     };
     let (sum, ax, k, value) = best?;
     let gain = error - sum;
-    let order = &orders[ax];
+    let order = &search.orders[ax];
     (gain > 0.0).then(|| Candidate {
         axis: [Axis::X, Axis::Y][ax],
         value,
@@ -654,6 +575,216 @@ fn best_split(
         above: order[k..].to_vec(),
         gain,
     })
+}
+
+/// A split found: (summed error, axis, position in that axis' order, split value).
+type Found = (f64, usize, usize, f64);
+
+/// The search for one cluster's best split: its members in xy order on each axis, their
+/// moments, and each candidate's floor. A split at k on axis `ax` puts `orders[ax][..k]` below.
+struct SplitSearch<'a> {
+    set: &'a TrainingSet,
+    xy: &'a [[f64; 2]],
+    a: &'a Colorimetry,
+    opts: &'a TrainOptions,
+    /// Bands.
+    n: usize,
+    /// The moments of every member.
+    total: Moments,
+    /// The members by x, then by y (ties by index).
+    orders: [Vec<usize>; 2],
+    /// The members' mean, the origin of the colour sums.
+    origin: Vec<f64>,
+    /// The colour sums of every member.
+    whole: ErrorFloor,
+    /// Each candidate's floor, +∞ where there is no candidate.
+    floors: [Vec<f64>; 2],
+}
+
+impl<'a> SplitSearch<'a> {
+    fn new(
+        set: &'a TrainingSet,
+        xy: &'a [[f64; 2]],
+        a: &'a Colorimetry,
+        opts: &'a TrainOptions,
+        members: &[usize],
+    ) -> SplitSearch<'a> {
+        let n = a.bands();
+        let mut total = Moments::zero(n);
+        members
+            .iter()
+            .for_each(|&i| total.add_weighted(&set.spectra[i], set.weight(i)));
+        let orders: [Vec<usize>; 2] = std::array::from_fn(|ax| {
+            let mut order = members.to_vec();
+            order.sort_by(|&i, &j| xy[i][ax].total_cmp(&xy[j][ax]).then(i.cmp(&j)));
+            order
+        });
+        let origin = total.mean();
+        let mut whole = ErrorFloor::zero(&origin, a);
+        for &i in members {
+            let s = set.spectra[i].as_slice();
+            whole.add_weighted(s, a.xyz(s), set.weight(i));
+        }
+        let mut search = SplitSearch {
+            set,
+            xy,
+            a,
+            opts,
+            n,
+            total,
+            orders,
+            origin,
+            whole,
+            floors: [Vec::new(), Vec::new()],
+        };
+        search.floors = std::array::from_fn(|ax| search.floors_on(ax));
+        search
+    }
+
+    fn spectrum(&self, i: usize) -> &'a [f64] {
+        self.set.spectra[i].as_slice()
+    }
+
+    fn weight(&self, i: usize) -> f64 {
+        self.set.weight(i)
+    }
+
+    /// Whether there is a split at k on axis `ax`: both sides of at least the minimum cluster
+    /// size, and two distinct coordinates to split between.
+    fn splits_at(&self, ax: usize, k: usize) -> bool {
+        let (order, min) = (&self.orders[ax], self.opts.min_cluster_size);
+        !(k < min || order.len() - k < min || self.xy[order[k - 1]][ax] >= self.xy[order[k]][ax])
+    }
+
+    /// The floor of every split on axis `ax`, in O(n) each ([`ErrorFloor`]).
+    fn floors_on(&self, ax: usize) -> Vec<f64> {
+        let order = &self.orders[ax];
+        let mut below = ErrorFloor::zero(&self.origin, self.a);
+        let mut far = self.whole.clone();
+        let mut floors = vec![f64::INFINITY; order.len()];
+        for (k, floor) in floors.iter_mut().enumerate().skip(1) {
+            let i = order[k - 1];
+            let s = self.spectrum(i);
+            below.add_weighted(s, self.a.xyz(s), self.weight(i));
+            if self.splits_at(ax, k) {
+                self.whole.minus_into(&below, &mut far);
+                *floor = below.floor() + far.floor();
+            }
+        }
+        floors
+    }
+
+    /// A side's error: it needs three real components and a well-conditioned M.
+    fn side(&self, c: &[f64], m: &Moments, basis: [Vec<f64>; 3]) -> Result<f64, Unfit> {
+        let f = fit_basis(c, self.a, self.opts.max_condition, basis)?;
+        check_rank(c, &f.basis, m.energy()).map(|()| f.error)
+    }
+
+    /// The same with tracked eigenvectors, from C·B and the colour sums: O(n), not O(n²).
+    fn tracked_side(
+        &self,
+        c: &[f64],
+        m: &Moments,
+        colours: &ErrorFloor,
+        tracker: &mut Tracker,
+    ) -> Result<f64, Unfit> {
+        let n = self.n;
+        let (basis, cb) = tracker.top_three(c, n);
+        let trace_c = (0..n).map(|i| c[i * n + i]).sum();
+        let g = colours.colour_scatter();
+        let f = fit_products(self.a, self.opts.max_condition, basis, &cb, &g, trace_c)?;
+        check_rank_products(&f.basis, &cb, m.energy()).map(|()| f.error)
+    }
+
+    /// The exact summed error of the candidate with the lowest floor that fits (among the
+    /// [`PROBES`] lowest), which bounds the best's.
+    fn bound(&self) -> Option<f64> {
+        let (n, len) = (self.n, self.orders[0].len());
+        let mut by_floor: Vec<(usize, usize)> = (0..2)
+            .flat_map(|ax| (1..len).map(move |k| (ax, k)))
+            .filter(|&(ax, k)| self.floors[ax][k].is_finite())
+            .collect();
+        let floors = &self.floors;
+        by_floor.sort_by(|p, q| floors[p.0][p.1].total_cmp(&floors[q.0][q.1]).then(p.cmp(q)));
+        let mut above = Moments::zero(n);
+        let (mut c1, mut c2, mut mu) = (Vec::new(), Vec::new(), Vec::new());
+        for &(ax, k) in by_floor.iter().take(PROBES) {
+            let mut below = Moments::zero(n);
+            self.orders[ax][..k]
+                .iter()
+                .for_each(|&i| below.add_weighted(self.spectrum(i), self.weight(i)));
+            self.total.minus_into(&below, &mut above);
+            below.scatter_into(&mut c1, &mut mu);
+            above.scatter_into(&mut c2, &mut mu);
+            let sides = self
+                .side(&c1, &below, top_three(&c1, n))
+                .and_then(|e1| Ok(e1 + self.side(&c2, &above, top_three(&c2, n))?));
+            if let Ok(sum) = sides {
+                return Some(sum);
+            }
+        }
+        None
+    }
+
+    /// Far above the floors' rounding and the tracked errors' own: those depend on where the
+    /// tracker started by up to 7.5e-7 of the error (measured on the Munsell set), so a margin
+    /// of 1e-4 leaves two orders of magnitude.
+    fn margin(&self, sum: f64) -> f64 {
+        1e-4 * sum + 1e-9 * self.whole.variance()
+    }
+
+    /// The split of lowest summed error among the candidates whose floor is at most `limit`,
+    /// evaluated in order with tracked eigenvectors.
+    fn best(&self, limit: f64) -> Option<Found> {
+        let mut best = None;
+        for ax in 0..2 {
+            self.best_on(ax, limit, &mut best);
+        }
+        best
+    }
+
+    /// [`SplitSearch::best`] on axis `ax`, updating `best`.
+    fn best_on(&self, ax: usize, limit: f64, best: &mut Option<Found>) {
+        let (n, order) = (self.n, &self.orders[ax]);
+        let mut below = Moments::zero(n);
+        let mut above = Moments::zero(n);
+        let mut colours_below = ErrorFloor::zero(&self.origin, self.a);
+        let mut far = self.whole.clone();
+        let (mut c1, mut c2, mut mu) = (Vec::new(), Vec::new(), Vec::new());
+        let (mut track_below, mut track_above) = (Tracker::default(), Tracker::default());
+        let mut last = 0;
+        for k in 1..order.len() {
+            let (s, w) = (self.spectrum(order[k - 1]), self.weight(order[k - 1]));
+            below.add_weighted(s, w);
+            colours_below.add_weighted(s, self.a.xyz(s), w);
+            if self.floors[ax][k] > limit {
+                continue;
+            }
+            // Far from the last candidate evaluated, a fresh decomposition beats iterating.
+            if k - last > TRACK_GAP {
+                (track_below, track_above) = (Tracker::default(), Tracker::default());
+            }
+            last = k;
+            self.total.minus_into(&below, &mut above);
+            below.scatter_into(&mut c1, &mut mu);
+            above.scatter_into(&mut c2, &mut mu);
+            self.whole.minus_into(&colours_below, &mut far);
+            let Ok(e1) = self.tracked_side(&c1, &below, &colours_below, &mut track_below) else {
+                continue;
+            };
+            let Ok(e2) = self.tracked_side(&c2, &above, &far, &mut track_above) else {
+                continue;
+            };
+            let sum = e1 + e2;
+            if best.as_ref().is_none_or(|b| sum < b.0) {
+                // Split halfway between the two sides' colours (Eq. 10: above means ≥ value).
+                let (lo, hi) = (self.xy[order[k - 1]][ax], self.xy[order[k]][ax]);
+                let mid = 0.5 * (lo + hi);
+                let value = if mid > lo { mid } else { hi };
+                *best = Some((sum, ax, k, value));
+            }
+        }
+    }
 }
 
 /// Candidates with the lowest floors evaluated exactly to find a bound on the best split's

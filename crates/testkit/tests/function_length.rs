@@ -1,0 +1,226 @@
+//! The house rule on length, checked: no production function is longer than [`LIMIT`] lines.
+//! Run with `--nocapture` to print the longest.
+//!
+//! The rule, by line and indentation (the layout `cargo fmt` gives, which CI enforces):
+//!
+//! - Production code is every `.rs` file under `crates/*/src`, `ffi/*/src`, `python/src` and
+//!   `src`: not `tests/`, `benches/`, `build.rs` or `fuzz/`.
+//! - A function starts at a line that begins, after its indentation, with `fn NAME` (after any
+//!   of `pub`, `pub(…)`, `const`, `async`, `unsafe`, `extern "…"`) and ends at the first later
+//!   line that is `}` at that same indentation; its length counts both lines. A declaration
+//!   without a body (ending in `;`) and a function on one line are not counted. A function
+//!   inside another counts on its own, and as lines of the one around it.
+//! - The item after a `#[cfg(test)]` line (the unit tests' module) is skipped to the `}` at its
+//!   indentation. A test module in a file of its own (`#[cfg(test)] mod tests;`) would be
+//!   scanned: the workspace has none.
+//!
+//! [`ALLOWED`] lists the functions left longer, each with why; an entry that is no longer over
+//! the limit fails the test too, so that the list only shrinks.
+
+use std::path::{Path, PathBuf};
+
+/// The most lines a production function may have.
+const LIMIT: usize = 100;
+
+/// Functions over the limit that stay for now: (file, function, why).
+const ALLOWED: &[(&str, &str, &str)] = &[(
+    "crates/farm/src/status.rs",
+    "read",
+    "the farm crate was being changed by another engineer when the rule came in (issue 30)",
+)];
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+/// The production sources, as paths relative to the workspace root, sorted.
+fn sources() -> Vec<String> {
+    let root = root();
+    let mut dirs = vec![root.join("python/src"), root.join("src")];
+    for parent in ["crates", "ffi"] {
+        for entry in std::fs::read_dir(root.join(parent)).unwrap() {
+            dirs.push(entry.unwrap().path().join("src"));
+        }
+    }
+    let mut files = Vec::new();
+    for dir in dirs.iter().filter(|d| d.is_dir()) {
+        collect(dir, &mut files);
+    }
+    let mut out: Vec<String> = files
+        .iter()
+        .map(|f| {
+            f.strip_prefix(&root)
+                .unwrap()
+                .to_string_lossy()
+                .replace('\\', "/")
+        })
+        .collect();
+    out.sort();
+    out
+}
+
+fn collect(dir: &Path, files: &mut Vec<PathBuf>) {
+    for entry in std::fs::read_dir(dir).unwrap() {
+        let path = entry.unwrap().path();
+        if path.is_dir() {
+            collect(&path, files);
+        } else if path.extension().is_some_and(|e| e == "rs") {
+            files.push(path);
+        }
+    }
+}
+
+/// The function a line starts, if it starts one: its indentation and name.
+fn starts_function(line: &str) -> Option<(&str, &str)> {
+    let rest = line.trim_start();
+    let indent = &line[..line.len() - rest.len()];
+    let mut rest = rest;
+    loop {
+        let before = rest;
+        for word in ["pub ", "const ", "async ", "unsafe "] {
+            rest = rest.strip_prefix(word).unwrap_or(rest);
+        }
+        if let Some(scoped) = rest.strip_prefix("pub(") {
+            rest = scoped.split_once(") ").map_or(rest, |(_, after)| after);
+        }
+        if let Some(abi) = rest.strip_prefix("extern \"") {
+            rest = abi.split_once("\" ").map_or(rest, |(_, after)| after);
+        }
+        if rest == before {
+            break;
+        }
+    }
+    let name = rest.strip_prefix("fn ")?;
+    let end = name
+        .find(|c: char| !(c.is_alphanumeric() || c == '_'))
+        .unwrap_or(name.len());
+    Some((indent, &name[..end]))
+}
+
+/// The line (index) of the `}` at `indent` that closes the item starting at `start`.
+fn closing(lines: &[&str], start: usize, indent: &str) -> usize {
+    let close = format!("{indent}}}");
+    (start + 1..lines.len())
+        .find(|&i| lines[i] == close)
+        .unwrap_or(lines.len() - 1)
+}
+
+/// Every function of `text` with a body on more than one line: (name, first line from 1,
+/// length in lines).
+fn functions(text: &str) -> Vec<(String, usize, usize)> {
+    let lines: Vec<&str> = text.lines().collect();
+    let mut out = Vec::new();
+    let mut i = 0;
+    while i < lines.len() {
+        let line = lines[i];
+        if line.trim() == "#[cfg(test)]" {
+            let indent = &line[..line.len() - line.trim_start().len()];
+            let one_line = lines
+                .get(i + 1)
+                .is_some_and(|l| l.trim_end().ends_with(';'));
+            i = if one_line {
+                i + 2
+            } else {
+                closing(&lines, i + 1, indent) + 1
+            };
+            continue;
+        }
+        if let Some((indent, name)) = starts_function(line) {
+            // The body opens on the signature's last line; none when it ends in `;` first.
+            let open = (i..lines.len())
+                .find(|&k| lines[k].contains('{') || lines[k].trim_end().ends_with(';'));
+            if let Some(open) = open.filter(|&k| lines[k].contains('{')) {
+                let body = lines[open];
+                let on_one_line = body.trim_end().ends_with('}')
+                    && body.matches('{').count() == body.matches('}').count();
+                if !on_one_line {
+                    let end = closing(&lines, open, indent);
+                    out.push((name.to_string(), i + 1, end - i + 1));
+                }
+            }
+        }
+        i += 1;
+    }
+    out
+}
+
+#[test]
+fn the_rule_counts_from_fn_to_its_closing_brace_and_skips_unit_tests() {
+    let text = "\
+pub(crate) fn three() {
+    x();
+}
+fn one() {}
+trait T {
+    fn declared(&self);
+    fn provided(&self) -> u8 {
+        if true {
+        }
+        0
+    }
+}
+pub fn signature(
+    a: u8,
+) -> u8
+where
+    u8: Copy,
+{
+    a
+}
+#[cfg(test)]
+mod tests {
+    fn helper() {
+        x();
+    }
+}
+";
+    let found = functions(text);
+    let found: Vec<(&str, usize, usize)> = found
+        .iter()
+        .map(|(n, l, len)| (n.as_str(), *l, *len))
+        .collect();
+    assert_eq!(
+        found,
+        [("three", 1, 3), ("provided", 7, 5), ("signature", 13, 8)]
+    );
+}
+
+#[test]
+fn no_production_function_is_longer_than_the_limit() {
+    let mut long = Vec::new();
+    let mut longest = Vec::new();
+    for file in sources() {
+        let text = std::fs::read_to_string(root().join(&file)).unwrap();
+        for (name, line, length) in functions(&text) {
+            longest.push((length, format!("{file}:{line} {name}")));
+            if length > LIMIT {
+                long.push((file.clone(), name, line, length));
+            }
+        }
+    }
+    longest.sort_by(|a, b| b.cmp(a));
+    for (length, at) in longest.iter().take(15) {
+        println!("{length:5}  {at}");
+    }
+    let allowed = |file: &str, name: &str| ALLOWED.iter().any(|(f, n, _)| *f == file && *n == name);
+    let over: Vec<String> = long
+        .iter()
+        .filter(|(file, name, ..)| !allowed(file, name))
+        .map(|(file, name, line, length)| format!("{file}:{line} {name}: {length} lines"))
+        .collect();
+    assert!(
+        over.is_empty(),
+        "functions longer than {LIMIT} lines; split them into functions that say what they do:\n{}",
+        over.join("\n")
+    );
+    let stale: Vec<String> = ALLOWED
+        .iter()
+        .filter(|(f, n, _)| !long.iter().any(|(file, name, ..)| file == f && name == n))
+        .map(|(f, n, _)| format!("{f} {n}"))
+        .collect();
+    assert!(
+        stale.is_empty(),
+        "allowed to be long but no longer over {LIMIT} lines (or gone): take them off ALLOWED:\n{}",
+        stale.join("\n")
+    );
+}
