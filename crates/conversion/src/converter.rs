@@ -194,7 +194,7 @@ impl Converter {
         };
         match report {
             Err(ConversionError::Data(data)) => {
-                self.data_texture(input, output, overwrite, *data, start)
+                self.data_texture((input, output), overwrite, *data, (start, cancel))
             }
             Err(e) => Err(e.into()),
             Ok(report) => Ok(Report {
@@ -207,11 +207,10 @@ impl Converter {
     /// A data texture, by the data policy: skipped, written through, or a failure.
     fn data_texture(
         &self,
-        input: &Path,
-        output: &Path,
+        (input, output): (&Path, &Path),
         overwrite: bool,
         data: crate::pipeline::DataTexture,
-        start: Instant,
+        (start, cancel): (Instant, &AtomicBool),
     ) -> Result<Report, Error> {
         let outcome = match self.options.data {
             DataPolicy::Fail => {
@@ -246,6 +245,11 @@ impl Converter {
                 if self.options.resize {
                     attributes.push(("maketx:resize".into(), "1".into()));
                 }
+                // Non-finite values repaired as a conversion repairs them (the survey refused
+                // them already where the policy refuses).
+                if let Some(fix) = self.options.non_finite.maketx_fixnan() {
+                    attributes.push(("maketx:fixnan".into(), fix.into()));
+                }
                 let selection = data.selection.as_ref();
                 let how = crate::pipeline::data::Copy {
                     subimage: selection.map_or(0, |s| s.subimage),
@@ -256,6 +260,7 @@ impl Converter {
                     compression: &compression,
                     overwrite,
                     attributes: &attributes,
+                    cancel,
                 };
                 let levels =
                     crate::pipeline::data::copy(input, output, &how).map_err(Error::Conversion)?;
