@@ -495,7 +495,8 @@ impl Small {
 
 impl Drop for Small {
     fn drop(&mut self) {
-        let _ = Command::new("umount").arg(&self.0).status();
+        // Lazily: a killed writer may still hold a file there for a moment.
+        let _ = Command::new("umount").arg("-l").arg(&self.0).status();
     }
 }
 
