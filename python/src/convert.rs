@@ -273,6 +273,14 @@ fn run<'py>(
         worker.join()
     });
     if let Some(e) = failure {
+        // Decided where each output is published: a Ctrl-C that came after the last one
+        // stopped nothing, and says so.
+        let stopped = !matches!(&ended, Ok(Ok(summary)) if !summary.cancelled);
+        if !stopped && e.is_instance_of::<pyo3::exceptions::PyKeyboardInterrupt>(py) {
+            return Err(pyo3::exceptions::PyKeyboardInterrupt::new_err(
+                "interrupted after every output was completed; they were kept",
+            ));
+        }
         return Err(e);
     }
     match ended {

@@ -20,8 +20,40 @@ use specconv_oiio::TextureSpec;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::mpsc;
+use std::sync::{mpsc, Arc, Condvar, Mutex, PoisonError};
 use std::time::{Duration, Instant};
+
+/// Cancelled copies whose writer still runs inside OpenImageIO, and the condition their end
+/// is told by ([`settle`]).
+static ABANDONED: (Mutex<usize>, Condvar) = (Mutex::new(0), Condvar::new());
+
+/// Waits, at most `timeout`, for the writers of cancelled copies to end; whether none runs
+/// now. A process that ends while one runs inside OpenImageIO runs the library's static
+/// destructors under it (a crash): a front-end that cannot end with `_exit` (Python) calls this
+/// at exit. A writer stalled on a full disk is not waited for (it never ends).
+pub fn settle(timeout: Duration) -> bool {
+    let (count, ended) = &ABANDONED;
+    let count = count.lock().unwrap_or_else(PoisonError::into_inner);
+    let (count, _) = ended
+        .wait_timeout_while(count, timeout, |n| *n > 0)
+        .unwrap_or_else(PoisonError::into_inner);
+    *count == 0
+}
+
+/// Counts a cancelled copy's writer until it ends.
+fn abandon(counted: &AtomicBool) {
+    *ABANDONED.0.lock().unwrap_or_else(PoisonError::into_inner) += 1;
+    counted.store(true, Ordering::SeqCst);
+}
+
+/// A counted writer has ended.
+fn ended(counted: &AtomicBool) {
+    if counted.load(Ordering::SeqCst) {
+        let mut n = ABANDONED.0.lock().unwrap_or_else(PoisonError::into_inner);
+        *n = n.saturating_sub(1);
+        ABANDONED.1.notify_all();
+    }
+}
 
 /// How often the caller looks at the cancel flag while the copy is written.
 pub const POLL: Duration = Duration::from_millis(20);
@@ -73,8 +105,9 @@ pub fn copy(input: &Path, output: &Path, how: &Copy) -> Result<usize> {
         written: written.clone(),
     };
     let (done, result) = mpsc::channel();
+    let counted = Arc::new(AtomicBool::new(false));
     {
-        let (input, writer) = (input.to_path_buf(), writer.clone());
+        let (input, writer, counted) = (input.to_path_buf(), writer.clone(), counted.clone());
         std::thread::Builder::new()
             .name("specconv-copy".into())
             .spawn(move || {
@@ -82,17 +115,18 @@ pub fn copy(input: &Path, output: &Path, how: &Copy) -> Result<usize> {
                 // Nobody waits any more: the copy was abandoned; remove what it made.
                 if done.send(made).is_err() {
                     writer.remove();
+                    ended(&counted);
                 }
             })
             .map_err(io)?;
     }
-    match watch(&writer, &pending, &result, how.cancel) {
-        Ok(()) => {}
-        Err(e) => {
-            // Dropping `result` tells a writer still running that it was abandoned.
-            writer.remove();
-            return Err(e);
+    if let Err(e) = watch(&writer, &pending, &result, how.cancel) {
+        if matches!(e, Error::Cancelled) {
+            abandon(&counted);
         }
+        // Dropping `result` tells a writer still running that it was abandoned.
+        writer.remove();
+        return Err(e);
     }
     let levels = specconv_oiio::ImageReader::open(&written)?
         .info()
