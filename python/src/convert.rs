@@ -273,13 +273,25 @@ fn run<'py>(
         worker.join()
     });
     if let Some(e) = failure {
-        return Err(e);
+        let stopped = !matches!(&ended, Ok(Ok(summary)) if !summary.cancelled);
+        return Err(interrupted(py, e, stopped));
     }
     match ended {
         Ok(Ok(_summary)) => Ok(records),
         Ok(Err(e)) => Err(conversion(e)),
         Err(_) => Err(Kind::Input.err("the conversion stopped unexpectedly")),
     }
+}
+
+/// The error a batch ended with when Python raised `e` during it. Decided where each output
+/// is published: a Ctrl-C that came after the last one (nothing `stopped`) says so.
+fn interrupted(py: Python<'_>, e: PyErr, stopped: bool) -> PyErr {
+    if !stopped && e.is_instance_of::<pyo3::exceptions::PyKeyboardInterrupt>(py) {
+        return pyo3::exceptions::PyKeyboardInterrupt::new_err(
+            "interrupted after every output was completed; they were kept",
+        );
+    }
+    e
 }
 
 /// Calls the progress callback, if any.

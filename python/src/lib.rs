@@ -27,5 +27,17 @@ fn _specconv(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<files::SpectralImage>()?;
     m.add_function(wrap_pyfunction!(files::read_spectral, m)?)?;
     m.add_function(wrap_pyfunction!(files::write_spectral, m)?)?;
+    // A data copy interrupted by Ctrl-C returns at once; its writer, inside OpenImageIO, ends
+    // later. The interpreter's exit waits for it: C++ destructors under it would crash.
+    let settle = wrap_pyfunction!(_settle, m)?;
+    m.py()
+        .import("atexit")?
+        .call_method1("register", (settle,))?;
     Ok(())
+}
+
+/// Waits (the GIL released, 10 minutes at most) for the writers of interrupted data copies.
+#[pyfunction]
+fn _settle(py: Python<'_>) {
+    py.detach(|| specconv_conversion::settle_copies(std::time::Duration::from_secs(600)));
 }

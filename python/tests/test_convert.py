@@ -158,6 +158,47 @@ def test_ctrl_c_cancels_cleanly(tmp_path):
     assert not out.exists() and leftovers(tmp_path) == []
 
 
+def test_ctrl_c_during_a_data_copy_stops_it_or_says_it_was_kept(tmp_path):
+    # Issue 31, item 3: KeyboardInterrupt was raised with the copy's output written.
+    big = tmp_path / "mask.png"
+    subprocess.run(["oiiotool", "--pattern", "noise:min=0:max=1", "4096x4096", "3",
+                    "-d", "uint8", "-o", str(big)], check=True)
+    out = tmp_path / "mask.exr"
+    script = textwrap.dedent(f"""
+        import sys, specconv
+        def told(index, path, done, total):
+            print("started", flush=True)
+        try:
+            specconv.convert({str(big)!r}, {str(out)!r}, progress=told, data="copy",
+                             colorspace="Raw")
+        except KeyboardInterrupt as e:
+            print("interrupted:", e, flush=True)
+            sys.exit(130)
+        print("finished", flush=True)
+    """)
+    for wait in [0.2, 1.5]:
+        if out.exists():
+            out.unlink()
+        p = subprocess.Popen([sys.executable, "-c", script], stdout=subprocess.PIPE, text=True)
+        assert p.stdout.readline().strip() == "started"
+        time.sleep(wait)
+        sent = time.monotonic()
+        p.send_signal(signal.SIGINT)
+        said = p.stdout.readline()
+        # KeyboardInterrupt at once; the interpreter's exit then waits for OpenImageIO's
+        # writer to end (specconv._settle), never crashing under it.
+        took = time.monotonic() - sent
+        rest = said + p.stdout.read()
+        code = p.wait(timeout=60)
+        if out.exists():
+            # Published before the signal was heard: said, never "no output".
+            assert code == 0 or "completed" in rest, rest
+        else:
+            assert code == 130 and "interrupted" in rest, rest
+            assert took < 2, took
+        assert leftovers(tmp_path) == [], rest
+
+
 def test_the_gil_is_released_while_uplifting():
     xyz = np.random.default_rng(0).uniform(0.05, 0.3, (600_000, 3))
     ticks = []

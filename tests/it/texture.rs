@@ -236,6 +236,44 @@ fn nan_is_refused_by_default_and_repaired_as_openimageio_repairs_it() {
 }
 
 #[test]
+fn data_copies_meet_the_nan_rule_of_a_conversion() {
+    // Issue 31, item 9: a Raw float EXR with NaN was written through by --data copy, exit 0.
+    let dir = Scratch::new("texture-nan-copy");
+    let input = dir.path("nan.exr");
+    image_with_nan(&input);
+    let copy = ["--colorspace", "Raw", "--data", "copy"];
+    let out = dir.path("out.exr");
+    // Refused by default, with a conversion's words, and nothing written.
+    Cmd::convert(&input, &out).args(copy).fails(
+        1,
+        &["4 pixel(s)", "NaN or infinite", "x 5, y 3", "--fixnan box3"],
+    );
+    assert!(!out.exists());
+    no_temporaries(&dir.0);
+    // Repaired as a conversion repairs them: OpenImageIO's fixNonFinite, as oiiotool --fixnan.
+    for how in ["box3", "black"] {
+        let ours = dir.path(&format!("{how}.exr"));
+        let json = Cmd::convert(&input, &ours)
+            .args(copy)
+            .args(["--fixnan", how, "--json"])
+            .ok()
+            .json();
+        assert_eq!(json["status"], "copied", "{json}");
+        let fixed = dir.path(&format!("fixed-{how}.exr"));
+        tool("oiiotool", &[s(&input), "--fixnan", how, "-o", s(&fixed)]);
+        assert_eq!(max_difference(&ours, &fixed, 0), 0.0, "{how}");
+    }
+    // Kept when asked.
+    let json = Cmd::convert(&input, dir.path("kept.exr"))
+        .args(copy)
+        .args(["--fixnan", "none", "--json"])
+        .ok()
+        .json();
+    assert_eq!(json["status"], "copied", "{json}");
+    no_temporaries(&dir.0);
+}
+
+#[test]
 fn constant_textures_are_one_tile_and_opaque_alpha_is_left_out() {
     let dir = Scratch::new("texture-constant");
     let input = dir.path("grey.exr");

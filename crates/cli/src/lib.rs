@@ -307,7 +307,14 @@ pub fn main() -> i32 {
             return exit::USAGE;
         }
     };
-    run(cli).unwrap_or_else(failed)
+    let code = run(cli).unwrap_or_else(failed);
+    // An interrupted copy may leave its abandoned thread inside OpenImageIO: the libraries'
+    // static destructors would wait for it (or crash under it). Everything is said (each
+    // write is flushed) and removed by now; end at once, as the signal handler does.
+    if code == exit::INTERRUPTED {
+        specconv_conversion::exit_now(code)
+    }
+    code
 }
 
 /// Says why a command failed, once, and returns its exit status. A closed standard output

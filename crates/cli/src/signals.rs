@@ -2,10 +2,11 @@
 //!
 //! Until a command writes an output, a signal ends the process at once, whatever it is doing
 //! (parsing, loading a model, building tables, reading a file): one line, exit status 130,
-//! nothing written. While it writes ([`deferred`]), a signal only sets the writer's cancel
-//! flag: a batch, or `to-rgb`, stops within a block (its output not published, its temporary
-//! file removed) and ends with status 130. A signal to a writer that has not stopped two
-//! seconds after the first ends the process at once.
+//! nothing written. From its first write on ([`deferred`]), a signal only sets the writer's
+//! cancel flag: a batch, or `to-rgb`, stops within a block (its output not published, its
+//! temporary file removed) and ends with status 130; a signal after the last output was
+//! published stops nothing, and the command ends with the status of what it did. A signal to
+//! a writer that has not stopped two seconds after the first ends the process at once.
 //!
 //! The handler runs on ctrlc's own thread. It decides under the same lock that a writer takes
 //! to start and to stop writing, so a signal never ends the process between "not yet
@@ -74,13 +75,14 @@ pub(crate) fn install() {
 }
 
 /// Runs `f`, which writes outputs and stops when `cancel` is set, with signals setting
-/// `cancel` instead of ending the process.
+/// `cancel` instead of ending the process. They still do once `f` has returned: what it wrote
+/// is complete, and a signal that comes while the command reports it must not end the process
+/// with "no partial output was left" and status 130 beside a published output (the command
+/// ends with the status of what it did).
 pub(crate) fn deferred<T>(cancel: &Arc<AtomicBool>, f: impl FnOnce() -> T) -> T {
     *writer() = Some(Writer {
         cancel: cancel.clone(),
         signalled: None,
     });
-    let result = f();
-    *writer() = None;
-    result
+    f()
 }

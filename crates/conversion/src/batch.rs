@@ -76,7 +76,9 @@ pub struct Summary {
     pub failed: usize,
     /// Data textures, skipped or written through.
     pub data: usize,
-    /// The batch was cancelled; the input it was on was left as it was.
+    /// The batch was cancelled before its end; the input it was on was left as it was. The
+    /// decision is taken where each output is published: a cancel that comes after the last
+    /// one was published stopped nothing, and is not reported here.
     pub cancelled: bool,
 }
 
@@ -150,6 +152,7 @@ impl<'c> Batch<'c> {
         let mut summary = Summary::default();
         for (index, (input, output)) in pairs.iter().enumerate() {
             if cancel.load(Ordering::SeqCst) {
+                summary.cancelled = true;
                 break;
             }
             on(Event::Started { index, input });
@@ -182,7 +185,10 @@ impl<'c> Batch<'c> {
                     });
                 }
                 // Interrupted: not a failure of this input, which stays to be converted.
-                Err(e) if e.is_cancelled() => break,
+                Err(e) if e.is_cancelled() => {
+                    summary.cancelled = true;
+                    break;
+                }
                 Err(error) => {
                     summary.failed += 1;
                     on(Event::Failed {
@@ -194,7 +200,6 @@ impl<'c> Batch<'c> {
                 }
             }
         }
-        summary.cancelled = cancel.load(Ordering::SeqCst);
         Ok(summary)
     }
 }

@@ -33,6 +33,19 @@ pub enum NonFinite {
     Keep,
 }
 
+impl NonFinite {
+    /// The repair as OpenImageIO's `make_texture` names it (`maketx --fixnan`), for a data
+    /// copy: the same `fixNonFinite` a conversion's repair follows; `None` where nothing is
+    /// repaired (refused values never reach the copy: it is surveyed first).
+    pub fn maketx_fixnan(self) -> Option<&'static str> {
+        match self {
+            NonFinite::Black => Some("black"),
+            NonFinite::Box3 => Some("box3"),
+            NonFinite::Refuse | NonFinite::Keep => None,
+        }
+    }
+}
+
 /// Whether a tiled output is a MIP map.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Mip {

@@ -194,7 +194,7 @@ impl Converter {
         };
         match report {
             Err(ConversionError::Data(data)) => {
-                self.data_texture(input, output, overwrite, *data, start)
+                self.data_texture((input, output), overwrite, *data, (start, cancel))
             }
             Err(e) => Err(e.into()),
             Ok(report) => Ok(Report {
@@ -207,11 +207,10 @@ impl Converter {
     /// A data texture, by the data policy: skipped, written through, or a failure.
     fn data_texture(
         &self,
-        input: &Path,
-        output: &Path,
+        (input, output): (&Path, &Path),
         overwrite: bool,
         data: crate::pipeline::DataTexture,
-        start: Instant,
+        (start, cancel): (Instant, &AtomicBool),
     ) -> Result<Report, Error> {
         let outcome = match self.options.data {
             DataPolicy::Fail => {
@@ -224,28 +223,8 @@ impl Converter {
                     // A texture is tiled whatever the colour outputs are.
                     Blocks::Scanlines => (64, 64),
                 };
-                let provenance = Provenance {
-                    source_colorspace: Some(data.name.clone()),
-                    config: Some(self.config.source().to_string()),
-                    source: Some(file_name(input)),
-                    source_stat: crate::provenance::source_stat(input),
-                    settings: self.provenance.settings.clone(),
-                    version: self.provenance.version.clone(),
-                    ..Provenance::default()
-                };
                 let compression = self.options.compression.to_string();
-                // `--wrap` names the copy's wrap modes too (else make_texture keeps the input's).
-                let mut attributes = provenance.to_attributes();
-                if let Some((s, t)) = self.options.wrap {
-                    attributes.push(("wrapmodes".into(), format!("{s},{t}")));
-                }
-                // Its levels with the same filter (maketx filters the data as it is).
-                attributes.push(("maketx:filtername".into(), self.options.filter.to_string()));
-                // And level 0 resized to powers of two as maketx's --resize (OpenImageIO reads
-                // the integer from the string).
-                if self.options.resize {
-                    attributes.push(("maketx:resize".into(), "1".into()));
-                }
+                let attributes = self.copy_attributes(input, &data);
                 let selection = data.selection.as_ref();
                 let how = crate::pipeline::data::Copy {
                     subimage: selection.map_or(0, |s| s.subimage),
@@ -256,6 +235,7 @@ impl Converter {
                     compression: &compression,
                     overwrite,
                     attributes: &attributes,
+                    cancel,
                 };
                 let levels =
                     crate::pipeline::data::copy(input, output, &how).map_err(Error::Conversion)?;
@@ -300,6 +280,42 @@ impl Converter {
             role: Role::Data,
             data: Some(outcome.0),
         })
+    }
+
+    /// What a data copy records and how make_texture is to make it: the provenance, `--wrap`,
+    /// the filter, `--resize` and the non-finite repair, as maketx's settings.
+    fn copy_attributes(
+        &self,
+        input: &Path,
+        data: &crate::pipeline::DataTexture,
+    ) -> Vec<(String, String)> {
+        let provenance = Provenance {
+            source_colorspace: Some(data.name.clone()),
+            config: Some(self.config.source().to_string()),
+            source: Some(file_name(input)),
+            source_stat: crate::provenance::source_stat(input),
+            settings: self.provenance.settings.clone(),
+            version: self.provenance.version.clone(),
+            ..Provenance::default()
+        };
+        // `--wrap` names the copy's wrap modes too (else make_texture keeps the input's).
+        let mut attributes = provenance.to_attributes();
+        if let Some((s, t)) = self.options.wrap {
+            attributes.push(("wrapmodes".into(), format!("{s},{t}")));
+        }
+        // Its levels with the same filter (maketx filters the data as it is).
+        attributes.push(("maketx:filtername".into(), self.options.filter.to_string()));
+        // And level 0 resized to powers of two as maketx's --resize (OpenImageIO reads
+        // the integer from the string).
+        if self.options.resize {
+            attributes.push(("maketx:resize".into(), "1".into()));
+        }
+        // Non-finite values repaired as a conversion repairs them (the survey refused
+        // them already where the policy refuses).
+        if let Some(fix) = self.options.non_finite.maketx_fixnan() {
+            attributes.push(("maketx:fixnan".into(), fix.into()));
+        }
+        attributes
     }
 
     /// Whether `output` is newer than `input`, was written with these same settings from an

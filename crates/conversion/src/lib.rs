@@ -79,3 +79,12 @@ pub use wrapped::{ColourError, ImageError};
 pub fn exit_now(code: i32) -> ! {
     specconv_oiio::exit_now(code)
 }
+
+/// Waits, at most `timeout`, for what cancelled data copies left running inside OpenImageIO
+/// (a copy returns within 20 ms of its cancel flag; its writer cannot be stopped midway and
+/// removes its files when it ends); whether nothing runs now. A front-end that ends the
+/// process with `exit` rather than [`exit_now`] (Python) calls it first: the libraries' static
+/// destructors must not run under a writer.
+pub fn settle_copies(timeout: std::time::Duration) -> bool {
+    pipeline::data::settle(timeout)
+}

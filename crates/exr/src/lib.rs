@@ -53,6 +53,17 @@ pub enum Error {
     Exr(#[from] exr::error::Error),
 }
 
+impl Error {
+    /// The I/O error underneath, for a caller that names the file it was writing (a full disk
+    /// is the output's, not the input's); any other error as it is.
+    pub fn into_io(self) -> std::result::Result<std::io::Error, Error> {
+        match self {
+            Error::Exr(exr::error::Error::Io(e)) => Ok(e),
+            other => Err(other),
+        }
+    }
+}
+
 /// The largest uncompressed block (a tile, or a block of scanlines) OpenEXR's readers accept:
 /// its size in bytes is a signed 32-bit integer. Measured with oiiotool 2.4 on 36 half
 /// channels: 5000×5000 tiles (1.8 GB) open, 6000×6000 (2.6 GB) fail with "Tile size too large

@@ -288,12 +288,25 @@ pub fn open<'a>(job: &'a Job<'a>) -> Result<Opened<'a>> {
     specconv_exr::check::check_input(job.input)?;
     let (reader, selection) = input::open(job.input, &job.options.request())?;
     let info = reader.info().clone();
-    let space = texture_space(
+    let space = match texture_space(
         job.config,
         &reader,
         &selection,
         job.options.colorspace.as_deref(),
-    )?;
+    ) {
+        // A data texture to be copied meets a conversion's rule on NaN and infinities: every
+        // channel surveyed as a conversion's are, before anything is written.
+        Err(Error::Data(data))
+            if job.options.data == crate::DataPolicy::Copy
+                && job.options.non_finite != crate::NonFinite::Keep =>
+        {
+            let mut reader = reader;
+            let every: Vec<usize> = (0..reader.info().channels.len()).collect();
+            survey::survey(job, &mut reader, (&every, None))?;
+            return Err(Error::Data(data));
+        }
+        other => other?,
+    };
     let premultiply = job
         .options
         .alpha

@@ -388,6 +388,10 @@ fn run_batch(args: &Args, converter: &Converter, pairs: &[(PathBuf, PathBuf)]) -
         print_error(signals::LINE);
         return Ok(exit::INTERRUPTED);
     }
+    // The signal came after the last output was published: it stopped nothing.
+    if cancel.load(Ordering::SeqCst) {
+        errln!("specconv: the signal came after the last output was completed; it was kept");
+    }
     Ok(if summary.failed.is_empty() {
         exit::OK
     } else {
