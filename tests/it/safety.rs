@@ -4,6 +4,7 @@
 
 use crate::convert::testdata;
 use crate::runner::*;
+use std::os::unix::fs::FileTypeExt;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
@@ -405,4 +406,45 @@ fn errors_are_one_line_naming_the_real_path() {
         std::fs::read(testdata("srgb8.png")).unwrap()
     );
     no_temporaries(&s.0);
+}
+
+#[test]
+fn a_fifo_or_link_named_like_a_temporary_blocks_no_writer() {
+    // Anyone who may write to a shared output folder can plant these (issue 31, case 1): they
+    // used to block every writer of `ff.exr` for ever, deaf to SIGINT and SIGTERM.
+    let s = Scratch::new("safety-planted");
+    let x = texture(&s, "a.png");
+    let out = s.path("ff.exr");
+    let fifo = s.path(".ff.exr.specconv-2222222222222222.tmp");
+    assert!(Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .unwrap()
+        .success());
+    std::os::unix::fs::symlink("/dev/zero", s.path(".ff.exr.specconv-3333333333333333.tmp"))
+        .unwrap();
+    let before = snapshot(&[&x]);
+    let limit = Duration::from_secs(20);
+    let start = Instant::now();
+    Cmd::convert(&x, &out).run_within(limit).ok();
+    eprintln!(
+        "converted beside a planted FIFO in {:.3} s",
+        start.elapsed().as_secs_f64()
+    );
+    tool("oiiotool", &[out.to_str().unwrap(), "--printstats"]);
+    // A data copy (OpenImageIO's make_texture) and a replacing run pass the same way.
+    let copy = s.path("ff2.exr");
+    std::os::unix::fs::symlink(&fifo, s.path(".ff2.exr.specconv-2222222222222222.tmp")).unwrap();
+    Cmd::convert(&x, &copy)
+        .args(["--colorspace", "Raw", "--data", "copy"])
+        .run_within(limit)
+        .ok();
+    Cmd::convert(&x, &out).arg("--force").run_within(limit).ok();
+    // Nobody's files: kept as they were, and nothing of ours left.
+    assert!(std::fs::symlink_metadata(&fifo)
+        .unwrap()
+        .file_type()
+        .is_fifo());
+    assert_eq!(specconv_atomic_file::leftovers(&out).len(), 2);
+    assert_eq!(snapshot(&[&x]), before);
 }

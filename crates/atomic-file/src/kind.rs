@@ -157,6 +157,14 @@ pub fn open_own(path: &Path, write: bool) -> Result<File, ReadError> {
     open_with(path, options, libc::O_NONBLOCK | libc::O_NOFOLLOW)
 }
 
+/// As [`open_own`] for reading and writing, creating the file if no name is there (never
+/// truncating it).
+pub fn create_own(path: &Path) -> Result<File, ReadError> {
+    let mut options = std::fs::File::options();
+    options.read(true).write(true).create(true).truncate(false);
+    open_with(path, options, libc::O_NONBLOCK | libc::O_NOFOLLOW)
+}
+
 fn open_regular(path: &Path, flags: i32) -> Result<File, ReadError> {
     let mut options = std::fs::File::options();
     options.read(true);
@@ -202,12 +210,25 @@ fn open_with(
 
 /// Reads a regular file of at most `limit` bytes; `what` names its use in the error.
 pub fn read_bounded(path: &Path, limit: u64, what: &'static str) -> Result<Vec<u8>, ReadError> {
+    read_bounded_from(open_file(path)?, path, limit, what)
+}
+
+/// As [`read_bounded`] for a file of our own ([`open_own`]: a link is refused, not followed).
+pub fn read_bounded_own(path: &Path, limit: u64, what: &'static str) -> Result<Vec<u8>, ReadError> {
+    read_bounded_from(open_own(path, false)?, path, limit, what)
+}
+
+fn read_bounded_from(
+    file: File,
+    path: &Path,
+    limit: u64,
+    what: &'static str,
+) -> Result<Vec<u8>, ReadError> {
     let io = |source| ReadError::Io {
         path: path.to_path_buf(),
         source,
     };
     let mut bytes = Vec::new();
-    let file = open_file(path)?;
     let size = file.metadata().map_or(0, |m| m.len());
     // One byte more than the limit tells a file at the limit from a larger one, even one
     // that grows while it is read.

@@ -43,7 +43,9 @@ pub mod plan;
 pub mod shards;
 pub mod udim;
 
-pub use kind::{open_file, open_own, read_bounded, readable_file, Kind, ReadError};
+pub use kind::{
+    create_own, open_file, open_own, read_bounded, read_bounded_own, readable_file, Kind, ReadError,
+};
 pub use plan::{check as check_plan, Place, Places, PlanError, Replace};
 
 use std::fs::File;

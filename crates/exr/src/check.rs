@@ -14,7 +14,6 @@
 
 use exr::compression::Compression;
 use exr::meta::{BlockDescription, MetaData};
-use std::fs::File;
 use std::io::{BufReader, Read, Seek, SeekFrom};
 use std::path::Path;
 
@@ -55,8 +54,8 @@ pub fn check_input(path: &Path) -> Result<(), Problem> {
         path: path.to_path_buf(),
         message,
     };
-    // A file that cannot be opened is the image reader's to report.
-    let Ok(mut file) = File::open(path) else {
+    // A file that cannot be opened (or is no regular file) is the image reader's to report.
+    let Ok(mut file) = specconv_atomic_file::open_file(path) else {
         return Ok(());
     };
     let len = u128::from(file.metadata().map_err(io)?.len());

@@ -51,6 +51,10 @@ pub enum Error {
     /// An error of the `exr` crate: I/O, or a file it cannot read or write.
     #[error("OpenEXR: {0}")]
     Exr(#[from] exr::error::Error),
+    /// A path to read that is no regular file (a FIFO, a device, a directory) or is missing:
+    /// refused by kind, without blocking.
+    #[error(transparent)]
+    File(#[from] specconv_atomic_file::ReadError),
 }
 
 /// The largest uncompressed block (a tile, or a block of scanlines) OpenEXR's readers accept:
@@ -1031,7 +1035,8 @@ pub fn read_level(path: &std::path::Path, level: usize) -> Result<SpectralImage>
 
 /// The text attributes of a file's first header, without reading its pixels.
 pub fn read_attributes(path: &std::path::Path) -> Result<Vec<(String, String)>> {
-    let meta = exr::meta::MetaData::read_from_file(path, false)?;
+    let file = std::io::BufReader::new(specconv_atomic_file::open_file(path)?);
+    let meta = exr::meta::MetaData::read_from_buffered(file, false)?;
     Ok(meta.headers.first().map_or_else(Vec::new, |h| {
         h.own_attributes
             .other
