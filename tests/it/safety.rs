@@ -448,3 +448,44 @@ fn a_fifo_or_link_named_like_a_temporary_blocks_no_writer() {
     assert_eq!(specconv_atomic_file::leftovers(&out).len(), 2);
     assert_eq!(snapshot(&[&x]), before);
 }
+
+#[test]
+fn a_write_past_the_file_size_limit_fails_clearly_and_leaves_nothing() {
+    // `ulimit -f`, which Slurm passes on from the submitting shell (issue 31, case 8): SIGXFSZ
+    // used to end the process with its temporary file left beside the output.
+    let s = Scratch::new("safety-xfsz");
+    let x = texture(&s, "a.png");
+    let before = snapshot(&[&x]);
+    // 100 blocks (of 512 bytes in dash, 1024 in bash): less than the output's 200 KB.
+    let limited = |args: &str| {
+        let out = Command::new("sh")
+            .arg("-c")
+            .arg(format!("ulimit -f 100; exec \"$0\" {args}"))
+            .arg(binary())
+            .current_dir(&s.0)
+            .stdin(Stdio::null())
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr).into_owned();
+        assert!(
+            out.status.code().is_some(),
+            "killed: {:?} {err}",
+            out.status
+        );
+        (out.status.code().unwrap(), err)
+    };
+    for args in ["a.png o.exr", "-j 1 --bands 380:780:5 a.png o.exr"] {
+        let (code, err) = limited(args);
+        assert_eq!(code, 1, "{args}: {err}");
+        assert!(
+            err.contains("cannot write o.exr") && err.contains("file size limit"),
+            "{err}"
+        );
+        assert!(!s.path("o.exr").exists());
+        no_temporaries(&s.0);
+    }
+    // Without the limit, the same run writes it.
+    Cmd::convert(&x, s.path("o.exr")).ok();
+    assert_eq!(snapshot(&[&x]), before);
+    no_temporaries(&s.0);
+}

@@ -261,11 +261,28 @@ impl Drop for Pending {
     }
 }
 
+/// An I/O error met while writing, with what it means said plainly where the system's words
+/// are terse: a write past the file size limit (`EFBIG`: `ulimit -f`, which Slurm passes on
+/// from the submitting shell; SIGXFSZ is ignored so that the write fails instead of killing
+/// the process), a full disk (`ENOSPC`), a disk quota (`EDQUOT`). Others pass unchanged.
+pub fn explained(e: io::Error) -> io::Error {
+    let what = match e.raw_os_error() {
+        Some(libc::EFBIG) => {
+            "larger than this process's file size limit allows (ulimit -f; a Slurm job inherits \
+             the submitting shell's): raise the limit or write a smaller file"
+        }
+        Some(libc::ENOSPC) => "the disk is full: free some space or write elsewhere",
+        Some(libc::EDQUOT) => "the disk quota is used up: free some space or write elsewhere",
+        _ => return e,
+    };
+    io::Error::new(e.kind(), format!("{what} ({e})"))
+}
+
 /// Writes `bytes` to `target` through a [`Pending`] file, replacing it if it exists.
 pub fn write(target: &Path, bytes: &[u8]) -> io::Result<()> {
     use std::io::Write;
     let pending = Pending::beside(target)?;
-    pending.file().write_all(bytes)?;
+    pending.file().write_all(bytes).map_err(explained)?;
     pending.commit()
 }
 
@@ -285,7 +302,10 @@ pub fn write_checked(
         source,
     };
     let pending = Pending::beside(target).map_err(io)?;
-    pending.file().write_all(bytes).map_err(io)?;
+    pending
+        .file()
+        .write_all(bytes)
+        .map_err(|e| io(explained(e)))?;
     pending.publish(replace).map_err(|e| match e.kind() {
         io::ErrorKind::AlreadyExists => WriteError::Plan(PlanError::Exists {
             output: target.to_path_buf(),

@@ -57,6 +57,17 @@ pub enum Error {
     File(#[from] specconv_atomic_file::ReadError),
 }
 
+impl Error {
+    /// The I/O error of the file system underneath (a full disk, a file size limit), if that is
+    /// what this is; else the error itself.
+    pub fn into_io(self) -> std::result::Result<std::io::Error, Error> {
+        match self {
+            Error::Exr(exr::error::Error::Io(e)) => Ok(e),
+            e => Err(e),
+        }
+    }
+}
+
 /// The largest uncompressed block (a tile, or a block of scanlines) OpenEXR's readers accept:
 /// its size in bytes is a signed 32-bit integer. Measured with oiiotool 2.4 on 36 half
 /// channels: 5000×5000 tiles (1.8 GB) open, 6000×6000 (2.6 GB) fail with "Tile size too large

@@ -86,7 +86,17 @@ pub(super) fn write_file(
     if job.cancel.load(Ordering::Relaxed) {
         return Err(Error::Cancelled);
     }
-    written?;
+    written.map_err(|e| match e {
+        // The file system's refusal is the output's, said plainly (a file size limit).
+        Error::Output(e) => match e.into_io() {
+            Ok(source) => Error::Io {
+                path: job.output.to_path_buf(),
+                source: specconv_atomic_file::explained(source),
+            },
+            Err(e) => Error::Output(e),
+        },
+        e => e,
+    })?;
     publish(job, pending)?;
     Ok((plan.total, ordered.counts))
 }
