@@ -489,3 +489,34 @@ fn a_write_past_the_file_size_limit_fails_clearly_and_leaves_nothing() {
     assert_eq!(snapshot(&[&x]), before);
     no_temporaries(&s.0);
 }
+
+#[test]
+fn a_truncated_output_is_not_up_to_date() {
+    // An output cut short (a full disk, a copy stopped midway) but newer than its input used
+    // to be skipped by -u as "up to date" (issue 31): -u now asks for every chunk to be there.
+    let s = Scratch::new("safety-truncated");
+    let x = texture(&s, "a.png");
+    let n = big_texture(&s, "n.png", 256);
+    let copy = ["--colorspace", "Raw", "--data", "copy"];
+    for (input, extra) in [(&x, &[][..]), (&n, &copy[..])] {
+        let out = s.path("o.exr");
+        let _ = std::fs::remove_file(&out);
+        Cmd::convert(input, &out).args(extra).ok();
+        let whole = std::fs::read(&out).unwrap();
+        for cut in [1, 100, whole.len() / 2] {
+            std::fs::write(&out, &whole[..whole.len() - cut]).unwrap();
+            let run = Cmd::convert(input, &out).args(extra).arg("-u").ok();
+            assert!(
+                !run.stderr.contains("up to date"),
+                "cut {cut}: {}",
+                run.stderr
+            );
+            assert_eq!(std::fs::read(&out).unwrap().len(), whole.len(), "cut {cut}");
+        }
+        // A whole output is still skipped.
+        let run = Cmd::convert(input, &out).args(extra).arg("-u").ok();
+        assert!(run.stderr.contains("up to date") || run.stdout.contains("up to date"));
+        std::fs::remove_file(&out).unwrap();
+    }
+    no_temporaries(&s.0);
+}
