@@ -1185,3 +1185,56 @@ fn outputs_by_template_pass_the_job_directorys_own_check() {
     assert!(!dir.path("job").exists());
     assert_clean(&dir.0, &inputs, &sums);
 }
+
+#[test]
+fn a_job_directory_whose_manifest_is_no_manifest_is_refused_with_status_2() {
+    // Needs no cluster: the manifest is refused before Slurm is asked (docs/farm.md: exit
+    // status 2, one line naming the path, nothing changed).
+    let dir = Scratch::new("farm-not-a-manifest");
+    let job = |name: &str| {
+        let j = dir.path(name);
+        std::fs::create_dir_all(&j).unwrap();
+        j
+    };
+    let layout = job("layout");
+    std::fs::write(
+        layout.join("manifest.json"),
+        r#"{"format": 2, "files": [], "rounds": []}"#,
+    )
+    .unwrap();
+    let text = job("text");
+    std::fs::write(text.join("manifest.json"), "not json").unwrap();
+    let fifo = job("fifo");
+    assert!(Command::new("mkfifo")
+        .arg(fifo.join("manifest.json"))
+        .status()
+        .unwrap()
+        .success());
+    let zero = job("zero");
+    std::os::unix::fs::symlink("/dev/zero", zero.join("manifest.json")).unwrap();
+    let link = job("link");
+    std::os::unix::fs::symlink(layout.join("manifest.json"), link.join("manifest.json")).unwrap();
+    let empty = job("empty");
+    let cases = [
+        (&layout, "manifest.json"),
+        (&text, "manifest.json"),
+        (&fifo, "a FIFO (named pipe), not a regular file"),
+        (&zero, "a symbolic link, not a regular file"),
+        (&link, "a symbolic link, not a regular file"),
+        (&empty, "no such file"),
+    ];
+    for (job_dir, said) in cases {
+        for command in ["status", "collect", "retry"] {
+            let before = dir.files();
+            let out = Cmd::new(["farm", command])
+                .arg(job_dir)
+                .run_within(std::time::Duration::from_secs(20));
+            out.one_error_line(2, &[job_dir.to_str().unwrap(), said]);
+            assert_eq!(
+                dir.files(),
+                before,
+                "{command} {job_dir:?} changed something"
+            );
+        }
+    }
+}

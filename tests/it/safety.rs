@@ -4,6 +4,7 @@
 
 use crate::convert::testdata;
 use crate::runner::*;
+use std::os::unix::fs::FileTypeExt;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
@@ -551,4 +552,123 @@ fn a_full_disk_fails_a_data_copy_and_a_conversion_naming_the_output() {
             "{what} left files"
         );
     }
+}
+
+#[test]
+fn a_fifo_or_link_named_like_a_temporary_blocks_no_writer() {
+    // Anyone who may write to a shared output folder can plant these (issue 31, case 1): they
+    // used to block every writer of `ff.exr` for ever, deaf to SIGINT and SIGTERM.
+    let s = Scratch::new("safety-planted");
+    let x = texture(&s, "a.png");
+    let out = s.path("ff.exr");
+    let fifo = s.path(".ff.exr.specconv-2222222222222222.tmp");
+    assert!(Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .unwrap()
+        .success());
+    std::os::unix::fs::symlink("/dev/zero", s.path(".ff.exr.specconv-3333333333333333.tmp"))
+        .unwrap();
+    let before = snapshot(&[&x]);
+    let limit = Duration::from_secs(20);
+    let start = Instant::now();
+    Cmd::convert(&x, &out).run_within(limit).ok();
+    eprintln!(
+        "converted beside a planted FIFO in {:.3} s",
+        start.elapsed().as_secs_f64()
+    );
+    tool("oiiotool", &[out.to_str().unwrap(), "--printstats"]);
+    // A data copy (OpenImageIO's make_texture) and a replacing run pass the same way.
+    let copy = s.path("ff2.exr");
+    std::os::unix::fs::symlink(&fifo, s.path(".ff2.exr.specconv-2222222222222222.tmp")).unwrap();
+    Cmd::convert(&x, &copy)
+        .args(["--colorspace", "Raw", "--data", "copy"])
+        .run_within(limit)
+        .ok();
+    Cmd::convert(&x, &out).arg("--force").run_within(limit).ok();
+    // Nobody's files: kept as they were, and nothing of ours left.
+    assert!(std::fs::symlink_metadata(&fifo)
+        .unwrap()
+        .file_type()
+        .is_fifo());
+    assert_eq!(specconv_atomic_file::leftovers(&out).len(), 2);
+    assert_eq!(snapshot(&[&x]), before);
+}
+
+#[test]
+fn a_write_past_the_file_size_limit_fails_clearly_and_leaves_nothing() {
+    // `ulimit -f`, which Slurm passes on from the submitting shell (issue 31, case 8): SIGXFSZ
+    // used to end the process with its temporary file left beside the output.
+    let s = Scratch::new("safety-xfsz");
+    let x = texture(&s, "a.png");
+    big_texture(&s, "n.png", 512);
+    let before = snapshot(&[&x]);
+    // 100 blocks (of 512 bytes in dash, 1024 in bash): less than the output's 200 KB.
+    let limited = |args: &str| {
+        let out = Command::new("sh")
+            .arg("-c")
+            // `timeout`: a data copy's OpenEXR writer once hung on the refused write.
+            .arg(format!("ulimit -f 100; exec timeout 60 \"$0\" {args}"))
+            .arg(binary())
+            .current_dir(&s.0)
+            .stdin(Stdio::null())
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr).into_owned();
+        assert!(
+            out.status.code().is_some(),
+            "killed: {:?} {err}",
+            out.status
+        );
+        (out.status.code().unwrap(), err)
+    };
+    for args in [
+        "a.png o.exr",
+        "-j 1 --bands 380:780:5 a.png o.exr",
+        "--colorspace Raw --data copy n.png o.exr",
+    ] {
+        let (code, err) = limited(args);
+        assert_eq!(code, 1, "{args}: {err}");
+        assert!(
+            err.contains("cannot write o.exr") && err.contains("file size limit"),
+            "{err}"
+        );
+        assert!(!s.path("o.exr").exists());
+        no_temporaries(&s.0);
+    }
+    // Without the limit, the same run writes it.
+    Cmd::convert(&x, s.path("o.exr")).ok();
+    assert_eq!(snapshot(&[&x]), before);
+    no_temporaries(&s.0);
+}
+
+#[test]
+fn a_truncated_output_is_not_up_to_date() {
+    // An output cut short (a full disk, a copy stopped midway) but newer than its input used
+    // to be skipped by -u as "up to date" (issue 31): -u now asks for every chunk to be there.
+    let s = Scratch::new("safety-truncated");
+    let x = texture(&s, "a.png");
+    let n = big_texture(&s, "n.png", 256);
+    let copy = ["--colorspace", "Raw", "--data", "copy"];
+    for (input, extra) in [(&x, &[][..]), (&n, &copy[..])] {
+        let out = s.path("o.exr");
+        let _ = std::fs::remove_file(&out);
+        Cmd::convert(input, &out).args(extra).ok();
+        let whole = std::fs::read(&out).unwrap();
+        for cut in [1, 100, whole.len() / 2] {
+            std::fs::write(&out, &whole[..whole.len() - cut]).unwrap();
+            let run = Cmd::convert(input, &out).args(extra).arg("-u").ok();
+            assert!(
+                !run.stderr.contains("up to date"),
+                "cut {cut}: {}",
+                run.stderr
+            );
+            assert_eq!(std::fs::read(&out).unwrap().len(), whole.len(), "cut {cut}");
+        }
+        // A whole output is still skipped.
+        let run = Cmd::convert(input, &out).args(extra).arg("-u").ok();
+        assert!(run.stderr.contains("up to date") || run.stdout.contains("up to date"));
+        std::fs::remove_file(&out).unwrap();
+    }
+    no_temporaries(&s.0);
 }

@@ -43,7 +43,9 @@ pub mod plan;
 pub mod shards;
 pub mod udim;
 
-pub use kind::{read_bounded, readable_file, Kind, ReadError};
+pub use kind::{
+    create_own, open_file, open_own, read_bounded, read_bounded_own, readable_file, Kind, ReadError,
+};
 pub use plan::{check as check_plan, Place, Places, PlanError, Replace};
 
 use std::fs::File;
@@ -162,7 +164,8 @@ impl Pending {
     /// (which must exist), else the temporary.
     fn take_published(&mut self) -> io::Result<(PathBuf, File)> {
         if let Some(companion) = &self.companion {
-            let file = File::open(companion)?;
+            // What the writer by path left: a regular file, not a link or FIFO put there.
+            let file = kind::open_own(companion, false).map_err(ReadError::into_io)?;
             return Ok((self.companion.take().expect("just seen"), file));
         }
         let file = self.file.try_clone()?;
@@ -258,11 +261,28 @@ impl Drop for Pending {
     }
 }
 
+/// An I/O error met while writing, with what it means said plainly where the system's words
+/// are terse: a write past the file size limit (`EFBIG`: `ulimit -f`, which Slurm passes on
+/// from the submitting shell; SIGXFSZ is ignored so that the write fails instead of killing
+/// the process), a full disk (`ENOSPC`), a disk quota (`EDQUOT`). Others pass unchanged.
+pub fn explained(e: io::Error) -> io::Error {
+    let what = match e.raw_os_error() {
+        Some(libc::EFBIG) => {
+            "larger than this process's file size limit allows (ulimit -f; a Slurm job inherits \
+             the submitting shell's): raise the limit or write a smaller file"
+        }
+        Some(libc::ENOSPC) => "the disk is full: free some space or write elsewhere",
+        Some(libc::EDQUOT) => "the disk quota is used up: free some space or write elsewhere",
+        _ => return e,
+    };
+    io::Error::new(e.kind(), format!("{what} ({e})"))
+}
+
 /// Writes `bytes` to `target` through a [`Pending`] file, replacing it if it exists.
 pub fn write(target: &Path, bytes: &[u8]) -> io::Result<()> {
     use std::io::Write;
     let pending = Pending::beside(target)?;
-    pending.file().write_all(bytes)?;
+    pending.file().write_all(bytes).map_err(explained)?;
     pending.commit()
 }
 
@@ -282,7 +302,10 @@ pub fn write_checked(
         source,
     };
     let pending = Pending::beside(target).map_err(io)?;
-    pending.file().write_all(bytes).map_err(io)?;
+    pending
+        .file()
+        .write_all(bytes)
+        .map_err(|e| io(explained(e)))?;
     pending.publish(replace).map_err(|e| match e.kind() {
         io::ErrorKind::AlreadyExists => WriteError::Plan(PlanError::Exists {
             output: target.to_path_buf(),
@@ -327,10 +350,11 @@ pub fn remove_stale(target: &Path) -> Vec<PathBuf> {
         .collect()
 }
 
-/// Whether a writer holds `temporary` (its lock); `None` when it cannot be told (gone, or not
-/// ours to open).
+/// Whether a writer holds `temporary` (its lock); `None` when it cannot be told (gone, not ours
+/// to open, or not a regular file: a FIFO or link named like a temporary is nobody's, kept,
+/// and never opened in a way that could block).
 fn held(temporary: &Path) -> Option<bool> {
-    let f = File::open(temporary).ok()?;
+    let f = kind::open_own(temporary, false).ok()?;
     match f.try_lock_shared() {
         Ok(()) => Some(false),
         Err(std::fs::TryLockError::WouldBlock) => Some(true),
@@ -351,6 +375,7 @@ pub fn same_file(a: &Path, b: &Path) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::os::unix::fs::FileTypeExt;
 
     pub(crate) fn scratch(name: &str) -> PathBuf {
         let d = std::env::temp_dir().join(format!("atomic-file-{name}-{}", std::process::id()));
@@ -468,6 +493,51 @@ mod tests {
         assert!(!own.exists() && !dead[0].exists() && !dead[1].exists());
         assert!(leftovers(&target).is_empty());
         assert!(alike.iter().all(|n| d.join(n).exists()));
+        std::fs::remove_dir_all(d).unwrap();
+    }
+
+    /// Runs `f` on a thread of its own; fails the test if it has not returned after 10 s (it
+    /// blocked, as opening a FIFO does), instead of hanging.
+    pub(crate) fn within_bound<T: Send + 'static>(f: impl FnOnce() -> T + Send + 'static) -> T {
+        let (tx, rx) = std::sync::mpsc::channel();
+        std::thread::spawn(move || tx.send(f()));
+        rx.recv_timeout(std::time::Duration::from_secs(10))
+            .expect("blocked: still running after 10 s")
+    }
+
+    pub(crate) fn mkfifo(path: &Path) {
+        let made = std::process::Command::new("mkfifo").arg(path).status();
+        assert!(made.unwrap().success(), "mkfifo {}", path.display());
+    }
+
+    #[test]
+    fn special_files_named_like_temporaries_never_block_a_writer_and_are_kept() {
+        // Anyone who may write to a shared output folder can plant these (issue 31, case 1).
+        let d = scratch("planted");
+        let target = d.join("ff.exr");
+        let fifo = d.join(".ff.exr.specconv-2222222222222222.tmp");
+        mkfifo(&fifo);
+        let zero = d.join(".ff.exr.specconv-3333333333333333.tmp");
+        std::os::unix::fs::symlink("/dev/zero", &zero).unwrap();
+        let victim = d.join("victim.png");
+        std::fs::write(&victim, b"theirs").unwrap();
+        let link = d.join(".ff.exr.specconv-4444444444444444.tmp");
+        std::os::unix::fs::symlink(&victim, &link).unwrap();
+        let t = target.clone();
+        within_bound(move || write(&t, b"whole")).unwrap();
+        assert_eq!(std::fs::read(&target).unwrap(), b"whole");
+        let t = target.clone();
+        assert!(within_bound(move || remove_stale(&t)).is_empty());
+        // Nobody's temporaries: neither removed nor followed.
+        assert_eq!(leftovers(&target).len(), 3);
+        assert!(std::fs::symlink_metadata(&fifo)
+            .unwrap()
+            .file_type()
+            .is_fifo());
+        assert_eq!(std::fs::read(&victim).unwrap(), b"theirs");
+        let t = target.clone();
+        within_bound(move || write(&t, b"again")).unwrap();
+        assert_eq!(std::fs::read(&target).unwrap(), b"again");
         std::fs::remove_dir_all(d).unwrap();
     }
 

@@ -1,4 +1,8 @@
-//! SIGINT, SIGTERM and SIGHUP, from the start of `main` on, for every command.
+//! SIGINT, SIGTERM and SIGHUP, from the start of `main` on, for every command; SIGXFSZ
+//! ignored (a write past the file size limit fails with an error instead, nothing left).
+//! SIGPIPE is ignored by Rust's runtime (a closed stdout is [`crate::stdio`]'s). Other signals
+//! that end a process (SIGKILL, SIGXCPU past `ulimit -t`, SIGSEGV) may leave a temporary file,
+//! never an output: the next writer of that output removes it.
 //!
 //! Until a command writes an output, a signal ends the process at once, whatever it is doing
 //! (parsing, loading a model, building tables, reading a file): one line, exit status 130,
@@ -51,8 +55,10 @@ fn writer() -> MutexGuard<'static, Option<Writer>> {
     WRITER.lock().unwrap_or_else(PoisonError::into_inner)
 }
 
-/// Installs the handler; the first thing `main` does.
+/// Installs the handler; the first thing `main` does. SIGXFSZ (a write past `ulimit -f`) is
+/// ignored, so that the write fails, is reported and its temporary removed.
 pub(crate) fn install() {
+    specconv_conversion::ignore_file_size_signal();
     // Without a handler (no thread could be made) the default action still ends the process
     // and leaves at most a temporary file, as SIGKILL would.
     let _ = ctrlc::set_handler(|| {

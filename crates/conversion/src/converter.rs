@@ -318,10 +318,11 @@ impl Converter {
         attributes
     }
 
-    /// Whether `output` is newer than `input`, was written with these same settings from an
-    /// input of this name, and from these pixels: the input's size and change times are the
-    /// ones recorded, or else the hash of its pixels is (a source replaced by another image
-    /// with an older time is rebuilt; a library copied elsewhere is not).
+    /// Whether `output` is newer than `input`, whole (every chunk inside the file: one cut
+    /// short by a full disk or a copy is rebuilt), was written with these same settings from
+    /// an input of this name, and from these pixels: the input's size and change times are
+    /// the ones recorded, or else the hash of its pixels is (a source replaced by another
+    /// image with an older time is rebuilt; a library copied elsewhere is not).
     pub fn is_up_to_date(&self, input: &Path, output: &Path) -> bool {
         let modified = |p: &Path| std::fs::metadata(p).and_then(|m| m.modified()).ok();
         let Some(p) = (match (modified(input), modified(output)) {
@@ -330,6 +331,9 @@ impl Converter {
         }) else {
             return false;
         };
+        if specconv_exr::check::check_complete(output).is_err() {
+            return false;
+        }
         if p.settings != self.provenance.settings || p.source != Some(file_name(input)) {
             return false;
         }

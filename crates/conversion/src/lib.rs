@@ -72,6 +72,13 @@ pub use provenance::Provenance;
 pub use report::{DataOutcome, Report, Role};
 pub use wrapped::{ColourError, ImageError};
 
+/// Makes writes past the file size limit (`ulimit -f`) fail with an error the writer reports,
+/// its temporary file removed, instead of SIGXFSZ killing the process: for a program's first
+/// step (Python ignores SIGXFSZ already).
+pub fn ignore_file_size_signal() {
+    specconv_oiio::ignore_file_size_signal()
+}
+
 /// Ends the process at once with `code`, without exit handlers or C++ static destructors: for
 /// a signal handler's thread while OpenImageIO or OpenColorIO may be in use on another
 /// (`std::process::exit` would run their destructors under it: a crash or a hang instead of

@@ -79,8 +79,7 @@ impl BlockReader {
 
     /// As [`BlockReader::open`], for MIP level `level` (0 is the largest).
     pub fn open_level(path: &Path, level: usize) -> Result<BlockReader> {
-        let file =
-            std::io::BufReader::new(std::fs::File::open(path).map_err(exr::error::Error::from)?);
+        let file = std::io::BufReader::new(specconv_atomic_file::open_file(path)?);
         let reader = exr::block::read(file, false)?;
         let first = reader
             .headers()

@@ -55,8 +55,8 @@ pub fn check_input(path: &Path) -> Result<(), Problem> {
         path: path.to_path_buf(),
         message,
     };
-    // A file that cannot be opened is the image reader's to report.
-    let Ok(mut file) = File::open(path) else {
+    // A file that cannot be opened (or is no regular file) is the image reader's to report.
+    let Ok(mut file) = specconv_atomic_file::open_file(path) else {
         return Ok(());
     };
     let len = u128::from(file.metadata().map_err(io)?.len());
@@ -143,6 +143,113 @@ pub fn check_input(path: &Path) -> Result<(), Problem> {
         }
     }
     Ok(())
+}
+
+/// As [`check_input`], and the file is whole: every chunk ends inside it. A file cut short
+/// inside its last chunk passes [`check_input`] (its offsets still point inside it); here the
+/// chunk that starts last is read and must end within the file, or, where offset tables were
+/// left unfilled (OpenImageIO's MIP-map writer), every chunk is walked in order. What `-u`
+/// asks of an output before it counts as up to date.
+pub fn check_complete(path: &Path) -> Result<(), Problem> {
+    check_input(path)?;
+    let io = |source| Problem::Io {
+        path: path.to_path_buf(),
+        source,
+    };
+    let mut file = specconv_atomic_file::open_file(path).map_err(|e| io(e.into_io()))?;
+    let len = file.metadata().map_err(io)?.len();
+    let mut counted = Counted {
+        inner: BufReader::new(&mut file),
+        position: 0,
+        ended: false,
+    };
+    let Ok(meta) = MetaData::read_from_buffered(&mut counted, false) else {
+        return Ok(());
+    };
+    let (tables_start, mut table) = (counted.position, counted.inner);
+    let mut offsets = Vec::new();
+    for (part, h) in meta.headers.iter().enumerate() {
+        for _ in 0..h.chunk_count {
+            let mut entry = [0u8; 8];
+            table.read_exact(&mut entry).map_err(io)?;
+            offsets.push((u64::from_le_bytes(entry), part));
+        }
+    }
+    drop(table);
+    let tables_end = tables_start + 8 * offsets.len() as u64;
+    let mut chunk = Chunks {
+        file: &mut file,
+        meta: &meta,
+    };
+    let end = if offsets.iter().any(|&(o, _)| o == 0) {
+        chunk.walk(tables_end, offsets.len())
+    } else {
+        match offsets.iter().max() {
+            Some(&(offset, part)) => chunk.end_of(offset, Some(part)),
+            None => Ok(Some(tables_end)),
+        }
+    };
+    match end.map_err(io)? {
+        Some(end) if end > len => Err(Problem::Damaged {
+            path: path.to_path_buf(),
+            message: format!(
+                "its chunks end at byte {end}, but the file has {len}: it is truncated"
+            ),
+        }),
+        _ => Ok(()),
+    }
+}
+
+/// The chunks of an OpenEXR file, read by their headers (not their pixels).
+struct Chunks<'a> {
+    file: &'a mut File,
+    meta: &'a MetaData,
+}
+
+impl Chunks<'_> {
+    /// Where the chunk at `offset` ends (its header says how many bytes it holds); `None` for
+    /// a deep part, whose chunks this does not measure. `part` is known from the offset table,
+    /// else read from the chunk (multi-part files).
+    fn end_of(&mut self, offset: u64, part: Option<usize>) -> std::io::Result<Option<u64>> {
+        let multipart = self.meta.headers.len() > 1;
+        self.file.seek(SeekFrom::Start(offset))?;
+        let mut word = [0u8; 4];
+        let mut header = 0u64;
+        let mut part = part.unwrap_or(0);
+        if multipart {
+            self.file.read_exact(&mut word)?;
+            part = u32::from_le_bytes(word) as usize;
+            header += 4;
+        }
+        let Some(h) = self.meta.headers.get(part).filter(|h| !h.deep) else {
+            return Ok(None);
+        };
+        // Scanlines: y, then the size; tiles: four coordinates, then the size.
+        let before = match h.blocks {
+            BlockDescription::ScanLines => 4,
+            BlockDescription::Tiles(_) => 16,
+        };
+        self.file.seek(SeekFrom::Current(before))?;
+        header += before as u64 + 4;
+        if self.file.read_exact(&mut word).is_err() {
+            // The size itself is cut off: the chunk ends past the file.
+            return Ok(Some(u64::MAX));
+        }
+        Ok(Some(offset + header + u64::from(u32::from_le_bytes(word))))
+    }
+
+    /// Where the last of `count` chunks stored one after another from `start` ends.
+    fn walk(mut self, start: u64, count: usize) -> std::io::Result<Option<u64>> {
+        let mut at = start;
+        for _ in 0..count {
+            match self.end_of(at, None)? {
+                Some(u64::MAX) => return Ok(Some(u64::MAX)),
+                Some(end) => at = end,
+                None => return Ok(None),
+            }
+        }
+        Ok(Some(at))
+    }
 }
 
 /// Counts the bytes the header parser takes, to know where the offset tables begin.

@@ -51,15 +51,19 @@ pub enum Error {
     /// An error of the `exr` crate: I/O, or a file it cannot read or write.
     #[error("OpenEXR: {0}")]
     Exr(#[from] exr::error::Error),
+    /// A path to read that is no regular file (a FIFO, a device, a directory) or is missing:
+    /// refused by kind, without blocking.
+    #[error(transparent)]
+    File(#[from] specconv_atomic_file::ReadError),
 }
 
 impl Error {
-    /// The I/O error underneath, for a caller that names the file it was writing (a full disk
-    /// is the output's, not the input's); any other error as it is.
+    /// The I/O error of the file system underneath (a full disk, a file size limit), if that is
+    /// what this is; else the error itself.
     pub fn into_io(self) -> std::result::Result<std::io::Error, Error> {
         match self {
             Error::Exr(exr::error::Error::Io(e)) => Ok(e),
-            other => Err(other),
+            e => Err(e),
         }
     }
 }
@@ -1042,7 +1046,8 @@ pub fn read_level(path: &std::path::Path, level: usize) -> Result<SpectralImage>
 
 /// The text attributes of a file's first header, without reading its pixels.
 pub fn read_attributes(path: &std::path::Path) -> Result<Vec<(String, String)>> {
-    let meta = exr::meta::MetaData::read_from_file(path, false)?;
+    let file = std::io::BufReader::new(specconv_atomic_file::open_file(path)?);
+    let meta = exr::meta::MetaData::read_from_buffered(file, false)?;
     Ok(meta.headers.first().map_or_else(Vec::new, |h| {
         h.own_attributes
             .other

@@ -66,13 +66,9 @@ impl Claim {
 
 /// Opens (creating) and locks a marker, waiting up to [`LOCK_WAIT`] for another holder.
 fn lock(path: &Path) -> Result<File, Error> {
-    let file = File::options()
-        .read(true)
-        .write(true)
-        .create(true)
-        .truncate(false)
-        .open(path)
-        .map_err(|e| Error::Io(format!("cannot open {}", path.display()), e))?;
+    // A FIFO or link planted under the marker's name is refused, never blocked on or followed.
+    let file = specconv_atomic_file::create_own(path)
+        .map_err(|e| Error::Io(format!("cannot open {}", path.display()), e.into_io()))?;
     let start = Instant::now();
     loop {
         match file.try_lock() {

@@ -70,6 +70,18 @@ pub enum Error {
         /// The limit, in bytes.
         limit: u64,
     },
+    /// A file of the job directory (`manifest.json`, a task log) that is missing or not a
+    /// regular file of its own: a link, a FIFO, a device, a directory. Never followed or read.
+    #[error("{}: {}; is this a job directory of `specconv farm submit`?", path.display(), match kind {
+        specconv_atomic_file::Kind::Missing => "no such file".to_string(),
+        k => format!("{k}, not a regular file of a job directory"),
+    })]
+    NotAJobFile {
+        /// The file.
+        path: PathBuf,
+        /// What it is.
+        kind: specconv_atomic_file::Kind,
+    },
     /// A task the manifest does not plan (a script run with another job's numbers).
     #[error("the job has no task {task} in round {round}")]
     NoSuchTask {
@@ -109,11 +121,14 @@ pub enum Error {
 
 impl Error {
     /// Whether the job directory or the request itself is at fault (nothing was submitted,
-    /// nothing changed): the CLI's usage status.
+    /// nothing changed): the CLI's usage status. A manifest that does not parse or has another
+    /// layout, or is no regular file, is one (docs/farm.md).
     pub fn refused(&self) -> bool {
         matches!(
             self,
             Error::Untrusted { .. }
+                | Error::Manifest(_)
+                | Error::NotAJobFile { .. }
                 | Error::TooLarge { .. }
                 | Error::JobDir { .. }
                 | Error::Busy { .. }

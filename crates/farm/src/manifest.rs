@@ -102,8 +102,9 @@ impl Manifest {
         job_dir.join("manifest.json")
     }
 
-    /// Reads and checks the manifest of a job directory: [`Error::Io`] when it cannot be read
-    /// (not a job directory), [`Error::TooLarge`], [`Error::Manifest`] when it does not parse or
+    /// Reads and checks the manifest of a job directory: [`Error::NotAJobFile`] when it is
+    /// missing (not a job directory) or no regular file, [`Error::Io`] when it cannot be read,
+    /// [`Error::TooLarge`], [`Error::Manifest`] when it does not parse or
     /// has another [`FORMAT`], [`Error::Untrusted`] when it names what the job does not own
     /// ([`Manifest::check`]).
     pub fn load(job_dir: &Path) -> Result<Manifest, Error> {
@@ -270,27 +271,23 @@ fn own_folder(p: &Path) -> Result<(), String> {
     }
 }
 
-/// A file of the job directory as text: a regular file (not a FIFO, device or link) of at most
-/// [`MAX_FILE_BYTES`].
+/// A file of the job directory as text: a regular file (not a FIFO, device or link, opened so
+/// that none can block) of at most [`MAX_FILE_BYTES`].
 pub fn read_bounded(path: &Path) -> Result<String, Error> {
     use specconv_atomic_file::ReadError;
     let cannot = |e| Error::Io(format!("cannot read {}", path.display()), e);
     // A link is not the job's own file, whatever it leads to.
-    if std::fs::symlink_metadata(path).is_ok_and(|m| m.file_type().is_symlink()) {
-        return Err(cannot(std::io::Error::other(
-            "not a regular file of the job directory",
-        )));
-    }
-    let bytes = specconv_atomic_file::read_bounded(path, MAX_FILE_BYTES, "job file").map_err(
-        |e| match e {
-            ReadError::TooLarge { .. } => Error::TooLarge {
-                path: path.to_path_buf(),
-                limit: MAX_FILE_BYTES,
-            },
-            ReadError::Io { source, .. } => cannot(source),
-            other => cannot(std::io::Error::other(other.to_string())),
-        },
-    )?;
+    let bytes =
+        specconv_atomic_file::read_bounded_own(path, MAX_FILE_BYTES, "job file").map_err(|e| {
+            match e {
+                ReadError::TooLarge { .. } => Error::TooLarge {
+                    path: path.to_path_buf(),
+                    limit: MAX_FILE_BYTES,
+                },
+                ReadError::NotAFile { path, kind } => Error::NotAJobFile { path, kind },
+                ReadError::Io { source, .. } => cannot(source),
+            }
+        })?;
     String::from_utf8(bytes).map_err(|_| cannot(std::io::Error::other("not UTF-8 text")))
 }
 

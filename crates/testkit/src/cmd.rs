@@ -167,6 +167,47 @@ impl Cmd {
         }
     }
 
+    /// As [`Cmd::run`] (standard input empty), but a run still going after `limit` is killed
+    /// and fails the test ("still running"): for cases that used to hang, so that a test of
+    /// them can fail but never hang CI.
+    #[track_caller]
+    pub fn run_within(&self, limit: std::time::Duration) -> Output {
+        use std::io::Read;
+        let start = std::time::Instant::now();
+        let mut child = self
+            .command()
+            .stdin(Stdio::null())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .expect("the binary runs");
+        let drain = |mut pipe: Box<dyn Read + Send>| {
+            std::thread::spawn(move || {
+                let mut bytes = Vec::new();
+                let _ = pipe.read_to_end(&mut bytes);
+                String::from_utf8_lossy(&bytes).into_owned()
+            })
+        };
+        let stdout = drain(Box::new(child.stdout.take().expect("piped")));
+        let stderr = drain(Box::new(child.stderr.take().expect("piped")));
+        let status = loop {
+            if let Some(status) = child.try_wait().expect("the binary runs") {
+                break status;
+            }
+            if start.elapsed() > limit {
+                let _ = child.kill();
+                let _ = child.wait();
+                panic!("{:?} still running after {limit:?}: it hangs", self.args);
+            }
+            std::thread::sleep(std::time::Duration::from_millis(10));
+        };
+        Output {
+            code: status.code().expect("exited, not killed"),
+            stdout: stdout.join().expect("read"),
+            stderr: stderr.join().expect("read"),
+        }
+    }
+
     /// Runs, asserts success, and returns what it said.
     #[track_caller]
     pub fn ok(&self) -> Output {

@@ -521,6 +521,17 @@ pub fn exit_now(code: i32) -> ! {
     unsafe { _exit(code) }
 }
 
+/// Makes a write past the file size limit (`ulimit -f`, which Slurm passes on to its jobs by
+/// default) fail with `EFBIG`, which the writer reports and cleans up after, instead of
+/// SIGXFSZ ending the process with its temporary file left behind. CPython does the same at
+/// start, so the Python package needs no call.
+pub fn ignore_file_size_signal() {
+    // SAFETY: SIG_IGN installs no code of ours; signal(2) touches no memory of ours.
+    unsafe {
+        libc::signal(libc::SIGXFSZ, libc::SIG_IGN);
+    }
+}
+
 /// Runtime OpenImageIO version as (major, minor, patch); loads OpenImageIO if no image has
 /// been opened yet.
 pub fn oiio_version() -> Result<(u32, u32, u32), LoadError> {

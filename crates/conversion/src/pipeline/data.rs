@@ -17,7 +17,6 @@
 use super::{Error, Result};
 use specconv_atomic_file::{Pending, Replace};
 use specconv_oiio::TextureSpec;
-use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{mpsc, Arc, Condvar, Mutex, PoisonError};
@@ -156,7 +155,7 @@ fn watch(
             Ok(Ok(())) => return Ok(()),
             // OpenImageIO says only that it failed: a full disk is told by the disk.
             Ok(Err(e)) => {
-                return Err(match full(pending) {
+                return Err(match full(pending, writer.largest()) {
                     Some(source) => writer.io(source),
                     None => e.into(),
                 })
@@ -172,7 +171,7 @@ fn watch(
         if now != size.0 {
             size = (now, Instant::now());
         } else if now.is_some() && size.1.elapsed() >= STALL {
-            if let Some(source) = full(pending) {
+            if let Some(source) = full(pending, writer.largest()) {
                 return Err(writer.io(source));
             }
             size.1 = Instant::now();
@@ -180,23 +179,29 @@ fn watch(
     }
 }
 
-/// Whether the file system of `pending` is full: the error a small write into it meets (the
-/// write is undone).
-fn full(pending: &Pending) -> Option<std::io::Error> {
-    let mut file = pending.file();
-    let wrote = file.write_all(&[0; 4096]).and_then(|()| file.sync_data());
-    let _ = pending.file().set_len(0);
+/// Whether the file system refuses the writer more bytes (full, over quota, or past the
+/// process's file size limit, `ulimit -f`): the error a small write into `pending` meets at
+/// the writer's current size, `at` (the write is undone).
+fn full(pending: &Pending, at: u64) -> Option<std::io::Error> {
+    use std::os::unix::fs::FileExt;
+    let file = pending.file();
+    let wrote = file
+        .write_all_at(&[0; 4096], at)
+        .and_then(|()| file.sync_data());
+    let _ = file.set_len(0);
     match wrote {
         Err(e) if is_full(&e) => Some(e),
         _ => None,
     }
 }
 
-/// ENOSPC or EDQUOT.
+/// ENOSPC, EDQUOT or EFBIG.
 fn is_full(e: &std::io::Error) -> bool {
     matches!(
         e.kind(),
-        std::io::ErrorKind::StorageFull | std::io::ErrorKind::QuotaExceeded
+        std::io::ErrorKind::StorageFull
+            | std::io::ErrorKind::QuotaExceeded
+            | std::io::ErrorKind::FileTooLarge
     )
 }
 
@@ -230,6 +235,16 @@ impl Writer {
             .collect()
     }
 
+    /// The size of its largest file now (0 when none): where a write past `ulimit -f` fails.
+    fn largest(&self) -> u64 {
+        self.files()
+            .iter()
+            .filter_map(|f| std::fs::symlink_metadata(f).ok())
+            .map(|m| m.len())
+            .max()
+            .unwrap_or(0)
+    }
+
     /// The bytes written so far; `None` until OpenImageIO has made its file.
     fn size(&self) -> Option<u64> {
         let files = self.files();
@@ -257,7 +272,7 @@ impl Writer {
     fn io(&self, source: std::io::Error) -> Error {
         Error::Io {
             path: self.output.clone(),
-            source,
+            source: specconv_atomic_file::explained(source),
         }
     }
 }

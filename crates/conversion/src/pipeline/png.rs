@@ -22,7 +22,7 @@ const SIGNATURE: [u8; 8] = [0x89, b'P', b'N', b'G', b'\r', b'\n', 0x1a, b'\n'];
 /// The colour chunks of the PNG at `path`; `None` when it is not a PNG file or its chunks
 /// before the image data cannot be read (OpenImageIO then says what is wrong).
 pub fn colour_chunks(path: &Path) -> Option<PngColour> {
-    let mut f = std::io::BufReader::new(std::fs::File::open(path).ok()?);
+    let mut f = std::io::BufReader::new(specconv_atomic_file::open_file(path).ok()?);
     let mut sig = [0u8; 8];
     f.read_exact(&mut sig).ok()?;
     if sig != SIGNATURE {

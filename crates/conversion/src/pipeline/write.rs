@@ -87,11 +87,11 @@ pub(super) fn write_file(
         return Err(Error::Cancelled);
     }
     written.map_err(|e| match e {
-        // The writer's I/O (a full disk, a quota): the output's, named as such.
+        // The file system's refusal is the output's, said plainly (a file size limit).
         Error::Output(e) => match e.into_io() {
             Ok(source) => Error::Io {
                 path: job.output.to_path_buf(),
-                source,
+                source: specconv_atomic_file::explained(source),
             },
             Err(e) => Error::Output(e),
         },
