@@ -282,12 +282,12 @@ fn consistent_png_chunks_give_no_warning_and_disagreeing_ones_do() {
         .collect();
     args.extend(["-o", out.to_str().unwrap(), "--json"].map(String::from));
     let run = Cmd::new(&args).ok();
+    assert!(!run.stderr.contains("warning"), "{}", run.stderr);
     let records = run.json_lines();
     assert_eq!(records.len(), 40);
     assert!(records.iter().all(|r| r["status"] == "ok"
         && r["colorspace"] == "sRGB - Texture"
         && r["colorspace_row"] == 4));
-    assert!(!run.stderr.contains("warning"), "{}", run.stderr);
     // A gAMA of 1/1.8 beside the sRGB chunk is a second, different declaration: sRGB is
     // used (the PNG specification ranks it above gAMA) and the disagreement is said.
     let v = Cmd::new([
