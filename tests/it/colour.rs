@@ -231,14 +231,24 @@ fn a_config_file_rule_chooses_by_path_when_the_file_declares_nothing() {
         "the OCIO config's file rule 'acescg'"
     );
     // Another name: only the Default rule matches; a config given as a file is the studio's
-    // policy, so its Default rule (ACES2065-1) comes before the format's default.
+    // policy, so its Default rule (ACES2065-1) comes before the format's default (row 5).
     let v = info(&make("wall.exr", false), &ocio);
     assert_eq!(v["colorspace"], "ACES2065-1");
-    assert_eq!(v["colorspace_rule"], "file-rule");
-    // A declaration comes before the config's rules.
+    assert_eq!(v["colorspace_rule"], "config-default");
+    // The config's explicit rule (row 2) comes before a declaration (row 3), and says which
+    // declaration it overrules.
     let v = info(&make("tiles_acescg.exr", true), &ocio);
+    assert_eq!(v["colorspace"], "ACEScg");
+    assert_eq!(v["colorspace_rule"], "file-rule");
+    assert_eq!(
+        v["colorspace_reason"],
+        "the OCIO config's file rule 'acescg', over the file's EXR chromaticities (Linear Rec.2020)"
+    );
+    // Where no rule matches the path, the declaration decides (row 3).
+    let v = info(&make("tiles.exr", true), &ocio);
     assert_eq!(v["colorspace"], "Linear Rec.2020");
     assert_eq!(v["colorspace_rule"], "declared");
+    assert_eq!(v["colorspace_row"], 3);
 }
 
 /// Linear Rec.709 RGBA of pixel (0, 0) of `to-rgb`'s output.

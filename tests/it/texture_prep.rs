@@ -215,7 +215,7 @@ fn data_maps_are_skipped_by_default_never_uplifted_and_not_failures() {
     let field = |i: usize, k: &str| records[i][k].as_str().unwrap_or("null").to_owned();
     assert_eq!(field(0, "status"), "data", "{records:?}");
     assert_eq!(field(0, "role"), "data");
-    assert_eq!(field(0, "colorspace_rule"), "default");
+    assert_eq!(field(0, "colorspace_rule"), "one-channel");
     assert_eq!(field(1, "status"), "data");
     assert_eq!(field(1, "colorspace"), "Raw");
     assert_eq!(field(1, "colorspace_rule"), "file-rule");
@@ -561,7 +561,8 @@ fn a_studio_configs_default_rule_outranks_the_format_default_and_info_says_so() 
     };
     let v = info(&config, &exr);
     assert_eq!(v["colorspace"], "ACES2065-1", "{v}");
-    assert_eq!(v["colorspace_rule"], "file-rule");
+    assert_eq!(v["colorspace_rule"], "config-default");
+    assert_eq!(v["colorspace_row"], 5);
     let reason = v["colorspace_reason"].as_str().unwrap();
     assert!(
         reason.contains("'Default' file rule") && reason.contains("studio's policy"),

@@ -2,23 +2,40 @@
 //! (docs/json.md): every record of a command has every key, `null` where it does not apply.
 
 /// The rule that chose the input colour space, as records name it: `colorspace-option`
-/// (--colorspace), `declared` (what the file declares), `file-rule` (the OCIO config's file
-/// rules) or `default` (the format's default) — docs/colour.md.
+/// (--colorspace), `file-rule` (the OCIO config's explicit file rules), `declared` (what the
+/// file declares), `config-default` (the config's Default rule), `one-channel` (the data-map
+/// rule) or `default` (the format's default) — docs/colour.md.
 pub fn colorspace_rule(rule: &specconv_conversion::Rule) -> &'static str {
     rule.kind()
 }
 
-/// Why this colour space, in words (the summary line, `info`'s `colorspace_reason`).
+/// Why this colour space, in words (the summary line, `info`'s `colorspace_reason`), with
+/// the evidence it overruled, once.
 pub fn colorspace_reason(rule: &specconv_conversion::Rule) -> String {
-    use specconv_conversion::Rule;
+    use specconv_conversion::{Rule, Strength};
+    let over = rule
+        .overrides()
+        .map(|o| format!(", over {o}"))
+        .unwrap_or_default();
     match rule {
         Rule::Flag { overrides: None } => "--colorspace".into(),
-        Rule::Flag { overrides: Some(d) } => format!("--colorspace, overriding the file's {d}"),
-        Rule::Declared(what) => format!("declared by the file: {}", what.join(", ")),
-        Rule::FileRule(name) => format!("the OCIO config's file rule '{name}'"),
-        Rule::ConfigDefault(name) => format!(
-            "the OCIO config's '{name}' file rule: a config given by --ocio or $OCIO is the \
-             studio's policy for float files that declare nothing, before the format's default"
+        Rule::Flag { overrides: Some(d) } => format!("--colorspace, overriding {d}"),
+        Rule::Declared { what, strength, .. } => format!(
+            "declared {}by the file: {}{over}",
+            match strength {
+                Strength::Strong => "",
+                Strength::Weak => "weakly ",
+            },
+            what.join(", ")
+        ),
+        Rule::FileRule { rule, .. } => format!("the OCIO config's file rule '{rule}'{over}"),
+        Rule::ConfigDefault { rule, .. } => format!(
+            "the OCIO config's '{rule}' file rule{over}: a config given by --ocio or $OCIO is \
+             the studio's policy for files that declare nothing strongly"
+        ),
+        Rule::OneChannel { .. } => format!(
+            "one channel, which neither --colorspace, a file rule nor a strong declaration \
+             calls colour: a data map{over}"
         ),
         Rule::Default(why) => format!("default: {why}"),
     }

@@ -69,7 +69,7 @@ pub use options::{
 };
 pub use plan::{check_plan, Outputs, Plan};
 pub use provenance::Provenance;
-pub use report::{DataOutcome, Report, Role};
+pub use report::{DataOutcome, Report, Role, Strength, DATA_MAP_RULE, PRECEDENCE};
 pub use wrapped::{ColourError, ImageError};
 
 /// Makes writes past the file size limit (`ulimit -f`) fail with an error the writer reports,

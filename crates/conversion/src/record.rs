@@ -30,6 +30,10 @@ pub struct Record {
     /// The input colour space (the config's name) and the rule that chose it.
     colorspace: Option<String>,
     colorspace_rule: Option<&'static str>,
+    /// The row of the precedence of colour evidence that decided (1 to 6; null for the
+    /// data-map rule), and the evidence of a lower row it overruled.
+    colorspace_row: Option<u8>,
+    colorspace_overrides: Option<String>,
     /// The subimage read, and the colour (then alpha) channels.
     subimage: Option<u32>,
     channels: Option<Vec<String>>,
@@ -83,6 +87,8 @@ impl Record {
             bands: None,
             colorspace: None,
             colorspace_rule: None,
+            colorspace_row: None,
+            colorspace_overrides: None,
             subimage: None,
             channels: None,
             role: None,
@@ -128,6 +134,8 @@ impl Record {
             bands: Some(r.bands),
             colorspace: Some(r.colorspace.clone()),
             colorspace_rule: Some(r.colorspace_rule.kind()),
+            colorspace_row: r.colorspace_rule.row(),
+            colorspace_overrides: r.colorspace_rule.overrides().map(str::to_owned),
             subimage: Some(r.selection.subimage),
             channels: Some(r.selection.channels.names.clone()),
             role: Some(r.role.name()),
@@ -163,6 +171,8 @@ impl Record {
             levels: copied.then_some(r.levels),
             colorspace: Some(r.colorspace.clone()),
             colorspace_rule: Some(r.colorspace_rule.kind()),
+            colorspace_row: r.colorspace_rule.row(),
+            colorspace_overrides: r.colorspace_rule.overrides().map(str::to_owned),
             subimage: Some(r.selection.subimage),
             channels: (!r.selection.channels.names.is_empty())
                 .then(|| r.selection.channels.names.clone()),

@@ -95,36 +95,163 @@ pub enum DataOutcome {
     Copied,
 }
 
-/// Which rule chose the input colour space.
+/// Which rule chose the input colour space: a row of the precedence of colour evidence
+/// ([`PRECEDENCE`], docs/colour.md), or the data-map rule, with the evidence of a lower row
+/// that it overruled, if any (said once, here, not as a warning: the precedence is the why).
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum Rule {
-    /// Named by the caller (the command line's `--colorspace`), with the declaration it
-    /// overrides, if any.
+    /// Row 1: named by the caller (the command line's `--colorspace`).
     Flag {
+        /// The evidence it overrides, if any ("the file's EXR chromaticities (ACEScg)").
+        overrides: Option<String>,
+    },
+    /// Row 2: the OCIO config's explicit file rule of this name (not its Default rule).
+    FileRule {
+        /// The rule's name.
+        rule: String,
         /// The file's declaration it overrides, if any.
         overrides: Option<String>,
     },
-    /// The file's declarations that agree with the one used ("EXR chromaticities", ...).
-    Declared(Vec<String>),
-    /// The OCIO config's file rule of this name.
-    FileRule(String),
-    /// The Default file rule of a config the user gave (a file), for float pixels that declare
-    /// nothing; holds the rule's name.
-    ConfigDefault(String),
-    /// The format's default, with its reason.
+    /// Row 3 (strong) or 4 (weak): the file's declarations that agree with the one used
+    /// ("EXR chromaticities", ...).
+    Declared {
+        /// The declarations, the one used first.
+        what: Vec<String>,
+        /// Strong (row 3) or weak (row 4).
+        strength: Strength,
+        /// The weaker declaration it overrides, if any.
+        overrides: Option<String>,
+    },
+    /// Row 5: the Default file rule of a config the user gave (a file or `$OCIO`); holds the
+    /// rule's name. A colour space for float pixels that declare nothing; a data space for
+    /// any file no stronger row decides, over weak declarations.
+    ConfigDefault {
+        /// The rule's name.
+        rule: String,
+        /// The weak declaration it overrides (a data space only), if any.
+        overrides: Option<String>,
+    },
+    /// The data-map rule: one channel (with or without alpha) that no row from 1 to 3 calls
+    /// colour is data.
+    OneChannel {
+        /// The evidence of rows 4 to 6 that would have called it colour, if any.
+        overrides: Option<String>,
+    },
+    /// Row 6: the format's default, with its reason.
     Default(&'static str),
 }
 
+/// How much a declaration in a file says ([`Rule::Declared`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Strength {
+    /// Written on purpose: an ICC profile, OpenEXR chromaticities or the ACES container flag,
+    /// a colour-space name a tool wrote (row 3).
+    Strong,
+    /// Written by every writer whatever the pixels hold: PNG `sRGB`, `gAMA`, `cHRM` (row 4).
+    Weak,
+}
+
+/// The precedence of colour evidence, rows 1 to 6 in order: what each row is, in words
+/// ([`Rule::row`] indexes it from 1).
+pub const PRECEDENCE: [&str; 6] = [
+    "the colour space the caller names (--colorspace)",
+    "a studio config's explicit file rule (not its Default rule)",
+    "a strong declaration in the file (ICC profile, EXR chromaticities or ACES container flag, a colour-space name a tool wrote)",
+    "a weak declaration in the file (PNG sRGB, gAMA, cHRM chunks, which writers add to every PNG)",
+    "the Default rule of a config the user gave",
+    "the built-in default (OpenEXR without chromaticities: linear Rec.709; integer pixels: sRGB texture)",
+];
+
+/// What the data-map rule is, in words (the rule [`Rule::OneChannel`] applies).
+pub const DATA_MAP_RULE: &str = "one or two channels are data unless rows 1 to 3 call them colour";
+
 impl Rule {
-    /// The rule's keyword, as JSON records name it: `colorspace-option`, `declared`, `file-rule` or
-    /// `default`.
+    /// The rule's keyword, as JSON records name it: `colorspace-option`, `file-rule`,
+    /// `declared`, `config-default`, `one-channel` or `default`.
     pub fn kind(&self) -> &'static str {
         match self {
             Rule::Flag { .. } => "colorspace-option",
-            Rule::Declared(_) => "declared",
-            Rule::FileRule(_) | Rule::ConfigDefault(_) => "file-rule",
+            Rule::Declared { .. } => "declared",
+            Rule::FileRule { .. } => "file-rule",
+            Rule::ConfigDefault { .. } => "config-default",
+            Rule::OneChannel { .. } => "one-channel",
             Rule::Default(_) => "default",
         }
+    }
+
+    /// The row of [`PRECEDENCE`] that decided, from 1; `None` for the data-map rule.
+    pub fn row(&self) -> Option<u8> {
+        Some(match self {
+            Rule::Flag { .. } => 1,
+            Rule::FileRule { .. } => 2,
+            Rule::Declared {
+                strength: Strength::Strong,
+                ..
+            } => 3,
+            Rule::Declared { .. } => 4,
+            Rule::ConfigDefault { .. } => 5,
+            Rule::OneChannel { .. } => return None,
+            Rule::Default(_) => 6,
+        })
+    }
+
+    /// What the row that decided is, in words ([`PRECEDENCE`] or [`DATA_MAP_RULE`]).
+    pub fn row_text(&self) -> String {
+        match self.row() {
+            Some(row) => format!(
+                "row {row} of {}: {}",
+                PRECEDENCE.len(),
+                PRECEDENCE[usize::from(row) - 1]
+            ),
+            None => format!("the data-map rule: {DATA_MAP_RULE}"),
+        }
+    }
+
+    /// The evidence of a lower row that this rule overruled, if any.
+    pub fn overrides(&self) -> Option<&str> {
+        match self {
+            Rule::Flag { overrides }
+            | Rule::FileRule { overrides, .. }
+            | Rule::Declared { overrides, .. }
+            | Rule::ConfigDefault { overrides, .. }
+            | Rule::OneChannel { overrides } => overrides.as_deref(),
+            Rule::Default(_) => None,
+        }
+    }
+
+    /// The evidence this rule stands for, named as an overruled piece is named ("the file's
+    /// PNG sRGB chunk (sRGB - Texture)") for its colour space `name`; `None` for the flag,
+    /// the data-map rule and the format's default, which are no evidence of the file's.
+    pub fn evidence(&self, name: &str) -> Option<String> {
+        match self {
+            Rule::Declared { what, .. } => what.first().map(|w| says::file(w, name)),
+            Rule::FileRule { rule, .. } => Some(says::file_rule(rule, name)),
+            Rule::ConfigDefault { rule, .. } => Some(says::default_rule(rule, name)),
+            Rule::Flag { .. } | Rule::OneChannel { .. } | Rule::Default(_) => None,
+        }
+    }
+
+    /// Whether the rule may call one channel colour: rows 1 to 3.
+    pub fn may_call_one_channel_colour(&self) -> bool {
+        self.row().is_some_and(|row| row <= 3)
+    }
+}
+
+/// How an overruled piece of evidence is named ([`Rule::overrides`]), in one place.
+pub(crate) mod says {
+    /// A declaration of the file: "the file's EXR chromaticities (ACEScg)".
+    pub fn file(what: &str, name: &str) -> String {
+        format!("the file's {what} ({name})")
+    }
+
+    /// An explicit file rule: "the OCIO config's file rule 'normals' (Raw)".
+    pub fn file_rule(rule: &str, name: &str) -> String {
+        format!("the OCIO config's file rule '{rule}' ({name})")
+    }
+
+    /// The Default rule: "the OCIO config's 'Default' file rule (ACES2065-1)".
+    pub fn default_rule(rule: &str, name: &str) -> String {
+        format!("the OCIO config's '{rule}' file rule ({name})")
     }
 }
 

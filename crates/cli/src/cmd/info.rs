@@ -20,12 +20,14 @@ Examples:
 /// the colour space the file declares and the one specconv would use, and for spectral
 /// EXRs the wavelength bands.
 ///
-/// The input colour space follows the rule of the conversion (docs/colour.md): --colorspace,
-/// else what the file declares (ICC profile, EXR chromaticities and acesImageContainerFlag,
-/// PNG sRGB/cHRM/gAMA, a colour-space name a tool wrote), else the OCIO config's file rules,
-/// else linear Rec.709 (D65) for float pixels and sRGB texture for integer pixels. The route
-/// to CIE XYZ is checked too, so `info` fails, saying why, where a conversion would (a data
-/// colour space such as Raw, a config without an interchange role).
+/// The input colour space follows the precedence of colour evidence (docs/colour.md), and
+/// `info` shows which row decided: 1 --colorspace; 2 the OCIO config's explicit file rules;
+/// 3 strong declarations in the file (ICC profile, EXR chromaticities and
+/// acesImageContainerFlag, a colour-space name a tool wrote); 4 weak ones (PNG sRGB, gAMA,
+/// cHRM); 5 the Default rule of a config given by --ocio or $OCIO; 6 linear Rec.709 (D65)
+/// for float pixels and sRGB texture for integer pixels. One channel is data unless rows 1
+/// to 3 call it colour. The route to CIE XYZ is checked too, so `info` fails, saying why,
+/// where a conversion would (a config without an interchange role).
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// Image files, in any format OpenImageIO reads (EXR, TIFF/.tx, PNG, JPEG, HDR, ...). A
@@ -76,6 +78,11 @@ struct Report<'a> {
     colorspace: String,
     colorspace_rule: &'static str,
     colorspace_reason: String,
+    /// The row of the precedence of colour evidence that decided (1 to 6; null for the
+    /// data-map rule), in words too, and the evidence of a lower row it overruled.
+    colorspace_row: Option<u8>,
+    colorspace_row_text: String,
+    colorspace_overrides: Option<&'a str>,
     /// Declarations of the file that were ignored or disagree.
     colorspace_warnings: Vec<String>,
     /// Straight (unassociated) colour, premultiplied once converted.
@@ -266,6 +273,9 @@ fn show(
         colorspace: space_name,
         colorspace_rule: crate::records::colorspace_rule(rule),
         colorspace_reason: crate::records::colorspace_reason(rule),
+        colorspace_row: rule.row(),
+        colorspace_row_text: rule.row_text(),
+        colorspace_overrides: rule.overrides(),
         colorspace_warnings: warnings.iter().map(crate::records::warning).collect(),
         straight_alpha: d.straight_alpha,
         to_xyz,
@@ -359,6 +369,7 @@ fn print_text(r: &Report, d: &Description) -> Result<(), StdoutFailed> {
     }
     outln!("colour space: {}", r.colorspace)?;
     outln!("chosen by:    {}", r.colorspace_reason)?;
+    outln!("precedence:   {}", r.colorspace_row_text)?;
     for w in &r.colorspace_warnings {
         outln!("warning:      {w}")?;
     }

@@ -1,29 +1,34 @@
 //! The input's colour space, by one rule, and the way its pixels reach CIE XYZ (D65).
 //!
-//! **The rule**, first that applies:
-//! 1. `--colorspace` (the report says which declaration of the file it overrides);
-//! 2. what the file declares, in this order: an embedded ICC profile; OpenEXR
-//!    `chromaticities` (and `acesImageContainerFlag`, which means AP0 with the ACES white);
-//!    PNG `sRGB`, then `cHRM`/`gAMA`; a colour-space name a tool wrote in `oiio:ColorSpace`
-//!    (not OpenImageIO's own labels "Linear" and "sRGB", which it gives every OpenEXR file
-//!    and most integer files whatever they hold);
-//! 3. the OCIO config's `file_rules`, when a rule other than the default one matches the path;
-//!    and for float pixels, the config's Default rule when the config is a file the user gave
-//!    (`--ocio FILE`, `$OCIO`): a studio's config is its policy for files that declare nothing.
-//!    The built-in configs' Default rule (ACES2065-1) is no one's policy for a file, and
-//!    integer pixels are display-encoded textures whatever a config's Default rule (made for
-//!    scene-linear EXRs) says: a studio that means otherwise writes a rule for them;
-//! 4. the format's default: float pixels are linear Rec.709 with a D65 white (the OpenEXR
+//! **The precedence of colour evidence** ([`crate::PRECEDENCE`], docs/colour.md), first that
+//! applies:
+//! 1. `--colorspace`;
+//! 2. the OCIO config's explicit `file_rules` (a rule other than the Default rule matches the
+//!    path): a studio's config says what its files are, whatever writers added to them;
+//! 3. strong declarations in the file, written on purpose: an embedded ICC profile; OpenEXR
+//!    `chromaticities` (and `acesImageContainerFlag`, which means AP0 with the ACES white); a
+//!    colour-space name a tool wrote in `oiio:ColorSpace` (not OpenImageIO's own labels
+//!    "Linear" and "sRGB", which it gives every OpenEXR file and most integer files whatever
+//!    they hold);
+//! 4. weak declarations: PNG `sRGB`, then `cHRM`/`gAMA`, which OpenImageIO and most writers
+//!    add to every PNG, normal maps included (`sRGB` with the `gAMA` 45455 and Rec.709
+//!    `cHRM` the PNG specification writes beside it is one declaration, not two);
+//! 5. the Default rule of a config the user gave (`--ocio FILE`, `$OCIO`): for float pixels
+//!    a colour space, for any pixels a data space. The built-in configs' Default rule
+//!    (ACES2065-1) is no one's policy for a file, and integer pixels are display-encoded
+//!    textures whatever a Default rule (made for scene-linear EXRs) says;
+//! 6. the format's default: float pixels are linear Rec.709 with a D65 white (the OpenEXR
 //!    specification's meaning of a file without `chromaticities`), integer pixels sRGB texture.
 //!
-//! Declarations that disagree (their conversions to XYZ differ) give a warning naming both and
-//! the one used.
+//! Where a higher row overrules evidence of a lower one that converts otherwise, the rule
+//! ([`Rule::overrides`]) names it, once; declarations of one row that disagree give a warning
+//! naming both and the one used.
 //!
-//! **Data textures** ([`texture_space`]): when the colour space chosen is a data space (OCIO
-//! `isdata`: `Raw`, by `--colorspace`, a declared name or a file rule), or when one channel is
-//! read as colour and only the format's default (rule 4) would call it colour, the texture
-//! holds numbers (roughness, normals, masks), not colour, and is never uplifted
-//! ([`DataTexture`]). A single channel is achromatic colour only when rules 1–3 say so.
+//! **Data maps** ([`texture_space`]): a data colour space (OCIO `isdata`: `Raw`) from any row
+//! wins over weak declarations (the config's Default rule comes before them when it names a
+//! data space), and one channel (one- and two-channel images: grey, grey and alpha) is data
+//! unless rows 1 to 3 call it colour ([`Rule::OneChannel`], the data-map rule). Data is never
+//! uplifted ([`DataTexture`]).
 //!
 //! **The routes to XYZ** ([`ToXyz`]): an OCIO processor, when the config has the colour space
 //! (a declaration by primaries, white and transfer is matched to the config's colour space
@@ -34,7 +39,8 @@
 
 use super::{input, png, Error, Result};
 use crate::choices::Alpha;
-pub use crate::report::{Rule, Warning};
+use crate::report::says;
+pub use crate::report::{Rule, Strength, Warning};
 use specconv_colour::rgb::{self, RgbSpace};
 use specconv_icc::ToPcs;
 use specconv_ocio::{Config, Processor};
@@ -196,20 +202,28 @@ enum Declared {
     Icc(Vec<u8>),
 }
 
-/// The file's declarations, most authoritative first, each with what declared it.
-fn declarations(reader: &ImageReader) -> Result<Vec<(String, Declared)>> {
+/// One declaration of the file: what declared it, how much that says, and what it declares.
+type Declaration = (String, Strength, Declared);
+
+/// The file's declarations, strong ones first (most authoritative first within each).
+fn declarations(reader: &ImageReader) -> Result<Vec<Declaration>> {
     let info = reader.info();
     let mut out = Vec::new();
     if let Some(bytes) = reader
         .bytes_attribute("ICCProfile")?
         .filter(|b| !b.is_empty())
     {
-        out.push(("ICC profile".to_owned(), Declared::Icc(bytes)));
+        out.push((
+            "ICC profile".to_owned(),
+            Strength::Strong,
+            Declared::Icc(bytes),
+        ));
     }
     if let Some(c) = reader.numeric_attribute("chromaticities")? {
         if let [rx, ry, gx, gy, bx, by, wx, wy] = c[..] {
             out.push((
                 "EXR chromaticities".into(),
+                Strength::Strong,
                 Declared::Space {
                     space: RgbSpace {
                         name: "chromaticities",
@@ -228,6 +242,7 @@ fn declarations(reader: &ImageReader) -> Result<Vec<(String, Declared)>> {
     if aces {
         out.push((
             "EXR acesImageContainerFlag".into(),
+            Strength::Strong,
             Declared::Space {
                 space: rgb::ACES2065_1,
                 decode: Decode::Linear,
@@ -235,58 +250,70 @@ fn declarations(reader: &ImageReader) -> Result<Vec<(String, Declared)>> {
             },
         ));
     }
-    if info.format_name == "png" {
-        if let Some(p) = png::colour_chunks(&info.path) {
-            if p.srgb {
-                out.push((
-                    "PNG sRGB chunk".into(),
-                    Declared::Space {
-                        space: REC709,
-                        decode: Decode::Srgb,
-                        label: "sRGB",
-                    },
-                ));
-            }
-            if p.chrm.is_some() || p.gamma.is_some() {
-                let space = p
-                    .chrm
-                    .map_or(REC709, |[wx, wy, rx, ry, gx, gy, bx, by]| RgbSpace {
-                        name: "cHRM",
-                        primaries: [[rx, ry], [gx, gy], [bx, by]],
-                        white: [wx, wy],
-                    });
-                let what = match (p.chrm.is_some(), p.gamma) {
-                    (true, Some(g)) => format!("PNG cHRM and gAMA {g}"),
-                    (true, None) => "PNG cHRM".into(),
-                    (false, Some(g)) => format!("PNG gAMA {g}"),
-                    (false, None) => unreachable!(),
-                };
-                out.push((
-                    what,
-                    Declared::Space {
-                        space,
-                        // Without gAMA the transfer is unknown; sRGB's is the PNG convention.
-                        decode: p.gamma.map_or(Decode::Srgb, |g| Decode::Power(1.0 / g)),
-                        label: "PNG cHRM/gAMA",
-                    },
-                ));
-            }
-        }
-    }
     if let Some(name) = &info.declared_color_space {
         // OpenImageIO's own labels, not declarations: "Linear" for every OpenEXR file,
-        // "sRGB" for integer files by default; PNG's chunks are read above.
+        // "sRGB" for integer files by default; PNG's chunks are read below.
         let guess = name.eq_ignore_ascii_case("linear")
             || name.eq_ignore_ascii_case("srgb")
             || info.format_name == "png";
         if !guess {
             out.push((
                 format!("oiio:ColorSpace '{name}'"),
+                Strength::Strong,
                 Declared::Named(name.clone()),
             ));
         }
     }
+    if info.format_name == "png" {
+        if let Some(p) = png::colour_chunks(&info.path) {
+            out.extend(png_declarations(&p));
+        }
+    }
     Ok(out)
+}
+
+/// A PNG's colour chunks as weak declarations: `sRGB`, then `cHRM`/`gAMA` unless they are
+/// the companions the specification writes beside `sRGB` (then one declaration, no warning).
+fn png_declarations(p: &png::PngColour) -> Vec<Declaration> {
+    let mut out = Vec::new();
+    let srgb = Declared::Space {
+        space: REC709,
+        decode: Decode::Srgb,
+        label: "sRGB",
+    };
+    if p.companions_of_srgb() && (p.gamma.is_some() || p.chrm.is_some()) {
+        let what = "PNG sRGB chunk with its gAMA and cHRM";
+        return vec![(what.into(), Strength::Weak, srgb)];
+    }
+    if p.srgb {
+        out.push(("PNG sRGB chunk".into(), Strength::Weak, srgb));
+    }
+    if p.chrm.is_some() || p.gamma.is_some() {
+        let space = p
+            .chrm
+            .map_or(REC709, |[wx, wy, rx, ry, gx, gy, bx, by]| RgbSpace {
+                name: "cHRM",
+                primaries: [[rx, ry], [gx, gy], [bx, by]],
+                white: [wx, wy],
+            });
+        let what = match (p.chrm.is_some(), p.gamma) {
+            (true, Some(g)) => format!("PNG cHRM and gAMA {g}"),
+            (true, None) => "PNG cHRM".into(),
+            (false, Some(g)) => format!("PNG gAMA {g}"),
+            (false, None) => unreachable!(),
+        };
+        out.push((
+            what,
+            Strength::Weak,
+            Declared::Space {
+                space,
+                // Without gAMA the transfer is unknown; sRGB's is the PNG convention.
+                decode: p.gamma.map_or(Decode::Srgb, |g| Decode::Power(1.0 / g)),
+                label: "PNG cHRM/gAMA",
+            },
+        ));
+    }
+    out
 }
 
 /// Sample colours on which two routes must agree to count as the same colour space.
@@ -402,7 +429,8 @@ pub struct DataTexture {
     pub path: PathBuf,
     /// The data colour space (the config's name, `Raw` in most configs).
     pub name: String,
-    /// The rule that chose it; [`Rule::Default`] for a single channel no rule calls colour.
+    /// The rule that chose it; [`Rule::OneChannel`] for one channel no row from 1 to 3
+    /// calls colour.
     pub rule: Rule,
     /// The subimage and channels it would be read as; `None` where not chosen yet.
     pub selection: Option<input::Selection>,
@@ -410,26 +438,30 @@ pub struct DataTexture {
     pub size: (u32, u32),
 }
 
-/// Why a single channel is data: the rule [`texture_space`] applies.
-pub const SINGLE_CHANNEL: &str =
-    "one channel, and neither the caller, the file nor the config's file rules call it colour";
+/// Why one channel is data: the data-map rule [`texture_space`] applies.
+pub const ONE_CHANNEL: &str = "one channel (with or without alpha), and neither the caller, \
+     the config's explicit file rules nor a strong declaration in the file call it colour";
 
 impl DataTexture {
     /// Why it is data, in words.
     pub fn why(&self) -> String {
+        let over = self
+            .rule
+            .overrides()
+            .map(|o| format!(", over {o}"))
+            .unwrap_or_default();
         match &self.rule {
-            Rule::Flag { .. } => format!("colour space '{}', as asked", self.name),
-            Rule::Declared(what) => format!(
-                "colour space '{}', declared by its {}",
+            Rule::Flag { .. } => format!("colour space '{}', as asked{over}", self.name),
+            Rule::Declared { what, .. } => format!(
+                "colour space '{}', declared by its {}{over}",
                 self.name,
                 what.join(", ")
             ),
-            Rule::FileRule(rule) | Rule::ConfigDefault(rule) => {
-                format!(
-                    "colour space '{}', by the OCIO config's file rule '{rule}'",
-                    self.name
-                )
-            }
+            Rule::FileRule { rule, .. } | Rule::ConfigDefault { rule, .. } => format!(
+                "colour space '{}', by the OCIO config's file rule '{rule}'{over}",
+                self.name
+            ),
+            Rule::OneChannel { .. } => format!("{ONE_CHANNEL}{over}"),
             Rule::Default(why) => (*why).to_owned(),
         }
     }
@@ -444,8 +476,9 @@ fn data_space_name(config: &Config) -> String {
         .map_or_else(|| "data".to_owned(), |c| c.name)
 }
 
-/// [`input_space`] for the channels `selection` reads: a data space, or one channel that only
-/// the format's default would call colour, is a [`DataTexture`] (as [`Error::Data`]).
+/// [`input_space`] for the channels `selection` reads: a data space, or one channel that no
+/// row from 1 to 3 calls colour (the data-map rule), is a [`DataTexture`] (as
+/// [`Error::Data`]).
 pub fn texture_space(
     config: &Config,
     reader: &ImageReader,
@@ -460,12 +493,16 @@ pub fn texture_space(
         Err(Error::Data(d)) => return Err(with_selection(*d)),
         other => other?,
     };
-    if selection.channels.colour.len() == 1 && matches!(space.rule, Rule::Default(_)) {
+    if selection.channels.colour.len() == 1 && !space.rule.may_call_one_channel_colour() {
         let info = reader.info();
+        let overrides = match &space.rule {
+            Rule::Default(_) => None,
+            rule => rule.evidence(&space.name),
+        };
         return Err(with_selection(DataTexture {
             path: info.path.clone(),
             name: data_space_name(config),
-            rule: Rule::Default(SINGLE_CHANNEL),
+            rule: Rule::OneChannel { overrides },
             selection: None,
             size: (info.width(), info.height()),
         }));
@@ -473,8 +510,10 @@ pub fn texture_space(
     Ok(space)
 }
 
-/// Chooses the input colour space of the open file by the rule of this module: the flag, the
-/// file's declarations, the config's file rules, its Default rule, the format's default.
+/// Chooses the input colour space of the open file by the precedence of colour evidence
+/// (the module's table): the flag, the config's explicit file rule, strong declarations, weak
+/// ones (after a data space from the config's Default rule), the config's Default rule, the
+/// format's default.
 pub fn input_space(
     config: &Config,
     reader: &ImageReader,
@@ -482,35 +521,141 @@ pub fn input_space(
 ) -> Result<InputSpace> {
     let info = reader.info();
     let Evidence {
-        usable,
-        declared_data,
+        strong,
+        weak,
         mut warnings,
     } = evidence(config, reader)?;
+    let rule = file_rule(config, info)?;
     if let Some(flag) = flag {
-        return by_flag(config, info, flag, usable.first());
+        let top = rule
+            .as_ref()
+            .map(|r| &r.1)
+            .or(strong.first())
+            .or(weak.first());
+        return by_flag(config, info, flag, top);
     }
-    if let Some((what, name)) = declared_data {
-        return Err(data_texture(info, name, Rule::Declared(vec![what])));
+    if let Some((name, found)) = rule {
+        // The rule settles what the file declares: nothing of it is a warning.
+        let overrides = strong
+            .first()
+            .or(weak.first())
+            .filter(|d| d.differs(&found))
+            .map(|d| d.says.clone());
+        return found.chosen(
+            info,
+            Rule::FileRule {
+                rule: name,
+                overrides,
+            },
+        );
     }
-    let space = if !usable.is_empty() {
-        by_declarations(usable, &mut warnings)
-    } else if let Some(space) = by_file_rule(config, info)? {
-        space
-    } else if let Some(space) = by_config_default(config, info)? {
-        space
+    let mut strong = strong.into_iter();
+    if let Some(first) = strong.next() {
+        let rest = strong.collect();
+        let space = by_declarations(
+            info,
+            first,
+            rest,
+            weak.first(),
+            Strength::Strong,
+            &mut warnings,
+        )?;
+        return Ok(InputSpace { warnings, ..space });
+    }
+    let (data_default, colour_default) = match config_default(config, info)? {
+        Some((rule, found)) if found.route.is_none() => (Some((rule, found)), None),
+        other => (None, other),
+    };
+    // A data space from any rule wins over weak declarations.
+    if let Some((rule, found)) = data_default {
+        let overrides = weak.first().map(|d| d.says.clone());
+        return found.chosen(info, Rule::ConfigDefault { rule, overrides });
+    }
+    let mut weak = weak.into_iter();
+    let space = if let Some(first) = weak.next() {
+        by_declarations(
+            info,
+            first,
+            weak.collect(),
+            None,
+            Strength::Weak,
+            &mut warnings,
+        )?
+    } else if let Some((rule, found)) = colour_default {
+        let rule = Rule::ConfigDefault {
+            rule,
+            overrides: None,
+        };
+        found.chosen(info, rule)?
     } else {
         by_format_default(config, info)?
     };
     Ok(InputSpace { warnings, ..space })
 }
 
+/// A piece of colour evidence resolved in the config.
+struct Found {
+    /// What declared it, as warnings and [`Rule::Declared`] name it ("EXR chromaticities").
+    what: String,
+    /// Who says what, as an overruled piece is named ("the file's EXR chromaticities (ACEScg)").
+    says: String,
+    /// The colour space (the config's name, or a description).
+    name: String,
+    /// How it reaches XYZ; `None` for a data space.
+    route: Option<ToXyz>,
+}
+
+impl Found {
+    /// A colour space of the config by name; `says` names the evidence for its name.
+    fn in_config(
+        config: &Config,
+        name: &str,
+        what: String,
+        says: impl Fn(&str) -> String,
+    ) -> Result<Found> {
+        let cs = config.color_space(name)?;
+        let route = if cs.is_data {
+            None
+        } else {
+            Some(ToXyz::Ocio(config.processor_to_xyz(&cs.name)?))
+        };
+        Ok(Found {
+            says: says(&cs.name),
+            what,
+            name: cs.name,
+            route,
+        })
+    }
+
+    /// Whether the two would convert otherwise (a data space and a colour one always do).
+    fn differs(&self, other: &Found) -> bool {
+        match (&self.route, &other.route) {
+            (Some(a), Some(b)) => !same_conversion(a, b),
+            (None, None) => false,
+            _ => true,
+        }
+    }
+
+    /// The input space it makes, chosen by `rule`; [`Error::Data`] for a data space.
+    fn chosen(self, info: &specconv_oiio::ImageInfo, rule: Rule) -> Result<InputSpace> {
+        match self.route {
+            None => Err(data_texture(info, self.name, rule)),
+            Some(to_xyz) => Ok(InputSpace {
+                name: self.name,
+                rule,
+                to_xyz,
+                warnings: Vec::new(),
+            }),
+        }
+    }
+}
+
 /// What the file declares, every declaration resolved once.
 struct Evidence {
-    /// The colour declarations the config can convert: what declared it, the space's name,
-    /// and the conversion. The first usable one decides, the others are compared.
-    usable: Vec<(String, String, ToXyz)>,
-    /// A data space declared before any colour: it decides, unless the caller names a space.
-    declared_data: Option<(String, String)>,
+    /// The strong declarations the config can use, most authoritative first.
+    strong: Vec<Found>,
+    /// The weak ones.
+    weak: Vec<Found>,
     /// The declarations left out, and why.
     warnings: Vec<Warning>,
 }
@@ -518,30 +663,32 @@ struct Evidence {
 /// Resolves every declaration of the open file in `config`.
 fn evidence(config: &Config, reader: &ImageReader) -> Result<Evidence> {
     let mut found = Evidence {
-        usable: Vec::new(),
-        declared_data: None,
+        strong: Vec::new(),
+        weak: Vec::new(),
         warnings: Vec::new(),
     };
-    for (what, d) in declarations(reader)? {
-        if let Declared::Named(name) = &d {
-            if let Some(cs) = config.find_color_space(name)?.filter(|cs| cs.is_data) {
-                if found.usable.is_empty() && found.declared_data.is_none() {
-                    found.declared_data = Some((what, cs.name));
-                } else {
-                    found.warnings.push(Warning::Ignored {
-                        what,
-                        why: format!(
-                            "'{}' is a data colour space and a colour was declared first",
-                            cs.name
-                        ),
-                    });
-                }
-                continue;
+    for (what, strength, d) in declarations(reader)? {
+        let resolved = match &d {
+            Declared::Named(name) if config.find_color_space(name)?.is_some() => {
+                let naming = |cs: &str| says::file(&what, cs);
+                Found::in_config(config, name, what.clone(), naming)?
             }
-        }
-        match resolve(config, &d)? {
-            Ok((name, route)) => found.usable.push((what, name, route)),
-            Err(why) => found.warnings.push(Warning::Ignored { what, why }),
+            _ => match resolve(config, &d)? {
+                Ok((name, route)) => Found {
+                    says: says::file(&what, &name),
+                    what,
+                    name,
+                    route: Some(route),
+                },
+                Err(why) => {
+                    found.warnings.push(Warning::Ignored { what, why });
+                    continue;
+                }
+            },
+        };
+        match strength {
+            Strength::Strong => found.strong.push(resolved),
+            Strength::Weak => found.weak.push(resolved),
         }
     }
     Ok(found)
@@ -558,85 +705,86 @@ fn data_texture(info: &specconv_oiio::ImageInfo, name: String, rule: Rule) -> Er
     }))
 }
 
-/// The space the caller named; `first`, the declaration that would have decided, is named
-/// when it converts otherwise. The declarations' warnings are not given: the flag settles them.
+/// The space the caller named; `top`, the evidence that would have decided, is named when it
+/// converts otherwise. The declarations' warnings are not given: the flag settles them.
 fn by_flag(
     config: &Config,
     info: &specconv_oiio::ImageInfo,
     flag: &str,
-    first: Option<&(String, String, ToXyz)>,
+    top: Option<&Found>,
 ) -> Result<InputSpace> {
-    let cs = config.color_space(flag)?;
-    if cs.is_data {
-        return Err(data_texture(info, cs.name, Rule::Flag { overrides: None }));
-    }
-    let to_xyz = ToXyz::Ocio(config.processor_to_xyz(&cs.name)?);
-    let overrides = first
-        .filter(|(_, _, route)| !same_conversion(route, &to_xyz))
-        .map(|(what, name, _)| format!("{what} ({name})"));
-    Ok(InputSpace {
-        name: cs.name,
-        rule: Rule::Flag { overrides },
-        to_xyz,
-        warnings: Vec::new(),
-    })
+    let asked = Found::in_config(config, flag, String::new(), |_| String::new())?;
+    let overrides = top.filter(|t| t.differs(&asked)).map(|t| t.says.clone());
+    asked.chosen(info, Rule::Flag { overrides })
 }
 
-/// The first of the `usable` declarations (at least one), with those that agree with it; a
-/// warning for each that does not.
+/// `first` of one row's declarations, with those of `rest` that agree with it; a warning for
+/// each that does not. `lower`, the first declaration of a lower row, is named when it
+/// converts otherwise.
 fn by_declarations(
-    mut usable: Vec<(String, String, ToXyz)>,
+    info: &specconv_oiio::ImageInfo,
+    first: Found,
+    rest: Vec<Found>,
+    lower: Option<&Found>,
+    strength: Strength,
     warnings: &mut Vec<Warning>,
-) -> InputSpace {
-    let (what, name, to_xyz) = usable.remove(0);
-    let mut agreeing = vec![what.clone()];
-    for (other, other_name, route) in &usable {
-        if same_conversion(route, &to_xyz) {
-            agreeing.push(other.clone());
+) -> Result<InputSpace> {
+    let mut what = vec![first.what.clone()];
+    for other in rest {
+        if !other.differs(&first) {
+            what.push(other.what);
+        } else if other.route.is_none() {
+            warnings.push(Warning::Ignored {
+                why: format!(
+                    "'{}' is a data colour space and a colour was declared first",
+                    other.name
+                ),
+                what: other.what,
+            });
         } else {
             warnings.push(Warning::Disagree {
-                what: what.clone(),
-                name: name.clone(),
-                other: other.clone(),
-                other_name: other_name.clone(),
+                what: first.what.clone(),
+                name: first.name.clone(),
+                other: other.what,
+                other_name: other.name,
             });
         }
     }
-    InputSpace {
-        name,
-        rule: Rule::Declared(agreeing),
-        to_xyz,
-        warnings: Vec::new(),
-    }
+    let overrides = lower.filter(|l| l.differs(&first)).map(|l| l.says.clone());
+    first.chosen(
+        info,
+        Rule::Declared {
+            what,
+            strength,
+            overrides,
+        },
+    )
 }
 
-/// The space of the config's explicit file rule that matches the file's path, if one does.
-fn by_file_rule(config: &Config, info: &specconv_oiio::ImageInfo) -> Result<Option<InputSpace>> {
+/// The config's explicit file rule that matches the file's path (not the Default rule), with
+/// its colour space, if one does.
+fn file_rule(config: &Config, info: &specconv_oiio::ImageInfo) -> Result<Option<(String, Found)>> {
     let Some((name, rule)) = config.file_rule(&info.path)? else {
         return Ok(None);
     };
-    if config.color_space(&name)?.is_data {
-        return Err(data_texture(info, name, Rule::FileRule(rule)));
-    }
-    Ok(Some(InputSpace {
-        to_xyz: ToXyz::Ocio(config.processor_to_xyz(&name)?),
-        name,
-        rule: Rule::FileRule(rule),
-        warnings: Vec::new(),
-    }))
+    let naming = |cs: &str| says::file_rule(&rule, cs);
+    let found = Found::in_config(config, &name, format!("file rule '{rule}'"), naming)?;
+    Ok(Some((rule, found)))
 }
 
-/// The space of the Default rule of a config the user gave (a file or `$OCIO`), for float
-/// pixels only: integer pixels go to the format's default.
-fn by_config_default(
+/// The Default rule of a config the user gave (a file or `$OCIO`) and its colour space, when
+/// it applies: a data space for any file, a colour space for float pixels only (integer
+/// pixels are display-encoded textures whatever a Default rule made for scene-linear EXRs
+/// says). The built-in configs' Default rule is no one's policy for a file.
+fn config_default(
     config: &Config,
     info: &specconv_oiio::ImageInfo,
-) -> Result<Option<InputSpace>> {
+) -> Result<Option<(String, Found)>> {
     let users = matches!(
         config.source(),
         specconv_ocio::ConfigSource::File(_) | specconv_ocio::ConfigSource::Env(_)
     );
-    if !users || info.pixel_format().is_integer() {
+    if !users {
         return Ok(None);
     }
     let default = config
@@ -646,16 +794,12 @@ fn by_config_default(
     let Some(rule) = default else {
         return Ok(None);
     };
-    let cs = config.color_space(&rule.color_space)?;
-    if cs.is_data {
-        return Err(data_texture(info, cs.name, Rule::ConfigDefault(rule.name)));
+    let naming = |cs: &str| says::default_rule(&rule.name, cs);
+    let found = Found::in_config(config, &rule.color_space, rule.name.clone(), naming)?;
+    if found.route.is_some() && info.pixel_format().is_integer() {
+        return Ok(None);
     }
-    Ok(Some(InputSpace {
-        to_xyz: ToXyz::Ocio(config.processor_to_xyz(&cs.name)?),
-        name: cs.name,
-        rule: Rule::ConfigDefault(rule.name),
-        warnings: Vec::new(),
-    }))
+    Ok(Some((rule.name, found)))
 }
 
 /// The format's default: integer pixels are sRGB texture (the config's, else our own), float

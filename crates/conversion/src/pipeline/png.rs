@@ -17,6 +17,27 @@ pub struct PngColour {
     pub chrm: Option<[f64; 8]>,
 }
 
+/// `gAMA` as the PNG specification writes it beside `sRGB` (3rd ed., 11.3.3.5: 45455).
+pub const SRGB_GAMMA: f64 = 0.45455;
+
+/// `cHRM` as the PNG specification writes it beside `sRGB` (white, red, green, blue x, y:
+/// ITU-R BT.709 with the D65 white).
+pub const SRGB_CHRM: [f64; 8] = [0.3127, 0.329, 0.64, 0.33, 0.3, 0.6, 0.15, 0.06];
+
+impl PngColour {
+    /// Whether `gAMA` and `cHRM` (each, where present) are what the PNG specification
+    /// recommends writing beside an `sRGB` chunk, for decoders that do not know it: the
+    /// same declaration, not a second one. Within 1e-4 for the exponent (45454 and 45455
+    /// both round 1/2.2) and 5e-4 for the chromaticities.
+    pub fn companions_of_srgb(&self) -> bool {
+        let gamma = self.gamma.is_none_or(|g| (g - SRGB_GAMMA).abs() <= 1e-4);
+        let chrm = self
+            .chrm
+            .is_none_or(|c| c.iter().zip(SRGB_CHRM).all(|(a, b)| (a - b).abs() <= 5e-4));
+        self.srgb && gamma && chrm
+    }
+}
+
 const SIGNATURE: [u8; 8] = [0x89, b'P', b'N', b'G', b'\r', b'\n', 0x1a, b'\n'];
 
 /// The colour chunks of the PNG at `path`; `None` when it is not a PNG file or its chunks
@@ -97,6 +118,45 @@ mod tests {
             c.chrm,
             Some([0.3127, 0.329, 0.64, 0.33, 0.3, 0.6, 0.15, 0.06])
         );
+    }
+
+    #[test]
+    fn the_chunks_writers_put_beside_srgb_are_its_companions_and_others_are_not() {
+        let written = PngColour {
+            srgb: true,
+            gamma: Some(0.45455),
+            chrm: Some(SRGB_CHRM),
+        };
+        assert!(written.companions_of_srgb());
+        assert!(PngColour {
+            gamma: Some(0.45454),
+            ..written.clone()
+        }
+        .companions_of_srgb());
+        assert!(PngColour {
+            chrm: None,
+            ..written.clone()
+        }
+        .companions_of_srgb());
+        // A gamma of 1.8, or P3 primaries, beside sRGB is a second, different declaration.
+        assert!(!PngColour {
+            gamma: Some(0.55556),
+            ..written.clone()
+        }
+        .companions_of_srgb());
+        let mut p3 = SRGB_CHRM;
+        p3[2..4].copy_from_slice(&[0.68, 0.32]);
+        assert!(!PngColour {
+            chrm: Some(p3),
+            ..written.clone()
+        }
+        .companions_of_srgb());
+        // Without sRGB there is nothing to be a companion of.
+        assert!(!PngColour {
+            srgb: false,
+            ..written
+        }
+        .companions_of_srgb());
     }
 
     #[test]

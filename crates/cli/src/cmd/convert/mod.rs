@@ -64,9 +64,10 @@ pub struct Args {
     /// The global --ocio (see `specconv --help`).
     #[arg(skip)]
     pub(crate) ocio: Option<String>,
-    /// The input's colour space, overriding what the file declares. Without it: the file's
-    /// declaration (ICC profile, EXR chromaticities, PNG sRGB/cHRM/gAMA, a colour-space name),
-    /// else the config's file rules, else linear Rec.709 for float and sRGB texture for
+    /// The input's colour space, overriding all other evidence. Without it, the first of: the
+    /// config's explicit file rules; strong declarations in the file (ICC profile, EXR
+    /// chromaticities, a colour-space name); weak ones (PNG sRGB/cHRM/gAMA); the Default rule
+    /// of a config given by --ocio or $OCIO; linear Rec.709 for float and sRGB texture for
     /// integer pixels (docs/colour.md).
     #[arg(long, visible_alias = "iscolorspace", value_name = "NAME")]
     colorspace: Option<String>,
@@ -80,8 +81,8 @@ pub struct Args {
     alpha: Alpha,
     /// What to do with a data texture (roughness, normal map, mask), which is never uplifted:
     /// one whose colour space is data (OCIO isdata, such as Raw: by --colorspace, the file, or
-    /// the config's file rules), or one channel that only the format's default would call
-    /// colour. `skip` writes nothing (status `data`, not a failure); `copy` writes it through
+    /// the config's file rules, ahead of PNG chunks), or one channel that neither
+    /// --colorspace, a file rule nor a strong declaration in the file calls colour. `skip` writes nothing (status `data`, not a failure); `copy` writes it through
     /// as a tiled, MIP-mapped data texture, values and metadata kept (OpenImageIO's
     /// make_texture, as maketx); `fail` counts it as a failure.
     #[arg(long, value_name = "HOW", default_value = default_of(Key::Data), value_parser = named::<DataPolicy>())]

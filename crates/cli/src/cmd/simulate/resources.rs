@@ -3,8 +3,8 @@
 //! converts every pixel. A colour's `colorspace` is a name of the scene's OCIO config (as
 //! --colorspace; absent: the config's sRGB texture space, convert's default for integer
 //! pixels). A texture pixel is read by OpenImageIO and its colour space chosen by convert's
-//! rules (specconv_conversion::images::pixel_xyz: `colorspace`, else what the file declares, the config's
-//! file rules, the format's default). The colour is a material's: straight alpha is not applied.
+//! rules (specconv_conversion::images::pixel_xyz: the precedence of colour evidence of
+//! docs/colour.md). The colour is a material's: straight alpha is not applied.
 
 use crate::files;
 use anyhow::{anyhow, Result};
