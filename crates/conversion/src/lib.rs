@@ -41,6 +41,7 @@ pub mod cost;
 mod describe;
 mod error;
 pub mod images;
+pub mod metadata;
 pub mod models;
 mod named;
 mod options;
@@ -69,7 +70,7 @@ pub use options::{
 };
 pub use plan::{check_plan, Outputs, Plan};
 pub use provenance::Provenance;
-pub use report::{DataOutcome, Report, Role};
+pub use report::{DataOutcome, Notice, NoticeCount, NoticeKind, Report, Role};
 pub use wrapped::{ColourError, ImageError};
 
 /// Ends the process at once with `code`, without exit handlers or C++ static destructors: for

@@ -111,7 +111,11 @@ impl ToRgb {
         let (integration, lit) = integration(&light, &h, observer)?;
         let (xyz_space, colorspace) = self.spaces()?;
         let processor = self.config.processor(&xyz_space, &colorspace)?;
-        let declared = declaration(&self.config, &colorspace, &xyz_space)?;
+        let declared = specconv_exr::rgb::Declaration {
+            // The texture's metadata back, by the rule that carried it in.
+            text: crate::metadata::of(h.attributes.clone()),
+            ..declaration(&self.config, &colorspace, &xyz_space)?
+        };
         let (mut rgb, alpha) = integrate(
             (&mut reader, &h, input),
             (&integration, lit.as_deref()),

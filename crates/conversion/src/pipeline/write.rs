@@ -87,8 +87,21 @@ pub(super) fn write_file(
         return Err(Error::Cancelled);
     }
     written?;
+    strict(job, &ordered.counts)?;
     publish(job, pending)?;
     Ok((plan.total, ordered.counts))
+}
+
+/// In strict mode, refuses to publish an output with pixels clipped ([`crate::report::clipped`]).
+fn strict(job: &Job, counts: &Counts) -> Result<()> {
+    let clipped = crate::report::clipped(job.stack.emissive().is_some(), counts.above_one);
+    if !job.options.strict || clipped == 0 {
+        return Ok(());
+    }
+    Err(Error::Strict {
+        input: job.input.to_path_buf(),
+        warning: format!("{clipped} pixels above 1 in a reflectance conversion (clipped)"),
+    })
 }
 
 /// Refuses the weights half rounding keeps the colour under when they are not on the
