@@ -18,6 +18,7 @@ mod runner;
 mod safety;
 mod simulate;
 mod spectral_layout;
+mod studio;
 mod surface;
 mod texture;
 mod texture_prep;
