@@ -271,3 +271,41 @@ fn help_says_only_level_0_of_a_mip_mapped_input_is_read() {
         "the man page follows the help"
     );
 }
+
+#[test]
+fn open_colorio_s_log_reaches_the_terminal_only_through_our_lines() {
+    let config = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../shared/ocio/cg-config-v1.0.0_aces-v1.3_ocio-v2.1.ocio");
+    let config = config.to_str().unwrap();
+    // OpenColorIO's own check logs seven lines about display spaces the config leaves inactive.
+    let out = std::process::Command::new("ociocheck")
+        .args(["--iconfig", config])
+        .output()
+        .expect("ociocheck (OpenColorIO's tools) is installed");
+    let log = String::from_utf8_lossy(&out.stdout) + String::from_utf8_lossy(&out.stderr);
+    let inactive = log.lines().filter(|l| l.contains("Inactive '")).count();
+    assert_eq!(inactive, 7, "{log}");
+    // None of them concerns a colour space a conversion can use: specconv says none.
+    let s = Scratch::new("studio-ocio-log");
+    let input = crate::convert::testdata("srgb8.png");
+    for words in [
+        vec!["--ocio", config, "info"],
+        vec!["--ocio", config, "convert", "--mip", "0"],
+    ] {
+        let mut cmd = Cmd::new(&words).arg(&input);
+        if words.contains(&"convert") {
+            cmd = cmd.arg(s.path("out.exr"));
+        }
+        let run = cmd.ok();
+        assert!(
+            !run.stderr.contains("OpenColorIO"),
+            "{words:?}:\n{}",
+            run.stderr
+        );
+        assert!(
+            !run.stdout.contains("OpenColorIO"),
+            "{words:?}:\n{}",
+            run.stdout
+        );
+    }
+}

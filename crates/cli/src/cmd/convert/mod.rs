@@ -266,6 +266,12 @@ pub(crate) fn run_task(options: Options, pairs: &[(PathBuf, PathBuf)]) -> Result
 fn run_pairs(args: &Args, options: Options, pairs: &[(PathBuf, PathBuf)]) -> Result<i32> {
     let converter = Converter::new(options).map_err(|e| usage(anyhow::anyhow!(explain(&e))))?;
     if !args.quiet {
+        for note in converter.config_notes() {
+            errln!(
+                "specconv: note: the OCIO config {}: {note}",
+                converter.config_source()
+            );
+        }
         for advice in converter.advice() {
             let fix = match advice {
                 Advice::PhotometricHalf => "; use -d float",
