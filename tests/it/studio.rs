@@ -309,3 +309,68 @@ fn open_colorio_s_log_reaches_the_terminal_only_through_our_lines() {
         );
     }
 }
+
+/// The per-channel averages `oiiotool --printstats` gives of an 8-bit picture.
+fn averages(path: &Path) -> Vec<f64> {
+    let stats = tool("oiiotool", &[path.to_str().unwrap(), "--printstats"]);
+    let line = stats
+        .lines()
+        .find(|l| l.contains("Stats Avg:"))
+        .expect("Avg");
+    line.split_whitespace()
+        .filter_map(|w| w.parse().ok())
+        .take(3)
+        .collect()
+}
+
+#[test]
+fn preview_with_no_bounces_shows_an_emission_file_as_its_own_colour() {
+    let s = Scratch::new("studio-preview-emission");
+    let (input, spectral) = (s.path("lamp.exr"), s.path("lamp_spectral.exr"));
+    let args = [
+        "--pattern",
+        "constant:color=0.5,0.2,0.1",
+        "8x8",
+        "3",
+        "-d",
+        "half",
+        "-o",
+    ];
+    tool(
+        "oiiotool",
+        &[&args[..], &[input.to_str().unwrap()]].concat(),
+    );
+    Cmd::convert(&input, &spectral).arg("--emissive").ok();
+    let shown = s.path("lamp.png");
+    let run = Cmd::new(["preview"])
+        .arg(&spectral)
+        .arg("-o")
+        .arg(&shown)
+        .ok();
+    assert!(run.stderr.contains("its own emission"), "{}", run.stderr);
+    // The reference: OpenImageIO's own linear Rec.709 to sRGB of the input, in 8 bits.
+    let reference = s.path("reference.png");
+    let (i, r) = (input.to_str().unwrap(), reference.to_str().unwrap());
+    tool(
+        "oiiotool",
+        &[
+            i,
+            "--colorconvert",
+            "linear",
+            "sRGB",
+            "-d",
+            "uint8",
+            "-o",
+            r,
+        ],
+    );
+    let (got, want) = (averages(&shown), averages(&reference));
+    for (g, w) in got.iter().zip(&want) {
+        assert!((g - w).abs() <= 1.0, "{got:?} against oiiotool's {want:?}");
+    }
+    // Bounces need a reflectance: refused, nothing written.
+    Cmd::new(["preview", "--bounces", "1", "-o"])
+        .arg(s.path("bounced.png"))
+        .arg(&spectral)
+        .refused(&s, 1, &["holds emission", "no bounces"]);
+}

@@ -127,7 +127,7 @@ pub enum Error {
     /// A file of emission where reflectances are needed.
     #[error(
         "{} holds emission (S0 channels), not reflectances: it has no colour to bounce; \
-         preview reflectance files (T channels)",
+         it is shown as its own colour with no bounces",
         input.display()
     )]
     NotReflectance {

@@ -348,7 +348,7 @@ fn place(to: &mut [f32], width: usize, b: &Block, from: &[f32], per: usize) {
 
 /// XYZ of every pixel of a block (three f32 a pixel) under `integration`; with `lit` (the light
 /// per band), bispectral: band o reflects T(o)·I(o) and re-radiates T(i→o)·I(i) from each band i.
-fn xyz_of_block(
+pub(crate) fn xyz_of_block(
     b: &Block,
     reradiation: &[(usize, usize)],
     integration: &Integration,
