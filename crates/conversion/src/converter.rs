@@ -367,7 +367,8 @@ impl Converter {
     }
 
     /// What OpenColorIO said loading the config, where it concerns a colour space that may be
-    /// used ([`config_notes`]): a front-end prints it as its own lines.
+    /// used (every line but those about inactive colour spaces): a front-end prints it as its own
+    /// lines.
     pub fn config_notes(&self) -> &[String] {
         &self.config_notes
     }

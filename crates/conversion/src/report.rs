@@ -65,7 +65,7 @@ pub struct Report {
 }
 
 impl Report {
-    /// Pixels above 1 in a reflectance conversion ([`clipped`]): 0 for emission.
+    /// Pixels above 1 in a reflectance conversion (an input channel or Y above 1.001): 0 for emission.
     pub fn clipped(&self) -> u64 {
         clipped(self.unmatched.is_some(), self.above_one)
     }
