@@ -65,9 +65,10 @@ pub struct Report {
 }
 
 impl Report {
-    /// Pixels above 1 in a reflectance conversion (an input channel or Y above 1.001): 0 for emission.
+    /// Pixels above 1 in a reflectance conversion where they are at least 1 % of the image
+    /// (an emission map's, not a few highlights'); 0 otherwise and for emission.
     pub fn clipped(&self) -> u64 {
-        clipped(self.unmatched.is_some(), self.above_one)
+        clipped(self.unmatched.is_some(), self.above_one, self.pixels)
     }
 
     /// Every warning of this conversion, in the words every front-end prints and records: the
@@ -96,10 +97,11 @@ impl Report {
 }
 
 /// The one rule of what counts as clipped: pixels above 1 (an input channel or Y above
-/// `crate::pipeline::ABOVE_ONE`) of a reflectance conversion, typical of an emission map
-/// converted as reflectance. Emission has no such limit.
-pub(crate) fn clipped(emissive: bool, above_one: u64) -> u64 {
-    if emissive {
+/// `crate::pipeline::ABOVE_ONE`) of a reflectance conversion of `pixels`, when they are at
+/// least 1 % of them: an emission map converted as reflectance, not a few highlights of an
+/// albedo. Emission has no such limit.
+pub(crate) fn clipped(emissive: bool, above_one: u64, pixels: u64) -> u64 {
+    if emissive || above_one == 0 || above_one * 100 < pixels {
         0
     } else {
         above_one

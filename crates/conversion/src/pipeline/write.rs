@@ -87,14 +87,14 @@ pub(super) fn write_file(
         return Err(Error::Cancelled);
     }
     written?;
-    strict(job, &ordered.counts)?;
+    strict(job, &ordered.counts, plan.total)?;
     publish(job, pending)?;
     Ok((plan.total, ordered.counts))
 }
 
 /// In strict mode, refuses to publish an output with pixels clipped ([`crate::report::clipped`]).
-fn strict(job: &Job, counts: &Counts) -> Result<()> {
-    let clipped = crate::report::clipped(job.stack.emissive().is_some(), counts.above_one);
+fn strict(job: &Job, counts: &Counts, pixels: u64) -> Result<()> {
+    let clipped = crate::report::clipped(job.stack.emissive().is_some(), counts.above_one, pixels);
     if !job.options.strict || clipped == 0 {
         return Ok(());
     }

@@ -185,8 +185,8 @@ pub struct Args {
     #[arg(long)]
     strip_metadata: bool,
     /// Fail an input on any warning (a declaration of the file not followed, pixels above 1
-    /// clipped in a reflectance conversion): nothing is written for it and the exit status is
-    /// 1, for farms that gate on warnings.
+    /// clipped in a reflectance conversion, 1 % of the image or more): nothing is written for
+    /// it and the exit status is 1, for farms that gate on warnings.
     #[arg(long)]
     strict: bool,
     /// Worker threads (default: one per core).

@@ -156,7 +156,7 @@ fn range_notes(r: &Report, converter: &Converter) -> String {
                 "spectra above 1, not physical reflectances"
             };
             notes += &format!(", {} pixels above 1 ({what})", r.above_one);
-            if r.above_one * 100 >= r.pixels {
+            if r.clipped() > 0 {
                 notes += "; an emission or HDR texture? convert it with --emissive";
             }
         }
