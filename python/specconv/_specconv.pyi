@@ -111,6 +111,8 @@ def convert(
     table_dir: Optional[_Path] = None,
     update: bool = False,
     data: Literal["skip", "copy", "fail"] = "skip",
+    strip_metadata: bool = False,
+    strict: bool = False,
     errors: Literal["raise", "record"] = "raise",
     progress: Optional[Callable[[int, Path, int, int], Any]] = None,
 ) -> list[dict[str, Any]]: ...

@@ -75,7 +75,7 @@ pub fn options(py: Python<'_>) -> PyResult<Vec<Bound<'_, pyo3::types::PyDict>>> 
 /// its tiles) to spectral OpenEXR files, as `specconv convert` does with the same options,
 /// byte for byte. `outputs`: a file (one input), a list of files (one per input; a pattern's
 /// names its tiles with the token too), or an existing directory (`DIR/STEM_spectral.exr`); or
-/// instead `output_template` (`{dir}`, `{stem}`, `{name}`, `{udim}`, `{tile}`). Returns one record per
+/// instead `output_template` (`{dir}`, `{stem}`, `{name}`, `{ext}`, `{udim}`, `{tile}`). Returns one record per
 /// input, as `convert --json` prints them (docs/json.md). `errors="raise"` stops at the first
 /// failed input and raises its exception (earlier outputs stay); `"record"` carries on and
 /// records it. `progress(index, input, pixels_done, pixels_total)` is called as it goes.
@@ -88,7 +88,7 @@ pub fn options(py: Python<'_>) -> PyResult<Vec<Bound<'_, pyo3::types::PyDict>>> 
                     zip_level=None, tile=Some((64, 64)), mip=true, filter="box", resize=false, wrap=None,
                     non_finite="refuse", constant_detect=true, opaque_detect=true,
                     threads=None, overwrite=false, table_dir=None, update=false, data="skip",
-                    errors="raise", progress=None))]
+                    strip_metadata=false, strict=false, errors="raise", progress=None))]
 #[allow(clippy::too_many_arguments)]
 pub fn convert<'py>(
     py: Python<'py>,
@@ -123,6 +123,8 @@ pub fn convert<'py>(
     table_dir: Option<PathBuf>,
     update: bool,
     data: &str,
+    strip_metadata: bool,
+    strict: bool,
     errors: &str,
     progress: Option<Bound<'py, PyAny>>,
 ) -> PyResult<Vec<Bound<'py, PyAny>>> {
@@ -176,6 +178,8 @@ pub fn convert<'py>(
     o.overwrite = overwrite;
     o.table_dir = table_dir;
     o.data = pick("data", data)?;
+    o.strip_metadata = strip_metadata;
+    o.strict = strict;
     let pairs = crate::plan::pairs(py, inputs.list(), outputs.map(Paths::list), output_template)?;
     let converter = py.detach(|| Converter::new(o)).map_err(conversion)?;
     run(py, &converter, &pairs, update, raise, progress)

@@ -19,6 +19,7 @@ mod safety;
 mod simulate;
 mod spectral_layout;
 mod studio;
+mod studio_batch;
 mod surface;
 mod texture;
 mod texture_prep;

@@ -35,8 +35,9 @@ fn changed(key: Key) -> Vec<String> {
         Key::ConstantDetect => &["--constant-color-detect=false"],
         Key::OpaqueDetect => &["--opaque-detect=false"],
         Key::Data => &["--data", "copy"],
-        // They change no byte: `-u` need not rebuild.
-        Key::Threads | Key::Overwrite | Key::TableDir => &[],
+        Key::StripMetadata => &["--strip-metadata"],
+        // They change no byte: `-u` need not rebuild (strict writes all or nothing).
+        Key::Threads | Key::Overwrite | Key::TableDir | Key::Strict => &[],
     };
     words.iter().map(|w| w.to_string()).collect()
 }

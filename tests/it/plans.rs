@@ -200,8 +200,9 @@ fn two_inputs_for_one_output_are_both_named_in_every_shard() {
     let tx = s.path("brick.tx");
     std::fs::copy(testdata("srgba8.tx"), &tx).unwrap();
     std::fs::create_dir_all(s.path("conv")).unwrap();
-    let line = "brick.png and brick.tx would both write conv/brick_spectral.exr; give each input \
-                its own output";
+    let line = "brick.png and brick.tx would both write conv/brick_spectral.exr (an output \
+                template with {ext} or {name} separates them, such as \
+                conv/{stem}_{ext}_spectral.exr); give each input its own output";
     Cmd::new(["convert", "brick.png", "brick.tx", "-o", "conv"])
         .current_dir(&s.0)
         .refused(&s, 2, &[line]);
@@ -223,6 +224,14 @@ fn two_inputs_for_one_output_are_both_named_in_every_shard() {
         .current_dir(&s.0)
         .refused(&s, 2, &["brick.png and brick.tx would both write"]);
     assert!(std::fs::read_dir(s.path("conv")).unwrap().next().is_none());
+    // The template field the message names separates them.
+    Cmd::new(["convert", "brick.png", "brick.tx", "--mip", "0"])
+        .args(["--output-template", "conv/{stem}_{ext}_spectral.exr"])
+        .current_dir(&s.0)
+        .ok();
+    for name in ["brick_png_spectral.exr", "brick_tx_spectral.exr"] {
+        assert!(s.path("conv").join(name).is_file(), "{name}");
+    }
 }
 
 #[test]

@@ -120,7 +120,7 @@ fn careless_udim_and_template_lines_are_refused_before_anything_is_written() {
             2,
             &[
                 "unknown field {stme}",
-                "{dir}, {stem}, {name}, {udim}, {tile}",
+                "{dir}, {stem}, {name}, {ext}, {udim}, {tile}",
             ],
         );
     Cmd::new([format!("{d}/wood.1001.png").as_str()])

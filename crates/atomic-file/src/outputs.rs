@@ -12,7 +12,7 @@ use std::os::unix::ffi::{OsStrExt, OsStringExt};
 use std::path::{Path, PathBuf};
 
 /// The fields of an output template, as `{name}`.
-pub const FIELDS: [&str; 5] = ["dir", "stem", "name", "udim", "tile"];
+pub const FIELDS: [&str; 6] = ["dir", "stem", "name", "ext", "udim", "tile"];
 
 /// `DIR/STEM_spectral.exr` for `input`.
 pub fn in_directory(dir: &Path, input: &Path) -> PathBuf {
@@ -70,13 +70,14 @@ enum Piece {
     Dir,
     Stem,
     Name,
+    Ext,
     Udim,
     Tile,
 }
 
 /// An output template, its fields checked: `{dir}` (the input's directory, `.` for none),
-/// `{stem}` (its name without the extension), `{name}` (its file name), `{udim}` (its UDIM tile
-/// number, 1001…) and `{tile}` (the same tile as `u1_v1`, OpenImageIO's `<UVTILE>`). In a
+/// `{stem}` (its name without the extension), `{name}` (its file name), `{ext}` (its extension
+/// without the dot, empty for none), `{udim}` (its UDIM tile number, 1001…) and `{tile}` (the same tile as `u1_v1`, OpenImageIO's `<UVTILE>`). In a
 /// template that names the tile, `{stem}` leaves the tile number out: `{stem}_spectral.{udim}.exr`
 /// makes `wood_spectral.1001.exr` of `wood.1001.png`.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -102,6 +103,7 @@ impl Template {
                 "dir" => Piece::Dir,
                 "stem" => Piece::Stem,
                 "name" => Piece::Name,
+                "ext" => Piece::Ext,
                 "udim" => Piece::Udim,
                 "tile" => Piece::Tile,
                 _ => {
@@ -159,6 +161,8 @@ impl Template {
                 Piece::Stem if tile.is_some() => out.extend(udim::stem_without_tile(input)),
                 Piece::Stem => out.extend(udim::stem(input)),
                 Piece::Name => out.extend_from_slice(name),
+                Piece::Ext => out
+                    .extend_from_slice(input.extension().map(|e| e.as_bytes()).unwrap_or_default()),
                 Piece::Udim => {
                     out.extend_from_slice(tile.unwrap_or_default().to_string().as_bytes())
                 }
@@ -244,7 +248,8 @@ mod tests {
         );
         let text = e.to_string();
         assert!(
-            text.contains("{stme}") && text.contains("{dir}, {stem}, {name}, {udim}, {tile}"),
+            text.contains("{stme}")
+                && text.contains("{dir}, {stem}, {name}, {ext}, {udim}, {tile}"),
             "{text}"
         );
         assert!(matches!(

@@ -210,6 +210,10 @@ pub struct Summary {
     pub data: Vec<Option<specconv_conversion::DataOutcome>>,
     /// Each failed input with its error.
     pub failed: Vec<(PathBuf, String)>,
+    /// Inputs converted with pixels clipped.
+    pub clipped: usize,
+    /// Of each kind of warning, the inputs that had it.
+    pub warnings: Vec<usize>,
 }
 
 impl Summary {
@@ -227,11 +231,20 @@ impl Summary {
                 data += &format!(", {n} data texture{s} {what}");
             }
         }
+        let clipped = match self.clipped {
+            0 => String::new(),
+            n => format!(" ({n} clipped)"),
+        };
         let mut text = format!(
-            "specconv: {} converted, {} skipped{data}, {} failed in {}",
+            "specconv: {} converted{clipped}, {} skipped{data}, {} failed{} in {}",
             self.converted,
             self.skipped,
             self.failed.len(),
+            match (self.warnings.len(), self.warnings.iter().sum::<usize>()) {
+                (0, _) => String::new(),
+                (1, n) => format!(", 1 kind of warning ({n} inputs)"),
+                (k, n) => format!(", {k} kinds of warning ({n} in all)"),
+            },
             duration(seconds)
         );
         for (input, error) in &self.failed {
@@ -263,6 +276,8 @@ mod tests {
                 ("a.png".into(), "no such file".into()),
                 ("b.exr".into(), "truncated".into()),
             ],
+            clipped: 0,
+            warnings: Vec::new(),
         };
         assert_eq!(
             s.text(185.0),

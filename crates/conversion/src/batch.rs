@@ -2,6 +2,7 @@
 //! cancellation and progress events that every front-end needs.
 
 use crate::plan::check_plan;
+use crate::report::{tally, NoticeCount};
 use crate::{Converter, Error, Report};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -76,6 +77,10 @@ pub struct Summary {
     pub failed: usize,
     /// Data textures, skipped or written through.
     pub data: usize,
+    /// Of those converted, inputs with pixels clipped ([`Report::clipped`]).
+    pub clipped: usize,
+    /// Each kind of warning once, with the inputs that had it ([`Report::notices`]).
+    pub warnings: Vec<NoticeCount>,
     /// The batch was cancelled before its end; the input it was on was left as it was. The
     /// decision is taken where each output is published: a cancel that comes after the last
     /// one was published stopped nothing, and is not reported here.
@@ -167,6 +172,9 @@ impl<'c> Batch<'c> {
                     .run(input, output, overwrite, cancel, &mut |done, total| {
                         on(Event::Progress { done, total })
                     });
+            if let Ok(report) = &result {
+                tally(&mut summary.warnings, input, report);
+            }
             match result {
                 Ok(report) if report.data.is_some() => {
                     summary.data += 1;
@@ -178,6 +186,7 @@ impl<'c> Batch<'c> {
                 }
                 Ok(report) => {
                     summary.converted += 1;
+                    summary.clipped += usize::from(report.clipped() > 0);
                     on(Event::Converted {
                         input,
                         output,

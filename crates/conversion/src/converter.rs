@@ -42,6 +42,7 @@ pub struct Converter {
     storage: Storage,
     provenance: Provenance,
     pool: Option<rayon::ThreadPool>,
+    config_notes: Vec<String>,
 }
 
 impl Converter {
@@ -137,6 +138,7 @@ impl Converter {
             storage,
             provenance,
             pool,
+            config_notes: config_notes(specconv_ocio::take_log()),
         })
     }
 
@@ -384,6 +386,13 @@ impl Converter {
         &self.provenance
     }
 
+    /// What OpenColorIO said loading the config, where it concerns a colour space that may be
+    /// used (every line but those about inactive colour spaces): a front-end prints it as its own
+    /// lines.
+    pub fn config_notes(&self) -> &[String] {
+        &self.config_notes
+    }
+
     /// What these options will cost in accuracy, said before any input is read.
     pub fn advice(&self) -> Vec<Advice> {
         let o = &self.options;
@@ -393,6 +402,15 @@ impl Converter {
         }
         advice
     }
+}
+
+/// Of OpenColorIO's log, what concerns a colour space a conversion may use: every line but
+/// those about inactive colour spaces (the official configs list display spaces they leave
+/// inactive, and OCIO says so of each on every load), which no conversion can use.
+fn config_notes(log: Vec<String>) -> Vec<String> {
+    log.into_iter()
+        .filter(|l| !(l.starts_with("Inactive '") && l.ends_with("nor a named transform.")))
+        .collect()
 }
 
 /// A setting that works but costs accuracy.
@@ -469,4 +487,19 @@ fn physical_memory() -> Option<u64> {
     let line = text.lines().find(|l| l.starts_with("MemTotal:"))?;
     let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
     Some(kib * 1024)
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn only_lines_about_inactive_spaces_are_left_out_of_the_config_s_notes() {
+        let log = vec![
+            "Inactive 'P3-DCI - Display' is neither a color space nor a named transform.".into(),
+            "Color space 'ACEScg' has a transform that cannot be inverted.".into(),
+        ];
+        assert_eq!(
+            super::config_notes(log),
+            ["Color space 'ACEScg' has a transform that cannot be inverted."]
+        );
+    }
 }

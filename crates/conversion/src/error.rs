@@ -127,7 +127,7 @@ pub enum Error {
     /// A file of emission where reflectances are needed.
     #[error(
         "{} holds emission (S0 channels), not reflectances: it has no colour to bounce; \
-         preview reflectance files (T channels)",
+         it is shown as its own colour with no bounces",
         input.display()
     )]
     NotReflectance {
@@ -518,6 +518,8 @@ mod tests {
                 ConversionError::Cancelled => ("Conversion::Cancelled", false),
                 ConversionError::Spectral { .. } => ("Conversion::Spectral", true),
                 ConversionError::Data(_) => ("Conversion::Data", true),
+                // The caller's own gate: the warning says what is wrong.
+                ConversionError::Strict { .. } => ("Conversion::Strict", false),
             },
             Error::Plan(p) => ("Plan", matches!(p, PlanError::Exists { .. })),
             // Whether a plan's error is fixable is the plan's own test's.
@@ -593,6 +595,7 @@ mod tests {
         "Conversion::Cancelled",
         "Conversion::Spectral",
         "Conversion::Data",
+        "Conversion::Strict",
         "Plan",
         "Planning::NotMadeBySpecconv",
         "Planning::Files",
@@ -695,6 +698,10 @@ mod tests {
                 selection: None,
                 size: (1, 1),
             })),
+            ConversionError::Strict {
+                input: p(),
+                warning: "1 pixels above 1".into(),
+            },
         ];
         let mut all = vec![
             Error::ZipLevelWithoutZip {

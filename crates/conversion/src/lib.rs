@@ -41,6 +41,7 @@ pub mod cost;
 mod describe;
 mod error;
 pub mod images;
+pub mod metadata;
 pub mod models;
 mod named;
 mod options;
@@ -69,7 +70,9 @@ pub use options::{
 };
 pub use plan::{check_plan, Outputs, Plan};
 pub use provenance::Provenance;
-pub use report::{DataOutcome, Report, Role, Strength, DATA_MAP_RULE, PRECEDENCE};
+pub use report::{
+    DataOutcome, Notice, NoticeCount, NoticeKind, Report, Role, Strength, DATA_MAP_RULE, PRECEDENCE,
+};
 pub use wrapped::{ColourError, ImageError};
 
 /// Makes writes past the file size limit (`ulimit -f`) fail with an error the writer reports,

@@ -85,6 +85,12 @@ pub struct Options {
     pub table_dir: Option<PathBuf>,
     /// What becomes of a data texture (a roughness or normal map): never uplifted.
     pub data: DataPolicy,
+    /// Leave out the input's texture metadata (Copyright, DocumentName, ImageDescription,
+    /// Artist, custom string attributes), which outputs otherwise carry as maketx does.
+    pub strip_metadata: bool,
+    /// Fail an input on any warning (a declaration ignored or disagreeing, pixels clipped):
+    /// nothing is written for it, and the batch counts it failed.
+    pub strict: bool,
 }
 
 impl Default for Options {
@@ -117,6 +123,8 @@ impl Default for Options {
             overwrite: false,
             table_dir: None,
             data: DataPolicy::Skip,
+            strip_metadata: false,
+            strict: false,
         }
     }
 }
@@ -163,6 +171,8 @@ pub enum Key {
     Overwrite,
     TableDir,
     Data,
+    StripMetadata,
+    Strict,
 }
 
 /// How front-ends name an option, and what it does.
@@ -190,7 +200,7 @@ fn choices<T: Named>() -> Option<(Vec<&'static str>, Vec<&'static str>)> {
 
 impl Key {
     /// Every option, in the order help lists them.
-    pub const ALL: [Key; 27] = [
+    pub const ALL: [Key; 29] = [
         Key::Ocio,
         Key::Colorspace,
         Key::Alpha,
@@ -218,6 +228,8 @@ impl Key {
         Key::Overwrite,
         Key::TableDir,
         Key::Data,
+        Key::StripMetadata,
+        Key::Strict,
     ];
 
     /// How front-ends name it, its choices and help.
@@ -251,6 +263,8 @@ impl Key {
                 Key::Overwrite => ("overwrite", &["force"], None, "replace an existing output", false),
                 Key::TableDir => ("table_dir", &[], None, "where the Jakob 2019 tables are kept (unset: the cache directory)", false),
                 Key::Data => ("data", &["data"], choices::<DataPolicy>(), "what becomes of a data texture (never uplifted): skipped, copied or a failure", true),
+                Key::StripMetadata => ("strip_metadata", &["strip-metadata"], None, "leave out the input's metadata (Copyright, DocumentName, ImageDescription, Artist, custom strings), which outputs carry as maketx does", true),
+                Key::Strict => ("strict", &["strict"], None, "fail an input on any warning (a declaration ignored, pixels clipped): nothing written for it", false),
             };
         About {
             name,
@@ -314,6 +328,8 @@ impl Options {
             Key::Overwrite => word(self.overwrite),
             Key::TableDir => self.table_dir.as_ref().map(|p| p.display().to_string()),
             Key::Data => name(self.data.name()),
+            Key::StripMetadata => word(self.strip_metadata),
+            Key::Strict => word(self.strict),
         }
     }
 
@@ -379,6 +395,8 @@ impl Options {
             Key::Overwrite => self.overwrite = boolean(text).map_err(bad)?,
             Key::TableDir => self.table_dir = Some(PathBuf::from(text)),
             Key::Data => self.data = named(text).map_err(bad)?,
+            Key::StripMetadata => self.strip_metadata = boolean(text).map_err(bad)?,
+            Key::Strict => self.strict = boolean(text).map_err(bad)?,
         }
         Ok(())
     }
@@ -416,6 +434,8 @@ impl Options {
             Key::Overwrite => self.overwrite = d.overwrite,
             Key::TableDir => self.table_dir = d.table_dir,
             Key::Data => self.data = d.data,
+            Key::StripMetadata => self.strip_metadata = d.strip_metadata,
+            Key::Strict => self.strict = d.strict,
         }
     }
 }
@@ -502,10 +522,12 @@ pub(crate) fn settings_tag(o: &Options, r: Resolved) -> String {
         constant_detect,
         opaque_detect,
         data,
-        // Neither changes a byte.
+        strip_metadata,
+        // None changes a byte (strict writes all or nothing).
         threads: _,
         overwrite: _,
         table_dir: _,
+        strict: _,
     } = o;
     let compression = match zip_level {
         Some(level) => format!("{compression} zip-level={level}"),
@@ -553,6 +575,9 @@ pub(crate) fn settings_tag(o: &Options, r: Resolved) -> String {
     }
     if *data != DataPolicy::Skip {
         tag += &format!(" data={data}");
+    }
+    if *strip_metadata {
+        tag += " strip-metadata";
     }
     for (k, v) in [("subimage", subimage), ("channels", channels)] {
         if let Some(v) = v {

@@ -46,7 +46,7 @@ pub enum Outputs {
     Files(Vec<PathBuf>),
     /// Every output in this directory, which exists, as `STEM_spectral.exr`.
     Directory(PathBuf),
-    /// Each output by a template ([`Template`]: `{dir}`, `{stem}`, `{name}`, `{udim}`,
+    /// Each output by a template ([`Template`]: `{dir}`, `{stem}`, `{name}`, `{ext}`, `{udim}`,
     /// `{tile}`).
     Template(Template),
 }
@@ -189,11 +189,36 @@ fn shared(first: &Path, second: &Path, a: &Path, b: &Path) -> String {
         )
     } else {
         format!(
-            "{} and {} would both write {target}",
+            "{} and {} would both write {target}{}",
             first.display(),
-            second.display()
+            second.display(),
+            separating(first, second, a).map_or(String::new(), |(field, example)| format!(
+                " (an output template with {field} separates them, such as {example})"
+            ))
         )
     }
+}
+
+/// The template field that tells two inputs apart, and an output template with it beside
+/// `output`: `{ext}` (or `{name}`) for one stem with two extensions, `{dir}` for one name in
+/// two directories, `{stem}` otherwise.
+fn separating(first: &Path, second: &Path, output: &Path) -> Option<(&'static str, String)> {
+    let dir = output
+        .parent()
+        .filter(|d| !d.as_os_str().is_empty())
+        .map_or(String::new(), |d| format!("{}/", d.display()));
+    if first.file_name() == second.file_name() {
+        return (first.parent() != second.parent())
+            .then(|| ("{dir}", "{dir}/{stem}_spectral.exr".to_string()));
+    }
+    Some(if first.file_stem() == second.file_stem() {
+        (
+            "{ext} or {name}",
+            format!("{dir}{{stem}}_{{ext}}_spectral.exr"),
+        )
+    } else {
+        ("{stem}", format!("{dir}{{stem}}_spectral.exr"))
+    })
 }
 
 /// The inputs of a batch and the output of each, checked as a whole ([`Plan::new`]), or the
@@ -460,10 +485,13 @@ mod tests {
         assert_eq!(
             text,
             format!(
-                "{} and {} would both write {}; give each input its own output",
+                "{} and {} would both write {} (an output template with {{ext}} or {{name}} \
+                 separates them, such as {}/{{stem}}_{{ext}}_spectral.exr); give each input its \
+                 own output",
                 inputs[0].display(),
                 inputs[1].display(),
-                out.join("brick_spectral.exr").display()
+                out.join("brick_spectral.exr").display(),
+                out.display()
             )
         );
         // The same input twice says so.

@@ -45,9 +45,13 @@ pub struct Shaded {
     pub delta_e: Vec<f64>,
     /// Pixels with a NaN or infinite band.
     pub non_finite: usize,
+    /// An emission file (shown with no bounces: its own colour), in the units it records;
+    /// `None` for reflectance.
+    pub emission: Option<specconv_colour::EmissionUnits>,
 }
 
-/// Shades `input` (a reflectance file, not bispectral).
+/// Shades `input` (a reflectance file, not bispectral; or an emission file with no bounces,
+/// shown as its own colour).
 pub fn shade(input: &Path, options: &PreviewOptions) -> Result<Shaded, Error> {
     let read_error = |source| Error::Read {
         path: input.to_path_buf(),
@@ -55,10 +59,19 @@ pub fn shade(input: &Path, options: &PreviewOptions) -> Result<Shaded, Error> {
     };
     let mut reader = BlockReader::open(input).map_err(read_error)?;
     let h = reader.header().clone();
-    if !matches!(h.kind, Kind::Reflective) {
-        return Err(Error::NotReflectance {
-            input: input.to_path_buf(),
-        });
+    match (&h.kind, options.bounces, options.illuminant) {
+        (Kind::Reflective, ..) => {}
+        (Kind::Emissive { .. }, 0, None) => return shade_emission(input, reader),
+        (Kind::Emissive { .. }, 0, Some(_)) => {
+            return Err(Error::EmissionIsItsOwnLight {
+                input: input.to_path_buf(),
+            })
+        }
+        _ => {
+            return Err(Error::NotReflectance {
+                input: input.to_path_buf(),
+            })
+        }
     }
     if !h.reradiation.is_empty() {
         return Err(Error::Bispectral {
@@ -115,6 +128,51 @@ pub fn shade(input: &Path, options: &PreviewOptions) -> Result<Shaded, Error> {
         display,
         delta_e,
         non_finite,
+        emission: None,
+    })
+}
+
+/// An emission file as its own colour: each pixel's XYZ as `to-rgb` integrates it (the units
+/// it records), as display sRGB.
+fn shade_emission(input: &Path, mut reader: BlockReader) -> Result<Shaded, Error> {
+    let h = reader.header().clone();
+    let recorded =
+        Provenance::from_attributes(&h.attributes).map_err(|source| Error::BadProvenance {
+            path: input.to_path_buf(),
+            source,
+        })?;
+    let units = recorded.emission_convention().0;
+    let integration = units
+        .integration(&h.wavelengths, recorded.observer_or_default())
+        .map_err(Error::Colorimetry)?;
+    let to_display = SRGB.from_xyz(SRGB.white_xyz());
+    let mut display = vec![[0u8; 3]; h.width * h.height];
+    let mut non_finite = 0;
+    while let Some(block) = reader.next_block() {
+        let b = block.map_err(|source| Error::Read {
+            path: input.to_path_buf(),
+            source,
+        })?;
+        let xyz = crate::to_rgb::xyz_of_block(&b, &[], &integration, None);
+        for (p, c) in xyz.chunks_exact(3).enumerate() {
+            let (x, y) = (b.x + p % b.width, b.y + p / b.width);
+            let c = [c[0], c[1], c[2]].map(f64::from);
+            if !c.iter().all(|v| v.is_finite()) {
+                non_finite += 1;
+                continue;
+            }
+            display[y * h.width + x] = apply(&to_display, c)
+                .map(|v| (srgb_encode(v.clamp(0.0, 1.0)) * 255.0).round() as u8);
+        }
+    }
+    Ok(Shaded {
+        width: h.width,
+        height: h.height,
+        light: recorded.illuminant_or_default(),
+        display,
+        delta_e: vec![0.0; h.width * h.height],
+        non_finite,
+        emission: Some(units),
     })
 }
 

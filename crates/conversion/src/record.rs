@@ -14,7 +14,8 @@ pub struct Record {
     input: PathBuf,
     #[serde(serialize_with = "serialize_path")]
     output: PathBuf,
-    /// `ok`, `skipped`, `failed`, `data` or `copied`.
+    /// `ok`, `clipped` (converted, with pixels above 1 in a reflectance conversion),
+    /// `skipped`, `failed`, `data` or `copied`.
     status: &'static str,
     /// Why a skipped input was skipped.
     skip_reason: Option<&'static str>,
@@ -62,6 +63,9 @@ pub struct Record {
     source_hash: Option<String>,
     /// The model that made the spectra, as the output's `specconvModel` records it.
     model: Option<String>,
+    /// The conversion's warnings ([`crate::Report::notices`]), in words; null when nothing
+    /// was read.
+    warnings: Option<Vec<String>>,
 }
 
 #[derive(Debug, Clone, Serialize)]
@@ -104,6 +108,7 @@ impl Record {
             alpha_dropped: None,
             source_hash: None,
             model: None,
+            warnings: None,
         }
     }
 
@@ -158,7 +163,13 @@ impl Record {
             alpha_dropped: Some(r.opaque_dropped),
             source_hash: Some(r.source_hash.clone()).filter(|h| !h.is_empty()),
             model: Some(converter.model_description().to_string()),
-            ..Record::not_converted(input, output, "ok", r.seconds)
+            warnings: Some(notices(r)),
+            ..Record::not_converted(
+                input,
+                output,
+                if r.clipped() > 0 { "clipped" } else { "ok" },
+                r.seconds,
+            )
         }
     }
 
@@ -177,6 +188,7 @@ impl Record {
             channels: (!r.selection.channels.names.is_empty())
                 .then(|| r.selection.channels.names.clone()),
             role: Some(r.role.name()),
+            warnings: Some(notices(r)),
             ..Record::not_converted(
                 input,
                 output,
@@ -201,7 +213,7 @@ impl Record {
         &self.output
     }
 
-    /// `ok`, `skipped`, `failed`, `data` or `copied`.
+    /// `ok`, `clipped`, `skipped`, `failed`, `data` or `copied`.
     pub fn status(&self) -> &'static str {
         self.status
     }
@@ -210,6 +222,11 @@ impl Record {
     pub fn skip_reason(&self) -> Option<&'static str> {
         self.skip_reason
     }
+}
+
+/// The words of every warning of `r`.
+fn notices(r: &Report) -> Vec<String> {
+    r.notices().into_iter().map(|n| n.text).collect()
 }
 
 /// An error message about an input without the leading `PATH: ` that the record (or the line)

@@ -64,6 +64,97 @@ pub struct Report {
     pub data: Option<DataOutcome>,
 }
 
+impl Report {
+    /// Pixels above 1 in a reflectance conversion where they are at least 1 % of the image
+    /// (an emission map's, not a few highlights'); 0 otherwise and for emission.
+    pub fn clipped(&self) -> u64 {
+        clipped(self.unmatched.is_some(), self.above_one, self.pixels)
+    }
+
+    /// Every warning of this conversion, in the words every front-end prints and records: the
+    /// file's declarations not followed, then pixels clipped.
+    pub fn notices(&self) -> Vec<Notice> {
+        let mut notices: Vec<Notice> = self
+            .warnings
+            .iter()
+            .map(|w| Notice {
+                kind: NoticeKind::Colour(w.clone()),
+                text: w.to_string(),
+            })
+            .collect();
+        let n = self.clipped();
+        if n > 0 {
+            notices.push(Notice {
+                kind: NoticeKind::Clipped,
+                text: format!(
+                    "{n} pixels above 1 in a reflectance conversion (no reflectance is brighter \
+                     than white: clipped); an emission map is converted as emission"
+                ),
+            });
+        }
+        notices
+    }
+}
+
+/// The one rule of what counts as clipped: pixels above 1 (an input channel or Y above
+/// `crate::pipeline::ABOVE_ONE`) of a reflectance conversion of `pixels`, when they are at
+/// least 1 % of them: an emission map converted as reflectance, not a few highlights of an
+/// albedo. Emission has no such limit.
+pub(crate) fn clipped(emissive: bool, above_one: u64, pixels: u64) -> u64 {
+    if emissive || above_one == 0 || above_one * 100 < pixels {
+        0
+    } else {
+        above_one
+    }
+}
+
+/// A warning of one conversion: its kind (the same for the same trouble in any input, so that
+/// a batch says it once with a count) and its words.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Notice {
+    /// What kind of trouble.
+    pub kind: NoticeKind,
+    /// It in words, without the input's path and without options.
+    pub text: String,
+}
+
+/// The kinds of warning a batch counts.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub enum NoticeKind {
+    /// A declaration of the file not followed ([`Warning`]): one kind per distinct warning.
+    Colour(Warning),
+    /// Pixels above 1 in a reflectance conversion ([`Report::clipped`]).
+    Clipped,
+}
+
+/// One kind of warning in a batch: how many inputs had it, and the first.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct NoticeCount {
+    /// The kind.
+    pub kind: NoticeKind,
+    /// The first input's words for it.
+    pub text: String,
+    /// Inputs that had it.
+    pub inputs: usize,
+    /// The first input that had it.
+    pub first: std::path::PathBuf,
+}
+
+/// Adds `report`'s notices of `input` to `tally`, one entry per kind in the order first met.
+pub(crate) fn tally(tally: &mut Vec<NoticeCount>, input: &std::path::Path, report: &Report) {
+    for n in report.notices() {
+        match tally.iter_mut().find(|c| c.kind == n.kind) {
+            Some(c) => c.inputs += 1,
+            None => tally.push(NoticeCount {
+                kind: n.kind,
+                text: n.text,
+                inputs: 1,
+                first: input.to_path_buf(),
+            }),
+        }
+    }
+}
+
 /// What a texture holds (`crate::pipeline::colour::texture_space`'s rule).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Role {
@@ -257,7 +348,7 @@ pub(crate) mod says {
 
 /// A declaration of the file that was not followed. Said without options: a front-end adds
 /// how to choose the colour space.
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
 pub enum Warning {
     /// A declaration that cannot be used.
     Ignored {

@@ -111,7 +111,11 @@ impl ToRgb {
         let (integration, lit) = integration(&light, &h, observer)?;
         let (xyz_space, colorspace) = self.spaces()?;
         let processor = self.config.processor(&xyz_space, &colorspace)?;
-        let declared = declaration(&self.config, &colorspace, &xyz_space)?;
+        let declared = specconv_exr::rgb::Declaration {
+            // The texture's metadata back, by the rule that carried it in.
+            text: crate::metadata::of(h.attributes.clone()),
+            ..declaration(&self.config, &colorspace, &xyz_space)?
+        };
         let (mut rgb, alpha) = integrate(
             (&mut reader, &h, input),
             (&integration, lit.as_deref()),
@@ -344,7 +348,7 @@ fn place(to: &mut [f32], width: usize, b: &Block, from: &[f32], per: usize) {
 
 /// XYZ of every pixel of a block (three f32 a pixel) under `integration`; with `lit` (the light
 /// per band), bispectral: band o reflects T(o)·I(o) and re-radiates T(i→o)·I(i) from each band i.
-fn xyz_of_block(
+pub(crate) fn xyz_of_block(
     b: &Block,
     reradiation: &[(usize, usize)],
     integration: &Integration,

@@ -26,6 +26,8 @@ pub struct Declaration {
     pub aces_container: bool,
     /// A colour-space name as OpenImageIO's `oiio:ColorSpace` holds it.
     pub colorspace_name: Option<String>,
+    /// More text attributes (name, value), such as the texture's metadata.
+    pub text: Vec<(String, String)>,
 }
 
 /// [`write_rgb`] with the colour declared.
@@ -52,6 +54,11 @@ pub fn write_rgb_declared(
             attributes
                 .other
                 .insert(Text::from("acesImageContainerFlag"), AttributeValue::I32(1));
+        }
+        for (name, value) in &declared.text {
+            if let (Some(name), Some(value)) = (Text::new_or_none(name), Text::new_or_none(value)) {
+                attributes.other.insert(name, AttributeValue::Text(value));
+            }
         }
         if let Some(name) = declared.colorspace_name.as_deref() {
             if let Some(text) = Text::new_or_none(name) {

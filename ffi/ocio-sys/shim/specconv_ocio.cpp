@@ -8,6 +8,7 @@
 #include <OpenColorIO/OpenColorIO.h>
 
 #include <exception>
+#include <mutex>
 #include <sstream>
 #include <string>
 
@@ -17,6 +18,24 @@ namespace {
 
 thread_local std::string last_error;
 
+// OpenColorIO's log, kept for the caller to read (specconv_ocio_take_log) rather than
+// printed: OCIO's default logging function writes to standard error.
+std::mutex log_mutex;
+std::string log_kept;
+thread_local std::string log_taken;
+
+void keep_log(const char *message) {
+    std::lock_guard<std::mutex> lock(log_mutex);
+    log_kept += message;
+    if (log_kept.empty() || log_kept.back() != '\n')
+        log_kept += '\n';
+}
+
+void route_log() {
+    static std::once_flag routed;
+    std::call_once(routed, [] { OCIO::SetLoggingFunction(&keep_log); });
+}
+
 int32_t fail(int32_t status, std::string message) {
     last_error = std::move(message);
     return status;
@@ -24,6 +43,7 @@ int32_t fail(int32_t status, std::string message) {
 
 template <typename F> int32_t guard(int32_t on_exception, F &&body) noexcept {
     try {
+        route_log();
         last_error.clear();
         return body();
     } catch (const std::exception &e) {
@@ -91,6 +111,18 @@ extern "C" {
 const char *specconv_ocio_last_error(void) { return last_error.c_str(); }
 
 const char *specconv_ocio_version(void) { return OCIO::GetVersion(); }
+
+const char *specconv_ocio_take_log(void) {
+    try {
+        route_log();
+        std::lock_guard<std::mutex> lock(log_mutex);
+        log_taken.swap(log_kept);
+        log_kept.clear();
+    } catch (...) {
+        log_taken.clear();
+    }
+    return log_taken.c_str();
+}
 
 int32_t specconv_ocio_config_from_file(const char *path, specconv_ocio_config **out) {
     return guard(SPECCONV_OCIO_ERR_CONFIG, [&]() -> int32_t {

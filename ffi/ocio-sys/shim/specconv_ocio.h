@@ -52,6 +52,12 @@ const char *specconv_ocio_last_error(void);
 /* The OpenColorIO version the program runs against, e.g. "2.1.2". */
 const char *specconv_ocio_version(void);
 
+/* OpenColorIO's log: from the first call into this shim on, its messages are kept here
+ * instead of being printed on standard error. Returns the messages kept since the last call
+ * ("" if none), each ending with a newline, and forgets them. Valid until the next call on
+ * the same thread. */
+const char *specconv_ocio_take_log(void);
+
 /* Loads a config from a file, or from YAML text whose relative paths resolve against
  * working_dir (may be NULL). Either is validated before it is returned. */
 int32_t specconv_ocio_config_from_file(const char *path, specconv_ocio_config **out);

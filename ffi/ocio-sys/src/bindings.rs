@@ -68,6 +68,9 @@ unsafe extern "C" {
     pub fn specconv_ocio_version() -> *const ::std::os::raw::c_char;
 }
 unsafe extern "C" {
+    pub fn specconv_ocio_take_log() -> *const ::std::os::raw::c_char;
+}
+unsafe extern "C" {
     pub fn specconv_ocio_config_from_file(
         path: *const ::std::os::raw::c_char,
         out: *mut *mut specconv_ocio_config,

@@ -217,6 +217,23 @@ pub fn ocio_version() -> String {
     config_str(unsafe { sys::specconv_ocio_version() })
 }
 
+/// OpenColorIO's log since the last call, one message a line, without OCIO's
+/// `[OpenColorIO Warning]: ` prefixes. The shim keeps the log from its first call on, so that
+/// nothing of OCIO's reaches standard error unless the caller says it.
+pub fn take_log() -> Vec<String> {
+    // SAFETY: a NUL-terminated string the shim keeps for this thread until the next call.
+    let text = config_str(unsafe { sys::specconv_ocio_take_log() });
+    text.lines()
+        .map(|l| {
+            l.split_once("]: ")
+                .filter(|(p, _)| p.starts_with("[OpenColorIO"))
+                .map_or(l, |(_, m)| m)
+                .to_string()
+        })
+        .filter(|l| !l.is_empty())
+        .collect()
+}
+
 impl Config {
     /// Loads a config file.
     pub fn from_file(path: impl AsRef<Path>) -> Result<Config> {

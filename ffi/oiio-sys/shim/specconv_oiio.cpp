@@ -259,6 +259,25 @@ int32_t specconv_oiio_string_attribute(const specconv_oiio_input *input, const c
     });
 }
 
+int32_t specconv_oiio_string_attribute_names(const specconv_oiio_input *input, char *buf,
+                                             size_t buf_len, int64_t *len) {
+    return guard([&]() -> int32_t {
+        if (input == nullptr || len == nullptr)
+            return fail(SPECCONV_OIIO_ERR_ARGUMENT, "null argument");
+        std::string names;
+        for (const OIIO::ParamValue &p : input->levels[0].extra_attribs) {
+            if (p.type() == OIIO::TypeString) {
+                names += p.name().string();
+                names += '\0';
+            }
+        }
+        *len = static_cast<int64_t>(names.size());
+        if (buf != nullptr)
+            std::memcpy(buf, names.data(), names.size() < buf_len ? names.size() : buf_len);
+        return SPECCONV_OIIO_OK;
+    });
+}
+
 int32_t specconv_oiio_numeric_attribute(const specconv_oiio_input *input, const char *name,
                                         double *buf, size_t buf_len, int64_t *len) {
     return read_attribute(input, name, len, OIIO::TypeUnknown, [&](const OIIO::ParamValue &p) -> int32_t {

@@ -82,6 +82,12 @@ int32_t specconv_oiio_channel_format(const specconv_oiio_input *input, int32_t c
 int32_t specconv_oiio_string_attribute(const specconv_oiio_input *input, const char *name,
                                        char *buf, size_t buf_len, int64_t *len);
 
+/* Copies the names of level 0's string attributes into buf, each followed by a NUL, in the
+ * header's order (truncated to buf_len). *len receives the full length of the list. buf may
+ * be NULL to ask for the length. */
+int32_t specconv_oiio_string_attribute_names(const specconv_oiio_input *input, char *buf,
+                                             size_t buf_len, int64_t *len);
+
 /* Copies numeric attribute `name` of level 0 (integer, float or double; scalar, array or
  * aggregate such as OpenEXR's chromaticities) into buf as doubles, at most buf_len of them.
  * *len receives the number of values, or -1 when the attribute is absent or not numeric.

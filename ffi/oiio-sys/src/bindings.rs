@@ -125,6 +125,12 @@ pub struct SpecconvOiio {
         buf_len: usize,
         len: *mut i64,
     ) -> i32,
+    pub specconv_oiio_string_attribute_names: unsafe extern "C" fn(
+        input: *const specconv_oiio_input,
+        buf: *mut ::std::os::raw::c_char,
+        buf_len: usize,
+        len: *mut i64,
+    ) -> i32,
     pub specconv_oiio_numeric_attribute: unsafe extern "C" fn(
         input: *const specconv_oiio_input,
         name: *const ::std::os::raw::c_char,
@@ -223,6 +229,9 @@ impl SpecconvOiio {
         let specconv_oiio_string_attribute = __library
             .get(b"specconv_oiio_string_attribute\0")
             .map(|sym| *sym)?;
+        let specconv_oiio_string_attribute_names = __library
+            .get(b"specconv_oiio_string_attribute_names\0")
+            .map(|sym| *sym)?;
         let specconv_oiio_numeric_attribute = __library
             .get(b"specconv_oiio_numeric_attribute\0")
             .map(|sym| *sym)?;
@@ -253,6 +262,7 @@ impl SpecconvOiio {
             specconv_oiio_channel_name,
             specconv_oiio_channel_format,
             specconv_oiio_string_attribute,
+            specconv_oiio_string_attribute_names,
             specconv_oiio_numeric_attribute,
             specconv_oiio_bytes_attribute,
             specconv_oiio_read_tiles,
@@ -342,6 +352,15 @@ impl SpecconvOiio {
         len: *mut i64,
     ) -> i32 {
         (self.specconv_oiio_string_attribute)(input, name, buf, buf_len, len)
+    }
+    pub unsafe fn specconv_oiio_string_attribute_names(
+        &self,
+        input: *const specconv_oiio_input,
+        buf: *mut ::std::os::raw::c_char,
+        buf_len: usize,
+        len: *mut i64,
+    ) -> i32 {
+        (self.specconv_oiio_string_attribute_names)(input, buf, buf_len, len)
     }
     pub unsafe fn specconv_oiio_numeric_attribute(
         &self,

@@ -767,6 +767,24 @@ impl ImageReader {
         Ok(Some(String::from_utf8_lossy(&bytes).into_owned()))
     }
 
+    /// The names of the file's string attributes (top level), in the header's order.
+    pub fn string_attribute_names(&self) -> Result<Vec<String>> {
+        let raw = self.raw.as_ptr();
+        let mut len = -1i64;
+        let list = self.shim.specconv_oiio_string_attribute_names;
+        // SAFETY: live handle; a null buffer only asks for the length.
+        self.check(unsafe { list(raw, std::ptr::null_mut(), 0, &mut len) })?;
+        let mut buf = vec![0 as std::os::raw::c_char; usize::try_from(len).unwrap_or(0)];
+        // SAFETY: buf holds the length told to the shim.
+        self.check(unsafe { list(raw, buf.as_mut_ptr(), buf.len(), &mut len) })?;
+        let bytes: Vec<u8> = buf.into_iter().map(|c| c as u8).collect();
+        Ok(bytes
+            .split(|&b| b == 0)
+            .filter(|n| !n.is_empty())
+            .map(|n| String::from_utf8_lossy(n).into_owned())
+            .collect())
+    }
+
     /// The shim's two calls for a header attribute: its length (a null buffer), then its
     /// values into a buffer of that length plus `extra`. None when absent or not of that kind.
     fn attribute<T: Copy + Default>(

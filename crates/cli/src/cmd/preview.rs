@@ -24,7 +24,9 @@ Examples:
 /// Each pixel's reflectance r becomes the light that has met it K + 1 times, r^(K+1), under
 /// the light: XYZ = Σ r^(K+1)·I·x̄ / Σ I·ȳ, so a white stays white (Y = 1) at every K and
 /// K = 0 is the texture's own colour (as `to-rgb`). XYZ is shown as display sRGB for a D65
-/// white, without adaptation to the light, clipped to [0, 1].
+/// white, without adaptation to the light, clipped to [0, 1]. An emission file (`S0.`
+/// channels) has no reflectance to bounce: at K = 0 it is shown as its own colour, as `to-rgb`
+/// integrates it in the units it records.
 ///
 /// --diff-rgb writes instead a heat map of the CIEDE2000 between that and plain RGB
 /// multiplication, the answer of an RGB renderer: per linear Rec.709 channel, the light's
@@ -36,7 +38,8 @@ Examples:
 /// runs from 0 to the largest ΔE (at least 1); max and mean are printed.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// A spectral OpenEXR of reflectances (Fichet et al. 2021 layout), e.g. from convert.
+    /// A spectral OpenEXR of reflectances (Fichet et al. 2021 layout), e.g. from convert; or of
+    /// emission, with no bounces.
     input: PathBuf,
     /// The picture to write (.png).
     #[arg(short, long, value_name = "OUT.png")]
@@ -136,12 +139,18 @@ pub fn run(args: Args) -> Result<()> {
         } else {
             String::new()
         };
+        let lit = match shaded.emission {
+            Some(units) => format!("its own emission ({units} units)"),
+            None => format!(
+                "{} bounce{} under {light}",
+                args.bounces,
+                if args.bounces == 1 { "" } else { "s" }
+            ),
+        };
         errln!(
-            "{} → {}: {w}×{h}, {} bounce{} under {light}{diff}{bad}",
+            "{} → {}: {w}×{h}, {lit}{diff}{bad}",
             args.input.display(),
             args.output.display(),
-            args.bounces,
-            if args.bounces == 1 { "" } else { "s" }
         );
     }
     Ok(())

@@ -144,6 +144,17 @@ pub enum Error {
     /// The input holds data, not colour (`colour::texture_space`): it is never uplifted.
     #[error(transparent)]
     Data(Box<DataTexture>),
+    /// A warning, which the strict setting makes a failure: nothing was written.
+    #[error(
+        "{}: {warning}; in strict mode a warning fails the input, and nothing was written",
+        input.display()
+    )]
+    Strict {
+        /// The input.
+        input: PathBuf,
+        /// The warning ([`crate::Notice`]'s words).
+        warning: String,
+    },
 }
 
 // Inside this crate only: no front-end names an FFI type.
@@ -279,6 +290,8 @@ pub struct Opened<'a> {
     /// The wrap modes, and whether the input declared them.
     wrap: (texture::WrapModes, bool),
     survey: survey::Survey,
+    /// The input's metadata the output carries (none when stripped).
+    metadata: Vec<(String, String)>,
 }
 
 /// Opens `job`'s input: refuses to write over the input or an existing output (unless the
@@ -307,11 +320,21 @@ pub fn open<'a>(job: &'a Job<'a>) -> Result<Opened<'a>> {
         }
         other => other?,
     };
+    if let (true, Some(w)) = (job.options.strict, space.warnings.first()) {
+        return Err(Error::Strict {
+            input: job.input.to_path_buf(),
+            warning: w.to_string(),
+        });
+    }
     let premultiply = job
         .options
         .alpha
         .premultiply(&reader, selection.channels.alpha);
     let declared = texture::declared(&reader);
+    let metadata = match job.options.strip_metadata {
+        true => Vec::new(),
+        false => texture::metadata(&reader)?,
+    };
     let wrap = match (job.options.wrap, declared) {
         (Some(w), _) => (w, false),
         (None, Some(w)) => (w, true),
@@ -332,6 +355,7 @@ pub fn open<'a>(job: &'a Job<'a>) -> Result<Opened<'a>> {
         premultiply,
         wrap,
         survey,
+        metadata,
     })
 }
 
@@ -357,7 +381,15 @@ impl Opened<'_> {
             premultiply,
             wrap,
             survey,
+            metadata,
         } = self;
+        // The caller's attributes first; the input's metadata where they name nothing.
+        let mut attributes = attributes.to_vec();
+        for (name, value) in metadata {
+            if !attributes.iter().any(|(n, _)| *n == name) {
+                attributes.push((name, value));
+            }
+        }
         let dropped = job.options.opaque_detect && survey.opaque;
         let alpha = selection.channels.alpha.filter(|_| !dropped);
         let constant = survey
@@ -368,7 +400,7 @@ impl Opened<'_> {
             job,
             &info,
             (alpha.is_some(), constant.is_some()),
-            attributes,
+            &attributes,
             wrap.0,
             &survey,
         )?;

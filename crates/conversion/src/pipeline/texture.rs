@@ -64,6 +64,22 @@ pub fn parse_wrapmodes(text: &str) -> Result<WrapModes, String> {
     Ok((s, t))
 }
 
+/// The input's texture metadata an output carries ([`crate::metadata::carried`]), in the
+/// header's order.
+pub fn metadata(
+    reader: &specconv_oiio::ImageReader,
+) -> specconv_oiio::Result<Vec<(String, String)>> {
+    let mut carried = Vec::new();
+    for name in reader.string_attribute_names()? {
+        if crate::metadata::carried(&name) {
+            if let Some(value) = reader.string_attribute(&name)? {
+                carried.push((name, value));
+            }
+        }
+    }
+    Ok(carried)
+}
+
 /// The wrap modes an input declares (a maketx texture's `wrapmodes`), if it declares valid ones.
 pub fn declared(reader: &specconv_oiio::ImageReader) -> Option<WrapModes> {
     let text = reader.string_attribute("wrapmodes").ok().flatten()?;

@@ -97,8 +97,21 @@ pub(super) fn write_file(
         },
         e => e,
     })?;
+    strict(job, &ordered.counts, plan.total)?;
     publish(job, pending)?;
     Ok((plan.total, ordered.counts))
+}
+
+/// In strict mode, refuses to publish an output with pixels clipped ([`crate::report::clipped`]).
+fn strict(job: &Job, counts: &Counts, pixels: u64) -> Result<()> {
+    let clipped = crate::report::clipped(job.stack.emissive().is_some(), counts.above_one, pixels);
+    if !job.options.strict || clipped == 0 {
+        return Ok(());
+    }
+    Err(Error::Strict {
+        input: job.input.to_path_buf(),
+        warning: format!("{clipped} pixels above 1 in a reflectance conversion (clipped)"),
+    })
 }
 
 /// Refuses the weights half rounding keeps the colour under when they are not on the

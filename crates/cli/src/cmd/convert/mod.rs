@@ -33,9 +33,10 @@ Examples:
 
 /// Convert textures to spectral OpenEXR images (the default command).
 ///
-/// Reads each INPUT through OpenImageIO (any format it reads, every MIP level), converts it to
-/// CIE XYZ (D65) through OpenColorIO, uplifts every pixel to a reflectance spectrum with the
-/// model, and writes a spectral OpenEXR in the layout of Fichet et al. 2021 (`T.380,000000nm`
+/// Reads each INPUT through OpenImageIO (any format it reads; of a MIP-mapped input only the
+/// full-resolution level 0, as maketx does), converts it to CIE XYZ (D65) through OpenColorIO,
+/// uplifts every pixel to a reflectance spectrum with the model, makes the smaller MIP levels
+/// by filtering its spectra, and writes a spectral OpenEXR in the layout of Fichet et al. 2021 (`T.380,000000nm`
 /// … channels, alpha as `A`). Outputs are written to a temporary file and renamed into place,
 /// so a failed or interrupted run leaves no partial file; inputs are never overwritten.
 ///
@@ -54,9 +55,10 @@ pub struct Args {
     /// Write every output into this directory, as STEM_spectral.exr.
     #[arg(short, long, value_name = "DIR", conflicts_with = "output_template")]
     output: Option<PathBuf>,
-    /// Output path for each input; {dir}, {stem} and {name} are the input's directory, name
-    /// without extension and file name, {udim} its UDIM tile number (1001…) and {tile} the
-    /// same tile as u1_v1. With {udim} or {tile}, {stem} leaves the tile number out:
+    /// Output path for each input; {dir}, {stem}, {name} and {ext} are the input's directory,
+    /// name without extension, file name and extension, {udim} its UDIM tile number (1001…)
+    /// and {tile} the same tile as u1_v1 ('{dir}/{stem}_{ext}_spectral.exr' keeps brick.png
+    /// and brick.tx apart). With {udim} or {tile}, {stem} leaves the tile number out:
     /// '{dir}/{stem}_spectral.{udim}.exr' makes wood_spectral.1001.exr of wood.1001.png. Any
     /// other {field} is refused before anything is written.
     #[arg(long, value_name = "TEMPLATE")]
@@ -178,6 +180,16 @@ pub struct Args {
     #[arg(long, value_name = "BOOL", num_args = 0..=1, require_equals = true,
           default_value_t = Options::default().opaque_detect, default_missing_value = "true", action = clap::ArgAction::Set)]
     opaque_detect: bool,
+    /// Leave out the input's texture metadata. Without it the output carries, as maketx does,
+    /// the input's Copyright, DocumentName, ImageDescription, Artist and custom string
+    /// attributes (such as studio:assetId), and `to-rgb` carries them back.
+    #[arg(long)]
+    strip_metadata: bool,
+    /// Fail an input on any warning (a declaration of the file not followed, pixels above 1
+    /// clipped in a reflectance conversion, 1 % of the image or more): nothing is written for
+    /// it and the exit status is 1, for farms that gate on warnings.
+    #[arg(long)]
+    strict: bool,
     /// Worker threads (default: one per core).
     #[arg(short = 'j', long, value_name = "N")]
     threads: Option<usize>,
@@ -190,7 +202,8 @@ pub struct Args {
     /// Print one JSON object per input on standard output, every key on every record (null
     /// where it does not apply): input, output, status (ok, skipped, failed), skip_reason,
     /// error, seconds, pixels, width, height, levels, bands, colorspace, colorspace_rule,
-    /// subimage, channels, role, bounded, non_finite, above_one, saturated. See docs/json.md.
+    /// subimage, channels, role, bounded, non_finite, above_one, saturated, warnings; status
+    /// `clipped` is a conversion with pixels above 1 in reflectance. See docs/json.md.
     #[arg(long)]
     json: bool,
     /// Progress on standard error: `auto` shows a live line on a terminal (file i of n, the
@@ -254,6 +267,12 @@ pub(crate) fn run_task(options: Options, pairs: &[(PathBuf, PathBuf)]) -> Result
 fn run_pairs(args: &Args, options: Options, pairs: &[(PathBuf, PathBuf)]) -> Result<i32> {
     let converter = Converter::new(options).map_err(|e| usage(anyhow::anyhow!(explain(&e))))?;
     if !args.quiet {
+        for note in converter.config_notes() {
+            errln!(
+                "specconv: note: the OCIO config {}: {note}",
+                converter.config_source()
+            );
+        }
         for advice in converter.advice() {
             let fix = match advice {
                 Advice::PhotometricHalf => "; use -d float",
@@ -305,6 +324,8 @@ impl Args {
         o.threads = self.threads;
         o.overwrite = self.force;
         o.data = self.data;
+        o.strip_metadata = self.strip_metadata;
+        o.strict = self.strict;
         o
     }
 }
@@ -379,7 +400,12 @@ fn run_batch(args: &Args, converter: &Converter, pairs: &[(PathBuf, PathBuf)]) -
             return Ok(exit::USAGE);
         }
     };
+    if !args.quiet {
+        printing::warnings(&ended.warnings);
+    }
     if pairs.len() > 1 && !args.quiet {
+        summary.clipped = ended.clipped;
+        summary.warnings = ended.warnings.iter().map(|w| w.inputs).collect();
         errln!("{}", summary.text(batch_start.elapsed().as_secs_f64()));
     }
     if let Some(e) = stdout {

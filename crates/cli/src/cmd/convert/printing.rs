@@ -29,12 +29,6 @@ pub(super) fn converted(
     (input, output): (&Path, &Path),
     r: &Report,
 ) -> Result<(), StdoutFailed> {
-    if !args.quiet {
-        for w in &r.warnings {
-            let w = records::warning(w);
-            errln!("specconv: warning: {}: {w}", input.display());
-        }
-    }
     let line = summary_line(r)
         + &r.bounded.map_or(String::new(), |c| {
             format!(
@@ -46,6 +40,22 @@ pub(super) fn converted(
         + &range_notes(r, converter);
     let record = Record::converted(converter, input, output, r);
     emit(args, record, &line)
+}
+
+/// Each kind of warning of the batch once, with how many inputs had it and the first.
+pub(super) fn warnings(counts: &[specconv_conversion::NoticeCount]) {
+    use specconv_conversion::NoticeKind;
+    for c in counts {
+        let what = match &c.kind {
+            NoticeKind::Colour(w) => records::warning(w),
+            NoticeKind::Clipped => format!("{} with --emissive", c.text),
+        };
+        let whom = match c.inputs {
+            1 => format!("{}: ", c.first.display()),
+            n => format!("{n} inputs (the first {}): ", c.first.display()),
+        };
+        errln!("specconv: warning: {whom}{what}");
+    }
 }
 
 /// Reports a data texture: skipped (status `data`) or written through (status `copied`).
@@ -146,7 +156,7 @@ fn range_notes(r: &Report, converter: &Converter) -> String {
                 "spectra above 1, not physical reflectances"
             };
             notes += &format!(", {} pixels above 1 ({what})", r.above_one);
-            if r.above_one * 100 >= r.pixels {
+            if r.clipped() > 0 {
                 notes += "; an emission or HDR texture? convert it with --emissive";
             }
         }

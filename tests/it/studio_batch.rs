@@ -1,0 +1,376 @@
+//! What a studio's pipeline expects of a batch's output (issue 32): texture metadata carried as
+//! maketx carries it, emission maps converted as reflectance called `clipped`, `--strict` for
+//! farms that gate on warnings, each kind of warning said once per batch with a count, and the
+//! help saying which MIP level of the input is read. Anchored on what oiiotool and maketx
+//! write and read.
+
+use crate::runner::*;
+use std::collections::BTreeMap;
+use std::path::Path;
+
+/// The texture metadata of the issue: the four named attributes and a studio's own.
+const METADATA: [(&str, &str); 5] = [
+    ("Copyright", "(c) Studio 2026"),
+    ("DocumentName", "rock"),
+    ("ImageDescription", "rock albedo, painted"),
+    ("Artist", "Ann Painter"),
+    ("studio:assetId", "A-42"),
+];
+
+/// The string attributes `oiiotool --info -v` lists of `path`, by name.
+fn string_attributes(path: &Path) -> BTreeMap<String, String> {
+    let info = tool("oiiotool", &["--info", "-v", path.to_str().unwrap()]);
+    info.lines()
+        .filter_map(|l| {
+            let (name, value) = l.trim().split_once(": \"")?;
+            Some((name.to_string(), value.strip_suffix('"')?.to_string()))
+        })
+        .collect()
+}
+
+/// Of `attributes`, those [`METADATA`] names.
+fn metadata_of(attributes: &BTreeMap<String, String>) -> BTreeMap<String, String> {
+    METADATA
+        .iter()
+        .filter_map(|(k, _)| Some((k.to_string(), attributes.get(*k)?.clone())))
+        .collect()
+}
+
+#[test]
+fn texture_metadata_is_carried_as_maketx_carries_it_and_back_through_to_rgb() {
+    let s = Scratch::new("studio-metadata");
+    let input = s.path("rock.png");
+    let mut args = vec![
+        "--pattern",
+        "fill:top=0.6,0.3,0.1:bottom=0.2,0.4,0.5",
+        "16x16",
+        "3",
+    ];
+    args.extend(["-d", "uint8"]);
+    for (k, v) in METADATA {
+        args.extend(["--attrib", k, v]);
+    }
+    args.extend(["-o", input.to_str().unwrap()]);
+    tool("oiiotool", &args);
+    // What maketx keeps writing an OpenEXR texture of the same file: the reference.
+    let tx = s.path("rock_tx.exr");
+    tool(
+        "maketx",
+        &[input.to_str().unwrap(), "-o", tx.to_str().unwrap()],
+    );
+    let want = metadata_of(&string_attributes(&tx));
+    assert_eq!(
+        want.len(),
+        METADATA.len(),
+        "maketx keeps them all: {want:?}"
+    );
+
+    let spectral = s.path("rock_spectral.exr");
+    Cmd::convert(&input, &spectral).ok();
+    let got = string_attributes(&spectral);
+    assert_eq!(metadata_of(&got), want, "as maketx keeps them");
+    // What describes the file read, not the texture, is not carried.
+    assert!(!got.contains_key("Exif:ImageHistory"), "{got:?}");
+    assert!(
+        got.get("Software").is_none_or(|v| !v.contains("oiiotool")),
+        "{got:?}"
+    );
+
+    // Back to RGB, the same metadata.
+    let back = s.path("rock_rgb.exr");
+    Cmd::to_rgb(&spectral, &back).ok();
+    assert_eq!(metadata_of(&string_attributes(&back)), want);
+
+    // --strip-metadata leaves it all out (and is an option of the `-u` tag).
+    let stripped = s.path("rock_stripped.exr");
+    Cmd::convert(&input, &stripped).arg("--strip-metadata").ok();
+    assert!(metadata_of(&string_attributes(&stripped)).is_empty());
+}
+
+/// `names` in the scratch directory, each an OpenEXR of one colour brighter than white (an
+/// emission map's values), as oiiotool writes it.
+fn lamps(s: &Scratch, names: &[&str]) {
+    let first = s.path(names[0]);
+    let out = first.to_str().unwrap();
+    let args = [
+        "--pattern",
+        "constant:color=6,3,0.5",
+        "8x8",
+        "3",
+        "-d",
+        "half",
+        "-o",
+        out,
+    ];
+    tool("oiiotool", &args);
+    for name in &names[1..] {
+        std::fs::copy(&first, s.path(name)).unwrap();
+    }
+}
+
+#[test]
+fn an_emission_map_converted_as_reflectance_is_clipped_and_strict_fails_it() {
+    let s = Scratch::new("studio-clipped");
+    lamps(&s, &["lamp_emit.exr", "lamp2_emit.exr"]);
+    std::fs::create_dir(s.path("out")).unwrap();
+    let run = Cmd::new([
+        "convert",
+        "lamp_emit.exr",
+        "lamp2_emit.exr",
+        "-o",
+        "out",
+        "--json",
+    ])
+    .current_dir(&s.0)
+    .ok();
+    for record in run.json_lines() {
+        assert_eq!(record["status"], "clipped", "{record}");
+        assert_eq!(record["above_one"], 64, "{record}");
+        let warnings = record["warnings"].as_array().expect("a list");
+        assert_eq!(warnings.len(), 1, "{record}");
+        assert!(warnings[0].as_str().unwrap().contains("64 pixels above 1"));
+    }
+    // Said once for the batch, with the count, and in the summary.
+    let said: Vec<&str> = run
+        .stderr
+        .lines()
+        .filter(|l| l.contains("warning"))
+        .collect();
+    assert_eq!(said.len(), 2, "{}", run.stderr);
+    assert!(said[0]
+        .starts_with("specconv: warning: 2 inputs (the first lamp_emit.exr): 64 pixels above 1"));
+    assert!(said[0].ends_with("--emissive"), "{}", said[0]);
+    assert!(said[1].contains("2 converted (2 clipped)"), "{}", said[1]);
+
+    // As emission, nothing is clipped.
+    let emitted = Cmd::new([
+        "convert",
+        "lamp_emit.exr",
+        "out/e.exr",
+        "--emissive",
+        "--json",
+    ])
+    .current_dir(&s.0)
+    .ok()
+    .json();
+    assert_eq!(emitted["status"], "ok");
+    assert_eq!(emitted["warnings"], serde_json::json!([]));
+
+    // --strict: a failure (exit 1), and nothing written.
+    let strict = s.path("strict");
+    std::fs::create_dir(&strict).unwrap();
+    let run = Cmd::new([
+        "convert",
+        "lamp_emit.exr",
+        "--strict",
+        "-o",
+        "strict",
+        "--json",
+    ])
+    .current_dir(&s.0)
+    .run();
+    run.fails(1, &[]);
+    let record = run.json();
+    assert_eq!(record["status"], "failed");
+    let error = record["error"].as_str().unwrap();
+    assert!(
+        error.contains("64 pixels above 1")
+            && error.contains("strict")
+            && error.contains("nothing was written"),
+        "{error}"
+    );
+    assert_eq!(std::fs::read_dir(&strict).unwrap().count(), 0);
+    // The same input as emission passes --strict.
+    Cmd::new([
+        "convert",
+        "lamp_emit.exr",
+        "--strict",
+        "--emissive",
+        "-o",
+        "strict",
+    ])
+    .current_dir(&s.0)
+    .ok();
+}
+
+/// Writes `n` PNGs (t00.png …) whose sRGB chunk and cHRM disagree: the cHRM says Rec.2020
+/// primaries. Written byte by byte as the PNG specification lays chunks out.
+fn disagreeing_pngs(dir: &Path, n: usize) {
+    let script = r#"
+import struct, sys, zlib
+def chunk(t, d):
+    return struct.pack(">I", len(d)) + t + d + struct.pack(">I", zlib.crc32(t + d) & 0xffffffff)
+w = h = 4
+raw = b"".join(b"\x00" + bytes([200, 120, 60] * w) for _ in range(h))
+chrm = struct.pack(">8I", 31270, 32900, 70800, 29200, 17000, 79700, 13100, 4600)
+png = (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, 8, 2, 0, 0, 0))
+       + chunk(b"sRGB", b"\x00") + chunk(b"gAMA", struct.pack(">I", 45455))
+       + chunk(b"cHRM", chrm) + chunk(b"IDAT", zlib.compress(raw)) + chunk(b"IEND", b""))
+for i in range(int(sys.argv[1])):
+    open(f"{sys.argv[2]}/t{i:02}.png", "wb").write(png)
+"#;
+    python_output(["-c", script, &n.to_string(), dir.to_str().unwrap()]);
+}
+
+#[test]
+fn forty_disagreeing_files_print_one_warning_line_with_the_count() {
+    let s = Scratch::new("studio-warnings");
+    disagreeing_pngs(&s.0, 40);
+    // A PNG that OpenImageIO reads (it lists no cHRM; the warning is the test of it).
+    let info = tool(
+        "oiiotool",
+        &["--info", "-v", s.path("t00.png").to_str().unwrap()],
+    );
+    assert!(info.contains("4 x    4, 3 channel, uint8 png"), "{info}");
+    std::fs::create_dir(s.path("out")).unwrap();
+    let mut names: Vec<String> = (0..40).map(|i| format!("t{i:02}.png")).collect();
+    names.extend(["-o", "out", "--mip", "0", "--progress", "never"].map(String::from));
+    let run = Cmd::new(&names).current_dir(&s.0).ok();
+    let warnings: Vec<&str> = run
+        .stderr
+        .lines()
+        .filter(|l| l.starts_with("specconv: warning"))
+        .collect();
+    assert_eq!(warnings.len(), 1, "{}", run.stderr);
+    assert!(
+        warnings[0].starts_with("specconv: warning: 40 inputs (the first t00.png): the file's"),
+        "{}",
+        warnings[0]
+    );
+    assert!(
+        run.stderr.contains("1 kind of warning (40 inputs)"),
+        "{}",
+        run.stderr
+    );
+    // Every record lists its own.
+    let json = Cmd::new([
+        "t00.png", "t01.png", "-o", "out", "--force", "--mip", "0", "--json",
+    ])
+    .current_dir(&s.0)
+    .ok()
+    .json_lines();
+    for r in json {
+        assert_eq!(r["warnings"].as_array().map(Vec::len), Some(1), "{r}");
+    }
+}
+
+#[test]
+fn help_says_only_level_0_of_a_mip_mapped_input_is_read() {
+    let words = |text: &str| text.split_whitespace().collect::<Vec<_>>().join(" ");
+    let help = words(&Cmd::new(["convert", "--help"]).ok().stdout);
+    assert!(
+        help.contains("only the full-resolution level 0") && !help.contains("every MIP level)"),
+        "{help}"
+    );
+    let man = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("man/specconv-convert.1"),
+    )
+    .unwrap();
+    assert!(
+        words(&man).contains("only the full\\-resolution level 0"),
+        "the man page follows the help"
+    );
+}
+
+#[test]
+fn open_colorio_s_log_reaches_the_terminal_only_through_our_lines() {
+    let config = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../shared/ocio/cg-config-v1.0.0_aces-v1.3_ocio-v2.1.ocio");
+    let config = config.to_str().unwrap();
+    // OpenColorIO's own check logs seven lines about display spaces the config leaves inactive.
+    let out = std::process::Command::new("ociocheck")
+        .args(["--iconfig", config])
+        .output()
+        .expect("ociocheck (OpenColorIO's tools) is installed");
+    let log = String::from_utf8_lossy(&out.stdout) + String::from_utf8_lossy(&out.stderr);
+    let inactive = log.lines().filter(|l| l.contains("Inactive '")).count();
+    assert_eq!(inactive, 7, "{log}");
+    // None of them concerns a colour space a conversion can use: specconv says none.
+    let s = Scratch::new("studio-ocio-log");
+    let input = crate::convert::testdata("srgb8.png");
+    for words in [
+        vec!["--ocio", config, "info"],
+        vec!["--ocio", config, "convert", "--mip", "0"],
+    ] {
+        let mut cmd = Cmd::new(&words).arg(&input);
+        if words.contains(&"convert") {
+            cmd = cmd.arg(s.path("out.exr"));
+        }
+        let run = cmd.ok();
+        assert!(
+            !run.stderr.contains("OpenColorIO"),
+            "{words:?}:\n{}",
+            run.stderr
+        );
+        assert!(
+            !run.stdout.contains("OpenColorIO"),
+            "{words:?}:\n{}",
+            run.stdout
+        );
+    }
+}
+
+/// The per-channel averages `oiiotool --printstats` gives of an 8-bit picture.
+fn averages(path: &Path) -> Vec<f64> {
+    let stats = tool("oiiotool", &[path.to_str().unwrap(), "--printstats"]);
+    let line = stats
+        .lines()
+        .find(|l| l.contains("Stats Avg:"))
+        .expect("Avg");
+    line.split_whitespace()
+        .filter_map(|w| w.parse().ok())
+        .take(3)
+        .collect()
+}
+
+#[test]
+fn preview_with_no_bounces_shows_an_emission_file_as_its_own_colour() {
+    let s = Scratch::new("studio-preview-emission");
+    let (input, spectral) = (s.path("lamp.exr"), s.path("lamp_spectral.exr"));
+    let args = [
+        "--pattern",
+        "constant:color=0.5,0.2,0.1",
+        "8x8",
+        "3",
+        "-d",
+        "half",
+        "-o",
+    ];
+    tool(
+        "oiiotool",
+        &[&args[..], &[input.to_str().unwrap()]].concat(),
+    );
+    Cmd::convert(&input, &spectral).arg("--emissive").ok();
+    let shown = s.path("lamp.png");
+    let run = Cmd::new(["preview"])
+        .arg(&spectral)
+        .arg("-o")
+        .arg(&shown)
+        .ok();
+    assert!(run.stderr.contains("its own emission"), "{}", run.stderr);
+    // The reference: OpenImageIO's own linear Rec.709 to sRGB of the input, in 8 bits.
+    let reference = s.path("reference.png");
+    let (i, r) = (input.to_str().unwrap(), reference.to_str().unwrap());
+    tool(
+        "oiiotool",
+        &[
+            i,
+            "--colorconvert",
+            "linear",
+            "sRGB",
+            "-d",
+            "uint8",
+            "-o",
+            r,
+        ],
+    );
+    let (got, want) = (averages(&shown), averages(&reference));
+    for (g, w) in got.iter().zip(&want) {
+        assert!((g - w).abs() <= 1.0, "{got:?} against oiiotool's {want:?}");
+    }
+    // Bounces need a reflectance: refused, nothing written.
+    Cmd::new(["preview", "--bounces", "1", "-o"])
+        .arg(s.path("bounced.png"))
+        .arg(&spectral)
+        .refused(&s, 1, &["holds emission", "no bounces"]);
+}
