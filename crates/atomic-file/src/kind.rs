@@ -28,25 +28,34 @@ pub enum Kind {
 impl Kind {
     /// The kind of `path`.
     pub fn of(path: &Path) -> Kind {
-        use std::os::unix::fs::FileTypeExt;
+        Kind::with_id(path).0
+    }
+
+    /// The kind of `path` and, when something is there, the file it is (device and inode,
+    /// through links): one `stat` for both.
+    pub fn with_id(path: &Path) -> (Kind, Option<(u64, u64)>) {
+        use std::os::unix::fs::MetadataExt;
         match std::fs::metadata(path) {
-            Err(_) => Kind::Missing,
-            Ok(m) => {
-                let t = m.file_type();
-                if t.is_file() {
-                    Kind::File
-                } else if t.is_dir() {
-                    Kind::Directory
-                } else if t.is_char_device() {
-                    Kind::CharacterDevice
-                } else if t.is_block_device() {
-                    Kind::BlockDevice
-                } else if t.is_fifo() {
-                    Kind::Fifo
-                } else {
-                    Kind::Socket
-                }
-            }
+            Err(_) => (Kind::Missing, None),
+            Ok(m) => (Kind::of_type(m.file_type()), Some((m.dev(), m.ino()))),
+        }
+    }
+
+    /// The kind of an existing file of type `t`, as `stat` gave it (links followed).
+    fn of_type(t: std::fs::FileType) -> Kind {
+        use std::os::unix::fs::FileTypeExt;
+        if t.is_file() {
+            Kind::File
+        } else if t.is_dir() {
+            Kind::Directory
+        } else if t.is_char_device() {
+            Kind::CharacterDevice
+        } else if t.is_block_device() {
+            Kind::BlockDevice
+        } else if t.is_fifo() {
+            Kind::Fifo
+        } else {
+            Kind::Socket
         }
     }
 }
