@@ -13,6 +13,7 @@
 #
 # Prints, per command, the median wall time of RUNS runs (outputs to /dev/null), the ratio to
 # the reference, and the stat-family system calls of one more run under `strace -f -c`.
+# STRACE=0 leaves the count out (a quadratic binary makes N² calls, which strace slows ~5×).
 #   SPECCONV=target/debug/specconv RUNS=3 scripts/bench_plan.sh [N]
 set -eu
 bin=$(realpath "${SPECCONV:-target/debug/specconv}")
@@ -76,6 +77,10 @@ timed() {
 median() { sort -g | awk '{v[NR] = $1} END {print v[int((NR + 1) / 2)]}'; }
 # The stat-family system calls of one run of $1 (plan, missing or farm) under strace.
 stats() {
+    if [ "${STRACE:-1}" = 0 ]; then
+        echo "-"
+        return
+    fi
     case $1 in
         plan) set -- "$dir/list" - -o "$dir/out" ;;
         missing) set -- "$dir/missing" - -o "$dir/out2" ;;
