@@ -101,7 +101,7 @@ fn hint(remedy: Option<Remedy>) -> String {
         ),
         Remedy::SomeThreads => format!("; pass {}= at least 1", kw(Key::Threads)),
         Remedy::FewerThreads => format!("; pass fewer {}=", kw(Key::Threads)),
-        Remedy::SmallerBlocks | Remedy::LessMemory => {
+        Remedy::SmallerBlocks | Remedy::LessMemory | Remedy::FewerBands => {
             let names: Vec<String> = remedy.keys().iter().map(|&k| format!("{}=", kw(k))).collect();
             format!(" ({})", names.join(", "))
         }

@@ -387,6 +387,50 @@ fn settings_no_reader_could_open_are_refused_up_front() {
     no_temporaries(&s.0);
 }
 
+/// A band grid of more channels than OpenImageIO reads is refused before anything is read
+/// (issue 31: `--bands 380:730:0.01` wrote 35,001 channels, and oiiotool aborts reading 32,768);
+/// the largest allowed, 32,766 bands and alpha (an input with alpha), is a file oiiotool reads
+/// pixel by pixel.
+#[test]
+fn band_grids_of_more_channels_than_readers_read_are_refused_up_front() {
+    let s = Scratch::new("safety-channels");
+    let x = s.path("x.png");
+    let pattern = ["--pattern", "constant:color=0.5,0.4,0.3,0.8", "2x2", "4"];
+    let to_png = ["-d", "uint8", "-o", x.to_str().unwrap()];
+    tool("oiiotool", &[&pattern[..], &to_png[..]].concat());
+    let out = s.path("o.exr");
+    for bands in ["380:730:0.01", "380:707.66:0.01"] {
+        Cmd::convert(&x, &out).args(["--bands", bands]).refused(
+            &s,
+            2,
+            &[
+                "OpenEXR readers (OpenImageIO) read at most 32767",
+                "--bands",
+            ],
+        );
+    }
+    // 380 to 707.65 every 0.01 nm: 32,766 bands, and alpha.
+    Cmd::convert(&x, &out)
+        .args([
+            "--bands",
+            "380:707.65:0.01",
+            "--tile",
+            "16",
+            "16",
+            "--mip",
+            "0",
+            "-q",
+        ])
+        .ok();
+    let back = s.path("back.exr");
+    tool(
+        "oiiotool",
+        &[out.to_str().unwrap(), "-o", back.to_str().unwrap()],
+    );
+    let info = tool("oiiotool", &["--info", back.to_str().unwrap()]);
+    assert!(info.contains("32767 channel"), "{info}");
+}
+
 #[test]
 fn errors_are_one_line_naming_the_real_path() {
     let s = Scratch::new("safety-lines");

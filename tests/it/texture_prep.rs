@@ -126,6 +126,21 @@ fn careless_udim_and_template_lines_are_refused_before_anything_is_written() {
     Cmd::new([format!("{d}/wood.1001.png").as_str()])
         .args(["--output-template", &format!("{d}/{{stem.exr")])
         .refused(&dir, 2, &["no '}' closes"]);
+    // Doubled braces, as Jinja writes fields (issue 31: the error named `{{stem}`): the
+    // braces as written and the field they hold.
+    Cmd::new([format!("{d}/wood.1001.png").as_str()])
+        .args([
+            "--output-template",
+            &format!("{d}/{{{{stem}}}}_spectral.exr"),
+        ])
+        .refused(
+            &dir,
+            2,
+            &[
+                "has {{stem}}, which writes the field {stem} with braces doubled",
+                "one brace on each side",
+            ],
+        );
     // A pattern with no tiles (a typo in the name).
     Cmd::new([format!("{d}/wod.<UDIM>.png").as_str()])
         .args(["-o", &d])

@@ -38,13 +38,20 @@ pub enum Kind {
 impl Kind {
     /// The kind of `path`.
     pub fn of(path: &Path) -> Kind {
+        Kind::with_id(path).0
+    }
+
+    /// The kind of `path` and, when something is there, the file it is (device and inode,
+    /// through links): one `stat` for both.
+    pub fn with_id(path: &Path) -> (Kind, Option<(u64, u64)>) {
+        use std::os::unix::fs::MetadataExt;
         match std::fs::metadata(path) {
-            Err(_) => Kind::Missing,
-            Ok(m) => Kind::of_type(m.file_type()),
+            Err(_) => (Kind::Missing, None),
+            Ok(m) => (Kind::of_type(m.file_type()), Some((m.dev(), m.ino()))),
         }
     }
 
-    /// The kind of a file type (`stat`'s or `fstat`'s).
+    /// The kind of a file type (`stat`'s or `fstat`'s; links followed unless `lstat`).
     fn of_type(t: std::fs::FileType) -> Kind {
         use std::os::unix::fs::FileTypeExt;
         if t.is_file() {

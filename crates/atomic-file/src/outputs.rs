@@ -36,6 +36,24 @@ pub enum TemplateError {
         /// The field as written, without braces.
         field: String,
     },
+    /// A field written with more braces than one on each side (`{{stem}}`, as in Jinja or
+    /// Mustache templates): fields take one, and a brace is never written literally.
+    #[error(
+        "the output template {template:?} has {written}, {}; its fields are {}",
+        match known {
+            Some(f) => format!("which writes the field {{{f}}} with braces doubled: fields take one brace on each side"),
+            None => "which is no field: fields take one brace on each side, and no brace is written literally".to_string(),
+        },
+        known_fields()
+    )]
+    Braces {
+        /// The template.
+        template: String,
+        /// The braces and what they hold, as written (`{{stem}}`).
+        written: String,
+        /// The field they hold, when it is one of [`FIELDS`].
+        known: Option<&'static str>,
+    },
     /// A `{` with no `}` after it.
     #[error(
         "the output template {template:?} has a '{{' that no '}}' closes; its fields are {}",
@@ -57,6 +75,16 @@ pub enum TemplateError {
         /// The input.
         input: PathBuf,
     },
+}
+
+/// [`TemplateError::Braces`] for `written` (`{{stem}}`, `{a{b}`).
+fn braces(template: &str, written: &str) -> TemplateError {
+    let inner = written.trim_start_matches('{').trim_end_matches('}');
+    TemplateError::Braces {
+        template: template.to_owned(),
+        written: written.to_owned(),
+        known: FIELDS.into_iter().find(|f| *f == inner),
+    }
 }
 
 fn known_fields() -> String {
@@ -99,6 +127,11 @@ impl Template {
                 template: text.to_owned(),
             })?;
             let field = &after[..close];
+            if field.contains('{') {
+                // The braces as written: up to the first `}` and the `}` that follow it.
+                let closing = after[close..].len() - after[close..].trim_start_matches('}').len();
+                return Err(braces(text, &rest[open..open + 1 + close + closing]));
+            }
             let piece = match field {
                 "dir" => Piece::Dir,
                 "stem" => Piece::Stem,
@@ -260,5 +293,33 @@ mod tests {
             Template::parse("{}.exr"),
             Err(TemplateError::UnknownField { .. })
         ));
+    }
+
+    #[test]
+    fn doubled_braces_are_refused_as_written() {
+        // Issue 31: `{{stem}}` was reported as the unknown field `{{stem}`.
+        for (template, written, known) in [
+            ("{{stem}}.exr", "{{stem}}", Some("stem")),
+            ("x/{{stem}.exr", "{{stem}", Some("stem")),
+            ("{dir}/{{{name}}}", "{{{name}}}", Some("name")),
+            ("{a{b}.exr", "{a{b}", None),
+        ] {
+            let e = Template::parse(template).unwrap_err();
+            assert_eq!(
+                e,
+                TemplateError::Braces {
+                    template: template.into(),
+                    written: written.into(),
+                    known
+                },
+                "{template}"
+            );
+        }
+        assert_eq!(
+            Template::parse("{{stem}}.exr").unwrap_err().to_string(),
+            "the output template \"{{stem}}.exr\" has {{stem}}, which writes the field {stem} \
+             with braces doubled: fields take one brace on each side; its fields are {dir}, \
+             {stem}, {name}, {udim}, {tile}"
+        );
     }
 }

@@ -4,8 +4,10 @@
 //! `..`, bind mounts and other aliases of a directory are seen through.
 //!
 //! Every check is linear in the number of files: identities go into hash maps, and each
-//! directory is looked at once ([`Places`]), so a job of 100,000 inputs is checked in as many
-//! `stat` calls as it has files.
+//! directory is looked at once ([`Places`]). Each output is looked at once (its kind and the
+//! file there, [`Target`]); inputs are looked at only when some output exists, as only an
+//! existing output can be an input by being the same file. A job of 100,000 inputs into a
+//! fresh folder is checked in one `stat` per output.
 
 use crate::kind::Kind;
 use std::collections::HashMap;
@@ -126,8 +128,15 @@ impl Places {
 /// A file as the file system knows it (device and inode, through links); `None` when nothing
 /// is there.
 fn file_id(path: &Path) -> Option<(u64, u64)> {
-    use std::os::unix::fs::MetadataExt;
-    std::fs::metadata(path).ok().map(|m| (m.dev(), m.ino()))
+    Kind::with_id(path).1
+}
+
+/// An output as a plan sees it: its place, and the file already there (device and inode,
+/// through links), if any. Made by [`output_places`], from one `stat` of the output.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Target {
+    place: Place,
+    existing: Option<(u64, u64)>,
 }
 
 /// Checks a job that reads `inputs` and writes `outputs`; the first problem found, in the
@@ -137,7 +146,7 @@ fn file_id(path: &Path) -> Option<(u64, u64)> {
 pub fn check(inputs: &[&Path], outputs: &[&Path], replace: Replace) -> Result<(), PlanError> {
     let mut known = Places::default();
     let places = output_places(outputs, &mut known)?;
-    if let Some((o, i)) = output_is_input(inputs, outputs, &places, &mut known) {
+    if let Some((o, i)) = output_is_input(inputs, &places, &mut known) {
         return Err(PlanError::OutputIsInput {
             output: outputs[o].to_path_buf(),
             input: inputs[i].to_path_buf(),
@@ -164,55 +173,57 @@ pub fn check(inputs: &[&Path], outputs: &[&Path], replace: Replace) -> Result<()
     Ok(())
 }
 
-/// Every output's place, once its name, directory and kind allow writing it; the first output
-/// that does not is the error.
-pub fn output_places(outputs: &[&Path], known: &mut Places) -> Result<Vec<Place>, PlanError> {
+/// Every output as a [`Target`], once its name, directory and kind allow writing it; the first
+/// output that does not is the error.
+pub fn output_places(outputs: &[&Path], known: &mut Places) -> Result<Vec<Target>, PlanError> {
     outputs.iter().map(|o| output_place(o, known)).collect()
 }
 
 /// The first output (by position) that is one of the inputs, as files: its position and that
-/// of the first input it is. `places` are the outputs' ([`output_places`]). An output is an
+/// of the first input it is. `targets` are the outputs' ([`output_places`]). An output is an
 /// input when it is at the input's place (the same directory entry, whether or not it exists
-/// yet) or is the same existing file (a hard or symbolic link to it).
+/// yet) or is the same existing file (a hard or symbolic link to it). Inputs are `stat`ed
+/// only when some output exists: a missing output is no file an input could be.
 pub fn output_is_input(
     inputs: &[&Path],
-    outputs: &[&Path],
-    places: &[Place],
+    targets: &[Target],
     known: &mut Places,
 ) -> Option<(usize, usize)> {
     let mut by_place: HashMap<Place, usize> = HashMap::with_capacity(inputs.len());
-    let mut by_file: HashMap<(u64, u64), usize> = HashMap::with_capacity(inputs.len());
     for (k, input) in inputs.iter().enumerate() {
         if let Some(p) = known.of(input) {
             by_place.entry(p).or_insert(k);
         }
-        if let Some(f) = file_id(input) {
-            by_file.entry(f).or_insert(k);
+    }
+    let mut by_file: HashMap<(u64, u64), usize> = HashMap::new();
+    if targets.iter().any(|t| t.existing.is_some()) {
+        by_file.reserve(inputs.len());
+        for (k, input) in inputs.iter().enumerate() {
+            if let Some(f) = file_id(input) {
+                by_file.entry(f).or_insert(k);
+            }
         }
     }
-    outputs
-        .iter()
-        .zip(places)
-        .enumerate()
-        .find_map(|(o, (output, place))| {
-            let at = by_place.get(place).copied();
-            let same = file_id(output).and_then(|f| by_file.get(&f).copied());
-            at.into_iter().chain(same).min().map(|i| (o, i))
-        })
+    targets.iter().enumerate().find_map(|(o, target)| {
+        let at = by_place.get(&target.place).copied();
+        let same = target.existing.and_then(|f| by_file.get(&f).copied());
+        at.into_iter().chain(same).min().map(|i| (o, i))
+    })
 }
 
 /// The first two outputs (by the second's position) that are one file, by their places
 /// ([`output_places`]).
-pub fn shared_output(places: &[Place]) -> Option<(usize, usize)> {
-    let mut seen: HashMap<&Place, usize> = HashMap::with_capacity(places.len());
-    places
+pub fn shared_output(targets: &[Target]) -> Option<(usize, usize)> {
+    let mut seen: HashMap<&Place, usize> = HashMap::with_capacity(targets.len());
+    targets
         .iter()
         .enumerate()
-        .find_map(|(k, place)| seen.insert(place, k).map(|first| (first, k)))
+        .find_map(|(k, target)| seen.insert(&target.place, k).map(|first| (first, k)))
 }
 
-/// An output's place, once its name, directory and kind allow writing it.
-fn output_place(output: &Path, known: &mut Places) -> Result<Place, PlanError> {
+/// An output's [`Target`], once its name, directory and kind allow writing it: one `stat` of
+/// the output (its kind and file), and one of its directory the first time that is seen.
+fn output_place(output: &Path, known: &mut Places) -> Result<Target, PlanError> {
     use std::os::unix::ffi::OsStrExt;
     let length = output.file_name().map_or(0, |n| n.as_bytes().len());
     if length > 255 {
@@ -221,7 +232,8 @@ fn output_place(output: &Path, known: &mut Places) -> Result<Place, PlanError> {
             length,
         });
     }
-    match Kind::of(output) {
+    let (kind, existing) = Kind::with_id(output);
+    match kind {
         Kind::File | Kind::Missing => {}
         kind => {
             return Err(PlanError::OutputNotAFile {
@@ -230,9 +242,10 @@ fn output_place(output: &Path, known: &mut Places) -> Result<Place, PlanError> {
             })
         }
     }
-    known.of(output).ok_or_else(|| PlanError::NoDirectory {
+    let place = known.of(output).ok_or_else(|| PlanError::NoDirectory {
         dir: crate::names::directory_of(output).to_path_buf(),
-    })
+    })?;
+    Ok(Target { place, existing })
 }
 
 #[cfg(test)]

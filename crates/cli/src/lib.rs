@@ -202,7 +202,7 @@ fn hint(cause: &(dyn std::error::Error + 'static)) -> Option<String> {
             f(Key::Colorspace)
         ),
         Remedy::FewerThreads => format!("; lower {}", f(Key::Threads)),
-        Remedy::SmallerBlocks | Remedy::LessMemory => {
+        Remedy::SmallerBlocks | Remedy::LessMemory | Remedy::FewerBands => {
             let flags: Vec<String> = remedy.keys().iter().map(|&k| f(k)).collect();
             format!(" ({})", flags.join(", "))
         }

@@ -99,8 +99,9 @@ impl Converter {
             Some(pool) => pool.install(build),
             None => build(),
         }?;
+        // Alpha counted in: refused here, before any input, not at the first one with alpha.
+        specconv_exr::check_channels(stack.method().grid().len(), true)?;
         if let Blocks::Tiles(width, height) = options.blocks {
-            // Alpha counted in: refused here, before any input, not at the first one with alpha.
             let channels = stack.method().grid().len() + 1;
             specconv_exr::check_block(width, height, channels, options.sample)?;
             let threads = pool

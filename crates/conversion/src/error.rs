@@ -39,6 +39,9 @@ pub enum Error {
     /// Tiles larger than OpenEXR's readers accept, at the method's band count.
     #[error(transparent)]
     TileTooLarge(#[from] specconv_exr::BlockTooLarge),
+    /// More bands (with alpha) than OpenEXR's readers accept as channels.
+    #[error(transparent)]
+    TooManyChannels(#[from] specconv_exr::TooManyChannels),
     /// Blocks in flight that need more memory than the machine has.
     #[error("the blocks in flight would need {} MiB, more than this machine's {} MiB; use fewer bands, smaller tiles or fewer worker threads", needed >> 20, have >> 20)]
     TooMuchMemory {
@@ -201,6 +204,8 @@ pub enum Remedy {
     SmallerBlocks,
     /// Fewer bands, smaller tiles or fewer worker threads: blocks in flight that fit in memory.
     LessMemory,
+    /// Fewer bands: channels that OpenEXR's readers accept.
+    FewerBands,
     /// A wavelength grid inside the range a table covers; this one would do.
     BandsInside {
         /// First wavelength, nm.
@@ -241,6 +246,7 @@ impl Remedy {
             Remedy::SomeThreads | Remedy::FewerThreads => &[Key::Threads],
             Remedy::SmallerBlocks => &[Key::Tile, Key::Bands],
             Remedy::LessMemory => &[Key::Bands, Key::Tile, Key::Threads],
+            Remedy::FewerBands => &[Key::Bands],
             Remedy::BandsInside { .. } => &[Key::Bands],
             Remedy::OneClusterModel => &[Key::Model],
             // The output naming of the front-end (`--output-template`, `output_template=`).
@@ -276,6 +282,7 @@ impl Error {
             Error::ZipLevel { .. } => Some(Remedy::ZipLevelInRange),
             Error::EmptyTile { .. } => Some(Remedy::NonEmptyTiles),
             Error::TileTooLarge(_) => Some(Remedy::SmallerBlocks),
+            Error::TooManyChannels(_) => Some(Remedy::FewerBands),
             Error::TooMuchMemory { .. } => Some(Remedy::LessMemory),
             Error::TooManyThreads { .. } => Some(Remedy::FewerThreads),
             Error::NoThreads => Some(Remedy::SomeThreads),
@@ -487,6 +494,7 @@ mod tests {
             Error::ZipLevel { .. } => ("ZipLevel", true),
             Error::EmptyTile { .. } => ("EmptyTile", true),
             Error::TileTooLarge(_) => ("TileTooLarge", true),
+            Error::TooManyChannels(_) => ("TooManyChannels", true),
             Error::TooMuchMemory { .. } => ("TooMuchMemory", true),
             Error::TooManyThreads { .. } => ("TooManyThreads", true),
             Error::NoThreads => ("NoThreads", true),
@@ -572,6 +580,7 @@ mod tests {
         "ZipLevel",
         "EmptyTile",
         "TileTooLarge",
+        "TooManyChannels",
         "TooMuchMemory",
         "TooManyThreads",
         "NoThreads",
@@ -712,6 +721,10 @@ mod tests {
                 width: 0,
                 height: 4,
             },
+            Error::TooManyChannels(specconv_exr::TooManyChannels {
+                bands: 35_001,
+                alpha: true,
+            }),
             Error::TileTooLarge(specconv_exr::BlockTooLarge {
                 width: 5000,
                 height: 5000,

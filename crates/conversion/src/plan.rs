@@ -301,7 +301,8 @@ impl Plan {
             // One shard holds it all: no input need be read to weigh it.
             return Ok(self);
         }
-        let weights: Vec<u64> = self.pairs.iter().map(|(i, _)| weight(i)).collect();
+        let inputs: Vec<&Path> = self.pairs.iter().map(|(i, _)| i.as_path()).collect();
+        let weights = weights(&inputs);
         let mine = specconv_atomic_file::shards::split(&weights, count).swap_remove(index);
         let mut pairs: Vec<Option<(PathBuf, PathBuf)>> = self.pairs.into_iter().map(Some).collect();
         Ok(Plan {
@@ -348,6 +349,14 @@ pub fn weight(input: &Path) -> u64 {
             .map(|l| u64::from(l.width) * u64::from(l.height))
             .sum()
     })
+}
+
+/// The weights ([`weight`]) of `inputs`, in order, read side by side on rayon's shared pool:
+/// reading a header mostly waits for the disk (or a network file system), and a plan may weigh
+/// 100,000 inputs.
+pub fn weights<P: AsRef<Path> + Sync>(inputs: &[P]) -> Vec<u64> {
+    use rayon::prelude::*;
+    inputs.par_iter().map(|p| weight(p.as_ref())).collect()
 }
 
 /// The output of a given input names its tiles exactly when the input is a UDIM pattern.
@@ -398,7 +407,7 @@ fn check_files(pairs: &[(PathBuf, PathBuf)]) -> Result<(), Error> {
     let outputs: Vec<&Path> = pairs.iter().map(|(_, o)| o.as_path()).collect();
     let mut known = Places::default();
     let places = files::output_places(&outputs, &mut known)?;
-    if let Some((o, i)) = files::output_is_input(&inputs, &outputs, &places, &mut known) {
+    if let Some((o, i)) = files::output_is_input(&inputs, &places, &mut known) {
         return Err(PlanError::OutputIsInput {
             output: outputs[o].to_path_buf(),
             input: inputs[i].to_path_buf(),

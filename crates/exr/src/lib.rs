@@ -48,6 +48,9 @@ pub enum Error {
     /// A block larger than OpenEXR's readers accept.
     #[error(transparent)]
     BlockTooLarge(#[from] BlockTooLarge),
+    /// More channels than OpenEXR's readers accept.
+    #[error(transparent)]
+    TooManyChannels(#[from] TooManyChannels),
     /// An error of the `exr` crate: I/O, or a file it cannot read or write.
     #[error("OpenEXR: {0}")]
     Exr(#[from] exr::error::Error),
@@ -117,6 +120,37 @@ pub fn check_block(
         bytes_per_sample,
         bytes,
     })
+}
+
+/// The most channels (bands and alpha) a spectral file may have for readers to read it:
+/// OpenImageIO 2.4 reads 32,767 channels and aborts on 32,768 (`std::bad_alloc`; measured with
+/// oiiotool 2.4.7 reading files of 16×16 tiles, whose blocks are small, and of 64×64 tiles).
+/// OpenImageIO's `limits:channels` attribute (1024 by default) is checked by its TIFF reader
+/// only, not by its OpenEXR reader, in 2.4.
+pub const MAX_CHANNELS: usize = 32_767;
+
+/// A file of more than [`MAX_CHANNELS`] channels: one OpenImageIO would not read.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error(
+    "{bands} bands{} would be {} channels; OpenEXR readers (OpenImageIO) read at most {MAX_CHANNELS} ({} bands and alpha): use fewer bands, with a coarser step or a shorter range",
+    if *alpha { " and alpha" } else { "" },
+    bands + usize::from(*alpha),
+    MAX_CHANNELS - 1
+)]
+pub struct TooManyChannels {
+    /// The bands.
+    pub bands: usize,
+    /// Whether alpha is one more channel.
+    pub alpha: bool,
+}
+
+/// Refuses a file of `bands` bands (and alpha, when `alpha`) over [`MAX_CHANNELS`] channels.
+pub fn check_channels(bands: usize, alpha: bool) -> std::result::Result<(), TooManyChannels> {
+    if bands + usize::from(alpha) <= MAX_CHANNELS {
+        Ok(())
+    } else {
+        Err(TooManyChannels { bands, alpha })
+    }
 }
 
 /// This crate's result, with [`enum@Error`].
@@ -803,6 +837,7 @@ fn check_not_empty(spec: &Spec) -> Result<()> {
 /// The channels' names, sorted as OpenEXR stores them, each with where its value sits among a
 /// pixel's inputs (band index, or `bands` for alpha); refuses two bands of one name.
 fn named_channels(spec: &Spec) -> Result<Vec<(String, usize)>> {
+    check_channels(spec.wavelengths.len(), spec.alpha)?;
     let mut named: Vec<(String, usize)> = spec
         .wavelengths
         .iter()
@@ -1127,6 +1162,42 @@ mod tests {
             attributes: vec![("specconvMethod".into(), "otsu2018".into())],
             float_attributes: vec![],
         }
+    }
+
+    #[test]
+    fn files_of_more_channels_than_readers_read_are_refused() {
+        // Issue 31: `--bands 380:730:0.01` wrote 35,001 channels, which OpenImageIO cannot read.
+        let tiles = Blocks::Tiles {
+            width: 1,
+            height: 1,
+            mip_levels: false,
+        };
+        let with = |bands: usize, alpha: bool| {
+            let mut s = spec(tiles, alpha);
+            s.width = 1;
+            s.height = 1;
+            s.wavelengths = (0..bands).map(|i| 380.0 + 0.01 * i as f64).collect();
+            SpectralFile::new(s).map(|_| ())
+        };
+        assert!(with(MAX_CHANNELS, false).is_ok());
+        assert!(with(MAX_CHANNELS - 1, true).is_ok());
+        for (bands, alpha) in [
+            (MAX_CHANNELS, true),
+            (MAX_CHANNELS + 1, false),
+            (35_001, true),
+        ] {
+            let e = with(bands, alpha).unwrap_err();
+            assert!(
+                matches!(&e, Error::TooManyChannels(t) if *t == TooManyChannels { bands, alpha }),
+                "{e}"
+            );
+        }
+        assert_eq!(
+            check_channels(35_001, true).unwrap_err().to_string(),
+            "35001 bands and alpha would be 35002 channels; OpenEXR readers (OpenImageIO) read \
+             at most 32767 (32766 bands and alpha): use fewer bands, with a coarser step or a \
+             shorter range"
+        );
     }
 
     #[test]

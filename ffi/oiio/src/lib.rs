@@ -545,19 +545,18 @@ impl ImageReader {
     /// Opens `path` and reads its header.
     pub fn open(path: impl AsRef<Path>) -> Result<Self> {
         let path = path.as_ref().to_path_buf();
-        // OIIO's message for a missing file varies by plugin; say it plainly ourselves.
-        if !path.exists() {
-            return Err(Error::NotFound { path });
-        }
-        // A special file (/dev/zero, a FIFO, a terminal) would keep the format probes reading
-        // or waiting for ever: refused by kind before OpenImageIO sees it.
-        if let Err(specconv_atomic_file::ReadError::NotAFile { kind, .. }) =
-            specconv_atomic_file::readable_file(&path)
-        {
-            return Err(Error::Open {
-                path,
-                message: format!("it is {kind}, not a file"),
-            });
+        // OIIO's message for a missing file varies by plugin; say it plainly ourselves. A
+        // special file (/dev/zero, a FIFO, a terminal) would keep the format probes reading or
+        // waiting for ever: refused by kind before OpenImageIO sees it. One `stat` for both.
+        match specconv_atomic_file::Kind::of(&path) {
+            specconv_atomic_file::Kind::File => {}
+            specconv_atomic_file::Kind::Missing => return Err(Error::NotFound { path }),
+            kind => {
+                return Err(Error::Open {
+                    path,
+                    message: format!("it is {kind}, not a file"),
+                })
+            }
         }
         let Some(c_path) = path_to_cstring(&path) else {
             return Err(Error::Open {

@@ -5,7 +5,7 @@
 use crate::cmd::convert;
 use crate::{checks, exit, usage};
 use anyhow::{anyhow, bail, Context, Result};
-use specconv_conversion::plan::weight;
+use specconv_conversion::plan::weights;
 use specconv_conversion::{Key, Options};
 use specconv_farm::manifest::Outputs;
 use specconv_farm::{slurm, FileState, Manifest, Request, Status};
@@ -316,8 +316,9 @@ fn absolute(p: &Path) -> Result<PathBuf> {
 
 /// The manifest's files: absolute paths (tasks may start elsewhere) and pixel counts.
 fn listed_files(pairs: &[(PathBuf, PathBuf)]) -> Result<Vec<specconv_farm::manifest::File>> {
+    let inputs: Vec<&Path> = pairs.iter().map(|(i, _)| i.as_path()).collect();
     let mut files = Vec::new();
-    for (i, o) in pairs {
+    for ((i, o), pixels) in pairs.iter().zip(weights(&inputs)) {
         if i.to_string_lossy().contains('\n') {
             bail!(
                 "{:?}: input paths with a newline cannot be listed for a task; rename it",
@@ -327,7 +328,7 @@ fn listed_files(pairs: &[(PathBuf, PathBuf)]) -> Result<Vec<specconv_farm::manif
         files.push(specconv_farm::manifest::File {
             input: absolute(i)?,
             output: absolute(o)?,
-            pixels: weight(i),
+            pixels,
         });
     }
     Ok(files)
@@ -385,10 +386,13 @@ fn print_plan(manifest: &Manifest, prepared: &specconv_farm::Prepared) -> Result
     )?;
     for (t, shard) in prepared.tasks.iter().enumerate() {
         let px: u64 = shard.iter().map(|&i| manifest.files[i].pixels).sum();
-        outln!("# task {t}: {}, {px} pixels", count(shard.len(), "file"))?;
+        // A task's files in one write, not one a line: a plan may list 100,000.
+        let mut lines = format!("# task {t}: {}, {px} pixels\n", count(shard.len(), "file"));
         for &i in shard {
-            outln!("#   {}", manifest.files[i].input.display())?;
+            use std::fmt::Write;
+            let _ = writeln!(lines, "#   {}", manifest.files[i].input.display());
         }
+        out!("{lines}")?;
     }
     outln!(
         "# sbatch {} {}",
@@ -584,9 +588,10 @@ fn retry(r: &Retry, ocio: Option<String>) -> Result<i32> {
         m.ocio = pinned(&checks::config(ocio.as_deref())?)?;
     }
     specconv_farm::remove_leftovers(&m, &status, &again);
-    for &i in &again {
-        // The input may have been fixed or replaced since: plan on what it is now.
-        m.files[i].pixels = weight(&m.files[i].input);
+    // The inputs may have been fixed or replaced since: plan on what they are now.
+    let inputs: Vec<&Path> = again.iter().map(|&i| m.files[i].input.as_path()).collect();
+    for (&i, pixels) in again.iter().zip(weights(&inputs)) {
+        m.files[i].pixels = pixels;
     }
     let last = m.rounds.last().map_or(1, |r| r.tasks.len());
     let tasks = r.tasks.map_or(last, |n| n as usize);
