@@ -44,7 +44,9 @@ pub mod shards;
 pub mod udim;
 
 pub use kind::{read_bounded, readable_file, Kind, ReadError};
-pub use plan::{check as check_plan, Place, Places, PlanError, Replace};
+pub use plan::{
+    check as check_plan, check_extension, has_extension, Place, Places, PlanError, Replace,
+};
 
 use std::fs::File;
 use std::io;
