@@ -6,7 +6,7 @@ from typing import Any, Callable, Literal, Optional, Sequence, Union
 import numpy as np
 import numpy.typing as npt
 
-_Path = Union[str, PathLike[str]]
+_Path = Union[str, bytes, PathLike[str], PathLike[bytes]]
 _Array = npt.ArrayLike
 
 __version__: str
@@ -33,7 +33,7 @@ class Model:
         source: str = "numpy",
         licence: Optional[str] = None,
     ) -> Model: ...
-    def save(self, path: _Path) -> None: ...
+    def save(self, path: _Path, *, overwrite: bool = False) -> None: ...
     @property
     def wavelengths(self) -> npt.NDArray[np.float64]: ...
     @property
@@ -124,7 +124,7 @@ def write_spectral(
     values: _Array,
     *,
     alpha: Optional[_Array] = None,
-    emission_units: Optional[str] = None,
+    emission_units: Optional[Literal["reference", "normalised", "photometric"]] = None,
     sample: Literal["half", "float"] = "half",
     compression: str = "zip",
     tile: Optional[tuple[int, int]] = (64, 64),

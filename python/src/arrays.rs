@@ -17,6 +17,18 @@ pub fn values(array: &Bound<'_, PyAny>, last: Option<usize>, what: &str) -> PyRe
     let py = array.py();
     let as_f64 = || -> PyResult<Bound<'_, PyArrayDyn<f64>>> {
         let np = py.import("numpy")?;
+        // numpy would drop an imaginary part with a warning: a value that is not real is an
+        // error, whatever its imaginary part.
+        let is_complex = np
+            .call_method1("iscomplexobj", (array,))
+            .and_then(|c| c.is_truthy())
+            .unwrap_or(false);
+        if is_complex {
+            return Err(crate::errors::Kind::Option.err(format!(
+                "{what} are complex numbers; specconv takes real values (pass .real if the \
+                 imaginary parts are meant to be dropped)"
+            )));
+        }
         let converted = np
             .call_method1("asarray", (array, np.getattr("float64")?))
             .map_err(|e| match e.is_instance_of::<PyMemoryError>(py) {

@@ -1,6 +1,7 @@
 //! `specconv.convert`: the command line's conversion, by [`specconv_conversion::Batch`], with
 //! Ctrl-C heard while the GIL is released and progress told to a Python callback.
 
+use crate::args::{whole, FsPath};
 use crate::errors::{conversion, option, Kind};
 use crate::model::Model;
 use pyo3::prelude::*;
@@ -20,10 +21,25 @@ enum Said {
 }
 
 /// Inputs or outputs: one path or a sequence of them.
-#[derive(FromPyObject)]
 pub enum Paths {
     One(PathBuf),
     Many(Vec<PathBuf>),
+}
+
+impl<'a, 'py> FromPyObject<'a, 'py> for Paths {
+    type Error = PyErr;
+
+    fn extract(ob: Borrowed<'a, 'py, PyAny>) -> PyResult<Self> {
+        if let Ok(one) = ob.extract::<FsPath>() {
+            return Ok(Paths::One(one.0));
+        }
+        let not_paths = || Kind::Option.err("give a path or a sequence of paths");
+        ob.try_iter()
+            .map_err(|_| not_paths())?
+            .map(|p| Ok(p?.extract::<FsPath>()?.0))
+            .collect::<PyResult<Vec<_>>>()
+            .map(Paths::Many)
+    }
 }
 
 impl Paths {
@@ -39,7 +55,7 @@ impl Paths {
 #[derive(FromPyObject)]
 pub enum ModelArg<'py> {
     Object(Bound<'py, Model>),
-    Path(PathBuf),
+    Path(FsPath),
 }
 
 /// The keyword `keyword`'s choice by the library's names ([`Named`]), with the library's
@@ -109,8 +125,8 @@ pub fn convert<'py>(
     sample: &str,
     rounding: Option<&str>,
     compression: &str,
-    zip_level: Option<u8>,
-    tile: Option<(usize, usize)>,
+    zip_level: Option<i128>,
+    tile: Option<(i128, i128)>,
     mip: bool,
     filter: &str,
     resize: bool,
@@ -118,9 +134,9 @@ pub fn convert<'py>(
     non_finite: &str,
     constant_detect: bool,
     opaque_detect: bool,
-    threads: Option<usize>,
+    threads: Option<i128>,
     overwrite: bool,
-    table_dir: Option<PathBuf>,
+    table_dir: Option<FsPath>,
     update: bool,
     data: &str,
     strip_metadata: bool,
@@ -147,7 +163,7 @@ pub fn convert<'py>(
     o.method = pick("method", method)?;
     o.model = match model {
         None => None,
-        Some(ModelArg::Path(p)) => Some(p),
+        Some(ModelArg::Path(p)) => Some(p.0),
         Some(ModelArg::Object(m)) => Some(m.get().origin().ok_or_else(|| {
             Kind::Option.err("this model was trained in Python and not saved: save it (model.save(path)) so that outputs can name it")
         })?),
@@ -159,9 +175,11 @@ pub fn convert<'py>(
     o.sample = pick("sample", sample)?;
     o.rounding = rounding.map(|r| pick("rounding", r)).transpose()?;
     o.compression = pick("compression", compression)?;
-    o.zip_level = zip_level;
+    o.zip_level = zip_level
+        .map(|z| whole("zip_level", z, u8::MAX))
+        .transpose()?;
     o.blocks = match tile {
-        Some((w, h)) => Blocks::Tiles(w, h),
+        Some((w, h)) => Blocks::Tiles(whole("tile", w, usize::MAX)?, whole("tile", h, usize::MAX)?),
         None => Blocks::Scanlines,
     };
     o.mip = if mip { c::Mip::All } else { c::Mip::Base };
@@ -174,9 +192,11 @@ pub fn convert<'py>(
     o.non_finite = pick("non_finite", non_finite)?;
     o.constant_detect = constant_detect;
     o.opaque_detect = opaque_detect;
-    o.threads = threads;
+    o.threads = threads
+        .map(|t| whole("threads", t, usize::MAX))
+        .transpose()?;
     o.overwrite = overwrite;
-    o.table_dir = table_dir;
+    o.table_dir = table_dir.map(PathBuf::from);
     o.data = pick("data", data)?;
     o.strip_metadata = strip_metadata;
     o.strict = strict;
@@ -186,7 +206,10 @@ pub fn convert<'py>(
 }
 
 /// The batch on a thread of its own while this one, holding the GIL between waits, hears
-/// signals and calls `progress`.
+/// signals and calls `progress`. The batch waits at each event (a window of pixels done, an
+/// input finished) until this thread has taken it: a Ctrl-C heard here, or a callback that
+/// raises, is seen by the batch before its next window. (One heard after an input's last
+/// window may find its output published: whole, never partial.)
 fn run<'py>(
     py: Python<'py>,
     converter: &Converter,
@@ -196,7 +219,11 @@ fn run<'py>(
     progress: Option<Bound<'py, PyAny>>,
 ) -> PyResult<Vec<Bound<'py, PyAny>>> {
     let cancel = AtomicBool::new(false);
-    let (tx, rx) = mpsc::channel::<Said>();
+    // A rendezvous: the batch waits at each event until this thread takes it, so it never runs
+    // ahead of what Python has heard. With a queue, a main thread starved of the CPU heard the
+    // first progress when the conversion was already published, and a Ctrl-C then came too
+    // late to stop anything (the flaky Ctrl-C test of issue 31).
+    let (tx, rx) = mpsc::sync_channel::<Said>(0);
     // Shared with the waits that release the GIL (which may run on any thread).
     let rx = std::sync::Mutex::new(rx);
     let mut records = Vec::new();
@@ -209,42 +236,13 @@ fn run<'py>(
             let tell = |said| {
                 let _ = tx.send(said);
             };
-            let ended = batch.run(pairs, &mut |event| match event {
-                Event::Started { index, input } => tell(Said::Started(index, input.into())),
-                Event::Progress { done, total } => tell(Said::Progress(done, total)),
-                Event::Skipped { input, output } => {
-                    tell(Said::Record(Record::skipped(input, output).to_json()))
-                }
-                Event::Converted {
-                    input,
-                    output,
-                    report,
-                } => tell(Said::Record(
-                    Record::converted(converter, input, output, report).to_json(),
-                )),
-                Event::Data {
-                    input,
-                    output,
-                    report,
-                } => tell(Said::Record(Record::data(input, output, report).to_json())),
-                Event::Failed {
-                    input,
-                    output,
-                    error,
-                    seconds,
-                } => {
-                    let message = without_input(&crate::errors::message(error), input);
-                    let record = Record::failed(input, output, message.clone(), seconds);
-                    tell(Said::Record(record.to_json()));
-                    if raise {
-                        tell(Said::Failed(
-                            crate::errors::kind(error),
-                            format!("{}: {message}", input.display()),
-                        ));
+            let ended = batch.run(pairs, &mut |event| {
+                for said in heard_of(&event, converter, raise) {
+                    if matches!(said, Said::Failed(..)) {
                         cancel.store(true, Ordering::SeqCst);
                     }
+                    tell(said);
                 }
-                _ => {}
             });
             drop(tx);
             ended
@@ -256,6 +254,10 @@ fn run<'py>(
                     .recv_timeout(Duration::from_millis(50))
             });
             let heard = match said {
+                Err(mpsc::RecvTimeoutError::Disconnected) => break,
+                // Stopping: the batch's last events are drained, nothing more is called back
+                // (a callback that raised, or one held when Ctrl-C came, is not called again).
+                _ if failure.is_some() => continue,
                 Ok(Said::Started(i, input)) => {
                     index = (i, input);
                     call(&progress, (index.0, index.1.clone(), 0u64, 0u64))
@@ -266,7 +268,6 @@ fn run<'py>(
                 Ok(Said::Record(r)) => json.call_method1("loads", (r,)).map(|r| records.push(r)),
                 Ok(Said::Failed(kind, message)) => Err(kind.err(message)),
                 Err(mpsc::RecvTimeoutError::Timeout) => Ok(()),
-                Err(mpsc::RecvTimeoutError::Disconnected) => break,
             }
             .and_then(|()| py.check_signals());
             if let Err(e) = heard {
@@ -296,6 +297,49 @@ fn interrupted(py: Python<'_>, e: PyErr, stopped: bool) -> PyErr {
         );
     }
     e
+}
+
+/// What the caller hears of a batch's event: progress, a record of each input, and with
+/// `raise` an input's failure as the exception to raise (the batch is then cancelled).
+fn heard_of(event: &Event, converter: &Converter, raise: bool) -> Vec<Said> {
+    match *event {
+        Event::Started { index, input } => vec![Said::Started(index, input.into())],
+        Event::Progress { done, total } => vec![Said::Progress(done, total)],
+        Event::Skipped { input, output } => {
+            vec![Said::Record(Record::skipped(input, output).to_json())]
+        }
+        Event::Converted {
+            input,
+            output,
+            report,
+        } => vec![Said::Record(
+            Record::converted(converter, input, output, report).to_json(),
+        )],
+        Event::Data {
+            input,
+            output,
+            report,
+        } => vec![Said::Record(Record::data(input, output, report).to_json())],
+        Event::Failed {
+            input,
+            output,
+            error,
+            seconds,
+        } => {
+            let message = without_input(&crate::errors::message(error), input);
+            let record =
+                Said::Record(Record::failed(input, output, message.clone(), seconds).to_json());
+            let failed = Said::Failed(
+                crate::errors::kind(error),
+                format!("{}: {message}", input.display()),
+            );
+            match raise {
+                true => vec![record, failed],
+                false => vec![record],
+            }
+        }
+        _ => Vec::new(),
+    }
 }
 
 /// Calls the progress callback, if any.

@@ -1,6 +1,7 @@
 //! Spectral OpenEXR files in the layout of Fichet et al. 2021, read into and written from numpy
 //! arrays by the project's reader and writer (what `convert` writes and `to-rgb` reads).
 
+use crate::args::{whole, FsPath};
 use crate::arrays::Values;
 use crate::errors::Kind;
 use numpy::ndarray::{Array2, Array3};
@@ -8,7 +9,6 @@ use numpy::IntoPyArray;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use specconv_exr::{Blocks, Kind as Bands, Spec, SpectralFile};
-use std::path::PathBuf;
 
 /// One MIP level of a spectral file.
 #[pyclass(module = "specconv", frozen)]
@@ -56,17 +56,23 @@ impl SpectralImage {
 
 /// Reads MIP level `level` (0: the largest) of a spectral EXR: its `T.` bands (reflectance),
 /// else its `S0.` bands (emission), any wavelengths the layout allows, and `A`.
+/// A FIFO, a device or a directory is refused by kind before anything opens it (as the
+/// command line refuses them): opening a FIFO would wait for a writer for ever.
 #[pyfunction]
 #[pyo3(signature = (path, *, level=0))]
-pub fn read_spectral(py: Python<'_>, path: PathBuf, level: usize) -> PyResult<SpectralImage> {
+pub fn read_spectral(py: Python<'_>, path: FsPath, level: i128) -> PyResult<SpectralImage> {
+    let (path, level) = (path.0, whole("level", level, usize::MAX)?);
     let image = py
-        .detach(|| specconv_exr::read_level(&path, level))
-        .map_err(|source| {
-            crate::errors::conversion(specconv_conversion::Error::Read {
-                path: path.clone(),
-                source,
+        .detach(|| -> Result<_, specconv_conversion::Error> {
+            specconv_atomic_file::readable_file(&path)?;
+            specconv_exr::read_level(&path, level).map_err(|source| {
+                specconv_conversion::Error::Read {
+                    path: path.clone(),
+                    source,
+                }
             })
-        })?;
+        })
+        .map_err(crate::errors::conversion)?;
     let (w, h, n) = (image.width, image.height, image.wavelengths.len());
     let mut interleaved = vec![0f32; w * h * n];
     for (b, plane) in image.bands.iter().enumerate() {
@@ -106,10 +112,13 @@ pub fn read_spectral(py: Python<'_>, path: PathBuf, level: usize) -> PyResult<Sp
     })
 }
 
-/// Writes `values` (shape (height, width, bands), rows from the top) at `wavelengths` (nm) as
-/// a spectral EXR with one level: reflectance (`T.` channels), or with `emission_units` emission
-/// (`S0.` channels and that `emissiveUnits`); `alpha` (height, width) as `A`. Written beside
-/// the target and renamed into place; an existing `path` only with `overwrite`.
+/// Writes `values` (shape (height, width, bands), rows from the top) at `wavelengths` (nm,
+/// finite, positive and increasing) as a spectral EXR with one level: reflectance (`T.`
+/// channels), or with `emission_units` (`"reference"`, `"normalised"` or `"photometric"`,
+/// as `convert`'s `emission`) emission (`S0.` channels, the layout's `emissiveUnits` and the
+/// convention recorded as `convert` records it); `alpha` (height, width) as `A`. `path` must
+/// end in `.exr`; written beside it and renamed into place; an existing `path` only with
+/// `overwrite`, and never a FIFO, device or directory.
 #[pyfunction]
 #[pyo3(signature = (path, wavelengths, values, *, alpha=None, emission_units=None,
                     sample="half", compression="zip", tile=Some((64, 64)), attributes=None,
@@ -117,20 +126,36 @@ pub fn read_spectral(py: Python<'_>, path: PathBuf, level: usize) -> PyResult<Sp
 #[allow(clippy::too_many_arguments)]
 pub fn write_spectral(
     py: Python<'_>,
-    path: PathBuf,
+    path: FsPath,
     wavelengths: &Bound<'_, PyAny>,
     values: &Bound<'_, PyAny>,
     alpha: Option<&Bound<'_, PyAny>>,
-    emission_units: Option<String>,
+    emission_units: Option<&str>,
     sample: &str,
     compression: &str,
-    tile: Option<(usize, usize)>,
+    tile: Option<(i128, i128)>,
     attributes: Option<std::collections::BTreeMap<String, String>>,
     overwrite: bool,
 ) -> PyResult<()> {
+    let path = path.0;
+    specconv_atomic_file::check_extension(
+        &path,
+        specconv_exr::EXTENSIONS,
+        "write_spectral writes spectral OpenEXR",
+    )
+    .map_err(|e| crate::errors::conversion(e.into()))?;
     let wavelengths: Vec<f64> = match crate::arrays::values(wavelengths, None, "wavelengths")? {
         Values::F32(_, v) => v.into_iter().map(f64::from).collect(),
         Values::F64(_, v) => v,
+    };
+    specconv_exr::check_wavelengths(&wavelengths)
+        .map_err(|e| Kind::Option.err(format!("wavelengths: {e}")))?;
+    let emission: Option<specconv_colour::EmissionUnits> = emission_units
+        .map(|u| crate::convert::pick("emission_units", u))
+        .transpose()?;
+    let tile = match tile {
+        Some((w, h)) => Some((whole("tile", w, usize::MAX)?, whole("tile", h, usize::MAX)?)),
+        None => None,
     };
     let n = wavelengths.len();
     let (lead, bands) = as_f32(values_of(values, n)?);
@@ -149,10 +174,7 @@ pub fn write_spectral(
         height,
         windows: None,
         wavelengths,
-        kind: match emission_units {
-            Some(units) => Bands::Emissive { units },
-            None => Bands::Reflective,
-        },
+        kind: specconv_conversion::layout::bands(emission),
         alpha: alpha.is_some(),
         sample,
         compression: compression.exr(),
@@ -165,7 +187,10 @@ pub fn write_spectral(
             },
             None => Blocks::Scanlines,
         },
-        attributes: attributes.unwrap_or_default().into_iter().collect(),
+        attributes: recorded(emission)
+            .into_iter()
+            .chain(attributes.unwrap_or_default())
+            .collect(),
         float_attributes: Vec::new(),
     };
     py.detach(|| -> PyResult<()> {
@@ -173,6 +198,14 @@ pub fn write_spectral(
         let bytes = encoded(&file, &bands, alpha.as_deref())?;
         publish(&path, &bytes, overwrite)
     })
+}
+
+/// The attributes that record what a file's values mean, as a conversion records them: the
+/// emission convention ([`specconv_conversion::Provenance`]).
+fn recorded(emission: Option<specconv_colour::EmissionUnits>) -> Vec<(String, String)> {
+    let mut p = specconv_conversion::Provenance::default();
+    p.emission_units = emission;
+    p.to_attributes()
 }
 
 /// Values as float32, and the shape before their last axis.

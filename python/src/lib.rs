@@ -4,6 +4,7 @@
 //! that the library does not compute for the command line (DESIGN.md: front-ends over one
 //! library).
 
+mod args;
 mod arrays;
 mod colour;
 mod convert;

@@ -1,6 +1,7 @@
 //! `specconv.Model`: a clustered-PCA model, built in, loaded from a file or trained on numpy
 //! spectra, and the method stacks built from it (cached: building one resamples the model).
 
+use crate::args::{whole, FsPath};
 use crate::errors::Kind;
 use pyo3::prelude::*;
 use specconv_spectral::otsu2018::model::BUILTIN;
@@ -98,7 +99,8 @@ impl Model {
 
     /// A model file written by `specconv train` or `Model.save`.
     #[staticmethod]
-    fn load(py: Python<'_>, path: PathBuf) -> PyResult<Model> {
+    fn load(py: Python<'_>, path: FsPath) -> PyResult<Model> {
+        let path = path.0;
         let m = py
             .detach(|| specconv_conversion::models::load(Some(&path)))
             .map_err(|e| crate::errors::conversion(e.into()))?;
@@ -111,8 +113,8 @@ impl Model {
     /// ("START:END:STEP" nm) under `observer` and `illuminant`. `weights`: one per spectrum.
     /// `source` and `licence` are recorded in the model (and in every file it makes).
     #[staticmethod]
-    #[pyo3(signature = (spectra, wavelengths, *, clusters=TrainOptions::default().clusters,
-                        min_cluster_size=TrainOptions::default().min_cluster_size,
+    #[pyo3(signature = (spectra, wavelengths, *, clusters=TrainOptions::default().clusters as i128,
+                        min_cluster_size=TrainOptions::default().min_cluster_size as i128,
                         max_condition=TrainOptions::default().max_condition,
                         weights=None, bands="380:730:10", observer="cie1931", illuminant="D65",
                         source="numpy", licence=None))]
@@ -121,8 +123,8 @@ impl Model {
         py: Python<'_>,
         spectra: &Bound<'_, PyAny>,
         wavelengths: &Bound<'_, PyAny>,
-        clusters: usize,
-        min_cluster_size: usize,
+        clusters: i128,
+        min_cluster_size: i128,
         max_condition: f64,
         weights: Option<&Bound<'_, PyAny>>,
         bands: &str,
@@ -156,8 +158,8 @@ impl Model {
         let observer = observer.parse().map_err(crate::errors::option)?;
         let illuminant = illuminant.parse().map_err(crate::errors::option)?;
         let opts = specconv_spectral::TrainOptions {
-            clusters,
-            min_cluster_size,
+            clusters: whole("clusters", clusters, usize::MAX)?,
+            min_cluster_size: whole("min_cluster_size", min_cluster_size, usize::MAX)?,
             max_condition,
         };
         let model = py.detach(|| -> Result<_, specconv_spectral::Error> {
@@ -178,18 +180,15 @@ impl Model {
         Ok(Model::new(model.map_err(crate::errors::option)?, None))
     }
 
-    /// Writes the model as JSON (what `specconv train` writes), replacing `path`.
-    fn save(&self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
-        let json = self.inner.to_json();
-        py.detach(|| {
-            specconv_atomic_file::write_checked(
-                &path,
-                json.as_bytes(),
-                &[],
-                specconv_atomic_file::Replace::Allowed,
-            )
-        })
-        .map_err(|e| Kind::File.err(specconv_conversion::message(&e)))?;
+    /// Writes the model as JSON (what `specconv train` writes and `Model.load` reads) to
+    /// `path`, which must end in `.json`; an existing file only with `overwrite=True`, as
+    /// `specconv train --force` (the library's rules for a model file: models::save).
+    #[pyo3(signature = (path, *, overwrite=false))]
+    fn save(&self, py: Python<'_>, path: FsPath, overwrite: bool) -> PyResult<()> {
+        let path = path.0;
+        let replace = specconv_atomic_file::Replace::when(overwrite);
+        py.detach(|| specconv_conversion::models::save(&self.inner, &path, &[], replace))
+            .map_err(|e| crate::errors::conversion(e.into()))?;
         if let Ok(mut o) = self.origin.lock() {
             *o = Some(path);
         }

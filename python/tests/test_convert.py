@@ -135,13 +135,29 @@ def test_progress_is_told_and_a_raising_callback_cancels(tmp_path, png):
 
 
 def test_ctrl_c_cancels_cleanly(tmp_path):
-    big = write_image(tmp_path / "big.png", np.tile(texture(256, 256), (8, 8, 1)))
+    """Ctrl-C during a conversion leaves no output, however late the thread that hears it runs.
+
+    Issue 31: this failed in CI with the conversion finished and exit status 0. Two causes,
+    both closed here. (1) A process started with SIGINT ignored (a background job of a
+    script, `cmd &`) keeps ignoring it, and Python then installs no KeyboardInterrupt handler:
+    the child installs Python's own handler, since a process that hears Ctrl-C is what is
+    tested. (2) The batch queued its events and ran ahead of the thread that hears signals:
+    starved of the CPU, that thread told "started" when the output was already published.
+    Now the batch waits at each window until the caller has heard it: here the caller is
+    held in its progress callback until the signal, and the batch must not finish meanwhile.
+    """
+    big = write_image(tmp_path / "big.png", np.tile(texture(256, 256), (2, 2, 1)))
     out = tmp_path / "big_spectral.exr"
     script = textwrap.dedent(f"""
-        import sys, specconv
+        import signal, sys, time, specconv
+        signal.signal(signal.SIGINT, signal.default_int_handler)
         def told(index, path, done, total):
             if done:
                 print("started", flush=True)
+                # A busy caller, until the signal: short sleeps, since a signal that lands
+                # on another thread wakes no sleep; Python raises it as the next one ends.
+                for _ in range(1200):
+                    time.sleep(0.1)
         try:
             specconv.convert({str(big)!r}, {str(out)!r}, progress=told, threads=1)
         except KeyboardInterrupt:
@@ -151,9 +167,16 @@ def test_ctrl_c_cancels_cleanly(tmp_path):
     """)
     p = subprocess.Popen([sys.executable, "-c", script], stdout=subprocess.PIPE, text=True)
     assert p.stdout.readline().strip() == "started"
+    # Time enough for the whole conversion (1.8 s in a debug build): a batch that ran ahead
+    # of its caller would publish the output meanwhile.
+    time.sleep(3)
     p.send_signal(signal.SIGINT)
-    rest = p.stdout.read()
-    assert p.wait(timeout=60) == 130, rest
+    try:
+        rest, _ = p.communicate(timeout=60)
+    except subprocess.TimeoutExpired:
+        p.kill()
+        pytest.fail(f"still converting 60 s after SIGINT: {p.communicate()[0]}")
+    assert p.returncode == 130, rest
     assert "interrupted" in rest
     assert not out.exists() and leftovers(tmp_path) == []
 

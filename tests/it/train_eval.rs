@@ -291,7 +291,14 @@ fn train_records_weights_balance_and_licences_in_the_model() {
         Cmd::train(&cc)
             .args(["--spectra"])
             .arg(&man)
-            .args(["--clusters", "2", "--min-cluster-size", "10", "-o"])
+            .args([
+                "--clusters",
+                "2",
+                "--min-cluster-size",
+                "10",
+                "--force",
+                "-o",
+            ])
             .arg(&model)
             .args(args)
             .run()
@@ -319,11 +326,11 @@ fn train_records_weights_balance_and_licences_in_the_model() {
     let sets = read(&[]);
     assert_eq!((w(&sets, 0), w(&sets, 1)), (1.0, 1.0));
     Cmd::train(&cc)
-        .args(["--weights", "1,2", "-o"])
+        .args(["--weights", "1,2", "--force", "-o"])
         .arg(&model)
         .fails(2, &["2 values of --weights for 1 --spectra files"]);
     Cmd::train(&cc)
-        .args(["--weights", "0", "-o"])
+        .args(["--weights", "0", "--force", "-o"])
         .arg(&model)
         .fails(2, &["finite weight above 0"]);
 }
@@ -467,4 +474,32 @@ fn report_by_set_scores_each_file_held_out() {
         .args(["--spectra"])
         .arg(&cc)
         .fails(2, &["--holdout"]);
+}
+
+/// Issue 31, item 5: `train -o` replaced an existing model without being asked, and any name
+/// was written. Now the library's rules for a model file (`models::save`): `.json` only, an
+/// existing file only with `--force` (its mode kept), nothing written when refused.
+#[test]
+fn train_replaces_a_model_only_with_force_and_never_a_texture() {
+    let dir = Scratch::new("train-force");
+    let model = dir.path("m.json");
+    std::fs::write(&model, b"{\"an\": \"older model\"}").unwrap();
+    let m = model.to_str().unwrap();
+    let cc = colorchecker();
+    Cmd::train(&cc)
+        .args(["--clusters", "2", "-o", m])
+        .refused(&dir, 2, &[m, "exists", "--force"]);
+    let texture = dir.write("victim.png", "a texture");
+    for force in [&[][..], &["--force"][..]] {
+        Cmd::train(&cc)
+            .args(["--clusters", "2", "-o", texture.to_str().unwrap()])
+            .args(force)
+            .refused(&dir, 2, &["wrong extension", "ending in .json"]);
+    }
+    Cmd::train(&cc)
+        .args(["--clusters", "2", "--force", "-o", m])
+        .ok();
+    let written = std::fs::read_to_string(&model).unwrap();
+    assert!(written.contains("\"leaves\""), "{written}");
+    assert_eq!(std::fs::read(&texture).unwrap(), b"a texture");
 }

@@ -46,7 +46,9 @@ pub mod udim;
 pub use kind::{
     create_own, open_file, open_own, read_bounded, read_bounded_own, readable_file, Kind, ReadError,
 };
-pub use plan::{check as check_plan, Place, Places, PlanError, Replace, Target};
+pub use plan::{
+    check as check_plan, check_extension, has_extension, Place, Places, PlanError, Replace, Target,
+};
 
 use std::fs::File;
 use std::io;

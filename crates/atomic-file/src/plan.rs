@@ -76,6 +76,24 @@ pub enum PlanError {
         /// The directory.
         dir: PathBuf,
     },
+    /// An output whose name does not end in an extension of what is written (or is `-`).
+    #[error(
+        "{}: {what}; give an output file ending in {}",
+        if output.as_os_str() == "-" {
+            "'-' is not a file (nothing is written to standard output)".to_string()
+        } else {
+            format!("the output {} has the wrong extension", output.display())
+        },
+        extensions.iter().map(|e| format!(".{e}")).collect::<Vec<_>>().join(" or ")
+    )]
+    WrongExtension {
+        /// The output.
+        output: PathBuf,
+        /// The extensions allowed (without the dot).
+        extensions: &'static [&'static str],
+        /// What is written, e.g. "a model file is JSON".
+        what: &'static str,
+    },
     /// An output name longer than a file name may be.
     #[error("the output name {} is {length} bytes; file names have at most 255", output.display())]
     NameTooLong {
@@ -84,6 +102,32 @@ pub enum PlanError {
         /// Its name's length in bytes.
         length: usize,
     },
+}
+
+/// Whether `path` ends in one of `extensions` (without the dot; ASCII case ignored): the one
+/// test of an output's name by what is written in it.
+pub fn has_extension(path: &Path, extensions: &[&str]) -> bool {
+    path.extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| extensions.iter().any(|x| e.eq_ignore_ascii_case(x)))
+}
+
+/// Refuses an output whose name does not end in one of `extensions` ([`has_extension`]) or is
+/// `-`; `what` says what is written ("a model file is JSON"). A texture is never replaced by a
+/// file of another kind because its name was given by mistake.
+pub fn check_extension(
+    output: &Path,
+    extensions: &'static [&'static str],
+    what: &'static str,
+) -> Result<(), PlanError> {
+    if output.as_os_str() != "-" && has_extension(output, extensions) {
+        return Ok(());
+    }
+    Err(PlanError::WrongExtension {
+        output: output.to_path_buf(),
+        extensions,
+        what,
+    })
 }
 
 /// Where a path's directory entry is: its directory as a file, and its name.
@@ -331,6 +375,20 @@ mod tests {
         );
         let e = check(&[&x], &[&d.join("none/o.exr")], Replace::Never).unwrap_err();
         assert!(matches!(e, PlanError::NoDirectory { .. }), "{e}");
+        for (name, ok) in [
+            ("m.json", true),
+            ("M.JSON", true),
+            ("m.png", false),
+            ("-", false),
+        ] {
+            let r = check_extension(&d.join(name), &["json"], "a model file is JSON");
+            assert_eq!(r.is_ok(), ok, "{name}");
+        }
+        let e = check_extension(Path::new("t.png"), &["exr"], "spectral OpenEXR").unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "the output t.png has the wrong extension: spectral OpenEXR; give an output file ending in .exr"
+        );
         let long = d.join("n".repeat(256));
         assert!(matches!(
             check(&[&x], &[&long], Replace::Never),

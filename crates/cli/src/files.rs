@@ -23,25 +23,16 @@ pub fn read_spectra(path: &Path) -> Result<SpectralTable> {
 }
 
 /// Refuses an output that is `-` (no command writes to standard output) or whose extension is
-/// not one of `extensions`; `what` says what the command writes, e.g. "to-rgb writes OpenEXR".
-pub fn check_output(path: &Path, extensions: &[&str], what: &str) -> Result<()> {
-    let ext = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase);
-    let names: Vec<String> = extensions.iter().map(|e| format!(".{e}")).collect();
-    let why = if path.as_os_str() == "-" {
-        "'-' is not a file (nothing is written to standard output)".to_string()
-    } else if ext.as_deref().is_some_and(|e| extensions.contains(&e)) {
-        return Ok(());
-    } else {
-        format!("the output {} has the wrong extension", path.display())
-    };
-    // A usage error (exit status 2): nothing was read or written.
-    Err(crate::usage(anyhow::anyhow!(
-        "{why}: {what}; give an output file ending in {}",
-        names.join(" or ")
-    )))
+/// not one of `extensions` (the library's rule, [`specconv_atomic_file::check_extension`]);
+/// `what` says what the command writes, e.g. "to-rgb writes OpenEXR". A usage error (exit
+/// status 2): nothing was read or written.
+pub fn check_output(
+    path: &Path,
+    extensions: &'static [&'static str],
+    what: &'static str,
+) -> Result<()> {
+    specconv_atomic_file::check_extension(path, extensions, what)
+        .map_err(|e| crate::usage(anyhow::Error::new(e)))
 }
 
 /// Refuses, before any work, an output that may not be written by a command reading `inputs`

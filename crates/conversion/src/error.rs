@@ -7,7 +7,7 @@ use crate::options::{Compression, Key};
 use crate::plan;
 use crate::wrapped::{ColourError, ImageError};
 use specconv_atomic_file::udim::UdimError;
-use specconv_atomic_file::PlanError;
+use specconv_atomic_file::{PlanError, WriteError};
 use std::path::PathBuf;
 
 pub use crate::pipeline::Error as ConversionError;
@@ -287,6 +287,7 @@ impl Error {
             Error::TooManyThreads { .. } => Some(Remedy::FewerThreads),
             Error::NoThreads => Some(Remedy::SomeThreads),
             Error::Plan(PlanError::Exists { .. })
+            | Error::Model(ModelError::Save(WriteError::Plan(PlanError::Exists { .. })))
             | Error::Planning(plan::Error::NotMadeBySpecconv { .. }) => Some(Remedy::Replace),
             Error::Planning(plan::Error::Files(PlanError::Exists { .. })) => {
                 Some(Remedy::ReplaceOrSkip)
@@ -326,6 +327,7 @@ impl Error {
         use specconv_oiio::Error as Image;
         match self {
             Error::Plan(PlanError::Exists { .. })
+            | Error::Model(ModelError::Save(WriteError::Plan(PlanError::Exists { .. })))
             | Error::Conversion(ConversionError::Plan(PlanError::Exists { .. }))
             | Error::Planning(
                 plan::Error::Files(PlanError::Exists { .. })
@@ -337,8 +339,13 @@ impl Error {
                 | plan::Error::NoDirectory { .. }
                 | plan::Error::Udim(UdimError::NoTiles { .. } | UdimError::List { .. }),
             ) => Cause::File,
-            Error::Planning(_) => Cause::Setting,
+            Error::Planning(_)
+            | Error::Plan(PlanError::WrongExtension { .. })
+            | Error::Model(ModelError::Save(WriteError::Plan(PlanError::WrongExtension {
+                ..
+            }))) => Cause::Setting,
             Error::Plan(_)
+            | Error::Model(ModelError::Save(_))
             | Error::Input(_)
             | Error::Read { .. }
             | Error::Write { .. }
@@ -503,6 +510,10 @@ mod tests {
             // A data space named where a colour is needed: name the encoding instead.
             Error::Colour(c) => ("Colour", c.is_data_space()),
             Error::Model(ModelError::Invalid(e)) => ("Model(Invalid)", spectral_fixable(e)),
+            Error::Model(ModelError::Save(s)) => (
+                "Model(Save)",
+                matches!(s, WriteError::Plan(PlanError::Exists { .. })),
+            ),
             Error::Model(_) => ("Model", false),
             Error::Method(e) => ("Method", spectral_fixable(e)),
             Error::Conversion(c) => match c {
@@ -587,6 +598,7 @@ mod tests {
         "Threads",
         "Colour",
         "Model(Invalid)",
+        "Model(Save)",
         "Model",
         "Method",
         "Conversion::Input",
@@ -639,7 +651,10 @@ mod tests {
     fn every_error() -> Vec<Error> {
         let p = || PathBuf::from("/t/a.exr");
         let data_space = || specconv_ocio::Error::DataColorSpace { name: "Raw".into() };
-        let no_config = || specconv_ocio::Error::ConfigNotFound { path: p() };
+        let no_config = || specconv_ocio::Error::ConfigNotFound {
+            path: p(),
+            kind: specconv_atomic_file::Kind::Missing,
+        };
         let exists = || PlanError::Exists {
             output: p(),
             more: 0,
@@ -750,6 +765,14 @@ mod tests {
                 "-1".into(),
             ))),
             Error::Model(ModelError::NotText { path: p() }),
+            Error::Model(ModelError::Save(WriteError::Plan(exists()))),
+            Error::Model(ModelError::Save(WriteError::Plan(
+                PlanError::WrongExtension {
+                    output: p(),
+                    extensions: crate::models::EXTENSIONS,
+                    what: "a model file is JSON",
+                },
+            ))),
             Error::Method(one_cluster()),
             Error::Method(specconv_spectral::Error::Colour(not_covered())),
             Error::Method(specconv_spectral::Error::Blend("-1".into())),

@@ -41,6 +41,7 @@ pub mod cost;
 mod describe;
 mod error;
 pub mod images;
+pub mod layout;
 pub mod metadata;
 pub mod models;
 mod named;

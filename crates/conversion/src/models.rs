@@ -26,6 +26,10 @@ pub enum ModelError {
     /// It is not a model.
     #[error(transparent)]
     Invalid(#[from] specconv_spectral::Error),
+    /// It may not be written ([`save`]): another kind of file's name, an input, a special
+    /// file, an existing file not to be replaced; or writing failed.
+    #[error(transparent)]
+    Save(specconv_atomic_file::WriteError),
     /// A bare name (no directory, no extension) that is neither a built-in model nor a file.
     #[error("no built-in model is called '{name}' and there is no such file; the built-in models are {}; a model file ends in .json", names())]
     UnknownBuiltin {
@@ -80,6 +84,28 @@ pub fn load(path: Option<&Path>) -> Result<Model, ModelError> {
         path: path.to_path_buf(),
     })?;
     Ok(Model::from_json(&path.display().to_string(), &text)?)
+}
+
+/// The extension of a model file: JSON, what [`save`] writes and [`load`] reads.
+pub const EXTENSIONS: &[&str] = &["json"];
+
+/// Writes `model` to `path` as JSON (what [`load`] reads), under the rules of every output:
+/// a name ending in .json ([`EXTENSIONS`]: a texture is never replaced by a model), never one
+/// of `inputs` or a special file, an existing file only when `replace` allows, and whole or
+/// not at all (a temporary file renamed into place). `specconv train -o` and Python's
+/// `Model.save` write through it.
+pub fn save(
+    model: &Model,
+    path: &Path,
+    inputs: &[&Path],
+    replace: specconv_atomic_file::Replace,
+) -> Result<(), ModelError> {
+    use specconv_atomic_file::WriteError;
+    specconv_atomic_file::check_extension(path, EXTENSIONS, "a model file is JSON")
+        .map_err(|e| ModelError::Save(WriteError::Plan(e)))?;
+    let json = model.to_json();
+    specconv_atomic_file::write_checked(path, json.as_bytes(), inputs, replace)
+        .map_err(ModelError::Save)
 }
 
 /// A model's one-line description, as outputs record it (`specconvModel`) and reports show

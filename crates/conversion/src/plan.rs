@@ -382,9 +382,7 @@ fn pattern_and_output(input: &Path, output: &Path, tiles: usize) -> Result<(), E
 
 /// Whether `path` names an OpenEXR file (`.exr`, any case).
 fn is_exr(path: &Path) -> bool {
-    path.extension()
-        .and_then(|e| e.to_str())
-        .is_some_and(|e| e.eq_ignore_ascii_case("exr"))
+    specconv_atomic_file::has_extension(path, specconv_exr::EXTENSIONS)
 }
 
 /// The rules of a batch's plan, checked before anything is written: no output is any input (as

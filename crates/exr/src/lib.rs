@@ -71,6 +71,10 @@ impl Error {
     }
 }
 
+/// The extensions of an OpenEXR file's name (without the dot): what every writer of spectral
+/// files checks its output's name against.
+pub const EXTENSIONS: &[&str] = &["exr"];
+
 /// The largest uncompressed block (a tile, or a block of scanlines) OpenEXR's readers accept:
 /// its size in bytes is a signed 32-bit integer. Measured with oiiotool 2.4 on 36 half
 /// channels: 5000×5000 tiles (1.8 GB) open, 6000×6000 (2.6 GB) fail with "Tile size too large
@@ -475,7 +479,8 @@ pub struct SpectralFile {
 impl SpectralFile {
     /// The header of `spec`: channels named by [`channel_name`] (and `A`), `spectralLayoutVersion`
     /// = "1.0", `emissiveUnits` for emission, the extra attributes (characters beyond Latin-1
-    /// become `?`). Refuses an empty image, no bands, two wavelengths equal to six decimals, tiles
+    /// become `?`). Refuses an empty image, no bands, wavelengths that are not finite, positive
+    /// and increasing ([`check_wavelengths`]), two wavelengths equal to six decimals, tiles
     /// of zero size, windows beyond OpenEXR's 32-bit coordinates and attribute names that are not
     /// plain text.
     pub fn new(spec: Spec) -> Result<SpectralFile> {
@@ -831,6 +836,30 @@ fn check_not_empty(spec: &Spec) -> Result<()> {
             "a spectral image needs at least one band".into(),
         ));
     }
+    check_wavelengths(&spec.wavelengths)
+}
+
+/// Refuses wavelengths that name no band: each finite and positive (a channel `T.NaNnm` is
+/// one the layout's readers drop), and in increasing order, each band once. The rule of every
+/// writer of the layout, whichever front-end passes them.
+pub fn check_wavelengths(wavelengths: &[f64]) -> Result<()> {
+    if let Some((i, w)) = wavelengths
+        .iter()
+        .enumerate()
+        .find(|(_, w)| !(w.is_finite() && **w > 0.0))
+    {
+        return Err(Error::Invalid(format!(
+            "wavelength {i} is {w} nm; every wavelength must be a finite number of nanometres above 0"
+        )));
+    }
+    if let Some(i) = wavelengths.windows(2).position(|p| p[1] <= p[0]) {
+        return Err(Error::Invalid(format!(
+            "wavelengths must increase, band by band: {} nm (wavelength {}) is followed by {} nm",
+            wavelengths[i],
+            i,
+            wavelengths[i + 1]
+        )));
+    }
     Ok(())
 }
 
@@ -1098,6 +1127,27 @@ pub fn read_attributes(path: &std::path::Path) -> Result<Vec<(String, String)>> 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn wavelengths_that_name_no_band_are_refused() {
+        for (bad, says) in [
+            (vec![400.0, f64::NAN, 600.0], "wavelength 1 is NaN nm"),
+            (vec![f64::INFINITY], "wavelength 0 is inf nm"),
+            (vec![0.0, 500.0], "wavelength 0 is 0 nm"),
+            (vec![-400.0], "wavelength 0 is -400 nm"),
+            (
+                vec![500.0, 400.0],
+                "500 nm (wavelength 0) is followed by 400 nm",
+            ),
+            (vec![500.0, 500.0], "is followed by 500 nm"),
+        ] {
+            let mut spec = spec(Blocks::Scanlines, false);
+            spec.wavelengths = bad.clone();
+            let e = SpectralFile::new(spec).map(|_| ()).unwrap_err();
+            assert!(e.to_string().contains(says), "{bad:?}: {e}");
+        }
+        assert!(check_wavelengths(&[0.5, 380.0, 1e6]).is_ok());
+    }
 
     #[test]
     fn channel_names_follow_the_layout() {

@@ -46,12 +46,17 @@ pub use contents::{FileRule, Look, View};
 /// What can go wrong with colour management.
 #[derive(Debug, thiserror::Error)]
 pub enum Error {
-    /// There is no config file at the path (nothing there, or not a file); checked before
-    /// OpenColorIO is asked.
-    #[error("OCIO config {}: no such file", path.display())]
+    /// There is no config file at the path (nothing there, or not a regular file: a device or
+    /// FIFO would block or never end); checked before OpenColorIO is asked.
+    #[error("OCIO config {}: {}", path.display(), match kind {
+        specconv_atomic_file::Kind::Missing => "no such file".to_string(),
+        k => format!("{k}, not a config file"),
+    })]
     ConfigNotFound {
         /// The config's path.
         path: PathBuf,
+        /// What is there instead.
+        kind: specconv_atomic_file::Kind,
     },
     /// An `ocio://` name that picks no built-in config.
     #[error(
@@ -243,9 +248,11 @@ impl Config {
 
     fn load_file(path: &Path, source: ConfigSource) -> Result<Config> {
         // OCIO would say "could not read"; a missing file deserves a plainer message.
-        if !path.is_file() {
+        let kind = specconv_atomic_file::Kind::of(path);
+        if kind != specconv_atomic_file::Kind::File {
             return Err(Error::ConfigNotFound {
                 path: path.to_path_buf(),
+                kind,
             });
         }
         let c_path = cstring(&path.to_string_lossy())?;

@@ -50,7 +50,11 @@ pub struct Args {
 
 pub fn run(args: Args) -> Result<()> {
     use specconv_conversion::to_rgb::{Light, ToRgb, ToRgbOptions};
-    crate::files::check_output(&args.output, &["exr"], "to-rgb writes OpenEXR")?;
+    crate::files::check_output(
+        &args.output,
+        specconv_exr::EXTENSIONS,
+        "to-rgb writes OpenEXR",
+    )?;
     let replace = specconv_atomic_file::Replace::when(args.force);
     crate::files::check_writable(&args.output, &[args.input.as_path()], replace)?;
     let mut options = ToRgbOptions::default();

@@ -45,6 +45,9 @@ pub struct Args {
     /// Where to write the model (JSON).
     #[arg(short, long, value_name = "MODEL")]
     output: PathBuf,
+    /// Replace an existing output.
+    #[arg(long)]
+    force: bool,
 }
 
 fn min_cluster_size(s: &str) -> Result<usize, String> {
@@ -55,10 +58,12 @@ fn min_cluster_size(s: &str) -> Result<usize, String> {
 }
 
 pub fn run(args: Args) -> Result<()> {
-    files::check_output(&args.output, &["json"], "train writes a model file (JSON)")?;
+    use specconv_conversion::models;
+    files::check_output(&args.output, models::EXTENSIONS, "a model file is JSON")?;
     let inputs: Vec<&std::path::Path> = args.spectra.iter().map(PathBuf::as_path).collect();
-    // A model is remade as often as it is trained: replaced, never over a spectra file.
-    files::check_writable(&args.output, &inputs, Replace::Allowed)?;
+    // Checked before training, and again as the model is written (models::save).
+    let replace = Replace::when(args.force);
+    files::check_writable(&args.output, &inputs, replace)?;
     let a = args.colorimetry.on(args.colorimetry.bands)?;
     let set = crate::methods::weighted_set(&args.spectra, &a.grid, &args.weights)?;
     let opts = TrainOptions {
@@ -69,12 +74,8 @@ pub fn run(args: Args) -> Result<()> {
     let start = std::time::Instant::now();
     let model = specconv_spectral::train(&set, &a, &opts)?;
     let seconds = start.elapsed().as_secs_f64();
-    files::write_atomically(
-        &args.output,
-        model.to_json().as_bytes(),
-        &inputs,
-        Replace::Allowed,
-    )?;
+    models::save(&model, &args.output, &inputs, replace)
+        .map_err(|e| anyhow::anyhow!(crate::explain(&e.into())))?;
 
     errln!(
         "trained {} clusters on {} spectra in {seconds:.3} s; total error Σ‖s − r‖² = {:.6}",

@@ -191,21 +191,12 @@ pub(crate) struct Storage {
     pub band_range: (f32, f32),
 }
 
-/// Units of `S0.` channels: radiance, as the layout names it; the scale is the convention of
-/// `specconvEmissionUnits`.
-const EMISSIVE_UNITS: &str = "W.m^-2.sr^-1";
-
 impl Storage {
     /// What `options` make of `stack`'s spectra.
     pub fn of(options: &Options, stack: &Stack) -> Storage {
         let by_colour = options.rounding_in_effect() == Rounding::Colour;
         Storage {
-            kind: match options.emission {
-                Some(_) => Kind::Emissive {
-                    units: EMISSIVE_UNITS.into(),
-                },
-                None => Kind::Reflective,
-            },
+            kind: crate::layout::bands(options.emission),
             xyz_weights: by_colour.then(|| match stack.emission() {
                 Some(e) => e.emission.weights.clone(),
                 None => stack.colorimetry().weights.clone(),

@@ -158,6 +158,12 @@ fn missing_config_file_is_reported_plainly() {
     );
     let err = Config::resolve_with_env(None, Some("/no/such/env.ocio".into())).unwrap_err();
     assert!(matches!(err, Error::ConfigNotFound { .. }), "{err:?}");
+    // A device is named as what it is, never read (OpenColorIO would read /dev/zero for ever).
+    let err = Config::resolve_with_env(Some("/dev/zero"), None).unwrap_err();
+    assert_eq!(
+        err.to_string(),
+        "OCIO config /dev/zero: a character device, not a config file"
+    );
 }
 
 #[test]
