@@ -374,3 +374,26 @@ fn preview_with_no_bounces_shows_an_emission_file_as_its_own_colour() {
         .arg(&spectral)
         .refused(&s, 1, &["holds emission", "no bounces"]);
 }
+
+#[test]
+fn a_truncated_png_fails_with_our_one_line_and_nothing_from_libpng() {
+    // libpng printed its own "libpng error: IDAT: Read error: hit end of file" before our
+    // line (issue 32): the chunks are checked before any pixel is read.
+    let s = Scratch::new("studio-truncated-png");
+    let whole = s.path("whole.png");
+    crate::runner::noise(&whole, 64, "uint8");
+    let bytes = std::fs::read(&whole).unwrap();
+    for (name, keep) in [("cut.png", 3000), ("no_end.png", bytes.len() - 12)] {
+        let cut = s.path(name);
+        std::fs::write(&cut, &bytes[..keep]).unwrap();
+        for extra in [&[][..], &["--colorspace", "Raw", "--data", "copy"][..]] {
+            Cmd::convert(&cut, s.path("o.exr"))
+                .args(extra)
+                .run()
+                .one_error_line(1, &[name, "it is truncated"]);
+            assert!(!s.path("o.exr").exists());
+        }
+    }
+    // The whole file converts.
+    Cmd::convert(&whole, s.path("o.exr")).ok();
+}

@@ -290,6 +290,7 @@ pub struct Opened<'a> {
 pub fn open<'a>(job: &'a Job<'a>) -> Result<Opened<'a>> {
     refuse_overwrites(job.input, job.output, job.overwrite)?;
     specconv_exr::check::check_input(job.input)?;
+    png::check_whole(job.input)?;
     let (reader, selection) = input::open(job.input, &job.options.request())?;
     let info = reader.info().clone();
     let space = match texture_space(

@@ -82,6 +82,55 @@ pub fn colour_chunks(path: &Path) -> Option<PngColour> {
     }
 }
 
+/// Refuses a PNG file whose chunks run past its end or that ends before its `IEND` chunk,
+/// from the chunk headers alone (seeking over their data): libpng, reading such a file,
+/// prints its own "libpng error" line to the terminal before OpenImageIO's error comes back.
+/// Anything that is not a PNG file passes.
+pub fn check_whole(path: &Path) -> Result<(), specconv_exr::check::Problem> {
+    let io = |source| specconv_exr::check::Problem::Io {
+        path: path.to_path_buf(),
+        source,
+    };
+    let file = specconv_atomic_file::open_file(path).map_err(|e| io(std::io::Error::other(e)))?;
+    let size = file.metadata().map_err(io)?.len();
+    let mut f = std::io::BufReader::new(file);
+    let mut sig = [0u8; 8];
+    if f.read_exact(&mut sig).is_err() || sig != SIGNATURE {
+        return Ok(());
+    }
+    let mut at = 8u64;
+    let damaged = |message: String| {
+        Err(specconv_exr::check::Problem::Damaged {
+            path: path.to_path_buf(),
+            message,
+        })
+    };
+    loop {
+        let mut head = [0u8; 8];
+        if at + 8 > size || f.read_exact(&mut head).is_err() {
+            return damaged(format!(
+                "the PNG file ends at byte {size}, before its IEND chunk: it is truncated \
+                 (written or copied only in part); write it again"
+            ));
+        }
+        let len = u64::from(u32::from_be_bytes([head[0], head[1], head[2], head[3]]));
+        // Length, type, data, CRC.
+        let end = at + 8 + len + 4;
+        if end > size {
+            let kind = String::from_utf8_lossy(&head[4..8]).into_owned();
+            return damaged(format!(
+                "the PNG file ends at byte {size}, inside its {kind} chunk (which ends at byte \
+                 {end}): it is truncated (written or copied only in part); write it again"
+            ));
+        }
+        if &head[4..8] == b"IEND" {
+            return Ok(());
+        }
+        f.seek_relative(len as i64 + 4).map_err(io)?;
+        at = end;
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -92,6 +141,27 @@ mod tests {
         v.extend_from_slice(data);
         v.extend_from_slice(&[0; 4]); // the CRC is not checked here
         v
+    }
+
+    #[test]
+    fn a_png_cut_short_is_damaged_and_a_whole_one_passes() {
+        let dir = std::env::temp_dir().join(format!("specconv-png-cut-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("c.png");
+        let mut bytes = SIGNATURE.to_vec();
+        bytes.extend(chunk(b"IHDR", &[0; 13]));
+        bytes.extend(chunk(b"IDAT", &[7; 100]));
+        bytes.extend(chunk(b"IEND", &[]));
+        std::fs::write(&path, &bytes).unwrap();
+        assert!(check_whole(&path).is_ok());
+        for cut in [1, 12, 50, bytes.len() - 9] {
+            std::fs::write(&path, &bytes[..bytes.len() - cut]).unwrap();
+            let e = check_whole(&path).unwrap_err().to_string();
+            assert!(e.contains("truncated"), "cut {cut}: {e}");
+        }
+        std::fs::write(&path, b"not a png").unwrap();
+        assert!(check_whole(&path).is_ok());
+        std::fs::remove_dir_all(&dir).ok();
     }
 
     #[test]
