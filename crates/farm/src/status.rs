@@ -93,6 +93,45 @@ pub struct Status {
     pub files: Vec<FileStatus>,
 }
 
+/// A file's state from its task's record of it (`outcome`, none when the log has none), its
+/// output, and its task's state.
+fn file_state(outcome: Option<&Outcome>, output: &Path, task: &TaskStatus) -> FileState {
+    let (r, t) = (task.round, task.task);
+    match outcome {
+        Some(Outcome::Done) if output.exists() => FileState::Done,
+        Some(Outcome::Done) => FileState::Pending {
+            why: "its output has gone missing".into(),
+            waiting: false,
+        },
+        Some(Outcome::Failed(e)) => FileState::Failed { error: e.clone() },
+        None if task.state == NOT_SUBMITTED => FileState::Pending {
+            why: format!(
+                "round {r} was not submitted (interrupted before Slurm took it); \
+                 `specconv farm retry` submits it"
+            ),
+            waiting: false,
+        },
+        None if task.state == UNREACHABLE => FileState::Pending {
+            why: format!("task {t} may still run: Slurm did not answer"),
+            waiting: true,
+        },
+        None if task.active() => FileState::Pending {
+            why: format!("task {t} is {}", task.state.to_lowercase()),
+            waiting: true,
+        },
+        None => FileState::Pending {
+            why: format!(
+                "task {t} ended ({}{}) before converting it",
+                task.state,
+                task.exit
+                    .as_deref()
+                    .map_or(String::new(), |e| format!(", exit {e}"))
+            ),
+            waiting: false,
+        },
+    }
+}
+
 impl Status {
     /// Combines the manifest, the logs under `job_dir` and Slurm's view of each submitted
     /// round's job (`slurm(job_id)`: `None` when Slurm has forgotten it, an error when it could
@@ -103,6 +142,44 @@ impl Status {
         m: &Manifest,
         slurm: &mut dyn FnMut(&str) -> crate::slurm::Tasks,
     ) -> Result<Status, crate::Error> {
+        let (tasks, logs) = Status::tasks(job_dir, m, slurm)?;
+        let mut files = Vec::new();
+        for (i, f) in m.files.iter().enumerate() {
+            // The latest round that planned this file decides.
+            let Some((r, t)) = m.rounds.iter().enumerate().rev().find_map(|(r, round)| {
+                round
+                    .tasks
+                    .iter()
+                    .position(|t| t.contains(&i))
+                    .map(|t| (r, t))
+            }) else {
+                continue;
+            };
+            let Some(task) = tasks.iter().find(|s| s.round == r && s.task == t) else {
+                continue;
+            };
+            let record = logs[r][t].records.get(&f.input);
+            files.push(FileStatus {
+                index: i,
+                input: f.input.clone(),
+                output: f.output.clone(),
+                round: r,
+                task: t,
+                state: file_state(record.map(|r| &r.outcome), &f.output, task),
+                pixels: record.map_or(0, |r| r.pixels),
+                seconds: record.map_or(0.0, |r| r.seconds),
+            });
+        }
+        Ok(Status { tasks, files })
+    }
+
+    /// Every task of every round as the manifest, its log and Slurm say, and the logs by
+    /// round and task.
+    fn tasks(
+        job_dir: &Path,
+        m: &Manifest,
+        slurm: &mut dyn FnMut(&str) -> crate::slurm::Tasks,
+    ) -> Result<(Vec<TaskStatus>, Vec<Vec<TaskLog>>), crate::Error> {
         let mut tasks = Vec::new();
         let mut logs = Vec::new();
         for (r, round) in m.rounds.iter().enumerate() {
@@ -139,67 +216,7 @@ impl Status {
             }
             logs.push(round_logs);
         }
-        let mut files = Vec::new();
-        for (i, f) in m.files.iter().enumerate() {
-            // The latest round that planned this file decides.
-            let Some((r, t)) = m.rounds.iter().enumerate().rev().find_map(|(r, round)| {
-                round
-                    .tasks
-                    .iter()
-                    .position(|t| t.contains(&i))
-                    .map(|t| (r, t))
-            }) else {
-                continue;
-            };
-            let Some(task) = tasks.iter().find(|s| s.round == r && s.task == t) else {
-                continue;
-            };
-            let record = logs[r][t].records.get(&f.input);
-            let state = match record.map(|r| &r.outcome) {
-                Some(Outcome::Done) if f.output.exists() => FileState::Done,
-                Some(Outcome::Done) => FileState::Pending {
-                    why: "its output has gone missing".into(),
-                    waiting: false,
-                },
-                Some(Outcome::Failed(e)) => FileState::Failed { error: e.clone() },
-                None if task.state == NOT_SUBMITTED => FileState::Pending {
-                    why: format!(
-                        "round {r} was not submitted (interrupted before Slurm took it); \
-                         `specconv farm retry` submits it"
-                    ),
-                    waiting: false,
-                },
-                None if task.state == UNREACHABLE => FileState::Pending {
-                    why: format!("task {t} may still run: Slurm did not answer"),
-                    waiting: true,
-                },
-                None if task.active() => FileState::Pending {
-                    why: format!("task {t} is {}", task.state.to_lowercase()),
-                    waiting: true,
-                },
-                None => FileState::Pending {
-                    why: format!(
-                        "task {t} ended ({}{}) before converting it",
-                        task.state,
-                        task.exit
-                            .as_deref()
-                            .map_or(String::new(), |e| format!(", exit {e}"))
-                    ),
-                    waiting: false,
-                },
-            };
-            files.push(FileStatus {
-                index: i,
-                input: f.input.clone(),
-                output: f.output.clone(),
-                round: r,
-                task: t,
-                state,
-                pixels: record.map_or(0, |r| r.pixels),
-                seconds: record.map_or(0.0, |r| r.seconds),
-            });
-        }
-        Ok(Status { tasks, files })
+        Ok((tasks, logs))
     }
 
     /// Whether file `index`'s task (in the latest round that planned it) is known to have
