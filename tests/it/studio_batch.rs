@@ -85,6 +85,24 @@ fn texture_metadata_is_carried_as_maketx_carries_it_and_back_through_to_rgb() {
     let stripped = s.path("rock_stripped.exr");
     Cmd::convert(&input, &stripped).arg("--strip-metadata").ok();
     assert!(metadata_of(&string_attributes(&stripped)).is_empty());
+
+    // A data copy (OpenImageIO's make_texture, which keeps the input's header) carries the
+    // same metadata as maketx, and --strip-metadata leaves it out there too.
+    let copy = ["--colorspace", "Raw", "--data", "copy"];
+    let copied = s.path("rock_copy.exr");
+    Cmd::convert(&input, &copied).args(copy).ok();
+    assert_eq!(metadata_of(&string_attributes(&copied)), want);
+    let copied = s.path("rock_copy_stripped.exr");
+    Cmd::convert(&input, &copied)
+        .args(copy)
+        .arg("--strip-metadata")
+        .ok();
+    let left = string_attributes(&copied);
+    assert!(metadata_of(&left).is_empty(), "{left:?}");
+    assert!(
+        left.contains_key("specconvSettings") || left.keys().any(|k| k.starts_with("specconv")),
+        "provenance kept: {left:?}"
+    );
 }
 
 /// `names` in the scratch directory, each an OpenEXR of one colour brighter than white (an

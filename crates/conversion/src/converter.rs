@@ -227,8 +227,15 @@ impl Converter {
                     Blocks::Scanlines => (64, 64),
                 };
                 let compression = self.options.compression.to_string();
-                let attributes = self.copy_attributes(input, &data);
                 let selection = data.selection.as_ref();
+                let mut attributes = self.copy_attributes(input, &data);
+                if self.options.strip_metadata {
+                    let subimage = selection.map_or(0, |s| s.subimage);
+                    attributes.push(
+                        stripped(input, subimage)
+                            .map_err(|e| Error::Conversion(ConversionError::Input(e.into())))?,
+                    );
+                }
                 let how = crate::pipeline::data::Copy {
                     subimage: selection.map_or(0, |s| s.subimage),
                     tile: (
@@ -452,6 +459,19 @@ impl Options {
             ..Description::convert_default(self.method)
         }
     }
+}
+
+/// For make_texture, which keeps the input's header: the names of the texture metadata a
+/// stripped copy leaves out ([`crate::metadata::carried`] of the input's `subimage`), as the
+/// shim's `specconv:erase` setting (names a line each).
+fn stripped(input: &Path, subimage: u32) -> specconv_oiio::Result<(String, String)> {
+    let mut reader = specconv_oiio::ImageReader::open(input)?;
+    reader.select_subimage(subimage)?;
+    let names: Vec<String> = crate::pipeline::texture::metadata(&reader)?
+        .into_iter()
+        .map(|(name, _)| name)
+        .collect();
+    Ok(("specconv:erase".into(), names.join("\n")))
 }
 
 /// The input's file name, as `specconvSource` records it.

@@ -12,6 +12,7 @@
 #include <cstring>
 #include <exception>
 #include <memory>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -418,6 +419,15 @@ int32_t specconv_oiio_make_texture(const char *input, int32_t subimage, const ch
         for (size_t i = 0; i < count; ++i) {
             if (names[i] == nullptr || values[i] == nullptr)
                 return fail(SPECCONV_OIIO_ERR_ARGUMENT, "null attribute");
+            // Not a setting: the input's attributes (a name a line) the texture leaves out,
+            // since make_texture copies the input's header.
+            if (std::string(names[i]) == "specconv:erase") {
+                std::istringstream lines(values[i]);
+                for (std::string name; std::getline(lines, name);)
+                    if (!name.empty())
+                        source.specmod().erase_attribute(name);
+                continue;
+            }
             config.attribute(names[i], values[i]);
         }
         if (!OIIO::ImageBufAlgo::make_texture(OIIO::ImageBufAlgo::MakeTxTexture, source, output,

@@ -116,8 +116,9 @@ int32_t specconv_oiio_read_scanlines(specconv_oiio_input *input, int32_t level, 
  * MIP-mapped OpenEXR texture at `output` with ImageBufAlgo::make_texture (what maketx does:
  * box-filtered levels, the input's metadata kept, its wrapmodes when it has them), tiles of
  * tile_width x tile_height, OpenEXR compression `compression` ("zip", ...), and the `count`
- * string attributes names[i] = values[i] added. OpenImageIO writes a temporary beside `output`
- * and renames it into place. */
+ * string attributes names[i] = values[i] added, except "specconv:erase", whose value names
+ * (a line each) the input's attributes to leave out. OpenImageIO writes a temporary beside
+ * `output` and renames it into place. */
 int32_t specconv_oiio_make_texture(const char *input, int32_t subimage, const char *output,
                                    int32_t tile_width, int32_t tile_height,
                                    const char *compression, const char *const *names,
