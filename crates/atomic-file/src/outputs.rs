@@ -319,7 +319,7 @@ mod tests {
             Template::parse("{{stem}}.exr").unwrap_err().to_string(),
             "the output template \"{{stem}}.exr\" has {{stem}}, which writes the field {stem} \
              with braces doubled: fields take one brace on each side; its fields are {dir}, \
-             {stem}, {name}, {udim}, {tile}"
+             {stem}, {name}, {ext}, {udim}, {tile}"
         );
     }
 }
