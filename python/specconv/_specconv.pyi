@@ -23,15 +23,19 @@ class Model:
         spectra: _Array,
         wavelengths: _Array,
         *,
-        clusters: int = 8,
-        min_cluster_size: int = 20,
-        max_condition: float = 100.0,
+        clusters: Optional[int] = None,
+        min_cluster_size: Optional[int] = None,
+        max_condition: Optional[float] = None,
         weights: Optional[_Array] = None,
         bands: str = "380:730:10",
         observer: str = "cie1931",
         illuminant: str = "D65",
         source: str = "numpy",
         licence: Optional[str] = None,
+        commercial: Optional[str] = None,
+        with_model: Optional[_Path] = None,
+        with_data: Optional[_Path] = None,
+        weight: float = 1.0,
     ) -> Model: ...
     def save(self, path: _Path, *, overwrite: bool = False) -> None: ...
     @property
@@ -44,6 +48,10 @@ class Model:
     def illuminant(self) -> str: ...
     @property
     def sources(self) -> str: ...
+    @property
+    def commercial(self) -> str: ...
+    @property
+    def attribution(self) -> Optional[str]: ...
     @property
     def description(self) -> str: ...
     @property

@@ -66,6 +66,33 @@ impl Model {
     }
 }
 
+/// The model a Python training builds on (`with_model`), with its sets read again.
+struct Base {
+    model: specconv_spectral::Model,
+    parts: Vec<specconv_spectral::Part>,
+}
+
+impl Base {
+    fn read(
+        py: Python<'_>,
+        model: &std::path::Path,
+        dir: &std::path::Path,
+        unweighted: bool,
+    ) -> PyResult<Base> {
+        if !unweighted {
+            return Err(Kind::Option.err(
+                "with with_model, give your spectra one weight (weight=…), not weights per spectrum",
+            ));
+        }
+        py.detach(|| {
+            let model = specconv_conversion::models::load(Some(model))?;
+            let parts = specconv_conversion::models::recorded_parts(&model, dir)?;
+            Ok(Base { model, parts })
+        })
+        .map_err(|e: specconv_conversion::models::ModelError| crate::errors::conversion(e.into()))
+    }
+}
+
 fn describe(origin: Option<PathBuf>, m: &specconv_spectral::Model) -> String {
     match origin {
         Some(p) => specconv_conversion::models::describe(Some(&p), m),
@@ -111,29 +138,40 @@ impl Model {
     /// nm), as `specconv train` does: `clusters` leaves of at least `min_cluster_size` spectra,
     /// each with a condition number of M below `max_condition`, on the grid `bands`
     /// ("START:END:STEP" nm) under `observer` and `illuminant`. `weights`: one per spectrum.
-    /// `source` and `licence` are recorded in the model (and in every file it makes).
+    /// `source`, `licence` and `commercial` ("yes", "no", "unstated") are recorded in the
+    /// model (and in every file it makes).
+    ///
+    /// `with_model` (a built-in name or a model file) trains on top of that model's own data,
+    /// as `specconv train --with`: its recorded sets, read from the folder `with_data`, join
+    /// these spectra (which weigh `weight` each) with their recorded weights and terms, in the
+    /// model's grid, observer and illuminant, its options the defaults of `clusters`,
+    /// `min_cluster_size` and `max_condition`.
     #[staticmethod]
-    #[pyo3(signature = (spectra, wavelengths, *, clusters=TrainOptions::default().clusters as i128,
-                        min_cluster_size=TrainOptions::default().min_cluster_size as i128,
-                        max_condition=TrainOptions::default().max_condition,
-                        weights=None, bands="380:730:10", observer="cie1931", illuminant="D65",
-                        source="numpy", licence=None))]
+    #[pyo3(signature = (spectra, wavelengths, *, clusters=None, min_cluster_size=None,
+                        max_condition=None, weights=None, bands="380:730:10",
+                        observer="cie1931", illuminant="D65", source="numpy", licence=None,
+                        commercial=None, with_model=None, with_data=None, weight=1.0))]
     #[allow(clippy::too_many_arguments)]
     fn train(
         py: Python<'_>,
         spectra: &Bound<'_, PyAny>,
         wavelengths: &Bound<'_, PyAny>,
-        clusters: i128,
-        min_cluster_size: i128,
-        max_condition: f64,
+        clusters: Option<i128>,
+        min_cluster_size: Option<i128>,
+        max_condition: Option<f64>,
         weights: Option<&Bound<'_, PyAny>>,
         bands: &str,
         observer: &str,
         illuminant: &str,
         source: &str,
         licence: Option<String>,
+        commercial: Option<&str>,
+        with_model: Option<FsPath>,
+        with_data: Option<FsPath>,
+        weight: f64,
     ) -> PyResult<Model> {
         use crate::arrays::{values, Values};
+        use specconv_spectral::otsu2018::terms::{Commercial, Terms};
         let flat = |v: Values| match v {
             Values::F32(lead, v) => (lead, v.into_iter().map(f64::from).collect::<Vec<_>>()),
             Values::F64(lead, v) => (lead, v),
@@ -154,26 +192,75 @@ impl Model {
                 w
             }
         };
-        let grid: specconv_colour::Grid = bands.parse().map_err(crate::errors::option)?;
-        let observer = observer.parse().map_err(crate::errors::option)?;
-        let illuminant = illuminant.parse().map_err(crate::errors::option)?;
+        let table = specconv_colour::SpectralTable {
+            source: source.to_string(),
+            wavelengths,
+            names: (0..lead[0]).map(|k| format!("spectrum {k}")).collect(),
+            columns: spectra.chunks_exact(n).map(<[f64]>::to_vec).collect(),
+        };
+        let mut terms = match &licence {
+            Some(l) => Terms::stated(l, Commercial::Unstated),
+            None => Terms::known(source),
+        };
+        if let Some(c) = commercial {
+            terms.commercial = c
+                .parse()
+                .map_err(|e: String| Kind::Option.err(format!("commercial: {e}")))?;
+        }
+        let base = match (with_model, with_data) {
+            (Some(m), Some(dir)) => Some(Base::read(py, &m.0, &dir.0, weights.is_empty())?),
+            (None, None) => None,
+            _ => return Err(Kind::Option.err(
+                "with_model and with_data go together: the model, and the folder holding its sets",
+            )),
+        };
+        let setting = match &base {
+            Some(b) => (b.model.grid, b.model.observer, b.model.illuminant),
+            None => (
+                bands.parse().map_err(crate::errors::option)?,
+                observer.parse().map_err(crate::errors::option)?,
+                illuminant.parse().map_err(crate::errors::option)?,
+            ),
+        };
+        let defaults = base.as_ref().map_or_else(TrainOptions::default, |b| {
+            specconv_conversion::models::recorded_options(&b.model)
+        });
         let opts = specconv_spectral::TrainOptions {
-            clusters: whole("clusters", clusters, usize::MAX)?,
-            min_cluster_size: whole("min_cluster_size", min_cluster_size, usize::MAX)?,
-            max_condition,
+            clusters: whole(
+                "clusters",
+                clusters.unwrap_or(defaults.clusters as i128),
+                usize::MAX,
+            )?,
+            min_cluster_size: whole(
+                "min_cluster_size",
+                min_cluster_size.unwrap_or(defaults.min_cluster_size as i128),
+                usize::MAX,
+            )?,
+            max_condition: max_condition.unwrap_or(defaults.max_condition),
         };
         let model = py.detach(|| -> Result<_, specconv_spectral::Error> {
-            let table = specconv_colour::SpectralTable {
-                source: source.to_string(),
-                wavelengths,
-                names: (0..lead[0]).map(|k| format!("spectrum {k}")).collect(),
-                columns: spectra.chunks_exact(n).map(<[f64]>::to_vec).collect(),
+            let (grid, observer, illuminant) = setting;
+            let mut own = specconv_spectral::TrainingSet::from_table(&table, &grid)?;
+            let set = match base {
+                Some(b) => {
+                    let mut parts = b.parts;
+                    parts.push(specconv_spectral::Part {
+                        set: own,
+                        weight,
+                        terms,
+                    });
+                    specconv_spectral::TrainingSet::union(&parts, 0.0)?
+                }
+                None => {
+                    own.sets.iter_mut().for_each(|s| {
+                        s.licence = terms.licence.clone();
+                        s.commercial = terms.commercial;
+                        s.attribution = terms.attribution.clone();
+                    });
+                    own.weights = weights;
+                    own
+                }
             };
-            let mut set = specconv_spectral::TrainingSet::from_table(&table, &grid)?;
-            if let Some(l) = licence {
-                set.sets.iter_mut().for_each(|s| s.licence = l.clone());
-            }
-            set.weights = weights;
             let a = specconv_colour::Colorimetry::new(grid, observer, illuminant)?;
             specconv_spectral::train(&set, &a, &opts)
         });
@@ -223,6 +310,19 @@ impl Model {
     #[getter]
     fn sources(&self) -> String {
         specconv_conversion::models::sources(&self.inner)
+    }
+
+    /// Whether the model may be used commercially: "yes" only when every set it was trained
+    /// on may, "no" when one may not, else "unstated".
+    #[getter]
+    fn commercial(&self) -> String {
+        self.inner.training.commercial().to_string()
+    }
+
+    /// What a user of its training data must credit (`specconvModelAttribution`), or `None`.
+    #[getter]
+    fn attribution(&self) -> Option<String> {
+        specconv_conversion::models::attribution(&self.inner)
     }
 
     /// The one-line description outputs record (`specconvModel`).

@@ -1,25 +1,14 @@
 //! Reading inputs and writing outputs safely: an output is written to a temporary file beside
 //! it and renamed into place, so a failed run leaves no partial file.
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use specconv_atomic_file::Replace;
 use specconv_colour::SpectralTable;
 use std::path::Path;
 
-/// The largest spectra table read: 64× the largest measured set the project uses (3.7 MB).
-const SPECTRA_LIMIT: u64 = 256 << 20;
-
-/// Reads a spectra CSV file.
+/// Reads a spectra CSV file (the library's reader).
 pub fn read_spectra(path: &Path) -> Result<SpectralTable> {
-    let bytes = specconv_atomic_file::read_bounded(path, SPECTRA_LIMIT, "spectra table")
-        .with_context(|| format!("cannot read spectra file {}", path.display()))?;
-    let text = String::from_utf8(bytes)
-        .with_context(|| format!("spectra file {} is not UTF-8 text", path.display()))?;
-    let name = path.file_name().map_or_else(
-        || path.display().to_string(),
-        |n| n.to_string_lossy().into_owned(),
-    );
-    Ok(SpectralTable::parse(&name, &text)?)
+    Ok(specconv_conversion::models::read_spectra(path)?)
 }
 
 /// Refuses an output that is `-` (no command writes to standard output) or whose extension is

@@ -51,14 +51,32 @@ fn long_version() -> &'static str {
             "{}\nbuilt-in models (--model NAME):",
             env!("CARGO_PKG_VERSION")
         );
+        let mut notices = Vec::new();
         for b in specconv_spectral::otsu2018::model::BUILTIN {
             let m = specconv_spectral::Model::builtin_named(b.name).expect("built in");
             s.push_str(&format!(
-                "\n  {}: {}\n    {} clusters, trained on {}",
+                "\n  {}: {}\n    commercial use: {}\n    {} clusters, trained on {}",
                 b.name,
                 b.summary,
+                m.training.commercial(),
                 m.leaves.len(),
                 specconv_conversion::models::sources(m)
+            ));
+            if let Some(lines) = specconv_conversion::models::attribution(m) {
+                s.push_str(&format!("\n    credit: {lines}"));
+            }
+            for n in m.training.notices() {
+                if !notices.contains(&n) {
+                    notices.push(n);
+                }
+            }
+        }
+        // The notices the built-in models' data ship under (docs/licences.md), verbatim.
+        for n in notices {
+            s.push_str(&format!(
+                "\n\nnotice for {}:\n{}",
+                n.title,
+                n.text.trim_end()
             ));
         }
         s

@@ -185,6 +185,12 @@ pub struct WeightArgs {
     /// "unknown").
     #[arg(long = "licence", value_name = "TEXT")]
     pub licences: Vec<String>,
+    /// Whether each --spectra file's data may be used commercially (yes, no, unstated), in
+    /// their order, recorded in the model: a model may be used commercially only when all its
+    /// sets may (default: what ../shared/spectra/README.md states for the file name, else
+    /// unstated; your own measurements: yes).
+    #[arg(long = "commercial", value_name = "yes|no|unstated")]
+    pub commercial: Vec<specconv_spectral::otsu2018::terms::Commercial>,
 }
 
 /// The --spectra files as one training set, weighted and with their licences.
@@ -204,10 +210,11 @@ pub fn weighted_parts(
     grid: &specconv_colour::Grid,
     w: &WeightArgs,
 ) -> Result<Vec<specconv_spectral::Part>> {
-    use specconv_spectral::otsu2018::train::known_licence;
+    use specconv_spectral::otsu2018::terms::Terms;
     for (flag, count) in [
         ("--weights", w.weights.len()),
         ("--licence", w.licences.len()),
+        ("--commercial", w.commercial.len()),
     ] {
         if count != 0 && count != paths.len() {
             return Err(crate::usage(anyhow::anyhow!(
@@ -220,13 +227,16 @@ pub fn weighted_parts(
     for (k, path) in paths.iter().enumerate() {
         let table = crate::files::read_spectra(path)?;
         let set = specconv_spectral::TrainingSet::from_table(&table, grid)?;
+        let mut terms = match w.licences.get(k) {
+            Some(licence) => Terms::stated(licence, Default::default()),
+            None => Terms::known(&table.source),
+        };
+        if let Some(&c) = w.commercial.get(k) {
+            terms.commercial = c;
+        }
         parts.push(specconv_spectral::Part {
             weight: w.weights.get(k).copied().unwrap_or(1.0),
-            licence: w
-                .licences
-                .get(k)
-                .cloned()
-                .unwrap_or_else(|| known_licence(&table.source).to_string()),
+            terms,
             set,
         });
     }

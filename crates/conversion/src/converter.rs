@@ -113,6 +113,7 @@ impl Converter {
         let storage = Storage::of(&options, &stack);
         let provenance = Provenance {
             model: Some(model_description.clone()),
+            model_attribution: crate::models::attribution(&model),
             method: Some(stack.method().name().to_string()),
             blend: Some(stack.blend().to_string()),
             observer: Some(model.observer),

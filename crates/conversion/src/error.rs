@@ -350,7 +350,7 @@ impl Error {
             | Error::Read { .. }
             | Error::Write { .. }
             | Error::Attributes(_)
-            | Error::Model(ModelError::Read { .. }) => Cause::File,
+            | Error::Model(ModelError::Read { .. } | ModelError::Spectra { .. }) => Cause::File,
             Error::Conversion(
                 ConversionError::Plan(_)
                 | ConversionError::Output(_)

@@ -2,7 +2,7 @@
 //! [`specconv_spectral::otsu2018::model::BUILTIN`]) or a file from `specconv train`.
 
 use specconv_spectral::otsu2018::model::BUILTIN;
-use specconv_spectral::Model;
+use specconv_spectral::{Model, Part, TrainOptions, TrainingSet};
 use std::path::Path;
 
 /// Why a model file cannot be used.
@@ -30,6 +30,20 @@ pub enum ModelError {
     /// file, an existing file not to be replaced; or writing failed.
     #[error(transparent)]
     Save(specconv_atomic_file::WriteError),
+    /// A spectra table (CSV) cannot be read.
+    #[error("cannot read spectra file {}: {why}", path.display())]
+    Spectra {
+        /// The file.
+        path: std::path::PathBuf,
+        /// Why, in words.
+        why: String,
+    },
+    /// A model to train on top of records no sets.
+    #[error("{model} does not record the sets it was trained on, so no model can be trained on top of it; give its sets with --spectra instead")]
+    NoRecordedSets {
+        /// The model, described.
+        model: String,
+    },
     /// A bare name (no directory, no extension) that is neither a built-in model nor a file.
     #[error("no built-in model is called '{name}' and there is no such file; the built-in models are {}; a model file ends in .json", names())]
     UnknownBuiltin {
@@ -86,6 +100,69 @@ pub fn load(path: Option<&Path>) -> Result<Model, ModelError> {
     Ok(Model::from_json(&path.display().to_string(), &text)?)
 }
 
+/// The largest spectra table read: 64× the largest measured set the project uses (3.7 MB).
+pub const SPECTRA_LIMIT: u64 = 256 << 20;
+
+/// Reads a spectra CSV file; the table is named by the file's name (as models record it).
+pub fn read_spectra(path: &Path) -> Result<specconv_colour::SpectralTable, ModelError> {
+    let bad = |why: String| ModelError::Spectra {
+        path: path.to_path_buf(),
+        why,
+    };
+    let bytes = specconv_atomic_file::read_bounded(path, SPECTRA_LIMIT, "spectra table")
+        .map_err(|e| bad(e.to_string()))?;
+    let text = String::from_utf8(bytes).map_err(|_| bad("it is not UTF-8 text".into()))?;
+    let name = path.file_name().map_or_else(
+        || path.display().to_string(),
+        |n| n.to_string_lossy().into_owned(),
+    );
+    // A table that is not one says where (file, line), as any other bad table does.
+    specconv_colour::SpectralTable::parse(&name, &text)
+        .map_err(|e| ModelError::Invalid(specconv_spectral::Error::Colour(e)))
+}
+
+/// The sets `m` was trained on, read again from the folder `dir` that holds its recorded files
+/// (../shared/spectra for the built-in models), each with its recorded weight and terms, on
+/// `m`'s grid: what a studio's own sets join to make a model it owns (`train --with`,
+/// Python's `Model.train(with_model=…)`). Trained alone with [`recorded_options`] they give
+/// `m` back bit for bit.
+pub fn recorded_parts(m: &Model, dir: &Path) -> Result<Vec<Part>, ModelError> {
+    if m.training.sets.is_empty() {
+        return Err(ModelError::NoRecordedSets {
+            model: describe(None, m),
+        });
+    }
+    m.training
+        .sets
+        .iter()
+        .map(|r| {
+            // A recorded source is a file name, never a path: nothing outside `dir` is read.
+            let file = Path::new(&r.source);
+            if file.components().count() != 1 || file.file_name().is_none() {
+                return Err(ModelError::Spectra {
+                    path: file.to_path_buf(),
+                    why: "a model's recorded set must be a plain file name".into(),
+                });
+            }
+            let table = read_spectra(&dir.join(file))?;
+            Ok(Part {
+                set: TrainingSet::from_table(&table, &m.grid)?,
+                weight: r.weight,
+                terms: r.terms(),
+            })
+        })
+        .collect()
+}
+
+/// The options `m` was trained with.
+pub fn recorded_options(m: &Model) -> TrainOptions {
+    TrainOptions {
+        clusters: m.training.clusters_requested,
+        min_cluster_size: m.training.min_cluster_size,
+        max_condition: m.training.max_condition,
+    }
+}
+
 /// The extension of a model file: JSON, what [`save`] writes and [`load`] reads.
 pub const EXTENSIONS: &[&str] = &["json"];
 
@@ -109,7 +186,8 @@ pub fn save(
 }
 
 /// A model's one-line description, as outputs record it (`specconvModel`) and reports show
-/// it: which model, its setting, and the data it was trained on with their weights and terms.
+/// it: which model, its setting, the data it was trained on with their weights and terms, and
+/// whether the model may be used commercially (only when every set may).
 /// ASCII only: readers of EXR text attributes differ on anything else (colour-science 0.4.7's
 /// fails on a non-ASCII byte), so other characters of a file name or licence become `?`.
 pub fn describe(path: Option<&Path>, m: &Model) -> String {
@@ -121,14 +199,32 @@ pub fn describe(path: Option<&Path>, m: &Model) -> String {
         },
     };
     let text = format!(
-        "{name} ({} clusters, {}, {}, {} nm, trained on {} spectra from {})",
+        "{name} ({} clusters, {}, {}, {} nm, trained on {} spectra from {}; commercial use: {})",
         m.leaves.len(),
         m.observer,
         m.illuminant,
         m.grid,
         m.training.count,
-        sources(m)
+        sources(m),
+        m.training.commercial()
     );
+    ascii(&text)
+}
+
+/// What a user of the model's data must credit, one line per source (each once), as outputs
+/// record it (`specconvModelAttribution`); `None` when no set asks for any.
+pub fn attribution(m: &Model) -> Option<String> {
+    let mut lines: Vec<&str> = Vec::new();
+    for line in m.training.sets.iter().flat_map(|s| &s.attribution) {
+        if !lines.contains(&line.as_str()) {
+            lines.push(line);
+        }
+    }
+    (!lines.is_empty()).then(|| ascii(&lines.join("; ")))
+}
+
+/// ASCII only (see [`describe`]).
+fn ascii(text: &str) -> String {
     text.chars()
         .map(|c| if c.is_ascii() { c } else { '?' })
         .collect()

@@ -12,8 +12,11 @@ pub const SETTINGS: &str = "specconvSettings";
 #[derive(Debug, Clone, Default, PartialEq)]
 #[non_exhaustive]
 pub struct Provenance {
-    /// The model, described ([`crate::models::describe`]).
+    /// The model, described ([`crate::models::describe`]), with whether it may be used
+    /// commercially.
     pub model: Option<String>,
+    /// What a user of the model's training data must credit ([`crate::models::attribution`]).
+    pub model_attribution: Option<String>,
     /// The method stack's name (`otsu2018+bounded`, …).
     pub method: Option<String>,
     /// The blend width in use.
@@ -99,6 +102,7 @@ impl Provenance {
         let text = |v: &Option<String>| v.clone();
         [
             ("specconvModel", text(&self.model)),
+            ("specconvModelAttribution", text(&self.model_attribution)),
             ("specconvMethod", text(&self.method)),
             ("specconvBlend", text(&self.blend)),
             ("specconvObserver", self.observer.map(|o| o.to_string())),
@@ -140,6 +144,7 @@ impl Provenance {
         let emission_units = parse(attr(EMISSION_UNITS), EMISSION_UNITS)?;
         Ok(Provenance {
             model: attr("specconvModel"),
+            model_attribution: attr("specconvModelAttribution"),
             method: attr("specconvMethod"),
             blend: attr("specconvBlend"),
             observer,

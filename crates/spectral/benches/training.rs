@@ -113,7 +113,7 @@ fn scaling(_: &mut Criterion) {
         .map(|f| specconv_spectral::Part {
             set: specconv_testkit::set(f, &a.grid),
             weight: 1.0,
-            licence: String::new(),
+            terms: Default::default(),
         })
         .collect();
     let all = TrainingSet::weighted(&parts);

@@ -251,7 +251,7 @@ mod tests {
         Part {
             set,
             weight: 1.0,
-            licence: "test".into(),
+            terms: Default::default(),
         }
     }
 

@@ -62,7 +62,7 @@ pub fn retrain(m: &specconv_spectral::Model) -> specconv_spectral::Model {
         .map(|r| specconv_spectral::Part {
             set: set(&r.source, &a.grid),
             weight: r.weight,
-            licence: r.licence.clone(),
+            terms: r.terms(),
         })
         .collect();
     let t = &m.training;

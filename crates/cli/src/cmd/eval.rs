@@ -65,6 +65,11 @@ pub struct Args {
     /// spectra and the file's other folds.
     #[arg(long, value_name = "K", requires = "by_set", value_parser = clap::value_parser!(u32).range(2..))]
     folds: Option<u32>,
+    /// With --by-set: also score this model's recorded recipe (a built-in name or a model
+    /// file) on the same files held out the same way, and show each file's Δe against it:
+    /// what a model trained on a studio's own sets gains on them and costs elsewhere.
+    #[arg(long, value_name = "NAME|MODEL", requires = "by_set")]
+    against: Option<PathBuf>,
     #[command(flatten)]
     setting: methods::SettingArgs,
     #[command(flatten)]
@@ -268,11 +273,30 @@ mod by_set {
         let holdout = args
             .folds
             .map_or(Holdout::Set, |k| Holdout::Folds(k as usize));
-        let scores = held_out_by_set(&recipe, &tests, &a, holdout, |m, held| {
-            let stack = methods::build(&d, m)?;
-            Ok::<_, anyhow::Error>(eval::evaluate(stack.colorimetry(), stack.method(), held))
-        })?;
-        print(args, &recipe, &scores)
+        let score = |recipe: &Recipe| {
+            held_out_by_set(recipe, &tests, &a, holdout, |m, held| {
+                let stack = methods::build(&d, m)?;
+                Ok::<_, anyhow::Error>(eval::evaluate(stack.colorimetry(), stack.method(), held))
+            })
+        };
+        let scores = score(&recipe)?;
+        let against = match &args.against {
+            None => None,
+            Some(path) => {
+                let other = crate::files::load_model(Some(path))?;
+                if (other.grid, other.observer, other.illuminant)
+                    != (a.grid, a.observer, a.illuminant)
+                {
+                    return Err(crate::usage(anyhow!(
+                        "--against {} is trained in another setting than the model measured: compare models of one grid, observer and illuminant",
+                        path.display()
+                    )));
+                }
+                let pca = args.method == MethodName::Pca;
+                Some(score(&recorded(&other, &tests, pca)?)?)
+            }
+        };
+        print(args, &recipe, &scores, against.as_ref())
     }
 
     /// --train's recipe, or the model's recorded one.
@@ -294,6 +318,11 @@ mod by_set {
                 },
             });
         }
+        recorded(model, tests, pca)
+    }
+
+    /// The model's recorded recipe, its sets found among `tests` by file name.
+    fn recorded(model: &Model, tests: &[TrainingSet], pca: bool) -> Result<Recipe> {
         let t = &model.training;
         if t.sets.is_empty() {
             return Err(crate::usage(anyhow!(
@@ -311,7 +340,7 @@ mod by_set {
             parts.push(Part {
                 set: set.clone(),
                 weight: record.weight,
-                licence: record.licence.clone(),
+                terms: record.terms(),
             });
         }
         Ok(Recipe {
@@ -325,7 +354,12 @@ mod by_set {
         })
     }
 
-    fn print(args: &Args, recipe: &Recipe, scores: &Scores) -> Result<()> {
+    fn print(
+        args: &Args,
+        recipe: &Recipe,
+        scores: &Scores,
+        against: Option<&Scores>,
+    ) -> Result<()> {
         let trained: Vec<String> = recipe
             .parts
             .iter()
@@ -342,6 +376,9 @@ mod by_set {
             let mut v = serde_json::to_value(scores)?;
             v["method"] = args.method.as_str().into();
             v["trained_on"] = trained.into();
+            if let Some(other) = against {
+                v["against"] = serde_json::to_value(other)?;
+            }
             outln!("{}", serde_json::to_string_pretty(&v)?)?;
             return Ok(());
         }
@@ -353,11 +390,20 @@ mod by_set {
             recipe.options.max_condition,
             trained.join(", ")
         )?;
-        outln!("| set | held out | spectra | Δe mean | Δe median | Δe max | in [0,1] |")?;
-        outln!("|---|---|---|---|---|---|---|")?;
-        for s in &scores.sets {
+        let (head, rule) = match (against, &args.against) {
+            (Some(_), Some(path)) => (format!(" {} Δe mean | ratio |", path.display()), "---|---|"),
+            _ => (String::new(), ""),
+        };
+        outln!("| set | held out | spectra | Δe mean | Δe median | Δe max | in [0,1] |{head}")?;
+        outln!("|---|---|---|---|---|---|---|{rule}")?;
+        // A ratio below 1: this model does better on the set than the other.
+        let vs = |mine: f64, theirs: f64| format!(" {theirs:.4} | {:.2} |", mine / theirs);
+        for (k, s) in scores.sets.iter().enumerate() {
+            let other = against.map_or(String::new(), |o| {
+                vs(s.summary.delta_e.mean, o.sets[k].summary.delta_e.mean)
+            });
             outln!(
-                "| {} | {} | {} | {:.4} | {:.4} | {:.4} | {:.3} |",
+                "| {} | {} | {} | {:.4} | {:.4} | {:.4} | {:.3} |{other}",
                 s.source,
                 s.how,
                 s.summary.count,
@@ -367,11 +413,19 @@ mod by_set {
                 s.summary.in_unit_range
             )?;
         }
-        outln!("mean over sets: Δe {:.4}", scores.mean_of_sets)?;
+        let other = |f: fn(&Scores) -> f64| {
+            against.map_or(String::new(), |o| format!(" (against {:.4})", f(o)))
+        };
         outln!(
-            "worst set:      Δe {:.4} ({})",
+            "mean over sets: Δe {:.4}{}",
+            scores.mean_of_sets,
+            other(|s| s.mean_of_sets)
+        )?;
+        outln!(
+            "worst set:      Δe {:.4} ({}){}",
             scores.worst,
-            scores.worst_set
+            scores.worst_set,
+            other(|s| s.worst)
         )?;
         Ok(())
     }

@@ -13,6 +13,8 @@ Examples:
   specconv train --spectra munsell.csv --clusters 8 -o munsell8.json
   specconv train --spectra a.csv --spectra b.csv --bands 380:780:5 --illuminant E -o model.json
   specconv train --spectra big.csv --spectra small.csv --balance 1 --licence CC0 --licence MIT -o m.json
+  specconv train --spectra swatches.csv --weights 4 --licence \"ours\" --commercial yes \
+      --with open --with-data ../shared/spectra -o studio.json
 ";
 
 /// Train a clustered-PCA model on measured reflectance spectra.
@@ -23,21 +25,33 @@ Examples:
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// Measured spectra: CSV with a wavelength column, then one column per named sample.
-    /// Repeat to train on several files.
-    #[arg(long, value_name = "CSV", required = true)]
+    /// Repeat to train on several files (none with --with: the model's own data alone, which
+    /// gives the model back bit for bit).
+    #[arg(long, value_name = "CSV", required_unless_present = "with")]
     spectra: Vec<PathBuf>,
-    /// Number of clusters (leaves of the tree).
-    #[arg(long, value_name = "K", default_value_t = TrainOptions::default().clusters)]
-    clusters: usize,
+    /// Number of clusters (leaves of the tree) [default: 8, or the --with model's].
+    #[arg(long, value_name = "K")]
+    clusters: Option<usize>,
     /// Smallest number of spectra in a cluster. Small clusters fit their training spectra
-    /// closely but generalise badly; the paper's Table 1 used 4.
-    #[arg(long, value_name = "N", default_value_t = TrainOptions::default().min_cluster_size,
-          value_parser = min_cluster_size)]
-    min_cluster_size: usize,
+    /// closely but generalise badly; the paper's Table 1 used 4 [default: 20, or the --with
+    /// model's].
+    #[arg(long, value_name = "N", value_parser = min_cluster_size)]
+    min_cluster_size: Option<usize>,
     /// Largest condition number of a cluster's 3×3 matrix M that a split may create. Near-singular
-    /// M turn colours the cluster was not trained on into wild spectra.
-    #[arg(long, value_name = "BOUND", default_value_t = TrainOptions::default().max_condition)]
-    max_condition: f64,
+    /// M turn colours the cluster was not trained on into wild spectra [default: 100, or the
+    /// --with model's].
+    #[arg(long, value_name = "BOUND")]
+    max_condition: Option<f64>,
+    /// Train on top of a model's own data: a built-in model (NAME) or a model file, whose
+    /// recorded sets (read from --with-data) join the --spectra files with their recorded
+    /// weights and terms, in its grid, observer and illuminant, its options the defaults of
+    /// the three above. The way to a model a studio owns: its swatches on top of `open`.
+    #[arg(long, value_name = "NAME|MODEL", requires = "with_data")]
+    with: Option<PathBuf>,
+    /// The folder holding the --with model's sets, by the file names it records
+    /// (../shared/spectra for the built-in models).
+    #[arg(long, value_name = "DIR", requires = "with")]
+    with_data: Option<PathBuf>,
     #[command(flatten)]
     weights: crate::methods::WeightArgs,
     #[command(flatten)]
@@ -64,12 +78,44 @@ pub fn run(args: Args) -> Result<()> {
     // Checked before training, and again as the model is written (models::save).
     let replace = Replace::when(args.force);
     files::check_writable(&args.output, &inputs, replace)?;
-    let a = args.colorimetry.on(args.colorimetry.bands)?;
-    let set = crate::methods::weighted_set(&args.spectra, &a.grid, &args.weights)?;
+    let (a, set, base) = match (&args.with, &args.with_data) {
+        (Some(with), Some(dir)) => {
+            let base = models::load(Some(with))?;
+            let a = base.colorimetry()?;
+            let c = &args.colorimetry;
+            if (c.bands, c.observer, c.illuminant) != (a.grid, a.observer, a.illuminant) {
+                return Err(crate::usage(anyhow::anyhow!(
+                    "--with trains in its model's setting ({}, {}, {} nm): drop --observer, --illuminant and --bands, or give them as the model has them",
+                    a.observer,
+                    a.illuminant,
+                    a.grid
+                )));
+            }
+            let mut parts = models::recorded_parts(&base, dir)?;
+            parts.extend(crate::methods::weighted_parts(
+                &args.spectra,
+                &a.grid,
+                &args.weights,
+            )?);
+            let set = if args.spectra.is_empty() {
+                // The recorded weights as they are: the model's own training set, bit for bit.
+                specconv_spectral::TrainingSet::weighted(&parts)
+            } else {
+                specconv_spectral::TrainingSet::union(&parts, args.weights.balance)
+                    .map_err(crate::usage)?
+            };
+            (a, set, models::recorded_options(&base))
+        }
+        _ => {
+            let a = args.colorimetry.on(args.colorimetry.bands)?;
+            let set = crate::methods::weighted_set(&args.spectra, &a.grid, &args.weights)?;
+            (a, set, TrainOptions::default())
+        }
+    };
     let opts = TrainOptions {
-        clusters: args.clusters,
-        min_cluster_size: args.min_cluster_size,
-        max_condition: args.max_condition,
+        clusters: args.clusters.unwrap_or(base.clusters),
+        min_cluster_size: args.min_cluster_size.unwrap_or(base.min_cluster_size),
+        max_condition: args.max_condition.unwrap_or(base.max_condition),
     };
     let start = std::time::Instant::now();
     let model = specconv_spectral::train(&set, &a, &opts)?;
@@ -95,6 +141,10 @@ pub fn run(args: Args) -> Result<()> {
         errln!("specconv: warning: {why}");
     }
     errln!("data: {}", specconv_conversion::models::sources(&model));
+    errln!(
+        "commercial use: {} (yes only when every set's data allow it)",
+        model.training.commercial()
+    );
     errln!("wrote {}", args.output.display());
     Ok(())
 }

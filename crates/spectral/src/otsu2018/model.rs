@@ -6,6 +6,7 @@
 //! checks everything that the uplift relies on, and M against A·B recomputed from the named
 //! observer and illuminant, so a hand-edited or mismatched file is refused, not trusted.
 
+use super::terms::{Commercial, Terms};
 use super::tree::Tree;
 use crate::Error;
 use serde::{Deserialize, Serialize};
@@ -72,6 +73,52 @@ pub struct SetRecord {
     pub weight: f64,
     /// The terms its data may be used under, as its origin states them.
     pub licence: String,
+    /// Whether its data may be used commercially (unstated in files written before it was
+    /// recorded).
+    #[serde(default)]
+    pub commercial: Commercial,
+    /// The lines a user of its data must credit.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub attribution: Vec<String>,
+}
+
+impl SetRecord {
+    /// The record of `count` spectra from `source`, each weighing `weight`, under `terms`.
+    pub fn new(source: String, count: usize, weight: f64, terms: Terms) -> SetRecord {
+        SetRecord {
+            source,
+            count,
+            weight,
+            licence: terms.licence,
+            commercial: terms.commercial,
+            attribution: terms.attribution,
+        }
+    }
+
+    /// Its terms of use.
+    pub fn terms(&self) -> Terms {
+        Terms {
+            licence: self.licence.clone(),
+            commercial: self.commercial,
+            attribution: self.attribution.clone(),
+        }
+    }
+}
+
+impl Training {
+    /// Whether a model trained on these sets may be used commercially: only when every set
+    /// may (unstated when the sets were not recorded).
+    pub fn commercial(&self) -> Commercial {
+        if self.sets.is_empty() {
+            return Commercial::Unstated;
+        }
+        Commercial::all(self.sets.iter().map(|s| s.commercial))
+    }
+
+    /// The notices that must ship with the model ([`super::terms::notices`]).
+    pub fn notices(&self) -> Vec<super::terms::Notice> {
+        super::terms::notices(self.sets.iter().map(|s| s.source.as_str()))
+    }
 }
 
 /// One cluster.

@@ -38,6 +38,7 @@ use super::pca::{
     check_rank, check_rank_products, fit, fit_basis, fit_products, top_three, weighted_scatter,
     ErrorFloor, Moments, Tracker, Unfit,
 };
+use super::terms::Terms;
 use super::tree::{Axis, Tree};
 use crate::{Error, Model};
 use specconv_colour::Colorimetry;
@@ -90,53 +91,8 @@ pub struct TrainingSet {
     pub sets: Vec<SetRecord>,
 }
 
-/// The terms of use of the measured sets in `../shared/spectra`, by file name, as its README
-/// states them (their origins: UEF spectral database, USGS Data Series 1035, the repository
-/// emcdona1/leaf_reflectance_spectroscopy, colour-science 0.4.7).
-pub const KNOWN_LICENCES: [(&str, &str); 7] = [
-    (
-        "munsell1269_matte_380-800_1nm.csv",
-        "non-commercial use only (University of Eastern Finland spectral database)",
-    ),
-    (
-        "usgs_splib07a_vegetation_380-780_5nm.csv",
-        "public domain (USGS Spectral Library 7, doi:10.5066/F7RR1WDJ)",
-    ),
-    (
-        "usgs_splib07a_manmade_380-780_5nm.csv",
-        "public domain (USGS Spectral Library 7, doi:10.5066/F7RR1WDJ)",
-    ),
-    (
-        "usgs_splib07a_soils_380-780_5nm.csv",
-        "public domain (USGS Spectral Library 7, doi:10.5066/F7RR1WDJ)",
-    ),
-    (
-        "usgs_splib07a_minerals_380-780_5nm.csv",
-        "public domain (USGS Spectral Library 7, doi:10.5066/F7RR1WDJ)",
-    ),
-    (
-        "rhododendron_leaves_380-780_5nm.csv",
-        "MIT (c) 2022 Beth McDonald, emcdona1/leaf_reflectance_spectroscopy",
-    ),
-    (
-        "colorchecker_n_ohta_380-780_5nm.csv",
-        "not stated by its origin (N. Ohta's measurement, shipped in colour-science 0.4.7, BSD-3-Clause)",
-    ),
-];
-
-/// What a table whose file name is not in [`KNOWN_LICENCES`] records, unless told.
-pub const UNKNOWN_LICENCE: &str = "unknown (not stated when the model was trained)";
-
-/// The licence [`KNOWN_LICENCES`] gives a file name, or [`UNKNOWN_LICENCE`].
-pub fn known_licence(source: &str) -> &'static str {
-    KNOWN_LICENCES
-        .iter()
-        .find(|(file, _)| *file == source)
-        .map_or(UNKNOWN_LICENCE, |(_, licence)| licence)
-}
-
 /// One source's part of a [`TrainingSet::union`]: its spectra (one source each), the weight
-/// asked for it and its licence.
+/// asked for it and its terms of use.
 #[derive(Debug, Clone)]
 pub struct Part {
     /// The spectra, one source.
@@ -144,11 +100,11 @@ pub struct Part {
     /// How much its spectra count, before balancing (1: as any other).
     pub weight: f64,
     /// Its terms of use.
-    pub licence: String,
+    pub terms: Terms,
 }
 
 impl TrainingSet {
-    /// A table's spectra on `grid`, unweighted, with the licence [`known_licence`] gives it.
+    /// A table's spectra on `grid`, unweighted, with the terms [`Terms::known`] gives it.
     pub fn from_table(
         table: &specconv_colour::SpectralTable,
         grid: &specconv_colour::Grid,
@@ -157,12 +113,12 @@ impl TrainingSet {
         Ok(TrainingSet {
             sources: vec![table.source.clone()],
             names: table.names.clone(),
-            sets: vec![SetRecord {
-                source: table.source.clone(),
-                count: spectra.len(),
-                weight: 1.0,
-                licence: known_licence(&table.source).to_string(),
-            }],
+            sets: vec![SetRecord::new(
+                table.source.clone(),
+                spectra.len(),
+                1.0,
+                Terms::known(&table.source),
+            )],
             spectra,
             weights: Vec::new(),
         })
@@ -265,12 +221,12 @@ impl TrainingSet {
                 out.weights
                     .extend(std::iter::repeat_n(w, p.set.spectra.len()));
             }
-            out.sets.push(SetRecord {
-                source: p.set.sources.join(", "),
-                count: p.set.spectra.len(),
-                weight: w,
-                licence: p.licence.clone(),
-            });
+            out.sets.push(SetRecord::new(
+                p.set.sources.join(", "),
+                p.set.spectra.len(),
+                w,
+                p.terms.clone(),
+            ));
         }
         out
     }

@@ -34,8 +34,8 @@ fn builtin_models_are_what_train_makes_from_shared() {
         assert!(!builtin.training.sets.is_empty());
         for s in &builtin.training.sets {
             assert_eq!(
-                s.licence,
-                specconv_spectral::otsu2018::train::known_licence(&s.source)
+                s.terms(),
+                specconv_spectral::otsu2018::terms::Terms::known(&s.source)
             );
         }
     }
@@ -383,7 +383,7 @@ fn a_weight_of_three_is_a_spectrum_counted_three_times() {
     let part = |set: &specconv_spectral::TrainingSet, weight| specconv_spectral::Part {
         set: set.clone(),
         weight,
-        licence: String::new(),
+        terms: Default::default(),
     };
     let weighted = specconv_spectral::TrainingSet::weighted(&[part(&cc, 3.0), part(&soils, 1.0)]);
     let mut repeated = specconv_spectral::TrainingSet::weighted(&[part(&soils, 1.0)]);
