@@ -55,3 +55,36 @@ def test_model_errors():
     with pytest.raises(specconv.OptionError, match="weight"):
         specconv.Model.train(np.full((40, 36), 0.5), np.arange(380, 731, 10.0),
                              weights=np.zeros(40))
+
+
+def test_a_studio_model_on_top_of_open_is_the_cli_s_and_says_its_terms(tmp_path, shared, cli):
+    # A studio's swatches (the ColorChecker standing in for them), its own for commercial use,
+    # weighted 8x on top of the open model's data: the model `specconv train --with` makes.
+    path = shared / "spectra" / "colorchecker_n_ohta_380-780_5nm.csv"
+    table = np.genfromtxt(path, delimiter=",", names=True)
+    names = table.dtype.names
+    wl, spectra = table[names[0]], np.stack([table[n] for n in names[1:]])
+    cli("train", "--spectra", path, "--weights", "8", "--licence", "ours", "--commercial", "yes",
+        "--with", "open", "--with-data", shared / "spectra", "-o", tmp_path / "cli.json")
+    model = specconv.Model.train(spectra, wl, source=path.name, licence="ours",
+                                 commercial="yes", with_model="open",
+                                 with_data=shared / "spectra", weight=8)
+    model.save(tmp_path / "py.json")
+    assert json.loads((tmp_path / "py.json").read_text()) == json.loads(
+        (tmp_path / "cli.json").read_text())
+    assert model.commercial == "yes"
+    assert "USGS Spectral Library Version 7" in model.attribution
+    assert "commercial use: yes" in model.description
+    # The built-in models say theirs: the Munsell data are for non-commercial use only.
+    assert specconv.Model.builtin("extended").commercial == "no"
+    assert specconv.Model.builtin("open").commercial == "yes"
+    assert specconv.Model.train(spectra, wl).commercial == "unstated"
+    with pytest.raises(specconv.OptionError, match="go together"):
+        specconv.Model.train(spectra, wl, with_model="open")
+    with pytest.raises(specconv.OptionError, match="one weight"):
+        specconv.Model.train(spectra, wl, with_model="open", with_data=shared / "spectra",
+                             weights=np.ones(len(spectra)))
+    with pytest.raises(specconv.OptionError, match="commercial"):
+        specconv.Model.train(spectra, wl, commercial="perhaps")
+    with pytest.raises(specconv.FileError, match="cannot read spectra file"):
+        specconv.Model.train(spectra, wl, with_model="open", with_data=tmp_path)

@@ -191,6 +191,11 @@ pub struct WeightArgs {
     /// unstated; your own measurements: yes).
     #[arg(long = "commercial", value_name = "yes|no|unstated")]
     pub commercial: Vec<specconv_spectral::otsu2018::terms::Commercial>,
+    /// Hold a --spectra file that stops short of the grid at its first and last measured
+    /// values (CIE 015's practice for missing data; recorded in the model) instead of
+    /// refusing it: for a set measured on 400–700 nm, say.
+    #[arg(long)]
+    pub hold_ends: bool,
 }
 
 /// The --spectra files as one training set, weighted and with their licences.
@@ -226,7 +231,7 @@ pub fn weighted_parts(
     let mut parts = Vec::with_capacity(paths.len());
     for (k, path) in paths.iter().enumerate() {
         let table = crate::files::read_spectra(path)?;
-        let set = specconv_spectral::TrainingSet::from_table(&table, grid)?;
+        let set = specconv_spectral::TrainingSet::from_table_holding(&table, grid, w.hold_ends)?;
         let mut terms = match w.licences.get(k) {
             Some(licence) => Terms::stated(licence, Default::default()),
             None => Terms::known(&table.source),

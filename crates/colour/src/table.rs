@@ -117,6 +117,28 @@ impl SpectralTable {
             .collect()
     }
 
+    /// The table extended to cover `grid` by holding each sample at its first and last
+    /// measured values (CIE 015's practice for missing data at the ends of a range), or `None`
+    /// when it covers `grid` already.
+    pub fn held_to(&self, grid: &Grid) -> Option<SpectralTable> {
+        let (&first, &last) = (self.wavelengths.first()?, self.wavelengths.last()?);
+        if first <= grid.start && last >= grid.end {
+            return None;
+        }
+        let mut held = self.clone();
+        if first > grid.start {
+            held.wavelengths.insert(0, grid.start);
+            held.columns.iter_mut().for_each(|c| c.insert(0, c[0]));
+        }
+        if last < grid.end {
+            held.wavelengths.push(grid.end);
+            held.columns
+                .iter_mut()
+                .for_each(|c| c.push(c.last().copied().unwrap_or(0.0)));
+        }
+        Some(held)
+    }
+
     /// One named column, for tables with fixed column names (observers, illuminants).
     pub fn column(&self, name: &str) -> Option<&[f64]> {
         self.names
@@ -329,5 +351,20 @@ mod tests {
         let g = Grid::new(400.0, 700.0, 100.0).unwrap();
         let r = t.resampled(&g).unwrap();
         assert!((r[0][1] - 0.13333333333333333).abs() < 1e-15);
+        assert!(t.held_to(&g).is_none(), "covered: nothing to hold");
+    }
+
+    #[test]
+    fn a_short_table_is_held_at_its_end_values() {
+        let t = parse("wavelength_nm,a\n400,0.1\n550,0.4\n700,0.2\n").unwrap();
+        let r = t
+            .held_to(&Grid::PAPER)
+            .unwrap()
+            .resampled(&Grid::PAPER)
+            .unwrap();
+        // 380–400 nm hold 0.1, 700–730 nm hold 0.2; inside, the measured values.
+        assert_eq!(&r[0][..3], &[0.1, 0.1, 0.1]);
+        assert_eq!(&r[0][32..], &[0.2; 4]);
+        assert_eq!(r[0][17], 0.4);
     }
 }

@@ -146,7 +146,7 @@ pub fn recorded_parts(m: &Model, dir: &Path) -> Result<Vec<Part>, ModelError> {
             }
             let table = read_spectra(&dir.join(file))?;
             Ok(Part {
-                set: TrainingSet::from_table(&table, &m.grid)?,
+                set: TrainingSet::from_table_holding(&table, &m.grid, r.held_ends)?,
                 weight: r.weight,
                 terms: r.terms(),
             })

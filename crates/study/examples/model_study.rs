@@ -27,7 +27,7 @@ const SETS: [(&str, &str); 10] = [
     ("min", "usgs_splib07a_minerals_380-780_5nm.csv"),
     ("rhodo", "rhododendron_leaves_380-780_5nm.csv"),
     ("cqs", "nist_cqs90_vs_380-780_5nm.csv"),
-    // 400–700 nm only: held at its end values outside (CIE 015's rule for missing data).
+    // 400–700 nm only: held at its end values outside (CIE 015's practice for missing data).
     ("pmc", "colour_pmc_400-700_5nm.csv"),
     // Derived, not measured: the man-made set's spectra squared and cubed (light through two
     // or three layers of the same material: more saturated colours, public domain as its
@@ -88,7 +88,7 @@ impl Study {
                 let text = std::fs::read_to_string(format!("{dir}/spectra/{file}"))
                     .expect("../shared/spectra beside the checkout (or SPECCONV_SHARED)");
                 let table = SpectralTable::parse(file, &text).unwrap();
-                TrainingSet::from_table(&held_to(table, &a.grid), &a.grid).unwrap()
+                TrainingSet::from_table_holding(&table, &a.grid, true).unwrap()
             })
             .collect();
         let man = sets[3].clone();
@@ -229,24 +229,6 @@ fn against(s: &Scores, base: &Scores) -> (f64, (f64, &'static str), f64) {
         }
     }
     (s.mean_of_sets / base.mean_of_sets, worst, munsell)
-}
-
-/// The table on `grid`, a table that stops short of it held at its end values (CIE 015's rule
-/// for missing data): the resampling clamps to the measured range once it is covered.
-fn held_to(mut table: SpectralTable, grid: &Grid) -> SpectralTable {
-    let (first, last) = (table.wavelengths[0], *table.wavelengths.last().unwrap());
-    if first > grid.start {
-        table.wavelengths.insert(0, grid.start);
-        table.columns.iter_mut().for_each(|c| c.insert(0, c[0]));
-    }
-    if last < grid.end {
-        table.wavelengths.push(grid.end);
-        table
-            .columns
-            .iter_mut()
-            .for_each(|c| c.push(*c.last().unwrap()));
-    }
-    table
 }
 
 fn main() {

@@ -60,7 +60,7 @@ pub fn retrain(m: &specconv_spectral::Model) -> specconv_spectral::Model {
         .sets
         .iter()
         .map(|r| specconv_spectral::Part {
-            set: set(&r.source, &a.grid),
+            set: TrainingSet::from_table_holding(&table(&r.source), &a.grid, r.held_ends).unwrap(),
             weight: r.weight,
             terms: r.terms(),
         })

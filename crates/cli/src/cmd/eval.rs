@@ -266,7 +266,11 @@ mod by_set {
         let mut tests = Vec::with_capacity(args.spectra.len());
         for path in &args.spectra {
             let table = crate::files::read_spectra(path)?;
-            tests.push(TrainingSet::from_table(&table, &a.grid)?);
+            tests.push(TrainingSet::from_table_holding(
+                &table,
+                &a.grid,
+                args.weights.hold_ends,
+            )?);
         }
         let recipe = recipe(args, &base, &tests, &a.grid)?;
         let d = args.description();

@@ -80,6 +80,10 @@ pub struct SetRecord {
     /// The lines a user of its data must credit.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub attribution: Vec<String>,
+    /// Its spectra stop short of the grid and were held at their end values to cover it
+    /// ([`specconv_colour::SpectralTable::held_to`]); training it again does the same.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub held_ends: bool,
 }
 
 impl SetRecord {
@@ -92,6 +96,7 @@ impl SetRecord {
             licence: terms.licence,
             commercial: terms.commercial,
             attribution: terms.attribution,
+            held_ends: false,
         }
     }
 

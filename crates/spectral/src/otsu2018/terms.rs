@@ -79,7 +79,7 @@ pub struct Notice {
 /// colour-science's licence, verbatim from colour_science-0.4.7.dist-info/licenses/LICENSE:
 /// the NIST CQS and PMC sets come through colour-science under it.
 pub const COLOUR_SCIENCE: Notice = Notice {
-    title: "colour-science 0.4.7 (NIST CQS 9.0 and Preferred Memory Colour data)",
+    title: "colour-science 0.4.7 (the ColorChecker, NIST CQS 9.0 and Preferred Memory Colour data it ships)",
     text: include_str!("../../notices/colour-science-BSD-3-Clause.txt"),
 };
 

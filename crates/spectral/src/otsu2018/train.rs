@@ -124,6 +124,24 @@ impl TrainingSet {
         })
     }
 
+    /// As [`TrainingSet::from_table`]; with `hold_ends`, a table that stops short of `grid` is
+    /// held at its end values ([`specconv_colour::SpectralTable::held_to`]) and its record
+    /// says so, so that training it again does the same.
+    pub fn from_table_holding(
+        table: &specconv_colour::SpectralTable,
+        grid: &specconv_colour::Grid,
+        hold_ends: bool,
+    ) -> Result<TrainingSet, Error> {
+        match table.held_to(grid).filter(|_| hold_ends) {
+            Some(held) => {
+                let mut set = TrainingSet::from_table(&held, grid)?;
+                set.sets[0].held_ends = true;
+                Ok(set)
+            }
+            None => TrainingSet::from_table(table, grid),
+        }
+    }
+
     /// The spectra for which `keep(k)` holds, with their weights, and the sets' counts
     /// recounted (the sets' spectra lie in the order of [`TrainingSet::sets`]).
     pub fn subset(&self, keep: impl Fn(usize) -> bool) -> TrainingSet {
@@ -221,12 +239,15 @@ impl TrainingSet {
                 out.weights
                     .extend(std::iter::repeat_n(w, p.set.spectra.len()));
             }
-            out.sets.push(SetRecord::new(
-                p.set.sources.join(", "),
-                p.set.spectra.len(),
-                w,
-                p.terms.clone(),
-            ));
+            out.sets.push(SetRecord {
+                held_ends: p.set.sets.iter().any(|s| s.held_ends),
+                ..SetRecord::new(
+                    p.set.sources.join(", "),
+                    p.set.spectra.len(),
+                    w,
+                    p.terms.clone(),
+                )
+            });
         }
         out
     }
