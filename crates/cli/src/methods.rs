@@ -29,6 +29,9 @@ pub struct StackArgs {
     /// A built-in model by name (extended, the default; paper; broad; open: `specconv --version` lists them with
     /// their data and licences) or a model file from `specconv train`; the built-in default when
     /// absent. Its grid, observer and illuminant are those of the output, whatever the method.
+    /// extended, paper and broad are trained partly on data for non-commercial use only: for
+    /// textures shipped commercially use open or a model of your own (docs/licences.md);
+    /// every output says which (`commercial use:` in specconvModel).
     #[arg(long, value_name = "NAME|MODEL")]
     pub model: Option<PathBuf>,
     #[command(flatten)]

@@ -322,7 +322,7 @@ pub const BUILTIN: [Builtin; 4] = [
     },
     Builtin {
         name: "open",
-        summary: "open data only: USGS Spectral Library 7 sets (public domain) and Rhododendron leaves (MIT), for commercial use",
+        summary: "open data only, for commercial use: USGS Spectral Library 7 sets (public domain), Rhododendron leaves (MIT), NIST CQS 9.0 saturated chips and Luo's memory colours (BSD-3-Clause), weighted; mean error over nine held-out sets 7 % below extended's, 6x its error on Munsell colours",
         json: include_str!("../../models/open.json"),
     },
 ];

@@ -61,14 +61,17 @@ fn the_paper_model_is_munsell_alone_and_unchanged() {
 
 #[test]
 fn the_open_model_is_trained_on_open_data_only() {
+    use specconv_spectral::otsu2018::terms::Commercial;
     let open = Model::builtin_named("open").unwrap();
     for s in &open.training.sets {
-        assert!(
-            s.licence.starts_with("public domain") || s.licence.starts_with("MIT"),
-            "{}: {}",
-            s.source,
-            s.licence
-        );
+        assert_eq!(s.commercial, Commercial::Yes, "{}: {}", s.source, s.licence);
+        assert!(!s.source.starts_with("munsell") && !s.source.starts_with("colorchecker"));
+    }
+    assert_eq!(open.training.commercial(), Commercial::Yes);
+    // Every other built-in model is trained partly on the Munsell data: not for commercial use.
+    for b in specconv_spectral::otsu2018::model::BUILTIN {
+        let m = Model::builtin_named(b.name).unwrap();
+        assert_eq!(m.training.commercial() == Commercial::Yes, b.name == "open");
     }
 }
 
