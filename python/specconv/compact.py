@@ -83,8 +83,7 @@ def parse(text: str) -> Header:
     n = len(h.wavelengths)
     h.nodes = [nodes[i] for i in range(len(nodes))]
     h.maps = np.stack([maps[k] for k in range(len(maps))]).reshape(len(maps), 4, n)
-    if h.clip:
-        h.b = np.stack([rows["X"], rows["Y"], rows["Z"]])
+    h.b = np.stack([rows["X"], rows["Y"], rows["Z"]])
     return h
 
 

@@ -71,6 +71,11 @@ fn expanded_compact_textures_are_what_convert_writes_within_one_half_step() {
             vec!["--filter", "lanczos3"],
         ),
         (
+            "unbounded",
+            images.join("photo.jpg"),
+            vec!["--unbounded", "--half-rounding", "colour"],
+        ),
+        (
             "colour",
             images.join("photo.jpg"),
             vec!["--half-rounding", "colour"],

@@ -42,8 +42,10 @@ pub const TEXEL: usize = 6;
 pub struct Compact {
     /// The leaves' maps on the output grid, with the tree and its blend.
     up: Uplifter,
-    /// The rows of A (B's columns) when spectra are clipped to [0, 1] (bounded).
-    clip: Option<[Vec<f64>; 3]>,
+    /// The rows of A (B's columns): the XYZ weights of the output's bands.
+    a: [Vec<f64>; 3],
+    /// Spectra clipped to [0, 1] (bounded); else u = 0 and no clip.
+    clip: bool,
     /// The projection, where built from a model (to encode).
     bounded: Option<Bounded<Uplifter>>,
     /// The model's name and hash, as the text records them.
@@ -92,17 +94,23 @@ impl Compact {
             .then(|| Bounded::new(up.clone(), colorimetry.clone()))
             .transpose()?;
         Ok(Compact {
-            clip: d.bounded.then(|| colorimetry.weights.clone()),
+            a: colorimetry.weights.clone(),
+            clip: d.bounded,
             up,
             bounded,
             model: (name.to_string(), hash(&model.to_json())),
         })
     }
 
-    /// The rows of A (XYZ per band of the output grid) spectra are clipped with, when
-    /// bounded: the weights of the colour they keep.
-    pub fn weights(&self) -> Option<&[Vec<f64>; 3]> {
-        self.clip.as_ref()
+    /// The rows of A (XYZ per band of the output grid): the weights of the colour the spectra
+    /// keep, B's columns.
+    pub fn weights(&self) -> &[Vec<f64>; 3] {
+        &self.a
+    }
+
+    /// Whether the spectra are clipped to [0, 1] (bounded).
+    pub fn clips(&self) -> bool {
+        self.clip
     }
 
     /// The output grid.
@@ -159,9 +167,9 @@ impl Compact {
         self.up.uplift_f32(&c, out);
         let mut r = vec![0.0; n];
         for (t, o) in texels.chunks_exact(TEXEL).zip(out.chunks_exact_mut(n)) {
-            let Some(_) = &self.clip else {
+            if !self.clip {
                 continue;
-            };
+            }
             if t[3..].iter().all(|&u| u == 0.0) {
                 o.iter_mut().for_each(|v| *v = v.clamp(0.0, 1.0));
                 continue;
@@ -176,7 +184,8 @@ impl Compact {
     /// unclipped when the spectra are not bounded).
     pub fn decode_f64(&self, c: [f64; 3], u: [f64; 3], out: &mut [f64]) {
         self.up.uplift_f64(&c, out);
-        if let Some(a) = &self.clip {
+        if self.clip {
+            let a = &self.a;
             for (b, v) in out.iter_mut().enumerate() {
                 // The order of the projection's own sum (`colour::solid`), so that the
                 // spectrum is the one it settled on.
@@ -207,7 +216,7 @@ impl Compact {
             white[0],
             white[1],
             up.blend_width(),
-            u8::from(self.clip.is_some()),
+            u8::from(self.clip),
         );
         for (i, node) in up.tree().iter().enumerate() {
             let _ = match *node {
@@ -229,10 +238,8 @@ impl Compact {
         for k in 0..leaves {
             let _ = writeln!(t, "map {k} {}", join(up.affine(k)));
         }
-        if let Some(a) = &self.clip {
-            for (row, name) in a.iter().zip(["X", "Y", "Z"]) {
-                let _ = writeln!(t, "b {name} {}", join(row));
-            }
+        for (row, name) in self.a.iter().zip(["X", "Y", "Z"]) {
+            let _ = writeln!(t, "b {name} {}", join(row));
         }
         debug_assert!(self.up.affine(0).len() == 4 * n);
         t
@@ -362,16 +369,14 @@ impl Parts {
         let blend = (self.blend > 0.0).then_some((self.blend, widths));
         let up = Uplifter::from_parts(grid, white, tree, maps, blend)?;
         let n = grid.len();
-        let clip = match (clip, self.b.len()) {
-            (false, _) => None,
-            (true, 3) if self.b.iter().all(|r| r.len() == n) => {
-                let mut b = self.b.into_iter();
-                Some([0; 3].map(|_| b.next().expect("three rows")))
-            }
-            (true, _) => return Err(bad("clip 1 needs three b rows of one value per band")),
-        };
+        if self.b.len() != 3 || self.b.iter().any(|r| r.len() != n) {
+            return Err(bad("three b rows of one value per band"));
+        }
+        let mut b = self.b.into_iter();
+        let a = [0; 3].map(|_| b.next().expect("three rows"));
         Ok(Compact {
             up,
+            a,
             clip,
             bounded: None,
             model: self.model,

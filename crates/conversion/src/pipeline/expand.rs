@@ -384,7 +384,7 @@ impl<'f> Strips<'f> {
         };
         let made = cascade.push(values, width);
         let n = self.file.spec().wavelengths.len();
-        let range = if source.compact.weights().is_some() {
+        let range = if source.compact.clips() {
             (0.0, 1.0)
         } else {
             (0.0, f32::INFINITY)
@@ -407,9 +407,7 @@ impl<'f> Strips<'f> {
 
     /// The weights half rounding keeps the colour under, when it does.
     fn weights<'s>(&self, source: &'s Decoding) -> Option<&'s [Vec<f64>; 3]> {
-        (source.options.rounding_in_effect() == Rounding::Colour)
-            .then(|| source.compact.weights())
-            .flatten()
+        (source.options.rounding_in_effect() == Rounding::Colour).then(|| source.compact.weights())
     }
 
     /// A block's bands and alpha from rows of `width` pixels (bands then alpha each) that
