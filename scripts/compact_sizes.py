@@ -11,7 +11,9 @@ makes a half ZIP MIP-mapped texture of it (linear Rec.709). "half": the compact 
 rewritten by OpenImageIO (ZIP) with half samples in all channels, in C only or in U only, and
 level 0 decoded from them
 (specconv.decode) against the float texels' spectra: the largest error, in half steps at each
-band's value, and the share of band values more than one half step off. Prints JSON lines.
+band's value, and the share of band values more than one half step off. "mip_delta_e00": the
+compact file's levels 1… decoded against the float spectral file's, CIEDE2000 under D65, A and
+F11 (mean, 99th percentile, max). Prints JSON lines.
 """
 import json
 import os
@@ -69,6 +71,35 @@ def level0(path):
     return px[..., [names.index(c) for c in CHANNELS]], text
 
 
+def mip_delta_e(spectral, compact):
+    """CIEDE2000 (mean, 99th percentile, max) per light between the compact file's levels 1…
+    decoded and the spectral file's (float) levels: what a compact level holds (the filtered
+    colour) against the filtered spectra."""
+    import colour
+
+    found = {}
+    a, b = oiio.ImageInput.open(spectral), oiio.ImageInput.open(compact)
+    level = 1
+    while a.seek_subimage(0, level) and b.seek_subimage(0, level):
+        sa, sb = a.spec(), b.spec()
+        pa = a.read_image(0, level, 0, sa.nchannels, "float")
+        pb = b.read_image(0, level, 0, sb.nchannels, "float")
+        t = sorted((float(n[2:-2].replace(",", ".")), i) for i, n in enumerate(sa.channelnames) if n.startswith("T."))
+        wl = np.array([w for w, _ in t])
+        want = pa[..., [i for _, i in t]].reshape(-1, len(wl))
+        names = list(sb.channelnames)
+        got = specconv.decode(sb.get_string_attribute("specconvCompact"),
+                              pb[..., [names.index(c) for c in CHANNELS]]).reshape(-1, len(wl))
+        for light in ("D65", "A", "FL11"):
+            white = specconv.spectra_to_xyz(np.ones((1, len(wl))), wl, illuminant=light)[0]
+            lab = [colour.XYZ_to_Lab(specconv.spectra_to_xyz(s, wl, illuminant=light) / white[1],
+                                     colour.XYZ_to_xy(white)) for s in (want, got)]
+            found.setdefault(light, []).extend(colour.delta_E(*lab, method="CIE 2000"))
+        level += 1
+    return {k: [round(float(np.mean(v)), 4), round(float(np.percentile(v, 99)), 3), round(float(np.max(v)), 2)]
+            for k, v in found.items()}
+
+
 def main(binary, textures):
     for tx in textures:
         name = os.path.splitext(os.path.basename(tx))[0]
@@ -98,6 +129,9 @@ def main(binary, textures):
                 row(variant, out, header_bytes=len(level0(out)[1]))
             out = os.path.join(tmp, "compact.exr")
             subprocess.run([binary, crop, out, "-q", "--force", "--layout", "compact"], check=True)
+            floats = os.path.join(tmp, "float.exr")
+            subprocess.run([binary, crop, floats, "-q", "--force", "-d", "float"], check=True)
+            print(json.dumps({"texture": name, "mip_delta_e00": mip_delta_e(floats, out)}), flush=True)
             for label, which in [("all", CHANNELS), ("C", CHANNELS[:3]), ("U", CHANNELS[3:])]:
                 half = os.path.join(tmp, "half.exr")
                 as_half(out, half, which)
