@@ -15,6 +15,7 @@ from specconv._specconv import (
     SpectralImage,
     __version__,
     convert,
+    encode,
     options,
     read_spectral,
     rgb_to_xyz,
@@ -22,6 +23,7 @@ from specconv._specconv import (
     uplift,
     write_spectral,
 )
+from specconv.compact import decode
 from specconv.errors import Error, FileError, InputError, OptionError, OutputExistsError
 
 __all__ = [
@@ -29,6 +31,8 @@ __all__ = [
     "SpectralImage",
     "__version__",
     "convert",
+    "decode",
+    "encode",
     "options",
     "read_spectral",
     "rgb_to_xyz",

@@ -77,6 +77,15 @@ def uplift(
     bands: Optional[str] = None,
     emission: Optional[str] = None,
 ) -> npt.NDArray[Any]: ...
+def encode(
+    xyz: _Array,
+    model: Optional[Model] = None,
+    *,
+    bounded: bool = True,
+    blend: float = 0.02,
+    method: str = "otsu2018",
+    bands: Optional[str] = None,
+) -> tuple[str, npt.NDArray[np.float32]]: ...
 def spectra_to_xyz(
     spectra: _Array,
     wavelengths: _Array,
@@ -102,6 +111,7 @@ def convert(
     bounded: bool = True,
     bands: Optional[str] = None,
     emission: Optional[str] = None,
+    layout: Literal["spectral", "compact"] = "spectral",
     sample: Literal["half", "float"] = "half",
     rounding: Optional[Literal["nearest", "colour", "color"]] = None,
     compression: str = "zip",

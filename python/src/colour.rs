@@ -69,6 +69,56 @@ pub fn uplift<'py>(
     })
 }
 
+/// Compact texels (X, Y, Z, u₀, u₁, u₂) of float32 colours `xyz` (..., 3), and the text that
+/// decodes them (docs/compact.md): what `convert --layout compact` stores, for
+/// `specconv.decode`.
+#[pyfunction]
+#[pyo3(signature = (xyz, model=None, *, bounded=true, blend=specconv_spectral::otsu2018::blend::DEFAULT_WIDTH,
+                    method="otsu2018", bands=None))]
+pub fn encode<'py>(
+    py: Python<'py>,
+    xyz: &Bound<'py, PyAny>,
+    model: Option<&Bound<'py, Model>>,
+    bounded: bool,
+    blend: f64,
+    method: &str,
+    bands: Option<&str>,
+) -> PyResult<(String, Bound<'py, PyAny>)> {
+    let mut options = specconv_conversion::Options::default();
+    options.bounded = bounded;
+    options.blend = blend;
+    options.method = method.parse().map_err(option)?;
+    options.bands = bands.map(str::parse).transpose().map_err(option)?;
+    let model = match model {
+        Some(m) => m.get(),
+        None => Model::default_model(),
+    };
+    let name = specconv_conversion::models::describe(model.origin().as_deref(), &model.inner);
+    let compact =
+        specconv_spectral::compact::Compact::new(&model.inner, &name, &options.description())
+            .map_err(option)?;
+    let Values::F32(lead, v) = values(xyz, Some(3), "xyz")? else {
+        return Err(
+            crate::errors::Kind::Option.err("encode takes float32 colours, as textures hold them")
+        );
+    };
+    let m = specconv_spectral::compact::TEXEL;
+    let out = zeros::<f32>(py, &lead, m)?;
+    {
+        let mut texels = out.readwrite();
+        let texels = texels.as_slice_mut()?;
+        py.detach(|| {
+            texels
+                .par_chunks_mut(PIECE * m)
+                .zip(v.par_chunks(PIECE * 3))
+                .for_each(|(t, c)| {
+                    compact.encode_f32(c, t);
+                })
+        });
+    }
+    Ok((compact.to_text(), out.into_any()))
+}
+
 /// The float32 kernel: the pipeline's call (`uplift_f32_tallied`), in parallel pieces.
 fn kernel(stack: &Stack, xyz: &[f32], out: &mut [f32]) {
     let n = stack.method().grid().len();

@@ -100,7 +100,7 @@ pub fn options(py: Python<'_>) -> PyResult<Vec<Bound<'_, pyo3::types::PyDict>>> 
 #[pyo3(signature = (inputs, outputs=None, *, output_template=None, ocio=None, colorspace=None, alpha="auto",
                     subimage=None, channels=None, method="otsu2018", model=None,
                     blend=specconv_spectral::otsu2018::blend::DEFAULT_WIDTH, bounded=true,
-                    bands=None, emission=None, sample="half", rounding=None, compression="zip",
+                    bands=None, emission=None, layout="spectral", sample="half", rounding=None, compression="zip",
                     zip_level=None, tile=Some((64, 64)), mip=true, filter="box", resize=false, wrap=None,
                     non_finite="refuse", constant_detect=true, opaque_detect=true,
                     threads=None, overwrite=false, table_dir=None, update=false, data="skip",
@@ -122,6 +122,7 @@ pub fn convert<'py>(
     bounded: bool,
     bands: Option<&str>,
     emission: Option<&str>,
+    layout: &str,
     sample: &str,
     rounding: Option<&str>,
     compression: &str,
@@ -172,6 +173,7 @@ pub fn convert<'py>(
     o.bounded = bounded;
     o.bands = bands.map(str::parse).transpose().map_err(option)?;
     o.emission = emission.map(|e| pick("emission", e)).transpose()?;
+    o.layout = pick("layout", layout)?;
     o.sample = pick("sample", sample)?;
     o.rounding = rounding.map(|r| pick("rounding", r)).transpose()?;
     o.compression = pick("compression", compression)?;

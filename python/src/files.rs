@@ -97,6 +97,8 @@ pub fn read_spectral(py: Python<'_>, path: FsPath, level: i128) -> PyResult<Spec
     let (kind, units) = match image.kind {
         Bands::Reflective => ("reflectance", None),
         Bands::Emissive { units } => ("emission", Some(units)),
+        // Never read: the reader gives bands only.
+        Bands::Named(_) => ("values", None),
     };
     Ok(SpectralImage {
         wavelengths: crate::arrays::vector(py, &image.wavelengths)

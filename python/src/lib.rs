@@ -20,6 +20,7 @@ fn _specconv(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add_class::<model::Model>()?;
     m.add_function(wrap_pyfunction!(colour::uplift, m)?)?;
+    m.add_function(wrap_pyfunction!(colour::encode, m)?)?;
     m.add_function(wrap_pyfunction!(colour::spectra_to_xyz, m)?)?;
     m.add_function(wrap_pyfunction!(colour::rgb_to_xyz, m)?)?;
     m.add_function(wrap_pyfunction!(colour::_kernel_seconds, m)?)?;

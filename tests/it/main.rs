@@ -2,6 +2,7 @@
 
 mod baselines;
 mod colour;
+mod compact;
 mod compression;
 mod convert;
 mod emission;

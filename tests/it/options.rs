@@ -22,6 +22,7 @@ fn changed(key: Key) -> Vec<String> {
         Key::Bounded => &["--unbounded"],
         Key::Bands => &["--bands", "400:700:10"],
         Key::Emission => &["--emissive"],
+        Key::Layout => &["--layout", "compact"],
         Key::Sample => &["-d", "float"],
         Key::Rounding => &["--half-rounding", "colour"],
         Key::Compression => &["--compression", "piz"],

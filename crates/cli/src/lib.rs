@@ -297,6 +297,8 @@ enum Command {
     Colorspaces(cmd::colorspaces::Args),
     #[command(after_long_help = cmd::to_rgb::EXAMPLES)]
     ToRgb(cmd::to_rgb::Args),
+    #[command(after_long_help = cmd::expand::EXAMPLES)]
+    Expand(cmd::expand::Args),
     #[command(after_long_help = cmd::completions::EXAMPLES)]
     Completions(cmd::completions::Args),
     #[command(after_long_help = cmd::simulate::EXAMPLES)]
@@ -423,6 +425,7 @@ fn run(cli: Cli) -> anyhow::Result<i32> {
         Some(Command::Info(args)) => cmd::info::run(with_ocio!(args)),
         Some(Command::Colorspaces(args)) => done(cmd::colorspaces::run(with_ocio!(args))),
         Some(Command::ToRgb(args)) => done(cmd::to_rgb::run(with_ocio!(args))),
+        Some(Command::Expand(args)) => done(cmd::expand::run(args)),
         Some(Command::Completions(args)) => done(cmd::completions::run(args)),
         Some(Command::Simulate(args)) => done(cmd::simulate::run(args)),
         Some(Command::Preview(args)) => done(cmd::preview::run(args)),

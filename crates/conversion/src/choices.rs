@@ -46,6 +46,17 @@ impl NonFinite {
     }
 }
 
+/// How the spectra are stored (`--layout`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Layout {
+    /// A band a channel, the layout of Fichet et al. 2021 (docs/spectral-exr.md).
+    Spectral,
+    /// Six float32 values a texel, the colour and the projection's dual unknowns, with the
+    /// model in the header: the same spectra at the size of RGB (docs/compact.md);
+    /// `specconv expand` writes the spectral layout from it.
+    Compact,
+}
+
 /// Whether a tiled output is a MIP map.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Mip {
@@ -189,6 +200,7 @@ named!(DataPolicy, "data policy", [
 ]);
 
 text_by_name!(
+    Layout,
     Compression,
     Rounding,
     DataPolicy,
@@ -198,6 +210,10 @@ text_by_name!(
     Filter
 );
 
+named!(Layout, "layout", [
+    Layout::Spectral => "spectral" | "fichet",
+    Layout::Compact => "compact",
+]);
 named!(Alpha, "alpha", [
     Alpha::Auto => "auto",
     Alpha::Straight => "straight" | "unassociated",

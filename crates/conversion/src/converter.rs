@@ -2,13 +2,14 @@
 //! [`Report`].
 
 use crate::error::{ConversionError, Error};
-use crate::options::{settings_tag, Blocks, DataPolicy, Options, Resolved};
+use crate::options::{settings_tag, Blocks, DataPolicy, Layout, Options, Resolved};
 use crate::pipeline::{Job, Storage};
 use crate::provenance::{recorded, Provenance};
 use crate::report::{DataOutcome, Report, Role};
 use specconv_colour::EmissionUnits;
 use specconv_exr::Sample;
 use specconv_ocio::Config;
+use specconv_spectral::compact::Compact;
 use specconv_spectral::stack::{Description, Stack};
 use specconv_spectral::Model;
 
@@ -110,7 +111,8 @@ impl Converter {
             check_memory(width * height, channels, threads)?;
         }
         let model_description = crate::models::describe(options.model.as_deref(), &model);
-        let storage = Storage::of(&options, &stack);
+        let compact = compact(&options, &model, &model_description)?;
+        let storage = Storage::of(&options, &stack, compact);
         let provenance = Provenance {
             model: Some(model_description.clone()),
             model_attribution: crate::models::attribution(&model),
@@ -439,6 +441,20 @@ impl std::fmt::Display for Advice {
             ),
         }
     }
+}
+
+/// The compact layout's encoder, when it is the layout: the clustered methods' reflectance,
+/// not resized (level 0 would be the filtered colour, not the filtered spectra).
+fn compact(options: &Options, model: &Model, name: &str) -> Result<Option<Compact>, Error> {
+    if options.layout != Layout::Compact {
+        return Ok(None);
+    }
+    if options.resize {
+        return Err(Error::Compact {
+            why: "a resized level 0 is filtered from the spectra, which texels cannot hold; resize the input first".into(),
+        });
+    }
+    Ok(Some(Compact::new(model, name, &options.description())?))
 }
 
 impl Options {

@@ -160,6 +160,12 @@ pub enum Error {
     /// A `specconv*` attribute of a described file does not parse ([`crate::describe`]).
     #[error(transparent)]
     Provenance(crate::provenance::BadAttribute),
+    /// Settings the compact layout cannot hold, or a file that is not a compact texture.
+    #[error("the compact layout: {why}")]
+    Compact {
+        /// Why, and what to do.
+        why: String,
+    },
 }
 
 // Inside this crate only: no front-end names an FFI type.
@@ -539,6 +545,8 @@ mod tests {
                 ConversionError::Data(_) => ("Conversion::Data", true),
                 // The caller's own gate: the warning says what is wrong.
                 ConversionError::Strict { .. } => ("Conversion::Strict", false),
+                // Another file is needed.
+                ConversionError::NotCompact { .. } => ("Conversion::NotCompact", false),
             },
             Error::Plan(p) => ("Plan", matches!(p, PlanError::Exists { .. })),
             // Whether a plan's error is fixable is the plan's own test's.
@@ -568,6 +576,8 @@ mod tests {
             Error::Colorimetry(e) => ("Colorimetry", colour_fixable(e)),
             Error::Attributes(_) => ("Attributes", false),
             Error::Provenance(_) => ("Provenance", false),
+            // Two settings that do not go together; the message says which.
+            Error::Compact { .. } => ("Compact", false),
         }
     }
 
@@ -617,6 +627,7 @@ mod tests {
         "Conversion::Spectral",
         "Conversion::Data",
         "Conversion::Strict",
+        "Conversion::NotCompact",
         "Plan",
         "Planning::NotMadeBySpecconv",
         "Planning::Files",
@@ -632,6 +643,7 @@ mod tests {
         "Colorimetry",
         "Attributes",
         "Provenance",
+        "Compact",
     ];
 
     fn not_covered() -> specconv_colour::Error {
@@ -726,6 +738,10 @@ mod tests {
                 input: p(),
                 warning: "1 pixels above 1".into(),
             },
+            ConversionError::NotCompact {
+                path: p(),
+                why: "no specconvLayout attribute".into(),
+            },
         ];
         let mut all = vec![
             Error::ZipLevelWithoutZip {
@@ -817,6 +833,9 @@ mod tests {
             Error::Colorimetry(specconv_colour::Error::Grid("1:0:1".into())),
             Error::Attributes(specconv_exr::Error::Invalid("no bands".into())),
             Error::Provenance(bad_attribute()),
+            Error::Compact {
+                why: "resized".into(),
+            },
         ];
         all.extend(conversion.into_iter().map(Error::Conversion));
         all

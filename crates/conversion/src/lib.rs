@@ -56,6 +56,7 @@ pub mod tables;
 pub mod to_rgb;
 mod wrapped;
 
+pub use crate::pipeline::expand::Expanded;
 pub use crate::pipeline::DataTexture;
 pub use batch::{Batch, Event, Summary};
 pub use colour_config::{is_builtin_config, ColourConfig, ColourSpace, ConfigOrigin, XyzTransform};
@@ -66,8 +67,8 @@ pub use describe::{
 pub use error::{message, remedy_of, Cause, ConversionError, Error, Remedy};
 pub use named::{Named, UnknownName};
 pub use options::{
-    About, Alpha, BadValue, Blocks, Compression, DataPolicy, Filter, Key, Mip, NonFinite, Options,
-    Rounding, Sample, Wrap, WrapModes, WRAP_NAMES,
+    About, Alpha, BadValue, Blocks, Compression, DataPolicy, Filter, Key, Layout, Mip, NonFinite,
+    Options, Rounding, Sample, Wrap, WrapModes, WRAP_NAMES,
 };
 pub use plan::{check_plan, Outputs, Plan};
 pub use provenance::Provenance;
@@ -75,6 +76,18 @@ pub use report::{
     DataOutcome, Notice, NoticeCount, NoticeKind, Report, Role, Strength, DATA_MAP_RULE, PRECEDENCE,
 };
 pub use wrapped::{ColourError, ImageError};
+
+/// Writes the compact texture `input` (`--layout compact`) out in the spectral layout at
+/// `output`, as a conversion with the same settings writes it (docs/compact.md); `cancel` stops
+/// it, leaving nothing.
+pub fn expand(
+    input: &std::path::Path,
+    output: &std::path::Path,
+    overwrite: bool,
+    cancel: &std::sync::atomic::AtomicBool,
+) -> Result<Expanded, Error> {
+    Ok(pipeline::expand::expand(input, output, overwrite, cancel)?)
+}
 
 /// Makes writes past the file size limit (`ulimit -f`) fail with an error the writer reports,
 /// its temporary file removed, instead of SIGXFSZ killing the process: for a program's first

@@ -10,7 +10,9 @@ use specconv_colour::{EmissionUnits, Grid};
 use specconv_spectral::method::MethodName;
 use std::path::PathBuf;
 
-pub use crate::choices::{Alpha, Compression, DataPolicy, Filter, Mip, NonFinite, Rounding};
+pub use crate::choices::{
+    Alpha, Compression, DataPolicy, Filter, Layout, Mip, NonFinite, Rounding,
+};
 pub use crate::pipeline::texture::{Wrap, WrapModes, WRAP_NAMES};
 pub use specconv_exr::Sample;
 
@@ -51,6 +53,8 @@ pub struct Options {
     pub bands: Option<Grid>,
     /// Emission in these units instead of reflectance.
     pub emission: Option<EmissionUnits>,
+    /// A band a channel, or the compact texel (its samples float32 whatever `sample` says).
+    pub layout: Layout,
     /// Half or float samples.
     pub sample: Sample,
     /// How half samples are rounded (`None`: [`Rounding::Nearest`] for reflectance,
@@ -107,6 +111,7 @@ impl Default for Options {
             bounded: true,
             bands: None,
             emission: None,
+            layout: Layout::Spectral,
             sample: Sample::Half,
             rounding: None,
             compression: Compression::Zip,
@@ -155,6 +160,7 @@ pub enum Key {
     Bounded,
     Bands,
     Emission,
+    Layout,
     Sample,
     Rounding,
     Compression,
@@ -200,7 +206,7 @@ fn choices<T: Named>() -> Option<(Vec<&'static str>, Vec<&'static str>)> {
 
 impl Key {
     /// Every option, in the order help lists them.
-    pub const ALL: [Key; 29] = [
+    pub const ALL: [Key; 30] = [
         Key::Ocio,
         Key::Colorspace,
         Key::Alpha,
@@ -212,6 +218,7 @@ impl Key {
         Key::Bounded,
         Key::Bands,
         Key::Emission,
+        Key::Layout,
         Key::Sample,
         Key::Rounding,
         Key::Compression,
@@ -247,6 +254,7 @@ impl Key {
                 Key::Bounded => ("bounded", &["bounded", "unbounded"], None, "keep every reflectance in [0, 1] with its colour", true),
                 Key::Bands => ("bands", &["bands"], None, "the output's wavelength grid START:END:STEP in nm (unset: the model's)", true),
                 Key::Emission => ("emission", &["emissive", "emission-units"], choices::<EmissionUnits>(), "write emission in these units instead of reflectance", true),
+                Key::Layout => ("layout", &["layout"], choices::<Layout>(), "a band a channel (`spectral`), or six float32 values a texel that decode to the same spectra (`compact`)", true),
                 Key::Sample => ("sample", &["data-type"], choices::<Sample>(), "half or float samples", true),
                 Key::Rounding => ("rounding", &["half-rounding"], choices::<Rounding>(), "how half samples are rounded (unset: nearest for reflectance, colour for emission)", true),
                 Key::Compression => ("compression", &["compression"], choices::<Compression>(), "the output's compression", true),
@@ -309,6 +317,7 @@ impl Options {
             Key::Bounded => word(self.bounded),
             Key::Bands => self.bands.map(|g| g.to_string()),
             Key::Emission => self.emission.map(|u| Named::name(u).to_string()),
+            Key::Layout => name(Named::name(self.layout)),
             Key::Sample => name(self.sample.name()),
             Key::Rounding => self.rounding.map(|r| r.name().to_string()),
             Key::Compression => name(self.compression.name()),
@@ -375,6 +384,7 @@ impl Options {
                 )
             }
             Key::Emission => self.emission = Some(named(text).map_err(bad)?),
+            Key::Layout => self.layout = named(text).map_err(bad)?,
             Key::Sample => self.sample = named(text).map_err(bad)?,
             Key::Rounding => self.rounding = Some(named(text).map_err(bad)?),
             Key::Compression => self.compression = named(text).map_err(bad)?,
@@ -418,6 +428,7 @@ impl Options {
             Key::Bounded => self.bounded = d.bounded,
             Key::Bands => self.bands = d.bands,
             Key::Emission => self.emission = d.emission,
+            Key::Layout => self.layout = d.layout,
             Key::Sample => self.sample = d.sample,
             Key::Rounding => self.rounding = d.rounding,
             Key::Compression => self.compression = d.compression,
@@ -508,6 +519,7 @@ pub(crate) fn settings_tag(o: &Options, r: Resolved) -> String {
         subimage,
         channels,
         emission,
+        layout,
         sample,
         // Read with the kind's default (`rounding_in_effect`) below.
         rounding: _,
@@ -572,6 +584,9 @@ pub(crate) fn settings_tag(o: &Options, r: Resolved) -> String {
     // The rounding when it is not the kind's default (which earlier versions left implied).
     if o.rounding_in_effect() != o.default_rounding() && *sample == Sample::Half {
         tag += &format!(" half-rounding={}", o.rounding_in_effect());
+    }
+    if *layout == Layout::Compact {
+        tag += " layout=compact";
     }
     if *data != DataPolicy::Skip {
         tag += &format!(" data={data}");

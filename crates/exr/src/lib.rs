@@ -171,6 +171,10 @@ pub enum Kind {
         /// empty when a file read has none.
         units: String,
     },
+    /// Values that are not bands, one channel of each of these names (a compact texture's
+    /// `C.X` …, `specconv_spectral::compact`): [`Spec::wavelengths`] then numbers them
+    /// 1, 2, … and the header has no `spectralLayoutVersion`. Written only.
+    Named(Vec<String>),
 }
 
 /// How each sample is stored.
@@ -266,6 +270,11 @@ pub fn channel_name(kind: &Kind, wavelength_nm: f64) -> String {
     let prefix = match kind {
         Kind::Reflective => "T",
         Kind::Emissive { .. } => "S0",
+        // The value's number, from 1 (`Kind::Named`).
+        Kind::Named(names) => {
+            let i = (wavelength_nm as usize).wrapping_sub(1);
+            return names.get(i).cloned().unwrap_or_default();
+        }
     };
     format!(
         "{prefix}.{}nm",
@@ -877,6 +886,15 @@ fn named_channels(spec: &Spec) -> Result<Vec<(String, usize)>> {
         named.push(("A".into(), spec.wavelengths.len()));
     }
     named.sort();
+    if let Kind::Named(names) = &spec.kind {
+        if names.len() != spec.wavelengths.len() || names.iter().any(|n| n.is_empty() || n == "A") {
+            return Err(Error::Invalid(format!(
+                "{} channel names for {} values",
+                names.len(),
+                spec.wavelengths.len()
+            )));
+        }
+    }
     if named.windows(2).any(|w| w[0].0 == w[1].0) {
         return Err(Error::Invalid(
             "two bands have the same wavelength to six decimals".into(),
@@ -954,9 +972,13 @@ fn set_attributes(header: &mut Header, spec: &Spec) -> Result<()> {
             AttributeValue::Text(Text::new_or_panic(value)),
         );
     };
-    text("spectralLayoutVersion", "1.0");
-    if let Kind::Emissive { units } = &spec.kind {
-        text("emissiveUnits", units);
+    match &spec.kind {
+        Kind::Named(_) => {}
+        Kind::Reflective => text("spectralLayoutVersion", "1.0"),
+        Kind::Emissive { units } => {
+            text("spectralLayoutVersion", "1.0");
+            text("emissiveUnits", units);
+        }
     }
     for (k, v) in &spec.attributes {
         if Text::new_or_none(k).is_none() || k.is_empty() {

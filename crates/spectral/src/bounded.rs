@@ -58,7 +58,17 @@ impl Counts {
 /// Colours per block of the f32 path.
 const BLOCK: usize = 64;
 
+/// How close clip(r₀ + Aᵀw, 0, 1) with w rounded to float32 must stay to the spectrum with w
+/// itself, per band and relative to the band's value (at least 2⁻¹⁴, half's smallest normal),
+/// for an outside colour's projection to be taken: 2⁻¹³, a quarter of the spacing of half
+/// floats there.
+pub const DUAL_F32_TOLERANCE: f64 = 1.0 / 8192.0;
+
+/// Dual Newton steps of a projection ([`Solid::project`]'s).
+const MAX_DUAL_STEPS: usize = 60;
+
 /// A method whose spectra are kept in [0, 1] with their XYZ unchanged (see the module).
+#[derive(Clone)]
 pub struct Bounded<M> {
     inner: M,
     colorimetry: Colorimetry,
@@ -145,11 +155,18 @@ impl<M: Method> Bounded<M> {
 
     /// Bounds one spectrum `r` (the inner method's for colour `c`) in place.
     pub fn bound(&self, c: [f64; 3], r: &mut [f64]) -> Outcome {
+        self.bound_dual(c, r).0
+    }
+
+    /// [`Bounded::bound`], with the dual unknowns w of the result: r = clip(r₀ + Aᵀw, 0, 1)
+    /// for every outcome (w = 0 in range and for NaN), the compact texel's u
+    /// ([`crate::compact`]).
+    pub fn bound_dual(&self, c: [f64; 3], r: &mut [f64]) -> (Outcome, [f64; 3]) {
         if c.iter().any(|v| !v.is_finite()) {
-            return Outcome::NotFinite;
+            return (Outcome::NotFinite, [0.0; 3]);
         }
         if r.iter().all(|v| (0.0..=1.0).contains(v)) {
-            return Outcome::InRange;
+            return (Outcome::InRange, [0.0; 3]);
         }
         let mut stack = [0.0; 128];
         let mut heap = Vec::new();
@@ -160,16 +177,88 @@ impl<M: Method> Bounded<M> {
             &mut heap
         };
         r0.copy_from_slice(r);
-        match self.solid.project(c, r0, r) {
-            Solve::Solved => Outcome::Projected,
-            solve => Outcome::Outside {
-                certificate: match solve {
+        match self.solid.project_dual(c, r0, r, MAX_DUAL_STEPS) {
+            (Solve::Solved, w) => (Outcome::Projected, w),
+            (solve, _) => {
+                let near =
+                    nearest::nearest_lab(&self.solid, self.colorimetry.white_xyz(), c, r0, r);
+                let (reached, w) = match self.along_normal(c, near, r0, r) {
+                    Some(w) => (near, w),
+                    None => self.onto_reached(near, r0, r),
+                };
+                let certificate = match solve {
                     Solve::Outside(u) => Some(u),
                     _ => None,
-                },
-                reached: nearest::nearest_lab(&self.solid, self.colorimetry.white_xyz(), c, r0, r),
-            },
+                };
+                (
+                    Outcome::Outside {
+                        certificate,
+                        reached,
+                    },
+                    w,
+                )
+            }
         }
+    }
+
+    /// The search's own spectrum `r` in the texel form, when it is one: at a vertex or an
+    /// edge of the solid (black, the perfect white, the most saturated colours) every band is
+    /// 0 or 1 by the sign of aᵢ·n, n the outward normal there (the CIELAB descent direction
+    /// from the reached colour `near` towards `c`), and w = t·n reproduces it for t large
+    /// enough, float32 rounding included. `None` where a band is left free.
+    fn along_normal(&self, c: [f64; 3], near: [f64; 3], r0: &[f64], r: &[f64]) -> Option<[f64; 3]> {
+        use specconv_colour::lab::{xyz_to_lab, xyz_to_lab_jacobian};
+        let white = self.colorimetry.white_xyz();
+        let (lab, j) = xyz_to_lab_jacobian(near, white);
+        let target = xyz_to_lab(c, white);
+        let n: [f64; 3] =
+            [0, 1, 2].map(|k| (0..3).map(|row| j[row][k] * (target[row] - lab[row])).sum());
+        let size = n.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        if !(size > 0.0 && size.is_finite()) || r.iter().any(|&v| v != 0.0 && v != 1.0) {
+            return None;
+        }
+        // From a dual as large as a projection's to one that saturates the faintest band.
+        (0..48)
+            .map(|k| n.map(|v| v / size * 2f64.powi(k)))
+            .find(|&w| self.keeps_in_f32(r0, w, r))
+    }
+
+    /// The spectrum of an outside colour in the form of every other, clip(r₀ + Aᵀw, 0, 1): `r0`
+    /// projected onto the colour `near` reached ([`nearest`]), drawn towards the grey of its
+    /// luminance by the least fraction (0, then 10⁻⁸ doubled) for which the projection is solved and w rounded
+    /// to float32 (as a compact texel stores it) still gives its spectrum within
+    /// [`DUAL_F32_TOLERANCE`]. A colour of the surface is reached only as w → ∞, and the bands
+    /// the clip leaves free lose |aᵢ|·|w|·2⁻²⁴ to the rounding. Returns the colour and w (w = 0
+    /// and r₀ clipped if no pull solves).
+    fn onto_reached(&self, near: [f64; 3], r0: &[f64], r: &mut [f64]) -> ([f64; 3], [f64; 3]) {
+        // The grey of the same luminance, inside the solid: only chroma is given up.
+        let white = self.colorimetry.white_xyz();
+        let grey = white.map(|v| v * (near[1] / white[1]).clamp(0.0, 1.0));
+        let mut trial = vec![0.0; r.len()];
+        for t in std::iter::once(0.0).chain((0..28).map(|k| 1e-8 * 2f64.powi(k))) {
+            let x = [0, 1, 2].map(|k| near[k] + t * (grey[k] - near[k]));
+            let (solve, w) = self.solid.project_dual(x, r0, &mut trial, MAX_DUAL_STEPS);
+            if solve == Solve::Solved && self.keeps_in_f32(r0, w, &trial) {
+                r.copy_from_slice(&trial);
+                return (self.solid.xyz(r), w);
+            }
+        }
+        // Never seen; the clipped spectrum keeps the texel form.
+        r.iter_mut()
+            .zip(r0)
+            .for_each(|(v, &x)| *v = x.clamp(0.0, 1.0));
+        (self.solid.xyz(r), [0.0; 3])
+    }
+
+    /// Whether clip(r₀ + Aᵀw, 0, 1) with w rounded to float32 is `r` within
+    /// [`DUAL_F32_TOLERANCE`] of each band's value.
+    fn keeps_in_f32(&self, r0: &[f64], w: [f64; 3], r: &[f64]) -> bool {
+        let w32 = w.map(|v| f64::from(v as f32));
+        let cols = self.solid.columns();
+        r0.iter().zip(cols).zip(r).all(|((&p, a), &v)| {
+            let z = p + a[0] * w32[0] + a[1] * w32[1] + a[2] * w32[2];
+            (z.clamp(0.0, 1.0) - v).abs() <= DUAL_F32_TOLERANCE * v.max(1.0 / 16384.0)
+        })
     }
 
     /// The policy before the CIELAB search, kept as the reference it is measured against: the

@@ -11,6 +11,7 @@
 //! - [`baselines`]: Smits 1999, Meng et al. 2015, Jakob & Hanika 2019 behind the same trait.
 //! - Adapters: [`resample`] (another grid), [`bounded`] (reflectances in [0, 1]),
 //!   [`emission`] (emission spectra of any brightness).
+//! - [`compact`]: the texel form of the clustered method's spectra, six numbers per texel.
 //! - [`stack`]: the one builder of what a command uplifts with, from a description of its
 //!   options (method, model, blend, grid, bounded, emissive) to the method and its counters.
 //!
@@ -21,6 +22,7 @@
 
 pub mod baselines;
 pub mod bounded;
+pub mod compact;
 pub mod emission;
 pub mod method;
 pub mod otsu2018;

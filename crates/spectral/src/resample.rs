@@ -30,18 +30,7 @@ impl<M: Method> Resampled<M> {
     /// method's XYZ is defined under, sampled on the new grid.
     pub fn new(inner: M, colorimetry: Colorimetry) -> Result<Resampled<M>, Error> {
         let from = inner.grid();
-        let n0 = from.len();
-        let taps = colorimetry
-            .grid
-            .wavelengths()
-            .iter()
-            .map(|&w| {
-                let t = ((w - from.start) / from.step).clamp(0.0, (n0 - 1) as f64);
-                let i = (t.floor() as usize).min(n0 - 1);
-                let j = (i + 1).min(n0 - 1);
-                (i, j, t - i as f64)
-            })
-            .collect();
+        let taps = taps(from, colorimetry.grid);
         let correction = correction(&colorimetry)?;
         let same_grid = from == colorimetry.grid;
         // On its own grid only the colour is corrected (to another integration): same name.
@@ -87,6 +76,21 @@ impl<M: Method> Resampled<M> {
             *v = *v + k0 * e[0] + k1 * e[1] + k2 * e[2];
         }
     }
+}
+
+/// For each band of `to`: the two bands of `from` it lies between and the weight of the second
+/// (ends held flat).
+pub(crate) fn taps(from: Grid, to: Grid) -> Vec<(usize, usize, f64)> {
+    let n0 = from.len();
+    to.wavelengths()
+        .iter()
+        .map(|&w| {
+            let t = ((w - from.start) / from.step).clamp(0.0, (n0 - 1) as f64);
+            let i = (t.floor() as usize).min(n0 - 1);
+            let j = (i + 1).min(n0 - 1);
+            (i, j, t - i as f64)
+        })
+        .collect()
 }
 
 /// Aᵀ(AAᵀ)⁻¹ by columns, A the XYZ rows of `colorimetry`: the smallest change of a spectrum per

@@ -219,6 +219,23 @@ impl Stack {
     }
 }
 
+/// The clustered method of `d` for an output of `colorimetry`: the model's maps, blended, and
+/// (exact under the readers' integration, or on another grid) moved onto the output's grid and
+/// corrected there ([`Uplifter::onto`]): the spectra [`Resampled`] would make, with the
+/// correction folded into the maps. The stack and the compact texel
+/// ([`crate::compact`]) both take it from here, so they decode to the same spectra.
+pub fn clustered(
+    d: &Description,
+    model: &Model,
+    colorimetry: &Colorimetry,
+) -> Result<Uplifter, Error> {
+    let up = Uplifter::new(model)?.with_blend(d.blend)?;
+    if d.exact_under == ExactUnder::Readers || colorimetry.grid != model.grid {
+        return up.onto(colorimetry);
+    }
+    Ok(up)
+}
+
 /// The method of `d` in its setting, and whether it is already exact under the output's
 /// `colorimetry`: the clustered methods fold the readers' correction into their maps when the
 /// output is on the model's grid (the same spectra as [`Resampled`], whose per-pixel
@@ -237,11 +254,9 @@ fn method(
     let a = d.setting(model)?;
     let m: Box<dyn Method> = match d.method {
         MethodName::Pca | MethodName::Otsu2018 => {
-            let up = Uplifter::new(model)?.with_blend(d.blend)?;
-            if d.exact_under == ExactUnder::Readers && colorimetry.grid == model.grid {
-                return Ok((Box::new(up.exact_under(colorimetry)?), true));
-            }
-            Box::new(up)
+            let up = clustered(d, model, colorimetry)?;
+            let corrected = up.grid() == colorimetry.grid;
+            return Ok((Box::new(up), corrected));
         }
         MethodName::Smits1999 => Box::new(Smits1999::new(&a)?),
         MethodName::Meng2015 => Box::new(Meng2015::new(&a, false)?),

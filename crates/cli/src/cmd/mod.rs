@@ -4,6 +4,7 @@ pub mod colorspaces;
 pub mod completions;
 pub mod convert;
 pub mod eval;
+pub mod expand;
 pub mod farm;
 pub mod info;
 pub mod preview;

@@ -120,6 +120,18 @@ impl Solid {
         r: &mut [f64],
         iterations: usize,
     ) -> Solve {
+        self.project_dual(c, r0, r, iterations).0
+    }
+
+    /// [`Solid::project_within`], with the dual unknowns w where it ended: when solved,
+    /// r = clip(r0 + Aᵀw, 0, 1) (the compact texel's u, `specconv_spectral::compact`).
+    pub fn project_dual(
+        &self,
+        c: [f64; 3],
+        r0: &[f64],
+        r: &mut [f64],
+        iterations: usize,
+    ) -> (Solve, [f64; 3]) {
         let scale = c[0].abs().max(c[1].abs()).max(c[2].abs());
         let tol = 1e-13 * scale.max(f64::MIN_POSITIVE);
         // Each axis bounds the solid: c beyond one is outside, at the cost of six compares.
@@ -131,7 +143,7 @@ impl Solid {
                 if sign * c[k] > support + tol {
                     let mut u = [0.0; 3];
                     u[k] = sign;
-                    return Solve::Outside(u);
+                    return (Solve::Outside(u), [0.0; 3]);
                 }
             }
         }
@@ -158,14 +170,15 @@ impl Solid {
             }
             false
         };
-        match problem.minimise(&mut w, r, tol, iterations, watch) {
+        let solve = match problem.minimise(&mut w, r, tol, iterations, watch) {
             End::Converged => Solve::Solved,
             End::Watched => Solve::Outside(certificate.expect("set by the watch")),
             End::Stalled(residual) if residual <= 1e-9 * scale.max(f64::MIN_POSITIVE) => {
                 Solve::Solved
             }
             End::Stalled(_) => Solve::Unresolved,
-        }
+        };
+        (solve, w)
     }
 }
 

@@ -18,6 +18,7 @@
 
 pub mod colour;
 pub mod data;
+pub mod expand;
 pub mod filter;
 pub mod input;
 mod mip;
@@ -33,6 +34,7 @@ pub use colour::{input_space, texture_space, DataTexture, InputSpace, Rule, ToXy
 use specconv_atomic_file::Replace;
 use specconv_exr::{Block, Blocks, Chunk, Kind, Sample, Spec, SpectralFile, Windows};
 use specconv_ocio::Config;
+use specconv_spectral::compact::Compact;
 use specconv_spectral::method::Tally;
 use specconv_spectral::stack::Stack;
 use specconv_spectral::Method;
@@ -144,6 +146,14 @@ pub enum Error {
     /// The input holds data, not colour (`colour::texture_space`): it is never uplifted.
     #[error(transparent)]
     Data(Box<DataTexture>),
+    /// A file to expand that is not a compact texture this version reads.
+    #[error("{}: not a compact texture: {why}", path.display())]
+    NotCompact {
+        /// The file.
+        path: PathBuf,
+        /// What is missing or wrong.
+        why: String,
+    },
     /// A warning, which the strict setting makes a failure: nothing was written.
     #[error(
         "{}: {warning}; in strict mode a warning fails the input, and nothing was written",
@@ -189,11 +199,23 @@ pub(crate) struct Storage {
     /// The range a filter with negative lobes ([`Filter::has_negative_lobes`]) keeps the
     /// bands it makes in: [0, 1] for bounded reflectance. Alpha is kept in [0, 1].
     pub band_range: (f32, f32),
+    /// The compact layout's encoder: texels of six values instead of bands.
+    pub compact: Option<Compact>,
 }
 
 impl Storage {
-    /// What `options` make of `stack`'s spectra.
-    pub fn of(options: &Options, stack: &Stack) -> Storage {
+    /// What `options` make of `stack`'s spectra, with the compact layout's encoder when it
+    /// is the layout.
+    pub fn of(options: &Options, stack: &Stack, compact: Option<Compact>) -> Storage {
+        if let Some(compact) = compact {
+            // Colours and dual unknowns, float32: no rounding, no range but a number's.
+            return Storage {
+                kind: specconv_exr::Kind::Named(COMPACT_CHANNELS.map(String::from).to_vec()),
+                xyz_weights: None,
+                band_range: (f32::NEG_INFINITY, f32::INFINITY),
+                compact: Some(compact),
+            };
+        }
         let by_colour = options.rounding_in_effect() == Rounding::Colour;
         Storage {
             kind: crate::layout::bands(options.emission),
@@ -208,9 +230,28 @@ impl Storage {
             } else {
                 (0.0, f32::INFINITY)
             },
+            compact: None,
+        }
+    }
+
+    /// Values a pixel holds beside alpha: the `bands` of the spectra, or a compact texel's.
+    pub fn values(&self, bands: usize) -> usize {
+        match self.compact {
+            Some(_) => specconv_spectral::compact::TEXEL,
+            None => bands,
         }
     }
 }
+
+/// A compact texel's channels, in the order of its values ([`specconv_spectral::compact`]).
+pub const COMPACT_CHANNELS: [&str; 6] = ["C.X", "C.Y", "C.Z", "U.0", "U.1", "U.2"];
+
+/// The attribute that names a compact file's layout and version (`compact 1`).
+pub const LAYOUT_ATTRIBUTE: &str = "specconvLayout";
+/// The attribute that holds a compact file's model and decoding rule (docs/compact.md).
+pub const COMPACT_ATTRIBUTE: &str = "specconvCompact";
+/// The attribute that holds how `specconv expand` stores the spectra (`expand::settings`).
+pub const EXPAND_ATTRIBUTE: &str = "specconvExpand";
 
 /// Values above this count as above 1: 0.1 % of headroom, so that the rounding of colour
 /// conversion does not make white count.
@@ -250,6 +291,11 @@ impl Job<'_> {
     /// The method every pixel is uplifted with.
     fn method(&self) -> &dyn Method {
         self.stack.method()
+    }
+
+    /// Values a pixel of the output holds beside alpha: bands, or a compact texel's.
+    fn values(&self) -> usize {
+        self.storage.values(self.method().grid().len())
     }
 
     /// The tile size, or `None` for scanlines.
@@ -505,14 +551,28 @@ fn output_file(
         Blocks::Scanlines => (Vec::new(), Vec::new()),
     };
     extra.push((survey::SOURCE_HASH.to_string(), survey.hash.clone()));
+    if let Some(compact) = &job.storage.compact {
+        extra.push((
+            LAYOUT_ATTRIBUTE.into(),
+            specconv_spectral::compact::VERSION.into(),
+        ));
+        extra.push((COMPACT_ATTRIBUTE.into(), compact.to_text()));
+        extra.push((EXPAND_ATTRIBUTE.into(), expand::settings(job.options)));
+    }
     let spec = Spec {
         width,
         height,
         windows: Some(windows),
-        wavelengths: job.method().grid().wavelengths(),
+        wavelengths: match &job.storage.compact {
+            Some(_) => (1..=job.values()).map(|i| i as f64).collect(),
+            None => job.method().grid().wavelengths(),
+        },
         kind: job.storage.kind.clone(),
         alpha,
-        sample: job.options.sample,
+        sample: match &job.storage.compact {
+            Some(_) => Sample::Float,
+            None => job.options.sample,
+        },
         compression: job.options.compression.exr(),
         zip_level: job
             .options
@@ -598,7 +658,7 @@ fn encode_made_block(
     if job.cancel.load(Ordering::Relaxed) {
         return Err(Error::Cancelled);
     }
-    let n = job.method().grid().len();
+    let n = job.values();
     let values = file.values_per_pixel();
     let mut bands = Vec::with_capacity(b.width * b.height * n);
     let mut a = file
@@ -615,6 +675,14 @@ fn encode_made_block(
         }
     }
     let clamped = keep_in_range(job, &mut bands, a.as_deref_mut(), n);
+    if let Some(compact) = &job.storage.compact {
+        // A smaller level holds the filtered colour, its dual unknowns solved again.
+        let c: Vec<f32> = bands
+            .chunks_exact(n)
+            .flat_map(|t| [t[0], t[1], t[2]])
+            .collect();
+        compact.encode_f32(&c, &mut bands);
+    }
     // A resized level 0 is made here: its sums for the average, and its values beyond the half
     // range counted (a smaller level's come from one there).
     let level0 = strip.level == 0;
@@ -640,11 +708,21 @@ fn encode_made_block(
 /// Clamps what a filter with negative lobes pushed out of range: bands into the settings'
 /// `band_range`, alpha into [0, 1]; returns the pixels it changed. Filters without them only
 /// average, and are left alone (their values are level 0's, averaged).
-fn keep_in_range(job: &Job, bands: &mut [f32], mut alpha: Option<&mut [f32]>, n: usize) -> u64 {
-    if !job.options.filter.has_negative_lobes() {
+fn keep_in_range(job: &Job, bands: &mut [f32], alpha: Option<&mut [f32]>, n: usize) -> u64 {
+    clamp_made(job.options.filter, job.storage.band_range, bands, alpha, n)
+}
+
+/// [`keep_in_range`] for a level made with `filter`, bands kept in `(lo, hi)`.
+fn clamp_made(
+    filter: crate::Filter,
+    (lo, hi): (f32, f32),
+    bands: &mut [f32],
+    mut alpha: Option<&mut [f32]>,
+    n: usize,
+) -> u64 {
+    if !filter.has_negative_lobes() {
         return 0;
     }
-    let (lo, hi) = job.storage.band_range;
     let mut changed = 0;
     for (i, spectrum) in bands.chunks_exact_mut(n).enumerate() {
         let mut any = false;
@@ -743,10 +821,14 @@ fn uplift_block(
         counts.non_finite += u64::from(!c.iter().all(|v| v.is_finite()));
         counts.above_one += u64::from(*above || c[1] > ABOVE_ONE);
     }
-    let n = job.method().grid().len();
+    let n = job.values();
     let mut bands = vec![0.0f32; count * n];
-    job.method()
-        .uplift_f32_tallied(&rgb, &mut bands, &mut counts.tally);
+    match &job.storage.compact {
+        Some(compact) => counts.tally.bounded += compact.encode_f32(&rgb, &mut bands),
+        None => job
+            .method()
+            .uplift_f32_tallied(&rgb, &mut bands, &mut counts.tally),
+    }
     Ok((bands, a, counts))
 }
 
@@ -761,7 +843,7 @@ fn encode_block(
     resized: bool,
 ) -> Result<Made> {
     let (bands, a, mut counts) = uplift_block(job, reading, b, strip, b.y)?;
-    let n = job.method().grid().len();
+    let n = job.values();
     // Compressing a fine-band block takes as long as uplifting it.
     if job.cancel.load(Ordering::Relaxed) {
         return Err(Error::Cancelled);
@@ -803,14 +885,33 @@ fn finish_block(
     file: &SpectralFile,
     job: &Job,
     b: &Block,
+    bands: Vec<f32>,
+    alpha: Option<&[f32]>,
+) -> Result<(Chunk, u64)> {
+    finish(
+        file,
+        job.storage.xyz_weights.as_ref(),
+        job.values(),
+        b,
+        bands,
+        alpha,
+    )
+}
+
+/// [`finish_block`] for blocks of `n` values a pixel, rounded to half keeping the colour of
+/// `xyz_weights` when given.
+fn finish(
+    file: &SpectralFile,
+    xyz_weights: Option<&[Vec<f64>; 3]>,
+    n: usize,
+    b: &Block,
     mut bands: Vec<f32>,
     alpha: Option<&[f32]>,
 ) -> Result<(Chunk, u64)> {
-    let n = job.method().grid().len();
     let mut saturated = 0;
     if file.spec().sample == Sample::Half {
         saturated = saturate_half(&mut bands, n);
-        if let Some(w) = &job.storage.xyz_weights {
+        if let Some(w) = xyz_weights {
             specconv_exr::quantize::round_to_half_keeping_colour(w, &mut bands, n);
         }
     }

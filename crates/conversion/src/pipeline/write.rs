@@ -117,7 +117,7 @@ fn strict(job: &Job, counts: &Counts, pixels: u64) -> Result<()> {
 /// Refuses the weights half rounding keeps the colour under when they are not on the
 /// method's grid.
 fn check_weights(job: &Job) -> Result<()> {
-    let want = job.method().grid().len();
+    let want = job.values();
     match &job.storage.xyz_weights {
         Some(w) if w.iter().any(|row| row.len() != want) => Err(Error::Weights {
             have: w[0].len(),
@@ -447,7 +447,7 @@ fn publish(job: &Job, pending: Pending) -> Result<()> {
 }
 
 /// The rows of the blocks of one strip of the file: its tile height, or its scanline blocks'.
-fn block_height(file: &SpectralFile) -> usize {
+pub(super) fn block_height(file: &SpectralFile) -> usize {
     match file.spec().blocks {
         Blocks::Tiles { height, .. } => height,
         Blocks::Scanlines => file.blocks().first().map_or(1, |b| b.height),
@@ -503,7 +503,7 @@ fn strip_rows(width: usize, strip: &Strip, blocks: &[Made], values: usize) -> Ve
 }
 
 /// Groups the file's blocks into rows (they come level by level, row by row).
-fn strips(file: &SpectralFile) -> Vec<Strip> {
+pub(super) fn strips(file: &SpectralFile) -> Vec<Strip> {
     let mut out: Vec<Strip> = Vec::new();
     for b in file.blocks() {
         match out.last_mut() {

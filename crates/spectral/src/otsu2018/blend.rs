@@ -100,6 +100,33 @@ impl Blend {
         blend
     }
 
+    /// The blend of `tree` with the widths `widths` given per node (0 for leaves), as
+    /// [`Blend::node_widths`] lists them: a compact texture's. Refuses a list of another length,
+    /// or a split's width below `width` or beyond [`MAX_WIDTH`].
+    pub(crate) fn with_widths(tree: &Tree, width: f64, widths: Vec<f64>) -> Result<Blend, String> {
+        if widths.len() != tree.len() {
+            return Err(format!("{} widths for {} nodes", widths.len(), tree.len()));
+        }
+        for (i, _) in tree.splits() {
+            if !(widths[i] >= width && widths[i] <= MAX_WIDTH) {
+                return Err(format!(
+                    "node {i}'s width {} is outside [{width}, {MAX_WIDTH}]",
+                    widths[i]
+                ));
+            }
+        }
+        Ok(Blend {
+            width,
+            widths,
+            tree: tree.clone(),
+        })
+    }
+
+    /// Per node of the tree, its split's width (0 for leaves).
+    pub(crate) fn node_widths(&self) -> Vec<f64> {
+        self.widths.clone()
+    }
+
     pub(crate) fn width(&self) -> f64 {
         self.width
     }

@@ -45,11 +45,14 @@ use specconv_colour::{Colorimetry, Grid};
 /// ```
 #[derive(Debug, Clone)]
 pub struct Uplifter {
+    /// `otsu2018`, and the grid when moved onto another ([`Uplifter::onto`]).
+    name: String,
     grid: Grid,
     bands: usize,
     white: [f64; 2],
-    /// The model's colorimetry: where its real colours are, for the blend widths.
-    colorimetry: Colorimetry,
+    /// The model's colorimetry: where its real colours are, for the blend widths (`None` for
+    /// maps read back from a compact texture, whose widths are given).
+    colorimetry: Option<Colorimetry>,
     choose: Choose,
     /// Per leaf, `4 * bands` values: columns T·x̂, T·ŷ, T·ẑ and o, each `bands` long.
     f64s: Vec<f64>,
@@ -135,10 +138,11 @@ impl Uplifter {
         let f32s = f64s.iter().map(|&v| v as f32).collect();
         let (safe_f64, safe_f32) = super::hard_inputs::safe_limits(&f64s, n);
         Ok(Uplifter {
+            name: "otsu2018".into(),
             grid: model.grid,
             bands: n,
             white,
-            colorimetry,
+            colorimetry: Some(colorimetry),
             choose,
             f64s,
             f32s,
@@ -159,17 +163,110 @@ impl Uplifter {
         self.safe_boxes.clear();
         self.blend = None;
         if width > 0.0 {
-            let gamut = Gamut::new(&self.colorimetry);
+            let Some(colorimetry) = &self.colorimetry else {
+                return Err(Error::Blend(
+                    "the widths of maps read back are given, not measured".into(),
+                ));
+            };
+            let gamut = Gamut::new(colorimetry);
             let blend = Blend::new(&self.tree, width, &self.f64s, self.bands, &gamut);
-            if let Choose::Cells { x, y, .. } = &self.choose {
-                self.safe_boxes = (0..=x.len())
-                    .flat_map(|i| (0..=y.len()).map(move |j| (i, j)))
-                    .map(|(i, j)| blend.safe_box([corner(x, i), corner(y, j)]))
-                    .collect();
-            }
-            self.blend = Some(blend);
+            self.set_blend(blend);
         }
         Ok(self)
+    }
+
+    fn set_blend(&mut self, blend: Blend) {
+        if let Choose::Cells { x, y, .. } = &self.choose {
+            self.safe_boxes = (0..=x.len())
+                .flat_map(|i| (0..=y.len()).map(move |j| (i, j)))
+                .map(|(i, j)| blend.safe_box([corner(x, i), corner(y, j)]))
+                .collect();
+        }
+        self.blend = Some(blend);
+    }
+
+    /// An uplifter from its parts as a compact texture's header gives them
+    /// ([`crate::compact`]): the grid, the white point's chromaticity, the tree, per leaf its
+    /// map (columns T·x̂, T·ŷ, T·ẑ and o, `grid.len()` each) and, when blended, the user's
+    /// width and per node its split's width (0 for leaves). It uplifts as the uplifter whose
+    /// parts they are, bit for bit.
+    pub fn from_parts(
+        grid: Grid,
+        white: [f64; 2],
+        tree: Tree,
+        maps: Vec<f64>,
+        blend: Option<(f64, Vec<f64>)>,
+    ) -> Result<Uplifter, Error> {
+        let n = grid.len();
+        let leaves = maps.len() / (4 * n).max(1);
+        let bad = |msg: String| Error::Model {
+            file: "compact texture".into(),
+            msg,
+        };
+        if maps.len() != leaves * 4 * n || leaves == 0 {
+            return Err(bad(format!("{} map values for {n} bands", maps.len())));
+        }
+        tree.validate(leaves).map_err(bad)?;
+        let (safe_f64, safe_f32) = super::hard_inputs::safe_limits(&maps, n);
+        let mut up = Uplifter {
+            name: "otsu2018".into(),
+            grid,
+            bands: n,
+            white,
+            colorimetry: None,
+            choose: Choose::new(&tree),
+            f32s: maps.iter().map(|&v| v as f32).collect(),
+            f64s: maps,
+            safe_f64,
+            safe_f32,
+            tree,
+            blend: None,
+            safe_boxes: Vec::new(),
+        };
+        if let Some((width, widths)) = blend {
+            super::blend::check_width(width)?;
+            let blend = Blend::with_widths(&up.tree, width, widths).map_err(bad)?;
+            up.set_blend(blend);
+        }
+        Ok(up)
+    }
+
+    /// The tree the leaves are chosen by.
+    pub fn tree(&self) -> &Tree {
+        &self.tree
+    }
+
+    /// Per node of the tree, the width its split blends over (0 for leaves); `None` when the
+    /// switch is hard.
+    pub fn node_widths(&self) -> Option<Vec<f64>> {
+        self.blend.as_ref().map(Blend::node_widths)
+    }
+
+    /// The maps moved onto the grid of `colorimetry` and corrected so that each spectrum's XYZ
+    /// under it is the input colour exactly: each column interpolated as
+    /// [`crate::resample::Resampled`] interpolates a spectrum (L), then T' = L·T + K·(I − A·L·T)
+    /// and o' = L·o − K·A·L·o. The correction is linear, so these are the spectra `Resampled`
+    /// makes, blends and dark colours' scaled offsets included; on the model's grid this is
+    /// [`Uplifter::exact_under`].
+    pub fn onto(mut self, colorimetry: &Colorimetry) -> Result<Uplifter, Error> {
+        if colorimetry.grid == self.grid {
+            return self.exact_under(colorimetry);
+        }
+        let taps = crate::resample::taps(self.grid, colorimetry.grid);
+        let (n0, n) = (self.bands, colorimetry.bands());
+        self.f64s = self
+            .f64s
+            .chunks_exact(n0)
+            .flat_map(|col| {
+                taps.iter()
+                    .map(|&(i, j, t)| col[i] + t * (col[j] - col[i]))
+                    .collect::<Vec<_>>()
+            })
+            .collect();
+        // Named as the resampled method it replaces.
+        self.name = format!("{} on {} nm", self.name, colorimetry.grid);
+        (self.grid, self.bands) = (colorimetry.grid, n);
+        self.exact_under(colorimetry)
     }
 
     /// The maps corrected so that each spectrum's XYZ under `colorimetry` (on the model's grid:
@@ -424,7 +521,7 @@ impl super::hard_inputs::AffineMaps for Uplifter {
 
 impl Method for Uplifter {
     fn name(&self) -> &str {
-        "otsu2018"
+        &self.name
     }
 
     fn grid(&self) -> Grid {

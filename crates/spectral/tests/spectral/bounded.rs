@@ -7,7 +7,7 @@ use specconv_colour::lab::{xyz_to_lab, xyz_to_lab_jacobian};
 use specconv_colour::mat3::mul_vec as apply;
 use specconv_colour::rgb::{RgbSpace, ACESCG, REC2020, SRGB};
 use specconv_colour::Colorimetry;
-use specconv_spectral::bounded::{project, Bounded, Counts, Outcome, Solve};
+use specconv_spectral::bounded::{nearest, project, Bounded, Counts, Outcome, Solve};
 use specconv_spectral::{Method, Model, Uplifter};
 
 fn setup() -> &'static (Colorimetry, Bounded<Uplifter>) {
@@ -148,13 +148,26 @@ fn counted_uplift_agrees_in_f64_and_f32() {
 fn outside_the_solid_the_nearest_colour_in_cielab_is_on_the_surface_and_beats_towards_grey() {
     let (a, bounded) = setup();
     let w = a.white_xyz();
-    let (mut count, mut sum_new, mut sum_old) = (0, 0.0, 0.0);
+    let (mut count, mut sum_new, mut sum_old, mut worst_pull) = (0, 0.0, 0.0, 0.0f64);
     for c in cube(REC2020, 9).into_iter().chain(cube(ACESCG, 9)) {
         let (r, outcome) = uplift(c);
-        let Outcome::Outside { reached, .. } = outcome else {
+        let Outcome::Outside {
+            reached: pulled, ..
+        } = outcome
+        else {
             continue;
         };
-        assert!(in_range_with_xyz(a, reached, &r, 1e-9), "{c:?}");
+        assert!(in_range_with_xyz(a, pulled, &r, 1e-9), "{c:?}");
+        // The search's colour is on the surface; the spectrum is the search's, or r₀ projected
+        // onto that colour drawn in a little (the texel form, `Bounded::bound_dual`).
+        let mut r0 = vec![0.0; a.bands()];
+        bounded.inner().uplift_f64(&c, &mut r0);
+        let mut near = vec![0.0; a.bands()];
+        let reached = nearest::nearest_lab(bounded.solid(), w, c, &r0, &mut near);
+        let pull = delta_e76(a, pulled, reached);
+        // Measured over these 424 colours: 28 above 0.05, at most 0.75, where the mean
+        // distance to the input is 7.8.
+        assert!(pull <= 1.0, "{c:?}: drawn in by ΔE76 {pull}");
         let (lab, j) = xyz_to_lab_jacobian(reached, w);
         let target = xyz_to_lab(c, w);
         let u = [0, 1, 2].map(|k| (0..3).map(|row| j[row][k] * (target[row] - lab[row])).sum());
@@ -168,18 +181,17 @@ fn outside_the_solid_the_nearest_colour_in_cielab_is_on_the_surface_and_beats_to
                 "{c:?}: {reached:?} is {gap} inside along {u:?}"
             );
         }
-        let mut r0 = vec![0.0; a.bands()];
-        bounded.inner().uplift_f64(&c, &mut r0);
         let mut old = vec![0.0; a.bands()];
         let grey = bounded.towards_grey(c, &r0, &mut old);
-        let (new_de, old_de) = (delta_e76(a, c, reached), delta_e76(a, c, grey));
-        assert!(new_de <= old_de + 1e-6, "{c:?}: ΔE76 {new_de} > {old_de}");
+        let (new_de, old_de) = (delta_e76(a, c, pulled), delta_e76(a, c, grey));
+        assert!(new_de <= old_de + 1.0, "{c:?}: ΔE76 {new_de} > {old_de}");
+        worst_pull = worst_pull.max(pull);
         count += 1;
         sum_new += new_de;
         sum_old += old_de;
     }
     eprintln!(
-        "{count} colours outside: mean ΔE76 {:.3} (towards grey {:.3})",
+        "{count} colours outside: mean ΔE76 {:.3} (towards grey {:.3}), drawn in by ΔE76 {worst_pull:.2e} at most",
         sum_new / count as f64,
         sum_old / count as f64
     );
@@ -224,7 +236,8 @@ fn brighter_than_white_and_negative_components() {
             w,
             a.xyz(&r.iter().map(|v| v.round()).collect::<Vec<_>>()),
         ] {
-            assert!(de <= delta_e76(a, c, cand) + 1e-9, "{c:?}");
+            // (Up to the draw into the solid of the texel form.)
+            assert!(de <= delta_e76(a, c, cand) + 1.0, "{c:?}: {de}");
         }
     }
 }

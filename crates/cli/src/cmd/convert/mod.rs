@@ -12,8 +12,8 @@ use crate::stdio::StdoutFailed;
 use crate::{exit, explain, methods, print_error, records, signals, usage};
 use anyhow::Result;
 use specconv_conversion::{
-    Advice, Alpha, Batch, Blocks, Compression, Converter, DataPolicy, Event, Filter, Key, Mip,
-    NonFinite, Options, Rounding, Sample, WrapModes,
+    Advice, Alpha, Batch, Blocks, Compression, Converter, DataPolicy, Event, Filter, Key, Layout,
+    Mip, NonFinite, Options, Rounding, Sample, WrapModes,
 };
 use specconv_spectral::method::MethodName;
 use std::path::{Path, PathBuf};
@@ -116,6 +116,15 @@ pub struct Args {
         requires = "emissive"
     )]
     emission_units: specconv_colour::EmissionUnits,
+    /// How the spectra are stored: `spectral`, a band a channel in the layout of Fichet et al.
+    /// 2021; `compact`, six float32 values a texel (its colour `C.X C.Y C.Z` and the bounded
+    /// projection's dual unknowns `U.0 U.1 U.2`) with the model's maps and the decoding rule in
+    /// the header: the same spectra at the size of RGB, for renderers that decode per lookup
+    /// (docs/compact.md); `specconv expand` writes the spectral layout from it. The clustered
+    /// methods' reflectance only; its smaller MIP levels hold the filtered colour, their dual
+    /// unknowns solved again.
+    #[arg(long, value_name = "LAYOUT", default_value = default_of(Key::Layout), value_parser = named::<Layout>())]
+    layout: Layout,
     /// Sample type of the output.
     #[arg(short = 'd', long = "data-type", value_name = "TYPE", default_value = default_of(Key::Sample), value_parser = named::<Sample>())]
     data_type: Sample,
@@ -303,6 +312,7 @@ impl Args {
         o.bounded = !self.stack.unbounded;
         o.bands = self.stack.bands;
         o.emission = self.emissive.then_some(self.emission_units);
+        o.layout = self.layout;
         o.sample = self.data_type;
         o.rounding = self.half_rounding;
         o.compression = self.compression;

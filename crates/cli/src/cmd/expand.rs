@@ -1,0 +1,64 @@
+//! `specconv expand`: a compact texture written out in the spectral layout.
+
+use crate::explain;
+use anyhow::Result;
+use std::path::PathBuf;
+
+/// Shown after `--help` and as the man page's EXAMPLES.
+pub const EXAMPLES: &str = "\
+Examples:
+  specconv convert --layout compact albedo.tx albedo_compact.exr
+  specconv expand albedo_compact.exr albedo_spectral.exr
+";
+
+/// Write a compact texture (`convert --layout compact`) out in the spectral layout.
+///
+/// Each texel of the compact file holds its colour and the three dual unknowns of the bounded
+/// projection; the header holds the model's maps on the output grid and the decoding rule
+/// (docs/compact.md). Level 0 is decoded by that rule and the smaller levels are filtered from
+/// its spectra, as `convert` filters its own; samples are rounded, compressed and tiled as
+/// `convert` with the compact file's settings would have, and the header keeps its provenance.
+/// The values are `convert`'s, within one half step (the dual unknowns are stored as float32).
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// A compact texture (`specconvLayout` = "compact 1").
+    input: PathBuf,
+    /// The spectral OpenEXR to write (.exr).
+    output: PathBuf,
+    /// Replace an existing output.
+    #[arg(long)]
+    force: bool,
+}
+
+pub fn run(args: Args) -> Result<()> {
+    crate::files::check_output(
+        &args.output,
+        specconv_exr::EXTENSIONS,
+        "expand writes OpenEXR",
+    )?;
+    let replace = specconv_atomic_file::Replace::when(args.force);
+    crate::files::check_writable(&args.output, &[args.input.as_path()], replace)?;
+    let cancel = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+    let r = match crate::signals::deferred(&cancel, || {
+        specconv_conversion::expand(&args.input, &args.output, args.force, &cancel)
+    }) {
+        Err(specconv_conversion::Error::Conversion(
+            specconv_conversion::ConversionError::Cancelled,
+        )) => return Err(crate::signals::Interrupted.into()),
+        r => r.map_err(|e| anyhow::anyhow!(explain(&e)))?,
+    };
+    let wl = &r.wavelengths;
+    errln!(
+        "{} → {}: {}×{}, {} levels, {} bands {}–{} nm ({} texels projected)",
+        args.input.display(),
+        args.output.display(),
+        r.width,
+        r.height,
+        r.levels,
+        wl.len(),
+        wl[0],
+        wl[wl.len() - 1],
+        r.projected,
+    );
+    Ok(())
+}

@@ -1,0 +1,431 @@
+//! `specconv expand`: a compact texture ([`specconv_spectral::compact`]) written out in the
+//! spectral layout, as `convert` writes it from the same input and settings.
+//!
+//! Level 0's texels are decoded by the compact text's own rule ([`Compact::decode_f32`]);
+//! the smaller levels are filtered from those spectra, as a conversion filters its own
+//! (module `mip`), not decoded from the compact file's smaller levels, which hold filtered
+//! colours. The samples are rounded and compressed as the compact file records a conversion
+//! would have (`specconvExpand`), with its tiles, levels, windows and attributes; its
+//! `specconvSettings` loses the `layout=compact` the compact file added, so an expanded file is
+//! as up to date as a converted one. The values are the conversion's to float32 rounding of
+//! the dual unknowns: within one half step, and mostly the same half (docs/compact.md).
+//!
+//! The file is read a strip of blocks at a time; memory is bounded by a strip.
+
+use super::write::{block_height, strips};
+use super::{
+    average_attributes, clamp_made, finish, level_sums, mip, refuse_overwrites, Error, Result,
+    AVERAGE, COMPACT_ATTRIBUTE, COMPACT_CHANNELS, CONSTANT, EXPAND_ATTRIBUTE, LAYOUT_ATTRIBUTE,
+};
+use crate::options::{Key, Options};
+use crate::Rounding;
+use rayon::prelude::*;
+use specconv_atomic_file::{Pending, Replace};
+use specconv_exr::{Block, Blocks, Chunk, Kind, Spec, SpectralFile, Windows};
+use specconv_oiio::{ImageReader, Pixels};
+use specconv_spectral::compact::{Compact, TEXEL, VERSION};
+use std::collections::HashMap;
+use std::path::Path;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Mutex;
+
+/// The options that say how a conversion stores the spectra, which a compact file records
+/// for its expansion.
+const STORAGE_KEYS: [Key; 5] = [
+    Key::Sample,
+    Key::Rounding,
+    Key::Compression,
+    Key::ZipLevel,
+    Key::Filter,
+];
+
+/// `specconvExpand`: how the spectral layout would have been stored, `name=value` a word.
+pub(crate) fn settings(options: &Options) -> String {
+    STORAGE_KEYS
+        .iter()
+        .filter_map(|&k| {
+            let value = match k {
+                Key::Rounding => Some(options.rounding_in_effect().to_string()),
+                k => options.text(k),
+            };
+            value.map(|v| format!("{}={v}", k.about().name))
+        })
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+/// What an expansion wrote.
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub struct Expanded {
+    /// Level 0's size.
+    pub width: usize,
+    /// Level 0's height.
+    pub height: usize,
+    /// MIP levels written.
+    pub levels: usize,
+    /// Wavelengths of the bands, nm.
+    pub wavelengths: Vec<f64>,
+    /// Texels of level 0 whose spectrum the projection changed (u ≠ 0).
+    pub projected: u64,
+}
+
+/// A compact file opened: its reader and what decodes it.
+struct Source {
+    reader: ImageReader,
+    d: Decoding,
+}
+
+/// A compact file's decoder, texel channels and settings.
+struct Decoding {
+    compact: Compact,
+    /// Where C.X … U.2 and alpha are among a pixel's channels.
+    columns: [usize; TEXEL],
+    alpha: Option<usize>,
+    options: Options,
+}
+
+/// Opens `input` as a compact texture.
+fn open(input: &Path) -> Result<Source> {
+    specconv_exr::check::check_input(input)?;
+    let reader = ImageReader::open(input)?;
+    let not = |why: String| Error::NotCompact {
+        path: input.to_path_buf(),
+        why,
+    };
+    let layout = reader.string_attribute(LAYOUT_ATTRIBUTE)?;
+    if layout.as_deref() != Some(VERSION) {
+        return Err(not(match layout {
+            Some(l) => format!("its {LAYOUT_ATTRIBUTE} is '{l}'; this version reads '{VERSION}'"),
+            None => format!("no {LAYOUT_ATTRIBUTE} attribute"),
+        }));
+    }
+    let text = reader
+        .string_attribute(COMPACT_ATTRIBUTE)?
+        .ok_or_else(|| not(format!("no {COMPACT_ATTRIBUTE} attribute")))?;
+    let compact = Compact::from_text(&text).map_err(|e| not(e.to_string()))?;
+    let names: Vec<&str> = reader
+        .info()
+        .channels
+        .iter()
+        .map(|c| c.name.as_str())
+        .collect();
+    let index = |name: &str| names.iter().position(|n| *n == name);
+    let mut columns = [0; TEXEL];
+    for (c, name) in columns.iter_mut().zip(COMPACT_CHANNELS) {
+        *c = index(name).ok_or_else(|| not(format!("no channel {name}")))?;
+    }
+    let mut options = Options::default();
+    let recorded = reader
+        .string_attribute(EXPAND_ATTRIBUTE)?
+        .unwrap_or_default();
+    for word in recorded.split_whitespace() {
+        let (name, value) = word.split_once('=').unwrap_or((word, ""));
+        if let Some(key) = Key::from_name(name).filter(|k| STORAGE_KEYS.contains(k)) {
+            options
+                .set(key, Some(value))
+                .map_err(|e| not(e.to_string()))?;
+        }
+    }
+    let d = Decoding {
+        alpha: index("A"),
+        compact,
+        columns,
+        options,
+    };
+    Ok(Source { reader, d })
+}
+
+/// The spectral file `source` expands to.
+fn spec(source: &Source) -> Result<Spec> {
+    let info = source.reader.info();
+    let top = info.levels[0];
+    let blocks = match top.tile {
+        Some((width, height)) => Blocks::Tiles {
+            width: width as usize,
+            height: height as usize,
+            mip_levels: info.levels.len() > 1,
+        },
+        None => Blocks::Scanlines,
+    };
+    let o = &source.d.options;
+    Ok(Spec {
+        width: top.width as usize,
+        height: top.height as usize,
+        windows: Some(Windows {
+            data_origin: (top.x, top.y),
+            display: (
+                top.display.x,
+                top.display.y,
+                top.display.width as usize,
+                top.display.height as usize,
+            ),
+        }),
+        wavelengths: source.d.compact.grid().wavelengths(),
+        kind: Kind::Reflective,
+        alpha: source.d.alpha.is_some(),
+        sample: o.sample,
+        compression: o.compression.exr(),
+        zip_level: o.zip_level.unwrap_or(specconv_exr::zip::DEFAULT_LEVEL),
+        blocks,
+        attributes: attributes(
+            &source.reader,
+            source.d.compact.grid().len() + usize::from(source.d.alpha.is_some()),
+        )?,
+        float_attributes: match (blocks, source.reader.numeric_attribute("fovcot")?) {
+            (Blocks::Tiles { .. }, Some(v)) if !v.is_empty() => {
+                vec![("fovcot".into(), v[0] as f32)]
+            }
+            _ => Vec::new(),
+        },
+    })
+}
+
+/// The attributes a conversion would have written: the compact file's own (provenance, the
+/// texture's, the input's metadata) but the compact layout's, the tag without
+/// `layout=compact`, and the average (and constant) colours' places, `values` long.
+fn attributes(reader: &ImageReader, values: usize) -> Result<Vec<(String, String)>> {
+    let placeholder = super::average_text(&vec![0.0; values]);
+    let mut out = vec![(AVERAGE.to_string(), placeholder.clone())];
+    for name in reader.string_attribute_names()? {
+        let Some(value) = reader.string_attribute(&name)? else {
+            continue;
+        };
+        let ours = name.starts_with("specconv")
+            && ![LAYOUT_ATTRIBUTE, COMPACT_ATTRIBUTE, EXPAND_ATTRIBUTE].contains(&name.as_str());
+        let texture = ["textureformat", "wrapmodes"].contains(&name.as_str());
+        if name == CONSTANT {
+            out.push((name, placeholder.clone()));
+        } else if name == "specconvSettings" {
+            out.push((name, value.replace(" layout=compact", "")));
+        } else if ours || texture || crate::metadata::carried(&name) {
+            out.push((name, value));
+        }
+    }
+    Ok(out)
+}
+
+/// Expands the compact texture `input` into the spectral file `output` (see the module);
+/// `cancel` stops it between strips, leaving nothing.
+pub fn expand(
+    input: &Path,
+    output: &Path,
+    overwrite: bool,
+    cancel: &AtomicBool,
+) -> Result<Expanded> {
+    refuse_overwrites(input, output, overwrite)?;
+    let mut source = open(input)?;
+    let file = SpectralFile::new(spec(&source)?)?;
+    let pending = Pending::beside(output).map_err(|e| io(output, e))?;
+    let n = file.spec().wavelengths.len();
+    let level0 = file.level_size(0);
+    let sums = Mutex::new(vec![0.0f64; file.values_per_pixel()]);
+    let late = || {
+        let pixels = (level0.0 * level0.1) as u64;
+        average_attributes(&file, &sums.lock().expect("no panic holds it"), pixels)
+    };
+    let mut projected = 0;
+    let out = std::io::BufWriter::with_capacity(1 << 20, pending.file());
+    file.write_then(
+        out,
+        |sink| {
+            let mut strips = Strips::new(&file, &source.d.options);
+            for strip in std::mem::take(&mut strips.level0) {
+                if cancel.load(Ordering::Relaxed) {
+                    return Err(Error::Cancelled);
+                }
+                let rows = (strip.y as u32)..(strip.y + strip.height) as u32;
+                let px = source.reader.read_scanlines(0, rows)?;
+                let (values, u) = decode(&source.d, &px, n);
+                projected += u;
+                for (i, chunk, block_sums) in strips.level0_blocks(&source.d, &strip, &values)? {
+                    let mut s = sums.lock().expect("no panic holds it");
+                    s.iter_mut().zip(block_sums).for_each(|(s, b)| *s += b);
+                    sink(i, chunk)?;
+                }
+                for (i, chunk) in strips.smaller(&source.d, &values, level0.0)? {
+                    sink(i, chunk)?;
+                }
+            }
+            Ok(())
+        },
+        late,
+    )
+    .map_err(|e| match e {
+        Error::Output(e) => match e.into_io() {
+            Ok(source) => io(output, specconv_atomic_file::explained(source)),
+            Err(e) => Error::Output(e),
+        },
+        e => e,
+    })?;
+    if cancel.load(Ordering::Relaxed) {
+        return Err(Error::Cancelled);
+    }
+    pending
+        .publish(Replace::when(overwrite))
+        .map_err(|e| io(output, e))?;
+    Ok(Expanded {
+        width: level0.0,
+        height: level0.1,
+        levels: file.levels(),
+        wavelengths: file.spec().wavelengths.clone(),
+        projected,
+    })
+}
+
+fn io(path: &Path, source: std::io::Error) -> Error {
+    Error::Io {
+        path: path.to_path_buf(),
+        source,
+    }
+}
+
+/// The spectra (then alpha, per pixel) of a strip's texels, row after row, and how many
+/// texels had u ≠ 0.
+fn decode(source: &Decoding, px: &Pixels, n: usize) -> (Vec<f32>, u64) {
+    let width = px.width as usize;
+    let m = n + usize::from(source.alpha.is_some());
+    let mut values = vec![0.0f32; width * px.height as usize * m];
+    let projected = values
+        .par_chunks_mut(width * m)
+        .enumerate()
+        .map(|(y, row)| {
+            let mut texels = Vec::with_capacity(width * TEXEL);
+            for x in 0..width {
+                let p = px.pixel(x as u32, y as u32);
+                texels.extend(source.columns.map(|c| p[c]));
+            }
+            let mut spectra = vec![0.0f32; width * n];
+            source.compact.decode_f32(&texels, &mut spectra);
+            for (x, (v, s)) in row
+                .chunks_exact_mut(m)
+                .zip(spectra.chunks_exact(n))
+                .enumerate()
+            {
+                v[..n].copy_from_slice(s);
+                if let Some(a) = source.alpha {
+                    v[n] = px.pixel(x as u32, y as u32)[a];
+                }
+            }
+            texels
+                .chunks_exact(TEXEL)
+                .filter(|t| t[3..] != [0.0; 3])
+                .count() as u64
+        })
+        .sum();
+    (values, projected)
+}
+
+/// The file's blocks by strip, and what makes the smaller levels.
+struct Strips<'f> {
+    file: &'f SpectralFile,
+    level0: Vec<super::Strip>,
+    smaller: HashMap<(usize, usize), Vec<Block>>,
+    cascade: Option<mip::Cascade>,
+    filter: crate::Filter,
+}
+
+impl<'f> Strips<'f> {
+    fn new(file: &'f SpectralFile, options: &Options) -> Strips<'f> {
+        let (level0, smaller): (Vec<_>, Vec<_>) =
+            strips(file).into_iter().partition(|s| s.level == 0);
+        let sizes: Vec<_> = (0..file.levels()).map(|l| file.level_size(l)).collect();
+        Strips {
+            file,
+            level0,
+            smaller: smaller
+                .into_iter()
+                .map(|s| ((s.level, s.y), s.blocks))
+                .collect(),
+            cascade: (file.levels() > 1).then(|| {
+                mip::Cascade::new(
+                    &sizes,
+                    block_height(file),
+                    file.values_per_pixel(),
+                    options.filter,
+                    false,
+                )
+            }),
+            filter: options.filter,
+        }
+    }
+
+    /// The chunks of a strip of level 0 (`values`: its rows) with their sums for the average.
+    fn level0_blocks(
+        &self,
+        source: &Decoding,
+        strip: &super::Strip,
+        values: &[f32],
+    ) -> Result<Vec<(usize, Chunk, Vec<f64>)>> {
+        let width = self.file.level_size(0).0;
+        strip
+            .blocks
+            .par_iter()
+            .map(|b| {
+                let (bands, alpha) = self.block_values(b, values, width);
+                let n = self.file.spec().wavelengths.len();
+                let sums = level_sums(&bands, alpha.as_deref(), n);
+                let weights = self.weights(source);
+                let (chunk, _) = finish(self.file, weights, n, b, bands, alpha.as_deref())?;
+                Ok((b.chunk, chunk, sums))
+            })
+            .collect()
+    }
+
+    /// The chunks of the smaller levels' strips that level 0's next rows complete.
+    fn smaller(
+        &mut self,
+        source: &Decoding,
+        values: &[f32],
+        width: usize,
+    ) -> Result<Vec<(usize, Chunk)>> {
+        let Some(cascade) = self.cascade.as_mut() else {
+            return Ok(Vec::new());
+        };
+        let made = cascade.push(values, width);
+        let n = self.file.spec().wavelengths.len();
+        let range = if source.compact.clips() {
+            (0.0, 1.0)
+        } else {
+            (0.0, f32::INFINITY)
+        };
+        made.par_iter()
+            .flat_map(|strip| {
+                self.smaller[&(strip.level, strip.y)]
+                    .par_iter()
+                    .map(move |b| (strip, b))
+            })
+            .map(|(strip, b)| {
+                let (mut bands, mut alpha) = self.block_values(b, &strip.rows, strip.width);
+                clamp_made(self.filter, range, &mut bands, alpha.as_deref_mut(), n);
+                let weights = self.weights(source);
+                let (chunk, _) = finish(self.file, weights, n, b, bands, alpha.as_deref())?;
+                Ok((b.chunk, chunk))
+            })
+            .collect()
+    }
+
+    /// The weights half rounding keeps the colour under, when it does.
+    fn weights<'s>(&self, source: &'s Decoding) -> Option<&'s [Vec<f64>; 3]> {
+        (source.options.rounding_in_effect() == Rounding::Colour).then(|| source.compact.weights())
+    }
+
+    /// A block's bands and alpha from rows of `width` pixels (bands then alpha each) that
+    /// start at the block's strip.
+    fn block_values(&self, b: &Block, rows: &[f32], width: usize) -> (Vec<f32>, Option<Vec<f32>>) {
+        let n = self.file.spec().wavelengths.len();
+        let m = self.file.values_per_pixel();
+        let mut bands = Vec::with_capacity(b.width * b.height * n);
+        let mut alpha = self.file.spec().alpha.then(Vec::new);
+        for y in 0..b.height {
+            let row = (y * width + b.x) * m;
+            for px in rows[row..row + b.width * m].chunks_exact(m) {
+                bands.extend_from_slice(&px[..n]);
+                if let Some(a) = alpha.as_mut() {
+                    a.push(px[n]);
+                }
+            }
+        }
+        (bands, alpha)
+    }
+}

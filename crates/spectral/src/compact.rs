@@ -1,0 +1,507 @@
+//! The compact texel: the spectra of the clustered method at the size of RGB.
+//!
+//! Every spectrum the clustered method writes (bounded, resampled, blended, on any grid) is
+//!
+//!   r(λ) = clip(Σᵢ wᵢ(xy)·(Tᵢ(λ)·c + λ_dark·oᵢ(λ)) + Σₖ Bₖ(λ)·uₖ, 0, 1)
+//!
+//! with c the texel's XYZ, wᵢ the tree's blend weights of its chromaticity ([`crate::otsu2018::blend`]),
+//! Tᵢ and oᵢ the leaves' affine maps on the output grid (resampling and the readers' correction
+//! folded in, [`Uplifter::onto`]), λ_dark = min((X+Y+Z)/DARK, 1) ([`crate::otsu2018::hard_inputs`];
+//! X+Y+Z ≤ 0 takes the white point's leaf with λ_dark = 0), B = Aᵀ the output's XYZ weights by
+//! band and u the three dual unknowns of the bounded projection ([`crate::bounded`]; u = 0 when
+//! the method's spectrum is already in [0, 1]). Colours outside the object-colour solid are
+//! projected onto the colour they reach, so they have this form too
+//! ([`Bounded::bound_dual`]). NaN or infinite c give NaN in every band. Unbounded spectra
+//! have u = 0 and no clip.
+//!
+//! A texel is then six numbers, (X, Y, Z, u₀, u₁, u₂), and [`Compact`] both makes them
+//! ([`Compact::encode_f32`]) and turns them back into spectra ([`Compact::decode_f32`]) with
+//! the uplifter's own code: the decoder of `specconv expand` and of the tests is this one.
+//! The model's part is a text ([`Compact::to_text`], read back by [`Compact::from_text`],
+//! bit for bit), whose grammar docs/compact.md gives for decoders in other languages.
+//!
+//! Emission and the baselines have no compact form: emission's spectra are scaled trial
+//! uplifts searched per colour, and the baselines are not affine in c.
+
+use crate::bounded::{Bounded, Counts, Outcome};
+use crate::method::MethodName;
+use crate::otsu2018::hard_inputs::DARK;
+use crate::otsu2018::tree::{Axis, Node, Tree};
+use crate::stack::Description;
+use crate::{Error, Method, Model, Uplifter};
+use specconv_colour::{Colorimetry, Grid};
+
+/// The first line of the text, and the value of the file's `specconvLayout`.
+pub const VERSION: &str = "compact 1";
+
+/// Values per texel beside alpha: X, Y, Z, u₀, u₁, u₂.
+pub const TEXEL: usize = 6;
+
+/// A model's compact form: what encodes colours into texels and decodes texels into spectra.
+#[derive(Clone)]
+pub struct Compact {
+    /// The leaves' maps on the output grid, with the tree and its blend.
+    up: Uplifter,
+    /// The rows of A (B's columns): the XYZ weights of the output's bands.
+    a: [Vec<f64>; 3],
+    /// Spectra clipped to [0, 1] (bounded); else u = 0 and no clip.
+    clip: bool,
+    /// The projection, where built from a model (to encode).
+    bounded: Option<Bounded<Uplifter>>,
+    /// The model's name and hash, as the text records them.
+    model: (String, String),
+}
+
+impl std::fmt::Debug for Compact {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "Compact({}, {}, {})",
+            self.model.0,
+            self.model.1,
+            self.grid()
+        )
+    }
+}
+
+impl Compact {
+    /// The compact form of what `d` uplifts with `model` (called `name` in the text): the
+    /// clustered methods, reflectance only.
+    pub fn new(model: &Model, name: &str, d: &Description) -> Result<Compact, Error> {
+        if !d.method.is_clustered() {
+            return Err(Error::Unknown(format!(
+                "compact form of {}: only the clustered methods ({}, {}) have one, being affine in the colour",
+                d.method,
+                MethodName::Otsu2018,
+                MethodName::Pca
+            )));
+        }
+        if d.emissive.is_some() {
+            return Err(Error::Unknown(
+                "compact form of emission: emission spectra are searched per colour and have none; write the spectral layout"
+                    .into(),
+            ));
+        }
+        if d.method == MethodName::Pca && model.leaves.len() != 1 {
+            return Err(Error::NeedsOneCluster {
+                clusters: model.leaves.len(),
+            });
+        }
+        let (colorimetry, _) = d.output(model)?;
+        let up = crate::stack::clustered(d, model, &colorimetry)?;
+        let bounded = d
+            .bounded
+            .then(|| Bounded::new(up.clone(), colorimetry.clone()))
+            .transpose()?;
+        Ok(Compact {
+            a: colorimetry.weights.clone(),
+            clip: d.bounded,
+            up,
+            bounded,
+            model: (name.to_string(), hash(&model.to_json())),
+        })
+    }
+
+    /// The rows of A (XYZ per band of the output grid): the weights of the colour the spectra
+    /// keep, B's columns.
+    pub fn weights(&self) -> &[Vec<f64>; 3] {
+        &self.a
+    }
+
+    /// Whether the spectra are clipped to [0, 1] (bounded).
+    pub fn clips(&self) -> bool {
+        self.clip
+    }
+
+    /// The output grid.
+    pub fn grid(&self) -> Grid {
+        self.up.grid()
+    }
+
+    /// Texels (X, Y, Z, u₀, u₁, u₂) of the colours `xyz` into `texels`, with the projection's
+    /// outcomes counted as [`Bounded`] counts them. A compact form read back from its text
+    /// cannot encode (it has no colorimetry to project with): a panic, the caller's bug.
+    pub fn encode_f32(&self, xyz: &[f32], texels: &mut [f32]) -> Counts {
+        let n = self.grid().len();
+        assert_eq!(xyz.len() / 3 * TEXEL, texels.len(), "six values per colour");
+        let mut counts = Counts::default();
+        let (mut r32, mut r) = (vec![0.0f32; n], vec![0.0f64; n]);
+        for (c, t) in xyz.chunks_exact(3).zip(texels.chunks_exact_mut(TEXEL)) {
+            t[..3].copy_from_slice(c);
+            t[3..].fill(0.0);
+            let Some(bounded) = &self.bounded else {
+                continue;
+            };
+            // As the bounded stack decides: the f32 spectrum in range is kept.
+            self.up.uplift_f32(c, &mut r32);
+            let c64 = [c[0], c[1], c[2]].map(f64::from);
+            if !c64.iter().all(|v| v.is_finite()) {
+                counts.not_finite += 1;
+            } else if r32.iter().all(|v| (0.0..=1.0).contains(v)) {
+                counts.in_range += 1;
+            } else {
+                self.up.uplift_f64(&c64, &mut r);
+                let (outcome, w) = bounded.bound_dual(c64, &mut r);
+                match outcome {
+                    Outcome::Outside { .. } => counts.outside += 1,
+                    _ => counts.projected += 1,
+                }
+                for (v, w) in t[3..].iter_mut().zip(w) {
+                    *v = w as f32;
+                }
+            }
+        }
+        counts
+    }
+
+    /// Spectra of texels (six values each, [`Compact::encode_f32`]'s) into `out`, as the
+    /// bounded stack makes them: texels with u = 0 in single precision (the uplift's f32
+    /// path, then the clip), the others in double, rounded once.
+    pub fn decode_f32(&self, texels: &[f32], out: &mut [f32]) {
+        let n = self.grid().len();
+        assert_eq!(texels.len() / TEXEL * n, out.len(), "n values per texel");
+        let c: Vec<f32> = texels
+            .chunks_exact(TEXEL)
+            .flat_map(|t| [t[0], t[1], t[2]])
+            .collect();
+        self.up.uplift_f32(&c, out);
+        let mut r = vec![0.0; n];
+        for (t, o) in texels.chunks_exact(TEXEL).zip(out.chunks_exact_mut(n)) {
+            if !self.clip {
+                continue;
+            }
+            if t[3..].iter().all(|&u| u == 0.0) {
+                o.iter_mut().for_each(|v| *v = v.clamp(0.0, 1.0));
+                continue;
+            }
+            let c = [t[0], t[1], t[2]].map(f64::from);
+            self.decode_f64(c, [t[3], t[4], t[5]].map(f64::from), &mut r);
+            o.iter_mut().zip(&r).for_each(|(o, &v)| *o = v as f32);
+        }
+    }
+
+    /// The spectrum of one texel in double precision: clip(r₀(c) + Aᵀu, 0, 1) (r₀(c)
+    /// unclipped when the spectra are not bounded).
+    pub fn decode_f64(&self, c: [f64; 3], u: [f64; 3], out: &mut [f64]) {
+        self.up.uplift_f64(&c, out);
+        if self.clip {
+            let a = &self.a;
+            for (b, v) in out.iter_mut().enumerate() {
+                // The order of the projection's own sum (`colour::solid`), so that the
+                // spectrum is the one it settled on.
+                let z = *v + a[0][b] * u[0] + a[1][b] * u[1] + a[2][b] * u[2];
+                *v = z.clamp(0.0, 1.0);
+            }
+        }
+    }
+
+    /// The model's part as text (module docs; docs/compact.md has the grammar).
+    pub fn to_text(&self) -> String {
+        use std::fmt::Write;
+        let (up, n) = (&self.up, self.grid().len());
+        let join = |v: &[f64]| v.iter().map(f64::to_string).collect::<Vec<_>>().join(" ");
+        let grid = self.grid();
+        let mut t = format!("specconv {VERSION}\n");
+        let white = up.white_xy();
+        let widths = up.node_widths();
+        let _ = write!(
+            t,
+            "model {}\nhash {}\ngrid {} {} {}\nwavelengths {}\nwhite {} {}\ndark {DARK}\nblend {}\nclip {}\n",
+            self.model.0.replace('\n', " "),
+            self.model.1,
+            grid.start,
+            grid.end,
+            grid.step,
+            join(&grid.wavelengths()),
+            white[0],
+            white[1],
+            up.blend_width(),
+            u8::from(self.clip),
+        );
+        for (i, node) in up.tree().iter().enumerate() {
+            let _ = match *node {
+                Node::Split {
+                    axis,
+                    value,
+                    below,
+                    above,
+                } => writeln!(
+                    t,
+                    "node {i} split {} {value} {below} {above} {}",
+                    if axis == Axis::X { "x" } else { "y" },
+                    widths.as_ref().map_or(0.0, |w| w[i])
+                ),
+                Node::Leaf { leaf } => writeln!(t, "node {i} leaf {leaf}"),
+            };
+        }
+        let leaves = up.tree().iter().filter(|n| n.leaf().is_some()).count();
+        for k in 0..leaves {
+            let _ = writeln!(t, "map {k} {}", join(up.affine(k)));
+        }
+        for (row, name) in self.a.iter().zip(["X", "Y", "Z"]) {
+            let _ = writeln!(t, "b {name} {}", join(row));
+        }
+        debug_assert!(self.up.affine(0).len() == 4 * n);
+        t
+    }
+
+    /// The compact form a text of [`Compact::to_text`] describes: it decodes as the one that
+    /// wrote it, bit for bit, but cannot encode.
+    pub fn from_text(text: &str) -> Result<Compact, Error> {
+        let bad = |msg: String| Error::Model {
+            file: "compact texture".into(),
+            msg,
+        };
+        let mut lines = text.lines();
+        if lines.next() != Some(&format!("specconv {VERSION}")) {
+            return Err(bad(format!("not a text of `specconv {VERSION}`")));
+        }
+        let mut p = Parts::default();
+        for line in lines.filter(|l| !l.trim().is_empty()) {
+            let (word, rest) = line.split_once(' ').unwrap_or((line, ""));
+            p.read(word, rest)
+                .map_err(|e| bad(format!("{e}: {line:.60}")))?;
+        }
+        p.build().map_err(|e| match e {
+            Error::Model { msg, .. } => bad(msg),
+            e => e,
+        })
+    }
+}
+
+/// What a text gives, line by line.
+#[derive(Default)]
+struct Parts {
+    model: (String, String),
+    grid: Option<Grid>,
+    white: Option<[f64; 2]>,
+    blend: f64,
+    clip: Option<bool>,
+    nodes: Vec<(usize, Node, f64)>,
+    maps: Vec<(usize, Vec<f64>)>,
+    b: Vec<Vec<f64>>,
+}
+
+fn numbers(text: &str) -> Result<Vec<f64>, String> {
+    text.split_whitespace()
+        .map(|w| w.parse().map_err(|_| format!("'{w}' is not a number")))
+        .collect()
+}
+
+impl Parts {
+    fn read(&mut self, word: &str, rest: &str) -> Result<(), String> {
+        let v = || numbers(rest);
+        let index = |w: &str| -> Result<usize, String> {
+            w.parse().map_err(|_| format!("'{w}' is not an index"))
+        };
+        match word {
+            "model" => self.model.0 = rest.to_string(),
+            "hash" => self.model.1 = rest.to_string(),
+            "grid" => match v()?.as_slice() {
+                &[start, end, step] => {
+                    self.grid = Some(Grid::new(start, end, step).map_err(|e| e.to_string())?)
+                }
+                _ => return Err("a grid is START END STEP".into()),
+            },
+            "white" => match v()?.as_slice() {
+                &[x, y] => self.white = Some([x, y]),
+                _ => return Err("white is x y".into()),
+            },
+            "dark" if v()? != [DARK] => return Err(format!("this decoder's dark level is {DARK}")),
+            "blend" => self.blend = *v()?.first().ok_or("blend has a width")?,
+            "clip" => self.clip = Some(rest.trim() == "1"),
+            "node" => {
+                let w: Vec<&str> = rest.split_whitespace().collect();
+                let node = match w.as_slice() {
+                    [i, "leaf", k] => (index(i)?, Node::Leaf { leaf: index(k)? }, 0.0),
+                    [i, "split", axis, value, below, above, width] => {
+                        let axis = match *axis {
+                            "x" => Axis::X,
+                            "y" => Axis::Y,
+                            a => return Err(format!("axis '{a}'")),
+                        };
+                        let n = numbers(&format!("{value} {width}"))?;
+                        let split = Node::Split {
+                            axis,
+                            value: n[0],
+                            below: index(below)?,
+                            above: index(above)?,
+                        };
+                        (index(i)?, split, n[1])
+                    }
+                    _ => {
+                        return Err(
+                            "a node is `I leaf K` or `I split AXIS VALUE BELOW ABOVE WIDTH`".into(),
+                        )
+                    }
+                };
+                self.nodes.push(node);
+            }
+            "map" => {
+                let (k, values) = rest.split_once(' ').ok_or("a map is K VALUES")?;
+                self.maps.push((index(k)?, numbers(values)?));
+            }
+            "b" => self.b.push(numbers(rest.get(2..).unwrap_or(""))?),
+            // Decoders skip what they do not use.
+            _ => {}
+        }
+        Ok(())
+    }
+
+    fn build(mut self) -> Result<Compact, Error> {
+        let bad = |msg: &str| Error::Model {
+            file: String::new(),
+            msg: msg.into(),
+        };
+        let grid = self.grid.ok_or_else(|| bad("no grid"))?;
+        let white = self.white.ok_or_else(|| bad("no white point"))?;
+        let clip = self.clip.ok_or_else(|| bad("no clip line"))?;
+        self.nodes.sort_by_key(|n| n.0);
+        self.maps.sort_by_key(|m| m.0);
+        if self.nodes.iter().enumerate().any(|(i, n)| n.0 != i)
+            || self.maps.iter().enumerate().any(|(i, m)| m.0 != i)
+        {
+            return Err(bad("nodes and maps must be numbered 0, 1, … once each"));
+        }
+        let tree = Tree::from(self.nodes.iter().map(|n| n.1).collect::<Vec<_>>());
+        let widths: Vec<f64> = self.nodes.iter().map(|n| n.2).collect();
+        let maps: Vec<f64> = self.maps.into_iter().flat_map(|m| m.1).collect();
+        let blend = (self.blend > 0.0).then_some((self.blend, widths));
+        let up = Uplifter::from_parts(grid, white, tree, maps, blend)?;
+        let n = grid.len();
+        if self.b.len() != 3 || self.b.iter().any(|r| r.len() != n) {
+            return Err(bad("three b rows of one value per band"));
+        }
+        let mut b = self.b.into_iter();
+        let a = [0; 3].map(|_| b.next().expect("three rows"));
+        Ok(Compact {
+            up,
+            a,
+            clip,
+            bounded: None,
+            model: self.model,
+        })
+    }
+}
+
+/// FNV-1a (64 bits) of a model file's text, as the compact text records it: a check that
+/// a texture and a model file agree, not a defence against forgery.
+pub fn hash(text: &str) -> String {
+    let h = text.bytes().fold(0xcbf2_9ce4_8422_2325u64, |h, b| {
+        (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3)
+    });
+    format!("{h:016x}")
+}
+
+/// The colorimetry a description's compact form is exact under (its output's).
+pub fn colorimetry(model: &Model, d: &Description) -> Result<Colorimetry, Error> {
+    Ok(d.output(model)?.0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::baselines::jakob_cache::TableCache;
+    use crate::stack::Stack;
+
+    /// Colours of every kind the policy names: ordinary, saturated beyond the solid, dark,
+    /// black, negative, X+Y+Z ≤ 0, HDR, NaN, on the tree's split lines.
+    fn colours() -> Vec<[f32; 3]> {
+        let mut rng = specconv_testkit::Lcg::new(34);
+        let mut v: Vec<[f32; 3]> = (0..3000)
+            .map(|i| {
+                let c = [
+                    rng.range(0.0, 1.0),
+                    rng.range(0.0, 1.0),
+                    rng.range(0.0, 1.1),
+                ];
+                let s = match i % 6 {
+                    0 => 1e-3,
+                    1 => 4.0,
+                    _ => 1.0,
+                };
+                c.map(|x| (x * s) as f32)
+            })
+            .collect();
+        v.extend([
+            [0.0, 0.0, 0.0],
+            [f32::NAN, 0.2, 0.3],
+            [-0.1, 0.05, 0.2],
+            [-0.2, -0.1, 0.05],
+            [0.6, 0.1, 0.02],
+            [0.05, 0.3, 0.9],
+            [2e-4, 1e-4, 3e-4],
+            [40.0, 35.0, 20.0],
+            [0.9505, 1.0, 1.089],
+        ]);
+        v
+    }
+
+    fn check(d: &Description, model: &Model) -> (f64, usize) {
+        let stack = Stack::build(d, model, &TableCache::none()).unwrap();
+        let compact = Compact::new(model, "test", d).unwrap();
+        let again = Compact::from_text(&compact.to_text()).unwrap();
+        let n = compact.grid().len();
+        let c = colours();
+        let xyz: Vec<f32> = c.as_flattened().to_vec();
+        let mut want = vec![0.0f32; c.len() * n];
+        stack.method().uplift_f32(&xyz, &mut want);
+        let mut texels = vec![0.0f32; c.len() * TEXEL];
+        let counts = compact.encode_f32(&xyz, &mut texels);
+        let (mut got, mut back) = (want.clone(), want.clone());
+        compact.decode_f32(&texels, &mut got);
+        again.decode_f32(&texels, &mut back);
+        let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        assert!(bits(&got) == bits(&back), "the text decodes bit for bit");
+        let mut worst = 0.0f64;
+        for (i, (w, g)) in want.chunks(n).zip(got.chunks(n)).enumerate() {
+            for (a, b) in w.iter().zip(g) {
+                if a.is_nan() || b.is_nan() {
+                    assert!(a.is_nan() && b.is_nan(), "{:?}", c[i]);
+                    continue;
+                }
+                // Beyond a quarter of half's spacing at the value (the outside colours' bound).
+                let quarter = f64::from(a.abs().max(1.0 / 16384.0)) / 8192.0;
+                worst = worst.max(f64::from((a - b).abs()) - quarter);
+            }
+        }
+        (worst, counts.outside)
+    }
+
+    #[test]
+    fn texels_decode_to_the_stacks_spectra() {
+        for name in ["extended", "paper", "open"] {
+            let model = Model::builtin_named(name).unwrap();
+            for (grid, blend) in [
+                (None, 0.02),
+                (Some("400:700:5"), 0.0),
+                (Some("380:780:20"), 0.05),
+            ] {
+                let mut d = Description::convert_default(MethodName::Otsu2018);
+                d.grid = grid.map(|g| g.parse().unwrap());
+                d.blend = blend;
+                let (worst, outside) = check(&d, model);
+                assert!(outside > 10, "{name} {grid:?}: {outside} outside");
+                // The same spectra but for u rounded to float32: outside colours within a
+                // quarter of half's spacing (DUAL_F32_TOLERANCE), projected ones within
+                // |aᵢ|·|u|·2⁻²⁴ more (3e-5 at most here, a colour at the solid's surface).
+                assert!(worst < 5e-5, "{name} {grid:?} {blend}: {worst}");
+                d.bounded = false;
+                let (worst, _) = check(&d, model);
+                assert!(worst < 2e-5 * 50.0, "unbounded {name} {grid:?}: {worst}");
+            }
+        }
+    }
+
+    #[test]
+    fn emission_and_the_baselines_have_no_compact_form() {
+        let model = Model::builtin();
+        let mut d = Description::convert_default(MethodName::Smits1999);
+        assert!(Compact::new(model, "x", &d).is_err());
+        d.method = MethodName::Otsu2018;
+        d.emissive = Some(specconv_colour::EmissionUnits::Reference);
+        let e = Compact::new(model, "x", &d).err().unwrap().to_string();
+        assert!(e.contains("emission"), "{e}");
+        assert!(Compact::from_text("specconv compact 2\n").is_err());
+    }
+}

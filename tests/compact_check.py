@@ -1,0 +1,70 @@
+"""Compact textures (docs/compact.md) checked through OpenImageIO, outside our reader.
+
+  chart OUT         writes a float OpenEXR (linear Rec.709, 8x6) of colours of every kind:
+                    greys, saturated primaries beyond sRGB, negative components, HDR, black,
+                    NaN, a tiny dark colour, and a ramp.
+  steps A B         JSON list, one entry per MIP level of A and B (two spectral files of the
+                    same channels): the fraction of samples stored identically and the largest
+                    difference in half steps at the value (at least 2e-6), NaN equal to NaN.
+"""
+import json
+import sys
+
+import numpy as np
+import OpenImageIO as oiio
+
+
+def chart(out):
+    nan = float("nan")
+    rows = [
+        [[0.18, 0.18, 0.18], [1, 1, 1], [0, 0, 0], [0.9, 0.02, 0.01], [0.01, 0.9, 0.02], [0.02, 0.01, 0.9], [1.5, 0.1, -0.2], [-0.3, 0.6, 0.2]],
+        [[12, 10, 8], [300, 20, 1], [1e-4, 2e-4, 1e-4], [-0.1, -0.2, -0.05], [nan, 0.2, 0.3], [0.2, nan, nan], [0.5, 0.5, 0.0], [0.0, 0.4, 0.9]],
+    ]
+    rows += [[[i / 7, (7 - i) / 7, (i * 3 % 8) / 7] for i in range(8)] for _ in range(4)]
+    pixels = np.array(rows, dtype=np.float32)
+    spec = oiio.ImageSpec(8, 6, 3, "float")
+    o = oiio.ImageOutput.create(out)
+    o.open(out, spec)
+    o.write_image(pixels)
+    o.close()
+
+
+def levels(path):
+    inp = oiio.ImageInput.open(path)
+    if inp is None:
+        sys.exit(oiio.geterror())
+    out, level = [], 0
+    while inp.seek_subimage(0, level):
+        s = inp.spec()
+        kind = "half" if s.format == oiio.HALF else "float"
+        out.append((list(s.channelnames), inp.read_image(0, level, 0, s.nchannels, kind)))
+        level += 1
+    inp.close()
+    return out
+
+
+def steps(a, b):
+    out = []
+    for level, ((na, pa), (nb, pb)) in enumerate(zip(levels(a), levels(b))):
+        if na != nb or pa.shape != pb.shape or pa.dtype != pb.dtype:
+            sys.exit(f"level {level}: {na} {pa.shape} {pa.dtype} against {nb} {pb.shape} {pb.dtype}")
+        signed = np.int16 if pa.dtype == np.float16 else np.int32
+        ia, ib = pa.view(signed).astype(np.int64), pb.view(signed).astype(np.int64)
+        # Steps apart on the number line of the type (sign-magnitude to ordered integers).
+        ia = np.where(ia < 0, -(ia & (2 ** (8 * pa.itemsize - 1) - 1)), ia)
+        ib = np.where(ib < 0, -(ib & (2 ** (8 * pa.itemsize - 1) - 1)), ib)
+        nan = np.isnan(pa.astype(np.float32)) & np.isnan(pb.astype(np.float32))
+        d = np.where(nan, 0, np.abs(ia - ib))
+        # The difference in half steps at the value (2^-10 of its power of two), rounded up;
+        # near 0 (half's subnormals, float's tiny values) in steps of 2e-6: float32's rounding
+        # of u, which filters with negative lobes carry into small values.
+        fa, fb = pa.astype(np.float64), pb.astype(np.float64)
+        spacing = 2.0 ** (np.floor(np.log2(np.maximum(np.abs(fa), 2.0 ** -14))) - 10)
+        spacing = np.maximum(spacing, 2e-6)
+        d = np.where(nan | (d == 0), 0, np.ceil(np.abs(fa - fb) / spacing - 1e-9)).astype(np.int64)
+        out.append({"level": level, "identical": float((pa.view(signed) == pb.view(signed)).mean()), "max_steps": int(d.max()), "samples": int(d.size)})
+    print(json.dumps(out))
+
+
+if __name__ == "__main__":
+    {"chart": chart, "steps": steps}[sys.argv[1]](*sys.argv[2:])
