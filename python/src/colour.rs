@@ -31,11 +31,7 @@ pub fn uplift<'py>(
     bands: Option<&str>,
     emission: Option<&str>,
 ) -> PyResult<Bound<'py, PyAny>> {
-    let mut options = specconv_conversion::Options::default();
-    options.bounded = bounded;
-    options.blend = blend;
-    options.method = method.parse().map_err(option)?;
-    options.bands = bands.map(str::parse).transpose().map_err(option)?;
+    let mut options = stack_options(bounded, blend, method, bands)?;
     options.emission = emission
         .map(str::parse::<EmissionUnits>)
         .transpose()
@@ -84,11 +80,7 @@ pub fn encode<'py>(
     method: &str,
     bands: Option<&str>,
 ) -> PyResult<(String, Bound<'py, PyAny>)> {
-    let mut options = specconv_conversion::Options::default();
-    options.bounded = bounded;
-    options.blend = blend;
-    options.method = method.parse().map_err(option)?;
-    options.bands = bands.map(str::parse).transpose().map_err(option)?;
+    let options = stack_options(bounded, blend, method, bands)?;
     let model = match model {
         Some(m) => m.get(),
         None => Model::default_model(),
@@ -231,4 +223,19 @@ pub fn rgb_to_xyz<'py>(
             array(py, &lead, 3, out)?.into_any()
         }
     })
+}
+
+/// The conversion options `uplift` and `encode` share: the method stack's.
+fn stack_options(
+    bounded: bool,
+    blend: f64,
+    method: &str,
+    bands: Option<&str>,
+) -> PyResult<specconv_conversion::Options> {
+    let mut options = specconv_conversion::Options::default();
+    options.bounded = bounded;
+    options.blend = blend;
+    options.method = method.parse().map_err(option)?;
+    options.bands = bands.map(str::parse).transpose().map_err(option)?;
+    Ok(options)
 }

@@ -66,6 +66,60 @@ impl Model {
     }
 }
 
+/// The numpy spectra (one per row, at `wavelengths` nm) as a table named `source`, and their
+/// weights (none: unweighted).
+fn table_of(
+    spectra: &Bound<'_, PyAny>,
+    wavelengths: &Bound<'_, PyAny>,
+    weights: Option<&Bound<'_, PyAny>>,
+    source: &str,
+) -> PyResult<(specconv_colour::SpectralTable, Vec<f64>)> {
+    use crate::arrays::{values, Values};
+    let flat = |v: Values| match v {
+        Values::F32(lead, v) => (lead, v.into_iter().map(f64::from).collect::<Vec<_>>()),
+        Values::F64(lead, v) => (lead, v),
+    };
+    let (_, wavelengths) = flat(values(wavelengths, None, "wavelengths")?);
+    let n = wavelengths.len();
+    let (lead, spectra) = flat(values(spectra, Some(n), "spectra")?);
+    if lead.len() != 1 {
+        return Err(Kind::Option.err(format!(
+            "spectra must be 2-D (one spectrum of {n} values per row), not {} axes",
+            lead.len() + 1
+        )));
+    }
+    let weights = match weights {
+        None => Vec::new(),
+        Some(w) => flat(values(w, Some(lead[0]), "weights")?).1,
+    };
+    let table = specconv_colour::SpectralTable {
+        source: source.to_string(),
+        wavelengths,
+        names: (0..lead[0]).map(|k| format!("spectrum {k}")).collect(),
+        columns: spectra.chunks_exact(n).map(<[f64]>::to_vec).collect(),
+    };
+    Ok((table, weights))
+}
+
+/// The terms the trainer states (`licence`, `commercial`), else those known for `source`.
+fn terms_of(
+    source: &str,
+    licence: Option<String>,
+    commercial: Option<&str>,
+) -> PyResult<specconv_spectral::otsu2018::terms::Terms> {
+    use specconv_spectral::otsu2018::terms::{Commercial, Terms};
+    let mut terms = match &licence {
+        Some(l) => Terms::stated(l, Commercial::Unstated),
+        None => Terms::known(source),
+    };
+    if let Some(c) = commercial {
+        terms.commercial = c
+            .parse()
+            .map_err(|e: String| Kind::Option.err(format!("commercial: {e}")))?;
+    }
+    Ok(terms)
+}
+
 /// The model a Python training builds on (`with_model`), with its sets read again.
 struct Base {
     model: specconv_spectral::Model,
@@ -170,43 +224,8 @@ impl Model {
         with_data: Option<FsPath>,
         weight: f64,
     ) -> PyResult<Model> {
-        use crate::arrays::{values, Values};
-        use specconv_spectral::otsu2018::terms::{Commercial, Terms};
-        let flat = |v: Values| match v {
-            Values::F32(lead, v) => (lead, v.into_iter().map(f64::from).collect::<Vec<_>>()),
-            Values::F64(lead, v) => (lead, v),
-        };
-        let (_, wavelengths) = flat(values(wavelengths, None, "wavelengths")?);
-        let n = wavelengths.len();
-        let (lead, spectra) = flat(values(spectra, Some(n), "spectra")?);
-        if lead.len() != 1 {
-            return Err(Kind::Option.err(format!(
-                "spectra must be 2-D (one spectrum of {n} values per row), not {} axes",
-                lead.len() + 1
-            )));
-        }
-        let weights = match weights {
-            None => Vec::new(),
-            Some(w) => {
-                let (_, w) = flat(values(w, Some(lead[0]), "weights")?);
-                w
-            }
-        };
-        let table = specconv_colour::SpectralTable {
-            source: source.to_string(),
-            wavelengths,
-            names: (0..lead[0]).map(|k| format!("spectrum {k}")).collect(),
-            columns: spectra.chunks_exact(n).map(<[f64]>::to_vec).collect(),
-        };
-        let mut terms = match &licence {
-            Some(l) => Terms::stated(l, Commercial::Unstated),
-            None => Terms::known(source),
-        };
-        if let Some(c) = commercial {
-            terms.commercial = c
-                .parse()
-                .map_err(|e: String| Kind::Option.err(format!("commercial: {e}")))?;
-        }
+        let (table, weights) = table_of(spectra, wavelengths, weights, source)?;
+        let terms = terms_of(source, licence, commercial)?;
         let base = match (with_model, with_data) {
             (Some(m), Some(dir)) => Some(Base::read(py, &m.0, &dir.0, weights.is_empty())?),
             (None, None) => None,
