@@ -254,8 +254,15 @@ scs_model *scs_model_parse(const char *text, char *err, size_t errlen) {
     if (!m->wl) { scs_fail_(err, errlen, 0, "no wavelengths line"); goto fail; }
     if (m->nodes_n < 1) { scs_fail_(err, errlen, 0, "no nodes"); goto fail; }
     if (m->maps_n < 1) { scs_fail_(err, errlen, 0, "no maps"); goto fail; }
+    /* Each of a map's 4n numbers takes at least two characters: a text too short for its
+     * maps is refused before they are allocated, so memory stays bounded by the text. */
+    if ((double)m->maps_n * 4.0 * (double)m->n * 2.0 > (double)len) {
+        scs_fail_(err, errlen, 0, "%ld map lines of 4 × %d numbers do not fit in %lu characters",
+                  m->maps_n, m->n, (unsigned long)len);
+        goto fail;
+    }
     m->nodes = (scs_node_ *)scs_alloc_((size_t)m->nodes_n, sizeof *m->nodes);
-    m->maps = (double *)scs_alloc_((size_t)m->maps_n * 4, (size_t)m->n * sizeof(double));
+    m->maps = (double *)scs_alloc_((size_t)m->maps_n, 4 * (size_t)m->n * sizeof(double));
     m->b = (double *)scs_alloc_(3, (size_t)m->n * sizeof(double));
     node_seen = (char *)scs_alloc_((size_t)m->nodes_n, 1);
     map_seen = (char *)scs_alloc_((size_t)m->maps_n, 1);

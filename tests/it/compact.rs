@@ -355,6 +355,11 @@ fn the_c_header_decodes_what_convert_bakes_and_refuses_hostile_text() {
             "repeated",
         ),
         ("deep chain", chain(70), "deeper than 64"),
+        (
+            "a thousand map lines",
+            format!("{valid}\n{}", "map\n".repeat(1000)),
+            "do not fit",
+        ),
     ];
     assert_eq!(
         check(&["--parse-only", s(&dir.write("chain.txt", &chain(60)))]),
