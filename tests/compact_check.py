@@ -6,6 +6,11 @@
   steps A B         JSON list, one entry per MIP level of A and B (two spectral files of the
                     same channels): the fraction of samples stored identically and the largest
                     difference in half steps at the value (at least 2e-6), NaN equal to NaN.
+  dump C B PREFIX   level 0 of a compact file C and of the spectral file B as text for
+                    tests/c/decode_check.c: PREFIX.header (the specconvCompact text),
+                    PREFIX.texels ("count 6", then C.X C.Y C.Z U.0 U.1 U.2 a line) and
+                    PREFIX.baked ("count bands", the wavelengths, then the T. bands a line),
+                    every float32 in 9 digits, which read back to the same float.
 """
 import json
 import sys
@@ -66,5 +71,24 @@ def steps(a, b):
     print(json.dumps(out))
 
 
+def dump(compact, baked, prefix):
+    (cn, cp), (bn, bp) = levels(compact)[0], levels(baked)[0]
+    inp = oiio.ImageInput.open(compact)
+    text = inp.spec().getattribute("specconvCompact")
+    inp.close()
+    if not isinstance(text, str):
+        sys.exit(f"{compact}: no specconvCompact attribute")
+    with open(prefix + ".header", "w") as f:
+        f.write(text)
+    t = cp.astype(np.float32)[..., [cn.index(c) for c in ("C.X", "C.Y", "C.Z", "U.0", "U.1", "U.2")]]
+    t = t.reshape(-1, 6)
+    np.savetxt(prefix + ".texels", t, fmt="%.9g", header=f"{len(t)} 6", comments="")
+    # The T. channels (T.<nm>nm, a comma for a decimal point) by increasing wavelength.
+    bands = sorted((float(n[2:-2].replace(",", ".")), i) for i, n in enumerate(bn) if n.startswith("T."))
+    b = bp.astype(np.float32)[..., [i for _, i in bands]].reshape(-1, len(bands))
+    wl = " ".join(repr(w) for w, _ in bands)
+    np.savetxt(prefix + ".baked", b, fmt="%.9g", header=f"{len(b)} {len(bands)}\n{wl}", comments="")
+
+
 if __name__ == "__main__":
-    {"chart": chart, "steps": steps}[sys.argv[1]](*sys.argv[2:])
+    {"chart": chart, "steps": steps, "dump": dump}[sys.argv[1]](*sys.argv[2:])

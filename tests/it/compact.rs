@@ -113,3 +113,271 @@ fn what_has_no_compact_form_is_refused_with_why() {
         .arg(dir.path("back.exr"))
         .fails(1, &["not a compact texture"]);
 }
+
+/// include/specconv_spectrum.h, the C99 decoder, compiled with the `cc` on PATH into the
+/// scratch directory with tests/c/decode_check.c, and run on level 0 of the compact and the
+/// spectral file of the Python decoder's cases (python/tests/test_compact.py), dumped as text
+/// through OpenImageIO (tests/compact_check.py dump): within one half step at every band, and
+/// of the spectral file's linear interpolation at 1,000 random wavelengths. Then hostile
+/// header texts: each refused with its reason, none a crash.
+#[test]
+fn the_c_header_decodes_what_convert_bakes_and_refuses_hostile_text() {
+    use std::process::Command;
+    let dir = Scratch::new("compact-c");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let images = root.join("testdata/images");
+    let exe = dir.path("decode_check");
+    let cc = Command::new("cc")
+        .args(["-std=c99", "-Wall", "-Wextra", "-Werror", "-O2", "-I"])
+        .arg(root.join("include"))
+        .arg(root.join("tests/c/decode_check.c"))
+        .arg("-o")
+        .arg(&exe)
+        .arg("-lm")
+        .output()
+        .expect("cc on PATH");
+    assert!(
+        cc.status.success(),
+        "cc: {}",
+        String::from_utf8_lossy(&cc.stderr)
+    );
+    let check = |args: &[&str]| {
+        let out = Command::new(&exe).args(args).output().unwrap();
+        let text = String::from_utf8_lossy(&out.stdout).into_owned();
+        (out.status.code(), text)
+    };
+
+    let chart = dir.path("chart.exr");
+    script("compact_check.py", ["chart", s(&chart)]);
+    let keep = ["--fixnan", "keep"];
+    let cases: Vec<(&str, std::path::PathBuf, Vec<&str>, u64)> = vec![
+        ("photo", images.join("photo.jpg"), vec![], 0),
+        ("alpha", images.join("srgba8.png"), vec![], 0),
+        ("chart", chart.clone(), keep.to_vec(), 2),
+        (
+            "grid-paper",
+            chart.clone(),
+            [
+                &keep[..],
+                &["--bands", "400:700:5", "--model", "paper", "--blend", "0"],
+            ]
+            .concat(),
+            2,
+        ),
+        (
+            "open",
+            chart.clone(),
+            [&keep[..], &["--model", "open"]].concat(),
+            2,
+        ),
+    ];
+    let mut checked = 0;
+    for (name, input, extra, nans) in cases {
+        let baked = dir.path(&format!("{name}_spectral.exr"));
+        let compact = dir.path(&format!("{name}_compact.exr"));
+        Cmd::convert(&input, &baked).args(&extra).ok();
+        Cmd::convert(&input, &compact)
+            .args(&extra)
+            .args(["--layout", "compact"])
+            .ok();
+        let prefix = dir.path(name);
+        script(
+            "compact_check.py",
+            ["dump", s(&compact), s(&baked), s(&prefix)],
+        );
+        let file = |ext: &str| format!("{}.{ext}", s(&prefix));
+        let (code, text) = check(&[&file("header"), &file("texels"), &file("baked")]);
+        eprintln!("{name}: {text}");
+        assert_eq!(code, Some(0), "{name}: {text}");
+        assert!(text.ends_with("ok\n"), "{name}: {text}");
+        let line = text.lines().find(|l| l.starts_with("texels=")).unwrap();
+        let get = |key: &str| -> f64 {
+            line.split(' ')
+                .find_map(|kv| kv.strip_prefix(&format!("{key}=")[..]))
+                .unwrap_or_else(|| panic!("{name}: no {key} in {line}"))
+                .parse()
+                .unwrap()
+        };
+        let (texels, bands) = (get("texels") as u64, get("bands") as u64);
+        let lit = texels - get("nan_texels") as u64;
+        assert!(
+            texels > 0 && get("nan_texels") as u64 == nans,
+            "{name}: {line}"
+        );
+        assert_eq!(get("band_values") as u64, lit * bands, "{name}");
+        assert_eq!(get("wavelength_values") as u64, lit * 1000, "{name}");
+        assert_eq!(get("failures"), 0.0, "{name}");
+        assert!(get("max_band_steps") <= 1.0 + 1e-9, "{name}: {line}");
+        assert!(get("max_wavelength_steps") <= 1.0 + 1e-9, "{name}: {line}");
+        if name == "grid-paper" {
+            assert_eq!(bands, 61);
+        }
+        checked += texels;
+    }
+    assert!(checked > 5000, "{checked}");
+
+    // Hostile text, made from a valid one: each refused (exit 3) with its reason.
+    let valid = std::fs::read_to_string(dir.path("photo.header")).unwrap();
+    let header = dir.path("photo.header");
+    assert_eq!(
+        check(&["--parse-only", s(&header)]),
+        (Some(0), String::from("parsed bands=36\n"))
+    );
+    // The line of `valid` starting with `start`, its words changed by `f`.
+    let edit = |start: &str, f: &dyn Fn(&mut Vec<String>)| -> String {
+        let mut done = false;
+        let lines: Vec<String> = valid
+            .lines()
+            .map(|l| {
+                if done || !l.starts_with(start) {
+                    return l.to_string();
+                }
+                done = true;
+                let mut w: Vec<String> = l.split(' ').map(String::from).collect();
+                f(&mut w);
+                w.join(" ")
+            })
+            .collect();
+        assert!(done, "no line {start}");
+        lines.join("\n")
+    };
+    let mut half = valid.len() / 2;
+    while !valid.is_char_boundary(half) {
+        half -= 1;
+    }
+    // A first split below the root: its `above` pointed back at the root, a cycle.
+    let split = valid
+        .lines()
+        .find(|l| l.starts_with("node ") && !l.starts_with("node 0 ") && l.contains(" split "))
+        .unwrap()
+        .split(' ')
+        .take(2)
+        .collect::<Vec<_>>()
+        .join(" ");
+    // The first leaf's line, to the word `leaf`.
+    let leaf = valid
+        .lines()
+        .find(|l| l.starts_with("node ") && l.contains(" leaf "))
+        .unwrap()
+        .split(' ')
+        .take(3)
+        .collect::<Vec<_>>()
+        .join(" ");
+    let wavelengths = format!(
+        "wavelengths {}",
+        (0..1_000_001)
+            .map(|i| i.to_string())
+            .collect::<Vec<_>>()
+            .join(" ")
+    );
+    // A chain of `depth` splits, each with a leaf below: valid but for the depth past 64.
+    let chain = |depth: usize| {
+        let mut t = String::from(
+            "specconv compact 1\nwavelengths 500\nwhite 0.3 0.3\ndark 0.01\nblend 0.02\nclip 1\n",
+        );
+        for i in 0..depth {
+            let above = if i + 1 < depth { i + 1 } else { 2 * depth };
+            t += &format!("node {i} split x 0.3 {} {above} 0.02\n", depth + i);
+        }
+        for j in 0..=depth {
+            t += &format!("node {} leaf {j}\nmap {j} 0 0 0 0.5\n", depth + j);
+        }
+        t + "b X 0.1\nb Y 0.1\nb Z 0.1\n"
+    };
+    let hostile: Vec<(&str, String, &str)> = vec![
+        ("empty", String::new(), "not a text of"),
+        (
+            "version 2",
+            valid.replacen(" 1\n", " 2\n", 1),
+            "not a text of",
+        ),
+        ("truncated", valid[..half].to_string(), ""),
+        (
+            "truncated map",
+            valid[..valid.len() - 40].to_string(),
+            "b needs",
+        ),
+        ("NaN dark", edit("dark ", &|w| w[1] = "nan".into()), "dark"),
+        (
+            "NaN in a map",
+            edit("map 0 ", &|w| w[5] = "NaN".into()),
+            "map",
+        ),
+        (
+            "infinite white",
+            edit("white ", &|w| w[1] = "inf".into()),
+            "white",
+        ),
+        ("1e999", edit("b Y ", &|w| w[2] = "1e999".into()), "b needs"),
+        (
+            "cycle",
+            edit(&format!("{split} "), &|w| w[6] = "0".into()),
+            "reached twice",
+        ),
+        (
+            "shared node",
+            edit("node 0 ", &|w| w[5] = w[6].clone()),
+            "reached twice",
+        ),
+        (
+            "huge node index",
+            edit("node 0 ", &|w| w[1] = "99999999999999999999999".into()),
+            "node index out of range",
+        ),
+        (
+            "huge child",
+            edit("node 0 ", &|w| w[6] = "18446744073709551617".into()),
+            "out of range",
+        ),
+        (
+            "huge map index",
+            edit("map 0 ", &|w| w[1] = "4294967296".into()),
+            "map index out of range",
+        ),
+        (
+            "huge leaf map",
+            edit(&leaf, &|w| w[3] = "9223372036854775808".into()),
+            "leaf map out of range",
+        ),
+        (
+            "a million and one bands",
+            edit("wavelengths ", &|w| *w = vec![wavelengths.clone()]),
+            "wavelengths (1 to 10^6)",
+        ),
+        (
+            "missing b Z",
+            edit("b Z", &|w| w[0] = "bz".into()),
+            "b Z lines are required",
+        ),
+        (
+            "repeated map",
+            edit("map 1 ", &|w| w[1] = "0".into()),
+            "repeated",
+        ),
+        ("deep chain", chain(70), "deeper than 64"),
+        (
+            "a thousand map lines",
+            format!("{valid}\n{}", "map\n".repeat(1000)),
+            "do not fit",
+        ),
+    ];
+    assert_eq!(
+        check(&["--parse-only", s(&dir.write("chain.txt", &chain(60)))]),
+        (Some(0), String::from("parsed bands=1\n"))
+    );
+    for (name, text, why) in &hostile {
+        let path = dir.write("hostile.txt", text);
+        let (code, out) = check(&["--parse-only", s(&path)]);
+        eprintln!("{name}: {}", out.trim_end());
+        assert_eq!(code, Some(3), "{name}: {out}");
+        assert!(
+            out.starts_with("refused: ") && out.contains(why),
+            "{name}: {out}"
+        );
+    }
+    // Damaged copies of the valid text, decoded when they parse: none a crash.
+    let (code, out) = check(&["--mutate", s(&header), "20000"]);
+    eprintln!("mutations: {}", out.trim_end());
+    assert_eq!(code, Some(0), "{out}");
+    assert!(out.starts_with("mutations=20000 "), "{out}");
+}
