@@ -262,13 +262,12 @@ impl Model {
             let mut own = specconv_spectral::TrainingSet::from_table(&table, &grid)?;
             let set = match base {
                 Some(b) => {
-                    let mut parts = b.parts;
-                    parts.push(specconv_spectral::Part {
+                    let own = specconv_spectral::Part {
                         set: own,
                         weight,
                         terms,
-                    });
-                    specconv_spectral::TrainingSet::union(&parts, 0.0)?
+                    };
+                    specconv_spectral::TrainingSet::on_top(b.parts, vec![own], 0.0)?
                 }
                 None => {
                     own.sets.iter_mut().for_each(|s| {

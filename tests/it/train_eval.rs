@@ -512,6 +512,22 @@ fn a_studio_trains_its_swatches_on_top_of_an_open_model() {
         "{}",
         text.stdout
     );
+    // A model file edited to name a set outside --with-data: nothing outside it is read.
+    let edited = dir.path("edited.json");
+    let text = std::fs::read_to_string(builtin).unwrap().replacen(
+        "\"source\": \"usgs_splib07a_vegetation",
+        "\"source\": \"../spectra/usgs_splib07a_vegetation",
+        1,
+    );
+    assert!(text.contains("../spectra/"));
+    std::fs::write(&edited, text).unwrap();
+    Cmd::new(["train", "--with"])
+        .arg(&edited)
+        .arg("--with-data")
+        .arg(&data)
+        .args(["--force", "-o"])
+        .arg(&plain)
+        .fails(1, &["must be a plain file name"]);
     // (Folder missing, setting changed: clear errors.)
     Cmd::new(["train", "--with", "open", "--with-data"])
         .arg(dir.path("nowhere"))

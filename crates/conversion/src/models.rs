@@ -124,8 +124,8 @@ pub fn read_spectra(path: &Path) -> Result<specconv_colour::SpectralTable, Model
 /// The sets `m` was trained on, read again from the folder `dir` that holds its recorded files
 /// (../shared/spectra for the built-in models), each with its recorded weight and terms, on
 /// `m`'s grid: what a studio's own sets join to make a model it owns (`train --with`,
-/// Python's `Model.train(with_model=…)`). Trained alone with [`recorded_options`] they give
-/// `m` back bit for bit.
+/// Python's `Model.train(with_model=…)`, joined by [`TrainingSet::on_top`]). Trained alone with
+/// [`recorded_options`] they give `m` back bit for bit.
 pub fn recorded_parts(m: &Model, dir: &Path) -> Result<Vec<Part>, ModelError> {
     if m.training.sets.is_empty() {
         return Err(ModelError::NoRecordedSets {

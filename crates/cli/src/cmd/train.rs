@@ -91,19 +91,10 @@ pub fn run(args: Args) -> Result<()> {
                     a.grid
                 )));
             }
-            let mut parts = models::recorded_parts(&base, dir)?;
-            parts.extend(crate::methods::weighted_parts(
-                &args.spectra,
-                &a.grid,
-                &args.weights,
-            )?);
-            let set = if args.spectra.is_empty() {
-                // The recorded weights as they are: the model's own training set, bit for bit.
-                specconv_spectral::TrainingSet::weighted(&parts)
-            } else {
-                specconv_spectral::TrainingSet::union(&parts, args.weights.balance)
-                    .map_err(crate::usage)?
-            };
+            let own = crate::methods::weighted_parts(&args.spectra, &a.grid, &args.weights)?;
+            let recorded = models::recorded_parts(&base, dir)?;
+            let set = specconv_spectral::TrainingSet::on_top(recorded, own, args.weights.balance)
+                .map_err(crate::usage)?;
             (a, set, models::recorded_options(&base))
         }
         _ => {

@@ -225,6 +225,18 @@ impl TrainingSet {
         Ok(TrainingSet::weighted(&weighted))
     }
 
+    /// A model's recorded sets `base` (with their recorded weights) joined by `own` sets, as
+    /// one training set (`train --with`): balanced by `balance` ([`TrainingSet::union`]); with
+    /// no `own` sets the recorded weights stay as they are ([`TrainingSet::weighted`]), so
+    /// training gives the model back bit for bit.
+    pub fn on_top(mut base: Vec<Part>, own: Vec<Part>, balance: f64) -> Result<TrainingSet, Error> {
+        if own.is_empty() {
+            return Ok(TrainingSet::weighted(&base));
+        }
+        base.extend(own);
+        TrainingSet::union(&base, balance)
+    }
+
     /// The parts as one training set, each part's spectra weighing its `weight` as it is (no
     /// balancing or scaling: a model's recorded sets give its training set back bit for bit).
     pub fn weighted(parts: &[Part]) -> TrainingSet {
