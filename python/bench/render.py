@@ -1,111 +1,163 @@
-"""Render times and sizes: baked spectral file vs render-time uplift vs Mitsuba's own bitmap.
+"""Disk, load time, peak memory and render time of specconv's Mitsuba textures against `bitmap`.
 
-    python python/bench/render.py IMAGE [--res 256] [--spp 16] [--variants scalar_spectral,...]
+    python python/bench/render.py IMAGE [--size 2048] [--res 512] [--spp 64] [--rounds 3]
+                                        [--variant llvm_ad_spectral] [--textures a,b,...]
 
-One run, one machine: every time is reported with its ratio to Mitsuba's `bitmap` of the same
-source in the same variant (timing is relative, never absolute); each texture's render is the
-best of --rounds, the textures interleaved in every round. The scene is the tests' plate
-(an orthographic camera filling it, a uniform illuminant-A environment, BSDF sampling).
+One run, one machine: every figure is reported with its ratio to Mitsuba's own `bitmap` of the
+same RGB file in the same run (ratios, never absolute timings, are what the run shows). Each
+texture is measured in a process of its own, so that its peak memory (the process's maximum
+resident set, `ru_maxrss`) is its own: load (the scene with the texture, `mi.load_dict`), a
+first render (compiling, in the LLVM variants), then the best of --rounds renders. The
+processes run one after the other, in --rounds interleaved passes when asked.
 
-Textures compared:
-  bitmap              Mitsuba's own RGB texture of IMAGE (Jakob–Hanika uplift at render time)
-  specconv_spectral   the file `specconv convert IMAGE` bakes (what ships: ≈15× the RGB size)
-  specconv_rgb        IMAGE uplifted per texel at load, then looked up as the baked file
-  per-lookup (bound)  what uplifting at each lookup costs at least: bilinear XYZ, then the
-                      affine leaf map r(λ) = T(λ)·c + o(λ) of ONE leaf (no tree walk, no bounded
-                      projection): a lower bound on the time, not a correct uplift
-  per-lookup (uplift) scalar only, with the compiled package: `specconv.uplift` of the bilinear
-                      XYZ at every lookup (the exact per-lookup path a Python plugin has)
+--scene plate (default) is the tests' plate: an orthographic camera filling a diffuse
+rectangle, a uniform illuminant-A environment, BSDF sampling alone, so that the texture's
+lookups are most of the work (a worst case for a costly lookup). --scene room is a path-traced
+box (path, max depth 6, an area light of illuminant A): the texture on its floor and on a
+sphere, plain grey walls; lookups are then a smaller part of a render, as in production.
 
-The LLVM variants trace a texture's Python `eval` once into a kernel, so no library call can run
-per lookup there: per lookup in LLVM would mean the tree in Dr.Jit code, which the bound prices.
+Textures compared (IMAGE is cropped and resized to --size², written as an 8-bit sRGB PNG):
+  bitmap              Mitsuba's RGB texture of the PNG (Jakob-Hanika coefficients per texel)
+  specconv_spectral   the file `specconv convert` bakes from the PNG (36 bands per texel)
+  specconv_compact    the file `convert --layout compact` writes (6 values per texel),
+                      decoded per lookup
+  specconv_rgb        the PNG made compact texels by the library at load, decoded per lookup
 """
 
 from __future__ import annotations
 
 import argparse
+import json
 import os
+import resource
+import subprocess
 import sys
 import tempfile
 import time
 
-import numpy as np
+TEXTURES = ("bitmap", "specconv_spectral", "specconv_compact", "specconv_rgb")
 
 
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("image", help="an 8-bit sRGB image (PNG, JPEG)")
-    ap.add_argument("--res", type=int, default=256, help="render width and height")
-    ap.add_argument("--spp", type=int, default=16)
+    ap.add_argument("image", help="any image OpenImageIO reads (a photograph)")
+    ap.add_argument("--size", type=int, default=2048, help="texture width and height")
+    ap.add_argument("--res", type=int, default=512, help="render width and height")
+    ap.add_argument("--spp", type=int, default=64)
     ap.add_argument("--rounds", type=int, default=3, help="renders per texture; the best counts")
-    ap.add_argument("--variants", default="scalar_spectral,llvm_ad_spectral")
-    ap.add_argument("--work", default=None, help="folder for the converted files (default: temp)")
+    ap.add_argument("--passes", type=int, default=1, help="processes per texture, interleaved")
+    ap.add_argument("--variant", default="llvm_ad_spectral")
+    ap.add_argument("--scene", choices=("plate", "room"), default="plate")
+    ap.add_argument("--textures", default=",".join(TEXTURES))
+    ap.add_argument("--work", default=None, help="folder for the files (default: temp)")
+    ap.add_argument("--child", help=argparse.SUPPRESS)
     args = ap.parse_args()
+    if args.child:
+        return child(args)
 
-    import mitsuba as mi
     import OpenImageIO as oiio
 
     import specconv
-    import specconv.mitsuba
 
     work = args.work or tempfile.mkdtemp(prefix="specconv-bench-")
     os.makedirs(work, exist_ok=True)
-    stem = os.path.splitext(os.path.basename(args.image))[0]
-    png = os.path.join(work, stem + ".png")
-    oiio.ImageBuf(args.image).write(png)  # the source as a PNG: what `bitmap` and specconv_rgb read
-    # The RGB counterpart in the spectral file's container: half, 64² tiles, MIP-mapped, ZIP.
-    rgb_exr = os.path.join(work, stem + "_rgb_half.exr")
+    files = make_files(oiio, specconv, args.image, args.size, work)
+    print(
+        f"{args.image} as {args.size}² 8-bit sRGB PNG; {args.variant}, {args.scene}, "
+        f"{args.res}² at {args.spp} spp"
+    )
+    print("\ndisk (MIP-mapped, 64² tiles, ZIP):")
+    rgb = os.path.getsize(files["rgb_half"])
+    for name in ("png", "rgb_half", "specconv_spectral", "specconv_compact"):
+        size = os.path.getsize(files[name])
+        print(f"  {name:20s} {size / 1e6:8.2f} MB  {size / rgb:6.2f}× maketx half RGB")
+
+    names = args.textures.split(",")
+    runs: dict[str, list[dict]] = {n: [] for n in names}
+    for _ in range(args.passes):
+        for name in names:
+            out = subprocess.run(
+                [sys.executable, __file__, args.image, "--child", name, "--work", work]
+                + [f"--{k}={getattr(args, k)}" for k in ("res", "spp", "rounds", "variant", "scene")],
+                capture_output=True,
+                text=True,
+                env=dict(os.environ, SPECCONV_BENCH_FILES=json.dumps(files)),
+            )
+            if out.returncode != 0:
+                print(f"{name}: failed\n{out.stderr[-2000:]}")
+                return 1
+            runs[name].append(json.loads(out.stdout.strip().splitlines()[-1]))
+    best = {n: {k: min(r[k] for r in runs[n]) for k in runs[n][0]} for n in names}
+    base = best["bitmap"] if "bitmap" in best else None
+    print(f"\n{'texture':20s} {'load s':>8s} {'peak MB':>8s} {'render s':>9s}   × bitmap: load, memory, render")
+    for n in names:
+        b = best[n]
+        line = f"{n:20s} {b['load']:8.2f} {b['peak'] / 1e6:8.0f} {b['render']:9.3f}"
+        if base:
+            line += (
+                f"   {b['load'] / base['load']:5.2f}  {b['peak'] / base['peak']:5.2f}"
+                f"  {b['render'] / base['render']:5.2f}"
+            )
+        print(line)
+    return 0
+
+
+def make_files(oiio, specconv, image: str, size: int, work: str) -> dict:
+    """The PNG, maketx's half RGB texture of it, and the two files specconv makes of it."""
+    png = os.path.join(work, f"texture{size}.png")
+    src = oiio.ImageBuf(image)
+    spec = src.spec()
+    side = min(spec.width, spec.height)
+    square = oiio.ImageBufAlgo.cut(
+        src, oiio.ROI((spec.width - side) // 2, (spec.width + side) // 2, 0, side)
+    )
+    resized = oiio.ImageBufAlgo.resize(square, roi=oiio.ROI(0, size, 0, size, 0, 1, 0, 3))
+    out = oiio.ImageBuf(oiio.ImageSpec(size, size, 3, "uint8"))
+    oiio.ImageBufAlgo.copy(out, resized, "uint8")
+    out.write(png)
+    rgb_half = os.path.join(work, f"texture{size}_rgb_half.exr")
     config = oiio.ImageSpec()
     config.attribute("maketx:filtername", "box")
     config.attribute("tile_width", 64)
     config.attribute("tile_height", 64)
     config.attribute("compression", "zip")
     config.set_format(oiio.HALF)
-    assert oiio.ImageBufAlgo.make_texture(oiio.MakeTxTexture, oiio.ImageBuf(png), rgb_exr, config)
-    baked = os.path.join(work, stem + "_spectral.exr")
+    assert oiio.ImageBufAlgo.make_texture(oiio.MakeTxTexture, oiio.ImageBuf(png), rgb_half, config)
+    files = {"png": png, "rgb_half": rgb_half}
+    for layout in ("spectral", "compact"):
+        path = os.path.join(work, f"texture{size}_{layout}.exr")
+        if os.path.exists(path):
+            os.remove(path)
+        specconv.convert([png], path, layout=layout)
+        files[f"specconv_{layout}"] = path
+    return files
+
+
+def child(args) -> int:
+    """One texture: load, compile, the best of the rounds' renders, the peak memory."""
+    import numpy as np
+
+    import mitsuba as mi
+
+    mi.set_variant(args.variant)
+    import specconv.mitsuba
+
+    specconv.mitsuba.register()
+    files = json.loads(os.environ["SPECCONV_BENCH_FILES"])
+    name = args.child
+    filename = files["png"] if name in ("bitmap", "specconv_rgb") else files[name]
+    texture = {"type": name, "filename": filename}
     t = time.perf_counter()
-    specconv.convert([png], baked)
-    convert_s = time.perf_counter() - t
-
-    spec = oiio.ImageInput.open(png).spec()
-    print(f"image {args.image}: {spec.width}x{spec.height}; render {args.res}² at {args.spp} spp")
-    print(f"convert (baking): {convert_s:.2f} s")
-    sizes = {p: os.path.getsize(p) for p in (png, rgb_exr, baked)}
-    for p, size in sizes.items():
-        ratio = size / sizes[rgb_exr]
-        print(f"  {os.path.basename(p):32s} {size / 1e6:8.2f} MB  ({ratio:.1f}× RGB half EXR)")
-
-    for variant in args.variants.split(","):
-        try:
-            mi.set_variant(variant)
-        except Exception as e:  # an LLVM variant without a usable libLLVM
-            print(f"{variant}: unavailable ({e})")
-            continue
-        specconv.mitsuba.register()
-        register_bounds(mi, specconv)
-        textures = {
-            "bitmap": {"type": "bitmap", "filename": png},
-            "specconv_spectral": {"type": "specconv_spectral", "filename": baked},
-            "specconv_rgb": {"type": "specconv_rgb", "filename": png},
-            "per-lookup (bound)": {"type": "bench_lookup_bound", "filename": png},
-        }
-        if variant.startswith("scalar") and hasattr(specconv, "_specconv"):
-            textures["per-lookup (uplift)"] = {"type": "bench_lookup_uplift", "filename": png}
-        print(f"\n{variant}")
-        print(f"  {'texture':22s} {'load s':>8s} {'render s':>9s} {'× bitmap':>9s}  texel memory")
-        loads, scenes = {}, {}
-        for name, tex in textures.items():
-            t = time.perf_counter()
-            scenes[name] = mi.load_dict(scene(mi, tex, args.res, args.spp))
-            loads[name] = time.perf_counter() - t
-            mi.render(scenes[name], seed=0)  # LLVM compiles here: time the cached kernel below
-        renders = best_of_rounds(mi, scenes, args.rounds)
-        for name in textures:
-            ratio = renders[name] / renders["bitmap"]
-            print(
-                f"  {name:22s} {loads[name]:8.2f} {renders[name]:9.2f} {ratio:9.2f}  "
-                f"{memory(mi, scenes[name])}"
-            )
+    s = mi.load_dict((room if args.scene == "room" else scene)(mi, texture, args.res, args.spp))
+    load = time.perf_counter() - t
+    np.array(mi.render(s, seed=0))  # LLVM compiles here: the rounds below reuse the kernel
+    render = float("inf")
+    for r in range(args.rounds):
+        t = time.perf_counter()
+        np.array(mi.render(s, seed=1 + r))
+        render = min(render, time.perf_counter() - t)
+    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024  # Linux: KiB
+    print(json.dumps({"load": load, "render": render, "peak": peak}))
     return 0
 
 
@@ -126,81 +178,34 @@ def scene(mi, texture: dict, res: int, spp: int) -> dict:
     }
 
 
-def best_of_rounds(mi, scenes: dict, rounds: int) -> dict:
-    """Each scene's fastest render over `rounds` rounds, the scenes interleaved in every round:
-    a shared machine's load then weighs on all of them alike."""
-    best = {name: float("inf") for name in scenes}
-    for r in range(rounds):
-        for name, s in scenes.items():
-            t = time.perf_counter()
-            np.array(mi.render(s, seed=1 + r))
-            best[name] = min(best[name], time.perf_counter() - t)
-    return best
-
-
-def memory(mi, s) -> str:
-    """The texture's texel storage, from its traversed `data` tensor."""
-    params = mi.traverse(s.shapes()[0].bsdf())
-    for key in params.keys():
-        if key.endswith("data"):
-            shape = params[key].shape
-            return f"{np.prod(shape)} values ({'x'.join(map(str, shape))})"
-    return ""
-
-
-def register_bounds(mi, specconv) -> None:
-    """The two per-lookup textures: measured here, not shipped (per texel was chosen)."""
-    import drjit as dr
-
-    class Bound(mi.Texture):
-        def __init__(self, props):
-            mi.Texture.__init__(self, props)
-            xyz = specconv.mitsuba.texel_xyz(props["filename"])
-            self.tex = mi.Texture2f(mi.TensorXf(xyz), use_accel=False)
-            model = specconv.Model.builtin()
-            self.w0 = float(model.wavelengths[0])
-            self.step = float(model.wavelengths[1] - model.wavelengths[0])
-            n = len(model.wavelengths)
-            # One leaf's T (n×3) and o (n), as four channels over wavelength.
-            rng = np.random.default_rng(0)
-            table = rng.random((n, 4)).astype(np.float32) * 0.1
-            self.leaf = mi.Texture1f(
-                mi.TensorXf(table[:, None, :].reshape(n, 4)),
-                use_accel=False,
-                wrap_mode=dr.WrapMode.Clamp,
-            )
-            self.n = n
-
-        def eval(self, si, active=True):
-            c = self.tex.eval(si.uv, active)
-            out = []
-            for i in range(len(si.wavelengths)):
-                lam = si.wavelengths[i]
-                x = ((lam - self.w0) / self.step + 0.5) / self.n
-                t = self.leaf.eval(mi.Point1f(x), active)
-                out.append(t[0] * c[0] + t[1] * c[1] + t[2] * c[2] + t[3])
-            return mi.UnpolarizedSpectrum(out)
-
-        def mean(self):
-            return 0.5
-
-        def traverse(self, callback):
-            callback.put("data", self.tex.tensor(), mi.ParamFlags.NonDifferentiable)
-
-    class Uplift(Bound):
-        def __init__(self, props):
-            Bound.__init__(self, props)
-            self.model = specconv.Model.builtin()
-            self.wl = np.asarray(self.model.wavelengths)
-
-        def eval(self, si, active=True):
-            c = np.array(self.tex.eval(si.uv, active), dtype=np.float32).reshape(1, 3)
-            r = specconv.uplift(c, model=self.model)[0]
-            lam = np.array(si.wavelengths, dtype=np.float64).ravel()
-            return mi.UnpolarizedSpectrum(*np.interp(lam, self.wl, r, left=0.0, right=0.0))
-
-    mi.register_texture("bench_lookup_bound", lambda p: Bound(p))
-    mi.register_texture("bench_lookup_uplift", lambda p: Uplift(p))
+def room(mi, texture: dict, res: int, spp: int) -> dict:
+    """A closed box lit by an area light: the texture on the floor and on a sphere."""
+    T = mi.ScalarTransform4f
+    grey = {"type": "diffuse", "reflectance": {"type": "rgb", "value": [0.6, 0.6, 0.6]}}
+    textured = {"type": "diffuse", "reflectance": texture}
+    wall = lambda t: {"type": "rectangle", "to_world": t, "bsdf": grey}  # noqa: E731
+    return {
+        "type": "scene",
+        "integrator": {"type": "path", "max_depth": 6},
+        "sensor": {
+            "type": "perspective",
+            "fov": 45,
+            "to_world": T().look_at(origin=[0, 0, 3.6], target=[0, 0, 0], up=[0, 1, 0]),
+            "film": {"type": "hdrfilm", "width": res, "height": res, "pixel_format": "xyz"},
+            "sampler": {"type": "independent", "sample_count": spp},
+        },
+        "floor": {"type": "rectangle", "to_world": T().translate([0, -1, 0]).rotate([1, 0, 0], -90), "bsdf": textured},
+        "ceiling": wall(T().translate([0, 1, 0]).rotate([1, 0, 0], 90)),
+        "back": wall(T().translate([0, 0, -1])),
+        "left": wall(T().translate([-1, 0, 0]).rotate([0, 1, 0], 90)),
+        "right": wall(T().translate([1, 0, 0]).rotate([0, 1, 0], -90)),
+        "sphere": {"type": "sphere", "center": [0.3, -0.55, 0.2], "radius": 0.45, "bsdf": textured},
+        "light": {
+            "type": "rectangle",
+            "to_world": T().translate([0, 0.99, 0]).rotate([1, 0, 0], 90).scale(0.3),
+            "emitter": {"type": "area", "radiance": {"type": "blackbody", "temperature": 2856}},
+        },
+    }
 
 
 if __name__ == "__main__":

@@ -11,12 +11,14 @@ See docs/python.md in the repository.
 """
 
 from specconv._specconv import (
+    CompactImage,
     Model,
     SpectralImage,
     __version__,
     convert,
     encode,
     options,
+    read_compact,
     read_spectral,
     rgb_to_xyz,
     spectra_to_xyz,
@@ -27,6 +29,7 @@ from specconv.compact import decode
 from specconv.errors import Error, FileError, InputError, OptionError, OutputExistsError
 
 __all__ = [
+    "CompactImage",
     "Model",
     "SpectralImage",
     "__version__",
@@ -34,6 +37,7 @@ __all__ = [
     "decode",
     "encode",
     "options",
+    "read_compact",
     "read_spectral",
     "rgb_to_xyz",
     "spectra_to_xyz",

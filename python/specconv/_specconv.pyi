@@ -67,6 +67,13 @@ class SpectralImage:
     level: int
     attributes: dict[str, str]
 
+class CompactImage:
+    text: str
+    texels: npt.NDArray[np.float32]
+    alpha: Optional[npt.NDArray[np.float32]]
+    levels: int
+    level: int
+
 def uplift(
     xyz: _Array,
     model: Optional[Model] = None,
@@ -136,6 +143,8 @@ def convert(
 ) -> list[dict[str, Any]]: ...
 def options() -> list[dict[str, Any]]: ...
 def read_spectral(path: _Path, *, level: int = 0) -> SpectralImage: ...
+def read_compact(path: _Path, *, level: int = 0) -> CompactImage: ...
+def check_compact_text(text: str) -> str: ...
 def write_spectral(
     path: _Path,
     wavelengths: _Array,

@@ -30,14 +30,22 @@ MIP levels: Mitsuba 3's integrators give textures no footprint (``si.duv_dx`` is
 from __future__ import annotations
 
 import bisect
+import math
+import os
+import tempfile
 
 import drjit as dr
 import mitsuba as mi
 import numpy as np
 
 import specconv
+from specconv import compact
+from specconv._specconv import check_compact_text
 
 SPECTRAL = "specconv_spectral"
+COMPACT = "specconv_compact"
+# A compact texel's channels, in the order of its values (docs/compact.md).
+CHANNELS = ("C.X", "C.Y", "C.Z", "U.0", "U.1", "U.2")
 RENDER_TIME = "specconv_rgb"
 
 _FILTERS = {"bilinear": False, "nearest": True}
@@ -49,7 +57,8 @@ _WRAPS = {
 
 
 def register() -> None:
-    """Register ``specconv_spectral`` and ``specconv_rgb`` for the current Mitsuba variant."""
+    """Register ``specconv_spectral``, ``specconv_compact`` and ``specconv_rgb`` for the current
+    Mitsuba variant."""
     variant = mi.variant()
     if variant is None or "spectral" not in variant:
         raise RuntimeError(
@@ -57,9 +66,10 @@ def register() -> None:
             f"or 'llvm_ad_spectral'), not {variant!r}: an RGB variant never asks a texture for "
             "spectra"
         )
-    spectral, render_time = _classes(variant)
+    spectral, compact_, rgb = _classes(variant)
     mi.register_texture(SPECTRAL, lambda props: spectral(props))
-    mi.register_texture(RENDER_TIME, lambda props: render_time(props))
+    mi.register_texture(COMPACT, lambda props: compact_(props))
+    mi.register_texture(RENDER_TIME, lambda props: rgb(props))
 
 
 _CLASSES: dict = {}
@@ -179,6 +189,79 @@ def _define(variant: str):
                 f"bands={len(self._wl)} ({self._wl[0]:g}-{self._wl[-1]:g} nm)]"
             )
 
+    class _CompactTexture(mi.Texture):
+        """Compact texels [h, w, 6] (docs/compact.md), decoded at the path's wavelengths per
+        lookup: the four nearest texels' spectra (one with ``nearest``) weighted bilinearly,
+        as ``bitmap`` weighs its texels' spectra."""
+
+        def _setup(self, props, text: str, texels, source: str) -> None:
+            texels = np.asarray(texels, dtype=np.float32)
+            h, w, _ = texels.shape
+            self._source = source
+            self._size = (w, h)
+            self._nearest = _choice(props, "filter_type", _FILTERS, "bilinear")
+            self._to_uv = _to_uv(props, jit)
+            self._decoder = _Decoder(compact.parse(text), jit)
+            self._wl = self._decoder.wavelengths
+            self._tex = mi.Texture2f(
+                mi.TensorXf(texels),
+                use_accel=False,
+                filter_mode=dr.FilterMode.Nearest if self._nearest else dr.FilterMode.Linear,
+                wrap_mode=_choice(props, "wrap_mode", _WRAPS, "repeat"),
+            )
+            self._mean = None
+
+        def eval(self, si, active=True):
+            uv = si.uv if self._to_uv is None else self._to_uv @ si.uv
+            if self._nearest:
+                texels, weights = [self._tex.eval(uv, active)], [1.0]
+            else:
+                # Bilinear weights as the texture places its texels: centres at (i + ½)/size.
+                w, h = self._size
+                fx, fy = _fraction(uv.x, w), _fraction(uv.y, h)
+                texels = self._tex.eval_fetch(uv, active)  # (x0,y0) (x1,y0) (x0,y1) (x1,y1)
+                weights = [(1 - fx) * (1 - fy), fx * (1 - fy), (1 - fx) * fy, fx * fy]
+            lams = [si.wavelengths[i] for i in range(len(si.wavelengths))]
+            out = self._decoder.weighted(texels, weights, lams)
+            return mi.UnpolarizedSpectrum(out)
+
+        def mean(self):
+            if self._mean is None:
+                texels = np.array(self._tex.tensor(), dtype=np.float32).reshape(-1, 6)
+                total = np.zeros(len(self._wl))
+                for start in range(0, len(texels), 1 << 16):
+                    chunk = texels[start : start + (1 << 16)]
+                    total += compact.decode(self._decoder.header, chunk).sum(axis=0)
+                self._mean = _mean_of(self._wl, total / max(len(texels), 1))
+            return self._mean
+
+        def is_spatially_varying(self):
+            return True
+
+        def resolution(self):
+            return mi.ScalarVector2i(*self._size)
+
+        def wavelength_range(self):
+            return mi.ScalarVector2f(self._wl[0], self._wl[-1])
+
+        def spectral_resolution(self):
+            return float(np.min(np.diff(self._wl)))
+
+        def traverse(self, callback):
+            # The texels as a tensor [h, w, 6]: scenes can swap them, never differentiate.
+            callback.put("data", self._tex.tensor(), mi.ParamFlags.NonDifferentiable)
+
+        def parameters_changed(self, keys=[]):
+            self._tex.set_tensor(self._tex.tensor())
+            self._mean = None
+
+        def to_string(self):
+            w, h = self._size
+            return (
+                f"{type(self).__name__}[filename={self._source!r}, resolution={w}x{h}, "
+                f"compact, bands={len(self._wl)} ({self._wl[0]:g}-{self._wl[-1]:g} nm)]"
+            )
+
     class SpectralTexture(_BandTexture):
         """``specconv_spectral``: a Fichet 2021 reflectance file (``filename``, ``level``)."""
 
@@ -195,23 +278,280 @@ def _define(variant: str):
                 )
             self._setup(props, image.wavelengths, image.values, path)
 
-    class RenderTimeTexture(_BandTexture):
-        """``specconv_rgb``: an RGB texture (``filename``) uplifted with ``model`` at load.
-
-        ``colorspace`` names the file's OCIO colour space in ``config`` (default: "sRGB -
-        Texture" for files Mitsuba reads as sRGB-encoded, else "Linear Rec.709 (sRGB)", the
-        ACES config's names for what ``convert`` assumes of PNG/JPEG and of OpenEXR).
-        """
+    class CompactTexture(_CompactTexture):
+        """``specconv_compact``: a compact texture (``filename``, ``level``), decoded per lookup."""
 
         def __init__(self, props):
             mi.Texture.__init__(self, props)
             path = _resolve(props["filename"])
-            xyz = texel_xyz(path, props.get("colorspace", ""), props.get("config", "aces"))
-            model = _model(props.get("model", ""))
-            spectra = specconv.uplift(xyz, model=model, bounded=bool(props.get("bounded", True)))
-            self._setup(props, model.wavelengths, spectra, path)
+            text, texels = compact_file(path, level=int(props.get("level", 0)))
+            self._setup(props, text, texels, path)
 
-    return SpectralTexture, RenderTimeTexture
+    class RgbTexture(_CompactTexture):
+        """``specconv_rgb``: an image (``filename``) made compact texels by the library at load,
+        as ``convert(layout="compact")`` makes them, then decoded per lookup."""
+
+        def __init__(self, props):
+            mi.Texture.__init__(self, props)
+            path = _resolve(props["filename"])
+            text, texels = compact_texels(
+                path,
+                colorspace=props.get("colorspace", "") or None,
+                ocio=props.get("config", "") or None,
+                model=_model_argument(props.get("model", "")),
+                bounded=bool(props.get("bounded", True)),
+            )
+            self._setup(props, text, texels, path)
+
+    return SpectralTexture, CompactTexture, RgbTexture
+
+
+def _fraction(coordinate, size: int):
+    """The bilinear weight of the upper texel, computed as Dr.Jit's texture computes the texel
+    it fetches, ``fma(coordinate, size, -0.5)`` in float32, so that both name the same texels
+    (a texel centre in double would land on the texel before)."""
+    if dr.is_jit_v(type(coordinate)):
+        p = dr.fma(coordinate, size, -0.5)
+        return p - dr.floor(p)
+    p = np.float32(float(coordinate) * size - 0.5)  # exact in double, then rounded once: fused
+    return float(p - np.floor(p))
+
+
+class _Decoder:
+    """docs/compact.md's rule on Dr.Jit values, for one header. In the JIT variants it is traced
+    into the lookup's kernel, every leaf summed; in the scalar ones it runs per lookup in plain
+    Python, leaves of weight 0 skipped. Per wavelength the two bands around it are decoded and
+    interpolated linearly (the clip acts per band, before); zero outside the bands, as the
+    spectral file's lookup."""
+
+    def __init__(self, header: compact.Header, jit: bool):
+        self.header, self.jit = header, jit
+        wl = np.asarray(header.wavelengths, dtype=np.float32).astype(np.float64)
+        if len(wl) < 2:
+            raise ValueError("a compact texture needs at least two bands")
+        self.wavelengths = wl
+        leaves = header.maps.shape[0]
+        self.leaves = leaves
+        # A band's row: each leaf's (Tx, Ty, Tz, o), then (a_X, a_Y, a_Z, 0): 4-value packets.
+        rows = np.zeros((len(wl), leaves + 1, 4))
+        rows[:, :leaves, :] = header.maps.transpose(2, 0, 1)
+        rows[:, leaves, :3] = header.b.T
+        steps = np.diff(wl)
+        self.regular = bool(np.allclose(steps, steps[0], rtol=0, atol=1e-6 * steps[0]))
+        self.step = float(steps[0])
+        if jit:
+            self.table = mi.Float(rows.astype(np.float32).ravel())
+            self.wl_jit = mi.Float(wl.astype(np.float32))
+        else:
+            self.rows = rows.tolist()
+
+    def weighted(self, texels, weights, lams):
+        """Σ weight × spectrum of each texel (6 values), at each wavelength of ``lams``."""
+        if not self.jit:
+            return self._weighted_scalar(texels, weights, lams)
+        forms = [self._texel(t) for t in texels]
+        out = []
+        for lam in lams:
+            j, f, inside = self._position(lam)
+            rows = [self._row(j), self._row(j + 1)]
+            total = mi.Float(0.0)
+            for (k, u, finite), w in zip(forms, weights):
+                r0, r1 = (self._band(row, k, u) for row in rows)
+                r = dr.select(finite, dr.fma(f, r1 - r0, r0), dr.nan)
+                total = dr.fma(w, r, total)
+            out.append(dr.select(inside, total, 0.0))
+        return out
+
+    def _texel(self, t):
+        """A texel's per-leaf factors (wᵢX, wᵢY, wᵢZ, wᵢλ_dark), u, and whether it is finite."""
+        h = self.header
+        finite = dr.isfinite(t[0]) & dr.isfinite(t[1]) & dr.isfinite(t[2])
+        x_, y_, z_ = (dr.select(finite, t[i], 0.0) for i in range(3))
+        s = x_ + y_ + z_
+        lit = s > 0
+        safe = dr.select(lit, s, 1.0)
+        x = dr.select(lit, x_ / safe, h.white[0])
+        y = dr.select(lit, y_ / safe, h.white[1])
+        dark = dr.select(lit, dr.minimum(s / h.dark, 1.0), 0.0)
+        leaf = [mi.Float(0.0) for _ in range(self.leaves)]
+
+        def add(i, weight):
+            node = h.nodes[i]
+            if node[0] == "leaf":
+                leaf[node[1]] = leaf[node[1]] + weight
+                return
+            _, axis, v, below, above, width = node
+            p = x if axis == 0 else y
+            if h.blend > 0 and width > 0:
+                q = dr.clip((p - v + width) / (2 * width), 0.0, 1.0)
+                step = q * q * (3 - 2 * q)
+            else:
+                step = dr.select(p >= v, 1.0, 0.0)
+            add(above, weight * step)
+            add(below, weight * (1 - step))
+
+        add(0, mi.Float(1.0))
+        k = [(w * x_, w * y_, w * z_, w * dark) for w in leaf]
+        return k, (t[3], t[4], t[5]), finite
+
+    def _position(self, lam):
+        """Band j, fraction f towards band j + 1, and whether lam is within the bands."""
+        wl, n = self.wavelengths, len(self.wavelengths)
+        if self.regular:
+            index = (lam - float(wl[0])) / self.step
+        else:
+            k = dr.binary_search(0, n - 1, lambda i: dr.gather(mi.Float, self.wl_jit, i) <= lam)
+            j = dr.minimum(dr.maximum(k, 1) - 1, n - 2)  # unsigned: never k - 1 below 0
+            a = dr.gather(mi.Float, self.wl_jit, j)
+            b = dr.gather(mi.Float, self.wl_jit, j + 1)
+            index = mi.Float(j) + (lam - a) / (b - a)
+        index = dr.clip(index, 0.0, n - 1.0)
+        j = dr.minimum(mi.UInt32(index), n - 2)
+        inside = (lam >= float(wl[0])) & (lam <= float(wl[-1]))
+        return j, index - mi.Float(j), inside
+
+    def _row(self, j):
+        """Band j's packets: each leaf's (Tx, Ty, Tz, o), then B's."""
+        first = j * (self.leaves + 1)
+        return [dr.gather(mi.Vector4f, self.table, first + i) for i in range(self.leaves + 1)]
+
+    def _band(self, row, k, u):
+        r = mi.Float(0.0)
+        for g, (a, b, c, d) in zip(row, k):
+            r = dr.fma(a, g.x, dr.fma(b, g.y, dr.fma(c, g.z, dr.fma(d, g.w, r))))
+        if not self.header.clip:
+            return r
+        g = row[self.leaves]
+        return dr.clip(dr.fma(u[0], g.x, dr.fma(u[1], g.y, dr.fma(u[2], g.z, r))), 0.0, 1.0)
+
+    # The scalar variants: the same rule in plain Python floats (a call per lookup).
+
+    def _weighted_scalar(self, texels, weights, lams):
+        wl, n, rows = self.wavelengths, len(self.wavelengths), self.rows
+        forms = [(self._texel_scalar(t), float(w)) for t, w in zip(texels, weights)]
+        out = []
+        for lam in lams:
+            lam = float(lam)
+            if not wl[0] <= lam <= wl[-1]:
+                out.append(0.0)
+                continue
+            j = min(max(bisect.bisect_right(wl, lam) - 1, 0), n - 2)
+            f = (lam - wl[j]) / (wl[j + 1] - wl[j])
+            total = 0.0
+            for form, w in forms:
+                if w == 0.0 and form is not None:
+                    continue
+                if form is None:
+                    total += w * math.nan
+                    continue
+                r0, r1 = (self._band_scalar(rows[b], *form) for b in (j, j + 1))
+                total += w * (r0 + f * (r1 - r0))
+            out.append(total)
+        return out
+
+    def _texel_scalar(self, t):
+        """(leaf, weight) of the leaves that count, (X, Y, Z, λ_dark) and u; None if not finite."""
+        h = self.header
+        c = [float(t[i]) for i in range(3)]
+        if not all(math.isfinite(v) for v in c):
+            return None
+        s = c[0] + c[1] + c[2]
+        x, y = (c[0] / s, c[1] / s) if s > 0 else h.white
+        dark = min(s / h.dark, 1.0) if s > 0 else 0.0
+        leaves, stack = [], [(0, 1.0)]
+        while stack:
+            i, weight = stack.pop()
+            node = h.nodes[i]
+            if node[0] == "leaf":
+                leaves.append((node[1], weight))
+                continue
+            _, axis, v, below, above, width = node
+            p = x if axis == 0 else y
+            if h.blend > 0 and width > 0:
+                q = min(max((p - v + width) / (2 * width), 0.0), 1.0)
+                step = q * q * (3 - 2 * q)
+            else:
+                step = 1.0 if p >= v else 0.0
+            for node_, part in ((above, weight * step), (below, weight * (1 - step))):
+                if part > 0:
+                    stack.append((node_, part))
+        return leaves, (c[0], c[1], c[2], dark), (float(t[3]), float(t[4]), float(t[5]))
+
+    def _band_scalar(self, row, leaves, c, u):
+        r = 0.0
+        for leaf, w in leaves:
+            g = row[leaf]
+            r += w * (g[0] * c[0] + g[1] * c[1] + g[2] * c[2] + g[3] * c[3])
+        if not self.header.clip:
+            return r
+        g = row[self.leaves]
+        return min(max(r + g[0] * u[0] + g[1] * u[1] + g[2] * u[2], 0.0), 1.0)
+
+
+def compact_texels(
+    path: str,
+    *,
+    colorspace: str | None = None,
+    ocio: str | None = None,
+    model=None,
+    bounded: bool = True,
+) -> tuple[str, np.ndarray]:
+    """The decoding text and level-0 texels [h, w, 6] of any image the library converts, as
+    ``convert(layout="compact")`` makes them: its colour rules (the flag, file rules, EXR
+    chromaticities, ICC profiles, …), channels and alpha; a data map (normal, roughness, …)
+    is refused."""
+    with tempfile.TemporaryDirectory(prefix="specconv-mitsuba-") as work:
+        out = os.path.join(work, "texels.exr")
+        specconv.convert(
+            [path],
+            out,
+            layout="compact",
+            colorspace=colorspace,
+            ocio=ocio,
+            model=model,
+            bounded=bounded,
+            tile=None,
+            mip=False,
+            compression="none",
+            data="fail",
+        )
+        return compact_file(out)
+
+
+def compact_file(path: str, level: int = 0) -> tuple[str, np.ndarray]:
+    """The decoding text and texels [h, w, 6] of level ``level`` of a compact file.
+
+    Level 0 is read by Mitsuba's own OpenEXR reader (``mi.Bitmap``), its text checked by the
+    library's parser: a scene of compact textures then never loads OpenImageIO (≈ 120 MB of
+    libraries). Smaller levels, which ``mi.Bitmap`` does not read, come through the library."""
+    if level != 0:
+        image = specconv.read_compact(path, level=level)
+        return image.text, image.texels
+    bitmap = mi.Bitmap(path)
+    meta = bitmap.metadata()
+    keys = set(meta.keys())
+
+    def refuse(why: str):
+        return specconv.InputError(f"{path}: not a compact texture: {why}")
+
+    if "specconvLayout" not in keys:
+        raise refuse("no specconvLayout attribute")
+    layout = str(meta["specconvLayout"])
+    if layout != "compact 1":
+        raise refuse(f"its specconvLayout is '{layout}'; this version reads 'compact 1'")
+    if "specconvCompact" not in keys:
+        raise refuse("no specconvCompact attribute")
+    text = check_compact_text(str(meta["specconvCompact"]))
+    fields = bitmap.struct_()
+    names = [fields[i].name for i in range(len(fields))]
+    missing = [c for c in CHANNELS if c not in names]
+    if missing:
+        raise refuse(f"no channel {missing[0]}")
+    columns = [names.index(c) for c in CHANNELS]
+    pixels = np.array(bitmap, copy=False).reshape(bitmap.height(), bitmap.width(), len(names))
+    if columns == list(range(len(names))) and pixels.dtype == np.float32:
+        return text, pixels  # the file's own buffer: no copy
+    return text, np.ascontiguousarray(pixels[..., columns], dtype=np.float32)
 
 
 def _to_uv(props, jit: bool):
@@ -222,32 +562,14 @@ def _to_uv(props, jit: bool):
     return mi.Transform3f(m) if jit else mi.ScalarTransform3f(m)
 
 
-def texel_xyz(path: str, colorspace: str = "", config: str = "aces") -> np.ndarray:
-    """CIE XYZ [h, w, 3] of an RGB texture's texels, rows as stored, as ``specconv_rgb`` reads
-    them: Mitsuba's reader, then the colour space through OCIO (``colorspace`` empty: "sRGB -
-    Texture" for sRGB-encoded files, else "Linear Rec.709 (sRGB)"), premultiplied by alpha as
-    ``convert`` uplifts it (straight colour decoded first; OpenEXR's is premultiplied already)."""
-    bitmap = mi.Bitmap(path)
-    alpha = bitmap.has_alpha()
-    fmt = mi.Bitmap.PixelFormat.RGBA if alpha else mi.Bitmap.PixelFormat.RGB
-    # Code values as stored: the colour space (through OCIO) decodes them, not Mitsuba.
-    pixels = np.array(
-        bitmap.convert(fmt, mi.Struct.Type.Float32, bitmap.srgb_gamma()), dtype=np.float32
-    )
-    if not colorspace:
-        colorspace = "sRGB - Texture" if bitmap.srgb_gamma() else "Linear Rec.709 (sRGB)"
-    rgb = np.ascontiguousarray(pixels[..., :3])
-    xyz = np.asarray(specconv.rgb_to_xyz(rgb, colorspace, config=config), dtype=np.float32)
-    if alpha and not bitmap.premultiplied_alpha():
-        xyz *= pixels[..., 3:]
-    return xyz
-
-
-def _model(name: str):
-    """A built-in model by name ("" for the default), else a model file by path."""
-    if not name or not (name.endswith(".json") or "/" in name):
-        return specconv.Model.builtin(name or None)
-    return specconv.Model.load(_resolve(name))
+def _model_argument(name: str):
+    """``model``: "" for the default, a built-in name, or a model file (``.json``) found as
+    the scene's files are."""
+    if not name:
+        return None
+    if name.endswith(".json") or "/" in name:
+        return _resolve(name)
+    return name
 
 
 def _resolve(path: str) -> str:
@@ -257,6 +579,10 @@ def _resolve(path: str) -> str:
 
 def _mean(wavelengths: np.ndarray, values: np.ndarray) -> float:
     """Mean over texels and over Mitsuba's wavelength range, zero outside the bands (as eval)."""
+    return _mean_of(wavelengths, values.reshape(-1, values.shape[-1]).mean(axis=0, dtype=np.float64))
+
+
+def _mean_of(wavelengths: np.ndarray, spectrum: np.ndarray) -> float:
+    """A spectrum's mean over Mitsuba's wavelength range, zero outside the bands (as eval)."""
     lam = np.arange(mi.MI_CIE_MIN, mi.MI_CIE_MAX + 0.5, 1.0)
-    spectrum = values.reshape(-1, values.shape[-1]).mean(axis=0, dtype=np.float64)
     return float(np.interp(lam, wavelengths, spectrum, left=0.0, right=0.0).mean())

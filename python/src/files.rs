@@ -114,6 +114,82 @@ pub fn read_spectral(py: Python<'_>, path: FsPath, level: i128) -> PyResult<Spec
     })
 }
 
+/// One MIP level of a compact texture (`convert(layout="compact")`, docs/compact.md).
+#[pyclass(module = "specconv", frozen)]
+pub struct CompactImage {
+    /// The decoding text (`specconvCompact`): what `specconv.decode` takes.
+    #[pyo3(get)]
+    text: String,
+    /// float32, shape (height, width, 6): C.X C.Y C.Z U.0 U.1 U.2, rows from the top.
+    #[pyo3(get)]
+    texels: Py<PyAny>,
+    /// float32, shape (height, width), or `None` when the file has no `A` channel.
+    #[pyo3(get)]
+    alpha: Py<PyAny>,
+    /// Number of MIP levels in the file.
+    #[pyo3(get)]
+    levels: usize,
+    /// The level read (0 is the largest).
+    #[pyo3(get)]
+    level: usize,
+}
+
+#[pymethods]
+impl CompactImage {
+    fn __repr__(&self, py: Python<'_>) -> String {
+        let shape = self
+            .texels
+            .bind(py)
+            .getattr("shape")
+            .map_or(String::new(), |s| s.to_string());
+        format!(
+            "<specconv.CompactImage {shape}, level {} of {}>",
+            self.level, self.levels
+        )
+    }
+}
+
+/// Reads MIP level `level` (0: the largest) of a compact texture: its texels and decoding
+/// text; a spectral or RGB file is refused with what it is. A FIFO, a device or a directory is
+/// refused by kind before anything opens it.
+#[pyfunction]
+#[pyo3(signature = (path, *, level=0))]
+pub fn read_compact(py: Python<'_>, path: FsPath, level: i128) -> PyResult<CompactImage> {
+    let (path, level) = (path.0, whole("level", level, usize::MAX)?);
+    let image = py
+        .detach(|| specconv_conversion::read_compact(&path, level))
+        .map_err(crate::errors::conversion)?;
+    let (w, h) = (image.width, image.height);
+    let texels = Array3::from_shape_vec((h, w, specconv_spectral::compact::TEXEL), image.texels)
+        .map_err(|e| Kind::Input.err(e.to_string()))?;
+    let alpha = match image.alpha {
+        Some(a) => Array2::from_shape_vec((h, w), a)
+            .map_err(|e| Kind::Input.err(e.to_string()))?
+            .into_pyarray(py)
+            .into_any()
+            .unbind(),
+        None => py.None(),
+    };
+    Ok(CompactImage {
+        text: image.text,
+        texels: texels.into_pyarray(py).into_any().unbind(),
+        alpha,
+        levels: image.levels,
+        level,
+    })
+}
+
+/// A compact texture's decoding text checked as the library reads it (docs/compact.md: every
+/// line, count, number and the tree), returned as the library writes it; a text it refuses
+/// raises `InputError` with the line and the reason. For readers that take the text from a
+/// file some other way (Mitsuba's own OpenEXR reader).
+#[pyfunction]
+pub fn check_compact_text(text: &str) -> PyResult<String> {
+    specconv_spectral::compact::Compact::from_text(text)
+        .map(|c| c.to_text())
+        .map_err(|e| Kind::Input.err(format!("specconvCompact: {e}")))
+}
+
 /// Writes `values` (shape (height, width, bands), rows from the top) at `wavelengths` (nm,
 /// finite, positive and increasing) as a spectral EXR with one level: reflectance (`T.`
 /// channels), or with `emission_units` (`"reference"`, `"normalised"` or `"photometric"`,

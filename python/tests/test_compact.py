@@ -132,3 +132,27 @@ def test_smaller_levels_keep_the_colour_under_d65_and_nearly_under_a_and_f11(tmp
     # neighbours: the average of their spectra is no uplift of the average colour).
     for light in ("A", "FL11"):
         assert stats[light][0] < 0.3 and stats[light][1] < 3, stats
+
+
+def test_read_compact_is_what_openimageio_reads(tmp_path):
+    """`specconv.read_compact`, every level, against OpenImageIO's own reader of the file: the
+    texels' six channels and alpha bit for bit, the text as the attribute holds it; a file
+    that is not compact, and a level it does not have, refused with what is wrong."""
+    compact = tmp_path / "compact.exr"
+    specconv.convert(IMAGES / "srgba8.png", compact, layout="compact")
+    every = levels(compact)
+    for level, (names, pixels, attrs) in enumerate(every):
+        image = specconv.read_compact(compact, level=level)
+        assert image.levels == len(every) and image.level == level
+        assert np.array_equal(image.texels, texels(names, pixels))
+        assert np.array_equal(image.alpha, pixels[..., names.index("A")])
+        assert image.text == attrs["specconvCompact"]
+    baked = tmp_path / "baked.exr"
+    specconv.convert(IMAGES / "srgba8.png", baked)
+    with pytest.raises(specconv.InputError, match="not a compact texture: no specconvLayout"):
+        specconv.read_compact(baked)
+    with pytest.raises(specconv.Error, match=f"MIP level {len(every)} does not exist"):
+        specconv.read_compact(compact, level=len(every))
+    with pytest.raises(specconv.InputError, match="specconvCompact: "):
+        specconv._specconv.check_compact_text(every[0][2]["specconvCompact"].replace("map 0", "map 9"))
+    assert specconv._specconv.check_compact_text(image.text) == image.text

@@ -56,7 +56,7 @@ pub mod tables;
 pub mod to_rgb;
 mod wrapped;
 
-pub use crate::pipeline::expand::Expanded;
+pub use crate::pipeline::expand::{CompactTexels, Expanded};
 pub use crate::pipeline::DataTexture;
 pub use batch::{Batch, Event, Summary};
 pub use colour_config::{is_builtin_config, ColourConfig, ColourSpace, ConfigOrigin, XyzTransform};
@@ -87,6 +87,12 @@ pub fn expand(
     cancel: &std::sync::atomic::AtomicBool,
 ) -> Result<Expanded, Error> {
     Ok(pipeline::expand::expand(input, output, overwrite, cancel)?)
+}
+
+/// Reads MIP level `level` of the compact texture `input` (`--layout compact`) into memory:
+/// its texels and decoding text, for a renderer that decodes spectra per lookup.
+pub fn read_compact(input: &std::path::Path, level: usize) -> Result<CompactTexels, Error> {
+    Ok(pipeline::expand::read_texels(input, level)?)
 }
 
 /// Makes writes past the file size limit (`ulimit -f`) fail with an error the writer reports,

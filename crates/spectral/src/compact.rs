@@ -279,8 +279,15 @@ struct Parts {
     clip: Option<bool>,
     nodes: Vec<(usize, Node, f64)>,
     maps: Vec<(usize, Vec<f64>)>,
-    b: Vec<Vec<f64>>,
+    /// The `b` rows of X, Y and Z, by name.
+    b: [Option<Vec<f64>>; 3],
+    /// The lines that may come once, as they came.
+    once: Vec<String>,
 }
+
+/// Lines a text holds once: a second is refused, never read over the first (as the C
+/// decoder refuses it), so that every reader takes the same value.
+const ONCE: [&str; 7] = ["model", "hash", "grid", "white", "dark", "blend", "clip"];
 
 fn numbers(text: &str) -> Result<Vec<f64>, String> {
     text.split_whitespace()
@@ -294,6 +301,12 @@ impl Parts {
         let index = |w: &str| -> Result<usize, String> {
             w.parse().map_err(|_| format!("'{w}' is not an index"))
         };
+        if ONCE.contains(&word) {
+            if self.once.iter().any(|w| w == word) {
+                return Err(format!("a second '{word}' line"));
+            }
+            self.once.push(word.to_string());
+        }
         match word {
             "model" => self.model.0 = rest.to_string(),
             "hash" => self.model.1 = rest.to_string(),
@@ -309,7 +322,13 @@ impl Parts {
             },
             "dark" if v()? != [DARK] => return Err(format!("this decoder's dark level is {DARK}")),
             "blend" => self.blend = *v()?.first().ok_or("blend has a width")?,
-            "clip" => self.clip = Some(rest.trim() == "1"),
+            "clip" => {
+                self.clip = Some(match rest.trim() {
+                    "1" => true,
+                    "0" => false,
+                    c => return Err(format!("clip is 0 or 1, not '{c}'")),
+                })
+            }
             "node" => {
                 let w: Vec<&str> = rest.split_whitespace().collect();
                 let node = match w.as_slice() {
@@ -341,7 +360,17 @@ impl Parts {
                 let (k, values) = rest.split_once(' ').ok_or("a map is K VALUES")?;
                 self.maps.push((index(k)?, numbers(values)?));
             }
-            "b" => self.b.push(numbers(rest.get(2..).unwrap_or(""))?),
+            "b" => {
+                let (name, values) = rest.split_once(' ').unwrap_or((rest, ""));
+                let row = ["X", "Y", "Z"]
+                    .iter()
+                    .position(|n| *n == name)
+                    .ok_or_else(|| format!("a b row is X, Y or Z, not '{name}'"))?;
+                if self.b[row].is_some() {
+                    return Err(format!("a second 'b {name}' line"));
+                }
+                self.b[row] = Some(numbers(values)?);
+            }
             // Decoders skip what they do not use.
             _ => {}
         }
@@ -369,11 +398,13 @@ impl Parts {
         let blend = (self.blend > 0.0).then_some((self.blend, widths));
         let up = Uplifter::from_parts(grid, white, tree, maps, blend)?;
         let n = grid.len();
-        if self.b.len() != 3 || self.b.iter().any(|r| r.len() != n) {
-            return Err(bad("three b rows of one value per band"));
+        let [Some(x), Some(y), Some(z)] = self.b else {
+            return Err(bad("three b rows (X, Y, Z)"));
+        };
+        if [&x, &y, &z].iter().any(|r| r.len() != n) {
+            return Err(bad("b rows of one value per band"));
         }
-        let mut b = self.b.into_iter();
-        let a = [0; 3].map(|_| b.next().expect("three rows"));
+        let a = [x, y, z];
         Ok(Compact {
             up,
             a,
@@ -503,5 +534,38 @@ mod tests {
         let e = Compact::new(model, "x", &d).err().unwrap().to_string();
         assert!(e.contains("emission"), "{e}");
         assert!(Compact::from_text("specconv compact 2\n").is_err());
+    }
+
+    #[test]
+    fn a_text_is_read_one_way_or_refused() {
+        let d = Description::convert_default(MethodName::Otsu2018);
+        let text = Compact::new(Model::builtin(), "x", &d).unwrap().to_text();
+        let refused = |t: String, why: &str| {
+            let e = Compact::from_text(&t)
+                .err()
+                .map(|e| e.to_string())
+                .unwrap_or_default();
+            assert!(e.contains(why), "{why}: {e}");
+        };
+        for word in ONCE {
+            let line = text
+                .lines()
+                .find(|l| l.starts_with(&format!("{word} ")))
+                .unwrap();
+            refused(
+                format!("{text}{line}\n"),
+                &format!("a second '{word}' line"),
+            );
+        }
+        let b = text.lines().find(|l| l.starts_with("b Y ")).unwrap();
+        refused(format!("{text}{b}\n"), "a second 'b Y' line");
+        refused(text.replace("b Z ", "b W "), "not 'W'");
+        refused(text.replace("clip 1", "clip yes"), "clip is 0 or 1");
+        // The b rows in another order are the same rows, by name.
+        let mut lines: Vec<&str> = text.lines().collect();
+        let (x, z) = (lines.len() - 3, lines.len() - 1);
+        lines.swap(x, z);
+        let swapped = Compact::from_text(&(lines.join("\n") + "\n")).unwrap();
+        assert_eq!(swapped.to_text(), text);
     }
 }

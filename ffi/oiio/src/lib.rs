@@ -822,6 +822,11 @@ impl ImageReader {
         Ok(Some(values))
     }
 
+    /// MIP level `level`'s size and layout, or why it does not exist.
+    pub fn level_of(&self, level: usize) -> Result<Level> {
+        self.level(level)
+    }
+
     fn level(&self, level: usize) -> Result<Level> {
         self.info
             .levels

@@ -70,6 +70,60 @@ pub struct Expanded {
     pub projected: u64,
 }
 
+/// One MIP level of a compact texture in memory: what a renderer holds to decode spectra at
+/// each lookup (docs/compact.md), six float32 values a texel instead of one a band.
+#[derive(Debug, Clone)]
+#[non_exhaustive]
+pub struct CompactTexels {
+    /// The decoding text (`specconvCompact`): the model and the rule.
+    pub text: String,
+    /// The level's width.
+    pub width: usize,
+    /// The level's height.
+    pub height: usize,
+    /// The file's MIP levels.
+    pub levels: usize,
+    /// C.X C.Y C.Z U.0 U.1 U.2 of each texel, rows from the top as the file stores them.
+    pub texels: Vec<f32>,
+    /// Alpha (premultiplied, as the file's colour) per texel, when the file has `A`.
+    pub alpha: Option<Vec<f32>>,
+}
+
+/// Reads MIP level `level` of the compact texture `input` a strip of rows at a time, into
+/// the texels alone (memory: the texels, and one strip of the file's channels).
+pub fn read_texels(input: &Path, level: usize) -> Result<CompactTexels> {
+    specconv_atomic_file::readable_file(input)?;
+    let mut source = open(input)?;
+    let text = source.d.compact.to_text();
+    let info = source.reader.info().clone();
+    let top = source.reader.level_of(level)?;
+    let (width, height) = (top.width as usize, top.height as usize);
+    let mut texels = Vec::with_capacity(width * height * TEXEL);
+    let mut alpha = source.d.alpha.map(|_| Vec::with_capacity(width * height));
+    const ROWS: usize = 64;
+    for y in (0..height).step_by(ROWS) {
+        let rows = y as u32..(y + ROWS).min(height) as u32;
+        let px = source.reader.read_scanlines(level, rows.clone())?;
+        for row in 0..rows.len() as u32 {
+            for x in 0..width as u32 {
+                let p = px.pixel(x, row);
+                texels.extend(source.d.columns.map(|c| p[c]));
+                if let (Some(a), Some(c)) = (alpha.as_mut(), source.d.alpha) {
+                    a.push(p[c]);
+                }
+            }
+        }
+    }
+    Ok(CompactTexels {
+        text,
+        width,
+        height,
+        levels: info.levels.len(),
+        texels,
+        alpha,
+    })
+}
+
 /// A compact file opened: its reader and what decodes it.
 struct Source {
     reader: ImageReader,

@@ -1,0 +1,248 @@
+"""Per-lookup spectra in Mitsuba 3: `specconv_compact` (a compact file) and `specconv_rgb` (any
+image, made compact texels by the library at load), decoded in Dr.Jit at each lookup.
+
+Anchored outside the decoder: the spectral file `convert` bakes from the same input (read with
+OpenImageIO's Python bindings), Mitsuba's own lookup of that file (`specconv_spectral`, itself
+held to `bitmap` in test_mitsuba.py), colour-science's colorimetry, and renders checked as
+test_mitsuba.py checks them (within 5σ/√N of colour-science's colour of the file's spectra).
+"""
+
+from __future__ import annotations
+
+import os
+
+import numpy as np
+import pytest
+
+if os.environ.get("SPECCONV_REQUIRE_MITSUBA"):
+    import drjit as dr
+    import mitsuba as mi
+else:
+    mi = pytest.importorskip("mitsuba", reason="Mitsuba 3 is not installed (pip install mitsuba)")
+    dr = pytest.importorskip("drjit", reason="Dr.Jit is not installed (pip install mitsuba)")
+
+import mitsuba_fixtures as ref  # noqa: E402
+import OpenImageIO as oiio  # noqa: E402
+import test_compact as tc  # noqa: E402  (the cases and the chart of the numpy decoder's tests)
+from test_mitsuba import (  # noqa: E402  (fixtures and helpers of the spectral texture's tests)
+    SPP,
+    VARIANTS,
+    _eval,
+    _gap,
+    _layout,
+    _render,
+    _texture,
+    estimator,  # noqa: F401  (a fixture)
+    files,  # noqa: F401  (a fixture)
+    variant,  # noqa: F401  (a fixture)
+)
+
+import specconv  # noqa: E402
+
+# Float32 decoding: its sums hold terms up to ~1, so a value the file stores as 0 (or in the
+# half subnormals) may come out within a few float32 roundings of it: 2⁻²² absolute at most.
+FLOOR = 2.0**-22
+
+assert VARIANTS  # the variant fixture's parameters, imported with it
+
+
+def _steps(got, want):
+    """|got − want| in half steps of `want` (the file's half), with FLOOR's absolute floor."""
+    spacing = np.maximum(tc.half_spacing(want), FLOOR)
+    return np.abs(got.astype(np.float16).astype(np.float64) - want) / spacing
+
+
+@pytest.mark.parametrize("name,image,options", tc.CASES, ids=[c[0] for c in tc.CASES])
+def test_every_texel_is_the_baked_spectrum_at_the_bands_and_between(
+    variant, tmp_path, name, image, options
+):
+    """Each texel's lookup (`nearest`: a texel centre in float32 is not exactly one texel's,
+    and bilinear weighs its neighbours by up to 10⁻⁶): within one half step of the baked file
+    at its bands, and of its linear interpolation at 1,000 random wavelengths (every texel in
+    the JIT variant; 150 in the scalar one, a Python call per lookup); NaN where it has NaN."""
+    if image is None:
+        image = tmp_path / "chart.exr"
+        tc.chart(image)
+    baked, compact = tmp_path / "baked.exr", tmp_path / "compact.exr"
+    specconv.convert(image, baked, **options)
+    specconv.convert(image, compact, layout="compact", **options)
+    (names, pixels, _) = tc.levels(baked)[0]
+    want, wl = tc.bands(names, pixels)
+    h, w, n = want.shape
+    centres = np.stack(np.meshgrid((np.arange(w) + 0.5) / w, (np.arange(h) + 0.5) / h), -1)
+    tex = _texture({"type": "specconv_compact", "filename": str(compact), "filter_type": "nearest"})
+    got = _eval(tex, centres.reshape(-1, 2), wl).reshape(h, w, n)
+    assert np.array_equal(np.isnan(got), np.isnan(want)), name
+    ok = ~np.isnan(want)
+    assert _steps(got[ok], want[ok]).max() <= 1.0 + 1e-9, name
+
+    rng = np.random.default_rng(35)
+    at = np.sort(rng.uniform(wl[0], wl[-1], 1000))
+    flat = want.reshape(-1, n)
+    rows = ~np.isnan(flat).any(axis=1)
+    if not dr.is_jit_v(mi.Float):
+        rows &= np.isin(np.arange(len(rows)), rng.permutation(len(rows))[:150])
+    mine = _eval(tex, centres.reshape(-1, 2)[rows], at)
+    theirs = np.stack([np.interp(at, wl, r) for r in flat[rows]])
+    j = np.clip(np.searchsorted(wl, at), 1, n - 1)
+    larger = np.maximum(np.abs(flat[rows][:, j]), np.abs(flat[rows][:, j - 1]))
+    step = np.maximum(tc.half_spacing(larger), FLOOR)
+    assert np.max(np.abs(mine - theirs) / step) <= 1.0 + 1e-9, name
+
+
+def test_lookup_is_the_spectral_files_lookup_at_any_uv(variant, tmp_path):
+    """Between texels, in both filters and the three wrap modes, out of [0, 1], at bands,
+    between them and outside them: the compact file's lookup is Mitsuba's lookup of the float
+    spectral file of the same input (bilinear over texel spectra, v as `bitmap` reads it)."""
+    image = str(tc.IMAGES / "photo.jpg")
+    baked, compact = tmp_path / "float.exr", tmp_path / "compact.exr"
+    specconv.convert(image, baked, sample="float")
+    specconv.convert(image, compact, layout="compact")
+    wl, _ = ref.read_reflectance(str(baked))
+    rng = np.random.default_rng(8)
+    uvs = np.concatenate([rng.random((150, 2)) * 3 - 1, [[0.0, 0.0], [1.0, 1.0], [0.5, 0.999]]])
+    probes = np.concatenate([wl[::5], [381.0, 455.5, 611.0, 729.9, 360.0, 379.9, 730.1, 830.0]])
+    for filter_type in ("bilinear", "nearest"):
+        for wrap_mode in ("repeat", "clamp", "mirror"):
+            common = {"filter_type": filter_type, "wrap_mode": wrap_mode}
+            ours = _eval(
+                _texture({"type": "specconv_compact", "filename": str(compact), **common}),
+                uvs,
+                probes,
+            )
+            theirs = _eval(
+                _texture({"type": "specconv_spectral", "filename": str(baked), **common}),
+                uvs,
+                probes,
+            )
+            # Both weigh the same texels alike (the spectral texture's `nearest` is its bilinear
+            # lookup at the texel centre, whose float32 uv weighs a neighbour by up to 10⁻⁵);
+            # the float file holds the spectra to float32, the decoder sums in float32
+            # (measured up to 6·10⁻⁷ from a double sum).
+            np.testing.assert_allclose(
+                ours, theirs, rtol=0, atol=5e-6, err_msg=f"{filter_type}, {wrap_mode}"
+            )
+            outside = (probes < wl[0]) | (probes > wl[-1])
+            assert (ours[:, outside] == 0).all()
+
+
+def test_level_reads_that_levels_texels(variant, tmp_path):
+    """`level` reads a smaller level's texels (the filtered colour, u solved again):
+    numpy's decoder of that level's texels, from the header text."""
+    compact = tmp_path / "compact.exr"
+    specconv.convert(str(tc.IMAGES / "photo.jpg"), compact, layout="compact")
+    image = specconv.read_compact(compact, level=2)
+    h, w, _ = image.texels.shape
+    tex = _texture({"type": "specconv_compact", "filename": str(compact), "level": 2})
+    assert tuple(tex.resolution()) == (w, h)
+    header = specconv.compact.parse(image.text)
+    centres = np.stack(np.meshgrid((np.arange(w) + 0.5) / w, (np.arange(h) + 0.5) / h), -1)
+    got = _eval(tex, centres.reshape(-1, 2), header.wavelengths).reshape(h, w, -1)
+    want = specconv.decode(image.text, image.texels)
+    np.testing.assert_allclose(got, want, rtol=0, atol=FLOOR + 2.0**-20)
+
+
+def test_compact_and_rgb_textures_render_the_baked_image(variant, files, estimator, tmp_path):
+    """Under illuminant A (where metamers part), with the same seed: the compact file's and the
+    PNG's renders are colour-science's colour of the baked file's spectra within the noise,
+    and each other's within the noise of a difference."""
+    compact = str(tmp_path / "patches_compact.exr")
+    specconv.convert([files["png"]], compact, layout="compact")
+    wavelengths, values = files["wavelengths"], files["values"]
+    rows, cols, inside, _, _ = _layout()
+    light = "A"
+    # The scalar variant runs Python per lookup: a quarter of the samples (the bounds follow).
+    spp = SPP if dr.is_jit_v(mi.Float) else SPP // 4
+    expected = ref.predicted_xyz(wavelengths, values[rows, cols], light)
+    _, sigma = estimator.mean_and_sigma(wavelengths, values[rows, cols], light)
+    gap = _gap(estimator, wavelengths, values[rows, cols], light)[inside]
+    bound = (5 * sigma / np.sqrt(spp))[inside] + gap
+    renders = {}
+    for kind, path in (("specconv_compact", compact), ("specconv_rgb", files["png"])):
+        renders[kind] = _render({"type": kind, "filename": path}, light, spp=spp)
+        error = np.abs(renders[kind] - expected)[inside]
+        assert (error <= bound).all(), (kind, (error / bound).max())
+    baked = _render({"type": "specconv_spectral", "filename": files["exr"]}, light, spp=spp)
+    noise = (5 * np.sqrt(2) * sigma / np.sqrt(spp))[inside]
+    for kind, image in renders.items():
+        assert (np.abs(image - baked)[inside] <= noise).all(), kind
+
+
+def _acescg_exr(path, rgb):
+    """A float OpenEXR whose chromaticities are ACEScg's (AP1, ACES white)."""
+    h, w, _ = rgb.shape
+    spec = oiio.ImageSpec(w, h, 3, "float")
+    ap1 = (0.713, 0.293, 0.165, 0.830, 0.128, 0.044, 0.32168, 0.33767)
+    spec.attribute("chromaticities", oiio.TypeDesc("float[8]"), ap1)
+    out = oiio.ImageOutput.create(str(path))
+    assert out.open(str(path), spec), out.geterror()
+    assert out.write_image(rgb.astype(np.float32))
+    out.close()
+
+
+def test_rgb_route_reads_an_acescg_exr_as_acescg(variant, tmp_path):
+    """The file's chromaticities decide its colour (not Mitsuba's conversion to Rec.709): the
+    spectra are the baked file's, and their colour under D65 is colour-science's XYZ of the
+    texels as ACEScg."""
+    import colour
+
+    rng = np.random.default_rng(11)
+    rgb = rng.random((6, 7, 3)) * 0.5 + 0.1  # inside the object colours: the colour is kept
+    exr = tmp_path / "plate_acescg.exr"
+    _acescg_exr(exr, rgb)
+    baked = tmp_path / "plate_spectral.exr"
+    specconv.convert(exr, baked)
+    (names, pixels, _) = tc.levels(baked)[0]
+    want, wl = tc.bands(names, pixels)
+    centres = np.stack(np.meshgrid((np.arange(7) + 0.5) / 7, (np.arange(6) + 0.5) / 6), -1)
+    got = _eval(_texture({"type": "specconv_rgb", "filename": str(exr)}), centres.reshape(-1, 2), wl)
+    assert _steps(got, want.reshape(-1, len(wl))).max() <= 1.0 + 1e-9
+    # Colour under D65, the uplift's white: colour-science's ACEScg → XYZ of the texels.
+    cs = colour.RGB_COLOURSPACES["ACEScg"]
+    d65 = colour.CCS_ILLUMINANTS["CIE 1931 2 Degree Standard Observer"]["D65"]
+    xyz = colour.RGB_to_XYZ(rgb.reshape(-1, 3), cs, d65, chromatic_adaptation_transform="Bradford")
+    ours = ref.predicted_xyz(wl, got, "D65")
+    # Measured 2.9·10⁻⁵ (Bradford, as the ACES config adapts); read as Rec.709 instead (what
+    # Mitsuba's own reader made of it before) the same texels are ≥ 0.01 away.
+    assert np.abs(ours - xyz).max() < 2e-4, np.abs(ours - xyz).max()
+    rec709 = colour.RGB_COLOURSPACES["ITU-R BT.709"]
+    wrong = colour.RGB_to_XYZ(rgb.reshape(-1, 3), rec709, d65)
+    assert np.abs(ours - wrong).max() > 0.01
+
+
+def test_rgb_route_refuses_a_data_map(variant, tmp_path):
+    """A roughness map (one channel, no colour declared) is data, which convert never uplifts:
+    the texture is refused with the library's reason, as convert refuses it."""
+    path = tmp_path / "roughness.exr"
+    out = oiio.ImageOutput.create(str(path))
+    assert out.open(str(path), oiio.ImageSpec(8, 8, 1, "half"))
+    assert out.write_image(np.full((8, 8, 1), 0.4, dtype=np.float32))
+    out.close()
+    with pytest.raises(Exception, match="data"):
+        _texture({"type": "specconv_rgb", "filename": str(path)})
+
+
+def test_a_file_that_is_not_compact_is_refused(variant, files):
+    with pytest.raises(Exception, match="not a compact texture"):
+        _texture({"type": "specconv_compact", "filename": files["exr"]})
+
+
+def test_mitsubas_reader_and_the_librarys_read_the_same_texels(variant, tmp_path):
+    """Level 0 comes through Mitsuba's own OpenEXR reader, other levels through the library:
+    both give OpenImageIO's texels (test_compact.py) and the same text; a damaged text is
+    refused by the library's parser, with its line and reason."""
+    import specconv.mitsuba as sm
+
+    compact = tmp_path / "compact.exr"
+    specconv.convert(str(tc.IMAGES / "srgba8.png"), compact, layout="compact")
+    text, texels = sm.compact_file(str(compact))
+    image = specconv.read_compact(compact)
+    assert text == image.text
+    assert np.array_equal(texels, image.texels)
+
+    damaged = tmp_path / "damaged.exr"
+    buf = oiio.ImageBuf(str(compact))
+    buf.specmod().attribute("specconvCompact", text.replace("\nclip 1", "\nclip 1\nclip 1"))
+    assert buf.write(str(damaged))
+    with pytest.raises(specconv.InputError, match="specconvCompact: .*clip"):
+        _texture({"type": "specconv_compact", "filename": str(damaged)})
