@@ -402,6 +402,14 @@ scs_model *scs_model_parse(const char *text, char *err, size_t errlen) {
             goto fail;
         }
     }
+    goto done;
+
+oom:
+    scs_fail_(err, errlen, 0, "out of memory");
+fail:
+    scs_model_free(m);
+    m = NULL;
+done:
     free(buf);
     free(lines);
     free(node_seen);
@@ -411,20 +419,6 @@ scs_model *scs_model_parse(const char *text, char *err, size_t errlen) {
     free(stack);
     free(depth);
     return m;
-
-oom:
-    scs_fail_(err, errlen, 0, "out of memory");
-fail:
-    free(buf);
-    free(lines);
-    free(node_seen);
-    free(map_seen);
-    free(reached);
-    free(map_used);
-    free(stack);
-    free(depth);
-    scs_model_free(m);
-    return NULL;
 }
 
 int scs_bands(const scs_model *m) { return m->n; }

@@ -40,12 +40,10 @@ import numpy as np
 
 import specconv
 from specconv import compact
-from specconv._specconv import check_compact_text
+from specconv._specconv import check_compact_header
 
 SPECTRAL = "specconv_spectral"
 COMPACT = "specconv_compact"
-# A compact texel's channels, in the order of its values (docs/compact.md).
-CHANNELS = ("C.X", "C.Y", "C.Z", "U.0", "U.1", "U.2")
 RENDER_TIME = "specconv_rgb"
 
 _FILTERS = {"bilinear": False, "nearest": True}
@@ -92,76 +90,21 @@ def _choice(props, name: str, table: dict, default: str):
 def _define(variant: str):
     jit = dr.is_jit_v(mi.Float)
 
-    class _BandTexture(mi.Texture):
-        """Spectra on a wavelength list, [h, w, n] rows top to bottom, looked up trilinearly."""
+    class _Lookup(mi.Texture):
+        """What both kinds of texture share: uv as ``bitmap`` takes it, the bands, the tensor."""
 
-        def _setup(self, props, wavelengths, values, source: str) -> None:
-            # Mitsuba's wavelengths are float32: a band at 400 nm must hold a lookup at 400 nm
-            # even when a reader's unit conversion left it at 400.00000000000006.
-            wavelengths = np.asarray(wavelengths, dtype=np.float32).astype(np.float64)
-            values = np.asarray(values, dtype=np.float32)
-            order = np.argsort(wavelengths)
-            wavelengths, values = wavelengths[order], values[..., order]
-            if len(wavelengths) < 2:
-                raise ValueError(f"{source}: a spectral texture needs at least two bands")
-            h, w, n = values.shape
+        def _common(self, props, size, wavelengths, source: str) -> None:
             self._source = source
-            self._size = (w, h)
-            self._wl = wavelengths
+            self._size = size
+            self._bands = _Bands(wavelengths, jit)
+            self._wl = self._bands.wavelengths
             self._nearest = _choice(props, "filter_type", _FILTERS, "bilinear")
-            wrap = _choice(props, "wrap_mode", _WRAPS, "repeat")
+            self._wrap = _choice(props, "wrap_mode", _WRAPS, "repeat")
             # None for the identity: most textures have none, and a lookup saves the transform.
             self._to_uv = _to_uv(props, jit)
-            # Depth = band: one Texture3f lookup is bilinear in uv and linear in wavelength.
-            tensor = np.ascontiguousarray(np.moveaxis(values, 2, 0)[..., None])
-            self._tex = mi.Texture3f(
-                mi.TensorXf(tensor),
-                use_accel=False,
-                filter_mode=dr.FilterMode.Linear,
-                wrap_mode=wrap,
-            )
-            steps = np.diff(wavelengths)
-            self._regular = bool(np.allclose(steps, steps[0], rtol=0, atol=1e-6 * steps[0]))
-            self._step = float(steps[0])
-            if jit:
-                self._wl_jit = mi.Float(wavelengths.astype(np.float32))
-            self._mean = _mean(wavelengths, values)
 
-        def _band_index(self, lam):
-            """Fractional band index of each wavelength (linear between the file's samples)."""
-            w0, n = float(self._wl[0]), len(self._wl)
-            if self._regular:
-                return (lam - w0) / self._step
-            if jit:
-                k = dr.binary_search(
-                    0, n - 1, lambda i: dr.gather(mi.Float, self._wl_jit, i) <= lam
-                )
-                j = dr.minimum(dr.maximum(k, 1) - 1, n - 2)  # unsigned: never k - 1 below 0
-                a = dr.gather(mi.Float, self._wl_jit, j)
-                b = dr.gather(mi.Float, self._wl_jit, j + 1)
-                return mi.Float(j) + (lam - a) / (b - a)
-            j = min(max(bisect.bisect_right(self._wl, lam) - 1, 0), n - 2)
-            a, b = self._wl[j], self._wl[j + 1]
-            return j + (lam - a) / (b - a)
-
-        def eval(self, si, active=True):
-            uv = si.uv if self._to_uv is None else self._to_uv @ si.uv
-            w, h = self._size
-            if self._nearest:
-                # Texel centres: the bilinear weights of the neighbours are then zero.
-                uv = mi.Point2f((dr.floor(uv.x * w) + 0.5) / w, (dr.floor(uv.y * h) + 0.5) / h)
-            lo, hi, n = float(self._wl[0]), float(self._wl[-1]), len(self._wl)
-            out = []
-            for i in range(len(si.wavelengths)):
-                lam = si.wavelengths[i]
-                inside = (lam >= lo) & (lam <= hi)
-                z = (dr.clip(self._band_index(lam), 0.0, n - 1.0) + 0.5) / n
-                v = self._tex.eval(mi.Point3f(uv.x, uv.y, z), active)[0]
-                out.append(dr.select(inside, v, 0.0))
-            return mi.UnpolarizedSpectrum(out)
-
-        def mean(self):
-            return self._mean
+        def _uv(self, si):
+            return si.uv if self._to_uv is None else self._to_uv @ si.uv
 
         def is_spatially_varying(self):
             return True
@@ -176,7 +119,7 @@ def _define(variant: str):
             return float(np.min(np.diff(self._wl)))
 
         def traverse(self, callback):
-            # The spectra as a tensor [bands, h, w, 1]: scenes can swap them, never differentiate.
+            # The texture's tensor: scenes can swap it, never differentiate.
             callback.put("data", self._tex.tensor(), mi.ParamFlags.NonDifferentiable)
 
         def parameters_changed(self, keys=[]):
@@ -189,7 +132,49 @@ def _define(variant: str):
                 f"bands={len(self._wl)} ({self._wl[0]:g}-{self._wl[-1]:g} nm)]"
             )
 
-    class _CompactTexture(mi.Texture):
+    class _BandTexture(_Lookup):
+        """Spectra on a wavelength list, [h, w, n] rows top to bottom, looked up trilinearly
+        (a tensor [bands, h, w, 1])."""
+
+        def _setup(self, props, wavelengths, values, source: str) -> None:
+            wavelengths = np.asarray(wavelengths, dtype=np.float64)
+            values = np.asarray(values, dtype=np.float32)
+            order = np.argsort(wavelengths)
+            wavelengths, values = wavelengths[order], values[..., order]
+            if len(wavelengths) < 2:
+                raise ValueError(f"{source}: a spectral texture needs at least two bands")
+            h, w, _ = values.shape
+            self._common(props, (w, h), wavelengths, source)
+            # Depth = band: one Texture3f lookup is bilinear in uv and linear in wavelength.
+            tensor = np.ascontiguousarray(np.moveaxis(values, 2, 0)[..., None])
+            self._tex = mi.Texture3f(
+                mi.TensorXf(tensor),
+                use_accel=False,
+                filter_mode=dr.FilterMode.Linear,
+                wrap_mode=self._wrap,
+            )
+            self._mean = _mean(self._wl, values)
+
+        def eval(self, si, active=True):
+            uv = self._uv(si)
+            w, h = self._size
+            if self._nearest:
+                # Texel centres: the bilinear weights of the neighbours are then zero.
+                uv = mi.Point2f((dr.floor(uv.x * w) + 0.5) / w, (dr.floor(uv.y * h) + 0.5) / h)
+            lo, hi, n = float(self._wl[0]), float(self._wl[-1]), len(self._wl)
+            out = []
+            for i in range(len(si.wavelengths)):
+                lam = si.wavelengths[i]
+                inside = (lam >= lo) & (lam <= hi)
+                z = (dr.clip(self._bands.index(lam), 0.0, n - 1.0) + 0.5) / n
+                v = self._tex.eval(mi.Point3f(uv.x, uv.y, z), active)[0]
+                out.append(dr.select(inside, v, 0.0))
+            return mi.UnpolarizedSpectrum(out)
+
+        def mean(self):
+            return self._mean
+
+    class _CompactTexture(_Lookup):
         """Compact texels [h, w, 6] (docs/compact.md), decoded at the path's wavelengths per
         lookup: the four nearest texels' spectra (one with ``nearest``) weighted bilinearly,
         as ``bitmap`` weighs its texels' spectra."""
@@ -197,22 +182,19 @@ def _define(variant: str):
         def _setup(self, props, text: str, texels, source: str) -> None:
             texels = np.asarray(texels, dtype=np.float32)
             h, w, _ = texels.shape
-            self._source = source
-            self._size = (w, h)
-            self._nearest = _choice(props, "filter_type", _FILTERS, "bilinear")
-            self._to_uv = _to_uv(props, jit)
-            self._decoder = _Decoder(compact.parse(text), jit)
-            self._wl = self._decoder.wavelengths
+            header = compact.parse(text)
+            self._common(props, (w, h), header.wavelengths, source)
+            self._decoder = _Decoder(header, self._bands, jit)
             self._tex = mi.Texture2f(
                 mi.TensorXf(texels),
                 use_accel=False,
                 filter_mode=dr.FilterMode.Nearest if self._nearest else dr.FilterMode.Linear,
-                wrap_mode=_choice(props, "wrap_mode", _WRAPS, "repeat"),
+                wrap_mode=self._wrap,
             )
             self._mean = None
 
         def eval(self, si, active=True):
-            uv = si.uv if self._to_uv is None else self._to_uv @ si.uv
+            uv = self._uv(si)
             if self._nearest:
                 texels, weights = [self._tex.eval(uv, active)], [1.0]
             else:
@@ -222,8 +204,7 @@ def _define(variant: str):
                 texels = self._tex.eval_fetch(uv, active)  # (x0,y0) (x1,y0) (x0,y1) (x1,y1)
                 weights = [(1 - fx) * (1 - fy), fx * (1 - fy), (1 - fx) * fy, fx * fy]
             lams = [si.wavelengths[i] for i in range(len(si.wavelengths))]
-            out = self._decoder.weighted(texels, weights, lams)
-            return mi.UnpolarizedSpectrum(out)
+            return mi.UnpolarizedSpectrum(self._decoder.weighted(texels, weights, lams))
 
         def mean(self):
             if self._mean is None:
@@ -235,32 +216,9 @@ def _define(variant: str):
                 self._mean = _mean_of(self._wl, total / max(len(texels), 1))
             return self._mean
 
-        def is_spatially_varying(self):
-            return True
-
-        def resolution(self):
-            return mi.ScalarVector2i(*self._size)
-
-        def wavelength_range(self):
-            return mi.ScalarVector2f(self._wl[0], self._wl[-1])
-
-        def spectral_resolution(self):
-            return float(np.min(np.diff(self._wl)))
-
-        def traverse(self, callback):
-            # The texels as a tensor [h, w, 6]: scenes can swap them, never differentiate.
-            callback.put("data", self._tex.tensor(), mi.ParamFlags.NonDifferentiable)
-
         def parameters_changed(self, keys=[]):
-            self._tex.set_tensor(self._tex.tensor())
+            super().parameters_changed(keys)
             self._mean = None
-
-        def to_string(self):
-            w, h = self._size
-            return (
-                f"{type(self).__name__}[filename={self._source!r}, resolution={w}x{h}, "
-                f"compact, bands={len(self._wl)} ({self._wl[0]:g}-{self._wl[-1]:g} nm)]"
-            )
 
     class SpectralTexture(_BandTexture):
         """``specconv_spectral``: a Fichet 2021 reflectance file (``filename``, ``level``)."""
@@ -317,6 +275,38 @@ def _fraction(coordinate, size: int):
     return float(p - np.floor(p))
 
 
+class _Bands:
+    """A texture's band wavelengths and the fractional band index of a path's wavelength
+    (linear between bands), as Dr.Jit code (JIT variants) or Python floats (scalar)."""
+
+    def __init__(self, wavelengths, jit: bool):
+        # Mitsuba's wavelengths are float32: a band at 400 nm must hold a lookup at 400 nm
+        # even when a reader's unit conversion left it at 400.00000000000006.
+        wl = np.asarray(wavelengths, dtype=np.float32).astype(np.float64)
+        if len(wl) < 2:
+            raise ValueError("a spectral texture needs at least two bands")
+        self.wavelengths, self.jit = wl, jit
+        steps = np.diff(wl)
+        self.regular = bool(np.allclose(steps, steps[0], rtol=0, atol=1e-6 * steps[0]))
+        self.step = float(steps[0])
+        if jit:
+            self.wl_jit = mi.Float(wl.astype(np.float32))
+
+    def index(self, lam):
+        """The fractional band index of each wavelength, unclipped."""
+        wl, n = self.wavelengths, len(self.wavelengths)
+        if self.regular:
+            return (lam - float(wl[0])) / self.step
+        if self.jit:
+            k = dr.binary_search(0, n - 1, lambda i: dr.gather(mi.Float, self.wl_jit, i) <= lam)
+            j = dr.minimum(dr.maximum(k, 1) - 1, n - 2)  # unsigned: never k - 1 below 0
+            a = dr.gather(mi.Float, self.wl_jit, j)
+            b = dr.gather(mi.Float, self.wl_jit, j + 1)
+            return mi.Float(j) + (lam - a) / (b - a)
+        j = min(max(bisect.bisect_right(wl, lam) - 1, 0), n - 2)
+        return j + (lam - wl[j]) / (wl[j + 1] - wl[j])
+
+
 class _Decoder:
     """docs/compact.md's rule on Dr.Jit values, for one header. In the JIT variants it is traced
     into the lookup's kernel, every leaf summed; in the scalar ones it runs per lookup in plain
@@ -324,46 +314,80 @@ class _Decoder:
     interpolated linearly (the clip acts per band, before); zero outside the bands, as the
     spectral file's lookup."""
 
-    def __init__(self, header: compact.Header, jit: bool):
-        self.header, self.jit = header, jit
-        wl = np.asarray(header.wavelengths, dtype=np.float32).astype(np.float64)
-        if len(wl) < 2:
-            raise ValueError("a compact texture needs at least two bands")
-        self.wavelengths = wl
+    def __init__(self, header: compact.Header, bands: "_Bands", jit: bool):
+        self.header, self.bands, self.jit = header, bands, jit
+        self.wavelengths = bands.wavelengths
         leaves = header.maps.shape[0]
         self.leaves = leaves
         # A band's row: each leaf's (Tx, Ty, Tz, o), then (a_X, a_Y, a_Z, 0): 4-value packets.
-        rows = np.zeros((len(wl), leaves + 1, 4))
+        rows = np.zeros((len(self.wavelengths), leaves + 1, 4))
         rows[:, :leaves, :] = header.maps.transpose(2, 0, 1)
         rows[:, leaves, :3] = header.b.T
-        steps = np.diff(wl)
-        self.regular = bool(np.allclose(steps, steps[0], rtol=0, atol=1e-6 * steps[0]))
-        self.step = float(steps[0])
         if jit:
             self.table = mi.Float(rows.astype(np.float32).ravel())
-            self.wl_jit = mi.Float(wl.astype(np.float32))
         else:
             self.rows = rows.tolist()
 
     def weighted(self, texels, weights, lams):
-        """Σ weight × spectrum of each texel (6 values), at each wavelength of ``lams``."""
+        """Σ weight × spectrum of each texel (6 values), at each wavelength of ``lams``.
+
+        Leaf by leaf, each leaf a branch that a packet of lanes skips when none of its texels
+        weighs that leaf (Dr.Jit runs a symbolic branch only for packets with an active lane):
+        neighbouring lookups mostly share one to three of the model's leaves."""
         if not self.jit:
             return self._weighted_scalar(texels, weights, lams)
         forms = [self._texel(t) for t in texels]
+        stride = self.leaves + 1
+        positions = [self._position(lam) for lam in lams]
+        # Each wavelength's two bands: the first index of their rows in the table.
+        firsts = [r for j, _, _ in positions for r in (j * stride, (j + 1) * stride)]
+        sums = tuple(mi.Float(0.0) for _ in range(len(forms) * len(firsts)))
+        for leaf in range(self.leaves):
+            used = forms[0][0][leaf] > 0
+            for form in forms[1:]:
+                used |= form[0][leaf] > 0
+
+            def add(*acc, leaf=leaf):
+                acc = list(acc)
+                for e, first in enumerate(firsts):
+                    g = dr.gather(mi.Vector4f, self.table, first + leaf)
+                    for t, form in enumerate(forms):
+                        a, b, c, d = form[1][leaf]
+                        i = t * len(firsts) + e
+                        acc[i] = dr.fma(a, g.x, dr.fma(b, g.y, dr.fma(c, g.z, dr.fma(d, g.w, acc[i]))))
+                return tuple(acc)
+
+            sums = dr.if_stmt(sums, used, add, lambda *acc: acc, mode="symbolic")
+        if self.header.clip:
+            # B·u, a branch of its own: u = 0 for the texels already in [0, 1].
+            projected = forms[0][2][0] != 0
+            for form in forms:
+                projected |= (form[2][0] != 0) | (form[2][1] != 0) | (form[2][2] != 0)
+
+            def add_bu(*acc):
+                acc = list(acc)
+                for e, first in enumerate(firsts):
+                    g = dr.gather(mi.Vector4f, self.table, first + self.leaves)
+                    for t, form in enumerate(forms):
+                        u, i = form[2], t * len(firsts) + e
+                        acc[i] = dr.fma(u[0], g.x, dr.fma(u[1], g.y, dr.fma(u[2], g.z, acc[i])))
+                return tuple(acc)
+
+            sums = dr.if_stmt(sums, projected, add_bu, lambda *acc: acc, mode="symbolic")
+            sums = tuple(dr.clip(v, 0.0, 1.0) for v in sums)
         out = []
-        for lam in lams:
-            j, f, inside = self._position(lam)
-            rows = [self._row(j), self._row(j + 1)]
+        for p, (_, f, inside) in enumerate(positions):
             total = mi.Float(0.0)
-            for (k, u, finite), w in zip(forms, weights):
-                r0, r1 = (self._band(row, k, u) for row in rows)
+            for t, ((_, _, _, finite), w) in enumerate(zip(forms, weights)):
+                r0, r1 = (sums[t * len(firsts) + 2 * p + h] for h in (0, 1))
                 r = dr.select(finite, dr.fma(f, r1 - r0, r0), dr.nan)
                 total = dr.fma(w, r, total)
             out.append(dr.select(inside, total, 0.0))
         return out
 
     def _texel(self, t):
-        """A texel's per-leaf factors (wᵢX, wᵢY, wᵢZ, wᵢλ_dark), u, and whether it is finite."""
+        """A texel's leaf weights wᵢ, per-leaf factors (wᵢX, wᵢY, wᵢZ, wᵢλ_dark), u, and
+        whether it is finite."""
         h = self.header
         finite = dr.isfinite(t[0]) & dr.isfinite(t[1]) & dr.isfinite(t[2])
         x_, y_, z_ = (dr.select(finite, t[i], 0.0) for i in range(3))
@@ -392,37 +416,15 @@ class _Decoder:
 
         add(0, mi.Float(1.0))
         k = [(w * x_, w * y_, w * z_, w * dark) for w in leaf]
-        return k, (t[3], t[4], t[5]), finite
+        return leaf, k, (t[3], t[4], t[5]), finite
 
     def _position(self, lam):
         """Band j, fraction f towards band j + 1, and whether lam is within the bands."""
         wl, n = self.wavelengths, len(self.wavelengths)
-        if self.regular:
-            index = (lam - float(wl[0])) / self.step
-        else:
-            k = dr.binary_search(0, n - 1, lambda i: dr.gather(mi.Float, self.wl_jit, i) <= lam)
-            j = dr.minimum(dr.maximum(k, 1) - 1, n - 2)  # unsigned: never k - 1 below 0
-            a = dr.gather(mi.Float, self.wl_jit, j)
-            b = dr.gather(mi.Float, self.wl_jit, j + 1)
-            index = mi.Float(j) + (lam - a) / (b - a)
-        index = dr.clip(index, 0.0, n - 1.0)
+        index = dr.clip(self.bands.index(lam), 0.0, n - 1.0)
         j = dr.minimum(mi.UInt32(index), n - 2)
         inside = (lam >= float(wl[0])) & (lam <= float(wl[-1]))
         return j, index - mi.Float(j), inside
-
-    def _row(self, j):
-        """Band j's packets: each leaf's (Tx, Ty, Tz, o), then B's."""
-        first = j * (self.leaves + 1)
-        return [dr.gather(mi.Vector4f, self.table, first + i) for i in range(self.leaves + 1)]
-
-    def _band(self, row, k, u):
-        r = mi.Float(0.0)
-        for g, (a, b, c, d) in zip(row, k):
-            r = dr.fma(a, g.x, dr.fma(b, g.y, dr.fma(c, g.z, dr.fma(d, g.w, r))))
-        if not self.header.clip:
-            return r
-        g = row[self.leaves]
-        return dr.clip(dr.fma(u[0], g.x, dr.fma(u[1], g.y, dr.fma(u[2], g.z, r))), 0.0, 1.0)
 
     # The scalar variants: the same rule in plain Python floats (a call per lookup).
 
@@ -435,8 +437,9 @@ class _Decoder:
             if not wl[0] <= lam <= wl[-1]:
                 out.append(0.0)
                 continue
-            j = min(max(bisect.bisect_right(wl, lam) - 1, 0), n - 2)
-            f = (lam - wl[j]) / (wl[j + 1] - wl[j])
+            index = min(max(self.bands.index(lam), 0.0), n - 1.0)
+            j = min(int(index), n - 2)
+            f = index - j
             total = 0.0
             for form, w in forms:
                 if w == 0.0 and form is not None:
@@ -530,28 +533,14 @@ def compact_file(path: str, level: int = 0) -> tuple[str, np.ndarray]:
     bitmap = mi.Bitmap(path)
     meta = bitmap.metadata()
     keys = set(meta.keys())
-
-    def refuse(why: str):
-        return specconv.InputError(f"{path}: not a compact texture: {why}")
-
-    if "specconvLayout" not in keys:
-        raise refuse("no specconvLayout attribute")
-    layout = str(meta["specconvLayout"])
-    if layout != "compact 1":
-        raise refuse(f"its specconvLayout is '{layout}'; this version reads 'compact 1'")
-    if "specconvCompact" not in keys:
-        raise refuse("no specconvCompact attribute")
-    text = check_compact_text(str(meta["specconvCompact"]))
     fields = bitmap.struct_()
     names = [fields[i].name for i in range(len(fields))]
-    missing = [c for c in CHANNELS if c not in names]
-    if missing:
-        raise refuse(f"no channel {missing[0]}")
-    columns = [names.index(c) for c in CHANNELS]
+    layout, text = (str(meta[k]) if k in keys else None for k in ("specconvLayout", "specconvCompact"))
+    text, columns = check_compact_header(path, layout, text, names)
     pixels = np.array(bitmap, copy=False).reshape(bitmap.height(), bitmap.width(), len(names))
-    if columns == list(range(len(names))) and pixels.dtype == np.float32:
+    if list(columns) == list(range(len(names))) and pixels.dtype == np.float32:
         return text, pixels  # the file's own buffer: no copy
-    return text, np.ascontiguousarray(pixels[..., columns], dtype=np.float32)
+    return text, np.ascontiguousarray(pixels[..., list(columns)], dtype=np.float32)
 
 
 def _to_uv(props, jit: bool):

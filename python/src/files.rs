@@ -42,11 +42,7 @@ pub struct SpectralImage {
 #[pymethods]
 impl SpectralImage {
     fn __repr__(&self, py: Python<'_>) -> String {
-        let shape = self
-            .values
-            .bind(py)
-            .getattr("shape")
-            .map_or(String::new(), |s| s.to_string());
+        let shape = shape(py, &self.values);
         format!(
             "<specconv.SpectralImage {} {shape}, level {} of {}>",
             self.kind, self.level, self.levels
@@ -82,14 +78,7 @@ pub fn read_spectral(py: Python<'_>, path: FsPath, level: i128) -> PyResult<Spec
     }
     let shaped = Array3::from_shape_vec((h, w, n), interleaved)
         .map_err(|e| Kind::Input.err(e.to_string()))?;
-    let alpha = match image.alpha {
-        Some(a) => Array2::from_shape_vec((h, w), a)
-            .map_err(|e| Kind::Input.err(e.to_string()))?
-            .into_pyarray(py)
-            .into_any()
-            .unbind(),
-        None => py.None(),
-    };
+    let alpha = alpha_array(py, (h, w), image.alpha)?;
     let attributes = PyDict::new(py);
     for (k, v) in &image.attributes {
         attributes.set_item(k, v)?;
@@ -137,11 +126,7 @@ pub struct CompactImage {
 #[pymethods]
 impl CompactImage {
     fn __repr__(&self, py: Python<'_>) -> String {
-        let shape = self
-            .texels
-            .bind(py)
-            .getattr("shape")
-            .map_or(String::new(), |s| s.to_string());
+        let shape = shape(py, &self.texels);
         format!(
             "<specconv.CompactImage {shape}, level {} of {}>",
             self.level, self.levels
@@ -162,14 +147,7 @@ pub fn read_compact(py: Python<'_>, path: FsPath, level: i128) -> PyResult<Compa
     let (w, h) = (image.width, image.height);
     let texels = Array3::from_shape_vec((h, w, specconv_spectral::compact::TEXEL), image.texels)
         .map_err(|e| Kind::Input.err(e.to_string()))?;
-    let alpha = match image.alpha {
-        Some(a) => Array2::from_shape_vec((h, w), a)
-            .map_err(|e| Kind::Input.err(e.to_string()))?
-            .into_pyarray(py)
-            .into_any()
-            .unbind(),
-        None => py.None(),
-    };
+    let alpha = alpha_array(py, (h, w), image.alpha)?;
     Ok(CompactImage {
         text: image.text,
         texels: texels.into_pyarray(py).into_any().unbind(),
@@ -179,15 +157,44 @@ pub fn read_compact(py: Python<'_>, path: FsPath, level: i128) -> PyResult<Compa
     })
 }
 
-/// A compact texture's decoding text checked as the library reads it (docs/compact.md: every
-/// line, count, number and the tree), returned as the library writes it; a text it refuses
-/// raises `InputError` with the line and the reason. For readers that take the text from a
-/// file some other way (Mitsuba's own OpenEXR reader).
+/// A numpy array's shape as Python prints it (empty if it has none).
+fn shape(py: Python<'_>, array: &Py<PyAny>) -> String {
+    array
+        .bind(py)
+        .getattr("shape")
+        .map_or(String::new(), |s| s.to_string())
+}
+
+/// Alpha as a (height, width) float32 array, or `None`.
+fn alpha_array(
+    py: Python<'_>,
+    (h, w): (usize, usize),
+    alpha: Option<Vec<f32>>,
+) -> PyResult<Py<PyAny>> {
+    Ok(match alpha {
+        Some(a) => Array2::from_shape_vec((h, w), a)
+            .map_err(|e| Kind::Input.err(e.to_string()))?
+            .into_pyarray(py)
+            .into_any()
+            .unbind(),
+        None => py.None(),
+    })
+}
+
+/// Whether the file `path`, read by another reader (Mitsuba's), is a compact texture, from its
+/// header: its layout and decoding-text attributes (`None` where absent) and channel names.
+/// Returns the text as the library writes it and the columns of C.X … U.2 among `channels`;
+/// otherwise raises `InputError` saying what is missing or wrong (a text's line and reason).
 #[pyfunction]
-pub fn check_compact_text(text: &str) -> PyResult<String> {
-    specconv_spectral::compact::Compact::from_text(text)
-        .map(|c| c.to_text())
-        .map_err(|e| Kind::Input.err(format!("specconvCompact: {e}")))
+pub fn check_compact_header(
+    path: FsPath,
+    layout: Option<&str>,
+    text: Option<&str>,
+    channels: Vec<String>,
+) -> PyResult<(String, [usize; 6])> {
+    let names: Vec<&str> = channels.iter().map(String::as_str).collect();
+    specconv_conversion::check_compact_header(&path.0, layout, text, &names)
+        .map_err(crate::errors::conversion)
 }
 
 /// Writes `values` (shape (height, width, bands), rows from the top) at `wavelengths` (nm,

@@ -153,6 +153,20 @@ def test_read_compact_is_what_openimageio_reads(tmp_path):
         specconv.read_compact(baked)
     with pytest.raises(specconv.Error, match=f"MIP level {len(every)} does not exist"):
         specconv.read_compact(compact, level=len(every))
-    with pytest.raises(specconv.InputError, match="specconvCompact: "):
-        specconv._specconv.check_compact_text(every[0][2]["specconvCompact"].replace("map 0", "map 9"))
-    assert specconv._specconv.check_compact_text(image.text) == image.text
+    # The same rules for a header another reader read (Mitsuba's, specconv.mitsuba).
+    check = specconv._specconv.check_compact_header
+    names = every[0][0]
+    text = every[0][2]["specconvCompact"]
+    assert check(compact, "compact 1", text, names) == (
+        image.text,
+        [names.index(c) for c in ("C.X", "C.Y", "C.Z", "U.0", "U.1", "U.2")],
+    )
+    for args, why in [
+        (("compact 1", text.replace("map 0", "map 9"), names), "specconvCompact: "),
+        (("compact 2", text, names), "its specconvLayout is 'compact 2'"),
+        ((None, text, names), "no specconvLayout attribute"),
+        (("compact 1", None, names), "no specconvCompact attribute"),
+        (("compact 1", text, [n for n in names if n != "U.1"]), "no channel U.1"),
+    ]:
+        with pytest.raises(specconv.InputError, match=f"not a compact texture: {why}"):
+            check(compact, *args)

@@ -244,5 +244,5 @@ def test_mitsubas_reader_and_the_librarys_read_the_same_texels(variant, tmp_path
     buf = oiio.ImageBuf(str(compact))
     buf.specmod().attribute("specconvCompact", text.replace("\nclip 1", "\nclip 1\nclip 1"))
     assert buf.write(str(damaged))
-    with pytest.raises(specconv.InputError, match="specconvCompact: .*clip"):
+    with pytest.raises(Exception, match="specconvCompact: .*a second .clip. line"):
         _texture({"type": "specconv_compact", "filename": str(damaged)})

@@ -32,6 +32,18 @@ pub fn check_writable(output: &Path, inputs: &[&Path], replace: Replace) -> Resu
         .map_err(|e| crate::usage(anyhow::anyhow!(crate::explain(&e.into()))))
 }
 
+/// The OpenEXR a command makes of one input (`what`: why it must end in .exr): its name, and
+/// that it may be written (`force` replaces an existing one, never the input).
+pub fn check_exr_output(
+    output: &Path,
+    input: &Path,
+    force: bool,
+    what: &'static str,
+) -> Result<()> {
+    check_output(output, specconv_exr::EXTENSIONS, what)?;
+    check_writable(output, &[input], Replace::when(force))
+}
+
 /// Writes `bytes` to `path` atomically under the same rules, checked again at the write.
 pub fn write_atomically(
     path: &Path,

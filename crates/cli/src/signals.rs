@@ -80,6 +80,18 @@ pub(crate) fn install() {
     });
 }
 
+/// [`deferred`] with a cancel flag of its own for one library call that writes one output:
+/// a cancelled call is [`Interrupted`], any other error explained.
+pub(crate) fn one_output<T>(
+    f: impl FnOnce(&AtomicBool) -> Result<T, specconv_conversion::Error>,
+) -> anyhow::Result<T> {
+    let cancel = Arc::new(AtomicBool::new(false));
+    match deferred(&cancel, || f(&cancel)) {
+        Err(e) if e.is_cancelled() => Err(Interrupted.into()),
+        r => r.map_err(|e| anyhow::anyhow!(crate::explain(&e))),
+    }
+}
+
 /// Runs `f`, which writes outputs and stops when `cancel` is set, with signals setting
 /// `cancel` instead of ending the process. They still do once `f` has returned: what it wrote
 /// is complete, and a signal that comes while the command reports it must not end the process

@@ -95,6 +95,21 @@ pub fn read_compact(input: &std::path::Path, level: usize) -> Result<CompactTexe
     Ok(pipeline::expand::read_texels(input, level)?)
 }
 
+/// Whether a file another reader read (Mitsuba's) is a compact texture [`read_compact`] would
+/// read, from its header: its `specconvLayout` and `specconvCompact` attributes and its
+/// channel names. Returns the decoding text as this library writes it and the columns of the
+/// texel's six channels among `channels`; otherwise [`ConversionError::NotCompact`], saying
+/// what is missing or wrong (a text's line and reason).
+pub fn check_compact_header(
+    path: &std::path::Path,
+    layout: Option<&str>,
+    text: Option<&str>,
+    channels: &[&str],
+) -> Result<(String, [usize; 6]), Error> {
+    let (compact, columns) = pipeline::expand::header(path, layout, text, channels)?;
+    Ok((compact.to_text(), columns))
+}
+
 /// Makes writes past the file size limit (`ulimit -f`) fail with an error the writer reports,
 /// its temporary file removed, instead of SIGXFSZ killing the process: for a program's first
 /// step (Python ignores SIGXFSZ already).

@@ -1,6 +1,5 @@
 //! `specconv expand`: a compact texture written out in the spectral layout.
 
-use crate::explain;
 use anyhow::Result;
 use std::path::PathBuf;
 
@@ -31,22 +30,15 @@ pub struct Args {
 }
 
 pub fn run(args: Args) -> Result<()> {
-    crate::files::check_output(
+    crate::files::check_exr_output(
         &args.output,
-        specconv_exr::EXTENSIONS,
+        &args.input,
+        args.force,
         "expand writes OpenEXR",
     )?;
-    let replace = specconv_atomic_file::Replace::when(args.force);
-    crate::files::check_writable(&args.output, &[args.input.as_path()], replace)?;
-    let cancel = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
-    let r = match crate::signals::deferred(&cancel, || {
-        specconv_conversion::expand(&args.input, &args.output, args.force, &cancel)
-    }) {
-        Err(specconv_conversion::Error::Conversion(
-            specconv_conversion::ConversionError::Cancelled,
-        )) => return Err(crate::signals::Interrupted.into()),
-        r => r.map_err(|e| anyhow::anyhow!(explain(&e)))?,
-    };
+    let r = crate::signals::one_output(|cancel| {
+        specconv_conversion::expand(&args.input, &args.output, args.force, cancel)
+    })?;
     let wl = &r.wavelengths;
     errln!(
         "{} → {}: {}×{}, {} levels, {} bands {}–{} nm ({} texels projected)",

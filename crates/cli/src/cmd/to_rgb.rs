@@ -50,13 +50,12 @@ pub struct Args {
 
 pub fn run(args: Args) -> Result<()> {
     use specconv_conversion::to_rgb::{Light, ToRgb, ToRgbOptions};
-    crate::files::check_output(
+    crate::files::check_exr_output(
         &args.output,
-        specconv_exr::EXTENSIONS,
+        &args.input,
+        args.force,
         "to-rgb writes OpenEXR",
     )?;
-    let replace = specconv_atomic_file::Replace::when(args.force);
-    crate::files::check_writable(&args.output, &[args.input.as_path()], replace)?;
     let mut options = ToRgbOptions::default();
     options.ocio = args.ocio.clone();
     options.colorspace = args.colorspace.clone();
@@ -64,13 +63,9 @@ pub fn run(args: Args) -> Result<()> {
     options.overwrite = args.force;
     let to_rgb = ToRgb::new(options).map_err(|e| usage(anyhow::anyhow!(explain(&e))))?;
     // A signal stops the integration between blocks, or the write before it is published.
-    let cancel = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
-    let r = match crate::signals::deferred(&cancel, || {
-        to_rgb.convert_cancellable(&args.input, &args.output, &cancel)
-    }) {
-        Err(e) if e.is_cancelled() => return Err(crate::signals::Interrupted.into()),
-        r => r.map_err(|e| anyhow::anyhow!(explain(&e)))?,
-    };
+    let r = crate::signals::one_output(|cancel| {
+        to_rgb.convert_cancellable(&args.input, &args.output, cancel)
+    })?;
     let light = match r.light {
         Light::Emission(units, why) => format!("emission, {units} units ({})", why.describe()),
         Light::Illuminant(i, 0) => format!("under {i}"),

@@ -70,6 +70,37 @@ pub struct Expanded {
     pub projected: u64,
 }
 
+/// What makes a file compact, from its header, however it was read: its layout attribute
+/// (`compact 1`), its decoding text (`specconvCompact`, checked line by line) and the texel's
+/// channels among `channels` (their columns, in the order of a texel's values).
+pub(crate) fn header(
+    path: &Path,
+    layout: Option<&str>,
+    text: Option<&str>,
+    channels: &[&str],
+) -> Result<(Compact, [usize; TEXEL])> {
+    let not = |why: String| Error::NotCompact {
+        path: path.to_path_buf(),
+        why,
+    };
+    if layout != Some(VERSION) {
+        return Err(not(match layout {
+            Some(l) => format!("its {LAYOUT_ATTRIBUTE} is '{l}'; this version reads '{VERSION}'"),
+            None => format!("no {LAYOUT_ATTRIBUTE} attribute"),
+        }));
+    }
+    let text = text.ok_or_else(|| not(format!("no {COMPACT_ATTRIBUTE} attribute")))?;
+    let compact = Compact::from_text(text).map_err(|e| not(format!("{COMPACT_ATTRIBUTE}: {e}")))?;
+    let mut columns = [0; TEXEL];
+    for (c, name) in columns.iter_mut().zip(COMPACT_CHANNELS) {
+        *c = channels
+            .iter()
+            .position(|n| *n == name)
+            .ok_or_else(|| not(format!("no channel {name}")))?;
+    }
+    Ok((compact, columns))
+}
+
 /// One MIP level of a compact texture in memory: what a renderer holds to decode spectra at
 /// each lookup (docs/compact.md), six float32 values a texel instead of one a band.
 #[derive(Debug, Clone)]
@@ -147,28 +178,18 @@ fn open(input: &Path) -> Result<Source> {
         path: input.to_path_buf(),
         why,
     };
-    let layout = reader.string_attribute(LAYOUT_ATTRIBUTE)?;
-    if layout.as_deref() != Some(VERSION) {
-        return Err(not(match layout {
-            Some(l) => format!("its {LAYOUT_ATTRIBUTE} is '{l}'; this version reads '{VERSION}'"),
-            None => format!("no {LAYOUT_ATTRIBUTE} attribute"),
-        }));
-    }
-    let text = reader
-        .string_attribute(COMPACT_ATTRIBUTE)?
-        .ok_or_else(|| not(format!("no {COMPACT_ATTRIBUTE} attribute")))?;
-    let compact = Compact::from_text(&text).map_err(|e| not(e.to_string()))?;
     let names: Vec<&str> = reader
         .info()
         .channels
         .iter()
         .map(|c| c.name.as_str())
         .collect();
-    let index = |name: &str| names.iter().position(|n| *n == name);
-    let mut columns = [0; TEXEL];
-    for (c, name) in columns.iter_mut().zip(COMPACT_CHANNELS) {
-        *c = index(name).ok_or_else(|| not(format!("no channel {name}")))?;
-    }
+    let (compact, columns) = header(
+        input,
+        reader.string_attribute(LAYOUT_ATTRIBUTE)?.as_deref(),
+        reader.string_attribute(COMPACT_ATTRIBUTE)?.as_deref(),
+        &names,
+    )?;
     let mut options = Options::default();
     let recorded = reader
         .string_attribute(EXPAND_ATTRIBUTE)?
@@ -182,7 +203,7 @@ fn open(input: &Path) -> Result<Source> {
         }
     }
     let d = Decoding {
-        alpha: index("A"),
+        alpha: names.iter().position(|n| *n == "A"),
         compact,
         columns,
         options,
