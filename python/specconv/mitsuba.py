@@ -390,6 +390,9 @@ class _Decoder:
         whether it is finite."""
         h = self.header
         finite = dr.isfinite(t[0]) & dr.isfinite(t[1]) & dr.isfinite(t[2])
+        if h.clip:
+            # A NaN u makes every band NaN, as the other decoders' clip keeps it.
+            finite &= ~(dr.isnan(t[3]) | dr.isnan(t[4]) | dr.isnan(t[5]))
         x_, y_, z_ = (dr.select(finite, t[i], 0.0) for i in range(3))
         s = x_ + y_ + z_
         lit = s > 0

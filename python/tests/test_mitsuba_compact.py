@@ -246,3 +246,42 @@ def test_mitsubas_reader_and_the_librarys_read_the_same_texels(variant, tmp_path
     assert buf.write(str(damaged))
     with pytest.raises(Exception, match="specconvCompact: .*a second .clip. line"):
         _texture({"type": "specconv_compact", "filename": str(damaged)})
+
+
+def test_hostile_texels_decode_as_numpy_decodes_them(variant, tmp_path):
+    """Texels no conversion writes (another writer's, or damaged): NaN and infinite u, huge and
+    negative colours, X+Y+Z = 0 with u ≠ 0. Each lookup is numpy's decoding of that texel
+    (NaN where it is NaN), never a crash."""
+    compact = tmp_path / "compact.exr"
+    specconv.convert(str(tc.IMAGES / "photo.jpg"), compact, layout="compact", mip=False)
+    buf = oiio.ImageBuf(str(compact))
+    pixels = buf.get_pixels(oiio.FLOAT)
+    names = list(buf.spec().channelnames)
+    cols = [names.index(c) for c in ("C.X", "C.Y", "C.Z", "U.0", "U.1", "U.2")]
+    nan, inf = float("nan"), float("inf")
+    hostile = [
+        [0.2, 0.3, 0.1, nan, 0.0, 0.0],
+        [0.2, 0.3, 0.1, inf, 0.0, 0.0],
+        [0.2, 0.3, 0.1, -inf, 1.0, 0.0],
+        [1e30, 1e30, 1e30, 0.0, 0.0, 0.0],
+        [-0.5, 0.2, 0.1, 0.0, 0.0, 0.0],
+        [0.0, 0.0, 0.0, 5.0, -3.0, 1.0],
+        [3e38, -3e38, 3e38, 1e30, 0.0, -1e30],
+    ]
+    for i, t in enumerate(hostile):
+        pixels[0, i, cols] = t
+    damaged = tmp_path / "hostile.exr"
+    out = oiio.ImageBuf(buf.spec())  # the header as convert wrote it, these pixels
+    assert out.set_pixels(out.roi, pixels)
+    assert out.write(str(damaged))
+    image = specconv.read_compact(damaged)
+    np.testing.assert_array_equal(image.texels[0, : len(hostile)], np.float32(hostile))
+    h, w, _ = image.texels.shape
+    wl = specconv.compact.parse(image.text).wavelengths
+    uvs = (np.stack([np.arange(len(hostile)), np.zeros(len(hostile))], -1) + 0.5) / [w, h]
+    tex = _texture({"type": "specconv_compact", "filename": str(damaged), "filter_type": "nearest"})
+    got = _eval(tex, uvs, wl)
+    want = specconv.decode(image.text, image.texels[0, : len(hostile)])
+    assert np.array_equal(np.isnan(got), np.isnan(want))
+    ok = ~np.isnan(want)
+    np.testing.assert_allclose(got[ok], want[ok], rtol=1e-5, atol=1e-6)
