@@ -78,7 +78,8 @@ def main() -> int:
         for name in names:
             out = subprocess.run(
                 [sys.executable, __file__, args.image, "--child", name, "--work", work]
-                + [f"--{k}={getattr(args, k)}" for k in ("res", "spp", "rounds", "variant", "scene")],
+                + [f"--{k}={getattr(args, k)}" for k in ("res", "spp", "rounds", "variant")]
+                + [f"--scene={args.scene}"],
                 capture_output=True,
                 text=True,
                 env=dict(os.environ, SPECCONV_BENCH_FILES=json.dumps(files)),
@@ -89,7 +90,8 @@ def main() -> int:
             runs[name].append(json.loads(out.stdout.strip().splitlines()[-1]))
     best = {n: {k: min(r[k] for r in runs[n]) for k in runs[n][0]} for n in names}
     base = best["bitmap"] if "bitmap" in best else None
-    print(f"\n{'texture':20s} {'load s':>8s} {'peak MB':>8s} {'render s':>9s}   × bitmap: load, memory, render")
+    print(f"\n{'texture':20s} {'load s':>8s} {'peak MB':>8s} {'render s':>9s}", end="")
+    print("   × bitmap: load, memory, render")
     for n in names:
         b = best[n]
         line = f"{n:20s} {b['load']:8.2f} {b['peak'] / 1e6:8.0f} {b['render']:9.3f}"
@@ -194,7 +196,11 @@ def room(mi, texture: dict, res: int, spp: int) -> dict:
             "film": {"type": "hdrfilm", "width": res, "height": res, "pixel_format": "xyz"},
             "sampler": {"type": "independent", "sample_count": spp},
         },
-        "floor": {"type": "rectangle", "to_world": T().translate([0, -1, 0]).rotate([1, 0, 0], -90), "bsdf": textured},
+        "floor": {
+            "type": "rectangle",
+            "to_world": T().translate([0, -1, 0]).rotate([1, 0, 0], -90),
+            "bsdf": textured,
+        },
         "ceiling": wall(T().translate([0, 1, 0]).rotate([1, 0, 0], 90)),
         "back": wall(T().translate([0, 0, -1])),
         "left": wall(T().translate([-1, 0, 0]).rotate([0, 1, 0], 90)),

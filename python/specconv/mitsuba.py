@@ -6,22 +6,25 @@
     specconv.mitsuba.register()                # after set_variant: plugins are per variant
 
     {"type": "diffuse", "reflectance": {"type": "specconv_spectral", "filename": "albedo.exr"}}
+    {"type": "diffuse", "reflectance": {"type": "specconv_compact", "filename": "albedo_c.exr"}}
     {"type": "diffuse", "reflectance": {"type": "specconv_rgb", "filename": "albedo.png"}}
 
 ``specconv_spectral`` reads a Fichet 2021 reflectance file (ours or any other writer's, any
-wavelength list). ``specconv_rgb`` reads an RGB texture and uplifts every texel once, at load,
-with a specconv model (``specconv.rgb_to_xyz`` then ``specconv.uplift``: the spectra ``convert``
-would bake), so a scene ships the RGB file, not the 14× larger spectral one. Per texel was
-chosen over per lookup by measured render time (docs/renderers.md, python/bench/render.py).
+wavelength list) and looks it up as one trilinear fetch of a 3D texture whose depth axis is the
+band: bilinear in uv and linear in wavelength commute.
 
-Both then evaluate alike, as Mitsuba's own ``bitmap`` does in space and as the layout's reference
+``specconv_compact`` holds a compact file's six values per texel (docs/compact.md) and decodes
+the model's spectra at each lookup in Dr.Jit: the four nearest texels' spectra at the path's
+wavelengths, weighted bilinearly as ``bitmap`` weighs its texels'. ``specconv_rgb`` makes those
+texels of any image at load through the library (``convert(layout="compact")``: its colour,
+alpha and data-map rules), so a scene ships the RGB file itself.
+
+All evaluate alike, as Mitsuba's own ``bitmap`` does in space and as the layout's reference
 (afichet/spectral-exr) integrates in wavelength:
 - uv: ``to_uv`` applied, texel centres at (i + ½)/size, v = 0 at the first row the file stores
   (``bitmap``'s orientation), ``filter_type`` bilinear|nearest, ``wrap_mode`` repeat|mirror|clamp;
-- wavelength: linear between the file's bands, zero outside its range (the reference integrates
+- wavelength: linear between the bands, zero outside their range (the reference integrates
   nothing there, and Mitsuba's own ``regular``/``irregular`` spectra are zero there too).
-Bilinear in uv and linear in wavelength commute, so both are one trilinear lookup in a 3D
-texture whose depth axis is the band index.
 
 MIP levels: Mitsuba 3's integrators give textures no footprint (``si.duv_dx`` is zero; its
 ``bitmap`` has no MIP mapping either), so level 0 is read; ``level`` picks another by hand.
@@ -40,7 +43,7 @@ import numpy as np
 
 import specconv
 from specconv import compact
-from specconv._specconv import check_compact_header
+from specconv._specconv import check_compact_header, check_readable
 
 SPECTRAL = "specconv_spectral"
 COMPACT = "specconv_compact"
@@ -74,7 +77,7 @@ _CLASSES: dict = {}
 
 
 def _classes(variant: str):
-    """The two texture classes for one variant: ``mi.Texture`` is a different class per variant."""
+    """The texture classes for one variant: ``mi.Texture`` is a different class per variant."""
     if variant not in _CLASSES:
         _CLASSES[variant] = _define(variant)
     return _CLASSES[variant]
@@ -354,7 +357,8 @@ class _Decoder:
                     for t, form in enumerate(forms):
                         a, b, c, d = form[1][leaf]
                         i = t * len(firsts) + e
-                        acc[i] = dr.fma(a, g.x, dr.fma(b, g.y, dr.fma(c, g.z, dr.fma(d, g.w, acc[i]))))
+                        v = dr.fma(c, g.z, dr.fma(d, g.w, acc[i]))
+                        acc[i] = dr.fma(a, g.x, dr.fma(b, g.y, v))
                 return tuple(acc)
 
             sums = dr.if_stmt(sums, used, add, lambda *acc: acc, mode="symbolic")
@@ -533,12 +537,15 @@ def compact_file(path: str, level: int = 0) -> tuple[str, np.ndarray]:
     if level != 0:
         image = specconv.read_compact(path, level=level)
         return image.text, image.texels
+    check_readable(path)  # a FIFO would hold Mitsuba's reader for ever
     bitmap = mi.Bitmap(path)
     meta = bitmap.metadata()
     keys = set(meta.keys())
     fields = bitmap.struct_()
     names = [fields[i].name for i in range(len(fields))]
-    layout, text = (str(meta[k]) if k in keys else None for k in ("specconvLayout", "specconvCompact"))
+    layout, text = (
+        str(meta[k]) if k in keys else None for k in ("specconvLayout", "specconvCompact")
+    )
     text, columns = check_compact_header(path, layout, text, names)
     pixels = np.array(bitmap, copy=False).reshape(bitmap.height(), bitmap.width(), len(names))
     if list(columns) == list(range(len(names))) and pixels.dtype == np.float32:
@@ -571,7 +578,8 @@ def _resolve(path: str) -> str:
 
 def _mean(wavelengths: np.ndarray, values: np.ndarray) -> float:
     """Mean over texels and over Mitsuba's wavelength range, zero outside the bands (as eval)."""
-    return _mean_of(wavelengths, values.reshape(-1, values.shape[-1]).mean(axis=0, dtype=np.float64))
+    spectrum = values.reshape(-1, values.shape[-1]).mean(axis=0, dtype=np.float64)
+    return _mean_of(wavelengths, spectrum)
 
 
 def _mean_of(wavelengths: np.ndarray, spectrum: np.ndarray) -> float:

@@ -181,6 +181,16 @@ fn alpha_array(
     })
 }
 
+/// Refuses a path that is missing or not a regular file (a FIFO, a device, a directory), by
+/// kind, before anything opens it, as every reader of the library does: for readers outside
+/// it (Mitsuba's), which would wait on a FIFO for ever.
+#[pyfunction]
+pub fn check_readable(path: FsPath) -> PyResult<()> {
+    specconv_atomic_file::readable_file(&path.0).map_err(|e| {
+        crate::errors::conversion(specconv_conversion::ConversionError::from(e).into())
+    })
+}
+
 /// Whether the file `path`, read by another reader (Mitsuba's), is a compact texture, from its
 /// header: its layout and decoding-text attributes (`None` where absent) and channel names.
 /// Returns the text as the library writes it and the columns of C.X … U.2 among `channels`;

@@ -195,12 +195,15 @@ def test_rgb_route_reads_an_acescg_exr_as_acescg(variant, tmp_path):
     (names, pixels, _) = tc.levels(baked)[0]
     want, wl = tc.bands(names, pixels)
     centres = np.stack(np.meshgrid((np.arange(7) + 0.5) / 7, (np.arange(6) + 0.5) / 6), -1)
-    got = _eval(_texture({"type": "specconv_rgb", "filename": str(exr)}), centres.reshape(-1, 2), wl)
+    texture = _texture({"type": "specconv_rgb", "filename": str(exr)})
+    got = _eval(texture, centres.reshape(-1, 2), wl)
     assert _steps(got, want.reshape(-1, len(wl))).max() <= 1.0 + 1e-9
     # Colour under D65, the uplift's white: colour-science's ACEScg → XYZ of the texels.
     cs = colour.RGB_COLOURSPACES["ACEScg"]
     d65 = colour.CCS_ILLUMINANTS["CIE 1931 2 Degree Standard Observer"]["D65"]
-    xyz = colour.RGB_to_XYZ(rgb.reshape(-1, 3), cs, d65, chromatic_adaptation_transform="Bradford")
+    xyz = colour.RGB_to_XYZ(
+        rgb.reshape(-1, 3), cs, d65, chromatic_adaptation_transform="Bradford"
+    )
     ours = ref.predicted_xyz(wl, got, "D65")
     # Measured 2.9·10⁻⁵ (Bradford, as the ACES config adapts); read as Rec.709 instead (what
     # Mitsuba's own reader made of it before) the same texels are ≥ 0.01 away.
@@ -285,3 +288,13 @@ def test_hostile_texels_decode_as_numpy_decodes_them(variant, tmp_path):
     assert np.array_equal(np.isnan(got), np.isnan(want))
     ok = ~np.isnan(want)
     np.testing.assert_allclose(got[ok], want[ok], rtol=1e-5, atol=1e-6)
+
+
+def test_a_fifo_is_refused_by_kind_not_waited_on(variant, tmp_path):
+    """A FIFO named as a texture (a planted name in a shared folder): refused before Mitsuba's
+    reader or the library opens it, which would wait for a writer for ever."""
+    fifo = tmp_path / "albedo_compact.exr"
+    os.mkfifo(fifo)
+    for kind in ("specconv_compact", "specconv_rgb"):
+        with pytest.raises(Exception, match="FIFO|fifo|not a regular file|special"):
+            _texture({"type": kind, "filename": str(fifo)})
