@@ -312,10 +312,10 @@ class _Bands:
 
 class _Decoder:
     """docs/compact.md's rule on Dr.Jit values, for one header. In the JIT variants it is traced
-    into the lookup's kernel, every leaf summed; in the scalar ones it runs per lookup in plain
-    Python, leaves of weight 0 skipped. Per wavelength the two bands around it are decoded and
-    interpolated linearly (the clip acts per band, before); zero outside the bands, as the
-    spectral file's lookup."""
+    into the lookup's kernel, each leaf a branch that runs for packets where some texel weighs
+    it; in the scalar ones it runs per lookup in plain Python, leaves of weight 0 skipped. Per
+    wavelength the two bands around it are decoded and interpolated linearly (the clip acts per
+    band, before); zero outside the bands, as the spectral file's lookup."""
 
     def __init__(self, header: compact.Header, bands: "_Bands", jit: bool):
         self.header, self.bands, self.jit = header, bands, jit
@@ -364,7 +364,7 @@ class _Decoder:
             sums = dr.if_stmt(sums, used, add, lambda *acc: acc, mode="symbolic")
         if self.header.clip:
             # B·u, a branch of its own: u = 0 for the texels already in [0, 1].
-            projected = forms[0][2][0] != 0
+            projected = mi.Bool(False)
             for form in forms:
                 projected |= (form[2][0] != 0) | (form[2][1] != 0) | (form[2][2] != 0)
 
