@@ -26,7 +26,6 @@ import OpenImageIO as oiio  # noqa: E402
 import test_compact as tc  # noqa: E402  (the cases and the chart of the numpy decoder's tests)
 from test_mitsuba import (  # noqa: E402  (fixtures and helpers of the spectral texture's tests)
     SPP,
-    VARIANTS,
     _eval,
     _gap,
     _layout,
@@ -43,8 +42,6 @@ import specconv  # noqa: E402
 # half subnormals) may come out within a few float32 roundings of it: 2⁻²² absolute at most.
 FLOOR = 2.0**-22
 
-assert VARIANTS  # the variant fixture's parameters, imported with it
-
 
 def _steps(got, want):
     """|got − want| in half steps of `want` (the file's half), with FLOOR's absolute floor."""
@@ -57,7 +54,7 @@ def test_every_texel_is_the_baked_spectrum_at_the_bands_and_between(
     variant, tmp_path, name, image, options
 ):
     """Each texel's lookup (`nearest`: a texel centre in float32 is not exactly one texel's,
-    and bilinear weighs its neighbours by up to 10⁻⁶): within one half step of the baked file
+    and bilinear weighs its neighbours by a few 10⁻⁶): within one half step of the baked file
     at its bands, and of its linear interpolation at 1,000 random wavelengths (every texel in
     the JIT variant; 150 in the scalar one, a Python call per lookup); NaN where it has NaN."""
     if image is None:
@@ -116,7 +113,7 @@ def test_lookup_is_the_spectral_files_lookup_at_any_uv(variant, tmp_path):
                 probes,
             )
             # Both weigh the same texels alike (the spectral texture's `nearest` is its bilinear
-            # lookup at the texel centre, whose float32 uv weighs a neighbour by up to 10⁻⁵);
+            # lookup at the texel centre, whose float32 uv weighs a neighbour by a few 10⁻⁶);
             # the float file holds the spectra to float32, the decoder sums in float32
             # (measured up to 6·10⁻⁷ from a double sum).
             np.testing.assert_allclose(
