@@ -540,13 +540,11 @@ def compact_file(path: str, level: int = 0) -> tuple[str, np.ndarray]:
     check_readable(path)  # a FIFO would hold Mitsuba's reader for ever
     bitmap = mi.Bitmap(path)
     meta = bitmap.metadata()
-    keys = set(meta.keys())
     fields = bitmap.struct_()
     names = [fields[i].name for i in range(len(fields))]
-    layout, text = (
-        str(meta[k]) if k in keys else None for k in ("specconvLayout", "specconvCompact")
-    )
-    text, columns = check_compact_header(path, layout, text, names)
+    # Every text attribute: which ones make a compact file is the library's to say.
+    attributes = {k: meta[k] for k in meta.keys() if isinstance(meta[k], str)}
+    text, columns = check_compact_header(path, attributes, names)
     pixels = np.array(bitmap, copy=False).reshape(bitmap.height(), bitmap.width(), len(names))
     if list(columns) == list(range(len(names))) and pixels.dtype == np.float32:
         return text, pixels  # the file's own buffer: no copy

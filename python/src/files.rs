@@ -192,18 +192,18 @@ pub fn check_readable(path: FsPath) -> PyResult<()> {
 }
 
 /// Whether the file `path`, read by another reader (Mitsuba's), is a compact texture, from its
-/// header: its layout and decoding-text attributes (`None` where absent) and channel names.
-/// Returns the text as the library writes it and the columns of C.X … U.2 among `channels`;
-/// otherwise raises `InputError` saying what is missing or wrong (a text's line and reason).
+/// header: `attributes` its text attributes by name (the library picks the ones it needs) and
+/// `channels` its channel names. Returns the text as the library writes it and the columns of
+/// C.X … U.2 among `channels`; otherwise raises `InputError` saying what is missing or wrong.
 #[pyfunction]
 pub fn check_compact_header(
     path: FsPath,
-    layout: Option<&str>,
-    text: Option<&str>,
+    attributes: std::collections::HashMap<String, String>,
     channels: Vec<String>,
 ) -> PyResult<(String, [usize; 6])> {
     let names: Vec<&str> = channels.iter().map(String::as_str).collect();
-    specconv_conversion::check_compact_header(&path.0, layout, text, &names)
+    let attribute = |name: &str| attributes.get(name).cloned();
+    specconv_conversion::check_compact_header(&path.0, &attribute, &names)
         .map_err(crate::errors::conversion)
 }
 
