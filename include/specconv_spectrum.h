@@ -46,7 +46,8 @@ int scs_bands(const scs_model *m);
 const double *scs_wavelengths(const scs_model *m);
 
 /* The spectrum of a texel (X, Y, Z, u0, u1, u2) at the model's wavelengths: out holds
- * scs_bands(m) values. A NaN or infinite X, Y or Z gives NaN in every band. */
+ * scs_bands(m) values. A NaN or infinite X, Y or Z (or u, with clip 1) gives NaN in every
+ * band. */
 void scs_decode_bands(const scs_model *m, const float texel[6], float *out);
 
 /* The spectrum at any wavelength: the linear interpolation of the two neighbouring bands
@@ -425,7 +426,8 @@ int scs_bands(const scs_model *m) { return m->n; }
 
 const double *scs_wavelengths(const scs_model *m) { return m->wl; }
 
-/* The texel's colour, chromaticity and λ_dark ("The rule"); 0 when X, Y or Z is not finite. */
+/* The texel's colour, chromaticity and λ_dark ("The rule"); 0 when X, Y or Z is not finite,
+ * or u where the rule adds it (clip 1). */
 typedef struct {
     double c[3], u[3], xy[2], dark;
 } scs_texel_;
@@ -434,7 +436,7 @@ static int scs_read_texel_(const scs_model *m, const float t[6], scs_texel_ *out
     double s;
     int i;
     for (i = 0; i < 3; i++) {
-        if (!isfinite(t[i])) return 0;
+        if (!isfinite(t[i]) || (m->clip && !isfinite(t[3 + i]))) return 0;
         out->c[i] = t[i];
         out->u[i] = t[3 + i];
     }

@@ -127,7 +127,11 @@ def decode(
     lead = t.shape[:-1]
     t = t.reshape(-1, 6)
     c, u = t[:, :3], t[:, 3:]
+    # A texel with a value that is not finite (u too, where the rule adds it) is NaN
+    # throughout: an infinite u would leave NaN only where a `b` row is 0 (∞·0).
     finite = np.all(np.isfinite(c), axis=1)
+    if h.clip:
+        finite &= np.all(np.isfinite(u), axis=1)
     c = np.where(finite[:, None], c, 0.0)
     s = c.sum(axis=1)
     # X+Y+Z <= 0 has no chromaticity: the white point's leaves, without the offset.
@@ -140,7 +144,7 @@ def decode(
     m = np.einsum("pl,lkn->pkn", w, h.maps)
     r = np.einsum("pk,pkn->pn", c, m[:, :3, :]) + dark[:, None] * m[:, 3, :]
     if h.clip:
-        r = np.clip(r + u @ h.b, 0.0, 1.0)
+        r = np.clip(r + np.where(finite[:, None], u, 0.0) @ h.b, 0.0, 1.0)
     r[~finite] = np.nan
     if wavelengths is not None:
         at = np.asarray(wavelengths, dtype=np.float64)

@@ -47,6 +47,8 @@ from specconv._specconv import check_compact_header, check_readable
 
 SPECTRAL = "specconv_spectral"
 COMPACT = "specconv_compact"
+# The largest float32: where the unbounded rule's sums saturate.
+F32_MAX = float(np.finfo(np.float32).max)
 RENDER_TIME = "specconv_rgb"
 
 _FILTERS = {"bilinear": False, "nearest": True}
@@ -362,6 +364,14 @@ class _Decoder:
                 return tuple(acc)
 
             sums = dr.if_stmt(sums, used, add, lambda *acc: acc, mode="symbolic")
+        huge = forms[0][4] != 1.0
+        for form in forms[1:]:
+            huge |= form[4] != 1.0
+
+        def scale_back(*acc):
+            return tuple(v * forms[i // len(firsts)][4] for i, v in enumerate(acc))
+
+        sums = dr.if_stmt(sums, huge, scale_back, lambda *acc: acc, mode="symbolic")
         if self.header.clip:
             # B·u, a branch of its own: u = 0 for the texels already in [0, 1].
             projected = mi.Bool(False)
@@ -379,10 +389,13 @@ class _Decoder:
 
             sums = dr.if_stmt(sums, projected, add_bu, lambda *acc: acc, mode="symbolic")
             sums = tuple(dr.clip(v, 0.0, 1.0) for v in sums)
+        else:
+            # Unbounded, a sum beyond float32 saturates at its largest value, as the reference.
+            sums = tuple(dr.clip(v, -F32_MAX, F32_MAX) for v in sums)
         out = []
         for p, (_, f, inside) in enumerate(positions):
             total = mi.Float(0.0)
-            for t, ((_, _, _, finite), w) in enumerate(zip(forms, weights)):
+            for t, ((_, _, _, finite, _), w) in enumerate(zip(forms, weights)):
                 r0, r1 = (sums[t * len(firsts) + 2 * p + h] for h in (0, 1))
                 r = dr.select(finite, dr.fma(f, r1 - r0, r0), dr.nan)
                 total = dr.fma(w, r, total)
@@ -395,15 +408,25 @@ class _Decoder:
         h = self.header
         finite = dr.isfinite(t[0]) & dr.isfinite(t[1]) & dr.isfinite(t[2])
         if h.clip:
-            # A NaN u makes every band NaN, as the other decoders' clip keeps it.
-            finite &= ~(dr.isnan(t[3]) | dr.isnan(t[4]) | dr.isnan(t[5]))
+            # A u that is not finite makes every band NaN (docs/compact.md).
+            finite &= dr.isfinite(t[3]) & dr.isfinite(t[4]) & dr.isfinite(t[5])
         x_, y_, z_ = (dr.select(finite, t[i], 0.0) for i in range(3))
+        # The reference's overflow guard: a colour so large that X+Y+Z or T·c would overflow
+        # float32 is summed scaled down and the sums scaled back (`weighted`). The scale is
+        # the power of two 2ᵏ that brings the largest component below 2¹⁰¹ (k = 0 below it):
+        # exact, and two multiplies where a division would cost more.
+        m = dr.maximum(dr.maximum(dr.abs(x_), dr.abs(y_)), dr.abs(z_))
+        k = dr.maximum(dr.reinterpret_array(mi.UInt32, m) >> 23, 227) - 227
+        up = dr.reinterpret_array(mi.Float, (127 + k) << 23)
+        down = dr.reinterpret_array(mi.Float, (127 - k) << 23)
+        x_, y_, z_ = x_ * down, y_ * down, z_ * down
         s = x_ + y_ + z_
         lit = s > 0
         safe = dr.select(lit, s, 1.0)
         x = dr.select(lit, x_ / safe, h.white[0])
         y = dr.select(lit, y_ / safe, h.white[1])
-        dark = dr.select(lit, dr.minimum(s / h.dark, 1.0), 0.0)
+        dark = dr.select(lit, dr.minimum(s * up / h.dark, 1.0), 0.0) * down
+        scale = up
         leaf = [mi.Float(0.0) for _ in range(self.leaves)]
 
         def add(i, weight):
@@ -423,7 +446,7 @@ class _Decoder:
 
         add(0, mi.Float(1.0))
         k = [(w * x_, w * y_, w * z_, w * dark) for w in leaf]
-        return leaf, k, (t[3], t[4], t[5]), finite
+        return leaf, k, (t[3], t[4], t[5]), finite, scale
 
     def _position(self, lam):
         """Band j, fraction f towards band j + 1, and whether lam is within the bands."""
@@ -463,7 +486,8 @@ class _Decoder:
         """(leaf, weight) of the leaves that count, (X, Y, Z, λ_dark) and u; None if not finite."""
         h = self.header
         c = [float(t[i]) for i in range(3)]
-        if not all(math.isfinite(v) for v in c):
+        u = (float(t[3]), float(t[4]), float(t[5]))
+        if not all(math.isfinite(v) for v in c + list(u) * h.clip):
             return None
         s = c[0] + c[1] + c[2]
         x, y = (c[0] / s, c[1] / s) if s > 0 else h.white
@@ -485,7 +509,7 @@ class _Decoder:
             for node_, part in ((above, weight * step), (below, weight * (1 - step))):
                 if part > 0:
                     stack.append((node_, part))
-        return leaves, (c[0], c[1], c[2], dark), (float(t[3]), float(t[4]), float(t[5]))
+        return leaves, (c[0], c[1], c[2], dark), u
 
     def _band_scalar(self, row, leaves, c, u):
         r = 0.0
@@ -493,7 +517,7 @@ class _Decoder:
             g = row[leaf]
             r += w * (g[0] * c[0] + g[1] * c[1] + g[2] * c[2] + g[3] * c[3])
         if not self.header.clip:
-            return r
+            return min(max(r, -F32_MAX), F32_MAX)
         g = row[self.leaves]
         return min(max(r + g[0] * u[0] + g[1] * u[1] + g[2] * u[2], 0.0), 1.0)
 

@@ -3,6 +3,8 @@ read through OpenImageIO's Python bindings: level 0 against the spectral file co
 for the same input and settings, at the bands and at random wavelengths; the smaller levels'
 colours against that file's filtered spectra under D65, A and F11 (colour-science's CIEDE2000).
 """
+import subprocess
+
 import colour
 import numpy as np
 import OpenImageIO as oiio
@@ -56,6 +58,106 @@ def texels(names, pixels):
 def half_spacing(v):
     """The spacing of half floats at |v| (their subnormals' below 2^-14)."""
     return 2.0 ** (np.floor(np.log2(np.maximum(np.abs(v), 2.0**-14))) - 10)
+
+
+# Colours whose float32 sums would overflow without the reference's guard (X+Y+Z above the
+# largest float32, T·c beyond it), with and without u: every decoder must scale them.
+HUGE = [
+    [3e38, 3e38, 3e38, 0, 0, 0],
+    [3e38, 1e38, 2e38, 0, 0, 0],
+    [-3e38, 1e38, 3e38, 0, 0, 0],
+    [3e38, -3e38, 3e38, 1e30, 0, -1e30],
+    [1e30, 2e30, 1e30, 5.0, -3.0, 1.0],
+    [1e-40, 2e-40, 1e-40, 0, 0, 0],  # float32 subnormals
+]
+
+
+def random_texels(header, count, seed):
+    """`count` texels of every kind a decoder meets, most of them no conversion writes: colours
+    of sRGB from near black to HDR, with u = 0 or a random u; wild colours (any sign, 10⁻³⁰ to
+    10⁴); black and signed zeros; chromaticities inside the tree's blend bands (where the
+    weights are smoothsteps); NaN and ±∞ in any of the six values; then HUGE."""
+    rng = np.random.default_rng(seed)
+    srgb = np.array([[0.4124, 0.3576, 0.1805], [0.2126, 0.7152, 0.0722], [0.0193, 0.1192, 0.9505]])
+    kind = rng.choice(6, size=count, p=[0.35, 0.2, 0.15, 0.05, 0.15, 0.10])
+    t = np.zeros((count, 6))
+    t[:, :3] = rng.random((count, 3)) @ srgb.T * 10 ** rng.uniform(-3, 0.5, (count, 1))
+    wild = rng.standard_normal((count, 3)) * 10 ** rng.uniform(-30, 4, (count, 3))
+    t[kind == 2, :3] = wild[kind == 2]
+    t[kind == 3, :3] = rng.choice([0.0, -0.0, 1e-30, -1e-30], size=(count, 3))[kind == 3]
+    splits = [n for n in header.nodes if n[0] == "split"]
+    xy = np.tile(np.array(header.white), (count, 1))
+    pick = rng.integers(0, len(splits), count)
+    for i, (_, axis, v, _, _, width) in enumerate(splits):
+        at = pick == i
+        xy[at, axis] = v + max(width, 1e-3) * rng.uniform(-1.2, 1.2, at.sum())
+        xy[at, 1 - axis] += rng.uniform(-0.05, 0.05, at.sum())
+    y = 10 ** rng.uniform(-3, 0, count)
+    band = np.stack([xy[:, 0] / xy[:, 1] * y, y, (1 - xy[:, 0] - xy[:, 1]) / xy[:, 1] * y], -1)
+    t[kind == 4, :3] = band[kind == 4]
+    u = rng.standard_normal((count, 3)) * 10 ** rng.uniform(-4, 1, (count, 1))
+    with_u = (kind == 1) | ((kind >= 2) & (rng.random(count) < 0.5))
+    t[with_u, 3:] = u[with_u]
+    bad = np.flatnonzero(kind == 5)
+    t[bad, rng.integers(0, 6, len(bad))] = rng.choice([np.nan, np.inf, -np.inf], len(bad))
+    t[-len(HUGE) :] = HUGE
+    return t.astype(np.float32)
+
+
+def random_compact_file(folder, count=100_000, seed=34):
+    """A compact file (float32 bands when expanded, scanlines, no MIP levels) of `count`
+    random_texels (400 a row) under the header `convert` writes for the photograph: its path,
+    text and texels [count, 6]."""
+    base = folder / "base.exr"
+    specconv.convert(IMAGES / "photo.jpg", base, layout="compact", mip=False, sample="float")
+    inp = oiio.ImageInput.open(str(base))
+    spec = inp.spec()
+    inp.close()
+    text = spec.getattribute("specconvCompact")
+    t = random_texels(specconv.compact.parse(text), count, seed)
+    width = 400
+    out_spec = oiio.ImageSpec(width, count // width, len(spec.channelnames), "float")
+    out_spec.channelnames = list(spec.channelnames)
+    for a in spec.extra_attribs:
+        if a.name.startswith("specconv"):
+            out_spec.attribute(a.name, a.value)
+    names = list(spec.channelnames)
+    pixels = np.zeros((count // width, width, len(names)), np.float32)
+    pixels[..., [names.index(c) for c in ("C.X", "C.Y", "C.Z", "U.0", "U.1", "U.2")]] = t.reshape(
+        count // width, width, 6
+    )
+    path = folder / "random.exr"
+    out = oiio.ImageOutput.create(str(path))
+    assert out.open(str(path), out_spec), out.geterror()
+    assert out.write_image(pixels), out.geterror()
+    out.close()
+    return path, text, t
+
+
+def float32_bound(text, t):
+    """How far a float32 decoder may be from the double-precision rule, per texel and band:
+    2⁻¹⁶ of the sum of the terms' magnitudes S (Σᵢ wᵢ(|T|·|c| + λ_dark·|o|) + |B|·|u|), at most
+    2⁻¹⁰ (the bands are clipped to [0, 1]), at least 2⁻¹²⁶. A float32 sum of such terms errs by a few 2⁻²⁴·S,
+    and the blend weights of a float32 chromaticity by up to 3/(4·width)·2⁻²⁴ (width ≥ 0.02)
+    relative: 2⁻¹⁶ is eight times that. A decoder that breaks the rule (a weight, λ_dark,
+    the white point's leaf, B·u, the clip, the guard of huge colours) misses it by far."""
+    h = specconv.compact.parse(text)
+    t = t.astype(np.float64)
+    finite = np.isfinite(t).all(axis=1)
+    c = np.where(finite[:, None], t[:, :3], 0.0)
+    u = np.where(finite[:, None], t[:, 3:], 0.0)
+    m = np.max(np.abs(c), axis=1, keepdims=True)
+    unit = c / np.where(m > 0, m, 1.0)  # as the guard: no overflow
+    s = unit.sum(axis=1) * m[:, 0]
+    lit = s > 0
+    xy = np.where(lit[:, None], unit[:, :2] / np.where(lit, unit.sum(axis=1), 1.0)[:, None], h.white)
+    dark = np.where(lit, np.minimum(s / h.dark, 1.0), 0.0)
+    maps = np.einsum("pl,lkn->pkn", specconv.compact._weights(h, xy), np.abs(h.maps))
+    size = np.einsum("pk,pkn->pn", np.abs(c), maps[:, :3]) + dark[:, None] * maps[:, 3]
+    size += np.abs(u) @ np.abs(h.b)
+    # At least float32's smallest normal: a float32 decoder may flush subnormals to zero
+    # (Dr.Jit's LLVM backend does).
+    return np.maximum(np.minimum(2.0**-16 * size, 2.0**-10), 2.0**-126)
 
 
 CASES = [
@@ -172,3 +274,43 @@ def test_read_compact_is_what_openimageio_reads(tmp_path):
     ]:
         with pytest.raises(specconv.InputError, match=f"not a compact texture: {why}"):
             check(compact, attributes, channels)
+
+
+def test_the_decoders_agree_on_100000_random_texels(tmp_path, cli):
+    """One rule, four decoders: numpy's (specconv.decode, double precision, the reference
+    here), the library's (`specconv expand`, float32 bands read back by OpenImageIO) and the
+    C header's (tests/c/decode_check.c --print, compiled here) on 100,000 random_texels, most
+    of them no conversion writes: NaN in the same texels (every band of them), every other
+    value within float32_bound. test_mitsuba_compact.py holds Mitsuba's decoder to the same."""
+    path, text, t = random_compact_file(tmp_path)
+    want = specconv.decode(text, t)
+    bound = float32_bound(text, t)
+    nan = np.isnan(want)
+    assert np.array_equal(nan.any(axis=1), nan.all(axis=1)), "NaN is the whole texel"
+    assert 3000 < nan.all(axis=1).sum() < 20000, nan.all(axis=1).sum()
+
+    cli("expand", path, tmp_path / "expanded.exr")
+    names, pixels, _ = levels(tmp_path / "expanded.exr")[0]
+    library = bands(names, pixels)[0].reshape(len(t), -1)
+
+    cc = __import__("shutil").which("cc")
+    if cc is None:
+        pytest.fail("no C compiler (cc) on PATH: install build-essential")
+    exe = tmp_path / "decode_check"
+    subprocess.run(
+        [cc, "-std=c99", "-O2", "-I", ROOT / "include", ROOT / "tests/c/decode_check.c", "-o", exe, "-lm"],
+        check=True,
+    )
+    (tmp_path / "text").write_text(text)
+    table = tmp_path / "texels.txt"
+    np.savetxt(table, t, fmt="%.9g", header=f"{len(t)} 6", comments="")
+    out = subprocess.run([exe, "--print", tmp_path / "text", table], check=True, capture_output=True)
+    header = np.loadtxt(__import__("io").BytesIO(out.stdout), dtype=np.float64)
+
+    for name, got in (("the library", library), ("the C header", header)):
+        assert got.shape == want.shape, name
+        assert np.array_equal(np.isnan(got), nan), name
+        err = np.abs(got[~nan] - want[~nan])
+        worst = float(np.max(err / np.maximum(bound[~nan], 1e-300)))
+        print(f"{name}: the largest error is {worst:.3g} of the float32 bound")
+        assert np.all(err <= bound[~nan]), (name, worst)

@@ -13,6 +13,9 @@
  *                                       changed to the grammar's own characters, spans cut
  *                                       or repeated) and decodes a few texels with each one
  *                                       parsed: "mutations=N parsed=P refused=R" (exit 0)
+ *   decode_check --print TEXT TEXELS    each texel's spectrum at the bands, a line each (9
+ *                                       digits: the float itself; python/tests/test_compact.py
+ *                                       holds it to the other decoders)
  */
 #define SPECCONV_SPECTRUM_IMPLEMENTATION
 #include "specconv_spectrum.h"
@@ -142,6 +145,29 @@ static int mutate(const char *path, long count) {
     return 0;
 }
 
+/* The --print mode. */
+static int print_bands(const char *header, const char *texels) {
+    char err[512], *text = slurp(header);
+    scs_model *m = scs_model_parse(text, err, sizeof err);
+    long rows, t;
+    int b;
+    float *tex, *out;
+    free(text);
+    if (!m) die(err, header);
+    tex = read_table(texels, &rows, 6, NULL);
+    out = (float *)malloc(sizeof(float) * (size_t)scs_bands(m));
+    if (!out) die("out of memory", texels);
+    for (t = 0; t < rows; t++) {
+        scs_decode_bands(m, tex + 6 * t, out);
+        for (b = 0; b < scs_bands(m); b++) printf(b ? " %.9g" : "%.9g", (double)out[b]);
+        printf("\n");
+    }
+    free(out);
+    free(tex);
+    scs_model_free(m);
+    return 0;
+}
+
 int main(int argc, char **argv) {
     char err[512], *text;
     scs_model *m;
@@ -164,6 +190,7 @@ int main(int argc, char **argv) {
         return 0;
     }
     if (argc == 4 && !strcmp(argv[1], "--mutate")) return mutate(argv[2], atol(argv[3]));
+    if (argc == 4 && !strcmp(argv[1], "--print")) return print_bands(argv[2], argv[3]);
     if (argc != 4) {
         fprintf(stderr, "usage: decode_check HEADER TEXELS BAKED | --parse-only TEXT\n");
         return 2;

@@ -11,8 +11,8 @@
 //! band and u the three dual unknowns of the bounded projection ([`crate::bounded`]; u = 0 when
 //! the method's spectrum is already in [0, 1]). Colours outside the object-colour solid are
 //! projected onto the colour they reach, so they have this form too
-//! ([`Bounded::bound_dual`]). NaN or infinite c give NaN in every band. Unbounded spectra
-//! have u = 0 and no clip.
+//! ([`Bounded::bound_dual`]). A texel with a NaN or infinite value (c, or u where the clip
+//! applies) is NaN in every band. Unbounded spectra have u = 0 and no clip.
 //!
 //! A texel is then six numbers, (X, Y, Z, u₀, u₁, u₂), and [`Compact`] both makes them
 //! ([`Compact::encode_f32`]) and turns them back into spectra ([`Compact::decode_f32`]) with
@@ -181,8 +181,13 @@ impl Compact {
     }
 
     /// The spectrum of one texel in double precision: clip(r₀(c) + Aᵀu, 0, 1) (r₀(c)
-    /// unclipped when the spectra are not bounded).
+    /// unclipped when the spectra are not bounded). NaN throughout when c, or u where the
+    /// rule adds it, is not finite: an infinite u would leave NaN only where a row of A is 0.
     pub fn decode_f64(&self, c: [f64; 3], u: [f64; 3], out: &mut [f64]) {
+        if self.clip && !u.iter().all(|v| v.is_finite()) {
+            out.fill(f64::NAN);
+            return;
+        }
         self.up.uplift_f64(&c, out);
         if self.clip {
             let a = &self.a;
@@ -522,6 +527,33 @@ mod tests {
                 assert!(worst < 2e-5 * 50.0, "unbounded {name} {grid:?}: {worst}");
             }
         }
+    }
+
+    /// An infinite u would give ∞·0 = NaN only in the bands whose row of A is 0 (the long
+    /// wavelengths of z̄) and 0 or 1 elsewhere: the rule makes the whole texel NaN, as for a
+    /// NaN u; unbounded texels do not read u.
+    #[test]
+    fn a_texel_with_a_u_that_is_not_finite_is_nan_in_every_band() {
+        let model = Model::builtin();
+        let d = Description::convert_default(MethodName::Otsu2018);
+        let compact = Compact::new(model, "test", &d).unwrap();
+        let n = compact.grid().len();
+        for u in [
+            [0.0, 0.0, f32::INFINITY],
+            [f32::NEG_INFINITY, 1.0, 0.0],
+            [0.0, f32::NAN, 0.0],
+        ] {
+            let texel = [0.2, 0.3, 0.1, u[0], u[1], u[2]];
+            let mut out = vec![0.0f32; n];
+            compact.decode_f32(&texel, &mut out);
+            assert!(out.iter().all(|v| v.is_nan()), "{u:?}: {out:?}");
+        }
+        let mut unbounded = d.clone();
+        unbounded.bounded = false;
+        let compact = Compact::new(model, "test", &unbounded).unwrap();
+        let mut out = vec![0.0f32; n];
+        compact.decode_f32(&[0.2, 0.3, 0.1, f32::INFINITY, 0.0, 0.0], &mut out);
+        assert!(out.iter().all(|v| v.is_finite()), "{out:?}");
     }
 
     #[test]
