@@ -64,6 +64,7 @@ float scs_decode_at(const scs_model *m, const float texel[6], double wavelength_
 #ifndef SPECCONV_SPECTRUM_IMPLEMENTED
 #define SPECCONV_SPECTRUM_IMPLEMENTED
 
+#include <float.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -503,6 +504,12 @@ static double scs_band_(const scs_model *m, const scs_texel_ *t, int b) {
     return r;
 }
 
+/* A value as float: beyond the largest float it saturates there, as the reference's
+ * unbounded (clip 0) spectra do; within [0, 1] (clip 1) it never comes near. */
+static float scs_float_(double v) {
+    return v > FLT_MAX ? FLT_MAX : v < -FLT_MAX ? -FLT_MAX : (float)v;
+}
+
 void scs_decode_bands(const scs_model *m, const float texel[6], float *out) {
     scs_texel_ t;
     int b;
@@ -510,7 +517,7 @@ void scs_decode_bands(const scs_model *m, const float texel[6], float *out) {
         for (b = 0; b < m->n; b++) out[b] = (float)NAN;
         return;
     }
-    for (b = 0; b < m->n; b++) out[b] = (float)scs_band_(m, &t, b);
+    for (b = 0; b < m->n; b++) out[b] = scs_float_(scs_band_(m, &t, b));
 }
 
 float scs_decode_at(const scs_model *m, const float texel[6], double wavelength_nm) {
@@ -519,15 +526,15 @@ float scs_decode_at(const scs_model *m, const float texel[6], double wavelength_
     double a, b;
     if (!scs_read_texel_(m, texel, &t) || isnan(wavelength_nm)) return (float)NAN;
     /* "Other wavelengths": interpolate the bands' r, not the maps, and hold the ends. */
-    if (wavelength_nm <= m->wl[0]) return (float)scs_band_(m, &t, 0);
-    if (wavelength_nm >= m->wl[hi]) return (float)scs_band_(m, &t, hi);
+    if (wavelength_nm <= m->wl[0]) return scs_float_(scs_band_(m, &t, 0));
+    if (wavelength_nm >= m->wl[hi]) return scs_float_(scs_band_(m, &t, hi));
     while (hi - lo > 1) { /* wl[lo] < λ < wl[hi] */
         int mid = lo + (hi - lo) / 2;
         if (m->wl[mid] <= wavelength_nm) lo = mid; else hi = mid;
     }
     a = scs_band_(m, &t, lo);
     b = scs_band_(m, &t, hi);
-    return (float)(a + (b - a) * (wavelength_nm - m->wl[lo]) / (m->wl[hi] - m->wl[lo]));
+    return scs_float_(a + (b - a) * (wavelength_nm - m->wl[lo]) / (m->wl[hi] - m->wl[lo]));
 }
 
 #endif /* SPECCONV_SPECTRUM_IMPLEMENTED */

@@ -397,7 +397,9 @@ class _Decoder:
             total = mi.Float(0.0)
             for t, ((_, _, _, finite, _), w) in enumerate(zip(forms, weights)):
                 r0, r1 = (sums[t * len(firsts) + 2 * p + h] for h in (0, 1))
-                r = dr.select(finite, dr.fma(f, r1 - r0, r0), dr.nan)
+                # (1 − f)·r0 + f·r1: no r1 − r0 to overflow (unbounded bands near the
+                # largest float), and a band's own value where f is 0 or 1.
+                r = dr.select(finite, dr.fma(f, r1, (1 - f) * r0), dr.nan)
                 total = dr.fma(w, r, total)
             out.append(dr.select(inside, total, 0.0))
         return out
@@ -478,7 +480,7 @@ class _Decoder:
                     total += w * math.nan
                     continue
                 r0, r1 = (self._band_scalar(rows[b], *form) for b in (j, j + 1))
-                total += w * (r0 + f * (r1 - r0))
+                total += w * ((1 - f) * r0 + f * r1)
             out.append(total)
         return out
 

@@ -104,12 +104,14 @@ def random_texels(header, count, seed):
     return t.astype(np.float32)
 
 
-def random_compact_file(folder, count=100_000, seed=34):
+def random_compact_file(folder, bounded=True, count=100_000, seed=34):
     """A compact file (float32 bands when expanded, scanlines, no MIP levels) of `count`
-    random_texels (400 a row) under the header `convert` writes for the photograph: its path,
-    text and texels [count, 6]."""
+    random_texels (400 a row) under the header `convert` writes for the photograph (`clip 0`
+    when not `bounded`): its path, text and texels [count, 6]."""
     base = folder / "base.exr"
-    specconv.convert(IMAGES / "photo.jpg", base, layout="compact", mip=False, sample="float")
+    specconv.convert(
+        IMAGES / "photo.jpg", base, layout="compact", mip=False, sample="float", bounded=bounded
+    )
     inp = oiio.ImageInput.open(str(base))
     spec = inp.spec()
     inp.close()
@@ -137,13 +139,13 @@ def random_compact_file(folder, count=100_000, seed=34):
 def float32_bound(text, t):
     """How far a float32 decoder may be from the double-precision rule, per texel and band:
     2⁻¹⁶ of the sum of the terms' magnitudes S (Σᵢ wᵢ(|T|·|c| + λ_dark·|o|) + |B|·|u|), at most
-    2⁻¹⁰ (the bands are clipped to [0, 1]), at least 2⁻¹²⁶. A float32 sum of such terms errs by a few 2⁻²⁴·S,
-    and the blend weights of a float32 chromaticity by up to 3/(4·width)·2⁻²⁴ (width ≥ 0.02)
+    2⁻¹⁰ where the bands are clipped to [0, 1] (`clip 1`), at least 2⁻¹²⁶. A float32 sum of
+    such terms errs by a few 2⁻²⁴·S, and the blend weights of a float32 chromaticity by up to 3/(4·width)·2⁻²⁴ (width ≥ 0.02)
     relative: 2⁻¹⁶ is eight times that. A decoder that breaks the rule (a weight, λ_dark,
     the white point's leaf, B·u, the clip, the guard of huge colours) misses it by far."""
     h = specconv.compact.parse(text)
     t = t.astype(np.float64)
-    finite = np.isfinite(t).all(axis=1)
+    finite = np.isfinite(t[:, : 6 if h.clip else 3]).all(axis=1)
     c = np.where(finite[:, None], t[:, :3], 0.0)
     u = np.where(finite[:, None], t[:, 3:], 0.0)
     m = np.max(np.abs(c), axis=1, keepdims=True)
@@ -154,10 +156,19 @@ def float32_bound(text, t):
     dark = np.where(lit, np.minimum(s / h.dark, 1.0), 0.0)
     maps = np.einsum("pl,lkn->pkn", specconv.compact._weights(h, xy), np.abs(h.maps))
     size = np.einsum("pk,pkn->pn", np.abs(c), maps[:, :3]) + dark[:, None] * maps[:, 3]
+    if not h.clip:
+        return np.maximum(2.0**-16 * size, 2.0**-126)
     size += np.abs(u) @ np.abs(h.b)
     # At least float32's smallest normal: a float32 decoder may flush subnormals to zero
     # (Dr.Jit's LLVM backend does).
     return np.maximum(np.minimum(2.0**-16 * size, 2.0**-10), 2.0**-126)
+
+
+def float32_rule(text, t):
+    """The rule's spectra of texels `t` as a float32 decoder gives them: numpy's, saturated
+    at the largest float32 (`clip 0`: a colour near it has bands beyond it)."""
+    f32 = float(np.finfo(np.float32).max)
+    return np.clip(specconv.decode(text, t), -f32, f32)
 
 
 CASES = [
@@ -276,18 +287,21 @@ def test_read_compact_is_what_openimageio_reads(tmp_path):
             check(compact, attributes, channels)
 
 
-def test_the_decoders_agree_on_100000_random_texels(tmp_path, cli):
+@pytest.mark.parametrize("bounded", [True, False], ids=["clip", "unbounded"])
+def test_the_decoders_agree_on_100000_random_texels(tmp_path, cli, bounded):
     """One rule, four decoders: numpy's (specconv.decode, double precision, the reference
     here), the library's (`specconv expand`, float32 bands read back by OpenImageIO) and the
     C header's (tests/c/decode_check.c --print, compiled here) on 100,000 random_texels, most
     of them no conversion writes: NaN in the same texels (every band of them), every other
     value within float32_bound. test_mitsuba_compact.py holds Mitsuba's decoder to the same."""
-    path, text, t = random_compact_file(tmp_path)
-    want = specconv.decode(text, t)
+    path, text, t = random_compact_file(tmp_path, bounded)
+    want = float32_rule(text, t)
     bound = float32_bound(text, t)
     nan = np.isnan(want)
     assert np.array_equal(nan.any(axis=1), nan.all(axis=1)), "NaN is the whole texel"
     assert 3000 < nan.all(axis=1).sum() < 20000, nan.all(axis=1).sum()
+    # `clip 0` reads no u: a texel NaN only by its u is a number there.
+    assert np.array_equal(nan[:, 0], ~np.isfinite(t[:, : 6 if bounded else 3]).all(axis=1))
 
     cli("expand", path, tmp_path / "expanded.exr")
     names, pixels, _ = levels(tmp_path / "expanded.exr")[0]
