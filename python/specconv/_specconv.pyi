@@ -101,6 +101,15 @@ def spectra_to_xyz(
     observer: str = "cie1931",
     emission: Optional[str] = None,
 ) -> npt.NDArray[np.float64]: ...
+def evaluate(
+    spectra: _Array,
+    wavelengths: _Array,
+    model: Optional[Model] = None,
+    *,
+    under: Optional[Sequence[str]] = None,
+    bounded: bool = True,
+    blend: float = 0.02,
+) -> dict[str, Any]: ...
 def rgb_to_xyz(rgb: _Array, colorspace: str, config: Optional[str] = "aces") -> npt.NDArray[Any]: ...
 def convert(
     inputs: Union[_Path, Sequence[_Path]],

@@ -38,7 +38,7 @@ pub fn uplift<'py>(
         .map_err(option)?;
     let model = match model {
         Some(m) => m.get(),
-        None => Model::default_model(),
+        None => Model::default_model()?,
     };
     let stack = model.stack(&options)?;
     let n = stack.method().grid().len();
@@ -83,7 +83,7 @@ pub fn encode<'py>(
     let options = stack_options(bounded, blend, method, bands)?;
     let model = match model {
         Some(m) => m.get(),
-        None => Model::default_model(),
+        None => Model::default_model()?,
     };
     let name = specconv_conversion::models::describe(model.origin().as_deref(), &model.inner);
     let compact =
@@ -131,7 +131,7 @@ pub fn _kernel_seconds(py: Python<'_>, xyz: &Bound<'_, PyAny>) -> PyResult<f64> 
     let Values::F32(_, v) = values(xyz, Some(3), "xyz")? else {
         return Err(crate::errors::Kind::Option.err("the kernel takes float32"));
     };
-    let stack = Model::default_model().stack(&specconv_conversion::Options::default())?;
+    let stack = Model::default_model()?.stack(&specconv_conversion::Options::default())?;
     let n = stack.method().grid().len();
     Ok(py.detach(|| {
         let mut out = vec![1f32; v.len() / 3 * n];
@@ -226,7 +226,7 @@ pub fn rgb_to_xyz<'py>(
 }
 
 /// The conversion options `uplift` and `encode` share: the method stack's.
-fn stack_options(
+pub(crate) fn stack_options(
     bounded: bool,
     blend: f64,
     method: &str,

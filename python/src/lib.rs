@@ -9,6 +9,7 @@ mod arrays;
 mod colour;
 mod convert;
 mod errors;
+mod evaluate;
 mod files;
 mod model;
 mod plan;
@@ -24,6 +25,7 @@ fn _specconv(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(colour::spectra_to_xyz, m)?)?;
     m.add_function(wrap_pyfunction!(colour::rgb_to_xyz, m)?)?;
     m.add_function(wrap_pyfunction!(colour::_kernel_seconds, m)?)?;
+    m.add_function(wrap_pyfunction!(evaluate::evaluate, m)?)?;
     m.add_function(wrap_pyfunction!(convert::convert, m)?)?;
     m.add_function(wrap_pyfunction!(convert::options, m)?)?;
     m.add_class::<files::SpectralImage>()?;

@@ -54,21 +54,30 @@ impl Model {
         Ok(stack)
     }
 
-    /// The built-in default, one for the process (so its stacks are built once).
-    pub fn default_model() -> &'static Model {
-        static DEFAULT: std::sync::OnceLock<Model> = std::sync::OnceLock::new();
-        DEFAULT.get_or_init(|| {
-            Model::new(
-                specconv_spectral::Model::builtin().clone(),
-                Some(BUILTIN[0].name.into()),
-            )
-        })
+    /// The model in force when none is named: the site's default (`$SPECCONV_MODEL`) or the
+    /// built-in default, the library's rule ([`specconv_conversion::models::in_force`]); one
+    /// per model named, for the process (so its stacks are built once).
+    pub fn default_model() -> PyResult<&'static Model> {
+        type Cache = Vec<(Option<PathBuf>, &'static Model)>;
+        static CACHE: Mutex<Cache> = Mutex::new(Vec::new());
+        let (path, _) = specconv_conversion::models::in_force(None);
+        let mut cache = CACHE.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some((_, m)) = cache.iter().find(|(p, _)| *p == path) {
+            return Ok(m);
+        }
+        let inner = specconv_conversion::models::load(None)
+            .map_err(|e| crate::errors::conversion(e.into()))?;
+        let origin = path.clone().or_else(|| Some(BUILTIN[0].name.into()));
+        // A handful at most (one per value of the variable): kept for the process.
+        let m: &'static Model = Box::leak(Box::new(Model::new(inner, origin)));
+        cache.push((path, m));
+        Ok(m)
     }
 }
 
 /// The numpy spectra (one per row, at `wavelengths` nm) as a table named `source`, and their
 /// weights (none: unweighted).
-fn table_of(
+pub(crate) fn table_of(
     spectra: &Bound<'_, PyAny>,
     wavelengths: &Bound<'_, PyAny>,
     weights: Option<&Bound<'_, PyAny>>,
@@ -156,8 +165,8 @@ fn describe(origin: Option<PathBuf>, m: &specconv_spectral::Model) -> String {
 
 #[pymethods]
 impl Model {
-    /// A built-in model by name (`None`: the default, `extended`); `specconv --version` lists
-    /// them.
+    /// A built-in model by name (`None`: the built-in default, the first of `builtin_names()`);
+    /// `specconv models` lists them.
     #[staticmethod]
     #[pyo3(signature = (name=None))]
     fn builtin(name: Option<&str>) -> PyResult<Model> {

@@ -51,7 +51,7 @@ fn eval_uses_the_builtin_model_and_prints_a_readable_summary() {
     let out = Cmd::eval(colorchecker()).run();
     let text = out.ok();
     assert!(
-        text.contains("model:      built-in extended (8 clusters, cie1931, D65, 380:730:10 nm"),
+        text.contains("model:      built-in open ("),
         "{text}"
     );
     assert!(text.contains("spectra:    24"), "{text}");
@@ -380,21 +380,24 @@ fn builtin_models_are_named_and_say_their_data_and_licences() {
         2,
         &[
             "no built-in model is called 'papers'",
-            "extended, paper, broad, open",
+            "open, extended, paper, broad",
         ],
     );
-    let version = Cmd::new(["--version"]).run();
-    let text = version.ok();
+}
+
+#[test]
+fn models_lists_every_model_with_its_terms_and_version_is_one_line() {
+    let text = Cmd::new(["models"]).run();
+    let text = text.ok();
     for w in [
-        "extended: the default",
-        "paper: the paper",
-        "broad:",
-        "open:",
+        "in force: open (the built-in default ($SPECCONV_MODEL is not set); commercial use: yes)",
+        "open (built in, the default): commercial use: yes",
+        "extended (built in): commercial use: no",
+        "paper (built in): commercial use: no",
+        "broad (built in): commercial use: no",
         "non-commercial",
         "public domain",
         "MIT",
-        "commercial use: no",
-        "commercial use: yes",
         "credit: USGS Spectral Library Version 7",
         // The notices that ship with the data, verbatim (docs/licences.md).
         "notice for colour-science",
@@ -403,6 +406,171 @@ fn builtin_models_are_named_and_say_their_data_and_licences() {
         "Copyright (c) 2022 Beth McDonald",
     ] {
         assert!(text.contains(w), "{w}: {text}");
+    }
+    // Each notice once, however many models ship with it.
+    assert_eq!(text.matches("notice for colour-science").count(), 1, "{text}");
+    let v = json(Cmd::new(["models", "--json"]).run().ok());
+    let names: Vec<&str> = v["models"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|m| m["name"].as_str().unwrap())
+        .collect();
+    assert_eq!(names, ["open", "extended", "paper", "broad"]);
+    assert_eq!(v["in_force"]["commercial"], "yes");
+    assert_eq!(v["models"][0]["default"], true);
+
+    // --version (and -V) is one line: the version, the model in force, its terms.
+    for flag in ["--version", "-V"] {
+        let out = Cmd::new([flag]).run();
+        let line = out.ok();
+        assert_eq!(line.lines().count(), 1, "{line}");
+        assert!(
+            line.starts_with(&format!("specconv {}", env!("CARGO_PKG_VERSION"))),
+            "{line}"
+        );
+        assert!(
+            line.contains("default model: open (commercial use: yes)"),
+            "{line}"
+        );
+    }
+}
+
+#[test]
+fn the_site_default_model_reaches_every_command() {
+    let dir = Scratch::new("site-model");
+    let input = crate::convert::testdata("srgb8.png");
+    // A built-in name.
+    let text = Cmd::new(["models"]).env("SPECCONV_MODEL", "paper").run();
+    assert!(
+        text.ok().starts_with(
+            "in force: paper (the site default, $SPECCONV_MODEL; commercial use: no)"
+        )
+    );
+    let version = Cmd::new(["--version"]).env("SPECCONV_MODEL", "paper").run();
+    assert!(
+        version
+            .ok()
+            .contains("default model: paper from $SPECCONV_MODEL (commercial use: no)"),
+        "{}",
+        version.stdout
+    );
+    let out = dir.path("paper.exr");
+    let run = Cmd::convert(&input, &out)
+        .args(["--json"])
+        .env("SPECCONV_MODEL", "paper")
+        .run();
+    assert!(run.json_lines()[0]["model"]
+        .as_str()
+        .unwrap()
+        .starts_with("built-in paper (8 clusters"));
+    let attrs = specconv_exr::read_attributes(&out).unwrap();
+    assert!(attrs.contains(&("specconvCommercialUse".into(), "no".into())), "{attrs:?}");
+    // --model still wins.
+    let run = Cmd::convert(&input, &out)
+        .args(["--json", "--force", "--model", "open"])
+        .env("SPECCONV_MODEL", "paper")
+        .run();
+    assert!(run.json_lines()[0]["model"]
+        .as_str()
+        .unwrap()
+        .starts_with("built-in open ("));
+    // A model file: eval and convert name it.
+    let file = dir.path("studio.json");
+    std::fs::write(
+        &file,
+        specconv_spectral::Model::builtin_named("broad").unwrap().to_json(),
+    )
+    .unwrap();
+    let eval = Cmd::eval(colorchecker()).env("SPECCONV_MODEL", &file).run();
+    assert!(
+        eval.ok()
+            .contains(&format!("model:      {} (11 clusters", file.display())),
+        "{}",
+        eval.stdout
+    );
+    // One that cannot be used is a usage error naming the variable, before any output.
+    let bad = dir.path("bad.exr");
+    Cmd::convert(&input, &bad)
+        .env("SPECCONV_MODEL", "papers")
+        .fails(2, &["$SPECCONV_MODEL", "'papers'", "open, extended, paper, broad"]);
+    assert!(!bad.exists());
+    let version = Cmd::new(["--version"]).env("SPECCONV_MODEL", "papers").run();
+    assert!(version.ok().contains("cannot be loaded"), "{}", version.stdout);
+    // Empty: unset.
+    let run = Cmd::convert(&input, &out)
+        .args(["--json", "--force"])
+        .env("SPECCONV_MODEL", "")
+        .run();
+    assert!(run.json_lines()[0]["model"]
+        .as_str()
+        .unwrap()
+        .starts_with("built-in open ("));
+}
+
+#[test]
+fn eval_reports_the_colour_shift_under_other_lights() {
+    let v = json(
+        Cmd::eval(colorchecker())
+            .args(["--json", "--per-spectrum", "--model", "extended"])
+            .run()
+            .ok(),
+    );
+    let shift = v["colour_shift"].as_array().unwrap();
+    let lights: Vec<&str> = shift.iter().map(|s| s["illuminant"].as_str().unwrap()).collect();
+    assert_eq!(lights, ["A", "FL11"]);
+    // The summary is the per-spectrum values' mean, 95th percentile (linear, numpy's
+    // default) and maximum.
+    for (k, s) in shift.iter().enumerate() {
+        let mut per: Vec<f64> = v["spectra"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|r| {
+                assert_eq!(r["colour_shift"][k]["illuminant"], s["illuminant"]);
+                r["colour_shift"][k]["ciede2000"].as_f64().unwrap()
+            })
+            .collect();
+        per.sort_by(f64::total_cmp);
+        let mean = per.iter().sum::<f64>() / per.len() as f64;
+        let at = 0.95 * (per.len() - 1) as f64;
+        let (lo, f) = (at.floor() as usize, at.fract());
+        let p95 = per[lo] + f * (per[lo + 1] - per[lo]);
+        assert!((s["mean"].as_f64().unwrap() - mean).abs() < 1e-12, "{s}");
+        assert!((s["p95"].as_f64().unwrap() - p95).abs() < 1e-12, "{s}");
+        assert_eq!(s["max"].as_f64().unwrap(), per[per.len() - 1]);
+        assert!(mean > 0.1 && mean < 5.0, "{s}");
+    }
+    let text = Cmd::eval(colorchecker())
+        .args(["--shift-under", "D50,blackbody:3000"])
+        .run();
+    let text = text.ok();
+    assert!(text.contains("colour shift under D50: CIEDE2000 mean "), "{text}");
+    assert!(text.contains("colour shift under blackbody:3000: CIEDE2000 mean "), "{text}");
+    assert!(!text.contains("under A:"), "{text}");
+    Cmd::eval(colorchecker())
+        .args(["--shift-under", "F13"])
+        .fails(2, &["illuminant 'F13'", "FL11"]);
+    // By set: per set and over sets, under each light.
+    let v = json(
+        Cmd::eval(colorchecker())
+            .args(["--spectra"])
+            .arg(usgs("soils"))
+            .args(["--by-set", "--model", "open", "--json"])
+            .run()
+            .ok(),
+    );
+    let over = v["colour_shift"].as_array().unwrap();
+    assert_eq!(over.len(), 2);
+    let sets = v["sets"].as_array().unwrap();
+    let mean = |k: usize| {
+        sets.iter()
+            .map(|s| s["summary"]["colour_shift"][k]["mean"].as_f64().unwrap())
+            .sum::<f64>()
+            / sets.len() as f64
+    };
+    for (k, o) in over.iter().enumerate() {
+        assert!((o["mean_of_sets"].as_f64().unwrap() - mean(k)).abs() < 1e-12, "{o}");
     }
 }
 
@@ -546,7 +714,12 @@ fn outputs_say_which_model_made_them() {
     let dir = Scratch::new("which-model");
     let input = crate::convert::testdata("srgb8.png");
     for (flags, want, commercial) in [
-        (&[][..], "built-in extended (8 clusters", "no"),
+        (&[][..], "built-in open (", "yes"),
+        (
+            &["--model", "extended"][..],
+            "built-in extended (8 clusters",
+            "no",
+        ),
         (
             &["--model", "paper"][..],
             "built-in paper (8 clusters",
@@ -584,6 +757,11 @@ fn outputs_say_which_model_made_them() {
         let attrs = specconv_exr::read_attributes(&out).unwrap();
         assert!(
             attrs.contains(&("specconvModel".to_string(), model.clone())),
+            "{attrs:?}"
+        );
+        // And a machine-readable flag beside it.
+        assert!(
+            attrs.contains(&("specconvCommercialUse".to_string(), commercial.to_string())),
             "{attrs:?}"
         );
         // And OpenImageIO reads the credit lines the data ask for.

@@ -27,8 +27,7 @@ mod signals;
 #[derive(Debug, Parser)]
 #[command(
     name = "specconv",
-    version,
-    long_version = long_version(),
+    version = version(),
     max_term_width = 100,
     subcommand_negates_reqs = true,
     after_long_help = EXAMPLES
@@ -42,45 +41,10 @@ pub struct Cli {
     convert: cmd::convert::Args,
 }
 
-/// `--version`: the version, and the built-in models with the data they were trained on and
-/// its terms of use (a studio must know which model it may ship textures from).
-fn long_version() -> &'static str {
+/// `--version` (and `-V`): one line ([`cmd::models::version_line`]).
+fn version() -> &'static str {
     static TEXT: std::sync::OnceLock<String> = std::sync::OnceLock::new();
-    TEXT.get_or_init(|| {
-        let mut s = format!(
-            "{}\nbuilt-in models (--model NAME):",
-            env!("CARGO_PKG_VERSION")
-        );
-        let mut notices = Vec::new();
-        for b in specconv_spectral::otsu2018::model::BUILTIN {
-            let m = specconv_spectral::Model::builtin_named(b.name).expect("built in");
-            s.push_str(&format!(
-                "\n  {}: {}\n    commercial use: {}\n    {} clusters, trained on {}",
-                b.name,
-                b.summary,
-                m.training.commercial(),
-                m.leaves.len(),
-                specconv_conversion::models::sources(m)
-            ));
-            if let Some(lines) = specconv_conversion::models::attribution(m) {
-                s.push_str(&format!("\n    credit: {lines}"));
-            }
-            for n in m.training.notices() {
-                if !notices.contains(&n) {
-                    notices.push(n);
-                }
-            }
-        }
-        // The notices the built-in models' data ship under (docs/licences.md), verbatim.
-        for n in notices {
-            s.push_str(&format!(
-                "\n\nnotice for {}:\n{}",
-                n.title,
-                n.text.trim_end()
-            ));
-        }
-        s
-    })
+    TEXT.get_or_init(cmd::models::version_line)
 }
 
 /// Options every command takes, before or after the subcommand's name.
@@ -299,6 +263,8 @@ enum Command {
     ToRgb(cmd::to_rgb::Args),
     #[command(after_long_help = cmd::expand::EXAMPLES)]
     Expand(cmd::expand::Args),
+    #[command(after_long_help = cmd::models::EXAMPLES)]
+    Models(cmd::models::Args),
     #[command(after_long_help = cmd::completions::EXAMPLES)]
     Completions(cmd::completions::Args),
     #[command(after_long_help = cmd::simulate::EXAMPLES)]
@@ -426,6 +392,7 @@ fn run(cli: Cli) -> anyhow::Result<i32> {
         Some(Command::Colorspaces(args)) => done(cmd::colorspaces::run(with_ocio!(args))),
         Some(Command::ToRgb(args)) => done(cmd::to_rgb::run(with_ocio!(args))),
         Some(Command::Expand(args)) => done(cmd::expand::run(args)),
+        Some(Command::Models(args)) => done(cmd::models::run(args)),
         Some(Command::Completions(args)) => done(cmd::completions::run(args)),
         Some(Command::Simulate(args)) => done(cmd::simulate::run(args)),
         Some(Command::Preview(args)) => done(cmd::preview::run(args)),

@@ -23,6 +23,23 @@ pub struct BlendArg {
     pub width: f64,
 }
 
+/// The lights colour shift is measured under (`eval`, `report`).
+#[derive(Debug, Clone, clap::Args)]
+pub struct ShiftArg {
+    /// Measure the colour shift a viewer sees under these illuminants: CIEDE2000 between each
+    /// measured spectrum and its uplift, lit by the illuminant (CIE A, D65, D50, FL2, FL11, E or
+    /// blackbody:KELVIN), through the model's observer, white = the perfect reflector under it.
+    #[arg(long, value_name = "ILLUMINANT,…", value_delimiter = ',', default_values_t = specconv_study::eval::SHIFT_ILLUMINANTS)]
+    pub shift_under: Vec<specconv_colour::Illuminant>,
+}
+
+impl ShiftArg {
+    /// Where the colour shift is measured, for evaluations in `a`'s setting.
+    pub fn viewing(&self, a: &Colorimetry) -> Result<specconv_study::eval::Viewing> {
+        Ok(specconv_study::eval::Viewing::new(a, &self.shift_under)?)
+    }
+}
+
 /// The options of the method stack that `convert` and `simulate` share, with one default each.
 #[derive(Debug, Clone, clap::Args)]
 pub struct StackArgs {

@@ -116,6 +116,7 @@ impl Converter {
         let provenance = Provenance {
             model: Some(model_description.clone()),
             model_attribution: crate::models::attribution(&model),
+            commercial: Some(model.training.commercial().to_string()),
             method: Some(stack.method().name().to_string()),
             blend: Some(stack.blend().to_string()),
             observer: Some(model.observer),

@@ -1,9 +1,50 @@
-//! The model a conversion uplifts with: a built-in one by name (`extended`, the default; `paper`, `broad`, `open`:
-//! [`specconv_spectral::otsu2018::model::BUILTIN`]) or a file from `specconv train`.
+//! The model a conversion uplifts with: a built-in one by name
+//! ([`specconv_spectral::otsu2018::model::BUILTIN`], the default first) or a file from
+//! `specconv train`; when none is named, the site's default ([`MODEL_ENV`]), else the built-in
+//! default ([`in_force`]). Every front-end (CLI, Python, farm tasks, Mitsuba's plugins) reaches
+//! a model through [`load`], so a studio pins its model everywhere with one variable.
 
 use specconv_spectral::otsu2018::model::BUILTIN;
 use specconv_spectral::{Model, Part, TrainOptions, TrainingSet};
-use std::path::Path;
+use std::path::{Path, PathBuf};
+
+/// The environment variable that names a site's default model: a built-in name or a model file,
+/// used whenever no model is named (empty: unset).
+pub const MODEL_ENV: &str = "SPECCONV_MODEL";
+
+/// Why the model in force is the one it is ([`in_force`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Origin {
+    /// Named by the caller (`--model`, `model=`).
+    Named,
+    /// The site's default, [`MODEL_ENV`].
+    Site,
+    /// Nothing named: the built-in default.
+    Default,
+}
+
+impl Origin {
+    /// In words, for `specconv models` and errors.
+    pub fn describe(self) -> String {
+        match self {
+            Origin::Named => "named by --model".into(),
+            Origin::Site => format!("the site default, ${MODEL_ENV}"),
+            Origin::Default => format!("the built-in default (${MODEL_ENV} is not set)"),
+        }
+    }
+}
+
+/// The model in force when `named` is the caller's choice: `named`, else [`MODEL_ENV`]'s value,
+/// else `None` (the built-in default, [`BUILTIN`]'s first); and why.
+pub fn in_force(named: Option<&Path>) -> (Option<PathBuf>, Origin) {
+    if let Some(p) = named {
+        return (Some(p.to_path_buf()), Origin::Named);
+    }
+    match std::env::var_os(MODEL_ENV) {
+        Some(v) if !v.is_empty() => (Some(PathBuf::from(v)), Origin::Site),
+        _ => (None, Origin::Default),
+    }
+}
 
 /// Why a model file cannot be used.
 #[derive(Debug, thiserror::Error)]
@@ -50,6 +91,14 @@ pub enum ModelError {
         /// The name given.
         name: String,
     },
+    /// The site default ([`MODEL_ENV`]) names a model that cannot be used.
+    #[error("${MODEL_ENV} (the site's default model) is '{}', which cannot be used; set it to a built-in model ({}) or a model file, or unset it for the built-in default", value.display(), names())]
+    Site {
+        /// The variable's value.
+        value: PathBuf,
+        /// Why it cannot be used.
+        source: Box<ModelError>,
+    },
 }
 
 fn names() -> String {
@@ -72,12 +121,21 @@ pub fn builtin_name(path: &Path) -> Option<&'static str> {
 /// from the built-in model: 45 KB for 8 clusters on 36 bands).
 pub const MODEL_LIMIT: u64 = 256 << 20;
 
-/// The model of `path`: a built-in one by name ([`builtin_name`]), a file, or without a path
-/// the built-in default.
+/// The model in force for `path` ([`in_force`]): a built-in one by name ([`builtin_name`]), a
+/// file, the site default, or the built-in default.
 pub fn load(path: Option<&Path>) -> Result<Model, ModelError> {
-    let Some(path) = path else {
-        return Ok(Model::builtin().clone());
-    };
+    match in_force(path) {
+        (None, _) => Ok(Model::builtin().clone()),
+        (Some(p), Origin::Site) => load_named(&p).map_err(|e| ModelError::Site {
+            value: p,
+            source: Box::new(e),
+        }),
+        (Some(p), _) => load_named(&p),
+    }
+}
+
+/// The model a name or path gives.
+fn load_named(path: &Path) -> Result<Model, ModelError> {
     if let Some(name) = builtin_name(path) {
         return Ok(Model::builtin_named(name).expect("a built-in name").clone());
     }
@@ -186,12 +244,14 @@ pub fn save(
 }
 
 /// A model's one-line description, as outputs record it (`specconvModel`) and reports show
-/// it: which model, its setting, the data it was trained on with their weights and terms, and
-/// whether the model may be used commercially (only when every set may).
+/// it: which model (`path` as [`load`] takes it: `None` is the model in force), its setting,
+/// the data it was trained on with their weights and terms, and whether the model may be used
+/// commercially (only when every set may).
 /// ASCII only: readers of EXR text attributes differ on anything else (colour-science 0.4.7's
 /// fails on a non-ASCII byte), so other characters of a file name or licence become `?`.
 pub fn describe(path: Option<&Path>, m: &Model) -> String {
-    let name = match path {
+    let (path, _) = in_force(path);
+    let name = match path.as_deref() {
         None => format!("built-in {}", BUILTIN[0].name),
         Some(p) => match builtin_name(p) {
             Some(name) => format!("built-in {name}"),

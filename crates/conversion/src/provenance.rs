@@ -7,6 +7,8 @@ use specconv_colour::{EmissionUnits, Illuminant, Observer};
 pub const EMISSION_UNITS: &str = "specconvEmissionUnits";
 /// The attribute `-u` compares: every setting that makes an output what it is.
 pub const SETTINGS: &str = "specconvSettings";
+/// The attribute that says whether an output may be used commercially: yes, no or unstated.
+pub const COMMERCIAL: &str = "specconvCommercialUse";
 
 /// What an output records of how it was made. Fields a file lacks are `None` when read.
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -17,6 +19,9 @@ pub struct Provenance {
     pub model: Option<String>,
     /// What a user of the model's training data must credit ([`crate::models::attribution`]).
     pub model_attribution: Option<String>,
+    /// Whether the model's outputs may be used commercially (`yes`, `no`, `unstated`): only
+    /// when every set it was trained on allows it. For machines; [`Provenance::model`] says why.
+    pub commercial: Option<String>,
     /// The method stack's name (`otsu2018+bounded`, …).
     pub method: Option<String>,
     /// The blend width in use.
@@ -103,6 +108,7 @@ impl Provenance {
         [
             ("specconvModel", text(&self.model)),
             ("specconvModelAttribution", text(&self.model_attribution)),
+            (COMMERCIAL, text(&self.commercial)),
             ("specconvMethod", text(&self.method)),
             ("specconvBlend", text(&self.blend)),
             ("specconvObserver", self.observer.map(|o| o.to_string())),
@@ -145,6 +151,7 @@ impl Provenance {
         Ok(Provenance {
             model: attr("specconvModel"),
             model_attribution: attr("specconvModelAttribution"),
+            commercial: attr(COMMERCIAL),
             method: attr("specconvMethod"),
             blend: attr("specconvBlend"),
             observer,

@@ -12,6 +12,7 @@
 //! on average by losing badly on one kind of material is not the better default.
 
 use crate::eval::{self, Outcome, Summary};
+use specconv_colour::Illuminant;
 use serde::Serialize;
 use specconv_colour::Colorimetry;
 use specconv_spectral::{train, Model, Part, TrainOptions, TrainingSet};
@@ -75,21 +76,59 @@ pub struct Scores {
     pub worst: f64,
     /// The set with the largest mean Δe.
     pub worst_set: String,
+    /// The same figures for the mean colour shift under each illuminant of the evaluation.
+    pub colour_shift: Vec<SetsShift>,
+}
+
+/// The mean over sets and the worst set of the sets' mean colour shift under one illuminant.
+#[derive(Debug, Clone, Serialize)]
+pub struct SetsShift {
+    /// The light.
+    pub illuminant: Illuminant,
+    /// The mean over sets of each set's mean CIEDE2000.
+    pub mean_of_sets: f64,
+    /// The largest of the sets' mean CIEDE2000.
+    pub worst: f64,
+    /// The set with the largest.
+    pub worst_set: String,
+}
+
+/// The mean of `means`, their largest and the source of the largest.
+fn mean_and_worst(sets: &[SetScore], means: &[f64]) -> (f64, f64, String) {
+    let worst = means.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    let worst_set = sets
+        .iter()
+        .zip(means)
+        .find(|(_, &m)| m == worst)
+        .map_or_else(String::new, |(s, _)| s.source.clone());
+    (means.iter().sum::<f64>() / means.len().max(1) as f64, worst, worst_set)
 }
 
 impl Scores {
     /// The scores of `sets`, with the mean and worst of their mean Δe.
     pub fn of(sets: Vec<SetScore>) -> Scores {
         let means: Vec<f64> = sets.iter().map(|s| s.summary.delta_e.mean).collect();
-        let worst = means.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-        let worst_set = sets
+        let (mean_of_sets, worst, worst_set) = mean_and_worst(&sets, &means);
+        let lights = sets.first().map_or(&[][..], |s| &s.summary.colour_shift[..]);
+        let colour_shift = lights
             .iter()
-            .find(|s| s.summary.delta_e.mean == worst)
-            .map_or_else(String::new, |s| s.source.clone());
+            .enumerate()
+            .map(|(k, first)| {
+                let means: Vec<f64> = sets.iter().map(|s| s.summary.colour_shift[k].mean).collect();
+                let (mean_of_sets, worst, worst_set) = mean_and_worst(&sets, &means);
+                SetsShift {
+                    illuminant: first.illuminant,
+                    mean_of_sets,
+                    worst,
+                    worst_set,
+                }
+            })
+            .collect();
         Scores {
-            mean_of_sets: means.iter().sum::<f64>() / means.len().max(1) as f64,
+            mean_of_sets,
             worst,
             worst_set,
+            colour_shift,
             sets,
         }
     }
@@ -273,6 +312,10 @@ mod tests {
                         roundtrip_de2000: 0.0,
                         in_unit_range: true,
                         leaf: None,
+                        colour_shift: vec![eval::Shift {
+                            illuminant: Illuminant::A,
+                            ciede2000: 2.0 * m.training.count as f64,
+                        }],
                     })
                     .collect(),
             )
@@ -302,6 +345,10 @@ mod tests {
         assert_eq!(scores.worst, 70.0);
         assert_eq!(scores.worst_set, "c");
         assert!((scores.mean_of_sets - (30.0 + 40.0 + 70.0) / 3.0).abs() < 1e-12);
+        let shift = &scores.colour_shift[0];
+        assert_eq!((shift.illuminant, shift.worst), (Illuminant::A, 140.0));
+        assert_eq!(shift.worst_set, "c");
+        assert!((shift.mean_of_sets - 2.0 * (30.0 + 40.0 + 70.0) / 3.0).abs() < 1e-12);
 
         // K-fold: the set's other folds join the other sets.
         let (_, seen) = run(&recipe, std::slice::from_ref(&a), Holdout::Folds(4));

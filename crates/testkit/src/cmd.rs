@@ -46,7 +46,9 @@ impl Cmd {
         I: IntoIterator<Item = S>,
         S: AsRef<OsStr>,
     {
-        Cmd::default().args(args)
+        // Hermetic: the site default model of the machine running the tests changes nothing
+        // (a test that sets it does so after this).
+        Cmd::default().env_remove("SPECCONV_MODEL").args(args)
     }
 
     /// `specconv INPUT OUTPUT`: the main job.

@@ -19,9 +19,10 @@ Examples:
 
 /// Measure a method on measured spectra: uplift each from its own XYZ and compare.
 ///
-/// Prints Δe = ‖s − r‖² mean / median / max (as the paper's Table 1), the largest relative
-/// round-trip error |XYZ(r) − XYZ(s)| / Y(s) and CIEDE2000, and the fraction of
-/// reconstructions inside [0, 1]. The clustered methods (otsu2018, pca) use --model, a model
+/// Prints Δe = ‖s − r‖² mean / median / max (as the paper's Table 1), the colour shift under
+/// other lights (CIEDE2000 between measured and uplifted spectra under each --shift-under
+/// illuminant: mean, 95th percentile, max), the largest relative round-trip error
+/// |XYZ(r) − XYZ(s)| / Y(s) and CIEDE2000, and the fraction of reconstructions inside [0, 1]. The clustered methods (otsu2018, pca) use --model, a model
 /// trained here on --train, or the built-in model; their grid, observer and illuminant are the
 /// model's. The baselines use --observer, --illuminant and --bands, by default those of the
 /// model.
@@ -74,12 +75,15 @@ pub struct Args {
     setting: methods::SettingArgs,
     #[command(flatten)]
     blend: methods::BlendArg,
+    #[command(flatten)]
+    shift: methods::ShiftArg,
     /// Evaluate the method bounded, as `convert` writes it by default: spectra kept in [0, 1]
     /// with their XYZ (reported as METHOD-bounded). Without it, the method as named.
     #[arg(long)]
     bounded: bool,
-    /// Print one JSON object: method, count, delta_e.{mean,median,max}, roundtrip_max,
-    /// roundtrip_de2000_max, in_unit_range.
+    /// Print one JSON object: method, model, count, delta_e.{mean,median,max},
+    /// colour_shift[].{illuminant,mean,p95,max}, roundtrip_max, roundtrip_de2000_max,
+    /// in_unit_range (with --by-set: sets[], mean_of_sets, worst, worst_set, colour_shift[]).
     #[arg(long)]
     json: bool,
     /// Also list every spectrum's error (with --json, under "spectra").
@@ -131,7 +135,7 @@ pub fn run(args: Args) -> Result<()> {
                 .map(|n| (table.source.clone(), n.clone())),
         );
     }
-    let outcomes = eval::evaluate(a, method, &spectra);
+    let outcomes = eval::evaluate(a, method, &spectra, &args.shift.viewing(a)?);
     let summary = eval::summarise(&outcomes);
     let rows: Vec<Row> = labels
         .iter()
@@ -165,8 +169,13 @@ fn print_text(
     rows: &[Row],
 ) -> Result<(), crate::stdio::StdoutFailed> {
     if args.per_spectrum {
+        let lights: String = summary
+            .colour_shift
+            .iter()
+            .map(|s| format!(" {:>8}", format!("ΔE00 {}", s.illuminant)))
+            .collect();
         outln!(
-            "{:<12} {:>5} {:>9} {:>9} {:>7}  name",
+            "{:<12} {:>5} {:>9} {:>9} {:>7}{lights}  name",
             "delta_e",
             "leaf",
             "roundtrip",
@@ -174,8 +183,14 @@ fn print_text(
             "in_0_1"
         )?;
         for r in rows {
+            let shifts: String = r
+                .outcome
+                .colour_shift
+                .iter()
+                .map(|s| format!(" {:>8.3}", s.ciede2000))
+                .collect();
             outln!(
-                "{:<12.6} {:>5} {:>9.1e} {:>9.1e} {:>7}  {}",
+                "{:<12.6} {:>5} {:>9.1e} {:>9.1e} {:>7}{shifts}  {}",
                 r.outcome.delta_e,
                 r.outcome.leaf.map_or("-".into(), |l| l.to_string()),
                 r.outcome.roundtrip,
@@ -200,6 +215,15 @@ fn print_text(
         summary.delta_e.median,
         summary.delta_e.max
     )?;
+    for s in &summary.colour_shift {
+        outln!(
+            "colour shift under {}: CIEDE2000 mean {:.3}  95th percentile {:.3}  max {:.3}",
+            s.illuminant,
+            s.mean,
+            s.p95,
+            s.max
+        )?;
+    }
     outln!(
         "round trip: max |XYZ(r) − XYZ(s)| / Y(s) = {:.2e}, max CIEDE2000 = {:.2e}",
         summary.roundtrip_max,
@@ -239,8 +263,7 @@ fn model(args: &Args) -> Result<(Model, String)> {
         ..TrainOptions::default()
     };
     let model = specconv_spectral::train(&set, &a, &opts)?;
-    let described =
-        specconv_conversion::models::describe(None, &model).replacen("built-in", "trained here", 1);
+    let described = specconv_conversion::models::describe(Some("trained here".as_ref()), &model);
     Ok((model, described))
 }
 
@@ -274,13 +297,19 @@ mod by_set {
         }
         let recipe = recipe(args, &base, &tests, &a.grid)?;
         let d = args.description();
+        let viewing = args.shift.viewing(&a)?;
         let holdout = args
             .folds
             .map_or(Holdout::Set, |k| Holdout::Folds(k as usize));
         let score = |recipe: &Recipe| {
             held_out_by_set(recipe, &tests, &a, holdout, |m, held| {
                 let stack = methods::build(&d, m)?;
-                Ok::<_, anyhow::Error>(eval::evaluate(stack.colorimetry(), stack.method(), held))
+                Ok::<_, anyhow::Error>(eval::evaluate(
+                    stack.colorimetry(),
+                    stack.method(),
+                    held,
+                    &viewing,
+                ))
             })
         };
         let scores = score(&recipe)?;
@@ -394,20 +423,43 @@ mod by_set {
             recipe.options.max_condition,
             trained.join(", ")
         )?;
-        let (head, rule) = match (against, &args.against) {
-            (Some(_), Some(path)) => (format!(" {} Δe mean | ratio |", path.display()), "---|---|"),
-            _ => (String::new(), ""),
-        };
+        // Per illuminant: the shift's mean / 95th percentile / max, and against the other model
+        // its mean and this model's ratio to it.
+        let lights: Vec<_> = scores.colour_shift.iter().map(|s| s.illuminant).collect();
+        let mut head = String::new();
+        let mut rule = String::new();
+        for l in &lights {
+            head.push_str(&format!(" ΔE00 {l} mean / p95 / max |"));
+            rule.push_str("---|");
+        }
+        if let Some(path) = &args.against {
+            head.push_str(&format!(" {} Δe mean | ratio |", path.display()));
+            rule.push_str("---|---|");
+            for l in &lights {
+                head.push_str(&format!(" {} ΔE00 {l} mean | ratio |", path.display()));
+                rule.push_str("---|---|");
+            }
+        }
         outln!("| set | held out | spectra | Δe mean | Δe median | Δe max | in [0,1] |{head}")?;
         outln!("|---|---|---|---|---|---|---|{rule}")?;
         // A ratio below 1: this model does better on the set than the other.
         let vs = |mine: f64, theirs: f64| format!(" {theirs:.4} | {:.2} |", mine / theirs);
         for (k, s) in scores.sets.iter().enumerate() {
-            let other = against.map_or(String::new(), |o| {
-                vs(s.summary.delta_e.mean, o.sets[k].summary.delta_e.mean)
-            });
+            let mut cells: String = s
+                .summary
+                .colour_shift
+                .iter()
+                .map(|x| format!(" {:.3} / {:.3} / {:.3} |", x.mean, x.p95, x.max))
+                .collect();
+            if let Some(o) = against {
+                let theirs = &o.sets[k].summary;
+                cells.push_str(&vs(s.summary.delta_e.mean, theirs.delta_e.mean));
+                for (mine, theirs) in s.summary.colour_shift.iter().zip(&theirs.colour_shift) {
+                    cells.push_str(&vs(mine.mean, theirs.mean));
+                }
+            }
             outln!(
-                "| {} | {} | {} | {:.4} | {:.4} | {:.4} | {:.3} |{other}",
+                "| {} | {} | {} | {:.4} | {:.4} | {:.4} | {:.3} |{cells}",
                 s.source,
                 s.how,
                 s.summary.count,
@@ -417,20 +469,31 @@ mod by_set {
                 s.summary.in_unit_range
             )?;
         }
-        let other = |f: fn(&Scores) -> f64| {
+        let other = |f: &dyn Fn(&Scores) -> f64| {
             against.map_or(String::new(), |o| format!(" (against {:.4})", f(o)))
         };
         outln!(
             "mean over sets: Δe {:.4}{}",
             scores.mean_of_sets,
-            other(|s| s.mean_of_sets)
+            other(&|s| s.mean_of_sets)
         )?;
         outln!(
             "worst set:      Δe {:.4} ({}){}",
             scores.worst,
             scores.worst_set,
-            other(|s| s.worst)
+            other(&|s| s.worst)
         )?;
+        for (k, x) in scores.colour_shift.iter().enumerate() {
+            outln!(
+                "colour shift under {}: mean over sets CIEDE2000 {:.4}{}, worst set {:.4} ({}){}",
+                x.illuminant,
+                x.mean_of_sets,
+                other(&|s| s.colour_shift[k].mean_of_sets),
+                x.worst,
+                x.worst_set,
+                other(&|s| s.colour_shift[k].worst)
+            )?;
+        }
         Ok(())
     }
 }

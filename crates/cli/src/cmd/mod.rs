@@ -7,6 +7,7 @@ pub mod eval;
 pub mod expand;
 pub mod farm;
 pub mod info;
+pub mod models;
 pub mod preview;
 pub mod report;
 pub mod simulate;

@@ -28,7 +28,8 @@ Examples:
 /// count (with 8, also otsu2018-bounded: its spectra kept in [0, 1] with their XYZ, as
 /// `convert` writes them by default), and otsu2018 with 8 clusters at each --steps band
 /// width. Columns: Δe = ‖s − r‖² mean,
-/// median and max; the round trip (max |XYZ(r) − XYZ(s)| / Y(s) and max CIEDE2000); the
+/// median and max; the colour shift under each --shift-under illuminant (CIEDE2000 between
+/// measured and uplifted spectra lit by it: mean, 95th percentile, max); the round trip (max |XYZ(r) − XYZ(s)| / Y(s) and max CIEDE2000); the
 /// fraction of spectra inside [0, 1]; the model's size in bytes (the data the f32 uplift
 /// reads); and the cost of the f32 uplift alone, in nanoseconds per colour and Mpixel/s, on one
 /// thread and on all, measured in this run over --colours random linear sRGB colours, 4096 per
@@ -72,6 +73,8 @@ pub struct Args {
     colorimetry: methods::ColorimetryArgs,
     #[command(flatten)]
     blend: methods::BlendArg,
+    #[command(flatten)]
+    shift: methods::ShiftArg,
     /// Resolution of the jakob2019 coefficient table.
     #[arg(long, value_name = "N", default_value_t = specconv_spectral::baselines::jakob::DEFAULT_RESOLUTION)]
     jakob_resolution: usize,
@@ -103,6 +106,7 @@ struct Row {
     delta_e_mean: f64,
     delta_e_median: f64,
     delta_e_max: f64,
+    colour_shift: Vec<eval::ShiftStats>,
     roundtrip_max: f64,
     roundtrip_de2000_max: f64,
     in_unit_range: f64,
@@ -180,7 +184,7 @@ fn baseline_rows(args: &Args, pool: &rayon::ThreadPool) -> Result<Vec<Row>> {
         let stack = methods::build(&d, Model::builtin())?;
         let (m, a) = (stack.method(), stack.colorimetry());
         let spectra = read(&args.spectra, &a.grid)?;
-        let summary = eval::summarise(&eval::evaluate(a, m, &spectra));
+        let summary = eval::summarise(&eval::evaluate(a, m, &spectra, &args.shift.viewing(a)?));
         let setting = match name {
             MethodName::Jakob2019 => format!("{}³ table", args.jakob_resolution),
             _ => String::new(),
@@ -283,9 +287,10 @@ fn clustered(
         min_cluster_size: args.min_cluster_size,
         ..TrainOptions::default()
     };
+    let viewing = args.shift.viewing(a)?;
     let evaluate = |model: &Model, spectra: &[Vec<f64>]| -> Result<Vec<eval::Outcome>> {
         let stack = uplifter(args, model, bounded)?;
-        Ok(eval::evaluate(a, stack.method(), spectra))
+        Ok(eval::evaluate(a, stack.method(), spectra, &viewing))
     };
     if args.by_set {
         return by_set(args, a, opts, evaluate);
@@ -339,8 +344,18 @@ fn by_set(
         Ok::<_, anyhow::Error>(o)
     })?;
     let model = recipe.train(a)?;
+    let shift: String = scores
+        .colour_shift
+        .iter()
+        .map(|x| {
+            format!(
+                "; ΔE00 under {} mean {:.3}, worst {:.3} ({})",
+                x.illuminant, x.mean_of_sets, x.worst, x.worst_set
+            )
+        })
+        .collect();
     let note = format!(
-        "by set: mean over {} files Δe {:.4}, worst {:.4} ({})",
+        "by set: mean over {} files Δe {:.4}, worst {:.4} ({}){shift}",
         scores.sets.len(),
         scores.mean_of_sets,
         scores.worst,
@@ -369,6 +384,7 @@ fn row(
         delta_e_mean: s.delta_e.mean,
         delta_e_median: s.delta_e.median,
         delta_e_max: s.delta_e.max,
+        colour_shift: s.colour_shift.clone(),
         roundtrip_max: s.roundtrip_max,
         roundtrip_de2000_max: s.roundtrip_de2000_max,
         in_unit_range: s.in_unit_range,
@@ -397,14 +413,27 @@ fn rows_for_plot(rows: &[Row]) -> Vec<plot::Point> {
 }
 
 fn print_csv(rows: &[Row]) -> Result<(), StdoutFailed> {
+    let lights = rows.first().map_or(&[][..], |r| &r.colour_shift[..]);
+    let shift_heads: String = lights
+        .iter()
+        .map(|s| {
+            let l = s.illuminant;
+            format!("ciede2000_{l}_mean,ciede2000_{l}_p95,ciede2000_{l}_max,")
+        })
+        .collect();
     outln!(
-        "method,setting,bands,count,delta_e_mean,delta_e_median,delta_e_max,roundtrip_max,\
-         roundtrip_de2000_max,in_unit_range,model_bytes,ns_per_colour_1_thread,\
+        "method,setting,bands,count,delta_e_mean,delta_e_median,delta_e_max,{shift_heads}\
+         roundtrip_max,roundtrip_de2000_max,in_unit_range,model_bytes,ns_per_colour_1_thread,\
          mpixel_per_s_1_thread,ns_per_colour_all_threads,mpixel_per_s_all_threads,threads,note"
     )?;
     for r in rows {
+        let shifts: String = r
+            .colour_shift
+            .iter()
+            .map(|s| format!("{},{},{},", s.mean, s.p95, s.max))
+            .collect();
         outln!(
-            "{},\"{}\",{},{},{},{},{},{},{},{},{},{},{},{},{},{},\"{}\"",
+            "{},\"{}\",{},{},{},{},{},{shifts}{},{},{},{},{},{},{},{},{},\"{}\"",
             r.method,
             r.setting,
             r.bands,
@@ -429,13 +458,27 @@ fn print_csv(rows: &[Row]) -> Result<(), StdoutFailed> {
 
 /// A Markdown table, so that it can be pasted into documents as it is.
 fn print_table(rows: &[Row], args: &Args, threads: usize) -> Result<(), StdoutFailed> {
+    let heads: String = args
+        .shift
+        .shift_under
+        .iter()
+        .map(|l| format!(" shift {l}: ΔE00 mean / p95 / max |"))
+        .collect();
     outln!(
-        "| method | setting | bands | Δe mean | Δe median | Δe max | round trip | ΔE00 max | in [0,1] | bytes | ns/colour (1 thread) | Mpixel/s (1 thread) | Mpixel/s ({threads} threads) |"
+        "| method | setting | bands | Δe mean | Δe median | Δe max |{heads} round trip | ΔE00 max | in [0,1] | bytes | ns/colour (1 thread) | Mpixel/s (1 thread) | Mpixel/s ({threads} threads) |"
     )?;
-    outln!("|---|---|---|---|---|---|---|---|---|---|---|---|---|")?;
+    outln!(
+        "|---|---|---|---|---|---|{}---|---|---|---|---|---|---|",
+        "---|".repeat(args.shift.shift_under.len())
+    )?;
     for r in rows {
+        let shifts: String = r
+            .colour_shift
+            .iter()
+            .map(|s| format!(" {:.3} / {:.3} / {:.3} |", s.mean, s.p95, s.max))
+            .collect();
         outln!(
-            "| {} | {} | {} | {:.4} | {:.4} | {:.4} | {:.1e} | {:.2e} | {:.3} | {} | {:.1} | {:.1} | {:.1} |",
+            "| {} | {} | {} | {:.4} | {:.4} | {:.4} |{shifts} {:.1e} | {:.2e} | {:.3} | {} | {:.1} | {:.1} | {:.1} |",
             r.method,
             r.setting,
             r.bands,

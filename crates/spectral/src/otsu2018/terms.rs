@@ -103,8 +103,8 @@ const USGS_LICENCE: &str = "public domain (USGS Spectral Library 7, doi:10.5066/
 
 /// The sets of ../shared/spectra by file name, with the terms its README states (their
 /// origins: UEF spectral database, USGS Data Series 1035, the repository
-/// emcdona1/leaf_reflectance_spectroscopy, colour-science 0.4.7).
-const KNOWN: [Known; 9] = [
+/// emcdona1/leaf_reflectance_spectroscopy, colour-science 0.4.7, hildatobing/vis-hyppigments).
+const KNOWN: [Known; 10] = [
     Known {
         file: "munsell1269_matte_380-800_1nm.csv",
         licence: "non-commercial use only (University of Eastern Finland spectral database)",
@@ -174,6 +174,14 @@ const KNOWN: [Known; 9] = [
         ],
         notice: Some(COLOUR_SCIENCE),
     },
+    Known {
+        file: "hyppigments_405-780_5nm.csv",
+        licence: "CC BY 4.0 (Hyperspectral Pigment Dataset, H. Deborah, NTNU, doi:10.5281/zenodo.5592485)",
+        commercial: Commercial::Yes,
+        // CC BY 4.0 asks for the creator, the licence and whether the data were changed.
+        attribution: &["Hyperspectral Pigment Dataset, H. Deborah (NTNU), WHISPERS 2022, doi:10.1109/WHISPERS56178.2022.9955067, data doi:10.5281/zenodo.5592485, licensed CC BY 4.0 (https://creativecommons.org/licenses/by/4.0/); per-swatch averages resampled to 5 nm, 6 spectra above 1.0 left out"],
+        notice: None,
+    },
 ];
 
 /// What a set whose file name is not known records, unless told.
@@ -240,6 +248,8 @@ mod tests {
             "/../../../shared/spectra/README.md"
         ))
         .expect("../shared/spectra beside the checkout");
+        let listed = readme.lines().filter(|l| l.contains(".csv |")).count();
+        assert_eq!(listed, KNOWN.len(), "every set of the README is known, and no other");
         for k in &KNOWN {
             let row = readme
                 .lines()
@@ -249,6 +259,7 @@ mod tests {
                 Commercial::No => "non-commercial",
                 Commercial::Yes if k.licence.starts_with("public domain") => "Public domain",
                 Commercial::Yes if k.licence.starts_with("MIT") => "MIT License",
+                Commercial::Yes if k.licence.starts_with("CC BY 4.0") => "**CC BY 4.0**",
                 Commercial::Yes => "BSD-3-Clause",
                 Commercial::Unstated => "colour-science",
             };

@@ -8,7 +8,7 @@ use specconv_testkit::*;
 fn table1(m: &dyn Method) -> eval::Summary {
     let a = paper();
     let s = set(MUNSELL, &a.grid);
-    let sum = eval::summarise(&eval::evaluate(&a, m, &s.spectra));
+    let sum = eval::summarise(&eval::evaluate(&a, m, &s.spectra, &eval::Viewing::none()));
     eprintln!(
         "{}: mean {:.4} median {:.4} max {:.4}; round trip {:.1e}, ΔE00 {:.2e}; in [0,1] {:.3}",
         m.name(),

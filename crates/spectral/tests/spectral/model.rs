@@ -97,7 +97,7 @@ fn round_trips_in_f64_and_f32_agrees(model: &Model) {
     let a = default_setting();
     let up = Uplifter::new(model).unwrap();
     let spectra = set(MUNSELL, &a.grid).spectra;
-    let s = eval::summarise(&eval::evaluate(&a, &up, &spectra));
+    let s = eval::summarise(&eval::evaluate(&a, &up, &spectra, &eval::Viewing::none()));
     assert!(s.roundtrip_max <= 1e-9, "{}", s.roundtrip_max);
 
     let n = a.bands();
