@@ -23,7 +23,7 @@ def dist():
 
 
 def test_metadata_names_the_licence_files(dist):
-    assert dist.metadata.get_all("License-File") == [NAME]
+    assert dist.metadata.get_all("License-File") == ["LICENSE-MIT", "LICENSE-APACHE", NAME]
     assert dist.metadata["License-Expression"] == "MIT OR Apache-2.0"
 
 
