@@ -46,13 +46,16 @@ pub fn evaluate<'py>(
     });
     let mut v = serde_json::to_value(&summary).map_err(crate::errors::option)?;
     v["method"] = stack.method().name().into();
-    v["model"] = specconv_conversion::models::describe(model.origin().as_deref(), &model.inner)
-        .into();
+    v["model"] =
+        specconv_conversion::models::describe(model.origin().as_deref(), &model.inner).into();
     let shift: serde_json::Map<String, serde_json::Value> = lights
         .iter()
         .enumerate()
         .map(|(k, l)| {
-            let values: Vec<f64> = outcomes.iter().map(|o| o.colour_shift[k].ciede2000).collect();
+            let values: Vec<f64> = outcomes
+                .iter()
+                .map(|o| o.colour_shift[k].ciede2000)
+                .collect();
             (l.to_string(), values.into())
         })
         .collect();

@@ -18,6 +18,13 @@ SHARED = ROOT.parent / "shared"
 sys.path.insert(0, str(ROOT / "tests"))
 
 
+@pytest.fixture(autouse=True)
+def _no_site_model(monkeypatch):
+    """Hermetic: the site default model of the machine running the tests changes nothing (a
+    test that sets $SPECCONV_MODEL does so itself)."""
+    monkeypatch.delenv("SPECCONV_MODEL", raising=False)
+
+
 def _binary():
     """The specconv command: $SPECCONV_BIN, else the workspace's debug, else release build."""
     if os.environ.get("SPECCONV_BIN"):

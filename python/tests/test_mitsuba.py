@@ -383,6 +383,21 @@ def test_render_time_texture_holds_the_baked_spectra(variant, files, tmp_path):
     np.testing.assert_allclose(ours.reshape(4, 5, -1), expected, rtol=2.0**-10, atol=2.0**-24)
 
 
+def test_the_site_default_model_reaches_the_plugins(variant, files, monkeypatch):
+    """$SPECCONV_MODEL is the plugins' model when the scene names none, as everywhere else."""
+    wavelengths = files["wavelengths"]
+    centres = (np.arange(TEXELS) + 0.5) / TEXELS
+    uvs = np.stack(np.meshgrid(centres, centres), axis=-1).reshape(-1, 2)
+    rgb = {"type": "specconv_rgb", "filename": files["png"]}
+    monkeypatch.setenv("SPECCONV_MODEL", "paper")
+    site = _eval(_texture(rgb), uvs, wavelengths)
+    monkeypatch.delenv("SPECCONV_MODEL")
+    named = _eval(_texture({**rgb, "model": "paper"}), uvs, wavelengths)
+    default = _eval(_texture(rgb), uvs, wavelengths)
+    np.testing.assert_array_equal(site, named)
+    assert not np.allclose(site, default, rtol=1e-3)
+
+
 def test_emission_file_as_reflectance_is_refused(variant, files):
     with pytest.raises(Exception, match="emission"):
         _texture({"type": "specconv_spectral", "filename": files["emission"]})

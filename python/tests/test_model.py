@@ -46,7 +46,7 @@ def test_a_saved_model_loads_and_converts_by_name(tmp_path, shared, png):
 
 
 def test_model_errors():
-    with pytest.raises(specconv.OptionError, match="extended, paper, broad, open"):
+    with pytest.raises(specconv.OptionError, match="open, extended, paper, broad"):
         specconv.Model.builtin("munsell")
     with pytest.raises(specconv.FileError):
         specconv.Model.load("/nonexistent/model.json")
@@ -88,3 +88,60 @@ def test_a_studio_model_on_top_of_open_is_the_cli_s_and_says_its_terms(tmp_path,
         specconv.Model.train(spectra, wl, commercial="perhaps")
     with pytest.raises(specconv.FileError, match="cannot read spectra file"):
         specconv.Model.train(spectra, wl, with_model="open", with_data=tmp_path)
+
+
+def _colorchecker(shared):
+    path = shared / "spectra" / "colorchecker_n_ohta_380-780_5nm.csv"
+    table = np.genfromtxt(path, delimiter=",", names=True)
+    names = table.dtype.names
+    return path, table[names[0]], np.stack([table[n] for n in names[1:]])
+
+
+def test_the_default_model_is_open_and_its_outputs_may_be_shipped(tmp_path, png):
+    import OpenImageIO as oiio
+
+    assert specconv.Model.builtin_names()[0] == "open"
+    assert specconv.Model.builtin().commercial == "yes"
+    (record,) = specconv.convert(png[0], tmp_path / "a.exr")
+    assert record["model"].startswith("built-in open (")
+    assert record["model"].endswith("commercial use: yes)")
+    spec = oiio.ImageInput.open(str(tmp_path / "a.exr")).spec()
+    assert spec.getattribute("specconvCommercialUse") == "yes"
+    assert "CC BY 4.0" in spec.getattribute("specconvModelAttribution")
+
+
+def test_the_site_default_model_reaches_python(tmp_path, png, monkeypatch):
+    xyz = np.array([[0.2, 0.3, 0.4], [0.05, 0.04, 0.3]])
+    paper = specconv.uplift(xyz, specconv.Model.builtin("paper"))
+    monkeypatch.setenv("SPECCONV_MODEL", "paper")
+    (record,) = specconv.convert(png[0], tmp_path / "a.exr")
+    assert record["model"].startswith("built-in paper (8 clusters")
+    np.testing.assert_array_equal(specconv.uplift(xyz), paper)
+    monkeypatch.setenv("SPECCONV_MODEL", "")
+    assert not np.array_equal(specconv.uplift(xyz), paper)
+    monkeypatch.setenv("SPECCONV_MODEL", "papers")
+    with pytest.raises(specconv.Error, match=r"\$SPECCONV_MODEL"):
+        specconv.uplift(xyz)
+    with pytest.raises(specconv.Error, match=r"\$SPECCONV_MODEL"):
+        specconv.convert(png[0], tmp_path / "b.exr")
+    assert not (tmp_path / "b.exr").exists()
+
+
+def test_evaluate_is_eval_with_its_colour_shift(shared, cli):
+    path, wl, spectra = _colorchecker(shared)
+    want = json.loads(cli("eval", "--spectra", path, "--model", "extended", "--json").stdout)
+    got = specconv.evaluate(spectra, wl, specconv.Model.builtin("extended"), bounded=False)
+    assert got["count"] == want["count"] == 24
+    assert got["delta_e"] == pytest.approx(want["delta_e"], rel=1e-12)
+    assert [s["illuminant"] for s in got["colour_shift"]] == ["A", "FL11"]
+    for mine, theirs in zip(got["colour_shift"], want["colour_shift"]):
+        assert mine == pytest.approx(theirs, rel=1e-12)
+    per = np.asarray(got["per_spectrum"]["colour_shift"]["A"])
+    assert got["colour_shift"][0]["p95"] == pytest.approx(np.percentile(per, 95), rel=1e-12)
+    assert got["colour_shift"][0]["max"] == per.max()
+    # Any light by name; bounded by default, as convert writes.
+    d50 = specconv.evaluate(spectra, wl, under=["D50"])
+    assert [s["illuminant"] for s in d50["colour_shift"]] == ["D50"]
+    assert d50["method"] == "otsu2018+bounded" and d50["in_unit_range"] == 1.0
+    with pytest.raises(specconv.OptionError, match="F13"):
+        specconv.evaluate(spectra, wl, under=["F13"])

@@ -1040,7 +1040,7 @@ fn pinned_config(dir: &Scratch, name: &str) -> PathBuf {
 }
 
 #[test]
-fn the_ocio_config_submit_checked_is_the_one_every_task_uses() {
+fn the_ocio_config_and_model_submit_checked_are_the_ones_every_task_uses() {
     if !cluster() {
         return;
     }
@@ -1051,10 +1051,13 @@ fn the_ocio_config_submit_checked_is_the_one_every_task_uses() {
         texture(p, 16, 16, k);
     }
     let sums = checksums(&inputs);
-    // $OCIO at submit; the nodes get none (SBATCH_EXPORT=NONE) or another one.
-    for (k, export) in ["NONE", "NONE,OCIO=/nonexistent/config.ocio"]
-        .iter()
-        .enumerate()
+    // $OCIO and $SPECCONV_MODEL at submit; the nodes get none (SBATCH_EXPORT=NONE) or others.
+    for (k, export) in [
+        "NONE",
+        "NONE,OCIO=/nonexistent/config.ocio,SPECCONV_MODEL=broad",
+    ]
+    .iter()
+    .enumerate()
     {
         let out = dir.path(&format!("out{k}"));
         std::fs::create_dir_all(&out).unwrap();
@@ -1066,6 +1069,7 @@ fn the_ocio_config_submit_checked_is_the_one_every_task_uses() {
         args.extend(["--job-dir", job_dir.to_str().unwrap()]);
         let run = Cmd::new(&args)
             .env("OCIO", &config)
+            .env("SPECCONV_MODEL", "paper")
             .env("SBATCH_EXPORT", export)
             .run();
         assert_eq!(run.code, 0, "{export}:\n{}\n{}", run.stdout, run.stderr);
@@ -1076,9 +1080,56 @@ fn the_ocio_config_submit_checked_is_the_one_every_task_uses() {
             ));
             let h = tool("exrheader", &[o.to_str().unwrap()]);
             assert!(h.contains("pinned.ocio"), "{export}: {h}");
+            assert!(h.contains("built-in paper (8 clusters"), "{export}: {h}");
         }
     }
     assert_clean(&dir.0, &inputs, &sums);
+}
+
+/// The model in force at submit is recorded in the manifest (the plan says it): the built-in
+/// default by name, or the site's; one that cannot be used is refused before anything is written.
+#[test]
+fn submit_records_the_model_in_force() {
+    let dir = Scratch::new("farm-model");
+    let input = dir.path("a.png");
+    texture(&input, 8, 8, 0);
+    let out = dir.path("out");
+    std::fs::create_dir_all(&out).unwrap();
+    let args = [
+        "farm",
+        "submit",
+        input.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--tasks",
+        "1",
+        "--dry-run",
+    ];
+    let plain = Cmd::new(args).run();
+    assert!(
+        plain.ok().contains("# options: model=open"),
+        "{}",
+        plain.stdout
+    );
+    let site = Cmd::new(args).env("SPECCONV_MODEL", "paper").run();
+    assert!(
+        site.ok().contains("# options: model=paper"),
+        "{}",
+        site.stdout
+    );
+    let named = Cmd::new(args)
+        .args(["--model", "broad"])
+        .env("SPECCONV_MODEL", "paper")
+        .run();
+    assert!(
+        named.ok().contains("# options: model=broad"),
+        "{}",
+        named.stdout
+    );
+    Cmd::new(args)
+        .env("SPECCONV_MODEL", "nonesuch")
+        .fails(2, &["$SPECCONV_MODEL", "'nonesuch'"]);
+    assert_eq!(std::fs::read_dir(&out).unwrap().count(), 0);
 }
 
 #[test]

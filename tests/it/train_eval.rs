@@ -50,10 +50,7 @@ fn eval_reproduces_table_1_with_the_papers_settings() {
 fn eval_uses_the_builtin_model_and_prints_a_readable_summary() {
     let out = Cmd::eval(colorchecker()).run();
     let text = out.ok();
-    assert!(
-        text.contains("model:      built-in open ("),
-        "{text}"
-    );
+    assert!(text.contains("model:      built-in open ("), "{text}");
     assert!(text.contains("spectra:    24"), "{text}");
     assert!(text.contains("Δe = ‖s − r‖²: mean "), "{text}");
     let per = Cmd::eval(colorchecker())
@@ -408,7 +405,11 @@ fn models_lists_every_model_with_its_terms_and_version_is_one_line() {
         assert!(text.contains(w), "{w}: {text}");
     }
     // Each notice once, however many models ship with it.
-    assert_eq!(text.matches("notice for colour-science").count(), 1, "{text}");
+    assert_eq!(
+        text.matches("notice for colour-science").count(),
+        1,
+        "{text}"
+    );
     let v = json(Cmd::new(["models", "--json"]).run().ok());
     let names: Vec<&str> = v["models"]
         .as_array()
@@ -442,11 +443,9 @@ fn the_site_default_model_reaches_every_command() {
     let input = crate::convert::testdata("srgb8.png");
     // A built-in name.
     let text = Cmd::new(["models"]).env("SPECCONV_MODEL", "paper").run();
-    assert!(
-        text.ok().starts_with(
-            "in force: paper (the site default, $SPECCONV_MODEL; commercial use: no)"
-        )
-    );
+    assert!(text
+        .ok()
+        .starts_with("in force: paper (the site default, $SPECCONV_MODEL; commercial use: no)"));
     let version = Cmd::new(["--version"]).env("SPECCONV_MODEL", "paper").run();
     assert!(
         version
@@ -465,7 +464,10 @@ fn the_site_default_model_reaches_every_command() {
         .unwrap()
         .starts_with("built-in paper (8 clusters"));
     let attrs = specconv_exr::read_attributes(&out).unwrap();
-    assert!(attrs.contains(&("specconvCommercialUse".into(), "no".into())), "{attrs:?}");
+    assert!(
+        attrs.contains(&("specconvCommercialUse".into(), "no".into())),
+        "{attrs:?}"
+    );
     // --model still wins.
     let run = Cmd::convert(&input, &out)
         .args(["--json", "--force", "--model", "open"])
@@ -479,7 +481,9 @@ fn the_site_default_model_reaches_every_command() {
     let file = dir.path("studio.json");
     std::fs::write(
         &file,
-        specconv_spectral::Model::builtin_named("broad").unwrap().to_json(),
+        specconv_spectral::Model::builtin_named("broad")
+            .unwrap()
+            .to_json(),
     )
     .unwrap();
     let eval = Cmd::eval(colorchecker()).env("SPECCONV_MODEL", &file).run();
@@ -493,10 +497,23 @@ fn the_site_default_model_reaches_every_command() {
     let bad = dir.path("bad.exr");
     Cmd::convert(&input, &bad)
         .env("SPECCONV_MODEL", "papers")
-        .fails(2, &["$SPECCONV_MODEL", "'papers'", "open, extended, paper, broad"]);
+        .fails(
+            2,
+            &[
+                "$SPECCONV_MODEL",
+                "'papers'",
+                "open, extended, paper, broad",
+            ],
+        );
     assert!(!bad.exists());
-    let version = Cmd::new(["--version"]).env("SPECCONV_MODEL", "papers").run();
-    assert!(version.ok().contains("cannot be loaded"), "{}", version.stdout);
+    let version = Cmd::new(["--version"])
+        .env("SPECCONV_MODEL", "papers")
+        .run();
+    assert!(
+        version.ok().contains("cannot be loaded"),
+        "{}",
+        version.stdout
+    );
     // Empty: unset.
     let run = Cmd::convert(&input, &out)
         .args(["--json", "--force"])
@@ -517,7 +534,10 @@ fn eval_reports_the_colour_shift_under_other_lights() {
             .ok(),
     );
     let shift = v["colour_shift"].as_array().unwrap();
-    let lights: Vec<&str> = shift.iter().map(|s| s["illuminant"].as_str().unwrap()).collect();
+    let lights: Vec<&str> = shift
+        .iter()
+        .map(|s| s["illuminant"].as_str().unwrap())
+        .collect();
     assert_eq!(lights, ["A", "FL11"]);
     // The summary is the per-spectrum values' mean, 95th percentile (linear, numpy's
     // default) and maximum.
@@ -545,8 +565,14 @@ fn eval_reports_the_colour_shift_under_other_lights() {
         .args(["--shift-under", "D50,blackbody:3000"])
         .run();
     let text = text.ok();
-    assert!(text.contains("colour shift under D50: CIEDE2000 mean "), "{text}");
-    assert!(text.contains("colour shift under blackbody:3000: CIEDE2000 mean "), "{text}");
+    assert!(
+        text.contains("colour shift under D50: CIEDE2000 mean "),
+        "{text}"
+    );
+    assert!(
+        text.contains("colour shift under blackbody:3000: CIEDE2000 mean "),
+        "{text}"
+    );
     assert!(!text.contains("under A:"), "{text}");
     Cmd::eval(colorchecker())
         .args(["--shift-under", "F13"])
@@ -570,7 +596,10 @@ fn eval_reports_the_colour_shift_under_other_lights() {
             / sets.len() as f64
     };
     for (k, o) in over.iter().enumerate() {
-        assert!((o["mean_of_sets"].as_f64().unwrap() - mean(k)).abs() < 1e-12, "{o}");
+        assert!(
+            (o["mean_of_sets"].as_f64().unwrap() - mean(k)).abs() < 1e-12,
+            "{o}"
+        );
     }
 }
 

@@ -7,10 +7,14 @@ use crate::Cli;
 use clap::CommandFactory;
 
 /// Every environment variable the program reads, and what for.
-pub const ENVIRONMENT: [(&str, &str); 8] = [
+pub const ENVIRONMENT: [(&str, &str); 9] = [
     (
         "OCIO",
         "The OCIO config used when --ocio is not given (convert, info, colorspaces, to-rgb, and simulate scenes without `ocio`): a file, `aces` or a built-in name such as ocio://default or ocio://studio-config-latest; unset or empty: the built-in ACES config.",
+    ),
+    (
+        "SPECCONV_MODEL",
+        "The site's default model, a built-in name or a model file: used by every command, the Python package, farm tasks (recorded at submit) and the Mitsuba plugins whenever no model is named; unset or empty: the built-in default. `specconv models` says which model is in force and why.",
     ),
     (
         "SPECCONV_CACHE_DIR",

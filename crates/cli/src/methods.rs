@@ -43,12 +43,12 @@ impl ShiftArg {
 /// The options of the method stack that `convert` and `simulate` share, with one default each.
 #[derive(Debug, Clone, clap::Args)]
 pub struct StackArgs {
-    /// A built-in model by name (extended, the default; paper; broad; open: `specconv --version` lists them with
-    /// their data and licences) or a model file from `specconv train`; the built-in default when
-    /// absent. Its grid, observer and illuminant are those of the output, whatever the method.
-    /// extended, paper and broad are trained partly on data for non-commercial use only: for
-    /// textures shipped commercially use open or a model of your own (docs/licences.md);
-    /// every output says which (`commercial use:` in specconvModel).
+    /// A built-in model by name (open, the default; extended; paper; broad: `specconv models`
+    /// lists them with their data and licences) or a model file from `specconv train`; when
+    /// absent, the site default $SPECCONV_MODEL, else open. Its grid, observer and illuminant
+    /// are those of the output, whatever the method. extended, paper and broad are trained
+    /// partly on data for non-commercial use only (docs/licences.md); every output says whether
+    /// it may be used commercially (specconvCommercialUse, and specconvModel's last words).
     #[arg(long, value_name = "NAME|MODEL")]
     pub model: Option<PathBuf>,
     #[command(flatten)]

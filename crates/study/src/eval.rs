@@ -41,7 +41,10 @@ pub struct Viewing {
 impl Viewing {
     /// `illuminants` seen through `a`'s observer on `a`'s grid. Fails when an illuminant's
     /// table does not cover the grid.
-    pub fn new(a: &Colorimetry, illuminants: &[Illuminant]) -> Result<Viewing, specconv_colour::Error> {
+    pub fn new(
+        a: &Colorimetry,
+        illuminants: &[Illuminant],
+    ) -> Result<Viewing, specconv_colour::Error> {
         let under = illuminants
             .iter()
             .map(|&i| Colorimetry::new(a.grid, a.observer, i))
@@ -313,7 +316,10 @@ mod tests {
         // numpy.percentile([1, 2, 3, 10], 95) = 8.95; under FL11 every value doubled.
         let shift = &s.colour_shift;
         assert_eq!(shift.len(), 2);
-        assert_eq!((shift[0].illuminant, shift[1].illuminant), (Illuminant::A, Illuminant::FL11));
+        assert_eq!(
+            (shift[0].illuminant, shift[1].illuminant),
+            (Illuminant::A, Illuminant::FL11)
+        );
         assert_eq!((shift[0].mean, shift[0].max), (4.0, 10.0));
         assert!((shift[0].p95 - 8.95).abs() < 1e-12, "{}", shift[0].p95);
         assert!((shift[1].p95 - 17.9).abs() < 1e-12);
@@ -354,9 +360,15 @@ mod tests {
         let v = Viewing::new(&a, &[Illuminant::D65, Illuminant::A, Illuminant::FL11]).unwrap();
         let shift = v.shift(&s, &r);
         assert!(shift[0].ciede2000 < 1e-9, "{shift:?}");
-        assert!(shift[1].ciede2000 > 0.05 && shift[2].ciede2000 > 0.05, "{shift:?}");
+        assert!(
+            shift[1].ciede2000 > 0.05 && shift[2].ciede2000 > 0.05,
+            "{shift:?}"
+        );
         assert!(v.shift(&s, &s).iter().all(|x| x.ciede2000 == 0.0));
-        assert_eq!(v.illuminants(), [Illuminant::D65, Illuminant::A, Illuminant::FL11]);
+        assert_eq!(
+            v.illuminants(),
+            [Illuminant::D65, Illuminant::A, Illuminant::FL11]
+        );
         assert!(Viewing::none().shift(&s, &r).is_empty());
     }
 

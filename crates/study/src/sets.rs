@@ -12,9 +12,9 @@
 //! on average by losing badly on one kind of material is not the better default.
 
 use crate::eval::{self, Outcome, Summary};
-use specconv_colour::Illuminant;
 use serde::Serialize;
 use specconv_colour::Colorimetry;
+use specconv_colour::Illuminant;
 use specconv_spectral::{train, Model, Part, TrainOptions, TrainingSet};
 
 /// How a set inside the recipe is held out.
@@ -101,7 +101,11 @@ fn mean_and_worst(sets: &[SetScore], means: &[f64]) -> (f64, f64, String) {
         .zip(means)
         .find(|(_, &m)| m == worst)
         .map_or_else(String::new, |(s, _)| s.source.clone());
-    (means.iter().sum::<f64>() / means.len().max(1) as f64, worst, worst_set)
+    (
+        means.iter().sum::<f64>() / means.len().max(1) as f64,
+        worst,
+        worst_set,
+    )
 }
 
 impl Scores {
@@ -109,12 +113,17 @@ impl Scores {
     pub fn of(sets: Vec<SetScore>) -> Scores {
         let means: Vec<f64> = sets.iter().map(|s| s.summary.delta_e.mean).collect();
         let (mean_of_sets, worst, worst_set) = mean_and_worst(&sets, &means);
-        let lights = sets.first().map_or(&[][..], |s| &s.summary.colour_shift[..]);
+        let lights = sets
+            .first()
+            .map_or(&[][..], |s| &s.summary.colour_shift[..]);
         let colour_shift = lights
             .iter()
             .enumerate()
             .map(|(k, first)| {
-                let means: Vec<f64> = sets.iter().map(|s| s.summary.colour_shift[k].mean).collect();
+                let means: Vec<f64> = sets
+                    .iter()
+                    .map(|s| s.summary.colour_shift[k].mean)
+                    .collect();
                 let (mean_of_sets, worst, worst_set) = mean_and_worst(&sets, &means);
                 SetsShift {
                     illuminant: first.illuminant,

@@ -52,10 +52,9 @@ struct Listed {
 pub fn run(args: Args) -> Result<()> {
     let (path, origin) = models::in_force(None);
     let in_force = models::load(None).map_err(crate::usage)?;
-    let name = path.as_deref().map_or_else(
-        || BUILTIN[0].name.to_string(),
-        |p| p.display().to_string(),
-    );
+    let name = path
+        .as_deref()
+        .map_or_else(|| BUILTIN[0].name.to_string(), |p| p.display().to_string());
     let mut listed: Vec<Listed> = BUILTIN
         .iter()
         .enumerate()
@@ -74,7 +73,11 @@ pub fn run(args: Args) -> Result<()> {
     for m in BUILTIN
         .iter()
         .map(|b| Model::builtin_named(b.name).expect("built in").clone())
-        .chain(args.models.iter().filter_map(|p| models::load(Some(p)).ok()))
+        .chain(
+            args.models
+                .iter()
+                .filter_map(|p| models::load(Some(p)).ok()),
+        )
     {
         for n in m.training.notices() {
             if !notices.contains(&n) {

@@ -306,8 +306,13 @@ pub struct Builtin {
 /// docs/methods.md has the study that chose them and their figures.
 pub const BUILTIN: [Builtin; 4] = [
     Builtin {
+        name: "open",
+        summary: "the default, for commercial use: open data only, USGS Spectral Library 7 sets (public domain), Rhododendron leaves (MIT), NIST CQS 9.0 saturated chips and Luo's memory colours (BSD-3-Clause), painted pigments (CC BY 4.0), weighted; SUMMARY_FIGURES",
+        json: include_str!("../../models/open.json"),
+    },
+    Builtin {
         name: "extended",
-        summary: "the default: the paper's Munsell data extended with the ColorChecker, USGS and Rhododendron sets, Munsell weighted so its colours stay within 5 % of the paper model's error while every other set improves (Munsell data: non-commercial use only)",
+        summary: "the paper's Munsell data extended with the ColorChecker, USGS and Rhododendron sets, Munsell weighted so its colours stay within 5 % of the paper model's error while every other set improves; the default until issue 43 (Munsell data: non-commercial use only)",
         json: include_str!("../../models/extended.json"),
     },
     Builtin {
@@ -319,10 +324,5 @@ pub const BUILTIN: [Builtin; 4] = [
         name: "broad",
         summary: "Munsell, ColorChecker, USGS and Rhododendron sets, weighted: far better on plants, soils, minerals and man-made materials, 1.5x the paper model's error on Munsell colours (Munsell data: non-commercial use only)",
         json: include_str!("../../models/broad.json"),
-    },
-    Builtin {
-        name: "open",
-        summary: "open data only, for commercial use: USGS Spectral Library 7 sets (public domain), Rhododendron leaves (MIT), NIST CQS 9.0 saturated chips and Luo's memory colours (BSD-3-Clause), weighted; mean error over nine held-out sets 7 % below extended's, 6x its error on Munsell colours",
-        json: include_str!("../../models/open.json"),
     },
 ];

@@ -249,7 +249,11 @@ mod tests {
         ))
         .expect("../shared/spectra beside the checkout");
         let listed = readme.lines().filter(|l| l.contains(".csv |")).count();
-        assert_eq!(listed, KNOWN.len(), "every set of the README is known, and no other");
+        assert_eq!(
+            listed,
+            KNOWN.len(),
+            "every set of the README is known, and no other"
+        );
         for k in &KNOWN {
             let row = readme
                 .lines()

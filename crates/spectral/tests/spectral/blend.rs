@@ -119,7 +119,12 @@ fn blended(model: &Model, width: f64) -> Uplifter {
 }
 
 fn summary(a: &Colorimetry, up: &Uplifter, file: &str) -> eval::Summary {
-    eval::summarise(&eval::evaluate(a, up, &set(file, &a.grid).spectra, &eval::Viewing::none()))
+    eval::summarise(&eval::evaluate(
+        a,
+        up,
+        &set(file, &a.grid).spectra,
+        &eval::Viewing::none(),
+    ))
 }
 
 /// Every boundary of `model`, 1e-5 apart, jumps by less than 1e-3 at the default width,

@@ -39,11 +39,16 @@ fn builtin_models_are_what_train_makes_from_shared() {
             );
         }
     }
-    // The default is the extended model (docs/methods.md says why); the paper's stays by name.
+    // The default is the open model, whose every set allows commercial use (issue 43,
+    // docs/methods.md says which recipe and why); the others stay by name.
     assert!(std::ptr::eq(
         Model::builtin(),
-        Model::builtin_named("extended").unwrap()
+        Model::builtin_named("open").unwrap()
     ));
+    assert_eq!(
+        Model::builtin().training.commercial(),
+        specconv_spectral::otsu2018::terms::Commercial::Yes
+    );
 }
 
 #[test]

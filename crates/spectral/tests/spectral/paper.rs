@@ -10,7 +10,12 @@ fn table1(clusters: usize) -> eval::Summary {
     let model = train(&set, &a, &paper_options(clusters)).unwrap();
     assert_eq!(model.leaves.len(), clusters);
     let up = Uplifter::new(&model).unwrap();
-    eval::summarise(&eval::evaluate(&a, &up, &set.spectra, &eval::Viewing::none()))
+    eval::summarise(&eval::evaluate(
+        &a,
+        &up,
+        &set.spectra,
+        &eval::Viewing::none(),
+    ))
 }
 
 #[test]

@@ -75,7 +75,10 @@ fn colour_shift_agrees_with_colour_science() {
         assert_eq!(s.illuminant.to_string(), *name);
         for (ours, key) in [(s.mean, "mean"), (s.p95, "p95"), (s.max, "max")] {
             let want = t[key].as_f64().unwrap();
-            assert!((ours - want).abs() < 1e-9, "{name} {key}: {ours} against {want}");
+            assert!(
+                (ours - want).abs() < 1e-9,
+                "{name} {key}: {ours} against {want}"
+            );
         }
         // The uplift is not the measured spectrum: there is a shift to measure.
         assert!(s.mean > 0.05, "{name}: {s:?}");
