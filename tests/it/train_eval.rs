@@ -405,11 +405,10 @@ fn models_lists_every_model_with_its_terms_and_version_is_one_line() {
         assert!(text.contains(w), "{w}: {text}");
     }
     // Each notice once, however many models ship with it.
-    assert_eq!(
-        text.matches("notice for colour-science").count(),
-        1,
-        "{text}"
-    );
+    let notices = text
+        .lines()
+        .filter(|l| l.starts_with("notice for colour-science"));
+    assert_eq!(notices.count(), 1, "{text}");
     let v = json(Cmd::new(["models", "--json"]).run().ok());
     let names: Vec<&str> = v["models"]
         .as_array()
@@ -582,7 +581,9 @@ fn eval_reports_the_colour_shift_under_other_lights() {
         Cmd::eval(colorchecker())
             .args(["--spectra"])
             .arg(usgs("soils"))
-            .args(["--by-set", "--model", "open", "--json"])
+            .args(["--by-set", "--json", "--train"])
+            .arg(usgs("soils"))
+            .args(["--clusters", "2", "--min-cluster-size", "10"])
             .run()
             .ok(),
     );
@@ -845,7 +846,66 @@ fn report_by_set_scores_each_file_held_out() {
         assert_eq!(r["count"], 24 + 138);
         let note = r["note"].as_str().unwrap();
         assert!(note.contains("by set: mean over 2 files"), "{note}");
+        assert!(note.contains("ΔE00 under A mean"), "{note}");
+        assert!(note.contains("ΔE00 under FL11 mean"), "{note}");
     }
+    // Every row has the colour shift under A and F11 (mean, 95th percentile, max), the
+    // baselines' too; the text table and the CSV say the same.
+    for r in rows.as_array().unwrap() {
+        let shift = r["colour_shift"].as_array().unwrap();
+        assert_eq!(shift.len(), 2, "{r}");
+        assert_eq!(
+            (
+                shift[0]["illuminant"].as_str(),
+                shift[1]["illuminant"].as_str()
+            ),
+            (Some("A"), Some("FL11"))
+        );
+        for s in shift {
+            let (mean, p95, max) = (
+                s["mean"].as_f64().unwrap(),
+                s["p95"].as_f64().unwrap(),
+                s["max"].as_f64().unwrap(),
+            );
+            assert!(0.0 < mean && mean <= max && p95 <= max, "{r}");
+        }
+    }
+    let text = Cmd::new([
+        "report",
+        "--clusters",
+        "1",
+        "--steps",
+        "10",
+        "--colours",
+        "1000",
+    ])
+    .args(["--spectra"])
+    .arg(&cc)
+    .run();
+    let text = text.ok();
+    assert!(
+        text.contains("| shift A: ΔE00 mean / p95 / max | shift FL11: ΔE00 mean / p95 / max |"),
+        "{text}"
+    );
+    let csv = Cmd::new([
+        "report",
+        "--clusters",
+        "1",
+        "--steps",
+        "10",
+        "--colours",
+        "1000",
+        "--csv",
+    ])
+    .args(["--spectra"])
+    .arg(&cc)
+    .run();
+    assert!(csv
+        .ok()
+        .lines()
+        .next()
+        .unwrap()
+        .contains("ciede2000_A_mean,ciede2000_A_p95,ciede2000_A_max,ciede2000_FL11_mean"));
     Cmd::new(["report", "--by-set", "--holdout", "2"])
         .args(["--spectra"])
         .arg(&cc)
