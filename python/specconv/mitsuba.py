@@ -586,7 +586,8 @@ def _to_uv(props, jit: bool):
 
 
 def _model_argument(name: str):
-    """``model``: "" for the default, a built-in name, or a model file (``.json``) found as
+    """``model``: "" for the model in force (``$SPECCONV_MODEL``, else the built-in default, as
+    the library decides), a built-in name, or a model file (``.json``) found as
     the scene's files are."""
     if not name:
         return None

@@ -226,7 +226,7 @@ pub fn rgb_to_xyz<'py>(
 }
 
 /// The conversion options `uplift` and `encode` share: the method stack's.
-pub(crate) fn stack_options(
+fn stack_options(
     bounded: bool,
     blend: f64,
     method: &str,

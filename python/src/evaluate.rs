@@ -26,8 +26,15 @@ pub fn evaluate<'py>(
         Some(m) => m.get(),
         None => Model::default_model()?,
     };
-    let options = crate::colour::stack_options(bounded, blend, "otsu2018", None)?;
-    let stack = model.stack(&options)?;
+    // As `eval` measures: exact under the model's own band sums (the round trip of Eq. 9).
+    let description = specconv_spectral::stack::Description::measured(
+        specconv_spectral::method::MethodName::Otsu2018,
+        blend,
+        Default::default(),
+        specconv_spectral::baselines::jakob::DEFAULT_RESOLUTION,
+        bounded,
+    );
+    let stack = model.stack_of(&description)?;
     let a = stack.colorimetry();
     let lights: Vec<Illuminant> = match under {
         None => eval::SHIFT_ILLUMINANTS.to_vec(),

@@ -39,13 +39,20 @@ impl Model {
 
     /// The stack `options` describe on this model, built once.
     pub fn stack(&self, options: &specconv_conversion::Options) -> PyResult<Arc<Stack>> {
-        let description = options.description();
+        self.stack_of(&options.description())
+    }
+
+    /// The stack `description` describes on this model, built once.
+    pub fn stack_of(
+        &self,
+        description: &specconv_spectral::stack::Description,
+    ) -> PyResult<Arc<Stack>> {
         let key = format!("{description:?}");
         if let Some(s) = self.stacks.lock().ok().and_then(|m| m.get(&key).cloned()) {
             return Ok(s);
         }
         let tables = specconv_conversion::tables::in_dir(None, |_| {});
-        let stack = Stack::build(&description, &self.inner, &tables)
+        let stack = Stack::build(description, &self.inner, &tables)
             .map(Arc::new)
             .map_err(crate::errors::option)?;
         if let Ok(mut m) = self.stacks.lock() {

@@ -7,7 +7,7 @@ use anyhow::Result;
 use specconv_colour::Colorimetry;
 use specconv_spectral::baselines::jakob;
 use specconv_spectral::method::MethodName;
-use specconv_spectral::stack::{Description, ExactUnder, Setting, Stack};
+use specconv_spectral::stack::{Description, Setting, Stack};
 use specconv_spectral::Model;
 use std::path::PathBuf;
 
@@ -124,28 +124,7 @@ impl SettingArgs {
             observer: self.observer,
             illuminant: self.illuminant,
         };
-        measured(method, blend, setting, self.jakob_resolution, bounded)
-    }
-}
-
-/// `method` as `eval` and `report` measure it, as the paper does: exact under its own band
-/// sums, on its own grid, not emissive.
-pub fn measured(
-    method: MethodName,
-    blend: f64,
-    baseline: Setting,
-    jakob_resolution: usize,
-    bounded: bool,
-) -> Description {
-    Description {
-        method,
-        blend,
-        baseline,
-        jakob_resolution,
-        grid: None,
-        exact_under: ExactUnder::BandSums,
-        bounded,
-        emissive: None,
+        Description::measured(method, blend, setting, self.jakob_resolution, bounded)
     }
 }
 
@@ -350,8 +329,11 @@ mod tests {
             observer: Some(specconv_colour::Observer::Cie1964),
             illuminant: None,
         };
-        let want = measured(MethodName::Smits1999, DEFAULT_WIDTH, setting, 64, true);
+        let want = Description::measured(MethodName::Smits1999, DEFAULT_WIDTH, setting, 64, true);
         assert_eq!(e.description(), want);
-        assert_eq!(want.exact_under, ExactUnder::BandSums);
+        assert_eq!(
+            want.exact_under,
+            specconv_spectral::stack::ExactUnder::BandSums
+        );
     }
 }

@@ -65,6 +65,27 @@ pub enum ExactUnder {
 }
 
 impl Description {
+    /// `method` as `eval`, `report` and the study measure it, as the paper does: exact under
+    /// its own band sums (the round trip of Eq. 9), on its own grid, not emissive.
+    pub fn measured(
+        method: MethodName,
+        blend: f64,
+        baseline: Setting,
+        jakob_resolution: usize,
+        bounded: bool,
+    ) -> Description {
+        Description {
+            method,
+            blend,
+            baseline,
+            jakob_resolution,
+            grid: None,
+            exact_under: ExactUnder::BandSums,
+            bounded,
+            emissive: None,
+        }
+    }
+
     /// The method with every option at `convert`'s default: the built-in model, blended at
     /// [`crate::otsu2018::blend::DEFAULT_WIDTH`], bounded, reflectance as readers see it.
     pub fn convert_default(method: MethodName) -> Description {
