@@ -30,7 +30,8 @@ pub struct SceneFile {
     /// Method names, as `--method` takes them.
     #[serde(default)]
     pub methods: Option<Vec<String>>,
-    /// A model file, relative to the scene.
+    /// A built-in model by name, or a model file relative to the scene; the model in force
+    /// (`$SPECCONV_MODEL`, else the built-in default) when absent.
     #[serde(default)]
     pub model: Option<PathBuf>,
     /// The OCIO config for colours and textures: a built-in name or a file relative to the scene.

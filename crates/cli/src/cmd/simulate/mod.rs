@@ -112,7 +112,14 @@ pub fn run(args: Args) -> Result<()> {
     let dir = args.scene.parent().unwrap_or(Path::new("."));
     let model_path = match &args.stack.model {
         Some(p) => Some(p.clone()),
-        None => file.model.as_ref().map(|p| dir.join(p)),
+        // A built-in model by name, unless a file of that name sits beside the scene.
+        None => file.model.as_ref().map(|p| {
+            let beside = dir.join(p);
+            match specconv_conversion::models::builtin_name(p) {
+                Some(name) if !beside.exists() => PathBuf::from(name),
+                _ => beside,
+            }
+        }),
     };
     let model = files::load_model(model_path.as_deref())?;
     // Every method's output shares the grid, observer and illuminant of the model.
