@@ -121,6 +121,12 @@ pub fn builtin_name(path: &Path) -> Option<&'static str> {
 /// from the built-in model: 45 KB for 8 clusters on 36 bands).
 pub const MODEL_LIMIT: u64 = 256 << 20;
 
+/// The model in force for `named` as a name or path that means it anywhere, whatever the
+/// environment there: what a farm job records at submit, as it records the OCIO config.
+pub fn pinned(named: Option<&Path>) -> PathBuf {
+    in_force(named).0.unwrap_or_else(|| BUILTIN[0].name.into())
+}
+
 /// The model in force for `path` ([`in_force`]): a built-in one by name ([`builtin_name`]), a
 /// file, the site default, or the built-in default.
 pub fn load(path: Option<&Path>) -> Result<Model, ModelError> {

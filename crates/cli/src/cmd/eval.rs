@@ -423,8 +423,38 @@ mod by_set {
             recipe.options.max_condition,
             trained.join(", ")
         )?;
-        // Per illuminant: the shift's mean / 95th percentile / max, and against the other model
-        // its mean and this model's ratio to it.
+        table(args, scores, against)?;
+        let other = |f: &dyn Fn(&Scores) -> f64| {
+            against.map_or(String::new(), |o| format!(" (against {:.4})", f(o)))
+        };
+        outln!(
+            "mean over sets: Δe {:.4}{}",
+            scores.mean_of_sets,
+            other(&|s| s.mean_of_sets)
+        )?;
+        outln!(
+            "worst set:      Δe {:.4} ({}){}",
+            scores.worst,
+            scores.worst_set,
+            other(&|s| s.worst)
+        )?;
+        for (k, x) in scores.colour_shift.iter().enumerate() {
+            outln!(
+                "colour shift under {}: mean over sets CIEDE2000 {:.4}{}, worst set {:.4} ({}){}",
+                x.illuminant,
+                x.mean_of_sets,
+                other(&|s| s.colour_shift[k].mean_of_sets),
+                x.worst,
+                x.worst_set,
+                other(&|s| s.colour_shift[k].worst)
+            )?;
+        }
+        Ok(())
+    }
+
+    /// The per-set table: Δe and, per illuminant, the shift's mean / 95th percentile / max;
+    /// against the other model, its mean and this model's ratio to it.
+    fn table(args: &Args, scores: &Scores, against: Option<&Scores>) -> Result<()> {
         let lights: Vec<_> = scores.colour_shift.iter().map(|s| s.illuminant).collect();
         let mut head = String::new();
         let mut rule = String::new();
@@ -467,31 +497,6 @@ mod by_set {
                 s.summary.delta_e.median,
                 s.summary.delta_e.max,
                 s.summary.in_unit_range
-            )?;
-        }
-        let other = |f: &dyn Fn(&Scores) -> f64| {
-            against.map_or(String::new(), |o| format!(" (against {:.4})", f(o)))
-        };
-        outln!(
-            "mean over sets: Δe {:.4}{}",
-            scores.mean_of_sets,
-            other(&|s| s.mean_of_sets)
-        )?;
-        outln!(
-            "worst set:      Δe {:.4} ({}){}",
-            scores.worst,
-            scores.worst_set,
-            other(&|s| s.worst)
-        )?;
-        for (k, x) in scores.colour_shift.iter().enumerate() {
-            outln!(
-                "colour shift under {}: mean over sets CIEDE2000 {:.4}{}, worst set {:.4} ({}){}",
-                x.illuminant,
-                x.mean_of_sets,
-                other(&|s| s.colour_shift[k].mean_of_sets),
-                x.worst,
-                x.worst_set,
-                other(&|s| s.colour_shift[k].worst)
             )?;
         }
         Ok(())

@@ -215,11 +215,8 @@ fn submit(s: Submit, ocio: Option<String>) -> Result<i32> {
     // The model in force here is the tasks' (as the OCIO config is): a node's own
     // $SPECCONV_MODEL, or none, changes nothing. It must load before anything is submitted.
     use specconv_conversion::models;
-    specconv_conversion::models::load(given.model.as_deref()).map_err(usage)?;
-    if let (None, (path, _)) = (&given.model, models::in_force(None)) {
-        let builtin = specconv_spectral::otsu2018::model::BUILTIN[0].name;
-        given.model = Some(path.unwrap_or_else(|| builtin.into()));
-    }
+    models::load(given.model.as_deref()).map_err(usage)?;
+    given.model = Some(models::pinned(given.model.as_deref()));
     let options = recorded_options(&given);
     // Settings that cannot work for any input fail here, not once in every task.
     let config = checks::config(ocio.as_deref())?;

@@ -307,7 +307,7 @@ pub struct Builtin {
 pub const BUILTIN: [Builtin; 4] = [
     Builtin {
         name: "open",
-        summary: "the default, for commercial use: open data only, USGS Spectral Library 7 sets (public domain), Rhododendron leaves (MIT), NIST CQS 9.0 saturated chips and Luo's memory colours (BSD-3-Clause), painted pigments (CC BY 4.0), weighted; over ten held-out sets its mean colour shift under A and F11 is 13 % below extended's (spectral error 1 % below), 1.6x extended's on Munsell colours",
+        summary: "the default, for commercial use: open data only, USGS Spectral Library 7 sets (public domain), Rhododendron leaves (MIT), NIST CQS 9.0 saturated chips and Luo's memory colours (BSD-3-Clause), painted pigments (CC BY 4.0), weighted; over ten held-out sets its mean colour shift under A and F11 is 13 % below extended's (spectral error 10 % below), 1.6x extended's on Munsell colours",
         json: include_str!("../../models/open.json"),
     },
     Builtin {

@@ -746,7 +746,10 @@ impl<'a> SplitSearch<'a> {
             let (s, w) = (self.spectrum(order[k - 1]), self.weight(order[k - 1]));
             below.add_weighted(s, w);
             colours_below.add_weighted(s, self.a.xyz(s), w);
-            if self.floors[ax][k] > limit {
+            // Only splits the rules allow (their floor is finite): with no limit (the search of
+            // every candidate) an infinite floor is not above it, and a side of 4 spectra under
+            // a minimum of 30 was once chosen.
+            if !self.splits_at(ax, k) || self.floors[ax][k] > limit {
                 continue;
             }
             // Far from the last candidate evaluated, a fresh decomposition beats iterating.
