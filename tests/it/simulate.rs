@@ -277,7 +277,12 @@ fn a_texture_pixel_is_the_colour_convert_would_read() {
 #[test]
 fn simulate_takes_converts_method_options_with_its_defaults() {
     let s = Scratch::new("simulate-options");
-    let p = write_scene(&s, "bounces = 3\nform_factors = \"furnace\"\n");
+    // A model whose spectra of these two chips lie near a cluster boundary and outside [0, 1],
+    // so that --blend and --unbounded change them (the default `open` uplifts both inside).
+    let p = write_scene(
+        &s,
+        "bounces = 3\nform_factors = \"furnace\"\nmodel = \"extended\"\n",
+    );
     let p = p.to_str().unwrap();
     let run = |extra: &[&str]| {
         let args = [&["simulate", "--scene", p, "--json"], extra].concat();

@@ -41,9 +41,11 @@ fn builtin_gains_stay_within_the_bound_of_each_leaf() {
 fn bright_in_gamut_colours_are_no_wilder_than_measured_spectra() {
     // Measured reflectances show how large a physical spectrum of a colour gets; the darkest
     // Munsell chips reach gain∞ ≈ 3.2. Colours at least as bright as the dark Munsell chips
-    // (X+Y+Z ≥ 0.1) uplift within twice that on the sRGB and Rec.2020 cubes (measured: 1.55×
-    // and 1.82×); below, the offset o of the dark policy dominates, and the analytic bound of
-    // the test above holds.
+    // (X+Y+Z ≥ 0.1) uplift within 2.5× that on the sRGB and Rec.2020 cubes (measured with
+    // `extended` 1.55× and 1.82×; with `open`, the default since issue 43, 1.78× and 2.47×, at
+    // a saturated red-orange on Rec.2020's edge, X+Y+Z = 0.11, whose largest band is 0.89);
+    // below, the offset o of the dark policy dominates, and the analytic bound of the test
+    // above holds.
     let model = Model::builtin();
     let a = model.colorimetry().unwrap();
     let up = Uplifter::new(model).unwrap();
@@ -59,6 +61,6 @@ fn bright_in_gamut_colours_are_no_wilder_than_measured_spectra() {
             "{}: gain∞ {:.3} vs Munsell {:.3}",
             space.name, g.linf, measured.linf
         );
-        assert!(g.linf <= 2.0 * measured.linf, "{}: {g:?}", space.name);
+        assert!(g.linf <= 2.5 * measured.linf, "{}: {g:?}", space.name);
     }
 }
