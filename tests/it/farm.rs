@@ -258,6 +258,13 @@ fn a_job_array_reports_each_failure_and_retry_converts_exactly_those() {
     for p in inputs.iter().filter(|p| **p != missing && **p != corrupt) {
         assert_same_image(&spectral(&out, p), &spectral(&local, p));
     }
+    // Made with the default model, whose every set allows commercial use: the outputs say so.
+    let h = header(&spectral(&out, &inputs[0]));
+    assert!(
+        h.lines()
+            .any(|l| l.contains("specconvCommercialUse") && l.contains("\"yes\"")),
+        "{h}"
+    );
 
     // Fix the two inputs; retry converts exactly those, leaving the others untouched.
     texture(&missing, 40, 24, 3);
