@@ -589,6 +589,36 @@ fn eval_reports_the_colour_shift_under_other_lights() {
     Cmd::eval(colorchecker())
         .args(["--shift-under", "F13"])
         .fails(2, &["illuminant 'F13'", "FL11"]);
+    // A light whose table does not cover the grid says so, and what to do, before any work.
+    Cmd::eval(colorchecker())
+        .args([
+            "--method",
+            "meng2015",
+            "--bands",
+            "380:780:10",
+            "--shift-under",
+            "D65,FL2",
+        ])
+        .run()
+        .ok();
+    let dir = Scratch::new("shift-grid");
+    let wide = dir.write(
+        "wide.csv",
+        &std::iter::once("wavelength_nm,a".to_string())
+            .chain((360..=780).step_by(10).map(|l| format!("{l},0.5")))
+            .collect::<Vec<_>>()
+            .join("\n"),
+    );
+    Cmd::eval(&wide)
+        .args(["--method", "meng2015", "--bands", "360:780:10"])
+        .fails(
+            2,
+            &[
+                "--shift-under",
+                "FL11 covers 380–780 nm",
+                "name illuminants",
+            ],
+        );
     // By set: per set and over sets, under each light.
     let v = json(
         Cmd::eval(colorchecker())

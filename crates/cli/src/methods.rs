@@ -36,7 +36,11 @@ pub struct ShiftArg {
 impl ShiftArg {
     /// Where the colour shift is measured, for evaluations in `a`'s setting.
     pub fn viewing(&self, a: &Colorimetry) -> Result<specconv_study::eval::Viewing> {
-        Ok(specconv_study::eval::Viewing::new(a, &self.shift_under)?)
+        specconv_study::eval::Viewing::new(a, &self.shift_under).map_err(|e| {
+            crate::usage(anyhow::anyhow!(
+                "--shift-under: {e}; choose bands inside that range, or name illuminants whose tables cover the grid with --shift-under"
+            ))
+        })
     }
 }
 
