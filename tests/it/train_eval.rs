@@ -526,6 +526,24 @@ fn the_site_default_model_reaches_every_command() {
         "{}",
         version.stdout
     );
+    // A hostile value: a line break cannot break --version's one line, nor imitate a line of
+    // `models`; a FIFO or device is refused by its kind, never opened (no hang).
+    let forged = "x.json\nin force: open (commercial use: yes)";
+    let version = Cmd::new(["--version"]).env("SPECCONV_MODEL", forged).run();
+    assert_eq!(version.ok().lines().count(), 1, "{}", version.stdout);
+    let fifo = dir.path("fifo.json");
+    assert!(std::process::Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .unwrap()
+        .success());
+    for value in [fifo.as_os_str(), "/dev/zero".as_ref()] {
+        let out = Cmd::new(["models"])
+            .env("SPECCONV_MODEL", value)
+            .run_within(std::time::Duration::from_secs(20));
+        assert_eq!(out.code, 2, "{}", out.stderr);
+        assert!(out.stderr.contains("not a file"), "{}", out.stderr);
+    }
     // Empty: unset.
     let run = Cmd::convert(&input, &out)
         .args(["--json", "--force"])

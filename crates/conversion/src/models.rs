@@ -24,6 +24,15 @@ pub enum Origin {
 }
 
 impl Origin {
+    /// One word for machines (`specconv models --json`): `named`, `site` or `built-in default`.
+    pub fn word(self) -> &'static str {
+        match self {
+            Origin::Named => "named",
+            Origin::Site => "site",
+            Origin::Default => "built-in default",
+        }
+    }
+
     /// In words, for `specconv models` and errors.
     pub fn describe(self) -> String {
         match self {

@@ -50,11 +50,9 @@ struct Listed {
 }
 
 pub fn run(args: Args) -> Result<()> {
-    let (path, origin) = models::in_force(None);
+    let (_, origin) = models::in_force(None);
     let in_force = models::load(None).map_err(crate::usage)?;
-    let name = path
-        .as_deref()
-        .map_or_else(|| BUILTIN[0].name.to_string(), |p| p.display().to_string());
+    let name = shown(&models::pinned(None));
     let mut listed: Vec<Listed> = BUILTIN
         .iter()
         .enumerate()
@@ -63,21 +61,19 @@ pub fn run(args: Args) -> Result<()> {
             listing(b.name, true, k == 0, b.summary, m)
         })
         .collect();
+    let mut files = Vec::new();
     for p in &args.models {
-        let m = crate::files::load_model(Some(p))?;
         if models::builtin_name(p).is_none() {
-            listed.push(listing(&p.display().to_string(), false, false, "", &m));
+            let m = crate::files::load_model(Some(p))?;
+            listed.push(listing(&shown(p), false, false, "", &m));
+            files.push(m);
         }
     }
     let mut notices: Vec<Notice> = Vec::new();
     for m in BUILTIN
         .iter()
-        .map(|b| Model::builtin_named(b.name).expect("built in").clone())
-        .chain(
-            args.models
-                .iter()
-                .filter_map(|p| models::load(Some(p)).ok()),
-        )
+        .map(|b| Model::builtin_named(b.name).expect("built in"))
+        .chain(&files)
     {
         for n in m.training.notices() {
             if !notices.contains(&n) {
@@ -89,7 +85,7 @@ pub fn run(args: Args) -> Result<()> {
         let v = serde_json::json!({
             "in_force": {
                 "model": name,
-                "origin": origin_word(origin),
+                "origin": origin.word(),
                 "commercial": in_force.training.commercial().to_string(),
             },
             "models": listed,
@@ -159,22 +155,17 @@ fn listing(name: &str, builtin: bool, default: bool, summary: &str, m: &Model) -
     }
 }
 
-fn origin_word(o: models::Origin) -> &'static str {
-    match o {
-        models::Origin::Named => "named",
-        models::Origin::Site => "site",
-        models::Origin::Default => "built-in default",
-    }
+/// A model's name or path on one line: control characters escaped, so that a value cannot
+/// break a line or imitate another.
+fn shown(p: &Path) -> String {
+    p.display().to_string().escape_debug().to_string()
 }
 
 /// `--version`'s one line: the version, the model in force and whether its outputs may be used
 /// commercially. A site default that cannot be loaded is said, not hidden.
 pub fn version_line() -> String {
-    let (path, origin) = models::in_force(None);
-    let name = path.as_deref().map_or_else(
-        || BUILTIN[0].name.to_string(),
-        |p: &Path| p.display().to_string(),
-    );
+    let (_, origin) = models::in_force(None);
+    let name = shown(&models::pinned(None));
     let from = match origin {
         models::Origin::Site => format!(" from ${}", models::MODEL_ENV),
         _ => String::new(),
