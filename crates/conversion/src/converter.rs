@@ -10,7 +10,7 @@ use specconv_colour::EmissionUnits;
 use specconv_exr::Sample;
 use specconv_ocio::Config;
 use specconv_spectral::compact::Compact;
-use specconv_spectral::stack::{Description, Stack};
+use specconv_spectral::stack::Stack;
 use specconv_spectral::Model;
 
 /// The most worker threads a converter starts: far more than any machine's cores, so a typo
@@ -355,7 +355,12 @@ impl Converter {
             return true;
         }
         p.source_hash.is_some()
-            && crate::pipeline::source_hash(input, &self.options.request()).ok() == p.source_hash
+            && crate::pipeline::source_hash(
+                input,
+                &crate::pipeline::input::Request::of(&self.options),
+            )
+            .ok()
+                == p.source_hash
     }
 
     /// The options it was built from.
@@ -456,27 +461,6 @@ fn compact(options: &Options, model: &Model, name: &str) -> Result<Option<Compac
         });
     }
     Ok(Some(Compact::new(model, name, &options.description())?))
-}
-
-impl Options {
-    /// What of the input is read: the subimage and the channels.
-    pub(crate) fn request(&self) -> crate::pipeline::input::Request {
-        crate::pipeline::input::Request {
-            subimage: self.subimage.clone(),
-            channels: self.channels.clone(),
-        }
-    }
-
-    /// The method stack these options describe.
-    pub fn description(&self) -> Description {
-        Description {
-            blend: self.blend,
-            grid: self.bands,
-            bounded: self.bounded,
-            emissive: self.emission,
-            ..Description::convert_default(self.method)
-        }
-    }
 }
 
 /// For make_texture, which keeps the input's header: the names of the texture metadata a

@@ -6,7 +6,7 @@
 use crate::colour_config::ColourConfig;
 use crate::error::Error;
 use crate::options::Options;
-use crate::pipeline::input::{choose_channels, open_subimage, Channels, Selection};
+use crate::pipeline::input::{choose_channels, open_subimage, Channels};
 use crate::pipeline::{input_space, texture_space, DataTexture, InputSpace};
 use crate::provenance::{ConventionFrom, Provenance};
 use crate::{Role, Rule, Warning};
@@ -232,7 +232,7 @@ pub fn describe(
         subimages: info.subimages,
         subimage_names: info.subimage_names.clone(),
         declared_colour_space: info.declared_color_space.clone(),
-        straight_alpha: options.alpha.premultiply(&reader, alpha),
+        straight_alpha: crate::pipeline::colour::premultiply(options.alpha, &reader, alpha),
         channel_choice: chosen
             .map(|c| ChannelChoice {
                 names: c.names,
@@ -263,7 +263,7 @@ fn read_as(
 ) -> Result<ReadAs, Error> {
     let chosen = match channels {
         Some(c) => {
-            let selection = Selection::of(reader.info(), c.clone());
+            let selection = crate::pipeline::input::selection(reader.info(), c.clone());
             texture_space(&config.0, reader, &selection, colorspace)
         }
         None => input_space(&config.0, reader, colorspace),

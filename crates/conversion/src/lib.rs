@@ -34,30 +34,26 @@
 #![warn(missing_docs)]
 
 mod batch;
-mod choices;
 mod colour_config;
 mod converter;
 pub mod cost;
 mod describe;
 mod error;
 pub mod images;
-pub mod layout;
-pub mod metadata;
 pub mod models;
-mod named;
-mod options;
-mod pipeline;
 pub mod plan;
 pub mod preview;
 pub mod provenance;
 pub mod record;
-mod report;
 pub mod tables;
 pub mod to_rgb;
-mod wrapped;
 
-pub use crate::pipeline::expand::{CompactTexels, Expanded};
-pub use crate::pipeline::DataTexture;
+// The description of a conversion and the job, under their names in this crate.
+pub use specconv_description::{layout, metadata};
+use specconv_description::{named, options, report};
+use specconv_pipeline as pipeline;
+use specconv_pipeline::wrapped;
+
 pub use batch::{Batch, Event, Summary};
 pub use colour_config::{is_builtin_config, ColourConfig, ColourSpace, ConfigOrigin, XyzTransform};
 pub use converter::{Advice, Converter, Rule, Selection, Warning};
@@ -70,6 +66,8 @@ pub use options::{
     About, Alpha, BadValue, Blocks, Compression, DataPolicy, Filter, Key, Layout, Mip, NonFinite,
     Options, Rounding, Sample, Wrap, WrapModes, WRAP_NAMES,
 };
+pub use pipeline::expand::{CompactTexels, Expanded};
+pub use pipeline::DataTexture;
 pub use plan::{check_plan, Outputs, Plan};
 pub use provenance::Provenance;
 pub use report::{

@@ -1,5 +1,6 @@
-//! The house rule on length, checked: no production function is longer than [`LIMIT`] lines.
-//! Run with `--nocapture` to print the longest.
+//! The house rules on length, checked: no production function is longer than [`LIMIT`] lines,
+//! and no crate holds more than [`CRATE_LIMIT`] lines of production code. Run with
+//! `--nocapture` to print the longest and the largest.
 //!
 //! The rule, by line and indentation (the layout `cargo fmt` gives, which CI enforces):
 //!
@@ -21,6 +22,10 @@ use std::path::{Path, PathBuf};
 
 /// The most lines a production function may have.
 const LIMIT: usize = 100;
+
+/// The most lines of production code (not blank, not a comment, unit tests left out as below)
+/// a crate may have: past it, a crate does more than one job.
+const CRATE_LIMIT: usize = 6000;
 
 /// Functions over the limit that stay for now: (file, function, why).
 const ALLOWED: &[(&str, &str, &str)] = &[];
@@ -101,6 +106,42 @@ fn closing(lines: &[&str], start: usize, indent: &str) -> usize {
         .unwrap_or(lines.len() - 1)
 }
 
+/// The lines of `text` outside its `#[cfg(test)]` items, as [`functions`] skips them.
+fn production(text: &str) -> Vec<&str> {
+    let lines: Vec<&str> = text.lines().collect();
+    let mut out = Vec::new();
+    let mut i = 0;
+    while i < lines.len() {
+        if lines[i].trim() == "#[cfg(test)]" {
+            i = skip_test_item(&lines, i);
+            continue;
+        }
+        out.push(lines[i]);
+        i += 1;
+    }
+    out
+}
+
+/// Whether a line is code: not blank, not a comment.
+fn is_code(line: &str) -> bool {
+    let line = line.trim();
+    !line.is_empty() && !line.starts_with("//")
+}
+
+/// The line after the item that the `#[cfg(test)]` at `i` introduces.
+fn skip_test_item(lines: &[&str], i: usize) -> usize {
+    let line = lines[i];
+    let indent = &line[..line.len() - line.trim_start().len()];
+    let one_line = lines
+        .get(i + 1)
+        .is_some_and(|l| l.trim_end().ends_with(';'));
+    if one_line {
+        i + 2
+    } else {
+        closing(lines, i + 1, indent) + 1
+    }
+}
+
 /// Every function of `text` with a body on more than one line: (name, first line from 1,
 /// length in lines).
 fn functions(text: &str) -> Vec<(String, usize, usize)> {
@@ -110,15 +151,7 @@ fn functions(text: &str) -> Vec<(String, usize, usize)> {
     while i < lines.len() {
         let line = lines[i];
         if line.trim() == "#[cfg(test)]" {
-            let indent = &line[..line.len() - line.trim_start().len()];
-            let one_line = lines
-                .get(i + 1)
-                .is_some_and(|l| l.trim_end().ends_with(';'));
-            i = if one_line {
-                i + 2
-            } else {
-                closing(&lines, i + 1, indent) + 1
-            };
+            i = skip_test_item(&lines, i);
             continue;
         }
         if let Some((indent, name)) = starts_function(line) {
@@ -218,5 +251,46 @@ fn no_production_function_is_longer_than_the_limit() {
         stale.is_empty(),
         "allowed to be long but no longer over {LIMIT} lines (or gone): take them off ALLOWED:\n{}",
         stale.join("\n")
+    );
+}
+
+#[test]
+fn production_lines_leave_out_blank_lines_comments_and_unit_tests() {
+    let text = "/// A.\nfn a() {\n\n    // one\n    1;\n}\n#[cfg(test)]\nmod tests {\n    fn b() {}\n}\n#[cfg(test)]\nuse x;\nfn c() {}\n";
+    let lines: Vec<&str> = production(text)
+        .into_iter()
+        .filter(|l| is_code(l))
+        .collect();
+    assert_eq!(lines, ["fn a() {", "    1;", "}", "fn c() {}"]);
+}
+
+#[test]
+fn no_crate_is_larger_than_the_limit() {
+    let mut sizes: std::collections::BTreeMap<String, usize> = Default::default();
+    for file in sources() {
+        // The crate: `crates/NAME`, `ffi/NAME`, `python` or the root's `src`.
+        let parts: Vec<&str> = file.split('/').collect();
+        let krate = match parts[0] {
+            "crates" | "ffi" => format!("{}/{}", parts[0], parts[1]),
+            other => other.to_string(),
+        };
+        let text = std::fs::read_to_string(root().join(&file)).unwrap();
+        let lines = production(&text).iter().filter(|l| is_code(l)).count();
+        *sizes.entry(krate).or_default() += lines;
+    }
+    let mut largest: Vec<_> = sizes.iter().collect();
+    largest.sort_by(|a, b| b.1.cmp(a.1));
+    for (krate, lines) in &largest {
+        println!("{lines:6}  {krate}");
+    }
+    let over: Vec<String> = largest
+        .iter()
+        .filter(|(_, &lines)| lines > CRATE_LIMIT)
+        .map(|(krate, lines)| format!("{krate}: {lines} lines"))
+        .collect();
+    assert!(
+        over.is_empty(),
+        "crates over {CRATE_LIMIT} lines of production code; cut each where its jobs part:\n{}",
+        over.join("\n")
     );
 }

@@ -22,7 +22,9 @@ const LAYERS: &[&[&str]] = &[
         "specconv-ocio",
         "specconv-icc",
     ],
-    &["specconv-study", "specconv-farm"],
+    &["specconv-study", "specconv-farm", "specconv-description"],
+    // The job, under the description of what it does.
+    &["specconv-pipeline"],
     &["specconv-conversion"],
     // The front-ends: the command line and the Python package.
     &["specconv-cli", "specconv-python", "specconv-testkit"],

@@ -13,14 +13,14 @@ use std::path::PathBuf;
 pub use crate::choices::{
     Alpha, Compression, DataPolicy, Filter, Layout, Mip, NonFinite, Rounding,
 };
-pub use crate::pipeline::texture::{Wrap, WrapModes, WRAP_NAMES};
+pub use crate::wrap::{Wrap, WrapModes, WRAP_NAMES};
 pub use specconv_exr::Sample;
 
 /// Everything that makes a conversion what it is. Start from [`Options::default`] (the
-/// command line's defaults) and set what differs; [`crate::Converter::new`] checks it all once.
+/// command line's defaults) and set what differs; the facade's `Converter::new` checks it all once.
 ///
 /// ```
-/// use specconv_conversion::{Compression, Options};
+/// use specconv_description::{Compression, Options};
 /// let mut options = Options::default();
 /// options.compression = Compression::Piz;
 /// options.emission = Some(specconv_colour::EmissionUnits::Normalised);
@@ -85,7 +85,7 @@ pub struct Options {
     pub threads: Option<usize>,
     /// Replace an existing output.
     pub overwrite: bool,
-    /// Where the Jakob 2019 tables are kept (`None`: [`crate::tables::cache_dir`]).
+    /// Where the Jakob 2019 tables are kept (`None`: the facade's `tables::cache_dir`).
     pub table_dir: Option<PathBuf>,
     /// What becomes of a data texture (a roughness or normal map): never uplifted.
     pub data: DataPolicy,
@@ -395,9 +395,7 @@ impl Options {
             Key::Mip => self.mip = named(text).map_err(bad)?,
             Key::Filter => self.filter = named(text).map_err(bad)?,
             Key::Resize => self.resize = boolean(text).map_err(bad)?,
-            Key::Wrap => {
-                self.wrap = Some(crate::pipeline::texture::parse_wrapmodes(text).map_err(bad)?)
-            }
+            Key::Wrap => self.wrap = Some(crate::wrap::parse_wrapmodes(text).map_err(bad)?),
             Key::NonFinite => self.non_finite = named(text).map_err(bad)?,
             Key::ConstantDetect => self.constant_detect = boolean(text).map_err(bad)?,
             Key::OpaqueDetect => self.opaque_detect = boolean(text).map_err(bad)?,
@@ -452,9 +450,20 @@ impl Options {
 }
 
 impl Options {
+    /// The method stack these options describe.
+    pub fn description(&self) -> specconv_spectral::stack::Description {
+        specconv_spectral::stack::Description {
+            blend: self.blend,
+            grid: self.bands,
+            bounded: self.bounded,
+            emissive: self.emission,
+            ..specconv_spectral::stack::Description::convert_default(self.method)
+        }
+    }
+
     /// How half samples are rounded unless asked: to keep the colour for emission, whose dark
     /// pixels' S0 values fall where half has few digits; each band to nearest for reflectance.
-    pub(crate) fn default_rounding(&self) -> Rounding {
+    pub fn default_rounding(&self) -> Rounding {
         if self.emission.is_some() {
             Rounding::Colour
         } else {
@@ -463,7 +472,7 @@ impl Options {
     }
 
     /// How half samples are rounded: as asked, else [`Options::default_rounding`].
-    pub(crate) fn rounding_in_effect(&self) -> Rounding {
+    pub fn rounding_in_effect(&self) -> Rounding {
         self.rounding.unwrap_or_else(|| self.default_rounding())
     }
 }
@@ -490,8 +499,8 @@ fn parse_blocks(text: &str) -> Result<Blocks, String> {
 
 /// What the options leave to the model, the method stack and the config, as outputs record it.
 #[derive(Debug, Clone, Copy)]
-pub(crate) struct Resolved<'a> {
-    /// The model, described ([`crate::models::describe`]).
+pub struct Resolved<'a> {
+    /// The model, described (the facade's `models::describe`).
     pub model: &'a str,
     /// The method stack's name (bounded, resampled and emission adapters included).
     pub method: &'a str,
@@ -505,7 +514,7 @@ pub(crate) struct Resolved<'a> {
 /// [`Options`] is named below (no `..`), so a new option cannot be left out; the tests change
 /// each option and check the tag changes. The text is kept as earlier versions wrote it (an
 /// option at its old default adds nothing), so that their outputs stay up to date.
-pub(crate) fn settings_tag(o: &Options, r: Resolved) -> String {
+pub fn settings_tag(o: &Options, r: Resolved) -> String {
     let Options {
         // In the config's source, the method's name and the model's description.
         ocio: _,

@@ -5,17 +5,17 @@
 /// An image could not be opened or read (OpenImageIO's message).
 #[derive(Debug, thiserror::Error)]
 #[error(transparent)]
-pub struct ImageError(pub(crate) specconv_oiio::Error);
+pub struct ImageError(pub specconv_oiio::Error);
 
 /// Colour management failed: the OCIO config, a colour space, a processor (OpenColorIO's
 /// message).
 #[derive(Debug, thiserror::Error)]
 #[error(transparent)]
-pub struct ColourError(pub(crate) specconv_ocio::Error);
+pub struct ColourError(pub specconv_ocio::Error);
 
 impl ColourError {
     /// Whether the colour space is a data space (it holds numbers, not colour).
-    pub(crate) fn is_data_space(&self) -> bool {
+    pub fn is_data_space(&self) -> bool {
         matches!(self.0, specconv_ocio::Error::DataColorSpace { .. })
     }
 }

@@ -40,7 +40,7 @@ const STORAGE_KEYS: [Key; 5] = [
 ];
 
 /// `specconvExpand`: how the spectral layout would have been stored, `name=value` a word.
-pub(crate) fn settings(options: &Options) -> String {
+pub fn settings(options: &Options) -> String {
     STORAGE_KEYS
         .iter()
         .filter_map(|&k| {
@@ -73,7 +73,7 @@ pub struct Expanded {
 /// What makes a file compact, from its header, however it was read: its layout attribute
 /// (`compact 1`), its decoding text (`specconvCompact`, checked line by line) and the texel's
 /// channels among `channels` (their columns, in the order of a texel's values).
-pub(crate) fn header(
+pub fn header(
     path: &Path,
     layout: Option<&str>,
     text: Option<&str>,

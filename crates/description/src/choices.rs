@@ -96,7 +96,7 @@ pub enum Filter {
 }
 
 /// What a conversion does with a texture that holds data, not colour
-/// ([`crate::pipeline::DataTexture`]): it is never uplifted.
+/// (`specconv_pipeline::DataTexture`): it is never uplifted.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum DataPolicy {
     /// Write nothing; the report says it is data ([`crate::DataOutcome::Skipped`]). Not a

@@ -54,18 +54,16 @@ const D65: [f64; 3] = [0.3127 / 0.3290, 1.0, (1.0 - 0.3127 - 0.3290) / 0.3290];
 /// OpenEXR's default chromaticities (ITU-R BT.709 primaries, D65 white).
 const REC709: RgbSpace = rgb::SRGB;
 
-impl Alpha {
-    /// Whether colour must be multiplied by alpha after conversion, given the alpha channel
-    /// selected (none: nothing to multiply by).
-    pub(crate) fn premultiply(self, reader: &ImageReader, alpha: Option<usize>) -> bool {
-        let info = reader.info();
-        alpha.is_some()
-            && match self {
-                Alpha::Auto => info.unassociated_alpha,
-                Alpha::Straight => true,
-                Alpha::Premultiplied => false,
-            }
-    }
+/// Whether colour must be multiplied by alpha after conversion, as `how` says, given the
+/// alpha channel selected (none: nothing to multiply by).
+pub fn premultiply(how: Alpha, reader: &ImageReader, alpha: Option<usize>) -> bool {
+    let info = reader.info();
+    alpha.is_some()
+        && match how {
+            Alpha::Auto => info.unassociated_alpha,
+            Alpha::Straight => true,
+            Alpha::Premultiplied => false,
+        }
 }
 
 /// A transfer function from stored values to linear.

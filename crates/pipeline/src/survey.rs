@@ -21,7 +21,7 @@ pub const BOX3_LIMIT: u64 = 1 << 22;
 
 /// How non-finite values of the channels read are replaced while blocks are made.
 #[derive(Debug, Default)]
-pub(crate) enum Repair {
+pub enum Repair {
     /// Nothing replaced.
     #[default]
     None,
@@ -34,12 +34,12 @@ pub(crate) enum Repair {
 impl Repair {
     /// Whether pixel `px` needs repair: a repair is asked and a channel read is not finite.
     #[inline]
-    pub(crate) fn fixes(&self, px: &[f32], colour: &[usize], alpha: Option<usize>) -> bool {
+    pub fn fixes(&self, px: &[f32], colour: &[usize], alpha: Option<usize>) -> bool {
         !matches!(self, Repair::None) && !finite(px, colour, alpha)
     }
 
     /// Pixel `px` at (x, y) of level 0, repaired.
-    pub(crate) fn fixed(&self, px: &[f32], reading: &Reading, at: (usize, usize)) -> Vec<f32> {
+    pub fn fixed(&self, px: &[f32], reading: &Reading, at: (usize, usize)) -> Vec<f32> {
         match self {
             Repair::Box3(fixed) => {
                 if let Some(p) = fixed.get(&at) {
@@ -82,7 +82,8 @@ pub struct Survey {
     pub opaque: bool,
     /// The hash of the source pixels (`xxh3-128:` and 32 hex digits).
     pub hash: String,
-    pub(crate) repair: Repair,
+    /// How non-finite values are repaired.
+    pub repair: Repair,
 }
 
 /// Rows read from `y`, and where among them a channel read is not finite.
@@ -129,7 +130,7 @@ impl Hasher {
 }
 
 /// Surveys level 0 through `reader` (left at its end: reread it from the start).
-pub(crate) fn survey(
+pub fn survey(
     job: &Job,
     reader: &mut ImageReader,
     channels: (&[usize], Option<usize>),

@@ -6,7 +6,6 @@ use std::fmt;
 
 /// What one conversion did, and nothing else's.
 #[derive(Debug, Clone)]
-#[non_exhaustive]
 pub struct Report {
     /// Size of the full-resolution level.
     pub width: usize,
@@ -41,7 +40,7 @@ pub struct Report {
     pub premultiplied: bool,
     /// Pixels whose colour had a NaN or infinite component.
     pub non_finite: u64,
-    /// Pixels above 1 (an input channel or Y above `crate::pipeline::ABOVE_ONE`).
+    /// Pixels above 1 (an input channel or Y above `specconv_pipeline::ABOVE_ONE`).
     pub above_one: u64,
     /// Pixels with a band beyond the half range, stored as ±65504.
     pub saturated: u64,
@@ -97,10 +96,10 @@ impl Report {
 }
 
 /// The one rule of what counts as clipped: pixels above 1 (an input channel or Y above
-/// `crate::pipeline::ABOVE_ONE`) of a reflectance conversion of `pixels`, when they are at
+/// `specconv_pipeline::ABOVE_ONE`) of a reflectance conversion of `pixels`, when they are at
 /// least 1 % of them: an emission map converted as reflectance, not a few highlights of an
 /// albedo. Emission has no such limit.
-pub(crate) fn clipped(emissive: bool, above_one: u64, pixels: u64) -> u64 {
+pub fn clipped(emissive: bool, above_one: u64, pixels: u64) -> u64 {
     if emissive || above_one == 0 || above_one * 100 < pixels {
         0
     } else {
@@ -141,7 +140,7 @@ pub struct NoticeCount {
 }
 
 /// Adds `report`'s notices of `input` to `tally`, one entry per kind in the order first met.
-pub(crate) fn tally(tally: &mut Vec<NoticeCount>, input: &std::path::Path, report: &Report) {
+pub fn tally(tally: &mut Vec<NoticeCount>, input: &std::path::Path, report: &Report) {
     for n in report.notices() {
         match tally.iter_mut().find(|c| c.kind == n.kind) {
             Some(c) => c.inputs += 1,
@@ -155,7 +154,7 @@ pub(crate) fn tally(tally: &mut Vec<NoticeCount>, input: &std::path::Path, repor
     }
 }
 
-/// What a texture holds (`crate::pipeline::colour::texture_space`'s rule).
+/// What a texture holds (`specconv_pipeline::colour::texture_space`'s rule).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Role {
     /// Colour, three channels.
@@ -329,7 +328,7 @@ impl Rule {
 }
 
 /// How an overruled piece of evidence is named ([`Rule::overrides`]), in one place.
-pub(crate) mod says {
+pub mod says {
     /// A declaration of the file: "the file's EXR chromaticities (ACEScg)".
     pub fn file(what: &str, name: &str) -> String {
         format!("the file's {what} ({name})")

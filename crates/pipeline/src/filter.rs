@@ -9,10 +9,25 @@
 use crate::choices::Filter;
 use std::f32::consts::PI;
 
-impl Filter {
+/// What a filter does: its kernel, as OpenImageIO's `Filter2D` evaluates it.
+pub trait Kernel: Copy {
     /// Whether it has negative lobes: it can push a filtered value below the smallest (or above
     /// the largest) of those it weighs.
-    pub fn has_negative_lobes(self) -> bool {
+    fn has_negative_lobes(self) -> bool;
+    /// OpenImageIO's default width (`filter2d_list`), in pixels of the smaller image.
+    fn width(self) -> f32;
+    /// Whether it is a product of one filter across and one down.
+    fn separable(self) -> bool;
+    /// The filter of `width` at `x` (OpenImageIO's `xfilt`), for a separable filter.
+    fn along(self, x: f32, width: f32) -> f32;
+    /// The filter of `width` × `height` at (`x`, `y`) (OpenImageIO's `operator()`).
+    fn at(self, xy: (f32, f32), size: (f32, f32)) -> f32;
+}
+
+impl Kernel for Filter {
+    /// Whether it has negative lobes: it can push a filtered value below the smallest (or above
+    /// the largest) of those it weighs.
+    fn has_negative_lobes(self) -> bool {
         use Filter::*;
         matches!(
             self,
@@ -29,7 +44,7 @@ impl Filter {
     }
 
     /// OpenImageIO's default width (`filter2d_list`), in pixels of the smaller image.
-    pub(crate) fn width(self) -> f32 {
+    fn width(self) -> f32 {
         use Filter::*;
         match self {
             Box | Disk => 1.0,
@@ -41,12 +56,12 @@ impl Filter {
     }
 
     /// Whether it is a product of one filter across and one down.
-    pub(crate) fn separable(self) -> bool {
+    fn separable(self) -> bool {
         !matches!(self, Filter::RadialLanczos3 | Filter::Disk)
     }
 
     /// The filter of `width` at `x` (OpenImageIO's `xfilt`), for a separable filter.
-    pub(crate) fn along(self, x: f32, width: f32) -> f32 {
+    fn along(self, x: f32, width: f32) -> f32 {
         use Filter::*;
         // Most are defined on [-1, 1] and scaled to the width by 2 / width.
         let unit = x * (2.0 / width);
@@ -69,7 +84,7 @@ impl Filter {
     }
 
     /// The filter of `width` × `height` at (`x`, `y`) (OpenImageIO's `operator()`).
-    pub(crate) fn at(self, (x, y): (f32, f32), (width, height): (f32, f32)) -> f32 {
+    fn at(self, (x, y): (f32, f32), (width, height): (f32, f32)) -> f32 {
         match self {
             Filter::RadialLanczos3 => {
                 let (x, y) = (x * (6.0 / width), y * (6.0 / height));
@@ -219,7 +234,7 @@ fn cubic(x: f32, a: f32) -> f32 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::Named;
+    use specconv_description::Named;
 
     #[test]
     fn fast_exp_is_close_to_exp() {

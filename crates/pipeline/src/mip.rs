@@ -20,6 +20,7 @@
 //! radial ones), and the rows of its current strip of blocks.
 
 use crate::choices::Filter;
+use crate::filter::Kernel as _;
 use rayon::prelude::*;
 use std::collections::VecDeque;
 
@@ -328,7 +329,7 @@ impl Level {
 }
 
 /// A strip of a made level: `height` rows of `width` pixels, `values` per pixel, from row `y`.
-pub(crate) struct MadeStrip {
+pub struct MadeStrip {
     pub level: usize,
     pub y: usize,
     pub width: usize,
@@ -337,7 +338,7 @@ pub(crate) struct MadeStrip {
 
 /// Every level below 0 of a MIP map, made as level 0's rows arrive in order; or, resized,
 /// every level, made as the rows of the input's spectra arrive.
-pub(crate) struct Cascade {
+pub struct Cascade {
     /// `levels[k]` makes the level after `sizes[k]`.
     levels: Vec<Level>,
     /// Rows per strip (the tile height).
@@ -489,7 +490,7 @@ mod tests {
     fn streamed_levels_are_the_whole_level_filtered() {
         let (w, h) = (13, 11);
         let image: Vec<f32> = (0..w * h).map(|v| ((v * 7919) % 101) as f32).collect();
-        for filter in crate::Named::ALL
+        for filter in specconv_description::Named::ALL
             .iter()
             .copied()
             .filter(|f: &Filter| *f != Filter::Box)

@@ -20,19 +20,27 @@ pub struct Request {
     pub channels: Option<String>,
 }
 
-impl Selection {
-    /// `channels` of the subimage `info` describes.
-    pub(crate) fn of(info: &ImageInfo, channels: Channels) -> Selection {
-        Selection {
-            subimage: info.subimage,
-            subimages: info.subimages,
-            subimage_name: info
-                .subimage_names
-                .get(info.subimage as usize)
-                .cloned()
-                .unwrap_or_default(),
-            channels,
+impl Request {
+    /// What `options` ask to read.
+    pub fn of(options: &crate::Options) -> Request {
+        Request {
+            subimage: options.subimage.clone(),
+            channels: options.channels.clone(),
         }
+    }
+}
+
+/// `channels` of the subimage `info` describes.
+pub fn selection(info: &ImageInfo, channels: Channels) -> Selection {
+    Selection {
+        subimage: info.subimage,
+        subimages: info.subimages,
+        subimage_name: info
+            .subimage_names
+            .get(info.subimage as usize)
+            .cloned()
+            .unwrap_or_default(),
+        channels,
     }
 }
 
@@ -46,7 +54,7 @@ pub fn open(path: &Path, request: &Request) -> super::Result<(ImageReader, Selec
         refuse_spectral(info)?;
     }
     let channels = choose_channels(info, request.channels.as_deref())?;
-    let selection = Selection::of(info, channels);
+    let selection = selection(info, channels);
     Ok((reader, selection))
 }
 

@@ -25,12 +25,19 @@ mod mip;
 mod png;
 pub mod survey;
 pub mod texture;
+pub mod wrapped;
 mod write;
+
+// The description of a conversion, under its names in this crate.
+use specconv_description::{
+    choices, layout, metadata, options, report, DataPolicy, Filter, NonFinite, Options, Rounding,
+};
+pub use wrapped::{ColourError, ImageError};
 
 use crate::choices::Mip;
 use crate::report::{Report, Role};
-use crate::{Options, Rounding};
 pub use colour::{input_space, texture_space, DataTexture, InputSpace, Rule, ToXyz, Warning};
+use filter::Kernel;
 use specconv_atomic_file::Replace;
 use specconv_exr::{Block, Blocks, Chunk, Kind, Sample, Spec, SpectralFile, Windows};
 use specconv_ocio::Config;
@@ -45,7 +52,6 @@ use write::write_file;
 /// Why a conversion failed, by cause. Messages name no command-line option: a front-end adds
 /// its own hint (the CLI's flags, the Python package's keywords).
 #[derive(Debug, thiserror::Error)]
-#[non_exhaustive]
 pub enum Error {
     /// The input could not be read.
     #[error(transparent)]
@@ -189,7 +195,7 @@ pub type Result<T> = std::result::Result<T, Error>;
 /// How the spectra are stored, as the options and the method stack decide it together
 /// ([`Storage::of`]): everything a job needs beyond the options themselves.
 #[derive(Debug, Clone)]
-pub(crate) struct Storage {
+pub struct Storage {
     /// Reflectance (`T.` channels) or emission (`S0.` channels with their units).
     pub kind: Kind,
     /// Per band, the weights of X, Y and Z with which the spectra will be read back (the
@@ -268,7 +274,7 @@ struct Counts {
 }
 
 /// A conversion: one input, one output.
-pub(crate) struct Job<'a> {
+pub struct Job<'a> {
     /// The image to read.
     pub input: &'a Path,
     /// The spectral OpenEXR to write.
@@ -301,8 +307,8 @@ impl Job<'_> {
     /// The tile size, or `None` for scanlines.
     fn tile(&self) -> Option<(usize, usize)> {
         match self.options.blocks {
-            crate::Blocks::Tiles(w, h) => Some((w, h)),
-            crate::Blocks::Scanlines => None,
+            specconv_description::Blocks::Tiles(w, h) => Some((w, h)),
+            specconv_description::Blocks::Scanlines => None,
         }
     }
 }
@@ -337,7 +343,7 @@ pub fn open<'a>(job: &'a Job<'a>) -> Result<Opened<'a>> {
     refuse_overwrites(job.input, job.output, job.overwrite)?;
     specconv_exr::check::check_input(job.input)?;
     png::check_whole(job.input)?;
-    let (reader, selection) = input::open(job.input, &job.options.request())?;
+    let (reader, selection) = input::open(job.input, &input::Request::of(&job.options))?;
     let info = reader.info().clone();
     let space = match texture_space(
         job.config,
@@ -364,10 +370,7 @@ pub fn open<'a>(job: &'a Job<'a>) -> Result<Opened<'a>> {
             warning: w.to_string(),
         });
     }
-    let premultiply = job
-        .options
-        .alpha
-        .premultiply(&reader, selection.channels.alpha);
+    let premultiply = colour::premultiply(job.options.alpha, &reader, selection.channels.alpha);
     let declared = texture::declared(&reader);
     let metadata = match job.options.strip_metadata {
         true => Vec::new(),
@@ -769,7 +772,7 @@ pub fn colour_of(px: &[f32], colour: &[usize]) -> Option<[f32; 3]> {
 }
 
 /// How a strip's pixels become colour: the channels read, their repair, the conversion.
-pub(crate) struct Reading<'a> {
+pub struct Reading<'a> {
     to_xyz: &'a ToXyz,
     colour: &'a [usize],
     alpha: Option<usize>,

@@ -5,11 +5,11 @@
 use specconv_colour::EmissionUnits;
 
 /// Units of `S0.` channels, as the layout names them: radiance; the scale is the convention
-/// recorded in [`crate::provenance::EMISSION_UNITS`].
+/// recorded in `specconvEmissionUnits` (the facade's `provenance`).
 pub const EMISSIVE_UNITS: &str = "W.m^-2.sr^-1";
 
 /// The bands of a file of emission in `units` (`S0.` channels, [`EMISSIVE_UNITS`]), or of
-/// reflectance (`T.` channels); [`crate::Provenance::emission_units`] records the convention. Every
+/// reflectance (`T.` channels); the facade's provenance records the convention. Every
 /// writer of spectral files (a conversion, Python's `write_spectral`) takes them from here.
 pub fn bands(emission: Option<EmissionUnits>) -> specconv_exr::Kind {
     match emission {
