@@ -546,7 +546,7 @@ def compact_texels(
             ocio=ocio,
             model=model,
             bounded=bounded,
-            tile=None,
+            tile="scanline",
             mip=False,
             compression="none",
             data="fail",

@@ -2,11 +2,13 @@
 //! Ctrl-C heard while the GIL is released and progress told to a Python callback.
 
 use crate::args::{whole, FsPath};
-use crate::errors::{conversion, option, Kind};
+use crate::errors::{conversion, Kind};
 use crate::model::Model;
 use pyo3::prelude::*;
+use pyo3::types::PyDict;
 use specconv_conversion::record::{without_input, Record};
-use specconv_conversion::{Batch, Blocks, Converter, Event, Key, Named, Options};
+use specconv_conversion::{Batch, Converter, Event, Key, Options, Value};
+use std::ffi::OsString;
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc;
@@ -58,9 +60,9 @@ pub enum ModelArg<'py> {
     Path(FsPath),
 }
 
-/// The keyword `keyword`'s choice by the library's names ([`Named`]), with the library's
+/// The keyword `keyword`'s choice by the library's names ([`specconv_conversion::Named`]), with the library's
 /// message, naming the keyword, when it is none.
-pub(crate) fn pick<T: Named>(keyword: &str, text: &str) -> PyResult<T> {
+pub(crate) fn pick<T: specconv_conversion::Named>(keyword: &str, text: &str) -> PyResult<T> {
     T::from_name(text).map_err(|e| Kind::Option.err(format!("{keyword}: {e}")))
 }
 
@@ -95,57 +97,22 @@ pub fn options(py: Python<'_>) -> PyResult<Vec<Bound<'_, pyo3::types::PyDict>>> 
 /// input, as `convert --json` prints them (docs/json.md). `errors="raise"` stops at the first
 /// failed input and raises its exception (earlier outputs stay); `"record"` carries on and
 /// records it. `progress(index, input, pixels_done, pixels_total)` is called as it goes.
-/// Ctrl-C stops it, leaving no partial output, and raises `KeyboardInterrupt`.
+/// Ctrl-C stops it, leaving no partial output, and raises `KeyboardInterrupt`. The options of
+/// the conversion are keywords, one per option of `specconv.options()` (the stub lists them
+/// with their defaults); None leaves an option unset where it can be.
 #[pyfunction]
-#[pyo3(signature = (inputs, outputs=None, *, output_template=None, ocio=None, colorspace=None, alpha="auto",
-                    subimage=None, channels=None, method="otsu2018", model=None,
-                    blend=specconv_spectral::otsu2018::blend::DEFAULT_WIDTH, bounded=true,
-                    bands=None, emission=None, layout="spectral", sample="half", rounding=None, compression="zip",
-                    zip_level=None, tile=Some((64, 64)), mip=true, filter="box", resize=false, wrap=None,
-                    non_finite="refuse", constant_detect=true, opaque_detect=true,
-                    threads=None, overwrite=false, table_dir=None, update=false, data="skip",
-                    strip_metadata=false, strict=false, errors="raise", progress=None))]
-#[allow(clippy::too_many_arguments)]
+#[pyo3(signature = (inputs, outputs=None, *, output_template=None, update=false, errors="raise",
+                    progress=None, **options))]
 pub fn convert<'py>(
     py: Python<'py>,
     inputs: Paths,
     outputs: Option<Paths>,
     output_template: Option<&str>,
-    ocio: Option<String>,
-    colorspace: Option<String>,
-    alpha: &str,
-    subimage: Option<String>,
-    channels: Option<String>,
-    method: &str,
-    model: Option<ModelArg<'py>>,
-    blend: f64,
-    bounded: bool,
-    bands: Option<&str>,
-    emission: Option<&str>,
-    layout: &str,
-    sample: &str,
-    rounding: Option<&str>,
-    compression: &str,
-    zip_level: Option<i128>,
-    tile: Option<(i128, i128)>,
-    mip: bool,
-    filter: &str,
-    resize: bool,
-    wrap: Option<&str>,
-    non_finite: &str,
-    constant_detect: bool,
-    opaque_detect: bool,
-    threads: Option<i128>,
-    overwrite: bool,
-    table_dir: Option<FsPath>,
     update: bool,
-    data: &str,
-    strip_metadata: bool,
-    strict: bool,
     errors: &str,
     progress: Option<Bound<'py, PyAny>>,
+    options: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<Vec<Bound<'py, PyAny>>> {
-    use specconv_conversion as c;
     let raise = match errors {
         "raise" => true,
         "record" => false,
@@ -155,56 +122,88 @@ pub fn convert<'py>(
             )))
         }
     };
-    let mut o = Options::default();
-    o.ocio = ocio;
-    o.colorspace = colorspace;
-    o.alpha = pick("alpha", alpha)?;
-    o.subimage = subimage;
-    o.channels = channels;
-    o.method = pick("method", method)?;
-    o.model = match model {
-        None => None,
-        Some(ModelArg::Path(p)) => Some(p.0),
-        Some(ModelArg::Object(m)) => Some(m.get().origin().ok_or_else(|| {
-            Kind::Option.err("this model was trained in Python and not saved: save it (model.save(path)) so that outputs can name it")
-        })?),
-    };
-    o.blend = blend;
-    o.bounded = bounded;
-    o.bands = bands.map(str::parse).transpose().map_err(option)?;
-    o.emission = emission.map(|e| pick("emission", e)).transpose()?;
-    o.layout = pick("layout", layout)?;
-    o.sample = pick("sample", sample)?;
-    o.rounding = rounding.map(|r| pick("rounding", r)).transpose()?;
-    o.compression = pick("compression", compression)?;
-    o.zip_level = zip_level
-        .map(|z| whole("zip_level", z, u8::MAX))
-        .transpose()?;
-    o.blocks = match tile {
-        Some((w, h)) => Blocks::Tiles(whole("tile", w, usize::MAX)?, whole("tile", h, usize::MAX)?),
-        None => Blocks::Scanlines,
-    };
-    o.mip = if mip { c::Mip::All } else { c::Mip::Base };
-    o.filter = pick("filter", filter)?;
-    o.resize = resize;
-    if let Some(wrap) = wrap {
-        o.set(Key::Wrap, Some(wrap))
-            .map_err(|e| Kind::Option.err(e.to_string()))?;
-    }
-    o.non_finite = pick("non_finite", non_finite)?;
-    o.constant_detect = constant_detect;
-    o.opaque_detect = opaque_detect;
-    o.threads = threads
-        .map(|t| whole("threads", t, usize::MAX))
-        .transpose()?;
-    o.overwrite = overwrite;
-    o.table_dir = table_dir.map(PathBuf::from);
-    o.data = pick("data", data)?;
-    o.strip_metadata = strip_metadata;
-    o.strict = strict;
+    let o = conversion_options(options)?;
     let pairs = crate::plan::pairs(py, inputs.list(), outputs.map(Paths::list), output_template)?;
     let converter = py.detach(|| Converter::new(o)).map_err(conversion)?;
     run(py, &converter, &pairs, update, raise, progress)
+}
+
+/// The options of a conversion from `convert`'s keywords, each read as the library defines it
+/// ([`specconv_conversion::definition`]): an unknown keyword is a `TypeError`, as Python's own.
+fn conversion_options(keywords: Option<&Bound<'_, PyDict>>) -> PyResult<Options> {
+    let mut o = Options::default();
+    for (keyword, value) in keywords.into_iter().flat_map(|d| d.iter()) {
+        let name: String = keyword.extract()?;
+        let key = Key::from_name(&name).ok_or_else(|| {
+            let names: Vec<&str> = Key::ALL.iter().map(|k| k.about().name).collect();
+            pyo3::exceptions::PyTypeError::new_err(format!(
+                "convert() got an unexpected keyword argument '{name}' (its options: {})",
+                names.join(", ")
+            ))
+        })?;
+        let Some(text) = option_text(key, &value)? else {
+            o.unset(key);
+            continue;
+        };
+        o.set_os(key, &text)
+            .map_err(|e| Kind::Option.err(e.to_string()))?;
+    }
+    Ok(o)
+}
+
+/// An option's value from Python as the library's text: a bool `true`/`false`, a number as
+/// written, a pair of whole numbers `WxH`, a path as `os.fspath` gives it, a `Model` as its
+/// file; `None` (unset) where the option can be unset.
+fn option_text(key: Key, value: &Bound<'_, PyAny>) -> PyResult<Option<OsString>> {
+    use pyo3::types::{PyBool, PyFloat, PyInt, PyString, PyTuple};
+    let about = key.about();
+    let name = about.name;
+    if value.is_none() {
+        return match Options::default().text(key) {
+            None => Ok(None),
+            Some(default) => {
+                Err(Kind::Option.err(format!("{name} cannot be None (its default is {default})")))
+            }
+        };
+    }
+    let wrong = |takes: &str| {
+        let type_name = value
+            .get_type()
+            .name()
+            .map_or_else(|_| "?".into(), |n| n.to_string());
+        Kind::Option.err(format!("{name} takes {takes}, not {type_name}"))
+    };
+    let is_bool = value.is_instance_of::<PyBool>();
+    let text: OsString = match about.value {
+        // mip=True/False: a bool is its text, as the choice's names accept it.
+        Value::Switch | Value::Choice if is_bool => value.is_truthy()?.to_string().into(),
+        Value::Switch => return Err(wrong("True or False")),
+        Value::Number if !is_bool && (value.is_instance_of::<PyFloat>() || value.is_instance_of::<PyInt>()) => {
+            value.extract::<f64>()?.to_string().into()
+        }
+        Value::Number => return Err(wrong("a number")),
+        Value::Count if !is_bool && value.is_instance_of::<PyInt>() => {
+            whole(name, value.extract::<i128>()?, u64::MAX)?.to_string().into()
+        }
+        Value::Count => return Err(wrong("a whole number")),
+        Value::Size if value.is_instance_of::<PyTuple>() => {
+            let (w, h): (i128, i128) = value.extract().map_err(|_| wrong("(width, height) or 'scanline'"))?;
+            let (w, h) = (whole(name, w, usize::MAX)?, whole(name, h, usize::MAX)?);
+            format!("{w}x{h}").into()
+        }
+        Value::Path if key == Key::Model => match value.extract::<ModelArg>()? {
+            ModelArg::Path(p) => p.0.into_os_string(),
+            ModelArg::Object(m) => m.get().origin().ok_or_else(|| {
+                Kind::Option.err("this model was trained in Python and not saved: save it (model.save(path)) so that outputs can name it")
+            })?.into_os_string(),
+        },
+        Value::Path => value.extract::<FsPath>()?.0.into_os_string(),
+        Value::Text | Value::Choice | Value::Size if value.is_instance_of::<PyString>() => {
+            value.extract::<String>()?.into()
+        }
+        Value::Text | Value::Choice | Value::Size => return Err(wrong("a str")),
+    };
+    Ok(Some(text))
 }
 
 /// The batch on a thread of its own while this one, holding the GIL between waits, hears

@@ -10,6 +10,8 @@ mod stdio;
 mod checks;
 mod cmd;
 mod files;
+#[cfg(test)]
+mod generated;
 mod man;
 mod methods;
 mod options;
@@ -50,10 +52,8 @@ fn version() -> &'static str {
 /// Options every command takes, before or after the subcommand's name.
 #[derive(Debug, clap::Args)]
 struct Global {
-    /// OCIO config: a file, `aces`, or an OCIO 2.2 built-in name (ocio://default,
-    /// ocio://cg-config-latest, ocio://studio-config-latest, or versioned) [default: $OCIO,
-    /// else aces]. Before or after the subcommand.
-    #[arg(long, global = true, value_name = "CONFIG")]
+    // Its help is the library's; global: before or after the subcommand.
+    #[arg(long, global = true, value_name = "CONFIG", help = specconv_conversion::Key::Ocio.about().help)]
     ocio: Option<String>,
 }
 
@@ -205,33 +205,19 @@ fn hint(cause: &(dyn std::error::Error + 'static)) -> Option<String> {
 /// short form and the names of its values where it takes several (`-j/--threads`,
 /// `--tile W H`, `--fixnan`).
 fn flag(key: specconv_conversion::Key) -> String {
-    static FLAGS: std::sync::OnceLock<Vec<(specconv_conversion::Key, String)>> =
-        std::sync::OnceLock::new();
-    let flags = FLAGS.get_or_init(|| {
-        let command = Cli::command();
-        specconv_conversion::Key::ALL
-            .into_iter()
-            .filter_map(|k| {
-                let long = *k.about().flags.first()?;
-                let arg = command.get_arguments().find(|a| a.get_long() == Some(long));
-                let mut text = format!("--{long}");
-                if let Some(short) = arg.and_then(|a| a.get_short()) {
-                    text = format!("-{short}/{text}");
-                }
-                let values = arg.and_then(|a| a.get_value_names()).unwrap_or_default();
-                if values.len() > 1 {
-                    for v in values {
-                        text = format!("{text} {v}");
-                    }
-                }
-                Some((k, text))
-            })
-            .collect()
-    });
-    flags
-        .iter()
-        .find(|(k, _)| *k == key)
-        .map_or_else(String::new, |(_, text)| text.clone())
+    use specconv_conversion::Takes;
+    let Some(first) = key.about().flags.first() else {
+        return String::new();
+    };
+    let long = format!("--{}", first.long);
+    let named = match first.short {
+        Some(short) => format!("-{short}/{long}"),
+        None => long,
+    };
+    match first.takes {
+        Takes::Pair(a, b) => format!("{named} {a} {b}"),
+        _ => named,
+    }
 }
 
 /// Examples of `specconv --help` and of man/specconv.1.
@@ -435,7 +421,7 @@ mod tests {
             let Some(long) = key.about().flags.first() else {
                 continue;
             };
-            assert!(flag(key).contains(&format!("--{long}")), "{key:?}");
+            assert!(flag(key).contains(&format!("--{}", long.long)), "{key:?}");
         }
     }
 

@@ -1,10 +1,11 @@
 //! The method options of the commands, turned into the one [`Description`] that
-//! `specconv_spectral::stack` builds: `convert` and `simulate` share [`StackArgs`] (so they
-//! have the same options with the same defaults), `eval` and `report` their setting flags. The
+//! `specconv_spectral::stack` builds: `simulate` takes [`StackArgs`] (the conversion's options, with the
+//! library's help and defaults), `eval` and `report` their setting flags. The
 //! Jakob 2019 tables are kept where the library keeps them ([`specconv_conversion::tables`]).
 
 use anyhow::Result;
 use specconv_colour::Colorimetry;
+use specconv_conversion::Key;
 use specconv_spectral::baselines::jakob;
 use specconv_spectral::method::MethodName;
 use specconv_spectral::stack::{Description, Setting, Stack};
@@ -14,12 +15,8 @@ use std::path::PathBuf;
 /// `--blend WIDTH` of the commands that uplift with a clustered model.
 #[derive(Debug, Clone, Copy, clap::Args)]
 pub struct BlendArg {
-    /// Blend the spectra of neighbouring clusters within WIDTH of their boundary (in CIE xy),
-    /// so that spectra change continuously across it; XYZ stays exact. WIDTH is the least
-    /// width: a boundary whose two sides differ a lot is widened so that no spectrum jumps by
-    /// more than 1e-3 between colours 1e-5 apart. 0 is the paper's hard switch. The default
-    /// keeps the paper's Table 1 (Munsell mean Δe 0.01378 against 0.01379).
-    #[arg(long = "blend", value_name = "WIDTH", default_value_t = specconv_conversion::Options::default().blend)]
+    #[arg(long = "blend", value_name = "WIDTH", help = Key::Blend.about().help,
+          default_value_t = specconv_conversion::Options::default().blend)]
     pub width: f64,
 }
 
@@ -44,33 +41,19 @@ impl ShiftArg {
     }
 }
 
-/// The options of the method stack that `convert` and `simulate` share, with one default each.
+/// The options of the method stack that `simulate` shares with a conversion, with the
+/// library's help and defaults.
 #[derive(Debug, Clone, clap::Args)]
 pub struct StackArgs {
-    /// A built-in model by name (open, the default; extended; paper; broad: `specconv models`
-    /// lists them with their data and licences) or a model file from `specconv train`; when
-    /// absent, the site default $SPECCONV_MODEL, else open. Its grid, observer and illuminant
-    /// are those of the output, whatever the method. extended, paper and broad are trained
-    /// partly on data for non-commercial use only (docs/licences.md); every output says whether
-    /// it may be used commercially (specconvCommercialUse, and specconvModel's last words).
-    #[arg(long, value_name = "NAME|MODEL")]
+    #[arg(long, value_name = "NAME|MODEL", help = Key::Model.about().help)]
     pub model: Option<PathBuf>,
     #[command(flatten)]
     pub blend: BlendArg,
-    /// Keep every reflectance inside [0, 1] with its XYZ unchanged (the default): where the
-    /// method's spectrum leaves [0, 1], the nearest spectrum (least squares) that stays inside
-    /// with exactly the input's XYZ. Colours no reflectance can have (outside the object-colour
-    /// solid: too saturated, negative, or brighter than white) get the in-range spectrum whose
-    /// colour is nearest in CIELAB. The summary counts both. About 1 µs per pixel that needs
-    /// the projection (≈30 % of an sRGB cube), ≈25 µs per pixel outside the solid.
-    #[arg(long, overrides_with = "unbounded")]
+    #[arg(long, overrides_with = "unbounded", help = Key::Bounded.about().help)]
     pub bounded: bool,
-    /// The method's spectra as they are, values outside [0, 1] included (the paper's output).
-    #[arg(long, overrides_with = "bounded")]
+    #[arg(long, overrides_with = "bounded", help = Key::Bounded.about().flags[1].help)]
     pub unbounded: bool,
-    /// Output wavelength grid START:END:STEP in nm (default: the model's). The method's
-    /// spectra are interpolated onto it and corrected so that their XYZ stays exact.
-    #[arg(long, value_name = "START:END:STEP")]
+    #[arg(long, value_name = "START:END:STEP", help = Key::Bands.about().help)]
     pub bands: Option<specconv_colour::Grid>,
 }
 
@@ -297,7 +280,7 @@ mod tests {
                     s.description(method),
                     "{method} {opts:?}"
                 );
-                assert_eq!(c.stack.model, s.stack.model);
+                assert_eq!(c.options().model, s.stack.model);
             }
         }
         let Command::Convert(c) = parse(&["convert", "a.png", "b.exr"]) else {

@@ -1,82 +1,205 @@
-//! The conversion's options as clap arguments, derived from the library's one description
-//! ([`specconv_conversion::Key`]): a choice is parsed by the library's names
-//! ([`specconv_conversion::Named`]), a default is the library's, and the test below fails when
-//! `convert` accepts a flag, a name or a default the library does not define.
+//! The conversion's options as clap arguments, made from the library's one definition of each
+//! ([`specconv_conversion::definition`]): flags, value names, help, defaults and conflicts come
+//! from there, a value is read by the library, and the tests below fail when `convert` accepts
+//! a flag, a name or a default the library does not define.
 
 use clap::builder::{PossibleValue, TypedValueParser};
-use specconv_conversion::{Key, Named, Options};
+use specconv_conversion::{Flag, Key, Options, Takes, Value};
 
-/// A clap parser of a library choice: help lists its names, its other spellings are accepted
-/// unlisted, anything else gets the library's message.
-#[derive(Clone, Copy)]
-pub(crate) struct NamedParser<T>(std::marker::PhantomData<T>);
-
-/// The parser of `T`'s names.
-pub(crate) fn named<T: Named + Send + Sync>() -> NamedParser<T> {
-    NamedParser(std::marker::PhantomData)
+/// The options of a conversion as arguments, made from the library's definitions
+/// ([`specconv_conversion::definition`]): each flag, its value names, help and conflicts come
+/// from there; a value is read by the library ([`Options::set_os`]), so a flag accepts exactly
+/// what the library does.
+#[derive(Debug, Clone)]
+pub(crate) struct ConversionArgs {
+    /// The options given (the global `--ocio` is set apart, before the subcommand).
+    pub options: Options,
 }
 
-impl<T: Named + Send + Sync> TypedValueParser for NamedParser<T> {
-    type Value = T;
+/// The options `convert` takes as its own arguments: all but the global `--ocio`.
+fn own_keys() -> impl Iterator<Item = Key> {
+    Key::ALL.into_iter().filter(|k| *k != Key::Ocio)
+}
+
+/// The clap argument of `flag`, one of `key`'s.
+fn argument(key: Key, flag: &Flag, first: &Flag) -> clap::Arg {
+    use clap::{Arg, ArgAction};
+    let about = key.about();
+    let mut arg = Arg::new(flag.long)
+        .long(flag.long)
+        .visible_aliases(flag.aliases.iter().copied())
+        .help(flag.help.unwrap_or(about.help));
+    if let Some(short) = flag.short {
+        arg = arg.short(short);
+    }
+    if flag != first {
+        arg = match (flag.requires, about.value) {
+            (Some(other), _) => arg.requires(other),
+            // --bounded and --unbounded: the last one given counts.
+            (None, Value::Switch) => arg.overrides_with(first.long),
+            (None, _) => arg.conflicts_with(first.long),
+        };
+    }
+    let default = Options::default().text(key);
+    match flag.takes {
+        Takes::Value(name) => {
+            arg = arg.value_name(name).action(ArgAction::Set);
+            arg = match about.choices {
+                Some(_) => arg.value_parser(ChoiceParser(key)),
+                None => arg.value_parser(TextParser(key)),
+            };
+            match (flag == first, default) {
+                (true, Some(text)) => arg.default_value(text),
+                _ => arg,
+            }
+        }
+        Takes::Pair(a, b) => {
+            let shown = default.unwrap_or_default();
+            arg.value_names([a, b])
+                .num_args(2)
+                .action(ArgAction::Set)
+                .value_parser(clap::value_parser!(usize))
+                .default_values(shown.split('x').map(str::to_string).collect::<Vec<_>>())
+        }
+        Takes::Sets(_) => arg.action(ArgAction::SetTrue),
+        Takes::MaybeBool => arg
+            .value_name("BOOL")
+            .num_args(0..=1)
+            .require_equals(true)
+            .default_missing_value("true")
+            .action(ArgAction::Set)
+            .value_parser(TextParser(key))
+            .default_value(default.unwrap_or_default()),
+    }
+}
+
+impl clap::Args for ConversionArgs {
+    fn augment_args(mut cmd: clap::Command) -> clap::Command {
+        for key in own_keys() {
+            let flags = key.about().flags;
+            let Some(first) = flags.first() else { continue };
+            for flag in flags {
+                cmd = cmd.arg(argument(key, flag, first));
+            }
+        }
+        cmd
+    }
+
+    fn augment_args_for_update(cmd: clap::Command) -> clap::Command {
+        Self::augment_args(cmd)
+    }
+}
+
+impl clap::FromArgMatches for ConversionArgs {
+    fn from_arg_matches(matches: &clap::ArgMatches) -> Result<Self, clap::Error> {
+        let mut args = ConversionArgs {
+            options: Options::default(),
+        };
+        args.update_from_arg_matches(matches)?;
+        Ok(args)
+    }
+
+    /// Sets each option a flag gave on the command line, in the order of its flags
+    /// (`--emissive`, then `--emission-units`); defaults are the library's already.
+    fn update_from_arg_matches(&mut self, matches: &clap::ArgMatches) -> Result<(), clap::Error> {
+        use clap::parser::ValueSource;
+        for key in own_keys() {
+            for flag in key.about().flags {
+                let id = flag.long;
+                if matches.value_source(id) != Some(ValueSource::CommandLine) {
+                    continue;
+                }
+                let text: std::ffi::OsString = match flag.takes {
+                    Takes::Sets(text) if matches.get_flag(id) => text.into(),
+                    Takes::Sets(_) => continue,
+                    Takes::Pair(..) => {
+                        let v: Vec<&usize> = matches.get_many(id).into_iter().flatten().collect();
+                        format!("{}x{}", v[0], v[1]).into()
+                    }
+                    Takes::Value(_) | Takes::MaybeBool => matches
+                        .get_one::<std::ffi::OsString>(id)
+                        .cloned()
+                        .unwrap_or_default(),
+                };
+                self.options.set_os(key, &text).map_err(|e| {
+                    clap::Error::raw(
+                        clap::error::ErrorKind::ValueValidation,
+                        format!("--{id}: {}\n", e.why),
+                    )
+                })?;
+            }
+        }
+        Ok(())
+    }
+}
+
+/// A clap parser of an option's text, read by the library ([`Options::set_os`]): a value it
+/// refuses is a usage error with its message.
+#[derive(Clone, Copy)]
+pub(crate) struct TextParser(Key);
+
+impl TypedValueParser for TextParser {
+    type Value = std::ffi::OsString;
 
     fn parse_ref(
         &self,
         cmd: &clap::Command,
         arg: Option<&clap::Arg>,
         value: &std::ffi::OsStr,
-    ) -> Result<T, clap::Error> {
-        let text = value
-            .to_str()
-            .ok_or_else(|| clap::Error::new(clap::error::ErrorKind::InvalidUtf8).with_cmd(cmd))?;
-        T::from_name(text).map_err(|e| {
-            let mut err = clap::Error::new(clap::error::ErrorKind::InvalidValue).with_cmd(cmd);
-            use clap::error::{ContextKind, ContextValue};
-            if let Some(arg) = arg {
-                err.insert(
-                    ContextKind::InvalidArg,
-                    ContextValue::String(arg.to_string()),
-                );
-            }
-            err.insert(ContextKind::InvalidValue, ContextValue::String(e.name));
-            err.insert(
-                ContextKind::ValidValue,
-                ContextValue::Strings(e.choices.iter().map(|c| c.to_string()).collect()),
+    ) -> Result<std::ffi::OsString, clap::Error> {
+        let mut o = Options::default();
+        o.set_os(self.0, value).map_err(|e| {
+            let flag = arg.map_or_else(String::new, |a| a.to_string());
+            let message = format!(
+                "invalid value '{}' for '{flag}': {}\n",
+                value.to_string_lossy(),
+                e.why
             );
-            err
-        })
+            clap::Error::raw(clap::error::ErrorKind::ValueValidation, message).with_cmd(cmd)
+        })?;
+        Ok(value.to_owned())
+    }
+}
+
+/// A clap parser of a choice by the library's names: help lists them, its other spellings are
+/// accepted unlisted, anything else gets the library's list.
+#[derive(Clone, Copy)]
+pub(crate) struct ChoiceParser(Key);
+
+impl TypedValueParser for ChoiceParser {
+    type Value = std::ffi::OsString;
+
+    fn parse_ref(
+        &self,
+        cmd: &clap::Command,
+        arg: Option<&clap::Arg>,
+        value: &std::ffi::OsStr,
+    ) -> Result<std::ffi::OsString, clap::Error> {
+        let (names, _) = self.0.about().choices.unwrap_or_default();
+        let mut o = Options::default();
+        if o.set_os(self.0, value).is_ok() {
+            return Ok(value.to_owned());
+        }
+        use clap::error::{ContextKind, ContextValue};
+        let mut err = clap::Error::new(clap::error::ErrorKind::InvalidValue).with_cmd(cmd);
+        if let Some(arg) = arg {
+            err.insert(
+                ContextKind::InvalidArg,
+                ContextValue::String(arg.to_string()),
+            );
+        }
+        let value = value.to_string_lossy().into_owned();
+        err.insert(ContextKind::InvalidValue, ContextValue::String(value));
+        let names = names.iter().map(|n| n.to_string()).collect();
+        err.insert(ContextKind::ValidValue, ContextValue::Strings(names));
+        Err(err)
     }
 
     fn possible_values(&self) -> Option<Box<dyn Iterator<Item = PossibleValue> + '_>> {
-        Some(Box::new(T::ALL.iter().map(|v| {
-            PossibleValue::new(v.name()).aliases(v.aliases().iter().copied())
+        let spellings = self.0.about().spellings?;
+        Some(Box::new(spellings.into_iter().map(|(name, aliases)| {
+            PossibleValue::new(name).aliases(aliases.iter().copied())
         })))
-    }
-}
-
-/// The library's default of `key`, as text (for `default_value`).
-pub(crate) fn default_of(key: Key) -> String {
-    Options::default()
-        .text(key)
-        .unwrap_or_else(|| panic!("{key:?} has a default"))
-}
-
-/// The library's default tile size.
-pub(crate) fn default_tile() -> [usize; 2] {
-    match Options::default().blocks {
-        specconv_conversion::Blocks::Tiles(w, h) => [w, h],
-        specconv_conversion::Blocks::Scanlines => [64, 64],
-    }
-}
-
-/// The text of `key` read by the library, for an option clap cannot type by itself.
-pub(crate) fn parsed<T: 'static>(
-    key: Key,
-    field: fn(Options) -> Option<T>,
-) -> impl Fn(&str) -> Result<T, String> + Clone + Send + Sync + 'static {
-    move |text| {
-        let mut o = Options::default();
-        o.set(key, Some(text)).map_err(|e| e.why)?;
-        Ok(field(o).expect("set gives it a value"))
     }
 }
 
@@ -84,6 +207,7 @@ pub(crate) fn parsed<T: 'static>(
 mod tests {
     use super::*;
     use clap::{CommandFactory, Parser};
+    use specconv_conversion::Named;
     use std::collections::BTreeSet;
 
     /// `convert`'s arguments that are not options of a conversion: what to convert, where to,
@@ -123,9 +247,9 @@ mod tests {
         // The global --ocio is parsed before the subcommand.
         longs.insert("ocio".into());
         for key in Key::ALL {
-            for flag in key.about().flags {
+            for flag in key.about().flags.iter().map(|f| f.long) {
                 assert!(
-                    longs.remove(*flag),
+                    longs.remove(flag),
                     "--{flag} ({key:?}) is missing from convert"
                 );
             }
@@ -147,6 +271,7 @@ mod tests {
         for key in Key::ALL {
             let about = key.about();
             let [flag, ..] = about.flags else { continue };
+            let flag = flag.long;
             let arg = cmd
                 .get_arguments()
                 .find(|a| a.get_long() == Some(flag))
@@ -203,5 +328,88 @@ mod tests {
         for key in Key::ALL {
             assert_eq!(got.text(key), want.text(key), "{key:?}");
         }
+    }
+
+    /// Flags that set an option together: `--emissive` gives the library's default units,
+    /// `--emission-units` others; `--scanline`, `--checknan` and `--unbounded` their words.
+    #[test]
+    fn flags_set_what_the_definitions_say() {
+        let options = |extra: &[&str]| {
+            let words = ["specconv", "convert", "a.png", "b.exr"]
+                .iter()
+                .chain(extra);
+            let m = crate::Cli::try_parse_from(words).unwrap();
+            let Some(crate::Command::Convert(args)) = m.command else {
+                panic!("convert")
+            };
+            args.options()
+        };
+        let units = specconv_colour::EmissionUnits::default();
+        assert_eq!(options(&["--emissive"]).emission, Some(units));
+        let photometric = options(&["--emissive", "--emission-units", "photometric"]);
+        assert_eq!(photometric.emission.map(Named::name), Some("photometric"));
+        assert!(crate::Cli::try_parse_from([
+            "specconv",
+            "convert",
+            "a",
+            "b",
+            "--emission-units",
+            "photometric"
+        ])
+        .is_err());
+        let o = options(
+            &[
+                "--scanline",
+                "--checknan",
+                "--unbounded",
+                "-d",
+                "float",
+                "--tile",
+                "32",
+                "16",
+            ]
+            .map(|s| s)
+            .into_iter()
+            .filter(|s| *s != "--scanline")
+            .collect::<Vec<_>>(),
+        );
+        assert_eq!(o.text(Key::Tile).as_deref(), Some("32x16"));
+        assert!(!o.bounded);
+        assert_eq!(o.text(Key::Sample).as_deref(), Some("float"));
+        assert_eq!(
+            options(&["--scanline"]).text(Key::Tile).as_deref(),
+            Some("scanline")
+        );
+        assert_eq!(
+            options(&["--fixnan", "box3"])
+                .text(Key::NonFinite)
+                .as_deref(),
+            Some("box3")
+        );
+        assert_eq!(
+            options(&["--constant-color-detect=false"]).constant_detect,
+            false
+        );
+        assert!(crate::Cli::try_parse_from([
+            "specconv",
+            "convert",
+            "a",
+            "b",
+            "--tile",
+            "8",
+            "8",
+            "--scanline"
+        ])
+        .is_err());
+        assert!(crate::Cli::try_parse_from([
+            "specconv",
+            "convert",
+            "a",
+            "b",
+            "--fixnan",
+            "box3",
+            "--checknan"
+        ])
+        .is_err());
     }
 }

@@ -219,7 +219,8 @@ named!(Alpha, "alpha", [
     Alpha::Straight => "straight" | "unassociated",
     Alpha::Premultiplied => "premultiplied" | "associated",
 ]);
-named!(Mip, "MIP levels", [Mip::All => "all", Mip::Base => "0"]);
+// `true` and `false` are Python's mip=True/False: a bool is given as its text.
+named!(Mip, "MIP levels", [Mip::All => "all" | "true", Mip::Base => "0" | "false"]);
 named!(NonFinite, "NaN handling", [
     NonFinite::Refuse => "refuse" | "check",
     NonFinite::Black => "black",

@@ -8,6 +8,7 @@
 #![warn(missing_docs)]
 
 pub mod choices;
+pub mod definitions;
 pub mod layout;
 pub mod metadata;
 pub mod named;
@@ -16,6 +17,7 @@ pub mod report;
 pub mod wrap;
 
 pub use choices::{Alpha, Compression, DataPolicy, Filter, Layout, Mip, NonFinite, Rounding};
+pub use definitions::{definition, Definition, Flag, Takes, Value};
 pub use named::{Named, UnknownName};
 pub use options::{settings_tag, About, BadValue, Blocks, Key, Options, Resolved};
 pub use report::{

@@ -5,6 +5,7 @@
 //! from it (tests in each fail when one accepts what is not defined here), and the `-u` tag
 //! ([`settings_tag`]) is made from every field.
 
+use crate::definitions::{definition, Definition, Flag, Value};
 use crate::named::Named;
 use specconv_colour::{EmissionUnits, Grid};
 use specconv_spectral::method::MethodName;
@@ -181,27 +182,34 @@ pub enum Key {
     Strict,
 }
 
-/// How front-ends name an option, and what it does.
+/// How front-ends name an option, and what it does: its [`Definition`], with a choice's names.
 #[derive(Debug, Clone, PartialEq, Eq)]
 #[non_exhaustive]
 pub struct About {
-    /// Its name: the Python keyword, the key of a farm manifest.
+    /// Its name: the Python keyword, the key of a farm manifest and of the `-u` tag.
     pub name: &'static str,
-    /// The command line's long flags that set it (without `--`); none where the command line
-    /// has no flag for it.
-    pub flags: &'static [&'static str],
+    /// The command line's flags, the first the option's own; none where it has none.
+    pub flags: &'static [Flag],
+    /// What its value is.
+    pub value: Value,
+    /// What it means unset, for an option with no default text.
+    pub unset: Option<&'static str>,
     /// For a choice, its names ([`Named::names`]) and the other spellings it accepts.
     pub choices: Option<(Vec<&'static str>, Vec<&'static str>)>,
-    /// One line of help.
+    /// For a choice, each name with its other spellings.
+    pub spellings: Option<Spellings>,
+    /// What it does: the one help text of every front-end.
     pub help: &'static str,
     /// Whether it changes the bytes written (the `-u` tag must tell two values apart).
     pub changes_output: bool,
 }
 
-/// The names and the other spellings of a choice.
-fn choices<T: Named>() -> Option<(Vec<&'static str>, Vec<&'static str>)> {
-    let aliases = T::ALL.iter().flat_map(|v| v.aliases().iter().copied());
-    Some((T::names(), aliases.collect()))
+/// Each name of a choice with its other spellings.
+type Spellings = Vec<(&'static str, &'static [&'static str])>;
+
+/// The names of a choice, each with its other spellings.
+fn spellings<T: Named>() -> Option<Spellings> {
+    Some(T::ALL.iter().map(|v| (v.name(), v.aliases())).collect())
 }
 
 impl Key {
@@ -239,45 +247,41 @@ impl Key {
         Key::Strict,
     ];
 
-    /// How front-ends name it, its choices and help.
+    /// How front-ends name it, its choices and help ([`definition`]).
     pub fn about(self) -> About {
-        let (name, flags, choices, help, changes_output): (_, &'static [&'static str], _, _, _) =
-            match self {
-                Key::Ocio => ("ocio", &["ocio"], None, "the OCIO config: a file, `aces` or an `ocio://` name (unset: $OCIO, else the built-in ACES config)", true),
-                Key::Colorspace => ("colorspace", &["colorspace"], None, "the input's colour space, overriding what the file declares", true),
-                Key::Alpha => ("alpha", &["alpha"], choices::<Alpha>(), "whether the input's colour is straight or premultiplied by alpha", true),
-                Key::Subimage => ("subimage", &["subimage"], None, "the subimage (OpenEXR part) to read: its index or name", true),
-                Key::Channels => ("channels", &["channels"], None, "the channels that carry the colour: R,G,B[,A], Y[,A] or a layer", true),
-                Key::Method => ("method", &["method"], choices::<MethodName>(), "the uplift method", true),
-                Key::Model => ("model", &["model"], None, "a built-in model by name or a model file from `specconv train`", true),
-                Key::Blend => ("blend", &["blend"], None, "blend width of the clustered methods in CIE xy; 0 is the paper's hard switch", true),
-                Key::Bounded => ("bounded", &["bounded", "unbounded"], None, "keep every reflectance in [0, 1] with its colour", true),
-                Key::Bands => ("bands", &["bands"], None, "the output's wavelength grid START:END:STEP in nm (unset: the model's)", true),
-                Key::Emission => ("emission", &["emissive", "emission-units"], choices::<EmissionUnits>(), "write emission in these units instead of reflectance", true),
-                Key::Layout => ("layout", &["layout"], choices::<Layout>(), "a band a channel (`spectral`), or six float32 values a texel that decode to the same spectra (`compact`)", true),
-                Key::Sample => ("sample", &["data-type"], choices::<Sample>(), "half or float samples", true),
-                Key::Rounding => ("rounding", &["half-rounding"], choices::<Rounding>(), "how half samples are rounded (unset: nearest for reflectance, colour for emission)", true),
-                Key::Compression => ("compression", &["compression"], choices::<Compression>(), "the output's compression", true),
-                Key::ZipLevel => ("zip_level", &["zip-level"], None, "deflate level of zip and zips, 0–9 (unset: the measured default)", true),
-                Key::Tile => ("tile", &["tile", "scanline"], None, "tiles WxH, or `scanline`", true),
-                Key::Mip => ("mip", &["mip"], choices::<Mip>(), "every MIP level (`all`) or the full resolution only (`0`)", true),
-                Key::Filter => ("filter", &["filter"], choices::<Filter>(), "the filter MIP levels are made with (maketx's names)", true),
-                Key::Resize => ("resize", &["resize"], None, "resize level 0 to powers of two, as maketx --resize", true),
-                Key::Wrap => ("wrap", &["wrap"], None, "wrap modes a tiled output records, MODE or S,T (unset: the input's, else black)", true),
-                Key::NonFinite => ("non_finite", &["fixnan", "checknan"], choices::<NonFinite>(), "NaN and infinite input values: refused, repaired or kept", true),
-                Key::ConstantDetect => ("constant_detect", &["constant-color-detect"], None, "write a texture of one colour as one tile", true),
-                Key::OpaqueDetect => ("opaque_detect", &["opaque-detect"], None, "leave out an alpha that is 1 everywhere", true),
-                Key::Threads => ("threads", &["threads"], None, "worker threads (unset: one per core)", false),
-                Key::Overwrite => ("overwrite", &["force"], None, "replace an existing output", false),
-                Key::TableDir => ("table_dir", &[], None, "where the Jakob 2019 tables are kept (unset: the cache directory)", false),
-                Key::Data => ("data", &["data"], choices::<DataPolicy>(), "what becomes of a data texture (never uplifted): skipped, copied or a failure", true),
-                Key::StripMetadata => ("strip_metadata", &["strip-metadata"], None, "leave out the input's metadata (Copyright, DocumentName, ImageDescription, Artist, custom strings), which outputs carry as maketx does", true),
-                Key::Strict => ("strict", &["strict"], None, "fail an input on any warning (a declaration ignored, pixels clipped): nothing written for it", false),
-            };
+        let Definition {
+            name,
+            value,
+            unset,
+            flags,
+            help,
+            changes_output,
+        } = definition(self);
+        let spellings = match self {
+            Key::Alpha => spellings::<Alpha>(),
+            Key::Method => spellings::<MethodName>(),
+            Key::Emission => spellings::<EmissionUnits>(),
+            Key::Layout => spellings::<Layout>(),
+            Key::Sample => spellings::<Sample>(),
+            Key::Rounding => spellings::<Rounding>(),
+            Key::Compression => spellings::<Compression>(),
+            Key::Mip => spellings::<Mip>(),
+            Key::Filter => spellings::<Filter>(),
+            Key::NonFinite => spellings::<NonFinite>(),
+            Key::Data => spellings::<DataPolicy>(),
+            _ => None,
+        };
+        let choices = spellings.as_ref().map(|s| {
+            let aliases = s.iter().flat_map(|(_, a)| a.iter().copied());
+            (s.iter().map(|(n, _)| *n).collect(), aliases.collect())
+        });
         About {
             name,
             flags,
+            value,
+            unset,
             choices,
+            spellings,
             help,
             changes_output,
         }
@@ -340,6 +344,24 @@ impl Options {
             Key::StripMetadata => word(self.strip_metadata),
             Key::Strict => word(self.strict),
         }
+    }
+
+    /// Sets an option from its text as the system gives it (a command-line word, a Python
+    /// path): a path option takes any bytes, the others UTF-8 ([`Options::set`]).
+    pub fn set_os(&mut self, key: Key, text: &std::ffi::OsStr) -> Result<(), BadValue> {
+        if key.about().value == Value::Path {
+            let path = Some(PathBuf::from(text));
+            match key {
+                Key::Model => self.model = path,
+                _ => self.table_dir = path,
+            }
+            return Ok(());
+        }
+        let text = text.to_str().ok_or_else(|| BadValue {
+            key: key.about().name,
+            why: format!("{} is not UTF-8", text.to_string_lossy()),
+        })?;
+        self.set(key, Some(text))
     }
 
     /// Sets an option from its text ([`Options::text`]'s form); `None` unsets it (the default

@@ -6,16 +6,11 @@ mod printing;
 pub(crate) use plan::for_farm;
 use printing::converted;
 
-use crate::options::{default_of, named, parsed};
 use crate::progress::{Progress, Summary};
 use crate::stdio::StdoutFailed;
-use crate::{exit, explain, methods, print_error, records, signals, usage};
+use crate::{exit, explain, print_error, records, signals, usage};
 use anyhow::Result;
-use specconv_conversion::{
-    Advice, Alpha, Batch, Blocks, Compression, Converter, DataPolicy, Event, Filter, Key, Layout,
-    Mip, NonFinite, Options, Rounding, Sample, WrapModes,
-};
-use specconv_spectral::method::MethodName;
+use specconv_conversion::{Advice, Batch, Converter, Event, Key, Options};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
@@ -66,145 +61,9 @@ pub struct Args {
     /// The global --ocio (see `specconv --help`).
     #[arg(skip)]
     pub(crate) ocio: Option<String>,
-    /// The input's colour space, overriding all other evidence. Without it, the first of: the
-    /// config's explicit file rules; strong declarations in the file (ICC profile, EXR
-    /// chromaticities, a colour-space name); weak ones (PNG sRGB/cHRM/gAMA); the Default rule
-    /// of a config given by --ocio or $OCIO; linear Rec.709 for float and sRGB texture for
-    /// integer pixels (docs/colour.md).
-    #[arg(long, visible_alias = "iscolorspace", value_name = "NAME")]
-    colorspace: Option<String>,
+    /// The options of the conversion, made from the library's definitions.
     #[command(flatten)]
-    read: ReadArgs,
-    /// Whether the input's colour is straight (unassociated) or premultiplied by alpha: `auto`
-    /// as the file says (PNG straight, OpenEXR premultiplied), or force either for files that
-    /// say it wrong (as oiiotool's --no-autopremult). Straight colour is converted, then
-    /// premultiplied: OpenEXR stores premultiplied colour.
-    #[arg(long, value_name = "HOW", default_value = default_of(Key::Alpha), value_parser = named::<Alpha>())]
-    alpha: Alpha,
-    /// What to do with a data texture (roughness, normal map, mask), which is never uplifted:
-    /// one whose colour space is data (OCIO isdata, such as Raw: by --colorspace, the file, or
-    /// the config's file rules, ahead of PNG chunks), or one channel that neither
-    /// --colorspace, a file rule nor a strong declaration in the file calls colour. `skip` writes nothing (status `data`, not a failure); `copy` writes it through
-    /// as a tiled, MIP-mapped data texture, values and metadata kept (OpenImageIO's
-    /// make_texture, as maketx); `fail` counts it as a failure.
-    #[arg(long, value_name = "HOW", default_value = default_of(Key::Data), value_parser = named::<DataPolicy>())]
-    data: DataPolicy,
-    /// Uplift method: otsu2018 (the clustered PCA of the model), pca (a one-cluster model),
-    /// smits1999, meng2015, meng2015-bounded or jakob2019.
-    #[arg(long, value_name = "NAME", default_value = default_of(Key::Method), value_parser = named::<MethodName>())]
-    method: MethodName,
-    #[command(flatten)]
-    pub(crate) stack: methods::StackArgs,
-    /// Write emission (`S0.` channels, `emissiveUnits` W.m^-2.sr^-1) instead of reflectance:
-    /// the colour is that of emitted radiance, of any brightness, and each spectrum L has it
-    /// under the observer alone, in the convention of --emission-units. Each colour is scaled
-    /// into half the range of reflectances, uplifted by the method and scaled back, so the
-    /// shape does not depend on brightness; with a bounded method L ≥ 0. `to-rgb` turns it
-    /// back into the input colours.
-    #[arg(long)]
-    emissive: bool,
-    /// What S0 values mean (recorded as specconvEmissionUnits): `reference`, the layout's
-    /// reference implementation, ∫ S0·x̄ dλ (1 nm steps) = the input's XYZ; `normalised`,
-    /// ∫ S0·ȳ dλ / ∫ ȳ dλ = Y, a flat S0 = 1 has Y = 1 (pbrt-v4, Mitsuba 3), ≈106.8× the
-    /// reference's values; `photometric`, the input's Y is luminance in cd/m² and S0 is
-    /// radiance in W·m⁻²·sr⁻¹·nm⁻¹, Y = 683·∫ S0·ȳ dλ, 1/683 of the reference's values.
-    #[arg(
-        long,
-        value_name = "UNITS",
-        default_value = Options::default().emission.unwrap_or_default().to_string(),
-        value_parser = named::<specconv_colour::EmissionUnits>(),
-        requires = "emissive"
-    )]
-    emission_units: specconv_colour::EmissionUnits,
-    /// How the spectra are stored: `spectral`, a band a channel in the layout of Fichet et al.
-    /// 2021; `compact`, six float32 values a texel (its colour `C.X C.Y C.Z` and the bounded
-    /// projection's dual unknowns `U.0 U.1 U.2`) with the model's maps and the decoding rule in
-    /// the header: the same spectra at the size of RGB, for renderers that decode per lookup
-    /// (docs/compact.md); `specconv expand` writes the spectral layout from it. The clustered
-    /// methods' reflectance only; its smaller MIP levels hold the filtered colour, their dual
-    /// unknowns solved again.
-    #[arg(long, value_name = "LAYOUT", default_value = default_of(Key::Layout), value_parser = named::<Layout>())]
-    layout: Layout,
-    /// Sample type of the output.
-    #[arg(short = 'd', long = "data-type", value_name = "TYPE", default_value = default_of(Key::Sample), value_parser = named::<Sample>())]
-    data_type: Sample,
-    /// How half samples are rounded: `nearest` rounds each band on its own (the colour moves
-    /// by up to ≈3e-4 relative, below what half can resolve per band); `colour` picks, band by
-    /// band, the half below or above so that the spectrum's XYZ moves as little as possible
-    /// (≈5× smaller colour error, ≈1.5× the conversion time of a 36-band ZIP file).
-    /// Default: `nearest` for reflectances, `colour` for --emissive, whose dark pixels' S0
-    /// values (∫ S0·x̄ dλ = XYZ: ≈1/107 of Y per band) fall where half has few digits.
-    #[arg(long, value_name = "HOW", value_parser = named::<Rounding>())]
-    half_rounding: Option<Rounding>,
-    /// Output compression. The lossless ones: none, rle, zips, zip, piz, pxr24 (for half;
-    /// float loses 8 bits); b44, b44a, dwaa and dwab lose precision (docs/compression.md
-    /// compares them all).
-    #[arg(long, default_value = default_of(Key::Compression), value_parser = named::<Compression>())]
-    compression: Compression,
-    /// Deflate level of zip and zips, 0 (stored) to 9 (smallest), as OpenEXR's
-    /// zipCompressionLevel; the default is the measured best trade (docs/compression.md).
-    #[arg(long, value_name = "LEVEL", value_parser = clap::value_parser!(u8).range(0..=9))]
-    zip_level: Option<u8>,
-    /// Tile width and height of the output.
-    #[arg(long, num_args = 2, value_names = ["W", "H"], default_values_t = crate::options::default_tile())]
-    tile: Vec<usize>,
-    /// Write scanlines instead of tiles (no MIP levels).
-    #[arg(long, conflicts_with = "tile")]
-    scanline: bool,
-    /// `all`: a MIP map (tiled outputs), each level filtered from the spectra of the level
-    /// above as maketx filters (the input's own smaller levels are not read); `0`: the full
-    /// resolution only.
-    #[arg(long, default_value = default_of(Key::Mip), value_parser = named::<Mip>())]
-    mip: Mip,
-    /// The filter each MIP level is made with from the spectra of the level above, as maketx's
-    /// `--filter`: `box` (its default: the 2×2 average, bilinear at odd sizes) or one of
-    /// OpenImageIO's. Filters with negative lobes (lanczos3, catmull-rom, mitchell, sinc, the
-    /// cubics) clamp what they push out of range: bands into [0, 1] (bounded reflectance) or
-    /// above 0, alpha into [0, 1].
-    #[arg(long, value_name = "NAME", default_value = default_of(Key::Filter), value_parser = named::<Filter>())]
-    filter: Filter,
-    /// Resize level 0 up to the next power of two in each direction, as maketx's `--resize`:
-    /// the input is uplifted at its own size and its spectra resampled with --filter (box and
-    /// triangle: bilinearly, as maketx).
-    #[arg(long)]
-    resize: bool,
-    /// Wrap modes the texture records, `MODE` or `S,T` (black, clamp, periodic, mirror);
-    /// default: the input's (a maketx texture's), else black, as maketx.
-    #[arg(long, value_name = "MODE[,MODE]", value_parser = parsed(Key::Wrap, |o| o.wrap))]
-    wrap: Option<WrapModes>,
-    /// Repair NaN and infinite input values: `box3` (the average of the finite 3×3
-    /// neighbours), `black` (0), or `none` to write them as they are. Without it such an input
-    /// is refused (as maketx --checknan).
-    #[arg(long, value_name = "HOW", conflicts_with = "checknan", value_parser = named::<NonFinite>())]
-    fixnan: Option<NonFinite>,
-    /// Refuse inputs with NaN or infinite values (the default; for maketx habits).
-    #[arg(long)]
-    checknan: bool,
-    /// Write a texture whose pixels are all the same as one tile, recording
-    /// oiio:ConstantColor (default true, as maketx --constant-color-detect).
-    #[arg(long, value_name = "BOOL", num_args = 0..=1, require_equals = true,
-          default_value_t = Options::default().constant_detect, default_missing_value = "true", action = clap::ArgAction::Set)]
-    constant_color_detect: bool,
-    /// Leave out an alpha that is 1 everywhere (default true, as maketx --opaque-detect).
-    #[arg(long, value_name = "BOOL", num_args = 0..=1, require_equals = true,
-          default_value_t = Options::default().opaque_detect, default_missing_value = "true", action = clap::ArgAction::Set)]
-    opaque_detect: bool,
-    /// Leave out the input's texture metadata. Without it the output carries, as maketx does,
-    /// the input's Copyright, DocumentName, ImageDescription, Artist and custom string
-    /// attributes (such as studio:assetId), and `to-rgb` carries them back.
-    #[arg(long)]
-    strip_metadata: bool,
-    /// Fail an input on any warning (a declaration of the file not followed, pixels above 1
-    /// clipped in a reflectance conversion, 1 % of the image or more): nothing is written for
-    /// it and the exit status is 1, for farms that gate on warnings.
-    #[arg(long)]
-    strict: bool,
-    /// Worker threads (default: one per core).
-    #[arg(short = 'j', long, value_name = "N")]
-    threads: Option<usize>,
-    /// Replace existing outputs.
-    #[arg(long)]
-    force: bool,
+    pub(crate) conversion: crate::options::ConversionArgs,
     /// Skip inputs whose output is newer than the input and was made with the same settings.
     #[arg(short, long)]
     update: bool,
@@ -233,18 +92,12 @@ pub struct Args {
     verbose: bool,
 }
 
-/// `--subimage` and `--channels`, shared with `info`.
+/// `--subimage` and `--channels` of `info`, as the library defines them.
 #[derive(Debug, Clone, clap::Args)]
 pub struct ReadArgs {
-    /// The subimage (OpenEXR part) to read: its index or name. Default: the first; the report
-    /// names the one read when the file has several.
-    #[arg(long, value_name = "N|NAME")]
+    #[arg(long, value_name = "N|NAME", help = Key::Subimage.about().help)]
     pub subimage: Option<String>,
-    /// The channels that carry the colour: names R,G,B or R,G,B,A (Y or Y,A for grey), or a
-    /// layer such as `diffuse` (diffuse.R, .G, .B and .A if present). Default: the channels named
-    /// R, G, B (and A); else, without layers, the channels in order; else the only layer with
-    /// R, G and B. Other layered files are refused with the list of their layers.
-    #[arg(long, value_name = "LIST|LAYER")]
+    #[arg(long, value_name = "LIST|LAYER", help = Key::Channels.about().help)]
     pub channels: Option<String>,
 }
 
@@ -300,42 +153,8 @@ fn run_pairs(args: &Args, options: Options, pairs: &[(PathBuf, PathBuf)]) -> Res
 impl Args {
     /// The conversion these options describe.
     pub(crate) fn options(&self) -> Options {
-        let mut o = Options::default();
+        let mut o = self.conversion.options.clone();
         o.ocio = self.ocio.clone();
-        o.colorspace = self.colorspace.clone();
-        o.alpha = self.alpha;
-        o.subimage = self.read.subimage.clone();
-        o.channels = self.read.channels.clone();
-        o.method = self.method;
-        o.model = self.stack.model.clone();
-        o.blend = self.stack.blend.width;
-        o.bounded = !self.stack.unbounded;
-        o.bands = self.stack.bands;
-        o.emission = self.emissive.then_some(self.emission_units);
-        o.layout = self.layout;
-        o.sample = self.data_type;
-        o.rounding = self.half_rounding;
-        o.compression = self.compression;
-        o.zip_level = self.zip_level;
-        o.blocks = if self.scanline {
-            Blocks::Scanlines
-        } else {
-            Blocks::Tiles(self.tile[0], self.tile[1])
-        };
-        o.mip = self.mip;
-        o.filter = self.filter;
-        o.resize = self.resize;
-        o.wrap = self.wrap;
-        if let Some(fix) = self.fixnan {
-            o.non_finite = fix;
-        }
-        o.constant_detect = self.constant_color_detect;
-        o.opaque_detect = self.opaque_detect;
-        o.threads = self.threads;
-        o.overwrite = self.force;
-        o.data = self.data;
-        o.strip_metadata = self.strip_metadata;
-        o.strict = self.strict;
         o
     }
 }
@@ -455,6 +274,6 @@ impl Args {
     }
 
     pub(crate) fn colorspace(&self) -> Option<&str> {
-        self.colorspace.as_deref()
+        self.conversion.options.colorspace.as_deref()
     }
 }

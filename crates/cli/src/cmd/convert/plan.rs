@@ -57,7 +57,7 @@ pub(crate) fn this_run(args: &Args) -> Result<Vec<(PathBuf, PathBuf)>> {
         let index = crate::shard::index(shard)?;
         plan = plan.shard(index, shard.count).map_err(planned)?;
     }
-    plan.check_existing(args.force, args.update)
+    plan.check_existing(args.conversion.options.overwrite, args.update)
         .map_err(planned)?;
     Ok(plan.into_pairs())
 }
@@ -65,7 +65,8 @@ pub(crate) fn this_run(args: &Args) -> Result<Vec<(PathBuf, PathBuf)>> {
 /// The whole plan for `farm submit`, whose tasks all convert with `-u`: every output checked.
 pub(crate) fn for_farm(args: &Args) -> Result<Plan> {
     let plan = whole(args)?;
-    plan.check_existing(args.force, true).map_err(planned)?;
+    plan.check_existing(args.conversion.options.overwrite, true)
+        .map_err(planned)?;
     Ok(plan)
 }
 
