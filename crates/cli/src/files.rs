@@ -40,7 +40,7 @@ pub fn check_exr_output(
     force: bool,
     what: &'static str,
 ) -> Result<()> {
-    check_output(output, specconv_exr::EXTENSIONS, what)?;
+    check_output(output, specconv_conversion::plan::SPECTRAL_EXTENSIONS, what)?;
     check_writable(output, &[input], Replace::when(force))
 }
 

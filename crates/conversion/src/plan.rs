@@ -37,6 +37,9 @@ use specconv_atomic_file::udim::{self, UdimError};
 use specconv_atomic_file::{plan as files, Places, PlanError};
 use std::path::{Path, PathBuf};
 
+/// The extensions a spectral output may have (OpenEXR's): every front-end checks names by it.
+pub const SPECTRAL_EXTENSIONS: &[&str] = specconv_exr::EXTENSIONS;
+
 /// Where the outputs of a batch go.
 #[derive(Debug, Clone, PartialEq, Eq)]
 #[non_exhaustive]
@@ -382,7 +385,7 @@ fn pattern_and_output(input: &Path, output: &Path, tiles: usize) -> Result<(), E
 
 /// Whether `path` names an OpenEXR file (`.exr`, any case).
 fn is_exr(path: &Path) -> bool {
-    specconv_atomic_file::has_extension(path, specconv_exr::EXTENSIONS)
+    specconv_atomic_file::has_extension(path, SPECTRAL_EXTENSIONS)
 }
 
 /// The rules of a batch's plan, checked before anything is written: no output is any input (as

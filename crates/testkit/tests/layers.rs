@@ -134,6 +134,19 @@ fn sources(dir: &Path) -> Vec<PathBuf> {
 /// build script copies the OpenImageIO shim that oiio-sys built into the package (cargo tells
 /// only a direct dependent where, `DEP_SPECCONV_OIIO_SHIM`, and shim-build copies it); its code
 /// names no FFI crate.
+/// The command line reaches file formats only through the library (which checks names by them);
+/// the Python package reads and writes spectral files itself, with the same crate.
+#[test]
+fn the_command_line_reaches_file_formats_through_the_library() {
+    let (_, deps) = dependencies(&root().join("crates/cli/Cargo.toml"));
+    for format in ["specconv-exr", "exr", "image"] {
+        assert!(
+            !deps.iter().any(|d| d == format),
+            "the CLI depends on {format}: reach it through specconv-conversion"
+        );
+    }
+}
+
 #[test]
 fn the_front_ends_reach_the_libraries_only_through_the_conversion_library() {
     const FOR_THE_BUILD_ONLY: &[(&str, &str)] = &[

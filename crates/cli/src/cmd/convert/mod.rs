@@ -111,22 +111,39 @@ pub fn run(args: Args) -> Result<i32> {
         crate::shard::index(shard).map_err(usage)?;
     }
     let pairs = plan::this_run(&args).map_err(usage)?;
-    run_pairs(&args, args.options(), &pairs)
+    run_pairs(&args.reporting(), args.options(), &pairs)
 }
 
 /// A farm task's batch ([`crate::cmd::farm`]): `pairs` with `options`, reported as `convert
 /// --json -u --progress never` reports.
 pub(crate) fn run_task(options: Options, pairs: &[(PathBuf, PathBuf)]) -> Result<i32> {
-    use clap::FromArgMatches;
-    let words = ["task", "--json", "-u", "--progress", "never", "-"];
-    let matches = <Args as clap::Args>::augment_args(clap::Command::new("task"))
-        .try_get_matches_from(words)?;
-    let args = Args::from_arg_matches(&matches)?;
-    run_pairs(&args, options, pairs)
+    let reporting = Reporting {
+        json: true,
+        update: true,
+        progress: crate::progress::When::Never,
+        quiet: false,
+        verbose: false,
+    };
+    run_pairs(&reporting, options, pairs)
 }
 
-/// Converts `pairs` with `options`, as `args` asks them reported.
-fn run_pairs(args: &Args, options: Options, pairs: &[(PathBuf, PathBuf)]) -> Result<i32> {
+/// How a batch is reported and what it skips: `convert`'s own flags, or a farm task's.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Reporting {
+    /// `--json`: a record per input on standard output.
+    pub json: bool,
+    /// `-u`: skip outputs that are up to date.
+    pub update: bool,
+    /// `--progress`.
+    pub progress: crate::progress::When,
+    /// `-q`: nothing but errors.
+    pub quiet: bool,
+    /// `-v`: the config and the model too.
+    pub verbose: bool,
+}
+
+/// Converts `pairs` with `options`, reported as `args` asks.
+fn run_pairs(args: &Reporting, options: Options, pairs: &[(PathBuf, PathBuf)]) -> Result<i32> {
     let converter = Converter::new(options).map_err(|e| usage(anyhow::anyhow!(explain(&e))))?;
     if !args.quiet {
         for note in converter.config_notes() {
@@ -151,6 +168,17 @@ fn run_pairs(args: &Args, options: Options, pairs: &[(PathBuf, PathBuf)]) -> Res
 }
 
 impl Args {
+    /// How this run reports.
+    fn reporting(&self) -> Reporting {
+        Reporting {
+            json: self.json,
+            update: self.update,
+            progress: self.progress,
+            quiet: self.quiet,
+            verbose: self.verbose,
+        }
+    }
+
     /// The conversion these options describe.
     pub(crate) fn options(&self) -> Options {
         let mut o = self.conversion.options.clone();
@@ -162,7 +190,7 @@ impl Args {
 /// Converts every input in turn, printing as it goes; returns the exit status. SIGINT and
 /// SIGTERM stop the input being converted (its temporary file removed) and the batch; so does
 /// a failed write to standard output, after the record of an input that is done.
-fn run_batch(args: &Args, converter: &Converter, pairs: &[(PathBuf, PathBuf)]) -> Result<i32> {
+fn run_batch(args: &Reporting, converter: &Converter, pairs: &[(PathBuf, PathBuf)]) -> Result<i32> {
     let cancel = Arc::new(AtomicBool::new(false));
     let inputs: Vec<PathBuf> = pairs.iter().map(|(i, _)| i.clone()).collect();
     let mut progress = Progress::new(args.progress, args.quiet, &inputs);

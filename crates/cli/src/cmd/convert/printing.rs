@@ -1,6 +1,6 @@
 //! What `convert` says of each input: a line on standard error, or a JSON record.
 
-use super::Args;
+use super::Reporting as Args;
 use crate::records;
 use crate::stdio::StdoutFailed;
 use specconv_conversion::record::Record;
