@@ -1,0 +1,197 @@
+//! Who can fix an error by a setting: the [`Remedy`] each front-end names its own way.
+
+use super::{ConversionError, Error};
+use crate::models::ModelError;
+use crate::options::Key;
+use crate::plan;
+use crate::wrapped::ColourError;
+use specconv_atomic_file::{PlanError, WriteError};
+
+/// The setting that would fix an error ([`Error::remedy`], [`remedy_of`]): the options it
+/// changes ([`Remedy::keys`]), which each front-end names its own way from [`Key::about`]
+/// (the command line's flags, the Python package's keywords), and what to do with them.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[non_exhaustive]
+pub enum Remedy {
+    /// Replace the existing output, or skip outputs that are up to date.
+    ReplaceOrSkip,
+    /// Repair NaN and infinite input values, or keep them.
+    RepairNonFinite,
+    /// Repair NaN and infinite input values with black (too many for a 3×3 repair).
+    RepairBlack,
+    /// Name the input's colour space.
+    NameColourSpace,
+    /// Name the colour space the texture is encoded in (the file's is a data space).
+    NameEncodingColourSpace,
+    /// Name the channels or the layer that carry the colour.
+    NameChannelsOrLayer,
+    /// Name one of several layers.
+    NameLayer,
+    /// Drop the deflate level, or choose a compression that deflates.
+    DropZipLevel,
+    /// A deflate level from 0 to 9.
+    ZipLevelInRange,
+    /// Tiles of at least 1×1.
+    NonEmptyTiles,
+    /// At least one worker thread.
+    SomeThreads,
+    /// Fewer worker threads.
+    FewerThreads,
+    /// Smaller tiles or fewer bands: blocks that OpenEXR's readers accept.
+    SmallerBlocks,
+    /// Fewer bands, smaller tiles or fewer worker threads: blocks in flight that fit in memory.
+    LessMemory,
+    /// Fewer bands: channels that OpenEXR's readers accept.
+    FewerBands,
+    /// A wavelength grid inside the range a table covers; this one would do.
+    BandsInside {
+        /// First wavelength, nm.
+        start: f64,
+        /// Last wavelength, nm.
+        end: f64,
+        /// Spacing, nm.
+        step: f64,
+    },
+    /// A model of one cluster (`pca` takes no other): one trained with one cluster.
+    OneClusterModel,
+    /// Replace the existing output.
+    Replace,
+    /// Drop the illuminant (emission is its own light).
+    DropIlluminant,
+    /// A data texture: skip it, write it through as data, or name its colour space if it is
+    /// colour.
+    DataTexture,
+    /// A spectral image as input: use it as it is, integrate it to colour, or convert its
+    /// colour source on the grid wanted; channels of a colour preview can be named.
+    AlreadySpectral,
+    /// A UDIM pattern into one output: name the outputs by a template with the tile instead.
+    TileTemplate,
+}
+
+impl Remedy {
+    /// The conversion options it changes, first the one it is mostly about; none where the
+    /// setting is not a conversion's (an illuminant to look under, a model's training).
+    pub fn keys(&self) -> &'static [Key] {
+        match self {
+            Remedy::ReplaceOrSkip | Remedy::Replace => &[Key::Overwrite],
+            Remedy::RepairNonFinite | Remedy::RepairBlack => &[Key::NonFinite],
+            Remedy::NameColourSpace | Remedy::NameEncodingColourSpace => &[Key::Colorspace],
+            Remedy::NameChannelsOrLayer | Remedy::NameLayer => &[Key::Channels],
+            Remedy::DropZipLevel => &[Key::ZipLevel, Key::Compression],
+            Remedy::ZipLevelInRange => &[Key::ZipLevel],
+            Remedy::NonEmptyTiles => &[Key::Tile],
+            Remedy::SomeThreads | Remedy::FewerThreads => &[Key::Threads],
+            Remedy::SmallerBlocks => &[Key::Tile, Key::Bands],
+            Remedy::LessMemory => &[Key::Bands, Key::Tile, Key::Threads],
+            Remedy::FewerBands => &[Key::Bands],
+            Remedy::BandsInside { .. } => &[Key::Bands],
+            Remedy::OneClusterModel => &[Key::Model],
+            // The output naming of the front-end (`--output-template`, `output_template=`).
+            Remedy::DropIlluminant | Remedy::TileTemplate => &[],
+            Remedy::DataTexture => &[Key::Data, Key::Colorspace],
+            Remedy::AlreadySpectral => &[Key::Bands, Key::Channels],
+        }
+    }
+}
+
+impl Error {
+    /// The setting that would fix it, when one would (every rule of every front-end: a
+    /// test below lists the errors a setting fixes).
+    pub fn remedy(&self) -> Option<Remedy> {
+        match self {
+            Error::ZipLevelWithoutZip { .. } => Some(Remedy::DropZipLevel),
+            Error::ZipLevel { .. } => Some(Remedy::ZipLevelInRange),
+            Error::EmptyTile { .. } => Some(Remedy::NonEmptyTiles),
+            Error::TileTooLarge(_) => Some(Remedy::SmallerBlocks),
+            Error::TooManyChannels(_) => Some(Remedy::FewerBands),
+            Error::TooMuchMemory { .. } => Some(Remedy::LessMemory),
+            Error::TooManyThreads { .. } => Some(Remedy::FewerThreads),
+            Error::NoThreads => Some(Remedy::SomeThreads),
+            Error::Plan(PlanError::Exists { .. })
+            | Error::Model(ModelError::Save(WriteError::Plan(PlanError::Exists { .. })))
+            | Error::Planning(plan::Error::NotMadeBySpecconv { .. }) => Some(Remedy::Replace),
+            Error::Planning(plan::Error::Files(PlanError::Exists { .. })) => {
+                Some(Remedy::ReplaceOrSkip)
+            }
+            Error::Planning(plan::Error::PatternIntoOneFile { .. }) => Some(Remedy::TileTemplate),
+            Error::EmissionIsItsOwnLight { .. } => Some(Remedy::DropIlluminant),
+            Error::NoRole {
+                role: "scene_linear",
+                ..
+            } => Some(Remedy::NameColourSpace),
+            Error::Colour(e) => colour_remedy(e),
+            Error::Method(e) | Error::Model(ModelError::Invalid(e)) => spectral_remedy(e),
+            Error::Study(specconv_study::Error::Spectral(e)) => spectral_remedy(e),
+            Error::Colorimetry(e) | Error::Study(specconv_study::Error::Colour(e)) => {
+                colorimetry_remedy(e)
+            }
+            Error::Conversion(e) => match e {
+                ConversionError::Plan(PlanError::Exists { .. }) => Some(Remedy::ReplaceOrSkip),
+                ConversionError::NonFinite { .. } => Some(Remedy::RepairNonFinite),
+                ConversionError::TooManyNonFinite { .. } => Some(Remedy::RepairBlack),
+                ConversionError::Channels { choose, .. } => choose.map(|c| match c {
+                    crate::pipeline::input::Choose::ChannelsOrLayer => Remedy::NameChannelsOrLayer,
+                    crate::pipeline::input::Choose::OneLayer => Remedy::NameLayer,
+                }),
+                ConversionError::Color(e) => colour_remedy(e),
+                ConversionError::DefaultColourSpace(_) => Some(Remedy::NameColourSpace),
+                ConversionError::Data(_) => Some(Remedy::DataTexture),
+                ConversionError::Spectral { .. } => Some(Remedy::AlreadySpectral),
+                _ => None,
+            },
+            _ => None,
+        }
+    }
+}
+
+/// The colour-management error that naming the colour space fixes: a data space.
+fn colour_remedy(e: &ColourError) -> Option<Remedy> {
+    e.is_data_space().then_some(Remedy::NameEncodingColourSpace)
+}
+
+/// The remedy of an uplift method's error: a model of one cluster for `pca`, a grid inside
+/// what the tables cover.
+fn spectral_remedy(e: &specconv_spectral::Error) -> Option<Remedy> {
+    match e {
+        specconv_spectral::Error::NeedsOneCluster { .. } => Some(Remedy::OneClusterModel),
+        specconv_spectral::Error::Colour(c) => colorimetry_remedy(c),
+        _ => None,
+    }
+}
+
+/// The remedy of colorimetry's error: for a table that stops inside the grid, the grid
+/// inside what it covers (whole nanometres, the same step).
+fn colorimetry_remedy(e: &specconv_colour::Error) -> Option<Remedy> {
+    match e {
+        specconv_colour::Error::NotCovered {
+            first, last, grid, ..
+        } => Some(Remedy::BandsInside {
+            start: first.max(grid.start).ceil(),
+            end: last.min(grid.end).floor(),
+            step: grid.step,
+        }),
+        _ => None,
+    }
+}
+
+/// The remedy of one cause of an error chain, whichever library it comes from: this crate's
+/// [`Error`] ([`Error::remedy`]), or the uplift's and colorimetry's errors that other commands
+/// (training, evaluation) meet. A front-end walks the chain and says the first it finds.
+pub fn remedy_of(cause: &(dyn std::error::Error + 'static)) -> Option<Remedy> {
+    if let Some(e) = cause.downcast_ref::<Error>() {
+        return e.remedy();
+    }
+    if let Some(e) = cause.downcast_ref::<specconv_spectral::Error>() {
+        return spectral_remedy(e);
+    }
+    if let Some(e) = cause.downcast_ref::<specconv_study::Error>() {
+        return match e {
+            specconv_study::Error::Spectral(e) => spectral_remedy(e),
+            specconv_study::Error::Colour(e) => colorimetry_remedy(e),
+            _ => None,
+        };
+    }
+    cause
+        .downcast_ref::<specconv_colour::Error>()
+        .and_then(colorimetry_remedy)
+}
