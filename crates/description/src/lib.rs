@@ -19,7 +19,7 @@ pub mod wrap;
 pub use choices::{Alpha, Compression, DataPolicy, Filter, Layout, Mip, NonFinite, Rounding};
 pub use definitions::{definition, Definition, Flag, Takes, Value};
 pub use named::{Named, UnknownName};
-pub use options::{settings_tag, About, BadValue, Blocks, Key, Options, Resolved};
+pub use options::{as_spectral, settings_tag, About, BadValue, Blocks, Key, Options, Resolved};
 pub use report::{
     DataOutcome, Notice, NoticeCount, NoticeKind, Report, Role, Strength, DATA_MAP_RULE, PRECEDENCE,
 };

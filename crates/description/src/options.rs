@@ -3,7 +3,7 @@
 //! of help and whether it changes what is written ([`Key::about`]); its value as text is
 //! [`Options::text`] and [`Options::set`] reads it back. Front-ends derive their arguments
 //! from it (tests in each fail when one accepts what is not defined here), and the `-u` tag
-//! ([`settings_tag`]) is made from every field.
+//! ([`settings_tag`]) names every option that changes the output by its name.
 
 use crate::definitions::{definition, Definition, Flag, Value};
 use crate::named::Named;
@@ -532,103 +532,84 @@ pub struct Resolved<'a> {
     pub config: &'a str,
 }
 
-/// `specconvSettings`: every option that changes what is written, for `-u`. Every field of
-/// [`Options`] is named below (no `..`), so a new option cannot be left out; the tests change
-/// each option and check the tag changes. The text is kept as earlier versions wrote it (an
-/// option at its old default adds nothing), so that their outputs stay up to date.
+/// `specconvSettings`: every option that changes what is written ([`About::changes_output`]),
+/// for `-u`, as `NAME=VALUE` by the option's name in the order of [`Key::ALL`]: what the
+/// options leave to the model, the method stack and the config as they resolved, a value that
+/// makes no difference (the rounding of float samples, the filter of an output without
+/// filtered levels) left out, an unset one too. A value with a space, a quote or `=` is quoted
+/// (Rust's `{:?}`), so that no two settings give one tag.
 pub fn settings_tag(o: &Options, r: Resolved) -> String {
-    let Options {
-        // In the config's source, the method's name and the model's description.
-        ocio: _,
-        method: _,
-        model: _,
-        bounded: _,
-        bands: _,
-        blend: _,
-        colorspace,
-        alpha,
-        subimage,
-        channels,
-        emission,
-        layout,
-        sample,
-        // Read with the kind's default (`rounding_in_effect`) below.
-        rounding: _,
-        compression,
-        zip_level,
-        blocks,
-        mip,
-        filter,
-        resize,
-        wrap,
-        non_finite,
-        constant_detect,
-        opaque_detect,
-        data,
-        strip_metadata,
-        // None changes a byte (strict writes all or nothing).
-        threads: _,
-        overwrite: _,
-        table_dir: _,
-        strict: _,
-    } = o;
-    let compression = match zip_level {
-        Some(level) => format!("{compression} zip-level={level}"),
-        None => compression.to_string(),
-    };
-    let tile = match blocks {
-        Blocks::Scanlines => "scanline".to_string(),
-        Blocks::Tiles(w, h) => format!("{w}x{h}"),
-    };
-    let mut tag = format!(
-        "model={} method={} blend={} data-type={} compression={compression} tile={tile} \
-         mip={} colorspace={} alpha={} config={}",
-        r.model,
-        r.method,
-        r.blend,
-        sample.name(),
-        mip.name(),
-        colorspace.as_deref().unwrap_or("auto"),
-        alpha.name(),
-        r.config,
-    );
-    // MIP levels filtered from the spectra (box, maketx's default, unless asked); outputs of
-    // earlier versions, whose levels were uplifted from the input's own, lack it and are
-    // rebuilt.
-    if (*mip == Mip::All && *blocks != Blocks::Scanlines) || *resize {
-        tag += &format!(" filter={filter}");
-    }
-    if *resize {
-        tag += " resize=pow2";
-    }
-    if let Some((s, t)) = wrap {
-        tag += &format!(" wrap={s},{t}");
-    }
-    // What the survey may change (docs/guide.md, "Texture prep").
-    tag += &format!(
-        " nan={} constant-detect={constant_detect} opaque-detect={opaque_detect}",
-        non_finite.name(),
-    );
-    if let Some(units) = emission {
-        tag += &format!(" emission-units={}", Named::name(*units));
-    }
-    // The rounding when it is not the kind's default (which earlier versions left implied).
-    if o.rounding_in_effect() != o.default_rounding() && *sample == Sample::Half {
-        tag += &format!(" half-rounding={}", o.rounding_in_effect());
-    }
-    if *layout == Layout::Compact {
-        tag += " layout=compact";
-    }
-    if *data != DataPolicy::Skip {
-        tag += &format!(" data={data}");
-    }
-    if *strip_metadata {
-        tag += " strip-metadata";
-    }
-    for (k, v) in [("subimage", subimage), ("channels", channels)] {
-        if let Some(v) = v {
-            tag += &format!(" {k}={v}");
+    let filtered = (o.mip == Mip::All && o.blocks != Blocks::Scanlines) || o.resize;
+    let words = Key::ALL.into_iter().filter_map(|key| {
+        let about = key.about();
+        let value = match key {
+            _ if !about.changes_output => None,
+            Key::Ocio => Some(r.config.to_string()),
+            Key::Model => Some(r.model.to_string()),
+            Key::Method => Some(r.method.to_string()),
+            Key::Blend => Some(r.blend.to_string()),
+            Key::Rounding if o.sample == Sample::Half => Some(o.rounding_in_effect().to_string()),
+            Key::Rounding => None,
+            Key::Filter if !filtered => None,
+            _ => o.text(key),
+        }?;
+        let plain = !value.contains([' ', '"', '=', '\\']) && !value.is_empty();
+        Some(match plain {
+            true => format!("{}={value}", about.name),
+            false => format!("{}={value:?}", about.name),
+        })
+    });
+    words.collect::<Vec<_>>().join(" ")
+}
+
+/// The tag ([`settings_tag`]) of the conversion that wrote `tag` in the compact layout, had
+/// it written the spectral layout instead (what `specconv expand` makes of it).
+pub fn as_spectral(tag: &str) -> String {
+    let (compact, spectral) = (Layout::Compact, Layout::Spectral);
+    let from = format!("layout={}", Named::name(compact));
+    let to = format!("layout={}", Named::name(spectral));
+    tag.split(' ')
+        .map(|word| if word == from { to.as_str() } else { word })
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn resolved() -> Resolved<'static> {
+        Resolved {
+            model: "open (built-in)",
+            method: "otsu2018",
+            blend: 0.02,
+            config: "aces",
         }
     }
-    tag
+
+    /// The tag names options as every front-end does, and quotes what would run together.
+    #[test]
+    fn the_tag_uses_the_option_names() {
+        let mut o = Options::default();
+        assert_eq!(
+            settings_tag(&o, resolved()),
+            "ocio=aces alpha=auto method=otsu2018 model=\"open (built-in)\" blend=0.02 \
+             bounded=true layout=spectral sample=half rounding=nearest compression=zip \
+             tile=64x64 mip=all filter=box resize=false non_finite=refuse \
+             constant_detect=true opaque_detect=true data=skip strip_metadata=false"
+        );
+        o.colorspace = Some("sRGB - Texture".into());
+        o.sample = Sample::Float;
+        o.blocks = Blocks::Scanlines;
+        let tag = settings_tag(&o, resolved());
+        assert!(tag.contains(" colorspace=\"sRGB - Texture\" "), "{tag}");
+        assert!(
+            !tag.contains("rounding=") && !tag.contains("filter="),
+            "{tag}"
+        );
+        assert_eq!(
+            as_spectral("sample=half layout=compact mip=all"),
+            "sample=half layout=spectral mip=all"
+        );
+    }
 }

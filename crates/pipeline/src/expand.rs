@@ -6,8 +6,9 @@
 //! (module `mip`), not decoded from the compact file's smaller levels, which hold filtered
 //! colours. The samples are rounded and compressed as the compact file records a conversion
 //! would have (`specconvExpand`), with its tiles, levels, windows and attributes; its
-//! `specconvSettings` loses the `layout=compact` the compact file added, so an expanded file is
-//! as up to date as a converted one. The values are the conversion's to float32 rounding of
+//! `specconvSettings` says `layout=spectral` where the compact file's says `layout=compact`
+//! ([`specconv_description::as_spectral`]), so an expanded file is as up to date as a
+//! converted one. The values are the conversion's to float32 rounding of
 //! the dual unknowns: within one half step, and mostly the same half (docs/compact.md).
 //!
 //! The file is read a strip of blocks at a time; memory is bounded by a strip.
@@ -272,7 +273,7 @@ fn attributes(reader: &ImageReader, values: usize) -> Result<Vec<(String, String
         if name == CONSTANT {
             out.push((name, placeholder.clone()));
         } else if name == "specconvSettings" {
-            out.push((name, value.replace(" layout=compact", "")));
+            out.push((name, specconv_description::as_spectral(&value)));
         } else if ours || texture || crate::metadata::carried(&name) {
             out.push((name, value));
         }
