@@ -4,7 +4,7 @@
 //! and stub, the guide's table and the man pages are made from these (`scripts/generate.sh`);
 //! a test fails when a generated file is stale.
 
-use crate::options::Key;
+use crate::key::Key;
 
 /// What an option's value is: how every front-end takes it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -95,6 +95,8 @@ const fn sets(long: &'static str, sets: &'static str) -> Flag {
 /// One option, as every front-end shows it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Definition {
+    /// The option.
+    pub key: Key,
     /// Its name: the Python keyword, the key of a farm manifest and of the `-u` tag.
     pub name: &'static str,
     /// What its value is.
@@ -112,262 +114,301 @@ pub struct Definition {
 
 /// The definition of `key`.
 pub fn definition(key: Key) -> Definition {
-    let d = |name, value, flags, help| Definition {
+    DEFINITIONS[key as usize]
+}
+
+/// Every option's definition, in the order of [`Key::ALL`] (a test checks it).
+const DEFINITIONS: [Definition; 30] = [
+    d(
+        Key::Ocio,
+        "ocio",
+        Value::Text,
+        const { &[value("ocio", "CONFIG")] },
+        OCIO,
+    )
+    .unset("$OCIO, else aces"),
+    d(
+        Key::Colorspace,
+        "colorspace",
+        Value::Text,
+        const {
+            &[Flag {
+                aliases: &["iscolorspace"],
+                ..value("colorspace", "NAME")
+            }]
+        },
+        COLORSPACE,
+    )
+    .unset("the evidence's rule (docs/colour.md)"),
+    d(
+        Key::Alpha,
+        "alpha",
+        Value::Choice,
+        const { &[value("alpha", "HOW")] },
+        ALPHA,
+    ),
+    d(
+        Key::Subimage,
+        "subimage",
+        Value::Text,
+        const { &[value("subimage", "N|NAME")] },
+        SUBIMAGE,
+    )
+    .unset("the first"),
+    d(
+        Key::Channels,
+        "channels",
+        Value::Text,
+        const { &[value("channels", "LIST|LAYER")] },
+        CHANNELS,
+    )
+    .unset("chosen by the input's names"),
+    d(
+        Key::Method,
+        "method",
+        Value::Choice,
+        const { &[value("method", "NAME")] },
+        METHOD,
+    ),
+    d(
+        Key::Model,
+        "model",
+        Value::Path,
+        const { &[value("model", "NAME|MODEL")] },
+        MODEL,
+    )
+    .unset("$SPECCONV_MODEL, else open"),
+    d(
+        Key::Blend,
+        "blend",
+        Value::Number,
+        const { &[value("blend", "WIDTH")] },
+        BLEND,
+    ),
+    d(
+        Key::Bounded,
+        "bounded",
+        Value::Switch,
+        const {
+            &[
+                sets("bounded", "true"),
+                sets("unbounded", "false").help(UNBOUNDED),
+            ]
+        },
+        BOUNDED,
+    ),
+    d(
+        Key::Bands,
+        "bands",
+        Value::Text,
+        const { &[value("bands", "START:END:STEP")] },
+        BANDS,
+    )
+    .unset("the model's"),
+    d(
+        Key::Emission,
+        "emission",
+        Value::Choice,
+        const {
+            &[
+                sets("emissive", "reference"),
+                Flag {
+                    requires: Some("emissive"),
+                    ..value("emission-units", "UNITS").help(EMISSION_UNITS)
+                },
+            ]
+        },
+        EMISSIVE,
+    )
+    .unset("reflectance"),
+    d(
+        Key::Layout,
+        "layout",
+        Value::Choice,
+        const { &[value("layout", "LAYOUT")] },
+        LAYOUT,
+    ),
+    d(
+        Key::Sample,
+        "sample",
+        Value::Choice,
+        const { &[value("data-type", "TYPE").short('d')] },
+        SAMPLE,
+    ),
+    d(
+        Key::Rounding,
+        "rounding",
+        Value::Choice,
+        const { &[value("half-rounding", "HOW")] },
+        ROUNDING,
+    )
+    .unset("nearest for reflectance, colour for emission"),
+    d(
+        Key::Compression,
+        "compression",
+        Value::Choice,
+        const { &[value("compression", "NAME")] },
+        COMPRESSION,
+    ),
+    d(
+        Key::ZipLevel,
+        "zip_level",
+        Value::Count,
+        const { &[value("zip-level", "LEVEL")] },
+        ZIP_LEVEL,
+    )
+    .unset("the measured default (docs/compression.md)"),
+    d(
+        Key::Tile,
+        "tile",
+        Value::Size,
+        const {
+            &[
+                Flag::new("tile", Takes::Pair("W", "H")),
+                sets("scanline", "scanline").help(SCANLINE),
+            ]
+        },
+        TILE,
+    ),
+    d(
+        Key::Mip,
+        "mip",
+        Value::Choice,
+        const { &[value("mip", "LEVELS")] },
+        MIP,
+    ),
+    d(
+        Key::Filter,
+        "filter",
+        Value::Choice,
+        const { &[value("filter", "NAME")] },
+        FILTER,
+    ),
+    d(
+        Key::Resize,
+        "resize",
+        Value::Switch,
+        const { &[sets("resize", "true")] },
+        RESIZE,
+    ),
+    d(
+        Key::Wrap,
+        "wrap",
+        Value::Text,
+        const { &[value("wrap", "MODE[,MODE]")] },
+        WRAP,
+    )
+    .unset("the input's, else black"),
+    d(
+        Key::NonFinite,
+        "non_finite",
+        Value::Choice,
+        const {
+            &[
+                value("fixnan", "HOW"),
+                sets("checknan", "refuse").help(CHECKNAN),
+            ]
+        },
+        NON_FINITE,
+    ),
+    d(
+        Key::ConstantDetect,
+        "constant_detect",
+        Value::Switch,
+        const { &[Flag::new("constant-color-detect", Takes::MaybeBool)] },
+        CONSTANT_DETECT,
+    ),
+    d(
+        Key::OpaqueDetect,
+        "opaque_detect",
+        Value::Switch,
+        const { &[Flag::new("opaque-detect", Takes::MaybeBool)] },
+        OPAQUE_DETECT,
+    ),
+    d(
+        Key::Threads,
+        "threads",
+        Value::Count,
+        const { &[value("threads", "N").short('j')] },
+        THREADS,
+    )
+    .unset("one per core")
+    .no_bytes(),
+    d(
+        Key::Overwrite,
+        "overwrite",
+        Value::Switch,
+        const { &[sets("force", "true")] },
+        OVERWRITE,
+    )
+    .no_bytes(),
+    d(
+        Key::TableDir,
+        "table_dir",
+        Value::Path,
+        const { &[] },
+        TABLE_DIR,
+    )
+    .unset("the cache directory")
+    .no_bytes(),
+    d(
+        Key::Data,
+        "data",
+        Value::Choice,
+        const { &[value("data", "HOW")] },
+        DATA,
+    ),
+    d(
+        Key::StripMetadata,
+        "strip_metadata",
+        Value::Switch,
+        const { &[sets("strip-metadata", "true")] },
+        STRIP_METADATA,
+    ),
+    d(
+        Key::Strict,
+        "strict",
+        Value::Switch,
+        const { &[sets("strict", "true")] },
+        STRICT,
+    )
+    .no_bytes(),
+];
+
+/// An option that changes the output and has a default.
+const fn d(
+    key: Key,
+    name: &'static str,
+    value: Value,
+    flags: &'static [Flag],
+    help: &'static str,
+) -> Definition {
+    Definition {
+        key,
         name,
         value,
         unset: None,
         flags,
         help,
         changes_output: true,
-    };
-    let unset = |definition: Definition, unset| Definition {
-        unset: Some(unset),
-        ..definition
-    };
-    let no_bytes = |definition: Definition| Definition {
-        changes_output: false,
-        ..definition
-    };
-    match key {
-        Key::Ocio => unset(
-            d(
-                "ocio",
-                Value::Text,
-                const { &[value("ocio", "CONFIG")] },
-                OCIO,
-            ),
-            "$OCIO, else aces",
-        ),
-        Key::Colorspace => unset(
-            d(
-                "colorspace",
-                Value::Text,
-                const {
-                    &[Flag {
-                        aliases: &["iscolorspace"],
-                        ..value("colorspace", "NAME")
-                    }]
-                },
-                COLORSPACE,
-            ),
-            "the evidence's rule (docs/colour.md)",
-        ),
-        Key::Alpha => d(
-            "alpha",
-            Value::Choice,
-            const { &[value("alpha", "HOW")] },
-            ALPHA,
-        ),
-        Key::Subimage => unset(
-            d(
-                "subimage",
-                Value::Text,
-                const { &[value("subimage", "N|NAME")] },
-                SUBIMAGE,
-            ),
-            "the first",
-        ),
-        Key::Channels => unset(
-            d(
-                "channels",
-                Value::Text,
-                const { &[value("channels", "LIST|LAYER")] },
-                CHANNELS,
-            ),
-            "chosen by the input's names",
-        ),
-        Key::Method => d(
-            "method",
-            Value::Choice,
-            const { &[value("method", "NAME")] },
-            METHOD,
-        ),
-        Key::Model => unset(
-            d(
-                "model",
-                Value::Path,
-                const { &[value("model", "NAME|MODEL")] },
-                MODEL,
-            ),
-            "$SPECCONV_MODEL, else open",
-        ),
-        Key::Blend => d(
-            "blend",
-            Value::Number,
-            const { &[value("blend", "WIDTH")] },
-            BLEND,
-        ),
-        Key::Bounded => d(
-            "bounded",
-            Value::Switch,
-            const {
-                &[
-                    sets("bounded", "true"),
-                    sets("unbounded", "false").help(UNBOUNDED),
-                ]
-            },
-            BOUNDED,
-        ),
-        Key::Bands => unset(
-            d(
-                "bands",
-                Value::Text,
-                const { &[value("bands", "START:END:STEP")] },
-                BANDS,
-            ),
-            "the model's",
-        ),
-        Key::Emission => unset(
-            d(
-                "emission",
-                Value::Choice,
-                const {
-                    &[
-                        sets("emissive", "reference"),
-                        Flag {
-                            requires: Some("emissive"),
-                            ..value("emission-units", "UNITS").help(EMISSION_UNITS)
-                        },
-                    ]
-                },
-                EMISSIVE,
-            ),
-            "reflectance",
-        ),
-        Key::Layout => d(
-            "layout",
-            Value::Choice,
-            const { &[value("layout", "LAYOUT")] },
-            LAYOUT,
-        ),
-        Key::Sample => d(
-            "sample",
-            Value::Choice,
-            const { &[value("data-type", "TYPE").short('d')] },
-            SAMPLE,
-        ),
-        Key::Rounding => unset(
-            d(
-                "rounding",
-                Value::Choice,
-                const { &[value("half-rounding", "HOW")] },
-                ROUNDING,
-            ),
-            "nearest for reflectance, colour for emission",
-        ),
-        Key::Compression => d(
-            "compression",
-            Value::Choice,
-            const { &[value("compression", "NAME")] },
-            COMPRESSION,
-        ),
-        Key::ZipLevel => unset(
-            d(
-                "zip_level",
-                Value::Count,
-                const { &[value("zip-level", "LEVEL")] },
-                ZIP_LEVEL,
-            ),
-            "the measured default (docs/compression.md)",
-        ),
-        Key::Tile => d(
-            "tile",
-            Value::Size,
-            const {
-                &[
-                    Flag::new("tile", Takes::Pair("W", "H")),
-                    sets("scanline", "scanline").help(SCANLINE),
-                ]
-            },
-            TILE,
-        ),
-        Key::Mip => d(
-            "mip",
-            Value::Choice,
-            const { &[value("mip", "LEVELS")] },
-            MIP,
-        ),
-        Key::Filter => d(
-            "filter",
-            Value::Choice,
-            const { &[value("filter", "NAME")] },
-            FILTER,
-        ),
-        Key::Resize => d(
-            "resize",
-            Value::Switch,
-            const { &[sets("resize", "true")] },
-            RESIZE,
-        ),
-        Key::Wrap => unset(
-            d(
-                "wrap",
-                Value::Text,
-                const { &[value("wrap", "MODE[,MODE]")] },
-                WRAP,
-            ),
-            "the input's, else black",
-        ),
-        Key::NonFinite => d(
-            "non_finite",
-            Value::Choice,
-            const {
-                &[
-                    value("fixnan", "HOW"),
-                    sets("checknan", "refuse").help(CHECKNAN),
-                ]
-            },
-            NON_FINITE,
-        ),
-        Key::ConstantDetect => d(
-            "constant_detect",
-            Value::Switch,
-            const { &[Flag::new("constant-color-detect", Takes::MaybeBool)] },
-            CONSTANT_DETECT,
-        ),
-        Key::OpaqueDetect => d(
-            "opaque_detect",
-            Value::Switch,
-            const { &[Flag::new("opaque-detect", Takes::MaybeBool)] },
-            OPAQUE_DETECT,
-        ),
-        Key::Threads => no_bytes(unset(
-            d(
-                "threads",
-                Value::Count,
-                const { &[value("threads", "N").short('j')] },
-                THREADS,
-            ),
-            "one per core",
-        )),
-        Key::Overwrite => no_bytes(d(
-            "overwrite",
-            Value::Switch,
-            const { &[sets("force", "true")] },
-            OVERWRITE,
-        )),
-        Key::TableDir => no_bytes(unset(
-            d("table_dir", Value::Path, const { &[] }, TABLE_DIR),
-            "the cache directory",
-        )),
-        Key::Data => d(
-            "data",
-            Value::Choice,
-            const { &[value("data", "HOW")] },
-            DATA,
-        ),
-        Key::StripMetadata => d(
-            "strip_metadata",
-            Value::Switch,
-            const { &[sets("strip-metadata", "true")] },
-            STRIP_METADATA,
-        ),
-        Key::Strict => no_bytes(d(
-            "strict",
-            Value::Switch,
-            const { &[sets("strict", "true")] },
-            STRICT,
-        )),
+    }
+}
+
+impl Definition {
+    /// With no default text: what unset means.
+    const fn unset(self, unset: &'static str) -> Definition {
+        Definition {
+            unset: Some(unset),
+            ..self
+        }
+    }
+
+    /// Changing no byte of the output.
+    const fn no_bytes(self) -> Definition {
+        Definition {
+            changes_output: false,
+            ..self
+        }
     }
 }
 
@@ -514,3 +555,26 @@ string attributes (such as studio:assetId), and `to-rgb` carries them back";
 const STRICT: &str = "Fail an input on any warning (a declaration of the file not followed, \
 pixels above 1 clipped in a reflectance conversion, 1 % of the image or more): nothing is \
 written for it and the exit status is 1, for farms that gate on warnings";
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn each_option_has_its_definition_in_order() {
+        for (i, key) in Key::ALL.into_iter().enumerate() {
+            assert_eq!(key as usize, i, "{key:?}: Key::ALL is in declaration order");
+            assert_eq!(DEFINITIONS[i].key, key);
+        }
+    }
+
+    /// `--emissive` alone writes the library's default units.
+    #[test]
+    fn emissive_sets_the_default_units() {
+        let units = specconv_colour::EmissionUnits::default();
+        assert_eq!(
+            definition(Key::Emission).flags[0].takes,
+            Takes::Sets(crate::Named::name(units))
+        );
+    }
+}

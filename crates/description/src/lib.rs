@@ -9,6 +9,7 @@
 
 pub mod choices;
 pub mod definitions;
+pub mod key;
 pub mod layout;
 pub mod metadata;
 pub mod named;
