@@ -33,7 +33,6 @@ MIP levels: Mitsuba 3's integrators give textures no footprint (``si.duv_dx`` is
 from __future__ import annotations
 
 import bisect
-import math
 import os
 import tempfile
 
@@ -48,7 +47,7 @@ from specconv._specconv import check_compact_header, check_readable
 SPECTRAL = "specconv_spectral"
 COMPACT = "specconv_compact"
 # The largest float32: where the unbounded rule's sums saturate.
-F32_MAX = float(np.finfo(np.float32).max)
+F32_MAX = compact.F32_MAX
 RENDER_TIME = "specconv_rgb"
 
 _FILTERS = {"bilinear": False, "nearest": True}
@@ -315,7 +314,7 @@ class _Bands:
 class _Decoder:
     """docs/compact.md's rule on Dr.Jit values, for one header. In the JIT variants it is traced
     into the lookup's kernel, each leaf a branch that runs for packets where some texel weighs
-    it; in the scalar ones it runs per lookup in plain Python, leaves of weight 0 skipped. Per
+    it: Python's only decoder besides numpy's, which the scalar variants call per lookup. Per
     wavelength the two bands around it are decoded and interpolated linearly (the clip acts per
     band, before); zero outside the bands, as the spectral file's lookup."""
 
@@ -330,8 +329,6 @@ class _Decoder:
         rows[:, leaves, :3] = header.b.T
         if jit:
             self.table = mi.Float(rows.astype(np.float32).ravel())
-        else:
-            self.rows = rows.tolist()
 
     def weighted(self, texels, weights, lams):
         """Σ weight × spectrum of each texel (6 values), at each wavelength of ``lams``.
@@ -340,7 +337,7 @@ class _Decoder:
         weighs that leaf (Dr.Jit runs a symbolic branch only for packets with an active lane):
         neighbouring lookups mostly share one to three of the model's leaves."""
         if not self.jit:
-            return self._weighted_scalar(texels, weights, lams)
+            return self._weighted_numpy(texels, weights, lams)
         forms = [self._texel(t) for t in texels]
         stride = self.leaves + 1
         positions = [self._position(lam) for lam in lams]
@@ -404,6 +401,15 @@ class _Decoder:
             out.append(dr.select(inside, total, 0.0))
         return out
 
+    def _weighted_numpy(self, texels, weights, lams):
+        """The scalar variants: numpy's decoder (compact.decode) on the lookup's texels, a
+        NaN texel NaN even at weight 0, as in the traced path."""
+        lams = np.array([float(lam) for lam in lams])
+        r = compact.decode(self.header, np.array([list(t) for t in texels]), lams)
+        total = np.array([float(w) for w in weights]) @ r
+        wl = self.wavelengths
+        return np.where((lams >= wl[0]) & (lams <= wl[-1]), total, 0.0).tolist()
+
     def _texel(self, t):
         """A texel's leaf weights wᵢ, per-leaf factors (wᵢX, wᵢY, wᵢZ, wᵢλ_dark), u, and
         whether it is finite."""
@@ -457,71 +463,6 @@ class _Decoder:
         j = dr.minimum(mi.UInt32(index), n - 2)
         inside = (lam >= float(wl[0])) & (lam <= float(wl[-1]))
         return j, index - mi.Float(j), inside
-
-    # The scalar variants: the same rule in plain Python floats (a call per lookup).
-
-    def _weighted_scalar(self, texels, weights, lams):
-        wl, n, rows = self.wavelengths, len(self.wavelengths), self.rows
-        forms = [(self._texel_scalar(t), float(w)) for t, w in zip(texels, weights)]
-        out = []
-        for lam in lams:
-            lam = float(lam)
-            if not wl[0] <= lam <= wl[-1]:
-                out.append(0.0)
-                continue
-            index = min(max(self.bands.index(lam), 0.0), n - 1.0)
-            j = min(int(index), n - 2)
-            f = index - j
-            total = 0.0
-            for form, w in forms:
-                if w == 0.0 and form is not None:
-                    continue
-                if form is None:
-                    total += w * math.nan
-                    continue
-                r0, r1 = (self._band_scalar(rows[b], *form) for b in (j, j + 1))
-                total += w * ((1 - f) * r0 + f * r1)
-            out.append(total)
-        return out
-
-    def _texel_scalar(self, t):
-        """(leaf, weight) of the leaves that count, (X, Y, Z, λ_dark) and u; None if not finite."""
-        h = self.header
-        c = [float(t[i]) for i in range(3)]
-        u = (float(t[3]), float(t[4]), float(t[5]))
-        if not all(math.isfinite(v) for v in c + list(u) * h.clip):
-            return None
-        s = c[0] + c[1] + c[2]
-        x, y = (c[0] / s, c[1] / s) if s > 0 else h.white
-        dark = min(s / h.dark, 1.0) if s > 0 else 0.0
-        leaves, stack = [], [(0, 1.0)]
-        while stack:
-            i, weight = stack.pop()
-            node = h.nodes[i]
-            if node[0] == "leaf":
-                leaves.append((node[1], weight))
-                continue
-            _, axis, v, below, above, width = node
-            p = x if axis == 0 else y
-            if h.blend > 0 and width > 0:
-                q = min(max((p - v + width) / (2 * width), 0.0), 1.0)
-                step = q * q * (3 - 2 * q)
-            else:
-                step = 1.0 if p >= v else 0.0
-            for node_, part in ((above, weight * step), (below, weight * (1 - step))):
-                if part > 0:
-                    stack.append((node_, part))
-        return leaves, (c[0], c[1], c[2], dark), u
-
-    def _band_scalar(self, row, leaves, c, u):
-        r = 0.0
-        for leaf, w in leaves:
-            g = row[leaf]
-            r += w * (g[0] * c[0] + g[1] * c[1] + g[2] * c[2] + g[3] * c[3])
-        if not self.header.clip:
-            return min(max(r, -F32_MAX), F32_MAX)
-        g = row[self.leaves]
-        return min(max(r + g[0] * u[0] + g[1] * u[1] + g[2] * u[2], 0.0), 1.0)
 
 
 def compact_texels(

@@ -108,6 +108,12 @@ def random_compact_file(folder, bounded=True, count=100_000, seed=34):
     """A compact file (float32 bands when expanded, scanlines, no MIP levels) of `count`
     random_texels (400 a row) under the header `convert` writes for the photograph (`clip 0`
     when not `bounded`): its path, text and texels [count, 6]."""
+    return compact_file(folder, lambda h: random_texels(h, count, seed), bounded, width=400)
+
+
+def compact_file(folder, make, bounded=True, width=None):
+    """A compact file of the texels `make(header)` gives (`width` a row, all in one row by
+    default) under the photograph's header, as random_compact_file: its path, text, texels."""
     base = folder / "base.exr"
     specconv.convert(
         IMAGES / "photo.jpg", base, layout="compact", mip=False, sample="float", bounded=bounded
@@ -116,8 +122,9 @@ def random_compact_file(folder, bounded=True, count=100_000, seed=34):
     spec = inp.spec()
     inp.close()
     text = spec.getattribute("specconvCompact")
-    t = random_texels(specconv.compact.parse(text), count, seed)
-    width = 400
+    t = np.asarray(make(specconv.compact.parse(text)), dtype=np.float32)
+    count = len(t)
+    width = width or count
     out_spec = oiio.ImageSpec(width, count // width, len(spec.channelnames), "float")
     out_spec.channelnames = list(spec.channelnames)
     for a in spec.extra_attribs:
@@ -162,13 +169,6 @@ def float32_bound(text, t):
     # At least float32's smallest normal: a float32 decoder may flush subnormals to zero
     # (Dr.Jit's LLVM backend does).
     return np.maximum(np.minimum(2.0**-16 * size, 2.0**-10), 2.0**-126)
-
-
-def float32_rule(text, t):
-    """The rule's spectra of texels `t` as a float32 decoder gives them: numpy's, saturated
-    at the largest float32 (`clip 0`: a colour near it has bands beyond it)."""
-    f32 = float(np.finfo(np.float32).max)
-    return np.clip(specconv.decode(text, t), -f32, f32)
 
 
 CASES = [
@@ -289,13 +289,14 @@ def test_read_compact_is_what_openimageio_reads(tmp_path):
 
 @pytest.mark.parametrize("bounded", [True, False], ids=["clip", "unbounded"])
 def test_the_decoders_agree_on_100000_random_texels(tmp_path, cli, bounded):
-    """One rule, four decoders: numpy's (specconv.decode, double precision, the reference
-    here), the library's (`specconv expand`, float32 bands read back by OpenImageIO) and the
-    C header's (tests/c/decode_check.c --print, compiled here) on 100,000 random_texels, most
-    of them no conversion writes: NaN in the same texels (every band of them), every other
-    value within float32_bound. test_mitsuba_compact.py holds Mitsuba's decoder to the same."""
+    """One rule, four decoders: numpy's (specconv.decode, double precision saturated at the
+    largest float32, the reference here), the library's (`specconv expand`, float32 bands
+    read back by OpenImageIO) and the C header's (tests/c/decode_check.c --print, compiled
+    here) on 100,000 random_texels, most of them no conversion writes: NaN in the same
+    texels (every band of them), every other value within float32_bound.
+    test_mitsuba_compact.py holds Mitsuba's decoder to the same."""
     path, text, t = random_compact_file(tmp_path, bounded)
-    want = float32_rule(text, t)
+    want = specconv.decode(text, t)
     bound = float32_bound(text, t)
     nan = np.isnan(want)
     assert np.array_equal(nan.any(axis=1), nan.all(axis=1)), "NaN is the whole texel"
@@ -328,3 +329,37 @@ def test_the_decoders_agree_on_100000_random_texels(tmp_path, cli, bounded):
         worst = float(np.max(err / np.maximum(bound[~nan], 1e-300)))
         print(f"{name}: the largest error is {worst:.3g} of the float32 bound")
         assert np.all(err <= bound[~nan]), (name, worst)
+
+
+def test_unbounded_bands_beyond_float32_saturate_as_the_librarys(tmp_path, cli):
+    """`clip 0`, colours near the largest float32 (every sign, and random ones above 10³⁷):
+    numpy's decoder against the library's (`specconv expand`, float32 bands), at the bands and
+    between them. Bands beyond the largest float32 are that float in both, not numbers a
+    float32 file cannot hold (numpy gave up to 1.5·10⁴⁰ before)."""
+    top = float(np.finfo(np.float32).max)
+    rng = np.random.default_rng(44)
+    wild = rng.choice([-1.0, 1.0], (400, 3)) * rng.uniform(1e37, top, (400, 3))
+    signs = np.array(np.meshgrid([-1, 0, 1], [-1, 0, 1], [-1, 0, 1])).reshape(3, -1).T
+    colours = np.concatenate([wild, signs * top, np.array(HUGE)[:, :3]])
+    texels = np.concatenate([colours, np.zeros_like(colours)], axis=1)
+    path, text, t = compact_file(tmp_path, lambda h: texels, bounded=False)
+    cli("expand", path, tmp_path / "expanded.exr")
+    names, pixels, _ = levels(tmp_path / "expanded.exr")[0]
+    library, wl = bands(names, pixels)
+    library = library.reshape(len(t), -1).astype(np.float64)
+    want, bound = specconv.decode(text, t), float32_bound(text, t)
+    saturated = np.abs(library) == top
+    assert saturated.sum() > 1000, saturated.sum()
+    assert np.all(np.abs(want) <= top)
+    np.testing.assert_array_equal(want[saturated], library[saturated])
+    worst = float(np.max(np.abs(want - library) / bound))
+    print(f"{saturated.sum()} bands saturated; the largest error is {worst:.3g} of the bound")
+    assert worst <= 1, worst
+    # Between bands: the file's interpolation of its saturated bands.
+    at = rng.uniform(wl[0], wl[-1], 200)
+    j = np.clip(np.searchsorted(wl, at, side="right") - 1, 0, len(wl) - 2)
+    f = (at - wl[j]) / (wl[j + 1] - wl[j])
+    theirs = (1 - f) * library[:, j] + f * library[:, j + 1]
+    mine = specconv.decode(text, t, at)
+    assert np.all(np.abs(mine) <= top)
+    assert np.all(np.abs(mine - theirs) <= np.maximum(bound[:, j], bound[:, j + 1]))
