@@ -103,6 +103,7 @@ pub fn options(py: Python<'_>) -> PyResult<Vec<Bound<'_, pyo3::types::PyDict>>> 
 #[pyfunction]
 #[pyo3(signature = (inputs, outputs=None, *, output_template=None, update=false, errors="raise",
                     progress=None, **options))]
+#[allow(clippy::too_many_arguments)]
 pub fn convert<'py>(
     py: Python<'py>,
     inputs: Paths,

@@ -357,22 +357,15 @@ mod tests {
             "photometric"
         ])
         .is_err());
-        let o = options(
-            &[
-                "--scanline",
-                "--checknan",
-                "--unbounded",
-                "-d",
-                "float",
-                "--tile",
-                "32",
-                "16",
-            ]
-            .map(|s| s)
-            .into_iter()
-            .filter(|s| *s != "--scanline")
-            .collect::<Vec<_>>(),
-        );
+        let o = options(&[
+            "--checknan",
+            "--unbounded",
+            "-d",
+            "float",
+            "--tile",
+            "32",
+            "16",
+        ]);
         assert_eq!(o.text(Key::Tile).as_deref(), Some("32x16"));
         assert!(!o.bounded);
         assert_eq!(o.text(Key::Sample).as_deref(), Some("float"));
@@ -386,10 +379,7 @@ mod tests {
                 .as_deref(),
             Some("box3")
         );
-        assert_eq!(
-            options(&["--constant-color-detect=false"]).constant_detect,
-            false
-        );
+        assert!(!options(&["--constant-color-detect=false"]).constant_detect);
         assert!(crate::Cli::try_parse_from([
             "specconv",
             "convert",

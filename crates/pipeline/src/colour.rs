@@ -1,6 +1,6 @@
 //! The input's colour space, by one rule, and the way its pixels reach CIE XYZ (D65).
 //!
-//! **The precedence of colour evidence** ([`crate::PRECEDENCE`], docs/colour.md), first that
+//! **The precedence of colour evidence** ([`specconv_description::PRECEDENCE`], docs/colour.md), first that
 //! applies:
 //! 1. `--colorspace`;
 //! 2. the OCIO config's explicit `file_rules` (a rule other than the Default rule matches the

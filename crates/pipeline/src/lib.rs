@@ -168,7 +168,7 @@ pub enum Error {
     Strict {
         /// The input.
         input: PathBuf,
-        /// The warning ([`crate::Notice`]'s words).
+        /// The warning ([`specconv_description::Notice`]'s words).
         warning: String,
     },
 }
@@ -343,7 +343,7 @@ pub fn open<'a>(job: &'a Job<'a>) -> Result<Opened<'a>> {
     refuse_overwrites(job.input, job.output, job.overwrite)?;
     specconv_exr::check::check_input(job.input)?;
     png::check_whole(job.input)?;
-    let (reader, selection) = input::open(job.input, &input::Request::of(&job.options))?;
+    let (reader, selection) = input::open(job.input, &input::Request::of(job.options))?;
     let info = reader.info().clone();
     let space = match texture_space(
         job.config,

@@ -1,7 +1,7 @@
 //! An error as one line of text, for every front-end.
 
 /// An error and its causes on one line, each cause once (`cannot read F: why`), as every
-/// front-end says it before naming its own remedy ([`Error::remedy`]).
+/// front-end says it before naming its own remedy ([`super::Error::remedy`]).
 pub fn message(e: &(dyn std::error::Error + 'static)) -> String {
     single_line(&chain(e))
 }
