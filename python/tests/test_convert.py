@@ -23,7 +23,7 @@ OPTIONS = [
      ["-d", "float", "--compression", "piz", "--tile", "16", "8"]),
     ({"bands": "400:700:5", "model": "broad", "wrap": "periodic", "mip": False},
      ["--bands", "400:700:5", "--model", "broad", "--wrap", "periodic", "--mip", "0"]),
-    ({"tile": None, "bounded": False}, ["--scanline", "--unbounded"]),
+    ({"tile": "scanline", "bounded": False}, ["--scanline", "--unbounded"]),
     ({"filter": "lanczos3", "resize": True}, ["--filter", "lanczos3", "--resize"]),
 ]
 

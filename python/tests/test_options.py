@@ -60,10 +60,10 @@ def test_the_stub_says_what_the_library_defines():
             assert default == pytest.approx(float(option["default"]))
         else:
             assert as_text(name, default) == option["default"], name
-        if literals is not None:
+        if literals is not None and name != "tile":  # tile's one word: "scanline"
             assert option["choices"] is not None, name
             spellings = set(option["choices"]) | set(option["aliases"])
-            assert set(option["choices"]) <= set(literals) <= spellings | {"scanline"}, name
+            assert set(option["choices"]) <= set(literals) <= spellings, name
 
 
 def test_an_unknown_keyword_is_a_type_error_that_lists_the_options(tmp_path):
