@@ -44,10 +44,7 @@ fn argument(key: Key, flag: &Flag, first: &Flag) -> clap::Arg {
     match flag.takes {
         Takes::Value(name) => {
             arg = arg.value_name(name).action(ArgAction::Set);
-            arg = match about.choices {
-                Some(_) => arg.value_parser(ChoiceParser(key)),
-                None => arg.value_parser(TextParser(key)),
-            };
+            arg = arg.value_parser(OptionParser(key));
             match (flag == first, default) {
                 (true, Some(text)) => arg.default_value(text),
                 _ => arg,
@@ -68,7 +65,7 @@ fn argument(key: Key, flag: &Flag, first: &Flag) -> clap::Arg {
             .require_equals(true)
             .default_missing_value("true")
             .action(ArgAction::Set)
-            .value_parser(TextParser(key))
+            .value_parser(OptionParser(key))
             .default_value(default.unwrap_or_default()),
     }
 }
@@ -134,11 +131,12 @@ impl clap::FromArgMatches for ConversionArgs {
 }
 
 /// A clap parser of an option's text, read by the library ([`Options::set_os`]): a value it
-/// refuses is a usage error with its message.
+/// refuses is a usage error with its message, or for a choice with its names (help lists them;
+/// its other spellings are accepted unlisted).
 #[derive(Clone, Copy)]
-pub(crate) struct TextParser(Key);
+pub(crate) struct OptionParser(Key);
 
-impl TypedValueParser for TextParser {
+impl TypedValueParser for OptionParser {
     type Value = std::ffi::OsString;
 
     fn parse_ref(
@@ -148,48 +146,21 @@ impl TypedValueParser for TextParser {
         value: &std::ffi::OsStr,
     ) -> Result<std::ffi::OsString, clap::Error> {
         let mut o = Options::default();
-        o.set_os(self.0, value).map_err(|e| {
-            let flag = arg.map_or_else(String::new, |a| a.to_string());
-            let message = format!(
-                "invalid value '{}' for '{flag}': {}\n",
-                value.to_string_lossy(),
-                e.why
-            );
-            clap::Error::raw(clap::error::ErrorKind::ValueValidation, message).with_cmd(cmd)
-        })?;
-        Ok(value.to_owned())
-    }
-}
-
-/// A clap parser of a choice by the library's names: help lists them, its other spellings are
-/// accepted unlisted, anything else gets the library's list.
-#[derive(Clone, Copy)]
-pub(crate) struct ChoiceParser(Key);
-
-impl TypedValueParser for ChoiceParser {
-    type Value = std::ffi::OsString;
-
-    fn parse_ref(
-        &self,
-        cmd: &clap::Command,
-        arg: Option<&clap::Arg>,
-        value: &std::ffi::OsStr,
-    ) -> Result<std::ffi::OsString, clap::Error> {
-        let (names, _) = self.0.about().choices.unwrap_or_default();
-        let mut o = Options::default();
-        if o.set_os(self.0, value).is_ok() {
+        let Err(e) = o.set_os(self.0, value) else {
             return Ok(value.to_owned());
-        }
+        };
+        let flag = arg.map_or_else(String::new, |a| a.to_string());
+        let text = value.to_string_lossy().into_owned();
+        let Some((names, _)) = self.0.about().choices else {
+            let message = format!("invalid value '{text}' for '{flag}': {}\n", e.why);
+            return Err(
+                clap::Error::raw(clap::error::ErrorKind::ValueValidation, message).with_cmd(cmd),
+            );
+        };
         use clap::error::{ContextKind, ContextValue};
         let mut err = clap::Error::new(clap::error::ErrorKind::InvalidValue).with_cmd(cmd);
-        if let Some(arg) = arg {
-            err.insert(
-                ContextKind::InvalidArg,
-                ContextValue::String(arg.to_string()),
-            );
-        }
-        let value = value.to_string_lossy().into_owned();
-        err.insert(ContextKind::InvalidValue, ContextValue::String(value));
+        err.insert(ContextKind::InvalidArg, ContextValue::String(flag));
+        err.insert(ContextKind::InvalidValue, ContextValue::String(text));
         let names = names.iter().map(|n| n.to_string()).collect();
         err.insert(ContextKind::ValidValue, ContextValue::Strings(names));
         Err(err)
