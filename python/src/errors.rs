@@ -95,7 +95,7 @@ fn hint(remedy: Option<Remedy>) -> String {
         ),
         Remedy::ZipLevelInRange => format!("; pass {} from 0 to 9", kw(Key::ZipLevel)),
         Remedy::NonEmptyTiles => format!(
-            "; pass {}=(W, H) of at least 1×1, or {}=None for scanlines",
+            "; pass {}=(W, H) of at least 1×1, or {}=\"scanline\"",
             kw(Key::Tile),
             kw(Key::Tile)
         ),

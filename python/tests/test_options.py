@@ -111,3 +111,19 @@ def test_a_choice_takes_the_librarys_names_and_no_other(tmp_path, name):
         specconv.convert(missing, tmp_path / "out.exr", **{name: "bogus"})
     message = str(e.value)
     assert "bogus" in message and all(c in message for c in option["choices"]), message
+
+
+@pytest.mark.parametrize("keywords, says", [
+    ({"tile": (1, 2, 3)}, "tile takes (width, height) or 'scanline', not tuple"),
+    ({"tile": "12x"}, "'12x' is neither a tile size WxH nor `scanline`"),
+    ({"zip_level": True}, "zip_level takes a whole number, not bool"),
+    ({"threads": 2**70}, "threads must be a whole number from 0"),
+    ({"blend": "0.1"}, "blend takes a number, not str"),
+    ({"alpha": True}, "unknown alpha 'true'"),
+    ({"mip": "banana"}, "unknown MIP levels 'banana'"),
+    ({"colorspace": 3}, "colorspace takes a str, not int"),
+])
+def test_a_value_of_the_wrong_kind_is_an_option_error_naming_the_keyword(tmp_path, keywords, says):
+    with pytest.raises(specconv.OptionError) as e:
+        specconv.convert(tmp_path / "a.png", tmp_path / "a.exr", **keywords)
+    assert says in str(e.value), str(e.value)

@@ -144,6 +144,9 @@ def test_negative_counts_are_option_errors_naming_the_keyword(tmp_path, png):
         (name,) = kw
         with pytest.raises(specconv.OptionError, match=f"{name} must be a whole number"):
             specconv.convert(png[0], out, **kw)
+    # Empty tiles: the remedy names scanlines as the keyword takes them.
+    with pytest.raises(specconv.OptionError, match='tile="scanline"'):
+        specconv.convert(png[0], out, tile=(0, 0))
     # Past the type, the library's own range: a deflate level is 0 to 9.
     with pytest.raises(specconv.OptionError, match="zip_level: '300' is not a deflate level 0–9"):
         specconv.convert(png[0], out, zip_level=300)
