@@ -219,7 +219,7 @@ impl Key {
 
     /// The option of this name ([`About::name`]).
     pub fn from_name(name: &str) -> Option<Key> {
-        Key::ALL.into_iter().find(|k| k.about().name == name)
+        Key::ALL.into_iter().find(|k| definition(*k).name == name)
     }
 }
 
@@ -279,14 +279,16 @@ impl Options {
     /// Sets an option from its text as the system gives it (a command-line word, a Python
     /// path): a path option takes any bytes, the others UTF-8 ([`Options::set`]).
     pub fn set_os(&mut self, key: Key, text: &std::ffi::OsStr) -> Result<(), BadValue> {
-        if key.about().value == Value::Path {
-            let path = Some(PathBuf::from(text));
-            match key {
-                Key::Model => self.model = path,
-                _ => self.table_dir = path,
-            }
-            return Ok(());
+        match key {
+            Key::Model => self.model = Some(PathBuf::from(text)),
+            Key::TableDir => self.table_dir = Some(PathBuf::from(text)),
+            _ => return self.set_utf8(key, text),
         }
+        Ok(())
+    }
+
+    /// Sets an option that is not a path from its text, which must be UTF-8.
+    fn set_utf8(&mut self, key: Key, text: &std::ffi::OsStr) -> Result<(), BadValue> {
         let text = text.to_str().ok_or_else(|| BadValue {
             key: key.about().name,
             why: format!("{} is not UTF-8", text.to_string_lossy()),
@@ -514,6 +516,31 @@ mod tests {
             method: "otsu2018",
             blend: 0.02,
             config: "aces",
+        }
+    }
+
+    /// Path options keep their bytes; every other option's text is read by `set`.
+    #[test]
+    fn set_os_keeps_the_bytes_of_path_options_only() {
+        use std::os::unix::ffi::OsStrExt;
+        let bytes = std::ffi::OsStr::from_bytes(b"/tmp/\xff.json");
+        for key in Key::ALL {
+            let mut o = Options::default();
+            let kept = o.set_os(key, bytes).is_ok();
+            assert_eq!(kept, key.about().value == Value::Path, "{key:?}");
+        }
+    }
+
+    /// Each flag that sets a word sets one its option reads.
+    #[test]
+    fn every_flag_word_is_read_by_its_option() {
+        for key in Key::ALL {
+            for flag in key.about().flags {
+                if let crate::Takes::Sets(word) = flag.takes {
+                    let mut o = Options::default();
+                    assert!(o.set(key, Some(word)).is_ok(), "--{}", flag.long);
+                }
+            }
         }
     }
 
