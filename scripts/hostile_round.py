@@ -1,0 +1,582 @@
+#!/usr/bin/python3
+"""The hostile round of issue 45, black box: attacks on the classes of that issue, run against a
+built `specconv`, each judged by what a careless or hostile user must be able to rely on (no
+input replaced, no forged provenance shown, no crash or temporary left, metadata bounded and
+valid UTF-8, ...), never by the wording of a message.
+
+    /usr/bin/python3 scripts/hostile_round.py [--bin target/release/specconv] [--only CLASS]
+
+Prints one line per failed case and a table of cases and failures per class; exits 1 when any
+case failed. Needs ../shared/spectra, oiiotool and Debian's OpenImageIO Python bindings
+(/usr/bin/python3). Each command runs with a 4 GiB address-space limit, so a command that would
+take the machine's memory fails (as a signal) instead.
+"""
+
+import argparse
+import hashlib
+import os
+import resource
+import shutil
+import struct
+import subprocess
+import sys
+import tempfile
+import time
+import zlib
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+SHARED = ROOT.parent / "shared" / "spectra"
+IMAGES = ROOT / "testdata" / "images"
+MEMORY_LIMIT = 4 << 30
+# The built-in model `open`'s sets, as ../shared/spectra names them.
+OPEN_SETS = [
+    "usgs_splib07a_vegetation_380-780_5nm.csv",
+    "usgs_splib07a_manmade_380-780_5nm.csv",
+    "usgs_splib07a_soils_380-780_5nm.csv",
+    "usgs_splib07a_minerals_380-780_5nm.csv",
+    "rhododendron_leaves_380-780_5nm.csv",
+    "nist_cqs90_vs_380-780_5nm.csv",
+    "colour_pmc_400-700_5nm.csv",
+    "hyppigments_405-780_5nm.csv",
+]
+
+
+class Round:
+    def __init__(self, binary, work):
+        self.bin = str(binary)
+        self.work = Path(work)
+        self.results = {}
+
+    def run(self, *args, cwd=None, timeout=600):
+        def limit():
+            resource.setrlimit(resource.RLIMIT_AS, (MEMORY_LIMIT, MEMORY_LIMIT))
+
+        started = time.monotonic()
+        p = subprocess.run(
+            [self.bin, *map(str, args)],
+            cwd=cwd or self.work,
+            capture_output=True,
+            timeout=timeout,
+            preexec_fn=limit,
+        )
+        p.seconds = time.monotonic() - started
+        p.text = (p.stdout + p.stderr).decode("utf-8", "replace")
+        return p
+
+    def case(self, cls, name, failure):
+        """Records a case of class `cls`: `failure` is None when it held, else why not."""
+        passed, failed = self.results.get(cls, (0, 0))
+        if failure is None:
+            self.results[cls] = (passed + 1, failed)
+        else:
+            self.results[cls] = (passed, failed + 1)
+            print(f"FAIL [{cls}] {name}: {failure}")
+
+    def fresh(self, name):
+        d = self.work / name
+        shutil.rmtree(d, ignore_errors=True)
+        d.mkdir(parents=True)
+        return d
+
+
+def digest(path):
+    return hashlib.sha256(Path(path).read_bytes()).hexdigest()
+
+
+def crashed(p):
+    """Why a finished command counts as a crash (a signal, a panic), else None."""
+    if p.returncode < 0 or p.returncode >= 128:
+        return f"killed or aborted (status {p.returncode})"
+    if "panicked" in p.text or "RUST_BACKTRACE" in p.text:
+        return "panicked: " + p.text[-300:]
+    return None
+
+
+def leftovers(folder, keep=()):
+    """Files in `folder` that look like a writer's temporaries."""
+    names = []
+    for f in Path(folder).rglob("*"):
+        if f.is_file() and f.name not in keep and (".tmp" in f.name or f.name.startswith(".")):
+            names.append(f.name)
+    return names
+
+
+# ---- PNG writing (text chunks the way a hostile or foreign tool writes them) -------------------
+
+
+def png(path, width=16, height=16, channels=3, chunks=()):
+    def chunk(kind, data):
+        body = kind + data
+        return struct.pack(">I", len(data)) + body + struct.pack(">I", zlib.crc32(body))
+
+    colour = {1: 0, 3: 2, 4: 6}[channels]
+    rows = b"".join(
+        b"\0" + bytes((x * 13 + y * 7 + c * 50) % 256 for x in range(width) for c in range(channels))
+        for y in range(height)
+    )
+    out = b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, 8, colour, 0, 0, 0))
+    for kind, data in chunks:
+        out += chunk(kind, data)
+    out += chunk(b"IDAT", zlib.compress(rows)) + chunk(b"IEND", b"")
+    Path(path).write_bytes(out)
+
+
+def text(keyword, value_latin1):
+    return (b"tEXt", keyword.encode("latin-1") + b"\0" + value_latin1)
+
+
+def ztext(keyword, value_latin1):
+    return (b"zTXt", keyword.encode("latin-1") + b"\0\0" + zlib.compress(value_latin1))
+
+
+def itext(keyword, value):
+    return (b"iTXt", keyword.encode("latin-1") + b"\0\0\0\0\0" + value.encode("utf-8"))
+
+
+def attributes(path):
+    """The header attributes of `path` as OpenImageIO's Python bindings read them."""
+    script = (
+        "import sys, json, OpenImageIO as o\n"
+        "i = o.ImageInput.open(sys.argv[1]); s = i.spec()\n"
+        "print(json.dumps({a.name: str(a.value) for a in s.extra_attribs}))\n"
+    )
+    p = subprocess.run(["/usr/bin/python3", "-c", script, str(path)], capture_output=True)
+    if p.returncode != 0:
+        return None
+    import json
+
+    return json.loads(p.stdout.decode("utf-8", "surrogateescape"))
+
+
+# ---- 1. --force never replaces a file the same command reads ----------------------------------
+
+
+def spellings(folder, name):
+    """Ways to name folder/name from inside folder: as given, ./, absolute, a symbolic link, a
+    hard link, `..`."""
+    target = Path(folder) / name
+    link = Path(folder) / ("link_" + name)
+    hard = Path(folder) / ("hard_" + name)
+    if not link.exists():
+        link.symlink_to(target.name)
+    if not hard.exists():
+        os.link(target, hard)
+    return {
+        "plain": name,
+        "dot": "./" + name,
+        "absolute": str(target.resolve()),
+        "symlink": link.name,
+        "hardlink": hard.name,
+        "dotdot": f"../{Path(folder).name}/{name}",
+    }
+
+
+def force_never_replaces_an_input(r):
+    d = r.fresh("force")
+    # A set whose file name ends in .json, so that a model output may name it.
+    shutil.copy(SHARED / "colorchecker_n_ohta_380-780_5nm.csv", d / "cc.json")
+    small = ["--clusters", "2", "--min-cluster-size", "4", "--hold-ends"]
+    p = r.run("train", "--spectra", "cc.json", *small, "--commercial", "yes", "-o", "m.json", cwd=d)
+    if p.returncode != 0:
+        r.case("1 force", "setup train", p.text[-300:])
+        return
+    shutil.copy(d / "m.json", d / "m0.json")
+    targets = {
+        "spectra": ["train", "--spectra", "cc.json", *small, "--force", "-o"],
+        "with model": ["train", "--with", "m.json", "--with-data", ".", "--force", "-o"],
+        "recorded set": ["train", "--with", "m.json", "--with-data", ".", "--force", "-o"],
+    }
+    for what, command in targets.items():
+        name = "cc.json" if what != "with model" else "m.json"
+        control = r.run(*command, "control.json", cwd=d)
+        r.case("1 force", f"{what}: the same command to a new file works",
+               None if control.returncode == 0 else control.text[-300:])
+        for spelling, path in spellings(d, name).items():
+            shutil.copy(SHARED / "colorchecker_n_ohta_380-780_5nm.csv", d / "cc.json")
+            shutil.copy(d / "m0.json", d / "m.json")
+            before = digest(d / name)
+            p = r.run(*command, path, cwd=d)
+            failure = crashed(p)
+            if failure is None and digest(d / name) != before:
+                failure = f"replaced the {what} it read (exit {p.returncode})"
+            elif failure is None and p.returncode == 0:
+                failure = "exit 0 though the output is an input"
+            r.case("1 force", f"train -o {what} as {spelling}", failure)
+    # The conversion's own rule, the same attack.
+    shutil.copy(IMAGES / "float_scanline.exr", d / "in.exr")
+    for spelling, path in spellings(d, "in.exr").items():
+        before = digest(d / "in.exr")
+        p = r.run("convert", "in.exr", path, "--force", cwd=d)
+        failure = crashed(p)
+        if failure is None and digest(d / "in.exr") != before:
+            failure = "replaced its input"
+        r.case("1 force", f"convert -o input as {spelling}", failure)
+
+
+# ---- 2. recorded sets are verified, not trusted by name -------------------------------------
+
+
+def recorded_sets_are_verified(r):
+    d = r.fresh("sets")
+    good = d / "good"
+    good.mkdir()
+    for name in OPEN_SETS:
+        shutil.copy(SHARED / name, good / name)
+    p = r.run("train", "--with", "open", "--with-data", "good", "-o", "ok.json", cwd=d)
+    r.case("2 sets", "the true sets are taken", None if p.returncode == 0 else p.text[-300:])
+    munsell = (SHARED / "munsell1269_matte_380-800_1nm.csv").read_bytes()
+    for i, name in enumerate(OPEN_SETS):
+        for how in ("other spectra", "one value changed"):
+            fake = d / f"fake{i}_{how.split()[0]}"
+            shutil.copytree(good, fake)
+            if how == "other spectra":
+                (fake / name).write_bytes(munsell)
+            else:
+                lines = (fake / name).read_text().splitlines()
+                cells = lines[5].split(",")
+                cells[3] = str(float(cells[3]) * 0.5)
+                lines[5] = ",".join(cells)
+                (fake / name).write_text("\n".join(lines) + "\n")
+            out = fake.name + ".json"
+            p = r.run("train", "--with", "open", "--with-data", fake.name, "-o", out, cwd=d)
+            failure = crashed(p)
+            if failure is None and p.returncode == 0:
+                failure = "a set whose content differs was taken under its recorded name and terms"
+            r.case("2 sets", f"{name}: {how}", failure)
+
+
+# ---- 3. provenance cannot be forged on screen ------------------------------------------------
+
+SEPARATORS = ["\n", "\r", "\r\n", "\x0b", "\x0c", "\x1b[2K\r", "\u2028", "\u2029", "\x85", "\x00"]
+
+
+def provenance_is_shown_as_written(r):
+    d = r.fresh("forged")
+    shutil.copy(SHARED / "colorchecker_n_ohta_380-780_5nm.csv", d / "cc.csv")
+    for i, sep in enumerate(SEPARATORS):
+        forged = f"ours{sep}specconvSource: FORGED.png{sep}commercial use: yes"
+        model = f"m{i}.json"
+        try:
+            p = r.run(
+                "train", "--spectra", "cc.csv", "--clusters", "2", "--min-cluster-size", "4",
+                "--hold-ends", "--commercial", "no", "--licence", forged, "-o", model, cwd=d,
+            )
+        except ValueError:  # a NUL cannot be an argument at all
+            r.case("3 forged", f"licence with {sep!r}", None)
+            continue
+        if p.returncode != 0:
+            # Refused at the door: nothing forged can be shown.
+            r.case("3 forged", f"licence with {sep!r} (refused)", crashed(p))
+            continue
+        out = f"o{i}.exr"
+        c = r.run("convert", "--model", model, IMAGES / "srgb8.png", out, cwd=d)
+        shown = {"models": r.run("models", model, cwd=d).text}
+        if c.returncode == 0:
+            shown["info"] = r.run("info", out, cwd=d).text
+        for printer, output in shown.items():
+            lines = output.replace("\r\n", "\n").split("\n")
+            bad = [l for l in lines if "FORGED" in l and "ours" not in l]
+            bad += [l for l in lines if "\r" in l or "\x1b" in l or "\u2028" in l or "\x0b" in l]
+            failure = f"{len(bad)} forged line(s): {bad[:2]!r}" if bad else None
+            r.case("3 forged", f"{printer} of a licence with {sep!r}", failure)
+    # Input attributes that imitate provenance.
+    src = d / "src.exr"
+    imitations = ["specconvSource", "specconvCommercialUse", "SpecconvSource", "SPECCONVSOURCE",
+                  "specconv:Source", "specconvModel", "specconvSettings", "specconvLicence"]
+    args = ["oiiotool", IMAGES / "float_scanline.exr"]
+    for name in imitations:
+        args += ["--attrib", name, "FORGED"]
+    subprocess.run([*map(str, args), "-o", str(src)], check=True)
+    p = r.run("convert", "src.exr", "out.exr", cwd=d)
+    if p.returncode != 0:
+        r.case("3 forged", "input attributes imitating provenance", "refused: " + p.text[-200:])
+        return
+    attrs = attributes(d / "out.exr") or {}
+    for name in imitations:
+        forged = [k for k, v in attrs.items() if k.lower() == name.lower() and "FORGED" in v]
+        r.case("3 forged", f"input attribute {name}", f"carried as {forged}" if forged else None)
+
+
+# ---- 4–6. metadata carried from inputs --------------------------------------------------------
+
+
+def metadata_is_bounded(r):
+    d = r.fresh("bounds")
+    for count, size in [(300, 64 << 10), (2000, 1 << 10), (1, 16 << 20), (40, 1 << 20), (5000, 16)]:
+        name = f"z{count}x{size}.png"
+        chunks = [ztext(f"Note{i}", os.urandom(size // 2).hex().encode()[:size]) for i in range(count)]
+        png(d / name, chunks=chunks)
+        out = d / f"out_{count}_{size}"
+        out.mkdir()
+        p = r.run("convert", name, "-o", out.name, cwd=d)
+        failure = crashed(p) or (None if p.returncode == 0 else "refused: " + p.text[-200:])
+        outputs = list(out.glob("*.exr"))
+        if failure is None and outputs:
+            header = outputs[0].stat().st_size
+            if header > 4 << 20:
+                failure = f"output of {header >> 20} MB for a 16x16 texture"
+        if failure is None and leftovers(out):
+            failure = f"temporaries left: {leftovers(out)}"
+        r.case("4 bounds", f"{count} zTXt of {size} B", failure)
+
+
+def metadata_is_utf8(r):
+    d = r.fresh("utf8")
+    cases = {
+        "iTXt UTF-8": (itext("Artist", "山田 太郎 — Café ☃"), "山田 太郎 — Café ☃"),
+        "tEXt Latin-1": (text("Artist", "Café crème".encode("latin-1")), "Café crème"),
+        "zTXt Latin-1": (ztext("Copyright", "© Ünïcødé".encode("latin-1")), "© Ünïcødé"),
+        "tEXt ASCII": (text("Artist", b"plain"), "plain"),
+        "iTXt invalid UTF-8": ((b"iTXt", b"Artist\0\0\0\0\0\xff\xfe bad"), None),
+    }
+    for what, (chunk, expected) in cases.items():
+        name = what.replace(" ", "_").replace("-", "") + ".png"
+        png(d / name, chunks=[chunk])
+        p = r.run("convert", name, name + ".exr", cwd=d)
+        failure = crashed(p) or (None if p.returncode == 0 else "refused: " + p.text[-200:])
+        if failure is None:
+            raw = (d / (name + ".exr")).read_bytes()
+            attrs = attributes(d / (name + ".exr")) or {}
+            key = "Copyright" if "zTXt" in what else "Artist"
+            value = attrs.get(key)
+            if expected is not None and value is not None and value != expected:
+                failure = f"{key} came out as {value!r}"
+            elif expected is None and value is not None and "\udcff" in value:
+                failure = "invalid UTF-8 carried"
+            elif b"\xff\xfe bad" in raw:
+                failure = "invalid UTF-8 bytes in the output header"
+        r.case("5 utf-8", what, failure)
+
+
+EXR_NAMES = [
+    "channels", "compression", "dataWindow", "displayWindow", "lineOrder", "pixelAspectRatio",
+    "screenWindowCenter", "screenWindowWidth", "tiles", "view", "type", "name", "version",
+    "chunkCount", "maxSamplesPerPixel", "multiView", "envmap", "deepImageState", "chromaticities",
+    "whiteLuminance", "adoptedNeutral", "wrapmodes", "owner", "comments", "capDate",
+    "utcOffset", "longitude", "latitude", "altitude", "focus", "expTime", "aperture",
+    "isoSpeed", "keyCode", "timeCode", "framesPerSecond", "worldToCamera", "worldToNDC",
+]
+
+
+def metadata_that_cannot_be_carried_is_dropped(r):
+    d = r.fresh("names")
+    for name in EXR_NAMES:
+        src = f"{name}.png"
+        png(d / src, chunks=[text(name, b"hostile value 1 2 3")])
+        p = r.run("convert", src, src + ".exr", cwd=d)
+        failure = crashed(p) or (None if p.returncode == 0 else "input refused: " + p.text[-200:])
+        if failure is None:
+            check = subprocess.run(["exrheader", str(d / (src + ".exr"))], capture_output=True)
+            if check.returncode != 0:
+                failure = "exrheader cannot read the output"
+        r.case("6 names", f"tEXt {name}", failure)
+    for name in ["studio:名前", "studio:assetId", "名前", "a b c", "x" * 300]:
+        src = d / "named.exr"
+        subprocess.run(["oiiotool", str(IMAGES / "float_scanline.exr"), "--attrib", name,
+                        "value", "-o", str(src)], check=True, capture_output=True)
+        p = r.run("convert", "named.exr", "named_out.exr", "--force", cwd=d)
+        failure = crashed(p) or (None if p.returncode == 0 else "input refused: " + p.text[-200:])
+        r.case("6 names", f"EXR attribute {name[:20]!r}", failure)
+
+
+# ---- 7–10. compact files ----------------------------------------------------------------------
+
+
+def compact_header(r, d):
+    p = r.run("convert", "--layout", "compact", IMAGES / "srgb8.png", "c.exr", cwd=d)
+    if p.returncode != 0:
+        return None
+    return attributes(d / "c.exr")["specconvCompact"]
+
+
+def with_header(d, text, out):
+    """d/c.exr with its compact header text replaced (through OpenImageIO, level 0 only)."""
+    script = (
+        "import sys, OpenImageIO as o\n"
+        "b = o.ImageBuf(sys.argv[1])\n"
+        "b.specmod().attribute('specconvCompact', sys.stdin.read())\n"
+        "b.write(sys.argv[2])\n"
+    )
+    subprocess.run(["/usr/bin/python3", "-c", script, str(d / "c.exr"), str(d / out)],
+                   input=text.encode(), check=True, capture_output=True)
+
+
+def chain(text, depth):
+    """`text` made a valid header of two bands whose tree is a chain of `depth` splits, each
+    with a leaf (and a map) of its own below it."""
+    keep = [l for l in text.split("\n") if l.split(" ")[0] in
+            ("specconv", "model", "hash", "white", "dark", "blend", "clip")]
+    lines = keep + ["grid 380 390 10", "wavelengths 380 390"]
+    for i in range(depth):
+        lines.append(f"node {2 * i} split x 0.3 {2 * i + 1} {2 * i + 2} 0.02")
+        lines.append(f"node {2 * i + 1} leaf {i}")
+    lines.append(f"node {2 * depth} leaf {depth}")
+    lines += [f"map {k} 0.1 0.1 0.1 0.1 0.1 0.1 0.2 0.2" for k in range(depth + 1)]
+    lines += ["b X 0.5 0.5", "b Y 0.5 0.5", "b Z 0.5 0.5"]
+    return "\n".join(lines)
+
+
+def compact_files_are_read_safely(r):
+    d = r.fresh("compact")
+    text = compact_header(r, d)
+    if text is None:
+        r.case("7 depth", "setup", "convert --layout compact failed")
+        return
+    for depth in [100, 40_000, 200_000]:
+        with_header(d, chain(text, depth), f"deep{depth}.exr")
+        out = d / f"deep{depth}"
+        out.mkdir()
+        p = r.run("expand", f"deep{depth}.exr", out / "x.exr", cwd=d)
+        failure = crashed(p)
+        if failure is None and leftovers(out):
+            failure = f"temporaries left: {leftovers(out)}"
+        if failure is None and depth > 64 and p.returncode == 0:
+            failure = f"a tree {depth} deep was accepted (the C header refuses past 64)"
+        r.case("7 depth", f"chain {depth} deep", failure)
+    lines = text.split("\n")
+    grid = next(l for l in lines if l.startswith("grid "))
+    variants = {
+        "grid against wavelengths": text.replace(grid, "grid 480 830 10"),
+        "tab before dark": text.replace("\ndark ", "\n\tdark "),
+        "map NaN": text.replace("\nmap 3 ", "\nmap 3 NaN "),
+        "duplicate line": text.replace("\nclip 1", "\nclip 1\nclip 1"),
+        "clip 2": text.replace("\nclip 1", "\nclip 2"),
+        "cycle": text.replace("node 4 leaf 0", "node 4 split x 0.5 0 0 0.02"),
+        "missing leaf": text.replace("node 14 leaf 7", "node 14 leaf 99"),
+        "empty": "",
+        "version 9": text.replace("specconv compact 1", "specconv compact 9"),
+    }
+    for what, hostile in variants.items():
+        with_header(d, hostile, "h.exr")
+        p = r.run("expand", "h.exr", "h_out.exr", "--force", cwd=d)
+        failure = crashed(p)
+        if failure is None and p.returncode == 0 and what != "tab before dark":
+            failure = "accepted"
+        r.case("9 grammar", what, failure)
+
+
+def expand_applies_the_nan_rule(r):
+    d = r.fresh("nan")
+    if compact_header(r, d) is None:
+        r.case("10 nan", "setup", "convert --layout compact failed")
+        return
+    for what in ["nan", "inf", "-inf"]:
+        script = (
+            "import sys, OpenImageIO as o\n"
+            "b = o.ImageBuf(sys.argv[1]); b.read(0, 0, True)\n"
+            f"b.setpixel(5, 3, [float('{what}'), 0.1, 0.1, 0, 0, 0])\n"
+            f"b.setpixel(0, 0, [0.1, 0.1, 0.1, float('{what}'), 0, 0])\n"
+            "b.write(sys.argv[2])\n"
+        )
+        subprocess.run(["/usr/bin/python3", "-c", script, str(d / "c.exr"),
+                        str(d / f"{what}.exr")], check=True, capture_output=True)
+        out = f"{what}_out.exr"
+        p = r.run("expand", f"{what}.exr", out, cwd=d)
+        failure = crashed(p)
+        if failure is None and p.returncode == 0:
+            stats = subprocess.run(["oiiotool", "-a", "--stats", str(d / out)],
+                                   capture_output=True, text=True).stdout
+            if "NanCount" in stats and any(
+                "NanCount" in l and any(c not in "0 " for c in l.split(":")[1])
+                for l in stats.splitlines()
+            ):
+                failure = "NaN spectra written though the file says nan=refuse"
+        r.case("10 nan", f"texel {what}", failure)
+
+
+# ---- 8. memory estimated up front --------------------------------------------------------------
+
+
+def memory_is_estimated(r):
+    d = r.fresh("memory")
+    png(d / "wide.png", width=8192, height=64)
+    out = d / "wide"
+    out.mkdir()
+    p = r.run("convert", "--bands", "400:700:0.01", "wide.png", out / "w.exr", cwd=d)
+    failure = crashed(p)
+    if failure is None and leftovers(out):
+        failure = f"temporaries left: {leftovers(out)}"
+    r.case("8 memory", "convert --bands 400:700:0.01 on 8192x64", failure)
+
+
+# ---- 11, 13, 15. files from newer tools, what a TD expects -------------------------------------
+
+
+def interop_ids_are_read(r):
+    d = r.fresh("interop")
+    for ident, role in [("data", "data"), ("lin_rec709_scene", "colour"), ("lin_ap1_scene", "colour"),
+                        ("lin_ap0_scene", "colour"), ("srgb_rec709_scene", "colour")]:
+        src = d / f"{ident}.exr"
+        subprocess.run(["oiiotool", str(IMAGES / "float_scanline.exr"), "--attrib",
+                        "colorInteropID", ident, "-o", str(src)], check=True, capture_output=True)
+        p = r.run("info", src.name, cwd=d)
+        failure = crashed(p) or (None if p.returncode == 0 else p.text[-200:])
+        chosen = next((l for l in p.text.splitlines() if l.startswith("chosen by:")), "")
+        roles = next((l for l in p.text.splitlines() if l.startswith("role:")), "")
+        if failure is None and "colorInteropID" not in chosen:
+            failure = f"colorInteropID not the evidence ({chosen.strip()})"
+        elif failure is None and role not in roles:
+            failure = f"read as {roles.strip()}"
+        r.case("11 interop", f"colorInteropID {ident}", failure)
+
+
+def a_td_is_told(r):
+    d = r.fresh("td")
+    png(d / "grey.png", channels=1)
+    p = r.run("convert", "grey.png", "-o", "out", cwd=d)
+    failure = crashed(p)
+    if failure is None and not list((d / "out").glob("*")) and "grey.png" not in p.text:
+        failure = "a skipped grey map is not named"
+    r.case("13 grey", "one-channel sRGB PNG", failure)
+    for flags in (["--tilesize", "32"], ["--nomipmap"], ["--tile", "32", "32"]):
+        p = r.run("convert", *flags, IMAGES / "srgb8.png", "m.exr", "--force", cwd=d)
+        r.case("15 maketx", " ".join(flags), crashed(p) or (None if p.returncode == 0 else p.text[-200:]))
+    if r.run("convert", "--layout", "compact", IMAGES / "srgb8.png", "c.exr", cwd=d).returncode == 0:
+        for command in (["info"], ["to-rgb"], ["preview"]):
+            args = [*command, "c.exr"] + (["c.png"] if command[0] != "info" else [])
+            p = r.run(*args, cwd=d)
+            failure = crashed(p)
+            if failure is None and "compact" not in p.text:
+                failure = "does not recognise the compact file"
+            elif failure is None and p.returncode != 0 and "expand" not in p.text:
+                failure = "refuses without pointing to expand"
+            r.case("15 compact", command[0], failure)
+
+
+CLASSES = {
+    "force": force_never_replaces_an_input,
+    "sets": recorded_sets_are_verified,
+    "forged": provenance_is_shown_as_written,
+    "bounds": metadata_is_bounded,
+    "utf8": metadata_is_utf8,
+    "names": metadata_that_cannot_be_carried_is_dropped,
+    "compact": compact_files_are_read_safely,
+    "nan": expand_applies_the_nan_rule,
+    "memory": memory_is_estimated,
+    "interop": interop_ids_are_read,
+    "td": a_td_is_told,
+}
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--bin", default=ROOT / "target" / "release" / "specconv")
+    parser.add_argument("--only", action="append", choices=sorted(CLASSES))
+    args = parser.parse_args()
+    with tempfile.TemporaryDirectory(prefix="hostile-") as work:
+        r = Round(Path(args.bin).resolve(), work)
+        for name, attack in CLASSES.items():
+            if not args.only or name in args.only:
+                attack(r)
+    total = failed = 0
+    print(f"\n{'class':<14}{'cases':>7}{'failed':>8}")
+    for cls, (ok, bad) in sorted(r.results.items(), key=lambda kv: int(kv[0].split()[0])):
+        print(f"{cls:<14}{ok + bad:>7}{bad:>8}")
+        total, failed = total + ok + bad, failed + bad
+    print(f"{'all':<14}{total:>7}{failed:>8}")
+    return 1 if failed else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
