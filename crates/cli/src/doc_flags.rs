@@ -9,6 +9,16 @@ use clap::CommandFactory;
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
 
+/// Other tools' flags the docs name in a span of their own (`--colorconvert`, beside the words
+/// "maketx's"): not ours, and never to become ours unnoticed.
+const OTHERS: [(&str, &str); 5] = [
+    ("array", "sbatch"),
+    ("bench", "cargo"),
+    ("target", "cargo"),
+    ("colorconvert", "maketx"),
+    ("no-autopremult", "oiiotool"),
+];
+
 /// Every long flag and alias of every command, with the values it accepts when it lists them.
 fn flags() -> BTreeMap<String, BTreeSet<String>> {
     fn walk(cmd: &clap::Command, out: &mut BTreeMap<String, BTreeSet<String>>) {
@@ -88,6 +98,11 @@ fn every_flag_the_docs_name_exists() {
                     continue;
                 }
                 checked += 1;
+                let other = OTHERS.iter().any(|(f, _)| *f == flag);
+                if other && !line.starts_with("specconv") {
+                    assert!(!known.contains_key(flag), "--{flag} is ours now: drop it from OTHERS");
+                    continue;
+                }
                 let Some(values) = known.get(flag) else {
                     wrong.push(format!("{name}: --{flag} (in `{line}`)"));
                     continue;

@@ -223,7 +223,7 @@ mod tests {
     #[test]
     fn every_synopsis_names_the_values() {
         let mut checked = 0;
-        for (name, page) in man_pages() {
+        for (name, page) in crate::man_pages() {
             let page = String::from_utf8(page).unwrap();
             let synopsis = page
                 .split(".SH SYNOPSIS\n")

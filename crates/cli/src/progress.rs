@@ -281,6 +281,7 @@ mod tests {
             ],
             clipped: 0,
             warnings: Vec::new(),
+            done: None,
         };
         assert_eq!(
             s.text(185.0),
