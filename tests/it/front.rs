@@ -139,7 +139,7 @@ fn expand_is_a_batch_as_convert_is() {
         assert_eq!(r["input"], s(input));
         let out = PathBuf::from(r["output"].as_str().unwrap());
         assert!(out.starts_with(&outdir) && out.exists(), "{r}");
-        assert!(tool("iinfo", &[s(&out)]).contains("T.380"), "{r}");
+        assert!(tool("iinfo", &["-v", s(&out)]).contains("T.380"), "{r}");
     }
     // -u: all up to date; without it (and without --force) the existing outputs are refused
     // before anything is written.
