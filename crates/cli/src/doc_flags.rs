@@ -100,7 +100,10 @@ fn every_flag_the_docs_name_exists() {
                 checked += 1;
                 let other = OTHERS.iter().any(|(f, _)| *f == flag);
                 if other && !line.starts_with("specconv") {
-                    assert!(!known.contains_key(flag), "--{flag} is ours now: drop it from OTHERS");
+                    assert!(
+                        !known.contains_key(flag),
+                        "--{flag} is ours now: drop it from OTHERS"
+                    );
                     continue;
                 }
                 let Some(values) = known.get(flag) else {

@@ -239,7 +239,7 @@ mod tests {
                 sub = match sub.find_subcommand(part) {
                     Some(s) => s,
                     // A command whose name has a hyphen (`to-rgb`).
-                    None => sub.find_subcommand(&path.join("-")).unwrap_or(sub),
+                    None => sub.find_subcommand(path.join("-")).unwrap_or(sub),
                 };
             }
             for a in sub.get_arguments().filter(|a| !a.is_hide_set()) {
