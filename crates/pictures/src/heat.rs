@@ -35,7 +35,7 @@ fn magnification(w: usize, h: usize) -> usize {
 
 /// The PNG of `values` (row-major, `w × h`) as heat from 0 to `scale`, with a colour bar, its
 /// scale and `title` to the right; an image under 200 rows is magnified by a whole factor
-/// ([`magnification`]) so that the map fills the picture's height.
+/// (up to 4096 pixels wide) so that the map fills the picture's height.
 pub fn heat_map(
     (w, h): (usize, usize),
     values: &[f64],
