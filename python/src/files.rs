@@ -61,12 +61,9 @@ pub fn read_spectral(py: Python<'_>, path: FsPath, level: i128) -> PyResult<Spec
     let image = py
         .detach(|| -> Result<_, specconv_conversion::Error> {
             specconv_atomic_file::readable_file(&path)?;
-            specconv_exr::read_level(&path, level).map_err(|source| {
-                specconv_conversion::Error::Read {
-                    path: path.clone(),
-                    source,
-                }
-            })
+            // A compact texture is named as one (read it with read_compact).
+            specconv_exr::read_level(&path, level)
+                .map_err(|source| specconv_conversion::spectral_read_error(&path, source))
         })
         .map_err(crate::errors::conversion)?;
     let (w, h, n) = (image.width, image.height, image.wavelengths.len());

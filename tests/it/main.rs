@@ -7,6 +7,7 @@ mod compression;
 mod convert;
 mod emission;
 mod farm;
+mod front;
 mod info;
 mod layout;
 mod libraries;

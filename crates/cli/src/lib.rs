@@ -9,6 +9,8 @@ use clap::{CommandFactory, Parser, Subcommand};
 mod stdio;
 mod checks;
 mod cmd;
+#[cfg(test)]
+mod doc_flags;
 mod files;
 #[cfg(test)]
 mod generated;
@@ -53,7 +55,13 @@ fn version() -> &'static str {
 #[derive(Debug, clap::Args)]
 struct Global {
     // Its help is the library's; global: before or after the subcommand.
-    #[arg(long, global = true, value_name = "CONFIG", help = specconv_conversion::Key::Ocio.about().help)]
+    #[arg(
+        long,
+        global = true,
+        value_name = "CONFIG",
+        visible_aliases = specconv_conversion::Key::Ocio.about().flags[0].aliases.iter().copied(),
+        help = specconv_conversion::Key::Ocio.about().help
+    )]
     ocio: Option<String>,
 }
 
@@ -147,8 +155,9 @@ fn hint(cause: &(dyn std::error::Error + 'static)) -> Option<String> {
     let f = flag;
     Some(match remedy {
         Remedy::RepairNonFinite => format!(
-            "; repair them with {0} box3 (or black), or write them as they are with {0} none",
-            f(Key::NonFinite)
+            "; repair them with {0} box3 (or black), or write them as they are with {0} {1}",
+            f(Key::NonFinite),
+            specconv_conversion::Named::name(specconv_conversion::NonFinite::Keep)
         ),
         Remedy::RepairBlack => format!("; repair them with {} black", f(Key::NonFinite)),
         Remedy::ReplaceOrSkip => format!(
@@ -377,7 +386,7 @@ fn run(cli: Cli) -> anyhow::Result<i32> {
         Some(Command::Info(args)) => cmd::info::run(with_ocio!(args)),
         Some(Command::Colorspaces(args)) => done(cmd::colorspaces::run(with_ocio!(args))),
         Some(Command::ToRgb(args)) => done(cmd::to_rgb::run(with_ocio!(args))),
-        Some(Command::Expand(args)) => done(cmd::expand::run(args)),
+        Some(Command::Expand(args)) => cmd::expand::run(args),
         Some(Command::Models(args)) => done(cmd::models::run(args)),
         Some(Command::Completions(args)) => done(cmd::completions::run(args)),
         Some(Command::Simulate(args)) => done(cmd::simulate::run(args)),

@@ -86,7 +86,7 @@ fn page(cmd: &clap::Command, name: &str, see_also: &[String]) -> Vec<u8> {
     };
     render(&mut out, &|w| man.render_title(w));
     render(&mut out, &|w| man.render_name_section(w));
-    render(&mut out, &|w| man.render_synopsis_section(w));
+    out.extend_from_slice(synopsis(cmd).as_bytes());
     render(&mut out, &|w| man.render_description_section(w));
     render(&mut out, &|w| man.render_options_section(w));
     if cmd.has_subcommands() {
@@ -125,6 +125,84 @@ fn page(cmd: &clap::Command, name: &str, see_also: &[String]) -> Vec<u8> {
     out
 }
 
+/// The SYNOPSIS section: every shown flag with the names of its values (`--ocio CONFIG`,
+/// `--tile W H`, `--opaque-detect[=BOOL]`), then the operands and any subcommand. clap_mangen's
+/// own synopsis leaves the values out, so `[--ocio]` read as a switch.
+fn synopsis(cmd: &clap::Command) -> String {
+    let mut cmd = cmd.clone();
+    cmd.build();
+    let name = cmd
+        .get_bin_name()
+        .unwrap_or_else(|| cmd.get_name())
+        .to_string();
+    let mut words = vec![format!("\\fB{}\\fR", escape(&name))];
+    let mut flags: Vec<&clap::Arg> = cmd
+        .get_arguments()
+        .filter(|a| !a.is_hide_set() && !a.is_positional())
+        .collect();
+    flags.sort_by_key(|a| (a.get_display_order(), a.get_short(), a.get_long()));
+    for a in flags {
+        let names: Vec<String> = a
+            .get_short()
+            .map(|s| format!("-{s}"))
+            .into_iter()
+            .chain(a.get_long().map(|l| format!("--{l}")))
+            .map(|n| format!("\\fB{}\\fR", escape(&n)))
+            .collect();
+        let (open, close) = if a.is_required_set() {
+            ("", "")
+        } else {
+            ("[", "]")
+        };
+        words.push(format!(
+            "{open}{}{}{close}",
+            names.join("|"),
+            value_words(a)
+        ));
+    }
+    for a in cmd.get_positionals().filter(|a| !a.is_hide_set()) {
+        let (open, close) = if a.is_required_set() {
+            ("<", ">")
+        } else {
+            ("[", "]")
+        };
+        let value = a
+            .get_value_names()
+            .map(|v| v.iter().map(|n| n.as_str()).collect::<Vec<_>>().join(" "))
+            .unwrap_or_else(|| a.get_id().to_string());
+        words.push(format!("{open}\\fI{}\\fR{close}", escape(&value)));
+    }
+    if cmd.has_subcommands() {
+        words.push("[\\fIcommand\\fR]".into());
+    }
+    format!(".SH SYNOPSIS\n{}\n", words.join(" "))
+}
+
+/// What follows a flag in the synopsis: ` VALUE`, ` W H`, `[=BOOL]`, or nothing for a switch.
+fn value_words(a: &clap::Arg) -> String {
+    let Some(range) = a.get_num_args().filter(|r| r.takes_values()) else {
+        return String::new();
+    };
+    let names = a
+        .get_value_names()
+        .map(|v| {
+            v.iter()
+                .map(|n| format!("\\fI{}\\fR", escape(n.as_str())))
+                .collect::<Vec<_>>()
+        })
+        .unwrap_or_else(|| {
+            vec![format!(
+                "\\fI{}\\fR",
+                escape(&a.get_id().to_string().to_uppercase())
+            )]
+        });
+    match (range.min_values() > 0, a.is_require_equals_set()) {
+        (true, _) => format!(" {}", names.join(" ")),
+        (false, true) => format!("[={}]", names.join(" ")),
+        (false, false) => format!(" [{}]", names.join(" ")),
+    }
+}
+
 /// Text as roff reads it literally: backslashes and hyphens escaped, no line taken for a
 /// request.
 fn escape(text: &str) -> String {
@@ -133,5 +211,61 @@ fn escape(text: &str) -> String {
         format!("\\&{s}")
     } else {
         s
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every page's SYNOPSIS names the values of each flag that takes one (`--ocio CONFIG`,
+    /// `--tile W H`), as its OPTIONS do: a flag shown bare reads as a switch.
+    #[test]
+    fn every_synopsis_names_the_values() {
+        let mut checked = 0;
+        for (name, page) in crate::man_pages() {
+            let page = String::from_utf8(page).unwrap();
+            let synopsis = page
+                .split(".SH SYNOPSIS\n")
+                .nth(1)
+                .and_then(|s| s.lines().next())
+                .unwrap_or_else(|| panic!("{name}: no SYNOPSIS"));
+            let mut cmd = Cli::command();
+            cmd.build();
+            // The page's command: `specconv-farm-submit.1` is farm's submit.
+            let path: Vec<&str> = name.trim_end_matches(".1").split('-').skip(1).collect();
+            let mut sub = &cmd;
+            for part in &path {
+                sub = match sub.find_subcommand(part) {
+                    Some(s) => s,
+                    // A command whose name has a hyphen (`to-rgb`).
+                    None => sub.find_subcommand(path.join("-")).unwrap_or(sub),
+                };
+            }
+            for a in sub.get_arguments().filter(|a| !a.is_hide_set()) {
+                let (Some(long), Some(values)) = (a.get_long(), a.get_value_names()) else {
+                    continue;
+                };
+                if a.is_positional() || !a.get_num_args().unwrap().takes_values() {
+                    continue;
+                }
+                let shown = format!("\\fB{}\\fR", escape(&format!("--{long}")));
+                let at = synopsis
+                    .find(&shown)
+                    .unwrap_or_else(|| panic!("{name}: --{long} not in {synopsis}"));
+                let after = &synopsis[at + shown.len()..];
+                let value = format!("\\fI{}\\fR", escape(values[0].as_str()));
+                assert!(
+                    after
+                        .trim_start_matches([' ', '[', '='])
+                        .starts_with(&value),
+                    "{name}: --{long} has no {} in the synopsis: {}",
+                    values[0],
+                    &after[..after.len().min(60)]
+                );
+                checked += 1;
+            }
+        }
+        assert!(checked > 60, "{checked} flags checked");
     }
 }

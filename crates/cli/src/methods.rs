@@ -173,8 +173,8 @@ pub struct WeightArgs {
     pub licences: Vec<String>,
     /// Whether each --spectra file's data may be used commercially (yes, no, unstated), in
     /// their order, recorded in the model: a model may be used commercially only when all its
-    /// sets may (default: what ../shared/spectra/README.md states for the file name, else
-    /// unstated; your own measurements: yes).
+    /// sets may. Default: what ../shared/spectra/README.md states for the file name, else
+    /// unstated; for your own measurements pass yes.
     #[arg(long = "commercial", value_name = "yes|no|unstated")]
     pub commercial: Vec<specconv_spectral::otsu2018::terms::Commercial>,
     /// Hold a --spectra file that stops short of the grid at its first and last measured

@@ -214,6 +214,8 @@ pub struct Summary {
     pub clipped: usize,
     /// Of each kind of warning, the inputs that had it.
     pub warnings: Vec<usize>,
+    /// What was done to an input: `converted` unless set (`expanded`).
+    pub done: Option<&'static str>,
 }
 
 impl Summary {
@@ -236,8 +238,9 @@ impl Summary {
             n => format!(" ({n} clipped)"),
         };
         let mut text = format!(
-            "specconv: {} converted{clipped}, {} skipped{data}, {} failed{} in {}",
+            "specconv: {} {}{clipped}, {} skipped{data}, {} failed{} in {}",
             self.converted,
+            self.done.unwrap_or("converted"),
             self.skipped,
             self.failed.len(),
             match (self.warnings.len(), self.warnings.iter().sum::<usize>()) {
@@ -278,6 +281,7 @@ mod tests {
             ],
             clipped: 0,
             warnings: Vec::new(),
+            done: None,
         };
         assert_eq!(
             s.text(185.0),

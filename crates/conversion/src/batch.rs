@@ -3,7 +3,7 @@
 
 use crate::plan::check_plan;
 use crate::report::{tally, NoticeCount};
-use crate::{Converter, Error, Report};
+use crate::{Converter, Error, Expanded, Report};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -51,6 +51,15 @@ pub enum Event<'a> {
         output: &'a Path,
         /// What was done.
         report: &'a Report,
+    },
+    /// A compact texture expanded ([`Expansions`]).
+    Expanded {
+        /// The input.
+        input: &'a Path,
+        /// Its output.
+        output: &'a Path,
+        /// What was written.
+        expanded: &'a Expanded,
     },
     /// Failed; the batch goes on with the next input.
     Failed {
@@ -154,61 +163,180 @@ impl<'c> Batch<'c> {
         let never = AtomicBool::new(false);
         let cancel = self.cancel.unwrap_or(&never);
         let overwrite = self.converter.options().overwrite || self.update;
-        let mut summary = Summary::default();
-        for (index, (input, output)) in pairs.iter().enumerate() {
-            if cancel.load(Ordering::SeqCst) {
+        let up_to_date = |i: &Path, o: &Path| self.update && self.converter.is_up_to_date(i, o);
+        let run = |input: &Path, output: &Path, on: &mut (dyn FnMut(Event) + Send)| {
+            self.converter
+                .run(input, output, overwrite, cancel, &mut |done, total| {
+                    on(Event::Progress { done, total })
+                })
+        };
+        let done = |input: &Path,
+                    output: &Path,
+                    report: Report,
+                    on: &mut (dyn FnMut(Event) + Send),
+                    summary: &mut Summary| {
+            tally(&mut summary.warnings, input, &report);
+            if report.data.is_some() {
+                summary.data += 1;
+                on(Event::Data {
+                    input,
+                    output,
+                    report: &report,
+                });
+            } else {
+                summary.converted += 1;
+                summary.clipped += usize::from(report.clipped() > 0);
+                on(Event::Converted {
+                    input,
+                    output,
+                    report: &report,
+                });
+            }
+        };
+        Ok(each(pairs, cancel, up_to_date, run, done, on))
+    }
+}
+
+/// The loop of every batch: each input in turn, `Started`, then skipped when `up_to_date`, else
+/// `run` and handed to `done` (which tells `on`), or `Failed`; a cancel stops it between
+/// inputs, or inside one (`run` returns the cancelled error: not a failure of that input).
+fn each<T>(
+    pairs: &[(PathBuf, PathBuf)],
+    cancel: &AtomicBool,
+    up_to_date: impl Fn(&Path, &Path) -> bool,
+    mut run: impl FnMut(&Path, &Path, &mut (dyn FnMut(Event) + Send)) -> Result<T, Error>,
+    mut done: impl FnMut(&Path, &Path, T, &mut (dyn FnMut(Event) + Send), &mut Summary),
+    on: &mut (dyn FnMut(Event) + Send),
+) -> Summary {
+    let mut summary = Summary::default();
+    for (index, (input, output)) in pairs.iter().enumerate() {
+        if cancel.load(Ordering::SeqCst) {
+            summary.cancelled = true;
+            break;
+        }
+        on(Event::Started { index, input });
+        if up_to_date(input, output) {
+            summary.skipped += 1;
+            on(Event::Skipped { input, output });
+            continue;
+        }
+        let start = std::time::Instant::now();
+        match run(input, output, on) {
+            Ok(t) => done(input, output, t, on, &mut summary),
+            Err(e) if e.is_cancelled() => {
                 summary.cancelled = true;
                 break;
             }
-            on(Event::Started { index, input });
-            if self.update && self.converter.is_up_to_date(input, output) {
-                summary.skipped += 1;
-                on(Event::Skipped { input, output });
-                continue;
-            }
-            let start = std::time::Instant::now();
-            let result =
-                self.converter
-                    .run(input, output, overwrite, cancel, &mut |done, total| {
-                        on(Event::Progress { done, total })
-                    });
-            if let Ok(report) = &result {
-                tally(&mut summary.warnings, input, report);
-            }
-            match result {
-                Ok(report) if report.data.is_some() => {
-                    summary.data += 1;
-                    on(Event::Data {
-                        input,
-                        output,
-                        report: &report,
-                    });
-                }
-                Ok(report) => {
-                    summary.converted += 1;
-                    summary.clipped += usize::from(report.clipped() > 0);
-                    on(Event::Converted {
-                        input,
-                        output,
-                        report: &report,
-                    });
-                }
-                // Interrupted: not a failure of this input, which stays to be converted.
-                Err(e) if e.is_cancelled() => {
-                    summary.cancelled = true;
-                    break;
-                }
-                Err(error) => {
-                    summary.failed += 1;
-                    on(Event::Failed {
-                        input,
-                        output,
-                        error: &error,
-                        seconds: start.elapsed().as_secs_f64(),
-                    });
-                }
+            Err(error) => {
+                summary.failed += 1;
+                on(Event::Failed {
+                    input,
+                    output,
+                    error: &error,
+                    seconds: start.elapsed().as_secs_f64(),
+                });
             }
         }
-        Ok(summary)
     }
+    summary
+}
+
+/// Compact textures (`--layout compact`) written out in the spectral layout, many in turn, with
+/// the plan checks, up-to-date check, cancellation and events of a conversion's [`Batch`]:
+/// each input gives `Started`, then `Skipped`, `Expanded` or `Failed`.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Expansions<'c> {
+    overwrite: bool,
+    update: bool,
+    threads: Option<usize>,
+    cancel: Option<&'c AtomicBool>,
+}
+
+impl<'c> Expansions<'c> {
+    /// Expansions that refuse existing outputs unless `overwrite`.
+    pub fn new(overwrite: bool) -> Expansions<'c> {
+        Expansions {
+            overwrite,
+            ..Expansions::default()
+        }
+    }
+
+    /// Skips inputs whose output is up to date ([`expansion_is_up_to_date`]) and replaces
+    /// outputs that specconv made.
+    pub fn update(self, update: bool) -> Expansions<'c> {
+        Expansions { update, ..self }
+    }
+
+    /// Worker threads (default: one per core).
+    pub fn threads(self, threads: Option<usize>) -> Expansions<'c> {
+        Expansions { threads, ..self }
+    }
+
+    /// Stops when `cancel` is set: between inputs, or inside one (its output is not written).
+    pub fn cancel_on(self, cancel: &'c AtomicBool) -> Expansions<'c> {
+        Expansions {
+            cancel: Some(cancel),
+            ..self
+        }
+    }
+
+    /// Expands each (input, output) in turn, telling `on` what happens, once the whole plan is
+    /// checked ([`check_plan`]; its error is returned and nothing is written).
+    pub fn run(
+        &self,
+        pairs: &[(PathBuf, PathBuf)],
+        on: &mut (dyn FnMut(Event) + Send),
+    ) -> Result<Summary, Error> {
+        check_plan(pairs, self.overwrite, self.update)?;
+        if self.threads == Some(0) {
+            return Err(Error::NoThreads);
+        }
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(self.threads.unwrap_or(0))
+            .build()
+            .map_err(|e| Error::Threads(e.to_string()))?;
+        let never = AtomicBool::new(false);
+        let cancel = self.cancel.unwrap_or(&never);
+        let overwrite = self.overwrite || self.update;
+        let up_to_date = |i: &Path, o: &Path| self.update && expansion_is_up_to_date(i, o);
+        let run = |input: &Path, output: &Path, _: &mut (dyn FnMut(Event) + Send)| {
+            pool.install(|| crate::expand(input, output, overwrite, cancel))
+        };
+        let done = |input: &Path,
+                    output: &Path,
+                    expanded: Expanded,
+                    on: &mut (dyn FnMut(Event) + Send),
+                    summary: &mut Summary| {
+            summary.converted += 1;
+            on(Event::Expanded {
+                input,
+                output,
+                expanded: &expanded,
+            });
+        };
+        Ok(each(pairs, cancel, up_to_date, run, done, on))
+    }
+}
+
+/// Whether `output` is the expansion of the compact texture `input` as it is now: complete,
+/// not older than it, and recording the same source and settings (`layout=spectral` for its
+/// `layout=compact`), as an expansion records them.
+pub fn expansion_is_up_to_date(input: &Path, output: &Path) -> bool {
+    let modified = |p: &Path| std::fs::metadata(p).and_then(|m| m.modified()).ok();
+    if !matches!((modified(input), modified(output)), (Some(i), Some(o)) if o >= i) {
+        return false;
+    }
+    let (Some(made), Some(from)) = (
+        crate::provenance::recorded(output),
+        crate::provenance::recorded(input),
+    ) else {
+        return false;
+    };
+    specconv_exr::check::check_complete(output).is_ok()
+        && made.source == from.source
+        && made.settings
+            == from
+                .settings
+                .as_deref()
+                .map(specconv_description::as_spectral)
 }

@@ -60,6 +60,9 @@ pub struct Description {
     /// The bands and attributes of a spectral EXR (the Fichet 2021 layout); `None` for any
     /// other image.
     pub spectral: Option<SpectralFacts>,
+    /// What a compact texture holds (`--layout compact`: [`crate::compact`]); `None` for any
+    /// other image. Its channels are no colour: `expand` writes its bands.
+    pub compact: Option<crate::CompactFacts>,
     /// What its colour is read as, or why it cannot be converted (a colour space that cannot
     /// be reached, a data space that cannot be named). A spectral EXR is not read through a
     /// colour space: a front-end may show its bands instead.
@@ -197,6 +200,7 @@ pub fn describe(
 ) -> Result<Description, Error> {
     let reader = open_subimage(path, options.subimage.as_deref())?;
     let spectral = spectral_facts(path, &reader)?;
+    let compact = crate::compact::facts(path, &reader)?;
     let info = reader.info();
     let chosen = choose_channels(info, options.channels.as_deref());
     let alpha = match &chosen {
@@ -242,6 +246,7 @@ pub fn describe(
             })
             .map_err(|e| e.to_string()),
         spectral,
+        compact,
         colour,
     })
 }

@@ -35,6 +35,7 @@
 
 mod batch;
 mod colour_config;
+pub mod compact;
 mod converter;
 pub mod cost;
 mod describe;
@@ -54,8 +55,9 @@ use specconv_description::{named, options, report};
 use specconv_pipeline as pipeline;
 use specconv_pipeline::wrapped;
 
-pub use batch::{Batch, Event, Summary};
+pub use batch::{expansion_is_up_to_date, Batch, Event, Expansions, Summary};
 pub use colour_config::{is_builtin_config, ColourConfig, ColourSpace, ConfigOrigin, XyzTransform};
+pub use compact::{spectral_read_error, CompactFacts};
 pub use converter::{Advice, Converter, Rule, Selection, Warning};
 pub use describe::{
     describe, Channel, ChannelChoice, ChannelReason, Description, ReadAs, SpectralFacts, Window,

@@ -53,10 +53,7 @@ pub struct Shaded {
 /// Shades `input` (a reflectance file, not bispectral; or an emission file with no bounces,
 /// shown as its own colour).
 pub fn shade(input: &Path, options: &PreviewOptions) -> Result<Shaded, Error> {
-    let read_error = |source| Error::Read {
-        path: input.to_path_buf(),
-        source,
-    };
+    let read_error = |source| crate::compact::spectral_read_error(input, source);
     let mut reader = BlockReader::open(input).map_err(read_error)?;
     let h = reader.header().clone();
     match (&h.kind, options.bounces, options.illuminant) {

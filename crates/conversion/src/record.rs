@@ -112,6 +112,19 @@ impl Record {
         }
     }
 
+    /// A compact texture expanded into the spectral layout ([`crate::Expansions`]): its size,
+    /// levels and bands; `pixels` is level 0's texels.
+    pub fn expanded(input: &Path, output: &Path, e: &crate::Expanded, seconds: f64) -> Record {
+        Record {
+            pixels: Some((e.width * e.height) as u64),
+            width: Some(e.width),
+            height: Some(e.height),
+            levels: Some(e.levels),
+            bands: Some(e.wavelengths.len()),
+            ..Record::not_converted(input, output, "ok", seconds)
+        }
+    }
+
     /// An input skipped because its output is up to date.
     pub fn skipped(input: &Path, output: &Path) -> Record {
         Record {

@@ -225,10 +225,7 @@ impl ToRgb {
 
 /// [`Error::Read`] of `input`.
 fn read_error(input: &Path) -> impl Fn(specconv_exr::Error) -> Error + '_ {
-    |source| Error::Read {
-        path: input.to_path_buf(),
-        source,
-    }
+    |source| crate::compact::spectral_read_error(input, source)
 }
 
 /// How the file's values become XYZ under `light`; and, for a bispectral file under an

@@ -123,7 +123,13 @@ const DEFINITIONS: [Definition; 30] = [
         Key::Ocio,
         "ocio",
         Value::Text,
-        const { &[value("ocio", "CONFIG")] },
+        // maketx's --colorconfig.
+        const {
+            &[Flag {
+                aliases: &["colorconfig"],
+                ..value("ocio", "CONFIG")
+            }]
+        },
         OCIO,
     )
     .unset("$OCIO, else aces"),
@@ -144,7 +150,12 @@ const DEFINITIONS: [Definition; 30] = [
         Key::Alpha,
         "alpha",
         Value::Choice,
-        const { &[value("alpha", "HOW")] },
+        const {
+            &[
+                value("alpha", "HOW"),
+                sets("ignore-unassoc", "premultiplied").help(IGNORE_UNASSOC),
+            ]
+        },
         ALPHA,
     ),
     d(
@@ -274,7 +285,7 @@ const DEFINITIONS: [Definition; 30] = [
         Key::Mip,
         "mip",
         Value::Choice,
-        const { &[value("mip", "LEVELS")] },
+        const { &[value("mip", "LEVELS"), sets("nomipmap", "0").help(NOMIPMAP)] },
         MIP,
     ),
     d(
@@ -288,7 +299,12 @@ const DEFINITIONS: [Definition; 30] = [
         Key::Resize,
         "resize",
         Value::Switch,
-        const { &[sets("resize", "true")] },
+        const {
+            &[
+                sets("resize", "true"),
+                sets("noresize", "false").help(NORESIZE),
+            ]
+        },
         RESIZE,
     ),
     d(
@@ -514,6 +530,13 @@ OpenImageIO's. Filters with negative lobes (lanczos3, catmull-rom, mitchell, sin
 clamp what they push out of range: bands into [0, 1] (bounded reflectance) or above 0, alpha into \
 [0, 1]";
 
+const NOMIPMAP: &str = "maketx's spelling of --mip 0: the full resolution only";
+
+const NORESIZE: &str = "maketx's spelling of the default: level 0 keeps the input's size";
+
+const IGNORE_UNASSOC: &str = "maketx's spelling of --alpha premultiplied: the colour is taken as \
+premultiplied whatever the file says";
+
 const RESIZE: &str = "Resize level 0 up to the next power of two in each direction, as maketx's \
 `--resize`: the input is uplifted at its own size and its spectra resampled with --filter (box \
 and triangle: bilinearly, as maketx)";
@@ -522,7 +545,7 @@ const WRAP: &str = "Wrap modes the texture records, `MODE` or `S,T` (black, clam
 mirror); default: the input's (a maketx texture's), else black, as maketx";
 
 const NON_FINITE: &str = "Repair NaN and infinite input values: `box3` (the average of the finite \
-3×3 neighbours), `black` (0), or `none` to write them as they are. Without it such an input is \
+3×3 neighbours), `black` (0), or `keep` (maketx's `none`) to write them as they are. Without it such an input is \
 refused (as maketx --checknan)";
 
 const CHECKNAN: &str = "Refuse inputs with NaN or infinite values (the default; for maketx \

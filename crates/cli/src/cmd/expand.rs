@@ -1,56 +1,163 @@
-//! `specconv expand`: a compact texture written out in the spectral layout.
+//! `specconv expand`: compact textures written out in the spectral layout, a batch as
+//! `convert` runs one (the library's plan and [`specconv_conversion::Expansions`]).
 
+use super::convert::{ending, plan, printing, Reporting};
+use crate::progress::{Progress, Summary};
+use crate::stdio::StdoutFailed;
+use crate::{explain, print_error, records, signals, usage};
 use anyhow::Result;
+use specconv_conversion::{Event, Expansions};
 use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
 
 /// Shown after `--help` and as the man page's EXAMPLES.
 pub const EXAMPLES: &str = "\
 Examples:
   specconv convert --layout compact albedo.tx albedo_compact.exr
   specconv expand albedo_compact.exr albedo_spectral.exr
+  specconv expand compact/*.exr -o spectral -u --json > expand.jsonl
 ";
 
-/// Write a compact texture (`convert --layout compact`) out in the spectral layout.
+/// Write compact textures (`convert --layout compact`) out in the spectral layout.
 ///
-/// Each texel of the compact file holds its colour and the three dual unknowns of the bounded
+/// Each texel of a compact file holds its colour and the three dual unknowns of the bounded
 /// projection; the header holds the model's maps on the output grid and the decoding rule
 /// (docs/compact.md). Level 0 is decoded by that rule and the smaller levels are filtered from
 /// its spectra, as `convert` filters its own; samples are rounded, compressed and tiled as
 /// `convert` with the compact file's settings would have, and the header keeps its provenance.
 /// The values are `convert`'s, within one half step (the dual unknowns are stored as float32).
+/// Several inputs are expanded in turn, as `convert` converts them: the whole plan is checked
+/// before the first write, and a failed input does not stop the others.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// A compact texture (`specconvLayout` = "compact 1").
-    input: PathBuf,
-    /// The spectral OpenEXR to write (.exr).
-    output: PathBuf,
-    /// Replace an existing output.
+    /// Compact textures (`specconvLayout` = "compact 1"), then the output file when expanding
+    /// one; `-` reads input paths from standard input, one per line.
+    #[arg(value_name = "INPUT… [OUTPUT]", required = true)]
+    paths: Vec<PathBuf>,
+    /// Write every output into this directory, as STEM_spectral.exr.
+    #[arg(short, long, value_name = "DIR", conflicts_with = "output_template")]
+    output: Option<PathBuf>,
+    /// Output path for each input, as `convert --output-template` names them ({dir}, {stem},
+    /// {name}, {ext}).
+    #[arg(long, value_name = "TEMPLATE")]
+    output_template: Option<String>,
+    /// Worker threads (default: one per core).
+    #[arg(short = 'j', long, value_name = "N")]
+    threads: Option<usize>,
+    /// Skip inputs whose output is newer than the input and records the same source and
+    /// settings (an expansion's).
+    #[arg(short, long)]
+    update: bool,
+    /// Print one JSON object per input on standard output, as `convert --json` does (keys of
+    /// a conversion that do not apply to an expansion are null). See docs/json.md.
+    #[arg(long)]
+    json: bool,
+    /// Progress on standard error: `auto`, `always` or `never`, as `convert`'s.
+    #[arg(long, value_name = "WHEN", default_value = "auto")]
+    progress: crate::progress::When,
+    /// Print nothing but errors (no progress, no summary).
+    #[arg(short, long)]
+    quiet: bool,
+    /// Replace existing outputs.
     #[arg(long)]
     force: bool,
 }
 
-pub fn run(args: Args) -> Result<()> {
-    crate::files::check_exr_output(
-        &args.output,
-        &args.input,
-        args.force,
-        "expand writes OpenEXR",
-    )?;
-    let r = crate::signals::one_output(|cancel| {
-        specconv_conversion::expand(&args.input, &args.output, args.force, cancel)
-    })?;
-    let wl = &r.wavelengths;
-    errln!(
-        "{} → {}: {}×{}, {} levels, {} bands {}–{} nm ({} texels projected)",
-        args.input.display(),
-        args.output.display(),
-        r.width,
-        r.height,
-        r.levels,
-        wl.len(),
-        wl[0],
-        wl[wl.len() - 1],
-        r.projected,
-    );
-    Ok(())
+/// Expands every input; returns the exit status, as `convert`'s.
+pub fn run(args: Args) -> Result<i32> {
+    let whole = plan::of_paths(
+        &args.paths,
+        args.output.as_deref(),
+        args.output_template.as_deref(),
+    )
+    .map_err(usage)?;
+    whole
+        .check_existing(args.force, args.update)
+        .map_err(|e| usage(plan::planned(e)))?;
+    let pairs = whole.into_pairs();
+    let reporting = Reporting {
+        json: args.json,
+        update: args.update,
+        progress: args.progress,
+        quiet: args.quiet,
+        verbose: false,
+    };
+    let cancel = Arc::new(AtomicBool::new(false));
+    let inputs: Vec<PathBuf> = pairs.iter().map(|(i, _)| i.clone()).collect();
+    let mut progress = Progress::new(args.progress, args.quiet, &inputs);
+    let mut summary = Summary {
+        done: Some("expanded"),
+        ..Summary::default()
+    };
+    let mut stdout: Option<StdoutFailed> = None;
+    let mut said = |written: Result<(), StdoutFailed>| {
+        if let Err(e) = written {
+            cancel.store(true, Ordering::SeqCst);
+            stdout.get_or_insert(e);
+        }
+    };
+    let batch_start = std::time::Instant::now();
+    let mut started = batch_start;
+    let expansions = Expansions::new(args.force)
+        .update(args.update)
+        .threads(args.threads)
+        .cancel_on(&cancel);
+    let ended = signals::deferred(&cancel, || {
+        expansions.run(&pairs, &mut |event| match event {
+            Event::Started { index, input } => {
+                started = std::time::Instant::now();
+                progress.start(index, input)
+            }
+            Event::Skipped { input, output } => {
+                progress.skip();
+                summary.skipped += 1;
+                said(printing::skipped(&reporting, input, output));
+            }
+            Event::Expanded {
+                input,
+                output,
+                expanded,
+            } => {
+                progress.finish();
+                summary.converted += 1;
+                let seconds = started.elapsed().as_secs_f64();
+                said(printing::expanded(
+                    &reporting,
+                    (input, output),
+                    expanded,
+                    seconds,
+                ));
+            }
+            Event::Failed {
+                input,
+                output,
+                error,
+                seconds,
+            } => {
+                progress.finish();
+                let error = records::without_input(&explain(error), input);
+                if !args.json {
+                    print_error(&format!("{}: {error}", input.display()));
+                }
+                summary.failed.push((input.to_path_buf(), error.clone()));
+                said(printing::failed(
+                    &reporting,
+                    (input, output),
+                    error,
+                    seconds,
+                ));
+            }
+            _ => {}
+        })
+    });
+    let seconds = batch_start.elapsed().as_secs_f64();
+    ending(
+        &reporting,
+        ended,
+        summary,
+        stdout,
+        &cancel,
+        (pairs.len(), seconds),
+    )
 }

@@ -5,7 +5,9 @@ use crate::stdio::{serialize_path, StdoutFailed};
 use crate::{checks, exit, one_line, print_error};
 use anyhow::Result;
 use serde::Serialize;
-use specconv_conversion::{ChannelReason, ColourConfig, Description, ReadAs, SpectralFacts};
+use specconv_conversion::{
+    ChannelReason, ColourConfig, CompactFacts, Description, ReadAs, SpectralFacts,
+};
 use std::path::{Path, PathBuf};
 
 /// Shown after `--help` and as the man page's EXAMPLES.
@@ -93,6 +95,36 @@ struct Report<'a> {
     /// uplifted).
     role: &'static str,
     spectral: Option<Spectral>,
+    /// For a compact texture (docs/compact.md): its layout, texel channels and bands.
+    compact: Option<Compact>,
+}
+
+/// What a compact texture holds (`--layout compact`), for JSON.
+#[derive(Serialize)]
+struct Compact {
+    /// Its `specconvLayout` (`compact 1`), null where only its channels say it is compact.
+    layout: Option<String>,
+    /// The texel's channels it has, and those it lacks.
+    texel_channels: Vec<String>,
+    missing_channels: Vec<String>,
+    /// The wavelengths its header decodes to, or null with the reason this version cannot.
+    bands_nm: Option<Vec<f64>>,
+    problem: Option<String>,
+    /// Its `specconv*` attributes but the decoding text.
+    specconv: std::collections::BTreeMap<String, String>,
+}
+
+impl From<&CompactFacts> for Compact {
+    fn from(c: &CompactFacts) -> Compact {
+        Compact {
+            layout: c.layout.clone(),
+            texel_channels: c.texel_channels.clone(),
+            missing_channels: c.missing_channels.clone(),
+            bands_nm: c.bands_nm.clone().ok(),
+            problem: c.bands_nm.clone().err(),
+            specconv: c.specconv.clone(),
+        }
+    }
 }
 
 /// A window: origin and size.
@@ -209,6 +241,10 @@ fn show(
     if let (Some(s), false) = (&d.spectral, args.json) {
         return spectral_report(file, &d, s.clone().into());
     }
+    // A compact texture's channels are no colour: what it holds, and how to get its bands.
+    if let (Some(c), false) = (&d.compact, args.json) {
+        return print_rows(compact_rows(file, &d, c));
+    }
     // A file whose channels cannot be chosen alone is still described, with the reason.
     let (colour_channels, channels_rule, channels_problem) = match &d.channel_choice {
         Ok(c) => (
@@ -281,6 +317,7 @@ fn show(
         to_xyz,
         role: read_as.role().name(),
         spectral: d.spectral.clone().map(Spectral::from),
+        compact: d.compact.as_ref().map(Compact::from),
     };
     if args.json {
         outln!("{}", serde_json::to_string(&report)?)?;
@@ -394,7 +431,11 @@ fn spectral_report(file: &Path, d: &Description, s: Spectral) -> Result<()> {
         alpha: d.alpha_channel.is_some(),
         spectral: s,
     };
-    let rows = spectral_rows(&r);
+    print_rows(spectral_rows(&r))
+}
+
+/// Rows of `label: value`, the values aligned.
+fn print_rows(rows: Vec<(&str, String)>) -> Result<()> {
     let width = rows
         .iter()
         .map(|(k, _)| k.chars().count())
@@ -468,6 +509,66 @@ fn spectral_rows<'a>(r: &'a SpectralReport) -> Vec<(&'a str, String)> {
         )
     }))
     .chain(s.specconv.iter().map(|(k, v)| (k.as_str(), v.clone())))
+    .collect()
+}
+
+/// The lines `info` prints for a compact texture: what it holds and how to get its bands.
+fn compact_rows<'a>(file: &Path, d: &Description, c: &'a CompactFacts) -> Vec<(&'a str, String)> {
+    let bands = match &c.bands_nm {
+        Ok(wl) if wl.len() > 1 => format!(
+            "{}, {} to {} nm, every {} nm, decoded from the model in its header",
+            wl.len(),
+            nm(wl[0]),
+            nm(wl[wl.len() - 1]),
+            nm(wl[1] - wl[0])
+        ),
+        Ok(wl) => format!("{} band, decoded from the model in its header", wl.len()),
+        Err(why) => format!("not decodable by this version: {why}"),
+    };
+    let mut texel = format!(
+        "{} ({}; colour XYZ and the projection's three dual unknowns)",
+        c.texel_channels.join(", "),
+        d.pixel_format
+    );
+    if !c.missing_channels.is_empty() {
+        texel += &format!("; missing {}", c.missing_channels.join(", "));
+    }
+    if d.alpha_channel.is_some() {
+        texel += "; alpha A";
+    }
+    [
+        ("file", file.display().to_string()),
+        (
+            "format",
+            format!("{} (compact layout, docs/compact.md)", d.format),
+        ),
+        ("size", format!("{} x {}", d.width, d.height)),
+        (
+            "storage",
+            match d.tile_size {
+                Some([w, h]) => format!("tiles of {w} x {h}"),
+                None => "scanlines".into(),
+            },
+        ),
+        ("MIP levels", d.levels.len().to_string()),
+        (
+            "layout",
+            c.layout
+                .clone()
+                .unwrap_or_else(|| "compact texel channels, no specconvLayout attribute".into()),
+        ),
+        ("bands", bands),
+        ("texel", texel),
+        (
+            "spectral file",
+            format!(
+                "specconv expand {} OUTPUT.exr writes its bands (to-rgb and preview read that)",
+                file.display()
+            ),
+        ),
+    ]
+    .into_iter()
+    .chain(c.specconv.iter().map(|(k, v)| (k.as_str(), v.clone())))
     .collect()
 }
 

@@ -132,10 +132,13 @@ pub fn run(args: Args) -> Result<()> {
         errln!("specconv: warning: {why}");
     }
     errln!("data: {}", specconv_conversion::models::sources(&model));
-    errln!(
-        "commercial use: {} (yes only when every set's data allow it)",
-        model.training.commercial()
-    );
+    let commercial = model.training.commercial();
+    let unstated = if commercial == specconv_spectral::otsu2018::terms::Commercial::Unstated {
+        "; a set's terms are not stated: --commercial yes for your own measurements"
+    } else {
+        ""
+    };
+    errln!("commercial use: {commercial} (yes only when every set's data allow it{unstated})");
     errln!("wrote {}", args.output.display());
     Ok(())
 }

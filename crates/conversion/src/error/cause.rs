@@ -67,6 +67,7 @@ impl Error {
             | Error::EmissionIsItsOwnLight { .. }
             | Error::NotReflectance { .. }
             | Error::Bispectral { .. }
+            | Error::CompactNotSpectral { .. }
             | Error::Provenance(_) => Cause::Input,
             _ => Cause::Setting,
         }

@@ -152,6 +152,18 @@ pub enum Error {
         /// The file.
         input: PathBuf,
     },
+    /// A compact texture where a spectral file is needed ([`crate::compact`]).
+    #[error(
+        "{} is a compact texture ({layout}): six values a texel, decoded to spectra by the model \
+         in its header, not bands; `expand` writes it in the spectral layout (docs/compact.md)",
+        path.display()
+    )]
+    CompactNotSpectral {
+        /// The file.
+        path: PathBuf,
+        /// Its `specconvLayout`.
+        layout: String,
+    },
     /// A measurement cannot be set up.
     #[error(transparent)]
     Study(#[from] specconv_study::Error),
@@ -262,6 +274,7 @@ mod tests {
             // Another file is needed, not another setting.
             Error::NotReflectance { .. } => ("NotReflectance", false),
             Error::Bispectral { .. } => ("Bispectral", false),
+            Error::CompactNotSpectral { .. } => ("CompactNotSpectral", false),
             Error::Study(specconv_study::Error::Colour(e)) => ("Study", colour_fixable(e)),
             Error::Study(specconv_study::Error::Spectral(e)) => ("Study", spectral_fixable(e)),
             Error::Study(_) => ("Study", false),
@@ -331,6 +344,7 @@ mod tests {
         "BadProvenance",
         "NotReflectance",
         "Bispectral",
+        "CompactNotSpectral",
         "Study",
         "Colorimetry",
         "Attributes",
@@ -518,6 +532,10 @@ mod tests {
             },
             Error::NotReflectance { input: p() },
             Error::Bispectral { input: p() },
+            Error::CompactNotSpectral {
+                path: p(),
+                layout: "compact 1".into(),
+            },
             Error::Study(specconv_study::Error::Colour(not_covered())),
             Error::Study(specconv_study::Error::Spectral(one_cluster())),
             Error::Study(specconv_study::Error::Scene("no light".into())),

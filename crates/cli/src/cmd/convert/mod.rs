@@ -1,7 +1,7 @@
 //! `specconv [convert] INPUT… OUTPUT`: the main job.
 
-mod plan;
-mod printing;
+pub(crate) mod plan;
+pub(crate) mod printing;
 
 pub(crate) use plan::for_farm;
 use printing::converted;
@@ -249,6 +249,28 @@ fn run_batch(args: &Reporting, converter: &Converter, pairs: &[(PathBuf, PathBuf
             _ => {}
         })
     });
+    let seconds = batch_start.elapsed().as_secs_f64();
+    ending(
+        args,
+        ended,
+        summary,
+        stdout,
+        &cancel,
+        (pairs.len(), seconds),
+    )
+}
+
+/// How a batch ended, said as every batch command says it (the warnings, the summary line,
+/// the interrupt, the failed output), and its exit status; `batch` is the inputs and the
+/// seconds it took.
+pub(crate) fn ending(
+    args: &Reporting,
+    ended: Result<specconv_conversion::Summary, specconv_conversion::Error>,
+    mut summary: Summary,
+    stdout: Option<StdoutFailed>,
+    cancel: &AtomicBool,
+    (inputs, seconds): (usize, f64),
+) -> Result<i32> {
     let ended = match ended {
         Ok(ended) => ended,
         // The plan changed since it was checked (a file appeared): nothing was written.
@@ -260,10 +282,10 @@ fn run_batch(args: &Reporting, converter: &Converter, pairs: &[(PathBuf, PathBuf
     if !args.quiet {
         printing::warnings(&ended.warnings);
     }
-    if pairs.len() > 1 && !args.quiet {
+    if inputs > 1 && !args.quiet {
         summary.clipped = ended.clipped;
         summary.warnings = ended.warnings.iter().map(|w| w.inputs).collect();
-        errln!("{}", summary.text(batch_start.elapsed().as_secs_f64()));
+        errln!("{}", summary.text(seconds));
     }
     if let Some(e) = stdout {
         return Err(e.into());

@@ -10,15 +10,28 @@ use std::path::PathBuf;
 /// The whole plan of the command line's inputs and outputs: the positional paths (`-` reads
 /// a list on standard input), into the explicit output, `-o DIR` or `--output-template`.
 fn whole(args: &Args) -> Result<Plan> {
+    of_paths(
+        &args.paths,
+        args.output.as_deref(),
+        args.output_template.as_deref(),
+    )
+}
+
+/// The plan of a batch command's positional `paths` (inputs, then the output of one input;
+/// `-` reads a list on standard input) into the explicit output, the directory `output` or
+/// the `template`: `convert`'s, and `expand`'s.
+pub(crate) fn of_paths(
+    paths: &[PathBuf],
+    output: Option<&std::path::Path>,
+    template: Option<&str>,
+) -> Result<Plan> {
     // A template that cannot name outputs is refused before any input is looked at.
-    let template = args
-        .output_template
-        .as_deref()
+    let template = template
         .map(Outputs::template)
         .transpose()
         .map_err(planned)?;
-    let mut paths = args.paths.clone();
-    let single = args.output.is_none() && args.output_template.is_none();
+    let mut paths = paths.to_vec();
+    let single = output.is_none() && template.is_none();
     let explicit_output = if single {
         if paths.len() != 2 {
             bail!(
@@ -39,9 +52,9 @@ fn whole(args: &Args) -> Result<Plan> {
             inputs.push(p);
         }
     }
-    let outputs = match (explicit_output, &args.output, template) {
+    let outputs = match (explicit_output, output, template) {
         (Some(o), _, _) => Outputs::Files(vec![o]),
-        (None, Some(dir), _) => Outputs::Directory(dir.clone()),
+        (None, Some(dir), _) => Outputs::Directory(dir.to_path_buf()),
         (None, None, Some(t)) => t,
         (None, None, None) => unreachable!("single conversions have an explicit output"),
     };
@@ -71,7 +84,7 @@ pub(crate) fn for_farm(args: &Args) -> Result<Plan> {
 }
 
 /// A plan's error as a library error, so that the command line's hint (`--force`) follows it.
-fn planned(e: plan::Error) -> anyhow::Error {
+pub(crate) fn planned(e: plan::Error) -> anyhow::Error {
     anyhow::anyhow!(crate::explain(&specconv_conversion::Error::from(e)))
 }
 

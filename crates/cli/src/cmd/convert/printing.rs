@@ -8,18 +8,39 @@ use specconv_conversion::{Converter, Report};
 use std::path::Path;
 
 /// Reports an input skipped because its output is up to date.
-pub(super) fn skipped(args: &Args, input: &Path, output: &Path) -> Result<(), StdoutFailed> {
+pub(crate) fn skipped(args: &Args, input: &Path, output: &Path) -> Result<(), StdoutFailed> {
     emit(args, Record::skipped(input, output), "")
 }
 
 /// Reports a failed input (its error line is printed by the caller unless `--json`).
-pub(super) fn failed(
+pub(crate) fn failed(
     args: &Args,
     (input, output): (&Path, &Path),
     error: String,
     seconds: f64,
 ) -> Result<(), StdoutFailed> {
     emit(args, Record::failed(input, output, error, seconds), "")
+}
+
+/// Reports an expanded compact texture (`expand`): its record or line.
+pub(crate) fn expanded(
+    args: &Args,
+    (input, output): (&Path, &Path),
+    e: &specconv_conversion::Expanded,
+    seconds: f64,
+) -> Result<(), StdoutFailed> {
+    let wl = &e.wavelengths;
+    let line = format!(
+        "{}×{}, {} levels, {} bands {}–{} nm ({} texels projected), {seconds:.2} s",
+        e.width,
+        e.height,
+        e.levels,
+        wl.len(),
+        wl.first().copied().unwrap_or_default(),
+        wl.last().copied().unwrap_or_default(),
+        e.projected,
+    );
+    emit(args, Record::expanded(input, output, e, seconds), &line)
 }
 
 /// Reports a converted input: its warnings, its record or line.

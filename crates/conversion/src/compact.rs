@@ -1,0 +1,103 @@
+//! Compact textures (`--layout compact`, docs/compact.md) told apart from spectral files, by one
+//! rule that every reader of spectral files follows: `describe` shows what a compact file
+//! holds, and `to-rgb`, `preview` and Python's `read_spectral` refuse it naming `expand`,
+//! instead of calling it a file with no bands.
+
+use crate::error::Error;
+use crate::pipeline::{COMPACT_ATTRIBUTE, COMPACT_CHANNELS, LAYOUT_ATTRIBUTE};
+use specconv_oiio::ImageReader;
+use std::collections::BTreeMap;
+use std::path::Path;
+
+/// What a compact texture holds, as `info` shows it: six values a texel and the model in its
+/// header, which a renderer decodes per lookup and `expand` writes out as bands.
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub struct CompactFacts {
+    /// Its `specconvLayout` attribute (`compact 1`); `None` where the texel's channels alone
+    /// say it is compact.
+    pub layout: Option<String>,
+    /// The texel's channels the file has, in a texel's order (`C.X` … `U.2`).
+    pub texel_channels: Vec<String>,
+    /// The texel's channels it lacks.
+    pub missing_channels: Vec<String>,
+    /// Wavelengths of the bands its header decodes to (nm); or why this version cannot
+    /// decode it (what is missing or wrong).
+    pub bands_nm: Result<Vec<f64>, String>,
+    /// Its `specconv*` attributes but the decoding text (model, settings, provenance).
+    pub specconv: BTreeMap<String, String>,
+}
+
+/// The rule: a file is compact when its layout attribute says so (`compact …`, any version),
+/// or when it has every channel of a compact texel.
+fn is_compact(layout: Option<&str>, channels: &[&str]) -> bool {
+    layout.is_some_and(|l| l.trim_start().starts_with("compact"))
+        || COMPACT_CHANNELS.iter().all(|c| channels.contains(c))
+}
+
+/// The compact facts of the image `reader` has open at `path`; `None` when it is not compact.
+pub(crate) fn facts(path: &Path, reader: &ImageReader) -> Result<Option<CompactFacts>, Error> {
+    let channels: Vec<&str> = reader
+        .info()
+        .channels
+        .iter()
+        .map(|c| c.name.as_str())
+        .collect();
+    let layout = reader.string_attribute(LAYOUT_ATTRIBUTE).map_err(oiio)?;
+    if !is_compact(layout.as_deref(), &channels) {
+        return Ok(None);
+    }
+    let text = reader.string_attribute(COMPACT_ATTRIBUTE).map_err(oiio)?;
+    let bands_nm =
+        crate::pipeline::expand::header(path, layout.as_deref(), text.as_deref(), &channels)
+            .map(|(compact, _)| compact.grid().wavelengths())
+            .map_err(|e| match e {
+                crate::pipeline::Error::NotCompact { why, .. } => why,
+                e => e.to_string(),
+            });
+    let (texel_channels, missing_channels): (Vec<String>, Vec<String>) = COMPACT_CHANNELS
+        .iter()
+        .map(|c| c.to_string())
+        .partition(|c| channels.contains(&c.as_str()));
+    let mut specconv = BTreeMap::new();
+    for name in reader.string_attribute_names().map_err(oiio)? {
+        if name.starts_with("specconv") && name != COMPACT_ATTRIBUTE && name != LAYOUT_ATTRIBUTE {
+            if let Some(value) = reader.string_attribute(&name).map_err(oiio)? {
+                specconv.insert(name, value);
+            }
+        }
+    }
+    Ok(Some(CompactFacts {
+        layout,
+        texel_channels,
+        missing_channels,
+        bands_nm,
+        specconv,
+    }))
+}
+
+/// The error of a reader of spectral files that could not read `path` (`source`): when the
+/// file is a compact texture, [`Error::CompactNotSpectral`], which says what it is and how to
+/// get its bands; otherwise [`Error::Read`].
+pub fn spectral_read_error(path: &Path, source: specconv_exr::Error) -> Error {
+    // Only a regular file is opened again: a FIFO would block the reader.
+    let compact = specconv_atomic_file::readable_file(path)
+        .ok()
+        .and_then(|_| ImageReader::open(path).ok())
+        .and_then(|r| facts(path, &r).ok().flatten());
+    match compact {
+        Some(facts) => Error::CompactNotSpectral {
+            path: path.to_path_buf(),
+            layout: facts.layout.unwrap_or_else(|| "no layout attribute".into()),
+        },
+        None => Error::Read {
+            path: path.to_path_buf(),
+            source,
+        },
+    }
+}
+
+/// A reader's error as a conversion's.
+fn oiio(e: specconv_oiio::Error) -> Error {
+    crate::pipeline::Error::from(e).into()
+}
