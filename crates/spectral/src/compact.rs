@@ -25,7 +25,6 @@
 
 use crate::bounded::{Bounded, Counts, Outcome};
 use crate::method::MethodName;
-use crate::otsu2018::hard_inputs::DARK;
 use crate::otsu2018::tree::{Axis, Node, Tree};
 use crate::stack::Description;
 use crate::{Error, Method, Model, Uplifter};
@@ -307,6 +306,12 @@ pub const MAX_DEPTH: usize = crate::otsu2018::tree::MAX_DEPTH;
 /// The most bands a text may have: a grid's ([`Grid::MAX_BANDS`]).
 pub const MAX_BANDS: usize = Grid::MAX_BANDS;
 
+/// The dark level a text states (`dark`), the only one ([`crate::otsu2018::hard_inputs::DARK`]).
+pub const DARK: f64 = crate::otsu2018::hard_inputs::DARK;
+
+/// The widest blend a text may state ([`crate::otsu2018::blend::MAX_WIDTH`]).
+pub const MAX_WIDTH: f64 = crate::otsu2018::blend::MAX_WIDTH;
+
 /// What a text gives, line by line.
 #[derive(Default)]
 struct Parts {
@@ -395,6 +400,9 @@ impl Parts {
         if word == "model" {
             self.model.0 = rest.unwrap_or("").to_string();
             return Ok(());
+        }
+        if !ONCE.contains(&word) && !["node", "map", "b"].contains(&word) {
+            return Ok(()); // decoders skip what they do not know, whatever its fields
         }
         // Every other line's fields are separated by single spaces.
         let w: Vec<&str> = rest.map_or(Vec::new(), |r| r.split(' ').collect());
@@ -500,9 +508,9 @@ impl Parts {
             return Err(bad("three b rows (X, Y, Z) are required".into()));
         };
         // One list of bands for every reader: the grid's, written out.
-        if wl != grid.wavelengths() {
+        if wl != grid.wavelengths() || wl.windows(2).any(|w| w[1] <= w[0]) {
             return Err(bad(format!(
-                "the wavelengths line is not the grid's ({} {} {}: START + i × STEP, {} bands)",
+                "the wavelengths line is not the grid's ({} {} {}: START + i × STEP, {} bands, increasing)",
                 grid.start,
                 grid.end,
                 grid.step,
