@@ -740,4 +740,139 @@ mod tests {
         let swapped = Compact::from_text(&(lines.join("\n") + "\n")).unwrap();
         assert_eq!(swapped.to_text(), text);
     }
+
+    /// A text of one band whose tree is `shape`'s: `chain` splits each with a leaf below (a
+    /// chain as deep), or a balanced tree of 2^`levels` leaves; split values all different.
+    fn tree_text(nodes: &[(usize, usize)], leaves: usize) -> String {
+        let mut t = String::from(
+            "specconv compact 1\nmodel m\nhash 0123456789abcdef\ngrid 500 500 1\nwavelengths 500\nwhite 0.3 0.3\ndark 0.01\nblend 0\nclip 1\n",
+        );
+        use std::fmt::Write;
+        for (i, &(below, above)) in nodes.iter().enumerate() {
+            let _ = writeln!(
+                t,
+                "node {i} split x {} {below} {above} 0",
+                0.3 + i as f64 * 1e-9
+            );
+        }
+        for k in 0..leaves {
+            let _ = writeln!(t, "node {} leaf {k}\nmap {k} 0 0 0 0.5", nodes.len() + k);
+        }
+        t + "b X 0.1\nb Y 0.1\nb Z 0.1\n"
+    }
+
+    fn chain(depth: usize) -> String {
+        let nodes: Vec<_> = (0..depth)
+            .map(|i| (depth + i, if i + 1 < depth { i + 1 } else { 2 * depth }))
+            .collect();
+        tree_text(&nodes, depth + 1)
+    }
+
+    fn balanced(levels: u32) -> String {
+        let splits = (1usize << levels) - 1;
+        // Heap order: node i's children are 2i + 1 and 2i + 2; leaves after the splits.
+        let nodes: Vec<_> = (0..splits).map(|i| (2 * i + 1, 2 * i + 2)).collect();
+        tree_text(&nodes, splits + 1)
+    }
+
+    /// Issue 45: a chain 40,000 or 200,000 deep overflowed the stack of every reader that walks
+    /// the tree by recursion. Every reader refuses a tree deeper than [`MAX_DEPTH`] splits,
+    /// without recursion; [`MAX_DEPTH`] itself is read.
+    #[test]
+    fn trees_deeper_than_the_limit_are_refused_without_a_crash() {
+        for depth in [MAX_DEPTH + 1, 40_000, 200_000] {
+            let e = Compact::from_text(&chain(depth)).unwrap_err().to_string();
+            assert!(
+                e.contains(&format!("deeper than {MAX_DEPTH}")),
+                "{depth}: {e}"
+            );
+        }
+        let c = Compact::from_text(&chain(MAX_DEPTH)).unwrap();
+        assert_eq!(c.up.tree().depth(), MAX_DEPTH);
+        // A model file's tree has the same limit.
+        let nodes: Vec<Node> = (0..200_000)
+            .map(|i| Node::Split {
+                axis: Axis::X,
+                value: 0.3,
+                below: 200_000 + i,
+                above: i + 1,
+            })
+            .chain((0..200_001).map(|leaf| Node::Leaf { leaf }))
+            .collect();
+        let mut tree = Tree::from(nodes);
+        let last = 199_999;
+        tree.nodes_mut()[last] = Node::Split {
+            axis: Axis::X,
+            value: 0.3,
+            below: 200_000 + last,
+            above: 400_000,
+        };
+        assert!(tree.validate(200_001).unwrap_err().contains("deeper than"));
+        assert_eq!(tree.depth(), 200_000, "depth is a loop, not a recursion");
+    }
+
+    /// Reading a text takes time linear in its length: 8 times the nodes, not 64 times the
+    /// time (a generous bound on a shared machine: linear is 8).
+    #[test]
+    fn reading_a_text_takes_time_linear_in_its_size() {
+        let time = |t: &str| {
+            let start = std::time::Instant::now();
+            Compact::from_text(t).unwrap();
+            start.elapsed().as_secs_f64()
+        };
+        let (small, large) = (balanced(13), balanced(16));
+        let (a, b) = (
+            time(&small).max(time(&small)),
+            time(&large).min(time(&large)),
+        );
+        assert!(b / a < 24.0, "{a} s for 2^13 leaves, {b} s for 2^16");
+    }
+
+    /// The conformance texts of testdata/compact/hostile (docs/compact.md): each read as its
+    /// verdict says, the accepted ones with their bands and decoded values (which the other
+    /// decoders meet in tests/it/compact.rs).
+    #[test]
+    fn the_conformance_texts_are_read_as_their_verdicts_say() {
+        let here =
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../testdata/compact/hostile");
+        let verdicts = std::fs::read_to_string(here.join("verdicts.txt")).unwrap();
+        let mut cases = 0;
+        for line in verdicts.lines() {
+            let w: Vec<&str> = line.split(' ').collect();
+            let text = std::fs::read(here.join(format!("{}.txt", w[0]))).unwrap();
+            let got = std::str::from_utf8(&text)
+                .map_err(|e| e.to_string())
+                .and_then(|t| Compact::from_text(t).map_err(|e| e.to_string()));
+            match (w[1], got) {
+                ("refuse", Err(_)) => {}
+                ("accept", Ok(c)) => {
+                    let values =
+                        std::fs::read_to_string(here.join(format!("values/{}.txt", w[2]))).unwrap();
+                    let mut rows = values.lines();
+                    let bands: Vec<f64> = rows.next().unwrap()[6..]
+                        .split(' ')
+                        .map(|v| v.parse().unwrap())
+                        .collect();
+                    assert_eq!(c.grid().wavelengths(), bands, "{}", w[0]);
+                    for row in rows {
+                        let (t, r) = row.split_once(" = ").unwrap();
+                        let t: Vec<f32> = t.split(' ').map(|v| v.parse().unwrap()).collect();
+                        let want: Vec<f32> = r.split(' ').map(|v| v.parse().unwrap()).collect();
+                        let mut out = vec![0.0; bands.len()];
+                        c.decode_f32(&t, &mut out);
+                        for (o, v) in out.iter().zip(&want) {
+                            assert!(
+                                o.is_nan() == v.is_nan() && (o.is_nan() || (o - v).abs() <= 1e-6),
+                                "{}: {row}: {out:?}",
+                                w[0]
+                            );
+                        }
+                    }
+                }
+                (verdict, got) => panic!("{}: {verdict} expected, got {:?}", w[0], got.map(|_| ())),
+            }
+            cases += 1;
+        }
+        assert!(cases > 80, "{cases}");
+    }
 }

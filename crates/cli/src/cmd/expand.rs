@@ -27,6 +27,10 @@ pub struct Args {
     /// Replace an existing output.
     #[arg(long)]
     force: bool,
+    /// NaN and infinite texels: refuse, black, box3 or none (keep), as `convert --fixnan`
+    /// treats its input's pixels; by default the rule the compact file's conversion recorded.
+    #[arg(long, value_name = "HOW")]
+    fixnan: Option<specconv_conversion::NonFinite>,
 }
 
 pub fn run(args: Args) -> Result<()> {
@@ -37,7 +41,7 @@ pub fn run(args: Args) -> Result<()> {
         "expand writes OpenEXR",
     )?;
     let r = crate::signals::one_output(|cancel| {
-        specconv_conversion::expand(&args.input, &args.output, args.force, cancel)
+        specconv_conversion::expand(&args.input, &args.output, args.force, args.fixnan, cancel)
     })?;
     let wl = &r.wavelengths;
     errln!(
