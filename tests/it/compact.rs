@@ -245,54 +245,77 @@ fn every_decoder_reads_the_conformance_texts_alike() {
         assert_eq!(rust.grid().wavelengths(), bands, "{name}: library");
         assert_eq!(c_bands, bands, "{name}: C");
         assert_eq!(np_bands, bands, "{name}: numpy");
-        // The spectra: the stated ones, in every decoder.
-        let rows: Vec<(&str, &str)> = values
-            .lines()
-            .skip(1)
-            .map(|r| r.split_once(" = ").unwrap())
-            .collect();
-        let texels = dir.write(
-            "texels.txt",
-            &format!(
-                "{} 6\n{}\n",
-                rows.len(),
-                rows.iter().map(|r| r.0).collect::<Vec<_>>().join("\n")
-            ),
+        spectra_agree(
+            name,
+            &values,
+            &rust,
+            np,
+            (exe.as_path(), path.as_path()),
+            &dir,
         );
-        let c = std::process::Command::new(&exe)
-            .arg("--print")
-            .arg(&path)
-            .arg(&texels)
-            .output()
-            .unwrap();
-        let c_rows = String::from_utf8_lossy(&c.stdout).into_owned();
-        let c_rows: Vec<&str> = c_rows.lines().collect();
-        for (k, (t, want)) in rows.iter().enumerate() {
-            let t: Vec<f32> = t.split(' ').map(|v| v.parse().unwrap()).collect();
-            let want: Vec<f64> = want.split(' ').map(|v| v.parse().unwrap()).collect();
-            let mut lib = vec![0.0f32; bands.len()];
-            rust.decode_f32(&t, &mut lib);
-            let lib: Vec<f64> = lib.into_iter().map(f64::from).collect();
-            let from_c: Vec<f64> = c_rows[k].split(' ').map(|v| v.parse().unwrap()).collect();
-            let from_np: Vec<f64> = np["values"][k]
-                .as_array()
-                .unwrap()
-                .iter()
-                .map(|v| v.as_f64().unwrap_or(f64::NAN))
-                .collect();
-            for (who, got) in [("library", &lib), ("C", &from_c), ("numpy", &from_np)] {
-                let alike = got.iter().zip(&want).all(|(g, w)| {
-                    g.is_nan() == w.is_nan() && (w.is_nan() || (g - w).abs() <= 1e-6)
-                });
-                assert!(
-                    alike && got.len() == want.len(),
-                    "{name} {who}: texel {k}: {got:?}, not {want:?}"
-                );
-            }
-        }
         n += 1;
     }
     assert!(n >= 89, "{n} cases");
+}
+
+/// The spectra the values file `values` states for its texels, decoded by the library
+/// (`rust`), numpy (`np`, the conformance script's answer) and the C header (`exe`, on the
+/// text at `path`): each within 1e-6 of the stated, NaN where it states NaN.
+fn spectra_agree(
+    name: &str,
+    values: &str,
+    rust: &specconv_spectral::compact::Compact,
+    np: &serde_json::Value,
+    (exe, path): (&Path, &Path),
+    dir: &Scratch,
+) {
+    let n = rust.grid().len();
+    // The spectra: the stated ones, in every decoder.
+    let rows: Vec<(&str, &str)> = values
+        .lines()
+        .skip(1)
+        .map(|r| r.split_once(" = ").unwrap())
+        .collect();
+    let texels = dir.write(
+        "texels.txt",
+        &format!(
+            "{} 6\n{}\n",
+            rows.len(),
+            rows.iter().map(|r| r.0).collect::<Vec<_>>().join("\n")
+        ),
+    );
+    let c = std::process::Command::new(&exe)
+        .arg("--print")
+        .arg(&path)
+        .arg(&texels)
+        .output()
+        .unwrap();
+    let c_rows = String::from_utf8_lossy(&c.stdout).into_owned();
+    let c_rows: Vec<&str> = c_rows.lines().collect();
+    for (k, (t, want)) in rows.iter().enumerate() {
+        let t: Vec<f32> = t.split(' ').map(|v| v.parse().unwrap()).collect();
+        let want: Vec<f64> = want.split(' ').map(|v| v.parse().unwrap()).collect();
+        let mut lib = vec![0.0f32; n];
+        rust.decode_f32(&t, &mut lib);
+        let lib: Vec<f64> = lib.into_iter().map(f64::from).collect();
+        let from_c: Vec<f64> = c_rows[k].split(' ').map(|v| v.parse().unwrap()).collect();
+        let from_np: Vec<f64> = np["values"][k]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|v| v.as_f64().unwrap_or(f64::NAN))
+            .collect();
+        for (who, got) in [("library", &lib), ("C", &from_c), ("numpy", &from_np)] {
+            let alike = got
+                .iter()
+                .zip(&want)
+                .all(|(g, w)| g.is_nan() == w.is_nan() && (w.is_nan() || (g - w).abs() <= 1e-6));
+            assert!(
+                alike && got.len() == want.len(),
+                "{name} {who}: texel {k}: {got:?}, not {want:?}"
+            );
+        }
+    }
 }
 
 /// Issue 45: `expand` of a header whose tree is a chain 40,000 deep overflowed the stack (exit
