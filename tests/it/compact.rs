@@ -619,7 +619,7 @@ fn the_c_header_decodes_what_convert_bakes_and_refuses_hostile_text() {
             "leaf map out of range",
         ),
         (
-            "a million and one bands",
+            "100,001 bands",
             edit("wavelengths ", &|w| *w = vec![wavelengths.clone()]),
             "wavelengths (1 to 100000)",
         ),
