@@ -284,9 +284,9 @@ fn spectra_agree(
             rows.iter().map(|r| r.0).collect::<Vec<_>>().join("\n")
         ),
     );
-    let c = std::process::Command::new(&exe)
+    let c = std::process::Command::new(exe)
         .arg("--print")
-        .arg(&path)
+        .arg(path)
         .arg(&texels)
         .output()
         .unwrap();
