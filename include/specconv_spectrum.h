@@ -71,9 +71,14 @@ float scs_decode_at(const scs_model *m, const float texel[6], double wavelength_
 #include <stdlib.h>
 #include <string.h>
 
-/* Deeper trees are refused so that decoding walks them with a fixed stack (no allocation, no
- * recursion); specconv's models are 3 to 6 levels deep. */
+/* The grammar's limits (docs/compact.md, "The header text"), the library's own: at most
+ * SCS_MAX_DEPTH splits from the root to a leaf (decoding walks the tree with a fixed stack, no
+ * allocation, no recursion; specconv's models are 3 to 6 deep), at most SCS_MAX_BANDS bands,
+ * the dark level SCS_DARK, blend widths up to SCS_MAX_WIDTH. */
 #define SCS_MAX_DEPTH 64
+#define SCS_MAX_BANDS 100000
+#define SCS_DARK 0.01
+#define SCS_MAX_WIDTH 0.5
 
 typedef struct {
     int leaf;         /* 1: a leaf of map k; 0: a split */
@@ -130,12 +135,53 @@ static int scs_first_is_(const char *line, const char *word) {
     return !strncmp(line, word, k) && (line[k] == '\0' || line[k] == ' ' || line[k] == '\t');
 }
 
-/* A finite decimal number, the whole word. strtod reads the C locale's decimal point, which
- * is what a program gets unless it calls setlocale. */
+/* Whether a line has the grammar's form: no control character, a keyword of a-z then a-z, 0-9
+ * or _ up to the first space, and (but for `model`, whose rest is any text) fields separated by
+ * single spaces, none empty. NULL when it has, else why not. */
+static const char *scs_line_form_(const char *line) {
+    static const char *const known[] = {"hash", "grid", "wavelengths", "white", "dark", "blend",
+                                        "clip", "node", "map", "b", NULL};
+    const char *const *k;
+    const char *c;
+    int model = !strncmp(line, "model", 5) && (line[5] == ' ' || !line[5]);
+    for (c = line; *c; c++)
+        if ((unsigned char)*c < 0x20 || *c == 0x7f) return "a control character (a tab, a CR, ...)";
+    if (!(*line >= 'a' && *line <= 'z')) return "no keyword (a-z, then a-z, 0-9 or _) at the start";
+    for (c = line; *c && *c != ' '; c++)
+        if (!((*c >= 'a' && *c <= 'z') || (*c >= '0' && *c <= '9') || *c == '_'))
+            return "no keyword (a-z, then a-z, 0-9 or _) at the start";
+    if (model || !*c) return NULL;
+    /* Lines of other keywords are skipped, whatever their fields. */
+    for (k = known; *k; k++)
+        if ((size_t)(c - line) == strlen(*k) && !strncmp(line, *k, (size_t)(c - line))) break;
+    if (!*k) return NULL;
+    for (; *c; c++)
+        if (*c == ' ' && (c[1] == ' ' || !c[1])) return "an empty field (two spaces, or a space at the end)";
+    return NULL;
+}
+
+/* A number of the grammar, the whole word: [+-]?(D+(.D*)?|.D+)([eE][+-]?D+)?, ASCII digits
+ * (strtod alone would take hex, inf, nan and leading spaces, which other readers refuse), finite
+ * once read. strtod reads the C locale's decimal point, which is what a program gets unless it
+ * calls setlocale. */
 static int scs_number_(const char *w, double *out) {
     char *end;
+    const char *c;
+    size_t digits = 0;
     double v;
     if (!w || !*w) return 0;
+    c = w + (*w == '+' || *w == '-');
+    for (; *c >= '0' && *c <= '9'; c++) digits++;
+    if (*c == '.')
+        for (c++; *c >= '0' && *c <= '9'; c++) digits++;
+    if (!digits) return 0;
+    if (*c == 'e' || *c == 'E') {
+        c++;
+        c += *c == '+' || *c == '-';
+        if (!(*c >= '0' && *c <= '9')) return 0;
+        while (*c >= '0' && *c <= '9') c++;
+    }
+    if (*c) return 0;
     v = strtod(w, &end);
     if (*end || !isfinite(v)) return 0;
     *out = v;
@@ -163,6 +209,24 @@ static int scs_numbers_(char **p, double *out, long count) {
     return scs_word_(p) == NULL;
 }
 
+/* Whether grid (START END STEP) is a grid of the library (0 < START <= END, STEP > 0, END −
+ * START a whole number of steps to 1e-9 relative, at most SCS_MAX_BANDS bands) whose bands are
+ * the n wavelengths wl exactly: START + i × STEP, the product rounded, then the sum. */
+static int scs_grid_is_(const double grid[3], const double *wl, long n) {
+    double intervals, whole;
+    long i;
+    if (!(grid[0] > 0 && grid[2] > 0 && grid[1] >= grid[0])) return 0;
+    intervals = (grid[1] - grid[0]) / grid[2];
+    whole = floor(intervals + 0.5);
+    if (fabs(intervals - whole) > 1e-9 * (intervals > 1 ? intervals : 1)) return 0;
+    if (whole + 1 > SCS_MAX_BANDS || (long)whole + 1 != n) return 0;
+    for (i = 0; i < n; i++) {
+        volatile double step = grid[2] * (double)i; /* rounded: no fused multiply-add */
+        if (wl[i] != grid[0] + step) return 0;
+    }
+    return 1;
+}
+
 static void *scs_alloc_(size_t count, size_t size) {
     if (count == 0) count = 1;
     if (count > (size_t)-1 / size) return NULL;
@@ -185,6 +249,8 @@ scs_model *scs_model_parse(const char *text, char *err, size_t errlen) {
     long nlines = 0, i, leaves = 0;
     size_t len;
     int seen_white = 0, seen_dark = 0, seen_blend = 0, seen_clip = 0, seen_b[3] = {0, 0, 0};
+    int seen_model = 0, seen_hash = 0, seen_grid = 0;
+    double grid[3] = {0, 0, 0};
     char *map_seen = NULL, *node_seen = NULL, *reached = NULL, *map_used = NULL;
     long *stack = NULL;
     int *depth = NULL;
@@ -213,6 +279,10 @@ scs_model *scs_model_parse(const char *text, char *err, size_t errlen) {
         scs_fail_(err, errlen, 1, "not a text of `specconv compact 1`");
         goto fail;
     }
+    for (i = 1; i < nlines; i++) {
+        const char *why = lines[i][0] ? scs_line_form_(lines[i]) : NULL;
+        if (why) { scs_fail_(err, errlen, (int)i + 1, "%s", why); goto fail; }
+    }
 
     /* First pass (docs/compact.md, "The header text"): the wavelengths fix n, and the node
      * and map lines their counts, before any line is read that depends on them. */
@@ -230,8 +300,8 @@ scs_model *scs_model_parse(const char *text, char *err, size_t errlen) {
                 count++;
                 while (*r && *r != ' ' && *r != '\t') r++;
             }
-            if (count < 1 || count > 1000000) {
-                scs_fail_(err, errlen, (int)i + 1, "%ld wavelengths (1 to 10^6)", count);
+            if (count < 1 || count > SCS_MAX_BANDS) {
+                scs_fail_(err, errlen, (int)i + 1, "%ld wavelengths (1 to %d)", count, SCS_MAX_BANDS);
                 goto fail;
             }
             m->n = (int)count;
@@ -275,12 +345,19 @@ scs_model *scs_model_parse(const char *text, char *err, size_t errlen) {
         char *q = lines[i], *w;
         int ln = (int)i + 1;
         if (!q || !(w = scs_word_(&q))) continue;
-        if (!strcmp(w, "white")) {
+        if (!strcmp(w, "model")) {
+            if (seen_model++) goto bad;
+        } else if (!strcmp(w, "hash")) {
+            char *h = scs_word_(&q);
+            if (seen_hash++ || !h || strlen(h) != 16 || strspn(h, "0123456789abcdef") != 16 || scs_word_(&q)) goto bad;
+        } else if (!strcmp(w, "grid")) {
+            if (seen_grid++ || !scs_numbers_(&q, grid, 3)) goto bad;
+        } else if (!strcmp(w, "white")) {
             if (seen_white++ || !scs_numbers_(&q, m->white, 2)) goto bad;
         } else if (!strcmp(w, "dark")) {
-            if (seen_dark++ || !scs_numbers_(&q, &m->dark, 1) || !(m->dark > 0)) goto bad;
+            if (seen_dark++ || !scs_numbers_(&q, &m->dark, 1) || m->dark != SCS_DARK) goto bad;
         } else if (!strcmp(w, "blend")) {
-            if (seen_blend++ || !scs_numbers_(&q, &m->blend, 1) || m->blend < 0) goto bad;
+            if (seen_blend++ || !scs_numbers_(&q, &m->blend, 1) || m->blend < 0 || m->blend > SCS_MAX_WIDTH) goto bad;
         } else if (!strcmp(w, "clip")) {
             char *v = scs_word_(&q);
             if (seen_clip++ || !v || scs_word_(&q) || (strcmp(v, "0") && strcmp(v, "1"))) goto bad;
@@ -313,7 +390,7 @@ scs_model *scs_model_parse(const char *text, char *err, size_t errlen) {
                     scs_fail_(err, errlen, ln, "split's node out of range (%ld nodes)", m->nodes_n);
                     goto fail;
                 }
-                if (!scs_numbers_(&q, v, 1) || v[0] < 0) goto bad;
+                if (!scs_numbers_(&q, v, 1)) goto bad; /* its range: once blend is read */
                 nd->width = v[0];
             } else {
                 goto bad;
@@ -341,9 +418,21 @@ scs_model *scs_model_parse(const char *text, char *err, size_t errlen) {
         scs_fail_(err, errlen, ln, "malformed `%s` line or a repeated one", w);
         goto fail;
     }
-    if (!seen_white || !seen_dark || !seen_blend || !seen_clip) {
-        scs_fail_(err, errlen, 0, "white, dark, blend and clip lines are required");
+    if (!seen_model || !seen_hash || !seen_grid || !seen_white || !seen_dark || !seen_blend || !seen_clip) {
+        scs_fail_(err, errlen, 0, "model, hash, grid, white, dark, blend and clip lines are required");
         goto fail;
+    }
+    if (!scs_grid_is_(grid, m->wl, m->n)) {
+        scs_fail_(err, errlen, 0, "the wavelengths line is not the grid's (START + i * STEP)");
+        goto fail;
+    }
+    /* With blend > 0 a split blends over [blend, SCS_MAX_WIDTH]; the hard switch's are 0. */
+    for (i = 0; i < m->nodes_n; i++) {
+        double wd = m->nodes[i].width;
+        if (!m->nodes[i].leaf && (m->blend > 0 ? !(wd >= m->blend && wd <= SCS_MAX_WIDTH) : wd != 0)) {
+            scs_fail_(err, errlen, 0, "node %ld's width is outside [blend, %g] (0 with blend 0)", i, SCS_MAX_WIDTH);
+            goto fail;
+        }
     }
     if (!seen_b[0] || !seen_b[1] || !seen_b[2]) {
         scs_fail_(err, errlen, 0, "b X, b Y and b Z lines are required");

@@ -11,6 +11,11 @@
                     PREFIX.texels ("count 6", then C.X C.Y C.Z U.0 U.1 U.2 a line) and
                     PREFIX.baked ("count bands", the wavelengths, then the T. bands a line),
                     every float32 in 9 digits, which read back to the same float.
+  make OUT TEXT SETTINGS
+                    a compact file of 4x2 texels (one with a NaN X, one with an infinite Y)
+                    whose specconvCompact is the file TEXT's bytes and specconvSettings is
+                    SETTINGS: hostile headers and NaN rules for `specconv expand`.
+  nans FILE         JSON: per MIP level of FILE, how many samples are NaN or infinite.
 """
 import json
 import sys
@@ -90,5 +95,32 @@ def dump(compact, baked, prefix):
     np.savetxt(prefix + ".baked", b, fmt="%.9g", header=f"{len(b)} {len(bands)}\n{wl}", comments="")
 
 
+def make(out, text_file, settings):
+    with open(text_file, encoding="utf-8", newline="") as f:
+        text = f.read()
+    names = ("C.X", "C.Y", "C.Z", "U.0", "U.1", "U.2")
+    spec = oiio.ImageSpec(4, 2, len(names), "float")
+    spec.channelnames = names
+    spec.attribute("specconvLayout", "compact 1")
+    spec.attribute("specconvCompact", text)
+    spec.attribute("specconvSettings", settings)
+    spec.attribute("specconvExpand", "sample=half rounding=nearest compression=zip filter=box")
+    px = np.zeros((2, 4, 6), dtype=np.float32)
+    px[..., :3] = (0.2, 0.3, 0.25)
+    px[0, 1, 0] = float("nan")
+    px[1, 2, 1] = float("inf")
+    o = oiio.ImageOutput.create(out)
+    if not o.open(out, spec) or not o.write_image(px):
+        sys.exit(o.geterror())
+    o.close()
+
+
+def nans(path):
+    counts = []
+    for _, p in levels(path):
+        counts.append(int((~np.isfinite(p.astype(np.float32))).sum()))
+    json.dump(counts, sys.stdout)
+
+
 if __name__ == "__main__":
-    {"chart": chart, "steps": steps, "dump": dump}[sys.argv[1]](*sys.argv[2:])
+    {"chart": chart, "steps": steps, "dump": dump, "make": make, "nans": nans}[sys.argv[1]](*sys.argv[2:])

@@ -15,16 +15,31 @@ traced, is a second (specconv.mitsuba).
 
 from __future__ import annotations
 
+import math
+import re
 from dataclasses import dataclass, field
 from typing import Optional
 
 import numpy as np
 import numpy.typing as npt
 
+from specconv._specconv import compact_limits
+
+_limits = compact_limits()
+
 __all__ = ["Header", "parse", "decode"]
 
 # The largest float32: the reference's spectra are float32, so bands beyond it saturate there.
 F32_MAX = float(np.finfo(np.float32).max)
+
+# The grammar's limits, the library's own (docs/compact.md): the deepest tree, the most bands,
+# the dark level, the widest blend.
+MAX_DEPTH, MAX_BANDS, DARK, MAX_WIDTH = (
+    _limits["max_depth"],
+    _limits["max_bands"],
+    _limits["dark"],
+    _limits["max_width"],
+)
 
 
 @dataclass
@@ -46,50 +61,202 @@ class Header:
     b: np.ndarray = field(default_factory=lambda: np.zeros((3, 0)))
 
 
+_NUMBER = re.compile(r"[+-]?([0-9]+(\.[0-9]*)?|\.[0-9]+)([eE][+-]?[0-9]+)?\Z")
+_KEYWORD = re.compile(r"[a-z][a-z0-9_]*\Z")
+_CONTROL = re.compile(r"[\x00-\x1f\x7f]")
+_ONCE = ("model", "hash", "grid", "wavelengths", "white", "dark", "blend", "clip")
+_KNOWN = _ONCE + ("node", "map", "b")
+
+
+def _number(w: str) -> float:
+    """A number of the grammar (ASCII decimal; no inf, nan, ``_`` or spaces, which float takes)."""
+    if not _NUMBER.match(w):
+        raise ValueError(f"'{w}' is not a finite decimal number")
+    v = float(w)
+    if not math.isfinite(v):
+        raise ValueError(f"'{w}' is not a finite decimal number")
+    return v
+
+
+def _index(w: str, count: int, what: str) -> int:
+    """An index of the grammar: ASCII digits, below count."""
+    if not w.isascii() or not w.isdigit():
+        raise ValueError(f"'{w}' is not an index")
+    # Long digit strings are out of range whatever their value (and int() would refuse them).
+    if len(w) > 18 or int(w) >= count:
+        raise ValueError(f"{what} {w} is out of range (0 to {max(count, 1) - 1})")
+    return int(w)
+
+
 def parse(text: str) -> Header:
-    """The header text's content; raises ValueError on a text of another version."""
-    lines = text.splitlines()
-    if not lines or lines[0].strip() != "specconv compact 1":
-        raise ValueError("not a text of `specconv compact 1`")
+    """The header text's content, read by the grammar of docs/compact.md ("The header text"),
+    the library's: anything else raises ValueError with the line and why."""
     h = Header()
-    nodes: dict[int, tuple] = {}
-    maps: dict[int, np.ndarray] = {}
+    nodes: list = []
+    maps: list = []
     rows: dict[str, np.ndarray] = {}
-    for line in lines[1:]:
-        word, _, rest = line.partition(" ")
-        if word == "model":
-            h.model = rest
-        elif word == "hash":
-            h.hash = rest
-        elif word == "wavelengths":
-            h.wavelengths = np.array(rest.split(), dtype=np.float64)
-        elif word == "white":
-            x, y = rest.split()
-            h.white = (float(x), float(y))
-        elif word == "dark":
-            h.dark = float(rest)
-        elif word == "blend":
-            h.blend = float(rest)
-        elif word == "clip":
-            h.clip = rest.strip() == "1"
-        elif word == "node":
-            w = rest.split()
-            if w[1] == "leaf":
-                nodes[int(w[0])] = ("leaf", int(w[2]))
-            else:
-                axis = {"x": 0, "y": 1}[w[2]]
-                nodes[int(w[0])] = ("split", axis, float(w[3]), int(w[4]), int(w[5]), float(w[6]))
-        elif word == "map":
-            k, _, values = rest.partition(" ")
-            maps[int(k)] = np.array(values.split(), dtype=np.float64)
-        elif word == "b":
-            name, _, values = rest.partition(" ")
-            rows[name] = np.array(values.split(), dtype=np.float64)
-    n = len(h.wavelengths)
-    h.nodes = [nodes[i] for i in range(len(nodes))]
-    h.maps = np.stack([maps[k] for k in range(len(maps))]).reshape(len(maps), 4, n)
+    seen: set = set()
+    grid = None
+    for i, raw in enumerate(text.split("\n")):
+        line = raw[:-1] if raw.endswith("\r") else raw
+        try:
+            if i == 0:
+                if line != "specconv compact 1":
+                    raise ValueError("not a text of `specconv compact 1`")
+                continue
+            if not line:
+                continue
+            grid = _line(h, line, seen, nodes, maps, rows, grid)
+        except ValueError as e:
+            raise ValueError(f"line {i + 1}: {e}: {line[:60]!r}") from None
+    return _build(h, seen, nodes, maps, rows, grid)
+
+
+def _line(h: Header, line: str, seen: set, nodes: list, maps: list, rows: dict, grid):
+    """One line read into h (nodes, maps and rows as they come); returns the grid."""
+    if _CONTROL.search(line):
+        raise ValueError("a control character (a tab, a CR, ...): words are separated by single spaces")
+    word, space, rest = line.partition(" ")
+    if not _KEYWORD.match(word):
+        raise ValueError(f"'{word}' is no keyword (a-z, then a-z, 0-9 or _)")
+    if word in _ONCE:
+        if word in seen:
+            raise ValueError(f"a second '{word}' line")
+        seen.add(word)
+    if word == "model":
+        h.model = rest
+        return grid
+    if word not in _KNOWN:
+        return grid  # decoders skip what they do not know, whatever its fields
+    w = rest.split(" ") if space else []
+    if "" in w:
+        raise ValueError("an empty field (two spaces, or a space at the end)")
+    if word == "hash":
+        if len(w) != 1 or not re.fullmatch(r"[0-9a-f]{16}", w[0]):
+            raise ValueError("a hash is 16 hex digits (0-9, a-f)")
+        h.hash = w[0]
+    elif word == "grid":
+        if len(w) != 3:
+            raise ValueError("a grid is START END STEP")
+        grid = tuple(_number(v) for v in w)
+    elif word == "wavelengths":
+        if not 1 <= len(w) <= MAX_BANDS:
+            raise ValueError(f"{len(w)} wavelengths (1 to {MAX_BANDS})")
+        h.wavelengths = np.array([_number(v) for v in w])
+    elif word == "white":
+        if len(w) != 2:
+            raise ValueError("white is x y")
+        h.white = (_number(w[0]), _number(w[1]))
+    elif word == "dark":
+        if len(w) != 1 or _number(w[0]) != DARK:
+            raise ValueError(f"the dark level is {DARK}, one number")
+        h.dark = DARK
+    elif word == "blend":
+        if len(w) != 1 or not 0 <= _number(w[0]) <= MAX_WIDTH:
+            raise ValueError(f"blend is one width from 0 to {MAX_WIDTH}")
+        h.blend = _number(w[0])
+    elif word == "clip":
+        if w not in (["0"], ["1"]):
+            raise ValueError("clip is 0 or 1, one field")
+        h.clip = w == ["1"]
+    elif word == "node":
+        if len(w) == 3 and w[1] == "leaf":
+            nodes.append((w[0], ("leaf", _index(w[2], 1 << 62, "leaf"))))
+        elif len(w) == 7 and w[1] == "split" and w[2] in ("x", "y"):
+            b, a = _index(w[4], 1 << 62, "node"), _index(w[5], 1 << 62, "node")
+            nodes.append((w[0], ("split", "xy".index(w[2]), _number(w[3]), b, a, _number(w[6]))))
+        else:
+            raise ValueError("a node is `I leaf K` or `I split AXIS VALUE BELOW ABOVE WIDTH`")
+    elif word == "map":
+        if not w:
+            raise ValueError("a map is K VALUES")
+        maps.append((w[0], np.array([_number(v) for v in w[1:]])))
+    elif word == "b":
+        if not w or w[0] not in ("X", "Y", "Z"):
+            raise ValueError(f"a b row is X, Y or Z, not {w[:1]}")
+        if w[0] in rows:
+            raise ValueError(f"a second 'b {w[0]}' line")
+        rows[w[0]] = np.array([_number(v) for v in w[1:]])
+    # Decoders skip what they do not know.
+    return grid
+
+
+def _numbered(items: list, what: str) -> list:
+    """The items in the order of their indices, which must be 0 ... count - 1, each once."""
+    out: list = [None] * len(items)
+    for i, item in items:
+        k = _index(i, len(items), what)
+        if out[k] is not None:
+            raise ValueError(f"a second {what} {k}")
+        out[k] = item
+    return out
+
+
+def _grid_bands(start: float, end: float, step: float) -> Optional[np.ndarray]:
+    """The library's grid START END STEP (0 < START <= END, STEP > 0, END - START a whole
+    number of steps to 1e-9 relative, at most MAX_BANDS bands): START + i * STEP; None if not."""
+    if not (start > 0 and step > 0 and end >= start):
+        return None
+    intervals = (end - start) / step
+    whole = math.floor(intervals + 0.5)
+    if abs(intervals - whole) > 1e-9 * max(intervals, 1.0) or whole + 1 > MAX_BANDS:
+        return None
+    return np.array([start + step * float(i) for i in range(whole + 1)])
+
+
+def _build(h: Header, seen: set, nodes: list, maps: list, rows: dict, grid) -> Header:
+    """The header once every line is read: what holds between lines (docs/compact.md)."""
+    missing = [w for w in _ONCE if w not in seen]
+    if missing:
+        raise ValueError(f"no {', '.join(missing)} line")
+    if set(rows) != {"X", "Y", "Z"}:
+        raise ValueError("three b rows (X, Y, Z) are required")
+    bands = _grid_bands(*grid)
+    wl = h.wavelengths
+    if bands is None or len(bands) != len(wl) or (bands != wl).any() or (np.diff(wl) <= 0).any():
+        raise ValueError(f"the wavelengths line is not the grid's ({grid}: START + i * STEP)")
+    n = len(wl)
+    if any(len(r) != n for r in rows.values()):
+        raise ValueError(f"a b row needs {n} numbers, one a band")
+    h.nodes = _numbered(nodes, "node")
+    map_list = _numbered(maps, "map")
+    if not map_list or any(len(m) != 4 * n for m in map_list):
+        raise ValueError(f"every map needs 4 x {n} numbers, and there is one at least")
+    for i, node in enumerate(h.nodes):
+        if node[0] == "split" and (
+            not h.blend <= node[5] <= MAX_WIDTH if h.blend > 0 else node[5] != 0
+        ):
+            raise ValueError(f"node {i}'s width is outside [blend, {MAX_WIDTH}] (0 with blend 0)")
+    _check_tree(h.nodes, len(map_list))
+    h.maps = np.stack(map_list).reshape(len(map_list), 4, n)
     h.b = np.stack([rows["X"], rows["Y"], rows["Z"]])
     return h
+
+
+def _check_tree(nodes: list, maps: int) -> None:
+    """From node 0 every node reached once, at most MAX_DEPTH splits to a leaf, each map the
+    map of one leaf: without recursion, in time linear in the nodes."""
+    if not nodes:
+        raise ValueError("the tree has no nodes")
+    reached, used, stack = [False] * len(nodes), [False] * maps, [(0, 0)]
+    while stack:
+        i, depth = stack.pop()
+        if i >= len(nodes):
+            raise ValueError(f"the tree refers to node {i}, which does not exist")
+        if depth > MAX_DEPTH:
+            raise ValueError(f"the tree is deeper than {MAX_DEPTH} splits (node {i})")
+        if reached[i]:
+            raise ValueError(f"node {i} is reached twice: the tree has a cycle or shared child")
+        reached[i] = True
+        node = nodes[i]
+        if node[0] == "leaf":
+            if node[1] >= maps or used[node[1]]:
+                raise ValueError(f"node {i}'s map {node[1]} does not exist or has a leaf already")
+            used[node[1]] = True
+        else:
+            stack += [(node[3], depth + 1), (node[4], depth + 1)]
+    if not all(reached) or not all(used):
+        raise ValueError("a node is not reached from the root, or a map has no leaf")
 
 
 def _weights(h: Header, xy: np.ndarray) -> np.ndarray:

@@ -188,6 +188,20 @@ pub fn check_readable(path: FsPath) -> PyResult<()> {
     })
 }
 
+/// The compact grammar's limits (docs/compact.md), the library's own, for the numpy decoder
+/// (specconv.compact) to read texts as the library does: `max_depth`, `max_bands`, `dark`,
+/// `max_width`.
+#[pyfunction]
+pub fn compact_limits(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
+    use specconv_spectral::compact;
+    let d = PyDict::new(py);
+    d.set_item("max_depth", compact::MAX_DEPTH)?;
+    d.set_item("max_bands", compact::MAX_BANDS)?;
+    d.set_item("dark", compact::DARK)?;
+    d.set_item("max_width", compact::MAX_WIDTH)?;
+    Ok(d)
+}
+
 /// Whether the file `path`, read by another reader (Mitsuba's), is a compact texture, from its
 /// header: `attributes` its text attributes by name (the library picks the ones it needs) and
 /// `channels` its channel names. Returns the text as the library writes it and the columns of

@@ -34,6 +34,7 @@ fn _specconv(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<files::CompactImage>()?;
     m.add_function(wrap_pyfunction!(files::read_compact, m)?)?;
     m.add_function(wrap_pyfunction!(files::check_compact_header, m)?)?;
+    m.add_function(wrap_pyfunction!(files::compact_limits, m)?)?;
     m.add_function(wrap_pyfunction!(files::check_readable, m)?)?;
     // A data copy interrupted by Ctrl-C returns at once; its writer, inside OpenImageIO, ends
     // later. The interpreter's exit waits for it: C++ destructors under it would crash.

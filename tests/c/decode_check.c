@@ -9,6 +9,8 @@
  *                                       the counts and the largest errors, exit 0 when all pass
  *   decode_check --parse-only TEXT      parses TEXT: "parsed bands=N" (exit 0) or
  *                                       "refused: why" (exit 3); never a crash
+ *   decode_check --bands TEXT           parses TEXT: its wavelengths (17 digits) on a line
+ *                                       (exit 0) or "refused: why" (exit 3)
  *   decode_check --mutate TEXT N        parses N damaged copies of TEXT (truncated, bytes
  *                                       changed to the grammar's own characters, spans cut
  *                                       or repeated) and decodes a few texels with each one
@@ -186,6 +188,20 @@ int main(int argc, char **argv) {
             return 3;
         }
         printf("parsed bands=%d\n", scs_bands(m));
+        scs_model_free(m);
+        return 0;
+    }
+    if (argc == 3 && !strcmp(argv[1], "--bands")) {
+        int b;
+        text = slurp(argv[2]);
+        m = scs_model_parse(text, err, sizeof err);
+        free(text);
+        if (!m) {
+            printf("refused: %s\n", err);
+            return 3;
+        }
+        for (b = 0; b < scs_bands(m); b++) printf(b ? " %.17g" : "%.17g", scs_wavelengths(m)[b]);
+        printf("\n");
         scs_model_free(m);
         return 0;
     }

@@ -34,6 +34,9 @@ pub struct Grid {
 }
 
 impl Grid {
+    /// The most bands a grid has.
+    pub const MAX_BANDS: usize = 100_000;
+
     /// The paper's grid: 380–730 nm at 10 nm, 36 bands.
     pub const PAPER: Grid = Grid {
         start: 380.0,
@@ -59,7 +62,7 @@ impl Grid {
         if (intervals - intervals.round()).abs() > 1e-9 * intervals.max(1.0) {
             return Err(bad("END - START must be a whole number of steps"));
         }
-        if intervals.round() + 1.0 > 100_000.0 {
+        if intervals.round() + 1.0 > Grid::MAX_BANDS as f64 {
             return Err(bad("more than 100000 bands"));
         }
         Ok(Grid { start, end, step })

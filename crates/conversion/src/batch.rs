@@ -3,7 +3,7 @@
 
 use crate::plan::check_plan;
 use crate::report::{tally, NoticeCount};
-use crate::{Converter, Error, Expanded, Report};
+use crate::{Converter, Error, Expanded, NonFinite, Report};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -247,6 +247,7 @@ fn each<T>(
 #[derive(Debug, Clone, Copy, Default)]
 pub struct Expansions<'c> {
     overwrite: bool,
+    fixnan: Option<NonFinite>,
     update: bool,
     threads: Option<usize>,
     cancel: Option<&'c AtomicBool>,
@@ -259,6 +260,12 @@ impl<'c> Expansions<'c> {
             overwrite,
             ..Expansions::default()
         }
+    }
+
+    /// Treats NaN and infinite texels by `fixnan`, else by the rule each file's conversion
+    /// recorded ([`crate::expand`]).
+    pub fn fixnan(self, fixnan: Option<NonFinite>) -> Expansions<'c> {
+        Expansions { fixnan, ..self }
     }
 
     /// Skips inputs whose output is up to date ([`expansion_is_up_to_date`]) and replaces
@@ -300,7 +307,7 @@ impl<'c> Expansions<'c> {
         let overwrite = self.overwrite || self.update;
         let up_to_date = |i: &Path, o: &Path| self.update && expansion_is_up_to_date(i, o);
         let run = |input: &Path, output: &Path, _: &mut (dyn FnMut(Event) + Send)| {
-            pool.install(|| crate::expand(input, output, overwrite, cancel))
+            pool.install(|| crate::expand(input, output, overwrite, self.fixnan, cancel))
         };
         let done = |input: &Path,
                     output: &Path,

@@ -78,15 +78,19 @@ pub use report::{
 pub use wrapped::{ColourError, ImageError};
 
 /// Writes the compact texture `input` (`--layout compact`) out in the spectral layout at
-/// `output`, as a conversion with the same settings writes it (docs/compact.md); `cancel` stops
+/// `output`, as a conversion with the same settings writes it (docs/compact.md): NaN and
+/// infinite texels by `fixnan`, else by the rule the conversion recorded; `cancel` stops
 /// it, leaving nothing.
 pub fn expand(
     input: &std::path::Path,
     output: &std::path::Path,
     overwrite: bool,
+    fixnan: Option<NonFinite>,
     cancel: &std::sync::atomic::AtomicBool,
 ) -> Result<Expanded, Error> {
-    Ok(pipeline::expand::expand(input, output, overwrite, cancel)?)
+    Ok(pipeline::expand::expand(
+        input, output, overwrite, fixnan, cancel,
+    )?)
 }
 
 /// Reads MIP level `level` of the compact texture `input` (`--layout compact`) into memory:

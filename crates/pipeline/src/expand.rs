@@ -13,6 +13,7 @@
 //!
 //! The file is read a strip of blocks at a time; memory is bounded by a strip.
 
+use super::survey::{self, Repair};
 use super::write::{block_height, strips};
 use super::{
     average_attributes, clamp_made, finish, level_sums, mip, refuse_overwrites, Error, Result,
@@ -168,6 +169,8 @@ struct Decoding {
     /// Where C.X … U.2 and alpha are among a pixel's channels.
     columns: [usize; TEXEL],
     alpha: Option<usize>,
+    /// The storage settings (`specconvExpand`) and the rule on NaN and infinities the
+    /// conversion recorded (`specconvSettings`' `non_finite`; refuse when none).
     options: Options,
 }
 
@@ -203,6 +206,17 @@ fn open(input: &Path) -> Result<Source> {
                 .map_err(|e| not(e.to_string()))?;
         }
     }
+    // The conversion's rule on NaN and infinities, applied to the texels as `convert` applies
+    // it to its input's pixels (module `survey`).
+    let tag = reader
+        .string_attribute("specconvSettings")?
+        .unwrap_or_default();
+    let key = Key::NonFinite;
+    if let Some(value) = setting(&tag, key.about().name) {
+        options
+            .set(key, Some(value))
+            .map_err(|e| not(format!("specconvSettings: {e}")))?;
+    }
     let d = Decoding {
         alpha: names.iter().position(|n| *n == "A"),
         compact,
@@ -210,6 +224,36 @@ fn open(input: &Path) -> Result<Source> {
         options,
     };
     Ok(Source { reader, d })
+}
+
+/// The value of `name=` in a settings tag (`specconvSettings`): words separated by spaces, a
+/// quoted value (Rust's `{:?}`, as the tag quotes one) read past its spaces and quotes, so
+/// that no other value can pose as the word.
+fn setting<'t>(tag: &'t str, name: &str) -> Option<&'t str> {
+    let mut rest = tag.trim_start_matches(' ');
+    while !rest.is_empty() {
+        let (mut quoted, mut escaped, mut end) = (false, false, rest.len());
+        for (i, c) in rest.char_indices() {
+            match c {
+                _ if escaped => escaped = false,
+                '\\' if quoted => escaped = true,
+                '"' => quoted = !quoted,
+                ' ' if !quoted => {
+                    end = i;
+                    break;
+                }
+                _ => {}
+            }
+        }
+        let value = rest[..end]
+            .strip_prefix(name)
+            .and_then(|w| w.strip_prefix('='));
+        if value.is_some() {
+            return value;
+        }
+        rest = rest[end..].trim_start_matches(' ');
+    }
+    None
 }
 
 /// The spectral file `source` expands to.
@@ -281,16 +325,27 @@ fn attributes(reader: &ImageReader, values: usize) -> Result<Vec<(String, String
     Ok(out)
 }
 
-/// Expands the compact texture `input` into the spectral file `output` (see the module);
-/// `cancel` stops it between strips, leaving nothing.
+/// Expands the compact texture `input` into the spectral file `output` (see the module): NaN
+/// and infinite texels by `fixnan`, else by the rule the conversion recorded (refuse when it
+/// recorded none); `cancel` stops it between strips, leaving nothing.
 pub fn expand(
     input: &Path,
     output: &Path,
     overwrite: bool,
+    fixnan: Option<crate::NonFinite>,
     cancel: &AtomicBool,
 ) -> Result<Expanded> {
     refuse_overwrites(input, output, overwrite)?;
     let mut source = open(input)?;
+    // NaN and infinities in the texels: refused, repaired or kept by the conversion's rule
+    // (`--fixnan`, recorded), as `convert` treats its input's pixels, before anything is written.
+    let asked = survey::Asked {
+        non_finite: fixnan.unwrap_or(source.d.options.non_finite),
+        input,
+        cancel,
+    };
+    let read = (&source.d.columns[..], source.d.alpha);
+    let repair = survey::survey(asked, &mut source.reader, read)?.repair;
     let file = SpectralFile::new(spec(&source)?)?;
     let pending = Pending::beside(output).map_err(|e| io(output, e))?;
     let n = file.spec().wavelengths.len();
@@ -312,7 +367,7 @@ pub fn expand(
                 }
                 let rows = (strip.y as u32)..(strip.y + strip.height) as u32;
                 let px = source.reader.read_scanlines(0, rows)?;
-                let (values, u) = decode(&source.d, &px, n);
+                let (values, u) = decode(&source.d, (&px, strip.y), &repair, n);
                 projected += u;
                 for (i, chunk, block_sums) in strips.level0_blocks(&source.d, &strip, &values)? {
                     let mut s = sums.lock().expect("no panic holds it");
@@ -356,20 +411,33 @@ fn io(path: &Path, source: std::io::Error) -> Error {
     }
 }
 
-/// The spectra (then alpha, per pixel) of a strip's texels, row after row, and how many
-/// texels had u ≠ 0.
-fn decode(source: &Decoding, px: &Pixels, n: usize) -> (Vec<f32>, u64) {
+/// The spectra (then alpha, per pixel) of the texels of a strip (`px`, from row `y0`),
+/// repaired by `repair` where it repairs, row after row, and how many texels had u ≠ 0.
+fn decode(
+    source: &Decoding,
+    (px, y0): (&Pixels, usize),
+    repair: &Repair,
+    n: usize,
+) -> (Vec<f32>, u64) {
     let width = px.width as usize;
     let m = n + usize::from(source.alpha.is_some());
     let mut values = vec![0.0f32; width * px.height as usize * m];
+    let read = (&source.columns[..], source.alpha);
     let projected = values
         .par_chunks_mut(width * m)
         .enumerate()
         .map(|(y, row)| {
             let mut texels = Vec::with_capacity(width * TEXEL);
+            let mut alpha = Vec::with_capacity(width);
             for x in 0..width {
-                let p = px.pixel(x as u32, y as u32);
+                let mut p = px.pixel(x as u32, y as u32);
+                let fixed;
+                if repair.fixes(p, read.0, read.1) {
+                    fixed = repair.fixed(p, read, (x, y0 + y));
+                    p = &fixed;
+                }
                 texels.extend(source.columns.map(|c| p[c]));
+                alpha.extend(source.alpha.map(|a| p[a]));
             }
             let mut spectra = vec![0.0f32; width * n];
             source.compact.decode_f32(&texels, &mut spectra);
@@ -379,8 +447,8 @@ fn decode(source: &Decoding, px: &Pixels, n: usize) -> (Vec<f32>, u64) {
                 .enumerate()
             {
                 v[..n].copy_from_slice(s);
-                if let Some(a) = source.alpha {
-                    v[n] = px.pixel(x as u32, y as u32)[a];
+                if let Some(&a) = alpha.get(x) {
+                    v[n] = a;
                 }
             }
             texels

@@ -359,7 +359,7 @@ pub fn open<'a>(job: &'a Job<'a>) -> Result<Opened<'a>> {
         {
             let mut reader = reader;
             let every: Vec<usize> = (0..reader.info().channels.len()).collect();
-            survey::survey(job, &mut reader, (&every, None))?;
+            survey::survey(job.into(), &mut reader, (&every, None))?;
             return Err(Error::Data(data));
         }
         other => other?,
@@ -383,7 +383,7 @@ pub fn open<'a>(job: &'a Job<'a>) -> Result<Opened<'a>> {
     };
     let mut reader = reader;
     let survey = survey::survey(
-        job,
+        job.into(),
         &mut reader,
         (&selection.channels.colour, selection.channels.alpha),
     )?;
@@ -800,7 +800,9 @@ fn uplift_block(
         for x in b.x..b.x + b.width {
             let mut px = strip.pixel(x as u32, y as u32);
             if reading.repair.fixes(px, reading.colour, reading.alpha) {
-                fixed = reading.repair.fixed(px, reading, (x, strip_y + y));
+                fixed = reading
+                    .repair
+                    .fixed(px, (reading.colour, reading.alpha), (x, strip_y + y));
                 px = &fixed;
             }
             rgb.extend_from_slice(&colour_of(px, reading.colour).unwrap_or([0.0; 3]));

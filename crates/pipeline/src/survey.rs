@@ -8,10 +8,12 @@
 //! - A hash of the source pixels as read, which `-u` compares: a source replaced by another
 //!   image is rebuilt whatever its modification time.
 
-use super::{Error, Job, Reading, Result};
+use super::{Error, Job, Result};
 use crate::choices::NonFinite;
 use specconv_oiio::{ImageReader, Pixels};
 use std::collections::HashMap;
+use std::path::Path;
+use std::sync::atomic::AtomicBool;
 
 /// The header attribute that records the hash of the source pixels.
 pub const SOURCE_HASH: &str = "specconvSourceHash";
@@ -38,8 +40,13 @@ impl Repair {
         !matches!(self, Repair::None) && !finite(px, colour, alpha)
     }
 
-    /// Pixel `px` at (x, y) of level 0, repaired.
-    pub fn fixed(&self, px: &[f32], reading: &Reading, at: (usize, usize)) -> Vec<f32> {
+    /// Pixel `px` at (x, y) of level 0, repaired in its channels read (`colour`, `alpha`).
+    pub fn fixed(
+        &self,
+        px: &[f32],
+        (colour, alpha): (&[usize], Option<usize>),
+        at: (usize, usize),
+    ) -> Vec<f32> {
         match self {
             Repair::Box3(fixed) => {
                 if let Some(p) = fixed.get(&at) {
@@ -49,7 +56,7 @@ impl Repair {
             Repair::None | Repair::Black => {}
         }
         let mut p = px.to_vec();
-        for c in read_channels(reading.colour, reading.alpha) {
+        for c in read_channels(colour, alpha) {
             if !p[c].is_finite() {
                 p[c] = 0.0;
             }
@@ -129,9 +136,31 @@ impl Hasher {
     }
 }
 
+/// What a survey is asked: the rule on NaN and infinities (`--fixnan`, or what a compact file
+/// records for `expand`), the file's name for errors, and a flag that cancels it.
+#[derive(Clone, Copy)]
+pub struct Asked<'a> {
+    /// The rule on NaN and infinities.
+    pub non_finite: NonFinite,
+    /// The file surveyed.
+    pub input: &'a Path,
+    /// Set from another thread to stop.
+    pub cancel: &'a AtomicBool,
+}
+
+impl<'a> From<&'a Job<'a>> for Asked<'a> {
+    fn from(job: &'a Job<'a>) -> Asked<'a> {
+        Asked {
+            non_finite: job.options.non_finite,
+            input: job.input,
+            cancel: job.cancel,
+        }
+    }
+}
+
 /// Surveys level 0 through `reader` (left at its end: reread it from the start).
 pub fn survey(
-    job: &Job,
+    job: Asked,
     reader: &mut ImageReader,
     channels: (&[usize], Option<usize>),
 ) -> Result<Survey> {
@@ -140,7 +169,7 @@ pub fn survey(
         reader.info().height() as usize,
     );
     let mut hash = Hasher::new(width as u32, height as u32);
-    let mut found = Survey::start(job.options.non_finite, channels.1.is_some());
+    let mut found = Survey::start(job.non_finite, channels.1.is_some());
     let mut same = Same {
         first: None,
         constant: true,
@@ -160,7 +189,7 @@ pub fn survey(
             let px = reader.read_scanlines(0, y as u32..end as u32)?;
             hash.update(&px);
             let bad = found.scan(&mut same, &px, (width, y), channels);
-            found.check_non_finite(job, (y, end))?;
+            found.check_non_finite(&job, (y, end))?;
             Some((y, px, bad))
         } else {
             None
@@ -247,8 +276,8 @@ impl Survey {
 
     /// Refuses the input once `rows` were read when non-finite values are refused, or are more
     /// than box3 repairs.
-    fn check_non_finite(&self, job: &Job, rows: (usize, usize)) -> Result<()> {
-        let policy = job.options.non_finite;
+    fn check_non_finite(&self, job: &Asked, rows: (usize, usize)) -> Result<()> {
+        let policy = job.non_finite;
         if policy == NonFinite::Refuse && self.non_finite > 0 {
             return Err(Error::NonFinite {
                 input: job.input.to_path_buf(),

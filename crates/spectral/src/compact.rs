@@ -25,7 +25,6 @@
 
 use crate::bounded::{Bounded, Counts, Outcome};
 use crate::method::MethodName;
-use crate::otsu2018::hard_inputs::DARK;
 use crate::otsu2018::tree::{Axis, Node, Tree};
 use crate::stack::Description;
 use crate::{Error, Method, Model, Uplifter};
@@ -212,7 +211,8 @@ impl Compact {
         let _ = write!(
             t,
             "model {}\nhash {}\ngrid {} {} {}\nwavelengths {}\nwhite {} {}\ndark {DARK}\nblend {}\nclip {}\n",
-            self.model.0.replace('\n', " "),
+            // One line of no control character, as the grammar reads it.
+            self.model.0.replace(|c: char| c.is_ascii_control(), " "),
             self.model.1,
             grid.start,
             grid.end,
@@ -251,21 +251,46 @@ impl Compact {
     }
 
     /// The compact form a text of [`Compact::to_text`] describes: it decodes as the one that
-    /// wrote it, bit for bit, but cannot encode.
+    /// wrote it, bit for bit, but cannot encode. The text is read by the grammar of
+    /// docs/compact.md ("The header text"), which every decoder follows: anything else is
+    /// refused with the line and why. Time and memory are linear in the text's length.
     pub fn from_text(text: &str) -> Result<Compact, Error> {
         let bad = |msg: String| Error::Model {
             file: "compact texture".into(),
             msg,
         };
-        let mut lines = text.lines();
-        if lines.next() != Some(&format!("specconv {VERSION}")) {
-            return Err(bad(format!("not a text of `specconv {VERSION}`")));
-        }
         let mut p = Parts::default();
-        for line in lines.filter(|l| !l.trim().is_empty()) {
-            let (word, rest) = line.split_once(' ').unwrap_or((line, ""));
-            p.read(word, rest)
-                .map_err(|e| bad(format!("{e}: {line:.60}")))?;
+        for (i, raw) in text.split('\n').enumerate() {
+            let line = raw.strip_suffix('\r').unwrap_or(raw);
+            let at = |e: String| bad(format!("line {}: {e}: {:.60}", i + 1, line.escape_debug()));
+            if i == 0 {
+                if line != format!("specconv {VERSION}") {
+                    return Err(at(format!("not a text of `specconv {VERSION}`")));
+                }
+                continue;
+            }
+            if line.is_empty() {
+                continue;
+            }
+            if line.chars().any(|c| c.is_ascii_control()) {
+                return Err(at(
+                    "a control character (a tab, a CR, …): words are separated by single spaces"
+                        .into(),
+                ));
+            }
+            let (word, rest) = match line.split_once(' ') {
+                Some((w, r)) => (w, Some(r)),
+                None => (line, None),
+            };
+            let mut chars = word.chars();
+            if !chars.next().is_some_and(|c| c.is_ascii_lowercase())
+                || !chars.all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '_')
+            {
+                return Err(at(format!(
+                    "'{word}' is no keyword (a-z, then a-z, 0-9 or _)"
+                )));
+            }
+            p.read(word, rest).map_err(at)?;
         }
         p.build().map_err(|e| match e {
             Error::Model { msg, .. } => bad(msg),
@@ -274,150 +299,265 @@ impl Compact {
     }
 }
 
+/// The most splits from a tree's root to a leaf that a text may have (docs/compact.md): every
+/// decoder walks the tree with a fixed stack (`SCS_MAX_DEPTH` of the C header).
+pub const MAX_DEPTH: usize = crate::otsu2018::tree::MAX_DEPTH;
+
+/// The most bands a text may have: a grid's ([`Grid::MAX_BANDS`]).
+pub const MAX_BANDS: usize = Grid::MAX_BANDS;
+
+/// The dark level a text states (`dark`), the only one ([`crate::otsu2018::hard_inputs::DARK`]).
+pub const DARK: f64 = crate::otsu2018::hard_inputs::DARK;
+
+/// The widest blend a text may state ([`crate::otsu2018::blend::MAX_WIDTH`]).
+pub const MAX_WIDTH: f64 = crate::otsu2018::blend::MAX_WIDTH;
+
 /// What a text gives, line by line.
 #[derive(Default)]
 struct Parts {
     model: (String, String),
     grid: Option<Grid>,
+    wavelengths: Option<Vec<f64>>,
     white: Option<[f64; 2]>,
-    blend: f64,
+    blend: Option<f64>,
     clip: Option<bool>,
-    nodes: Vec<(usize, Node, f64)>,
-    maps: Vec<(usize, Vec<f64>)>,
+    /// (index, node, width) as the lines give them; indices checked in `build`.
+    nodes: Vec<(String, (Node, f64))>,
+    maps: Vec<(String, Vec<f64>)>,
     /// The `b` rows of X, Y and Z, by name.
     b: [Option<Vec<f64>>; 3],
-    /// The lines that may come once, as they came.
+    /// The lines that come once, as they came.
     once: Vec<String>,
 }
 
-/// Lines a text holds once: a second is refused, never read over the first (as the C
-/// decoder refuses it), so that every reader takes the same value.
-const ONCE: [&str; 7] = ["model", "hash", "grid", "white", "dark", "blend", "clip"];
+/// Lines a text holds exactly once: a second is refused, never read over the first, so that
+/// every reader takes the same value (with the `b` rows, by name).
+const ONCE: [&str; 8] = [
+    "model",
+    "hash",
+    "grid",
+    "wavelengths",
+    "white",
+    "dark",
+    "blend",
+    "clip",
+];
 
-fn numbers(text: &str) -> Result<Vec<f64>, String> {
-    text.split_whitespace()
-        .map(|w| w.parse().map_err(|_| format!("'{w}' is not a number")))
-        .collect()
+/// A number of the grammar: `[+-]?(D+(.D*)?|.D+)([eE][+-]?D+)?` in ASCII digits, finite once
+/// read as the nearest double (no `inf`, `nan`, hex, `_` or spaces, which some readers take).
+fn number(w: &str) -> Result<f64, String> {
+    let b = w.strip_prefix(['+', '-']).unwrap_or(w).as_bytes();
+    let digits = |i: usize| b[i..].iter().take_while(|c| c.is_ascii_digit()).count();
+    let int = digits(0);
+    let mut i = int;
+    let mut frac = 0;
+    if b.get(i) == Some(&b'.') {
+        frac = digits(i + 1);
+        i += 1 + frac;
+    }
+    let mut ok = int + frac > 0;
+    if ok && matches!(b.get(i), Some(b'e' | b'E')) {
+        i += 1;
+        if matches!(b.get(i), Some(b'+' | b'-')) {
+            i += 1;
+        }
+        let e = digits(i);
+        ok = e > 0;
+        i += e;
+    }
+    match w.parse::<f64>() {
+        Ok(v) if ok && i == b.len() && v.is_finite() => Ok(v),
+        _ => Err(format!("'{w}' is not a finite decimal number")),
+    }
+}
+
+fn numbers(words: &[&str]) -> Result<Vec<f64>, String> {
+    words.iter().map(|w| number(w)).collect()
+}
+
+/// An index of the grammar: ASCII digits (no sign), below `count`.
+fn index(w: &str, count: usize, what: &str) -> Result<usize, String> {
+    if w.is_empty() || !w.bytes().all(|c| c.is_ascii_digit()) {
+        return Err(format!("'{w}' is not an index"));
+    }
+    match w.parse::<usize>() {
+        Ok(i) if i < count => Ok(i),
+        _ => Err(format!(
+            "{what} {w} is out of range (0 to {})",
+            count.max(1) - 1
+        )),
+    }
 }
 
 impl Parts {
-    fn read(&mut self, word: &str, rest: &str) -> Result<(), String> {
-        let v = || numbers(rest);
-        let index = |w: &str| -> Result<usize, String> {
-            w.parse().map_err(|_| format!("'{w}' is not an index"))
-        };
+    fn read(&mut self, word: &str, rest: Option<&str>) -> Result<(), String> {
         if ONCE.contains(&word) {
             if self.once.iter().any(|w| w == word) {
                 return Err(format!("a second '{word}' line"));
             }
             self.once.push(word.to_string());
         }
-        match word {
-            "model" => self.model.0 = rest.to_string(),
-            "hash" => self.model.1 = rest.to_string(),
-            "grid" => match v()?.as_slice() {
-                &[start, end, step] => {
-                    self.grid = Some(Grid::new(start, end, step).map_err(|e| e.to_string())?)
-                }
-                _ => return Err("a grid is START END STEP".into()),
-            },
-            "white" => match v()?.as_slice() {
-                &[x, y] => self.white = Some([x, y]),
-                _ => return Err("white is x y".into()),
-            },
-            "dark" if v()? != [DARK] => return Err(format!("this decoder's dark level is {DARK}")),
-            "blend" => self.blend = *v()?.first().ok_or("blend has a width")?,
-            "clip" => {
-                self.clip = Some(match rest.trim() {
-                    "1" => true,
-                    "0" => false,
-                    c => return Err(format!("clip is 0 or 1, not '{c}'")),
-                })
+        if word == "model" {
+            self.model.0 = rest.unwrap_or("").to_string();
+            return Ok(());
+        }
+        if !ONCE.contains(&word) && !["node", "map", "b"].contains(&word) {
+            return Ok(()); // decoders skip what they do not know, whatever its fields
+        }
+        // Every other line's fields are separated by single spaces.
+        let w: Vec<&str> = rest.map_or(Vec::new(), |r| r.split(' ').collect());
+        if w.iter().any(|f| f.is_empty()) {
+            return Err("an empty field (two spaces, or a space at the end)".into());
+        }
+        match (word, w.as_slice()) {
+            ("hash", [h])
+                if h.len() == 16 && h.bytes().all(|c| matches!(c, b'0'..=b'9' | b'a'..=b'f')) =>
+            {
+                self.model.1 = h.to_string()
             }
-            "node" => {
-                let w: Vec<&str> = rest.split_whitespace().collect();
-                let node = match w.as_slice() {
-                    [i, "leaf", k] => (index(i)?, Node::Leaf { leaf: index(k)? }, 0.0),
-                    [i, "split", axis, value, below, above, width] => {
-                        let axis = match *axis {
-                            "x" => Axis::X,
-                            "y" => Axis::Y,
-                            a => return Err(format!("axis '{a}'")),
-                        };
-                        let n = numbers(&format!("{value} {width}"))?;
-                        let split = Node::Split {
-                            axis,
-                            value: n[0],
-                            below: index(below)?,
-                            above: index(above)?,
-                        };
-                        (index(i)?, split, n[1])
-                    }
-                    _ => {
-                        return Err(
-                            "a node is `I leaf K` or `I split AXIS VALUE BELOW ABOVE WIDTH`".into(),
-                        )
-                    }
+            ("hash", _) => return Err("a hash is 16 hex digits (0-9, a-f)".into()),
+            ("grid", [start, end, step]) => {
+                let (start, end, step) = (number(start)?, number(end)?, number(step)?);
+                self.grid = Some(Grid::new(start, end, step).map_err(|e| e.to_string())?)
+            }
+            ("grid", _) => return Err("a grid is START END STEP".into()),
+            ("wavelengths", v) if !v.is_empty() && v.len() <= MAX_BANDS => {
+                self.wavelengths = Some(numbers(v)?)
+            }
+            ("wavelengths", v) => {
+                return Err(format!("{} wavelengths (1 to {MAX_BANDS})", v.len()))
+            }
+            ("white", [x, y]) => self.white = Some([number(x)?, number(y)?]),
+            ("white", _) => return Err("white is x y".into()),
+            ("dark", [d]) if number(d)? == DARK => {}
+            ("dark", _) => return Err(format!("the dark level is {DARK}, one number")),
+            ("blend", [b]) => {
+                let b = number(b)?;
+                crate::otsu2018::blend::check_width(b).map_err(|e| e.to_string())?;
+                self.blend = Some(b)
+            }
+            ("blend", _) => return Err("blend is one width".into()),
+            ("clip", ["1"]) => self.clip = Some(true),
+            ("clip", ["0"]) => self.clip = Some(false),
+            ("clip", _) => return Err("clip is 0 or 1, one field".into()),
+            ("node", [i, "leaf", k]) => self.nodes.push((
+                i.to_string(),
+                (
+                    Node::Leaf {
+                        leaf: index(k, usize::MAX, "leaf")?,
+                    },
+                    0.0,
+                ),
+            )),
+            ("node", [i, "split", axis, value, below, above, width]) => {
+                let axis = match *axis {
+                    "x" => Axis::X,
+                    "y" => Axis::Y,
+                    a => return Err(format!("axis '{a}' (x or y)")),
                 };
-                self.nodes.push(node);
+                let split = Node::Split {
+                    axis,
+                    value: number(value)?,
+                    below: index(below, usize::MAX, "node")?,
+                    above: index(above, usize::MAX, "node")?,
+                };
+                self.nodes.push((i.to_string(), (split, number(width)?)));
             }
-            "map" => {
-                let (k, values) = rest.split_once(' ').ok_or("a map is K VALUES")?;
-                self.maps.push((index(k)?, numbers(values)?));
+            ("node", _) => {
+                return Err("a node is `I leaf K` or `I split AXIS VALUE BELOW ABOVE WIDTH`".into())
             }
-            "b" => {
-                let (name, values) = rest.split_once(' ').unwrap_or((rest, ""));
+            ("map", [k, values @ ..]) => self.maps.push((k.to_string(), numbers(values)?)),
+            ("map", _) => return Err("a map is K VALUES".into()),
+            ("b", [name, values @ ..]) => {
                 let row = ["X", "Y", "Z"]
                     .iter()
-                    .position(|n| *n == name)
+                    .position(|n| n == name)
                     .ok_or_else(|| format!("a b row is X, Y or Z, not '{name}'"))?;
                 if self.b[row].is_some() {
                     return Err(format!("a second 'b {name}' line"));
                 }
                 self.b[row] = Some(numbers(values)?);
             }
-            // Decoders skip what they do not use.
+            ("b", _) => return Err("a b row is NAME VALUES".into()),
+            // Decoders skip what they do not know.
             _ => {}
         }
         Ok(())
     }
 
-    fn build(mut self) -> Result<Compact, Error> {
-        let bad = |msg: &str| Error::Model {
+    fn build(self) -> Result<Compact, Error> {
+        let bad = |msg: String| Error::Model {
             file: String::new(),
-            msg: msg.into(),
+            msg,
         };
-        let grid = self.grid.ok_or_else(|| bad("no grid"))?;
-        let white = self.white.ok_or_else(|| bad("no white point"))?;
-        let clip = self.clip.ok_or_else(|| bad("no clip line"))?;
-        self.nodes.sort_by_key(|n| n.0);
-        self.maps.sort_by_key(|m| m.0);
-        if self.nodes.iter().enumerate().any(|(i, n)| n.0 != i)
-            || self.maps.iter().enumerate().any(|(i, m)| m.0 != i)
-        {
-            return Err(bad("nodes and maps must be numbered 0, 1, … once each"));
-        }
-        let tree = Tree::from(self.nodes.iter().map(|n| n.1).collect::<Vec<_>>());
-        let widths: Vec<f64> = self.nodes.iter().map(|n| n.2).collect();
-        let maps: Vec<f64> = self.maps.into_iter().flat_map(|m| m.1).collect();
-        let blend = (self.blend > 0.0).then_some((self.blend, widths));
-        let up = Uplifter::from_parts(grid, white, tree, maps, blend)?;
-        let n = grid.len();
+        let missing: Vec<&str> = ONCE
+            .into_iter()
+            .filter(|w| !self.once.iter().any(|o| o == w))
+            .collect();
+        let (Some(grid), Some(wl), Some(white), Some(blend), Some(clip), true) = (
+            self.grid,
+            self.wavelengths,
+            self.white,
+            self.blend,
+            self.clip,
+            missing.is_empty(),
+        ) else {
+            return Err(bad(format!("no {} line", missing.join(", "))));
+        };
         let [Some(x), Some(y), Some(z)] = self.b else {
-            return Err(bad("three b rows (X, Y, Z)"));
+            return Err(bad("three b rows (X, Y, Z) are required".into()));
         };
-        if [&x, &y, &z].iter().any(|r| r.len() != n) {
-            return Err(bad("b rows of one value per band"));
+        // One list of bands for every reader: the grid's, written out.
+        if wl != grid.wavelengths() || wl.windows(2).any(|w| w[1] <= w[0]) {
+            return Err(bad(format!(
+                "the wavelengths line is not the grid's ({} {} {}: START + i × STEP, {} bands, increasing)",
+                grid.start,
+                grid.end,
+                grid.step,
+                grid.len()
+            )));
         }
-        let a = [x, y, z];
+        let n = wl.len();
+        if [&x, &y, &z].iter().any(|r| r.len() != n) {
+            return Err(bad(format!("a b row needs {n} numbers, one a band")));
+        }
+        let nodes = numbered(self.nodes, "node").map_err(&bad)?;
+        let maps = numbered(self.maps, "map").map_err(&bad)?;
+        if let Some(k) = maps.iter().position(|m| m.len() != 4 * n) {
+            return Err(bad(format!("map {k} needs 4 × {n} numbers")));
+        }
+        let tree = Tree::from(nodes.iter().map(|n| n.0).collect::<Vec<_>>());
+        let widths: Vec<f64> = nodes.iter().map(|n| n.1).collect();
+        if blend == 0.0 && widths.iter().any(|&w| w != 0.0) {
+            return Err(bad(
+                "with blend 0 (the hard switch) every split's width is 0".into(),
+            ));
+        }
+        let blend = (blend > 0.0).then_some((blend, widths));
+        let up = Uplifter::from_parts(grid, white, tree, maps.concat(), blend)?;
         Ok(Compact {
             up,
-            a,
+            a: [x, y, z],
             clip,
             bounded: None,
             model: self.model,
         })
     }
+}
+
+/// The lines' items in the order of their indices, which must be 0 … count − 1, each once
+/// (count: the number of such lines).
+fn numbered<T>(items: Vec<(String, T)>, what: &str) -> Result<Vec<T>, String> {
+    let count = items.len();
+    let mut out: Vec<Option<T>> = (0..count).map(|_| None).collect();
+    for (i, item) in items {
+        let i = index(&i, count, what)?;
+        if out[i].replace(item).is_some() {
+            return Err(format!("a second {what} {i}"));
+        }
+    }
+    // Count indices below count, none twice: each of them was given.
+    Ok(out.into_iter().flatten().collect())
 }
 
 /// FNV-1a (64 bits) of a model file's text, as the compact text records it: a check that
@@ -599,5 +739,140 @@ mod tests {
         lines.swap(x, z);
         let swapped = Compact::from_text(&(lines.join("\n") + "\n")).unwrap();
         assert_eq!(swapped.to_text(), text);
+    }
+
+    /// A text of one band whose tree is `shape`'s: `chain` splits each with a leaf below (a
+    /// chain as deep), or a balanced tree of 2^`levels` leaves; split values all different.
+    fn tree_text(nodes: &[(usize, usize)], leaves: usize) -> String {
+        let mut t = String::from(
+            "specconv compact 1\nmodel m\nhash 0123456789abcdef\ngrid 500 500 1\nwavelengths 500\nwhite 0.3 0.3\ndark 0.01\nblend 0\nclip 1\n",
+        );
+        use std::fmt::Write;
+        for (i, &(below, above)) in nodes.iter().enumerate() {
+            let _ = writeln!(
+                t,
+                "node {i} split x {} {below} {above} 0",
+                0.3 + i as f64 * 1e-9
+            );
+        }
+        for k in 0..leaves {
+            let _ = writeln!(t, "node {} leaf {k}\nmap {k} 0 0 0 0.5", nodes.len() + k);
+        }
+        t + "b X 0.1\nb Y 0.1\nb Z 0.1\n"
+    }
+
+    fn chain(depth: usize) -> String {
+        let nodes: Vec<_> = (0..depth)
+            .map(|i| (depth + i, if i + 1 < depth { i + 1 } else { 2 * depth }))
+            .collect();
+        tree_text(&nodes, depth + 1)
+    }
+
+    fn balanced(levels: u32) -> String {
+        let splits = (1usize << levels) - 1;
+        // Heap order: node i's children are 2i + 1 and 2i + 2; leaves after the splits.
+        let nodes: Vec<_> = (0..splits).map(|i| (2 * i + 1, 2 * i + 2)).collect();
+        tree_text(&nodes, splits + 1)
+    }
+
+    /// Issue 45: a chain 40,000 or 200,000 deep overflowed the stack of every reader that walks
+    /// the tree by recursion. Every reader refuses a tree deeper than [`MAX_DEPTH`] splits,
+    /// without recursion; [`MAX_DEPTH`] itself is read.
+    #[test]
+    fn trees_deeper_than_the_limit_are_refused_without_a_crash() {
+        for depth in [MAX_DEPTH + 1, 40_000, 200_000] {
+            let e = Compact::from_text(&chain(depth)).unwrap_err().to_string();
+            assert!(
+                e.contains(&format!("deeper than {MAX_DEPTH}")),
+                "{depth}: {e}"
+            );
+        }
+        let c = Compact::from_text(&chain(MAX_DEPTH)).unwrap();
+        assert_eq!(c.up.tree().depth(), MAX_DEPTH);
+        // A model file's tree has the same limit.
+        let nodes: Vec<Node> = (0..200_000)
+            .map(|i| Node::Split {
+                axis: Axis::X,
+                value: 0.3,
+                below: 200_000 + i,
+                above: i + 1,
+            })
+            .chain((0..200_001).map(|leaf| Node::Leaf { leaf }))
+            .collect();
+        let mut tree = Tree::from(nodes);
+        let last = 199_999;
+        tree.nodes_mut()[last] = Node::Split {
+            axis: Axis::X,
+            value: 0.3,
+            below: 200_000 + last,
+            above: 400_000,
+        };
+        assert!(tree.validate(200_001).unwrap_err().contains("deeper than"));
+        assert_eq!(tree.depth(), 200_000, "depth is a loop, not a recursion");
+    }
+
+    /// Reading a text takes time linear in its length: 8 times the nodes, not 64 times the
+    /// time (a generous bound on a shared machine: linear is 8).
+    #[test]
+    fn reading_a_text_takes_time_linear_in_its_size() {
+        let time = |t: &str| {
+            let start = std::time::Instant::now();
+            Compact::from_text(t).unwrap();
+            start.elapsed().as_secs_f64()
+        };
+        let (small, large) = (balanced(13), balanced(16));
+        let (a, b) = (
+            time(&small).max(time(&small)),
+            time(&large).min(time(&large)),
+        );
+        assert!(b / a < 24.0, "{a} s for 2^13 leaves, {b} s for 2^16");
+    }
+
+    /// The conformance texts of testdata/compact/hostile (docs/compact.md): each read as its
+    /// verdict says, the accepted ones with their bands and decoded values (which the other
+    /// decoders meet in tests/it/compact.rs).
+    #[test]
+    fn the_conformance_texts_are_read_as_their_verdicts_say() {
+        let here =
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../testdata/compact/hostile");
+        let verdicts = std::fs::read_to_string(here.join("verdicts.txt")).unwrap();
+        let mut cases = 0;
+        for line in verdicts.lines() {
+            let w: Vec<&str> = line.split(' ').collect();
+            let text = std::fs::read(here.join(format!("{}.txt", w[0]))).unwrap();
+            let got = std::str::from_utf8(&text)
+                .map_err(|e| e.to_string())
+                .and_then(|t| Compact::from_text(t).map_err(|e| e.to_string()));
+            match (w[1], got) {
+                ("refuse", Err(_)) => {}
+                ("accept", Ok(c)) => {
+                    let values =
+                        std::fs::read_to_string(here.join(format!("values/{}.txt", w[2]))).unwrap();
+                    let mut rows = values.lines();
+                    let bands: Vec<f64> = rows.next().unwrap()[6..]
+                        .split(' ')
+                        .map(|v| v.parse().unwrap())
+                        .collect();
+                    assert_eq!(c.grid().wavelengths(), bands, "{}", w[0]);
+                    for row in rows {
+                        let (t, r) = row.split_once(" = ").unwrap();
+                        let t: Vec<f32> = t.split(' ').map(|v| v.parse().unwrap()).collect();
+                        let want: Vec<f32> = r.split(' ').map(|v| v.parse().unwrap()).collect();
+                        let mut out = vec![0.0; bands.len()];
+                        c.decode_f32(&t, &mut out);
+                        for (o, v) in out.iter().zip(&want) {
+                            assert!(
+                                o.is_nan() == v.is_nan() && (o.is_nan() || (o - v).abs() <= 1e-6),
+                                "{}: {row}: {out:?}",
+                                w[0]
+                            );
+                        }
+                    }
+                }
+                (verdict, got) => panic!("{}: {verdict} expected, got {:?}", w[0], got.map(|_| ())),
+            }
+            cases += 1;
+        }
+        assert!(cases > 80, "{cases}");
     }
 }

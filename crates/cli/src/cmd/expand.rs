@@ -62,6 +62,10 @@ pub struct Args {
     /// Replace existing outputs.
     #[arg(long)]
     force: bool,
+    /// NaN and infinite texels: refuse, black, box3 or none (keep), as `convert --fixnan`
+    /// treats its input's pixels; by default the rule the compact file's conversion recorded.
+    #[arg(long, value_name = "HOW")]
+    fixnan: Option<specconv_conversion::NonFinite>,
 }
 
 /// Expands every input; returns the exit status, as `convert`'s.
@@ -100,6 +104,7 @@ pub fn run(args: Args) -> Result<i32> {
     let batch_start = std::time::Instant::now();
     let mut started = batch_start;
     let expansions = Expansions::new(args.force)
+        .fixnan(args.fixnan)
         .update(args.update)
         .threads(args.threads)
         .cancel_on(&cancel);

@@ -5,6 +5,11 @@
 
 use serde::{Deserialize, Serialize};
 
+/// The most splits on a path from the root to a leaf, in a model file or a compact texture's
+/// text (docs/compact.md; `SCS_MAX_DEPTH` of include/specconv_spectrum.h): readers walk a tree
+/// with a fixed stack. specconv's models are 3 to 6 splits deep.
+pub const MAX_DEPTH: usize = 64;
+
 /// The coordinate of CIE xy a split compares.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 pub enum Axis {
@@ -183,13 +188,17 @@ impl Tree {
             .expect("a node that does not split is a leaf")
     }
 
-    /// Splits on the longest path from the root to a leaf (the tree is validated: no cycles).
+    /// Splits on the longest path from the root to a leaf (the tree is validated: no cycles,
+    /// at most [`MAX_DEPTH`]). A loop, not a recursion: its stack is the heap's.
     pub fn depth(&self) -> usize {
-        fn from(tree: &Tree, i: usize) -> usize {
-            tree.split(i)
-                .map_or(0, |s| 1 + from(tree, s.below).max(from(tree, s.above)))
+        let (mut stack, mut deepest) = (vec![(0usize, 0usize)], 0);
+        while let Some((i, d)) = stack.pop() {
+            match self.split(i) {
+                Some(s) => stack.extend([(s.below, d + 1), (s.above, d + 1)]),
+                None => deepest = deepest.max(d),
+            }
         }
-        from(self, 0)
+        deepest
     }
 
     /// Every split with the box [x₀, x₁] × [y₀, y₁] of the chromaticities that reach it, when
@@ -240,15 +249,21 @@ impl Tree {
     }
 
     /// Every node reachable from the root exactly once, every one of `leaves` leaves used
-    /// exactly once, split values finite (the checks of a model file).
+    /// exactly once, split values finite, at most [`MAX_DEPTH`] splits from the root to a leaf
+    /// (the checks of a model file and of a compact texture's text). Time linear in the nodes.
     pub fn validate(&self, leaves: usize) -> Result<(), String> {
         let mut seen_node = vec![false; self.nodes.len()];
         let mut seen_leaf = vec![false; leaves];
-        let mut stack = vec![0usize];
+        let mut stack = vec![(0usize, 0usize)];
         if self.nodes.is_empty() {
             return Err("the tree has no nodes".into());
         }
-        while let Some(i) = stack.pop() {
+        while let Some((i, depth)) = stack.pop() {
+            if depth > MAX_DEPTH {
+                return Err(format!(
+                    "the tree is deeper than {MAX_DEPTH} splits (node {i}); no reader walks deeper"
+                ));
+            }
             if i >= self.nodes.len() {
                 return Err(format!("the tree refers to node {i}, which does not exist"));
             }
@@ -277,7 +292,7 @@ impl Tree {
                     if !value.is_finite() {
                         return Err(format!("node {i} splits at a value that is not finite"));
                     }
-                    stack.extend([below, above]);
+                    stack.extend([(below, depth + 1), (above, depth + 1)]);
                 }
             }
         }
