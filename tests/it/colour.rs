@@ -448,11 +448,11 @@ fn every_color_interop_id_is_a_strong_declaration() {
                     assert_eq!(v["colorspace_row"], 3, "{said}");
                     assert_eq!(v["colorspace_rule"], "declared", "{said}");
                     assert_eq!(v["role"], "colour", "{said}");
-                    if let Some((_, name)) = ACES_NAMES.iter().find(|(i, _)| i == id) {
+                    if let Some((_, name)) = ACES_NAMES.iter().find(|(i, _)| *i == id) {
                         assert_eq!(v["colorspace"], *name, "{said}");
                     }
                     // Linear IDs: what the same primaries as chromaticities decide.
-                    if let Some((_, c)) = ANNEX_A.iter().find(|(i, _)| i == id) {
+                    if let Some((_, c)) = ANNEX_A.iter().find(|(i, _)| *i == id) {
                         let chroma = dir.path(&format!("{id}-chromaticities.exr"));
                         constant_exr(&chroma, c, &[]);
                         let by_chroma = info(&chroma, &[]);
@@ -527,7 +527,7 @@ fn a_data_interop_id_is_never_uplifted_and_a_name_nobody_knows_is_said() {
         );
         assert_eq!(v["colorspace_rule"], "default", "{id}");
         let out = Cmd::convert(&exr, dir.path("odd_spectral.exr"))
-            .arg("--overwrite")
+            .arg("--force")
             .run();
         out.ok();
         assert!(

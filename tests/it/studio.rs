@@ -411,7 +411,7 @@ fn an_edited_official_config_is_the_studios_own_policy() {
             "added-rule",
             text.replace(
                 default,
-                &format!("  - !<Rule> {{name: normals, colorspace: Raw, pattern: \"*_normal*\"}}\n{default}"),
+                &format!("  - !<Rule> {{name: normals, colorspace: Raw, pattern: \"*_normal*\", extension: \"*\"}}\n{default}"),
             ),
             "\"ACES2065-1\"",
         ),

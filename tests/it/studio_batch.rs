@@ -443,8 +443,8 @@ fn a_skipped_grey_map_is_named_in_the_summary_with_why_and_the_option_that_conve
         make("albedo_grey.png", "1", "uint8"),
         make("albedo_grey16.png", "1", "uint16"),
         make("albedo_grey_alpha.png", "2", "uint8"),
-        make("albedo_grey.tif", "1", "uint8"),
-        make("albedo_grey.exr", "1", "half"),
+        make("albedo_grey_tiff.tif", "1", "uint8"),
+        make("albedo_grey_half.exr", "1", "half"),
     ];
     let colour = make("albedo.png", "3", "uint8");
     let mut args: Vec<&std::ffi::OsStr> = greys.iter().map(|p| p.as_os_str()).collect();
@@ -477,9 +477,8 @@ fn a_skipped_grey_map_is_named_in_the_summary_with_why_and_the_option_that_conve
             grey.as_os_str(),
             "--colorspace".as_ref(),
             name.as_ref(),
-            "-o".as_ref(),
             spectral.as_os_str(),
-            "--overwrite".as_ref(),
+            "--force".as_ref(),
             "--json".as_ref(),
         ])
         .ok()
@@ -510,7 +509,7 @@ fn a_data_copy_says_it_is_data_to_every_reader() {
         p
     };
     let ap1 = "0.713,0.293,0.165,0.830,0.128,0.044,0.32168,0.33767";
-    let cases: [(PathBuf, &[&str]); 5] = [
+    let cases: [(PathBuf, &[&str]); 6] = [
         (
             make("normal.png", "3", "uint8", &[]),
             &["--colorspace", "Raw"],
@@ -538,11 +537,21 @@ fn a_data_copy_says_it_is_data_to_every_reader() {
             ),
             &[],
         ),
+        // The input's own ID is not carried over the copy's.
+        (
+            make(
+                "normal_ap1_id.exr",
+                "3",
+                "half",
+                &["--attrib", "colorInteropID", "lin_ap1_scene"],
+            ),
+            &["--colorspace", "Raw"],
+        ),
     ];
     for (input, extra) in cases {
         let copy = dir.path("copy.exr");
-        let mut args: Vec<&str> = vec![input.to_str().unwrap(), "-o", copy.to_str().unwrap()];
-        args.extend(["--data", "copy", "--overwrite", "--json"]);
+        let mut args: Vec<&str> = vec![input.to_str().unwrap(), copy.to_str().unwrap()];
+        args.extend(["--data", "copy", "--force", "--json"]);
         args.extend(extra);
         let records = Cmd::new(&args).ok().json_lines();
         assert_eq!(
