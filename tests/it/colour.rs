@@ -366,3 +366,178 @@ fn straight_alpha_is_converted_then_premultiplied_as_oiiotool_does() {
     }
     assert!(worst < 1e-4, "premultiplied EXR changed by {worst}");
 }
+
+/// A 4×4 half OpenEXR of one colour that OpenImageIO 3 would tag: `colorInteropID` = `id`
+/// (as oiiotool `--attrib colorInteropID` writes it), with the attributes `extra`.
+fn interop_exr(path: &Path, id: &str, extra: &[&str]) {
+    let mut args = vec![
+        "--pattern",
+        "constant:color=0.3,0.2,0.1",
+        "4x4",
+        "3",
+        "-d",
+        "half",
+        "--attrib",
+        "colorInteropID",
+        id,
+    ];
+    args.extend(extra);
+    args.extend(["-o", path.to_str().unwrap()]);
+    tool("oiiotool", &args);
+}
+
+/// The colour spaces the Academy's configs give the Color Interop Forum's IDs (in ACES CG
+/// v1.0.0's names; the v2 configs carry the IDs as aliases of the same spaces).
+const ACES_NAMES: [(&str, &str); 13] = [
+    ("lin_ap1_scene", "ACEScg"),
+    ("lin_ap0_scene", "ACES2065-1"),
+    ("lin_rec709_scene", "Linear Rec.709 (sRGB)"),
+    ("lin_p3d65_scene", "Linear P3-D65"),
+    ("lin_rec2020_scene", "Linear Rec.2020"),
+    ("srgb_rec709_scene", "sRGB - Texture"),
+    ("g24_rec709_scene", "Gamma 2.4 Rec.709 - Texture"),
+    ("g22_rec709_scene", "Gamma 2.2 Rec.709 - Texture"),
+    ("g18_rec709_scene", "Gamma 1.8 Rec.709 - Texture"),
+    ("srgb_ap1_scene", "sRGB Encoded AP1 - Texture"),
+    ("g22_ap1_scene", "Gamma 2.2 AP1 - Texture"),
+    ("srgb_rec709_display", "sRGB - Texture"),
+    ("lin_rec2020_display", "Linear Rec.2020"),
+];
+
+/// The chromaticities the OpenEXR recommendation (Annex A) gives the linear IDs.
+const ANNEX_A: [(&str, &str); 6] = [
+    (
+        "lin_rec709_scene",
+        "0.64,0.33,0.30,0.60,0.15,0.06,0.3127,0.3290",
+    ),
+    (
+        "lin_ap0_scene",
+        "0.7347,0.2653,0.0,1.0,0.0001,-0.0770,0.32168,0.33767",
+    ),
+    (
+        "lin_ap1_scene",
+        "0.713,0.293,0.165,0.830,0.128,0.044,0.32168,0.33767",
+    ),
+    (
+        "lin_p3d65_scene",
+        "0.680,0.320,0.265,0.690,0.150,0.060,0.3127,0.3290",
+    ),
+    (
+        "lin_rec2020_scene",
+        "0.708,0.292,0.170,0.797,0.131,0.046,0.3127,0.3290",
+    ),
+    (
+        "lin_adobergb_scene",
+        "0.64,0.33,0.21,0.71,0.15,0.06,0.3127,0.3290",
+    ),
+];
+
+#[test]
+fn every_color_interop_id_is_a_strong_declaration() {
+    use specconv_conversion::interop::{Meaning, IDS};
+    let dir = Scratch::new("colour-interop");
+    for (id, meaning) in IDS {
+        for spelled in [id.to_string(), id.to_ascii_uppercase()] {
+            let exr = dir.path(&format!("{spelled}.exr"));
+            interop_exr(&exr, &spelled, &[]);
+            let v = info(&exr, &[]);
+            let said = format!("{spelled}: {v}");
+            let warnings = v["colorspace_warnings"].to_string();
+            match meaning {
+                Meaning::Rgb(..) | Meaning::XyzD65 => {
+                    assert_eq!(v["colorspace_row"], 3, "{said}");
+                    assert_eq!(v["colorspace_rule"], "declared", "{said}");
+                    assert_eq!(v["role"], "colour", "{said}");
+                    if let Some((_, name)) = ACES_NAMES.iter().find(|(i, _)| *i == id) {
+                        assert_eq!(v["colorspace"], *name, "{said}");
+                    }
+                    // Linear IDs: what the same primaries as chromaticities decide.
+                    if let Some((_, c)) = ANNEX_A.iter().find(|(i, _)| *i == id) {
+                        let chroma = dir.path(&format!("{id}-chromaticities.exr"));
+                        constant_exr(&chroma, c, &[]);
+                        let by_chroma = info(&chroma, &[]);
+                        let name = by_chroma["colorspace"].as_str().unwrap();
+                        let name = name.replace("chromaticities", id);
+                        assert_eq!(v["colorspace"], name.as_str(), "{said}");
+                    }
+                }
+                Meaning::Data => {
+                    assert_eq!(v["role"], "data", "{said}");
+                    assert_eq!(v["colorspace"], "Raw", "{said}");
+                    assert_eq!(v["colorspace_row"], 3, "{said}");
+                }
+                Meaning::Unknown => {
+                    assert_eq!(v["colorspace_rule"], "default", "{said}");
+                    assert_eq!(warnings, "[]", "{said}");
+                }
+                Meaning::Unsupported(_) => {
+                    assert_eq!(v["colorspace_rule"], "default", "{said}");
+                    assert!(warnings.contains("colorInteropID"), "{said}");
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn a_data_interop_id_is_never_uplifted_and_a_name_nobody_knows_is_said() {
+    let dir = Scratch::new("colour-interop-data");
+    // `data` beside AP1 chromaticities: the ID supplants them (OpenEXR recommendation), with
+    // a warning naming both.
+    let both = dir.path("normal.exr");
+    interop_exr(
+        &both,
+        "data",
+        &[
+            "--attrib:type=float[8]",
+            "chromaticities",
+            "0.713,0.293,0.165,0.830,0.128,0.044,0.32168,0.33767",
+        ],
+    );
+    let v = info(&both, &[]);
+    assert_eq!(
+        (&v["role"], &v["colorspace"]),
+        (&"data".into(), &"Raw".into()),
+        "{v}"
+    );
+    let out = Cmd::convert(&both, dir.path("o.exr")).run();
+    out.ok();
+    assert!(!dir.path("o.exr").exists(), "{}", out.stderr);
+    assert!(out.stderr.contains("a data texture"), "{}", out.stderr);
+    // The caller still decides (row 1).
+    let v = info(&both, &["--colorspace", "ACEScg"]);
+    assert_eq!(v["role"], "colour");
+
+    // Names neither the config nor the Forum's list knows: a warning that names the
+    // attribute, then the next evidence (here the format's default).
+    for id in [
+        "studio:custom_log_a",
+        "lin_ap2_scene",
+        "acescg_linear",
+        "ocio:unknown",
+    ] {
+        let exr = dir.path("odd.exr");
+        interop_exr(&exr, id, &[]);
+        let v = info(&exr, &[]);
+        let warnings = v["colorspace_warnings"].to_string();
+        assert!(
+            warnings.contains(&format!("colorInteropID '{id}'"))
+                && warnings.contains("not a Color Interop Forum ID"),
+            "{id}: {warnings}"
+        );
+        assert_eq!(v["colorspace_rule"], "default", "{id}");
+        let out = Cmd::convert(&exr, dir.path("odd_spectral.exr"))
+            .arg("--force")
+            .run();
+        out.ok();
+        assert!(
+            out.stderr.contains("warning") && out.stderr.contains(id),
+            "{id}: {}",
+            out.stderr
+        );
+    }
+    // A name of the config (an alias) is the config's, whatever the list says.
+    let exr = dir.path("alias.exr");
+    interop_exr(&exr, "lin_ap1", &[]);
+    assert_eq!(info(&exr, &[])["colorspace"], "ACEScg");
+}

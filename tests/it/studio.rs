@@ -305,3 +305,123 @@ fn consistent_png_chunks_give_no_warning_and_disagreeing_ones_do() {
         "{warnings}"
     );
 }
+
+/// Files a config's Default rule could decide, written by oiiotool: half and float EXRs that
+/// declare nothing (RGB and one channel), one with AP1 chromaticities, PNGs with and without
+/// an sRGB chunk, grey and colour, 8 and 16 bits.
+fn undeclared_files(dir: &Scratch) -> Vec<PathBuf> {
+    let make = |name: &str, channels: &str, format: &str, extra: &[&str]| {
+        let p = dir.path(name);
+        let mut args = vec!["--pattern", "constant:color=0.3,0.2,0.1", "8x8", channels];
+        args.extend(extra);
+        args.extend(["-d", format, "-o", p.to_str().unwrap()]);
+        tool("oiiotool", &args);
+        p
+    };
+    let ap1 = "0.713,0.293,0.165,0.830,0.128,0.044,0.32168,0.33767";
+    vec![
+        make("plate.exr", "3", "half", &[]),
+        make("plate_float.exr", "3", "float", &[]),
+        make("rough.exr", "1", "half", &[]),
+        make(
+            "plate_ap1.exr",
+            "3",
+            "half",
+            &["--attrib:type=float[8]", "chromaticities", ap1],
+        ),
+        make("albedo.png", "3", "uint8", &[]),
+        make("albedo16.png", "3", "uint16", &[]),
+        make("rough.png", "1", "uint8", &[]),
+        make("albedo.tif", "3", "uint8", &[]),
+    ]
+}
+
+/// What `info` decides of `file` with `--ocio CONFIG`, or with `$OCIO` = CONFIG.
+fn decision(config: &str, file: &Path, by_env: bool) -> String {
+    let cmd = if by_env {
+        Cmd::new(["info", "--json", file.to_str().unwrap()]).env("OCIO", config)
+    } else {
+        Cmd::new(["--ocio", config, "info", "--json", file.to_str().unwrap()])
+    };
+    let v = cmd.ok().json();
+    format!(
+        "{} / {} / row {} / {} / warnings {}",
+        v["colorspace"],
+        v["colorspace_rule"],
+        v["colorspace_row"],
+        v["role"],
+        v["colorspace_warnings"]
+    )
+}
+
+#[test]
+fn the_official_configs_given_as_files_decide_as_the_built_in_ones() {
+    // Issue 45: `--ocio aces` and the same official config as a file chose ACES2065-1 and
+    // linear Rec.709 for one EXR (ΔE00 11.6), the file's Default rule taken as a studio's.
+    let dir = Scratch::new("official-twins");
+    let files = undeclared_files(&dir);
+    for kind in [
+        specconv_ocio::BuiltinConfig::Cg,
+        specconv_ocio::BuiltinConfig::Studio,
+    ] {
+        let official = shared(&format!("ocio/{}.ocio", kind.official_name()));
+        let official = official.to_str().unwrap();
+        let builtin = format!("ocio://{}", kind.official_name());
+        // The same text elsewhere, under another name, is still the Academy's config.
+        let copy = dir.write(
+            &format!("{kind:?}-copy.ocio"),
+            &std::fs::read_to_string(official).unwrap(),
+        );
+        for file in &files {
+            let want = decision(&builtin, file, false);
+            for (config, by_env) in [
+                (official, false),
+                (official, true),
+                (copy.to_str().unwrap(), false),
+            ] {
+                assert_eq!(
+                    decision(config, file, by_env),
+                    want,
+                    "{}: {config} (by $OCIO: {by_env}) against {builtin}",
+                    file.display()
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn an_edited_official_config_is_the_studios_own_policy() {
+    let dir = Scratch::new("official-edited");
+    let files = undeclared_files(&dir);
+    let plate = &files[0];
+    let text =
+        std::fs::read_to_string(shared("ocio/cg-config-v1.0.0_aces-v1.3_ocio-v2.1.ocio")).unwrap();
+    let default = "  - !<Rule> {name: Default, colorspace: ACES2065-1}";
+    assert!(text.contains(default));
+    // Its Default rule changed, or a rule added before it: the config is a studio's, whose
+    // Default rule decides float files that declare nothing (row 5).
+    let edits = [
+        (
+            "default-acescg",
+            text.replace(default, "  - !<Rule> {name: Default, colorspace: ACEScg}"),
+            "\"ACEScg\"",
+        ),
+        (
+            "added-rule",
+            text.replace(
+                default,
+                &format!("  - !<Rule> {{name: normals, colorspace: Raw, pattern: \"*_normal*\", extension: \"*\"}}\n{default}"),
+            ),
+            "\"ACES2065-1\"",
+        ),
+    ];
+    for (name, yaml, space) in edits {
+        let config = dir.write(&format!("{name}.ocio"), &yaml);
+        let got = decision(config.to_str().unwrap(), plate, false);
+        assert!(
+            got.starts_with(&format!("{space} / \"config-default\" / row 5")),
+            "{name}: {got}"
+        );
+    }
+}

@@ -6,7 +6,7 @@
 
 use crate::runner::*;
 use std::collections::BTreeMap;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// The texture metadata of the issue: the four named attributes and a studio's own.
 const METADATA: [(&str, &str); 5] = [
@@ -414,4 +414,162 @@ fn a_truncated_png_fails_with_our_one_line_and_nothing_from_libpng() {
     }
     // The whole file converts.
     Cmd::convert(&whole, s.path("o.exr")).ok();
+}
+
+#[test]
+fn a_skipped_grey_map_is_named_in_the_summary_with_why_and_the_option_that_converts_it() {
+    // Issue 45: a one-channel sRGB PNG albedo was skipped as data with exit 0, said only as
+    // a count. The rule stands (one channel that no row from 1 to 3 calls colour is data);
+    // the summary names each skipped map, why, and the option that uplifts it as colour.
+    let dir = Scratch::new("grey-maps-named");
+    let out = dir.path("out");
+    std::fs::create_dir(&out).unwrap();
+    let make = |name: &str, channels: &str, format: &str| {
+        let p = dir.path(name);
+        let args = [
+            "--pattern",
+            "fill:top=0.2:bottom=0.7",
+            "8x8",
+            channels,
+            "-d",
+            format,
+            "-o",
+            p.to_str().unwrap(),
+        ];
+        tool("oiiotool", &args);
+        p
+    };
+    let greys = [
+        make("albedo_grey.png", "1", "uint8"),
+        make("albedo_grey16.png", "1", "uint16"),
+        make("albedo_grey_alpha.png", "2", "uint8"),
+        make("albedo_grey_tiff.tif", "1", "uint8"),
+        make("albedo_grey_half.exr", "1", "half"),
+    ];
+    let colour = make("albedo.png", "3", "uint8");
+    let mut args: Vec<&std::ffi::OsStr> = greys.iter().map(|p| p.as_os_str()).collect();
+    args.extend([colour.as_os_str(), "-o".as_ref(), out.as_os_str()]);
+    let run = Cmd::new(&args).ok();
+    assert!(
+        run.stderr
+            .contains("1 converted, 0 skipped, 5 data textures skipped, 0 failed"),
+        "{}",
+        run.stderr
+    );
+    let summary = run.stderr.rsplit("specconv: 1 converted").next().unwrap();
+    for grey in &greys {
+        let line = summary
+            .lines()
+            .find(|l| l.contains(&format!("skipped as data: {}:", grey.display())))
+            .unwrap_or_else(|| panic!("{} not named in {summary}", grey.display()));
+        assert!(
+            line.contains("one channel") && line.contains("--data copy"),
+            "{line}"
+        );
+        // The option the line gives, followed, uplifts it as (achromatic) colour.
+        let name = line
+            .split("--colorspace '")
+            .nth(1)
+            .and_then(|s| s.split('\'').next())
+            .unwrap_or_else(|| panic!("no --colorspace NAME in {line}"));
+        let spectral = dir.path("one_spectral.exr");
+        let records = Cmd::new([
+            grey.as_os_str(),
+            "--colorspace".as_ref(),
+            name.as_ref(),
+            spectral.as_os_str(),
+            "--force".as_ref(),
+            "--json".as_ref(),
+        ])
+        .ok()
+        .json_lines();
+        assert_eq!(records[0]["status"], "ok", "{line}: {records:?}");
+        assert_eq!(records[0]["role"], "achromatic", "{line}");
+    }
+}
+
+#[test]
+fn a_data_copy_says_it_is_data_to_every_reader() {
+    // Issue 45: copies were tagged "Linear" only (OpenImageIO's label of every OpenEXR file):
+    // a three-channel one read back as linear Rec.709 colour. A copy carries
+    // colorInteropID "data" (the OpenEXR recommendation's word for no colour), which
+    // exrheader shows and specconv's `info` reads as data.
+    let dir = Scratch::new("data-copy-role");
+    let make = |name: &str, channels: &str, format: &str, extra: &[&str]| {
+        let p = dir.path(name);
+        let mut args = vec![
+            "--pattern",
+            "fill:top=0.2,0.5,1:bottom=0.7,0.5,1",
+            "8x8",
+            channels,
+        ];
+        args.extend(extra);
+        args.extend(["-d", format, "-o", p.to_str().unwrap()]);
+        tool("oiiotool", &args);
+        p
+    };
+    let ap1 = "0.713,0.293,0.165,0.830,0.128,0.044,0.32168,0.33767";
+    let cases: [(PathBuf, &[&str]); 6] = [
+        (
+            make("normal.png", "3", "uint8", &[]),
+            &["--colorspace", "Raw"],
+        ),
+        (
+            make("normal.exr", "3", "half", &[]),
+            &["--colorspace", "raw"],
+        ),
+        (
+            make(
+                "normal_ap1.exr",
+                "3",
+                "half",
+                &["--attrib:type=float[8]", "chromaticities", ap1],
+            ),
+            &["--colorspace", "Utility - Raw"],
+        ),
+        (make("rough.png", "1", "uint8", &[]), &[]),
+        (
+            make(
+                "normal_tagged.exr",
+                "3",
+                "half",
+                &["--attrib", "colorInteropID", "data"],
+            ),
+            &[],
+        ),
+        // The input's own ID is not carried over the copy's.
+        (
+            make(
+                "normal_ap1_id.exr",
+                "3",
+                "half",
+                &["--attrib", "colorInteropID", "lin_ap1_scene"],
+            ),
+            &["--colorspace", "Raw"],
+        ),
+    ];
+    for (input, extra) in cases {
+        let copy = dir.path("copy.exr");
+        let mut args: Vec<&str> = vec![input.to_str().unwrap(), copy.to_str().unwrap()];
+        args.extend(["--data", "copy", "--force", "--json"]);
+        args.extend(extra);
+        let records = Cmd::new(&args).ok().json_lines();
+        assert_eq!(
+            records[0]["status"],
+            "copied",
+            "{}: {records:?}",
+            input.display()
+        );
+        let header = tool("exrheader", &[copy.to_str().unwrap()]);
+        assert!(
+            header.contains("colorInteropID (type string): \"data\""),
+            "{}: {header}",
+            input.display()
+        );
+        let v = Cmd::new(["info", "--json", copy.to_str().unwrap()])
+            .ok()
+            .json();
+        assert_eq!(v["role"], "data", "{}: {v}", input.display());
+        assert_eq!(v["colorspace"], "Raw", "{}", input.display());
+    }
 }

@@ -557,8 +557,17 @@ fn to_rgb_declares_the_space_it_writes_so_other_readers_get_the_input_colour() {
 #[test]
 fn a_studio_configs_default_rule_outranks_the_format_default_and_info_says_so() {
     let dir = Scratch::new("default-rule");
-    // The built-in ACES config as a studio's file: its Default rule is ACES2065-1.
-    let config = dir.write("studio.ocio", specconv_ocio::CG_CONFIG_YAML);
+    // A studio's config: the ACES one with a rule of its own; its Default rule is ACES2065-1.
+    // (The Academy's config unedited decides as built in: studio.rs.)
+    let default = "  - !<Rule> {name: Default, colorspace: ACES2065-1}";
+    let yaml = specconv_ocio::CG_CONFIG_YAML.replace(
+        default,
+        &format!(
+            "  - !<Rule> {{name: normals, colorspace: Raw, pattern: \"*_normal*\", extension: \"*\"}}\n{default}"
+        ),
+    );
+    assert_ne!(yaml, specconv_ocio::CG_CONFIG_YAML);
+    let config = dir.write("studio.ocio", &yaml);
     let exr = dir.path("plate.exr");
     constant(&exr, 4, "0.3,0.2,0.1", &["-d", "half"]);
     let png = dir.path("paint.png");
@@ -589,7 +598,7 @@ fn a_studio_configs_default_rule_outranks_the_format_default_and_info_says_so() 
         .ok()
         .json();
     assert_eq!(v["colorspace"], "ACES2065-1");
-    // Built in, the same config is nobody's policy: the OpenEXR default applies.
+    // Built in, the Academy's config is nobody's policy: the OpenEXR default applies.
     let v = info(Path::new("aces"), &exr);
     assert_eq!(v["colorspace"], "Linear Rec.709 (sRGB)");
     assert_eq!(v["colorspace_rule"], "default");

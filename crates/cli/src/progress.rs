@@ -207,7 +207,7 @@ pub struct Summary {
     pub converted: usize,
     pub skipped: usize,
     /// What became of each data texture.
-    pub data: Vec<Option<specconv_conversion::DataOutcome>>,
+    pub data: Vec<DataSummary>,
     /// Each failed input with its error.
     pub failed: Vec<(PathBuf, String)>,
     /// Inputs converted with pixels clipped.
@@ -222,7 +222,7 @@ impl Summary {
     /// `specconv: 10 converted, 1 skipped, 2 failed in 3 min 05 s`, then each failure again.
     pub fn text(&self, seconds: f64) -> String {
         use specconv_conversion::DataOutcome;
-        let count = |o: DataOutcome| self.data.iter().filter(|d| **d == Some(o)).count();
+        let count = |o: DataOutcome| self.data.iter().filter(|d| d.outcome == Some(o)).count();
         let mut data = String::new();
         for (n, what) in [
             (count(DataOutcome::Skipped), "skipped"),
@@ -253,7 +253,40 @@ impl Summary {
         for (input, error) in &self.failed {
             text += &format!("\n  failed: {}: {error}", input.display());
         }
+        for d in self
+            .data
+            .iter()
+            .filter(|d| d.outcome == Some(DataOutcome::Skipped))
+        {
+            text += &format!("\n  skipped as data: {}: {}", d.input.display(), d.why);
+        }
         text
+    }
+}
+
+/// A data texture of the batch: what became of it, and, skipped, why and how to have it.
+pub struct DataSummary {
+    /// The input.
+    pub input: PathBuf,
+    /// What was done with it.
+    pub outcome: Option<specconv_conversion::DataOutcome>,
+    /// Its colour space and the rule that made it data, then the remedy.
+    pub why: String,
+}
+
+impl DataSummary {
+    /// The summary of `input`'s data texture `report`.
+    pub fn of(input: &Path, report: &specconv_conversion::Report) -> DataSummary {
+        DataSummary {
+            input: input.to_path_buf(),
+            outcome: report.data,
+            why: format!(
+                "colour space {}, {} ({})",
+                report.colorspace,
+                crate::records::colorspace_reason(&report.colorspace_rule),
+                crate::records::data_remedy(&report.colorspace_rule)
+            ),
+        }
     }
 }
 

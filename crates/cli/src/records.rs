@@ -41,6 +41,17 @@ pub fn colorspace_reason(rule: &specconv_conversion::Rule) -> String {
     }
 }
 
+/// How to have a skipped data texture after all: `--data copy` writes it through, and
+/// `--colorspace` with the colour space the library names ([`specconv_conversion::Rule::colour_after_all`]: a grey
+/// map's), or with the one the texture is encoded in, uplifts it as colour.
+pub fn data_remedy(rule: &specconv_conversion::Rule) -> String {
+    let colour = match rule.colour_after_all() {
+        Some(name) => format!("--colorspace '{name}' uplifts it as colour"),
+        None => "--colorspace NAME uplifts it as colour if it is one".into(),
+    };
+    format!("--data copy writes it through; {colour}")
+}
+
 /// A declaration of the file that was not followed, and how to choose instead.
 pub fn warning(w: &specconv_conversion::Warning) -> String {
     format!("{w} (pass --colorspace to choose)")

@@ -48,6 +48,20 @@ pub const ACES2065_1: RgbSpace = RgbSpace {
     white: [0.32168, 0.33767],
 };
 
+/// P3 primaries (SMPTE EG 432-1, ST 2113) with the D65 white: P3-D65.
+pub const P3_D65: RgbSpace = RgbSpace {
+    name: "P3-D65",
+    primaries: [[0.680, 0.320], [0.265, 0.690], [0.150, 0.060]],
+    white: [0.3127, 0.3290],
+};
+
+/// Adobe RGB (1998), Adobe's specification, 4.3.
+pub const ADOBE_RGB: RgbSpace = RgbSpace {
+    name: "Adobe RGB (1998)",
+    primaries: [[0.64, 0.33], [0.21, 0.71], [0.15, 0.06]],
+    white: [0.3127, 0.3290],
+};
+
 fn xyz_of(xy: [f64; 2]) -> Vector3<f64> {
     Vector3::new(xy[0] / xy[1], 1.0, (1.0 - xy[0] - xy[1]) / xy[1])
 }

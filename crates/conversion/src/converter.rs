@@ -314,6 +314,12 @@ impl Converter {
         };
         // `--wrap` names the copy's wrap modes too (else make_texture keeps the input's).
         let mut attributes = provenance.to_attributes();
+        // Its role, in the attribute OpenEXR and OpenImageIO 3 read a colour space from
+        // (make_texture would leave the input's, or none: read as linear Rec.709 colour).
+        attributes.push((
+            "colorInteropID".into(),
+            crate::pipeline::interop::DATA.into(),
+        ));
         if let Some((s, t)) = self.options.wrap {
             attributes.push(("wrapmodes".into(), format!("{s},{t}")));
         }

@@ -69,6 +69,7 @@ pub use options::{
     Options, Rounding, Sample, Wrap, WrapModes, WRAP_NAMES,
 };
 pub use pipeline::expand::{CompactTexels, Expanded};
+pub use pipeline::interop;
 pub use pipeline::DataTexture;
 pub use plan::{check_plan, Outputs, Plan};
 pub use provenance::Provenance;

@@ -226,6 +226,9 @@ pub enum Rule {
     OneChannel {
         /// The evidence of rows 4 to 6 that would have called it colour, if any.
         overrides: Option<String>,
+        /// The colour space rows 4 to 6 give it: what `--colorspace` names to uplift it as
+        /// colour after all ([`Rule::colour_after_all`]).
+        colour: String,
     },
     /// Row 6: the format's default, with its reason.
     Default(&'static str),
@@ -246,7 +249,7 @@ pub enum Strength {
 pub const PRECEDENCE: [&str; 6] = [
     "the colour space the caller names (--colorspace)",
     "a studio config's explicit file rule (not its Default rule)",
-    "a strong declaration in the file (ICC profile, EXR chromaticities or ACES container flag, a colour-space name a tool wrote)",
+    "a strong declaration in the file (ICC profile, EXR colorInteropID, chromaticities or ACES container flag, a colour-space name a tool wrote)",
     "a weak declaration in the file (PNG sRGB, gAMA, cHRM chunks, which writers add to every PNG)",
     "the Default rule of a config the user gave",
     "the built-in default (OpenEXR without chromaticities: linear Rec.709; integer pixels: sRGB texture)",
@@ -304,7 +307,7 @@ impl Rule {
             | Rule::FileRule { overrides, .. }
             | Rule::Declared { overrides, .. }
             | Rule::ConfigDefault { overrides, .. }
-            | Rule::OneChannel { overrides } => overrides.as_deref(),
+            | Rule::OneChannel { overrides, .. } => overrides.as_deref(),
             Rule::Default(_) => None,
         }
     }
@@ -318,6 +321,16 @@ impl Rule {
             Rule::FileRule { rule, .. } => Some(says::file_rule(rule, name)),
             Rule::ConfigDefault { rule, .. } => Some(says::default_rule(rule, name)),
             Rule::Flag { .. } | Rule::OneChannel { .. } | Rule::Default(_) => None,
+        }
+    }
+
+    /// For a texture this rule made data, the colour space to name (`--colorspace`) to uplift
+    /// it as colour after all: the one rows 4 to 6 gave a one-channel map the data-map rule
+    /// took; `None` where a data colour space decided (only the caller knows the encoding).
+    pub fn colour_after_all(&self) -> Option<&str> {
+        match self {
+            Rule::OneChannel { colour, .. } => Some(colour),
+            _ => None,
         }
     }
 

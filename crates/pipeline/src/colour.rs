@@ -6,8 +6,9 @@
 //! 2. the OCIO config's explicit `file_rules` (a rule other than the Default rule matches the
 //!    path): a studio's config says what its files are, whatever writers added to them;
 //! 3. strong declarations in the file, written on purpose: an embedded ICC profile; OpenEXR
-//!    `chromaticities` (and `acesImageContainerFlag`, which means AP0 with the ACES white); a
-//!    colour-space name a tool wrote in `oiio:ColorSpace` (not OpenImageIO's own labels
+//!    `colorInteropID` (a Color Interop Forum ID, [`crate::interop`], or a name of the
+//!    config), `chromaticities` (and `acesImageContainerFlag`, which means AP0 with the ACES
+//!    white); a colour-space name a tool wrote in `oiio:ColorSpace` (not OpenImageIO's own labels
 //!    "Linear" and "sRGB", which it gives every OpenEXR file and most integer files whatever
 //!    they hold);
 //! 4. weak declarations: PNG `sRGB`, then `cHRM`/`gAMA`, which OpenImageIO and most writers
@@ -37,7 +38,7 @@
 //! after the declared transfer function; or, for an ICC profile, Little CMS to its D50 PCS
 //! (relative colorimetric) then Bradford to D65.
 
-use super::{input, png, Error, Result};
+use super::{input, interop, png, Error, Result};
 use crate::choices::Alpha;
 use crate::report::says;
 pub use crate::report::{Rule, Strength, Warning};
@@ -198,6 +199,8 @@ enum Declared {
         label: &'static str,
     },
     Icc(Vec<u8>),
+    /// CIE XYZ with the D65 white: the connection space.
+    XyzD65,
 }
 
 /// One declaration of the file: what declared it, how much that says, and what it declares.
@@ -215,6 +218,17 @@ fn declarations(reader: &ImageReader) -> Result<Vec<Declaration>> {
             "ICC profile".to_owned(),
             Strength::Strong,
             Declared::Icc(bytes),
+        ));
+    }
+    // OpenImageIO 3's and OpenEXR's colour-space name; it supplants the chromaticities.
+    if let Some(id) = reader
+        .string_attribute("colorInteropID")?
+        .filter(|id| !id.trim().is_empty())
+    {
+        out.push((
+            format!("EXR colorInteropID '{id}'"),
+            Strength::Strong,
+            Declared::Named(id),
         ));
     }
     if let Some(c) = reader.numeric_attribute("chromaticities")? {
@@ -358,13 +372,18 @@ fn config_equivalent(config: &Config, route: &ToXyz) -> Result<Option<(String, P
 /// usable (a name the config does not know, impossible chromaticities), with the reason.
 fn resolve(config: &Config, d: &Declared) -> Result<std::result::Result<(String, ToXyz), String>> {
     match d {
-        Declared::Named(name) => match config.find_color_space(name)? {
-            Some(cs) => Ok(Ok((
-                cs.name.clone(),
-                ToXyz::Ocio(config.processor_to_xyz(&cs.name)?),
-            ))),
-            None => Ok(Err(format!("the config has no colour space '{name}'"))),
-        },
+        Declared::Named(name) => Ok(Err(format!("the config has no colour space '{name}'"))),
+        Declared::XyzD65 => {
+            let identity = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+            let route = ToXyz::Matrix {
+                decode: Decode::Linear,
+                m: identity,
+            };
+            Ok(Ok(match config_equivalent(config, &route)? {
+                Some((name, p)) => (name, ToXyz::Ocio(p)),
+                None => ("CIE XYZ, D65 white".to_owned(), route),
+            }))
+        }
         Declared::Space {
             space,
             decode,
@@ -500,7 +519,10 @@ pub fn texture_space(
         return Err(with_selection(DataTexture {
             path: info.path.clone(),
             name: data_space_name(config),
-            rule: Rule::OneChannel { overrides },
+            rule: Rule::OneChannel {
+                overrides,
+                colour: space.name,
+            },
             selection: None,
             size: (info.width(), info.height()),
         }));
@@ -667,10 +689,14 @@ fn evidence(config: &Config, reader: &ImageReader) -> Result<Evidence> {
     };
     for (what, strength, d) in declarations(reader)? {
         let resolved = match &d {
-            Declared::Named(name) if config.find_color_space(name)?.is_some() => {
-                let naming = |cs: &str| says::file(&what, cs);
-                Found::in_config(config, name, what.clone(), naming)?
-            }
+            Declared::Named(name) => match named(config, name, &what)? {
+                Some(Ok(found)) => found,
+                None => continue,
+                Some(Err(why)) => {
+                    found.warnings.push(Warning::Ignored { what, why });
+                    continue;
+                }
+            },
             _ => match resolve(config, &d)? {
                 Ok((name, route)) => Found {
                     says: says::file(&what, &name),
@@ -690,6 +716,61 @@ fn evidence(config: &Config, reader: &ImageReader) -> Result<Evidence> {
         }
     }
     Ok(found)
+}
+
+/// A colour-space name the file declares (`colorInteropID`, `oiio:ColorSpace`), resolved by
+/// one rule: a name, alias or role of the config; else a Color Interop Forum ID
+/// ([`crate::interop`]) as the config's equivalent space (`data`: its data space); `None` for
+/// `unknown`, which declares nothing; `Some(Err(why))` for a name neither knows.
+fn named(
+    config: &Config,
+    name: &str,
+    what: &str,
+) -> Result<Option<std::result::Result<Found, String>>> {
+    let naming = |cs: &str| says::file(what, cs);
+    if config.find_color_space(name)?.is_some() {
+        return Ok(Some(Ok(Found::in_config(
+            config,
+            name,
+            what.into(),
+            naming,
+        )?)));
+    }
+    let declared = match interop::meaning(name) {
+        None => {
+            return Ok(Some(Err(format!(
+                "the config has no colour space '{name}', and it is not a Color Interop \
+                 Forum ID (docs/colour.md lists them)"
+            ))))
+        }
+        Some((_, interop::Meaning::Unknown)) => return Ok(None),
+        Some((id, interop::Meaning::Unsupported(why))) => {
+            return Ok(Some(Err(format!("'{id}' is {why}"))))
+        }
+        Some((_, interop::Meaning::Data)) => {
+            let name = data_space_name(config);
+            return Ok(Some(Ok(Found {
+                says: naming(&name),
+                what: what.into(),
+                name,
+                route: None,
+            })));
+        }
+        Some((_, interop::Meaning::XyzD65)) => Declared::XyzD65,
+        Some((id, interop::Meaning::Rgb(space, decode))) => Declared::Space {
+            space,
+            decode,
+            label: id,
+        },
+    };
+    Ok(Some(resolve(config, &declared)?.map(|(name, route)| {
+        Found {
+            says: naming(&name),
+            what: what.into(),
+            name,
+            route: Some(route),
+        }
+    })))
 }
 
 /// [`Error::Data`] for the open file in the data space `name`, chosen by `rule`.
@@ -773,16 +854,15 @@ fn file_rule(config: &Config, info: &specconv_oiio::ImageInfo) -> Result<Option<
 /// The Default rule of a config the user gave (a file or `$OCIO`) and its colour space, when
 /// it applies: a data space for any file, a colour space for float pixels only (integer
 /// pixels are display-encoded textures whatever a Default rule made for scene-linear EXRs
-/// says). The built-in configs' Default rule is no one's policy for a file.
+/// says). The built-in configs' Default rule is no one's policy for a file, nor is that of
+/// the Academy's official configs given as files ([`Config::builtin_twin`]): `--ocio aces`
+/// and `--ocio cg-config-….ocio` decide alike.
 fn config_default(
     config: &Config,
     info: &specconv_oiio::ImageInfo,
 ) -> Result<Option<(String, Found)>> {
-    let users = matches!(
-        config.source(),
-        specconv_ocio::ConfigSource::File(_) | specconv_ocio::ConfigSource::Env(_)
-    );
-    if !users {
+    // The built-in configs, and the official files they follow, are no studio's policy.
+    if config.builtin_twin()?.is_some() {
         return Ok(None);
     }
     let default = config

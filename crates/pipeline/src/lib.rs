@@ -21,6 +21,7 @@ pub mod data;
 pub mod expand;
 pub mod filter;
 pub mod input;
+pub mod interop;
 mod mip;
 mod png;
 pub mod survey;

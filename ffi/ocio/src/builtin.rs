@@ -191,6 +191,31 @@ impl Config {
         Self::builtin_named(BuiltinConfig::Cg, ACES_CONFIG_NAME, false)
     }
 
+    /// The built-in config this config is: itself for a built-in one; for a file (the
+    /// Academy's official config, as `../shared/ocio` holds it) the built-in config with the
+    /// same colour spaces, roles and file rules, so that both decide a file's colour space
+    /// alike; `None` for any other (a studio's config, an edited copy). Asked once per config.
+    pub fn builtin_twin(&self) -> Result<Option<BuiltinConfig>> {
+        if let ConfigSource::Builtin { config, .. } = self.source() {
+            return Ok(Some(*config));
+        }
+        if let Some(twin) = self.twin.get() {
+            return Ok(*twin);
+        }
+        let mut twin = None;
+        for kind in [BuiltinConfig::Cg, BuiltinConfig::Studio] {
+            let ours = Config::builtin(kind)?;
+            if self.all_color_space_names()? == ours.all_color_space_names()?
+                && self.roles()? == ours.roles()?
+                && self.file_rules()? == ours.file_rules()?
+            {
+                twin = Some(kind);
+                break;
+            }
+        }
+        Ok(*self.twin.get_or_init(|| twin))
+    }
+
     fn builtin_named(config: BuiltinConfig, name: &str, from_env: bool) -> Result<Config> {
         let source = ConfigSource::Builtin {
             name: name.to_owned(),

@@ -169,6 +169,9 @@ pub struct ColorSpace {
 pub struct Config {
     raw: NonNull<sys::specconv_ocio_config>,
     source: ConfigSource,
+    /// The built-in config this one is, content for content, once asked
+    /// ([`Config::builtin_twin`]).
+    twin: std::sync::OnceLock<Option<BuiltinConfig>>,
 }
 
 // SAFETY: an OCIO config is immutable after loading and OCIO documents const configs as
@@ -290,7 +293,11 @@ impl Config {
         source: ConfigSource,
     ) -> Result<Config> {
         match (status as u32, NonNull::new(raw)) {
-            (sys::SPECCONV_OCIO_OK, Some(raw)) => Ok(Config { raw, source }),
+            (sys::SPECCONV_OCIO_OK, Some(raw)) => Ok(Config {
+                raw,
+                source,
+                twin: std::sync::OnceLock::new(),
+            }),
             _ => Err(Error::ConfigLoad {
                 origin: source.to_string(),
                 message: last_error(),

@@ -276,7 +276,8 @@ fn show(
             rule,
             &[][..],
             format!(
-                "none: a data texture ({why}), never uplifted (convert --data copy writes it through)"
+                "none: a data texture ({why}), never uplifted (convert: {})",
+                crate::records::data_remedy(rule)
             ),
         ),
     };

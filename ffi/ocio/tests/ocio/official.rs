@@ -233,3 +233,34 @@ fn every_view_gives_the_same_display_values() {
         eprintln!("{kind:?}: worst display-value difference {worst:e}");
     }
 }
+
+#[test]
+fn the_official_files_are_the_built_in_configs_twins_and_edited_ones_are_not() {
+    for (kind, ours, theirs) in pairs() {
+        assert_eq!(ours.builtin_twin().unwrap(), Some(kind));
+        assert_eq!(theirs.builtin_twin().unwrap(), Some(kind), "{kind:?}");
+        // Asked again: the same answer (kept).
+        assert_eq!(theirs.builtin_twin().unwrap(), Some(kind));
+        let text =
+            std::fs::read_to_string(official(&format!("{}.ocio", kind.official_name()))).unwrap();
+        let default = "  - !<Rule> {name: Default, colorspace: ACES2065-1}";
+        assert!(text.contains(default));
+        let added = format!(
+            "  - !<Rule> {{name: n, colorspace: Raw, pattern: \"*_n*\", extension: \"*\"}}\n{default}"
+        );
+        for edited in [
+            text.replace(default, "  - !<Rule> {name: Default, colorspace: ACEScg}"),
+            text.replace(default, &added),
+            text.replace("  data: Raw", "  data: ACEScg"),
+        ] {
+            assert_ne!(edited, text);
+            let config = Config::from_yaml(
+                &edited,
+                None,
+                specconv_ocio::ConfigSource::File("edited.ocio".into()),
+            )
+            .unwrap();
+            assert_eq!(config.builtin_twin().unwrap(), None, "{kind:?}");
+        }
+    }
+}

@@ -229,7 +229,9 @@ fn run_batch(args: &Reporting, converter: &Converter, pairs: &[(PathBuf, PathBuf
                 report,
             } => {
                 progress.finish();
-                summary.data.push(report.data);
+                summary
+                    .data
+                    .push(crate::progress::DataSummary::of(input, report));
                 said(printing::data(args, (input, output), report));
             }
             Event::Failed {

@@ -94,9 +94,9 @@ pub(super) fn data(
         )
     } else {
         format!(
-            "a data texture (colour space {}, {why}): skipped, never uplifted (--data copy writes \
-             it through)",
-            r.colorspace
+            "a data texture (colour space {}, {why}): skipped, never uplifted ({})",
+            r.colorspace,
+            records::data_remedy(&r.colorspace_rule)
         )
     };
     let record = Record::data(input, output, r);
