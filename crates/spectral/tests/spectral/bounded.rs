@@ -165,8 +165,8 @@ fn outside_the_solid_the_nearest_colour_in_cielab_is_on_the_surface_and_beats_to
         let mut near = vec![0.0; a.bands()];
         let reached = nearest::nearest_lab(bounded.solid(), w, c, &r0, &mut near);
         let pull = delta_e76(a, pulled, reached);
-        // Measured over these 424 colours: 28 above 0.05, at most 0.75, where the mean
-        // distance to the input is 7.8.
+        // Measured over these 424 colours: at most 0.33 (0.75 before the pull's warm starts,
+        // issue 45), where the mean distance to the input is 7.8.
         assert!(pull <= 1.0, "{c:?}: drawn in by ΔE76 {pull}");
         let (lab, j) = xyz_to_lab_jacobian(reached, w);
         let target = xyz_to_lab(c, w);
