@@ -64,6 +64,23 @@ const BLOCK: usize = 64;
 /// floats there.
 pub const DUAL_F32_TOLERANCE: f64 = 1.0 / 8192.0;
 
+/// The fractions by which an outside colour's projection is drawn towards grey, tried in turn
+/// (`Bounded::onto_reached`): 0, then 10⁻⁸ doubled 27 times.
+const PULLS: [f64; 29] = {
+    let mut t = [0.0; 29];
+    let mut k = 1;
+    while k < 29 {
+        t[k] = if k == 1 { 1e-8 } else { 2.0 * t[k - 1] };
+        k += 1;
+    }
+    t
+};
+
+/// Bands strictly inside (0, 1).
+fn free_bands(r: &[f64]) -> usize {
+    r.iter().filter(|&&v| v > 0.0 && v < 1.0).count()
+}
+
 /// Dual Newton steps of a projection ([`Solid::project`]'s).
 const MAX_DUAL_STEPS: usize = 60;
 
@@ -162,6 +179,19 @@ impl<M: Method> Bounded<M> {
     /// for every outcome (w = 0 in range and for NaN), the compact texel's u
     /// ([`crate::compact`]).
     pub fn bound_dual(&self, c: [f64; 3], r: &mut [f64]) -> (Outcome, [f64; 3]) {
+        self.bound_dual_with(c, r, true)
+    }
+
+    /// [`Bounded::bound`] as it was before issue 45, kept as the reference that the tests and
+    /// `--bench bounded` measure the warm-started search against: each trial projection of an
+    /// outside colour ([`Bounded::bound`]'s last step) starts from w = 0.
+    pub fn bound_reference(&self, c: [f64; 3], r: &mut [f64]) -> Outcome {
+        self.bound_dual_with(c, r, false).0
+    }
+
+    /// [`Bounded::bound_dual`]; `warm`: each trial projection of an outside colour starts from
+    /// the last solved trial's w.
+    fn bound_dual_with(&self, c: [f64; 3], r: &mut [f64], warm: bool) -> (Outcome, [f64; 3]) {
         if c.iter().any(|v| !v.is_finite()) {
             return (Outcome::NotFinite, [0.0; 3]);
         }
@@ -184,7 +214,7 @@ impl<M: Method> Bounded<M> {
                     nearest::nearest_lab(&self.solid, self.colorimetry.white_xyz(), c, r0, r);
                 let (reached, w) = match self.along_normal(c, near, r0, r) {
                     Some(w) => (near, w),
-                    None => self.onto_reached(near, r0, r),
+                    None => self.onto_reached(near, r0, r, warm),
                 };
                 let certificate = match solve {
                     Solve::Outside(u) => Some(u),
@@ -225,29 +255,62 @@ impl<M: Method> Bounded<M> {
 
     /// The spectrum of an outside colour in the form of every other, clip(r₀ + Aᵀw, 0, 1): `r0`
     /// projected onto the colour `near` reached ([`nearest`]), drawn towards the grey of its
-    /// luminance by the least fraction (0, then 10⁻⁸ doubled) for which the projection is solved and w rounded
-    /// to float32 (as a compact texel stores it) still gives its spectrum within
+    /// luminance by the least fraction of [`PULLS`] for which the projection is solved and w
+    /// rounded to float32 (as a compact texel stores it) still gives its spectrum within
     /// [`DUAL_F32_TOLERANCE`]. A colour of the surface is reached only as w → ∞, and the bands
     /// the clip leaves free lose |aᵢ|·|w|·2⁻²⁴ to the rounding. Returns the colour and w (w = 0
     /// and r₀ clipped if no pull solves).
-    fn onto_reached(&self, near: [f64; 3], r0: &[f64], r: &mut [f64]) -> ([f64; 3], [f64; 3]) {
+    ///
+    /// `warm` (issue 45): each trial starts from the last solved trial's w, a few Newton steps
+    /// instead of dozens for a colour a hair inside the surface (w large); a warm trial that
+    /// fails unsolved, or where w is not unique (fewer than three free bands), is tried again
+    /// from 0. Without `warm` every trial starts from 0, the method before
+    /// ([`Bounded::bound_reference`]). The two answers differ where the cold trials' passes
+    /// hang on rounding (tested within a stated tolerance: `warm_started_outside_search_…`).
+    fn onto_reached(
+        &self,
+        near: [f64; 3],
+        r0: &[f64],
+        r: &mut [f64],
+        warm: bool,
+    ) -> ([f64; 3], [f64; 3]) {
         // The grey of the same luminance, inside the solid: only chroma is given up.
         let white = self.colorimetry.white_xyz();
         let grey = white.map(|v| v * (near[1] / white[1]).clamp(0.0, 1.0));
         let mut trial = vec![0.0; r.len()];
-        for t in std::iter::once(0.0).chain((0..28).map(|k| 1e-8 * 2f64.powi(k))) {
-            let x = [0, 1, 2].map(|k| near[k] + t * (grey[k] - near[k]));
-            let (solve, w) = self.solid.project_dual(x, r0, &mut trial, MAX_DUAL_STEPS);
-            if solve == Solve::Solved && self.keeps_in_f32(r0, w, &trial) {
+        let mut start = [0.0; 3];
+        let mut found = None;
+        for t in PULLS {
+            let x = [0, 1, 2].map(|i| near[i] + t * (grey[i] - near[i]));
+            let (mut solve, mut w) =
+                self.solid
+                    .project_dual_from(x, r0, &mut trial, MAX_DUAL_STEPS, start);
+            let mut ok = solve == Solve::Solved && self.keeps_in_f32(r0, w, &trial);
+            // A warm start that fails where w is not unique (fewer than three free bands) or
+            // not reached: the cold start decides, as before.
+            if !ok && start != [0.0; 3] && (solve != Solve::Solved || free_bands(&trial) < 3) {
+                (solve, w) = self.solid.project_dual(x, r0, &mut trial, MAX_DUAL_STEPS);
+                ok = solve == Solve::Solved && self.keeps_in_f32(r0, w, &trial);
+            }
+            if ok {
                 r.copy_from_slice(&trial);
-                return (self.solid.xyz(r), w);
+                found = Some(w);
+                break;
+            }
+            if warm && solve == Solve::Solved {
+                start = w;
             }
         }
-        // Never seen; the clipped spectrum keeps the texel form.
-        r.iter_mut()
-            .zip(r0)
-            .for_each(|(v, &x)| *v = x.clamp(0.0, 1.0));
-        (self.solid.xyz(r), [0.0; 3])
+        match found {
+            Some(w) => (self.solid.xyz(r), w),
+            None => {
+                // The clipped spectrum keeps the texel form.
+                r.iter_mut()
+                    .zip(r0)
+                    .for_each(|(v, &x)| *v = x.clamp(0.0, 1.0));
+                (self.solid.xyz(r), [0.0; 3])
+            }
+        }
     }
 
     /// Whether clip(r₀ + Aᵀw, 0, 1) with w rounded to float32 is `r` within

@@ -132,6 +132,21 @@ impl Solid {
         r: &mut [f64],
         iterations: usize,
     ) -> (Solve, [f64; 3]) {
+        self.project_dual_from(c, r0, r, iterations, [0.0; 3])
+    }
+
+    /// [`Solid::project_dual`] with the Newton iteration started at `w0` instead of 0: the
+    /// dual of a nearby problem's solution, which saves most of the steps of a colour near the
+    /// solid's surface (large w). r is unique, so where both converge they agree to the
+    /// tolerance of the residual; a `w0` that is not finite starts at 0.
+    pub fn project_dual_from(
+        &self,
+        c: [f64; 3],
+        r0: &[f64],
+        r: &mut [f64],
+        iterations: usize,
+        w0: [f64; 3],
+    ) -> (Solve, [f64; 3]) {
         let scale = c[0].abs().max(c[1].abs()).max(c[2].abs());
         let tol = 1e-13 * scale.max(f64::MIN_POSITIVE);
         // Each axis bounds the solid: c beyond one is outside, at the cost of six compares.
@@ -154,7 +169,11 @@ impl Solid {
             mu: 0.0,
             eps: 1e-12 * self.trace,
         };
-        let mut w = [0.0; 3];
+        let mut w = if w0.iter().all(|v| v.is_finite()) {
+            w0
+        } else {
+            [0.0; 3]
+        };
         let mut certificate = None;
         // An unbounded dual: w, or a step that the free bands cannot resist, points out of Z.
         let watch = |w: &[f64; 3], delta: &[f64; 3], free: usize, step: usize| {

@@ -165,8 +165,8 @@ fn outside_the_solid_the_nearest_colour_in_cielab_is_on_the_surface_and_beats_to
         let mut near = vec![0.0; a.bands()];
         let reached = nearest::nearest_lab(bounded.solid(), w, c, &r0, &mut near);
         let pull = delta_e76(a, pulled, reached);
-        // Measured over these 424 colours: 28 above 0.05, at most 0.75, where the mean
-        // distance to the input is 7.8.
+        // Measured over these 424 colours: at most 0.33 (0.75 before the pull's warm starts,
+        // issue 45), where the mean distance to the input is 7.8.
         assert!(pull <= 1.0, "{c:?}: drawn in by ΔE76 {pull}");
         let (lab, j) = xyz_to_lab_jacobian(reached, w);
         let target = xyz_to_lab(c, w);
@@ -330,4 +330,103 @@ proptest! {
             Outcome::NotFinite => prop_assert!(false, "finite input"),
         }
     }
+}
+
+/// splitmix64, as a uniform draw in [0, 1): the same colours every run.
+fn draw(state: &mut u64) -> f64 {
+    *state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
+    let mut z = *state;
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
+}
+
+/// A hostile colour of kind `kind` (0–5): uniform XYZ, HDR, negative components, huge,
+/// near black, and just outside the surface (a vertex A·1[aᵢ·n > 0] of the solid pushed out
+/// along its own ray by 10⁻⁹…10⁻²).
+fn hostile(a: &Colorimetry, kind: usize, s: &mut u64) -> [f64; 3] {
+    let mut u = || draw(s);
+    let uniform = [u() * 1.2, u() * 1.2, u() * 1.2];
+    match kind {
+        0 => uniform,
+        1 => uniform.map(|v| v * 10f64.powf(6.0 * u())),
+        2 => [2.0 * u() - 1.0, 2.0 * u() - 1.0, 2.0 * u() - 1.0],
+        3 => uniform.map(|v| v * 10f64.powf(30.0 + 270.0 * u())),
+        4 => [u() - 0.3, u() - 0.3, u() - 0.3].map(|v| v * 10f64.powf(-3.0 - 300.0 * u())),
+        _ => {
+            let n = [u() - 0.5, u() - 0.5, u() - 0.5];
+            let r: Vec<f64> = (0..a.bands())
+                .map(|i| {
+                    let ai = (0..3).map(|k| a.weights[k][i] * n[k]).sum::<f64>();
+                    f64::from(u8::from(ai > 0.0))
+                })
+                .collect();
+            a.xyz(&r).map(|v| v * (1.0 + 10f64.powf(-9.0 + 7.0 * u())))
+        }
+    }
+}
+
+/// Issue 45, item 16: outside the solid the trial projections of the pull towards grey start
+/// from the last solved trial's dual (`Bounded::bound`) instead of from 0
+/// (`Bounded::bound_reference`, the method before, kept here as the reference). The cold scan's
+/// answer hangs on whether projections onto colours a hair inside the surface happen to settle
+/// within their steps, so the two differ; over 100,000 hostile outside colours they give the
+/// same kind of answer (an in-range spectrum of the texel form, with the same certificate),
+/// and the new one is never farther from the input than 2.5 ΔE76 + 1 % of the reference's
+/// distance, and by more than 0.05 ΔE76 in at most 0.1 % of colours.
+#[test]
+fn warm_started_outside_search_matches_the_reference_within_tolerance() {
+    let (a, bounded) = setup();
+    let n = a.bands();
+    let (mut r0, mut new, mut old) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+    let mut state = 4516;
+    let total = 100_000;
+    // Per kind: colours, identical answers, largest ΔE76 between the colours reached, farther
+    // by more than 0.05, nearer by more than 0.05.
+    let mut per_kind = [(0usize, 0usize, 0.0f64, 0usize, 0usize); 6];
+    let mut done = 0;
+    while done < total {
+        let kind = done % 6;
+        let c = hostile(a, kind, &mut state);
+        bounded.inner().uplift_f64(&c, &mut r0);
+        new.copy_from_slice(&r0);
+        let outcome = bounded.bound(c, &mut new);
+        let Outcome::Outside {
+            certificate,
+            reached,
+        } = outcome
+        else {
+            continue;
+        };
+        done += 1;
+        old.copy_from_slice(&r0);
+        let reference = bounded.bound_reference(c, &mut old);
+        let Outcome::Outside {
+            certificate: cert_old,
+            reached: reached_old,
+        } = reference
+        else {
+            panic!("{c:?}: {outcome:?} against {reference:?}");
+        };
+        assert_eq!(certificate, cert_old, "{c:?}");
+        assert!(in_range_with_xyz(a, reached, &new, 1e-9), "{c:?}: {new:?}");
+        let (de_new, de_old) = (delta_e76(a, c, reached), delta_e76(a, c, reached_old));
+        assert!(
+            de_new <= de_old + 2.5 + 0.01 * de_old,
+            "{c:?}: ΔE76 {de_new} from the input against the reference's {de_old}"
+        );
+        let k = &mut per_kind[kind];
+        k.0 += 1;
+        k.1 += usize::from(new == old);
+        k.2 = k.2.max(delta_e76(a, reached, reached_old));
+        k.3 += usize::from(de_new > de_old + 0.05);
+        k.4 += usize::from(de_new < de_old - 0.05);
+    }
+    eprintln!("uniform, HDR, negative, huge, near black, just outside the surface: (colours, identical, max ΔE76 apart, farther, nearer) {per_kind:?}");
+    assert!(per_kind.iter().all(|k| k.0 > 0), "{per_kind:?}");
+    let farther: usize = per_kind.iter().map(|k| k.3).sum();
+    assert!(
+        farther * 1000 <= total,
+        "{farther} farther by more than 0.05 ΔE76"
+    );
 }
