@@ -219,6 +219,7 @@ impl Converter {
         data: crate::pipeline::DataTexture,
         (start, cancel): (Instant, &AtomicBool),
     ) -> Result<Report, Error> {
+        let mut dropped = Vec::new();
         let outcome = match self.options.data {
             DataPolicy::Fail => {
                 return Err(Error::Conversion(ConversionError::Data(Box::new(data))))
@@ -233,13 +234,11 @@ impl Converter {
                 let compression = self.options.compression.to_string();
                 let selection = data.selection.as_ref();
                 let mut attributes = self.copy_attributes(input, &data);
-                if self.options.strip_metadata {
-                    let subimage = selection.map_or(0, |s| s.subimage);
-                    attributes.push(
-                        stripped(input, subimage)
-                            .map_err(|e| Error::Conversion(ConversionError::Input(e.into())))?,
-                    );
-                }
+                let subimage = selection.map_or(0, |s| s.subimage);
+                let (erase, not_carried) = erased(input, subimage, self.options.strip_metadata)
+                    .map_err(|e| Error::Conversion(ConversionError::Input(e.into())))?;
+                attributes.push(erase);
+                dropped = not_carried;
                 let how = crate::pipeline::data::Copy {
                     subimage: selection.map_or(0, |s| s.subimage),
                     tile: (
@@ -282,6 +281,7 @@ impl Converter {
             colorspace: data.name,
             colorspace_rule: data.rule,
             warnings: Vec::new(),
+            metadata_dropped: dropped,
             premultiplied: false,
             non_finite: 0,
             above_one: 0,
@@ -464,16 +464,23 @@ fn compact(options: &Options, model: &Model, name: &str) -> Result<Option<Compac
 }
 
 /// For make_texture, which keeps the input's header: the names of the texture metadata a
-/// stripped copy leaves out ([`crate::metadata::carried`] of the input's `subimage`), as the
-/// shim's `specconv:erase` setting (names a line each).
-fn stripped(input: &Path, subimage: u32) -> specconv_oiio::Result<(String, String)> {
+/// copy leaves out, as the shim's `specconv:erase` setting (names a line each), and those
+/// it drops by the metadata rule ([`crate::metadata::Carry`] of the input's `subimage`).
+/// A stripped copy leaves out all of it, silently.
+fn erased(
+    input: &Path,
+    subimage: u32,
+    strip: bool,
+) -> specconv_oiio::Result<((String, String), Vec<crate::metadata::Dropped>)> {
     let mut reader = specconv_oiio::ImageReader::open(input)?;
     reader.select_subimage(subimage)?;
-    let names: Vec<String> = crate::pipeline::texture::metadata(&reader)?
-        .into_iter()
-        .map(|(name, _)| name)
-        .collect();
-    Ok(("specconv:erase".into(), names.join("\n")))
+    let carry = crate::pipeline::texture::metadata(&reader, input)?;
+    let mut names: Vec<&str> = carry.dropped.iter().map(|d| d.name.as_str()).collect();
+    if strip {
+        names.extend(carry.kept.iter().map(|(name, _)| name.as_str()));
+    }
+    let erase = ("specconv:erase".into(), names.join("\n"));
+    Ok((erase, if strip { Vec::new() } else { carry.dropped }))
 }
 
 /// The input's file name, as `specconvSource` records it.
