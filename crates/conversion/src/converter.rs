@@ -235,9 +235,10 @@ impl Converter {
                 let selection = data.selection.as_ref();
                 let mut attributes = self.copy_attributes(input, &data);
                 let subimage = selection.map_or(0, |s| s.subimage);
-                let (erase, not_carried) = erased(input, subimage, self.options.strip_metadata)
-                    .map_err(|e| Error::Conversion(ConversionError::Input(e.into())))?;
-                attributes.push(erase);
+                let (carried, not_carried) =
+                    copied_metadata(input, subimage, self.options.strip_metadata)
+                        .map_err(|e| Error::Conversion(ConversionError::Input(e.into())))?;
+                attributes.extend(carried);
                 dropped = not_carried;
                 let how = crate::pipeline::data::Copy {
                     subimage: selection.map_or(0, |s| s.subimage),
@@ -463,15 +464,18 @@ fn compact(options: &Options, model: &Model, name: &str) -> Result<Option<Compac
     Ok(Some(Compact::new(model, name, &options.description())?))
 }
 
-/// For make_texture, which keeps the input's header: the names of the texture metadata a
-/// copy leaves out, as the shim's `specconv:erase` setting (names a line each), and those
-/// it drops by the metadata rule ([`crate::metadata::Carry`] of the input's `subimage`).
-/// A stripped copy leaves out all of it, silently.
-fn erased(
+/// The attributes a data copy writes of the input's metadata, and the metadata it drops.
+type CopiedMetadata = (Vec<(String, String)>, Vec<crate::metadata::Dropped>);
+
+/// For make_texture, which keeps the input's header: of the texture metadata of the input's
+/// `subimage` ([`crate::metadata::Carry`]), the shim's `specconv:erase` setting naming (a line
+/// each) what the copy leaves out, then what it carries, written over the header's copy as
+/// UTF-8; and what it drops. A stripped copy leaves out all of it, silently.
+fn copied_metadata(
     input: &Path,
     subimage: u32,
     strip: bool,
-) -> specconv_oiio::Result<((String, String), Vec<crate::metadata::Dropped>)> {
+) -> specconv_oiio::Result<CopiedMetadata> {
     let mut reader = specconv_oiio::ImageReader::open(input)?;
     reader.select_subimage(subimage)?;
     let carry = crate::pipeline::texture::metadata(&reader, input)?;
@@ -479,8 +483,12 @@ fn erased(
     if strip {
         names.extend(carry.kept.iter().map(|(name, _)| name.as_str()));
     }
-    let erase = ("specconv:erase".into(), names.join("\n"));
-    Ok((erase, if strip { Vec::new() } else { carry.dropped }))
+    let mut attributes = vec![("specconv:erase".to_string(), names.join("\n"))];
+    if strip {
+        return Ok((attributes, Vec::new()));
+    }
+    attributes.extend(carry.kept);
+    Ok((attributes, carry.dropped))
 }
 
 /// The input's file name, as `specconvSource` records it.

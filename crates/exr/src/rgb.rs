@@ -58,7 +58,10 @@ pub fn write_rgb_declared(
         // Names OpenEXR cannot take as free text are left out (the callers' metadata rule
         // keeps them out before).
         for (name, value) in &declared.text {
-            if !name.is_empty() && name.len() <= crate::MAX_NAME_BYTES && !crate::standard_attribute(name) {
+            if !name.is_empty()
+                && name.len() <= crate::MAX_NAME_BYTES
+                && !crate::standard_attribute(name)
+            {
                 attributes
                     .other
                     .insert(crate::text(name), AttributeValue::Text(crate::text(value)));
