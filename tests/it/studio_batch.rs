@@ -534,6 +534,28 @@ fn carried_metadata_is_bounded_and_arrives_as_utf8_from_its_declared_encoding() 
     let copied = exrheader_strings(&copy);
     assert!(!copied.contains_key("Huge") && !copied.contains_key("Broken"));
     assert!(std::fs::metadata(&copy).unwrap().len() < 4 << 20);
+    // OpenImageIO writes Copyright as OpenEXR's `owner` and reads it back as Copyright.
+    assert_eq!(copied["owner"], "Café © Ø".as_bytes(), "as UTF-8");
+    assert_eq!(string_attributes(&copy)["Copyright"], "Café © Ø");
+    // A compact file, and its expansion, carry the same.
+    let compact = s.path("bomb_compact.exr");
+    Cmd::convert(&input, &compact)
+        .args(["--layout", "compact"])
+        .ok();
+    let expanded = s.path("bomb_expanded.exr");
+    Cmd::new(["expand"]).arg(&compact).arg(&expanded).ok();
+    for file in [&compact, &expanded] {
+        let got = exrheader_strings(file);
+        assert_eq!(got["Artist"], strings["Artist"], "{}", file.display());
+        let keys = |m: &BTreeMap<String, Vec<u8>>| {
+            m.keys()
+                .filter(|k| !k.starts_with("specconv") && !k.starts_with("oiio"))
+                .filter(|k| k.starts_with('C') || k.starts_with('A') || k.starts_with('I'))
+                .cloned()
+                .collect::<Vec<_>>()
+        };
+        assert_eq!(keys(&got), keys(&strings), "{}", file.display());
+    }
 }
 
 /// Issue 45 item 6: an input attribute under any of OpenEXR's own names (the `exr` crate's
