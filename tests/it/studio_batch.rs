@@ -629,4 +629,10 @@ fn openexr_s_own_names_are_dropped_by_name_and_the_rest_carried_once_per_batch()
     }
     let strings = exrheader_strings(&s.path("out/c_spectral.exr"));
     assert_eq!(strings["studio:名前"], "岩 ☃".as_bytes());
+    // --strict makes it a failure, as every warning, and writes nothing.
+    std::fs::create_dir(s.path("strict")).unwrap();
+    Cmd::new(["a.png", "-o", "strict", "--strict"])
+        .current_dir(&s.0)
+        .fails(1, &["'tiles'", "strict", "nothing was written"]);
+    assert_eq!(std::fs::read_dir(s.path("strict")).unwrap().count(), 0);
 }

@@ -487,11 +487,11 @@ pub struct SpectralFile {
 
 impl SpectralFile {
     /// The header of `spec`: channels named by [`channel_name`] (and `A`), `spectralLayoutVersion`
-    /// = "1.0", `emissiveUnits` for emission, the extra attributes (characters beyond Latin-1
-    /// become `?`). Refuses an empty image, no bands, wavelengths that are not finite, positive
-    /// and increasing ([`check_wavelengths`]), two wavelengths equal to six decimals, tiles
-    /// of zero size, windows beyond OpenEXR's 32-bit coordinates and attribute names that are not
-    /// plain text.
+    /// = "1.0", `emissiveUnits` for emission, the extra attributes (as UTF-8, [`text`]).
+    /// Refuses an empty image, no bands, wavelengths that are not finite, positive and
+    /// increasing ([`check_wavelengths`]), two wavelengths equal to six decimals, tiles of zero
+    /// size, windows beyond OpenEXR's 32-bit coordinates and attribute names OpenEXR cannot
+    /// take as free text ([`standard_attribute`], [`MAX_NAME_BYTES`]).
     pub fn new(spec: Spec) -> Result<SpectralFile> {
         check_not_empty(&spec)?;
         let named = named_channels(&spec)?;

@@ -376,6 +376,12 @@ pub fn open<'a>(job: &'a Job<'a>) -> Result<Opened<'a>> {
         true => metadata::Carry::default(),
         false => texture::metadata(&reader, job.input)?,
     };
+    if job.options.strict && !metadata.dropped.is_empty() {
+        return Err(Error::Strict {
+            input: job.input.to_path_buf(),
+            warning: metadata::describe(&metadata.dropped),
+        });
+    }
     let wrap = match (job.options.wrap, declared) {
         (Some(w), _) => (w, false),
         (None, Some(w)) => (w, true),
