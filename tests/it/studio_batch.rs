@@ -572,4 +572,224 @@ fn a_data_copy_says_it_is_data_to_every_reader() {
         assert_eq!(v["role"], "data", "{}: {v}", input.display());
         assert_eq!(v["colorspace"], "Raw", "{}", input.display());
     }
+
+/// Writes a 16×16 PNG at `path` with the text chunks `texts` gives (Python expressions of a
+/// list of (chunk type, keyword bytes, text bytes); zTXt compressed, iTXt uncompressed),
+/// byte by byte as the PNG specification lays chunks out.
+fn png_with_text(path: &Path, texts: &str) {
+    let script = r#"
+import struct, sys, zlib
+def chunk(t, d):
+    return struct.pack(">I", len(d)) + t + d + struct.pack(">I", zlib.crc32(t + d) & 0xffffffff)
+def text(t, k, v):
+    if t == b"zTXt":
+        return chunk(t, k + b"\0\0" + zlib.compress(v))
+    if t == b"iTXt":
+        return chunk(t, k + b"\0\0\0\0\0" + v)
+    return chunk(t, k + b"\0" + v)
+w = h = 16
+raw = b"".join(b"\x00" + bytes([200, 120, 60] * w) for _ in range(h))
+png = b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, 8, 2, 0, 0, 0))
+png += b"".join(text(*t) for t in eval("(" + sys.argv[2] + ")"))
+png += chunk(b"IDAT", zlib.compress(raw)) + chunk(b"IEND", b"")
+open(sys.argv[1], "wb").write(png)
+"#;
+    python_output(["-c", script, path.to_str().unwrap(), texts]);
+}
+
+/// The string attributes exrheader lists of `path` (name, value as its bytes), anchoring
+/// what the file holds outside OpenImageIO.
+fn exrheader_strings(path: &Path) -> BTreeMap<String, Vec<u8>> {
+    let out = std::process::Command::new("exrheader")
+        .arg(path)
+        .output()
+        .expect("exrheader is installed");
+    assert!(out.status.success());
+    out.stdout
+        .split(|&b| b == b'\n')
+        .filter_map(|l| {
+            const MARK: &[u8] = b" (type string): \"";
+            let at = l.windows(MARK.len()).position(|w| w == MARK)?;
+            let value = l[at + MARK.len()..].strip_suffix(b"\"")?;
+            Some((
+                String::from_utf8_lossy(&l[..at]).into_owned(),
+                value.to_vec(),
+            ))
+        })
+        .collect()
+}
+
+/// Issue 45 items 4 and 5: a PNG with hundreds of compressed text chunks (a header of
+/// megabytes) and text in each of its declared encodings. The output carries text as UTF-8
+/// within the stated bounds; the rest is dropped by name in one warning; nothing else is
+/// left in the directory. Anchored on exrheader's bytes and oiiotool's reading.
+#[test]
+fn carried_metadata_is_bounded_and_arrives_as_utf8_from_its_declared_encoding() {
+    use specconv_conversion::metadata::{MAX_ATTRIBUTES, MAX_TOTAL_BYTES, MAX_VALUE_BYTES};
+    let s = Scratch::new("metadata-hostile");
+    let input = s.path("bomb.png");
+    png_with_text(
+        &input,
+        r#"[(b"iTXt", b"Artist", "山田 太郎 — Café ☃".encode()),
+            (b"tEXt", b"Copyright", "Café © Ø".encode("latin-1")),
+            (b"zTXt", b"Description", "gravier, été".encode("latin-1")),
+            (b"iTXt", b"Broken", b"Caf\xe9"),
+            (b"zTXt", b"Huge", b"a" * 300000)]
+           + [(b"zTXt", b"Comment%03d" % i, b"b" * 65536) for i in range(300)]"#,
+    );
+    assert!(
+        std::fs::metadata(&input).unwrap().len() < 1 << 20,
+        "the bomb is small"
+    );
+    let output = s.path("bomb_spectral.exr");
+    let run = Cmd::convert(&input, &output).ok();
+    let warnings: Vec<&str> = run
+        .stderr
+        .lines()
+        .filter(|l| l.starts_with("specconv: warning"))
+        .collect();
+    assert_eq!(warnings.len(), 1, "{}", run.stderr);
+    for needle in [
+        "'Broken' (not UTF-8 text)",
+        "'Huge' (values over 64 KiB)",
+        "--strip-metadata",
+    ] {
+        assert!(warnings[0].contains(needle), "{needle}: {}", warnings[0]);
+    }
+    assert_eq!(
+        s.files(),
+        ["bomb.png", "bomb_spectral.exr"],
+        "no temporary left"
+    );
+    let strings = exrheader_strings(&output);
+    assert_eq!(strings["Artist"], "山田 太郎 — Café ☃".as_bytes());
+    assert_eq!(strings["Copyright"], "Café © Ø".as_bytes());
+    assert_eq!(strings["ImageDescription"], "gravier, été".as_bytes());
+    assert!(!strings.contains_key("Broken") && !strings.contains_key("Huge"));
+    let comments: Vec<&String> = strings
+        .keys()
+        .filter(|k| k.starts_with("Comment"))
+        .collect();
+    let carried: usize = strings
+        .iter()
+        .filter(|(k, _)| !k.starts_with("specconv"))
+        .map(|(k, v)| k.len() + v.len())
+        .sum();
+    assert!(comments.len() + 3 <= MAX_ATTRIBUTES, "{}", comments.len());
+    assert!(carried <= MAX_TOTAL_BYTES + 4096, "{carried} bytes carried");
+    assert!(strings.values().all(|v| v.len() <= MAX_VALUE_BYTES));
+    assert!(std::fs::metadata(&output).unwrap().len() < 4 << 20);
+    // OpenImageIO reads the same text.
+    let info = tool("oiiotool", &["--info", "-v", output.to_str().unwrap()]);
+    assert!(info.contains("Artist: \"山田 太郎 — Café ☃\""), "{info}");
+    assert!(info.contains("Copyright: \"Café © Ø\""), "{info}");
+    // A data copy (make_texture, which copies the input's header) drops the same.
+    let copy = s.path("bomb_copy.exr");
+    Cmd::convert(&input, &copy)
+        .args(["--colorspace", "Raw", "--data", "copy"])
+        .ok();
+    let copied = exrheader_strings(&copy);
+    assert!(!copied.contains_key("Huge") && !copied.contains_key("Broken"));
+    assert!(std::fs::metadata(&copy).unwrap().len() < 4 << 20);
+    // OpenImageIO writes Copyright as OpenEXR's `owner` and reads it back as Copyright.
+    assert_eq!(copied["owner"], "Café © Ø".as_bytes(), "as UTF-8");
+    assert_eq!(string_attributes(&copy)["Copyright"], "Café © Ø");
+    // A compact file, and its expansion, carry the same.
+    let compact = s.path("bomb_compact.exr");
+    Cmd::convert(&input, &compact)
+        .args(["--layout", "compact"])
+        .ok();
+    let expanded = s.path("bomb_expanded.exr");
+    Cmd::new(["expand"]).arg(&compact).arg(&expanded).ok();
+    for file in [&compact, &expanded] {
+        let got = exrheader_strings(file);
+        assert_eq!(got["Artist"], strings["Artist"], "{}", file.display());
+        let keys = |m: &BTreeMap<String, Vec<u8>>| {
+            m.keys()
+                .filter(|k| !k.starts_with("specconv") && !k.starts_with("oiio"))
+                .filter(|k| k.starts_with('C') || k.starts_with('A') || k.starts_with('I'))
+                .cloned()
+                .collect::<Vec<_>>()
+        };
+        assert_eq!(keys(&got), keys(&strings), "{}", file.display());
+    }
+}
+
+/// Issue 45 item 6: an input attribute under any of OpenEXR's own names (the `exr` crate's
+/// list of required and standard attributes) or a name outside Latin-1 no longer fails the
+/// input: the names OpenEXR cannot take are dropped, named in one warning for the batch, and
+/// the rest is carried.
+#[test]
+fn openexr_s_own_names_are_dropped_by_name_and_the_rest_carried_once_per_batch() {
+    let s = Scratch::new("metadata-reserved");
+    let own: Vec<String> = exr::meta::header::standard_names::ALL
+        .iter()
+        .map(|n| String::from_utf8(n.to_vec()).unwrap())
+        .collect();
+    let chunks = |names: &[String]| {
+        let list: Vec<String> = names
+            .iter()
+            .map(|n| format!("(b\"tEXt\", b\"{n}\", b\"x\")"))
+            .collect();
+        format!("[(b\"tEXt\", b\"Artist\", b\"Ann\"), {}]", list.join(", "))
+    };
+    let (first, second) = own.split_at(own.len() / 2);
+    png_with_text(&s.path("a.png"), &chunks(first));
+    png_with_text(&s.path("b.png"), &chunks(second));
+    // A name outside Latin-1, as OpenImageIO writes it into an OpenEXR.
+    tool(
+        "oiiotool",
+        &[
+            "--pattern",
+            "constant:color=0.5,0.4,0.3",
+            "16x16",
+            "3",
+            "--attrib",
+            "studio:名前",
+            "岩 ☃",
+            "-o",
+            s.path("c.exr").to_str().unwrap(),
+        ],
+    );
+    std::fs::create_dir(s.path("out")).unwrap();
+    let run = Cmd::new(["a.png", "b.png", "c.exr", "-o", "out", "--mip", "0"])
+        .current_dir(&s.0)
+        .ok();
+    let warnings: Vec<&str> = run
+        .stderr
+        .lines()
+        .filter(|l| l.starts_with("specconv: warning"))
+        .collect();
+    assert_eq!(warnings.len(), 1, "{}", run.stderr);
+    assert!(warnings[0].contains("2 inputs"), "{}", warnings[0]);
+    assert!(
+        warnings[0].contains("OpenEXR's own attribute names"),
+        "{}",
+        warnings[0]
+    );
+    // Every name of both inputs but those the writer makes itself (left out silently).
+    for name in &own {
+        let named = warnings[0].contains(&format!("'{name}'"));
+        let written = ["compression", "name", "wrapmodes"].contains(&name.as_str());
+        assert_eq!(named, !written, "{name}: {}", warnings[0]);
+    }
+    for (stem, names) in [("a", first), ("b", second)] {
+        let out = s.path(&format!("out/{stem}_spectral.exr"));
+        let strings = exrheader_strings(&out);
+        assert_eq!(strings["Artist"], b"Ann", "{stem}");
+        let info = tool("oiiotool", &["--info", "-v", out.to_str().unwrap()]);
+        for name in names {
+            // Where OpenEXR's attribute is a string, it is the writer's own, never "x".
+            assert!(strings.get(name).is_none_or(|v| v != b"x"), "{name}");
+            assert!(!info.contains(&format!("{name}: \"x\"")), "{name}: {info}");
+        }
+    }
+    let strings = exrheader_strings(&s.path("out/c_spectral.exr"));
+    assert_eq!(strings["studio:名前"], "岩 ☃".as_bytes());
+    // --strict makes it a failure, as every warning, and writes nothing.
+    std::fs::create_dir(s.path("strict")).unwrap();
+    Cmd::new(["a.png", "-o", "strict", "--strict"])
+        .current_dir(&s.0)
+        .fails(1, &["'tiles'", "strict", "nothing was written"]);
+    assert_eq!(std::fs::read_dir(s.path("strict")).unwrap().count(), 0);
 }

@@ -219,6 +219,7 @@ impl Converter {
         data: crate::pipeline::DataTexture,
         (start, cancel): (Instant, &AtomicBool),
     ) -> Result<Report, Error> {
+        let mut dropped = Vec::new();
         let outcome = match self.options.data {
             DataPolicy::Fail => {
                 return Err(Error::Conversion(ConversionError::Data(Box::new(data))))
@@ -233,13 +234,12 @@ impl Converter {
                 let compression = self.options.compression.to_string();
                 let selection = data.selection.as_ref();
                 let mut attributes = self.copy_attributes(input, &data);
-                if self.options.strip_metadata {
-                    let subimage = selection.map_or(0, |s| s.subimage);
-                    attributes.push(
-                        stripped(input, subimage)
-                            .map_err(|e| Error::Conversion(ConversionError::Input(e.into())))?,
-                    );
-                }
+                let subimage = selection.map_or(0, |s| s.subimage);
+                let (carried, not_carried) =
+                    copied_metadata(input, subimage, self.options.strip_metadata)
+                        .map_err(|e| Error::Conversion(ConversionError::Input(e.into())))?;
+                attributes.extend(carried);
+                dropped = not_carried;
                 let how = crate::pipeline::data::Copy {
                     subimage: selection.map_or(0, |s| s.subimage),
                     tile: (
@@ -282,6 +282,7 @@ impl Converter {
             colorspace: data.name,
             colorspace_rule: data.rule,
             warnings: Vec::new(),
+            metadata_dropped: dropped,
             premultiplied: false,
             non_finite: 0,
             above_one: 0,
@@ -469,17 +470,31 @@ fn compact(options: &Options, model: &Model, name: &str) -> Result<Option<Compac
     Ok(Some(Compact::new(model, name, &options.description())?))
 }
 
-/// For make_texture, which keeps the input's header: the names of the texture metadata a
-/// stripped copy leaves out ([`crate::metadata::carried`] of the input's `subimage`), as the
-/// shim's `specconv:erase` setting (names a line each).
-fn stripped(input: &Path, subimage: u32) -> specconv_oiio::Result<(String, String)> {
+/// The attributes a data copy writes of the input's metadata, and the metadata it drops.
+type CopiedMetadata = (Vec<(String, String)>, Vec<crate::metadata::Dropped>);
+
+/// For make_texture, which keeps the input's header: of the texture metadata of the input's
+/// `subimage` ([`crate::metadata::Carry`]), the shim's `specconv:erase` setting naming (a line
+/// each) what the copy leaves out, then what it carries, written over the header's copy as
+/// UTF-8; and what it drops. A stripped copy leaves out all of it, silently.
+fn copied_metadata(
+    input: &Path,
+    subimage: u32,
+    strip: bool,
+) -> specconv_oiio::Result<CopiedMetadata> {
     let mut reader = specconv_oiio::ImageReader::open(input)?;
     reader.select_subimage(subimage)?;
-    let names: Vec<String> = crate::pipeline::texture::metadata(&reader)?
-        .into_iter()
-        .map(|(name, _)| name)
-        .collect();
-    Ok(("specconv:erase".into(), names.join("\n")))
+    let carry = crate::pipeline::texture::metadata(&reader, input)?;
+    let mut names: Vec<&str> = carry.dropped.iter().map(|d| d.name.as_str()).collect();
+    if strip {
+        names.extend(carry.kept.iter().map(|(name, _)| name.as_str()));
+    }
+    let mut attributes = vec![("specconv:erase".to_string(), names.join("\n"))];
+    if strip {
+        return Ok((attributes, Vec::new()));
+    }
+    attributes.extend(carry.kept);
+    Ok((attributes, carry.dropped))
 }
 
 /// The input's file name, as `specconvSource` records it.

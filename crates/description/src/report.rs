@@ -36,6 +36,8 @@ pub struct Report {
     pub colorspace_rule: Rule,
     /// Declarations of the file that were ignored or disagree.
     pub warnings: Vec<Warning>,
+    /// The input's texture metadata not carried into the output ([`crate::metadata::Carry`]).
+    pub metadata_dropped: Vec<crate::metadata::Dropped>,
     /// Straight colour was multiplied by alpha after conversion.
     pub premultiplied: bool,
     /// Pixels whose colour had a NaN or infinite component.
@@ -71,7 +73,7 @@ impl Report {
     }
 
     /// Every warning of this conversion, in the words every front-end prints and records: the
-    /// file's declarations not followed, then pixels clipped.
+    /// file's declarations not followed, then pixels clipped, then metadata not carried.
     pub fn notices(&self) -> Vec<Notice> {
         let mut notices: Vec<Notice> = self
             .warnings
@@ -89,6 +91,12 @@ impl Report {
                     "{n} pixels above 1 in a reflectance conversion (no reflectance is brighter \
                      than white: clipped); an emission map is converted as emission"
                 ),
+            });
+        }
+        if !self.metadata_dropped.is_empty() {
+            notices.push(Notice {
+                kind: NoticeKind::Metadata,
+                text: crate::metadata::describe(&self.metadata_dropped),
             });
         }
         notices
@@ -124,6 +132,9 @@ pub enum NoticeKind {
     Colour(Warning),
     /// Pixels above 1 in a reflectance conversion ([`Report::clipped`]).
     Clipped,
+    /// Input metadata not carried ([`Report::metadata_dropped`]): one warning for a batch,
+    /// naming the attributes of every input.
+    Metadata,
 }
 
 /// One kind of warning in a batch: how many inputs had it, and the first.
@@ -137,18 +148,36 @@ pub struct NoticeCount {
     pub inputs: usize,
     /// The first input that had it.
     pub first: std::path::PathBuf,
+    /// For [`NoticeKind::Metadata`], the attributes not carried of every input that had it,
+    /// each name once.
+    pub metadata: Vec<crate::metadata::Dropped>,
 }
 
 /// Adds `report`'s notices of `input` to `tally`, one entry per kind in the order first met.
 pub fn tally(tally: &mut Vec<NoticeCount>, input: &std::path::Path, report: &Report) {
     for n in report.notices() {
+        let metadata = match n.kind {
+            NoticeKind::Metadata => report.metadata_dropped.clone(),
+            _ => Vec::new(),
+        };
         match tally.iter_mut().find(|c| c.kind == n.kind) {
-            Some(c) => c.inputs += 1,
+            Some(c) => {
+                c.inputs += 1;
+                for d in metadata {
+                    if !c.metadata.iter().any(|m| m.name == d.name) {
+                        c.metadata.push(d);
+                    }
+                }
+                if c.kind == NoticeKind::Metadata {
+                    c.text = crate::metadata::describe(&c.metadata);
+                }
+            }
             None => tally.push(NoticeCount {
                 kind: n.kind,
                 text: n.text,
                 inputs: 1,
                 first: input.to_path_buf(),
+                metadata,
             }),
         }
     }

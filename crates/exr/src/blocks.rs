@@ -195,7 +195,7 @@ fn header_of(path: &Path, h: &exr::meta::header::Header) -> Result<Header> {
         .other
         .iter()
         .filter_map(|(k, v)| match v {
-            AttributeValue::Text(t) => Some((k.to_string(), t.to_string())),
+            AttributeValue::Text(t) => Some((crate::text_string(k), crate::text_string(t))),
             _ => None,
         })
         .collect();

@@ -487,11 +487,11 @@ pub struct SpectralFile {
 
 impl SpectralFile {
     /// The header of `spec`: channels named by [`channel_name`] (and `A`), `spectralLayoutVersion`
-    /// = "1.0", `emissiveUnits` for emission, the extra attributes (characters beyond Latin-1
-    /// become `?`). Refuses an empty image, no bands, wavelengths that are not finite, positive
-    /// and increasing ([`check_wavelengths`]), two wavelengths equal to six decimals, tiles
-    /// of zero size, windows beyond OpenEXR's 32-bit coordinates and attribute names that are not
-    /// plain text.
+    /// = "1.0", `emissiveUnits` for emission, the extra attributes (as UTF-8, [`text`]).
+    /// Refuses an empty image, no bands, wavelengths that are not finite, positive and
+    /// increasing ([`check_wavelengths`]), two wavelengths equal to six decimals, tiles of zero
+    /// size, windows beyond OpenEXR's 32-bit coordinates and attribute names OpenEXR cannot
+    /// take as free text ([`standard_attribute`], [`MAX_NAME_BYTES`]).
     pub fn new(spec: Spec) -> Result<SpectralFile> {
         check_not_empty(&spec)?;
         let named = named_channels(&spec)?;
@@ -812,21 +812,21 @@ impl SpectralFile {
     fn header_with(&self, late: Vec<(String, String)>) -> Result<Header> {
         let mut header = self.header.clone();
         for (name, value) in late {
-            let key = Text::new_or_panic(&name);
+            let key = text(&name);
             let same = match header.own_attributes.other.get(&key) {
                 Some(AttributeValue::Text(t)) => t.as_slice().len() == value.len(),
                 _ => false,
             };
-            let text = Text::new_or_none(&value).filter(|_| same).ok_or_else(|| {
-                Error::Invalid(format!(
-                    "attribute {name} was not reserved with {} bytes of plain text",
+            if !same {
+                return Err(Error::Invalid(format!(
+                    "attribute {name} was not reserved with {} bytes of text",
                     value.len()
-                ))
-            })?;
+                )));
+            }
             header
                 .own_attributes
                 .other
-                .insert(key, AttributeValue::Text(text));
+                .insert(key, AttributeValue::Text(text(&value)));
         }
         Ok(header)
     }
@@ -959,53 +959,79 @@ fn set_windows(header: &mut Header, spec: &Spec, w: Windows) -> Result<()> {
     Ok(())
 }
 
-/// Gives `header` the layout's attributes and `spec`'s own, text (Latin-1; anything else is
-/// replaced rather than refused) and float; refuses attribute names that are not plain text.
+/// Gives `header` the layout's attributes and `spec`'s own, text (UTF-8, [`text`]) and float;
+/// refuses attribute names that are empty, longer than [`MAX_NAME_BYTES`] or OpenEXR's own
+/// ([`standard_attribute`]): the callers' rules keep such names out.
 fn set_attributes(header: &mut Header, spec: &Spec) -> Result<()> {
-    let mut text = |name: &str, value: &str| {
-        let value: String = value
-            .chars()
-            .map(|c| if (c as u32) < 256 { c } else { '?' })
-            .collect();
-        header.own_attributes.other.insert(
-            Text::new_or_panic(name),
-            AttributeValue::Text(Text::new_or_panic(value)),
-        );
-    };
-    match &spec.kind {
-        Kind::Named(_) => {}
-        Kind::Reflective => text("spectralLayoutVersion", "1.0"),
-        Kind::Emissive { units } => {
-            text("spectralLayoutVersion", "1.0");
-            text("emissiveUnits", units);
-        }
-    }
-    for (k, v) in &spec.attributes {
-        if Text::new_or_none(k).is_none() || k.is_empty() {
-            return Err(Error::Invalid(format!(
-                "attribute name '{k}' is not plain text"
-            )));
-        }
-        text(k, v);
-    }
-    // The exr crate keeps `wrapmodes` (a texture's, OpenImageIO's name) in a field of its own.
-    if let Some(AttributeValue::Text(wrap)) = header
-        .own_attributes
-        .other
-        .remove(&Text::new_or_panic("wrapmodes"))
-    {
-        header.own_attributes.wrap_mode_name = Some(wrap);
-    }
-    for (k, v) in &spec.float_attributes {
-        let Some(name) = Text::new_or_none(k).filter(|_| !k.is_empty()) else {
-            return Err(Error::Invalid(format!(
-                "attribute name '{k}' is not plain text"
-            )));
-        };
+    let put = |header: &mut Header, name: &str, value: &str| {
         header
             .own_attributes
             .other
-            .insert(name, AttributeValue::F32(*v));
+            .insert(text(name), AttributeValue::Text(text(value)));
+    };
+    match &spec.kind {
+        Kind::Named(_) => {}
+        Kind::Reflective => put(header, "spectralLayoutVersion", "1.0"),
+        Kind::Emissive { units } => {
+            put(header, "spectralLayoutVersion", "1.0");
+            put(header, "emissiveUnits", units);
+        }
+    }
+    for (k, v) in &spec.attributes {
+        // The exr crate keeps `wrapmodes` (a texture's, OpenImageIO's name) in a field of its
+        // own.
+        if k == "wrapmodes" {
+            header.own_attributes.wrap_mode_name = Some(text(v));
+            continue;
+        }
+        check_name(k)?;
+        put(header, k, v);
+    }
+    for (k, v) in &spec.float_attributes {
+        check_name(k)?;
+        header
+            .own_attributes
+            .other
+            .insert(text(k), AttributeValue::F32(*v));
+    }
+    Ok(())
+}
+
+/// The longest attribute name OpenEXR writes (its long-name limit), in bytes.
+pub const MAX_NAME_BYTES: usize = 255;
+
+/// Whether `name` is one of OpenEXR's own attribute names (its required and standard
+/// attributes, as the `exr` crate lists them): each has a type and a meaning of its own in
+/// the file (`tiles`, `channels`, `view`, `owner`, …), so no free text may take it.
+pub fn standard_attribute(name: &str) -> bool {
+    exr::meta::header::standard_names::ALL.contains(&name.as_bytes())
+}
+
+/// Text for a header, as UTF-8 bytes: OpenEXR's strings are bytes, which OpenImageIO and
+/// OpenEXR's own tools read as UTF-8 (the `exr` crate's `Text::new_or_none` writes Latin-1
+/// and refuses anything past U+00FF).
+pub fn text(s: &str) -> Text {
+    Text::from_slice_unchecked(s.as_bytes())
+}
+
+/// A header's text as a string: UTF-8, or Latin-1 where the bytes are not UTF-8 (as specconv
+/// wrote text before it wrote UTF-8, and as the `exr` crate writes it).
+pub fn text_string(t: &Text) -> String {
+    match std::str::from_utf8(t.as_slice()) {
+        Ok(s) => s.to_owned(),
+        Err(_) => t.as_slice().iter().map(|&b| char::from(b)).collect(),
+    }
+}
+
+/// Refuses an attribute name OpenEXR cannot take as free text: empty, past
+/// [`MAX_NAME_BYTES`], or OpenEXR's own ([`standard_attribute`]).
+fn check_name(name: &str) -> Result<()> {
+    if name.is_empty() || name.len() > MAX_NAME_BYTES || standard_attribute(name) {
+        return Err(Error::Invalid(format!(
+            "attribute name '{}' cannot be written: OpenEXR takes names of 1 to \
+             {MAX_NAME_BYTES} bytes that are not its own attributes'",
+            name.escape_debug()
+        )));
     }
     Ok(())
 }
@@ -1139,7 +1165,7 @@ pub fn read_attributes(path: &std::path::Path) -> Result<Vec<(String, String)>> 
             .other
             .iter()
             .filter_map(|(k, v)| match v {
-                AttributeValue::Text(t) => Some((k.to_string(), t.to_string())),
+                AttributeValue::Text(t) => Some((text_string(k), text_string(t))),
                 _ => None,
             })
             .collect()

@@ -55,9 +55,16 @@ pub fn write_rgb_declared(
                 .other
                 .insert(Text::from("acesImageContainerFlag"), AttributeValue::I32(1));
         }
+        // Names OpenEXR cannot take as free text are left out (the callers' metadata rule
+        // keeps them out before).
         for (name, value) in &declared.text {
-            if let (Some(name), Some(value)) = (Text::new_or_none(name), Text::new_or_none(value)) {
-                attributes.other.insert(name, AttributeValue::Text(value));
+            if !name.is_empty()
+                && name.len() <= crate::MAX_NAME_BYTES
+                && !crate::standard_attribute(name)
+            {
+                attributes
+                    .other
+                    .insert(crate::text(name), AttributeValue::Text(crate::text(value)));
             }
         }
         if let Some(name) = declared.colorspace_name.as_deref() {

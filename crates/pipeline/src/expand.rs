@@ -307,21 +307,33 @@ fn spec(source: &Source) -> Result<Spec> {
 fn attributes(reader: &ImageReader, values: usize) -> Result<Vec<(String, String)>> {
     let placeholder = super::average_text(&vec![0.0; values]);
     let mut out = vec![(AVERAGE.to_string(), placeholder.clone())];
+    // The input's metadata by a conversion's rule and bounds, each length before its value.
+    let mut metadata = crate::metadata::Carry::default();
     for name in reader.string_attribute_names()? {
-        let Some(value) = reader.string_attribute(&name)? else {
-            continue;
-        };
         let ours = name.starts_with("specconv")
             && ![LAYOUT_ATTRIBUTE, COMPACT_ATTRIBUTE, EXPAND_ATTRIBUTE].contains(&name.as_str());
         let texture = ["textureformat", "wrapmodes"].contains(&name.as_str());
+        if !(ours || texture || name == CONSTANT) {
+            let len = reader.string_attribute_len(name.as_bytes())?;
+            if len.is_some_and(|len| metadata.admit(&name, len)) {
+                if let Some(value) = reader.string_attribute_bytes(name.as_bytes())? {
+                    metadata.push(name, &value, crate::metadata::Encoding::Utf8);
+                }
+            }
+            continue;
+        }
+        let Some(value) = reader.string_attribute(&name)? else {
+            continue;
+        };
         if name == CONSTANT {
             out.push((name, placeholder.clone()));
         } else if name == "specconvSettings" {
             out.push((name, specconv_description::as_spectral(&value)));
-        } else if ours || texture || crate::metadata::carried(&name) {
+        } else {
             out.push((name, value));
         }
     }
+    out.extend(metadata.kept);
     Ok(out)
 }
 

@@ -334,8 +334,8 @@ pub struct Opened<'a> {
     /// The wrap modes, and whether the input declared them.
     wrap: (texture::WrapModes, bool),
     survey: survey::Survey,
-    /// The input's metadata the output carries (none when stripped).
-    metadata: Vec<(String, String)>,
+    /// The input's metadata the output carries and what it drops (none when stripped).
+    metadata: metadata::Carry,
 }
 
 /// Opens `job`'s input: refuses to write over the input or an existing output (unless the
@@ -374,9 +374,15 @@ pub fn open<'a>(job: &'a Job<'a>) -> Result<Opened<'a>> {
     let premultiply = colour::premultiply(job.options.alpha, &reader, selection.channels.alpha);
     let declared = texture::declared(&reader);
     let metadata = match job.options.strip_metadata {
-        true => Vec::new(),
-        false => texture::metadata(&reader)?,
+        true => metadata::Carry::default(),
+        false => texture::metadata(&reader, job.input)?,
     };
+    if job.options.strict && !metadata.dropped.is_empty() {
+        return Err(Error::Strict {
+            input: job.input.to_path_buf(),
+            warning: metadata::describe(&metadata.dropped),
+        });
+    }
     let wrap = match (job.options.wrap, declared) {
         (Some(w), _) => (w, false),
         (None, Some(w)) => (w, true),
@@ -427,7 +433,8 @@ impl Opened<'_> {
         } = self;
         // The caller's attributes first; the input's metadata where they name nothing.
         let mut attributes = attributes.to_vec();
-        for (name, value) in metadata {
+        let metadata_dropped = metadata.dropped;
+        for (name, value) in metadata.kept {
             if !attributes.iter().any(|(n, _)| *n == name) {
                 attributes.push((name, value));
             }
@@ -484,6 +491,7 @@ impl Opened<'_> {
             colorspace: space.name,
             colorspace_rule: space.rule,
             warnings: space.warnings,
+            metadata_dropped,
             premultiplied: premultiply && alpha.is_some(),
             non_finite: counts.non_finite,
             above_one: counts.above_one,

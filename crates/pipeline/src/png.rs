@@ -131,6 +131,65 @@ pub fn check_whole(path: &Path) -> Result<(), specconv_exr::check::Problem> {
     }
 }
 
+/// The encoding a PNG at `path` declares for each of its text keywords, by OpenImageIO's
+/// name for it: Latin-1 for `tEXt` and `zTXt`, UTF-8 for `iTXt` (PNG specification, 3rd ed.,
+/// 11.3.3); the last chunk of a keyword decides, as it does OpenImageIO's value. Empty when
+/// the file is not a PNG; only the keywords are read, never the text.
+pub fn text_encodings(path: &Path) -> Vec<(Vec<u8>, crate::metadata::Encoding)> {
+    use crate::metadata::Encoding;
+    let mut out: Vec<(Vec<u8>, Encoding)> = Vec::new();
+    let Some(mut f) = specconv_atomic_file::open_file(path)
+        .ok()
+        .map(std::io::BufReader::new)
+    else {
+        return out;
+    };
+    let mut sig = [0u8; 8];
+    if f.read_exact(&mut sig).is_err() || sig != SIGNATURE {
+        return out;
+    }
+    let mut head = [0u8; 8];
+    while f.read_exact(&mut head).is_ok() && &head[4..8] != b"IEND" {
+        let len = u32::from_be_bytes([head[0], head[1], head[2], head[3]]) as usize;
+        let encoding = match &head[4..8] {
+            b"tEXt" | b"zTXt" => Encoding::Latin1,
+            b"iTXt" => Encoding::Utf8,
+            _ => {
+                if f.seek_relative(len as i64 + 4).is_err() {
+                    break;
+                }
+                continue;
+            }
+        };
+        // A keyword is 1 to 79 bytes and its terminator.
+        let mut key = vec![0u8; len.min(80)];
+        if f.read_exact(&mut key).is_err() || f.seek_relative((len - key.len()) as i64 + 4).is_err()
+        {
+            break;
+        }
+        let Some(end) = key.iter().position(|&b| b == 0) else {
+            continue;
+        };
+        key.truncate(end);
+        let name = oiio_name(key);
+        out.retain(|(n, _)| *n != name);
+        out.push((name, encoding));
+    }
+    out
+}
+
+/// OpenImageIO's name for a PNG text keyword: it reads `Description`, `Author` and `Title`
+/// as `ImageDescription`, `Artist` and `DocumentName` (OpenImageIO 2.4, pngimageio).
+fn oiio_name(keyword: Vec<u8>) -> Vec<u8> {
+    let renamed: &[u8] = match keyword.to_ascii_lowercase().as_slice() {
+        b"description" => b"ImageDescription",
+        b"author" => b"Artist",
+        b"title" => b"DocumentName",
+        _ => return keyword,
+    };
+    renamed.to_vec()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -227,6 +286,35 @@ mod tests {
             ..written
         }
         .companions_of_srgb());
+    }
+
+    #[test]
+    fn text_keywords_have_their_chunk_s_encoding_the_last_one_deciding() {
+        use crate::metadata::Encoding;
+        let dir = std::env::temp_dir().join(format!("specconv-png-text-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("t.png");
+        let mut bytes = SIGNATURE.to_vec();
+        bytes.extend(chunk(b"IHDR", &[0; 13]));
+        bytes.extend(chunk(b"tEXt", b"Copyright\0Caf\xe9"));
+        bytes.extend(chunk(b"iTXt", b"Author\0\0\0\0\0\xe5\xb1\xb1"));
+        bytes.extend(chunk(b"zTXt", b"Comment\0\0xyz"));
+        bytes.extend(chunk(b"IDAT", &[1, 2, 3]));
+        bytes.extend(chunk(b"iTXt", b"Copyright\0\0\0\0\0x"));
+        bytes.extend(chunk(b"tEXt", b"no terminator"));
+        bytes.extend(chunk(b"IEND", &[]));
+        std::fs::write(&path, bytes).unwrap();
+        let found = text_encodings(&path);
+        std::fs::remove_dir_all(&dir).ok();
+        assert_eq!(
+            found,
+            [
+                (b"Artist".to_vec(), Encoding::Utf8),
+                (b"Comment".to_vec(), Encoding::Latin1),
+                (b"Copyright".to_vec(), Encoding::Utf8),
+            ]
+        );
+        assert!(text_encodings(Path::new(file!())).is_empty());
     }
 
     #[test]

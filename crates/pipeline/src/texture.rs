@@ -3,20 +3,41 @@
 
 pub use specconv_description::wrap::{parse_wrapmodes, Wrap, WrapModes, DEFAULT_WRAP, WRAP_NAMES};
 
-/// The input's texture metadata an output carries ([`crate::metadata::carried`]), in the
-/// header's order.
+/// The input's texture metadata an output carries and what it drops ([`crate::metadata::Carry`]),
+/// in the header's order: each value's length checked against the bounds before it is
+/// copied, its text decoded from the encoding the file declares (a PNG's chunk's, else
+/// UTF-8). `path` is the file `reader` reads.
 pub fn metadata(
     reader: &specconv_oiio::ImageReader,
-) -> specconv_oiio::Result<Vec<(String, String)>> {
-    let mut carried = Vec::new();
-    for name in reader.string_attribute_names()? {
-        if crate::metadata::carried(&name) {
-            if let Some(value) = reader.string_attribute(&name)? {
-                carried.push((name, value));
+    path: &std::path::Path,
+) -> specconv_oiio::Result<crate::metadata::Carry> {
+    use crate::metadata::{carried, Carry, Encoding, Why};
+    let encodings = crate::png::text_encodings(path);
+    let encoding = |raw: &[u8]| {
+        encodings
+            .iter()
+            .find(|(n, _)| n == raw)
+            .map_or(Encoding::Utf8, |(_, e)| *e)
+    };
+    let mut carry = Carry::default();
+    for raw in reader.string_attribute_names_raw()? {
+        let Some(name) = encoding(&raw).decode(&raw) else {
+            let shown = String::from_utf8_lossy(&raw).into_owned();
+            if carried(&shown) {
+                carry.refuse(&shown, Why::NotText(Encoding::Utf8));
+            }
+            continue;
+        };
+        let Some(len) = reader.string_attribute_len(&raw)? else {
+            continue;
+        };
+        if carry.admit(&name, len) {
+            if let Some(value) = reader.string_attribute_bytes(&raw)? {
+                carry.push(name, &value, encoding(&raw));
             }
         }
     }
-    Ok(carried)
+    Ok(carry)
 }
 
 /// The wrap modes an input declares (a maketx texture's `wrapmodes`), if it declares valid ones.

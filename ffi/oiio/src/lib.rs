@@ -754,20 +754,61 @@ impl ImageReader {
         self.attribute(name, 0, self.shim.specconv_oiio_bytes_attribute)
     }
 
-    /// A string attribute of the file's header (top level), if present.
+    /// A string attribute of the file's header (top level), if present (bytes that are not
+    /// UTF-8 replaced: [`ImageReader::string_attribute_bytes`] has them as they are).
     pub fn string_attribute(&self, name: &str) -> Result<Option<String>> {
+        Ok(self
+            .string_attribute_bytes(name.as_bytes())?
+            .map(|bytes| String::from_utf8_lossy(&bytes).into_owned()))
+    }
+
+    /// A string attribute of the file's header (top level) as OpenImageIO holds its bytes,
+    /// if present; `name` as [`ImageReader::string_attribute_names_raw`] has it.
+    pub fn string_attribute_bytes(&self, name: &[u8]) -> Result<Option<Vec<u8>>> {
         // One more byte for the terminator the shim writes.
         let Some(mut buf) = self.attribute(name, 1, self.shim.specconv_oiio_string_attribute)?
         else {
             return Ok(None);
         };
         buf.pop();
-        let bytes: Vec<u8> = buf.into_iter().map(|c| c as u8).collect();
-        Ok(Some(String::from_utf8_lossy(&bytes).into_owned()))
+        Ok(Some(buf.into_iter().map(|c| c as u8).collect()))
     }
 
-    /// The names of the file's string attributes (top level), in the header's order.
+    /// The length in bytes of a string attribute of the file's header (top level), if
+    /// present, without copying its value out; `name` as
+    /// [`ImageReader::string_attribute_names_raw`] has it.
+    pub fn string_attribute_len(&self, name: &[u8]) -> Result<Option<usize>> {
+        let Ok(c_name) = CString::new(name) else {
+            return Ok(None);
+        };
+        let mut len = -1i64;
+        let read = self.shim.specconv_oiio_string_attribute;
+        // SAFETY: live handle, valid C string; a null buffer only asks for the length.
+        self.check(unsafe {
+            read(
+                self.raw.as_ptr(),
+                c_name.as_ptr(),
+                std::ptr::null_mut(),
+                0,
+                &mut len,
+            )
+        })?;
+        Ok(usize::try_from(len).ok())
+    }
+
+    /// The names of the file's string attributes (top level), in the header's order (bytes
+    /// that are not UTF-8 replaced).
     pub fn string_attribute_names(&self) -> Result<Vec<String>> {
+        Ok(self
+            .string_attribute_names_raw()?
+            .iter()
+            .map(|n| String::from_utf8_lossy(n).into_owned())
+            .collect())
+    }
+
+    /// The names of the file's string attributes (top level), in the header's order, as
+    /// OpenImageIO holds their bytes (a PNG's keywords are Latin-1).
+    pub fn string_attribute_names_raw(&self) -> Result<Vec<Vec<u8>>> {
         let raw = self.raw.as_ptr();
         let mut len = -1i64;
         let list = self.shim.specconv_oiio_string_attribute_names;
@@ -780,7 +821,7 @@ impl ImageReader {
         Ok(bytes
             .split(|&b| b == 0)
             .filter(|n| !n.is_empty())
-            .map(|n| String::from_utf8_lossy(n).into_owned())
+            .map(<[u8]>::to_vec)
             .collect())
     }
 
@@ -788,7 +829,7 @@ impl ImageReader {
     /// values into a buffer of that length plus `extra`. None when absent or not of that kind.
     fn attribute<T: Copy + Default>(
         &self,
-        name: &str,
+        name: impl Into<Vec<u8>>,
         extra: usize,
         read: unsafe extern "C" fn(
             *const sys::specconv_oiio_input,

@@ -70,6 +70,7 @@ pub(super) fn warnings(counts: &[specconv_conversion::NoticeCount]) {
         let what = match &c.kind {
             NoticeKind::Colour(w) => records::warning(w),
             NoticeKind::Clipped => format!("{} with --emissive", c.text),
+            NoticeKind::Metadata => c.text.clone(),
         };
         let whom = match c.inputs {
             1 => format!("{}: ", c.first.display()),
