@@ -222,7 +222,7 @@ pub fn weighted_parts(
             Some(licence) => Terms::stated(licence, Default::default())
                 .map_err(|e| crate::usage(anyhow::anyhow!("--licence: {e}")))?,
             None => {
-                warn_named_like_known(path, &table.source, &sha256, set.spectra.len());
+                warn_named_like_known(path, &set, &sha256);
                 set.sets[0].terms()
             }
         };
@@ -239,13 +239,17 @@ pub fn weighted_parts(
 }
 
 /// Says when a --spectra file without a stated licence takes a shared set's name without its
-/// data: its terms are unknown, not that set's (they are known by content, never by name).
-fn warn_named_like_known(path: &Path, source: &str, sha256: &str, count: usize) {
+/// data: its terms are those of its content (`terms`), never that set's.
+fn warn_named_like_known(path: &Path, set: &specconv_spectral::TrainingSet, sha256: &str) {
     use specconv_spectral::otsu2018::terms::named_like_known;
-    if let Some((known_count, known)) = named_like_known(source, sha256) {
+    let record = &set.sets[0];
+    if let Some((known_count, known)) = named_like_known(&record.source, sha256) {
         errln!(
-            "specconv: warning: {} is named like the shared set {source} ({known_count} spectra, SHA-256 {known}) but holds other data ({count} spectra, SHA-256 {sha256}); its terms are unknown: state them with --licence and --commercial",
-            path.display()
+            "specconv: warning: {} is named like the shared set {} ({known_count} spectra, SHA-256 {known}) but holds other data ({} spectra, SHA-256 {sha256}), so its terms are not that set's but {:?}; state them with --licence and --commercial",
+            specconv_atomic_file::shown::escaped(&path.display().to_string()),
+            record.source,
+            record.count,
+            record.licence
         );
     }
 }

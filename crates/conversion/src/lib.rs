@@ -49,9 +49,7 @@ pub mod tables;
 pub mod to_rgb;
 
 // The description of a conversion and the job, under their names in this crate.
-pub use specconv_description::{
-    definition, layout, metadata, shown, Definition, Flag, Takes, Value,
-};
+pub use specconv_description::{definition, layout, metadata, Definition, Flag, Takes, Value};
 use specconv_description::{named, options, report};
 use specconv_pipeline as pipeline;
 use specconv_pipeline::wrapped;

@@ -399,10 +399,10 @@ pub fn attribution(m: &Model) -> Option<String> {
     (!lines.is_empty()).then(|| ascii(&lines.join("; ")))
 }
 
-/// ASCII only (see [`describe`]), on one line ([`specconv_description::shown::escaped`]):
+/// ASCII only (see [`describe`]), on one line ([`specconv_atomic_file::shown::escaped`]):
 /// no licence or file name can pass for another attribute's line.
 fn ascii(text: &str) -> String {
-    specconv_description::shown::escaped(text)
+    specconv_atomic_file::shown::escaped(text)
         .chars()
         .map(|c| if c.is_ascii() { c } else { '?' })
         .collect()

@@ -15,7 +15,6 @@ pub mod metadata;
 pub mod named;
 pub mod options;
 pub mod report;
-pub mod shown;
 pub mod wrap;
 
 pub use choices::{Alpha, Compression, DataPolicy, Filter, Layout, Mip, NonFinite, Rounding};

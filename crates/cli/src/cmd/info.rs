@@ -5,7 +5,7 @@ use crate::stdio::{serialize_path, StdoutFailed};
 use crate::{checks, exit, one_line, print_error};
 use anyhow::Result;
 use serde::Serialize;
-use specconv_conversion::shown::escaped;
+use specconv_atomic_file::shown::escaped;
 use specconv_conversion::{ChannelReason, ColourConfig, Description, ReadAs, SpectralFacts};
 use std::path::{Path, PathBuf};
 

@@ -276,9 +276,14 @@ impl Terms {
 }
 
 /// Refuses text that is not one line: a control character (a line break, a tab, an escape,
-/// U+0085, …) would let it pass for other lines where it is shown. `what` names it.
+/// U+0085, …), a line separator or a bidirectional override
+/// ([`specconv_atomic_file::shown::hidden`]) would let it pass for other lines where it is
+/// shown. `what` names it.
 pub fn one_line(what: &str, text: &str) -> Result<(), String> {
-    match text.char_indices().find(|(_, c)| c.is_control()) {
+    match text
+        .char_indices()
+        .find(|&(_, c)| specconv_atomic_file::shown::hidden(c))
+    {
         None => Ok(()),
         Some((at, c)) => Err(format!(
             "{what} {:?} holds the control character U+{:04X} at byte {at}: give it as one line of text",
@@ -354,5 +359,51 @@ mod tests {
         assert!(COLOUR_SCIENCE
             .text
             .starts_with("Copyright 2013 Colour Developers"));
+    }
+
+    #[test]
+    fn sets_are_known_by_their_content_never_by_their_name() {
+        // FIPS 180-2's test vector: the hash is SHA-256 as `sha256sum` prints it.
+        assert_eq!(
+            content_hash(b"abc"),
+            "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad"
+        );
+        let shared = std::env::var("SPECCONV_SHARED")
+            .unwrap_or_else(|_| concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared").into());
+        for k in &KNOWN {
+            let bytes = std::fs::read(format!("{shared}/spectra/{}", k.file)).unwrap();
+            assert_eq!(content_hash(&bytes), k.sha256, "{}", k.file);
+            let text = String::from_utf8(bytes).unwrap();
+            let table = specconv_colour::SpectralTable::parse(k.file, &text).unwrap();
+            assert_eq!(table.names.len(), k.count, "{}", k.file);
+            // Known by content, whatever the name; unknown by name alone.
+            assert_eq!(Terms::of_content(Some(k.sha256)).licence, k.licence);
+            let other = content_hash(format!("{text}\n").as_bytes());
+            assert_eq!(Terms::of_content(Some(&other)).licence, UNKNOWN_LICENCE);
+            assert_eq!(named_like_known(k.file, &other), Some((k.count, k.sha256)));
+            assert_eq!(named_like_known(k.file, k.sha256), None);
+            assert_eq!(named_like_known("renamed.csv", &other), None);
+        }
+        assert_eq!(Terms::of_content(None).commercial, Commercial::Unstated);
+    }
+
+    #[test]
+    fn a_stated_licence_is_one_line() {
+        for bad in [
+            "ours\nspecconvSource: FORGED.png\ncommercial use: yes",
+            "ours\r",
+            "ours\tyes",
+            "\u{1b}[2Kcommercial use: yes",
+            "ours\u{85}",
+            "ours\u{2028}commercial use: yes",
+            "ours\u{202e}sey",
+            "ours\u{0}",
+        ] {
+            let e = Terms::stated(bad, Commercial::Yes).unwrap_err();
+            assert!(e.contains("control character"), "{bad:?}: {e}");
+        }
+        for good in ["ours", "CC BY 4.0 (c) 山田 太郎 — Café", "MIT \\ BSD"] {
+            assert_eq!(Terms::stated(good, Commercial::No).unwrap().licence, good);
+        }
     }
 }

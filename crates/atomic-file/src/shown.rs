@@ -11,7 +11,7 @@ use std::borrow::Cow;
 /// Whether `c` must not reach a terminal as itself: a control character (C0, DEL, C1), a
 /// line or paragraph separator, or a bidirectional control (embeddings, overrides,
 /// isolates, marks) that can reorder what is shown.
-fn hidden(c: char) -> bool {
+pub fn hidden(c: char) -> bool {
     c.is_control()
         || matches!(
             c,
