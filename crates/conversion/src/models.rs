@@ -90,23 +90,8 @@ pub enum ModelError {
     },
     /// A set read again for a model (`train --with`) that is not the set the model records:
     /// other spectra under its file name.
-    #[error("{} is not the set {model} was trained on: the model records {source_name} as {count} spectra with SHA-256 {recorded}, and this file holds {found_count} spectra with SHA-256 {found}; give --with-data the folder that holds the recorded file (../shared/spectra for the built-in models), or train on this file as your own data with --spectra and state its --licence and --commercial", path.display())]
-    SetDiffers {
-        /// The file read.
-        path: PathBuf,
-        /// The model, described.
-        model: String,
-        /// The recorded set's file name.
-        source_name: String,
-        /// The spectra the model records of it.
-        count: usize,
-        /// The hash the model records of it ("not recorded" in older models).
-        recorded: String,
-        /// The spectra the file holds.
-        found_count: usize,
-        /// The file's hash.
-        found: String,
-    },
+    #[error(transparent)]
+    SetDiffers(Box<SetDiffers>),
     /// A model to train on top of records no sets.
     #[error("{model} does not record the sets it was trained on, so no model can be trained on top of it; give its sets with --spectra instead")]
     NoRecordedSets {
@@ -127,6 +112,27 @@ pub enum ModelError {
         /// Why it cannot be used.
         source: Box<ModelError>,
     },
+}
+
+/// A set read again for a model (`train --with`) that is not the set the model records
+/// ([`ModelError::SetDiffers`]).
+#[derive(Debug, thiserror::Error)]
+#[error("{} is not the set {model} was trained on: the model records {source_name} as {count} spectra with SHA-256 {recorded}, and this file holds {found_count} spectra with SHA-256 {found}; give --with-data the folder that holds the recorded file (../shared/spectra for the built-in models), or train on this file as your own data with --spectra and state its --licence and --commercial", path.display())]
+pub struct SetDiffers {
+    /// The file read.
+    pub path: PathBuf,
+    /// The model, described.
+    pub model: String,
+    /// The recorded set's file name.
+    pub source_name: String,
+    /// The spectra the model records of it.
+    pub count: usize,
+    /// The hash the model records of it ("not recorded" in older models).
+    pub recorded: String,
+    /// The spectra the file holds.
+    pub found_count: usize,
+    /// The file's hash.
+    pub found: String,
 }
 
 fn names() -> String {
@@ -289,7 +295,7 @@ pub fn recorded_parts(named: &Path, m: &Model, dir: &Path) -> Result<Recorded, M
             None => found_count == r.count,
         };
         if !same {
-            return Err(ModelError::SetDiffers {
+            return Err(ModelError::SetDiffers(Box::new(SetDiffers {
                 path,
                 model: name_of(Some(named)),
                 source_name: r.source.clone(),
@@ -297,7 +303,7 @@ pub fn recorded_parts(named: &Path, m: &Model, dir: &Path) -> Result<Recorded, M
                 recorded: r.sha256.clone().unwrap_or_else(|| "not recorded".into()),
                 found_count,
                 found: sha256,
-            });
+            })));
         }
         let terms = match (&r.sha256, Terms::is_known(&sha256)) {
             (Some(_), false) => r.terms(),
