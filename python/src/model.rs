@@ -117,16 +117,17 @@ pub(crate) fn table_of(
     Ok((table, weights))
 }
 
-/// The terms the trainer states (`licence`, `commercial`), else those known for `source`.
+/// The terms the trainer states (`licence`, `commercial`), else unknown ones.
 fn terms_of(
-    source: &str,
     licence: Option<String>,
     commercial: Option<&str>,
 ) -> PyResult<specconv_spectral::otsu2018::terms::Terms> {
     use specconv_spectral::otsu2018::terms::{Commercial, Terms};
+    // Arrays are no file: their terms are known only as stated, never by a source's name.
     let mut terms = match &licence {
-        Some(l) => Terms::stated(l, Commercial::Unstated),
-        None => Terms::known(source),
+        Some(l) => Terms::stated(l, Commercial::Unstated)
+            .map_err(|e| Kind::Option.err(format!("licence: {e}")))?,
+        None => Terms::of_content(None),
     };
     if let Some(c) = commercial {
         terms.commercial = c
@@ -155,9 +156,13 @@ impl Base {
             ));
         }
         py.detach(|| {
-            let model = specconv_conversion::models::load(Some(model))?;
-            let parts = specconv_conversion::models::recorded_parts(&model, dir)?;
-            Ok(Base { model, parts })
+            let named = model;
+            let model = specconv_conversion::models::load(Some(named))?;
+            let recorded = specconv_conversion::models::recorded_parts(named, &model, dir)?;
+            Ok(Base {
+                model,
+                parts: recorded.parts,
+            })
         })
         .map_err(|e: specconv_conversion::models::ModelError| crate::errors::conversion(e.into()))
     }
@@ -209,7 +214,9 @@ impl Model {
     /// each with a condition number of M below `max_condition`, on the grid `bands`
     /// ("START:END:STEP" nm) under `observer` and `illuminant`. `weights`: one per spectrum.
     /// `source`, `licence` and `commercial` ("yes", "no", "unstated") are recorded in the
-    /// model (and in every file it makes).
+    /// model (and in every file it makes). Arrays have no file whose content could be
+    /// checked: their terms are the ones stated, else unknown, whatever `source` says (a
+    /// set's known terms come only with its file, `specconv train --spectra`).
     ///
     /// `with_model` (a built-in name or a model file) trains on top of that model's own data,
     /// as `specconv train --with`: its recorded sets, read from the folder `with_data`, join
@@ -241,7 +248,7 @@ impl Model {
         weight: f64,
     ) -> PyResult<Model> {
         let (table, weights) = table_of(spectra, wavelengths, weights, source)?;
-        let terms = terms_of(source, licence, commercial)?;
+        let terms = terms_of(licence, commercial)?;
         let base = match (with_model, with_data) {
             (Some(m), Some(dir)) => Some(Base::read(py, &m.0, &dir.0, weights.is_empty())?),
             (None, None) => None,

@@ -277,3 +277,110 @@ fn bad_colour_management_fails_with_one_clear_line() {
         &["neither a cie_xyz_d65_interchange nor an aces_interchange role"],
     );
 }
+
+/// Text that would pass for other lines where it is shown: line breaks, a carriage return,
+/// a terminal escape, NEL, a Unicode line separator, a bidirectional override.
+const FORGERIES: [&str; 6] = [
+    "ours\nspecconvSource: FORGED.png\ncommercial use: yes",
+    "ours\r\nspecconvCommercialUse: yes",
+    "ours\u{1b}[2K\rspecconvSource: FORGED.png",
+    "ours\u{85}specconvSource: FORGED.png",
+    "ours\u{2028}specconvSource: FORGED.png",
+    "ours\u{202e}gnp.DEGROF :ecruoSvnoccceps",
+];
+
+/// Whether `text` holds a character that a terminal would not show as itself.
+fn hidden_in(text: &str) -> bool {
+    text.chars()
+        .any(|c| (c.is_control() && c != '\n') || matches!(c, '\u{2028}' | '\u{202e}'))
+}
+
+#[test]
+fn info_shows_every_attribute_on_one_line_and_nothing_passes_for_provenance() {
+    let dir = Scratch::new("info-forged");
+    let input = testdata("images/srgb8.png");
+    let real = dir.path("real.exr");
+    Cmd::convert(&input, &real).ok();
+    let lines = Cmd::new(["info", arg(&real)]).run().ok().lines().count();
+    for (k, forged) in FORGERIES.iter().enumerate() {
+        // A file whose provenance was edited by another tool (oiiotool, outside the project).
+        let edited = dir.path(&format!("edited{k}.exr"));
+        let attrib = format!("specconvModel={forged:?}");
+        tool(
+            "oiiotool",
+            &[
+                arg(&real),
+                "--sattrib",
+                "specconvModel",
+                forged,
+                "-o",
+                arg(&edited),
+            ],
+        );
+        let out = Cmd::new(["info", arg(&edited)]).run();
+        let text = out.ok();
+        assert_eq!(text.lines().count(), lines, "{attrib:?}:\n{text}");
+        assert_eq!(
+            text.lines()
+                .filter(|l| l.starts_with("specconvSource:"))
+                .count(),
+            1,
+            "{text}"
+        );
+        assert!(
+            !text.lines().any(|l| l.starts_with("commercial use")),
+            "{text}"
+        );
+        assert!(!hidden_in(text), "{text:?}");
+        // JSON keeps the value as it is, escaped by JSON: one line.
+        let v = Cmd::new(["info", "--json", arg(&edited)]).run();
+        assert_eq!(v.ok().lines().count(), 1, "{}", v.stdout);
+        assert!(v.json().to_string().contains("ours"), "{}", v.stdout);
+    }
+}
+
+#[test]
+fn no_input_attribute_imitates_specconv_s_own() {
+    let dir = Scratch::new("info-imitate");
+    let input = dir.path("in.exr");
+    let names = [
+        "specconvSource",
+        "SpecconvSource",
+        "SPECCONVCOMMERCIALUSE",
+        "specconv:Model",
+        "spec_conv_Model",
+        "Spec-Conv Commercial Use",
+    ];
+    let mut args = vec![arg(&testdata("images/half_scanline.exr")).to_string()];
+    for n in names {
+        args.extend(["--sattrib".into(), n.into(), "FORGED".into()]);
+    }
+    args.extend([
+        "--sattrib".into(),
+        "studio:specconvNote".into(),
+        "kept".into(),
+    ]);
+    args.extend(["-o".into(), arg(&input).into()]);
+    tool(
+        "oiiotool",
+        &args.iter().map(String::as_str).collect::<Vec<_>>(),
+    );
+    let out = dir.path("out.exr");
+    Cmd::convert(&input, &out).ok();
+    // As exrheader (OpenEXR's own tool) lists the output's attributes.
+    let header = tool("exrheader", &[arg(&out)]);
+    assert!(!header.contains("FORGED"), "{header}");
+    assert!(header.contains("studio:specconvNote"), "{header}");
+    assert_eq!(header.matches("specconvSource ").count(), 1, "{header}");
+}
+
+#[test]
+fn an_error_naming_a_hostile_file_is_one_line_of_visible_text() {
+    let dir = Scratch::new("info-hostile-name");
+    for forged in FORGERIES {
+        let name = dir.path(&format!("{forged}.png"));
+        let out = Cmd::new(["info"]).arg(&name).run();
+        out.one_error_line(1, &["no such file"]);
+        assert!(!hidden_in(&out.stderr), "{:?}", out.stderr);
+    }
+}

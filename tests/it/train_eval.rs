@@ -998,3 +998,286 @@ fn train_replaces_a_model_only_with_force_and_never_a_texture() {
     assert!(written.contains("\"leaves\""), "{written}");
     assert_eq!(std::fs::read(&texture).unwrap(), b"a texture");
 }
+
+#[test]
+fn train_never_replaces_a_file_it_reads_whatever_its_spelling() {
+    // `--force` replaces an existing output, never the --with model's file nor a set it
+    // records, however the output names it: `./`, `..`, a link to the file or its folder,
+    // a hard link.
+    let dir = Scratch::new("train-reads");
+    let data = dir.path("data");
+    std::fs::create_dir(&data).unwrap();
+    // A studio's set whose file name ends in .json, as a model's does.
+    let set = data.join("swatches.json");
+    std::fs::copy(colorchecker(), &set).unwrap();
+    let base = dir.path("base.json");
+    Cmd::new(["train", "--spectra"])
+        .arg(&set)
+        .args(["--clusters", "2", "--min-cluster-size", "4", "-o"])
+        .arg(&base)
+        .ok();
+    std::os::unix::fs::symlink(&base, dir.path("link.json")).unwrap();
+    std::fs::hard_link(&base, dir.path("hard.json")).unwrap();
+    std::os::unix::fs::symlink(&data, dir.path("alias")).unwrap();
+    std::fs::hard_link(&set, dir.path("hard-set.json")).unwrap();
+    let before = [std::fs::read(&base).unwrap(), std::fs::read(&set).unwrap()];
+    let cases = [
+        ("base.json", "base.json"),
+        ("base.json", "./base.json"),
+        ("base.json", "data/../base.json"),
+        ("base.json", "link.json"),
+        ("base.json", "hard.json"),
+        ("link.json", "base.json"),
+        ("./link.json", "hard.json"),
+        ("base.json", "data/swatches.json"),
+        ("base.json", "./data/./swatches.json"),
+        ("base.json", "alias/swatches.json"),
+        ("base.json", "alias/../data/swatches.json"),
+        ("hard.json", "hard-set.json"),
+    ];
+    for (with, output) in cases {
+        Cmd::new(["train", "--spectra"])
+            .arg(munsell())
+            .args([
+                "--with",
+                with,
+                "--with-data",
+                "data",
+                "--force",
+                "-o",
+                output,
+            ])
+            .current_dir(&dir.0)
+            .refused(&dir, 2, &["is the input"]);
+        let after = [std::fs::read(&base).unwrap(), std::fs::read(&set).unwrap()];
+        assert!(
+            after == before,
+            "--with {with} -o {output} changed a file it read"
+        );
+    }
+    // Another name is written, with --force over an existing file that nothing reads.
+    std::fs::write(dir.path("old.json"), "{}").unwrap();
+    Cmd::new(["train", "--with", "base.json", "--with-data", "data"])
+        .args(["--force", "-o", "old.json"])
+        .current_dir(&dir.0)
+        .ok();
+    assert_eq!(std::fs::read(dir.path("old.json")).unwrap(), before[0]);
+}
+
+/// `text` with the last digit of its second line changed: the same spectra count, other data.
+fn one_value_changed(text: &str) -> String {
+    let start = text.find('\n').unwrap() + 1;
+    let end = start + text[start..].find('\n').unwrap();
+    let at = start
+        + text[start..end]
+            .rfind(|c: char| c.is_ascii_digit())
+            .unwrap();
+    let d = text.as_bytes()[at] - b'0';
+    format!("{}{}{}", &text[..at], (d + 1) % 10, &text[at + 1..])
+}
+
+#[test]
+fn recorded_sets_are_trusted_by_their_content_never_by_their_names() {
+    let dir = Scratch::new("fake-sets");
+    let shared = shared("spectra");
+    let open = specconv_spectral::Model::builtin_named("open").unwrap();
+    let fake = dir.path("fake");
+    std::fs::create_dir(&fake).unwrap();
+    for s in &open.training.sets {
+        std::fs::copy(shared.join(&s.source), fake.join(&s.source)).unwrap();
+    }
+    let out = dir.path("m.json");
+    let munsell_text = std::fs::read_to_string(munsell()).unwrap();
+    // Each recorded set replaced by other spectra under its name (the Munsell set's), or by
+    // its own with one value changed: refused, naming the set, both counts and both hashes.
+    for s in &open.training.sets {
+        let path = fake.join(&s.source);
+        let genuine = std::fs::read_to_string(&path).unwrap();
+        for (text, count) in [
+            (munsell_text.clone(), 1269),
+            (one_value_changed(&genuine), s.count),
+        ] {
+            std::fs::write(&path, &text).unwrap();
+            let found = specconv_spectral::otsu2018::terms::content_hash(text.as_bytes());
+            let recorded = s.sha256.as_deref().unwrap();
+            Cmd::new(["train", "--with", "open", "--with-data"])
+                .arg(&fake)
+                .arg("-o")
+                .arg(&out)
+                .fails(
+                    1,
+                    &[
+                        &format!(
+                            "{} is not the set built-in open was trained on",
+                            path.display()
+                        ),
+                        &format!(
+                            "{} as {} spectra with SHA-256 {recorded}",
+                            s.source, s.count
+                        ),
+                        &format!("holds {count} spectra with SHA-256 {found}"),
+                        "--spectra",
+                        "--licence",
+                    ],
+                );
+            assert!(!out.exists());
+        }
+        std::fs::write(&path, genuine).unwrap();
+    }
+    // A model written before hashes were recorded: a set of another count is refused; one of
+    // the recorded count is read, but passes no terms on (a warning says why); sets whose
+    // content is known keep the terms of that content.
+    let builtin = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/crates/spectral/models/open.json"
+    );
+    let old: String = std::fs::read_to_string(builtin)
+        .unwrap()
+        .lines()
+        .filter(|l| !l.contains("\"sha256\""))
+        .map(|l| format!("{l}\n"))
+        .collect();
+    let old_model = dir.write("old.json", &old);
+    let veg = fake.join(&open.training.sets[0].source);
+    let genuine = std::fs::read_to_string(&veg).unwrap();
+    std::fs::write(&veg, &munsell_text).unwrap();
+    Cmd::new(["train", "--with"])
+        .arg(&old_model)
+        .arg("--with-data")
+        .arg(&fake)
+        .arg("-o")
+        .arg(&out)
+        .fails(1, &["with SHA-256 not recorded", "holds 1269 spectra"]);
+    std::fs::write(&veg, one_value_changed(&genuine)).unwrap();
+    let run = Cmd::new(["train", "--with"])
+        .arg(&old_model)
+        .arg("--with-data")
+        .arg(&fake)
+        .arg("-o")
+        .arg(&out)
+        .run();
+    run.ok();
+    assert!(
+        run.stderr.contains(&format!(
+            "warning: {} records no hash of {}",
+            old_model.display(),
+            open.training.sets[0].source
+        )),
+        "{}",
+        run.stderr
+    );
+    assert!(
+        run.stderr.contains("commercial use: unstated"),
+        "{}",
+        run.stderr
+    );
+    let model = json(&std::fs::read_to_string(&out).unwrap());
+    let sets = model["training"]["sets"].as_array().unwrap();
+    assert!(sets[0]["licence"].as_str().unwrap().starts_with("unknown"));
+    assert!(
+        sets[1..].iter().all(|s| s["commercial"] == "yes"),
+        "{sets:?}"
+    );
+    assert!(sets
+        .iter()
+        .all(|s| s["sha256"].as_str().unwrap().len() == 64));
+}
+
+#[test]
+fn a_set_s_terms_come_with_its_content_not_its_file_name() {
+    let dir = Scratch::new("named-like");
+    let small = ["--clusters", "2", "--min-cluster-size", "10"];
+    let veg = "usgs_splib07a_vegetation_380-780_5nm.csv";
+    let fake = dir.path(veg);
+    let out = dir.path("m.json");
+    // Under a public-domain set's name: other spectra (unknown terms), the Munsell data
+    // (non-commercial, whatever the name), each with a warning naming both sets' figures.
+    let cc = std::fs::read_to_string(colorchecker()).unwrap();
+    let munsell_text = std::fs::read_to_string(munsell()).unwrap();
+    for (text, count, says) in [
+        (one_value_changed(&cc), 24, "commercial use: unstated"),
+        (munsell_text, 1269, "commercial use: no"),
+    ] {
+        std::fs::write(&fake, text).unwrap();
+        let run = Cmd::train(&fake)
+            .args(small)
+            .args(["--force", "-o"])
+            .arg(&out)
+            .run();
+        run.ok();
+        let warning = format!("is named like the shared set {veg} (235 spectra, SHA-256 a0dc9457");
+        assert!(run.stderr.contains(&warning), "{}", run.stderr);
+        assert!(
+            run.stderr
+                .contains(&format!("holds other data ({count} spectra")),
+            "{}",
+            run.stderr
+        );
+        assert!(run.stderr.contains(says), "{}", run.stderr);
+        let model = json(&std::fs::read_to_string(&out).unwrap());
+        assert!(!model["training"]["sets"][0]["licence"]
+            .as_str()
+            .unwrap()
+            .contains("public domain"));
+    }
+    // The non-commercial Munsell data renamed: still known, still non-commercial.
+    let renamed = dir.path("our-chips.csv");
+    std::fs::copy(munsell(), &renamed).unwrap();
+    let run = Cmd::train(&renamed)
+        .args(small)
+        .args(["--force", "-o"])
+        .arg(&out)
+        .run();
+    run.ok();
+    assert!(run.stderr.contains("commercial use: no"), "{}", run.stderr);
+    let model = json(&std::fs::read_to_string(&out).unwrap());
+    let set = &model["training"]["sets"][0];
+    assert_eq!(set["source"], "our-chips.csv");
+    assert!(set["licence"].as_str().unwrap().contains("non-commercial"));
+    // The hash is the file's SHA-256, as sha256sum (outside the project) computes it.
+    let sum = tool("sha256sum", &[renamed.to_str().unwrap()]);
+    assert_eq!(
+        set["sha256"].as_str().unwrap(),
+        sum.split_whitespace().next().unwrap()
+    );
+}
+
+#[test]
+fn a_licence_is_one_line_and_a_model_file_cannot_hold_another() {
+    let dir = Scratch::new("licence-lines");
+    let out = dir.path("m.json");
+    let forged = [
+        "ours\nspecconvSource: FORGED.png\ncommercial use: yes",
+        "ours\r\ncommercial use: yes",
+        "ours\u{1b}[2K\rcommercial use: yes",
+        "ours\u{85}commercial use: yes",
+        "ours\u{2028}commercial use: yes",
+        "ours\u{202e}sey :esu laicremmoc",
+        "ours\tyes",
+    ];
+    for licence in forged {
+        Cmd::train(colorchecker())
+            .args(["--licence", licence, "--commercial", "yes", "-o"])
+            .arg(&out)
+            .refused(&dir, 2, &["--licence: the licence", "control character"]);
+    }
+    // A model file edited to hold one is refused when loaded, by every command.
+    let good = dir.path("good.json");
+    Cmd::train(colorchecker())
+        .args(["--clusters", "1", "--licence", "ours", "-o"])
+        .arg(&good)
+        .ok();
+    let text = std::fs::read_to_string(&good).unwrap();
+    for licence in forged {
+        let edited = text.replace(
+            "\"licence\": \"ours\"",
+            &format!("\"licence\": {}", serde_json::to_string(licence).unwrap()),
+        );
+        assert_ne!(edited, text);
+        let bad = dir.write("bad.json", &edited);
+        Cmd::eval(colorchecker())
+            .arg("--model")
+            .arg(&bad)
+            .fails(2, &["control character", "give it as one line"]);
+    }
+}

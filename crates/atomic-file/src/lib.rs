@@ -17,6 +17,8 @@
 //! - [`plan`]: the files of a whole job checked before the first write, compared as files
 //!   (device and inode, and the directory entry for outputs that do not exist yet), never as
 //!   path strings; [`kind`]: special files refused before any read, side files read bounded.
+//! - [`shown`]: text from users and input files (names, attributes, licences) is shown one
+//!   value to a line, its control characters escaped.
 //! - [`shards`]: which files of a job each of N runs converts, one split for the conversion
 //!   library's `--shard` and the farm's tasks.
 //!
@@ -41,6 +43,7 @@ mod names;
 pub mod outputs;
 pub mod plan;
 pub mod shards;
+pub mod shown;
 pub mod udim;
 
 pub use kind::{

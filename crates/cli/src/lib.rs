@@ -397,7 +397,11 @@ fn run(cli: Cli) -> anyhow::Result<i32> {
 
 /// The one error format of every command: `specconv: error: ` and one line.
 pub(crate) fn print_error(line: &str) {
-    errln!("specconv: error: {line}");
+    // A file name in it cannot make it pass for other lines.
+    errln!(
+        "specconv: error: {}",
+        specconv_atomic_file::shown::escaped(line)
+    );
 }
 
 /// The man pages, one per command: (file name in man/, roff).

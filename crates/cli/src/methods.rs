@@ -10,7 +10,7 @@ use specconv_spectral::baselines::jakob;
 use specconv_spectral::method::MethodName;
 use specconv_spectral::stack::{Description, Setting, Stack};
 use specconv_spectral::Model;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// `--blend WIDTH` of the commands that uplift with a clustered model.
 #[derive(Debug, Clone, Copy, clap::Args)]
@@ -216,11 +216,15 @@ pub fn weighted_parts(
     }
     let mut parts = Vec::with_capacity(paths.len());
     for (k, path) in paths.iter().enumerate() {
-        let table = crate::files::read_spectra(path)?;
-        let set = specconv_spectral::TrainingSet::from_table_holding(&table, grid, w.hold_ends)?;
+        let (table, sha256) = specconv_conversion::models::read_set(path)?;
+        let set = specconv_spectral::TrainingSet::from_file(&table, &sha256, grid, w.hold_ends)?;
         let mut terms = match w.licences.get(k) {
-            Some(licence) => Terms::stated(licence, Default::default()),
-            None => Terms::known(&table.source),
+            Some(licence) => Terms::stated(licence, Default::default())
+                .map_err(|e| crate::usage(anyhow::anyhow!("--licence: {e}")))?,
+            None => {
+                warn_named_like_known(path, &set, &sha256);
+                set.sets[0].terms()
+            }
         };
         if let Some(&c) = w.commercial.get(k) {
             terms.commercial = c;
@@ -232,6 +236,22 @@ pub fn weighted_parts(
         });
     }
     Ok(parts)
+}
+
+/// Says when a --spectra file without a stated licence takes a shared set's name without its
+/// data: its terms are those of its content (`terms`), never that set's.
+fn warn_named_like_known(path: &Path, set: &specconv_spectral::TrainingSet, sha256: &str) {
+    use specconv_spectral::otsu2018::terms::named_like_known;
+    let record = &set.sets[0];
+    if let Some((known_count, known)) = named_like_known(&record.source, sha256) {
+        errln!(
+            "specconv: warning: {} is named like the shared set {} ({known_count} spectra, SHA-256 {known}) but holds other data ({} spectra, SHA-256 {sha256}), so its terms are not that set's but {:?}; state them with --licence and --commercial",
+            specconv_atomic_file::shown::escaped(&path.display().to_string()),
+            record.source,
+            record.count,
+            record.licence
+        );
+    }
 }
 
 #[cfg(test)]

@@ -88,6 +88,10 @@ pub enum ModelError {
         /// Why, in words.
         why: String,
     },
+    /// A set read again for a model (`train --with`) that is not the set the model records:
+    /// other spectra under its file name.
+    #[error(transparent)]
+    SetDiffers(Box<SetDiffers>),
     /// A model to train on top of records no sets.
     #[error("{model} does not record the sets it was trained on, so no model can be trained on top of it; give its sets with --spectra instead")]
     NoRecordedSets {
@@ -108,6 +112,27 @@ pub enum ModelError {
         /// Why it cannot be used.
         source: Box<ModelError>,
     },
+}
+
+/// A set read again for a model (`train --with`) that is not the set the model records
+/// ([`ModelError::SetDiffers`]).
+#[derive(Debug, thiserror::Error)]
+#[error("{} is not the set {model} was trained on: the model records {source_name} as {count} spectra with SHA-256 {recorded}, and this file holds {found_count} spectra with SHA-256 {found}; give --with-data the folder that holds the recorded file (../shared/spectra for the built-in models), or train on this file as your own data with --spectra and state its --licence and --commercial", path.display())]
+pub struct SetDiffers {
+    /// The file read.
+    pub path: PathBuf,
+    /// The model, described.
+    pub model: String,
+    /// The recorded set's file name.
+    pub source_name: String,
+    /// The spectra the model records of it.
+    pub count: usize,
+    /// The hash the model records of it ("not recorded" in older models).
+    pub recorded: String,
+    /// The spectra the file holds.
+    pub found_count: usize,
+    /// The file's hash.
+    pub found: String,
 }
 
 fn names() -> String {
@@ -178,31 +203,54 @@ pub const SPECTRA_LIMIT: u64 = 256 << 20;
 
 /// Reads a spectra CSV file; the table is named by the file's name (as models record it).
 pub fn read_spectra(path: &Path) -> Result<specconv_colour::SpectralTable, ModelError> {
+    Ok(read_set(path)?.0)
+}
+
+/// Reads a spectra CSV file as [`read_spectra`] does, with the SHA-256 of its bytes
+/// ([`specconv_spectral::otsu2018::terms::content_hash`]): what a model records of a set
+/// it is trained on, and what known terms are found by.
+pub fn read_set(path: &Path) -> Result<(specconv_colour::SpectralTable, String), ModelError> {
     let bad = |why: String| ModelError::Spectra {
         path: path.to_path_buf(),
         why,
     };
     let bytes = specconv_atomic_file::read_bounded(path, SPECTRA_LIMIT, "spectra table")
         .map_err(|e| bad(e.to_string()))?;
+    let sha256 = specconv_spectral::otsu2018::terms::content_hash(&bytes);
     let text = String::from_utf8(bytes).map_err(|_| bad("it is not UTF-8 text".into()))?;
     let name = path.file_name().map_or_else(
         || path.display().to_string(),
         |n| n.to_string_lossy().into_owned(),
     );
     // A table that is not one says where (file, line), as any other bad table does.
-    specconv_colour::SpectralTable::parse(&name, &text)
-        .map_err(|e| ModelError::Invalid(specconv_spectral::Error::Colour(e)))
+    let table = specconv_colour::SpectralTable::parse(&name, &text)
+        .map_err(|e| ModelError::Invalid(specconv_spectral::Error::Colour(e)))?;
+    Ok((table, sha256))
 }
 
-/// The sets `m` was trained on, read again from the folder `dir` that holds its recorded files
-/// (../shared/spectra for the built-in models), each with its recorded weight and terms, on
-/// `m`'s grid: what a studio's own sets join to make a model it owns (`train --with`,
-/// Python's `Model.train(with_model=…)`, joined by [`TrainingSet::on_top`]). Trained alone with
-/// [`recorded_options`] they give `m` back bit for bit.
-pub fn recorded_parts(m: &Model, dir: &Path) -> Result<Vec<Part>, ModelError> {
+/// The model file that [`load`] reads for `path`; `None` for a built-in model. What a command
+/// that reads a model counts among its inputs, which `--force` never replaces.
+pub fn file_read(path: Option<&Path>) -> Option<PathBuf> {
+    in_force(path).0.filter(|p| builtin_name(p).is_none())
+}
+
+/// A model's sets read again ([`recorded_parts`]).
+#[derive(Debug)]
+pub struct Recorded {
+    /// Each set with its recorded weight and terms.
+    pub parts: Vec<Part>,
+    /// Sets whose record has no hash (models written before sets' hashes were recorded):
+    /// their recorded terms are not inherited, each is taken under the terms its content
+    /// is known by, else unknown terms. One line each, to be shown as a warning.
+    pub unverified: Vec<String>,
+}
+
+/// The files of `m`'s recorded sets in the folder `dir` (../shared/spectra for the built-in
+/// models): what [`recorded_parts`] reads, and a command's inputs that `--force` never replaces.
+pub fn recorded_files(named: &Path, m: &Model, dir: &Path) -> Result<Vec<PathBuf>, ModelError> {
     if m.training.sets.is_empty() {
         return Err(ModelError::NoRecordedSets {
-            model: describe(None, m),
+            model: name_of(Some(named)),
         });
     }
     m.training
@@ -217,14 +265,69 @@ pub fn recorded_parts(m: &Model, dir: &Path) -> Result<Vec<Part>, ModelError> {
                     why: "a model's recorded set must be a plain file name".into(),
                 });
             }
-            let table = read_spectra(&dir.join(file))?;
-            Ok(Part {
-                set: TrainingSet::from_table_holding(&table, &m.grid, r.held_ends)?,
-                weight: r.weight,
-                terms: r.terms(),
-            })
+            Ok(dir.join(file))
         })
         .collect()
+}
+
+/// The sets `m` was trained on, read again from the folder `dir` that holds its recorded files
+/// ([`recorded_files`]; `named` is how the model was named, for messages), each with its recorded weight, on `m`'s grid: what a studio's own
+/// sets join to make a model it owns (`train --with`, Python's `Model.train(with_model=…)`,
+/// joined by [`TrainingSet::on_top`]). Trained alone with [`recorded_options`] they give `m`
+/// back bit for bit.
+///
+/// A set is trusted by its content, never its name: a file whose hash (or, where none is
+/// recorded, spectra count) is not the record's is refused ([`ModelError::SetDiffers`]). Its
+/// terms are those its content is known by ([`Terms::of_content`]), else the recorded ones
+/// when the hash matches; a record without a hash passes no terms on ([`Recorded::unverified`]).
+pub fn recorded_parts(named: &Path, m: &Model, dir: &Path) -> Result<Recorded, ModelError> {
+    use specconv_spectral::otsu2018::terms::Terms;
+    let mut out = Recorded {
+        parts: Vec::with_capacity(m.training.sets.len()),
+        unverified: Vec::new(),
+    };
+    for (r, path) in m.training.sets.iter().zip(recorded_files(named, m, dir)?) {
+        let (table, sha256) = read_set(&path)?;
+        let set = TrainingSet::from_file(&table, &sha256, &m.grid, r.held_ends)?;
+        let found_count = set.spectra.len();
+        let same = match &r.sha256 {
+            Some(h) => *h == sha256,
+            None => found_count == r.count,
+        };
+        if !same {
+            return Err(ModelError::SetDiffers(Box::new(SetDiffers {
+                path,
+                model: name_of(Some(named)),
+                source_name: r.source.clone(),
+                count: r.count,
+                recorded: r.sha256.clone().unwrap_or_else(|| "not recorded".into()),
+                found_count,
+                found: sha256,
+            })));
+        }
+        let terms = match (&r.sha256, Terms::is_known(&sha256)) {
+            (Some(_), false) => r.terms(),
+            (None, false) => {
+                out.unverified.push(unverified(named, &r.source));
+                Terms::of_content(None)
+            }
+            (_, true) => Terms::of_content(Some(&sha256)),
+        };
+        out.parts.push(Part {
+            set,
+            weight: r.weight,
+            terms,
+        });
+    }
+    Ok(out)
+}
+
+/// Why a set without a recorded hash is taken under unknown terms.
+fn unverified(named: &Path, source: &str) -> String {
+    format!(
+        "{} records no hash of {source} (it was written before models recorded them), so its data cannot be checked: its recorded terms are not inherited and it is taken under unknown terms; give it with --spectra and state its --licence and --commercial, or retrain that model to record the hashes",
+        name_of(Some(named))
+    )
 }
 
 /// The options `m` was trained with.
@@ -258,6 +361,17 @@ pub fn save(
         .map_err(ModelError::Save)
 }
 
+/// The model in force for `path` by name: `built-in NAME` or the file's path.
+pub fn name_of(path: Option<&Path>) -> String {
+    match in_force(path).0.as_deref() {
+        None => format!("built-in {}", BUILTIN[0].name),
+        Some(p) => match builtin_name(p) {
+            Some(name) => format!("built-in {name}"),
+            None => p.display().to_string(),
+        },
+    }
+}
+
 /// A model's one-line description, as outputs record it (`specconvModel`) and reports show
 /// it: which model (`path` as [`load`] takes it: `None` is the model in force), its setting,
 /// the data it was trained on with their weights and terms, and whether the model may be used
@@ -265,14 +379,7 @@ pub fn save(
 /// ASCII only: readers of EXR text attributes differ on anything else (colour-science 0.4.7's
 /// fails on a non-ASCII byte), so other characters of a file name or licence become `?`.
 pub fn describe(path: Option<&Path>, m: &Model) -> String {
-    let (path, _) = in_force(path);
-    let name = match path.as_deref() {
-        None => format!("built-in {}", BUILTIN[0].name),
-        Some(p) => match builtin_name(p) {
-            Some(name) => format!("built-in {name}"),
-            None => p.display().to_string(),
-        },
-    };
+    let name = name_of(path);
     let text = format!(
         "{name} ({} clusters, {}, {}, {} nm, trained on {} spectra from {}; commercial use: {})",
         m.leaves.len(),
@@ -298,9 +405,11 @@ pub fn attribution(m: &Model) -> Option<String> {
     (!lines.is_empty()).then(|| ascii(&lines.join("; ")))
 }
 
-/// ASCII only (see [`describe`]).
+/// ASCII only (see [`describe`]), on one line ([`specconv_atomic_file::shown::escaped`]):
+/// no licence or file name can pass for another attribute's line.
 fn ascii(text: &str) -> String {
-    text.chars()
+    specconv_atomic_file::shown::escaped(text)
+        .chars()
         .map(|c| if c.is_ascii() { c } else { '?' })
         .collect()
 }

@@ -57,10 +57,22 @@ const WRITTEN: [&str; 12] = [
     "name",
 ];
 
+/// Whether `name` is, or passes for, one of specconv's own provenance attributes: it starts
+/// with `specconv` once case and every character but ASCII letters and digits are ignored
+/// (`SpecconvModel`, `specconv:Source`, ` specconv_Model`, `SPEC-CONV…`).
+pub fn reserved(name: &str) -> bool {
+    let mut letters = name
+        .chars()
+        .filter(char::is_ascii_alphanumeric)
+        .map(|c| c.to_ascii_lowercase());
+    "specconv".chars().all(|c| letters.next() == Some(c))
+}
+
 /// Whether an output carries the input's string attribute `name`.
 pub fn carried(name: &str) -> bool {
-    // specconv's own provenance is written anew by each conversion.
-    if name.starts_with("specconv") || WRITTEN.contains(&name) {
+    // specconv's own provenance is written anew by each conversion: no input attribute may
+    // overwrite, shadow or imitate it.
+    if reserved(name) || WRITTEN.contains(&name) {
         return false;
     }
     match name.split_once(':') {
@@ -268,6 +280,8 @@ mod tests {
             "Artist",
             "studio:assetId",
             "owner",
+            "spec",
+            "studio:specconvNote",
         ] {
             assert!(carried(name), "{name}");
         }
@@ -279,6 +293,12 @@ mod tests {
             "tiff:Compression",
             "png:sRGB",
             "specconvModel",
+            "SpecconvModel",
+            "SPECCONVSOURCE",
+            "specconv:Source",
+            " specconvSource",
+            "spec_conv Commercial Use",
+            "specconv\nModel",
             "wrapmodes",
             "spectralLayoutVersion",
         ] {

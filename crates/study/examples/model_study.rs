@@ -15,7 +15,6 @@
 use specconv_colour::{Colorimetry, Grid, Illuminant, Observer, SpectralTable};
 use specconv_spectral::bounded::Bounded;
 use specconv_spectral::otsu2018::blend::DEFAULT_WIDTH;
-use specconv_spectral::otsu2018::terms::Terms;
 use specconv_spectral::{Part, TrainOptions, TrainingSet, Uplifter};
 use specconv_study::eval;
 use specconv_study::sets::{held_out_by_set, Holdout, Recipe, Scores};
@@ -92,7 +91,8 @@ impl Study {
                 let text = std::fs::read_to_string(format!("{dir}/spectra/{file}"))
                     .expect("../shared/spectra beside the checkout (or SPECCONV_SHARED)");
                 let table = SpectralTable::parse(file, &text).unwrap();
-                TrainingSet::from_table_holding(&table, &a.grid, true).unwrap()
+                let sha256 = specconv_spectral::otsu2018::terms::content_hash(text.as_bytes());
+                TrainingSet::from_file(&table, &sha256, &a.grid, true).unwrap()
             })
             .collect();
         let man = sets[SETS.iter().position(|(s, _)| *s == "man").unwrap()].clone();
@@ -129,7 +129,7 @@ impl Study {
                 .map(|&(s, weight)| Part {
                     set: self.set(s).clone(),
                     weight,
-                    terms: Terms::known(&self.set(s).sources[0]),
+                    terms: self.set(s).sets[0].terms(),
                 })
                 .collect(),
             balance: r.balance,

@@ -36,8 +36,16 @@ pub fn table(file: &str) -> SpectralTable {
 pub const MUNSELL: &str = "munsell1269_matte_380-800_1nm.csv";
 pub const COLORCHECKER: &str = "colorchecker_n_ohta_380-780_5nm.csv";
 
+/// The hash a model records of a shared set ([`specconv_spectral::otsu2018::terms::content_hash`]).
+pub fn hash(file: &str) -> String {
+    let path = shared().join("spectra").join(file);
+    let bytes = std::fs::read(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    specconv_spectral::otsu2018::terms::content_hash(&bytes)
+}
+
+/// A shared set as `specconv train --spectra` reads it: with its hash and known terms.
 pub fn set(file: &str, grid: &Grid) -> TrainingSet {
-    TrainingSet::from_table(&table(file), grid).unwrap()
+    TrainingSet::from_file(&table(file), &hash(file), grid, false).unwrap()
 }
 
 /// Every measured set in ../shared/spectra, by file name (its README lists them).
@@ -60,7 +68,8 @@ pub fn retrain(m: &specconv_spectral::Model) -> specconv_spectral::Model {
         .sets
         .iter()
         .map(|r| specconv_spectral::Part {
-            set: TrainingSet::from_table_holding(&table(&r.source), &a.grid, r.held_ends).unwrap(),
+            set: TrainingSet::from_file(&table(&r.source), &hash(&r.source), &a.grid, r.held_ends)
+                .unwrap(),
             weight: r.weight,
             terms: r.terms(),
         })

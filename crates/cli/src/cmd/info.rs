@@ -5,6 +5,7 @@ use crate::stdio::{serialize_path, StdoutFailed};
 use crate::{checks, exit, one_line, print_error};
 use anyhow::Result;
 use serde::Serialize;
+use specconv_atomic_file::shown::escaped;
 use specconv_conversion::{
     ChannelReason, ColourConfig, CompactFacts, Description, ReadAs, SpectralFacts,
 };
@@ -342,11 +343,19 @@ struct SpectralReport<'a> {
     spectral: Spectral,
 }
 
+/// One line of `info`'s text, shown through [`escaped`]: a file name, channel name, label or
+/// attribute from the file cannot break it into lines that pass for others.
+macro_rules! row {
+    ($($t:tt)*) => {
+        outln!("{}", escaped(&format!($($t)*)))
+    };
+}
+
 /// The text form of `info` for an image that is not spectral.
 fn print_text(r: &Report, d: &Description) -> Result<(), StdoutFailed> {
-    outln!("file:         {}", r.file.display())?;
-    outln!("format:       {}", r.format)?;
-    outln!("size:         {} x {}", r.width, r.height)?;
+    row!("file:         {}", r.file.display())?;
+    row!("format:       {}", r.format)?;
+    row!("size:         {} x {}", r.width, r.height)?;
     let names: Vec<String> = r
         .channels
         .iter()
@@ -358,21 +367,21 @@ fn print_text(r: &Report, d: &Description) -> Result<(), StdoutFailed> {
             }
         })
         .collect();
-    outln!("channels:     {} ({})", r.channels.len(), names.join(", "))?;
+    row!("channels:     {} ({})", r.channels.len(), names.join(", "))?;
     if let Some(a) = r.alpha_channel {
-        outln!("alpha:        {}", r.channels[a].name)?;
+        row!("alpha:        {}", r.channels[a].name)?;
     }
-    outln!("pixel format: {}", r.pixel_format)?;
+    row!("pixel format: {}", r.pixel_format)?;
     match r.tile_size {
-        Some([w, h]) => outln!("storage:      tiles of {w} x {h}")?,
-        None => outln!("storage:      scanlines")?,
+        Some([w, h]) => row!("storage:      tiles of {w} x {h}")?,
+        None => row!("storage:      scanlines")?,
     }
     let levels: Vec<String> = r
         .mip_levels
         .iter()
         .map(|[w, h]| format!("{w}x{h}"))
         .collect();
-    outln!("MIP levels:   {} ({})", levels.len(), levels.join(" "))?;
+    row!("MIP levels:   {} ({})", levels.len(), levels.join(" "))?;
     // As exrheader prints them: first and last pixel, inclusive.
     let corners = |w: &Rect| {
         format!(
@@ -383,10 +392,10 @@ fn print_text(r: &Report, d: &Description) -> Result<(), StdoutFailed> {
             i64::from(w.y) + i64::from(w.height) - 1
         )
     };
-    outln!("data window:  {}", corners(&r.data_window))?;
-    outln!("display:      {}", corners(&r.display_window))?;
+    row!("data window:  {}", corners(&r.data_window))?;
+    row!("display:      {}", corners(&r.display_window))?;
     if r.subimages > 1 {
-        outln!(
+        row!(
             "subimages:    {} ({}); reading {} (--subimage picks another)",
             r.subimages,
             d.describe_subimages(),
@@ -394,27 +403,27 @@ fn print_text(r: &Report, d: &Description) -> Result<(), StdoutFailed> {
         )?;
     }
     match (&r.colour_channels, &r.channels_problem) {
-        (Some(names), _) => outln!(
+        (Some(names), _) => row!(
             "read as:      {} (chosen by {})",
             names.join(","),
             r.channels_rule.unwrap_or("")
         )?,
-        (None, Some(problem)) => outln!("read as:      nothing yet: {problem}")?,
+        (None, Some(problem)) => row!("read as:      nothing yet: {problem}")?,
         (None, None) => {}
     }
     if let Some(label) = r.declared_color_space {
-        outln!("OIIO label:   {label} (oiio:ColorSpace)")?;
+        row!("OIIO label:   {label} (oiio:ColorSpace)")?;
     }
-    outln!("colour space: {}", r.colorspace)?;
-    outln!("chosen by:    {}", r.colorspace_reason)?;
-    outln!("precedence:   {}", r.colorspace_row_text)?;
+    row!("colour space: {}", r.colorspace)?;
+    row!("chosen by:    {}", r.colorspace_reason)?;
+    row!("precedence:   {}", r.colorspace_row_text)?;
     for w in &r.colorspace_warnings {
-        outln!("warning:      {w}")?;
+        row!("warning:      {w}")?;
     }
-    outln!("role:         {}", r.role)?;
-    outln!("to XYZ:       {}", r.to_xyz)?;
+    row!("role:         {}", r.role)?;
+    row!("to XYZ:       {}", r.to_xyz)?;
     if r.straight_alpha {
-        outln!("alpha:        straight; colour is converted, then premultiplied")?;
+        row!("alpha:        straight; colour is converted, then premultiplied")?;
     }
     Ok(())
 }
@@ -444,7 +453,7 @@ fn print_rows(rows: Vec<(&str, String)>) -> Result<()> {
         .unwrap_or(0)
         + 1;
     for (k, v) in rows {
-        outln!("{:width$} {v}", format!("{k}:"))?;
+        row!("{:width$} {v}", format!("{k}:"))?;
     }
     Ok(())
 }

@@ -5,7 +5,7 @@ use anyhow::Result;
 use specconv_atomic_file::Replace;
 use specconv_spectral::otsu2018::train::SMALLEST_CLUSTER;
 use specconv_spectral::TrainOptions;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// Shown after `--help` and as the man page's EXAMPLES.
 pub const EXAMPLES: &str = "\
@@ -74,13 +74,23 @@ fn min_cluster_size(s: &str) -> Result<usize, String> {
 pub fn run(args: Args) -> Result<()> {
     use specconv_conversion::models;
     files::check_output(&args.output, models::EXTENSIONS, "a model file is JSON")?;
-    let inputs: Vec<&std::path::Path> = args.spectra.iter().map(PathBuf::as_path).collect();
-    // Checked before training, and again as the model is written (models::save).
+    let base = match &args.with {
+        Some(with) => Some(models::load(Some(with))?),
+        None => None,
+    };
+    // Every file this command reads, which --force never replaces: the spectra, the --with
+    // model's file and its recorded sets. Checked before training, and again as the model is
+    // written (models::save).
+    let mut read: Vec<PathBuf> = args.spectra.clone();
+    if let (Some(with), Some(base), Some(dir)) = (&args.with, &base, &args.with_data) {
+        read.extend(models::file_read(Some(with)));
+        read.extend(models::recorded_files(with, base, dir)?);
+    }
+    let inputs: Vec<&Path> = read.iter().map(PathBuf::as_path).collect();
     let replace = Replace::when(args.force);
     files::check_writable(&args.output, &inputs, replace)?;
-    let (a, set, base) = match (&args.with, &args.with_data) {
-        (Some(with), Some(dir)) => {
-            let base = models::load(Some(with))?;
+    let (a, set, base) = match (&args.with, base, &args.with_data) {
+        (Some(with), Some(base), Some(dir)) => {
             let a = base.colorimetry()?;
             let c = &args.colorimetry;
             if (c.bands, c.observer, c.illuminant) != (a.grid, a.observer, a.illuminant) {
@@ -92,9 +102,13 @@ pub fn run(args: Args) -> Result<()> {
                 )));
             }
             let own = crate::methods::weighted_parts(&args.spectra, &a.grid, &args.weights)?;
-            let recorded = models::recorded_parts(&base, dir)?;
-            let set = specconv_spectral::TrainingSet::on_top(recorded, own, args.weights.balance)
-                .map_err(crate::usage)?;
+            let recorded = models::recorded_parts(with, &base, dir)?;
+            for why in &recorded.unverified {
+                errln!("specconv: warning: {why}");
+            }
+            let set =
+                specconv_spectral::TrainingSet::on_top(recorded.parts, own, args.weights.balance)
+                    .map_err(crate::usage)?;
             (a, set, models::recorded_options(&base))
         }
         _ => {

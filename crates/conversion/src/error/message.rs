@@ -3,7 +3,8 @@
 /// An error and its causes on one line, each cause once (`cannot read F: why`), as every
 /// front-end says it before naming its own remedy ([`super::Error::remedy`]).
 pub fn message(e: &(dyn std::error::Error + 'static)) -> String {
-    single_line(&chain(e))
+    // A file name or a tool's text inside cannot make it pass for other lines.
+    specconv_atomic_file::shown::escaped(&single_line(&chain(e))).into_owned()
 }
 
 /// A message of several lines (a TOML error's source snippet, a tool's standard error) on one

@@ -69,6 +69,11 @@ pub struct SetRecord {
     pub source: String,
     /// Spectra taken from it.
     pub count: usize,
+    /// The SHA-256 of its file's bytes ([`super::terms::content_hash`]), by which a set read
+    /// again is known to be this one. Absent in files written before it was recorded, and for
+    /// spectra that never were a file (Python arrays).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sha256: Option<String>,
     /// The weight of each of its spectra in the summed error (1: unweighted).
     pub weight: f64,
     /// The terms its data may be used under, as its origin states them.
@@ -92,6 +97,7 @@ impl SetRecord {
         SetRecord {
             source,
             count,
+            sha256: None,
             weight,
             licence: terms.licence,
             commercial: terms.commercial,
@@ -120,9 +126,29 @@ impl Training {
         Commercial::all(self.sets.iter().map(|s| s.commercial))
     }
 
+    /// Refuses recorded text that is not one line ([`super::terms::one_line`]): a source,
+    /// licence or attribution with a line break was written by hand, to pass for other lines
+    /// where it is shown.
+    fn validate_text(&self) -> Result<(), String> {
+        for s in &self.sets {
+            let lines = s.attribution.iter().map(|a| ("an attribution", a));
+            for (what, text) in [("the source", &s.source), ("the licence", &s.licence)]
+                .into_iter()
+                .chain(lines)
+            {
+                super::terms::one_line(&format!("training set {:?}: {what}", s.source), text)?;
+            }
+        }
+        Ok(())
+    }
+
     /// The notices that must ship with the model ([`super::terms::notices`]).
     pub fn notices(&self) -> Vec<super::terms::Notice> {
-        super::terms::notices(self.sets.iter().map(|s| s.source.as_str()))
+        super::terms::notices(
+            self.sets
+                .iter()
+                .map(|s| (s.source.as_str(), s.sha256.as_deref())),
+        )
     }
 }
 
@@ -220,6 +246,7 @@ impl Model {
                 s.source, s.weight
             ));
         }
+        self.training.validate_text()?;
         let a = self.colorimetry().map_err(|e| e.to_string())?;
         for (k, leaf) in self.leaves.iter().enumerate() {
             let at = |what: &str| format!("leaf {k}: {what}");

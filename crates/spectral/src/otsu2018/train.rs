@@ -104,7 +104,9 @@ pub struct Part {
 }
 
 impl TrainingSet {
-    /// A table's spectra on `grid`, unweighted, with the terms [`Terms::known`] gives it.
+    /// A table's spectra on `grid`, unweighted, with unknown terms and no hash: spectra that
+    /// were never a file's (arrays), or whose terms the caller states. A file's set is
+    /// [`TrainingSet::from_file`].
     pub fn from_table(
         table: &specconv_colour::SpectralTable,
         grid: &specconv_colour::Grid,
@@ -117,11 +119,30 @@ impl TrainingSet {
                 table.source.clone(),
                 spectra.len(),
                 1.0,
-                Terms::known(&table.source),
+                Terms::of_content(None),
             )],
             spectra,
             weights: Vec::new(),
         })
+    }
+
+    /// As [`TrainingSet::from_table_holding`], for the table read from a file whose bytes hash
+    /// to `sha256` ([`super::terms::content_hash`]): recorded with the hash, under the terms
+    /// known for that content ([`Terms::of_content`]; unknown for any other, whatever its name).
+    pub fn from_file(
+        table: &specconv_colour::SpectralTable,
+        sha256: &str,
+        grid: &specconv_colour::Grid,
+        hold_ends: bool,
+    ) -> Result<TrainingSet, Error> {
+        let mut set = TrainingSet::from_table_holding(table, grid, hold_ends)?;
+        let terms = Terms::of_content(Some(sha256));
+        set.sets[0] = SetRecord {
+            sha256: Some(sha256.to_string()),
+            held_ends: set.sets[0].held_ends,
+            ..SetRecord::new(set.sets[0].source.clone(), set.sets[0].count, 1.0, terms)
+        };
+        Ok(set)
     }
 
     /// As [`TrainingSet::from_table`]; with `hold_ends`, a table that stops short of `grid` is
@@ -251,8 +272,14 @@ impl TrainingSet {
                 out.weights
                     .extend(std::iter::repeat_n(w, p.set.spectra.len()));
             }
+            // A part of one file keeps its hash; one of several has none to keep.
+            let sha256 = match &p.set.sets[..] {
+                [one] => one.sha256.clone(),
+                _ => None,
+            };
             out.sets.push(SetRecord {
                 held_ends: p.set.sets.iter().any(|s| s.held_ends),
+                sha256,
                 ..SetRecord::new(
                     p.set.sources.join(", "),
                     p.set.spectra.len(),

@@ -30,12 +30,13 @@ fn builtin_models_are_what_train_makes_from_shared() {
             .iter()
             .all(|l| l.count >= builtin.training.min_cluster_size
                 && l.condition <= builtin.training.max_condition));
-        // Every source says under which terms its data may be used.
+        // Every source says under which terms its data may be used, and which data (by hash).
         assert!(!builtin.training.sets.is_empty());
         for s in &builtin.training.sets {
+            assert_eq!(s.sha256.as_deref(), Some(hash(&s.source).as_str()));
             assert_eq!(
                 s.terms(),
-                specconv_spectral::otsu2018::terms::Terms::known(&s.source)
+                specconv_spectral::otsu2018::terms::Terms::of_content(s.sha256.as_deref())
             );
         }
     }
