@@ -572,6 +572,7 @@ fn a_data_copy_says_it_is_data_to_every_reader() {
         assert_eq!(v["role"], "data", "{}: {v}", input.display());
         assert_eq!(v["colorspace"], "Raw", "{}", input.display());
     }
+}
 
 /// Writes a 16×16 PNG at `path` with the text chunks `texts` gives (Python expressions of a
 /// list of (chunk type, keyword bytes, text bytes); zTXt compressed, iTXt uncompressed),
