@@ -680,6 +680,8 @@ mod tests {
             "SPECCONV_REGENERATE_BINDINGS",
             // Build scripts (ffi/shim-build) read what cargo gives them.
             "OUT_DIR",
+            // The measured spectra's folder, read by unit tests beside their module.
+            "SPECCONV_SHARED",
         ];
         let mut read = std::collections::BTreeSet::new();
         let mut dirs = vec![root.join("crates"), root.join("ffi"), root.join("src")];

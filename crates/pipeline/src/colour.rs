@@ -42,6 +42,7 @@ use super::{input, interop, png, Error, Result};
 use crate::choices::Alpha;
 use crate::report::says;
 pub use crate::report::{Rule, Strength, Warning};
+use crate::transfer::Decode;
 use specconv_colour::rgb::{self, RgbSpace};
 use specconv_icc::ToPcs;
 use specconv_ocio::{Config, Processor};
@@ -65,28 +66,6 @@ pub fn premultiply(how: Alpha, reader: &ImageReader, alpha: Option<usize>) -> bo
             Alpha::Straight => true,
             Alpha::Premultiplied => false,
         }
-}
-
-/// A transfer function from stored values to linear.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Decode {
-    /// Stored values are linear.
-    Linear,
-    /// linear = stored^exponent (PNG `gAMA` g: exponent 1/g).
-    Power(f64),
-    /// IEC 61966-2-1.
-    Srgb,
-}
-
-impl Decode {
-    fn apply(self, v: f32) -> f32 {
-        match self {
-            Decode::Linear => v,
-            // Odd extension below 0, as OCIO's ExponentTransform mirrors negative values.
-            Decode::Power(e) => (v.abs() as f64).powf(e).copysign(v as f64) as f32,
-            Decode::Srgb => (rgb::srgb_decode(v.abs() as f64) as f32).copysign(v),
-        }
-    }
 }
 
 /// How pixels reach CIE XYZ (D65, white Y = 1): the one interface the pipeline converts with.

@@ -16,7 +16,7 @@
 //! A display ID is read as the same encoding of colour (as a PNG's `sRGB` chunk is), not
 //! through the inverse of a view transform.
 
-use crate::colour::Decode;
+use crate::transfer::Decode;
 use specconv_colour::rgb::{self, RgbSpace};
 
 /// The ID of data, not colour: what a data texture written through (`--data copy`) says in

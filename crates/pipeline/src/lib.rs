@@ -26,6 +26,7 @@ mod mip;
 mod png;
 pub mod survey;
 pub mod texture;
+pub mod transfer;
 pub mod wrapped;
 mod write;
 
