@@ -22,6 +22,7 @@ pub mod expand;
 pub mod filter;
 pub mod input;
 pub mod interop;
+pub mod memory;
 mod mip;
 mod png;
 pub mod survey;
@@ -161,6 +162,10 @@ pub enum Error {
         /// What is missing or wrong.
         why: String,
     },
+    /// The file would need more memory at once than this process may use ([`memory`]):
+    /// refused before the output exists.
+    #[error("{0}")]
+    TooMuchMemory(memory::Shortfall),
     /// A warning, which the strict setting makes a failure: nothing was written.
     #[error(
         "{}: {warning}; in strict mode a warning fails the input, and nothing was written",

@@ -251,6 +251,8 @@ mod tests {
                 ConversionError::Strict { .. } => ("Conversion::Strict", false),
                 // Another file is needed.
                 ConversionError::NotCompact { .. } => ("Conversion::NotCompact", false),
+                // Fewer bands, smaller tiles, or a machine with more memory.
+                ConversionError::TooMuchMemory(_) => ("Conversion::TooMuchMemory", true),
             },
             Error::Plan(p) => ("Plan", matches!(p, PlanError::Exists { .. })),
             // Whether a plan's error is fixable is the plan's own test's.
@@ -333,6 +335,7 @@ mod tests {
         "Conversion::Data",
         "Conversion::Strict",
         "Conversion::NotCompact",
+        "Conversion::TooMuchMemory",
         "Plan",
         "Planning::NotMadeBySpecconv",
         "Planning::Files",
@@ -448,6 +451,11 @@ mod tests {
                 path: p(),
                 why: "no specconvLayout attribute".into(),
             },
+            ConversionError::TooMuchMemory(crate::pipeline::memory::Shortfall {
+                needed: 13 << 30,
+                available: 4 << 30,
+                bound: "MemAvailable of /proc/meminfo",
+            }),
         ];
         let mut all = vec![
             Error::ZipLevelWithoutZip {

@@ -104,7 +104,8 @@ impl Error {
             Error::EmptyTile { .. } => Some(Remedy::NonEmptyTiles),
             Error::TileTooLarge(_) => Some(Remedy::SmallerBlocks),
             Error::TooManyChannels(_) => Some(Remedy::FewerBands),
-            Error::TooMuchMemory { .. } => Some(Remedy::LessMemory),
+            Error::TooMuchMemory { .. }
+            | Error::Conversion(ConversionError::TooMuchMemory(_)) => Some(Remedy::LessMemory),
             Error::TooManyThreads { .. } => Some(Remedy::FewerThreads),
             Error::NoThreads => Some(Remedy::SomeThreads),
             Error::Plan(PlanError::Exists { .. })
