@@ -100,8 +100,16 @@ pub fn check(needed: u64) -> Result<()> {
 pub fn available() -> Option<(u64, &'static str)> {
     let mem = meminfo("MemAvailable").map(|b| (b, "MemAvailable of /proc/meminfo"));
     let cgroup = cgroup().map(|b| (b, "the memory cgroup's limit less its use"));
-    let address = address_space().map(|b| (b, "the address-space limit (ulimit -v) less the process's size"));
-    [mem, cgroup, address].into_iter().flatten().min_by_key(|&(b, _)| b)
+    let address = address_space().map(|b| {
+        (
+            b,
+            "the address-space limit (ulimit -v) less the process's size",
+        )
+    });
+    [mem, cgroup, address]
+        .into_iter()
+        .flatten()
+        .min_by_key(|&(b, _)| b)
 }
 
 /// A `/proc/meminfo` figure in bytes.
@@ -143,7 +151,9 @@ fn cgroup() -> Option<u64> {
 /// (`VmSize`); `None` when unlimited.
 fn address_space() -> Option<u64> {
     let limits = std::fs::read_to_string("/proc/self/limits").ok()?;
-    let line = limits.lines().find(|l| l.starts_with("Max address space"))?;
+    let line = limits
+        .lines()
+        .find(|l| l.starts_with("Max address space"))?;
     // Columns: the name, the soft limit, the hard limit, the unit.
     let soft: u64 = line
         .trim_start_matches("Max address space")
@@ -179,7 +189,10 @@ mod tests {
             bound: "MemAvailable of /proc/meminfo",
         };
         let text = s.to_string();
-        assert!(text.contains("13312 MiB") && text.contains("4096 MiB"), "{text}");
+        assert!(
+            text.contains("13312 MiB") && text.contains("4096 MiB"),
+            "{text}"
+        );
         assert!(text.contains("MemAvailable"), "{text}");
     }
 }

@@ -36,7 +36,10 @@ pub(super) fn write_file(
     check_weights(job)?;
     let plan = Plan::of(job, file, source);
     // Refused with the figure before anything is read or created, not aborted midway.
-    let rows = plan.windows.iter().map(|w| w.iter().map(|s| s.height).sum());
+    let rows = plan
+        .windows
+        .iter()
+        .map(|w| w.iter().map(|s| s.height).sum());
     let windows = super::memory::Source::Windows {
         rows: rows.max().unwrap_or(0),
     };

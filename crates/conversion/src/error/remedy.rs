@@ -104,8 +104,9 @@ impl Error {
             Error::EmptyTile { .. } => Some(Remedy::NonEmptyTiles),
             Error::TileTooLarge(_) => Some(Remedy::SmallerBlocks),
             Error::TooManyChannels(_) => Some(Remedy::FewerBands),
-            Error::TooMuchMemory { .. }
-            | Error::Conversion(ConversionError::TooMuchMemory(_)) => Some(Remedy::LessMemory),
+            Error::TooMuchMemory { .. } | Error::Conversion(ConversionError::TooMuchMemory(_)) => {
+                Some(Remedy::LessMemory)
+            }
             Error::TooManyThreads { .. } => Some(Remedy::FewerThreads),
             Error::NoThreads => Some(Remedy::SomeThreads),
             Error::Plan(PlanError::Exists { .. })
