@@ -47,12 +47,13 @@ pub enum Error {
     /// More bands (with alpha) than OpenEXR's readers accept as channels.
     #[error(transparent)]
     TooManyChannels(#[from] specconv_exr::TooManyChannels),
-    /// Blocks in flight that need more memory than the machine has.
-    #[error("the blocks in flight would need {} MiB, more than this machine's {} MiB; use fewer bands, smaller tiles or fewer worker threads", needed >> 20, have >> 20)]
+    /// Blocks in flight that need more memory than the machine has
+    /// ([`specconv_pipeline::memory::available`]).
+    #[error("the blocks in flight would need {} MiB, more than the {} MiB this machine has available; use fewer bands, smaller tiles or fewer worker threads", needed >> 20, have >> 20)]
     TooMuchMemory {
         /// Bytes needed.
         needed: u64,
-        /// Bytes the machine has.
+        /// Bytes the process may use.
         have: u64,
     },
     /// More worker threads than the limit.

@@ -104,9 +104,9 @@ impl Error {
             Error::EmptyTile { .. } => Some(Remedy::NonEmptyTiles),
             Error::TileTooLarge(_) => Some(Remedy::SmallerBlocks),
             Error::TooManyChannels(_) => Some(Remedy::FewerBands),
-            Error::TooMuchMemory { .. } | Error::Conversion(ConversionError::TooMuchMemory(_)) => {
-                Some(Remedy::LessMemory)
-            }
+            Error::TooMuchMemory { .. } => Some(Remedy::LessMemory),
+            // A strip's spectra: fewer bands or shorter tiles shrink it, fewer threads do not.
+            Error::Conversion(ConversionError::TooMuchMemory(_)) => Some(Remedy::SmallerBlocks),
             Error::TooManyThreads { .. } => Some(Remedy::FewerThreads),
             Error::NoThreads => Some(Remedy::SomeThreads),
             Error::Plan(PlanError::Exists { .. })
