@@ -4,7 +4,9 @@
 //! strips is read from the input (one reader, in order, so scanline formats such as PNG decode
 //! once) while the previous window's blocks are colour-converted, uplifted and compressed in
 //! parallel; chunks are then written in file order. Memory is bounded by the window, whatever
-//! the image height, and the output bytes do not depend on the number of threads.
+//! the image height, and the output bytes do not depend on the number of threads. What a
+//! window needs is estimated before the output exists, and a file that cannot fit is refused
+//! with the figure ([`memory`]).
 //!
 //! The output is written to a temporary file beside the target and renamed into place only
 //! when complete: a failed or cancelled job leaves nothing behind. Before it is created, an
