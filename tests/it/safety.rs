@@ -819,10 +819,13 @@ fn work_past_the_memory_at_hand_is_refused_with_the_figure_before_any_output() {
         let (code, err, took) = within_memory(cmd);
         let said = format!("{:?}: {err}", cmd.command());
         assert_eq!(code, 1, "{said}");
+        // The address-space limit is the least bound here: read, and named.
         for needle in [
             "MiB of memory at once",
             "MiB available",
+            "ulimit -v",
             "fewer bands",
+            "--tile W H",
             "--bands",
         ] {
             assert!(err.contains(needle), "{needle}: {said}");
