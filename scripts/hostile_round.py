@@ -509,16 +509,50 @@ def expand_applies_the_nan_rule(r):
 # ---- 8. memory estimated up front --------------------------------------------------------------
 
 
+def wide_bands(text, bands):
+    """`text`'s model lines with a one-leaf tree on `bands` bands from 400 nm every 0.01 nm."""
+    keep = [l for l in text.split("\n") if l.split(" ")[0] in
+            ("specconv", "model", "hash", "white", "dark", "blend", "clip")]
+    w = [400 + i * 0.01 for i in range(bands)]
+    lines = keep + [f"grid 400 {w[-1]!r} 0.01", "wavelengths " + " ".join(map(repr, w)),
+                    "node 0 leaf 0", "map 0 " + " ".join(["0.3"] * bands + ["0"] * (3 * bands))]
+    lines += [f"b {c} " + " ".join(["0.1"] * bands) for c in "XYZ"]
+    return "\n".join(lines)
+
+
 def memory_is_estimated(r):
+    """Work past the memory at hand: refused with the figure (exit 1, no crash, nothing left)."""
     d = r.fresh("memory")
     png(d / "wide.png", width=8192, height=64)
-    out = d / "wide"
+    png(d / "narrow.png", width=1024, height=64)
+    out = d / "out"
     out.mkdir()
-    p = r.run("convert", "--bands", "400:700:0.01", "wide.png", out / "w.exr", cwd=d)
-    failure = crashed(p)
-    if failure is None and leftovers(out):
-        failure = f"temporaries left: {leftovers(out)}"
-    r.case("8 memory", "convert --bands 400:700:0.01 on 8192x64", failure)
+
+    def judge(what, p):
+        failure = crashed(p)
+        if failure is None and p.returncode == 0:
+            failure = "exit 0: the work fitted under the limit, or was not refused"
+        if failure is None and "MiB" not in p.text:
+            failure = "no figure in the error: " + p.text[-200:]
+        if failure is None and leftovers(out):
+            failure = f"temporaries left: {leftovers(out)}"
+        r.case("8 memory", what, failure)
+
+    for extra in [[], ["--mip", "0"], ["--tile", "8", "8"], ["--tile", "64", "1"],
+                  ["-d", "float", "--mip", "0"], ["-j", "1"]]:
+        p = r.run("convert", "--bands", "400:700:0.01", *extra, "wide.png", out / "w.exr", cwd=d)
+        judge(f"convert --bands 400:700:0.01 {' '.join(extra)} on 8192x64", p)
+    p = r.run("convert", "--bands", "380:730:0.05", "wide.png", out / "w.exr", cwd=d)
+    judge("convert --bands 380:730:0.05 on 8192x64", p)
+    p = r.run("convert", "--layout", "compact", "narrow.png", "c.exr", cwd=d)
+    if p.returncode != 0:
+        r.case("8 memory", "setup", "convert --layout compact failed")
+        return
+    text = attributes(d / "c.exr")["specconvCompact"]
+    for bands in [30_001, 20_001]:
+        with_header(d, wide_bands(text, bands), f"bands{bands}.exr")
+        p = r.run("expand", f"bands{bands}.exr", out / "x.exr", cwd=d)
+        judge(f"expand of a {bands}-band header on 1024x64 texels", p)
 
 
 # ---- 11, 13, 15. files from newer tools, what a TD expects -------------------------------------

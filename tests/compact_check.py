@@ -95,17 +95,19 @@ def dump(compact, baked, prefix):
     np.savetxt(prefix + ".baked", b, fmt="%.9g", header=f"{len(b)} {len(bands)}\n{wl}", comments="")
 
 
-def make(out, text_file, settings):
+def make(out, text_file, settings, width="4", height="2"):
+    """A compact file of `width`×`height` texels (two of them NaN and infinite) with `text`."""
     with open(text_file, encoding="utf-8", newline="") as f:
         text = f.read()
     names = ("C.X", "C.Y", "C.Z", "U.0", "U.1", "U.2")
-    spec = oiio.ImageSpec(4, 2, len(names), "float")
+    width, height = int(width), int(height)
+    spec = oiio.ImageSpec(width, height, len(names), "float")
     spec.channelnames = names
     spec.attribute("specconvLayout", "compact 1")
     spec.attribute("specconvCompact", text)
     spec.attribute("specconvSettings", settings)
     spec.attribute("specconvExpand", "sample=half rounding=nearest compression=zip filter=box")
-    px = np.zeros((2, 4, 6), dtype=np.float32)
+    px = np.zeros((height, width, 6), dtype=np.float32)
     px[..., :3] = (0.2, 0.3, 0.25)
     px[0, 1, 0] = float("nan")
     px[1, 2, 1] = float("inf")

@@ -716,3 +716,126 @@ fn a_truncated_output_is_not_up_to_date() {
     }
     no_temporaries(&s.0);
 }
+
+/// The address space the memory attacks run in: a command that would take the machine's
+/// memory fails (as a signal, or a test that sees no refusal) instead of taking it.
+const MEMORY_LIMIT: u64 = 4 << 30;
+
+/// `cmd` under `prlimit --as` ([`MEMORY_LIMIT`]), by [`ends`]: its status, error and time.
+fn within_memory(cmd: &Cmd) -> (i32, String, Duration) {
+    let inner = cmd.command();
+    let mut c = Command::new("prlimit");
+    c.arg(format!("--as={MEMORY_LIMIT}"))
+        .arg("--")
+        .arg(inner.get_program())
+        .args(inner.get_args());
+    for (k, v) in inner.get_envs() {
+        match v {
+            Some(v) => c.env(k, v),
+            None => c.env_remove(k),
+        };
+    }
+    if let Some(d) = inner.get_current_dir() {
+        c.current_dir(d);
+    }
+    ends(c, Stdio::null())
+}
+
+/// testdata/compact/hostile's model (base.txt) on `bands` bands from 400 nm every 0.01 nm.
+fn compact_text(bands: usize) -> String {
+    let base = Path::new(env!("CARGO_MANIFEST_DIR")).join("testdata/compact/hostile/base.txt");
+    let base = std::fs::read_to_string(base).unwrap();
+    let each = |v: &str| vec![v; bands].join(" ");
+    base.lines()
+        .map(|l| match l.split(' ').next() {
+            Some("grid") => format!("grid 400 {} 0.01", 400.0 + (bands - 1) as f64 * 0.01),
+            Some("wavelengths") => {
+                let w: Vec<String> = (0..bands)
+                    .map(|i| format!("{:?}", 400.0 + i as f64 * 0.01))
+                    .collect();
+                format!("wavelengths {}", w.join(" "))
+            }
+            Some("b") => format!("{} {}", &l[..3], each("0.1")),
+            Some("map") => {
+                let k = l.split(' ').nth(1).unwrap();
+                format!("map {k} {} {}", each("0.3"), vec!["0"; 3 * bands].join(" "))
+            }
+            _ => l.to_string(),
+        })
+        .map(|l| l + "\n")
+        .collect()
+}
+
+/// Issue 45: a compact header of 30,001 bands on 1024×64 texels took 13.2 GB in `expand` and
+/// aborted, and so did `convert --bands 400:700:0.01` of an 8192×64 PNG. What a file needs at
+/// once is estimated before its output exists and refused with the figure, what is available
+/// and what to do: at once, no temporary, the inputs untouched. Under a 4 GiB address space,
+/// so that a regression fails instead of taking the machine; a conversion that fits still runs
+/// there.
+#[test]
+fn work_past_the_memory_at_hand_is_refused_with_the_figure_before_any_output() {
+    let s = Scratch::new("safety-memory");
+    let wide = s.path("wide.png");
+    let pattern = ["--pattern", "noise", "8192x64", "3", "-d", "uint8", "-o"];
+    tool(
+        "oiiotool",
+        &[&pattern[..], &[wide.to_str().unwrap()]].concat(),
+    );
+    let compact = s.path("compact.exr");
+    let text = s.write("compact.txt", &compact_text(30_001));
+    let path = |p: &Path| p.to_str().unwrap().to_string();
+    let settings = "non_finite=keep".to_string();
+    let size = ["1024".to_string(), "64".to_string()];
+    script(
+        "compact_check.py",
+        [
+            &"make".to_string(),
+            &path(&compact),
+            &path(&text),
+            &settings,
+            &size[0],
+            &size[1],
+        ],
+    );
+    let convert = |extra: &[&str]| {
+        Cmd::convert(&wide, s.path("w.exr"))
+            .args(["-j", "2"])
+            .args(extra)
+    };
+    let attacks = [
+        convert(&["--bands", "400:700:0.01"]),
+        convert(&["--bands", "400:700:0.01", "--mip", "0"]),
+        convert(&["--bands", "400:700:0.01", "--tile", "8", "8"]),
+        convert(&["--bands", "400:700:0.01", "--tile", "64", "1"]),
+        convert(&["--bands", "380:730:0.05"]),
+        convert(&["--bands", "400:700:0.05", "-d", "float", "--mip", "0"]),
+        Cmd::new(["expand", "-j", "2"])
+            .arg(&compact)
+            .arg(s.path("x.exr")),
+    ];
+    let inputs = [wide.as_path(), compact.as_path()];
+    for cmd in &attacks {
+        let (before, files) = (snapshot(&inputs), s.files());
+        let (code, err, took) = within_memory(cmd);
+        let said = format!("{:?}: {err}", cmd.command());
+        assert_eq!(code, 1, "{said}");
+        // The address-space limit is the least bound here: read, and named.
+        for needle in [
+            "MiB of memory at once",
+            "MiB available",
+            "ulimit -v",
+            "fewer bands",
+            "--tile W H",
+            "--bands",
+        ] {
+            assert!(err.contains(needle), "{needle}: {said}");
+        }
+        assert!(took < Duration::from_secs(15), "{took:?}: {said}");
+        assert_eq!(s.files(), files, "{said}");
+        assert!(snapshot(&inputs) == before, "{said}");
+    }
+    no_temporaries(&s.0);
+    // What fits is not refused under the same limit: the image at the default grid.
+    let (code, err, _) = within_memory(&convert(&["-q"]));
+    assert_eq!(code, 0, "{err}");
+}

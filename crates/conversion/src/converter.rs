@@ -519,18 +519,11 @@ impl std::fmt::Debug for Converter {
 /// `bands` grid makes a 64×64 tile hundreds of megabytes).
 fn check_memory(block_pixels: usize, channels: usize, threads: usize) -> Result<(), Error> {
     let needed = threads as u64 * block_pixels as u64 * channels as u64 * 12;
-    match physical_memory() {
-        Some(have) if needed > have => Err(Error::TooMuchMemory { needed, have }),
+    // What the machine can give, as the pipeline reads it for a whole file.
+    match crate::pipeline::memory::available() {
+        Some((have, _)) if needed > have => Err(Error::TooMuchMemory { needed, have }),
         _ => Ok(()),
     }
-}
-
-/// The machine's memory in bytes (`MemTotal` of /proc/meminfo); `None` where unknown.
-fn physical_memory() -> Option<u64> {
-    let text = std::fs::read_to_string("/proc/meminfo").ok()?;
-    let line = text.lines().find(|l| l.starts_with("MemTotal:"))?;
-    let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
-    Some(kib * 1024)
 }
 
 #[cfg(test)]

@@ -349,6 +349,10 @@ pub fn expand(
 ) -> Result<Expanded> {
     refuse_overwrites(input, output, overwrite)?;
     let mut source = open(input)?;
+    let file = SpectralFile::new(spec(&source)?)?;
+    // One strip of the file's spectra at a time, refused with the figure when out of reach.
+    let decoded = super::memory::Source::DecodedStrips;
+    super::memory::check(super::memory::needed(&file, file.level_size(0).0, decoded))?;
     // NaN and infinities in the texels: refused, repaired or kept by the conversion's rule
     // (`--fixnan`, recorded), as `convert` treats its input's pixels, before anything is written.
     let asked = survey::Asked {
@@ -358,7 +362,6 @@ pub fn expand(
     };
     let read = (&source.d.columns[..], source.d.alpha);
     let repair = survey::survey(asked, &mut source.reader, read)?.repair;
-    let file = SpectralFile::new(spec(&source)?)?;
     let pending = Pending::beside(output).map_err(|e| io(output, e))?;
     let n = file.spec().wavelengths.len();
     let level0 = file.level_size(0);

@@ -4,7 +4,9 @@
 //! strips is read from the input (one reader, in order, so scanline formats such as PNG decode
 //! once) while the previous window's blocks are colour-converted, uplifted and compressed in
 //! parallel; chunks are then written in file order. Memory is bounded by the window, whatever
-//! the image height, and the output bytes do not depend on the number of threads.
+//! the image height, and the output bytes do not depend on the number of threads. What a
+//! window needs is estimated before the output exists, and a file that cannot fit is refused
+//! with the figure ([`memory`]).
 //!
 //! The output is written to a temporary file beside the target and renamed into place only
 //! when complete: a failed or cancelled job leaves nothing behind. Before it is created, an
@@ -22,6 +24,7 @@ pub mod expand;
 pub mod filter;
 pub mod input;
 pub mod interop;
+pub mod memory;
 mod mip;
 mod png;
 pub mod survey;
@@ -162,6 +165,10 @@ pub enum Error {
         /// What is missing or wrong.
         why: String,
     },
+    /// The file would need more memory at once than this process may use ([`memory`]):
+    /// refused before the output exists.
+    #[error("{0}")]
+    TooMuchMemory(memory::Shortfall),
     /// A warning, which the strict setting makes a failure: nothing was written.
     #[error(
         "{}: {warning}; in strict mode a warning fails the input, and nothing was written",

@@ -35,6 +35,15 @@ pub(super) fn write_file(
 ) -> Result<(u64, Counts)> {
     check_weights(job)?;
     let plan = Plan::of(job, file, source);
+    // Refused with the figure before anything is read or created, not aborted midway.
+    let rows = plan
+        .windows
+        .iter()
+        .map(|w| w.iter().map(|s| s.height).sum());
+    let windows = super::memory::Source::Windows {
+        rows: rows.max().unwrap_or(0),
+    };
+    super::memory::check(super::memory::needed(file, source.0, windows))?;
     let mut input = ReadAhead {
         reader,
         constant,
@@ -164,7 +173,7 @@ impl Plan {
         };
         Plan {
             total: strips.iter().map(|s| (source.0 * s.height) as u64).sum(),
-            windows: windows(strips, source.0),
+            windows: windows(strips, source.0, file.values_per_pixel()),
             smaller: smaller
                 .into_iter()
                 .map(|s| ((s.level, s.y), s.blocks))
@@ -176,9 +185,11 @@ impl Plan {
 }
 
 /// The strips in windows of enough pixels (`width` a row) to keep every thread busy, at least
-/// one strip each: memory is bounded by the window, whatever the image height.
-fn windows(strips: Vec<Strip>, width: usize) -> Vec<Vec<Strip>> {
-    let budget = (rayon::current_num_threads() * 8 * 64 * 64) as u64;
+/// one strip each: memory is bounded by the window, whatever the image height. A window of
+/// fine-grid spectra (`values` a pixel) stops at [`WINDOW_BYTES`] of them, past one strip.
+fn windows(strips: Vec<Strip>, width: usize, values: usize) -> Vec<Vec<Strip>> {
+    let busy = (rayon::current_num_threads() * 8 * 64 * 64) as u64;
+    let budget = busy.min(WINDOW_BYTES / (values.max(1) as u64 * 4));
     let mut windows = Vec::new();
     let mut current: Vec<Strip> = Vec::new();
     let mut pixels = 0u64;
@@ -195,6 +206,10 @@ fn windows(strips: Vec<Strip>, width: usize) -> Vec<Vec<Strip>> {
     }
     windows
 }
+
+/// The most bytes of spectra (as floats) a window of several strips holds: many threads and
+/// thousands of bands would otherwise make windows of tens of gigabytes.
+const WINDOW_BYTES: u64 = 256 << 20;
 
 /// What filters the smaller levels (and, `resized`, level 0) from the spectra of size
 /// `source`; none for a file of one level at the input's size.

@@ -63,6 +63,8 @@ impl Error {
                 )),
             ) => Cause::File,
             Error::Conversion(c) if io_in_chain(c) => Cause::File,
+            // As the blocks in flight ([`Error::TooMuchMemory`]): the settings ask too much.
+            Error::Conversion(ConversionError::TooMuchMemory(_)) => Cause::Setting,
             Error::Conversion(_)
             | Error::EmissionIsItsOwnLight { .. }
             | Error::NotReflectance { .. }

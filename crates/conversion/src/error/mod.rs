@@ -47,12 +47,13 @@ pub enum Error {
     /// More bands (with alpha) than OpenEXR's readers accept as channels.
     #[error(transparent)]
     TooManyChannels(#[from] specconv_exr::TooManyChannels),
-    /// Blocks in flight that need more memory than the machine has.
-    #[error("the blocks in flight would need {} MiB, more than this machine's {} MiB; use fewer bands, smaller tiles or fewer worker threads", needed >> 20, have >> 20)]
+    /// Blocks in flight that need more memory than the machine has
+    /// ([`specconv_pipeline::memory::available`]).
+    #[error("the blocks in flight would need {} MiB, more than the {} MiB this machine has available; use fewer bands, smaller tiles or fewer worker threads", needed >> 20, have >> 20)]
     TooMuchMemory {
         /// Bytes needed.
         needed: u64,
-        /// Bytes the machine has.
+        /// Bytes the process may use.
         have: u64,
     },
     /// More worker threads than the limit.
@@ -251,6 +252,8 @@ mod tests {
                 ConversionError::Strict { .. } => ("Conversion::Strict", false),
                 // Another file is needed.
                 ConversionError::NotCompact { .. } => ("Conversion::NotCompact", false),
+                // Fewer bands, smaller tiles, or a machine with more memory.
+                ConversionError::TooMuchMemory(_) => ("Conversion::TooMuchMemory", true),
             },
             Error::Plan(p) => ("Plan", matches!(p, PlanError::Exists { .. })),
             // Whether a plan's error is fixable is the plan's own test's.
@@ -333,6 +336,7 @@ mod tests {
         "Conversion::Data",
         "Conversion::Strict",
         "Conversion::NotCompact",
+        "Conversion::TooMuchMemory",
         "Plan",
         "Planning::NotMadeBySpecconv",
         "Planning::Files",
@@ -448,6 +452,11 @@ mod tests {
                 path: p(),
                 why: "no specconvLayout attribute".into(),
             },
+            ConversionError::TooMuchMemory(crate::pipeline::memory::Shortfall {
+                needed: 13 << 30,
+                available: 4 << 30,
+                bound: "MemAvailable of /proc/meminfo",
+            }),
         ];
         let mut all = vec![
             Error::ZipLevelWithoutZip {

@@ -105,6 +105,8 @@ impl Error {
             Error::TileTooLarge(_) => Some(Remedy::SmallerBlocks),
             Error::TooManyChannels(_) => Some(Remedy::FewerBands),
             Error::TooMuchMemory { .. } => Some(Remedy::LessMemory),
+            // A strip's spectra: fewer bands or shorter tiles shrink it, fewer threads do not.
+            Error::Conversion(ConversionError::TooMuchMemory(_)) => Some(Remedy::SmallerBlocks),
             Error::TooManyThreads { .. } => Some(Remedy::FewerThreads),
             Error::NoThreads => Some(Remedy::SomeThreads),
             Error::Plan(PlanError::Exists { .. })
