@@ -42,7 +42,7 @@ const FILE_NAMESPACES: [&str; 22] = [
 /// Attributes without a namespace that the writer makes itself (the texture's description,
 /// the spectral layout's, the software and date of this writing) or that say how the file was
 /// stored.
-const WRITTEN: [&str; 12] = [
+const WRITTEN: [&str; 13] = [
     "Software",
     "DateTime",
     "HostComputer",
@@ -55,6 +55,9 @@ const WRITTEN: [&str; 12] = [
     "emissiveUnits",
     "polarisationHandedness",
     "name",
+    // How the input's values encode colour (a Color Interop Forum ID): true of the input's
+    // pixels only; an output says its own (a data copy `data`, a spectral file none).
+    "colorInteropID",
 ];
 
 /// Whether `name` is, or passes for, one of specconv's own provenance attributes: it starts
@@ -289,6 +292,7 @@ mod tests {
             "Software",
             "DateTime",
             "oiio:ColorSpace",
+            "colorInteropID",
             "Exif:ImageHistory",
             "tiff:Compression",
             "png:sRGB",
