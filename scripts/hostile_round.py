@@ -560,6 +560,7 @@ def memory_is_estimated(r):
 
 def interop_ids_are_read(r):
     d = r.fresh("interop")
+    (d / "out").mkdir()
     for ident, role in [("data", "data"), ("lin_rec709_scene", "colour"), ("lin_ap1_scene", "colour"),
                         ("lin_ap0_scene", "colour"), ("srgb_rec709_scene", "colour")]:
         src = d / f"{ident}.exr"
@@ -574,6 +575,15 @@ def interop_ids_are_read(r):
         elif failure is None and role not in roles:
             failure = f"read as {roles.strip()}"
         r.case("11 interop", f"colorInteropID {ident}", failure)
+        # An output never carries the input's ID: it is true of the input's pixels only.
+        c = r.run("convert", "--data", "copy", src.name, "-o", "out", cwd=d)
+        made = sorted((d / "out").glob(f"{ident}*"))
+        failure = crashed(c) or (None if c.returncode == 0 and made else c.text[-200:])
+        if failure is None:
+            said = (attributes(made[0]) or {}).get("colorInteropID")
+            if said not in (None, "data") or (said == "data") != (role == "data"):
+                failure = f"the output says colorInteropID {said!r}"
+        r.case("11 interop", f"the output of a colorInteropID {ident} input", failure)
 
 
 def a_td_is_told(r):

@@ -278,8 +278,9 @@ pub fn recorded_files(named: &Path, m: &Model, dir: &Path) -> Result<Vec<PathBuf
 ///
 /// A set is trusted by its content, never its name: a file whose hash (or, where none is
 /// recorded, spectra count) is not the record's is refused ([`ModelError::SetDiffers`]). Its
-/// terms are those its content is known by ([`Terms::of_content`]), else the recorded ones
-/// when the hash matches; a record without a hash passes no terms on ([`Recorded::unverified`]).
+/// terms are those its content is known by
+/// ([`specconv_spectral::otsu2018::terms::Terms::of_content`]), else the recorded ones when
+/// the hash matches; a record without a hash passes no terms on ([`Recorded::unverified`]).
 pub fn recorded_parts(named: &Path, m: &Model, dir: &Path) -> Result<Recorded, ModelError> {
     use specconv_spectral::otsu2018::terms::Terms;
     let mut out = Recorded {
