@@ -39,7 +39,7 @@ impl std::fmt::Display for Shortfall {
 
 /// The share of the available memory a command may plan to hold: the rest is for what the
 /// estimate does not count (the decoders, the allocator's slack, other processes).
-const MARGIN_PERCENT: u64 = 75;
+pub const MARGIN_PERCENT: u64 = 75;
 
 /// Bytes held besides the strips: the program, its libraries, the input decoder, the threads.
 const BASE: u64 = 256 << 20;
