@@ -564,6 +564,15 @@ impl SpectralFile {
         )
     }
 
+    /// The rows of the blocks of one strip of the file: its tile height, or its scanline
+    /// blocks' (which the compression decides).
+    pub fn block_height(&self) -> usize {
+        match self.spec.blocks {
+            Blocks::Tiles { height, .. } => height,
+            Blocks::Scanlines => self.blocks().first().map_or(1, |b| b.height),
+        }
+    }
+
     /// Every block of the file, in the order of chunk indices.
     pub fn blocks(&self) -> Vec<Block> {
         exr::block::enumerate_ordered_header_block_indices(std::slice::from_ref(&self.header))

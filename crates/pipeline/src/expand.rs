@@ -14,7 +14,7 @@
 //! The file is read a strip of blocks at a time; memory is bounded by a strip.
 
 use super::survey::{self, Repair};
-use super::write::{block_height, strips};
+use super::write::strips;
 use super::{
     average_attributes, clamp_made, finish, level_sums, mip, refuse_overwrites, Error, Result,
     AVERAGE, COMPACT_ATTRIBUTE, COMPACT_CHANNELS, CONSTANT, EXPAND_ATTRIBUTE, LAYOUT_ATTRIBUTE,
@@ -499,7 +499,7 @@ impl<'f> Strips<'f> {
             cascade: (file.levels() > 1).then(|| {
                 mip::Cascade::new(
                     &sizes,
-                    block_height(file),
+                    file.block_height(),
                     file.values_per_pixel(),
                     options.filter,
                     false,

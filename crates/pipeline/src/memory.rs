@@ -65,7 +65,7 @@ pub enum Source {
 /// times below it (docs/performance.md, "Memory").
 pub fn needed(file: &SpectralFile, width: usize, source: Source) -> u64 {
     let row = width as u64 * file.values_per_pixel() as u64 * 4;
-    let strip = row * super::write::block_height(file) as u64;
+    let strip = row * file.block_height() as u64;
     let (window, decoded) = match source {
         Source::Windows { rows } => (row * rows as u64, 0),
         Source::DecodedStrips => (strip, 2 * strip),

@@ -227,7 +227,7 @@ fn cascade(
             .collect();
         mip::Cascade::new(
             &sizes,
-            block_height(file),
+            file.block_height(),
             file.values_per_pixel(),
             job.options.filter,
             resized,
@@ -461,20 +461,12 @@ fn publish(job: &Job, pending: Pending) -> Result<()> {
         })
 }
 
-/// The rows of the blocks of one strip of the file: its tile height, or its scanline blocks'.
-pub(super) fn block_height(file: &SpectralFile) -> usize {
-    match file.spec().blocks {
-        Blocks::Tiles { height, .. } => height,
-        Blocks::Scanlines => file.blocks().first().map_or(1, |b| b.height),
-    }
-}
-
 /// The strips the input is read in when level 0 is resized from it: rows of blocks of the
 /// file's block size, over the input's `size`. Their blocks are not the file's (no chunk).
 fn input_strips(file: &SpectralFile, (width, height): (usize, usize)) -> Vec<Strip> {
     let (bw, bh) = match file.spec().blocks {
         Blocks::Tiles { width, height, .. } => (width, height),
-        Blocks::Scanlines => (width, block_height(file)),
+        Blocks::Scanlines => (width, file.block_height()),
     };
     (0..height)
         .step_by(bh)
