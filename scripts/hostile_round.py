@@ -614,8 +614,9 @@ def a_td_is_told(r):
         p = r.run("convert", *flags, IMAGES / "srgb8.png", "m.exr", "--force", cwd=d)
         r.case("15 maketx", " ".join(map(str, flags)), crashed(p) or (None if p.returncode == 0 else p.text[-200:]))
     if r.run("convert", "--layout", "compact", IMAGES / "srgb8.png", "c.exr", cwd=d).returncode == 0:
-        for command in (["info"], ["to-rgb"], ["preview"]):
-            args = [*command, "c.exr"] + (["c.png"] if command[0] != "info" else [])
+        for command in (["info", "c.exr"], ["to-rgb", "c.exr", "rgb.exr"],
+                        ["preview", "c.exr", "-o", "c.png"]):
+            args = command
             p = r.run(*args, cwd=d)
             failure = crashed(p)
             if failure is None and "compact" not in p.text:
