@@ -15,6 +15,7 @@ take the machine's memory fails (as a signal) instead.
 import argparse
 import hashlib
 import os
+import re
 import resource
 import shutil
 import struct
@@ -605,8 +606,15 @@ def a_td_is_told(r):
     p = r.run("convert", "grey.png", "-o", "out", cwd=d)
     failure = crashed(p)
     skipped = not list((d / "out").glob("*"))
-    if failure is None and skipped and ("grey.png" not in p.text or "--colorspace" not in p.text):
+    # Named, and with the option that converts it, a colour space included.
+    remedy = re.search(r"--colorspace ('[^']+'|\S+)", p.text)
+    if failure is None and skipped and ("grey.png" not in p.text or not remedy):
         failure = "a skipped grey map is not named with how to convert it: " + p.text[-200:]
+    elif failure is None and skipped:
+        name = remedy.group(1).strip("'")
+        again = r.run("convert", "--colorspace", name, "grey.png", "grey.exr", cwd=d)
+        if again.returncode != 0:
+            failure = f"the option it names does not convert it: {again.text[-200:]}"
     r.case("13 grey", "one-channel sRGB PNG", failure)
     # maketx's own spellings (OpenImageIO 2.4's maketx --help; it has no --tilesize).
     for flags in (["--nomipmap"], ["--tile", "32", "32"], ["--noresize"],
