@@ -18,7 +18,7 @@ pub struct Shortfall {
     pub needed: u64,
     /// Bytes this process may still use ([`available`]).
     pub available: u64,
-    /// Where that figure comes from (`MemAvailable`, the cgroup's limit, the address-space limit).
+    /// Where that figure comes from (`MemAvailable` or the address-space limit).
     pub bound: &'static str,
 }
 
@@ -93,23 +93,20 @@ pub fn check(needed: u64) -> Result<()> {
     }
 }
 
-/// The bytes this process may still use, and which bound gives them: the least of the
-/// kernel's `MemAvailable`, the memory cgroup's limit less its use (a Slurm or container
-/// job), and the address-space limit (`ulimit -v`) less the process's size. `None` where none
-/// can be read (not Linux).
+/// The bytes this process may still use, and which bound gives them: the lesser of the
+/// kernel's `MemAvailable` and the address-space limit (`ulimit -v`) less the process's size.
+/// `None` where neither can be read (not Linux). Not a memory cgroup's limit: a farm task's
+/// is sized by the measured peak (`specconv_farm::memory_mib`), which this deliberately
+/// generous estimate passes for most textures, so it would refuse tasks that run.
 pub fn available() -> Option<(u64, &'static str)> {
     let mem = meminfo("MemAvailable").map(|b| (b, "MemAvailable of /proc/meminfo"));
-    let cgroup = cgroup().map(|b| (b, "the memory cgroup's limit less its use"));
     let address = address_space().map(|b| {
         (
             b,
             "the address-space limit (ulimit -v) less the process's size",
         )
     });
-    [mem, cgroup, address]
-        .into_iter()
-        .flatten()
-        .min_by_key(|&(b, _)| b)
+    [mem, address].into_iter().flatten().min_by_key(|&(b, _)| b)
 }
 
 /// A `/proc/meminfo` figure in bytes.
@@ -118,33 +115,6 @@ fn meminfo(key: &str) -> Option<u64> {
     let line = text.lines().find(|l| l.split(':').next() == Some(key))?;
     let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
     Some(kib * 1024)
-}
-
-/// What this process's memory cgroup has left: v2's `memory.max` less `memory.current`, or
-/// v1's `memory.limit_in_bytes` less `memory.usage_in_bytes`; `None` without a limit.
-fn cgroup() -> Option<u64> {
-    let own = std::fs::read_to_string("/proc/self/cgroup").ok()?;
-    let read = |p: String| -> Option<u64> { std::fs::read_to_string(p).ok()?.trim().parse().ok() };
-    for line in own.lines() {
-        let mut parts = line.splitn(3, ':');
-        let (_, controllers, path) = (parts.next()?, parts.next()?, parts.next()?);
-        let (limit, used) = match controllers {
-            "" => (
-                read(format!("/sys/fs/cgroup{path}/memory.max")),
-                read(format!("/sys/fs/cgroup{path}/memory.current")),
-            ),
-            c if c.split(',').any(|c| c == "memory") => (
-                read(format!("/sys/fs/cgroup/memory{path}/memory.limit_in_bytes")),
-                read(format!("/sys/fs/cgroup/memory{path}/memory.usage_in_bytes")),
-            ),
-            _ => continue,
-        };
-        // v1 says "no limit" with a number near 2⁶³.
-        if let Some(limit) = limit.filter(|&l| l < 1 << 60) {
-            return Some(limit.saturating_sub(used.unwrap_or(0)));
-        }
-    }
-    None
 }
 
 /// The address-space limit (`RLIMIT_AS`, `/proc/self/limits`) less the process's virtual size
