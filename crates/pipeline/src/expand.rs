@@ -23,7 +23,7 @@ use crate::options::{Key, Options};
 use crate::Rounding;
 use rayon::prelude::*;
 use specconv_atomic_file::{Pending, Replace};
-use specconv_exr::{Block, Blocks, Chunk, Kind, Spec, SpectralFile, Windows};
+use specconv_exr::{Block, Blocks, Chunk, Kind, Spec, SpectralFile};
 use specconv_oiio::{ImageReader, Pixels};
 use specconv_spectral::compact::{Compact, TEXEL, VERSION};
 use std::collections::HashMap;
@@ -272,15 +272,7 @@ fn spec(source: &Source) -> Result<Spec> {
     Ok(Spec {
         width: top.width as usize,
         height: top.height as usize,
-        windows: Some(Windows {
-            data_origin: (top.x, top.y),
-            display: (
-                top.display.x,
-                top.display.y,
-                top.display.width as usize,
-                top.display.height as usize,
-            ),
-        }),
+        windows: Some(super::windows_of(&top)),
         wavelengths: source.d.compact.grid().wavelengths(),
         kind: Kind::Reflective,
         alpha: source.d.alpha.is_some(),

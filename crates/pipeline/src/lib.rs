@@ -538,15 +538,7 @@ fn output_file(
     };
     let top = info.levels[0];
     let (mut width, mut height) = (info.width() as usize, info.height() as usize);
-    let mut windows = Windows {
-        data_origin: (top.x, top.y),
-        display: (
-            top.display.x,
-            top.display.y,
-            top.display.width as usize,
-            top.display.height as usize,
-        ),
-    };
+    let mut windows = windows_of(&top);
     if let (true, Some((tw, th))) = (constant, job.tile()) {
         // One tile, as maketx --constant-color-detect: the display window is the data
         // window, so that lookups over [0, 1] read it all.
@@ -978,4 +970,17 @@ fn refuse_overwrites(input: &Path, output: &Path, overwrite: bool) -> Result<()>
         &[output],
         Replace::when(overwrite),
     )?)
+}
+
+/// The data and display windows an output keeps of its input's level `top`.
+pub(crate) fn windows_of(top: &specconv_oiio::Level) -> Windows {
+    Windows {
+        data_origin: (top.x, top.y),
+        display: (
+            top.display.x,
+            top.display.y,
+            top.display.width as usize,
+            top.display.height as usize,
+        ),
+    }
 }
