@@ -44,10 +44,7 @@ OPEN_SETS = [
 
 
 # Cases whose fix has not landed, each with its issue: run and reported, not failed on.
-KNOWN_OPEN = (
-    # Issue 45 item 14: a data copy's name of its own needs the plan to know the role.
-    ": its name",
-)
+KNOWN_OPEN: tuple = ()
 
 
 class Round:

@@ -6,6 +6,7 @@ use crate::errors::{conversion, Kind};
 use crate::model::Model;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
+use specconv_conversion::plan::Pair;
 use specconv_conversion::record::{without_input, Record};
 use specconv_conversion::{Batch, Converter, Event, Key, Options, Value};
 use std::ffi::OsString;
@@ -93,7 +94,7 @@ pub fn options(py: Python<'_>) -> PyResult<Vec<Bound<'_, pyo3::types::PyDict>>> 
 /// its tiles) to spectral OpenEXR files, as `specconv convert` does with the same options,
 /// byte for byte. `outputs`: a file (one input), a list of files (one per input; a pattern's
 /// names its tiles with the token too), or an existing directory (`DIR/STEM_spectral.exr`); or
-/// instead `output_template` (`{dir}`, `{stem}`, `{name}`, `{ext}`, `{udim}`, `{tile}`). Returns one record per
+/// instead `output_template` (`{dir}`, `{stem}`, `{name}`, `{ext}`, `{udim}`, `{tile}`, `{role}`). Returns one record per
 /// input, as `convert --json` prints them (docs/json.md). `errors="raise"` stops at the first
 /// failed input and raises its exception (earlier outputs stay); `"record"` carries on and
 /// records it. `progress(index, input, pixels_done, pixels_total)` is called as it goes.
@@ -215,7 +216,7 @@ fn option_text(key: Key, value: &Bound<'_, PyAny>) -> PyResult<Option<OsString>>
 fn run<'py>(
     py: Python<'py>,
     converter: &Converter,
-    pairs: &[(PathBuf, PathBuf)],
+    pairs: &[Pair],
     update: bool,
     raise: bool,
     progress: Option<Bound<'py, PyAny>>,

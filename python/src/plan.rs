@@ -5,7 +5,7 @@
 
 use crate::errors::{conversion, Kind};
 use pyo3::prelude::*;
-use specconv_conversion::plan::{Outputs, Plan};
+use specconv_conversion::plan::{Outputs, Pair, Plan};
 use std::path::PathBuf;
 
 /// Each input (UDIM patterns expanded to their tiles) with its output, once the plan's files
@@ -15,7 +15,7 @@ pub fn pairs(
     inputs: Vec<PathBuf>,
     outputs: Option<Vec<PathBuf>>,
     template: Option<&str>,
-) -> PyResult<Vec<(PathBuf, PathBuf)>> {
+) -> PyResult<Vec<Pair>> {
     if inputs.is_empty() {
         return Err(Kind::Option.err("no inputs"));
     }

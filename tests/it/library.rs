@@ -3,11 +3,11 @@
 //! gets what `specconv` writes, and each call's report is its own.
 
 use crate::convert::testdata;
+use specconv_conversion::plan::Pair;
 use specconv_conversion::{
     Batch, Compression, Converter, Event, Mip, Options, Provenance, Rounding, Sample,
 };
 use specconv_testkit::cmd::{Cmd, Scratch};
-use std::path::PathBuf;
 
 fn bytes(p: &std::path::Path) -> Vec<u8> {
     std::fs::read(p).unwrap_or_else(|e| panic!("{}: {e}", p.display()))
@@ -108,11 +108,11 @@ fn each_conversion_reports_its_own_counts_and_batches_skip_what_is_up_to_date() 
 
     // A batch: the first run converts, -u skips what the CLI made with the same settings.
     let inputs = ["srgb8.png", "rgb16.png"];
-    let pairs: Vec<(PathBuf, PathBuf)> = inputs
+    let pairs: Vec<Pair> = inputs
         .iter()
-        .map(|i| (testdata(i), dir.path(&format!("{i}.exr"))))
+        .map(|i| Pair::new(testdata(i), dir.path(&format!("{i}.exr"))))
         .collect();
-    Cmd::convert(&pairs[0].0, &pairs[0].1).ok();
+    Cmd::convert(&pairs[0].input, &pairs[0].output).ok();
     let mut events = Vec::new();
     let summary = Batch::new(&converter)
         .update(true)
@@ -129,14 +129,19 @@ fn each_conversion_reports_its_own_counts_and_batches_skip_what_is_up_to_date() 
         (1, 1, 0)
     );
     // Without update an existing output is refused, by cause.
-    let refused = converter.convert(&pairs[0].0, &pairs[0].1).unwrap_err();
+    let refused = converter
+        .convert(&pairs[0].input, &pairs[0].output)
+        .unwrap_err();
     assert_eq!(
         refused.remedy(),
         Some(specconv_conversion::Remedy::ReplaceOrSkip)
     );
     assert!(!refused.to_string().contains("--"), "{refused}");
     // A batch whose plan breaks a rule is refused whole, before any event, by cause.
-    let onto_input = vec![pairs[0].clone(), (pairs[0].1.clone(), dir.path("x.exr"))];
+    let onto_input = vec![
+        pairs[0].clone(),
+        Pair::new(&pairs[0].output, dir.path("x.exr")),
+    ];
     let mut events = 0;
     let refused = Batch::new(&converter)
         .update(true)

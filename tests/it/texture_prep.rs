@@ -635,3 +635,79 @@ fn a_spectral_input_is_refused_with_one_line_saying_what_to_do() {
     );
     assert!(!dir.path("again.exr").exists());
 }
+
+/// Issue 45, item 14: a data texture written through is named as data, not as a spectral file
+/// (`-o DIR`'s `STEM_data.exr`, a template's `{role}`), and `info` shows it as data; an
+/// output the user names is kept. Both names are planned, so neither may be a file specconv
+/// did not make, and `-u` finds either up to date.
+#[test]
+fn data_copies_have_names_of_their_own() {
+    let dir = Scratch::new("data-names");
+    library(&dir);
+    std::fs::create_dir_all(dir.path("out")).unwrap();
+    let inputs = ["brick_roughness.png", "brick_albedo.png"].map(|i| dir.path(i));
+    let batch = |extra: &[&str]| {
+        Cmd::new(["convert", "--data", "copy", "--json"])
+            .args(&inputs)
+            .args(extra)
+            .run()
+    };
+    let records = batch(&["-o", dir.path("out").to_str().unwrap()]);
+    let records = records.json_lines();
+    let output_of = |name: &str| {
+        records
+            .iter()
+            .find(|r| r["input"].as_str().is_some_and(|i| i.ends_with(name)))
+            .map(|r| r["output"].as_str().unwrap_or_default().to_string())
+            .unwrap_or_default()
+    };
+    assert!(
+        output_of("brick_roughness.png").ends_with("out/brick_roughness_data.exr"),
+        "{records:?}"
+    );
+    assert!(
+        output_of("brick_albedo.png").ends_with("out/brick_albedo_spectral.exr"),
+        "{records:?}"
+    );
+    let mut files: Vec<String> = std::fs::read_dir(dir.path("out"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    files.sort();
+    assert_eq!(
+        files,
+        ["brick_albedo_spectral.exr", "brick_roughness_data.exr"]
+    );
+    let info = Cmd::new(["info"])
+        .arg(dir.path("out/brick_roughness_data.exr"))
+        .ok();
+    assert!(info.ok().contains("role:         data"), "{}", info.ok());
+    // Both up to date: skipped by -u, whichever name each has.
+    let again = batch(&["-o", dir.path("out").to_str().unwrap(), "-u"]).json_lines();
+    let statuses: Vec<&str> = again.iter().filter_map(|r| r["status"].as_str()).collect();
+    assert_eq!(statuses, ["skipped", "skipped"], "{again:?}");
+    // A file specconv did not make at the data name is never replaced, even when -u.
+    std::fs::create_dir_all(dir.path("foreign")).unwrap();
+    let foreign = dir.path("foreign/brick_roughness_data.exr");
+    std::fs::write(&foreign, b"mine").unwrap();
+    for extra in [&[][..], &["-u"][..]] {
+        let foreign_dir = dir.path("foreign");
+        let mut args = vec!["-o", foreign_dir.to_str().unwrap()];
+        args.extend(extra);
+        let out = batch(&args);
+        out.fails(2, &["brick_roughness_data.exr"]);
+    }
+    assert_eq!(std::fs::read(&foreign).unwrap(), b"mine");
+    assert!(!dir.path("foreign/brick_albedo_spectral.exr").exists());
+    // A template's {role}; without it, the one name the user chose.
+    let t = format!("{}/{{stem}}.{{role}}.exr", dir.path("t").display());
+    std::fs::create_dir_all(dir.path("t")).unwrap();
+    batch(&["--output-template", &t]).ok();
+    assert!(dir.path("t/brick_roughness.data.exr").exists());
+    assert!(dir.path("t/brick_albedo.spectral.exr").exists());
+    Cmd::convert(&inputs[0], dir.path("mine.exr"))
+        .args(["--data", "copy"])
+        .ok();
+    assert!(dir.path("mine.exr").exists());
+    no_temporaries(&dir.0);
+}

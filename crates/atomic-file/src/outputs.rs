@@ -1,5 +1,7 @@
-//! Where a conversion's output goes, from its input: `-o DIR` gives `DIR/STEM_spectral.exr`, an
-//! output template replaces its fields ([`FIELDS`]). One definition for the command line and
+//! Where a conversion's output goes, from its input and what it holds ([`Holds`]): `-o DIR`
+//! gives `DIR/STEM_spectral.exr` for an uplifted texture and `DIR/STEM_data.exr` for a data
+//! texture written through, an output template replaces its fields ([`FIELDS`]; `{role}` is
+//! `spectral` or `data`). One definition for the command line and
 //! the farm's check of a job's outputs. Names are kept byte for byte: an input named in bytes
 //! that are not UTF-8 gets an output of those bytes, not of replacement characters.
 //!
@@ -12,12 +14,35 @@ use std::os::unix::ffi::{OsStrExt, OsStringExt};
 use std::path::{Path, PathBuf};
 
 /// The fields of an output template, as `{name}`.
-pub const FIELDS: [&str; 6] = ["dir", "stem", "name", "ext", "udim", "tile"];
+pub const FIELDS: [&str; 7] = ["dir", "stem", "name", "ext", "udim", "tile", "role"];
 
-/// `DIR/STEM_spectral.exr` for `input`.
-pub fn in_directory(dir: &Path, input: &Path) -> PathBuf {
+/// What an output holds, which names it apart: a texture is known to be data only once it is
+/// read, so a plan names both outputs of each input and the conversion writes one.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Holds {
+    /// The spectral (or compact) texture uplifted from a colour texture.
+    Spectral,
+    /// A data texture (roughness, normals) written through, its values unconverted.
+    Data,
+}
+
+impl Holds {
+    /// Both, in the order plans list them.
+    pub const ALL: [Holds; 2] = [Holds::Spectral, Holds::Data];
+
+    /// The word its default name and a template's `{role}` give: `spectral` or `data`.
+    pub fn word(self) -> &'static str {
+        match self {
+            Holds::Spectral => "spectral",
+            Holds::Data => "data",
+        }
+    }
+}
+
+/// `DIR/STEM_spectral.exr` (or `STEM_data.exr`) for `input`.
+pub fn in_directory(dir: &Path, input: &Path, holds: Holds) -> PathBuf {
     let mut name = udim::stem(input);
-    name.extend_from_slice(b"_spectral.exr");
+    name.extend_from_slice(format!("_{}.exr", holds.word()).as_bytes());
     dir.join(OsString::from_vec(name))
 }
 
@@ -101,11 +126,14 @@ enum Piece {
     Ext,
     Udim,
     Tile,
+    Role,
 }
 
 /// An output template, its fields checked: `{dir}` (the input's directory, `.` for none),
 /// `{stem}` (its name without the extension), `{name}` (its file name), `{ext}` (its extension
-/// without the dot, empty for none), `{udim}` (its UDIM tile number, 1001…) and `{tile}` (the same tile as `u1_v1`, OpenImageIO's `<UVTILE>`). In a
+/// without the dot, empty for none), `{udim}` (its UDIM tile number, 1001…), `{tile}` (the
+/// same tile as `u1_v1`, OpenImageIO's `<UVTILE>`) and `{role}` (`spectral`, or `data` for a
+/// data texture written through: [`Holds`]). Without `{role}` both are one file. In a
 /// template that names the tile, `{stem}` leaves the tile number out: `{stem}_spectral.{udim}.exr`
 /// makes `wood_spectral.1001.exr` of `wood.1001.png`.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -139,6 +167,7 @@ impl Template {
                 "ext" => Piece::Ext,
                 "udim" => Piece::Udim,
                 "tile" => Piece::Tile,
+                "role" => Piece::Role,
                 _ => {
                     return Err(TemplateError::UnknownField {
                         template: text.to_owned(),
@@ -169,8 +198,8 @@ impl Template {
             .any(|p| matches!(p, Piece::Udim | Piece::Tile))
     }
 
-    /// The output of `input`.
-    pub fn apply(&self, input: &Path) -> Result<PathBuf, TemplateError> {
+    /// The output of `input` when it holds `holds`.
+    pub fn apply(&self, input: &Path, holds: Holds) -> Result<PathBuf, TemplateError> {
         let dir = input
             .parent()
             .filter(|d| !d.as_os_str().is_empty())
@@ -202,6 +231,7 @@ impl Template {
                 Piece::Tile => {
                     out.extend_from_slice(udim::uv_tile(tile.unwrap_or(udim::FIRST)).as_bytes())
                 }
+                Piece::Role => out.extend_from_slice(holds.word().as_bytes()),
             }
         }
         Ok(PathBuf::from(OsString::from_vec(out)))
@@ -213,9 +243,9 @@ impl Template {
     }
 }
 
-/// `template` ([`Template`]) applied to `input`.
-pub fn from_template(template: &str, input: &Path) -> Result<PathBuf, TemplateError> {
-    Template::parse(template)?.apply(input)
+/// `template` ([`Template`]) applied to `input` holding `holds`.
+pub fn from_template(template: &str, input: &Path, holds: Holds) -> Result<PathBuf, TemplateError> {
+    Template::parse(template)?.apply(input, holds)
 }
 
 #[cfg(test)]
@@ -227,23 +257,51 @@ mod tests {
     fn names_are_kept_byte_for_byte() {
         let input = Path::new(OsStr::from_bytes(b"tex/a\xff.png"));
         assert_eq!(
-            in_directory(Path::new("out"), input).as_os_str().as_bytes(),
+            in_directory(Path::new("out"), input, Holds::Spectral)
+                .as_os_str()
+                .as_bytes(),
             b"out/a\xff_spectral.exr"
         );
         assert_eq!(
-            from_template("{dir}/../o/{stem}.{name}.exr", input)
+            from_template("{dir}/../o/{stem}.{name}.exr", input, Holds::Spectral)
                 .unwrap()
                 .as_os_str()
                 .as_bytes(),
             b"tex/../o/a\xff.a\xff.png.exr"
         );
         assert_eq!(
-            from_template("{stem}.exr", Path::new("x.png")).unwrap(),
+            from_template("{stem}.exr", Path::new("x.png"), Holds::Spectral).unwrap(),
             Path::new("x.exr")
         );
         assert_eq!(
-            from_template("{dir}/{stem}", Path::new("x.png")).unwrap(),
+            from_template("{dir}/{stem}", Path::new("x.png"), Holds::Spectral).unwrap(),
             Path::new("./x")
+        );
+    }
+
+    #[test]
+    fn data_textures_are_named_apart_by_default_and_by_role() {
+        let input = Path::new("tex/rough.1001.png");
+        let named = |holds| in_directory(Path::new("out"), input, holds);
+        assert_eq!(
+            named(Holds::Spectral),
+            Path::new("out/rough.1001_spectral.exr")
+        );
+        assert_eq!(named(Holds::Data), Path::new("out/rough.1001_data.exr"));
+        let t = Template::parse("{dir}/{role}/{stem}.{udim}.{role}.exr").unwrap();
+        assert_eq!(
+            t.apply(input, Holds::Data).unwrap(),
+            Path::new("tex/data/rough.1001.data.exr")
+        );
+        assert_eq!(
+            t.apply(input, Holds::Spectral).unwrap(),
+            Path::new("tex/spectral/rough.1001.spectral.exr")
+        );
+        // Without {role} the user named one file for both.
+        let one = Template::parse("{dir}/{stem}.exr").unwrap();
+        assert_eq!(
+            one.apply(input, Holds::Data).unwrap(),
+            one.apply(input, Holds::Spectral).unwrap()
         );
     }
 
@@ -251,19 +309,29 @@ mod tests {
     fn tiles_keep_the_studio_convention() {
         let t = "{dir}/{stem}_spectral.{udim}.exr";
         assert_eq!(
-            from_template(t, Path::new("tex/wood.1012.png")).unwrap(),
+            from_template(t, Path::new("tex/wood.1012.png"), Holds::Spectral).unwrap(),
             Path::new("tex/wood_spectral.1012.exr")
         );
         assert_eq!(
-            from_template("{stem}_{tile}.exr", Path::new("wood_1012.png")).unwrap(),
+            from_template(
+                "{stem}_{tile}.exr",
+                Path::new("wood_1012.png"),
+                Holds::Spectral
+            )
+            .unwrap(),
             Path::new("wood_u2_v2.exr")
         );
         // Without a tile field the stem keeps its number, so tiles stay apart.
         assert_eq!(
-            from_template("{stem}_spectral.exr", Path::new("wood.1012.png")).unwrap(),
+            from_template(
+                "{stem}_spectral.exr",
+                Path::new("wood.1012.png"),
+                Holds::Spectral
+            )
+            .unwrap(),
             Path::new("wood.1012_spectral.exr")
         );
-        let e = from_template(t, Path::new("wood.png"))
+        let e = from_template(t, Path::new("wood.png"), Holds::Spectral)
             .unwrap_err()
             .to_string();
         assert!(e.contains("wood.png has no tile number"), "{e}");
@@ -282,7 +350,7 @@ mod tests {
         let text = e.to_string();
         assert!(
             text.contains("{stme}")
-                && text.contains("{dir}, {stem}, {name}, {ext}, {udim}, {tile}"),
+                && text.contains("{dir}, {stem}, {name}, {ext}, {udim}, {tile}, {role}"),
             "{text}"
         );
         assert!(matches!(
@@ -319,7 +387,7 @@ mod tests {
             Template::parse("{{stem}}.exr").unwrap_err().to_string(),
             "the output template \"{{stem}}.exr\" has {{stem}}, which writes the field {stem} \
              with braces doubled: fields take one brace on each side; its fields are {dir}, \
-             {stem}, {name}, {ext}, {udim}, {tile}"
+             {stem}, {name}, {ext}, {udim}, {tile}, {role}"
         );
     }
 }

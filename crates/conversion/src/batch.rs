@@ -1,10 +1,11 @@
 //! [`Batch`]: many inputs through one [`Converter`], in order, with the up-to-date check,
 //! cancellation and progress events that every front-end needs.
 
-use crate::plan::check_plan;
+use crate::plan::{check_plan, Pair};
 use crate::report::{tally, NoticeCount};
 use crate::{Converter, Error, Expanded, NonFinite, Report};
-use std::path::{Path, PathBuf};
+use specconv_atomic_file::outputs::Holds;
+use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};
 
 /// What a batch says as it goes. Every input gets `Started` and then exactly one of
@@ -30,7 +31,7 @@ pub enum Event<'a> {
     Skipped {
         /// The input.
         input: &'a Path,
-        /// Its output.
+        /// Its output that is up to date (its data copy's, for a data texture).
         output: &'a Path,
     },
     /// Converted.
@@ -47,7 +48,7 @@ pub enum Event<'a> {
     Data {
         /// The input.
         input: &'a Path,
-        /// Its output.
+        /// Its data copy's output ([`Pair::output`] for [`Holds::Data`]), written or not.
         output: &'a Path,
         /// What was done.
         report: &'a Report,
@@ -101,7 +102,8 @@ pub struct Summary {
 /// ```no_run
 /// use specconv_conversion::{Batch, Converter, Event, Options};
 /// let converter = Converter::new(Options::default())?;
-/// let pairs = vec![("a.png".into(), "a_spectral.exr".into())];
+/// use specconv_conversion::plan::Pair;
+/// let pairs = vec![Pair::new("a.png", "a_spectral.exr")];
 /// let summary = Batch::new(&converter).update(true).run(&pairs, &mut |event| {
 ///     if let Event::Failed { input, error, .. } = event {
 ///         eprintln!("{}: {error}", input.display());
@@ -144,7 +146,7 @@ impl<'c> Batch<'c> {
 
     /// Checks the whole plan before anything is written ([`check_plan`] with the converter's
     /// `overwrite` and this batch's update).
-    pub fn check(&self, pairs: &[(PathBuf, PathBuf)]) -> Result<(), Error> {
+    pub fn check(&self, pairs: &[Pair]) -> Result<(), Error> {
         Ok(check_plan(
             pairs,
             self.converter.options().overwrite,
@@ -152,35 +154,46 @@ impl<'c> Batch<'c> {
         )?)
     }
 
-    /// Converts each (input, output) in turn, telling `on` what happens, once the plan is
-    /// checked ([`Batch::check`]; its error is returned and nothing is written).
+    /// Converts each input in turn, telling `on` what happens, once the plan is checked
+    /// ([`Batch::check`]; its error is returned and nothing is written). A data texture
+    /// written through goes to its pair's data name ([`Pair::output`]).
     pub fn run(
         &self,
-        pairs: &[(PathBuf, PathBuf)],
+        pairs: &[Pair],
         on: &mut (dyn FnMut(Event) + Send),
     ) -> Result<Summary, Error> {
         self.check(pairs)?;
         let never = AtomicBool::new(false);
         let cancel = self.cancel.unwrap_or(&never);
         let overwrite = self.converter.options().overwrite || self.update;
-        let up_to_date = |i: &Path, o: &Path| self.update && self.converter.is_up_to_date(i, o);
-        let run = |input: &Path, output: &Path, on: &mut (dyn FnMut(Event) + Send)| {
+        // Either name may hold the up-to-date output: which one the input makes is known once
+        // it is read, and the recorded settings tell a stale one.
+        let up_to_date = |pair: &'_ Pair| -> Option<Holds> {
+            if !self.update {
+                return None;
+            }
+            Holds::ALL
+                .into_iter()
+                .filter(|h| *h == Holds::Spectral || pair.data.is_some())
+                .find(|h| self.converter.is_up_to_date(&pair.input, pair.output(*h)))
+        };
+        let run = |pair: &Pair, on: &mut (dyn FnMut(Event) + Send)| {
             self.converter
-                .run(input, output, overwrite, cancel, &mut |done, total| {
+                .run(pair, overwrite, cancel, &mut |done, total| {
                     on(Event::Progress { done, total })
                 })
         };
-        let done = |input: &Path,
-                    output: &Path,
+        let done = |pair: &Pair,
                     report: Report,
                     on: &mut (dyn FnMut(Event) + Send),
                     summary: &mut Summary| {
+            let input = pair.input.as_path();
             tally(&mut summary.warnings, input, &report);
             if report.data.is_some() {
                 summary.data += 1;
                 on(Event::Data {
                     input,
-                    output,
+                    output: pair.output(Holds::Data),
                     report: &report,
                 });
             } else {
@@ -188,7 +201,7 @@ impl<'c> Batch<'c> {
                 summary.clipped += usize::from(report.clipped() > 0);
                 on(Event::Converted {
                     input,
-                    output,
+                    output: &pair.output,
                     report: &report,
                 });
             }
@@ -197,32 +210,37 @@ impl<'c> Batch<'c> {
     }
 }
 
-/// The loop of every batch: each input in turn, `Started`, then skipped when `up_to_date`, else
-/// `run` and handed to `done` (which tells `on`), or `Failed`; a cancel stops it between
-/// inputs, or inside one (`run` returns the cancelled error: not a failure of that input).
+/// The loop of every batch: each input in turn, `Started`, then skipped when `up_to_date` names
+/// the output that is, else `run` and handed to `done` (which tells `on`), or `Failed`; a cancel
+/// stops it between inputs, or inside one (`run` returns the cancelled error: not a failure of
+/// that input).
 fn each<T>(
-    pairs: &[(PathBuf, PathBuf)],
+    pairs: &[Pair],
     cancel: &AtomicBool,
-    up_to_date: impl Fn(&Path, &Path) -> bool,
-    mut run: impl FnMut(&Path, &Path, &mut (dyn FnMut(Event) + Send)) -> Result<T, Error>,
-    mut done: impl FnMut(&Path, &Path, T, &mut (dyn FnMut(Event) + Send), &mut Summary),
+    up_to_date: impl Fn(&Pair) -> Option<Holds>,
+    mut run: impl FnMut(&Pair, &mut (dyn FnMut(Event) + Send)) -> Result<T, Error>,
+    mut done: impl FnMut(&Pair, T, &mut (dyn FnMut(Event) + Send), &mut Summary),
     on: &mut (dyn FnMut(Event) + Send),
 ) -> Summary {
     let mut summary = Summary::default();
-    for (index, (input, output)) in pairs.iter().enumerate() {
+    for (index, pair) in pairs.iter().enumerate() {
+        let input = pair.input.as_path();
         if cancel.load(Ordering::SeqCst) {
             summary.cancelled = true;
             break;
         }
         on(Event::Started { index, input });
-        if up_to_date(input, output) {
+        if let Some(holds) = up_to_date(pair) {
             summary.skipped += 1;
-            on(Event::Skipped { input, output });
+            on(Event::Skipped {
+                input,
+                output: pair.output(holds),
+            });
             continue;
         }
         let start = std::time::Instant::now();
-        match run(input, output, on) {
-            Ok(t) => done(input, output, t, on, &mut summary),
+        match run(pair, on) {
+            Ok(t) => done(pair, t, on, &mut summary),
             Err(e) if e.is_cancelled() => {
                 summary.cancelled = true;
                 break;
@@ -231,7 +249,7 @@ fn each<T>(
                 summary.failed += 1;
                 on(Event::Failed {
                     input,
-                    output,
+                    output: &pair.output,
                     error: &error,
                     seconds: start.elapsed().as_secs_f64(),
                 });
@@ -287,13 +305,20 @@ impl<'c> Expansions<'c> {
         }
     }
 
-    /// Expands each (input, output) in turn, telling `on` what happens, once the whole plan is
+    /// Expands each input into its output in turn, telling `on` what happens, once the whole plan is
     /// checked ([`check_plan`]; its error is returned and nothing is written).
     pub fn run(
         &self,
-        pairs: &[(PathBuf, PathBuf)],
+        pairs: &[Pair],
         on: &mut (dyn FnMut(Event) + Send),
     ) -> Result<Summary, Error> {
+        // An expansion writes its output alone, never a data copy: the data names are no part
+        // of its plan.
+        let pairs: Vec<Pair> = pairs
+            .iter()
+            .map(|p| Pair::new(&p.input, &p.output))
+            .collect();
+        let pairs = &pairs[..];
         check_plan(pairs, self.overwrite, self.update)?;
         if self.threads == Some(0) {
             return Err(Error::NoThreads);
@@ -305,19 +330,21 @@ impl<'c> Expansions<'c> {
         let never = AtomicBool::new(false);
         let cancel = self.cancel.unwrap_or(&never);
         let overwrite = self.overwrite || self.update;
-        let up_to_date = |i: &Path, o: &Path| self.update && expansion_is_up_to_date(i, o);
-        let run = |input: &Path, output: &Path, _: &mut (dyn FnMut(Event) + Send)| {
-            pool.install(|| crate::expand(input, output, overwrite, self.fixnan, cancel))
+        // An expansion writes its output alone: a pair's data name is never its.
+        let up_to_date = |p: &Pair| {
+            (self.update && expansion_is_up_to_date(&p.input, &p.output)).then_some(Holds::Spectral)
         };
-        let done = |input: &Path,
-                    output: &Path,
+        let run = |p: &Pair, _: &mut (dyn FnMut(Event) + Send)| {
+            pool.install(|| crate::expand(&p.input, &p.output, overwrite, self.fixnan, cancel))
+        };
+        let done = |p: &Pair,
                     expanded: Expanded,
                     on: &mut (dyn FnMut(Event) + Send),
                     summary: &mut Summary| {
             summary.converted += 1;
             on(Event::Expanded {
-                input,
-                output,
+                input: &p.input,
+                output: &p.output,
                 expanded: &expanded,
             });
         };

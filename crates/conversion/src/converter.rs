@@ -4,8 +4,10 @@
 use crate::error::{ConversionError, Error};
 use crate::options::{settings_tag, Blocks, DataPolicy, Layout, Options, Resolved};
 use crate::pipeline::{Job, Storage};
+use crate::plan::Pair;
 use crate::provenance::{recorded, Provenance};
 use crate::report::{DataOutcome, Report, Role};
+use specconv_atomic_file::outputs::Holds;
 use specconv_colour::EmissionUnits;
 use specconv_exr::Sample;
 use specconv_ocio::Config;
@@ -162,18 +164,23 @@ impl Converter {
         cancel: &AtomicBool,
         progress: &mut (dyn FnMut(u64, u64) + Send),
     ) -> Result<Report, Error> {
-        self.run(input, output, self.options.overwrite, cancel, progress)
+        self.run(
+            &Pair::new(input, output),
+            self.options.overwrite,
+            cancel,
+            progress,
+        )
     }
 
     pub(crate) fn run(
         &self,
-        input: &Path,
-        output: &Path,
+        pair: &Pair,
         overwrite: bool,
         cancel: &AtomicBool,
         progress: &mut (dyn FnMut(u64, u64) + Send),
     ) -> Result<Report, Error> {
         let start = Instant::now();
+        let (input, output) = (pair.input.as_path(), pair.output.as_path());
         let job = Job {
             input,
             output,
@@ -201,6 +208,7 @@ impl Converter {
         };
         match report {
             Err(ConversionError::Data(data)) => {
+                let output = pair.output(Holds::Data);
                 self.data_texture((input, output), overwrite, *data, (start, cancel))
             }
             Err(e) => Err(e.into()),

@@ -32,7 +32,7 @@
 //! ```
 
 use crate::provenance::recorded;
-use specconv_atomic_file::outputs::{self as naming, Template, TemplateError};
+use specconv_atomic_file::outputs::{self as naming, Holds, Template, TemplateError};
 use specconv_atomic_file::udim::{self, UdimError};
 use specconv_atomic_file::{plan as files, Places, PlanError};
 use std::path::{Path, PathBuf};
@@ -47,11 +47,49 @@ pub enum Outputs {
     /// One output per input, in order. The output of a UDIM pattern names its tiles with the
     /// same token (`wood.<UDIM>.png` → `wood_spectral.<UDIM>.exr`), one file per tile.
     Files(Vec<PathBuf>),
-    /// Every output in this directory, which exists, as `STEM_spectral.exr`.
+    /// Every output in this directory, which exists, as `STEM_spectral.exr` (`STEM_data.exr`
+    /// for a data texture written through).
     Directory(PathBuf),
     /// Each output by a template ([`Template`]: `{dir}`, `{stem}`, `{name}`, `{ext}`, `{udim}`,
-    /// `{tile}`).
+    /// `{tile}`, `{role}`).
     Template(Template),
+}
+
+/// One input of a plan and where it goes: `output` when it is uplifted, and `data` when the
+/// naming gives a data texture written through a name of its own ([`Holds`]). Which one is
+/// written is known only once the input is read, so a plan checks both.
+#[derive(Debug, Clone, PartialEq, Eq, PartialOrd, Ord)]
+pub struct Pair {
+    /// The input texture (a UDIM tile, never a pattern).
+    pub input: PathBuf,
+    /// Its spectral (or compact) output.
+    pub output: PathBuf,
+    /// Its data copy's output, when not `output`.
+    pub data: Option<PathBuf>,
+}
+
+impl Pair {
+    /// `input` into `output`, whatever it holds.
+    pub fn new(input: impl Into<PathBuf>, output: impl Into<PathBuf>) -> Pair {
+        Pair {
+            input: input.into(),
+            output: output.into(),
+            data: None,
+        }
+    }
+
+    /// The output written when the input holds `holds`.
+    pub fn output(&self, holds: Holds) -> &Path {
+        match (holds, &self.data) {
+            (Holds::Data, Some(data)) => data,
+            _ => &self.output,
+        }
+    }
+
+    /// Every file this input may write: its output, then its data copy's when apart.
+    pub fn outputs(&self) -> impl Iterator<Item = &Path> {
+        std::iter::once(self.output.as_path()).chain(self.data.as_deref())
+    }
 }
 
 impl Outputs {
@@ -228,7 +266,7 @@ fn separating(first: &Path, second: &Path, output: &Path) -> Option<(&'static st
 /// shard of such a plan that one run converts ([`Plan::shard`]).
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Plan {
-    pairs: Vec<(PathBuf, PathBuf)>,
+    pairs: Vec<Pair>,
 }
 
 impl Plan {
@@ -256,7 +294,7 @@ impl Plan {
                 None => expanded.push((k, input.clone(), None)),
             }
         }
-        let named: Vec<PathBuf> = match outputs {
+        let named: Vec<(PathBuf, Option<PathBuf>)> = match outputs {
             Outputs::Files(files) => {
                 for (k, (input, output)) in inputs.iter().zip(files).enumerate() {
                     let tiles = expanded.iter().filter(|(j, _, _)| *j == k).count();
@@ -265,8 +303,8 @@ impl Plan {
                 expanded
                     .iter()
                     .map(|(k, _, tile)| match tile {
-                        Some(n) => udim::substitute(&files[*k], *n),
-                        None => files[*k].clone(),
+                        Some(n) => (udim::substitute(&files[*k], *n), None),
+                        None => (files[*k].clone(), None),
                     })
                     .collect()
             }
@@ -276,19 +314,35 @@ impl Plan {
                 }
                 expanded
                     .iter()
-                    .map(|(_, i, _)| naming::in_directory(dir, i))
+                    .map(|(_, i, _)| {
+                        let [spectral, data] = Holds::ALL.map(|h| naming::in_directory(dir, i, h));
+                        (spectral, Some(data))
+                    })
                     .collect()
             }
             Outputs::Template(t) => expanded
                 .iter()
-                .map(|(_, i, _)| t.apply(i))
-                .collect::<Result<_, _>>()?,
+                .map(|(_, i, _)| {
+                    let spectral = t.apply(i, Holds::Spectral)?;
+                    let data = t.apply(i, Holds::Data)?;
+                    Ok((spectral.clone(), (data != spectral).then_some(data)))
+                })
+                .collect::<Result<_, TemplateError>>()?,
         };
-        if let Some(o) = named.iter().find(|o| !is_exr(o)) {
-            return Err(Error::NotExr { output: o.clone() });
+        let pairs: Vec<Pair> = expanded
+            .into_iter()
+            .zip(named)
+            .map(|((_, input, _), (output, data))| Pair {
+                input,
+                output,
+                data,
+            })
+            .collect();
+        if let Some(o) = pairs.iter().flat_map(Pair::outputs).find(|o| !is_exr(o)) {
+            return Err(Error::NotExr {
+                output: o.to_path_buf(),
+            });
         }
-        let pairs: Vec<(PathBuf, PathBuf)> =
-            expanded.into_iter().map(|(_, i, _)| i).zip(named).collect();
         check_files(&pairs)?;
         Ok(Plan { pairs })
     }
@@ -304,10 +358,10 @@ impl Plan {
             // One shard holds it all: no input need be read to weigh it.
             return Ok(self);
         }
-        let inputs: Vec<&Path> = self.pairs.iter().map(|(i, _)| i.as_path()).collect();
+        let inputs: Vec<&Path> = self.pairs.iter().map(|p| p.input.as_path()).collect();
         let weights = weights(&inputs);
         let mine = specconv_atomic_file::shards::split(&weights, count).swap_remove(index);
-        let mut pairs: Vec<Option<(PathBuf, PathBuf)>> = self.pairs.into_iter().map(Some).collect();
+        let mut pairs: Vec<Option<Pair>> = self.pairs.into_iter().map(Some).collect();
         Ok(Plan {
             pairs: mine.into_iter().filter_map(|k| pairs[k].take()).collect(),
         })
@@ -321,12 +375,12 @@ impl Plan {
     }
 
     /// The inputs and their outputs, in order.
-    pub fn pairs(&self) -> &[(PathBuf, PathBuf)] {
+    pub fn pairs(&self) -> &[Pair] {
         &self.pairs
     }
 
     /// The inputs and their outputs, in order.
-    pub fn into_pairs(self) -> Vec<(PathBuf, PathBuf)> {
+    pub fn into_pairs(self) -> Vec<Pair> {
         self.pairs
     }
 
@@ -392,20 +446,21 @@ fn is_exr(path: &Path) -> bool {
 /// files: links, `..` and bind mounts are seen through), no two inputs share an output, every
 /// output's directory is there, and an existing output may be replaced ([`Plan::check_existing`]).
 /// Inputs that are missing or not files fail on their own when their turn comes.
-pub fn check_plan(
-    pairs: &[(PathBuf, PathBuf)],
-    overwrite: bool,
-    update: bool,
-) -> Result<(), Error> {
+pub fn check_plan(pairs: &[Pair], overwrite: bool, update: bool) -> Result<(), Error> {
     check_files(pairs)?;
     check_existing(pairs, overwrite, update)
 }
 
 /// Outputs' names, directories and kinds, then outputs that are inputs, then inputs that share
 /// an output: the checks of the whole plan.
-fn check_files(pairs: &[(PathBuf, PathBuf)]) -> Result<(), Error> {
-    let inputs: Vec<&Path> = pairs.iter().map(|(i, _)| i.as_path()).collect();
-    let outputs: Vec<&Path> = pairs.iter().map(|(_, o)| o.as_path()).collect();
+fn check_files(pairs: &[Pair]) -> Result<(), Error> {
+    let inputs: Vec<&Path> = pairs.iter().map(|p| p.input.as_path()).collect();
+    // Every file an input may write (both names of each), and whose it is.
+    let (owner, outputs): (Vec<usize>, Vec<&Path>) = pairs
+        .iter()
+        .enumerate()
+        .flat_map(|(k, p)| p.outputs().map(move |o| (k, o)))
+        .unzip();
     let mut known = Places::default();
     let places = files::output_places(&outputs, &mut known)?;
     if let Some((o, i)) = files::output_is_input(&inputs, &places, &mut known) {
@@ -416,9 +471,10 @@ fn check_files(pairs: &[(PathBuf, PathBuf)]) -> Result<(), Error> {
         .into());
     }
     if let Some((a, b)) = files::shared_output(&places) {
+        // An input's two names are one file only through links: its own choice.
         return Err(Error::SharedOutput {
-            first: inputs[a].to_path_buf(),
-            second: inputs[b].to_path_buf(),
+            first: inputs[owner[a]].to_path_buf(),
+            second: inputs[owner[b]].to_path_buf(),
             first_output: outputs[a].to_path_buf(),
             second_output: outputs[b].to_path_buf(),
         });
@@ -427,17 +483,13 @@ fn check_files(pairs: &[(PathBuf, PathBuf)]) -> Result<(), Error> {
 }
 
 /// [`Plan::check_existing`] on pairs.
-fn check_existing(
-    pairs: &[(PathBuf, PathBuf)],
-    overwrite: bool,
-    update: bool,
-) -> Result<(), Error> {
+fn check_existing(pairs: &[Pair], overwrite: bool, update: bool) -> Result<(), Error> {
     if overwrite {
         return Ok(());
     }
     let existing: Vec<&Path> = pairs
         .iter()
-        .map(|(_, o)| o.as_path())
+        .flat_map(Pair::outputs)
         .filter(|o| std::fs::symlink_metadata(o).is_ok())
         .collect();
     if !update {
@@ -481,6 +533,44 @@ mod tests {
                 p
             })
             .collect()
+    }
+
+    #[test]
+    fn a_data_copys_name_is_planned_and_checked_as_an_output() {
+        let d = scratch("data-names");
+        let inputs = files(&d, &["t.png", "u.png"]);
+        let plan = Plan::new(inputs.clone(), &Outputs::Directory(d.clone())).unwrap();
+        let t = &plan.pairs()[0];
+        assert_eq!(t.output(Holds::Spectral), d.join("t_spectral.exr"));
+        assert_eq!(t.output(Holds::Data), d.join("t_data.exr"));
+        // Without {role} a template names one file for both; with it, two.
+        let one = Plan::new(
+            inputs.clone(),
+            &Outputs::template("{dir}/{stem}.exr").unwrap(),
+        );
+        assert_eq!(one.unwrap().pairs()[0].data, None);
+        let two = Outputs::template("{dir}/{stem}.{role}.exr").unwrap();
+        let plan = Plan::new(inputs.clone(), &two).unwrap();
+        assert_eq!(plan.pairs()[1].data, Some(d.join("u.data.exr")));
+        // A data name that exists is refused as an output is, or that is another input.
+        std::fs::write(d.join("u.data.exr"), b"theirs").unwrap();
+        assert!(matches!(
+            plan.check_existing(false, false),
+            Err(Error::Files(PlanError::Exists { .. }))
+        ));
+        assert!(matches!(
+            plan.check_existing(false, true),
+            Err(Error::NotMadeBySpecconv { .. })
+        ));
+        let mut with_input = inputs.clone();
+        with_input.extend(files(&d, &["t_data.exr"]));
+        let e = Plan::new(with_input, &Outputs::Directory(d.clone())).unwrap_err();
+        assert!(e.to_string().contains("t_data.exr"), "{e}");
+        // Another input's data name: both named.
+        let clash = Outputs::template("{dir}/x{role}.exr").unwrap();
+        let e = Plan::new(inputs, &clash).unwrap_err();
+        assert!(matches!(e, Error::SharedOutput { .. }), "{e}");
+        std::fs::remove_dir_all(d).unwrap();
     }
 
     #[test]
@@ -558,8 +648,8 @@ mod tests {
         assert_eq!(
             plan.pairs(),
             [
-                (inputs[1].clone(), d.join("w_spectral.1001.exr")),
-                (inputs[2].clone(), d.join("w_spectral.1002.exr"))
+                Pair::new(&inputs[1], d.join("w_spectral.1001.exr")),
+                Pair::new(&inputs[2], d.join("w_spectral.1002.exr"))
             ]
         );
         let e = Plan::new(
@@ -594,8 +684,8 @@ mod tests {
             let shard = whole.clone().shard(i, 3).unwrap();
             shard.check_existing(false, false).unwrap();
             // This shard's outputs appear: the next shards still start.
-            for (_, o) in shard.pairs() {
-                std::fs::write(o, b"done").unwrap();
+            for p in shard.pairs() {
+                std::fs::write(&p.output, b"done").unwrap();
             }
             // (These files are no images: weightless, they all fall in the first shard.)
             assert_eq!(

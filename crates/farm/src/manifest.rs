@@ -63,11 +63,21 @@ pub enum Outputs {
 pub struct File {
     /// The input texture, an absolute path.
     pub input: PathBuf,
-    /// Where its spectral EXR goes (absolute, as [`Manifest::outputs`] says); the file is done
-    /// only when this exists.
+    /// Where its spectral EXR goes (absolute, as [`Manifest::outputs`] says).
     pub output: PathBuf,
+    /// Where it goes when it is a data texture written through, when that is another file
+    /// (`-o DIR`'s `STEM_data.exr`, a template's `{role}`); absent in older manifests.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub data: Option<PathBuf>,
     /// Pixels over all levels when planned (0 when the input could not be read then).
     pub pixels: u64,
+}
+
+impl File {
+    /// The files its conversion may write: the file is done only when one exists.
+    pub fn outputs(&self) -> impl Iterator<Item = &Path> {
+        std::iter::once(self.output.as_path()).chain(self.data.as_deref())
+    }
 }
 
 /// What each array task asks of Slurm.
@@ -152,9 +162,11 @@ impl Manifest {
             if !f.input.is_absolute() {
                 return Err(untrusted(&f.input.display(), "not an absolute path".into()));
             }
-            self.outputs
-                .check(&self.workdir, &f.input, &f.output)
-                .map_err(|why| untrusted(&f.output.display(), why))?;
+            for (output, holds) in f.outputs().zip(outputs::Holds::ALL) {
+                self.outputs
+                    .check(&self.workdir, &f.input, output, holds)
+                    .map_err(|why| untrusted(&output.display(), why))?;
+            }
         }
         for (r, round) in self.rounds.iter().enumerate() {
             let mut seen = vec![false; self.files.len()];
@@ -201,7 +213,7 @@ impl Manifest {
     }
 
     /// The (input, output) files task `task` of round `round` converts, in order.
-    pub fn task_files(&self, round: usize, task: usize) -> Result<Vec<(PathBuf, PathBuf)>, Error> {
+    pub fn task_files(&self, round: usize, task: usize) -> Result<Vec<&File>, Error> {
         let files = self
             .rounds
             .get(round)
@@ -209,17 +221,21 @@ impl Manifest {
             .ok_or(Error::NoSuchTask { round, task })?;
         files
             .iter()
-            .map(|&i| {
-                let f = self.files.get(i).ok_or(Error::NoSuchTask { round, task })?;
-                Ok((f.input.clone(), f.output.clone()))
-            })
+            .map(|&i| self.files.get(i).ok_or(Error::NoSuchTask { round, task }))
             .collect()
     }
 }
 
 impl Outputs {
-    /// Whether `output` is where these rules put `input`'s output (`Err`: why not, in words).
-    pub fn check(&self, workdir: &Path, input: &Path, output: &Path) -> Result<(), String> {
+    /// Whether `output` is where these rules put `input`'s output when it holds `holds`
+    /// (`Err`: why not, in words).
+    pub fn check(
+        &self,
+        workdir: &Path,
+        input: &Path,
+        output: &Path,
+        holds: outputs::Holds,
+    ) -> Result<(), String> {
         if !output.is_absolute() {
             return Err("not an absolute path".into());
         }
@@ -237,7 +253,7 @@ impl Outputs {
                 }
             }
             Outputs::Template(t) => {
-                let planned = outputs::from_template(t, input).map_err(|e| e.to_string())?;
+                let planned = outputs::from_template(t, input, holds).map_err(|e| e.to_string())?;
                 let want = lexical(&workdir.join(planned));
                 if lexical(output) == want {
                     Ok(())
@@ -440,6 +456,7 @@ pub(crate) fn example(
             .map(|(input, output)| File {
                 input,
                 output,
+                data: None,
                 pixels: 1,
             })
             .collect(),
@@ -457,6 +474,7 @@ pub(crate) fn example(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use outputs::Holds::{self, Spectral};
 
     #[test]
     fn words_are_quoted_for_bash() {
@@ -510,7 +528,14 @@ mod tests {
     #[test]
     fn outputs_are_confined_to_the_output_directory() {
         let dir = Outputs::Directory("/out".into());
-        let ok = |o: &str| dir.check(Path::new("/w"), Path::new("/in/a.png"), Path::new(o));
+        let ok = |o: &str| {
+            dir.check(
+                Path::new("/w"),
+                Path::new("/in/a.png"),
+                Path::new(o),
+                Spectral,
+            )
+        };
         assert!(ok("/out/a_spectral.exr").is_ok());
         for outside in [
             "/etc/passwd",
@@ -550,33 +575,58 @@ mod tests {
         let w = Path::new("/w");
         let input = Path::new("/lib/wood/a.png");
         assert!(t
-            .check(w, input, Path::new("/lib/wood/../spectral/a.exr"))
+            .check(w, input, Path::new("/lib/wood/../spectral/a.exr"), Spectral)
             .is_ok());
         assert!(t
-            .check(w, input, Path::new("/lib/wood/./../spectral//a.exr"))
+            .check(
+                w,
+                input,
+                Path::new("/lib/wood/./../spectral//a.exr"),
+                Spectral
+            )
             .is_ok());
-        assert!(t.check(w, input, Path::new("/lib/spectral/b.exr")).is_err());
-        assert!(t.check(w, input, Path::new("/etc/a.exr")).is_err());
+        assert!(t
+            .check(w, input, Path::new("/lib/spectral/b.exr"), Spectral)
+            .is_err());
+        assert!(t
+            .check(w, input, Path::new("/etc/a.exr"), Spectral)
+            .is_err());
         // Relative templates mean what they meant where submit ran.
         let r = Outputs::Template("out/{name}.exr".into());
-        assert!(r.check(w, input, Path::new("/w/out/a.png.exr")).is_ok());
         assert!(r
-            .check(w, input, Path::new("/elsewhere/out/a.png.exr"))
+            .check(w, input, Path::new("/w/out/a.png.exr"), Spectral)
+            .is_ok());
+        assert!(r
+            .check(w, input, Path::new("/elsewhere/out/a.png.exr"), Spectral)
             .is_err());
         // UDIM tiles: the command line's names, by the same rule.
         let u = Outputs::Template("{dir}/{stem}_spectral.{udim}.exr".into());
         let tile = Path::new("/lib/wood.1012.png");
         assert!(u
-            .check(w, tile, Path::new("/lib/wood_spectral.1012.exr"))
+            .check(w, tile, Path::new("/lib/wood_spectral.1012.exr"), Spectral)
             .is_ok());
-        let e = u.check(w, input, Path::new("/lib/wood/a.exr")).unwrap_err();
+        let e = u
+            .check(w, input, Path::new("/lib/wood/a.exr"), Spectral)
+            .unwrap_err();
         assert!(e.contains("no tile number"), "{e}");
         // A manifest edited to a template with an unknown field is refused, not followed.
         let typo = Outputs::Template("{dir}/{stme}.exr".into());
         let e = typo
-            .check(w, input, Path::new("/lib/wood/a.exr"))
+            .check(w, input, Path::new("/lib/wood/a.exr"), Spectral)
             .unwrap_err();
         assert!(e.contains("unknown field {stme}"), "{e}");
+        // A data copy's name, by the template's {role}, and a manifest edited to point it away.
+        let roles = Outputs::Template("{dir}/{stem}_{role}.exr".into());
+        let data = Path::new("/lib/wood/a_data.exr");
+        assert!(roles.check(w, input, data, Holds::Data).is_ok());
+        assert!(roles.check(w, input, data, Spectral).is_err());
+        let jobs = std::env::temp_dir().join(format!("farm-role-{}", std::process::id()));
+        let mut m = manifest(roles, vec![("/lib/wood/a.png", "/lib/wood/a_spectral.exr")]);
+        m.files[0].data = Some(data.into());
+        assert!(m.check(&jobs).is_ok());
+        m.files[0].data = Some("/victim/a_data.exr".into());
+        let e = m.check(&jobs).unwrap_err().to_string();
+        assert!(e.contains("/victim/a_data.exr"), "{e}");
     }
 
     #[test]

@@ -2,7 +2,7 @@
 //! code, per file done / failed / pending. Reading it changes nothing.
 
 use crate::log::{Outcome, TaskLog};
-use crate::manifest::{round_dir, task_log, Manifest};
+use crate::manifest::{round_dir, task_log, File, Manifest};
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 
@@ -95,10 +95,11 @@ pub struct Status {
 
 /// A file's state from its task's record of it (`outcome`, none when the log has none), its
 /// output, and its task's state.
-fn file_state(outcome: Option<&Outcome>, output: &Path, task: &TaskStatus) -> FileState {
+fn file_state(outcome: Option<&Outcome>, file: &File, task: &TaskStatus) -> FileState {
     let (r, t) = (task.round, task.task);
     match outcome {
-        Some(Outcome::Done) if output.exists() => FileState::Done,
+        // A data texture written through is at its data name.
+        Some(Outcome::Done) if file.outputs().any(Path::exists) => FileState::Done,
         Some(Outcome::Done) => FileState::Pending {
             why: "its output has gone missing".into(),
             waiting: false,
@@ -165,7 +166,7 @@ impl Status {
                 output: f.output.clone(),
                 round: r,
                 task: t,
-                state: file_state(record.map(|r| &r.outcome), &f.output, task),
+                state: file_state(record.map(|r| &r.outcome), f, task),
                 pixels: record.map_or(0, |r| r.pixels),
                 seconds: record.map_or(0.0, |r| r.seconds),
             });

@@ -88,7 +88,7 @@ pub fn run(args: Args) -> Result<i32> {
         verbose: false,
     };
     let cancel = Arc::new(AtomicBool::new(false));
-    let inputs: Vec<PathBuf> = pairs.iter().map(|(i, _)| i.clone()).collect();
+    let inputs: Vec<PathBuf> = pairs.iter().map(|p| p.input.clone()).collect();
     let mut progress = Progress::new(args.progress, args.quiet, &inputs);
     let mut summary = Summary {
         done: Some("expanded"),

@@ -5,7 +5,7 @@
 use crate::cmd::convert;
 use crate::{checks, exit, usage};
 use anyhow::{anyhow, bail, Context, Result};
-use specconv_conversion::plan::weights;
+use specconv_conversion::plan::{weights, Pair};
 use specconv_conversion::{Key, Options};
 use specconv_farm::manifest::Outputs;
 use specconv_farm::{slurm, FileState, Manifest, Request, Status};
@@ -191,7 +191,13 @@ fn task_options(m: &Manifest, job_dir: &Path) -> Result<Options> {
 fn task(t: &Task) -> Result<i32> {
     let job_dir = absolute(&t.job_dir)?;
     let m = Manifest::load(&job_dir).map_err(farm_error)?;
-    let pairs = m.task_files(t.round, t.task).map_err(farm_error)?;
+    let pairs: Vec<Pair> = (m.task_files(t.round, t.task).map_err(farm_error)?)
+        .into_iter()
+        .map(|f| Pair {
+            data: f.data.clone(),
+            ..Pair::new(&f.input, &f.output)
+        })
+        .collect();
     let options = task_options(&m, &job_dir).map_err(usage)?;
     convert::run_task(options, &pairs)
 }
@@ -321,10 +327,18 @@ fn absolute(p: &Path) -> Result<PathBuf> {
 }
 
 /// The manifest's files: absolute paths (tasks may start elsewhere) and pixel counts.
-fn listed_files(pairs: &[(PathBuf, PathBuf)]) -> Result<Vec<specconv_farm::manifest::File>> {
-    let inputs: Vec<&Path> = pairs.iter().map(|(i, _)| i.as_path()).collect();
+fn listed_files(pairs: &[Pair]) -> Result<Vec<specconv_farm::manifest::File>> {
+    let inputs: Vec<&Path> = pairs.iter().map(|p| p.input.as_path()).collect();
     let mut files = Vec::new();
-    for ((i, o), pixels) in pairs.iter().zip(weights(&inputs)) {
+    for (
+        Pair {
+            input: i,
+            output: o,
+            data,
+        },
+        pixels,
+    ) in pairs.iter().zip(weights(&inputs))
+    {
         if i.to_string_lossy().contains('\n') {
             bail!(
                 "{:?}: input paths with a newline cannot be listed for a task; rename it",
@@ -334,6 +348,7 @@ fn listed_files(pairs: &[(PathBuf, PathBuf)]) -> Result<Vec<specconv_farm::manif
         files.push(specconv_farm::manifest::File {
             input: absolute(i)?,
             output: absolute(o)?,
+            data: data.as_deref().map(absolute).transpose()?,
             pixels,
         });
     }

@@ -10,6 +10,7 @@ use crate::progress::{Progress, Summary};
 use crate::stdio::StdoutFailed;
 use crate::{exit, explain, print_error, records, signals, usage};
 use anyhow::Result;
+use specconv_conversion::plan::Pair;
 use specconv_conversion::{Advice, Batch, Converter, Event, Key, Options};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -47,15 +48,17 @@ pub struct Args {
     /// one pattern, name the output with the token too (`wood_spectral.<UDIM>.exr`).
     #[arg(value_name = "INPUT… [OUTPUT]", required = true)]
     paths: Vec<PathBuf>,
-    /// Write every output into this directory, as STEM_spectral.exr.
+    /// Write every output into this directory, as STEM_spectral.exr (a data texture written
+    /// through by --data copy as STEM_data.exr).
     #[arg(short, long, value_name = "DIR", conflicts_with = "output_template")]
     output: Option<PathBuf>,
     /// Output path for each input; {dir}, {stem}, {name} and {ext} are the input's directory,
-    /// name without extension, file name and extension, {udim} its UDIM tile number (1001…)
-    /// and {tile} the same tile as u1_v1 ('{dir}/{stem}_{ext}_spectral.exr' keeps brick.png
-    /// and brick.tx apart). With {udim} or {tile}, {stem} leaves the tile number out:
-    /// '{dir}/{stem}_spectral.{udim}.exr' makes wood_spectral.1001.exr of wood.1001.png. Any
-    /// other {field} is refused before anything is written.
+    /// name without extension, file name and extension, {udim} its UDIM tile number (1001…),
+    /// {tile} the same tile as u1_v1 ('{dir}/{stem}_{ext}_spectral.exr' keeps brick.png
+    /// and brick.tx apart) and {role} 'spectral', or 'data' for a data texture written through
+    /// (without {role} both are one name). With {udim} or {tile}, {stem} leaves the tile
+    /// number out: '{dir}/{stem}_spectral.{udim}.exr' makes wood_spectral.1001.exr of
+    /// wood.1001.png. Any other {field} is refused before anything is written.
     #[arg(long, value_name = "TEMPLATE")]
     output_template: Option<String>,
     /// The global --ocio (see `specconv --help`).
@@ -116,7 +119,7 @@ pub fn run(args: Args) -> Result<i32> {
 
 /// A farm task's batch ([`crate::cmd::farm`]): `pairs` with `options`, reported as `convert
 /// --json -u --progress never` reports.
-pub(crate) fn run_task(options: Options, pairs: &[(PathBuf, PathBuf)]) -> Result<i32> {
+pub(crate) fn run_task(options: Options, pairs: &[Pair]) -> Result<i32> {
     let reporting = Reporting {
         json: true,
         update: true,
@@ -143,7 +146,7 @@ pub(crate) struct Reporting {
 }
 
 /// Converts `pairs` with `options`, reported as `args` asks.
-fn run_pairs(args: &Reporting, options: Options, pairs: &[(PathBuf, PathBuf)]) -> Result<i32> {
+fn run_pairs(args: &Reporting, options: Options, pairs: &[Pair]) -> Result<i32> {
     let converter = Converter::new(options).map_err(|e| usage(anyhow::anyhow!(explain(&e))))?;
     if !args.quiet {
         for note in converter.config_notes() {
@@ -190,9 +193,9 @@ impl Args {
 /// Converts every input in turn, printing as it goes; returns the exit status. SIGINT and
 /// SIGTERM stop the input being converted (its temporary file removed) and the batch; so does
 /// a failed write to standard output, after the record of an input that is done.
-fn run_batch(args: &Reporting, converter: &Converter, pairs: &[(PathBuf, PathBuf)]) -> Result<i32> {
+fn run_batch(args: &Reporting, converter: &Converter, pairs: &[Pair]) -> Result<i32> {
     let cancel = Arc::new(AtomicBool::new(false));
-    let inputs: Vec<PathBuf> = pairs.iter().map(|(i, _)| i.clone()).collect();
+    let inputs: Vec<PathBuf> = pairs.iter().map(|p| p.input.clone()).collect();
     let mut progress = Progress::new(args.progress, args.quiet, &inputs);
     let mut summary = Summary::default();
     let mut stdout: Option<StdoutFailed> = None;

@@ -4,7 +4,7 @@
 
 use super::Args;
 use anyhow::{bail, Context, Result};
-use specconv_conversion::plan::{self, Outputs, Plan};
+use specconv_conversion::plan::{self, Outputs, Pair, Plan};
 use std::path::PathBuf;
 
 /// The whole plan of the command line's inputs and outputs: the positional paths (`-` reads
@@ -64,7 +64,7 @@ pub(crate) fn of_paths(
 /// The pairs this run converts: the whole plan, or `--shard`'s part of it, once no output of
 /// theirs exists that may not be replaced (`--force`, `-u`). Outputs of other shards are never
 /// looked at, so shards run side by side in any order.
-pub(crate) fn this_run(args: &Args) -> Result<Vec<(PathBuf, PathBuf)>> {
+pub(crate) fn this_run(args: &Args) -> Result<Vec<Pair>> {
     let mut plan = whole(args)?;
     if let Some(shard) = args.shard {
         let index = crate::shard::index(shard)?;
