@@ -105,6 +105,64 @@ fn a_batch_whose_input_is_another_inputs_output_writes_nothing() {
     no_temporaries(&s.0);
 }
 
+/// Issue 45, item 1's class: `convert` never writes over a file it reads besides its inputs:
+/// the model (`--model`, the site default `$SPECCONV_MODEL`) and the OCIO config (`--ocio`,
+/// `$OCIO`), whatever the spelling, with or without `--force` and `-u`, alone or in a batch.
+#[test]
+fn convert_never_writes_over_its_model_or_config() {
+    let s = Scratch::new("safety-model-config");
+    let x = texture(&s, "x.png");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let model = s.path("m.exr");
+    std::fs::copy(root.join("crates/spectral/models/open.json"), &model).unwrap();
+    let config = s.path("c.exr");
+    let aces = root.join("../shared/ocio/cg-config-v1.0.0_aces-v1.3_ocio-v2.1.ocio");
+    std::fs::copy(&aces, &config).unwrap();
+    std::fs::create_dir_all(s.path("sub")).unwrap();
+    let before = snapshot(&[&model, &config]);
+    let mut cases = 0;
+    for (target, how) in [("m.exr", "model"), ("c.exr", "config")] {
+        for spelling in [target.to_string(), format!("./sub/../{target}")] {
+            for extra in [&[][..], &["--force"][..], &["-u"][..]] {
+                let mut cmd = Cmd::new(["convert"]).current_dir(&s.0);
+                cmd = match how {
+                    "model" => cmd.args(["--model", "m.exr"]),
+                    _ => cmd.args(["--ocio", "c.exr"]),
+                };
+                // An output named, then one made by a template (the batch's plan).
+                for named in [true, false] {
+                    let c = cmd.clone().args(extra).arg("x.png");
+                    let c = if named {
+                        c.arg(&spelling)
+                    } else {
+                        c.args(["--output-template", &spelling])
+                    };
+                    c.run().fails(2, &[target]);
+                    cases += 1;
+                }
+            }
+        }
+    }
+    // The site default model and $OCIO, as files, likewise.
+    for (key, value) in [("SPECCONV_MODEL", "m.exr"), ("OCIO", "c.exr")] {
+        let out = Cmd::convert(&x, value)
+            .arg("--force")
+            .env(key, value)
+            .current_dir(&s.0)
+            .run();
+        out.fails(2, &[value]);
+        cases += 1;
+    }
+    assert_eq!(cases, 26);
+    assert_eq!(snapshot(&[&model, &config]), before);
+    // The same files, read and not written over, convert.
+    Cmd::convert(&x, s.path("ok.exr"))
+        .args(["--model", "m.exr", "--ocio", "c.exr"])
+        .current_dir(&s.0)
+        .ok();
+    no_temporaries(&s.0);
+}
+
 #[test]
 fn to_rgb_and_simulate_never_write_over_what_they_read() {
     let s = Scratch::new("safety-readers");

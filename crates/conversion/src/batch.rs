@@ -149,6 +149,7 @@ impl<'c> Batch<'c> {
     pub fn check(&self, pairs: &[Pair]) -> Result<(), Error> {
         Ok(check_plan(
             pairs,
+            &self.converter.files_read(),
             self.converter.options().overwrite,
             self.update,
         )?)
@@ -319,7 +320,7 @@ impl<'c> Expansions<'c> {
             .map(|p| Pair::new(&p.input, &p.output))
             .collect();
         let pairs = &pairs[..];
-        check_plan(pairs, self.overwrite, self.update)?;
+        check_plan(pairs, &[], self.overwrite, self.update)?;
         if self.threads == Some(0) {
             return Err(Error::NoThreads);
         }

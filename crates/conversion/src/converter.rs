@@ -18,7 +18,7 @@ use specconv_spectral::Model;
 /// The most worker threads a converter starts: far more than any machine's cores, so a typo
 /// (`-j 100000`) is refused instead of starting a hundred thousand threads.
 pub const MAX_THREADS: usize = 1024;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
@@ -149,6 +149,22 @@ impl Converter {
         })
     }
 
+    /// The files a conversion reads besides its inputs: the model file ([`crate::models::file_read`],
+    /// the site default's too) and the OCIO config file (`--ocio FILE`, `$OCIO`). A batch counts
+    /// them among its inputs, so no output, even with `overwrite`, replaces one.
+    pub fn files_read(&self) -> Vec<PathBuf> {
+        let config = match self.config.source() {
+            specconv_ocio::ConfigSource::File(p) | specconv_ocio::ConfigSource::Env(p) => {
+                Some(p.clone())
+            }
+            _ => None,
+        };
+        crate::models::file_read(self.options.model.as_deref())
+            .into_iter()
+            .chain(config)
+            .collect()
+    }
+
     /// Converts `input` to `output`.
     pub fn convert(&self, input: &Path, output: &Path) -> Result<Report, Error> {
         self.convert_with(input, output, &AtomicBool::new(false), &mut |_, _| {})
@@ -164,12 +180,9 @@ impl Converter {
         cancel: &AtomicBool,
         progress: &mut (dyn FnMut(u64, u64) + Send),
     ) -> Result<Report, Error> {
-        self.run(
-            &Pair::new(input, output),
-            self.options.overwrite,
-            cancel,
-            progress,
-        )
+        let pair = Pair::new(input, output);
+        crate::plan::check_files(std::slice::from_ref(&pair), &self.files_read())?;
+        self.run(&pair, self.options.overwrite, cancel, progress)
     }
 
     pub(crate) fn run(

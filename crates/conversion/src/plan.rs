@@ -343,7 +343,7 @@ impl Plan {
                 output: o.to_path_buf(),
             });
         }
-        check_files(&pairs)?;
+        check_files(&pairs, &[])?;
         Ok(Plan { pairs })
     }
 
@@ -442,19 +442,29 @@ fn is_exr(path: &Path) -> bool {
     specconv_atomic_file::has_extension(path, SPECTRAL_EXTENSIONS)
 }
 
-/// The rules of a batch's plan, checked before anything is written: no output is any input (as
-/// files: links, `..` and bind mounts are seen through), no two inputs share an output, every
+/// The rules of a batch's plan, checked before anything is written: no output is any input or
+/// file in `read` (as files: links, `..` and bind mounts are seen through), no two inputs share an output, every
 /// output's directory is there, and an existing output may be replaced ([`Plan::check_existing`]).
 /// Inputs that are missing or not files fail on their own when their turn comes.
-pub fn check_plan(pairs: &[Pair], overwrite: bool, update: bool) -> Result<(), Error> {
-    check_files(pairs)?;
+pub fn check_plan(
+    pairs: &[Pair],
+    read: &[PathBuf],
+    overwrite: bool,
+    update: bool,
+) -> Result<(), Error> {
+    check_files(pairs, read)?;
     check_existing(pairs, overwrite, update)
 }
 
-/// Outputs' names, directories and kinds, then outputs that are inputs, then inputs that share
-/// an output: the checks of the whole plan.
-fn check_files(pairs: &[Pair]) -> Result<(), Error> {
-    let inputs: Vec<&Path> = pairs.iter().map(|p| p.input.as_path()).collect();
+/// Outputs' names, directories and kinds, then outputs that are inputs (or other files the
+/// command reads, `read`: a model, a config), then inputs that share an output: the checks of
+/// the whole plan.
+pub(crate) fn check_files(pairs: &[Pair], read: &[PathBuf]) -> Result<(), Error> {
+    let inputs: Vec<&Path> = pairs
+        .iter()
+        .map(|p| p.input.as_path())
+        .chain(read.iter().map(PathBuf::as_path))
+        .collect();
     // Every file an input may write (both names of each), and whose it is.
     let (owner, outputs): (Vec<usize>, Vec<&Path>) = pairs
         .iter()
