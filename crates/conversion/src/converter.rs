@@ -20,6 +20,7 @@ use std::path::Path;
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
+pub use crate::pipeline::in_memory::{Image as InMemory, Samples};
 pub use crate::pipeline::input::Selection;
 pub use crate::pipeline::{Rule, Warning};
 
@@ -163,6 +164,51 @@ impl Converter {
         progress: &mut (dyn FnMut(u64, u64) + Send),
     ) -> Result<Report, Error> {
         self.run(input, output, self.options.overwrite, cancel, progress)
+    }
+
+    /// The compact texels of pixels a renderer's reader decoded (six values a pixel, into
+    /// `out`), made in memory as a conversion with these options makes them
+    /// ([`crate::pipeline::in_memory`]); with the colour space chosen and the projection's
+    /// counts. The options must ask for the compact layout. Where the reader moved the file's
+    /// chromaticities to Rec.709 (`moved`: Mitsuba's `Bitmap` does), their white is read
+    /// from the file's header.
+    pub fn compact_texels(
+        &self,
+        image: &InMemory,
+        moved: bool,
+        out: &mut [f32],
+    ) -> Result<TexelsMade, Error> {
+        let Some(compact) = &self.storage.compact else {
+            return Err(ConversionError::InMemory(
+                "texels in memory are compact texels: ask for layout 'compact'".into(),
+            )
+            .into());
+        };
+        let mut image = *image;
+        if moved {
+            let white = specconv_exr::chromaticities_white(image.decoded.path)
+                .map_err(ConversionError::Output)?;
+            image.decoded.moved_white = white.map(|w| w.map(f64::from));
+        }
+        let mut run = || {
+            crate::pipeline::in_memory::compact_texels(
+                &self.config,
+                &image,
+                &self.options,
+                compact,
+                out,
+            )
+        };
+        let made = match &self.pool {
+            Some(pool) => pool.install(run),
+            None => run(),
+        }?;
+        Ok(TexelsMade {
+            text: compact.to_text(),
+            colorspace: made.space.name,
+            rule: made.space.rule,
+            bounded: made.bounded,
+        })
     }
 
     pub(crate) fn run(
@@ -539,4 +585,18 @@ mod tests {
             ["Color space 'ACEScg' has a transform that cannot be inverted."]
         );
     }
+}
+
+/// What [`Converter::compact_texels`] made besides the texels.
+#[derive(Debug)]
+#[non_exhaustive]
+pub struct TexelsMade {
+    /// The text that decodes them (docs/compact.md).
+    pub text: String,
+    /// The colour space the pixels were read in.
+    pub colorspace: String,
+    /// The rule that chose it.
+    pub rule: Rule,
+    /// The bounded projection's outcomes.
+    pub bounded: specconv_spectral::bounded::Counts,
 }
