@@ -168,8 +168,7 @@ impl Converter {
 
     /// The compact texels of pixels a renderer's reader decoded (six values a pixel, into
     /// `out`), made in memory as a conversion with these options makes them
-    /// ([`crate::pipeline::in_memory`]); with the colour space chosen and the projection's
-    /// counts. The options must ask for the compact layout. Where the reader moved the file's
+    /// ([`crate::pipeline::in_memory`]); with the colour space chosen. The options must ask for the compact layout. Where the reader moved the file's
     /// chromaticities to Rec.709 (`moved`: Mitsuba's `Bitmap` does), their white is read
     /// from the file's header.
     pub fn compact_texels(
@@ -207,7 +206,6 @@ impl Converter {
             text: compact.to_text(),
             colorspace: made.space.name,
             rule: made.space.rule,
-            bounded: made.bounded,
         })
     }
 
@@ -597,6 +595,4 @@ pub struct TexelsMade {
     pub colorspace: String,
     /// The rule that chose it.
     pub rule: Rule,
-    /// The bounded projection's outcomes.
-    pub bounded: specconv_spectral::bounded::Counts,
 }

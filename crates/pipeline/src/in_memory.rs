@@ -3,14 +3,14 @@
 //! kept the evidence ([`colour::decoded_space`]), its alpha rule (straight colour multiplied
 //! by alpha once converted, as OpenEXR stores colour) and its rule on NaN and infinities, then
 //! the compact layout's encoder ([`Compact::encode_f32`], the one `convert --layout compact`
-//! calls), in parallel pieces.
+//! calls), in parallel pieces; integer pixels once per distinct pixel.
 
 use crate::choices::{Alpha, NonFinite};
 use crate::colour::{self, Decoded, InputSpace};
 use crate::{Error, Options, Result};
 use rayon::prelude::*;
-use specconv_spectral::bounded::Counts;
 use specconv_spectral::compact::{Compact, TEXEL};
+use std::collections::HashMap;
 
 /// Pixels per parallel piece: large enough that a piece outweighs its scheduling.
 const PIECE: usize = 4096;
@@ -33,6 +33,22 @@ impl Samples<'_> {
             Samples::U8(s) => s.len(),
             Samples::U16(s) => s.len(),
             Samples::F32(s) => s.len(),
+        }
+    }
+
+    /// Pixel `p`'s samples of `channels` packed in one number (integer samples only: up to
+    /// four of 16 bits).
+    #[inline]
+    fn key(&self, p: usize, channels: usize) -> u64 {
+        let at = p * channels;
+        match self {
+            Samples::U8(s) => s[at..at + channels]
+                .iter()
+                .fold(0, |k, &v| (k << 16) | u64::from(v)),
+            Samples::U16(s) => s[at..at + channels]
+                .iter()
+                .fold(0, |k, &v| (k << 16) | u64::from(v)),
+            Samples::F32(_) => unreachable!("float samples are not keyed"),
         }
     }
 
@@ -65,8 +81,6 @@ pub struct Image<'a> {
 pub struct Made {
     /// The colour space the pixels were read in, and the rule that chose it.
     pub space: InputSpace,
-    /// The bounded projection's outcomes.
-    pub bounded: Counts,
 }
 
 /// Makes the compact texels of `image` (six values a pixel, row-major) into `out`, with
@@ -116,42 +130,133 @@ pub fn compact_texels(
             Alpha::Straight => true,
             Alpha::Premultiplied => false,
         };
-    let piece = |(i, texels): (usize, &mut [f32])| -> Result<Counts> {
-        let first = i * PIECE;
-        let count = texels.len() / TEXEL;
-        let mut xyz = Vec::with_capacity(count * 3);
-        let mut a = Vec::with_capacity(if premultiply { count } else { 0 });
-        let black = |v: f32| match policy {
-            NonFinite::Black if !v.is_finite() => 0.0,
-            _ => v,
-        };
-        for p in first..first + count {
-            let at = p * c;
-            let rgb = match c {
-                1 | 2 => [black(image.samples.get(at)); 3],
-                _ => [0, 1, 2].map(|k| black(image.samples.get(at + k))),
-            };
-            xyz.extend_from_slice(&rgb);
-            if let (true, Some(k)) = (premultiply, alpha) {
-                a.push(black(image.samples.get(at + k)));
-            }
-        }
-        space.to_xyz.apply_rgb(&mut xyz)?;
-        for (v, alpha) in xyz.chunks_exact_mut(3).zip(&a) {
-            v.iter_mut().for_each(|v| *v *= alpha);
-        }
-        Ok(compact.encode_f32(&xyz, texels))
+    let making = Making {
+        image,
+        space: &space,
+        compact,
+        black: policy == NonFinite::Black,
+        premultiply: alpha.filter(|_| premultiply),
     };
-    let counts: Vec<Counts> = out
-        .par_chunks_mut(PIECE * TEXEL)
-        .enumerate()
-        .map(piece)
-        .collect::<Result<_>>()?;
-    let mut bounded = Counts::default();
-    for c in counts {
-        bounded += c;
+    match distinct(image) {
+        // Each distinct pixel made once, then copied to every pixel that has it.
+        Some((firsts, index)) => {
+            let mut made = vec![0.0f32; firsts.len() * TEXEL];
+            making.make(&|j| firsts[j], &mut made)?;
+            out.par_chunks_mut(PIECE * TEXEL)
+                .enumerate()
+                .for_each(|(i, texels)| {
+                    for (k, t) in texels.chunks_exact_mut(TEXEL).enumerate() {
+                        let j = index[&image.samples.key(i * PIECE + k, c)] as usize;
+                        t.copy_from_slice(&made[j * TEXEL..(j + 1) * TEXEL]);
+                    }
+                });
+        }
+        None => making.make(&|p| p, out)?,
     }
-    Ok(Made { space, bounded })
+    Ok(Made { space })
+}
+
+/// What makes texels of an image's pixels.
+struct Making<'a> {
+    image: &'a Image<'a>,
+    space: &'a InputSpace,
+    compact: &'a Compact,
+    /// NaN and infinities become 0.
+    black: bool,
+    /// The alpha channel, where the colour is multiplied by it once converted.
+    premultiply: Option<usize>,
+}
+
+impl Making<'_> {
+    /// The texels of the pixels `pixel(j)` into `out` (texel j at `out[6j..]`), in parallel
+    /// pieces: each piece's colours converted to XYZ, multiplied by alpha where straight, and
+    /// encoded.
+    fn make(&self, pixel: &(dyn Fn(usize) -> usize + Sync), out: &mut [f32]) -> Result<()> {
+        let (image, c) = (self.image, self.image.channels);
+        let sample = |at: usize| match image.samples.get(at) {
+            v if self.black && !v.is_finite() => 0.0,
+            v => v,
+        };
+        out.par_chunks_mut(PIECE * TEXEL)
+            .enumerate()
+            .try_for_each(|(i, texels)| {
+                let count = texels.len() / TEXEL;
+                let mut xyz = Vec::with_capacity(count * 3);
+                let mut a = Vec::with_capacity(count);
+                for j in i * PIECE..i * PIECE + count {
+                    let at = pixel(j) * c;
+                    xyz.extend_from_slice(&match c {
+                        1 | 2 => [sample(at); 3],
+                        _ => [sample(at), sample(at + 1), sample(at + 2)],
+                    });
+                    if let Some(k) = self.premultiply {
+                        a.push(sample(at + k));
+                    }
+                }
+                self.space.to_xyz.apply_rgb(&mut xyz)?;
+                for (v, alpha) in xyz.chunks_exact_mut(3).zip(&a) {
+                    v.iter_mut().for_each(|v| *v *= alpha);
+                }
+                self.compact.encode_f32(&xyz, texels);
+                Ok(())
+            })
+    }
+}
+
+/// At most this share of an image's pixels distinct, its texels are made once per distinct
+/// pixel (a 2048² photograph: 352,000 of 4.2 million): a texel is a function of its pixel's
+/// samples alone. Beyond it (noise), the map is dropped and every pixel made.
+const DISTINCT_SHARE: usize = 4;
+
+/// The distinct pixels of an image of integer samples (the first pixel of each) and each
+/// one's number by its samples ([`Samples::key`]); `None` for float samples, or more than
+/// [`DISTINCT_SHARE`] of the pixels distinct.
+fn distinct(image: &Image) -> Option<(Vec<usize>, HashMap<u64, u32, KeyHash>)> {
+    if matches!(image.samples, Samples::F32(_)) {
+        return None;
+    }
+    let pixels = image.samples.len() / image.channels;
+    let most = pixels / DISTINCT_SHARE;
+    let mut index = HashMap::with_hasher(KeyHash::default());
+    let mut firsts = Vec::new();
+    for p in 0..pixels {
+        let key = image.samples.key(p, image.channels);
+        if let std::collections::hash_map::Entry::Vacant(e) = index.entry(key) {
+            if firsts.len() >= most {
+                return None;
+            }
+            e.insert(firsts.len() as u32);
+            firsts.push(p);
+        }
+    }
+    Some((firsts, index))
+}
+
+/// Hashes a pixel's key: one multiply (Fibonacci hashing) of keys that are already
+/// well spread in their low bits; std's SipHash guards against keys chosen to collide, which
+/// costs 3× here and buys nothing (a hostile image only slows its own load).
+type KeyHash = std::hash::BuildHasherDefault<KeyHasher>;
+
+/// [`KeyHash`]'s hasher.
+#[derive(Default)]
+struct KeyHasher(u64);
+
+impl std::hash::Hasher for KeyHasher {
+    fn finish(&self) -> u64 {
+        self.0
+    }
+
+    fn write(&mut self, bytes: &[u8]) {
+        for b in bytes {
+            self.write_u64(u64::from(*b));
+        }
+    }
+
+    fn write_u64(&mut self, v: u64) {
+        self.0 = (self.0 ^ v)
+            .wrapping_mul(0x9e37_79b9_7f4a_7c15)
+            .rotate_left(26);
+    }
 }
 
 /// [`Error::NonFinite`] where a sample (colour or alpha) is NaN or infinite: the rule a
