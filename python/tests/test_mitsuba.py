@@ -456,7 +456,13 @@ def _sources(tmp_path):
     rgb16 = rng.integers(0, 65536, (8, 13, 3), dtype=np.uint16)
     linear = rng.normal(0.4, 0.5, (7, 9, 3)).astype(np.float32)  # out of gamut, negative
     linear[0, :3] = [[0, 0, 0], [30.0, 20.0, 10.0], [1e-7, 2e-7, 0.0]]  # black, HDR, tiny
+    # Few distinct pixels (made once each, then copied): with straight alpha, and 16-bit.
+    palette = rng.integers(0, 256, (10, 4), dtype=np.uint8)
+    palette16 = rng.integers(0, 65536, (7, 3), dtype=np.uint16)
+    few = rng.integers(0, 10, (32, 24))
     return {
+        "few_rgba8.png": (_write(tmp_path / "few_rgba8.png", palette[few], "uint8"), None),
+        "few_rgb16.png": (_write(tmp_path / "few_rgb16.png", palette16[few % 7], "uint16"), None),
         # Scaled as OpenImageIO scales 8-bit values: × (1/255) in float32.
         "rgb8.png": (
             _write(tmp_path / "rgb8.png", rgb8, "uint8"),
@@ -470,9 +476,10 @@ def _sources(tmp_path):
 
 
 def test_texels_made_in_memory_are_what_convert_stores(scalar, tmp_path):
-    """8- and 16-bit PNG (with straight alpha too), float and half OpenEXR with colours out
-    of gamut, HDR and black: the texels equal `convert --layout compact`'s, bit for bit, and
-    the library's `encode` of the colour (OpenColorIO's sRGB texture to XYZ)."""
+    """8- and 16-bit PNG (with straight alpha too; of many distinct pixels, made one by one,
+    and of few, made once each), float and half OpenEXR with colours out of gamut, HDR and
+    black: the texels equal `convert --layout compact`'s, bit for bit, and the library's
+    `encode` of the colour (OpenColorIO's sRGB texture to XYZ)."""
     for name, (path, rgb) in _sources(tmp_path).items():
         text, texels = specconv.mitsuba.compact_texels(path)
         want_text, want = _converted(path, tmp_path / f"{name}.compact.exr")
