@@ -476,10 +476,10 @@ def compact_texels(
     """The decoding text and level-0 texels [h, w, 6] of an image Mitsuba reads, made in
     memory by the library (no file written): ``bitmap``'s reader decodes it, and the library
     makes the texels of its pixels in parallel with the GIL released, as a conversion with
-    these options makes them (``specconv.compact_texels``): the colour as the reader declares
-    it (sRGB-encoded or linear Rec.709, an OpenEXR's chromaticities adapted to D65) unless
-    ``colorspace`` names it, straight alpha multiplied once converted, one channel refused as
-    data, NaN refused."""
+    these options makes them (``specconv._specconv.compact_texels``): the colour as the
+    reader declares it (sRGB-encoded or linear Rec.709, an OpenEXR's chromaticities adapted
+    to D65) unless ``colorspace`` names it, straight alpha multiplied once converted, one
+    channel refused as data, NaN refused."""
     check_readable(path)  # a FIFO would hold Mitsuba's reader for ever
     bitmap = mi.Bitmap(path)
     fmt = bitmap.pixel_format()

@@ -508,7 +508,8 @@ def test_texels_of_an_acescg_exr_are_converts(scalar, tmp_path):
     np.testing.assert_allclose(texels[..., :3], want[..., :3], rtol=2e-6, atol=1e-7)
     np.testing.assert_allclose(texels[..., 3:], want[..., 3:], atol=1e-5)
     # Read as the linear Rec.709 Mitsuba hands over, unadapted, the colour would be ≥ 1 % off.
-    unadapted = specconv.rgb_to_xyz(np.array(mi.Bitmap(path), dtype=np.float32), "Linear Rec.709 (sRGB)")
+    moved = np.array(mi.Bitmap(path), dtype=np.float32)
+    unadapted = specconv.rgb_to_xyz(moved, "Linear Rec.709 (sRGB)")
     assert np.abs(unadapted - want[..., :3]).max() > 0.01
 
 
