@@ -456,8 +456,10 @@ def _sources(tmp_path):
     rgb16 = rng.integers(0, 65536, (8, 13, 3), dtype=np.uint16)
     linear = rng.normal(0.4, 0.5, (7, 9, 3)).astype(np.float32)  # out of gamut, negative
     linear[0, :3] = [[0, 0, 0], [30.0, 20.0, 10.0], [1e-7, 2e-7, 0.0]]  # black, HDR, tiny
+    rgba = np.concatenate([linear, rng.random((7, 9, 1), dtype=np.float32)], axis=-1)
     # Few distinct pixels (made once each, then copied): with straight alpha, and 16-bit.
     palette = rng.integers(0, 256, (10, 4), dtype=np.uint8)
+    palette[1, :3], palette[1, 3] = palette[0, :3], palette[0, 3] // 2  # one colour, two alphas
     palette16 = rng.integers(0, 65536, (7, 3), dtype=np.uint16)
     few = rng.integers(0, 10, (32, 24))
     return {
@@ -471,6 +473,7 @@ def _sources(tmp_path):
         "rgba8.png": (_write(tmp_path / "rgba8.png", rgba8, "uint8"), None),
         "rgb16.png": (_write(tmp_path / "rgb16.png", rgb16, "uint16"), None),
         "linear.exr": (_write(tmp_path / "linear.exr", linear, "float"), None),
+        "premultiplied.exr": (_write(tmp_path / "premultiplied.exr", rgba, "float"), None),
         "linear_half.exr": (_write(tmp_path / "linear_half.exr", linear, "half"), None),
     }
 
@@ -618,6 +621,17 @@ def test_rgb_route_refuses_bad_input_clearly(scalar, files, tmp_path):
     ):
         with pytest.raises(Exception, match=message):
             _texture({"type": "specconv_rgb", "filename": files["png"], **props})
+    # Pixels handed to the library directly: a shape or type it cannot take, refused.
+    from specconv._specconv import compact_texels
+
+    for pixels, message in (
+        (np.zeros((2, 2, 5), np.uint8), "1 to 4 channels"),
+        (np.zeros(4, np.uint8), "shape"),
+        (np.zeros((2, 2, 3), np.int64), "dtype"),
+        ([[0.5, 0.5, 0.5]], "numpy array"),
+    ):
+        with pytest.raises(specconv.Error, match=message):
+            compact_texels(pixels, "x.png", srgb=True)
     # A grey image named colour is uplifted as grey, as convert does.
     grey = _write(tmp_path / "grey_colour.png", np.full((4, 4, 1), 90, np.uint8), "uint8")
     text, texels = specconv.mitsuba.compact_texels(grey, colorspace="sRGB - Texture")
