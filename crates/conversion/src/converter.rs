@@ -170,7 +170,7 @@ impl Converter {
     /// `out`), made in memory as a conversion with these options makes them
     /// ([`crate::pipeline::in_memory`]); with the colour space chosen. The options must ask for the compact layout. Where the reader moved the file's
     /// chromaticities to Rec.709 (`moved`: Mitsuba's `Bitmap` does), their white is read
-    /// from the file's header.
+    /// from the file's header (unless a colour space is named).
     pub fn compact_texels(
         &self,
         image: &InMemory,
@@ -184,9 +184,15 @@ impl Converter {
             .into());
         };
         let mut image = *image;
-        if moved {
-            let white = specconv_exr::chromaticities_white(image.decoded.path)
-                .map_err(ConversionError::Output)?;
+        // A colour space named settles the colour: the header is not needed.
+        if moved && self.options.colorspace.is_none() {
+            let white = specconv_exr::chromaticities_white(image.decoded.path).map_err(|e| {
+                ConversionError::InMemory(format!(
+                    "{}: its OpenEXR header, which says what its colour is, cannot be read \
+                     ({e}); name its colour space",
+                    image.decoded.path.display()
+                ))
+            })?;
             image.decoded.moved_white = white.map(|w| w.map(f64::from));
         }
         let mut run = || {
