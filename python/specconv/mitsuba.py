@@ -481,7 +481,14 @@ def compact_texels(
     to D65) unless ``colorspace`` names it, straight alpha multiplied once converted, one
     channel refused as data, NaN refused."""
     check_readable(path)  # a FIFO would hold Mitsuba's reader for ever
-    bitmap = mi.Bitmap(path)
+    try:
+        bitmap = mi.Bitmap(path)
+    except RuntimeError as e:
+        raise ValueError(
+            f"{path}: Mitsuba's reader cannot read it ({e}); for a format it does not read "
+            "(TIFF, .tx), convert the file with specconv convert --layout compact and use "
+            f"{COMPACT}"
+        ) from e
     fmt = bitmap.pixel_format()
     formats = (mi.Bitmap.PixelFormat.Y, mi.Bitmap.PixelFormat.YA)
     formats += (mi.Bitmap.PixelFormat.RGB, mi.Bitmap.PixelFormat.RGBA)

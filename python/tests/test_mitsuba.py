@@ -601,6 +601,7 @@ def test_rgb_route_refuses_bad_input_clearly(scalar, files, tmp_path):
     """What a careless scene gives `specconv_rgb`: each refused with what is wrong."""
     nan = np.full((4, 4, 3), 0.5, dtype=np.float32)
     nan[2, 1, 0] = np.nan
+    (tmp_path / "notes.png").write_text("not an image")
     bad = {
         "missing": (str(tmp_path / "missing.png"), "missing|no such|not found|exist"),
         "a folder": (str(tmp_path), "directory|folder|not a file"),
@@ -610,6 +611,8 @@ def test_rgb_route_refuses_bad_input_clearly(scalar, files, tmp_path):
             "data texture",
         ),
         "a spectral file": (files["exr"], "grey or RGB"),
+        "a TIFF": (_write(tmp_path / "a.tif", nan[..., :3] * 0 + 0.5, "uint8"), "specconv_compact"),
+        "not an image": (str(tmp_path / "notes.png"), "cannot read it"),
     }
     for what, (path, message) in bad.items():
         with pytest.raises(Exception, match=message):
