@@ -16,8 +16,9 @@ band: bilinear in uv and linear in wavelength commute.
 ``specconv_compact`` holds a compact file's six values per texel (docs/compact.md) and decodes
 the model's spectra at each lookup in Dr.Jit: the four nearest texels' spectra at the path's
 wavelengths, weighted bilinearly as ``bitmap`` weighs its texels'. ``specconv_rgb`` makes those
-texels of any image at load through the library (``convert(layout="compact")``: its colour,
-alpha and data-map rules), so a scene ships the RGB file itself.
+texels at load, in memory: Mitsuba's reader decodes the image as ``bitmap``'s does, and the
+library makes the texels of its pixels (a conversion's colour, alpha, data-map and NaN rules)
+in parallel with the GIL released, so a scene ships the RGB file itself.
 
 All evaluate alike, as Mitsuba's own ``bitmap`` does in space and as the layout's reference
 (afichet/spectral-exr) integrates in wavelength:
@@ -33,8 +34,6 @@ MIP levels: Mitsuba 3's integrators give textures no footprint (``si.duv_dx`` is
 from __future__ import annotations
 
 import bisect
-import os
-import tempfile
 
 import drjit as dr
 import mitsuba as mi
@@ -43,6 +42,7 @@ import numpy as np
 import specconv
 from specconv import compact
 from specconv._specconv import check_compact_header, check_readable
+from specconv._specconv import compact_texels as _compact_texels
 
 SPECTRAL = "specconv_spectral"
 COMPACT = "specconv_compact"
@@ -250,8 +250,8 @@ def _define(variant: str):
             self._setup(props, text, texels, path)
 
     class RgbTexture(_CompactTexture):
-        """``specconv_rgb``: an image (``filename``) made compact texels by the library at load,
-        as ``convert(layout="compact")`` makes them, then decoded per lookup."""
+        """``specconv_rgb``: an image (``filename``) made compact texels in memory at load
+        (``compact_texels``), then decoded per lookup."""
 
         def __init__(self, props):
             mi.Texture.__init__(self, props)
@@ -473,26 +473,45 @@ def compact_texels(
     model=None,
     bounded: bool = True,
 ) -> tuple[str, np.ndarray]:
-    """The decoding text and level-0 texels [h, w, 6] of any image the library converts, as
-    ``convert(layout="compact")`` makes them: its colour rules (the flag, file rules, EXR
-    chromaticities, ICC profiles, …), channels and alpha; a data map (normal, roughness, …)
-    is refused."""
-    with tempfile.TemporaryDirectory(prefix="specconv-mitsuba-") as work:
-        out = os.path.join(work, "texels.exr")
-        specconv.convert(
-            [path],
-            out,
-            layout="compact",
-            colorspace=colorspace,
-            ocio=ocio,
-            model=model,
-            bounded=bounded,
-            tile="scanline",
-            mip=False,
-            compression="none",
-            data="fail",
+    """The decoding text and level-0 texels [h, w, 6] of an image Mitsuba reads, made in
+    memory by the library (no file written): ``bitmap``'s reader decodes it, and the library
+    makes the texels of its pixels in parallel with the GIL released, as a conversion with
+    these options makes them (``specconv._specconv.compact_texels``): the colour as the
+    reader declares it (sRGB-encoded or linear Rec.709, an OpenEXR's chromaticities adapted
+    to D65) unless ``colorspace`` names it, straight alpha multiplied once converted, one
+    channel refused as data, NaN refused."""
+    check_readable(path)  # a FIFO would hold Mitsuba's reader for ever
+    try:
+        bitmap = mi.Bitmap(path)
+    except RuntimeError as e:
+        raise ValueError(
+            f"{path}: Mitsuba's reader cannot read it ({e}); for a format it does not read "
+            "(TIFF, .tx), convert the file with specconv convert --layout compact and use "
+            f"{COMPACT}"
+        ) from e
+    fmt = bitmap.pixel_format()
+    formats = (mi.Bitmap.PixelFormat.Y, mi.Bitmap.PixelFormat.YA)
+    formats += (mi.Bitmap.PixelFormat.RGB, mi.Bitmap.PixelFormat.RGBA)
+    if fmt not in formats:
+        raise ValueError(
+            f"{path}: Mitsuba reads it as {fmt.name} pixels ({bitmap.channel_count()} channels); "
+            f"{RENDER_TIME} takes grey or RGB images, with or without alpha: convert it with "
+            "specconv convert --layout compact (naming its channels or layer) and use "
+            f"{COMPACT}"
         )
-        return compact_file(out)
+    pixels = np.array(bitmap, copy=False)
+    options = {"colorspace": colorspace, "ocio": ocio, "bounded": bounded}
+    if model is not None:
+        options["model"] = model
+    text, texels, _ = _compact_texels(
+        pixels,
+        path,
+        srgb=bool(bitmap.srgb_gamma()),
+        straight_alpha=not bitmap.premultiplied_alpha(),
+        moved=True,
+        **options,
+    )
+    return text, texels
 
 
 def compact_file(path: str, level: int = 0) -> tuple[str, np.ndarray]:

@@ -65,7 +65,10 @@ pub fn values(array: &Bound<'_, PyAny>, last: Option<usize>, what: &str) -> PyRe
 /// order, whose memory is not in C order).
 /// A copy that memory cannot hold (a broadcast view of 10¹² colours costs numpy nothing) is a
 /// `MemoryError`, not an aborted process.
-fn copied<T: numpy::Element + Copy>(a: &Bound<'_, PyArrayDyn<T>>, what: &str) -> PyResult<Vec<T>> {
+pub(crate) fn copied<T: numpy::Element + Copy>(
+    a: &Bound<'_, PyArrayDyn<T>>,
+    what: &str,
+) -> PyResult<Vec<T>> {
     let c_order = a.is_c_contiguous();
     let a = a.readonly();
     let mut v = Vec::new();

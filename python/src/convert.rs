@@ -132,7 +132,7 @@ pub fn convert<'py>(
 
 /// The options of a conversion from `convert`'s keywords, each read as the library defines it
 /// ([`specconv_conversion::definition`]): an unknown keyword is a `TypeError`, as Python's own.
-fn conversion_options(keywords: Option<&Bound<'_, PyDict>>) -> PyResult<Options> {
+pub(crate) fn conversion_options(keywords: Option<&Bound<'_, PyDict>>) -> PyResult<Options> {
     let mut o = Options::default();
     for (keyword, value) in keywords.into_iter().flat_map(|d| d.iter()) {
         let name: String = keyword.extract()?;

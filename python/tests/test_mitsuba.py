@@ -409,3 +409,234 @@ def test_rgb_variant_is_refused():
 
     with pytest.raises(RuntimeError, match="spectral Mitsuba variant"):
         specconv.mitsuba.register()
+
+
+# The RGB route in memory (issue 47 item 3): `specconv_rgb`'s texels are made by the library
+# from the pixels Mitsuba's reader decoded, with no file written, in parallel with the GIL
+# released. What a texel is does not depend on the variant: one variant is enough here.
+
+
+@pytest.fixture
+def scalar(estimator):
+    mi.set_variant("scalar_spectral")
+    import specconv.mitsuba
+
+    specconv.mitsuba.register()
+
+
+def _write(path, pixels, dtype, attributes=()):
+    """An image OpenImageIO writes: `pixels` [h, w, c] stored as `dtype`."""
+    import OpenImageIO as oiio
+
+    h, w, c = pixels.shape
+    spec = oiio.ImageSpec(w, h, c, dtype)
+    for name, kind, value in attributes:
+        spec.attribute(name, oiio.TypeDesc(kind), value)
+    out = oiio.ImageOutput.create(str(path))
+    assert out.open(str(path), spec), out.geterror()
+    assert out.write_image(np.ascontiguousarray(pixels))
+    out.close()
+    return str(path)
+
+
+def _converted(path, out, **options):
+    """What `convert --layout compact` stores for `path`: its text and level-0 texels."""
+    specconv.convert([path], str(out), layout="compact", mip=False, **options)
+    image = specconv.read_compact(str(out))
+    return image.text, np.asarray(image.texels)
+
+
+def _sources(tmp_path):
+    """Images whose texels Mitsuba's reader and the library's must agree on bit for bit."""
+    rng = np.random.default_rng(47)
+    rgb8 = rng.integers(0, 256, (17, 33, 3), dtype=np.uint8)
+    rgb8[0, :4] = [[0, 0, 0], [255, 255, 255], [255, 0, 0], [0, 0, 255]]
+    rgba8 = rng.integers(0, 256, (9, 11, 4), dtype=np.uint8)
+    rgba8[0, :3, 3] = [0, 1, 255]  # transparent, nearly so, opaque
+    rgb16 = rng.integers(0, 65536, (8, 13, 3), dtype=np.uint16)
+    linear = rng.normal(0.4, 0.5, (7, 9, 3)).astype(np.float32)  # out of gamut, negative
+    linear[0, :3] = [[0, 0, 0], [30.0, 20.0, 10.0], [1e-7, 2e-7, 0.0]]  # black, HDR, tiny
+    rgba = np.concatenate([linear, rng.random((7, 9, 1), dtype=np.float32)], axis=-1)
+    # Few distinct pixels (made once each, then copied): with straight alpha, and 16-bit.
+    palette = rng.integers(0, 256, (10, 4), dtype=np.uint8)
+    palette[1, :3], palette[1, 3] = palette[0, :3], palette[0, 3] // 2  # one colour, two alphas
+    palette16 = rng.integers(0, 65536, (7, 3), dtype=np.uint16)
+    few = rng.integers(0, 10, (32, 24))
+    return {
+        "few_rgba8.png": (_write(tmp_path / "few_rgba8.png", palette[few], "uint8"), None),
+        "few_rgb16.png": (_write(tmp_path / "few_rgb16.png", palette16[few % 7], "uint16"), None),
+        # Scaled as OpenImageIO scales 8-bit values: × (1/255) in float32.
+        "rgb8.png": (
+            _write(tmp_path / "rgb8.png", rgb8, "uint8"),
+            rgb8.astype(np.float32) * np.float32(1 / 255),
+        ),
+        "rgba8.png": (_write(tmp_path / "rgba8.png", rgba8, "uint8"), None),
+        "rgb16.png": (_write(tmp_path / "rgb16.png", rgb16, "uint16"), None),
+        "linear.exr": (_write(tmp_path / "linear.exr", linear, "float"), None),
+        "premultiplied.exr": (_write(tmp_path / "premultiplied.exr", rgba, "float"), None),
+        "linear_half.exr": (_write(tmp_path / "linear_half.exr", linear, "half"), None),
+    }
+
+
+def test_texels_made_in_memory_are_what_convert_stores(scalar, tmp_path):
+    """8- and 16-bit PNG (with straight alpha too; of many distinct pixels, made one by one,
+    and of few, made once each), float and half OpenEXR with colours out of gamut, HDR and
+    black: the texels equal `convert --layout compact`'s, bit for bit, and the library's
+    `encode` of the colour (OpenColorIO's sRGB texture to XYZ)."""
+    for name, (path, rgb) in _sources(tmp_path).items():
+        text, texels = specconv.mitsuba.compact_texels(path)
+        want_text, want = _converted(path, tmp_path / f"{name}.compact.exr")
+        assert text == want_text, name
+        assert texels.shape == want.shape and texels.dtype == np.float32, name
+        np.testing.assert_array_equal(texels, want, err_msg=name)
+        if rgb is not None:
+            xyz = specconv.rgb_to_xyz(rgb.astype(np.float32), "sRGB - Texture")
+            encoded_text, encoded = specconv.encode(xyz)
+            assert encoded_text == text
+            np.testing.assert_array_equal(texels, encoded)
+
+
+def test_texels_of_an_acescg_exr_are_converts(scalar, tmp_path):
+    """Mitsuba's reader moves an OpenEXR's chromaticities to Rec.709 keeping XYZ (no
+    adaptation); the library adapts that XYZ from the file's white to D65 as a conversion
+    does: the texels are convert's within float32 roundings of two routes (OpenColorIO's
+    ACEScg matrix, ours), and their colour is not the unadapted one."""
+    rng = np.random.default_rng(3)
+    rgb = (rng.random((6, 7, 3)) * 0.8 + 0.05).astype(np.float32)
+    ap1 = (0.713, 0.293, 0.165, 0.830, 0.128, 0.044, 0.32168, 0.33767)
+    path = _write(tmp_path / "acescg.exr", rgb, "float", [("chromaticities", "float[8]", ap1)])
+    text, texels = specconv.mitsuba.compact_texels(path)
+    want_text, want = _converted(path, tmp_path / "acescg.compact.exr")
+    assert text == want_text
+    np.testing.assert_allclose(texels[..., :3], want[..., :3], rtol=2e-6, atol=1e-7)
+    np.testing.assert_allclose(texels[..., 3:], want[..., 3:], atol=1e-5)
+    # Read as the linear Rec.709 Mitsuba hands over, unadapted, the colour would be ≥ 1 % off.
+    moved = np.array(mi.Bitmap(path), dtype=np.float32)
+    unadapted = specconv.rgb_to_xyz(moved, "Linear Rec.709 (sRGB)")
+    assert np.abs(unadapted - want[..., :3]).max() > 0.01
+
+
+def test_no_file_is_written_to_make_texels(scalar, files, tmp_path, monkeypatch):
+    """No temporary file, in TMPDIR or beside the image: Python's tempfile is out of reach,
+    and both folders hold what they held before."""
+    import tempfile
+
+    scratch = tmp_path / "tmp"
+    scratch.mkdir()
+    monkeypatch.setenv("TMPDIR", str(scratch))
+    monkeypatch.setattr(tempfile, "tempdir", str(scratch))
+
+    def refused(*args, **kwargs):
+        raise AssertionError("a temporary file was asked for")
+
+    for name in ("mkstemp", "mkdtemp", "NamedTemporaryFile", "TemporaryDirectory", "TemporaryFile"):
+        monkeypatch.setattr(tempfile, name, refused)
+    image = tmp_path / "in"
+    image.mkdir()
+    png = image / "patches.png"
+    png.write_bytes(open(files["png"], "rb").read())
+    texture = _texture({"type": "specconv_rgb", "filename": str(png)})
+    assert list(texture.resolution()) == [TEXELS, TEXELS]
+    assert os.listdir(scratch) == []
+    assert os.listdir(image) == ["patches.png"]
+
+
+def test_texels_honour_the_site_default_model(scalar, files, tmp_path, monkeypatch):
+    """$SPECCONV_MODEL decides the texels' model where the scene names none, through the
+    library's one rule: convert's texels under the same variable, the named model's, and
+    not the built-in default's. A site default that cannot be used is refused by name."""
+    monkeypatch.setenv("SPECCONV_MODEL", "paper")
+    text, texels = specconv.mitsuba.compact_texels(files["png"])
+    want_text, want = _converted(files["png"], tmp_path / "site.exr")
+    assert text == want_text
+    np.testing.assert_array_equal(texels, want)
+    monkeypatch.delenv("SPECCONV_MODEL")
+    named_text, named = specconv.mitsuba.compact_texels(files["png"], model="paper")
+    assert named_text == text
+    np.testing.assert_array_equal(named, texels)
+    default_text, default = specconv.mitsuba.compact_texels(files["png"])
+    assert default_text != text and not np.array_equal(default, texels)
+    monkeypatch.setenv("SPECCONV_MODEL", str(tmp_path / "no_such_model.json"))
+    with pytest.raises(Exception, match="SPECCONV_MODEL"):
+        _texture({"type": "specconv_rgb", "filename": files["png"]})
+
+
+def test_texels_are_made_with_the_gil_released(scalar):
+    """Another Python thread keeps running while the library makes a 2048² image's texels:
+    its longest stall during the call is a fraction of the call (holding the GIL, it would
+    stall for all of it)."""
+    import threading
+    import time
+
+    from specconv._specconv import compact_texels
+
+    pixels = np.random.default_rng(1).integers(0, 256, (2048, 2048, 3), dtype=np.uint8)
+    stalls = []  # (from, to) of each pause of the thread over 2 ms
+    stop = threading.Event()
+
+    def spin():
+        last = time.perf_counter()
+        while not stop.is_set():
+            now = time.perf_counter()
+            if now - last > 0.002:
+                stalls.append((last, now))
+            last = now
+
+    thread = threading.Thread(target=spin)
+    thread.start()
+    time.sleep(0.05)
+    start = time.perf_counter()
+    _, texels, colorspace = compact_texels(pixels, "in-memory.png", srgb=True)
+    end = time.perf_counter()
+    stop.set()
+    thread.join()
+    assert texels.shape == (2048, 2048, 6) and colorspace == "sRGB - Texture"
+    call = end - start
+    longest = max((min(b, end) - max(a, start) for a, b in stalls), default=0.0)
+    assert call > 0.1, f"the call took {call:.3f} s: too short to tell"
+    assert longest < 0.5 * call, f"the other thread stalled {longest:.3f} s of {call:.3f} s"
+
+
+def test_rgb_route_refuses_bad_input_clearly(scalar, files, tmp_path):
+    """What a careless scene gives `specconv_rgb`: each refused with what is wrong."""
+    nan = np.full((4, 4, 3), 0.5, dtype=np.float32)
+    nan[2, 1, 0] = np.nan
+    (tmp_path / "notes.png").write_text("not an image")
+    bad = {
+        "missing": (str(tmp_path / "missing.png"), "missing|no such|not found|exist"),
+        "a folder": (str(tmp_path), "directory|folder|not a file"),
+        "NaN": (_write(tmp_path / "nan.exr", nan, "float"), "NaN or infinite.*x 1, y 2"),
+        "one channel": (
+            _write(tmp_path / "grey.png", np.full((4, 4, 1), 90, np.uint8), "uint8"),
+            "data texture",
+        ),
+        "a spectral file": (files["exr"], "grey or RGB"),
+        "a TIFF": (_write(tmp_path / "a.tif", nan[..., :3] * 0 + 0.5, "uint8"), "specconv_compact"),
+        "not an image": (str(tmp_path / "notes.png"), "cannot read it"),
+    }
+    for what, (path, message) in bad.items():
+        with pytest.raises(Exception, match=message):
+            _texture({"type": "specconv_rgb", "filename": path})
+    for props, message in (
+        ({"colorspace": "no such space"}, "no such space"),
+        ({"model": "no_such_model"}, "no_such_model"),
+        ({"colorspace": "Raw"}, "data texture"),
+    ):
+        with pytest.raises(Exception, match=message):
+            _texture({"type": "specconv_rgb", "filename": files["png"], **props})
+    # Pixels handed to the library directly: a shape or type it cannot take, refused.
+    from specconv._specconv import compact_texels
+
+    for pixels, message in (
+        (np.zeros((2, 2, 5), np.uint8), "1 to 4 channels"),
+        (np.zeros(4, np.uint8), "shape"),
+        (np.zeros((2, 2, 3), np.int64), "dtype"),
+        ([[0.5, 0.5, 0.5]], "numpy array"),
+    ):
+        with pytest.raises(specconv.Error, match=message):
+            compact_texels(pixels, "x.png", srgb=True)
+    # A grey image named colour is uplifted as grey, as convert does.
+    grey = _write(tmp_path / "grey_colour.png", np.full((4, 4, 1), 90, np.uint8), "uint8")
+    text, texels = specconv.mitsuba.compact_texels(grey, colorspace="sRGB - Texture")
+    _, want = _converted(grey, tmp_path / "grey.compact.exr", colorspace="sRGB - Texture")
+    np.testing.assert_array_equal(texels, want)

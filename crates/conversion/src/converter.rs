@@ -22,6 +22,7 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
+pub use crate::pipeline::in_memory::{Image as InMemory, Samples};
 pub use crate::pipeline::input::Selection;
 pub use crate::pipeline::{Rule, Warning};
 
@@ -183,6 +184,55 @@ impl Converter {
         let pair = Pair::new(input, output);
         crate::plan::check_files(std::slice::from_ref(&pair), &self.files_read())?;
         self.run(&pair, self.options.overwrite, cancel, progress)
+    }
+
+    /// The compact texels of pixels a renderer's reader decoded (six values a pixel, into
+    /// `out`), made in memory as a conversion with these options makes them
+    /// ([`crate::pipeline::in_memory`]); with the colour space chosen. The options must ask for the compact layout. Where the reader moved the file's
+    /// chromaticities to Rec.709 (`moved`: Mitsuba's `Bitmap` does), their white is read
+    /// from the file's header (unless a colour space is named).
+    pub fn compact_texels(
+        &self,
+        image: &InMemory,
+        moved: bool,
+        out: &mut [f32],
+    ) -> Result<TexelsMade, Error> {
+        let Some(compact) = &self.storage.compact else {
+            return Err(ConversionError::InMemory(
+                "texels in memory are compact texels: ask for layout 'compact'".into(),
+            )
+            .into());
+        };
+        let mut image = *image;
+        // A colour space named settles the colour: the header is not needed.
+        if moved && self.options.colorspace.is_none() {
+            let white = specconv_exr::chromaticities_white(image.decoded.path).map_err(|e| {
+                ConversionError::InMemory(format!(
+                    "{}: its OpenEXR header, which says what its colour is, cannot be read \
+                     ({e}); name its colour space",
+                    image.decoded.path.display()
+                ))
+            })?;
+            image.decoded.moved_white = white.map(|w| w.map(f64::from));
+        }
+        let mut run = || {
+            crate::pipeline::in_memory::compact_texels(
+                &self.config,
+                &image,
+                &self.options,
+                compact,
+                out,
+            )
+        };
+        let made = match &self.pool {
+            Some(pool) => pool.install(run),
+            None => run(),
+        }?;
+        Ok(TexelsMade {
+            text: compact.to_text(),
+            colorspace: made.space.name,
+            rule: made.space.rule,
+        })
     }
 
     pub(crate) fn run(
@@ -560,4 +610,16 @@ mod tests {
             ["Color space 'ACEScg' has a transform that cannot be inverted."]
         );
     }
+}
+
+/// What [`Converter::compact_texels`] made besides the texels.
+#[derive(Debug)]
+#[non_exhaustive]
+pub struct TexelsMade {
+    /// The text that decodes them (docs/compact.md).
+    pub text: String,
+    /// The colour space the pixels were read in.
+    pub colorspace: String,
+    /// The rule that chose it.
+    pub rule: Rule,
 }

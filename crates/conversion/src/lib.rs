@@ -58,7 +58,7 @@ use specconv_pipeline::wrapped;
 pub use batch::{expansion_is_up_to_date, Batch, Event, Expansions, Summary};
 pub use colour_config::{is_builtin_config, ColourConfig, ColourSpace, ConfigOrigin, XyzTransform};
 pub use compact::{spectral_read_error, CompactFacts};
-pub use converter::{Advice, Converter, Rule, Selection, Warning};
+pub use converter::{Advice, Converter, InMemory, Rule, Samples, Selection, TexelsMade, Warning};
 pub use describe::{
     describe, Channel, ChannelChoice, ChannelReason, Description, ReadAs, SpectralFacts, Window,
 };
@@ -68,6 +68,7 @@ pub use options::{
     About, Alpha, BadValue, Blocks, Compression, DataPolicy, Filter, Key, Layout, Mip, NonFinite,
     Options, Rounding, Sample, Wrap, WrapModes, WRAP_NAMES,
 };
+pub use pipeline::colour::Decoded;
 pub use pipeline::expand::{CompactTexels, Expanded};
 pub use pipeline::interop;
 pub use pipeline::DataTexture;

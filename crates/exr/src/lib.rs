@@ -1165,6 +1165,25 @@ pub fn read_level(path: &std::path::Path, level: usize) -> Result<SpectralImage>
     })
 }
 
+/// The white (x, y) of the `chromaticities` of an OpenEXR file's first header, without
+/// reading its pixels; `None` for a file without them, or one that is not OpenEXR (its first
+/// bytes are not OpenEXR's magic number).
+pub fn chromaticities_white(path: &std::path::Path) -> Result<Option<[f32; 2]>> {
+    use std::io::{Read, Seek};
+    let mut file = std::io::BufReader::new(specconv_atomic_file::open_file(path)?);
+    let mut magic = [0u8; 4];
+    if file.read_exact(&mut magic).is_err() || magic != [0x76, 0x2f, 0x31, 0x01] {
+        return Ok(None);
+    }
+    file.rewind().map_err(exr::error::Error::from)?;
+    let meta = exr::meta::MetaData::read_from_buffered(file, false)?;
+    Ok(meta
+        .headers
+        .first()
+        .and_then(|h| h.shared_attributes.chromaticities)
+        .map(|c| [c.white.x(), c.white.y()]))
+}
+
 /// The text attributes of a file's first header, without reading its pixels.
 pub fn read_attributes(path: &std::path::Path) -> Result<Vec<(String, String)>> {
     let file = std::io::BufReader::new(specconv_atomic_file::open_file(path)?);

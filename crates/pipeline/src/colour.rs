@@ -48,7 +48,7 @@ use specconv_icc::ToPcs;
 use specconv_ocio::{Config, Processor};
 use specconv_oiio::ImageReader;
 use std::fmt;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// D65 as OCIO's CIE-XYZ-D65 has it: the chromaticity (0.3127, 0.3290) of ITU-R BT.709, Y = 1.
 const D65: [f64; 3] = [0.3127 / 0.3290, 1.0, (1.0 - 0.3127 - 0.3290) / 0.3290];
@@ -587,7 +587,7 @@ pub fn input_space(
         };
         found.chosen(info, rule)?
     } else {
-        by_format_default(config, info)?
+        by_format_default(config, info.pixel_format().is_integer())?
     };
     Ok(InputSpace { warnings, ..space })
 }
@@ -637,8 +637,13 @@ impl Found {
 
     /// The input space it makes, chosen by `rule`; [`Error::Data`] for a data space.
     fn chosen(self, info: &specconv_oiio::ImageInfo, rule: Rule) -> Result<InputSpace> {
+        self.chosen_at(&info.path, (info.width(), info.height()), rule)
+    }
+
+    /// [`Found::chosen`] for the image at `path` of `size`.
+    fn chosen_at(self, path: &Path, size: (u32, u32), rule: Rule) -> Result<InputSpace> {
         match self.route {
-            None => Err(data_texture(info, self.name, rule)),
+            None => Err(data_texture(path, size, self.name, rule)),
             Some(to_xyz) => Ok(InputSpace {
                 name: self.name,
                 rule,
@@ -752,14 +757,14 @@ fn named(
     })))
 }
 
-/// [`Error::Data`] for the open file in the data space `name`, chosen by `rule`.
-fn data_texture(info: &specconv_oiio::ImageInfo, name: String, rule: Rule) -> Error {
+/// [`Error::Data`] for the file at `path` of `size` in the data space `name`, chosen by `rule`.
+fn data_texture(path: &Path, size: (u32, u32), name: String, rule: Rule) -> Error {
     Error::Data(Box::new(DataTexture {
-        path: info.path.clone(),
+        path: path.to_path_buf(),
         name,
         rule,
         selection: None,
-        size: (info.width(), info.height()),
+        size,
     }))
 }
 
@@ -861,8 +866,8 @@ fn config_default(
 
 /// The format's default: integer pixels are sRGB texture (the config's, else our own), float
 /// pixels without chromaticities linear Rec.709 (OpenEXR).
-fn by_format_default(config: &Config, info: &specconv_oiio::ImageInfo) -> Result<InputSpace> {
-    let (d, why) = if info.pixel_format().is_integer() {
+fn by_format_default(config: &Config, srgb_encoded: bool) -> Result<InputSpace> {
+    let (d, why) = if srgb_encoded {
         if let Some(name) = config.srgb_texture()? {
             return Ok(InputSpace {
                 to_xyz: ToXyz::Ocio(config.processor_to_xyz(&name)?),
@@ -896,4 +901,77 @@ fn by_format_default(config: &Config, info: &specconv_oiio::ImageInfo) -> Result
         to_xyz,
         warnings: Vec::new(),
     })
+}
+
+/// Pixels that a renderer's reader has already decoded (Mitsuba's `Bitmap`): their colour is
+/// what that reader says of them, for it may have acted on the file's declarations.
+#[derive(Debug, Clone, Copy)]
+pub struct Decoded<'a> {
+    /// The file they were read from.
+    pub path: &'a Path,
+    /// Width and height.
+    pub size: (u32, u32),
+    /// Colour channels: 1 (grey) or 3 (RGB).
+    pub colour_channels: usize,
+    /// sRGB-encoded, as integer pixels are; else linear.
+    pub srgb_encoded: bool,
+    /// The white (xy) of the chromaticities the file declared, where the reader moved its
+    /// colour to Rec.709 primaries keeping XYZ (OpenEXR's `RGBtoXYZ` then `XYZtoRGB`, no
+    /// adaptation, as Mitsuba's `Bitmap` does): their XYZ is relative to that white.
+    pub moved_white: Option<[f64; 2]>,
+}
+
+/// The colour space of decoded pixels by this module's precedence, as far as the reader kept
+/// the evidence: the flag (row 1); one channel is data (the data-map rule); the file's
+/// chromaticities, which the reader applied, adapted from their white to D65 as a conversion
+/// adapts them (row 3); else the format's default (row 6). The config's file rules and the
+/// file's other declarations (ICC profiles, PNG chunks, names) are the reader's to apply:
+/// Mitsuba's `Bitmap` reads them as sRGB or linear Rec.709, as its own `bitmap` texture does.
+pub fn decoded_space(config: &Config, d: &Decoded, flag: Option<&str>) -> Result<InputSpace> {
+    if let Some(flag) = flag {
+        let asked = Found::in_config(config, flag, String::new(), |_| String::new())?;
+        return asked.chosen_at(d.path, d.size, Rule::Flag { overrides: None });
+    }
+    let white = d
+        .moved_white
+        .filter(|w| (w[0] - 0.3127).abs() + (w[1] - 0.3290).abs() > 1e-4);
+    let space = match white {
+        Some(w) => {
+            let m = REC709.to_xyz_of_white(w, D65).ok_or_else(|| {
+                Error::DefaultColourSpace(format!(
+                    "the file's chromaticities have white {w:?}, which describes no colour"
+                ))
+            })?;
+            InputSpace {
+                name: describe_space(
+                    "chromaticities",
+                    &RgbSpace { white: w, ..REC709 },
+                    Decode::Linear,
+                ),
+                rule: Rule::Declared {
+                    what: vec!["EXR chromaticities".into()],
+                    strength: Strength::Strong,
+                    overrides: None,
+                },
+                to_xyz: ToXyz::Matrix {
+                    decode: Decode::Linear,
+                    m,
+                },
+                warnings: Vec::new(),
+            }
+        }
+        None => by_format_default(config, d.srgb_encoded)?,
+    };
+    if d.colour_channels == 1 && !space.rule.may_call_one_channel_colour() {
+        return Err(data_texture(
+            d.path,
+            d.size,
+            data_space_name(config),
+            Rule::OneChannel {
+                overrides: None,
+                colour: space.name,
+            },
+        ));
+    }
+    Ok(space)
 }

@@ -22,6 +22,7 @@ pub mod colour;
 pub mod data;
 pub mod expand;
 pub mod filter;
+pub mod in_memory;
 pub mod input;
 pub mod interop;
 pub mod memory;
@@ -85,6 +86,9 @@ pub enum Error {
     /// The format's default colour space cannot be reached in the config.
     #[error("{0}")]
     DefaultColourSpace(String),
+    /// Pixels in memory that cannot be made texels as given ([`in_memory`]).
+    #[error("{0}")]
+    InMemory(String),
     /// NaN or infinite values in the channels read, refused.
     #[error(
         "{}: {pixels} pixel(s) of rows {}–{} have NaN or infinite values (the first at x {}, y {}); \

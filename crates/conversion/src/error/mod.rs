@@ -236,6 +236,8 @@ mod tests {
                     ("Conversion::Channels", choose.is_some())
                 }
                 ConversionError::DefaultColourSpace(_) => ("Conversion::DefaultColourSpace", true),
+                // Pixels handed over as they cannot be: the caller's to fix.
+                ConversionError::InMemory(_) => ("Conversion::InMemory", false),
                 ConversionError::NonFinite { .. } => ("Conversion::NonFinite", true),
                 ConversionError::TooManyNonFinite { .. } => ("Conversion::TooManyNonFinite", true),
                 // The method's own colorimetry: not a setting.

@@ -1,0 +1,282 @@
+//! Compact texels of pixels a renderer's reader has decoded, made in memory (Mitsuba's
+//! `specconv_rgb`): no file is written or read back. A conversion's rules as far as the reader
+//! kept the evidence ([`colour::decoded_space`]), its alpha rule (straight colour multiplied
+//! by alpha once converted, as OpenEXR stores colour) and its rule on NaN and infinities, then
+//! the compact layout's encoder ([`Compact::encode_f32`], the one `convert --layout compact`
+//! calls), in parallel pieces; integer pixels once per distinct pixel.
+
+use crate::choices::{Alpha, NonFinite};
+use crate::colour::{self, Decoded, InputSpace};
+use crate::{Error, Options, Result};
+use rayon::prelude::*;
+use specconv_spectral::compact::{Compact, TEXEL};
+use std::collections::HashMap;
+
+/// Pixels per parallel piece: large enough that a piece outweighs its scheduling.
+const PIECE: usize = 4096;
+
+/// A decoded image's samples, row-major, `channels` a pixel: integers are scaled to [0, 1] as
+/// OpenImageIO scales them for a conversion (value × (1 / max), in float32).
+#[derive(Debug, Clone, Copy)]
+pub enum Samples<'a> {
+    /// 8-bit.
+    U8(&'a [u8]),
+    /// 16-bit.
+    U16(&'a [u16]),
+    /// float32 (a reader's half samples widened).
+    F32(&'a [f32]),
+}
+
+impl Samples<'_> {
+    fn len(&self) -> usize {
+        match self {
+            Samples::U8(s) => s.len(),
+            Samples::U16(s) => s.len(),
+            Samples::F32(s) => s.len(),
+        }
+    }
+
+    /// Pixel `p`'s samples of `channels` packed in one number (integer samples only: up to
+    /// four of 16 bits).
+    #[inline]
+    fn key(&self, p: usize, channels: usize) -> u64 {
+        let at = p * channels;
+        match self {
+            Samples::U8(s) => s[at..at + channels]
+                .iter()
+                .fold(0, |k, &v| (k << 16) | u64::from(v)),
+            Samples::U16(s) => s[at..at + channels]
+                .iter()
+                .fold(0, |k, &v| (k << 16) | u64::from(v)),
+            Samples::F32(_) => unreachable!("float samples are not keyed"),
+        }
+    }
+
+    #[inline]
+    fn get(&self, i: usize) -> f32 {
+        match self {
+            Samples::U8(s) => f32::from(s[i]) * (1.0 / 255.0),
+            Samples::U16(s) => f32::from(s[i]) * (1.0 / 65535.0),
+            Samples::F32(s) => s[i],
+        }
+    }
+}
+
+/// A decoded image: its samples and what the reader says of them.
+#[derive(Debug, Clone, Copy)]
+pub struct Image<'a> {
+    /// The samples.
+    pub samples: Samples<'a>,
+    /// Samples a pixel: 1 (grey), 2 (grey, alpha), 3 (RGB) or 4 (RGB, alpha).
+    pub channels: usize,
+    /// What the reader says of the colour; its `colour_channels` follows from `channels`.
+    pub decoded: Decoded<'a>,
+    /// The reader says its alpha is straight (PNG); else premultiplied (OpenEXR).
+    pub straight_alpha: bool,
+}
+
+/// What making the texels found.
+#[derive(Debug)]
+#[non_exhaustive]
+pub struct Made {
+    /// The colour space the pixels were read in, and the rule that chose it.
+    pub space: InputSpace,
+}
+
+/// Makes the compact texels of `image` (six values a pixel, row-major) into `out`, with
+/// `options`' colour space, alpha and NaN rules and `compact`'s encoder. A data texture (a
+/// data space named, or one channel: the data-map rule) is [`Error::Data`]; a NaN or
+/// infinite sample, unless `options` keep or blacken them, [`Error::NonFinite`].
+pub fn compact_texels(
+    config: &specconv_ocio::Config,
+    image: &Image,
+    options: &Options,
+    compact: &Compact,
+    out: &mut [f32],
+) -> Result<Made> {
+    let c = image.channels;
+    let (w, h) = image.decoded.size;
+    let pixels = w as usize * h as usize;
+    if !(1..=4).contains(&c) || image.samples.len() != pixels * c || out.len() != pixels * TEXEL {
+        return Err(Error::InMemory(format!(
+            "{} samples of {c} channel(s) for {w}×{h} pixels and room for {} values: expected \
+             1 to 4 channels (grey, grey and alpha, RGB, RGBA), a sample per channel and \
+             pixel, and {TEXEL} values a pixel",
+            image.samples.len(),
+            out.len()
+        )));
+    }
+    let decoded = Decoded {
+        colour_channels: if c <= 2 { 1 } else { 3 },
+        ..image.decoded
+    };
+    let space = colour::decoded_space(config, &decoded, options.colorspace.as_deref())?;
+    let policy = options.non_finite;
+    match policy {
+        NonFinite::Refuse => refuse_non_finite(image)?,
+        NonFinite::Box3 => {
+            return Err(Error::InMemory(
+                "non_finite 'box3' repairs a file as it is read; here refuse, black or keep \
+                 apply (or convert the file with --fixnan box3 and use its compact texture)"
+                    .into(),
+            ))
+        }
+        NonFinite::Black | NonFinite::Keep => {}
+    }
+    let alpha = (c == 2 || c == 4).then_some(c - 1);
+    let premultiply = alpha.is_some()
+        && match options.alpha {
+            Alpha::Auto => image.straight_alpha,
+            Alpha::Straight => true,
+            Alpha::Premultiplied => false,
+        };
+    let making = Making {
+        image,
+        space: &space,
+        compact,
+        black: policy == NonFinite::Black,
+        premultiply: alpha.filter(|_| premultiply),
+    };
+    match distinct(image) {
+        // Each distinct pixel made once, then copied to every pixel that has it.
+        Some((firsts, index)) => {
+            let mut made = vec![0.0f32; firsts.len() * TEXEL];
+            making.make(&|j| firsts[j], &mut made)?;
+            out.par_chunks_mut(PIECE * TEXEL)
+                .enumerate()
+                .for_each(|(i, texels)| {
+                    for (k, t) in texels.chunks_exact_mut(TEXEL).enumerate() {
+                        let j = index[&image.samples.key(i * PIECE + k, c)] as usize;
+                        t.copy_from_slice(&made[j * TEXEL..(j + 1) * TEXEL]);
+                    }
+                });
+        }
+        None => making.make(&|p| p, out)?,
+    }
+    Ok(Made { space })
+}
+
+/// What makes texels of an image's pixels.
+struct Making<'a> {
+    image: &'a Image<'a>,
+    space: &'a InputSpace,
+    compact: &'a Compact,
+    /// NaN and infinities become 0.
+    black: bool,
+    /// The alpha channel, where the colour is multiplied by it once converted.
+    premultiply: Option<usize>,
+}
+
+impl Making<'_> {
+    /// The texels of the pixels `pixel(j)` into `out` (texel j at `out[6j..]`), in parallel
+    /// pieces: each piece's colours converted to XYZ, multiplied by alpha where straight, and
+    /// encoded.
+    fn make(&self, pixel: &(dyn Fn(usize) -> usize + Sync), out: &mut [f32]) -> Result<()> {
+        let (image, c) = (self.image, self.image.channels);
+        let sample = |at: usize| match image.samples.get(at) {
+            v if self.black && !v.is_finite() => 0.0,
+            v => v,
+        };
+        out.par_chunks_mut(PIECE * TEXEL)
+            .enumerate()
+            .try_for_each(|(i, texels)| {
+                let count = texels.len() / TEXEL;
+                let mut xyz = Vec::with_capacity(count * 3);
+                let mut a = Vec::with_capacity(count);
+                for j in i * PIECE..i * PIECE + count {
+                    let at = pixel(j) * c;
+                    xyz.extend_from_slice(&match c {
+                        1 | 2 => [sample(at); 3],
+                        _ => [sample(at), sample(at + 1), sample(at + 2)],
+                    });
+                    if let Some(k) = self.premultiply {
+                        a.push(sample(at + k));
+                    }
+                }
+                self.space.to_xyz.apply_rgb(&mut xyz)?;
+                for (v, alpha) in xyz.chunks_exact_mut(3).zip(&a) {
+                    v.iter_mut().for_each(|v| *v *= alpha);
+                }
+                self.compact.encode_f32(&xyz, texels);
+                Ok(())
+            })
+    }
+}
+
+/// At most this share of an image's pixels distinct, its texels are made once per distinct
+/// pixel (a 2048² photograph: 352,000 of 4.2 million): a texel is a function of its pixel's
+/// samples alone. Beyond it (noise), the map is dropped and every pixel made.
+const DISTINCT_SHARE: usize = 4;
+
+/// The distinct pixels of an image of integer samples (the first pixel of each) and each
+/// one's number by its samples ([`Samples::key`]); `None` for float samples, or more than
+/// [`DISTINCT_SHARE`] of the pixels distinct.
+fn distinct(image: &Image) -> Option<(Vec<usize>, HashMap<u64, u32, KeyHash>)> {
+    if matches!(image.samples, Samples::F32(_)) {
+        return None;
+    }
+    let pixels = image.samples.len() / image.channels;
+    let most = pixels / DISTINCT_SHARE;
+    let mut index = HashMap::with_hasher(KeyHash::default());
+    let mut firsts = Vec::new();
+    for p in 0..pixels {
+        let key = image.samples.key(p, image.channels);
+        if let std::collections::hash_map::Entry::Vacant(e) = index.entry(key) {
+            if firsts.len() >= most {
+                return None;
+            }
+            e.insert(firsts.len() as u32);
+            firsts.push(p);
+        }
+    }
+    Some((firsts, index))
+}
+
+/// Hashes a pixel's key: one multiply (Fibonacci hashing) of keys that are already
+/// well spread in their low bits; std's SipHash guards against keys chosen to collide, which
+/// costs 3× here and buys nothing (a hostile image only slows its own load).
+type KeyHash = std::hash::BuildHasherDefault<KeyHasher>;
+
+/// [`KeyHash`]'s hasher.
+#[derive(Default)]
+struct KeyHasher(u64);
+
+impl std::hash::Hasher for KeyHasher {
+    fn finish(&self) -> u64 {
+        self.0
+    }
+
+    fn write(&mut self, bytes: &[u8]) {
+        for b in bytes {
+            self.write_u64(u64::from(*b));
+        }
+    }
+
+    fn write_u64(&mut self, v: u64) {
+        self.0 = (self.0 ^ v)
+            .wrapping_mul(0x9e37_79b9_7f4a_7c15)
+            .rotate_left(26);
+    }
+}
+
+/// [`Error::NonFinite`] where a sample (colour or alpha) is NaN or infinite: the rule a
+/// conversion refuses them by (`--fixnan` unset).
+fn refuse_non_finite(image: &Image) -> Result<()> {
+    let Samples::F32(s) = image.samples else {
+        return Ok(()); // integers are finite
+    };
+    let c = image.channels;
+    let bad = |p: &[f32]| !p.iter().all(|v| v.is_finite());
+    let pixels = s.par_chunks(c).filter(|p| bad(p)).count() as u64;
+    if pixels == 0 {
+        return Ok(());
+    }
+    let first = s.chunks(c).position(bad).expect("counted");
+    let width = image.decoded.size.0 as usize;
+    Err(Error::NonFinite {
+        input: image.decoded.path.to_path_buf(),
+        pixels,
+        first: (first % width, first / width),
+        rows: (0, image.decoded.size.1 as usize),
+    })
+}

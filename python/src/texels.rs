@@ -1,0 +1,117 @@
+//! `compact_texels`: the compact texels of pixels a renderer's reader decoded, made in memory
+//! by the library (Mitsuba's `specconv_rgb`), in parallel with the GIL released.
+
+use crate::args::FsPath;
+use crate::arrays::{copied, zeros};
+use crate::errors::{conversion, Kind};
+use numpy::{PyArrayDyn, PyArrayMethods, PyUntypedArrayMethods};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use specconv_conversion::{Converter, Decoded, InMemory, Layout, Samples};
+
+/// The compact texels (h, w, 6 float32: X, Y, Z, u₀, u₁, u₂) of `pixels`, an image a reader
+/// decoded from `path`, as a conversion with `options` (`convert`'s keywords; the layout is
+/// compact) makes them: `(text, texels, colorspace)`, the decoding text (docs/compact.md),
+/// the texels, and the colour space they were read in. `pixels`: (h, w) or (h, w, c) with c
+/// from 1 to 4 (grey, grey and alpha, RGB, RGBA), uint8 or uint16 (scaled to [0, 1]) or
+/// floats. `srgb`: the values are sRGB-encoded (else linear Rec.709, unless `colorspace`
+/// names their space); `straight_alpha`: the reader's alpha is straight (PNG), so colour is
+/// multiplied by it once converted; `moved`: the reader moved the file's chromaticities to
+/// Rec.709 keeping XYZ (Mitsuba's `Bitmap` does), so their white is read from the file.
+#[pyfunction]
+#[pyo3(signature = (pixels, path, *, srgb, straight_alpha=false, moved=false, **options))]
+#[allow(clippy::too_many_arguments)]
+pub fn compact_texels<'py>(
+    py: Python<'py>,
+    pixels: &Bound<'py, PyAny>,
+    path: FsPath,
+    srgb: bool,
+    straight_alpha: bool,
+    moved: bool,
+    options: Option<&Bound<'py, PyDict>>,
+) -> PyResult<(String, Bound<'py, PyAny>, String)> {
+    let mut o = crate::convert::conversion_options(options)?;
+    o.layout = Layout::Compact;
+    let shape = pixels
+        .cast::<numpy::PyUntypedArray>()
+        .map_err(|_| Kind::Option.err("pixels must be a numpy array"))?
+        .shape()
+        .to_vec();
+    let (h, w, c) = match shape[..] {
+        [h, w] => (h, w, 1),
+        [h, w, c] => (h, w, c),
+        _ => {
+            return Err(Kind::Option.err(format!(
+                "pixels have shape {shape:?}: expected (height, width) or (height, width, channels)"
+            )))
+        }
+    };
+    let size = |n: usize| {
+        u32::try_from(n).map_err(|_| Kind::Option.err(format!("an image {n} pixels wide or high")))
+    };
+    let decoded = Decoded {
+        path: &path.0,
+        size: (size(w)?, size(h)?),
+        colour_channels: if c <= 2 { 1 } else { 3 },
+        srgb_encoded: srgb,
+        moved_white: None,
+    };
+    let held = Held::of(pixels)?;
+    let out = zeros::<f32>(py, &[h, w], specconv_spectral::compact::TEXEL)?;
+    let made = {
+        let mut texels = out.readwrite();
+        let texels = texels.as_slice_mut()?;
+        py.detach(|| {
+            let converter = Converter::new(o)?;
+            let image = InMemory {
+                samples: held.samples(),
+                channels: c,
+                decoded,
+                straight_alpha,
+            };
+            converter.compact_texels(&image, moved, texels)
+        })
+        .map_err(conversion)?
+    };
+    Ok((made.text, out.into_any(), made.colorspace))
+}
+
+/// The samples, copied in C order while the GIL is held (Python code may change the array
+/// once it is released): integers as they are, other numbers as float32.
+enum Held {
+    U8(Vec<u8>),
+    U16(Vec<u16>),
+    F32(Vec<f32>),
+}
+
+impl Held {
+    fn of(pixels: &Bound<'_, PyAny>) -> PyResult<Held> {
+        if let Ok(a) = pixels.cast::<PyArrayDyn<u8>>() {
+            return Ok(Held::U8(copied(a, "pixels")?));
+        }
+        if let Ok(a) = pixels.cast::<PyArrayDyn<u16>>() {
+            return Ok(Held::U16(copied(a, "pixels")?));
+        }
+        if let Ok(a) = pixels.cast::<PyArrayDyn<f32>>() {
+            return Ok(Held::F32(copied(a, "pixels")?));
+        }
+        let np = pixels.py().import("numpy")?;
+        let kind: String = pixels.getattr("dtype")?.getattr("kind")?.extract()?;
+        if kind != "f" {
+            return Err(Kind::Option.err(format!(
+                "pixels of dtype {}: expected uint8, uint16 or floats",
+                pixels.getattr("dtype")?
+            )));
+        }
+        let f = np.call_method1("asarray", (pixels, np.getattr("float32")?))?;
+        Ok(Held::F32(copied(f.cast::<PyArrayDyn<f32>>()?, "pixels")?))
+    }
+
+    fn samples(&self) -> Samples<'_> {
+        match self {
+            Held::U8(v) => Samples::U8(v),
+            Held::U16(v) => Samples::U16(v),
+            Held::F32(v) => Samples::F32(v),
+        }
+    }
+}
