@@ -112,6 +112,7 @@ pub struct Summary {
 /// ```
 pub struct Batch<'c> {
     converter: &'c Converter,
+    each_input: Option<&'c [&'c Converter]>,
     update: bool,
     cancel: Option<&'c AtomicBool>,
 }
@@ -122,6 +123,7 @@ impl<'c> Batch<'c> {
     pub fn new(converter: &'c Converter) -> Batch<'c> {
         Batch {
             converter,
+            each_input: None,
             update: false,
             cancel: None,
         }
@@ -140,6 +142,20 @@ impl<'c> Batch<'c> {
     pub fn cancel_on(mut self, cancel: &'c AtomicBool) -> Batch<'c> {
         self.cancel = Some(cancel);
         self
+    }
+
+    /// Input `k` is converted by `converters[k]` (an asset's textures, each in the colour
+    /// space its material gives: converters that differ only there); the plan checks and the
+    /// replacing of outputs follow the batch's converter.
+    pub fn each_input(mut self, converters: &'c [&'c Converter]) -> Batch<'c> {
+        self.each_input = Some(converters);
+        self
+    }
+
+    fn converter_of(&self, index: usize) -> &'c Converter {
+        self.each_input
+            .and_then(|c| c.get(index).copied())
+            .unwrap_or(self.converter)
     }
 
     /// Checks the whole plan before anything is written ([`check_plan`] with the converter's
@@ -163,9 +179,11 @@ impl<'c> Batch<'c> {
         let never = AtomicBool::new(false);
         let cancel = self.cancel.unwrap_or(&never);
         let overwrite = self.converter.options().overwrite || self.update;
-        let up_to_date = |i: &Path, o: &Path| self.update && self.converter.is_up_to_date(i, o);
-        let run = |input: &Path, output: &Path, on: &mut (dyn FnMut(Event) + Send)| {
-            self.converter
+        let up_to_date = |k: usize, i: &Path, o: &Path| {
+            self.update && self.converter_of(k).is_up_to_date(i, o)
+        };
+        let run = |k: usize, input: &Path, output: &Path, on: &mut (dyn FnMut(Event) + Send)| {
+            self.converter_of(k)
                 .run(input, output, overwrite, cancel, &mut |done, total| {
                     on(Event::Progress { done, total })
                 })
@@ -203,8 +221,8 @@ impl<'c> Batch<'c> {
 fn each<T>(
     pairs: &[(PathBuf, PathBuf)],
     cancel: &AtomicBool,
-    up_to_date: impl Fn(&Path, &Path) -> bool,
-    mut run: impl FnMut(&Path, &Path, &mut (dyn FnMut(Event) + Send)) -> Result<T, Error>,
+    up_to_date: impl Fn(usize, &Path, &Path) -> bool,
+    mut run: impl FnMut(usize, &Path, &Path, &mut (dyn FnMut(Event) + Send)) -> Result<T, Error>,
     mut done: impl FnMut(&Path, &Path, T, &mut (dyn FnMut(Event) + Send), &mut Summary),
     on: &mut (dyn FnMut(Event) + Send),
 ) -> Summary {
@@ -215,13 +233,13 @@ fn each<T>(
             break;
         }
         on(Event::Started { index, input });
-        if up_to_date(input, output) {
+        if up_to_date(index, input, output) {
             summary.skipped += 1;
             on(Event::Skipped { input, output });
             continue;
         }
         let start = std::time::Instant::now();
-        match run(input, output, on) {
+        match run(index, input, output, on) {
             Ok(t) => done(input, output, t, on, &mut summary),
             Err(e) if e.is_cancelled() => {
                 summary.cancelled = true;
@@ -305,8 +323,8 @@ impl<'c> Expansions<'c> {
         let never = AtomicBool::new(false);
         let cancel = self.cancel.unwrap_or(&never);
         let overwrite = self.overwrite || self.update;
-        let up_to_date = |i: &Path, o: &Path| self.update && expansion_is_up_to_date(i, o);
-        let run = |input: &Path, output: &Path, _: &mut (dyn FnMut(Event) + Send)| {
+        let up_to_date = |_, i: &Path, o: &Path| self.update && expansion_is_up_to_date(i, o);
+        let run = |_, input: &Path, output: &Path, _: &mut (dyn FnMut(Event) + Send)| {
             pool.install(|| crate::expand(input, output, overwrite, self.fixnan, cancel))
         };
         let done = |input: &Path,
