@@ -399,7 +399,13 @@ mod tests {
             &[("rgb", "diffuseColor"), ("a", "opacity")],
         )]);
         assert_eq!(d.rule(), "source-color-space");
-        assert!(matches!(d, Decision::Colour { space: Space::Srgb, .. }));
+        assert!(matches!(
+            d,
+            Decision::Colour {
+                space: Space::Srgb,
+                ..
+            }
+        ));
         assert!(d.why().contains("with alpha"), "{}", d.why());
     }
 
@@ -414,7 +420,10 @@ mod tests {
         let raw = node("/M/Lin", Some("raw"), &[("rgb", "diffuseColor")]);
         assert!(matches!(
             decide(&[raw]),
-            Decision::Colour { space: Space::Linear, .. }
+            Decision::Colour {
+                space: Space::Linear,
+                ..
+            }
         ));
         let alpha = node("/M/Mask", Some("sRGB"), &[("a", "opacity")]);
         assert_eq!(decide(&[alpha]).rule(), "alpha-only");
@@ -426,7 +435,11 @@ mod tests {
         let b = node("/B/Tex", Some("raw"), &[("rgb", "normal")]);
         let d = decide(&[a.clone(), b]);
         assert_eq!(d.rule(), "conflict");
-        assert!(d.why().contains("/A/Tex") && d.why().contains("/B/Tex"), "{}", d.why());
+        assert!(
+            d.why().contains("/A/Tex") && d.why().contains("/B/Tex"),
+            "{}",
+            d.why()
+        );
         let lin = node("/C/Tex", Some("raw"), &[("rgb", "emissiveColor")]);
         let d = decide(&[a, lin]);
         assert_eq!(d.rule(), "conflict", "{d:?}");

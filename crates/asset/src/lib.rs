@@ -21,11 +21,13 @@
 pub mod decide;
 pub mod plan;
 mod reader;
+pub mod run;
 pub mod stage;
 
 pub use decide::{Decision, Space, Texture};
 pub use plan::{Asset, Job, LayerPlan, Override, Planned};
 pub use reader::{install_line, Reader, DEFAULT_TIMEOUT, PYTHON_VAR, TIMEOUT_VAR};
+pub use run::{finish, make_folders, member, prepare, with_member, Converters, Outcomes, Prepared};
 pub use stage::{Node, Stage, Use};
 
 use std::ffi::OsString;
@@ -114,6 +116,33 @@ pub enum Error {
     /// The reader failed otherwise.
     #[error("the USD reader failed: {0}")]
     Reader(String),
+    /// The layer exists and may not be replaced.
+    #[error("{} exists: update (-u) or force replaces it", layer.display())]
+    LayerExists {
+        /// The layer.
+        layer: PathBuf,
+    },
+    /// The OCIO config cannot be used.
+    #[error("{0}")]
+    Config(Box<specconv_conversion::Error>),
+    /// A folder or path under DIR.
+    #[error("{}: {}", .0.display(), .1)]
+    Io(PathBuf, std::io::Error),
+}
+
+impl Error {
+    /// The caller's fault, found before anything was converted (a usage error): the stage is
+    /// not a file, the layer exists, the config or a setting cannot be used.
+    pub fn is_usage(&self) -> bool {
+        matches!(
+            self,
+            Error::NotAStage { .. }
+                | Error::Mtlx { .. }
+                | Error::LayerExists { .. }
+                | Error::Config(_)
+                | Error::BadTimeout { .. }
+        )
+    }
 }
 
 /// Checks that `stage` can be given to usd-core: a regular file (a FIFO would block it) that

@@ -6,7 +6,7 @@ use crate::stage::{Node, Stage};
 use crate::Error;
 use serde::Serialize;
 use sha2::{Digest, Sha256};
-use specconv_conversion::plan::{Outputs, Plan};
+use specconv_atomic_file::udim;
 use specconv_conversion::ColourConfig;
 use std::collections::BTreeMap;
 use std::path::{Component, Path, PathBuf};
@@ -126,8 +126,9 @@ impl Asset {
         })
     }
 
-    /// The conversions, UDIM patterns expanded into their tiles; textures that cannot be
-    /// planned (a pattern with no tile) get their error instead.
+    /// The conversions, UDIM patterns expanded into the tiles that exist; textures that cannot
+    /// be planned (a pattern with no tile) get their error instead. Folders are not looked
+    /// at: the batch checks the whole plan before its first write.
     pub fn jobs(&mut self) -> Vec<Job> {
         let mut jobs = Vec::new();
         for (k, t) in self.textures.iter_mut().enumerate() {
@@ -135,13 +136,19 @@ impl Asset {
                 continue;
             };
             let input = t.texture.file.clone();
-            match Plan::new(vec![input], &Outputs::Files(vec![output])) {
-                Ok(plan) => jobs.extend(plan.into_pairs().into_iter().map(|(i, o)| Job {
-                    texture: k,
-                    input: i,
-                    output: o,
-                    colorspace: t.colorspace.clone(),
-                })),
+            let job = |input: PathBuf, output: PathBuf| Job {
+                texture: k,
+                input,
+                output,
+                colorspace: t.colorspace.clone(),
+            };
+            match udim::expand(&input) {
+                Ok(None) => jobs.push(job(input, output)),
+                Ok(Some(tiles)) => jobs.extend(
+                    tiles
+                        .into_iter()
+                        .map(|tile| job(tile.path, udim::substitute(&output, tile.number))),
+                ),
                 Err(e) => t.error = Some(e.to_string()),
             }
         }
@@ -213,7 +220,10 @@ fn planned(
             n.node,
             n.layer
                 .as_ref()
-                .map(|l| format!(" (written in {}; fix the path or add the file)", l.display()))
+                .map(|l| format!(
+                    " (written in {}; fix the path or add the file)",
+                    l.display()
+                ))
                 .unwrap_or_default()
         );
         let texture = Texture {
@@ -356,7 +366,10 @@ mod tests {
             out("/s/tex/wood.<UDIM>.png"),
             Path::new("/out/tex/wood_spectral.<UDIM>.exr")
         );
-        assert_eq!(out("/out/x_usdz/0/a.png"), Path::new("/out/x_usdz/0/a_spectral.exr"));
+        assert_eq!(
+            out("/out/x_usdz/0/a.png"),
+            Path::new("/out/x_usdz/0/a_spectral.exr")
+        );
         for outside in ["/etc/hostname", "/s/../etc/a.png", "/dev/zero"] {
             let o = out(outside);
             assert!(o.starts_with("/out/external/"), "{}", o.display());

@@ -55,6 +55,11 @@ impl Reader {
         Reader { python, timeout }
     }
 
+    /// The same, through another interpreter (the Python package's own).
+    pub fn with_python(self, python: OsString) -> Reader {
+        Reader { python, ..self }
+    }
+
     /// The interpreter.
     pub fn python(&self) -> &OsStr {
         &self.python
@@ -65,11 +70,8 @@ impl Reader {
     pub fn read(&self, stage: &Path, extract: Option<&Path>) -> Result<Stage, Error> {
         let inputs = serde_json::to_string(&crate::decide::final_inputs())
             .map_err(|e| Error::Reader(e.to_string()))?;
-        let mut args: Vec<&OsStr> = vec![
-            OsStr::new("read"),
-            stage.as_os_str(),
-            OsStr::new(&inputs),
-        ];
+        let mut args: Vec<&OsStr> =
+            vec![OsStr::new("read"), stage.as_os_str(), OsStr::new(&inputs)];
         if let Some(dir) = extract {
             args.push(dir.as_os_str());
         }

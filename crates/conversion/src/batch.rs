@@ -179,9 +179,8 @@ impl<'c> Batch<'c> {
         let never = AtomicBool::new(false);
         let cancel = self.cancel.unwrap_or(&never);
         let overwrite = self.converter.options().overwrite || self.update;
-        let up_to_date = |k: usize, i: &Path, o: &Path| {
-            self.update && self.converter_of(k).is_up_to_date(i, o)
-        };
+        let up_to_date =
+            |k: usize, i: &Path, o: &Path| self.update && self.converter_of(k).is_up_to_date(i, o);
         let run = |k: usize, input: &Path, output: &Path, on: &mut (dyn FnMut(Event) + Send)| {
             self.converter_of(k)
                 .run(input, output, overwrite, cancel, &mut |done, total| {

@@ -5,10 +5,12 @@
 use super::convert::{run_batch, Annotate, Reporting};
 use crate::{exit, explain, print_error, usage};
 use anyhow::{Context, Result};
-use specconv_asset::{check_stage, plan, Asset, Decision, Job, Reader};
+use specconv_asset::{
+    finish, make_folders, member, prepare, with_member, Asset, Converters, Decision, Job, Outcomes,
+    Prepared, Reader,
+};
 use specconv_conversion::record::Record;
-use specconv_conversion::{ColourConfig, Converter, Options};
-use std::collections::HashMap;
+use specconv_conversion::Options;
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex};
 
@@ -82,28 +84,20 @@ pub fn run(args: Args) -> Result<i32> {
              (docs/assets.md); convert the file with `specconv convert --colorspace`"
         )));
     }
-    check_stage(&args.stage).map_err(usage)?;
-    let stage = std::path::absolute(&args.stage)?;
-    if !args.dry_run {
-        std::fs::create_dir_all(&args.output)
-            .with_context(|| format!("cannot make {}", args.output.display()))?;
-    }
-    let dir = std::path::absolute(&args.output)?;
-    let layer = plan::layer_path(&stage, &dir);
+    let fault = |e: specconv_asset::Error| match e.is_usage() {
+        true => usage(e),
+        false => e.into(),
+    };
+    let reader = Reader::from_env().map_err(fault)?;
     let replace = options.overwrite || args.update;
-    if !args.dry_run && !replace && std::fs::symlink_metadata(&layer).is_ok() {
-        return Err(usage(anyhow::anyhow!(
-            "{} exists: -u (or --force) replaces it",
-            layer.display()
-        )));
-    }
-    let reader = Reader::from_env().map_err(usage)?;
-    let extract = (!args.dry_run).then(|| plan::extract_dir(&stage, &dir));
-    let read = reader.read(&stage, extract.as_deref())?;
-    let config = ColourConfig::resolve(options.ocio.as_deref())
-        .map_err(|e| usage(anyhow::anyhow!(explain(&e))))?;
-    let mut asset = Asset::new(read, &dir, &config)?;
-    let jobs = asset.jobs();
+    let Prepared { asset, jobs } = prepare(
+        &reader,
+        &args.stage,
+        &args.output,
+        options.ocio.as_deref(),
+        (args.dry_run, replace),
+    )
+    .map_err(fault)?;
     let reporting = Reporting {
         json: args.json,
         update: args.update,
@@ -112,6 +106,15 @@ pub fn run(args: Args) -> Result<i32> {
         verbose: args.verbose,
         annotate: None,
     };
+    if asset.textures.is_empty() && !args.quiet {
+        errln!(
+            "specconv: note: {}: no bound material reads a texture ({} material(s) bound to \
+             {} prim(s)); nothing to convert",
+            asset.stage.display(),
+            asset.materials,
+            asset.bound_prims
+        );
+    }
     if args.dry_run || args.verbose {
         print_decisions(&asset, &jobs, args.dry_run && args.json)?;
         if args.dry_run {
@@ -126,14 +129,16 @@ pub fn run(args: Args) -> Result<i32> {
 fn print_decisions(asset: &Asset, jobs: &[Job], json: bool) -> Result<()> {
     for (k, t) in asset.textures.iter().enumerate() {
         if json {
-            outln!("{}", serde_json::to_string(&member(asset, k))?)?;
+            outln!("{}", member(asset, k))?;
             continue;
         }
         let d = &t.texture.decision;
         let what = match d {
             Decision::Colour { .. } => format!(
                 "colour, colour space {}",
-                t.colorspace.as_deref().unwrap_or("from the file's evidence")
+                t.colorspace
+                    .as_deref()
+                    .unwrap_or("from the file's evidence")
             ),
             Decision::Data { .. } => "data".into(),
             Decision::Conflict { .. } => "CONFLICT".into(),
@@ -154,34 +159,8 @@ fn print_decisions(asset: &Asset, jobs: &[Job], json: bool) -> Result<()> {
     Ok(())
 }
 
-/// A texture's `asset` member: the stage, the layer, the rule, why, the uses.
-fn member(asset: &Asset, k: usize) -> serde_json::Value {
-    let t = &asset.textures[k];
-    let uses: Vec<serde_json::Value> = t
-        .texture
-        .nodes
-        .iter()
-        .flat_map(|n| {
-            n.uses.iter().map(move |u| {
-                serde_json::json!({
-                    "prim": n.node, "node_id": n.node_id, "material": u.material,
-                    "shader": u.shader, "input": u.input, "output": u.output,
-                    "through": u.through, "source_color_space": n.source_color_space,
-                    "colorspace": n.colorspace, "authored": n.authored,
-                })
-            })
-        })
-        .collect();
-    serde_json::json!({
-        "stage": asset.stage, "layer": asset.layer, "texture": t.texture.file,
-        "decision": &t.texture.decision, "rule": t.texture.decision.rule(),
-        "why": t.error.as_deref().unwrap_or(t.texture.decision.why()),
-        "colorspace_given": t.colorspace, "output": t.output, "uses": uses,
-    })
-}
-
-/// Converts the jobs (each in its colour space, one converter per space), reports the
-/// textures that are not converted as failures, and writes the layer.
+/// Converts the jobs (each in its colour space), reports the textures that are not converted
+/// as failures, and writes the layer.
 fn convert(
     reporting: &Reporting,
     options: Options,
@@ -189,45 +168,25 @@ fn convert(
     jobs: &[Job],
     reader: &Reader,
 ) -> Result<i32> {
-    let mut converters: HashMap<Option<String>, Converter> = HashMap::new();
-    for j in jobs {
-        if !converters.contains_key(&j.colorspace) {
-            let mut o = options.clone();
-            o.colorspace = j.colorspace.clone();
-            let c = Converter::new(o).map_err(|e| usage(anyhow::anyhow!(explain(&e))))?;
-            converters.insert(j.colorspace.clone(), c);
-        }
-    }
-    let first = match converters.values().next() {
-        Some(c) => c,
-        None => &Converter::new(options).map_err(|e| usage(anyhow::anyhow!(explain(&e))))?,
-    };
-    for j in jobs {
-        if let Some(parent) = j.output.parent() {
-            std::fs::create_dir_all(parent)
-                .with_context(|| format!("cannot make {}", parent.display()))?;
-        }
-    }
-    let each: Vec<&Converter> = jobs.iter().map(|j| &converters[&j.colorspace]).collect();
+    let converters =
+        Converters::new(&options, jobs).map_err(|e| usage(anyhow::anyhow!(explain(&e))))?;
+    make_folders(jobs)?;
+    let each = converters.each();
     let pairs: Vec<(PathBuf, PathBuf)> = jobs
         .iter()
         .map(|j| (j.input.clone(), j.output.clone()))
         .collect();
-    let texture_of: HashMap<PathBuf, usize> =
-        jobs.iter().map(|j| (j.input.clone(), j.texture)).collect();
-    let outcomes: Arc<Mutex<Vec<Vec<&'static str>>>> =
-        Arc::new(Mutex::new(vec![Vec::new(); asset.textures.len()]));
+    let outcomes = Arc::new(Mutex::new(Outcomes::new(asset, jobs)));
     let members: Vec<String> = (0..asset.textures.len())
         .map(|k| format!("\"asset\":{}", member(asset, k)))
         .collect();
     let annotate: Annotate = {
         let outcomes = Arc::clone(&outcomes);
-        let members = members.clone();
         Arc::new(move |record: &Record| {
-            let k = *texture_of.get(record.input())?;
-            if let Ok(mut o) = outcomes.lock() {
-                o[k].push(record.status());
-            }
+            let k = outcomes
+                .lock()
+                .ok()?
+                .heard(record.input(), record.status())?;
             Some(members[k].clone())
         })
     };
@@ -235,22 +194,14 @@ fn convert(
         annotate: Some(annotate),
         ..reporting.clone()
     };
-    let unplanned = report_unplanned(&reporting, asset, &members)?;
-    let code = run_batch(&reporting, (first, Some(&each)), &pairs)?;
+    let unplanned = report_unplanned(&reporting, asset)?;
+    let code = run_batch(&reporting, (converters.first(), Some(&each)), &pairs)?;
     if code == exit::INTERRUPTED || code == exit::USAGE {
         return Ok(code);
     }
     let outcomes = outcomes.lock().map(|o| o.clone()).unwrap_or_default();
-    let done = |k: usize| {
-        let o = &outcomes[k];
-        !o.is_empty()
-            && o.iter().all(|s| matches!(*s, "ok" | "clipped" | "skipped"))
-            && o.len() == jobs.iter().filter(|j| j.texture == k).count()
-    };
-    let layer = asset.layer_plan(done);
-    reader
-        .write_layer(&layer)
-        .with_context(|| format!("cannot write the layer {}", layer.layer.display()))?;
+    let layer = finish(reader, asset, &outcomes)
+        .with_context(|| format!("cannot write the layer {}", asset.layer.display()))?;
     if !reporting.quiet {
         errln!(
             "specconv: layer {} over {}: {} texture node(s) pointed at spectral files",
@@ -264,7 +215,7 @@ fn convert(
 
 /// The textures that are not converted (a conflict, a missing file, a colour space the config
 /// lacks, a UDIM pattern with no tile): a failed record or an error line each; how many.
-fn report_unplanned(reporting: &Reporting, asset: &Asset, members: &[String]) -> Result<usize> {
+fn report_unplanned(reporting: &Reporting, asset: &Asset) -> Result<usize> {
     let mut n = 0;
     for (k, t) in asset.textures.iter().enumerate() {
         let Some(why) = &t.error else { continue };
@@ -272,8 +223,7 @@ fn report_unplanned(reporting: &Reporting, asset: &Asset, members: &[String]) ->
         let file = &t.texture.file;
         if reporting.json {
             let record = Record::failed(file, Path::new(""), why.clone(), 0.0).to_json();
-            let fields = record.trim_end().strip_suffix('}').unwrap_or(&record);
-            outln!("{fields},{}}}", members[k])?;
+            outln!("{}", with_member(&record, asset, k))?;
         } else {
             print_error(&format!("{}: {why}", file.display()));
         }
