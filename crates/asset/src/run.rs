@@ -44,8 +44,21 @@ pub fn prepare(
     Ok(Prepared { asset, jobs })
 }
 
+/// `p` absolute, `.` and `..` taken out by name (as the resolver's paths are), so that a DIR
+/// given as `../spectral` is compared with them as the folder it names.
 fn absolute(p: &Path) -> Result<PathBuf, Error> {
-    std::path::absolute(p).map_err(|e| Error::Io(p.to_path_buf(), e))
+    let abs = std::path::absolute(p).map_err(|e| Error::Io(p.to_path_buf(), e))?;
+    let mut out = PathBuf::new();
+    for c in abs.components() {
+        match c {
+            std::path::Component::CurDir => {}
+            std::path::Component::ParentDir => {
+                out.pop();
+            }
+            c => out.push(c),
+        }
+    }
+    Ok(out)
 }
 
 /// One converter per colour space the jobs are given: `options` with that space.

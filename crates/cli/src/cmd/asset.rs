@@ -145,8 +145,11 @@ fn print_decisions(asset: &Asset, jobs: &[Job], json: bool) -> Result<()> {
             Decision::Missing { .. } => "MISSING".into(),
         };
         let tiles = jobs.iter().filter(|j| j.texture == k).count();
-        let to = match &t.output {
-            Some(o) if t.error.is_none() => format!(" → {} ({tiles} file(s))", o.display()),
+        let to = match (&t.output, d) {
+            (_, Decision::Data { .. }) => {
+                format!(" ({tiles} file(s): never uplifted, as --data says)")
+            }
+            (Some(o), _) if t.error.is_none() => format!(" → {} ({tiles} file(s))", o.display()),
             _ => String::new(),
         };
         errln!(
