@@ -96,6 +96,17 @@ def conflict(d):
     s.Save()
 
 
+def mixed(d):
+    """One colour texture and one data texture."""
+    s = Usd.Stage.CreateNew(os.path.join(d, "mixed.usda"))
+    m = material(s, "/Looks/M", [
+        T("Albedo", "./tex/rock_albedo.png", {"rgb": "diffuseColor"}, "sRGB"),
+        T("Arm", "./tex/rock_arm.png", {"g": "roughness", "b": "metallic"}),
+    ])
+    bind(s, "/Geo", m)
+    s.Save()
+
+
 def missing(d):
     s = Usd.Stage.CreateNew(os.path.join(d, "missing.usda"))
     m = material(s, "/Looks/M", [T("Gone", "./tex/gone.png", {"rgb": "diffuseColor"}, "sRGB")])

@@ -53,17 +53,8 @@ pub fn convert_asset<'py>(
     let reader = Reader::from_env()
         .map_err(asset_error)?
         .with_python(python.into_os_string());
-    let replace = o.overwrite || update;
     let Prepared { asset, jobs } = py
-        .detach(|| {
-            prepare(
-                &reader,
-                &stage,
-                &output,
-                o.ocio.as_deref(),
-                (dry_run, replace),
-            )
-        })
+        .detach(|| prepare(&reader, (&stage, &output), &o, (dry_run, update)))
         .map_err(asset_error)?;
     let json = py.import("json")?;
     let loads = |text: String| json.call_method1("loads", (text,));

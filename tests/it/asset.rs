@@ -429,3 +429,31 @@ fn without_usd_core_the_error_says_what_to_install() {
     ])
     .fails(2, &["asset takes no --colorspace"]);
 }
+
+#[test]
+fn data_textures_follow_the_data_policy_and_colour_ones_convert() {
+    let Some(python) = usd() else { return };
+    let dir = Scratch::new("asset-data");
+    stage(&dir.0, "mixed");
+    let mixed = dir.path("mixed.usda");
+    // With --data fail the data texture is a failure, and the colour one is converted.
+    let run = asset(&python, &mixed, &dir.path("out"))
+        .args(["--json", "--data", "fail"])
+        .run();
+    assert_eq!(run.code, 1, "{}", run.stderr);
+    let r = json_lines_of(&run.stdout);
+    assert_eq!(record(&r, "rock_arm.png")["status"], "failed");
+    let error = record(&r, "rock_arm.png")["error"].as_str().unwrap().to_owned();
+    assert!(error.contains("data policy fail"), "{error}");
+    assert_eq!(record(&r, "rock_albedo.png")["status"], "ok");
+    // With --data copy it is written through, tagged data, and not pointed at by the layer.
+    let out = dir.path("out2");
+    let r = asset(&python, &mixed, &out)
+        .args(["--json", "--data", "copy"])
+        .ok()
+        .json_lines();
+    assert_eq!(record(&r, "rock_arm.png")["status"], "copied");
+    let v = layer_files(&python, &out.join("mixed_spectral.usda"));
+    assert_eq!(v["files"]["/Looks/M/Arm"]["file"], "./tex/rock_arm.png");
+    assert_eq!(v["files"]["/Looks/M/Albedo"]["file"], "./tex/rock_albedo_spectral.exr");
+}

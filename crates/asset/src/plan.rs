@@ -155,6 +155,19 @@ impl Asset {
         jobs
     }
 
+    /// With `--data fail`: texture `k`, when it is data, becomes a failure (its error says
+    /// why); whether it did.
+    pub fn fail_data(&mut self, k: usize) -> bool {
+        let t = &mut self.textures[k];
+        let Decision::Data { why, .. } = &t.texture.decision else {
+            return false;
+        };
+        t.error = Some(format!(
+            "a data texture ({why}), never uplifted; the data policy fail counts it as a failure"
+        ));
+        true
+    }
+
     /// The layer pointing every node of each colour texture for which `done` holds at its
     /// output.
     pub fn layer_plan(&self, done: impl Fn(usize) -> bool) -> LayerPlan {

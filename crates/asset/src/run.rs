@@ -4,7 +4,7 @@
 
 use crate::plan::{extract_dir, layer_path, Asset, Job, LayerPlan};
 use crate::{check_stage, Error, Reader};
-use specconv_conversion::{ColourConfig, Converter, Options};
+use specconv_conversion::{ColourConfig, Converter, DataPolicy, Options};
 use std::path::{Path, PathBuf};
 
 /// A stage read and planned: every texture's decision and output, the jobs.
@@ -16,16 +16,17 @@ pub struct Prepared {
     pub jobs: Vec<Job>,
 }
 
-/// Reads `stage` and plans it into `dir`, the colour spaces named in the config `ocio`. Unless
+/// Reads `stage` and plans it into `dir` for a conversion with `options` (their config names
+/// the colour spaces; with `data` fail a data texture is a failure, not a job). Unless
 /// `dry_run`, `dir` is made and a usdz's textures are copied out into it; an existing layer
-/// is refused unless `replace`. Nothing else is written.
+/// is refused unless `update` or `overwrite`. Nothing else is written.
 pub fn prepare(
     reader: &Reader,
-    stage: &Path,
-    dir: &Path,
-    ocio: Option<&str>,
-    (dry_run, replace): (bool, bool),
+    (stage, dir): (&Path, &Path),
+    options: &Options,
+    (dry_run, update): (bool, bool),
 ) -> Result<Prepared, Error> {
+    let replace = update || options.overwrite;
     check_stage(stage)?;
     let stage = absolute(stage)?;
     if !dry_run {
@@ -38,9 +39,13 @@ pub fn prepare(
     }
     let extract = (!dry_run).then(|| extract_dir(&stage, &dir));
     let read = reader.read(&stage, extract.as_deref())?;
-    let config = ColourConfig::resolve(ocio).map_err(|e| Error::Config(Box::new(e)))?;
+    let config =
+        ColourConfig::resolve(options.ocio.as_deref()).map_err(|e| Error::Config(Box::new(e)))?;
     let mut asset = Asset::new(read, &dir, &config)?;
-    let jobs = asset.jobs();
+    let mut jobs = asset.jobs();
+    if options.data == DataPolicy::Fail {
+        jobs.retain(|j| !asset.fail_data(j.texture));
+    }
     Ok(Prepared { asset, jobs })
 }
 

@@ -89,13 +89,11 @@ pub fn run(args: Args) -> Result<i32> {
         false => e.into(),
     };
     let reader = Reader::from_env().map_err(fault)?;
-    let replace = options.overwrite || args.update;
     let Prepared { asset, jobs } = prepare(
         &reader,
-        &args.stage,
-        &args.output,
-        options.ocio.as_deref(),
-        (args.dry_run, replace),
+        (&args.stage, &args.output),
+        &options,
+        (args.dry_run, args.update),
     )
     .map_err(fault)?;
     let reporting = Reporting {
