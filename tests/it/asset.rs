@@ -443,7 +443,10 @@ fn data_textures_follow_the_data_policy_and_colour_ones_convert() {
     assert_eq!(run.code, 1, "{}", run.stderr);
     let r = json_lines_of(&run.stdout);
     assert_eq!(record(&r, "rock_arm.png")["status"], "failed");
-    let error = record(&r, "rock_arm.png")["error"].as_str().unwrap().to_owned();
+    let error = record(&r, "rock_arm.png")["error"]
+        .as_str()
+        .unwrap()
+        .to_owned();
     assert!(error.contains("data policy fail"), "{error}");
     assert_eq!(record(&r, "rock_albedo.png")["status"], "ok");
     // With --data copy it is written through, tagged data, and not pointed at by the layer.
@@ -455,5 +458,8 @@ fn data_textures_follow_the_data_policy_and_colour_ones_convert() {
     assert_eq!(record(&r, "rock_arm.png")["status"], "copied");
     let v = layer_files(&python, &out.join("mixed_spectral.usda"));
     assert_eq!(v["files"]["/Looks/M/Arm"]["file"], "./tex/rock_arm.png");
-    assert_eq!(v["files"]["/Looks/M/Albedo"]["file"], "./tex/rock_albedo_spectral.exr");
+    assert_eq!(
+        v["files"]["/Looks/M/Albedo"]["file"],
+        "./tex/rock_albedo_spectral.exr"
+    );
 }

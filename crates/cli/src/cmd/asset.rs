@@ -125,6 +125,10 @@ pub fn run(args: Args) -> Result<i32> {
 
 /// Each texture's decision: a line on standard error, or a JSON object on standard output.
 fn print_decisions(asset: &Asset, jobs: &[Job], json: bool) -> Result<()> {
+    let mut files = vec![0usize; asset.textures.len()];
+    for j in jobs {
+        files[j.texture] += 1;
+    }
     for (k, t) in asset.textures.iter().enumerate() {
         if json {
             outln!("{}", member(asset, k))?;
@@ -142,7 +146,7 @@ fn print_decisions(asset: &Asset, jobs: &[Job], json: bool) -> Result<()> {
             Decision::Conflict { .. } => "CONFLICT".into(),
             Decision::Missing { .. } => "MISSING".into(),
         };
-        let tiles = jobs.iter().filter(|j| j.texture == k).count();
+        let tiles = files[k];
         let to = match (&t.output, d) {
             (_, Decision::Data { .. }) => {
                 format!(" ({tiles} file(s): never uplifted, as --data says)")
