@@ -152,6 +152,16 @@ def convert(
     strict: bool = False,
 ) -> list[dict[str, Any]]: ...
 # END GENERATED
+def convert_asset(
+    stage: _Path,
+    output: _Path,
+    *,
+    update: bool = False,
+    errors: Literal["raise", "record"] = "raise",
+    dry_run: bool = False,
+    progress: Optional[Callable[[int, Path, int, int], Any]] = None,
+    **options: Any,
+) -> list[dict[str, Any]]: ...
 def options() -> list[dict[str, Any]]: ...
 def read_spectral(path: _Path, *, level: int = 0) -> SpectralImage: ...
 def read_compact(path: _Path, *, level: int = 0) -> CompactImage: ...

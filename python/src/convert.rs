@@ -19,9 +19,14 @@ use std::time::Duration;
 enum Said {
     Started(usize, PathBuf),
     Progress(u64, u64),
-    Record(String),
+    /// A record (JSON), with its input and status.
+    Record(String, PathBuf, &'static str),
     Failed(Kind, String),
 }
+
+/// What a front-end adds to each record (`convert_asset`'s `asset` member): given the input,
+/// the status and the record, the record to return.
+pub(crate) type Annotate<'a> = &'a mut dyn FnMut(&std::path::Path, &'static str, String) -> String;
 
 /// Inputs or outputs: one path or a sequence of them.
 pub enum Paths {
@@ -127,7 +132,14 @@ pub fn convert<'py>(
     let o = conversion_options(options)?;
     let pairs = crate::plan::pairs(py, inputs.list(), outputs.map(Paths::list), output_template)?;
     let converter = py.detach(|| Converter::new(o)).map_err(conversion)?;
-    run(py, &converter, &pairs, update, raise, progress)
+    run(
+        py,
+        (&converter, None),
+        &pairs,
+        (update, raise),
+        progress,
+        None,
+    )
 }
 
 /// The options of a conversion from `convert`'s keywords, each read as the library defines it
@@ -213,13 +225,15 @@ fn option_text(key: Key, value: &Bound<'_, PyAny>) -> PyResult<Option<OsString>>
 /// input finished) until this thread has taken it: a Ctrl-C heard here, or a callback that
 /// raises, is seen by the batch before its next window. (One heard after an input's last
 /// window may find its output published: whole, never partial.)
-fn run<'py>(
+/// `each_input`, when given, converts input k with its converter k; `annotate` rewrites each
+/// record.
+pub(crate) fn run<'py>(
     py: Python<'py>,
-    converter: &Converter,
+    (converter, each_input): (&Converter, Option<&[&Converter]>),
     pairs: &[Pair],
-    update: bool,
-    raise: bool,
+    (update, raise): (bool, bool),
     progress: Option<Bound<'py, PyAny>>,
+    mut annotate: Option<Annotate<'_>>,
 ) -> PyResult<Vec<Bound<'py, PyAny>>> {
     let cancel = AtomicBool::new(false);
     // A rendezvous: the batch waits at each event until this thread takes it, so it never runs
@@ -235,7 +249,10 @@ fn run<'py>(
     let json = py.import("json")?;
     let ended = std::thread::scope(|s| {
         let worker = s.spawn(|| {
-            let batch = Batch::new(converter).update(update).cancel_on(&cancel);
+            let mut batch = Batch::new(converter).update(update).cancel_on(&cancel);
+            if let Some(each) = each_input {
+                batch = batch.each_input(each);
+            }
             let tell = |said| {
                 let _ = tx.send(said);
             };
@@ -268,7 +285,13 @@ fn run<'py>(
                 Ok(Said::Progress(done, total)) => {
                     call(&progress, (index.0, index.1.clone(), done, total))
                 }
-                Ok(Said::Record(r)) => json.call_method1("loads", (r,)).map(|r| records.push(r)),
+                Ok(Said::Record(r, input, status)) => {
+                    let r = match annotate.as_mut() {
+                        Some(a) => a(&input, status, r),
+                        None => r,
+                    };
+                    json.call_method1("loads", (r,)).map(|r| records.push(r))
+                }
                 Ok(Said::Failed(kind, message)) => Err(kind.err(message)),
                 Err(mpsc::RecvTimeoutError::Timeout) => Ok(()),
             }
@@ -308,21 +331,17 @@ fn heard_of(event: &Event, converter: &Converter, raise: bool) -> Vec<Said> {
     match *event {
         Event::Started { index, input } => vec![Said::Started(index, input.into())],
         Event::Progress { done, total } => vec![Said::Progress(done, total)],
-        Event::Skipped { input, output } => {
-            vec![Said::Record(Record::skipped(input, output).to_json())]
-        }
+        Event::Skipped { input, output } => vec![said(Record::skipped(input, output))],
         Event::Converted {
             input,
             output,
             report,
-        } => vec![Said::Record(
-            Record::converted(converter, input, output, report).to_json(),
-        )],
+        } => vec![said(Record::converted(converter, input, output, report))],
         Event::Data {
             input,
             output,
             report,
-        } => vec![Said::Record(Record::data(input, output, report).to_json())],
+        } => vec![said(Record::data(input, output, report))],
         Event::Failed {
             input,
             output,
@@ -330,8 +349,7 @@ fn heard_of(event: &Event, converter: &Converter, raise: bool) -> Vec<Said> {
             seconds,
         } => {
             let message = without_input(&crate::errors::message(error), input);
-            let record =
-                Said::Record(Record::failed(input, output, message.clone(), seconds).to_json());
+            let record = said(Record::failed(input, output, message.clone(), seconds));
             let failed = Said::Failed(
                 crate::errors::kind(error),
                 format!("{}: {message}", input.display()),
@@ -343,6 +361,11 @@ fn heard_of(event: &Event, converter: &Converter, raise: bool) -> Vec<Said> {
         }
         _ => Vec::new(),
     }
+}
+
+/// A record as the batch's thread tells it.
+fn said(r: Record) -> Said {
+    Said::Record(r.to_json(), r.input().to_path_buf(), r.status())
 }
 
 /// Calls the progress callback, if any.

@@ -6,6 +6,7 @@
 
 mod args;
 mod arrays;
+mod asset;
 mod colour;
 mod convert;
 mod errors;
@@ -29,6 +30,7 @@ fn _specconv(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(evaluate::evaluate, m)?)?;
     m.add_function(wrap_pyfunction!(convert::convert, m)?)?;
     m.add_function(wrap_pyfunction!(convert::options, m)?)?;
+    m.add_function(wrap_pyfunction!(asset::convert_asset, m)?)?;
     m.add_class::<files::SpectralImage>()?;
     m.add_function(wrap_pyfunction!(files::read_spectral, m)?)?;
     m.add_function(wrap_pyfunction!(files::write_spectral, m)?)?;

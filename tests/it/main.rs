@@ -1,5 +1,6 @@
 //! Integration tests of the `specconv` binary: one test crate, modules per command.
 
+mod asset;
 mod baselines;
 mod colour;
 mod compact;

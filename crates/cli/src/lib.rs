@@ -268,6 +268,8 @@ enum Command {
     Preview(cmd::preview::Args),
     #[command(after_long_help = cmd::farm::EXAMPLES, disable_help_subcommand = true)]
     Farm(cmd::farm::Args),
+    #[command(after_long_help = cmd::asset::EXAMPLES)]
+    Asset(cmd::asset::Args),
 }
 
 /// Runs the command line and returns the process exit code.
@@ -392,6 +394,7 @@ fn run(cli: Cli) -> anyhow::Result<i32> {
         Some(Command::Simulate(args)) => done(cmd::simulate::run(args)),
         Some(Command::Preview(args)) => done(cmd::preview::run(args)),
         Some(Command::Farm(args)) => cmd::farm::run(args, ocio),
+        Some(Command::Asset(args)) => cmd::asset::run(with_ocio!(args)),
     }
 }
 

@@ -7,7 +7,7 @@ use crate::Cli;
 use clap::CommandFactory;
 
 /// Every environment variable the program reads, and what for.
-pub const ENVIRONMENT: [(&str, &str); 9] = [
+pub const ENVIRONMENT: [(&str, &str); 11] = [
     (
         "OCIO",
         "The OCIO config used when --ocio is not given (convert, info, colorspaces, to-rgb, and simulate scenes without `ocio`): a file, `aces` or a built-in name such as ocio://default or ocio://studio-config-latest; unset or empty: the built-in ACES config.",
@@ -33,6 +33,14 @@ pub const ENVIRONMENT: [(&str, &str); 9] = [
     (
         "SLURM_CPUS_PER_TASK",
         "The threads a `farm` task converts with (Slurm sets it from --cpus-per-task; default the job's request).",
+    ),
+    (
+        "SPECCONV_USD_PYTHON",
+        "The Python interpreter `asset` reads USD stages with: it must have Pixar's usd-core (`python3 -m pip install usd-core`); default python3.",
+    ),
+    (
+        "SPECCONV_USD_TIMEOUT",
+        "Seconds `asset` lets usd-core take to read a stage or write its layer (default 300).",
     ),
     (
         "SPECCONV_PROGRESS_SECONDS",

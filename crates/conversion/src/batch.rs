@@ -114,6 +114,7 @@ pub struct Summary {
 /// ```
 pub struct Batch<'c> {
     converter: &'c Converter,
+    each_input: Option<&'c [&'c Converter]>,
     update: bool,
     cancel: Option<&'c AtomicBool>,
 }
@@ -124,6 +125,7 @@ impl<'c> Batch<'c> {
     pub fn new(converter: &'c Converter) -> Batch<'c> {
         Batch {
             converter,
+            each_input: None,
             update: false,
             cancel: None,
         }
@@ -142,6 +144,20 @@ impl<'c> Batch<'c> {
     pub fn cancel_on(mut self, cancel: &'c AtomicBool) -> Batch<'c> {
         self.cancel = Some(cancel);
         self
+    }
+
+    /// Input `k` is converted by `converters[k]` (an asset's textures, each in the colour
+    /// space its material gives: converters that differ only there); the plan checks and the
+    /// replacing of outputs follow the batch's converter.
+    pub fn each_input(mut self, converters: &'c [&'c Converter]) -> Batch<'c> {
+        self.each_input = Some(converters);
+        self
+    }
+
+    fn converter_of(&self, index: usize) -> &'c Converter {
+        self.each_input
+            .and_then(|c| c.get(index).copied())
+            .unwrap_or(self.converter)
     }
 
     /// Checks the whole plan before anything is written ([`check_plan`] with the converter's
@@ -169,17 +185,20 @@ impl<'c> Batch<'c> {
         let overwrite = self.converter.options().overwrite || self.update;
         // Either name may hold the up-to-date output: which one the input makes is known once
         // it is read, and the recorded settings tell a stale one.
-        let up_to_date = |pair: &'_ Pair| -> Option<Holds> {
+        let up_to_date = |k: usize, pair: &'_ Pair| -> Option<Holds> {
             if !self.update {
                 return None;
             }
             Holds::ALL
                 .into_iter()
                 .filter(|h| *h == Holds::Spectral || pair.data.is_some())
-                .find(|h| self.converter.is_up_to_date(&pair.input, pair.output(*h)))
+                .find(|h| {
+                    self.converter_of(k)
+                        .is_up_to_date(&pair.input, pair.output(*h))
+                })
         };
-        let run = |pair: &Pair, on: &mut (dyn FnMut(Event) + Send)| {
-            self.converter
+        let run = |k: usize, pair: &Pair, on: &mut (dyn FnMut(Event) + Send)| {
+            self.converter_of(k)
                 .run(pair, overwrite, cancel, &mut |done, total| {
                     on(Event::Progress { done, total })
                 })
@@ -218,8 +237,8 @@ impl<'c> Batch<'c> {
 fn each<T>(
     pairs: &[Pair],
     cancel: &AtomicBool,
-    up_to_date: impl Fn(&Pair) -> Option<Holds>,
-    mut run: impl FnMut(&Pair, &mut (dyn FnMut(Event) + Send)) -> Result<T, Error>,
+    up_to_date: impl Fn(usize, &Pair) -> Option<Holds>,
+    mut run: impl FnMut(usize, &Pair, &mut (dyn FnMut(Event) + Send)) -> Result<T, Error>,
     mut done: impl FnMut(&Pair, T, &mut (dyn FnMut(Event) + Send), &mut Summary),
     on: &mut (dyn FnMut(Event) + Send),
 ) -> Summary {
@@ -231,7 +250,7 @@ fn each<T>(
             break;
         }
         on(Event::Started { index, input });
-        if let Some(holds) = up_to_date(pair) {
+        if let Some(holds) = up_to_date(index, pair) {
             summary.skipped += 1;
             on(Event::Skipped {
                 input,
@@ -240,7 +259,7 @@ fn each<T>(
             continue;
         }
         let start = std::time::Instant::now();
-        match run(pair, on) {
+        match run(index, pair, on) {
             Ok(t) => done(pair, t, on, &mut summary),
             Err(e) if e.is_cancelled() => {
                 summary.cancelled = true;
@@ -332,10 +351,10 @@ impl<'c> Expansions<'c> {
         let cancel = self.cancel.unwrap_or(&never);
         let overwrite = self.overwrite || self.update;
         // An expansion writes its output alone: a pair's data name is never its.
-        let up_to_date = |p: &Pair| {
+        let up_to_date = |_, p: &Pair| {
             (self.update && expansion_is_up_to_date(&p.input, &p.output)).then_some(Holds::Spectral)
         };
-        let run = |p: &Pair, _: &mut (dyn FnMut(Event) + Send)| {
+        let run = |_, p: &Pair, _: &mut (dyn FnMut(Event) + Send)| {
             pool.install(|| crate::expand(&p.input, &p.output, overwrite, self.fixnan, cancel))
         };
         let done = |p: &Pair,

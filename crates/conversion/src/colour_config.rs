@@ -113,6 +113,13 @@ impl ColourConfig {
         Ok(XyzTransform(self.0.processor_to_xyz(colour_space)?))
     }
 
+    /// The config's name for `name` (a name, alias or role of the config, else a Color Interop
+    /// Forum ID: `data` is the config's data space), as a file's declared name is read
+    /// (docs/colour.md); `Ok(None)` for `unknown`, `Ok(Some(Err(why)))` for a name neither knows.
+    pub fn named_space(&self, name: &str) -> Result<Option<Result<String, String>>, Error> {
+        Ok(crate::pipeline::colour::named_space(&self.0, name)?)
+    }
+
     /// A colour space named for inputs (a conversion's `colorspace`) exists and reaches
     /// CIE XYZ, so every input read in it can be converted; or is a data space, which names
     /// data textures (never uplifted).

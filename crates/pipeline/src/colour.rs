@@ -702,6 +702,17 @@ fn evidence(config: &Config, reader: &ImageReader) -> Result<Evidence> {
     Ok(found)
 }
 
+/// The config's colour space for a name declared outside a file (a material's MaterialX
+/// `colorspace`), by the rule of [`named`]: a name, alias or role of the config, else a Color
+/// Interop Forum ID (`data`: the config's data space). `Ok(None)` for `unknown`; `Ok(Some(Err(why)))`
+/// for a name neither knows.
+pub fn named_space(
+    config: &Config,
+    name: &str,
+) -> Result<Option<std::result::Result<String, String>>> {
+    Ok(named(config, name, "")?.map(|found| found.map(|f| f.name)))
+}
+
 /// A colour-space name the file declares (`colorInteropID`, `oiio:ColorSpace`), resolved by
 /// one rule: a name, alias or role of the config; else a Color Interop Forum ID
 /// ([`crate::interop`]) as the config's equivalent space (`data`: its data space); `None` for

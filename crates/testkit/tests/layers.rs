@@ -26,6 +26,8 @@ const LAYERS: &[&[&str]] = &[
     // The job, under the description of what it does.
     &["specconv-pipeline"],
     &["specconv-conversion"],
+    // An asset (a USD stage) over the conversion: its textures decided by their materials.
+    &["specconv-asset"],
     // The front-ends: the command line and the Python package.
     &["specconv-cli", "specconv-python", "specconv-testkit"],
     &["specconv"],

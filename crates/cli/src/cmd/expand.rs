@@ -86,6 +86,7 @@ pub fn run(args: Args) -> Result<i32> {
         progress: args.progress,
         quiet: args.quiet,
         verbose: false,
+        annotate: None,
     };
     let cancel = Arc::new(AtomicBool::new(false));
     let inputs: Vec<PathBuf> = pairs.iter().map(|p| p.input.clone()).collect();

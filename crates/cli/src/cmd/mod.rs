@@ -1,5 +1,6 @@
 //! One module per subcommand: its clap arguments (whose doc comments are the help text and man
 //! page) and its `run`.
+pub mod asset;
 pub mod colorspaces;
 pub mod completions;
 pub mod convert;

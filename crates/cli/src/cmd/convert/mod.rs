@@ -126,12 +126,13 @@ pub(crate) fn run_task(options: Options, pairs: &[Pair]) -> Result<i32> {
         progress: crate::progress::When::Never,
         quiet: false,
         verbose: false,
+        annotate: None,
     };
     run_pairs(&reporting, options, pairs)
 }
 
 /// How a batch is reported and what it skips: `convert`'s own flags, or a farm task's.
-#[derive(Debug, Clone, Copy)]
+#[derive(Clone)]
 pub(crate) struct Reporting {
     /// `--json`: a record per input on standard output.
     pub json: bool,
@@ -143,7 +144,14 @@ pub(crate) struct Reporting {
     pub quiet: bool,
     /// `-v`: the config and the model too.
     pub verbose: bool,
+    /// More keys for an input's JSON record (`asset`'s: the prims and inputs that read it),
+    /// told every record.
+    pub annotate: Option<Annotate>,
 }
+
+/// What `asset` adds to a record: a JSON object's members (`"asset": {…}`), or none.
+pub(crate) type Annotate =
+    std::sync::Arc<dyn Fn(&specconv_conversion::record::Record) -> Option<String> + Send + Sync>;
 
 /// Converts `pairs` with `options`, reported as `args` asks.
 fn run_pairs(args: &Reporting, options: Options, pairs: &[Pair]) -> Result<i32> {
@@ -167,7 +175,7 @@ fn run_pairs(args: &Reporting, options: Options, pairs: &[Pair]) -> Result<i32> 
         errln!("config: {}", converter.config_source());
         errln!("model:  {}", converter.model_description());
     }
-    run_batch(args, &converter, pairs)
+    run_batch(args, (&converter, None), pairs)
 }
 
 impl Args {
@@ -179,6 +187,7 @@ impl Args {
             progress: self.progress,
             quiet: self.quiet,
             verbose: self.verbose,
+            annotate: None,
         }
     }
 
@@ -193,7 +202,12 @@ impl Args {
 /// Converts every input in turn, printing as it goes; returns the exit status. SIGINT and
 /// SIGTERM stop the input being converted (its temporary file removed) and the batch; so does
 /// a failed write to standard output, after the record of an input that is done.
-fn run_batch(args: &Reporting, converter: &Converter, pairs: &[Pair]) -> Result<i32> {
+/// `each_input`, when given, converts input k with its converter k ([`Batch::each_input`]).
+pub(crate) fn run_batch(
+    args: &Reporting,
+    (converter, each_input): (&Converter, Option<&[&Converter]>),
+    pairs: &[Pair],
+) -> Result<i32> {
     let cancel = Arc::new(AtomicBool::new(false));
     let inputs: Vec<PathBuf> = pairs.iter().map(|p| p.input.clone()).collect();
     let mut progress = Progress::new(args.progress, args.quiet, &inputs);
@@ -207,7 +221,10 @@ fn run_batch(args: &Reporting, converter: &Converter, pairs: &[Pair]) -> Result<
         }
     };
     let batch_start = std::time::Instant::now();
-    let batch = Batch::new(converter).update(args.update).cancel_on(&cancel);
+    let mut batch = Batch::new(converter).update(args.update).cancel_on(&cancel);
+    if let Some(each) = each_input {
+        batch = batch.each_input(each);
+    }
     let ended = signals::deferred(&cancel, || {
         batch.run(pairs, &mut |event| match event {
             Event::Started { index, input } => progress.start(index, input),

@@ -196,7 +196,18 @@ fn range_notes(r: &Report, converter: &Converter) -> String {
 /// A record on standard output (`--json`), else a line on standard error.
 fn emit(args: &Args, record: Record, line: &str) -> Result<(), StdoutFailed> {
     if args.json {
-        return outln!("{}", record.to_json());
+        let json = record.to_json();
+        return match args.annotate.as_ref().and_then(|a| a(&record)) {
+            // The record is one object: its members, then the annotation's.
+            Some(more) => {
+                let members = json.trim_end().strip_suffix('}').unwrap_or(&json);
+                outln!("{members},{more}}}")
+            }
+            None => outln!("{json}"),
+        };
+    }
+    if let Some(annotate) = &args.annotate {
+        annotate(&record);
     }
     if !args.quiet && record.status() != "failed" {
         errln!(

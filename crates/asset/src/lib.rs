@@ -1,0 +1,168 @@
+//! specconv on an asset (docs/assets.md): a USD stage's textures, each decided colour or data
+//! by the material inputs it feeds, converted as a batch, and a layer that points the stage at
+//! the spectral files.
+//!
+//! - [`Reader`]: Pixar's usd-core (`pip install usd-core`) composes the stage (references,
+//!   payloads, the selected variants, usdz packages) in a Python interpreter, running the
+//!   reader script kept in this crate; it reports what the stage says and decides nothing.
+//!   usd-core is the reference USD implementation; the Rust `openusd` crate has no MaterialX
+//!   file format and asset resolver of usd-core's (docs/assets.md has the evidence).
+//! - [`decide`]: the one rule, from the inputs a texture's outputs feed: colour inputs,
+//!   data inputs, `sourceColorSpace`, MaterialX `colorspace`; conflicts are never converted.
+//! - [`Asset`]: every texture file once, its output under DIR, the colour space its
+//!   conversion is given (the material as row 1 of docs/colour.md's precedence: the
+//!   conversion's named colour space), and the layer of overrides ([`LayerPlan`]).
+//!
+//! Front-ends (the command line's `asset`, the Python package's `convert_asset`) read, plan,
+//! convert the jobs through the conversion's batch, and write the layer.
+#![forbid(unsafe_code)]
+#![warn(missing_docs)]
+
+pub mod decide;
+pub mod plan;
+mod reader;
+pub mod run;
+pub mod stage;
+
+pub use decide::{Decision, Space, Texture};
+pub use plan::{Asset, Job, LayerPlan, Override, Planned};
+pub use reader::{install_line, Reader, DEFAULT_TIMEOUT, PYTHON_VAR, TIMEOUT_VAR};
+pub use run::{finish, make_folders, member, prepare, with_member, Converters, Outcomes, Prepared};
+pub use stage::{Node, Stage, Use};
+
+use std::ffi::OsString;
+use std::path::{Path, PathBuf};
+
+/// Why an asset cannot be read or planned. Nothing has been converted.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum Error {
+    /// The interpreter cannot be started.
+    #[error(
+        "cannot run the Python interpreter '{}' ({source}): the USD reader is Pixar's usd-core \
+         in Python 3; install it ({}) or name an interpreter that has it with {PYTHON_VAR}",
+        python.to_string_lossy(), install_line(python)
+    )]
+    NoPython {
+        /// The interpreter.
+        python: OsString,
+        /// Why it did not start.
+        source: std::io::Error,
+    },
+    /// The interpreter has no usd-core.
+    #[error(
+        "the Python interpreter '{}' has no usd-core (the pxr module), which reads USD stages: \
+         install it with `{}`, or name an interpreter that has it with {PYTHON_VAR}",
+        python.to_string_lossy(), install_line(python)
+    )]
+    NoUsd {
+        /// The interpreter.
+        python: OsString,
+    },
+    /// `$SPECCONV_USD_TIMEOUT` is not a number of seconds.
+    #[error("{TIMEOUT_VAR}={value:?} is not a positive number of seconds")]
+    BadTimeout {
+        /// Its value.
+        value: String,
+    },
+    /// The stage is not a regular file (a FIFO, a device, a directory) or does not exist.
+    #[error("the stage {}: {why}", stage.display())]
+    NotAStage {
+        /// The path given.
+        stage: PathBuf,
+        /// What it is instead.
+        why: String,
+    },
+    /// A MaterialX document given as the stage.
+    #[error(
+        "{}: a MaterialX document; usd-core (PyPI) has no MaterialX file format plugin, so \
+         specconv reads MaterialX nodes inside USD stages only (docs/assets.md)",
+        stage.display()
+    )]
+    Mtlx {
+        /// The document.
+        stage: PathBuf,
+    },
+    /// usd-core could not open it.
+    #[error("usd-core cannot open the stage: {detail}")]
+    Open {
+        /// usd-core's words.
+        detail: String,
+    },
+    /// Composition failed somewhere: a texture may be missing from the list.
+    #[error(
+        "the stage {} does not compose: {first}{}; nothing is converted, since a texture \
+         may be missing from what composed",
+        stage.display(),
+        if *more > 0 { format!(" (and {more} more)") } else { String::new() }
+    )]
+    Composition {
+        /// The stage.
+        stage: PathBuf,
+        /// The first error, in usd-core's words.
+        first: String,
+        /// How many more.
+        more: usize,
+    },
+    /// usd-core did not answer in time.
+    #[error(
+        "usd-core did not finish reading within {seconds} s (a layer that is a FIFO or a \
+         device, or a very large stage; {TIMEOUT_VAR} sets the limit)"
+    )]
+    Timeout {
+        /// The limit.
+        seconds: u64,
+    },
+    /// The reader failed otherwise.
+    #[error("the USD reader failed: {0}")]
+    Reader(String),
+    /// The layer exists and may not be replaced.
+    #[error("{} exists: update (-u) or force replaces it", layer.display())]
+    LayerExists {
+        /// The layer.
+        layer: PathBuf,
+    },
+    /// The OCIO config cannot be used.
+    #[error("{0}")]
+    Config(Box<specconv_conversion::Error>),
+    /// A folder or path under DIR.
+    #[error("{}: {}", .0.display(), .1)]
+    Io(PathBuf, std::io::Error),
+}
+
+impl Error {
+    /// The caller's fault, found before anything was converted (a usage error): the stage is
+    /// not a file, the layer exists, the config or a setting cannot be used.
+    pub fn is_usage(&self) -> bool {
+        matches!(
+            self,
+            Error::NotAStage { .. }
+                | Error::Mtlx { .. }
+                | Error::LayerExists { .. }
+                | Error::Config(_)
+                | Error::BadTimeout { .. }
+        )
+    }
+}
+
+/// Checks that `stage` can be given to usd-core: a regular file (a FIFO would block it) that
+/// is not a MaterialX document.
+pub fn check_stage(stage: &Path) -> Result<(), Error> {
+    let not = |why: String| Error::NotAStage {
+        stage: stage.to_path_buf(),
+        why,
+    };
+    let meta = std::fs::metadata(stage).map_err(|e| not(e.to_string()))?;
+    if !meta.is_file() {
+        return Err(not(
+            "not a regular file (a FIFO, a device or a directory)".into()
+        ));
+    }
+    let ext = stage.extension().map(|e| e.to_ascii_lowercase());
+    if ext.as_deref() == Some("mtlx".as_ref()) {
+        return Err(Error::Mtlx {
+            stage: stage.to_path_buf(),
+        });
+    }
+    Ok(())
+}

@@ -1,0 +1,400 @@
+//! An asset's plan: each texture file once, what it is, where its output goes under DIR, the
+//! colour space its conversion is given, and the layer that points the stage at the outputs.
+
+use crate::decide::{decide, materialx_space, Decision, Space, Texture};
+use crate::stage::{Node, Stage};
+use crate::Error;
+use serde::Serialize;
+use sha2::{Digest, Sha256};
+use specconv_atomic_file::udim;
+use specconv_conversion::ColourConfig;
+use std::collections::BTreeMap;
+use std::path::{Component, Path, PathBuf};
+
+/// A texture with its plan.
+#[derive(Debug, Clone, Serialize)]
+pub struct Planned {
+    /// The texture, its nodes and the decision.
+    #[serde(flatten)]
+    pub texture: Texture,
+    /// Its output under DIR (a UDIM pattern keeps `<UDIM>`); `None` when it is not converted.
+    pub output: Option<PathBuf>,
+    /// The colour space its conversion is given (the config's name: a data texture's is the
+    /// config's data space); `None`: the file's own evidence decides.
+    pub colorspace: Option<String>,
+    /// Why it is not converted (a conflict, a missing file, a colour space the config lacks).
+    pub error: Option<String>,
+}
+
+/// The plan of one stage.
+#[derive(Debug, Clone, Serialize)]
+pub struct Asset {
+    /// The stage, absolute.
+    pub stage: PathBuf,
+    /// The output directory.
+    pub dir: PathBuf,
+    /// The layer written over the stage: `DIR/STEM_spectral.usda`.
+    pub layer: PathBuf,
+    /// Bound materials, and prims bound to one.
+    pub materials: usize,
+    /// Prims with a bound material.
+    pub bound_prims: usize,
+    /// Every texture file once, in the order of its first node's path.
+    pub textures: Vec<Planned>,
+}
+
+/// One conversion: a file (or one UDIM tile) of texture `texture`.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Job {
+    /// Its index in [`Asset::textures`].
+    pub texture: usize,
+    /// The file.
+    pub input: PathBuf,
+    /// Its output.
+    pub output: PathBuf,
+    /// The colour space the conversion is given.
+    pub colorspace: Option<String>,
+}
+
+impl Job {
+    /// Its input and output as a batch plans them: the asset names a data texture's output
+    /// itself, so a pair has one name.
+    pub fn pair(&self) -> specconv_conversion::plan::Pair {
+        specconv_conversion::plan::Pair::new(&self.input, &self.output)
+    }
+}
+
+/// The layer of overrides ([`crate::Reader::write_layer`]), as the reader script takes it.
+#[derive(Debug, Clone, Serialize)]
+pub struct LayerPlan {
+    /// Where it is written.
+    pub layer: PathBuf,
+    /// The stage it sublayers (absolute).
+    pub sublayer: PathBuf,
+    /// The stage, recorded in the layer's customLayerData.
+    pub stage: PathBuf,
+    /// One per texture node of a converted colour texture.
+    pub overrides: Vec<Override>,
+}
+
+/// `inputs:file` of one node, pointed at a spectral file.
+#[derive(Debug, Clone, Serialize)]
+pub struct Override {
+    /// The node's prim path.
+    pub node: String,
+    /// The spectral file, relative to the layer (`./tex/rock_albedo_spectral.exr`).
+    pub file: String,
+    /// `inputs:file` as the stage wrote it.
+    pub original: Option<String>,
+    /// As it resolved.
+    pub original_resolved: Option<PathBuf>,
+    /// A UsdUVTexture: `inputs:sourceColorSpace` becomes `raw` (the spectra are linear).
+    pub raw: bool,
+}
+
+/// Where the packaged textures of `stage` are copied out to, under `dir`.
+pub fn extract_dir(stage: &Path, dir: &Path) -> PathBuf {
+    let mut name = stage.file_stem().unwrap_or_default().to_os_string();
+    name.push("_usdz");
+    dir.join(name)
+}
+
+/// The layer's path: `DIR/STEM_spectral.usda`.
+pub fn layer_path(stage: &Path, dir: &Path) -> PathBuf {
+    let mut name = stage.file_stem().unwrap_or_default().to_os_string();
+    name.push("_spectral.usda");
+    dir.join(name)
+}
+
+impl Asset {
+    /// The plan of `stage` (as [`crate::Reader::read`] gave it) into `dir`, the colour spaces
+    /// named in `config`. A stage that did not compose is refused whole: a texture may be
+    /// missing from it.
+    pub fn new(stage: Stage, dir: &Path, config: &ColourConfig) -> Result<Asset, Error> {
+        if let Some(first) = stage.composition_errors.first() {
+            return Err(Error::Composition {
+                stage: stage.stage.clone(),
+                first: first.clone(),
+                more: stage.composition_errors.len() - 1,
+            });
+        }
+        let stage_dir = stage.stage.parent().unwrap_or(Path::new("/")).to_path_buf();
+        let mut textures: Vec<Planned> = group(stage.textures)
+            .into_iter()
+            .map(|(file, nodes)| planned(file, nodes, &stage_dir, dir, config))
+            .collect();
+        disambiguate(&mut textures);
+        Ok(Asset {
+            layer: layer_path(&stage.stage, dir),
+            stage: stage.stage,
+            dir: dir.to_path_buf(),
+            materials: stage.materials,
+            bound_prims: stage.bound_prims,
+            textures,
+        })
+    }
+
+    /// The conversions, UDIM patterns expanded into the tiles that exist; textures that cannot
+    /// be planned (a pattern with no tile) get their error instead. Folders are not looked
+    /// at: the batch checks the whole plan before its first write.
+    pub fn jobs(&mut self) -> Vec<Job> {
+        let mut jobs = Vec::new();
+        for (k, t) in self.textures.iter_mut().enumerate() {
+            let Some(output) = t.output.clone() else {
+                continue;
+            };
+            let input = t.texture.file.clone();
+            let job = |input: PathBuf, output: PathBuf| Job {
+                texture: k,
+                input,
+                output,
+                colorspace: t.colorspace.clone(),
+            };
+            match udim::expand(&input) {
+                Ok(None) => jobs.push(job(input, output)),
+                Ok(Some(tiles)) => jobs.extend(
+                    tiles
+                        .into_iter()
+                        .map(|tile| job(tile.path, udim::substitute(&output, tile.number))),
+                ),
+                Err(e) => t.error = Some(e.to_string()),
+            }
+        }
+        jobs
+    }
+
+    /// With `--data fail`: texture `k`, when it is data, becomes a failure (its error says
+    /// why); whether it did.
+    pub fn fail_data(&mut self, k: usize) -> bool {
+        let t = &mut self.textures[k];
+        let Decision::Data { why, .. } = &t.texture.decision else {
+            return false;
+        };
+        t.error = Some(format!(
+            "a data texture ({why}), never uplifted; the data policy fail counts it as a failure"
+        ));
+        true
+    }
+
+    /// The layer pointing every node of each colour texture for which `done` holds at its
+    /// output.
+    pub fn layer_plan(&self, done: impl Fn(usize) -> bool) -> LayerPlan {
+        let mut overrides = Vec::new();
+        for (k, t) in self.textures.iter().enumerate() {
+            let colour = matches!(t.texture.decision, Decision::Colour { .. });
+            let Some(output) = t.output.as_ref().filter(|_| colour && done(k)) else {
+                continue;
+            };
+            let rel = output.strip_prefix(&self.dir).unwrap_or(output);
+            for n in &t.texture.nodes {
+                overrides.push(Override {
+                    node: n.node.clone(),
+                    file: format!("./{}", rel.to_string_lossy()),
+                    original: n.authored.clone(),
+                    original_resolved: n.resolved.clone(),
+                    raw: n.node_id.as_deref() == Some("UsdUVTexture"),
+                });
+            }
+        }
+        LayerPlan {
+            layer: self.layer.clone(),
+            sublayer: self.stage.clone(),
+            stage: self.stage.clone(),
+            overrides,
+        }
+    }
+}
+
+/// The nodes of each file, files in the order of their first node; a node whose file does not
+/// resolve is its own (missing) texture.
+fn group(nodes: Vec<Node>) -> Vec<(Option<PathBuf>, Vec<Node>)> {
+    let mut order: Vec<(Option<PathBuf>, Vec<Node>)> = Vec::new();
+    let mut index: BTreeMap<PathBuf, usize> = BTreeMap::new();
+    for n in nodes {
+        match n.resolved.clone() {
+            Some(file) => match index.get(&file) {
+                Some(&k) => order[k].1.push(n),
+                None => {
+                    index.insert(file.clone(), order.len());
+                    order.push((Some(file), vec![n]));
+                }
+            },
+            None => order.push((None, vec![n])),
+        }
+    }
+    order
+}
+
+/// One file's decision, output and colour space.
+fn planned(
+    file: Option<PathBuf>,
+    nodes: Vec<Node>,
+    stage_dir: &Path,
+    dir: &Path,
+    config: &ColourConfig,
+) -> Planned {
+    let Some(file) = file else {
+        let n = &nodes[0];
+        let why = format!(
+            "the texture '{}' that {} reads does not exist{}",
+            n.authored.as_deref().unwrap_or(""),
+            n.node,
+            n.layer
+                .as_ref()
+                .map(|l| format!(
+                    " (written in {}; fix the path or add the file)",
+                    l.display()
+                ))
+                .unwrap_or_default()
+        );
+        let texture = Texture {
+            file: PathBuf::from(n.authored.clone().unwrap_or_default()),
+            decision: Decision::Missing { why: why.clone() },
+            nodes,
+        };
+        return not_converted(texture, why);
+    };
+    let decision = decide(&nodes);
+    let texture = Texture {
+        file: file.clone(),
+        nodes,
+        decision,
+    };
+    let space = match &texture.decision {
+        Decision::Colour { space, .. } => colour_space(space, config),
+        Decision::Data { .. } => named(config, "data"),
+        Decision::Conflict { why } | Decision::Missing { why } => {
+            let why = format!("not converted: {why} (make the material say one thing)");
+            return not_converted(texture, why);
+        }
+    };
+    match space {
+        Ok(colorspace) => Planned {
+            output: Some(output_for(stage_dir, dir, &file)),
+            colorspace,
+            error: None,
+            texture,
+        },
+        Err(why) => not_converted(texture, why),
+    }
+}
+
+fn not_converted(texture: Texture, why: String) -> Planned {
+    Planned {
+        texture,
+        output: None,
+        colorspace: None,
+        error: Some(why),
+    }
+}
+
+/// The config's name for a declared space; `None`: the file decides.
+fn colour_space(space: &Space, config: &ColourConfig) -> Result<Option<String>, String> {
+    match space {
+        Space::File => Ok(None),
+        Space::Srgb => match config.srgb_texture() {
+            Ok(Some(name)) => Ok(Some(name)),
+            _ => Err("sourceColorSpace sRGB, and the config has no sRGB texture space".into()),
+        },
+        Space::Linear => named(config, "lin_rec709_scene"),
+        Space::Named(name) => match config.named_space(name) {
+            Ok(Some(Ok(found))) => Ok(Some(found)),
+            _ => match materialx_space(name) {
+                Some(id) => named(config, id),
+                None => Err(format!(
+                    "the MaterialX colorspace '{name}' is neither a colour space of the config \
+                     nor a MaterialX name (docs/assets.md lists them)"
+                )),
+            },
+        },
+    }
+}
+
+/// The config's space for a name or Color Interop Forum ID.
+fn named(config: &ColourConfig, id: &str) -> Result<Option<String>, String> {
+    match config.named_space(id) {
+        Ok(Some(Ok(name))) => Ok(Some(name)),
+        Ok(Some(Err(why))) => Err(why),
+        Ok(None) => Ok(None),
+        Err(e) => Err(e.to_string()),
+    }
+}
+
+/// `DIR/SUB/STEM_spectral.exr`: SUB is the file's folder below the stage's (or below DIR, for
+/// a texture copied out of a usdz), else `external/HASH` of its folder; never outside DIR.
+pub fn output_for(stage_dir: &Path, dir: &Path, file: &Path) -> PathBuf {
+    let folder = file.parent().unwrap_or(Path::new(""));
+    let below = |root: &Path| {
+        folder
+            .strip_prefix(root)
+            .ok()
+            .filter(|r| r.components().all(|c| matches!(c, Component::Normal(_))))
+            .map(Path::to_path_buf)
+    };
+    let sub = below(dir).or_else(|| below(stage_dir)).unwrap_or_else(|| {
+        let hash = Sha256::digest(folder.as_os_str().as_encoded_bytes());
+        let hex: String = hash[..4].iter().map(|b| format!("{b:02x}")).collect();
+        Path::new("external").join(hex)
+    });
+    dir.join(sub).join(spectral_name(file, false))
+}
+
+/// `STEM_spectral.exr`, `STEM_spectral.<UDIM>.exr` for a pattern, `STEM_EXT_spectral…` with
+/// `ext` (two textures of one stem).
+fn spectral_name(file: &Path, ext: bool) -> String {
+    let name = file.file_name().unwrap_or_default().to_string_lossy();
+    let (base, extension) = match name.rfind('.') {
+        Some(i) if i > 0 => (&name[..i], &name[i + 1..]),
+        _ => (&name[..], ""),
+    };
+    let with_ext = |stem: &str| match ext && !extension.is_empty() {
+        true => format!("{stem}_{extension}"),
+        false => stem.to_owned(),
+    };
+    match base.to_ascii_lowercase().find("<udim>") {
+        Some(i) => {
+            let stem = base[..i].trim_end_matches(['.', '_']);
+            format!("{}_spectral.<UDIM>.exr", with_ext(stem))
+        }
+        None => format!("{}_spectral.exr", with_ext(base)),
+    }
+}
+
+/// Two textures of one folder and stem (`a.png`, `a.tx`) get their extensions in the name.
+fn disambiguate(textures: &mut [Planned]) {
+    let mut seen: BTreeMap<PathBuf, usize> = BTreeMap::new();
+    for t in textures.iter() {
+        if let Some(o) = &t.output {
+            *seen.entry(o.clone()).or_default() += 1;
+        }
+    }
+    for t in textures.iter_mut() {
+        if let Some(o) = t.output.as_mut().filter(|o| seen.get(*o) > Some(&1)) {
+            *o = o.with_file_name(spectral_name(&t.texture.file, true));
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn outputs_stay_inside_dir() {
+        let out = |f: &str| output_for(Path::new("/s"), Path::new("/out"), Path::new(f));
+        assert_eq!(out("/s/tex/a.png"), Path::new("/out/tex/a_spectral.exr"));
+        assert_eq!(
+            out("/s/tex/wood.<UDIM>.png"),
+            Path::new("/out/tex/wood_spectral.<UDIM>.exr")
+        );
+        assert_eq!(
+            out("/out/x_usdz/0/a.png"),
+            Path::new("/out/x_usdz/0/a_spectral.exr")
+        );
+        for outside in ["/etc/hostname", "/s/../etc/a.png", "/dev/zero"] {
+            let o = out(outside);
+            assert!(o.starts_with("/out/external/"), "{}", o.display());
+            assert!(o.components().all(|c| c != Component::ParentDir));
+        }
+    }
+}

@@ -1,0 +1,186 @@
+//! Running usd-core: the reader script (`read_stage.py`, kept in this crate) under the Python
+//! interpreter that `$SPECCONV_USD_PYTHON` names (else `python3`), bounded in time and output.
+
+use crate::stage::Stage;
+use crate::Error;
+use std::ffi::{OsStr, OsString};
+use std::io::{Read, Write};
+use std::path::Path;
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+/// The reader script, run with `python -c`.
+pub const SCRIPT: &str = include_str!("read_stage.py");
+
+/// The environment variable naming the interpreter that has usd-core.
+pub const PYTHON_VAR: &str = "SPECCONV_USD_PYTHON";
+/// The environment variable bounding each run of usd-core, in seconds.
+pub const TIMEOUT_VAR: &str = "SPECCONV_USD_TIMEOUT";
+/// Seconds a run of usd-core may take when `$SPECCONV_USD_TIMEOUT` is not set.
+pub const DEFAULT_TIMEOUT: u64 = 300;
+/// The most a reader may print: a stage's texture list is far smaller.
+const MAX_OUTPUT: u64 = 256 << 20;
+
+/// The command that installs usd-core for `python`.
+pub fn install_line(python: &OsStr) -> String {
+    format!("{} -m pip install usd-core", python.to_string_lossy())
+}
+
+/// usd-core, through one Python interpreter.
+#[derive(Debug, Clone)]
+pub struct Reader {
+    python: OsString,
+    timeout: Duration,
+}
+
+impl Reader {
+    /// The interpreter `$SPECCONV_USD_PYTHON` names, else `python3`; the time limit of
+    /// `$SPECCONV_USD_TIMEOUT`, else [`DEFAULT_TIMEOUT`] seconds.
+    pub fn from_env() -> Result<Reader, Error> {
+        let python = std::env::var_os(PYTHON_VAR)
+            .filter(|p| !p.is_empty())
+            .unwrap_or_else(|| "python3".into());
+        let timeout = match std::env::var(TIMEOUT_VAR) {
+            Ok(t) if !t.trim().is_empty() => match t.trim().parse::<u64>() {
+                Ok(s) if s > 0 => s,
+                _ => return Err(Error::BadTimeout { value: t }),
+            },
+            _ => DEFAULT_TIMEOUT,
+        };
+        Ok(Reader::new(python, Duration::from_secs(timeout)))
+    }
+
+    /// usd-core through `python`, each run stopped after `timeout`.
+    pub fn new(python: OsString, timeout: Duration) -> Reader {
+        Reader { python, timeout }
+    }
+
+    /// The same, through another interpreter (the Python package's own).
+    pub fn with_python(self, python: OsString) -> Reader {
+        Reader { python, ..self }
+    }
+
+    /// The interpreter.
+    pub fn python(&self) -> &OsStr {
+        &self.python
+    }
+
+    /// Opens `stage` with composition and lists the textures its bound materials read; with
+    /// `extract`, textures inside a usdz are copied out into it.
+    pub fn read(&self, stage: &Path, extract: Option<&Path>) -> Result<Stage, Error> {
+        let inputs = serde_json::to_string(&crate::decide::final_inputs())
+            .map_err(|e| Error::Reader(e.to_string()))?;
+        let mut args: Vec<&OsStr> =
+            vec![OsStr::new("read"), stage.as_os_str(), OsStr::new(&inputs)];
+        if let Some(dir) = extract {
+            args.push(dir.as_os_str());
+        }
+        let out = self.run(&args, None)?;
+        serde_json::from_slice(&out).map_err(|e| Error::Reader(format!("its answer: {e}")))
+    }
+
+    /// Writes the layer of overrides `plan` describes (a JSON object, see
+    /// [`crate::plan::LayerPlan`]).
+    pub fn write_layer(&self, plan: &crate::plan::LayerPlan) -> Result<(), Error> {
+        let json = serde_json::to_vec(plan).map_err(|e| Error::Reader(e.to_string()))?;
+        self.run(&[OsStr::new("layer")], Some(json)).map(|_| ())
+    }
+
+    /// Runs the script with `args`, `stdin` written to it; its standard output, or the error
+    /// it reported.
+    fn run(&self, args: &[&OsStr], stdin: Option<Vec<u8>>) -> Result<Vec<u8>, Error> {
+        let mut child = Command::new(&self.python)
+            .arg("-c")
+            .arg(SCRIPT)
+            .args(args)
+            .stdin(if stdin.is_some() {
+                Stdio::piped()
+            } else {
+                Stdio::null()
+            })
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .map_err(|source| Error::NoPython {
+                python: self.python.clone(),
+                source,
+            })?;
+        if let (Some(mut pipe), Some(bytes)) = (child.stdin.take(), stdin) {
+            std::thread::spawn(move || pipe.write_all(&bytes));
+        }
+        let take = |pipe: Option<Box<dyn Read + Send>>| {
+            std::thread::spawn(move || {
+                let mut buf = Vec::new();
+                if let Some(p) = pipe {
+                    let _ = p.take(MAX_OUTPUT + 1).read_to_end(&mut buf);
+                }
+                buf
+            })
+        };
+        let out = take(child.stdout.take().map(|p| Box::new(p) as _));
+        let err = take(child.stderr.take().map(|p| Box::new(p) as _));
+        let start = Instant::now();
+        let status = loop {
+            if let Some(status) = child.try_wait().map_err(|e| Error::Reader(e.to_string()))? {
+                break status;
+            }
+            if start.elapsed() > self.timeout {
+                let _ = child.kill();
+                let _ = child.wait();
+                return Err(Error::Timeout {
+                    seconds: self.timeout.as_secs(),
+                });
+            }
+            std::thread::sleep(Duration::from_millis(20));
+        };
+        let out = out.join().unwrap_or_default();
+        let err = err.join().unwrap_or_default();
+        if out.len() as u64 > MAX_OUTPUT {
+            return Err(Error::Reader("it printed more than 256 MiB".into()));
+        }
+        if status.code() == Some(3) {
+            return Err(Error::NoUsd {
+                python: self.python.clone(),
+            });
+        }
+        if !status.success() {
+            return Err(reported(&out, &err));
+        }
+        Ok(out)
+    }
+}
+
+/// The error the script reported (`{"error": kind, "detail": …}`), else its last lines.
+fn reported(out: &[u8], err: &[u8]) -> Error {
+    #[derive(serde::Deserialize)]
+    struct Reported {
+        error: String,
+        detail: String,
+    }
+    match serde_json::from_slice::<Reported>(out) {
+        Ok(r) if r.error == "open" => Error::Open {
+            detail: clean(&r.detail),
+        },
+        Ok(r) => Error::Reader(format!("{}: {}", r.error, clean(&r.detail))),
+        Err(_) => {
+            let text = String::from_utf8_lossy(err);
+            let tail: Vec<&str> = text.lines().rev().take(3).collect();
+            let tail: Vec<&str> = tail.into_iter().rev().collect();
+            Error::Reader(tail.join(" / "))
+        }
+    }
+}
+
+/// usd-core's message without its C++ function names and source lines.
+fn clean(detail: &str) -> String {
+    detail
+        .split(['\n', '\t'])
+        .map(str::trim)
+        .filter(|l| !l.is_empty())
+        .map(|l| match (l.find(" : '"), l.starts_with("Error in")) {
+            (Some(i), true) => l[i + 3..].trim_end_matches('\'').to_owned(),
+            _ => l.to_owned(),
+        })
+        .collect::<Vec<_>>()
+        .join("; ")
+}

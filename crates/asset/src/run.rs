@@ -1,0 +1,202 @@
+//! What every front-end does with an asset, in order: [`prepare`] (read and plan),
+//! [`Converters`] (one per colour space), the batch (the front-end's, with
+//! [`specconv_conversion::Batch::each_input`]), [`Outcomes`], [`finish`] (the layer).
+
+use crate::plan::{extract_dir, layer_path, Asset, Job, LayerPlan};
+use crate::{check_stage, Error, Reader};
+use specconv_conversion::{ColourConfig, Converter, DataPolicy, Options};
+use std::path::{Path, PathBuf};
+
+/// A stage read and planned: every texture's decision and output, the jobs.
+#[derive(Debug, Clone)]
+pub struct Prepared {
+    /// The plan.
+    pub asset: Asset,
+    /// The conversions (UDIM tiles one each).
+    pub jobs: Vec<Job>,
+}
+
+/// Reads `stage` and plans it into `dir` for a conversion with `options` (their config names
+/// the colour spaces; with `data` fail a data texture is a failure, not a job). Unless
+/// `dry_run`, `dir` is made and a usdz's textures are copied out into it; an existing layer
+/// is refused unless `update` or `overwrite`. Nothing else is written.
+pub fn prepare(
+    reader: &Reader,
+    (stage, dir): (&Path, &Path),
+    options: &Options,
+    (dry_run, update): (bool, bool),
+) -> Result<Prepared, Error> {
+    let replace = update || options.overwrite;
+    check_stage(stage)?;
+    let stage = absolute(stage)?;
+    if !dry_run {
+        std::fs::create_dir_all(dir).map_err(|e| Error::Io(dir.to_path_buf(), e))?;
+    }
+    let dir = absolute(dir)?;
+    let layer = layer_path(&stage, &dir);
+    if !dry_run && !replace && std::fs::symlink_metadata(&layer).is_ok() {
+        return Err(Error::LayerExists { layer });
+    }
+    let extract = (!dry_run).then(|| extract_dir(&stage, &dir));
+    let read = reader.read(&stage, extract.as_deref())?;
+    let config =
+        ColourConfig::resolve(options.ocio.as_deref()).map_err(|e| Error::Config(Box::new(e)))?;
+    let mut asset = Asset::new(read, &dir, &config)?;
+    let mut jobs = asset.jobs();
+    if options.data == DataPolicy::Fail {
+        jobs.retain(|j| !asset.fail_data(j.texture));
+    }
+    Ok(Prepared { asset, jobs })
+}
+
+/// `p` absolute, `.` and `..` taken out by name (as the resolver's paths are), so that a DIR
+/// given as `../spectral` is compared with them as the folder it names.
+fn absolute(p: &Path) -> Result<PathBuf, Error> {
+    let abs = std::path::absolute(p).map_err(|e| Error::Io(p.to_path_buf(), e))?;
+    let mut out = PathBuf::new();
+    for c in abs.components() {
+        match c {
+            std::path::Component::CurDir => {}
+            std::path::Component::ParentDir => {
+                out.pop();
+            }
+            c => out.push(c),
+        }
+    }
+    Ok(out)
+}
+
+/// One converter per colour space the jobs are given: `options` with that space.
+pub struct Converters {
+    list: Vec<(Option<String>, Converter)>,
+    of_job: Vec<usize>,
+}
+
+impl Converters {
+    /// The converters of `jobs`, each checked as `Converter::new` checks; with no job, one of
+    /// `options` as they are (the batch needs one).
+    pub fn new(options: &Options, jobs: &[Job]) -> Result<Converters, specconv_conversion::Error> {
+        let mut list: Vec<(Option<String>, Converter)> = Vec::new();
+        let mut of_job = Vec::with_capacity(jobs.len());
+        for j in jobs {
+            let k = match list.iter().position(|(space, _)| *space == j.colorspace) {
+                Some(k) => k,
+                None => {
+                    let mut o = options.clone();
+                    o.colorspace = j.colorspace.clone();
+                    list.push((j.colorspace.clone(), Converter::new(o)?));
+                    list.len() - 1
+                }
+            };
+            of_job.push(k);
+        }
+        if list.is_empty() {
+            list.push((None, Converter::new(options.clone())?));
+        }
+        Ok(Converters { list, of_job })
+    }
+
+    /// The batch's converter.
+    pub fn first(&self) -> &Converter {
+        &self.list[0].1
+    }
+
+    /// Job k's converter, for [`specconv_conversion::Batch::each_input`].
+    pub fn each(&self) -> Vec<&Converter> {
+        self.of_job.iter().map(|&k| &self.list[k].1).collect()
+    }
+}
+
+/// Makes the folders under DIR the jobs' outputs go to.
+pub fn make_folders(jobs: &[Job]) -> Result<(), Error> {
+    for j in jobs {
+        if let Some(parent) = j.output.parent() {
+            std::fs::create_dir_all(parent).map_err(|e| Error::Io(parent.to_path_buf(), e))?;
+        }
+    }
+    Ok(())
+}
+
+/// What became of each texture's jobs (the statuses of their records: `ok`, `clipped`,
+/// `skipped`, `data`, `copied`, `failed`).
+#[derive(Debug, Clone, Default)]
+pub struct Outcomes {
+    statuses: Vec<Vec<&'static str>>,
+    jobs: Vec<usize>,
+    texture_of: std::collections::HashMap<PathBuf, usize>,
+}
+
+impl Outcomes {
+    /// Nothing heard yet of the `jobs` of `asset`.
+    pub fn new(asset: &Asset, jobs: &[Job]) -> Outcomes {
+        let mut counts = vec![0; asset.textures.len()];
+        for j in jobs {
+            counts[j.texture] += 1;
+        }
+        Outcomes {
+            statuses: vec![Vec::new(); asset.textures.len()],
+            jobs: counts,
+            texture_of: jobs.iter().map(|j| (j.input.clone(), j.texture)).collect(),
+        }
+    }
+
+    /// The texture of the job whose input is `input`.
+    pub fn texture_of(&self, input: &Path) -> Option<usize> {
+        self.texture_of.get(input).copied()
+    }
+
+    /// Hears the status of the record of `input`; its texture.
+    pub fn heard(&mut self, input: &Path, status: &'static str) -> Option<usize> {
+        let k = self.texture_of(input)?;
+        self.statuses[k].push(status);
+        Some(k)
+    }
+
+    /// Every job of texture `k` converted or up to date.
+    pub fn done(&self, k: usize) -> bool {
+        let s = &self.statuses[k];
+        s.len() == self.jobs[k]
+            && !s.is_empty()
+            && s.iter().all(|s| matches!(*s, "ok" | "clipped" | "skipped"))
+    }
+}
+
+/// Writes the layer: every colour texture that is done pointed at its spectral file.
+pub fn finish(reader: &Reader, asset: &Asset, outcomes: &Outcomes) -> Result<LayerPlan, Error> {
+    let layer = asset.layer_plan(|k| outcomes.done(k));
+    reader.write_layer(&layer)?;
+    Ok(layer)
+}
+
+/// A texture's `asset` member of its records (docs/assets.md): the stage, the layer, the
+/// rule, why, the colour space given, the output, and each use.
+pub fn member(asset: &Asset, k: usize) -> serde_json::Value {
+    let t = &asset.textures[k];
+    let uses: Vec<serde_json::Value> = t
+        .texture
+        .nodes
+        .iter()
+        .flat_map(|n| {
+            n.uses.iter().map(move |u| {
+                serde_json::json!({
+                    "prim": n.node, "node_id": n.node_id, "material": u.material,
+                    "shader": u.shader, "input": u.input, "output": u.output,
+                    "through": u.through, "source_color_space": n.source_color_space,
+                    "colorspace": n.colorspace, "authored": n.authored,
+                })
+            })
+        })
+        .collect();
+    serde_json::json!({
+        "stage": asset.stage, "layer": asset.layer, "texture": t.texture.file,
+        "decision": &t.texture.decision, "rule": t.texture.decision.rule(),
+        "why": t.error.as_deref().unwrap_or(t.texture.decision.why()),
+        "colorspace_given": t.colorspace, "output": t.output, "uses": uses,
+    })
+}
+
+/// A record (`convert --json`'s, one JSON object) with the `asset` member of texture `k`.
+pub fn with_member(record: &str, asset: &Asset, k: usize) -> String {
+    let members = record.trim_end().strip_suffix('}').unwrap_or(record);
+    format!("{members},\"asset\":{}}}", member(asset, k))
+}

@@ -1,0 +1,70 @@
+//! What usd-core says of a stage: the texture nodes bound materials read, and their uses, as
+//! the reader script (`read_stage.py`) prints them.
+
+use serde::{Deserialize, Serialize};
+use std::path::PathBuf;
+
+/// The composed stage, as far as textures go.
+#[derive(Debug, Clone, Deserialize, Serialize)]
+pub struct Stage {
+    /// The stage's file, absolute.
+    pub stage: PathBuf,
+    /// Materials bound to some prim.
+    pub materials: usize,
+    /// Prims with a bound material.
+    pub bound_prims: usize,
+    /// What composition could not do (a reference cycle, a layer that cannot be read).
+    pub composition_errors: Vec<String>,
+    /// Every texture node the bound materials read, in path order.
+    pub textures: Vec<Node>,
+}
+
+/// A texture node (UsdUVTexture, a MaterialX image node) and what it reads.
+#[derive(Debug, Clone, Deserialize, Serialize, PartialEq, Eq)]
+pub struct Node {
+    /// Its prim path.
+    pub node: String,
+    /// Its shader id (`UsdUVTexture`, `ND_image_color3`).
+    pub node_id: Option<String>,
+    /// Its `inputs:sourceColorSpace` (`sRGB`, `raw`, `auto`), if authored.
+    pub source_color_space: Option<String>,
+    /// The `colorSpace` of its `inputs:file` (MaterialX's `colorspace`), if authored.
+    pub colorspace: Option<String>,
+    /// `inputs:file` as written.
+    pub authored: Option<String>,
+    /// `inputs:file` resolved by usd-core's asset resolver (a UDIM pattern keeps `<UDIM>`);
+    /// `None` when it resolves to nothing (a missing file).
+    pub resolved: Option<PathBuf>,
+    /// The layer that wrote `inputs:file`.
+    pub layer: Option<PathBuf>,
+    /// The usdz package the file is in, if it is in one.
+    pub package: Option<Package>,
+    /// Which of its outputs feeds which input.
+    pub uses: Vec<Use>,
+}
+
+/// A file inside a usdz package.
+#[derive(Debug, Clone, Deserialize, Serialize, PartialEq, Eq)]
+pub struct Package {
+    /// The package.
+    pub file: PathBuf,
+    /// The member's name inside it.
+    pub member: String,
+}
+
+/// One output of a texture node feeding one input, in the end (through the nodes between).
+#[derive(Debug, Clone, Deserialize, Serialize, PartialEq, Eq)]
+pub struct Use {
+    /// The bound material it is in.
+    pub material: String,
+    /// The node whose input it feeds (the surface shader).
+    pub shader: String,
+    /// That node's shader id.
+    pub shader_id: Option<String>,
+    /// The input (`diffuseColor`, `roughness`, `base_color`).
+    pub input: String,
+    /// The texture's output (`rgb`, `r`, `g`, `b`, `a`, MaterialX's `out`).
+    pub output: String,
+    /// The nodes between (a normal-map node), in order.
+    pub through: Vec<String>,
+}

@@ -1,0 +1,234 @@
+//! `specconv asset STAGE -o DIR`: a USD stage's textures, each decided colour or data by the
+//! material that reads it (the library's rule, crates/asset), converted as `convert` converts a
+//! batch, and a layer over the stage pointing it at the spectral files (docs/assets.md).
+
+use super::convert::{run_batch, Annotate, Reporting};
+use crate::{exit, explain, print_error, usage};
+use anyhow::{Context, Result};
+use specconv_asset::{
+    finish, make_folders, member, prepare, with_member, Asset, Converters, Decision, Job, Outcomes,
+    Prepared, Reader,
+};
+use specconv_conversion::record::Record;
+use specconv_conversion::Options;
+use std::path::{Path, PathBuf};
+use std::sync::{Arc, Mutex};
+
+/// Shown after `--help` and as the man page's EXAMPLES.
+pub const EXAMPLES: &str = "\
+Examples:
+  specconv asset shot.usda -o spectral --dry-run
+  specconv asset shot.usda -o spectral -u --json > asset.jsonl
+  SPECCONV_USD_PYTHON=/opt/usd/bin/python specconv asset kitchen.usdz -o spectral --data copy
+";
+
+/// Convert the textures a USD stage's materials read, each as its material says.
+///
+/// Opens STAGE (.usda, .usdc, .usd, .usdz) with Pixar's usd-core, composed (references,
+/// payloads, the selected variants, usdz packages), and finds every texture a bound material
+/// reads (UsdUVTexture, MaterialX image nodes). The material decides what each file is: one
+/// whose colour channels feed a colour input (diffuseColor, emissiveColor, base_color …) is
+/// colour, in the space its sourceColorSpace (sRGB; raw: linear) or MaterialX colorspace
+/// names, else the file's own evidence; one that feeds data inputs (roughness, metallic,
+/// normal, occlusion, opacity, displacement …) is data, skipped or copied as --data says; one
+/// that feeds both is a conflict, named and not converted. Outputs go under DIR (the texture's
+/// folder below the stage's, or external/HASH for one outside it), with DIR/STEM_spectral.usda:
+/// a layer over the stage whose overrides point each colour texture's inputs:file at its
+/// spectral file. The stage and its textures are never written. usd-core runs in the Python
+/// interpreter $SPECCONV_USD_PYTHON names (else python3): `python3 -m pip install usd-core`.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// The USD stage.
+    #[arg(value_name = "STAGE")]
+    stage: PathBuf,
+    /// The output directory (made if missing); nothing is written outside it.
+    #[arg(short, long, value_name = "DIR", required = true)]
+    output: PathBuf,
+    /// Print each texture's decision (and its output) without converting or writing anything.
+    #[arg(long)]
+    dry_run: bool,
+    /// The global --ocio (see `specconv --help`).
+    #[arg(skip)]
+    pub(crate) ocio: Option<String>,
+    /// The options of the conversion, made from the library's definitions (--colorspace is
+    /// refused: the material names each texture's).
+    #[command(flatten)]
+    pub(crate) conversion: crate::options::ConversionArgs,
+    /// Skip textures whose output is up to date, and replace the layer.
+    #[arg(short, long)]
+    update: bool,
+    /// Print one JSON object per texture file on standard output: `convert --json`'s record
+    /// with an `asset` member (the stage, the rule that decided, why, and each prim and input
+    /// that reads it). See docs/assets.md.
+    #[arg(long)]
+    json: bool,
+    /// Progress on standard error, as `convert --progress`.
+    #[arg(long, value_name = "WHEN", default_value = "auto")]
+    progress: crate::progress::When,
+    /// Print nothing but errors.
+    #[arg(short, long)]
+    quiet: bool,
+    /// Say more: each texture's decision before converting.
+    #[arg(short, long)]
+    verbose: bool,
+}
+
+/// Reads, plans, converts and writes the layer; returns the exit status (1 when a texture
+/// could not be converted: a conflict, a missing file, a failed conversion).
+pub fn run(args: Args) -> Result<i32> {
+    let mut options = args.conversion.options.clone();
+    options.ocio = args.ocio.clone();
+    if options.colorspace.is_some() {
+        return Err(usage(anyhow::anyhow!(
+            "asset takes no --colorspace: the material names each texture's colour space \
+             (docs/assets.md); convert the file with `specconv convert --colorspace`"
+        )));
+    }
+    let fault = |e: specconv_asset::Error| match e.is_usage() {
+        true => usage(e),
+        false => e.into(),
+    };
+    let reader = Reader::from_env().map_err(fault)?;
+    let Prepared { asset, jobs } = prepare(
+        &reader,
+        (&args.stage, &args.output),
+        &options,
+        (args.dry_run, args.update),
+    )
+    .map_err(fault)?;
+    let reporting = Reporting {
+        json: args.json,
+        update: args.update,
+        progress: args.progress,
+        quiet: args.quiet,
+        verbose: args.verbose,
+        annotate: None,
+    };
+    if asset.textures.is_empty() && !args.quiet {
+        errln!(
+            "specconv: note: {}: no bound material reads a texture ({} material(s) bound to \
+             {} prim(s)); nothing to convert",
+            asset.stage.display(),
+            asset.materials,
+            asset.bound_prims
+        );
+    }
+    if args.dry_run || args.verbose {
+        print_decisions(&asset, &jobs, args.dry_run && args.json)?;
+        if args.dry_run {
+            let unconverted = asset.textures.iter().any(|t| t.error.is_some());
+            return Ok(if unconverted { exit::FAILED } else { exit::OK });
+        }
+    }
+    convert(&reporting, options, &asset, &jobs, &reader)
+}
+
+/// Each texture's decision: a line on standard error, or a JSON object on standard output.
+fn print_decisions(asset: &Asset, jobs: &[Job], json: bool) -> Result<()> {
+    let mut files = vec![0usize; asset.textures.len()];
+    for j in jobs {
+        files[j.texture] += 1;
+    }
+    for (k, t) in asset.textures.iter().enumerate() {
+        if json {
+            outln!("{}", member(asset, k))?;
+            continue;
+        }
+        let d = &t.texture.decision;
+        let what = match d {
+            Decision::Colour { .. } => format!(
+                "colour, colour space {}",
+                t.colorspace
+                    .as_deref()
+                    .unwrap_or("from the file's evidence")
+            ),
+            Decision::Data { .. } => "data".into(),
+            Decision::Conflict { .. } => "CONFLICT".into(),
+            Decision::Missing { .. } => "MISSING".into(),
+        };
+        let tiles = files[k];
+        let to = match (&t.output, d) {
+            (_, Decision::Data { .. }) => {
+                format!(" ({tiles} file(s): never uplifted, as --data says)")
+            }
+            (Some(o), _) if t.error.is_none() => format!(" → {} ({tiles} file(s))", o.display()),
+            _ => String::new(),
+        };
+        errln!(
+            "{}: {what} [{}]: {}{to}",
+            t.texture.file.display(),
+            d.rule(),
+            t.error.as_deref().unwrap_or(d.why())
+        );
+    }
+    Ok(())
+}
+
+/// Converts the jobs (each in its colour space), reports the textures that are not converted
+/// as failures, and writes the layer.
+fn convert(
+    reporting: &Reporting,
+    options: Options,
+    asset: &Asset,
+    jobs: &[Job],
+    reader: &Reader,
+) -> Result<i32> {
+    let converters =
+        Converters::new(&options, jobs).map_err(|e| usage(anyhow::anyhow!(explain(&e))))?;
+    make_folders(jobs)?;
+    let each = converters.each();
+    let pairs: Vec<_> = jobs.iter().map(Job::pair).collect();
+    let outcomes = Arc::new(Mutex::new(Outcomes::new(asset, jobs)));
+    let members: Vec<String> = (0..asset.textures.len())
+        .map(|k| format!("\"asset\":{}", member(asset, k)))
+        .collect();
+    let annotate: Annotate = {
+        let outcomes = Arc::clone(&outcomes);
+        Arc::new(move |record: &Record| {
+            let k = outcomes
+                .lock()
+                .ok()?
+                .heard(record.input(), record.status())?;
+            Some(members[k].clone())
+        })
+    };
+    let reporting = Reporting {
+        annotate: Some(annotate),
+        ..reporting.clone()
+    };
+    let unplanned = report_unplanned(&reporting, asset)?;
+    let code = run_batch(&reporting, (converters.first(), Some(&each)), &pairs)?;
+    if code == exit::INTERRUPTED || code == exit::USAGE {
+        return Ok(code);
+    }
+    let outcomes = outcomes.lock().map(|o| o.clone()).unwrap_or_default();
+    let layer = finish(reader, asset, &outcomes)
+        .with_context(|| format!("cannot write the layer {}", asset.layer.display()))?;
+    if !reporting.quiet {
+        errln!(
+            "specconv: layer {} over {}: {} texture node(s) pointed at spectral files",
+            layer.layer.display(),
+            asset.stage.display(),
+            layer.overrides.len()
+        );
+    }
+    Ok(if unplanned > 0 { exit::FAILED } else { code })
+}
+
+/// The textures that are not converted (a conflict, a missing file, a colour space the config
+/// lacks, a UDIM pattern with no tile): a failed record or an error line each; how many.
+fn report_unplanned(reporting: &Reporting, asset: &Asset) -> Result<usize> {
+    let mut n = 0;
+    for (k, t) in asset.textures.iter().enumerate() {
+        let Some(why) = &t.error else { continue };
+        n += 1;
+        let file = &t.texture.file;
+        if reporting.json {
+            let record = Record::failed(file, Path::new(""), why.clone(), 0.0).to_json();
+            outln!("{}", with_member(&record, asset, k))?;
+        } else {
+            print_error(&format!("{}: {why}", file.display()));
+        }
+    }
+    Ok(n)
+}

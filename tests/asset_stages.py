@@ -1,0 +1,164 @@
+"""Builds the test stages of tests/it/asset.rs with Pixar's usd-core (docs/assets.md):
+python3 tests/asset_stages.py KIND DIR. Textures are written by oiiotool beforehand (the test)
+or named here without files (the missing ones)."""
+import os
+import sys
+import zipfile
+
+from pxr import Sdf, Usd, UsdGeom, UsdShade, UsdUtils
+
+
+def material(stage, path, textures):
+    """A UsdPreviewSurface material at `path` reading `textures`: (name, file, {output: input},
+    sourceColorSpace or None, MaterialX colorspace or None, node id)."""
+    mat = UsdShade.Material.Define(stage, path)
+    surf = UsdShade.Shader.Define(stage, path + "/Surface")
+    surf.CreateIdAttr("UsdPreviewSurface")
+    mat.CreateSurfaceOutput().ConnectToSource(surf.ConnectableAPI(), "surface")
+    for name, file, feeds, scs, mtlx, sid in textures:
+        tex = UsdShade.Shader.Define(stage, path + "/" + name)
+        tex.CreateIdAttr(sid or "UsdUVTexture")
+        f = tex.CreateInput("file", Sdf.ValueTypeNames.Asset)
+        f.Set(file)
+        if mtlx:
+            f.GetAttr().SetColorSpace(mtlx)
+        if scs:
+            tex.CreateInput("sourceColorSpace", Sdf.ValueTypeNames.Token).Set(scs)
+        for output, inp in feeds.items():
+            kind = Sdf.ValueTypeNames.Float if len(output) == 1 else Sdf.ValueTypeNames.Float3
+            out = tex.CreateOutput(output, kind)
+            if inp == "normal-through":
+                # A node between (MaterialX's normalmap): the use ends at its consumer.
+                nm = UsdShade.Shader.Define(stage, path + "/NormalMap")
+                nm.CreateIdAttr("ND_normalmap")
+                nm.CreateInput("in", Sdf.ValueTypeNames.Float3).ConnectToSource(out)
+                nout = nm.CreateOutput("out", Sdf.ValueTypeNames.Float3)
+                surf.CreateInput("normal", Sdf.ValueTypeNames.Normal3f).ConnectToSource(nout)
+            else:
+                surf.CreateInput(inp, kind).ConnectToSource(out)
+    return mat
+
+
+def bind(stage, prim_path, mat):
+    mesh = UsdGeom.Mesh.Define(stage, prim_path)
+    UsdShade.MaterialBindingAPI.Apply(mesh.GetPrim()).Bind(mat)
+
+
+def T(name, file, feeds, scs=None, mtlx=None, sid=None):
+    return (name, file, feeds, scs, mtlx, sid)
+
+
+def basic(d):
+    """Every row of the rules: references, a variant, ARM, alpha, MaterialX colorspace,
+    textures outside the folder, UDIM."""
+    # The asset, referenced by the shot.
+    asset = Usd.Stage.CreateNew(os.path.join(d, "asset.usda"))
+    UsdGeom.Xform.Define(asset, "/Asset")
+    asset.SetDefaultPrim(asset.GetPrimAtPath("/Asset"))
+    m = material(asset, "/Asset/Looks/Rock", [
+        T("Albedo", "./tex/rock_albedo.png", {"rgb": "diffuseColor", "a": "opacity"}, "sRGB"),
+        T("Arm", "./tex/rock_arm.png", {"r": "occlusion", "g": "roughness", "b": "metallic"}),
+        T("Normal", "./tex/rock_normal.png", {"rgb": "normal"}, "raw"),
+    ])
+    bind(asset, "/Asset/Geo", m)
+    vs = asset.GetPrimAtPath("/Asset").GetVariantSets().AddVariantSet("look")
+    for look, albedo in (("clean", "./tex/clean_albedo.png"), ("dirty", "./tex/dirty_albedo.png")):
+        vs.AddVariant(look)
+        vs.SetVariantSelection(look)
+        with vs.GetVariantEditContext():
+            mv = material(asset, "/Asset/Looks/Variant", [
+                T("Albedo", albedo, {"rgb": "diffuseColor"}, "auto")])
+            bind(asset, "/Asset/VariantGeo", mv)
+    vs.SetVariantSelection("dirty")
+    asset.Save()
+    shot = Usd.Stage.CreateNew(os.path.join(d, "shot.usda"))
+    root = UsdGeom.Xform.Define(shot, "/World")
+    shot.SetDefaultPrim(root.GetPrim())
+    UsdGeom.Xform.Define(shot, "/World/Rock").GetPrim().GetReferences().AddReference("./asset.usda")
+    mx = material(shot, "/World/Looks/Mx", [
+        T("Base", "./tex/wood_acescg.exr", {"out": "diffuseColor"}, None, "acescg",
+          "ND_image_color3"),
+        T("Wood", "./tex/wood.<UDIM>.png", {"rgb": "emissiveColor"}, "sRGB"),
+        T("Outside", "../outside/sky.png", {"rgb": "specularColor"}, "sRGB"),
+    ])
+    bind(shot, "/World/Board", mx)
+    unbound = material(shot, "/World/Looks/Unbound", [
+        T("Never", "./tex/never.png", {"rgb": "diffuseColor"}, "sRGB")])
+    shot.Save()
+
+
+def conflict(d):
+    s = Usd.Stage.CreateNew(os.path.join(d, "conflict.usda"))
+    a = material(s, "/Looks/A", [T("Tex", "./tex/shared.png", {"rgb": "diffuseColor"}, "sRGB")])
+    b = material(s, "/Looks/B", [T("Tex", "./tex/shared.png", {"rgb": "normal"}, "raw")])
+    bind(s, "/GeoA", a)
+    bind(s, "/GeoB", b)
+    s.Save()
+
+
+def mixed(d):
+    """One colour texture and one data texture."""
+    s = Usd.Stage.CreateNew(os.path.join(d, "mixed.usda"))
+    m = material(s, "/Looks/M", [
+        T("Albedo", "./tex/rock_albedo.png", {"rgb": "diffuseColor"}, "sRGB"),
+        T("Arm", "./tex/rock_arm.png", {"g": "roughness", "b": "metallic"}),
+    ])
+    bind(s, "/Geo", m)
+    s.Save()
+
+
+def missing(d):
+    s = Usd.Stage.CreateNew(os.path.join(d, "missing.usda"))
+    m = material(s, "/Looks/M", [T("Gone", "./tex/gone.png", {"rgb": "diffuseColor"}, "sRGB")])
+    bind(s, "/Geo", m)
+    s.Save()
+
+
+def cycle(d):
+    a = Sdf.Layer.CreateNew(os.path.join(d, "cycle_a.usda"))
+    b = Sdf.Layer.CreateNew(os.path.join(d, "cycle_b.usda"))
+    for layer, other in ((a, "./cycle_b.usda"), (b, "./cycle_a.usda")):
+        prim = Sdf.CreatePrimInLayer(layer, "/Root")
+        prim.specifier = Sdf.SpecifierDef
+        prim.referenceList.Prepend(Sdf.Reference(other, "/Root"))
+        layer.defaultPrim = "Root"
+        layer.Save()
+
+
+def package(d):
+    """A usdz holding its stage and texture (tex/rock_albedo.png must exist)."""
+    s = Usd.Stage.CreateNew(os.path.join(d, "packed.usdc"))
+    m = material(s, "/Looks/P", [
+        T("Albedo", "tex/rock_albedo.png", {"rgb": "diffuseColor"}, "sRGB")])
+    bind(s, "/Geo", m)
+    s.Save()
+    cwd = os.getcwd()
+    os.chdir(d)
+    try:
+        UsdUtils.CreateNewUsdzPackage("packed.usdc", "packed.usdz")
+    finally:
+        os.chdir(cwd)
+
+
+def many(d, n=10000):
+    s = Usd.Stage.CreateNew(os.path.join(d, "many.usda"))
+    m = material(s, "/Looks/M", [T("Tex", "./tex/rock_albedo.png", {"rgb": "diffuseColor"}, "sRGB")])
+    for i in range(n):
+        bind(s, "/World/G%d" % i, m)
+    s.Save()
+
+
+def hostile(d):
+    """Texture paths naming a FIFO, /dev/zero, and `..` out of the folder."""
+    s = Usd.Stage.CreateNew(os.path.join(d, "hostile.usda"))
+    m = material(s, "/Looks/H", [
+        T("Fifo", "./tex/fifo.png", {"rgb": "diffuseColor"}, "sRGB"),
+        T("Zero", "/dev/zero", {"rgb": "emissiveColor"}, "sRGB"),
+        T("Up", "../../../../../../../../../../etc/hostname", {"rgb": "specularColor"}, "sRGB"),
+    ])
+    bind(s, "/Geo", m)
+    s.Save()
+
+
+if __name__ == "__main__":
+    globals()[sys.argv[1]](sys.argv[2])

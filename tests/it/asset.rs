@@ -1,0 +1,465 @@
+//! `specconv asset` (issue 46, docs/assets.md): stages built with Pixar's usd-core
+//! (tests/asset_stages.py), each texture decided by the material that reads it, and the layer
+//! the command writes opened with usd-core again. Without usd-core in `$SPECCONV_PYTHON` these
+//! tests are skipped, loudly, unless `$SPECCONV_REQUIRE_USD` is set (CI sets it).
+
+use crate::runner::*;
+use serde_json::Value;
+use std::path::{Path, PathBuf};
+use std::time::Duration;
+
+/// The interpreter with usd-core, or `None` (skip) when it has none.
+fn usd() -> Option<String> {
+    let python = python();
+    let has = std::process::Command::new(&python)
+        .args(["-c", "import pxr.Usd"])
+        .output()
+        .is_ok_and(|o| o.status.success());
+    if !has {
+        assert!(
+            std::env::var_os("SPECCONV_REQUIRE_USD").is_none(),
+            "SPECCONV_REQUIRE_USD is set but {python} has no usd-core (pip install usd-core)"
+        );
+        eprintln!("SKIPPED: {python} has no usd-core (pip install usd-core)");
+    }
+    has.then_some(python)
+}
+
+/// The textures of the stages, written by oiiotool, then the stage `kind` in `dir`.
+fn stage(dir: &Path, kind: &str) {
+    let tex = dir.join("tex");
+    std::fs::create_dir_all(&tex).unwrap();
+    for name in [
+        "rock_albedo",
+        "rock_arm",
+        "rock_normal",
+        "clean_albedo",
+        "dirty_albedo",
+        "never",
+        "shared",
+        "wood.1001",
+        "wood.1002",
+    ] {
+        let p = tex.join(format!("{name}.png"));
+        let p = p.to_str().unwrap();
+        tool(
+            "oiiotool",
+            &["--pattern", "checker", "8x8", "4", "-d", "uint8", "-o", p],
+        );
+    }
+    let exr = tex.join("wood_acescg.exr");
+    let exr = exr.to_str().unwrap();
+    tool(
+        "oiiotool",
+        &["--pattern", "checker", "8x8", "3", "-d", "half", "-o", exr],
+    );
+    script("asset_stages.py", [kind, dir.to_str().unwrap()]);
+}
+
+fn asset(python: &str, stage: &Path, out: &Path) -> Cmd {
+    Cmd::new([
+        "asset",
+        stage.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ])
+    .env("SPECCONV_USD_PYTHON", python)
+}
+
+/// Every file under `dir`, recursively, with its size.
+fn tree(dir: &Path) -> Vec<(PathBuf, u64)> {
+    let mut v = Vec::new();
+    for e in std::fs::read_dir(dir).unwrap() {
+        let p = e.unwrap().path();
+        let m = std::fs::symlink_metadata(&p).unwrap();
+        if m.is_dir() {
+            v.extend(tree(&p));
+        } else {
+            v.push((p, m.len()));
+        }
+    }
+    v.sort();
+    v
+}
+
+/// The record of the texture whose file name is `name` (the first of its tiles).
+fn record<'a>(records: &'a [Value], name: &str) -> &'a Value {
+    records
+        .iter()
+        .find(|r| r["asset"]["texture"].as_str().unwrap().ends_with(name))
+        .unwrap_or_else(|| panic!("no record of {name}: {records:#?}"))
+}
+
+/// What usd-core makes of the layer: each texture node's composed `inputs:file` (as written)
+/// and its customData, opened as a stage.
+fn layer_files(python: &str, layer: &Path) -> Value {
+    let code = "import json, sys\n\
+        from pxr import Usd, UsdShade\n\
+        s = Usd.Stage.Open(sys.argv[1])\n\
+        out = {}\n\
+        for p in s.Traverse():\n\
+        \x20   a = p.GetAttribute('inputs:file')\n\
+        \x20   if a:\n\
+        \x20       v = a.Get()\n\
+        \x20       out[str(p.GetPath())] = dict(file=v.path, resolved=v.resolvedPath,\n\
+        \x20           original=a.GetCustomDataByKey('specconv:original'),\n\
+        \x20           scs=p.GetAttribute('inputs:sourceColorSpace').Get())\n\
+        print(json.dumps(dict(files=out, sublayers=list(s.GetRootLayer().subLayerPaths))))\n";
+    let out = std::process::Command::new(python)
+        .args(["-c", code, layer.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    json(&String::from_utf8_lossy(&out.stdout))
+}
+
+#[test]
+fn the_material_decides_and_the_layer_points_at_the_spectral_files() {
+    let Some(python) = usd() else { return };
+    let dir = Scratch::new("asset-basic");
+    let shot = dir.path("shot");
+    std::fs::create_dir_all(&shot).unwrap();
+    std::fs::create_dir_all(dir.path("outside")).unwrap();
+    let sky = dir.path("outside/sky.png");
+    tool(
+        "oiiotool",
+        &[
+            "--pattern",
+            "checker",
+            "8x8",
+            "3",
+            "-d",
+            "uint8",
+            "-o",
+            sky.to_str().unwrap(),
+        ],
+    );
+    stage(&shot, "basic");
+    let before = tree(&dir.0);
+    let out = dir.path("out");
+    let run = asset(&python, &shot.join("shot.usda"), &out)
+        .arg("--json")
+        .ok();
+    let records = run.json_lines();
+    // Only what bound materials read, the selected variant's: 7 files, the UDIM pattern's two
+    // tiles each a record.
+    let names: Vec<&str> = records
+        .iter()
+        .map(|r| r["input"].as_str().unwrap())
+        .collect();
+    assert_eq!(records.len(), 8, "{names:?}");
+    assert!(!names
+        .iter()
+        .any(|n| n.contains("clean_albedo") || n.contains("never")));
+    // rgb → diffuseColor with a → opacity: one colour texture with alpha, sRGB as declared.
+    let albedo = record(&records, "rock_albedo.png");
+    assert_eq!(albedo["status"], "ok");
+    assert_eq!(albedo["colorspace"], "sRGB - Texture");
+    assert_eq!(albedo["asset"]["rule"], "source-color-space");
+    assert!(albedo["asset"]["why"]
+        .as_str()
+        .unwrap()
+        .contains("with alpha"));
+    // ARM (r, g, b → occlusion, roughness, metallic) and a raw normal map: data, skipped.
+    for data in ["rock_arm.png", "rock_normal.png"] {
+        let r = record(&records, data);
+        assert_eq!(r["status"], "data", "{r:#}");
+        assert_eq!(r["asset"]["rule"], "data-input");
+        assert_eq!(r["role"], "data");
+    }
+    let arm = record(&records, "rock_arm.png");
+    let inputs: Vec<&str> = arm["asset"]["uses"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|u| u["input"].as_str().unwrap())
+        .collect();
+    assert_eq!(inputs.len(), 3, "{inputs:?}");
+    // The MaterialX colorspace names the space outright: ACEScg, over the EXR's silence.
+    let acescg = record(&records, "wood_acescg.exr");
+    assert_eq!(acescg["colorspace"], "ACEScg");
+    assert_eq!(acescg["asset"]["rule"], "materialx-colorspace");
+    // The variant selected (dirty), `auto`: the file's evidence (an 8-bit PNG: sRGB).
+    let dirty = record(&records, "dirty_albedo.png");
+    assert_eq!(dirty["asset"]["rule"], "colour-input");
+    assert_ne!(dirty["colorspace_rule"], "colorspace-option");
+    assert!(dirty["asset"]["colorspace_given"].is_null());
+    assert_eq!(dirty["colorspace"], "sRGB - Texture");
+    // UDIM tiles, and a texture outside the stage's folder: outputs inside DIR.
+    assert!(out.join("tex/wood_spectral.1001.exr").is_file());
+    assert!(out.join("tex/wood_spectral.1002.exr").is_file());
+    let sky_out = record(&records, "sky.png")["output"]
+        .as_str()
+        .unwrap()
+        .to_owned();
+    assert!(
+        Path::new(&sky_out).starts_with(out.join("external")),
+        "{sky_out}"
+    );
+    // Nothing outside DIR was written or changed.
+    let after: Vec<(PathBuf, u64)> = tree(&dir.0)
+        .into_iter()
+        .filter(|(p, _)| !p.starts_with(&out))
+        .collect();
+    assert_eq!(before, after);
+    no_temporaries(&out);
+    // The layer, opened by usd-core: colour textures at their spectral files (their originals
+    // recorded), data textures untouched.
+    let layer = out.join("shot_spectral.usda");
+    let v = layer_files(&python, &layer);
+    let files = &v["files"];
+    let node = &files["/World/Rock/Looks/Rock/Albedo"];
+    assert_eq!(node["file"], "./tex/rock_albedo_spectral.exr");
+    assert_eq!(node["original"], "./tex/rock_albedo.png");
+    assert_eq!(node["scs"], "raw");
+    assert_eq!(
+        Path::new(node["resolved"].as_str().unwrap()),
+        out.join("tex/rock_albedo_spectral.exr")
+    );
+    assert_eq!(
+        files["/World/Looks/Mx/Wood"]["file"],
+        "./tex/wood_spectral.<UDIM>.exr"
+    );
+    assert_eq!(
+        files["/World/Rock/Looks/Rock/Arm"]["file"],
+        "./tex/rock_arm.png"
+    );
+    assert!(files["/World/Rock/Looks/Rock/Arm"]["original"].is_null());
+    // A second run with -u converts nothing and rewrites the layer.
+    let again = asset(&python, &shot.join("shot.usda"), &out)
+        .args(["--json", "-u"])
+        .ok()
+        .json_lines();
+    assert!(again
+        .iter()
+        .all(|r| r["status"] == "skipped" || r["status"] == "data"));
+}
+
+#[test]
+fn dry_run_prints_decisions_and_writes_nothing() {
+    let Some(python) = usd() else { return };
+    let dir = Scratch::new("asset-dry");
+    stage(&dir.0, "basic");
+    let out = dir.path("out");
+    let run = asset(&python, &dir.path("shot.usda"), &out)
+        .args(["--dry-run", "--json"])
+        .ok();
+    let decisions = run.json_lines();
+    assert!(!out.exists(), "a dry run made {}", out.display());
+    let rules: Vec<&str> = decisions
+        .iter()
+        .map(|d| d["rule"].as_str().unwrap())
+        .collect();
+    assert!(rules.contains(&"data-input") && rules.contains(&"materialx-colorspace"));
+}
+
+#[test]
+fn a_conflict_names_both_uses_and_is_never_uplifted() {
+    let Some(python) = usd() else { return };
+    let dir = Scratch::new("asset-conflict");
+    stage(&dir.0, "conflict");
+    let out = dir.path("out");
+    let run = asset(&python, &dir.path("conflict.usda"), &out).fails(
+        1,
+        &[
+            "/Looks/A/Tex",
+            "/Looks/B/Tex",
+            "diffuseColor",
+            "normal",
+            "not converted",
+        ],
+    );
+    drop(run);
+    assert!(!out.join("tex/shared_spectral.exr").exists());
+}
+
+#[test]
+fn a_missing_texture_names_the_prim_that_reads_it() {
+    let Some(python) = usd() else { return };
+    let dir = Scratch::new("asset-missing");
+    stage(&dir.0, "missing");
+    asset(&python, &dir.path("missing.usda"), &dir.path("out"))
+        .fails(1, &["/Looks/M/Gone", "gone.png", "does not exist"]);
+}
+
+#[test]
+fn a_reference_cycle_is_a_clear_error_and_writes_nothing() {
+    let Some(python) = usd() else { return };
+    let dir = Scratch::new("asset-cycle");
+    stage(&dir.0, "cycle");
+    let out = dir.path("out");
+    let run = asset(&python, &dir.path("cycle_a.usda"), &out).run_within(Duration::from_secs(120));
+    assert_eq!(run.code, 1);
+    let err = &run.stderr;
+    assert!(
+        err.contains("does not compose") && err.contains("Cycle"),
+        "{err}"
+    );
+    assert!(tree(&out).is_empty(), "{:?}", tree(&out));
+}
+
+#[test]
+fn a_usdz_package_is_read_and_its_textures_copied_out_inside_dir() {
+    let Some(python) = usd() else { return };
+    let dir = Scratch::new("asset-usdz");
+    stage(&dir.0, "package");
+    let out = dir.path("out");
+    let records = asset(&python, &dir.path("packed.usdz"), &out)
+        .arg("--json")
+        .ok()
+        .json_lines();
+    assert_eq!(records.len(), 1);
+    assert_eq!(records[0]["status"], "ok");
+    let output = PathBuf::from(records[0]["output"].as_str().unwrap());
+    assert!(
+        output.starts_with(out.join("packed_usdz")),
+        "{}",
+        output.display()
+    );
+    let v = layer_files(&python, &out.join("packed_spectral.usda"));
+    let file = v["files"]["/Looks/P/Albedo"]["resolved"].as_str().unwrap();
+    assert_eq!(Path::new(file), output);
+    // A corrupt package: usd-core's refusal, said as an error.
+    let bytes = std::fs::read(dir.path("packed.usdz")).unwrap();
+    let mut bad = bytes.clone();
+    let mid = bad.len() / 2;
+    bad[mid..mid + 64].fill(b'X');
+    std::fs::write(dir.path("corrupt.usdz"), &bad).unwrap();
+    asset(&python, &dir.path("corrupt.usdz"), &dir.path("out2"))
+        .fails(1, &["usd-core cannot open the stage"]);
+}
+
+#[test]
+fn hostile_texture_paths_fail_cleanly_inside_dir() {
+    let Some(python) = usd() else { return };
+    let dir = Scratch::new("asset-hostile");
+    stage(&dir.0, "hostile");
+    let fifo = dir.path("tex/fifo.png");
+    assert!(std::process::Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .unwrap()
+        .success());
+    let out = dir.path("out");
+    let run = asset(&python, &dir.path("hostile.usda"), &out)
+        .arg("--json")
+        .run_within(Duration::from_secs(120));
+    assert_eq!(run.code, 1, "{}", &run.stderr);
+    let records = json_lines_of(&run.stdout);
+    // The FIFO and /dev/zero are refused by kind, never opened; `..` out of the folder lands
+    // under DIR/external.
+    for r in &records {
+        if let Some(o) = r["output"].as_str().filter(|o| !o.is_empty()) {
+            assert!(Path::new(o).starts_with(&out), "{o}");
+        }
+    }
+    assert_eq!(record(&records, "fifo.png")["status"], "failed");
+    assert_eq!(record(&records, "zero")["status"], "failed");
+    for (p, _) in tree(&out) {
+        assert!(p.starts_with(&out));
+    }
+    // The stage itself a FIFO: refused before usd-core could block on it.
+    let stage_fifo = dir.path("stage.usda");
+    std::process::Command::new("mkfifo")
+        .arg(&stage_fifo)
+        .status()
+        .unwrap();
+    asset(&python, &stage_fifo, &out).fails(2, &["not a regular file"]);
+}
+
+fn json_lines_of(text: &str) -> Vec<Value> {
+    text.lines().map(|l| json(l)).collect()
+}
+
+#[test]
+fn ten_thousand_prims_are_read_in_bounded_time() {
+    let Some(python) = usd() else { return };
+    let dir = Scratch::new("asset-many");
+    stage(&dir.0, "many");
+    let run = asset(&python, &dir.path("many.usda"), &dir.path("out"))
+        .args(["--dry-run", "--json"])
+        .run_within(Duration::from_secs(300));
+    assert!(run.code == 0, "{}", &run.stderr);
+    let decisions = json_lines_of(&run.stdout);
+    assert_eq!(decisions.len(), 1);
+    assert_eq!(decisions[0]["uses"].as_array().unwrap().len(), 1);
+}
+
+#[test]
+fn without_usd_core_the_error_says_what_to_install() {
+    let dir = Scratch::new("asset-nousd");
+    let stage = dir.write("s.usda", "#usda 1.0\n");
+    // An interpreter with no site-packages at all: no pxr.
+    let wrapper = dir.write("python", "#!/bin/sh\nexec python3 -I -S \"$@\"\n");
+    std::process::Command::new("chmod")
+        .arg("+x")
+        .arg(&wrapper)
+        .status()
+        .unwrap();
+    Cmd::new([
+        "asset",
+        stage.to_str().unwrap(),
+        "-o",
+        dir.path("out").to_str().unwrap(),
+    ])
+    .env("SPECCONV_USD_PYTHON", &wrapper)
+    .fails(1, &["has no usd-core", "-m pip install usd-core"]);
+    Cmd::new([
+        "asset",
+        stage.to_str().unwrap(),
+        "-o",
+        dir.path("out").to_str().unwrap(),
+    ])
+    .env("SPECCONV_USD_PYTHON", dir.path("no-such-python"))
+    .fails(
+        1,
+        &["cannot run the Python interpreter", "pip install usd-core"],
+    );
+    Cmd::new([
+        "asset",
+        stage.to_str().unwrap(),
+        "-o",
+        "x",
+        "--colorspace",
+        "ACEScg",
+    ])
+    .fails(2, &["asset takes no --colorspace"]);
+}
+
+#[test]
+fn data_textures_follow_the_data_policy_and_colour_ones_convert() {
+    let Some(python) = usd() else { return };
+    let dir = Scratch::new("asset-data");
+    stage(&dir.0, "mixed");
+    let mixed = dir.path("mixed.usda");
+    // With --data fail the data texture is a failure, and the colour one is converted.
+    let run = asset(&python, &mixed, &dir.path("out"))
+        .args(["--json", "--data", "fail"])
+        .run();
+    assert_eq!(run.code, 1, "{}", run.stderr);
+    let r = json_lines_of(&run.stdout);
+    assert_eq!(record(&r, "rock_arm.png")["status"], "failed");
+    let error = record(&r, "rock_arm.png")["error"]
+        .as_str()
+        .unwrap()
+        .to_owned();
+    assert!(error.contains("data policy fail"), "{error}");
+    assert_eq!(record(&r, "rock_albedo.png")["status"], "ok");
+    // With --data copy it is written through, tagged data, and not pointed at by the layer.
+    let out = dir.path("out2");
+    let r = asset(&python, &mixed, &out)
+        .args(["--json", "--data", "copy"])
+        .ok()
+        .json_lines();
+    assert_eq!(record(&r, "rock_arm.png")["status"], "copied");
+    let v = layer_files(&python, &out.join("mixed_spectral.usda"));
+    assert_eq!(v["files"]["/Looks/M/Arm"]["file"], "./tex/rock_arm.png");
+    assert_eq!(
+        v["files"]["/Looks/M/Albedo"]["file"],
+        "./tex/rock_albedo_spectral.exr"
+    );
+}
