@@ -456,6 +456,12 @@ fn data_textures_follow_the_data_policy_and_colour_ones_convert() {
         .ok()
         .json_lines();
     assert_eq!(record(&r, "rock_arm.png")["status"], "copied");
+    // Named as data, as `convert -o DIR` names a data copy.
+    assert!(record(&r, "rock_arm.png")["output"]
+        .as_str()
+        .unwrap()
+        .ends_with("tex/rock_arm_data.exr"));
+    assert!(out.join("tex/rock_arm_data.exr").is_file());
     let v = layer_files(&python, &out.join("mixed_spectral.usda"));
     assert_eq!(v["files"]["/Looks/M/Arm"]["file"], "./tex/rock_arm.png");
     assert_eq!(

@@ -6,6 +6,7 @@ use crate::stage::{Node, Stage};
 use crate::Error;
 use serde::Serialize;
 use sha2::{Digest, Sha256};
+use specconv_atomic_file::outputs::Holds;
 use specconv_atomic_file::udim;
 use specconv_conversion::ColourConfig;
 use std::collections::BTreeMap;
@@ -270,12 +271,21 @@ fn planned(
     };
     match space {
         Ok(colorspace) => Planned {
-            output: Some(output_for(stage_dir, dir, &file)),
+            output: Some(output_for(stage_dir, dir, &file, holds(&texture.decision))),
             colorspace,
             error: None,
             texture,
         },
         Err(why) => not_converted(texture, why),
+    }
+}
+
+/// What a texture's output holds: a data texture's copy is named as data, as `convert` names
+/// it (`specconv_atomic_file::outputs::Holds`).
+fn holds(decision: &Decision) -> Holds {
+    match decision {
+        Decision::Data { .. } => Holds::Data,
+        _ => Holds::Spectral,
     }
 }
 
@@ -320,9 +330,10 @@ fn named(config: &ColourConfig, id: &str) -> Result<Option<String>, String> {
     }
 }
 
-/// `DIR/SUB/STEM_spectral.exr`: SUB is the file's folder below the stage's (or below DIR, for
-/// a texture copied out of a usdz), else `external/HASH` of its folder; never outside DIR.
-pub fn output_for(stage_dir: &Path, dir: &Path, file: &Path) -> PathBuf {
+/// `DIR/SUB/STEM_spectral.exr` (`STEM_data.exr` for a data texture): SUB is the file's folder
+/// below the stage's (or below DIR, for a texture copied out of a usdz), else `external/HASH`
+/// of its folder; never outside DIR.
+pub fn output_for(stage_dir: &Path, dir: &Path, file: &Path, holds: Holds) -> PathBuf {
     let folder = file.parent().unwrap_or(Path::new(""));
     let below = |root: &Path| {
         folder
@@ -336,12 +347,13 @@ pub fn output_for(stage_dir: &Path, dir: &Path, file: &Path) -> PathBuf {
         let hex: String = hash[..4].iter().map(|b| format!("{b:02x}")).collect();
         Path::new("external").join(hex)
     });
-    dir.join(sub).join(spectral_name(file, false))
+    dir.join(sub).join(output_name(file, false, holds))
 }
 
 /// `STEM_spectral.exr`, `STEM_spectral.<UDIM>.exr` for a pattern, `STEM_EXT_spectral…` with
-/// `ext` (two textures of one stem).
-fn spectral_name(file: &Path, ext: bool) -> String {
+/// `ext` (two textures of one stem); `data` for `spectral` when it holds data.
+fn output_name(file: &Path, ext: bool, holds: Holds) -> String {
+    let word = holds.word();
     let name = file.file_name().unwrap_or_default().to_string_lossy();
     let (base, extension) = match name.rfind('.') {
         Some(i) if i > 0 => (&name[..i], &name[i + 1..]),
@@ -354,9 +366,9 @@ fn spectral_name(file: &Path, ext: bool) -> String {
     match base.to_ascii_lowercase().find("<udim>") {
         Some(i) => {
             let stem = base[..i].trim_end_matches(['.', '_']);
-            format!("{}_spectral.<UDIM>.exr", with_ext(stem))
+            format!("{}_{word}.<UDIM>.exr", with_ext(stem))
         }
-        None => format!("{}_spectral.exr", with_ext(base)),
+        None => format!("{}_{word}.exr", with_ext(base)),
     }
 }
 
@@ -370,7 +382,11 @@ fn disambiguate(textures: &mut [Planned]) {
     }
     for t in textures.iter_mut() {
         if let Some(o) = t.output.as_mut().filter(|o| seen.get(*o) > Some(&1)) {
-            *o = o.with_file_name(spectral_name(&t.texture.file, true));
+            *o = o.with_file_name(output_name(
+                &t.texture.file,
+                true,
+                holds(&t.texture.decision),
+            ));
         }
     }
 }
@@ -381,8 +397,14 @@ mod tests {
 
     #[test]
     fn outputs_stay_inside_dir() {
-        let out = |f: &str| output_for(Path::new("/s"), Path::new("/out"), Path::new(f));
+        let named = |f: &str, h| output_for(Path::new("/s"), Path::new("/out"), Path::new(f), h);
+        let out = |f: &str| named(f, Holds::Spectral);
         assert_eq!(out("/s/tex/a.png"), Path::new("/out/tex/a_spectral.exr"));
+        // A data texture written through is named as data, as `convert -o DIR` names it.
+        assert_eq!(
+            named("/s/tex/a.<UDIM>.png", Holds::Data),
+            Path::new("/out/tex/a_data.<UDIM>.exr")
+        );
         assert_eq!(
             out("/s/tex/wood.<UDIM>.png"),
             Path::new("/out/tex/wood_spectral.<UDIM>.exr")
