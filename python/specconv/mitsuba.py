@@ -513,9 +513,8 @@ def compact_file(path: str, level: int = 0) -> tuple[str, np.ndarray]:
     attributes = {k: meta[k] for k in meta.keys() if isinstance(meta[k], str)}
     text, columns = check_compact_header(path, attributes, names)
     pixels = np.array(bitmap, copy=False).reshape(bitmap.height(), bitmap.width(), len(names))
-    if list(columns) == list(range(len(names))) and pixels.dtype == np.float32:
-        return text, pixels  # the file's own buffer: no copy
-    return text, np.ascontiguousarray(pixels[..., list(columns)], dtype=np.float32)
+    # The nine stored values (R … UF.2) as the rule's six, as every decoder makes them.
+    return text, compact.unstore(compact.parse(text), pixels[..., list(columns)])
 
 
 def _to_uv(props, jit: bool):

@@ -1,7 +1,9 @@
-/* include/specconv_spectrum.h against the spectral file `convert` writes for the same input
- * (tests/it/compact.rs builds and runs this; the dumps come from tests/compact_check.py dump):
+/* include/specconv_spectrum.h against the spectral file `convert` writes of the colour a
+ * compact file stores (tests/it/compact.rs builds and runs this; the dumps come from
+ * tests/compact_check.py dump):
  *
- *   decode_check HEADER TEXELS BAKED    every texel of level 0: within one half step of the
+ *   decode_check HEADER TEXELS BAKED    every stored texel of level 0 (nine values, made six by
+ *                                       scs_texel_of_stored): within one half step of the
  *                                       baked half at every band, and within the half step of
  *                                       the larger neighbour of the baked file's linear
  *                                       interpolation at 1,000 random wavelengths (the
@@ -220,7 +222,7 @@ int main(int argc, char **argv) {
     at = (double *)malloc(sizeof(double) * draws);
     got = (float *)malloc(sizeof(float) * (size_t)n);
     if (!wl || !at || !got) die("out of memory", argv[1]);
-    tex = read_table(argv[2], &texels, 6, NULL);
+    tex = read_table(argv[2], &texels, 9, NULL);
     baked = read_table(argv[3], &rows, n, wl);
     if (rows != texels) die("not as many texels as the compact file's", argv[3]);
     for (b = 0; b < n; b++)
@@ -228,8 +230,10 @@ int main(int argc, char **argv) {
     for (k = 0; k < draws; k++) at[k] = uniform(wl[0], wl[n - 1]);
 
     for (t = 0; t < texels; t++) {
-        const float *texel = tex + t * 6, *want = baked + t * n;
+        const float *want = baked + t * n;
+        float texel[6];
         int has_nan = 0;
+        scs_texel_of_stored(m, tex + t * 9, texel);
         scs_decode_bands(m, texel, got);
         /* At the bands: the half the file stores, within one step of the decoded value's. */
         for (b = 0; b < n; b++) {

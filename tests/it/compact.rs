@@ -9,17 +9,33 @@ fn s(p: &Path) -> &str {
     p.to_str().unwrap()
 }
 
-/// Converts `input` both ways with `extra`, expands the compact file and compares every
-/// sample of every level; returns the fraction stored identically (all within one step).
-fn expand_matches_convert(dir: &Scratch, input: &Path, name: &str, extra: &[&str]) -> f64 {
-    let direct = dir.path(&format!("{name}_spectral.exr"));
+/// Converts `input` to a compact file with `extra`, and the colour that file stores (level 0's
+/// R G B and A, tests/compact_check.py `stored`) to a spectral file with `extra`: the
+/// reference of a compact file (docs/compact.md). Returns (compact, spectral).
+fn compact_and_reference(
+    dir: &Scratch,
+    input: &Path,
+    name: &str,
+    extra: &[&str],
+) -> (std::path::PathBuf, std::path::PathBuf) {
     let compact = dir.path(&format!("{name}_compact.exr"));
-    let expanded = dir.path(&format!("{name}_expanded.exr"));
-    Cmd::convert(input, &direct).args(extra).ok();
+    let stored = dir.path(&format!("{name}_stored.exr"));
+    let direct = dir.path(&format!("{name}_spectral.exr"));
     Cmd::convert(input, &compact)
         .args(extra)
         .args(["--layout", "compact"])
         .ok();
+    script("compact_check.py", ["stored", s(&compact), s(&stored)]);
+    Cmd::convert(&stored, &direct).args(extra).ok();
+    (compact, direct)
+}
+
+/// Converts `input` to a compact file with `extra` and its stored colour to a spectral file
+/// ([`compact_and_reference`]), expands the compact file and compares every sample of every
+/// level; returns the fraction stored identically (all within one step).
+fn expand_matches_convert(dir: &Scratch, input: &Path, name: &str, extra: &[&str]) -> f64 {
+    let expanded = dir.path(&format!("{name}_expanded.exr"));
+    let (compact, direct) = compact_and_reference(dir, input, name, extra);
     Cmd::new(["expand"]).arg(&compact).arg(&expanded).ok();
     let levels = script_json("compact_check.py", ["steps", s(&direct), s(&expanded)]);
     let levels = levels.as_array().unwrap();
@@ -452,13 +468,7 @@ fn the_c_header_decodes_what_convert_bakes_and_refuses_hostile_text() {
     ];
     let mut checked = 0;
     for (name, input, extra, nans) in cases {
-        let baked = dir.path(&format!("{name}_spectral.exr"));
-        let compact = dir.path(&format!("{name}_compact.exr"));
-        Cmd::convert(&input, &baked).args(&extra).ok();
-        Cmd::convert(&input, &compact)
-            .args(&extra)
-            .args(["--layout", "compact"])
-            .ok();
+        let (compact, baked) = compact_and_reference(&dir, &input, name, &extra);
         let prefix = dir.path(name);
         script(
             "compact_check.py",
