@@ -670,3 +670,33 @@ fn the_c_header_decodes_what_convert_bakes_and_refuses_hostile_text() {
     assert_eq!(code, Some(0), "{out}");
     assert!(out.starts_with("mutations=20000 "), "{out}");
 }
+
+/// Item 47.4: the C header meets the library's reference texels (testdata/compact/reference,
+/// written by crates/spectral/tests/spectral/reference_texels.rs): under both `clip` headers
+/// and both texel precisions, every stored texel made the library's six values bit for bit and
+/// decoded within a float32 bound of its spectrum, NaN where it is NaN.
+#[test]
+fn the_c_header_meets_the_reference_texels() {
+    let dir = Scratch::new("compact-c-reference");
+    let exe = decode_check(&dir);
+    let here = Path::new(env!("CARGO_MANIFEST_DIR")).join("testdata/compact/reference");
+    for table in ["clip1-half", "clip1-float", "clip0-half", "clip0-float"] {
+        let header = here.join(format!("{}.header", &table[..5]));
+        let out = std::process::Command::new(&exe)
+            .arg("--reference")
+            .arg(&header)
+            .arg(here.join(format!("{table}.txt")))
+            .output()
+            .unwrap();
+        let text = String::from_utf8_lossy(&out.stdout);
+        eprintln!("{table}: {text}");
+        assert!(out.status.success(), "{table}: {text}");
+        let rows: usize = text
+            .split("rows=")
+            .nth(1)
+            .and_then(|r| r.split(' ').next())
+            .and_then(|r| r.parse().ok())
+            .unwrap();
+        assert!(rows > 60, "{table}: {rows} rows");
+    }
+}
