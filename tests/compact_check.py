@@ -5,7 +5,8 @@
                     NaN, a tiny dark colour, and a ramp.
   steps A B         JSON list, one entry per MIP level of A and B (two spectral files of the
                     same channels): the fraction of samples stored identically and the largest
-                    difference in half steps at the value (at least 2e-6), NaN equal to NaN.
+                    difference in half steps at the value (at least 2e-6), NaN equal to NaN,
+                    and the pixels with a sample more than one step apart.
   stored C OUT      level 0's stored colour of the compact file C (R G B, and A) as a float
                     OpenEXR without chromaticities (linear Rec.709, the working space): what
                     `convert` bakes as the reference of C (docs/compact.md).
@@ -75,7 +76,8 @@ def steps(a, b):
         spacing = 2.0 ** (np.floor(np.log2(np.maximum(np.abs(fa), 2.0 ** -14))) - 10)
         spacing = np.maximum(spacing, 2e-6)
         d = np.where(nan | (d == 0), 0, np.ceil(np.abs(fa - fb) / spacing - 1e-9)).astype(np.int64)
-        out.append({"level": level, "identical": float((pa.view(signed) == pb.view(signed)).mean()), "max_steps": int(d.max()), "samples": int(d.size)})
+        beyond = int((d > 1).any(axis=-1).sum())
+        out.append({"level": level, "identical": float((pa.view(signed) == pb.view(signed)).mean()), "max_steps": int(d.max()), "samples": int(d.size), "pixels_beyond_one": beyond})
     print(json.dumps(out))
 
 

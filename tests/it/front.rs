@@ -87,7 +87,7 @@ fn every_reader_of_spectral_files_names_a_compact_texture_and_expand() {
         let record = Cmd::new(["info", "--json"]).arg(&file).ok().json();
         let compact = &record["compact"];
         assert!(compact.is_object(), "{what}: {record}");
-        assert_eq!(compact["texel_channels"].as_array().unwrap().len(), 6);
+        assert_eq!(compact["texel_channels"].as_array().unwrap().len(), 9);
         if decodable {
             assert_eq!(compact["bands_nm"].as_array().unwrap().len(), 36, "{what}");
         } else {
