@@ -46,8 +46,8 @@ fn expand_matches_convert(dir: &Scratch, input: &Path, name: &str, extra: &[&str
     // move: `convert` reaches the stored colour's XYZ through OpenColorIO, not by the header's
     // matrix to the bit, so those (4 of the chart's 48) may differ; the chart's smaller levels
     // (2×1 texels and less) average them in. The HDR image's colours brighter than white are
-    // all outside the solid: a fifth of its texels differ (measured 568 of 2,867 with
-    // `-d float`), and are checked for no more.
+    // all outside the solid: a fifth to a quarter of its texels differ (measured 568 and 738
+    // of 2,867 with `-d float` and with lanczos3), and are checked for no more.
     let chart = name.starts_with("chart") || name == "grid" || name == "open";
     let hdr = name == "float" || name == "lanczos3";
     for l in levels {
@@ -57,7 +57,7 @@ fn expand_matches_convert(dir: &Scratch, input: &Path, name: &str, extra: &[&str
         if hdr {
             let pixels = l["samples"].as_f64().unwrap() / 36.0;
             let beyond = l["pixels_beyond_one"].as_f64().unwrap();
-            assert!(l["level"] != 0 || beyond <= 0.25 * pixels, "{name}: {l}");
+            assert!(l["level"] != 0 || beyond <= 0.3 * pixels, "{name}: {l}");
             continue;
         }
         // Level 0 within one half step; the filtered levels carry level 0's float32
@@ -121,15 +121,14 @@ fn expanded_compact_textures_are_what_convert_writes_within_one_half_step() {
     for (name, input, extra) in cases {
         let same = expand_matches_convert(&dir, &input, name, &extra);
         eprintln!("{name}: {:.4} % of samples identical", 100.0 * same);
-        // Float samples differ in the last bits where u ≠ 0.
-        assert!(
-            same > if name == "float" || name == "lanczos3" {
-                0.8
-            } else {
-                0.99
-            },
-            "{name}: {same}"
-        );
+        // Float samples differ in the last bits where u ≠ 0; rounding by colour picks the
+        // other half where the colour's last bits differ (98.7 % identical measured).
+        let least = match name {
+            "float" | "lanczos3" => 0.8,
+            "unbounded" | "colour" => 0.98,
+            _ => 0.99,
+        };
+        assert!(same > least, "{name}: {same}");
     }
 }
 
@@ -612,9 +611,9 @@ fn the_c_header_decodes_what_convert_bakes_and_refuses_hostile_text() {
     let hostile: Vec<(&str, String, &str)> = vec![
         ("empty", String::new(), "not a text of"),
         (
-            "version 2",
-            valid.replacen(" 1\n", " 2\n", 1),
-            "not a text of",
+            "version 1",
+            valid.replacen("specconv compact 2", "specconv compact 1", 1),
+            "compact version '1'",
         ),
         ("truncated", valid[..half].to_string(), ""),
         (
