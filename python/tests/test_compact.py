@@ -1,6 +1,6 @@
 """Compact textures (docs/compact.md) decoded by specconv.decode, numpy from the header text,
-read through OpenImageIO's Python bindings: level 0 against the spectral file convert writes
-of the colour the compact file stores, at the bands and at random wavelengths; the smaller
+read through OpenImageIO's Python bindings: level 0 against the library's decoding of the same
+file (`specconv expand`), at the bands and at random wavelengths; the smaller
 levels' colours against that file's filtered spectra under D65, A and F11 (colour-science's
 CIEDE2000); every decoder against the library's reference texels (testdata/compact/reference).
 """
@@ -60,27 +60,13 @@ def texels(names, pixels, text):
     return specconv.compact.unstore(text, pixels[..., [names.index(c) for c in STORED]])
 
 
-def stored_colour(compact, out):
-    """Level 0's stored colour (R G B, and A) of a compact file as a float OpenEXR without
-    chromaticities (linear Rec.709, the working space): what convert bakes as its reference."""
-    names, pixels, _ = levels(compact)[0]
-    keep = [c for c in ("R", "G", "B", "A") if c in names]
-    spec = oiio.ImageSpec(pixels.shape[1], pixels.shape[0], len(keep), "float")
-    spec.channelnames = keep
-    if "A" in keep:
-        spec.alpha_channel = len(keep) - 1
-    o = oiio.ImageOutput.create(str(out))
-    assert o.open(str(out), spec), o.geterror()
-    assert o.write_image(np.ascontiguousarray(pixels[..., [names.index(c) for c in keep]])), o.geterror()
-    o.close()
-
-
-def compact_and_reference(folder, image, **options):
-    """A compact file of `image` and the spectral file convert writes of the colour it stores."""
-    baked, compact, stored = folder / "baked.exr", folder / "compact.exr", folder / "stored.exr"
+def compact_and_reference(folder, image, cli, **options):
+    """A compact file of `image` and the library's decoding of it, `specconv expand` (half
+    bands, every level): the reference of the other decoders, the same colour to the bit.
+    (tests/it/compact.rs holds `expand` to `convert` of the colour the file stores.)"""
+    baked, compact = folder / "baked.exr", folder / "compact.exr"
     specconv.convert(image, compact, layout="compact", **options)
-    stored_colour(compact, stored)
-    specconv.convert(stored, baked, **options)
+    cli("expand", "--fixnan", "keep", compact, baked)
     return compact, baked
 
 
@@ -258,11 +244,11 @@ CASES = [
 
 
 @pytest.mark.parametrize("name,image,options", CASES, ids=[c[0] for c in CASES])
-def test_decoded_texels_are_the_baked_spectra(tmp_path, name, image, options):
+def test_decoded_texels_are_the_baked_spectra(tmp_path, cli, name, image, options):
     if image is None:
         image = tmp_path / "chart.exr"
         chart(image)
-    compact, baked = compact_and_reference(tmp_path, image, **options)
+    compact, baked = compact_and_reference(tmp_path, image, cli, **options)
     (bn, bp, _), (cn, cp, attrs) = levels(baked)[0], levels(compact)[0]
     want, wl = bands(bn, bp)
     text = attrs["specconvCompact"]
@@ -325,7 +311,9 @@ def test_smaller_levels_keep_the_colour_under_d65_and_nearly_under_a_and_f11(tmp
             found.setdefault(light, []).extend(colour.delta_E(*lab, method="CIE 2000"))
     stats = {k: (float(np.mean(v)), float(np.percentile(v, 99)), float(np.max(v))) for k, v in found.items()}
     print("ΔE00 of the smaller levels (mean, 99th percentile, max):", stats)
-    assert stats["D65"][2] < 1e-3, stats
+    # Under D65 the filtered colour, but rounded to half (docs/compact.md, "Sizes": ≈ 0.006
+    # mean, 0.06 at most on the photographs there).
+    assert stats["D65"][0] < 0.02 and stats["D65"][2] < 0.2, stats
     # Measured: A 0.10, 1.26, 7.4; F11 0.15, 1.97, 4.1 (a texel between two metameric
     # neighbours: the average of their spectra is no uplift of the average colour).
     for light in ("A", "FL11"):

@@ -61,7 +61,7 @@ def _steps(got, want, floor=FLOOR):
 
 @pytest.mark.parametrize("name,image,options", tc.CASES, ids=[c[0] for c in tc.CASES])
 def test_every_texel_is_the_baked_spectrum_at_the_bands_and_between(
-    variant, tmp_path, name, image, options
+    variant, tmp_path, cli, name, image, options
 ):
     """Each texel's lookup (`nearest`: a texel centre in float32 is not exactly one texel's,
     and bilinear weighs its neighbours by a few 10⁻⁶): within one half step of the baked file
@@ -70,7 +70,7 @@ def test_every_texel_is_the_baked_spectrum_at_the_bands_and_between(
     if image is None:
         image = tmp_path / "chart.exr"
         tc.chart(image)
-    compact, baked = tc.compact_and_reference(tmp_path, image, **options)
+    compact, baked = tc.compact_and_reference(tmp_path, image, cli, **options)
     (names, pixels, _) = tc.levels(baked)[0]
     want, wl = tc.bands(names, pixels)
     h, w, n = want.shape
