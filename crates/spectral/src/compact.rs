@@ -335,8 +335,9 @@ impl Compact {
             .zip(texels.chunks_exact_mut(TEXEL))
         {
             t[..3].copy_from_slice(&self.colour_of([s[0], s[1], s[2]]));
-            for k in 0..3 {
-                t[3 + k] = s[3 + k] + s[6 + k];
+            let (half, float) = s[3..].split_at(3);
+            for (u, (h, f)) in t[3..].iter_mut().zip(half.iter().zip(float)) {
+                *u = h + f;
             }
         }
     }

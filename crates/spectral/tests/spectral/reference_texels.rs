@@ -111,14 +111,12 @@ fn table(c: &Compact, precision: Precision, header: &str) -> String {
             Precision::Float => "float",
         }
     );
-    for i in 0..count {
-        let _ = writeln!(
-            t,
-            "{} = {} = {}",
-            join(&stored[i * STORED..(i + 1) * STORED]),
-            join(&texels[i * TEXEL..(i + 1) * TEXEL]),
-            join(&bands[i * n..(i + 1) * n])
-        );
+    let rows = stored
+        .chunks_exact(STORED)
+        .zip(texels.chunks_exact(TEXEL))
+        .zip(bands.chunks_exact(n));
+    for ((s, x), r) in rows {
+        let _ = writeln!(t, "{} = {} = {}", join(s), join(x), join(r));
     }
     t
 }
