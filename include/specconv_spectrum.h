@@ -10,7 +10,9 @@
  * the one file a C program copies or puts on its include path; it has no sources beside it.
  *
  * A compact texel is six floats (X, Y, Z, u0, u1, u2); the model that turns it into a spectrum
- * is the text of the file's `specconvCompact` attribute, which scs_model_parse reads:
+ * is the text of the file's `specconvCompact` attribute, which scs_model_parse reads. A file
+ * stores nine values a texel (R G B U.0 U.1 U.2 UF.0 UF.1 UF.2: the colour in the working
+ * space the text names, u as half, u as float32), which scs_texel_of_stored turns into six:
  *
  *     char err[256];
  *     scs_model *m = scs_model_parse(header_text, err, sizeof err);
@@ -36,7 +38,7 @@ extern "C" {
 
 typedef struct scs_model scs_model;
 
-/* The model of a `specconv compact 1` header text, or NULL with a message in err (errlen
+/* The model of a `specconv compact 2` header text, or NULL with a message in err (errlen
  * bytes, always terminated when errlen > 0; err may be NULL). Free it with scs_model_free. */
 scs_model *scs_model_parse(const char *text, char *err, size_t errlen);
 void scs_model_free(scs_model *m);
@@ -49,6 +51,14 @@ const double *scs_wavelengths(const scs_model *m);
  * scs_bands(m) values. A NaN or infinite X, Y or Z (or u, with clip 1) gives NaN in every
  * band. */
 void scs_decode_bands(const scs_model *m, const float texel[6], float *out);
+
+/* The six values the decoders take from the nine a file stores (R G B U.0 U.1 U.2 UF.0 UF.1
+ * UF.2): the colour's XYZ, M · (R, G, B) with M the text's `rgb` matrix, summed in double in
+ * this order and rounded to float once; u = U + UF (one of them is 0). */
+void scs_texel_of_stored(const scs_model *m, const float stored[9], float texel[6]);
+
+/* The working space's matrix to XYZ (the text's `rgb` line), 9 numbers row by row. */
+const double *scs_rgb_to_xyz(const scs_model *m);
 
 /* The spectrum at any wavelength: the linear interpolation of the two neighbouring bands
  * (held flat beyond the ends), as a reader of the spectral file interpolates. */
@@ -96,6 +106,7 @@ struct scs_model {
     double dark;
     double blend;
     int clip;
+    double rgb[9];  /* the working space's matrix to XYZ, rows of X, Y, Z */
     long nodes_n;
     scs_node_ *nodes;
     long maps_n;
@@ -140,7 +151,7 @@ static int scs_first_is_(const char *line, const char *word) {
  * single spaces, none empty. NULL when it has, else why not. */
 static const char *scs_line_form_(const char *line) {
     static const char *const known[] = {"hash", "grid", "wavelengths", "white", "dark", "blend",
-                                        "clip", "node", "map", "b", NULL};
+                                        "clip", "rgb", "node", "map", "b", NULL};
     const char *const *k;
     const char *c;
     int model = !strncmp(line, "model", 5) && (line[5] == ' ' || !line[5]);
@@ -249,7 +260,7 @@ scs_model *scs_model_parse(const char *text, char *err, size_t errlen) {
     long nlines = 0, i, leaves = 0;
     size_t len;
     int seen_white = 0, seen_dark = 0, seen_blend = 0, seen_clip = 0, seen_b[3] = {0, 0, 0};
-    int seen_model = 0, seen_hash = 0, seen_grid = 0;
+    int seen_model = 0, seen_hash = 0, seen_grid = 0, seen_rgb = 0;
     double grid[3] = {0, 0, 0};
     char *map_seen = NULL, *node_seen = NULL, *reached = NULL, *map_used = NULL;
     long *stack = NULL;
@@ -275,8 +286,14 @@ scs_model *scs_model_parse(const char *text, char *err, size_t errlen) {
         if (*p && p[strlen(p) - 1] == '\r') p[strlen(p) - 1] = '\0';
         lines[i] = p;
     }
-    if (strcmp(lines[0], "specconv compact 1") != 0) {
-        scs_fail_(err, errlen, 1, "not a text of `specconv compact 1`");
+    if (strcmp(lines[0], "specconv compact 2") != 0) {
+        if (!strncmp(lines[0], "specconv compact ", 17))
+            scs_fail_(err, errlen, 1,
+                      "compact version '%.20s', which this header does not read (it reads "
+                      "`specconv compact 2`): convert the texture again, or use the header that "
+                      "came with the specconv that wrote it", lines[0] + 17);
+        else
+            scs_fail_(err, errlen, 1, "not a text of `specconv compact 2`");
         goto fail;
     }
     for (i = 1; i < nlines; i++) {
@@ -362,6 +379,8 @@ scs_model *scs_model_parse(const char *text, char *err, size_t errlen) {
             char *v = scs_word_(&q);
             if (seen_clip++ || !v || scs_word_(&q) || (strcmp(v, "0") && strcmp(v, "1"))) goto bad;
             m->clip = v[0] == '1';
+        } else if (!strcmp(w, "rgb")) {
+            if (seen_rgb++ || !scs_numbers_(&q, m->rgb, 9)) goto bad;
         } else if (!strcmp(w, "node")) {
             long k;
             scs_node_ *nd;
@@ -418,8 +437,9 @@ scs_model *scs_model_parse(const char *text, char *err, size_t errlen) {
         scs_fail_(err, errlen, ln, "malformed `%s` line or a repeated one", w);
         goto fail;
     }
-    if (!seen_model || !seen_hash || !seen_grid || !seen_white || !seen_dark || !seen_blend || !seen_clip) {
-        scs_fail_(err, errlen, 0, "model, hash, grid, white, dark, blend and clip lines are required");
+    if (!seen_model || !seen_hash || !seen_grid || !seen_white || !seen_dark || !seen_blend || !seen_clip ||
+        !seen_rgb) {
+        scs_fail_(err, errlen, 0, "model, hash, grid, white, dark, blend, clip and rgb lines are required");
         goto fail;
     }
     if (!scs_grid_is_(grid, m->wl, m->n)) {
@@ -515,6 +535,19 @@ done:
 int scs_bands(const scs_model *m) { return m->n; }
 
 const double *scs_wavelengths(const scs_model *m) { return m->wl; }
+
+const double *scs_rgb_to_xyz(const scs_model *m) { return m->rgb; }
+
+void scs_texel_of_stored(const scs_model *m, const float stored[9], float texel[6]) {
+    int i;
+    for (i = 0; i < 3; i++) {
+        const double *row = m->rgb + 3 * i;
+        double v = row[0] * (double)stored[0] + row[1] * (double)stored[1];
+        v += row[2] * (double)stored[2];
+        texel[i] = (float)v;
+        texel[3 + i] = stored[3 + i] + stored[6 + i];
+    }
+}
 
 /* The texel's colour, chromaticity and λ_dark ("The rule"); 0 when X, Y or Z is not finite,
  * or u where the rule adds it (clip 1). */

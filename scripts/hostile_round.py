@@ -455,7 +455,7 @@ def compact_files_are_read_safely(r):
         "cycle": text.replace("node 4 leaf 0", "node 4 split x 0.5 0 0 0.02"),
         "missing leaf": text.replace("node 14 leaf 7", "node 14 leaf 99"),
         "empty": "",
-        "version 9": text.replace("specconv compact 1", "specconv compact 9"),
+        "version 9": text.replace("specconv compact 2", "specconv compact 9"),
         "wavelengths decreasing": text.replace("wavelengths 380 390", "wavelengths 390 380"),
         "map number 1e999": text.replace("\nmap 2 ", "\nmap 2 1e999 ", 1),
         "map number inf": text.replace("\nmap 1 ", "\nmap 1 inf ", 1),

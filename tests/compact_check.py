@@ -5,10 +5,14 @@
                     NaN, a tiny dark colour, and a ramp.
   steps A B         JSON list, one entry per MIP level of A and B (two spectral files of the
                     same channels): the fraction of samples stored identically and the largest
-                    difference in half steps at the value (at least 2e-6), NaN equal to NaN.
+                    difference in half steps at the value (at least 2e-6), NaN equal to NaN,
+                    and the pixels with a sample more than one step apart.
+  stored C OUT      level 0's stored colour of the compact file C (R G B, and A) as a float
+                    OpenEXR without chromaticities (linear Rec.709, the working space): what
+                    `convert` bakes as the reference of C (docs/compact.md).
   dump C B PREFIX   level 0 of a compact file C and of the spectral file B as text for
                     tests/c/decode_check.c: PREFIX.header (the specconvCompact text),
-                    PREFIX.texels ("count 6", then C.X C.Y C.Z U.0 U.1 U.2 a line) and
+                    PREFIX.texels ("count 9", then R G B U.0 U.1 U.2 UF.0 UF.1 UF.2 a line) and
                     PREFIX.baked ("count bands", the wavelengths, then the T. bands a line),
                     every float32 in 9 digits, which read back to the same float.
   make OUT TEXT SETTINGS
@@ -72,8 +76,26 @@ def steps(a, b):
         spacing = 2.0 ** (np.floor(np.log2(np.maximum(np.abs(fa), 2.0 ** -14))) - 10)
         spacing = np.maximum(spacing, 2e-6)
         d = np.where(nan | (d == 0), 0, np.ceil(np.abs(fa - fb) / spacing - 1e-9)).astype(np.int64)
-        out.append({"level": level, "identical": float((pa.view(signed) == pb.view(signed)).mean()), "max_steps": int(d.max()), "samples": int(d.size)})
+        beyond = int((d > 1).any(axis=-1).sum())
+        out.append({"level": level, "identical": float((pa.view(signed) == pb.view(signed)).mean()), "max_steps": int(d.max()), "samples": int(d.size), "pixels_beyond_one": beyond})
     print(json.dumps(out))
+
+
+STORED = ("R", "G", "B", "U.0", "U.1", "U.2", "UF.0", "UF.1", "UF.2")
+
+
+def stored(compact, out):
+    names, pixels = levels(compact)[0]
+    keep = [c for c in ("R", "G", "B", "A") if c in names]
+    p = np.ascontiguousarray(pixels.astype(np.float32)[..., [names.index(c) for c in keep]])
+    spec = oiio.ImageSpec(p.shape[1], p.shape[0], len(keep), "float")
+    spec.channelnames = keep
+    if "A" in keep:
+        spec.alpha_channel = len(keep) - 1
+    o = oiio.ImageOutput.create(out)
+    if not o.open(out, spec) or not o.write_image(p):
+        sys.exit(o.geterror())
+    o.close()
 
 
 def dump(compact, baked, prefix):
@@ -85,9 +107,9 @@ def dump(compact, baked, prefix):
         sys.exit(f"{compact}: no specconvCompact attribute")
     with open(prefix + ".header", "w") as f:
         f.write(text)
-    t = cp.astype(np.float32)[..., [cn.index(c) for c in ("C.X", "C.Y", "C.Z", "U.0", "U.1", "U.2")]]
-    t = t.reshape(-1, 6)
-    np.savetxt(prefix + ".texels", t, fmt="%.9g", header=f"{len(t)} 6", comments="")
+    t = cp.astype(np.float32)[..., [cn.index(c) for c in STORED]]
+    t = t.reshape(-1, 9)
+    np.savetxt(prefix + ".texels", t, fmt="%.9g", header=f"{len(t)} 9", comments="")
     # The T. channels (T.<nm>nm, a comma for a decimal point) by increasing wavelength.
     bands = sorted((float(n[2:-2].replace(",", ".")), i) for i, n in enumerate(bn) if n.startswith("T."))
     b = bp.astype(np.float32)[..., [i for _, i in bands]].reshape(-1, len(bands))
@@ -99,15 +121,15 @@ def make(out, text_file, settings, width="4", height="2"):
     """A compact file of `width`×`height` texels (two of them NaN and infinite) with `text`."""
     with open(text_file, encoding="utf-8", newline="") as f:
         text = f.read()
-    names = ("C.X", "C.Y", "C.Z", "U.0", "U.1", "U.2")
+    names = STORED
     width, height = int(width), int(height)
     spec = oiio.ImageSpec(width, height, len(names), "float")
     spec.channelnames = names
-    spec.attribute("specconvLayout", "compact 1")
+    spec.attribute("specconvLayout", "compact 2")
     spec.attribute("specconvCompact", text)
     spec.attribute("specconvSettings", settings)
     spec.attribute("specconvExpand", "sample=half rounding=nearest compression=zip filter=box")
-    px = np.zeros((height, width, 6), dtype=np.float32)
+    px = np.zeros((height, width, 9), dtype=np.float32)
     px[..., :3] = (0.2, 0.3, 0.25)
     px[0, 1, 0] = float("nan")
     px[1, 2, 1] = float("inf")
@@ -125,4 +147,4 @@ def nans(path):
 
 
 if __name__ == "__main__":
-    {"chart": chart, "steps": steps, "dump": dump, "make": make, "nans": nans}[sys.argv[1]](*sys.argv[2:])
+    {"chart": chart, "steps": steps, "stored": stored, "dump": dump, "make": make, "nans": nans}[sys.argv[1]](*sys.argv[2:])

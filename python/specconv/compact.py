@@ -6,7 +6,9 @@ A compact texel is (X, Y, Z, u0, u1, u2); its spectrum is
 
 with the tree's blend weights w_i of the colour's chromaticity, the leaves' affine maps
 (T_i, o_i), l_dark = min((X+Y+Z)/DARK, 1), B the output's XYZ weights by band, and no clip when
-the header says ``clip 0``. This module reads the text a compact file's ``specconvCompact``
+the header says ``clip 0``. A file stores nine values a texel (R G B U.0 U.1 U.2 UF.0 UF.1
+UF.2: the colour in the working space whose matrix to XYZ the text's ``rgb`` line gives, u as
+half, u as float32), which ``unstore`` turns into the six. This module reads the text a compact file's ``specconvCompact``
 attribute holds (or ``encode`` returns) and evaluates that rule with numpy only: a second,
 independent reading of the format, not a call of the library that wrote it. It is Python's
 one decoder: Mitsuba's scalar variants call it per lookup; only Dr.Jit's, which must be
@@ -27,7 +29,10 @@ from specconv._specconv import compact_limits
 
 _limits = compact_limits()
 
-__all__ = ["Header", "parse", "decode"]
+__all__ = ["Header", "parse", "decode", "unstore", "VERSION"]
+
+# The first line of the texts this module reads.
+VERSION = "specconv compact 2"
 
 # The largest float32: the reference's spectra are float32, so bands beyond it saturate there.
 F32_MAX = float(np.finfo(np.float32).max)
@@ -53,6 +58,8 @@ class Header:
     dark: float = 0.01
     blend: float = 0.0
     clip: bool = True
+    # the working space's matrix to XYZ (3, 3): XYZ = rgb @ RGB
+    rgb: np.ndarray = field(default_factory=lambda: np.eye(3))
     # node index -> ("split", axis 0/1, value, below, above, width) or ("leaf", k)
     nodes: list = field(default_factory=list)
     # (leaves, 4, bands): T x, T y, T z, o
@@ -64,7 +71,7 @@ class Header:
 _NUMBER = re.compile(r"[+-]?([0-9]+(\.[0-9]*)?|\.[0-9]+)([eE][+-]?[0-9]+)?\Z")
 _KEYWORD = re.compile(r"[a-z][a-z0-9_]*\Z")
 _CONTROL = re.compile(r"[\x00-\x1f\x7f]")
-_ONCE = ("model", "hash", "grid", "wavelengths", "white", "dark", "blend", "clip")
+_ONCE = ("model", "hash", "grid", "wavelengths", "white", "dark", "blend", "clip", "rgb")
 _KNOWN = _ONCE + ("node", "map", "b")
 
 
@@ -101,8 +108,8 @@ def parse(text: str) -> Header:
         line = raw[:-1] if raw.endswith("\r") else raw
         try:
             if i == 0:
-                if line != "specconv compact 1":
-                    raise ValueError("not a text of `specconv compact 1`")
+                if line != VERSION:
+                    raise ValueError(_version_error(line))
                 continue
             if not line:
                 continue
@@ -110,6 +117,16 @@ def parse(text: str) -> Header:
         except ValueError as e:
             raise ValueError(f"line {i + 1}: {e}: {line[:60]!r}") from None
     return _build(h, seen, nodes, maps, rows, grid)
+
+
+def _version_error(line: str) -> str:
+    """Why a first line is not this version's, naming the version it has when it names one."""
+    if line.startswith("specconv compact "):
+        return (
+            f"compact version '{line[17:]}', which this specconv does not read (it reads "
+            f"`{VERSION}`): convert the texture again, or decode it with the specconv that wrote it"
+        )
+    return f"not a text of `{VERSION}`"
 
 
 def _line(h: Header, line: str, seen: set, nodes: list, maps: list, rows: dict, grid):
@@ -159,6 +176,10 @@ def _line(h: Header, line: str, seen: set, nodes: list, maps: list, rows: dict, 
         if w not in (["0"], ["1"]):
             raise ValueError("clip is 0 or 1, one field")
         h.clip = w == ["1"]
+    elif word == "rgb":
+        if len(w) != 9:
+            raise ValueError("rgb is the working space's matrix to XYZ, 9 numbers")
+        h.rgb = np.array([_number(v) for v in w]).reshape(3, 3)
     elif word == "node":
         if len(w) == 3 and w[1] == "leaf":
             nodes.append((w[0], ("leaf", _index(w[2], 1 << 62, "leaf"))))
@@ -357,6 +378,24 @@ def decode(
     # saturates where it rounds to float.
     lo, hi = (0.0, 1.0) if h.clip else (-F32_MAX, F32_MAX)
     return np.minimum(np.maximum(r, lo), hi).reshape(lead + at.shape)
+
+
+def unstore(header_text: str | Header, stored: npt.ArrayLike) -> np.ndarray:
+    """The six values (..., 6) the rule decodes, float32, from the nine (..., 9) a file stores:
+    the colour's XYZ, the rgb matrix times (R, G, B) summed in double in that order and
+    rounded to float32 once, as every decoder computes it; u = U + UF."""
+    h = header_text if isinstance(header_text, Header) else parse(header_text)
+    s = np.asarray(stored, dtype=np.float32)
+    rgb = s[..., :3].astype(np.float64)
+    m = h.rgb
+    out = np.empty(s.shape[:-1] + (6,), dtype=np.float32)
+    with np.errstate(invalid="ignore", over="ignore"):
+        for i in range(3):
+            out[..., i] = (m[i, 0] * rgb[..., 0] + m[i, 1] * rgb[..., 1] + m[i, 2] * rgb[..., 2]).astype(
+                np.float32
+            )
+        out[..., 3:] = s[..., 3:6] + s[..., 6:9]
+    return out
 
 
 def _bands(h: Header, t: np.ndarray) -> np.ndarray:

@@ -106,7 +106,8 @@ pub struct CompactImage {
     /// The decoding text (`specconvCompact`): what `specconv.decode` takes.
     #[pyo3(get)]
     text: String,
-    /// float32, shape (height, width, 6): C.X C.Y C.Z U.0 U.1 U.2, rows from the top.
+    /// float32, shape (height, width, 6): X Y Z u0 u1 u2 (the colour the file stores, as XYZ, and
+    /// u = U + UF), rows from the top.
     #[pyo3(get)]
     texels: Py<PyAny>,
     /// float32, shape (height, width), or `None` when the file has no `A` channel.
@@ -205,13 +206,13 @@ pub fn compact_limits(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
 /// Whether the file `path`, read by another reader (Mitsuba's), is a compact texture, from its
 /// header: `attributes` its text attributes by name (the library picks the ones it needs) and
 /// `channels` its channel names. Returns the text as the library writes it and the columns of
-/// C.X … U.2 among `channels`; otherwise raises `InputError` saying what is missing or wrong.
+/// R … UF.2 among `channels`; otherwise raises `InputError` saying what is missing or wrong.
 #[pyfunction]
 pub fn check_compact_header(
     path: FsPath,
     attributes: std::collections::HashMap<String, String>,
     channels: Vec<String>,
-) -> PyResult<(String, [usize; 6])> {
+) -> PyResult<(String, [usize; specconv_spectral::compact::STORED])> {
     let names: Vec<&str> = channels.iter().map(String::as_str).collect();
     let attribute = |name: &str| attributes.get(name).cloned();
     specconv_conversion::check_compact_header(&path.0, &attribute, &names)

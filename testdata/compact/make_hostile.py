@@ -15,7 +15,7 @@ HERE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "hostile")
 MAP0 = "map 0 1 0 0 0 1 0 0 0 1 0 0 0"
 MAP1 = "map 1 0 0 1 0 1 0 1 0 0 0.25 0.25 0.25"
 BASE = [
-    "specconv compact 1",
+    "specconv compact 2",
     "model tiny",
     "hash 0123456789abcdef",
     "grid 400 600 100",
@@ -24,6 +24,7 @@ BASE = [
     "dark 0.01",
     "blend 0",
     "clip 1",
+    "rgb 0.4124 0.3576 0.1805 0.2126 0.7152 0.0722 0.0193 0.1192 0.9505",
     "node 0 split x 0.3 1 2 0",
     "node 1 leaf 0",
     "node 2 leaf 1",
@@ -68,7 +69,7 @@ def edit(old, new):
 def chain(depth):
     """BASE's model as a chain of `depth` splits at x = 0.3 (values apart, so no reader
     merges them): below each, a leaf of map 0's spectra; at the end, map 1's."""
-    lines = BASE[:9]
+    lines = BASE[:10]
     for i in range(depth):
         above = i + 1 if i + 1 < depth else 2 * depth
         lines.append(f"node {i} split x {0.3 - i * 1e-9!r} {depth + i} {above} 0")
@@ -100,7 +101,14 @@ ACCEPT = {
 
 REFUSE = {
     "empty": "",
-    "version-2": text(["specconv compact 2"] + BASE[1:]),
+    "version-1": text(["specconv compact 1"] + [l for l in BASE[1:] if not l.startswith("rgb")]),
+    "version-1-with-rgb": text(["specconv compact 1"] + BASE[1:]),
+    "version-3": text(["specconv compact 3"] + BASE[1:]),
+    "no-rgb": edit("rgb", []),
+    "rgb-short": edit("rgb", "rgb 1 0 0 0 1 0 0 0"),
+    "rgb-long": edit("rgb", "rgb 1 0 0 0 1 0 0 0 1 0"),
+    "rgb-nan": edit("rgb", "rgb 1 0 0 0 nan 0 0 0 1"),
+    "duplicate-rgb": text(BASE + ["rgb 1 0 0 0 1 0 0 0 1"]),
     "space-before-version": " " + text(BASE),
     "grid-against-wavelengths": edit("grid", "grid 480 830 10"),
     "wavelengths-off-grid": edit("wavelengths", "wavelengths 400 500 600.0000001"),
@@ -166,7 +174,7 @@ REFUSE = {
     "b-w": edit("b Z", "b W 0 0 0"),
     "b-short": edit("b Y", "b Y 0 0"),
     "cycle": edit("node 0", "node 0 split x 0.3 0 2 0"),
-    "shared-child": text(BASE[:9] + ["node 0 split x 0.3 1 1 0", "node 1 leaf 0", "node 2 leaf 1"] + BASE[12:]),
+    "shared-child": text(BASE[:10] + ["node 0 split x 0.3 1 1 0", "node 1 leaf 0", "node 2 leaf 1"] + BASE[13:]),
     "unreached-node": text(BASE + ["node 3 leaf 0"]),
     "leaf-map-missing": edit("node 2", "node 2 leaf 2"),
     "leaf-map-twice": edit("node 2", "node 2 leaf 0"),

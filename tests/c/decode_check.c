@@ -1,7 +1,9 @@
-/* include/specconv_spectrum.h against the spectral file `convert` writes for the same input
- * (tests/it/compact.rs builds and runs this; the dumps come from tests/compact_check.py dump):
+/* include/specconv_spectrum.h against the spectral file `convert` writes of the colour a
+ * compact file stores (tests/it/compact.rs builds and runs this; the dumps come from
+ * tests/compact_check.py dump):
  *
- *   decode_check HEADER TEXELS BAKED    every texel of level 0: within one half step of the
+ *   decode_check HEADER TEXELS BAKED    every stored texel of level 0 (nine values, made six by
+ *                                       scs_texel_of_stored): within one half step of the
  *                                       baked half at every band, and within the half step of
  *                                       the larger neighbour of the baked file's linear
  *                                       interpolation at 1,000 random wavelengths (the
@@ -15,6 +17,13 @@
  *                                       changed to the grammar's own characters, spans cut
  *                                       or repeated) and decodes a few texels with each one
  *                                       parsed: "mutations=N parsed=P refused=R" (exit 0)
+ *   decode_check --reference HEADER TABLE
+ *                                       testdata/compact/reference's texels (item 47.4): each
+ *                                       row's nine stored values made six by
+ *                                       scs_texel_of_stored (bit for bit the table's) and decoded
+ *                                       within a float32 bound of the library's spectrum, NaN
+ *                                       where it is NaN; "reference rows=N worst=W" (exit 0),
+ *                                       the failures first (exit 1)
  *   decode_check --print TEXT TEXELS    each texel's spectrum at the bands, a line each (9
  *                                       digits: the float itself; python/tests/test_compact.py
  *                                       holds it to the other decoders)
@@ -170,6 +179,63 @@ static int print_bands(const char *header, const char *texels) {
     return 0;
 }
 
+/* Whether two floats are the same value (NaN equal to NaN). */
+static int same_float(float a, float b) { return (isnan(a) && isnan(b)) || a == b; }
+
+static int reference(const char *header, const char *table) {
+    char err[512], *text = slurp(header), *body = slurp(table), *line, *next;
+    scs_model *m = scs_model_parse(text, err, sizeof err);
+    long rows = 0, bad = 0;
+    double worst = 0;
+    float *got, *want;
+    int n, b, k;
+    free(text);
+    if (!m) die(err, header);
+    n = scs_bands(m);
+    got = (float *)malloc(sizeof(float) * (size_t)n);
+    want = (float *)malloc(sizeof(float) * (size_t)n);
+    if (!got || !want) die("out of memory", table);
+    for (line = body; line && *line; line = next) {
+        float stored[9], texel[6], six[6];
+        double size = 1;
+        char *p = line, *end;
+        next = strchr(line, '\n');
+        if (next) *next++ = '\0';
+        if (!strstr(line, " = ")) continue;
+        for (k = 0; k < 9; k++, p = end) stored[k] = strtof(p, &end);
+        if (strncmp(p, " =", 2)) die("a row is not 9 = 6 = bands", table);
+        for (p += 2, k = 0; k < 6; k++, p = end) texel[k] = strtof(p, &end);
+        if (strncmp(p, " =", 2)) die("a row is not 9 = 6 = bands", table);
+        for (p += 2, b = 0; b < n; b++, p = end) want[b] = strtof(p, &end);
+        scs_texel_of_stored(m, stored, six);
+        for (k = 0; k < 6; k++) {
+            if (!same_float(six[k], texel[k]) && bad++ < 10)
+                printf("row %ld value %d: %.9g, the table's %.9g\n", rows, k, six[k], texel[k]);
+            if (isfinite(texel[k])) size += fabs(texel[k]);
+        }
+        scs_decode_bands(m, six, got);
+        for (b = 0; b < n; b++) {
+            double d;
+            if (isnan(got[b]) || isnan(want[b])) {
+                if (isnan(got[b]) != isnan(want[b]) && bad++ < 10)
+                    printf("row %ld band %d: %.9g, the library's %.9g\n", rows, b, got[b], want[b]);
+                continue;
+            }
+            /* A float32 bound: 2^-16 of the texel's size (1 + the sum of its values' magnitudes). */
+            d = got[b] == want[b] ? 0 : fabs((double)got[b] - (double)want[b]) / (size * 0x1p-16);
+            if (d > worst) worst = d;
+            if (d > 1 && bad++ < 10) printf("row %ld band %d: %.9g, the library's %.9g\n", rows, b, got[b], want[b]);
+        }
+        rows++;
+    }
+    printf("reference rows=%ld worst=%.4f%s\n", rows, worst, bad ? " FAILED" : "");
+    free(body);
+    free(got);
+    free(want);
+    scs_model_free(m);
+    return bad || rows == 0;
+}
+
 int main(int argc, char **argv) {
     char err[512], *text;
     scs_model *m;
@@ -207,6 +273,7 @@ int main(int argc, char **argv) {
     }
     if (argc == 4 && !strcmp(argv[1], "--mutate")) return mutate(argv[2], atol(argv[3]));
     if (argc == 4 && !strcmp(argv[1], "--print")) return print_bands(argv[2], argv[3]);
+    if (argc == 4 && !strcmp(argv[1], "--reference")) return reference(argv[2], argv[3]);
     if (argc != 4) {
         fprintf(stderr, "usage: decode_check HEADER TEXELS BAKED | --parse-only TEXT\n");
         return 2;
@@ -220,7 +287,7 @@ int main(int argc, char **argv) {
     at = (double *)malloc(sizeof(double) * draws);
     got = (float *)malloc(sizeof(float) * (size_t)n);
     if (!wl || !at || !got) die("out of memory", argv[1]);
-    tex = read_table(argv[2], &texels, 6, NULL);
+    tex = read_table(argv[2], &texels, 9, NULL);
     baked = read_table(argv[3], &rows, n, wl);
     if (rows != texels) die("not as many texels as the compact file's", argv[3]);
     for (b = 0; b < n; b++)
@@ -228,8 +295,10 @@ int main(int argc, char **argv) {
     for (k = 0; k < draws; k++) at[k] = uniform(wl[0], wl[n - 1]);
 
     for (t = 0; t < texels; t++) {
-        const float *texel = tex + t * 6, *want = baked + t * n;
+        const float *want = baked + t * n;
+        float texel[6];
         int has_nan = 0;
+        scs_texel_of_stored(m, tex + t * 9, texel);
         scs_decode_bands(m, texel, got);
         /* At the bands: the half the file stores, within one step of the decoded value's. */
         for (b = 0; b < n; b++) {

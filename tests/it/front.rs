@@ -61,7 +61,7 @@ fn every_reader_of_spectral_files_names_a_compact_texture_and_expand() {
         for needle in [
             "compact layout",
             "texel:",
-            "C.X, C.Y, C.Z, U.0, U.1, U.2",
+            "R, G, B, U.0, U.1, U.2, UF.0, UF.1, UF.2",
             "specconv expand",
         ] {
             assert!(
@@ -87,7 +87,7 @@ fn every_reader_of_spectral_files_names_a_compact_texture_and_expand() {
         let record = Cmd::new(["info", "--json"]).arg(&file).ok().json();
         let compact = &record["compact"];
         assert!(compact.is_object(), "{what}: {record}");
-        assert_eq!(compact["texel_channels"].as_array().unwrap().len(), 6);
+        assert_eq!(compact["texel_channels"].as_array().unwrap().len(), 9);
         if decodable {
             assert_eq!(compact["bands_nm"].as_array().unwrap().len(), 36, "{what}");
         } else {

@@ -14,10 +14,10 @@ use std::path::Path;
 #[derive(Debug, Clone, PartialEq)]
 #[non_exhaustive]
 pub struct CompactFacts {
-    /// Its `specconvLayout` attribute (`compact 1`); `None` where the texel's channels alone
+    /// Its `specconvLayout` attribute (`compact 2`); `None` where the texel's channels alone
     /// say it is compact.
     pub layout: Option<String>,
-    /// The texel's channels the file has, in a texel's order (`C.X` … `U.2`).
+    /// The texel's channels the file has, in a texel's order (`R` … `UF.2`).
     pub texel_channels: Vec<String>,
     /// The texel's channels it lacks.
     pub missing_channels: Vec<String>,

@@ -104,13 +104,13 @@ pub fn read_compact(input: &std::path::Path, level: usize) -> Result<CompactTexe
 /// Whether a file another reader read (Mitsuba's) is a compact texture [`read_compact`] would
 /// read, from its header: `attribute` gives a header attribute's text by name (this library
 /// names the ones it needs), `channels` the channel names. Returns the decoding text as this
-/// library writes it and the columns of the texel's six channels among `channels`; otherwise
+/// library writes it and the columns of the texel's stored channels (`R` … `UF.2`) among `channels`; otherwise
 /// [`ConversionError::NotCompact`], saying what is missing or wrong (a text's line and reason).
 pub fn check_compact_header(
     path: &std::path::Path,
     attribute: &dyn Fn(&str) -> Option<String>,
     channels: &[&str],
-) -> Result<(String, [usize; 6]), Error> {
+) -> Result<(String, [usize; specconv_spectral::compact::STORED]), Error> {
     use pipeline::{COMPACT_ATTRIBUTE, LAYOUT_ATTRIBUTE};
     let (layout, text) = (attribute(LAYOUT_ATTRIBUTE), attribute(COMPACT_ATTRIBUTE));
     let (compact, columns) =

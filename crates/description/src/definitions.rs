@@ -493,14 +493,16 @@ reference's values; `photometric`, the input's Y is luminance in cd/m² and S0 i
 W·m⁻²·sr⁻¹·nm⁻¹, Y = 683·∫ S0·ȳ dλ, 1/683 of the reference's values";
 
 const LAYOUT: &str = "How the spectra are stored: `spectral`, a band a channel in the layout of \
-Fichet et al. 2021; `compact`, six float32 values a texel (its colour `C.X C.Y C.Z` and the \
-bounded projection's dual unknowns `U.0 U.1 U.2`) with the model's maps and the decoding rule in \
-the header: the same spectra at the size of RGB, for renderers that decode per lookup \
-(docs/compact.md); `specconv expand` writes the spectral layout from it. The clustered methods' \
-reflectance only; its smaller MIP levels hold the filtered colour, their dual unknowns solved \
-again";
+Fichet et al. 2021; `compact`, a texel's colour `R G B` as an RGB texture stores it (linear Rec.709, half unless \
+--data-type float) and the bounded projection's dual unknowns solved for that colour (`U.*` \
+half, or `UF.*` float32 where half is not exact enough) with the model's maps and the decoding \
+rule in the header: the model's spectra of the stored colour at the size of RGB, for renderers \
+that decode per lookup (docs/compact.md); `specconv expand` writes the spectral layout from it. \
+The clustered methods' reflectance only; its smaller MIP levels hold the filtered colour, \
+rounded, their dual unknowns solved again";
 
-const SAMPLE: &str = "Sample type of the output";
+const SAMPLE: &str = "Sample type of the output (with --layout compact, of the texel's colour and \
+dual unknowns)";
 
 const ROUNDING: &str = "How half samples are rounded: `nearest` rounds each band on its own (the \
 colour moves by up to ≈3e-4 relative, below what half can resolve per band); `colour` picks, \

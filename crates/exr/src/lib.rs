@@ -171,10 +171,11 @@ pub enum Kind {
         /// empty when a file read has none.
         units: String,
     },
-    /// Values that are not bands, one channel of each of these names (a compact texture's
-    /// `C.X` …, `specconv_spectral::compact`): [`Spec::wavelengths`] then numbers them
-    /// 1, 2, … and the header has no `spectralLayoutVersion`. Written only.
-    Named(Vec<String>),
+    /// Values that are not bands, one channel of each of these names, stored as each says
+    /// (a compact texture's `R` …, `specconv_spectral::compact`; alpha as [`Spec::sample`]):
+    /// [`Spec::wavelengths`] then numbers them 1, 2, … and the header has no
+    /// `spectralLayoutVersion`. Written only.
+    Named(Vec<(String, Sample)>),
 }
 
 /// How each sample is stored.
@@ -273,7 +274,7 @@ pub fn channel_name(kind: &Kind, wavelength_nm: f64) -> String {
         // The value's number, from 1 (`Kind::Named`).
         Kind::Named(names) => {
             let i = (wavelength_nm as usize).wrapping_sub(1);
-            return names.get(i).cloned().unwrap_or_default();
+            return names.get(i).map(|n| n.0.clone()).unwrap_or_default();
         }
     };
     format!(
@@ -483,6 +484,8 @@ pub struct SpectralFile {
     /// For each header channel (sorted by name), where its value sits among a pixel's inputs:
     /// band index, or `bands` for alpha.
     source: Vec<usize>,
+    /// For each header channel, how it is stored: [`Spec::sample`] but for named channels.
+    types: Vec<Sample>,
 }
 
 impl SpectralFile {
@@ -495,13 +498,21 @@ impl SpectralFile {
     pub fn new(spec: Spec) -> Result<SpectralFile> {
         check_not_empty(&spec)?;
         let named = named_channels(&spec)?;
-        let sample_type = match spec.sample {
-            Sample::Half => SampleType::F16,
-            Sample::Float => SampleType::F32,
-        };
+        let types: Vec<Sample> = named
+            .iter()
+            .map(|&(_, i)| match &spec.kind {
+                Kind::Named(names) if i < names.len() => names[i].1,
+                _ => spec.sample,
+            })
+            .collect();
         let channels = named
             .iter()
-            .map(|(name, _)| {
+            .zip(&types)
+            .map(|((name, _), t)| {
+                let sample_type = match t {
+                    Sample::Half => SampleType::F16,
+                    Sample::Float => SampleType::F32,
+                };
                 ChannelDescription::new(Text::new_or_panic(name), sample_type, name == "A")
             })
             .collect();
@@ -522,6 +533,7 @@ impl SpectralFile {
             spec,
             header,
             source,
+            types,
         })
     }
 
@@ -695,6 +707,9 @@ impl SpectralFile {
         ) {
             out.extend(v.iter().step_by(stride).flat_map(|&x| to(x)));
         }
+        if self.mixed() {
+            return self.mixed_bytes(block, bands, alpha, false);
+        }
         let mut data = Vec::with_capacity(bands.len() * self.spec.sample.bytes());
         match self.spec.sample {
             Sample::Half => {
@@ -710,6 +725,36 @@ impl SpectralFile {
         data
     }
 
+    /// Whether some channel is stored otherwise than [`Spec::sample`] says.
+    fn mixed(&self) -> bool {
+        self.types.iter().any(|&t| t != self.spec.sample)
+    }
+
+    /// The block's samples, each channel as its type stores it, little-endian when `le`, else
+    /// native-endian: the path of files whose channels differ in type (slower, by value).
+    fn mixed_bytes(
+        &self,
+        block: &Block,
+        bands: &[f32],
+        alpha: Option<&[f32]>,
+        le: bool,
+    ) -> Vec<u8> {
+        let mut out = Vec::new();
+        let channels = self.source.len();
+        self.for_each_row(block, bands, alpha, |r, v, stride| {
+            let ty = self.types[r % channels];
+            for &x in v.iter().step_by(stride) {
+                match (ty, le) {
+                    (Sample::Half, true) => out.extend(half::f16::from_f32(x).to_le_bytes()),
+                    (Sample::Half, false) => out.extend(half::f16::from_f32(x).to_ne_bytes()),
+                    (Sample::Float, true) => out.extend(x.to_le_bytes()),
+                    (Sample::Float, false) => out.extend(x.to_ne_bytes()),
+                }
+            }
+        });
+        out
+    }
+
     /// The block as a ZIP chunk ([`zip`]): its little-endian sample bytes are placed straight
     /// into the format's two halves (even-indexed bytes, odd-indexed bytes), not placed and
     /// then split.
@@ -717,6 +762,18 @@ impl SpectralFile {
         let width = block.width;
         let samples = width * block.height * self.source.len();
         let level = self.spec.zip_level;
+        if self.mixed() {
+            let bytes = self.mixed_bytes(block, bands, alpha, true);
+            return zip::compress_split(bytes.len(), level, |evens, odds| {
+                for (i, &b) in bytes.iter().enumerate() {
+                    if i % 2 == 0 {
+                        evens[i / 2] = b;
+                    } else {
+                        odds[i / 2] = b;
+                    }
+                }
+            });
+        }
         match self.spec.sample {
             // A half's low byte is even-indexed, its high byte odd-indexed.
             Sample::Half => {
@@ -896,7 +953,9 @@ fn named_channels(spec: &Spec) -> Result<Vec<(String, usize)>> {
     }
     named.sort();
     if let Kind::Named(names) = &spec.kind {
-        if names.len() != spec.wavelengths.len() || names.iter().any(|n| n.is_empty() || n == "A") {
+        if names.len() != spec.wavelengths.len()
+            || names.iter().any(|(n, _)| n.is_empty() || n == "A")
+        {
             return Err(Error::Invalid(format!(
                 "{} channel names for {} values",
                 names.len(),
@@ -912,13 +971,21 @@ fn named_channels(spec: &Spec) -> Result<Vec<(String, usize)>> {
     Ok(named)
 }
 
+/// The widest type of `spec`'s channels: a block's size is checked as if all were so stored.
+fn widest(spec: &Spec) -> Sample {
+    match &spec.kind {
+        Kind::Named(names) if names.iter().any(|n| n.1 == Sample::Float) => Sample::Float,
+        _ => spec.sample,
+    }
+}
+
 /// Scanlines or tiles (a MIP map or one level) of `channels` channels; refuses tiles of zero
 /// size and blocks over [`MAX_BLOCK_BYTES`].
 fn block_description(spec: &Spec, channels: usize) -> Result<BlockDescription> {
     match spec.blocks {
         Blocks::Scanlines => {
             let lines = spec.compression.scan_lines_per_block();
-            check_block(spec.width, lines, channels, spec.sample)?;
+            check_block(spec.width, lines, channels, widest(spec))?;
             Ok(BlockDescription::ScanLines)
         }
         Blocks::Tiles {
@@ -929,7 +996,7 @@ fn block_description(spec: &Spec, channels: usize) -> Result<BlockDescription> {
             if width == 0 || height == 0 {
                 return Err(Error::Invalid("tiles must be at least 1×1".into()));
             }
-            check_block(width, height, channels, spec.sample)?;
+            check_block(width, height, channels, widest(spec))?;
             Ok(BlockDescription::Tiles(TileDescription {
                 tile_size: Vec2(width, height),
                 level_mode: if mip_levels {

@@ -25,7 +25,7 @@ use rayon::prelude::*;
 use specconv_atomic_file::{Pending, Replace};
 use specconv_exr::{Block, Blocks, Chunk, Kind, Spec, SpectralFile};
 use specconv_oiio::{ImageReader, Pixels};
-use specconv_spectral::compact::{Compact, TEXEL, VERSION};
+use specconv_spectral::compact::{Compact, STORED, TEXEL, VERSION};
 use std::collections::HashMap;
 use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -73,27 +73,29 @@ pub struct Expanded {
 }
 
 /// What makes a file compact, from its header, however it was read: its layout attribute
-/// (`compact 1`), its decoding text (`specconvCompact`, checked line by line) and the texel's
+/// (`compact 2`), its decoding text (`specconvCompact`, checked line by line) and the texel's
 /// channels among `channels` (their columns, in the order of a texel's values).
 pub fn header(
     path: &Path,
     layout: Option<&str>,
     text: Option<&str>,
     channels: &[&str],
-) -> Result<(Compact, [usize; TEXEL])> {
+) -> Result<(Compact, [usize; STORED])> {
     let not = |why: String| Error::NotCompact {
         path: path.to_path_buf(),
         why,
     };
     if layout != Some(VERSION) {
         return Err(not(match layout {
-            Some(l) => format!("its {LAYOUT_ATTRIBUTE} is '{l}'; this version reads '{VERSION}'"),
+            Some(l) => format!(
+                "its {LAYOUT_ATTRIBUTE} is '{l}'; this specconv reads '{VERSION}': convert the texture again, or expand it with the specconv that wrote it"
+            ),
             None => format!("no {LAYOUT_ATTRIBUTE} attribute"),
         }));
     }
     let text = text.ok_or_else(|| not(format!("no {COMPACT_ATTRIBUTE} attribute")))?;
     let compact = Compact::from_text(text).map_err(|e| not(format!("{COMPACT_ATTRIBUTE}: {e}")))?;
-    let mut columns = [0; TEXEL];
+    let mut columns = [0; STORED];
     for (c, name) in columns.iter_mut().zip(COMPACT_CHANNELS) {
         *c = channels
             .iter()
@@ -116,7 +118,8 @@ pub struct CompactTexels {
     pub height: usize,
     /// The file's MIP levels.
     pub levels: usize,
-    /// C.X C.Y C.Z U.0 U.1 U.2 of each texel, rows from the top as the file stores them.
+    /// X Y Z u₀ u₁ u₂ of each texel (the rule's six values, [`Compact::unstore`] of what the
+    /// file stores), rows from the top as the file stores them.
     pub texels: Vec<f32>,
     /// Alpha (premultiplied, as the file's colour) per texel, when the file has `A`.
     pub alpha: Option<Vec<f32>>,
@@ -140,7 +143,10 @@ pub fn read_texels(input: &Path, level: usize) -> Result<CompactTexels> {
         for row in 0..rows.len() as u32 {
             for x in 0..width as u32 {
                 let p = px.pixel(x, row);
-                texels.extend(source.d.columns.map(|c| p[c]));
+                let stored = source.d.columns.map(|c| p[c]);
+                let mut texel = [0.0f32; TEXEL];
+                source.d.compact.unstore(&stored, &mut texel);
+                texels.extend(texel);
                 if let (Some(a), Some(c)) = (alpha.as_mut(), source.d.alpha) {
                     a.push(p[c]);
                 }
@@ -166,8 +172,8 @@ struct Source {
 /// A compact file's decoder, texel channels and settings.
 struct Decoding {
     compact: Compact,
-    /// Where C.X … U.2 and alpha are among a pixel's channels.
-    columns: [usize; TEXEL],
+    /// Where R … UF.2 and alpha are among a pixel's channels.
+    columns: [usize; STORED],
     alpha: Option<usize>,
     /// The storage settings (`specconvExpand`) and the rule on NaN and infinities the
     /// conversion recorded (`specconvSettings`' `non_finite`; refuse when none).
@@ -434,7 +440,7 @@ fn decode(
         .par_chunks_mut(width * m)
         .enumerate()
         .map(|(y, row)| {
-            let mut texels = Vec::with_capacity(width * TEXEL);
+            let mut stored = Vec::with_capacity(width * STORED);
             let mut alpha = Vec::with_capacity(width);
             for x in 0..width {
                 let mut p = px.pixel(x as u32, y as u32);
@@ -443,9 +449,11 @@ fn decode(
                     fixed = repair.fixed(p, read, (x, y0 + y));
                     p = &fixed;
                 }
-                texels.extend(source.columns.map(|c| p[c]));
+                stored.extend(source.columns.map(|c| p[c]));
                 alpha.extend(source.alpha.map(|a| p[a]));
             }
+            let mut texels = vec![0.0f32; width * TEXEL];
+            source.compact.unstore(&stored, &mut texels);
             let mut spectra = vec![0.0f32; width * n];
             source.compact.decode_f32(&texels, &mut spectra);
             for (x, (v, s)) in row

@@ -47,7 +47,7 @@ use filter::Kernel;
 use specconv_atomic_file::Replace;
 use specconv_exr::{Block, Blocks, Chunk, Kind, Sample, Spec, SpectralFile, Windows};
 use specconv_ocio::Config;
-use specconv_spectral::compact::Compact;
+use specconv_spectral::compact::{Compact, Precision};
 use specconv_spectral::method::Tally;
 use specconv_spectral::stack::Stack;
 use specconv_spectral::Method;
@@ -218,21 +218,38 @@ pub struct Storage {
     /// The range a filter with negative lobes ([`Filter::has_negative_lobes`]) keeps the
     /// bands it makes in: [0, 1] for bounded reflectance. Alpha is kept in [0, 1].
     pub band_range: (f32, f32),
-    /// The compact layout's encoder: texels of six values instead of bands.
+    /// The compact layout's encoder: texels of [`COMPACT_CHANNELS`] instead of bands.
     pub compact: Option<Compact>,
+    /// How a compact texel's colour and u are stored (`--data-type`: half as maketx stores
+    /// colour, u as half where exact enough; float32 throughout).
+    pub precision: Precision,
 }
 
 impl Storage {
     /// What `options` make of `stack`'s spectra, with the compact layout's encoder when it
     /// is the layout.
     pub fn of(options: &Options, stack: &Stack, compact: Option<Compact>) -> Storage {
+        let precision = match options.sample {
+            Sample::Half => Precision::Half,
+            Sample::Float => Precision::Float,
+        };
         if let Some(compact) = compact {
-            // Colours and dual unknowns, float32: no rounding, no range but a number's.
+            // Colours and dual unknowns, rounded by `Compact::store`: no range but a number's.
+            let float = |name: &str| precision == Precision::Float || name.starts_with("UF.");
+            let channels = COMPACT_CHANNELS.map(|name| {
+                let sample = if float(name) {
+                    Sample::Float
+                } else {
+                    Sample::Half
+                };
+                (name.to_string(), sample)
+            });
             return Storage {
-                kind: specconv_exr::Kind::Named(COMPACT_CHANNELS.map(String::from).to_vec()),
+                kind: specconv_exr::Kind::Named(channels.to_vec()),
                 xyz_weights: None,
                 band_range: (f32::NEG_INFINITY, f32::INFINITY),
                 compact: Some(compact),
+                precision,
             };
         }
         let by_colour = options.rounding_in_effect() == Rounding::Colour;
@@ -250,22 +267,26 @@ impl Storage {
                 (0.0, f32::INFINITY)
             },
             compact: None,
+            precision,
         }
     }
 
     /// Values a pixel holds beside alpha: the `bands` of the spectra, or a compact texel's.
     pub fn values(&self, bands: usize) -> usize {
         match self.compact {
-            Some(_) => specconv_spectral::compact::TEXEL,
+            Some(_) => specconv_spectral::compact::STORED,
             None => bands,
         }
     }
 }
 
-/// A compact texel's channels, in the order of its values ([`specconv_spectral::compact`]).
-pub const COMPACT_CHANNELS: [&str; 6] = ["C.X", "C.Y", "C.Z", "U.0", "U.1", "U.2"];
+/// A compact texel's channels as a file stores them, in the order of its values
+/// ([`specconv_spectral::compact::Compact::store`]): the colour in the working space (so that
+/// any viewer shows the texture), u as half, u as float32.
+pub const COMPACT_CHANNELS: [&str; specconv_spectral::compact::STORED] =
+    ["R", "G", "B", "U.0", "U.1", "U.2", "UF.0", "UF.1", "UF.2"];
 
-/// The attribute that names a compact file's layout and version (`compact 1`).
+/// The attribute that names a compact file's layout and version (`compact 2`).
 pub const LAYOUT_ATTRIBUTE: &str = "specconvLayout";
 /// The attribute that holds a compact file's model and decoding rule (docs/compact.md).
 pub const COMPACT_ATTRIBUTE: &str = "specconvCompact";
@@ -585,10 +606,7 @@ fn output_file(
         },
         kind: job.storage.kind.clone(),
         alpha,
-        sample: match &job.storage.compact {
-            Some(_) => Sample::Float,
-            None => job.options.sample,
-        },
+        sample: job.options.sample,
         compression: job.options.compression.exr(),
         zip_level: job
             .options
@@ -692,12 +710,8 @@ fn encode_made_block(
     }
     let clamped = keep_in_range(job, &mut bands, a.as_deref_mut(), n);
     if let Some(compact) = &job.storage.compact {
-        // A smaller level holds the filtered colour, its dual unknowns solved again.
-        let c: Vec<f32> = bands
-            .chunks_exact(n)
-            .flat_map(|t| [t[0], t[1], t[2]])
-            .collect();
-        compact.encode_f32(&c, &mut bands);
+        // A smaller level holds the filtered colour, rounded, its dual unknowns solved again.
+        compact.store(&mut bands, job.storage.precision);
     }
     // A resized level 0 is made here: its sums for the average, and its values beyond the half
     // range counted (a smaller level's come from one there).
@@ -842,7 +856,14 @@ fn uplift_block(
     let n = job.values();
     let mut bands = vec![0.0f32; count * n];
     match &job.storage.compact {
-        Some(compact) => counts.tally.bounded += compact.encode_f32(&rgb, &mut bands),
+        // The colour in the working space, unrounded: the smaller levels are filtered from
+        // it (as maketx filters), and each level is stored at the end (`store_compact`).
+        Some(compact) => {
+            compact.xyz_to_rgb(&mut rgb);
+            for (t, c) in bands.chunks_exact_mut(n).zip(rgb.chunks_exact(3)) {
+                t[..3].copy_from_slice(c);
+            }
+        }
         None => job
             .method()
             .uplift_f32_tallied(&rgb, &mut bands, &mut counts.tally),
@@ -883,6 +904,10 @@ fn encode_block(
             kept,
             sums: Vec::new(),
         });
+    }
+    let mut bands = bands;
+    if let Some(compact) = &job.storage.compact {
+        counts.tally.bounded += compact.store(&mut bands, job.storage.precision);
     }
     // Level 0's sums, before rounding, for the average.
     let sums = level_sums(&bands, a.as_deref(), n);
@@ -927,7 +952,9 @@ fn finish(
     alpha: Option<&[f32]>,
 ) -> Result<(Chunk, u64)> {
     let mut saturated = 0;
-    if file.spec().sample == Sample::Half {
+    // A compact texel is rounded as its channels store it already (`Compact::store`).
+    let named = matches!(file.spec().kind, specconv_exr::Kind::Named(_));
+    if file.spec().sample == Sample::Half && !named {
         saturated = saturate_half(&mut bands, n);
         if let Some(w) = xyz_weights {
             specconv_exr::quantize::round_to_half_keeping_colour(w, &mut bands, n);

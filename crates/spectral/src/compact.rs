@@ -17,6 +17,13 @@
 //! A texel is then six numbers, (X, Y, Z, u₀, u₁, u₂), and [`Compact`] both makes them
 //! ([`Compact::encode_f32`]) and turns them back into spectra ([`Compact::decode_f32`]) with
 //! the uplifter's own code: the decoder of `specconv expand` and of the tests is this one.
+//!
+//! A file stores a texel as a renderer's RGB texture stores its colour (version 2,
+//! [`Compact::store`]): the colour as half (or float) in a linear RGB working space whose
+//! matrix to XYZ the text names ([`WORKING_SPACE`]), and u solved for that stored colour, as
+//! half where half reproduces every band within a quarter of a half step, else as float32 in
+//! a second set of channels ([`STORED`]). [`Compact::unstore`] turns a stored texel back into
+//! the six numbers; the reference of a file is the model applied to the colour it stores.
 //! The model's part is a text ([`Compact::to_text`], read back by [`Compact::from_text`],
 //! bit for bit), whose grammar docs/compact.md gives for decoders in other languages.
 //!
@@ -31,10 +38,53 @@ use crate::{Error, Method, Model, Uplifter};
 use specconv_colour::{Colorimetry, Grid};
 
 /// The first line of the text, and the value of the file's `specconvLayout`.
-pub const VERSION: &str = "compact 1";
+pub const VERSION: &str = "compact 2";
 
 /// Values per texel beside alpha: X, Y, Z, u₀, u₁, u₂.
 pub const TEXEL: usize = 6;
+
+/// Values per texel a file stores beside alpha ([`Compact::store`]): R, G, B in the working
+/// space; u as half (0 where it is in the float set); u as float32 (0 where it is in the half
+/// set). u = U + UF: one of the two is 0.
+pub const STORED: usize = 9;
+
+/// The working space of the stored colour: linear RGB with the sRGB (ITU-R BT.709) primaries
+/// and white, XYZ = M · RGB. The colour space of most textures (sRGB images, OpenEXR files
+/// without chromaticities): for them the stored colour is the half texel maketx writes. Other
+/// colours are stored too: half keeps negative (out of gamut) components with the same
+/// precision, and values to ±65504.
+pub const WORKING_SPACE: &str = "linear Rec.709 (sRGB primaries, D65)";
+
+/// The largest finite half: finite colours beyond it are stored as it.
+const HALF_MAX: f32 = 65504.0;
+
+/// How a file stores its texels' values ([`Compact::store`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Precision {
+    /// The colour as half, as maketx stores it; u as half where that is exact enough.
+    Half,
+    /// Everything float32: the colour as the conversion computed it, to float rounding.
+    Float,
+}
+
+/// `v` as the nearest half, finite values beyond the half range as ±65504; NaN and ±∞ kept.
+pub fn round_half(v: f32) -> f32 {
+    let v = if v.is_finite() {
+        v.clamp(-HALF_MAX, HALF_MAX)
+    } else {
+        v
+    };
+    half::f16::from_f32(v).to_f32()
+}
+
+/// A quarter of half's spacing at `v`: the bound within which a half u must reproduce a band.
+fn quarter_half_step(v: f64) -> f64 {
+    let a = v.abs();
+    if a < f64::from(2.0f32.powi(-14)) {
+        return 2.0f64.powi(-26);
+    }
+    2.0f64.powi(a.log2().floor() as i32 - 12)
+}
 
 /// A model's compact form: what encodes colours into texels and decodes texels into spectra.
 #[derive(Clone)]
@@ -49,6 +99,15 @@ pub struct Compact {
     bounded: Option<Bounded<Uplifter>>,
     /// The model's name and hash, as the text records them.
     model: (String, String),
+    /// The working space's matrix to XYZ (`rgb` line), rows of X, Y and Z.
+    rgb: [[f64; 3]; 3],
+}
+
+/// The matrix of [`WORKING_SPACE`] to XYZ (white Y = 1 at D65, as OCIO's CIE-XYZ-D65).
+pub fn working_space() -> [[f64; 3]; 3] {
+    let s = specconv_colour::rgb::SRGB;
+    let [x, y] = s.white;
+    s.to_xyz([x / y, 1.0, (1.0 - x - y) / y])
 }
 
 impl std::fmt::Debug for Compact {
@@ -98,6 +157,7 @@ impl Compact {
             up,
             bounded,
             model: (name.to_string(), hash(&model.to_json())),
+            rgb: working_space(),
         })
     }
 
@@ -199,6 +259,89 @@ impl Compact {
         }
     }
 
+    /// The working space's matrix to XYZ (the text's `rgb` line).
+    pub fn rgb_to_xyz(&self) -> [[f64; 3]; 3] {
+        self.rgb
+    }
+
+    /// XYZ triples turned into the working space's RGB, in place (double precision).
+    pub fn xyz_to_rgb(&self, values: &mut [f32]) {
+        let m = specconv_colour::mat3::inverse(&self.rgb);
+        for c in values.chunks_exact_mut(3) {
+            let v = specconv_colour::mat3::mul_vec(&m, [c[0], c[1], c[2]].map(f64::from));
+            c.copy_from_slice(&v.map(|x| x as f32));
+        }
+    }
+
+    /// The XYZ of a stored colour: M · rgb in double precision, in this order, rounded to
+    /// float32 once (every decoder computes it so).
+    pub fn colour_of(&self, rgb: [f32; 3]) -> [f32; 3] {
+        let [r, g, b] = rgb.map(f64::from);
+        self.rgb.map(|m| (m[0] * r + m[1] * g + m[2] * b) as f32)
+    }
+
+    /// Texels as a file stores them, in place: `values` holds [`STORED`] values a texel whose
+    /// first three are a colour in the working space; the colour is rounded as `precision`
+    /// stores it, then u solved for the colour stored ([`Compact::colour_of`] of it) and
+    /// written as half where that gives every band within a quarter of a half step of the
+    /// spectrum of the unrounded u, else as float32. Returns the projection's counts.
+    pub fn store(&self, values: &mut [f32], precision: Precision) -> Counts {
+        let mut counts = Counts::default();
+        let n = self.grid().len();
+        let (mut exact, mut rounded) = (vec![0.0; n], vec![0.0; n]);
+        let mut texel = [0.0f32; TEXEL];
+        for t in values.chunks_exact_mut(STORED) {
+            if precision == Precision::Half {
+                t[..3].iter_mut().for_each(|v| *v = round_half(*v));
+            }
+            let c = self.colour_of([t[0], t[1], t[2]]);
+            let one = self.encode_f32(&c, &mut texel);
+            counts.in_range += one.in_range;
+            counts.projected += one.projected;
+            counts.outside += one.outside;
+            counts.not_finite += one.not_finite;
+            let u = [texel[3], texel[4], texel[5]];
+            t[3..].fill(0.0);
+            if u == [0.0; 3] {
+                continue;
+            }
+            let half_u = u.map(round_half);
+            let c64 = c.map(f64::from);
+            self.decode_f64(c64, u.map(f64::from), &mut exact);
+            self.decode_f64(c64, half_u.map(f64::from), &mut rounded);
+            let close = exact
+                .iter()
+                .zip(&rounded)
+                .all(|(&e, &r)| (e - r).abs() <= quarter_half_step(e));
+            if precision == Precision::Half && close {
+                t[3..6].copy_from_slice(&half_u);
+            } else {
+                t[6..].copy_from_slice(&u);
+            }
+        }
+        counts
+    }
+
+    /// Stored texels ([`STORED`] values each, [`Compact::store`]'s) as the six values the
+    /// rule decodes: the colour's XYZ ([`Compact::colour_of`]) and u = U + UF.
+    pub fn unstore(&self, stored: &[f32], texels: &mut [f32]) {
+        assert_eq!(
+            stored.len() / STORED * TEXEL,
+            texels.len(),
+            "six values a texel"
+        );
+        for (s, t) in stored
+            .chunks_exact(STORED)
+            .zip(texels.chunks_exact_mut(TEXEL))
+        {
+            t[..3].copy_from_slice(&self.colour_of([s[0], s[1], s[2]]));
+            let (half, float) = s[3..].split_at(3);
+            for (u, (h, f)) in t[3..].iter_mut().zip(half.iter().zip(float)) {
+                *u = h + f;
+            }
+        }
+    }
+
     /// The model's part as text (module docs; docs/compact.md has the grammar).
     pub fn to_text(&self) -> String {
         use std::fmt::Write;
@@ -210,7 +353,7 @@ impl Compact {
         let widths = up.node_widths();
         let _ = write!(
             t,
-            "model {}\nhash {}\ngrid {} {} {}\nwavelengths {}\nwhite {} {}\ndark {DARK}\nblend {}\nclip {}\n",
+            "model {}\nhash {}\ngrid {} {} {}\nwavelengths {}\nwhite {} {}\ndark {DARK}\nblend {}\nclip {}\nrgb {}\n",
             // One line of no control character, as the grammar reads it.
             self.model.0.replace(|c: char| c.is_ascii_control(), " "),
             self.model.1,
@@ -222,6 +365,7 @@ impl Compact {
             white[1],
             up.blend_width(),
             u8::from(self.clip),
+            join(self.rgb.as_flattened()),
         );
         for (i, node) in up.tree().iter().enumerate() {
             let _ = match *node {
@@ -265,7 +409,7 @@ impl Compact {
             let at = |e: String| bad(format!("line {}: {e}: {:.60}", i + 1, line.escape_debug()));
             if i == 0 {
                 if line != format!("specconv {VERSION}") {
-                    return Err(at(format!("not a text of `specconv {VERSION}`")));
+                    return Err(at(version_error(line)));
                 }
                 continue;
             }
@@ -299,6 +443,16 @@ impl Compact {
     }
 }
 
+/// Why a first line is not this version's, naming the version it has when it names one.
+pub fn version_error(line: &str) -> String {
+    match line.strip_prefix("specconv compact ") {
+        Some(v) => format!(
+            "compact version '{v}', which this specconv does not read (it reads `specconv {VERSION}`): convert the texture again, or decode it with the specconv that wrote it"
+        ),
+        None => format!("not a text of `specconv {VERSION}`"),
+    }
+}
+
 /// The most splits from a tree's root to a leaf that a text may have (docs/compact.md): every
 /// decoder walks the tree with a fixed stack (`SCS_MAX_DEPTH` of the C header).
 pub const MAX_DEPTH: usize = crate::otsu2018::tree::MAX_DEPTH;
@@ -321,6 +475,7 @@ struct Parts {
     white: Option<[f64; 2]>,
     blend: Option<f64>,
     clip: Option<bool>,
+    rgb: Option<[[f64; 3]; 3]>,
     /// (index, node, width) as the lines give them; indices checked in `build`.
     nodes: Vec<(String, (Node, f64))>,
     maps: Vec<(String, Vec<f64>)>,
@@ -332,7 +487,7 @@ struct Parts {
 
 /// Lines a text holds exactly once: a second is refused, never read over the first, so that
 /// every reader takes the same value (with the `b` rows, by name).
-const ONCE: [&str; 8] = [
+const ONCE: [&str; 9] = [
     "model",
     "hash",
     "grid",
@@ -341,6 +496,7 @@ const ONCE: [&str; 8] = [
     "dark",
     "blend",
     "clip",
+    "rgb",
 ];
 
 /// A number of the grammar: `[+-]?(D+(.D*)?|.D+)([eE][+-]?D+)?` in ASCII digits, finite once
@@ -440,6 +596,11 @@ impl Parts {
             ("clip", ["1"]) => self.clip = Some(true),
             ("clip", ["0"]) => self.clip = Some(false),
             ("clip", _) => return Err("clip is 0 or 1, one field".into()),
+            ("rgb", v) if v.len() == 9 => {
+                let m = numbers(v)?;
+                self.rgb = Some([0, 1, 2].map(|i| [m[3 * i], m[3 * i + 1], m[3 * i + 2]]));
+            }
+            ("rgb", _) => return Err("rgb is the working space's matrix to XYZ, 9 numbers".into()),
             ("node", [i, "leaf", k]) => self.nodes.push((
                 i.to_string(),
                 (
@@ -494,12 +655,13 @@ impl Parts {
             .into_iter()
             .filter(|w| !self.once.iter().any(|o| o == w))
             .collect();
-        let (Some(grid), Some(wl), Some(white), Some(blend), Some(clip), true) = (
+        let (Some(grid), Some(wl), Some(white), Some(blend), Some(clip), Some(rgb), true) = (
             self.grid,
             self.wavelengths,
             self.white,
             self.blend,
             self.clip,
+            self.rgb,
             missing.is_empty(),
         ) else {
             return Err(bad(format!("no {} line", missing.join(", "))));
@@ -541,6 +703,7 @@ impl Parts {
             clip,
             bounded: None,
             model: self.model,
+            rgb,
         })
     }
 }
@@ -708,6 +871,85 @@ mod tests {
         assert!(Compact::from_text("specconv compact 2\n").is_err());
     }
 
+    /// Version 1's texts (and any version but this one) are refused saying which version it
+    /// is and what to do; a text without the working space's matrix is refused.
+    #[test]
+    fn a_text_of_another_version_is_refused_by_its_version() {
+        let d = Description::convert_default(MethodName::Otsu2018);
+        let text = Compact::new(Model::builtin(), "x", &d).unwrap().to_text();
+        for v in ["1", "3", "2.0"] {
+            let old = text.replacen("specconv compact 2", &format!("specconv compact {v}"), 1);
+            let e = Compact::from_text(&old).unwrap_err().to_string();
+            assert!(e.contains(&format!("compact version '{v}'")), "{e}");
+            assert!(e.contains("convert the texture again"), "{e}");
+        }
+        let rgb = text.lines().find(|l| l.starts_with("rgb ")).unwrap();
+        let e = Compact::from_text(&text.replace(&format!("{rgb}\n"), ""))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("no rgb line"), "{e}");
+        let e = Compact::from_text(&text.replace(rgb, "rgb 1 0 0 0 1 0 0 0"))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("9 numbers"), "{e}");
+    }
+
+    /// Item 47.1: a stored texel decodes to the model's spectrum of exactly the colour it
+    /// stores (the stack's uplift of that colour), every band within a quarter of a half step
+    /// where u is half, and as the float texel where u is float32; u is half or float32,
+    /// never both, and both kinds occur on these colours.
+    #[test]
+    fn stored_texels_decode_to_the_spectrum_of_the_stored_colour() {
+        let model = Model::builtin();
+        let d = Description::convert_default(MethodName::Otsu2018);
+        let stack = Stack::build(&d, model, &TableCache::none()).unwrap();
+        let compact = Compact::new(model, "test", &d).unwrap();
+        let n = compact.grid().len();
+        let c = colours();
+        for precision in [Precision::Half, Precision::Float] {
+            let mut rgb: Vec<f32> = c.as_flattened().to_vec();
+            compact.xyz_to_rgb(&mut rgb);
+            let mut stored: Vec<f32> = rgb
+                .chunks_exact(3)
+                .flat_map(|v| [v[0], v[1], v[2], 0.0, 0.0, 0.0, 0.0, 0.0, 0.0])
+                .collect();
+            compact.store(&mut stored, precision);
+            let mut texels = vec![0.0f32; c.len() * TEXEL];
+            compact.unstore(&stored, &mut texels);
+            let mut got = vec![0.0f32; c.len() * n];
+            compact.decode_f32(&texels, &mut got);
+            let (mut halves, mut floats) = (0, 0);
+            for (i, s) in stored.chunks_exact(STORED).enumerate() {
+                let colour = compact.colour_of([s[0], s[1], s[2]]);
+                if precision == Precision::Half {
+                    assert!(s[..3].iter().all(|&v| v.is_nan() || round_half(v) == v));
+                }
+                let (h, f) = (s[3..6] != [0.0; 3], s[6..] != [0.0; 3]);
+                assert!(!(h && f), "{s:?}");
+                halves += usize::from(h);
+                floats += usize::from(f);
+                let mut want = vec![0.0f32; n];
+                stack.method().uplift_f32(&colour, &mut want);
+                for (&w, &g) in want.iter().zip(&got[i * n..(i + 1) * n]) {
+                    if w.is_nan() || g.is_nan() {
+                        assert!(w.is_nan() && g.is_nan(), "{colour:?}");
+                        continue;
+                    }
+                    // The stack's own float32 u bound (3e-5) plus half u's quarter step.
+                    let bound = 5e-5 + quarter_half_step(f64::from(w));
+                    assert!(
+                        f64::from((w - g).abs()) <= bound,
+                        "{precision:?} {colour:?}: {w} {g}"
+                    );
+                }
+            }
+            match precision {
+                Precision::Half => assert!(halves > 100 && floats > 0, "{halves} {floats}"),
+                Precision::Float => assert!(halves == 0 && floats > 100, "{floats}"),
+            }
+        }
+    }
+
     #[test]
     fn a_text_is_read_one_way_or_refused() {
         let d = Description::convert_default(MethodName::Otsu2018);
@@ -745,7 +987,7 @@ mod tests {
     /// chain as deep), or a balanced tree of 2^`levels` leaves; split values all different.
     fn tree_text(nodes: &[(usize, usize)], leaves: usize) -> String {
         let mut t = String::from(
-            "specconv compact 1\nmodel m\nhash 0123456789abcdef\ngrid 500 500 1\nwavelengths 500\nwhite 0.3 0.3\ndark 0.01\nblend 0\nclip 1\n",
+            "specconv compact 2\nmodel m\nhash 0123456789abcdef\ngrid 500 500 1\nwavelengths 500\nwhite 0.3 0.3\ndark 0.01\nblend 0\nclip 1\nrgb 1 0 0 0 1 0 0 0 1\n",
         );
         use std::fmt::Write;
         for (i, &(below, above)) in nodes.iter().enumerate() {

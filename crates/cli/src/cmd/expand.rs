@@ -31,7 +31,7 @@ Examples:
 /// before the first write, and a failed input does not stop the others.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// Compact textures (`specconvLayout` = "compact 1"), then the output file when expanding
+    /// Compact textures (`specconvLayout` = "compact 2"), then the output file when expanding
     /// one; `-` reads input paths from standard input, one per line.
     #[arg(value_name = "INPUT… [OUTPUT]", required = true)]
     paths: Vec<PathBuf>,

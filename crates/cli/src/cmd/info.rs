@@ -103,7 +103,7 @@ struct Report<'a> {
 /// What a compact texture holds (`--layout compact`), for JSON.
 #[derive(Serialize)]
 struct Compact {
-    /// Its `specconvLayout` (`compact 1`), null where only its channels say it is compact.
+    /// Its `specconvLayout` (`compact 2`), null where only its channels say it is compact.
     layout: Option<String>,
     /// The texel's channels it has, and those it lacks.
     texel_channels: Vec<String>,

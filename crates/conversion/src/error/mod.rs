@@ -545,7 +545,7 @@ mod tests {
             Error::Bispectral { input: p() },
             Error::CompactNotSpectral {
                 path: p(),
-                layout: "compact 1".into(),
+                layout: "compact 2".into(),
             },
             Error::Study(specconv_study::Error::Colour(not_covered())),
             Error::Study(specconv_study::Error::Spectral(one_cluster())),

@@ -9,4 +9,5 @@ mod fuzz_readers;
 mod hard_inputs;
 mod model;
 mod paper;
+mod reference_texels;
 mod untrainable;
