@@ -3,6 +3,7 @@
 mod baselines;
 mod colour;
 mod compact;
+mod compact_encode;
 mod compression;
 mod convert;
 mod emission;
