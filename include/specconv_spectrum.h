@@ -1088,30 +1088,126 @@ static void scs_onto_reached_(const scs_solid_ *s, const double near[3], const d
     w_out[0] = w_out[1] = w_out[2] = 0;
 }
 
+/* The blend weight of split nd's upper side at coordinate u (Blend::above; the hard switch
+ * without blend). */
+static double scs_above_(const scs_model *m, const scs_node_ *nd, double u) {
+    double w = m->blend > 0 ? nd->width : 0, t;
+    if (u >= nd->value + w) return 1;
+    if (u <= nd->value - w) return 0;
+    t = (u - nd->value + w) / (2.0 * w);
+    return t * t * (3.0 - 2.0 * t);
+}
+
+/* r0 of an ordinary colour (X+Y+Z ≥ dark) as the library's uplift computes it, bit for bit:
+ * the leaves of xy in the order Blend::weights gives them (each blended split's lower side
+ * first, by recursion no deeper than the tree), r = Σ w·o + T·(c·w), left to right. *first:
+ * no leaf added yet. */
+static void scs_r0_leaves_(const scs_model *m, long i, double weight, const double xy[2], const double c[3],
+                           double *r, int *first) {
+    size_t n = (size_t)m->n, b;
+    const double *t;
+    double cw[3];
+    while (!m->nodes[i].leaf) {
+        const scs_node_ *nd = &m->nodes[i];
+        double s = scs_above_(m, nd, xy[nd->axis]);
+        if (s == 1) {
+            i = nd->above;
+        } else if (s == 0) {
+            i = nd->below;
+        } else {
+            scs_r0_leaves_(m, nd->below, weight * (1.0 - s), xy, c, r, first);
+            weight *= s;
+            i = nd->above;
+        }
+    }
+    t = m->maps + (size_t)m->nodes[i].k * 4 * n;
+    cw[0] = c[0] * weight; cw[1] = c[1] * weight; cw[2] = c[2] * weight;
+    for (b = 0; b < n; b++) {
+        double v = t[3 * n + b] * weight + t[b] * cw[0] + t[n + b] * cw[1] + t[2 * n + b] * cw[2];
+        r[b] = *first ? v : r[b] + v;
+    }
+    *first = 0;
+}
+
+/* The blended map of xy (Uplifter::map_xy) added into t (4n), for colours that are not
+ * ordinary. */
+static void scs_map_xy_(const scs_model *m, long i, double weight, const double xy[2], double *t) {
+    size_t n4 = 4 * (size_t)m->n, j;
+    const double *map;
+    while (!m->nodes[i].leaf) {
+        const scs_node_ *nd = &m->nodes[i];
+        double s = scs_above_(m, nd, xy[nd->axis]);
+        if (s == 1) {
+            i = nd->above;
+        } else if (s == 0) {
+            i = nd->below;
+        } else {
+            scs_map_xy_(m, nd->below, weight * (1.0 - s), xy, t);
+            weight *= s;
+            i = nd->above;
+        }
+    }
+    map = m->maps + (size_t)m->nodes[i].k * n4;
+    for (j = 0; j < n4; j++) t[j] += weight * map[j];
+}
+
+/* The model's spectrum r0 of a finite colour c (the rule without B·u and the clip), computed
+ * as the library computes it (otsu2018::runtime, hard_inputs), so that the projection starts
+ * from the same doubles. t: 4n doubles of scratch. */
+static void scs_r0_(const scs_model *m, const double c[3], double *r, double *t) {
+    size_t n = (size_t)m->n, b;
+    double s = c[0] + c[1] + c[2], mx, u[3], su, xy[2], weight_o;
+    int first = 1, k;
+    if (s >= m->dark) { /* ordinary; float colours are far below the overflow guard */
+        xy[0] = c[0] / s;
+        xy[1] = c[1] / s;
+        scs_r0_leaves_(m, 0, 1.0, xy, c, r, &first);
+        return;
+    }
+    mx = fabs(c[0]);
+    for (k = 1; k < 3; k++) mx = fabs(c[k]) > mx ? fabs(c[k]) : mx;
+    if (mx == 0) {
+        for (b = 0; b < n; b++) r[b] = 0;
+        return;
+    }
+    for (k = 0; k < 3; k++) u[k] = c[k] / mx;
+    su = u[0] + u[1] + u[2];
+    if (su > 0) {
+        double sd = su * mx / m->dark;
+        xy[0] = u[0] / su;
+        xy[1] = u[1] / su;
+        weight_o = sd < 1 ? sd : 1;
+    } else {
+        xy[0] = m->white[0];
+        xy[1] = m->white[1];
+        weight_o = 0;
+    }
+    memset(t, 0, sizeof(double) * 4 * n);
+    scs_map_xy_(m, 0, 1.0, xy, t);
+    for (b = 0; b < n; b++) {
+        double lin = t[b] * u[0] + t[n + b] * u[1] + t[2 * n + b] * u[2];
+        double v = lin * mx + weight_o * t[3 * n + b];
+        r[b] = v > DBL_MAX ? DBL_MAX : v < -DBL_MAX ? -DBL_MAX : v;
+    }
+}
+
 size_t scs_encode_work_size(const scs_model *m) { return 7 * (size_t)m->n * sizeof(double); }
 
 int scs_encode_xyz(const scs_model *m, const float xyz[3], float texel[6], void *work) {
     double *r = (double *)work, c[3], w[3] = {0, 0, 0};
     double *r0, *scratch, *trial, *bm;
     size_t n = (size_t)m->n;
-    scs_model plain = *m;
-    scs_texel_ t;
     scs_solid_ s;
-    float t6[6] = {0, 0, 0, 0, 0, 0};
     int k, outcome;
     size_t i;
     for (k = 0; k < 3; k++) {
         texel[k] = xyz[k];
         texel[3 + k] = 0;
-        t6[k] = xyz[k];
         c[k] = xyz[k];
     }
     if (!(isfinite(c[0]) && isfinite(c[1]) && isfinite(c[2]))) return SCS_NOT_FINITE;
     if (!m->clip) return SCS_IN_RANGE; /* unbounded: u = 0, nothing to project */
-    /* r0: the rule's sum without B·u and the clip. */
-    plain.clip = 0;
-    scs_read_texel_(&plain, t6, &t);
-    for (i = 0; i < n; i++) r[i] = scs_band_(&plain, &t, (int)i);
+    scs_r0_(m, c, r, r + 3 * n); /* scratch: the 4n of trial and bm, free until projected */
     for (i = 0; i < n && r[i] >= 0 && r[i] <= 1; i++) {}
     if (i == n) return SCS_IN_RANGE;
     r0 = r + n;
