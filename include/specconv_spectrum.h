@@ -918,8 +918,84 @@ static int scs_project_(const scs_solid_ *s, const double c[3], const double *r0
     return residual <= 1e-9 * (scale > DBL_MIN ? scale : DBL_MIN) ? SCS_SOLVED_ : SCS_UNRESOLVED_;
 }
 
+/* Big integers of 32-bit limbs, least significant first: out = a · b (out: na + nb limbs). */
+static void scs_big_mul_(const unsigned long *a, int na, const unsigned long *b, int nb, unsigned long *out) {
+    int i, j;
+    for (i = 0; i < na + nb; i++) out[i] = 0;
+    for (i = 0; i < na; i++) {
+        unsigned long long carry = 0;
+        for (j = 0; j < nb; j++) {
+            unsigned long long t = (unsigned long long)a[i] * b[j] + out[i + j] + carry;
+            out[i + j] = (unsigned long)(t & 0xffffffffu);
+            carry = t >> 32;
+        }
+        out[i + nb] = (unsigned long)carry;
+    }
+}
+
+/* The sign of m³ − x for m = M·2^e (M < 2^56) and x > 0 finite, exactly. */
+static int scs_cube_cmp_(unsigned long long M, int e, double x) {
+    unsigned long m[2], sq[4], cube[6], big[6];
+    unsigned long long X;
+    int ex, sh, i;
+    double f = frexp(x, &ex);
+    X = (unsigned long long)ldexp(f, 53);
+    ex -= 53;
+    m[0] = (unsigned long)(M & 0xffffffffu);
+    m[1] = (unsigned long)(M >> 32);
+    scs_big_mul_(m, 2, m, 2, sq);
+    scs_big_mul_(sq, 4, m, 2, cube);
+    /* m³ = cube·2^(3e) against x = X·2^ex: cube against X·2^(ex − 3e). */
+    sh = ex - 3 * e;
+    if (sh < 0 || sh > 192 - 54) return ldexp((double)M, e) * ldexp((double)M, e) * ldexp((double)M, e) < x ? -1 : 1;
+    for (i = 0; i < 6; i++) big[i] = 0;
+    for (i = 0; i < 2; i++) {
+        unsigned long long part = (X >> (32 * i)) & 0xffffffffu;
+        int bit = sh + 32 * i, limb = bit / 32, off = bit % 32;
+        unsigned long long v = part << off;
+        if (limb < 6) big[limb] |= (unsigned long)(v & 0xffffffffu);
+        if (limb + 1 < 6) big[limb + 1] |= (unsigned long)(v >> 32);
+    }
+    for (i = 5; i >= 0; i--)
+        if (cube[i] != big[i]) return cube[i] < big[i] ? -1 : 1;
+    return 0;
+}
+
+/* (a + b)/2 of two adjacent positive normal doubles a < b, as M·2^e exactly. */
+static void scs_mid_(double a, double b, unsigned long long *M, int *e) {
+    int ea, eb, e0;
+    unsigned long long A = (unsigned long long)ldexp(frexp(a, &ea), 53);
+    unsigned long long B = (unsigned long long)ldexp(frexp(b, &eb), 53);
+    ea -= 53;
+    eb -= 53;
+    e0 = ea < eb ? ea : eb;
+    *M = (A << (ea - e0)) + (B << (eb - e0));
+    *e = e0 - 1;
+}
+
+/* The cube root correctly rounded, as Rust's f64::cbrt (the library's CIELAB) computes it:
+ * libm's cbrt is within a few ulps, and the candidate whose rounding interval holds x's cube root
+ * is chosen by exact integer arithmetic, so that both searches see the same doubles. */
+static double scs_cbrt_(double x) {
+    double y = cbrt(x), c;
+    int k;
+    if (!(x > DBL_MIN) || !isfinite(x) || !(y > DBL_MIN)) return y; /* CIELAB takes x > 0.0088 */
+    for (k = 0; k < 4; k++) y = nextafter(y, 0);
+    /* glibc's cbrt was measured up to 2 ulps off: 9 candidates around it. */
+    for (k = 0, c = y; k < 9; k++, c = nextafter(c, INFINITY)) {
+        unsigned long long M;
+        int e;
+        scs_mid_(nextafter(c, 0), c, &M, &e);
+        if (scs_cube_cmp_(M, e, x) > 0) continue; /* c's interval is above the root */
+        scs_mid_(c, nextafter(c, INFINITY), &M, &e);
+        if (scs_cube_cmp_(M, e, x) < 0) continue; /* below it */
+        return c;
+    }
+    return cbrt(x);
+}
+
 /* CIE's f(t) and CIELAB with its Jacobian (colour::lab), for every XYZ. */
-static double scs_lab_f_(double t) { return t > 216.0 / 24389.0 ? cbrt(t) : t * (841.0 / 108.0) + 4.0 / 29.0; }
+static double scs_lab_f_(double t) { return t > 216.0 / 24389.0 ? scs_cbrt_(t) : t * (841.0 / 108.0) + 4.0 / 29.0; }
 
 static void scs_lab_(const double xyz[3], const double white[3], double lab[3], double jac[3][3]) {
     double f[3], dd[3];
@@ -928,7 +1004,7 @@ static void scs_lab_(const double xyz[3], const double white[3], double lab[3], 
         double t = xyz[k] / white[k];
         f[k] = scs_lab_f_(t);
         if (jac) {
-            double q = cbrt(t);
+            double q = t > 216.0 / 24389.0 ? scs_cbrt_(t) : 0;
             dd[k] = (t > 216.0 / 24389.0 ? 1.0 / (3.0 * (q * q)) : 841.0 / 108.0) / white[k];
         }
     }

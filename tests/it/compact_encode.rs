@@ -116,7 +116,7 @@ struct Found {
     /// The C header's decoding of its texel against the library's, over the bound.
     decoder_ratio: f64,
     /// Outside the solid (either side): all, those within the float32 bound, and the largest
-    /// (ΔE76 from the input − 2.5) / the library's ΔE76 of the others.
+    /// ΔE76 from the input beyond the library's (and 1 % of it) of the others.
     outside: usize,
     outside_alike: usize,
     outside_worst: f64,
@@ -136,7 +136,8 @@ fn delta_e(a: &[Vec<f64>; 3], c: [f64; 3], r: &[f32]) -> f64 {
 /// the texels' colours (bit for bit) and their spectra, each decoded by the library: within
 /// the float32 bound of [`bound`] for every colour not outside the object-colour solid; for
 /// those outside, within it or, where the search ended elsewhere, as near the input in CIELAB
-/// (ΔE76 ≤ 1.05 × the library's + 2.5). The C header's own decoding of its texel: within the
+/// (ΔE76 ≤ the library's + 1 % + 2.5, the tolerance of the library's own warm and cold
+/// searches, crates/spectral/tests/spectral/bounded.rs). The C header's own decoding of its texel: within the
 /// bound of the library's decoding of it.
 fn compare(exe: &std::path::Path, compact: &Compact, matrix: [[f64; 3]; 3], records: &[Record], dir: &Scratch) -> Found {
     let n = compact.grid().len();
@@ -210,7 +211,7 @@ fn compare(exe: &std::path::Path, compact: &Compact, matrix: [[f64; 3]; 3], reco
         }
         let c64 = xyz.map(f64::from);
         let (de_c, de_lib) = (delta_e(a, c64, &c_r), delta_e(a, c64, &lib_r));
-        found.outside_worst = found.outside_worst.max((de_c - 2.5) / de_lib.max(1e-9));
+        found.outside_worst = found.outside_worst.max(de_c - 1.01 * de_lib);
     }
     found
 }
@@ -225,14 +226,14 @@ fn bound(v: f64, au: f64) -> f64 {
 }
 
 /// The bounds of [`compare`]: every colour not outside the solid, and the C header's decoding,
-/// within the float32 bound; outside, at least 95 % of the texels too (98.4 % measured on
-/// 53,571 such colours), the others as near the input (issue 45's warm and cold searches
-/// differ the same way: the acceptance of a pull hangs on the dual's last bits).
+/// within the float32 bound; outside, at least 99 % of the texels too (99.7 % of 53,571
+/// measured against `specconv.encode`), the others as near the input as the library's warm and
+/// cold searches are to each other: the acceptance of a pull hangs on the dual's last bits.
 fn holds(found: &Found) {
     assert!(found.worst_ratio <= 1.0, "{found:?}");
     assert!(found.decoder_ratio <= 1.0, "{found:?}");
-    assert!(found.outside_alike * 100 >= found.outside * 95, "{found:?}");
-    assert!(found.outside_worst <= 1.05, "{found:?}");
+    assert!(found.outside_alike * 100 >= found.outside * 99, "{found:?}");
+    assert!(found.outside_worst <= 2.5, "{found:?}");
 }
 
 /// 100,000 colours under the default conversion; 10,000 on another grid with the paper's hard
