@@ -6,7 +6,7 @@
 //! compiled with `cc -O2`, timed as a process: its run on the colours repeated R times, less its
 //! run on none (start-up and parsing). Best of 3 for both.
 //!
-//!     cargo run -j 1 --release -p specconv-spectral --example c_texels [N]
+//!     cargo run -j 1 -p specconv-spectral --example c_texels [N]   # the dev profile optimises the library
 
 use specconv_colour::rgb::SRGB;
 use specconv_spectral::compact::{Compact, TEXEL};
@@ -64,11 +64,16 @@ fn main() {
             [0; 3].map(|_| (k * (rng.next() * rng.next()).powi(2)) as f32)
         })
         .collect();
-    println!("C header against the library, one thread, {} bands", compact.grid().len());
+    println!(
+        "C header against the library, one thread, {} bands",
+        compact.grid().len()
+    );
     for (name, rgb) in [("sRGB [0, 1)", &texture), ("saturated or HDR", &saturated)] {
         let xyz: Vec<f32> = rgb
             .iter()
-            .flat_map(|c| matrix.map(|m| (0..3).map(|k| m[k] * f64::from(c[k])).sum::<f64>() as f32))
+            .flat_map(|c| {
+                matrix.map(|m| (0..3).map(|k| m[k] * f64::from(c[k])).sum::<f64>() as f32)
+            })
             .collect();
         let mut texels = vec![0.0f32; rgb.len() * TEXEL];
         let lib = best_of_3(|| {
@@ -112,7 +117,11 @@ fn run_c(exe: &PathBuf, text: &Path, colours: &Path, repeat: usize, m: [[f64; 3]
         .args(m.as_flattened().iter().map(|v| format!("{v:e}")))
         .output()
         .unwrap();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
 }
 
 /// The best wall time of three runs of `f`, in seconds.
