@@ -218,7 +218,7 @@ fn compare(
         ]
         .iter()
         .position(|&v| v == 1)
-        .unwrap() as f32;
+        .unwrap_or(0) as f32; // unbounded: nothing counted, u = 0
         let (outcome, texel, decoded) = (row[0], &row[1..7], &row[7..]);
         for i in 0..3 {
             assert!(
@@ -246,7 +246,10 @@ fn compare(
             }
             let tol = bound(f64::from(l), u(&lib, b) + u(texel, b));
             ratio = ratio.max((f64::from(c) - f64::from(l)).abs() / tol);
-            let dtol = bound(f64::from(c), 2.0 * u(texel, b));
+            // The library decodes u = 0 texels in float32 (maps and sums), the header in double:
+            // float32's rounding of terms up to 16 times the colour's size.
+            let size = 1.0 + xyz.iter().map(|v| f64::from(v.abs())).sum::<f64>();
+            let dtol = bound(f64::from(c), 2.0 * u(texel, b)) + 2f64.powi(-20) * size;
             found.decoder_ratio = found
                 .decoder_ratio
                 .max((f64::from(d) - f64::from(c)).abs() / dtol);
@@ -281,9 +284,9 @@ fn bound(v: f64, au: f64) -> f64 {
 }
 
 /// The bounds of [`compare`]: every colour not outside the solid, and the C header's decoding,
-/// within the float32 bound; outside, at least 99 % of the texels too (99.7 % of 53,571
-/// measured against `specconv.encode`), the others as near the input as the library's warm and
-/// cold searches are to each other: the acceptance of a pull hangs on the dual's last bits.
+/// within the float32 bound; outside, at least 99 % of the texels too (99.2 % of 56,801
+/// measured), the others as near the input as the library's warm and cold searches are to each
+/// other: the acceptance of a pull hangs on the dual's last bits (docs/compact.md).
 fn holds(found: &Found) {
     assert!(found.worst_ratio <= 1.0, "{found:?}");
     assert!(found.decoder_ratio <= 1.0, "{found:?}");
