@@ -13,7 +13,7 @@ use specconv_spectral::compact::{Compact, TEXEL};
 use specconv_spectral::method::MethodName;
 use specconv_spectral::stack::Description;
 use specconv_spectral::Model;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::Command;
 use std::time::Instant;
 
@@ -108,7 +108,7 @@ fn main() {
 }
 
 /// The C encoder over every record `repeat` times, as a process.
-fn run_c(exe: &PathBuf, text: &Path, colours: &Path, repeat: usize, m: [[f64; 3]; 3]) {
+fn run_c(exe: &Path, text: &Path, colours: &Path, repeat: usize, m: [[f64; 3]; 3]) {
     let out = Command::new(exe)
         .arg("--bench")
         .arg(text)
