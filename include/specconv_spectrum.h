@@ -64,6 +64,39 @@ const double *scs_rgb_to_xyz(const scs_model *m);
  * (held flat beyond the ends), as a reader of the spectral file interpolates. */
 float scs_decode_at(const scs_model *m, const float texel[6], double wavelength_nm);
 
+/* ---- ENCODER: texels from colours (docs/compact.md, "Texels from colours in C") ----------
+ *
+ * A renderer that keeps its RGB textures makes the texels at load, as pbrt-v4 and Mitsuba
+ * make rgb2spec's coefficients: the colour as it is, and u, the dual unknowns of the bounded
+ * projection (min ½‖r − r₀‖² s.t. A·r = c, 0 ≤ r ≤ 1; outside the object-colour solid, the
+ * nearest colour of its surface in CIELAB and u for that one), as specconv's library makes
+ * them (specconv_spectral::compact::Compact::encode_f32). No allocation: the caller passes a
+ * workspace of scs_encode_work_size(m) bytes (at most SCS_ENCODE_WORK_MAX, aligned for double),
+ * one per thread; the model is only read. Every loop has a fixed bound (docs/compact.md). */
+
+/* What the encoder did with a colour (the library's counts). */
+enum {
+    SCS_IN_RANGE = 0,   /* the model's spectrum is in [0, 1] (or the header's clip is 0): u = 0 */
+    SCS_PROJECTED = 1,  /* projected onto the colour: u ≠ 0 */
+    SCS_OUTSIDE = 2,    /* outside the object-colour solid: the nearest colour of its surface */
+    SCS_NOT_FINITE = 3  /* NaN or ±∞ in the colour: u = 0, and the texel decodes to NaN */
+};
+
+/* Bytes of workspace scs_encode_xyz needs for m: 7 doubles a band. */
+size_t scs_encode_work_size(const scs_model *m);
+#define SCS_ENCODE_WORK_MAX (7 * (size_t)100000 * sizeof(double))
+
+/* The texel (X, Y, Z, u0, u1, u2) of the colour xyz (CIE XYZ, white Y = 1, the colour the
+ * texture means: any value, HDR, negative and NaN included) into texel; returns SCS_IN_RANGE,
+ * SCS_PROJECTED, SCS_OUTSIDE or SCS_NOT_FINITE. work: scs_encode_work_size(m) bytes. */
+int scs_encode_xyz(const scs_model *m, const float xyz[3], float texel[6], void *work);
+
+/* The same from a linear RGB colour and the working space's matrix to XYZ (row major, white
+ * Y = 1: XYZ = to_xyz · rgb, computed in double and rounded to float, as a texture's colour
+ * converted to XYZ in float32 is). */
+int scs_encode_rgb(const scs_model *m, const double to_xyz[9], const float rgb[3], float texel[6],
+                   void *work);
+
 #ifdef __cplusplus
 }
 #endif
@@ -657,6 +690,662 @@ float scs_decode_at(const scs_model *m, const float texel[6], double wavelength_
     a = scs_band_(m, &t, lo);
     b = scs_band_(m, &t, hi);
     return scs_float_(a + (b - a) * (wavelength_nm - m->wl[lo]) / (m->wl[hi] - m->wl[lo]));
+}
+
+/* ---- ENCODER ------------------------------------------------------------------------------
+ * A port of the library's bounded projection (crates/colour/src/solid/, crates/spectral/src/
+ * bounded.rs), step for step and in the same order of operations, so that the iterations take
+ * the same path: where they do not (a rounding apart at a decision), the spectra still agree
+ * within the bound that tests/it/compact.rs states. */
+
+/* The dual's Newton steps of a projection (MAX_DUAL_STEPS), the CIELAB search's proximal steps
+ * and dual steps per subproblem (nearest.rs), and the pulls towards grey of an outside colour
+ * (bounded.rs PULLS: 0, then 1e-8 doubled 27 times). */
+#define SCS_DUAL_STEPS_ 60
+#define SCS_NEAREST_STEPS_ 80
+#define SCS_NEAREST_SUB_ 50
+#define SCS_NEAREST_TRIES_ 64
+#define SCS_PULLS_ 29
+/* float32 u must keep each band within 2⁻¹³ of its value (at least 2⁻¹⁴): DUAL_F32_TOLERANCE. */
+#define SCS_F32_TOL_ (1.0 / 8192.0)
+
+/* Columns of a 3 × n matrix: entry (band i, row k) at cols[i·bs + k·ks]. */
+typedef struct {
+    const double *cols;
+    size_t bs, ks;
+    long n;
+} scs_cols_;
+
+static double scs_col_(const scs_cols_ *a, long i, int k) { return a->cols[(size_t)i * a->bs + (size_t)k * a->ks]; }
+
+static double scs_dot3_(const double a[3], const double b[3]) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+static double scs_clamp01_(double v) { return v < 0 ? 0 : v > 1 ? 1 : v; } /* NaN stays NaN */
+
+/* v rounded to float as Rust's `as f32` rounds: beyond the largest float, ±∞. */
+static double scs_round_f32_(double v) {
+    if (v != v) return v;
+    if (fabs(v) >= 0x1.ffffffp127) return v > 0 ? (double)INFINITY : -(double)INFINITY;
+    return (double)(float)v;
+}
+
+static double scs_det3_(const double m[3][3]) {
+    return m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) -
+           m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
+           m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+}
+
+/* x with j·x = b by Cramer's rule (mat3::solve); 0 when singular or not finite. */
+static int scs_solve3_(const double j[3][3], const double b[3], double x[3]) {
+    double d = scs_det3_(j);
+    int k, row;
+    if (!(fabs(d) > 0 && isfinite(d))) return 0;
+    for (k = 0; k < 3; k++) {
+        double m[3][3];
+        memcpy(m, j, sizeof m);
+        for (row = 0; row < 3; row++) m[row][k] = b[row];
+        x[k] = scs_det3_(m) / d;
+    }
+    return isfinite(x[0]) && isfinite(x[1]) && isfinite(x[2]);
+}
+
+/* The dual problem of solid/mod.rs: min Ψ(w) = Σ ψ(pᵢ + bᵢ·w) − s·w + (μ/2)‖w‖². */
+typedef struct {
+    scs_cols_ b;
+    const double *p;
+    double s[3], mu, eps;
+} scs_dual_;
+
+typedef struct {
+    double psi, grad[3], hess[6];
+    long free;
+} scs_point_;
+
+static void scs_dual_at_(const scs_dual_ *d, const double w[3], double *r, scs_point_ *pt) {
+    double psi = 0, f[3] = {0, 0, 0}, h[6] = {0, 0, 0, 0, 0, 0};
+    long i, free = 0;
+    int k;
+    for (i = 0; i < d->b.n; i++) {
+        double b0 = scs_col_(&d->b, i, 0), b1 = scs_col_(&d->b, i, 1), b2 = scs_col_(&d->b, i, 2);
+        double z = d->p[i] + b0 * w[0] + b1 * w[1] + b2 * w[2], v;
+        if (z <= 0) {
+            v = 0;
+        } else if (z < 1) {
+            psi += 0.5 * z * z;
+            h[0] += b0 * b0; h[1] += b0 * b1; h[2] += b0 * b2;
+            h[3] += b1 * b1; h[4] += b1 * b2; h[5] += b2 * b2;
+            free++;
+            v = z;
+        } else {
+            psi += z - 0.5;
+            v = 1;
+        }
+        r[i] = v;
+        f[0] += b0 * v; f[1] += b1 * v; f[2] += b2 * v;
+    }
+    psi += 0.5 * d->mu * scs_dot3_(w, w) - scs_dot3_(d->s, w);
+    for (k = 0; k < 3; k++) pt->grad[k] = f[k] - d->s[k] + d->mu * w[k];
+    pt->psi = psi;
+    memcpy(pt->hess, h, sizeof h);
+    pt->free = free;
+}
+
+static double scs_maxabs3_(const double v[3], double from) {
+    int k;
+    for (k = 0; k < 3; k++) from = fabs(v[k]) > from ? fabs(v[k]) : from; /* f64::max: NaN ignored */
+    return from;
+}
+
+/* The projection's watch (solid/mod.rs): stop when w or the step certifies c is outside. */
+typedef struct {
+    const scs_cols_ *a;
+    double c[3], tol, cert[3];
+    int found;
+} scs_watch_;
+
+/* Whether u certifies that c is outside the solid: u·c > h(u) + tol, ‖u‖₁ = 1. */
+static int scs_certifies_(const scs_cols_ *a, const double c[3], const double u0[3], double tol) {
+    double norm = fabs(u0[0]) + fabs(u0[1]) + fabs(u0[2]), u[3], h = 0;
+    long i;
+    int k;
+    if (!(norm > 0 && isfinite(norm))) return 0;
+    for (k = 0; k < 3; k++) u[k] = u0[k] / norm;
+    for (i = 0; i < a->n; i++) {
+        double v = scs_col_(a, i, 0) * u[0] + scs_col_(a, i, 1) * u[1] + scs_col_(a, i, 2) * u[2];
+        h += v > 0 ? v : 0;
+    }
+    return scs_dot3_(u, c) > h + tol;
+}
+
+enum { SCS_END_CONVERGED_, SCS_END_WATCHED_, SCS_END_STALLED_ };
+
+/* Newton steps with backtracking on Ψ from w (Dual::minimise); r ends as r(w); scratch: n
+ * doubles. *residual: the largest gradient component left. At most `iterations` steps, each
+ * with at most ~2,100 halvings (t·|δ| > 1e-15·|w| ends within the exponent range). */
+static int scs_minimise_(const scs_dual_ *d, double w[3], double *r, double *scratch, double tol,
+                         int iterations, scs_watch_ *watch, double *residual) {
+    double *cur = r, *other = scratch, *tmp;
+    scs_point_ point, next;
+    int end = SCS_END_STALLED_, step, k;
+    double res = INFINITY;
+    scs_dual_at_(d, w, cur, &point);
+    for (step = 0; step < iterations; step++) {
+        double j[3][3], neg[3], delta[3], reg, slope, t = 1, size, reach;
+        const double *h = point.hess;
+        int accepted = 0;
+        res = scs_maxabs3_(point.grad, 0);
+        if (res <= tol) { end = SCS_END_CONVERGED_; break; }
+        end = SCS_END_STALLED_;
+        reg = d->mu + (point.free < 3 ? d->eps : 0);
+        j[0][0] = h[0] + reg; j[0][1] = h[1]; j[0][2] = h[2];
+        j[1][0] = h[1]; j[1][1] = h[3] + reg; j[1][2] = h[4];
+        j[2][0] = h[2]; j[2][1] = h[4]; j[2][2] = h[5] + reg;
+        for (k = 0; k < 3; k++) neg[k] = -point.grad[k];
+        if (!scs_solve3_(j, neg, delta)) break;
+        if (watch && !(point.free >= 3 && step < 4)) {
+            const double *us[2];
+            int q;
+            us[0] = w; us[1] = delta;
+            for (q = 0; q < 2 && !watch->found; q++)
+                if (scs_certifies_(watch->a, watch->c, us[q], watch->tol)) {
+                    memcpy(watch->cert, us[q], sizeof watch->cert);
+                    watch->found = 1;
+                }
+            if (watch->found) { end = SCS_END_WATCHED_; break; }
+        }
+        slope = scs_dot3_(point.grad, delta);
+        size = scs_maxabs3_(delta, 0);
+        reach = scs_maxabs3_(w, 1);
+        while (t * size > 1e-15 * reach) {
+            double trial[3], slack;
+            for (k = 0; k < 3; k++) trial[k] = w[k] + t * delta[k];
+            scs_dual_at_(d, trial, other, &next);
+            slack = 1e-15 * (fabs(point.psi) + fabs(next.psi));
+            if (next.psi <= point.psi + 1e-4 * t * slope + slack) {
+                memcpy(w, trial, sizeof trial);
+                point = next;
+                tmp = cur; cur = other; other = tmp;
+                accepted = 1;
+                break;
+            }
+            t *= 0.5;
+        }
+        if (!accepted) break;
+    }
+    if (end != SCS_END_CONVERGED_) {
+        res = scs_maxabs3_(point.grad, 0);
+        if (res <= tol) end = SCS_END_CONVERGED_;
+    }
+    if (cur != r) memcpy(r, cur, sizeof(double) * (size_t)d->b.n);
+    *residual = res;
+    return end;
+}
+
+/* The solid {A·r : 0 ≤ r ≤ 1} of the model's A (its `b` rows) and what Solid::new precomputes. */
+typedef struct {
+    scs_cols_ a;
+    double axis[2][3], trace, white[3];
+} scs_solid_;
+
+static void scs_solid_init_(const scs_model *m, scs_solid_ *s) {
+    long i;
+    int k;
+    s->a.cols = m->b;
+    s->a.bs = 1;
+    s->a.ks = (size_t)m->n;
+    s->a.n = m->n;
+    memset(s->axis, 0, sizeof s->axis);
+    s->trace = 0;
+    for (i = 0; i < m->n; i++) {
+        double col[3];
+        for (k = 0; k < 3; k++) {
+            col[k] = scs_col_(&s->a, i, k);
+            s->axis[0][k] += col[k] > 0 ? col[k] : 0;
+            s->axis[1][k] += -col[k] > 0 ? -col[k] : 0;
+        }
+        s->trace += scs_dot3_(col, col);
+    }
+    /* The perfect reflector's XYZ, CIELAB's white (Colorimetry::white_xyz). */
+    for (k = 0; k < 3; k++) {
+        s->white[k] = 0;
+        for (i = 0; i < m->n; i++) s->white[k] += m->b[(size_t)k * (size_t)m->n + (size_t)i];
+    }
+}
+
+static void scs_solid_xyz_(const scs_solid_ *s, const double *r, double x[3]) {
+    long i;
+    int k;
+    x[0] = x[1] = x[2] = 0;
+    for (i = 0; i < s->a.n; i++)
+        for (k = 0; k < 3; k++) x[k] += scs_col_(&s->a, i, k) * r[i];
+}
+
+enum { SCS_SOLVED_, SCS_SOLVE_OUTSIDE_, SCS_UNRESOLVED_ };
+
+/* min ½‖r − r0‖² s.t. A·r = c, 0 ≤ r ≤ 1 from w (Solid::project_dual_from): w ends as the dual. */
+static int scs_project_(const scs_solid_ *s, const double c[3], const double *r0, double *r,
+                        double *scratch, double w[3]) {
+    double scale = scs_maxabs3_(c, 0), tol, residual;
+    scs_dual_ d;
+    scs_watch_ watch;
+    int k, end;
+    tol = 1e-13 * (scale > DBL_MIN ? scale : DBL_MIN);
+    for (k = 0; k < 3; k++)
+        if (c[k] > s->axis[0][k] + tol || -c[k] > s->axis[1][k] + tol) {
+            w[0] = w[1] = w[2] = 0;
+            return SCS_SOLVE_OUTSIDE_;
+        }
+    d.b = s->a;
+    d.p = r0;
+    memcpy(d.s, c, sizeof d.s);
+    d.mu = 0;
+    d.eps = 1e-12 * s->trace;
+    if (!(isfinite(w[0]) && isfinite(w[1]) && isfinite(w[2]))) w[0] = w[1] = w[2] = 0;
+    watch.a = &s->a;
+    memcpy(watch.c, c, sizeof watch.c);
+    watch.tol = tol;
+    watch.found = 0;
+    end = scs_minimise_(&d, w, r, scratch, tol, SCS_DUAL_STEPS_, &watch, &residual);
+    if (end == SCS_END_CONVERGED_) return SCS_SOLVED_;
+    if (end == SCS_END_WATCHED_) return SCS_SOLVE_OUTSIDE_;
+    return residual <= 1e-9 * (scale > DBL_MIN ? scale : DBL_MIN) ? SCS_SOLVED_ : SCS_UNRESOLVED_;
+}
+
+/* Big integers of 32-bit limbs, least significant first: out = a · b (out: na + nb limbs). */
+static void scs_big_mul_(const unsigned long *a, int na, const unsigned long *b, int nb, unsigned long *out) {
+    int i, j;
+    for (i = 0; i < na + nb; i++) out[i] = 0;
+    for (i = 0; i < na; i++) {
+        unsigned long long carry = 0;
+        for (j = 0; j < nb; j++) {
+            unsigned long long t = (unsigned long long)a[i] * b[j] + out[i + j] + carry;
+            out[i + j] = (unsigned long)(t & 0xffffffffu);
+            carry = t >> 32;
+        }
+        out[i + nb] = (unsigned long)carry;
+    }
+}
+
+/* The sign of m³ − x for m = M·2^e (M < 2^56) and x > 0 finite, exactly. */
+static int scs_cube_cmp_(unsigned long long M, int e, double x) {
+    unsigned long m[2], sq[4], cube[6], big[6];
+    unsigned long long X;
+    int ex, sh, i;
+    double f = frexp(x, &ex);
+    X = (unsigned long long)ldexp(f, 53);
+    ex -= 53;
+    m[0] = (unsigned long)(M & 0xffffffffu);
+    m[1] = (unsigned long)(M >> 32);
+    scs_big_mul_(m, 2, m, 2, sq);
+    scs_big_mul_(sq, 4, m, 2, cube);
+    /* m³ = cube·2^(3e) against x = X·2^ex: cube against X·2^(ex − 3e). */
+    sh = ex - 3 * e;
+    if (sh < 0 || sh > 192 - 54) return ldexp((double)M, e) * ldexp((double)M, e) * ldexp((double)M, e) < x ? -1 : 1;
+    for (i = 0; i < 6; i++) big[i] = 0;
+    for (i = 0; i < 2; i++) {
+        unsigned long long part = (X >> (32 * i)) & 0xffffffffu;
+        int bit = sh + 32 * i, limb = bit / 32, off = bit % 32;
+        unsigned long long v = part << off;
+        if (limb < 6) big[limb] |= (unsigned long)(v & 0xffffffffu);
+        if (limb + 1 < 6) big[limb + 1] |= (unsigned long)(v >> 32);
+    }
+    for (i = 5; i >= 0; i--)
+        if (cube[i] != big[i]) return cube[i] < big[i] ? -1 : 1;
+    return 0;
+}
+
+/* (a + b)/2 of two adjacent positive normal doubles a < b, as M·2^e exactly. */
+static void scs_mid_(double a, double b, unsigned long long *M, int *e) {
+    int ea, eb, e0;
+    unsigned long long A = (unsigned long long)ldexp(frexp(a, &ea), 53);
+    unsigned long long B = (unsigned long long)ldexp(frexp(b, &eb), 53);
+    ea -= 53;
+    eb -= 53;
+    e0 = ea < eb ? ea : eb;
+    *M = (A << (ea - e0)) + (B << (eb - e0));
+    *e = e0 - 1;
+}
+
+/* The cube root correctly rounded, as Rust's f64::cbrt (the library's CIELAB) computes it:
+ * libm's cbrt is within a few ulps, and the candidate whose rounding interval holds x's cube root
+ * is chosen by exact integer arithmetic, so that both searches see the same doubles. */
+static double scs_cbrt_(double x) {
+    double y = cbrt(x), c;
+    int k;
+    if (!(x > DBL_MIN) || !isfinite(x) || !(y > DBL_MIN)) return y; /* CIELAB takes x > 0.0088 */
+    for (k = 0; k < 4; k++) y = nextafter(y, 0);
+    /* glibc's cbrt was measured up to 2 ulps off: 9 candidates around it. */
+    for (k = 0, c = y; k < 9; k++, c = nextafter(c, INFINITY)) {
+        unsigned long long M;
+        int e;
+        scs_mid_(nextafter(c, 0), c, &M, &e);
+        if (scs_cube_cmp_(M, e, x) > 0) continue; /* c's interval is above the root */
+        scs_mid_(c, nextafter(c, INFINITY), &M, &e);
+        if (scs_cube_cmp_(M, e, x) < 0) continue; /* below it */
+        return c;
+    }
+    return cbrt(x);
+}
+
+/* CIE's f(t) and CIELAB with its Jacobian (colour::lab), for every XYZ. */
+static double scs_lab_f_(double t) { return t > 216.0 / 24389.0 ? scs_cbrt_(t) : t * (841.0 / 108.0) + 4.0 / 29.0; }
+
+static void scs_lab_(const double xyz[3], const double white[3], double lab[3], double jac[3][3]) {
+    double f[3], dd[3];
+    int k;
+    for (k = 0; k < 3; k++) {
+        double t = xyz[k] / white[k];
+        f[k] = scs_lab_f_(t);
+        if (jac) {
+            double q = t > 216.0 / 24389.0 ? scs_cbrt_(t) : 0;
+            dd[k] = (t > 216.0 / 24389.0 ? 1.0 / (3.0 * (q * q)) : 841.0 / 108.0) / white[k];
+        }
+    }
+    lab[0] = 116.0 * f[1] - 16.0;
+    lab[1] = 500.0 * (f[0] - f[1]);
+    lab[2] = 200.0 * (f[1] - f[2]);
+    if (jac) {
+        jac[0][0] = 0; jac[0][1] = 116.0 * dd[1]; jac[0][2] = 0;
+        jac[1][0] = 500.0 * dd[0]; jac[1][1] = -500.0 * dd[1]; jac[1][2] = 0;
+        jac[2][0] = 0; jac[2][1] = 200.0 * dd[1]; jac[2][2] = -200.0 * dd[2];
+    }
+}
+
+static double scs_dist2_(const double a[3], const double b[3]) {
+    return (a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]);
+}
+
+/* The in-range spectrum nearest to c in CIELAB from r0 (nearest::nearest_lab), into r; its
+ * colour into x. bm: 3n doubles, trial and scratch: n each. */
+static void scs_nearest_(const scs_solid_ *s, const double c[3], const double *r0, double *r,
+                         double *bm, double *trial, double *scratch, double x[3]) {
+    long n = s->a.n, i;
+    double target[3], lab[3], jac[3][3], phi, mu = NAN;
+    int step, k, row;
+    scs_lab_(c, s->white, target, NULL);
+    for (i = 0; i < n; i++) r[i] = isfinite(r0[i]) ? scs_clamp01_(r0[i]) : 0.5;
+    scs_solid_xyz_(s, r, x);
+    scs_lab_(x, s->white, lab, jac);
+    phi = scs_dist2_(lab, target);
+    for (step = 0; step < SCS_NEAREST_STEPS_; step++) {
+        double trace = 0, jx[3], sv[3];
+        int improved = 0;
+        if (phi == 0) break;
+        for (i = 0; i < n; i++) {
+            double a[3], *bi = bm + 3 * (size_t)i;
+            for (k = 0; k < 3; k++) a[k] = scs_col_(&s->a, i, k);
+            for (row = 0; row < 3; row++) bi[row] = scs_dot3_(jac[row], a);
+            trace += scs_dot3_(bi, bi);
+        }
+        if (mu != mu) mu = 1e-3 * trace / (double)n;
+        for (k = 0; k < 3; k++) jx[k] = scs_dot3_(jac[k], x);
+        for (k = 0; k < 3; k++) sv[k] = jx[k] - (lab[k] - target[k]);
+        /* Each failed try multiplies mu by 8 until it passes 1e12·trace (~30 tries); the cap
+         * holds where a hostile text's A makes mu NaN (no model of specconv's can). */
+        int tries;
+        for (tries = 0; !improved && tries < SCS_NEAREST_TRIES_; tries++) {
+            scs_dual_ d;
+            double w[3] = {0, 0, 0}, tol, residual, xt[3], lab_t[3], jac_t[3][3], phi_t, moved = 0;
+            int end, settled;
+            d.b.cols = bm; d.b.bs = 3; d.b.ks = 1; d.b.n = n;
+            d.p = r;
+            memcpy(d.s, sv, sizeof sv);
+            d.mu = mu;
+            d.eps = 0;
+            tol = 1e-10 * scs_maxabs3_(sv, 1);
+            end = scs_minimise_(&d, w, trial, scratch, tol, SCS_NEAREST_SUB_, NULL, &residual);
+            scs_solid_xyz_(s, trial, xt);
+            scs_lab_(xt, s->white, lab_t, jac_t);
+            phi_t = scs_dist2_(lab_t, target);
+            for (i = 0; i < n; i++) {
+                double dv = fabs(r[i] - trial[i]);
+                moved = dv > moved ? dv : moved;
+            }
+            settled = fabs(phi - phi_t) <= 1e-10 * phi || moved <= 1e-12;
+            if (end != SCS_END_WATCHED_ && phi_t < phi) {
+                double floor_mu = 1e-9 * trace / (double)n;
+                memcpy(r, trial, sizeof(double) * (size_t)n);
+                memcpy(x, xt, sizeof xt);
+                memcpy(lab, lab_t, sizeof lab);
+                memcpy(jac, jac_t, sizeof jac);
+                phi = phi_t;
+                mu = mu * 0.25 > floor_mu ? mu * 0.25 : floor_mu;
+                improved = 1;
+            } else {
+                mu *= 8.0;
+            }
+            if (settled || mu > 1e12 * (trace > DBL_MIN ? trace : DBL_MIN)) return;
+        }
+    }
+}
+
+/* Whether clip(r0 + Aᵀw, 0, 1) with w rounded to float32 is r within SCS_F32_TOL_ of each
+ * band's value (Bounded::keeps_in_f32). */
+static int scs_keeps_in_f32_(const scs_solid_ *s, const double *r0, const double w[3], const double *r) {
+    double w32[3];
+    long i;
+    int k;
+    for (k = 0; k < 3; k++) w32[k] = scs_round_f32_(w[k]);
+    for (i = 0; i < s->a.n; i++) {
+        double z = r0[i] + scs_col_(&s->a, i, 0) * w32[0] + scs_col_(&s->a, i, 1) * w32[1] +
+                   scs_col_(&s->a, i, 2) * w32[2];
+        double v = r[i];
+        if (!(fabs(scs_clamp01_(z) - v) <= SCS_F32_TOL_ * (v > 1.0 / 16384.0 ? v : 1.0 / 16384.0))) return 0;
+    }
+    return 1;
+}
+
+/* At a vertex or an edge of the solid, the search's own spectrum r as w = t·n, n the outward
+ * normal (Bounded::along_normal): 1 with w set, 0 where a band is left free. */
+static int scs_along_normal_(const scs_solid_ *s, const double c[3], const double near[3],
+                             const double *r0, const double *r, double w[3]) {
+    double lab[3], jac[3][3], target[3], nv[3], size;
+    long i;
+    int k, row;
+    scs_lab_(near, s->white, lab, jac);
+    scs_lab_(c, s->white, target, NULL);
+    for (k = 0; k < 3; k++) {
+        nv[k] = 0;
+        for (row = 0; row < 3; row++) nv[k] += jac[row][k] * (target[row] - lab[row]);
+    }
+    size = scs_maxabs3_(nv, 0);
+    if (!(size > 0 && isfinite(size))) return 0;
+    for (i = 0; i < s->a.n; i++)
+        if (r[i] != 0 && r[i] != 1) return 0;
+    for (k = 0; k < 48; k++) {
+        for (row = 0; row < 3; row++) w[row] = nv[row] / size * ldexp(1.0, k);
+        if (scs_keeps_in_f32_(s, r0, w, r)) return 1;
+    }
+    return 0;
+}
+
+/* r0 projected onto the reached colour near drawn towards the grey of its luminance by the
+ * least pull for which float32 u still gives its spectrum (Bounded::onto_reached, warm). */
+static void scs_onto_reached_(const scs_solid_ *s, const double near[3], const double *r0, double *r,
+                              double *trial, double *scratch, double w_out[3]) {
+    double grey[3], start[3] = {0, 0, 0}, t = 0, lum = near[1] / s->white[1];
+    long i;
+    int p, k;
+    lum = lum < 0 ? 0 : lum > 1 ? 1 : lum;
+    for (k = 0; k < 3; k++) grey[k] = s->white[k] * lum;
+    for (p = 0; p < SCS_PULLS_; p++) {
+        double x[3], w[3];
+        int solve, ok;
+        t = p == 0 ? 0 : p == 1 ? 1e-8 : 2.0 * t;
+        for (k = 0; k < 3; k++) x[k] = near[k] + t * (grey[k] - near[k]);
+        memcpy(w, start, sizeof w);
+        solve = scs_project_(s, x, r0, trial, scratch, w);
+        ok = solve == SCS_SOLVED_ && scs_keeps_in_f32_(s, r0, w, trial);
+        if (!ok && (start[0] != 0 || start[1] != 0 || start[2] != 0)) {
+            long free = 0;
+            for (i = 0; i < s->a.n; i++) free += trial[i] > 0 && trial[i] < 1;
+            if (solve != SCS_SOLVED_ || free < 3) {
+                w[0] = w[1] = w[2] = 0;
+                solve = scs_project_(s, x, r0, trial, scratch, w);
+                ok = solve == SCS_SOLVED_ && scs_keeps_in_f32_(s, r0, w, trial);
+            }
+        }
+        if (ok) {
+            memcpy(r, trial, sizeof(double) * (size_t)s->a.n);
+            memcpy(w_out, w, sizeof w);
+            return;
+        }
+        if (solve == SCS_SOLVED_) memcpy(start, w, sizeof start);
+    }
+    /* No pull solves: the clipped spectrum keeps the texel form, u = 0. */
+    for (i = 0; i < s->a.n; i++) r[i] = scs_clamp01_(r0[i]);
+    w_out[0] = w_out[1] = w_out[2] = 0;
+}
+
+/* The blend weight of split nd's upper side at coordinate u (Blend::above; the hard switch
+ * without blend). */
+static double scs_above_(const scs_model *m, const scs_node_ *nd, double u) {
+    double w = m->blend > 0 ? nd->width : 0, t;
+    if (u >= nd->value + w) return 1;
+    if (u <= nd->value - w) return 0;
+    t = (u - nd->value + w) / (2.0 * w);
+    return t * t * (3.0 - 2.0 * t);
+}
+
+/* r0 of an ordinary colour (X+Y+Z ≥ dark) as the library's uplift computes it, bit for bit:
+ * the leaves of xy in the order Blend::weights gives them (each blended split's lower side
+ * first, by recursion no deeper than the tree), r = Σ w·o + T·(c·w), left to right. *first:
+ * no leaf added yet. */
+static void scs_r0_leaves_(const scs_model *m, long i, double weight, const double xy[2], const double c[3],
+                           double *r, int *first) {
+    size_t n = (size_t)m->n, b;
+    const double *t;
+    double cw[3];
+    while (!m->nodes[i].leaf) {
+        const scs_node_ *nd = &m->nodes[i];
+        double s = scs_above_(m, nd, xy[nd->axis]);
+        if (s == 1) {
+            i = nd->above;
+        } else if (s == 0) {
+            i = nd->below;
+        } else {
+            scs_r0_leaves_(m, nd->below, weight * (1.0 - s), xy, c, r, first);
+            weight *= s;
+            i = nd->above;
+        }
+    }
+    t = m->maps + (size_t)m->nodes[i].k * 4 * n;
+    cw[0] = c[0] * weight; cw[1] = c[1] * weight; cw[2] = c[2] * weight;
+    for (b = 0; b < n; b++) {
+        double v = t[3 * n + b] * weight + t[b] * cw[0] + t[n + b] * cw[1] + t[2 * n + b] * cw[2];
+        r[b] = *first ? v : r[b] + v;
+    }
+    *first = 0;
+}
+
+/* The blended map of xy (Uplifter::map_xy) added into t (4n), for colours that are not
+ * ordinary. */
+static void scs_map_xy_(const scs_model *m, long i, double weight, const double xy[2], double *t) {
+    size_t n4 = 4 * (size_t)m->n, j;
+    const double *map;
+    while (!m->nodes[i].leaf) {
+        const scs_node_ *nd = &m->nodes[i];
+        double s = scs_above_(m, nd, xy[nd->axis]);
+        if (s == 1) {
+            i = nd->above;
+        } else if (s == 0) {
+            i = nd->below;
+        } else {
+            scs_map_xy_(m, nd->below, weight * (1.0 - s), xy, t);
+            weight *= s;
+            i = nd->above;
+        }
+    }
+    map = m->maps + (size_t)m->nodes[i].k * n4;
+    for (j = 0; j < n4; j++) t[j] += weight * map[j];
+}
+
+/* The model's spectrum r0 of a finite colour c (the rule without B·u and the clip), computed
+ * as the library computes it (otsu2018::runtime, hard_inputs), so that the projection starts
+ * from the same doubles. t: 4n doubles of scratch. */
+static void scs_r0_(const scs_model *m, const double c[3], double *r, double *t) {
+    size_t n = (size_t)m->n, b;
+    double s = c[0] + c[1] + c[2], mx, u[3], su, xy[2], weight_o;
+    int first = 1, k;
+    if (s >= m->dark) { /* ordinary; float colours are far below the overflow guard */
+        xy[0] = c[0] / s;
+        xy[1] = c[1] / s;
+        scs_r0_leaves_(m, 0, 1.0, xy, c, r, &first);
+        return;
+    }
+    mx = fabs(c[0]);
+    for (k = 1; k < 3; k++) mx = fabs(c[k]) > mx ? fabs(c[k]) : mx;
+    if (mx == 0) {
+        for (b = 0; b < n; b++) r[b] = 0;
+        return;
+    }
+    for (k = 0; k < 3; k++) u[k] = c[k] / mx;
+    su = u[0] + u[1] + u[2];
+    if (su > 0) {
+        double sd = su * mx / m->dark;
+        xy[0] = u[0] / su;
+        xy[1] = u[1] / su;
+        weight_o = sd < 1 ? sd : 1;
+    } else {
+        xy[0] = m->white[0];
+        xy[1] = m->white[1];
+        weight_o = 0;
+    }
+    memset(t, 0, sizeof(double) * 4 * n);
+    scs_map_xy_(m, 0, 1.0, xy, t);
+    for (b = 0; b < n; b++) {
+        double lin = t[b] * u[0] + t[n + b] * u[1] + t[2 * n + b] * u[2];
+        double v = lin * mx + weight_o * t[3 * n + b];
+        r[b] = v > DBL_MAX ? DBL_MAX : v < -DBL_MAX ? -DBL_MAX : v;
+    }
+}
+
+size_t scs_encode_work_size(const scs_model *m) { return 7 * (size_t)m->n * sizeof(double); }
+
+int scs_encode_xyz(const scs_model *m, const float xyz[3], float texel[6], void *work) {
+    double *r = (double *)work, c[3], w[3] = {0, 0, 0};
+    double *r0, *scratch, *trial, *bm;
+    size_t n = (size_t)m->n;
+    scs_solid_ s;
+    int k, outcome;
+    size_t i;
+    for (k = 0; k < 3; k++) {
+        texel[k] = xyz[k];
+        texel[3 + k] = 0;
+        c[k] = xyz[k];
+    }
+    if (!(isfinite(c[0]) && isfinite(c[1]) && isfinite(c[2]))) return SCS_NOT_FINITE;
+    if (!m->clip) return SCS_IN_RANGE; /* unbounded: u = 0, nothing to project */
+    scs_r0_(m, c, r, r + 3 * n); /* scratch: the 4n of trial and bm, free until projected */
+    for (i = 0; i < n && r[i] >= 0 && r[i] <= 1; i++) {}
+    if (i == n) return SCS_IN_RANGE;
+    r0 = r + n;
+    scratch = r + 2 * n;
+    trial = r + 3 * n;
+    bm = r + 4 * n;
+    memcpy(r0, r, sizeof(double) * n);
+    scs_solid_init_(m, &s);
+    if (scs_project_(&s, c, r0, r, scratch, w) == SCS_SOLVED_) {
+        outcome = SCS_PROJECTED;
+    } else {
+        double near[3];
+        scs_nearest_(&s, c, r0, r, bm, trial, scratch, near);
+        if (!scs_along_normal_(&s, c, near, r0, r, w)) scs_onto_reached_(&s, near, r0, r, trial, scratch, w);
+        outcome = SCS_OUTSIDE;
+    }
+    for (k = 0; k < 3; k++) texel[3 + k] = (float)scs_round_f32_(w[k]);
+    return outcome;
+}
+
+int scs_encode_rgb(const scs_model *m, const double to_xyz[9], const float rgb[3], float texel[6],
+                   void *work) {
+    float xyz[3];
+    int k;
+    for (k = 0; k < 3; k++) {
+        double v = to_xyz[3 * k] * rgb[0] + to_xyz[3 * k + 1] * rgb[1] + to_xyz[3 * k + 2] * rgb[2];
+        xyz[k] = (float)scs_round_f32_(v);
+    }
+    return scs_encode_xyz(m, xyz, texel, work);
 }
 
 #endif /* SPECCONV_SPECTRUM_IMPLEMENTED */

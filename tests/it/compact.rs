@@ -165,12 +165,17 @@ fn what_has_no_compact_form_is_refused_with_why() {
 /// tests/c/decode_check.c with include/specconv_spectrum.h, compiled by the `cc` on PATH into
 /// `dir` as the C header's users compile it.
 fn decode_check(dir: &Scratch) -> std::path::PathBuf {
+    compile_c(dir, "decode_check")
+}
+
+/// tests/c/`name`.c with include/specconv_spectrum.h, compiled by the `cc` on PATH into `dir`.
+pub(crate) fn compile_c(dir: &Scratch, name: &str) -> std::path::PathBuf {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let exe = dir.path("decode_check");
+    let exe = dir.path(name);
     let cc = std::process::Command::new("cc")
         .args(["-std=c99", "-Wall", "-Wextra", "-Werror", "-O2", "-I"])
         .arg(root.join("include"))
-        .arg(root.join("tests/c/decode_check.c"))
+        .arg(root.join(format!("tests/c/{name}.c")))
         .arg("-o")
         .arg(&exe)
         .arg("-lm")

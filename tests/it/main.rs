@@ -4,6 +4,7 @@ mod asset;
 mod baselines;
 mod colour;
 mod compact;
+mod compact_encode;
 mod compression;
 mod convert;
 mod emission;
