@@ -2,14 +2,14 @@
 //! `specconv_rgb`): no file is written or read back. A conversion's rules as far as the reader
 //! kept the evidence ([`colour::decoded_space`]), its alpha rule (straight colour multiplied
 //! by alpha once converted, as OpenEXR stores colour) and its rule on NaN and infinities, then
-//! the compact layout's encoder ([`Compact::encode_f32`], the one `convert --layout compact`
+//! the compact layout's encoder ([`Compact::texels_of_xyz`], the one `convert --layout compact`
 //! calls), in parallel pieces; integer pixels once per distinct pixel.
 
 use crate::choices::{Alpha, NonFinite};
 use crate::colour::{self, Decoded, InputSpace};
 use crate::{Error, Options, Result};
 use rayon::prelude::*;
-use specconv_spectral::compact::{Compact, TEXEL};
+use specconv_spectral::compact::{Compact, Precision, TEXEL};
 use std::collections::HashMap;
 
 /// Pixels per parallel piece: large enough that a piece outweighs its scheduling.
@@ -197,7 +197,8 @@ impl Making<'_> {
                 for (v, alpha) in xyz.chunks_exact_mut(3).zip(&a) {
                     v.iter_mut().for_each(|v| *v *= alpha);
                 }
-                self.compact.encode_f32(&xyz, texels);
+                // As a `-d float` file stores them: the unrounded colour in the working space.
+                self.compact.texels_of_xyz(&xyz, Precision::Float, texels);
                 Ok(())
             })
     }

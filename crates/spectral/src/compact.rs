@@ -322,6 +322,22 @@ impl Compact {
         counts
     }
 
+    /// The texels a file stored at `precision` decodes to for the colours `xyz` (XYZ triples,
+    /// [`TEXEL`] values a texel into `texels`): each colour turned into the working space
+    /// ([`Compact::xyz_to_rgb`]), stored ([`Compact::store`]) and read back
+    /// ([`Compact::unstore`]), the steps `convert --layout compact` and every reader take.
+    pub fn texels_of_xyz(&self, xyz: &[f32], precision: Precision, texels: &mut [f32]) -> Counts {
+        let mut stored = vec![0.0f32; xyz.len() / 3 * STORED];
+        let mut rgb = xyz.to_vec();
+        self.xyz_to_rgb(&mut rgb);
+        for (s, c) in stored.chunks_exact_mut(STORED).zip(rgb.chunks_exact(3)) {
+            s[..3].copy_from_slice(c);
+        }
+        let counts = self.store(&mut stored, precision);
+        self.unstore(&stored, texels);
+        counts
+    }
+
     /// Stored texels ([`STORED`] values each, [`Compact::store`]'s) as the six values the
     /// rule decodes: the colour's XYZ ([`Compact::colour_of`]) and u = U + UF.
     pub fn unstore(&self, stored: &[f32], texels: &mut [f32]) {
