@@ -416,7 +416,7 @@ def chain(text, depth):
     """`text` made a valid header of two bands whose tree is a chain of `depth` splits, each
     with a leaf (and a map) of its own below it."""
     keep = [l for l in text.split("\n") if l.split(" ")[0] in
-            ("specconv", "model", "hash", "white", "dark", "blend", "clip")]
+            ("specconv", "model", "hash", "rgb", "white", "dark", "blend", "clip")]
     lines = keep + ["grid 380 390 10", "wavelengths 380 390"]
     for i in range(depth):
         lines.append(f"node {2 * i} split x 0.3 {2 * i + 1} {2 * i + 2} 0.02")
@@ -522,7 +522,7 @@ def expand_applies_the_nan_rule(r):
 def wide_bands(text, bands):
     """`text`'s model lines with a one-leaf tree on `bands` bands from 400 nm every 0.01 nm."""
     keep = [l for l in text.split("\n") if l.split(" ")[0] in
-            ("specconv", "model", "hash", "white", "dark", "blend", "clip")]
+            ("specconv", "model", "hash", "rgb", "white", "dark", "blend", "clip")]
     w = [400 + i * 0.01 for i in range(bands)]
     lines = keep + [f"grid 400 {w[-1]!r} 0.01", "wavelengths " + " ".join(map(repr, w)),
                     "node 0 leaf 0", "map 0 " + " ".join(["0.3"] * bands + ["0"] * (3 * bands))]

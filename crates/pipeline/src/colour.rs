@@ -703,7 +703,7 @@ fn evidence(config: &Config, reader: &ImageReader) -> Result<Evidence> {
 }
 
 /// The config's colour space for a name declared outside a file (a material's MaterialX
-/// `colorspace`), by the rule of [`named`]: a name, alias or role of the config, else a Color
+/// `colorspace`), by the rule of `named`: a name, alias or role of the config, else a Color
 /// Interop Forum ID (`data`: the config's data space). `Ok(None)` for `unknown`; `Ok(Some(Err(why)))`
 /// for a name neither knows.
 pub fn named_space(
