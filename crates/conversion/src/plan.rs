@@ -25,8 +25,8 @@
 //! let outputs = Outputs::template("spectral/{stem}_spectral.{udim}.exr")?;
 //! let plan = Plan::new(inputs, &outputs)?.shard(0, 2)?;
 //! plan.check_existing(false, false)?;
-//! for (input, output) in plan.pairs() {
-//!     println!("{} → {}", input.display(), output.display());
+//! for pair in plan.pairs() {
+//!     println!("{} → {}", pair.input.display(), pair.output.display());
 //! }
 //! # Ok::<(), specconv_conversion::plan::Error>(())
 //! ```
