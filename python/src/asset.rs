@@ -34,15 +34,7 @@ pub fn convert_asset<'py>(
     progress: Option<Bound<'py, PyAny>>,
     options: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<Vec<Bound<'py, PyAny>>> {
-    let raise = match errors {
-        "raise" => true,
-        "record" => false,
-        _ => {
-            return Err(Kind::Option.err(format!(
-                "errors must be 'raise' or 'record', not '{errors}'"
-            )))
-        }
-    };
+    let raise = crate::convert::raises(errors)?;
     let o = conversion_options(options)?;
     if o.colorspace.is_some() {
         return Err(Kind::Option.err(

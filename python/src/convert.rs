@@ -120,15 +120,7 @@ pub fn convert<'py>(
     progress: Option<Bound<'py, PyAny>>,
     options: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<Vec<Bound<'py, PyAny>>> {
-    let raise = match errors {
-        "raise" => true,
-        "record" => false,
-        _ => {
-            return Err(Kind::Option.err(format!(
-                "errors must be 'raise' or 'record', not '{errors}'"
-            )))
-        }
-    };
+    let raise = raises(errors)?;
     let o = conversion_options(options)?;
     let pairs = crate::plan::pairs(py, inputs.list(), outputs.map(Paths::list), output_template)?;
     let converter = py.detach(|| Converter::new(o)).map_err(conversion)?;
@@ -374,4 +366,15 @@ fn call(progress: &Option<Bound<'_, PyAny>>, args: (usize, PathBuf, u64, u64)) -
         p.call1(args)?;
     }
     Ok(())
+}
+
+/// `errors=`: whether a failed input raises (`raise`) or is only recorded (`record`).
+pub(crate) fn raises(errors: &str) -> PyResult<bool> {
+    match errors {
+        "raise" => Ok(true),
+        "record" => Ok(false),
+        _ => Err(Kind::Option.err(format!(
+            "errors must be 'raise' or 'record', not '{errors}'"
+        ))),
+    }
 }
