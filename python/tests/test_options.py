@@ -127,3 +127,15 @@ def test_a_value_of_the_wrong_kind_is_an_option_error_naming_the_keyword(tmp_pat
     with pytest.raises(specconv.OptionError) as e:
         specconv.convert(tmp_path / "a.png", tmp_path / "a.exr", **keywords)
     assert says in str(e.value), str(e.value)
+
+
+def test_errors_takes_raise_or_record_in_convert_and_convert_asset(tmp_path):
+    """One reading of `errors=` for both batch functions: anything else is refused by name,
+    before any input or stage is read."""
+    for call in (
+        lambda: specconv.convert(["missing.png"], str(tmp_path), errors="ignore"),
+        lambda: specconv.convert_asset("missing.usda", str(tmp_path), errors="ignore"),
+    ):
+        with pytest.raises(specconv.OptionError, match="'raise' or 'record', not 'ignore'"):
+            call()
+    assert list(tmp_path.iterdir()) == []
