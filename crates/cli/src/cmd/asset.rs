@@ -36,6 +36,9 @@ Examples:
 /// a layer over the stage whose overrides point each colour texture's inputs:file at its
 /// spectral file. The stage and its textures are never written. usd-core runs in the Python
 /// interpreter $SPECCONV_USD_PYTHON names (else python3): `python3 -m pip install usd-core`.
+/// With -u, up-to-date textures are skipped and the layer is written again; --json's records
+/// are `convert`'s with an `asset` member: the stage, the rule that decided, why, and each
+/// prim and input that reads the texture (docs/assets.md).
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// The USD stage.
@@ -54,20 +57,9 @@ pub struct Args {
     /// refused: the material names each texture's).
     #[command(flatten)]
     pub(crate) conversion: crate::options::ConversionArgs,
-    /// Skip textures whose output is up to date, and replace the layer.
-    #[arg(short, long)]
-    update: bool,
-    /// Print one JSON object per texture file on standard output: `convert --json`'s record
-    /// with an `asset` member (the stage, the rule that decided, why, and each prim and input
-    /// that reads it). See docs/assets.md.
-    #[arg(long)]
-    json: bool,
-    /// Progress on standard error, as `convert --progress`.
-    #[arg(long, value_name = "WHEN", default_value = "auto")]
-    progress: crate::progress::When,
-    /// Print nothing but errors.
-    #[arg(short, long)]
-    quiet: bool,
+    /// -u, --json, --progress, -q, as `convert` takes them.
+    #[command(flatten)]
+    batch: super::convert::BatchArgs,
     /// Say more: each texture's decision before converting.
     #[arg(short, long)]
     verbose: bool,
@@ -93,18 +85,11 @@ pub fn run(args: Args) -> Result<i32> {
         &reader,
         (&args.stage, &args.output),
         &options,
-        (args.dry_run, args.update),
+        (args.dry_run, args.batch.update),
     )
     .map_err(fault)?;
-    let reporting = Reporting {
-        json: args.json,
-        update: args.update,
-        progress: args.progress,
-        quiet: args.quiet,
-        verbose: args.verbose,
-        annotate: None,
-    };
-    if asset.textures.is_empty() && !args.quiet {
+    let reporting = args.batch.reporting(args.verbose);
+    if asset.textures.is_empty() && !args.batch.quiet {
         errln!(
             "specconv: note: {}: no bound material reads a texture ({} material(s) bound to \
              {} prim(s)); nothing to convert",
@@ -114,7 +99,7 @@ pub fn run(args: Args) -> Result<i32> {
         );
     }
     if args.dry_run || args.verbose {
-        print_decisions(&asset, &jobs, args.dry_run && args.json)?;
+        print_decisions(&asset, &jobs, args.dry_run && args.batch.json)?;
         if args.dry_run {
             let unconverted = asset.textures.iter().any(|t| t.error.is_some());
             return Ok(if unconverted { exit::FAILED } else { exit::OK });

@@ -1,7 +1,7 @@
 //! `specconv expand`: compact textures written out in the spectral layout, a batch as
 //! `convert` runs one (the library's plan and [`specconv_conversion::Expansions`]).
 
-use super::convert::{ending, plan, printing, Reporting};
+use super::convert::{ending, plan, printing};
 use crate::progress::{Progress, Summary};
 use crate::stdio::StdoutFailed;
 use crate::{explain, print_error, records, signals, usage};
@@ -45,20 +45,9 @@ pub struct Args {
     /// Worker threads (default: one per core).
     #[arg(short = 'j', long, value_name = "N")]
     threads: Option<usize>,
-    /// Skip inputs whose output is newer than the input and records the same source and
-    /// settings (an expansion's).
-    #[arg(short, long)]
-    update: bool,
-    /// Print one JSON object per input on standard output, as `convert --json` does (keys of
-    /// a conversion that do not apply to an expansion are null). See docs/json.md.
-    #[arg(long)]
-    json: bool,
-    /// Progress on standard error: `auto`, `always` or `never`, as `convert`'s.
-    #[arg(long, value_name = "WHEN", default_value = "auto")]
-    progress: crate::progress::When,
-    /// Print nothing but errors (no progress, no summary).
-    #[arg(short, long)]
-    quiet: bool,
+    /// -u, --json, --progress, -q, as `convert` takes them.
+    #[command(flatten)]
+    batch: super::convert::BatchArgs,
     /// Replace existing outputs.
     #[arg(long)]
     force: bool,
@@ -77,20 +66,13 @@ pub fn run(args: Args) -> Result<i32> {
     )
     .map_err(usage)?;
     whole
-        .check_existing(args.force, args.update)
+        .check_existing(args.force, args.batch.update)
         .map_err(|e| usage(plan::planned(e)))?;
     let pairs = whole.into_pairs();
-    let reporting = Reporting {
-        json: args.json,
-        update: args.update,
-        progress: args.progress,
-        quiet: args.quiet,
-        verbose: false,
-        annotate: None,
-    };
+    let reporting = args.batch.reporting(false);
     let cancel = Arc::new(AtomicBool::new(false));
     let inputs: Vec<PathBuf> = pairs.iter().map(|p| p.input.clone()).collect();
-    let mut progress = Progress::new(args.progress, args.quiet, &inputs);
+    let mut progress = Progress::new(args.batch.progress, args.batch.quiet, &inputs);
     let mut summary = Summary {
         done: Some("expanded"),
         ..Summary::default()
@@ -106,7 +88,7 @@ pub fn run(args: Args) -> Result<i32> {
     let mut started = batch_start;
     let expansions = Expansions::new(args.force)
         .fixnan(args.fixnan)
-        .update(args.update)
+        .update(args.batch.update)
         .threads(args.threads)
         .cancel_on(&cancel);
     let ended = signals::deferred(&cancel, || {
@@ -143,7 +125,7 @@ pub fn run(args: Args) -> Result<i32> {
             } => {
                 progress.finish();
                 let error = records::without_input(&explain(error), input);
-                if !args.json {
+                if !args.batch.json {
                     print_error(&format!("{}: {error}", input.display()));
                 }
                 summary.failed.push((input.to_path_buf(), error.clone()));

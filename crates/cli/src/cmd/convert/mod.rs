@@ -67,24 +67,9 @@ pub struct Args {
     /// The options of the conversion, made from the library's definitions.
     #[command(flatten)]
     pub(crate) conversion: crate::options::ConversionArgs,
-    /// Skip inputs whose output is newer than the input and was made with the same settings.
-    #[arg(short, long)]
-    update: bool,
-    /// Print one JSON object per input on standard output, every key on every record (null
-    /// where it does not apply): input, output, status (ok, skipped, failed), skip_reason,
-    /// error, seconds, pixels, width, height, levels, bands, colorspace, colorspace_rule,
-    /// subimage, channels, role, bounded, non_finite, above_one, saturated, warnings; status
-    /// `clipped` is a conversion with pixels above 1 in reflectance. See docs/json.md.
-    #[arg(long)]
-    json: bool,
-    /// Progress on standard error: `auto` shows a live line on a terminal (file i of n, the
-    /// batch's ETA) and a plain line every few seconds when standard error is a file; `always`
-    /// also into a pipe; `never` shows none.
-    #[arg(long, value_name = "WHEN", default_value = "auto")]
-    progress: crate::progress::When,
-    /// Print nothing but errors (no progress, no summary).
-    #[arg(short, long)]
-    quiet: bool,
+    /// -u, --json, --progress, -q.
+    #[command(flatten)]
+    pub(crate) batch: BatchArgs,
     /// Convert only shard I of N (`I/N`, I from 0), or `auto/N` with I from
     /// $SLURM_ARRAY_TASK_ID: inputs split by pixel count, the same plan on every run and as
     /// `farm submit`, so N runs given the same inputs convert each exactly once.
@@ -102,6 +87,44 @@ pub struct ReadArgs {
     pub subimage: Option<String>,
     #[arg(long, value_name = "LIST|LAYER", help = Key::Channels.about().help)]
     pub channels: Option<String>,
+}
+
+/// The flags every batch command (`convert`, `expand`, `asset`) takes, written once: what a
+/// batch skips and how it reports.
+#[derive(Debug, Clone, clap::Args)]
+pub struct BatchArgs {
+    /// Skip inputs whose output is newer than the input and was made with the same settings.
+    #[arg(short, long)]
+    pub update: bool,
+    /// Print one JSON object per input on standard output, every key on every record (null
+    /// where it does not apply): input, output, status (ok, skipped, failed), skip_reason,
+    /// error, seconds, pixels, width, height, levels, bands, colorspace, colorspace_rule,
+    /// subimage, channels, role, bounded, non_finite, above_one, saturated, warnings; status
+    /// `clipped` is a conversion with pixels above 1 in reflectance. See docs/json.md.
+    #[arg(long)]
+    pub json: bool,
+    /// Progress on standard error: `auto` shows a live line on a terminal (file i of n, the
+    /// batch's ETA) and a plain line every few seconds when standard error is a file; `always`
+    /// also into a pipe; `never` shows none.
+    #[arg(long, value_name = "WHEN", default_value = "auto")]
+    pub progress: crate::progress::When,
+    /// Print nothing but errors (no progress, no summary).
+    #[arg(short, long)]
+    pub quiet: bool,
+}
+
+impl BatchArgs {
+    /// How a batch run with these flags reports; `verbose`: the command's `-v`.
+    pub(crate) fn reporting(&self, verbose: bool) -> Reporting {
+        Reporting {
+            json: self.json,
+            update: self.update,
+            progress: self.progress,
+            quiet: self.quiet,
+            verbose,
+            annotate: None,
+        }
+    }
 }
 
 /// Runs the conversion of every input; returns the exit status ([`exit`]: all done, any
@@ -181,14 +204,7 @@ fn run_pairs(args: &Reporting, options: Options, pairs: &[Pair]) -> Result<i32> 
 impl Args {
     /// How this run reports.
     fn reporting(&self) -> Reporting {
-        Reporting {
-            json: self.json,
-            update: self.update,
-            progress: self.progress,
-            quiet: self.quiet,
-            verbose: self.verbose,
-            annotate: None,
-        }
+        self.batch.reporting(self.verbose)
     }
 
     /// The conversion these options describe.
@@ -342,7 +358,7 @@ impl Args {
     }
 
     pub(crate) fn json_wanted(&self) -> bool {
-        self.json
+        self.batch.json
     }
 
     pub(crate) fn colorspace(&self) -> Option<&str> {

@@ -70,7 +70,7 @@ pub(crate) fn this_run(args: &Args) -> Result<Vec<Pair>> {
         let index = crate::shard::index(shard)?;
         plan = plan.shard(index, shard.count).map_err(planned)?;
     }
-    plan.check_existing(args.conversion.options.overwrite, args.update)
+    plan.check_existing(args.conversion.options.overwrite, args.batch.update)
         .map_err(planned)?;
     Ok(plan.into_pairs())
 }
