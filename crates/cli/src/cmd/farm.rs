@@ -18,6 +18,7 @@ Examples:
   specconv farm submit textures/*.tx -o /shared/spectral --tasks 16 --cpus-per-task 4
   find textures -name '*.tx' | specconv farm submit - -o /shared/spectral --tasks 64 --wait
   specconv farm submit textures/*.tx -o spectral --tasks 4 --dry-run
+  specconv farm submit shot.usda -o /shared/spectral --tasks 8 --wait
   specconv farm status /shared/spectral/specconv-farm-1764601234
   specconv farm collect --json /shared/spectral/specconv-farm-1764601234
   specconv farm retry --wait /shared/spectral/specconv-farm-1764601234
@@ -59,7 +60,10 @@ enum Farm {
 ///
 /// Takes every option of `convert`; -j comes from --cpus-per-task, and tasks always skip
 /// outputs that are up to date (-u). The inputs are split into --tasks shards of nearly equal
-/// pixel count, the same plan as `convert --shard`.
+/// pixel count, the same plan as `convert --shard`. A USD stage (.usd, .usda, .usdc, .usdz,
+/// given alone) is submitted as `specconv asset` converts it: each texture decided here by its
+/// material and converted by the tasks in that colour space, outputs below DIR; `farm collect`
+/// writes the layer DIR/STEM_spectral.usda (docs/farm.md).
 #[derive(Debug, clap::Args)]
 struct Submit {
     #[command(flatten)]
