@@ -332,6 +332,12 @@ fn a_usdz_package_is_read_and_its_textures_copied_out_inside_dir() {
     let v = layer_files(&python, &out.join("packed_spectral.usda"));
     let file = v["files"]["/Looks/P/Albedo"]["resolved"].as_str().unwrap();
     assert_eq!(Path::new(file), output);
+    // Copied out again unchanged, the copy is kept as it was: -u finds the output up to date.
+    let again = asset(&python, &dir.path("packed.usdz"), &out)
+        .args(["--json", "-u"])
+        .ok()
+        .json_lines();
+    assert_eq!(again[0]["status"], "skipped", "{:#}", again[0]);
     // A corrupt package: usd-core's refusal, said as an error.
     let bytes = std::fs::read(dir.path("packed.usdz")).unwrap();
     let mut bad = bytes.clone();

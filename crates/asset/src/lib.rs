@@ -28,7 +28,8 @@ pub use decide::{Decision, Space, Texture};
 pub use plan::{Asset, Job, LayerPlan, Override, Planned};
 pub use reader::{install_line, Reader, DEFAULT_TIMEOUT, PYTHON_VAR, TIMEOUT_VAR};
 pub use run::{
-    finish, make_folders, member, prepare, same_jobs, with_member, Converters, Outcomes, Prepared,
+    farm_layer, finish, make_folders, member, prepare, same_jobs, with_member, Converters,
+    FarmFile, Outcomes, Prepared,
 };
 pub use stage::{Node, Stage, Use};
 

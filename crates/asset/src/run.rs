@@ -212,6 +212,41 @@ pub fn same_jobs(jobs: &[Job], files: &[(PathBuf, PathBuf, Option<String>)]) -> 
     Ok(())
 }
 
+/// One file of a farm job of a stage, as its manifest and its logs say: input, output, the
+/// colour space its conversion was given, and whether it is done.
+pub type FarmFile = (PathBuf, PathBuf, Option<String>, bool);
+
+/// The layer of a farm job of `stage` into `dir` (`farm collect`): the stage read and planned
+/// again with `options`; written, over the colour textures whose files are all done, only when
+/// that plan is exactly the job's `files` ([`same_jobs`]). `Err`: why no layer was written.
+pub fn farm_layer(
+    reader: &Reader,
+    (stage, dir): (&Path, &Path),
+    options: &Options,
+    files: &[FarmFile],
+) -> Result<LayerPlan, String> {
+    let Prepared { asset, jobs } =
+        prepare(reader, (stage, dir), options, (false, true)).map_err(|e| e.to_string())?;
+    let planned: Vec<_> = files
+        .iter()
+        .map(|(i, o, c, _)| (i.clone(), o.clone(), c.clone()))
+        .collect();
+    same_jobs(&jobs, &planned).map_err(|why| {
+        format!("{why} (the stage changed since the job was submitted, or the manifest was edited)")
+    })?;
+    let done: std::collections::HashSet<&Path> = files
+        .iter()
+        .filter(|f| f.3)
+        .map(|f| f.0.as_path())
+        .collect();
+    let layer = asset.layer_plan(|k| {
+        let mut of = jobs.iter().filter(|j| j.texture == k).peekable();
+        of.peek().is_some() && of.all(|j| done.contains(j.input.as_path()))
+    });
+    reader.write_layer(&layer).map_err(|e| e.to_string())?;
+    Ok(layer)
+}
+
 /// Writes the layer: every colour texture that is done pointed at its spectral file.
 pub fn finish(reader: &Reader, asset: &Asset, outcomes: &Outcomes) -> Result<LayerPlan, Error> {
     let layer = asset.layer_plan(|k| outcomes.done(k));

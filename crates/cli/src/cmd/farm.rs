@@ -422,57 +422,47 @@ fn asset_error(e: specconv_asset::Error) -> anyhow::Error {
     }
 }
 
-/// A stage's job: the layer over the stage, pointing every colour texture whose files are all
-/// done at its spectral file, written when a fresh read of the stage plans exactly the job's
-/// files (a stage changed since submit, or a manifest edited, writes none: false).
+/// A stage's job: the layer over the stage ([`specconv_asset::farm_layer`]); false when none
+/// was written (a stage changed since submit, a manifest edited), said as an error.
 fn write_layer(m: &Manifest, job_dir: &Path, status: &Status) -> Result<bool> {
     let (Some(job), Outputs::Tree(dir)) = (&m.asset, &m.outputs) else {
         return Ok(true);
     };
-    let not_written = |why: String| {
-        print_error(&format!(
-            "the layer {} is not written: {why}; submit the stage again (-u keeps what is done)",
-            job.layer.display()
-        ));
-        Ok(false)
-    };
     let options = task_options(m, job_dir).map_err(usage)?;
     let reader = Reader::from_env().map_err(asset_error)?;
-    let Prepared { asset, jobs } =
-        match specconv_asset::prepare(&reader, (&job.stage, dir), &options, (false, true)) {
-            Ok(p) => p,
-            Err(e) => return not_written(e.to_string()),
-        };
-    let files: Vec<_> = m
+    let files: Vec<specconv_asset::FarmFile> = status
         .files
         .iter()
-        .map(|f| (f.input.clone(), f.output.clone(), f.colorspace.clone()))
+        .map(|f| {
+            let file = &m.files[f.index];
+            let done = f.state == FileState::Done;
+            (
+                file.input.clone(),
+                file.output.clone(),
+                file.colorspace.clone(),
+                done,
+            )
+        })
         .collect();
-    if let Err(why) = specconv_asset::same_jobs(&jobs, &files) {
-        return not_written(format!(
-            "{why} (the stage changed since the job was submitted, or the manifest was edited)"
-        ));
+    match specconv_asset::farm_layer(&reader, (&job.stage, dir), &options, &files) {
+        Ok(layer) => {
+            errln!(
+                "specconv: layer {} over {}: {} texture node(s) pointed at spectral files",
+                layer.layer.display(),
+                job.stage.display(),
+                layer.overrides.len()
+            );
+            Ok(true)
+        }
+        Err(why) => {
+            print_error(&format!(
+                "the layer {} is not written: {why}; submit the stage again (-u keeps what is \
+                 up to date)",
+                job.layer.display()
+            ));
+            Ok(false)
+        }
     }
-    let done: std::collections::HashSet<&Path> = status
-        .files
-        .iter()
-        .filter(|f| f.state == FileState::Done)
-        .map(|f| f.input.as_path())
-        .collect();
-    let layer = asset.layer_plan(|k| {
-        let mut of = jobs.iter().filter(|j| j.texture == k).peekable();
-        of.peek().is_some() && of.all(|j| done.contains(j.input.as_path()))
-    });
-    reader
-        .write_layer(&layer)
-        .with_context(|| format!("cannot write the layer {}", layer.layer.display()))?;
-    errln!(
-        "specconv: layer {} over {}: {} texture node(s) pointed at spectral files",
-        layer.layer.display(),
-        job.stage.display(),
-        layer.overrides.len()
-    );
-    Ok(true)
 }
 
 /// The OCIO config a command checked, as every task must name it: a file by its absolute path
