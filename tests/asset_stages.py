@@ -107,6 +107,18 @@ def mixed(d):
     s.Save()
 
 
+def grey(d):
+    """Two grey (one-channel) textures: one feeds diffuseColor with no space named, one feeds
+    roughness."""
+    s = Usd.Stage.CreateNew(os.path.join(d, "grey.usda"))
+    m = material(s, "/Looks/G", [
+        T("Albedo", "./tex/grey_albedo.png", {"rgb": "diffuseColor"}),
+        T("Rough", "./tex/grey_rough.png", {"r": "roughness"}),
+    ])
+    bind(s, "/Geo", m)
+    s.Save()
+
+
 def missing(d):
     s = Usd.Stage.CreateNew(os.path.join(d, "missing.usda"))
     m = material(s, "/Looks/M", [T("Gone", "./tex/gone.png", {"rgb": "diffuseColor"}, "sRGB")])

@@ -103,6 +103,8 @@ fn layer_files(python: &str, layer: &Path) -> Value {
         \x20       v = a.Get()\n\
         \x20       out[str(p.GetPath())] = dict(file=v.path, resolved=v.resolvedPath,\n\
         \x20           original=a.GetCustomDataByKey('specconv:original'),\n\
+        \x20           cs=a.GetColorSpace() or None,\n\
+        \x20           original_cs=a.GetCustomDataByKey('specconv:originalColorSpace'),\n\
         \x20           scs=p.GetAttribute('inputs:sourceColorSpace').Get())\n\
         print(json.dumps(dict(files=out, sublayers=list(s.GetRootLayer().subLayerPaths))))\n";
     let out = std::process::Command::new(python)
@@ -117,28 +119,27 @@ fn layer_files(python: &str, layer: &Path) -> Value {
     json(&String::from_utf8_lossy(&out.stdout))
 }
 
-#[test]
-fn the_material_decides_and_the_layer_points_at_the_spectral_files() {
-    let Some(python) = usd() else { return };
-    let dir = Scratch::new("asset-basic");
+/// The basic stage in `dir/shot`, with the texture it reads outside its folder
+/// (`dir/outside/sky.png`); returns the stage's folder.
+fn basic_shot(dir: &Scratch) -> PathBuf {
     let shot = dir.path("shot");
     std::fs::create_dir_all(&shot).unwrap();
     std::fs::create_dir_all(dir.path("outside")).unwrap();
     let sky = dir.path("outside/sky.png");
+    let sky = sky.to_str().unwrap();
     tool(
         "oiiotool",
-        &[
-            "--pattern",
-            "checker",
-            "8x8",
-            "3",
-            "-d",
-            "uint8",
-            "-o",
-            sky.to_str().unwrap(),
-        ],
+        &["--pattern", "checker", "8x8", "3", "-d", "uint8", "-o", sky],
     );
     stage(&shot, "basic");
+    shot
+}
+
+#[test]
+fn the_material_decides_and_the_layer_points_at_the_spectral_files() {
+    let Some(python) = usd() else { return };
+    let dir = Scratch::new("asset-basic");
+    let shot = basic_shot(&dir);
     let before = tree(&dir.0);
     let out = dir.path("out");
     let run = asset(&python, &shot.join("shot.usda"), &out)
@@ -229,6 +230,14 @@ fn the_material_decides_and_the_layer_points_at_the_spectral_files() {
         "./tex/rock_arm.png"
     );
     assert!(files["/World/Rock/Looks/Rock/Arm"]["original"].is_null());
+    // A MaterialX node's colorspace would convert the spectra from ACEScg: raw, the original kept.
+    let mx = &files["/World/Looks/Mx/Base"];
+    assert_eq!(mx["file"], "./tex/wood_acescg_spectral.exr");
+    assert_eq!(
+        (&mx["cs"], &mx["original_cs"]),
+        (&json("\"raw\""), &json("\"acescg\""))
+    );
+    assert!(files["/World/Rock/Looks/Rock/Albedo"]["cs"].is_null());
     // A second run with -u converts nothing and rewrites the layer.
     let again = asset(&python, &shot.join("shot.usda"), &out)
         .args(["--json", "-u"])
@@ -323,6 +332,12 @@ fn a_usdz_package_is_read_and_its_textures_copied_out_inside_dir() {
     let v = layer_files(&python, &out.join("packed_spectral.usda"));
     let file = v["files"]["/Looks/P/Albedo"]["resolved"].as_str().unwrap();
     assert_eq!(Path::new(file), output);
+    // Copied out again unchanged, the copy is kept as it was: -u finds the output up to date.
+    let again = asset(&python, &dir.path("packed.usdz"), &out)
+        .args(["--json", "-u"])
+        .ok()
+        .json_lines();
+    assert_eq!(again[0]["status"], "skipped", "{:#}", again[0]);
     // A corrupt package: usd-core's refusal, said as an error.
     let bytes = std::fs::read(dir.path("packed.usdz")).unwrap();
     let mut bad = bytes.clone();
@@ -467,5 +482,304 @@ fn data_textures_follow_the_data_policy_and_colour_ones_convert() {
     assert_eq!(
         v["files"]["/Looks/M/Albedo"]["file"],
         "./tex/rock_albedo_spectral.exr"
+    );
+}
+
+/// Slurm's commands as a cluster that took the job and then forgot it: `sbatch` prints a job
+/// id, `scontrol` and `sacct` know none, so states come from the tasks' own end events.
+/// Returns a PATH with them first.
+fn forgetful_slurm(dir: &Scratch) -> String {
+    use std::os::unix::fs::PermissionsExt;
+    let bin = dir.path("bin");
+    std::fs::create_dir_all(&bin).unwrap();
+    for (name, text) in [
+        ("sbatch", "cat > /dev/null; echo 4242"),
+        ("scontrol", "echo 'Invalid job id specified' >&2; exit 1"),
+        ("sacct", "exit 1"),
+    ] {
+        let p = bin.join(name);
+        std::fs::write(&p, format!("#!/bin/sh\n{text}\n")).unwrap();
+        std::fs::set_permissions(&p, std::fs::Permissions::from_mode(0o755)).unwrap();
+    }
+    let path = std::env::var("PATH").unwrap_or_default();
+    format!("{}:{path}", bin.display())
+}
+
+/// `farm submit STAGE` into `out` with the job directory `job`, then every task of round 0 run
+/// as Slurm runs it (the round's script, `$SLURM_ARRAY_TASK_ID`, standard output and error into
+/// the task's log); returns the manifest.
+fn farm_stage(python: &str, path: &str, stage: &Path, (out, job): (&Path, &Path)) -> Value {
+    let s = |p: &Path| p.to_str().unwrap().to_owned();
+    Cmd::new(["farm", "submit", &s(stage), "-o", &s(out), "--tasks", "2"])
+        .args(["--job-dir", &s(job), "--json"])
+        .env("PATH", path)
+        .env("SPECCONV_USD_PYTHON", python)
+        .ok();
+    let manifest = json(&std::fs::read_to_string(job.join("manifest.json")).unwrap());
+    let round = job.join("round-0");
+    for t in 0..manifest["rounds"][0]["tasks"].as_array().unwrap().len() {
+        let log = |ext: &str| std::fs::File::create(round.join(format!("task-{t}.{ext}"))).unwrap();
+        let status = std::process::Command::new("bash")
+            .arg(round.join("job.sbatch"))
+            .env("SLURM_ARRAY_TASK_ID", t.to_string())
+            .env("PATH", path)
+            .env_remove("SPECCONV_USD_PYTHON")
+            .current_dir(manifest["workdir"].as_str().unwrap())
+            .stdout(log("jsonl"))
+            .stderr(log("err"))
+            .status()
+            .unwrap();
+        assert!(
+            status.success(),
+            "task {t}: {}",
+            std::fs::read_to_string(round.join(format!("task-{t}.err"))).unwrap()
+        );
+    }
+    manifest
+}
+
+/// The files of `dir` but the farm's marker, as (path below `dir`, bytes).
+fn contents(dir: &Path) -> Vec<(PathBuf, Vec<u8>)> {
+    tree(dir)
+        .into_iter()
+        .filter(|(p, _)| !p.ends_with(".specconv-farm"))
+        .map(|(p, _)| {
+            (
+                p.strip_prefix(dir).unwrap().to_path_buf(),
+                std::fs::read(&p).unwrap(),
+            )
+        })
+        .collect()
+}
+
+/// `farm submit STAGE`: each texture decided once, at submit, by the asset's rule and carried
+/// in the manifest, so the tasks (no usd-core on them) convert every texture as `asset` does,
+/// byte for byte, and `collect` writes the same layer. An edited manifest and a stage changed
+/// between submit and run never get a layer.
+#[test]
+fn a_stage_on_the_farm_converts_every_texture_as_asset_does() {
+    let Some(python) = usd() else { return };
+    let dir = Scratch::new("asset-farm");
+    let shot = basic_shot(&dir);
+    let stage = shot.join("shot.usda");
+    let local = dir.path("local");
+    asset(&python, &stage, &local).ok();
+    let path = forgetful_slurm(&dir);
+    let (out, job) = (dir.path("farm"), dir.path("job"));
+    let m = farm_stage(&python, &path, &stage, (&out, &job));
+    // The decisions travel with the files: the material's spaces, the data space for data.
+    let space = |name: &str| {
+        m["files"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|f| f["input"].as_str().unwrap().ends_with(name))
+            .unwrap_or_else(|| panic!("{name}: {m:#}"))["colorspace"]
+            .clone()
+    };
+    assert_eq!(space("rock_albedo.png"), "sRGB - Texture");
+    assert_eq!(space("wood_acescg.exr"), "ACEScg");
+    assert_eq!(space("wood.1002.png"), "sRGB - Texture");
+    assert!(
+        space("dirty_albedo.png").is_null(),
+        "the file decides its space"
+    );
+    assert_eq!(space("rock_arm.png"), "Raw");
+    assert_eq!(m["asset"]["stage"], stage.to_str().unwrap());
+    let collect = |path: &str| {
+        Cmd::new(["farm", "collect", job.to_str().unwrap()])
+            .env("PATH", path)
+            .env("SPECCONV_USD_PYTHON", &python)
+            .run()
+    };
+    let c = collect(&path);
+    assert_eq!(c.code, 0, "{}\n{}", c.stdout, c.stderr);
+    assert!(c.stdout.contains("8 files: 8 done"), "{}", c.stdout);
+    assert!(
+        c.stderr.contains("5 texture node(s) pointed"),
+        "{}",
+        c.stderr
+    );
+    // The same files, byte for byte, the layer too.
+    let (a, f) = (contents(&local), contents(&out));
+    let names = |v: &[(PathBuf, Vec<u8>)]| v.iter().map(|(p, _)| p.clone()).collect::<Vec<_>>();
+    assert_eq!(names(&a), names(&f));
+    for ((name, x), (_, y)) in a.iter().zip(&f) {
+        assert!(
+            x == y,
+            "{} differs between asset and the farm",
+            name.display()
+        );
+    }
+
+    // A manifest edited to give a texture another colour space: the tasks would convert it so,
+    // but no layer is written over it.
+    let text = std::fs::read_to_string(job.join("manifest.json")).unwrap();
+    let edited = text.replacen("\"sRGB - Texture\"", "\"ACEScg\"", 1);
+    assert_ne!(edited, text);
+    std::fs::write(job.join("manifest.json"), &edited).unwrap();
+    let layer = out.join("shot_spectral.usda");
+    std::fs::remove_file(&layer).unwrap();
+    let c = collect(&path);
+    assert_eq!(c.code, 1, "{}\n{}", c.stdout, c.stderr);
+    assert!(
+        c.stderr.contains("is not written") && c.stderr.contains("manifest was edited"),
+        "{}",
+        c.stderr
+    );
+    assert!(!layer.exists());
+    // One edited to point a texture's output out of DIR: refused whole, exit status 2.
+    let away = text.replacen(
+        out.join("tex/").to_str().unwrap(),
+        &format!("{}/../../", out.join("tex").display()),
+        1,
+    );
+    assert_ne!(away, text);
+    std::fs::write(job.join("manifest.json"), &away).unwrap();
+    let c = collect(&path);
+    assert_eq!(c.code, 2, "{}\n{}", c.stdout, c.stderr);
+    assert!(
+        c.stderr.contains("output tree") && c.stderr.contains("edited or damaged"),
+        "{}",
+        c.stderr
+    );
+
+    // The stage changed between submit and run (the albedo now says raw): the tasks convert as
+    // decided at submit, and collect finds the stage plans otherwise and writes no layer.
+    let (out2, job2) = (dir.path("farm2"), dir.path("job2"));
+    let asset_layer = shot.join("asset.usda");
+    let before = std::fs::read_to_string(&asset_layer).unwrap();
+    let changed = before.replacen("\"sRGB\"", "\"raw\"", 1);
+    assert_ne!(changed, before);
+    Cmd::new([
+        "farm",
+        "submit",
+        stage.to_str().unwrap(),
+        "-o",
+        out2.to_str().unwrap(),
+        "--tasks",
+        "1",
+        "--dry-run",
+    ])
+    .env("PATH", &path)
+    .env("SPECCONV_USD_PYTHON", &python)
+    .ok();
+    let submitted = {
+        let s = |p: &Path| p.to_str().unwrap().to_owned();
+        Cmd::new([
+            "farm",
+            "submit",
+            &s(&stage),
+            "-o",
+            &s(&out2),
+            "--tasks",
+            "1",
+        ])
+        .args(["--job-dir", &s(&job2)])
+        .env("PATH", &path)
+        .env("SPECCONV_USD_PYTHON", &python)
+        .ok()
+    };
+    assert!(
+        submitted.stdout.contains("submitted job 4242"),
+        "{}",
+        submitted.stdout
+    );
+    std::fs::write(&asset_layer, changed).unwrap();
+    let round = job2.join("round-0");
+    let status = std::process::Command::new("bash")
+        .arg(round.join("job.sbatch"))
+        .env("SLURM_ARRAY_TASK_ID", "0")
+        .env("PATH", &path)
+        .stdout(std::fs::File::create(round.join("task-0.jsonl")).unwrap())
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let c = Cmd::new(["farm", "collect", job2.to_str().unwrap()])
+        .env("PATH", &path)
+        .env("SPECCONV_USD_PYTHON", &python)
+        .run();
+    assert_eq!(c.code, 1, "{}\n{}", c.stdout, c.stderr);
+    assert!(
+        c.stderr.contains("no longer plans") || c.stderr.contains("now plans"),
+        "{}",
+        c.stderr
+    );
+    assert!(!out2.join("shot_spectral.usda").exists());
+    std::fs::write(&asset_layer, before).unwrap();
+
+    // A stage is submitted alone, into -o DIR.
+    let s = stage.to_str().unwrap();
+    Cmd::new(["farm", "submit", s, s, "-o", "x", "--tasks", "1"]).fails(2, &["submitted alone"]);
+    Cmd::new([
+        "farm",
+        "submit",
+        s,
+        "--output-template",
+        "{stem}.exr",
+        "--job-dir",
+        "j",
+        "--tasks",
+        "1",
+    ])
+    .env("SPECCONV_USD_PYTHON", &python)
+    .fails(2, &["give -o DIR"]);
+}
+
+/// A grey texture its material calls colour without naming a space is uplifted as grey in the
+/// space the file's evidence gives (the material outranks the data-map rule); a grey one that
+/// feeds roughness stays data. The temporary layer a killed run left is removed by the next.
+#[test]
+fn a_grey_texture_the_material_calls_colour_is_uplifted_and_a_dead_runs_layer_temporary_goes() {
+    let Some(python) = usd() else { return };
+    let dir = Scratch::new("asset-grey");
+    stage(&dir.0, "grey");
+    for name in ["grey_albedo", "grey_rough"] {
+        let p = dir.path(&format!("tex/{name}.png"));
+        tool(
+            "oiiotool",
+            &[
+                "--pattern",
+                "noise",
+                "8x8",
+                "1",
+                "-d",
+                "uint8",
+                "-o",
+                p.to_str().unwrap(),
+            ],
+        );
+    }
+    let out = dir.path("out");
+    std::fs::create_dir_all(&out).unwrap();
+    let stale = out.join(".grey_spectral.usda.specconv-0123456789abcdef.tmp");
+    std::fs::write(&stale, "half a layer").unwrap();
+    let r = asset(&python, &dir.path("grey.usda"), &out)
+        .arg("--json")
+        .ok()
+        .json_lines();
+    let albedo = record(&r, "grey_albedo.png");
+    assert_eq!(albedo["status"], "ok", "{albedo:#}");
+    assert_eq!(albedo["colorspace"], "sRGB - Texture");
+    assert_eq!(albedo["asset"]["rule"], "colour-input");
+    assert!(albedo["asset"]["why"]
+        .as_str()
+        .unwrap()
+        .contains("uplifted as grey"));
+    // `convert` alone takes it as data, by the data-map rule: the material made the difference.
+    let alone = Cmd::convert(dir.path("tex/grey_albedo.png"), dir.path("alone.exr"))
+        .arg("--json")
+        .ok()
+        .json();
+    assert_eq!(alone["status"], "data");
+    assert_eq!(record(&r, "grey_rough.png")["status"], "data");
+    assert!(
+        !stale.exists(),
+        "the dead run's temporary layer is still there"
+    );
+    let v = layer_files(&python, &out.join("grey_spectral.usda"));
+    assert_eq!(
+        v["files"]["/Looks/G/Albedo"]["file"],
+        "./tex/grey_albedo_spectral.exr"
     );
 }

@@ -27,7 +27,10 @@ pub mod stage;
 pub use decide::{Decision, Space, Texture};
 pub use plan::{Asset, Job, LayerPlan, Override, Planned};
 pub use reader::{install_line, Reader, DEFAULT_TIMEOUT, PYTHON_VAR, TIMEOUT_VAR};
-pub use run::{finish, make_folders, member, prepare, with_member, Converters, Outcomes, Prepared};
+pub use run::{
+    farm_layer, finish, make_folders, member, prepare, same_jobs, with_member, Converters,
+    FarmFile, Outcomes, Prepared,
+};
 pub use stage::{Node, Stage, Use};
 
 use std::ffi::OsString;
@@ -143,6 +146,16 @@ impl Error {
                 | Error::BadTimeout { .. }
         )
     }
+}
+
+/// Whether `path` names a USD stage by its extension (`.usd`, `.usda`, `.usdc`, `.usdz`): what
+/// `farm submit` plans as an asset rather than as a texture.
+pub fn is_stage(path: &Path) -> bool {
+    let ext = path.extension().map(|e| e.to_ascii_lowercase());
+    matches!(
+        ext.as_ref().and_then(|e| e.to_str()),
+        Some("usd" | "usda" | "usdc" | "usdz")
+    )
 }
 
 /// Checks that `stage` can be given to usd-core: a regular file (a FIFO would block it) that

@@ -91,6 +91,10 @@ pub struct Override {
     pub original_resolved: Option<PathBuf>,
     /// A UsdUVTexture: `inputs:sourceColorSpace` becomes `raw` (the spectra are linear).
     pub raw: bool,
+    /// The `colorSpace` the stage gave `inputs:file` (MaterialX's `colorspace`): the layer sets
+    /// it to `raw` (the spectral file is read as written, like `sourceColorSpace` `raw`) and
+    /// records this one.
+    pub original_colorspace: Option<String>,
 }
 
 /// Where the packaged textures of `stage` are copied out to, under `dir`.
@@ -194,6 +198,7 @@ impl Asset {
                     original: n.authored.clone(),
                     original_resolved: n.resolved.clone(),
                     raw: n.node_id.as_deref() == Some("UsdUVTexture"),
+                    original_colorspace: n.colorspace.clone(),
                 });
             }
         }
@@ -255,13 +260,22 @@ fn planned(
         };
         return not_converted(texture, why);
     };
-    let decision = decide(&nodes);
+    let mut decision = decide(&nodes);
+    let grey = grey_colour(&decision, &file, config);
+    if let (Decision::Colour { why, .. }, Some(space)) = (&mut decision, &grey) {
+        why.push_str(&format!(
+            "; one channel, which the data-map rule alone would take as data: the material \
+             calls it colour, so it is uplifted as grey in {space}, the space the file's \
+             evidence gives"
+        ));
+    }
     let texture = Texture {
         file: file.clone(),
         nodes,
         decision,
     };
     let space = match &texture.decision {
+        Decision::Colour { .. } if grey.is_some() => Ok(grey),
         Decision::Colour { space, .. } => colour_space(space, config),
         Decision::Data { .. } => named(config, "data"),
         Decision::Conflict { why } | Decision::Missing { why } => {
@@ -277,6 +291,34 @@ fn planned(
             texture,
         },
         Err(why) => not_converted(texture, why),
+    }
+}
+
+/// For a colour texture whose space the file decides, and whose file is one channel that the
+/// data-map rule of docs/colour.md would make data: the space rows 4 to 6 give it. The material
+/// is stronger evidence than that rule (it says colour), so the texture is uplifted as grey,
+/// in that space, named to the conversion. `None` otherwise (or when the file cannot be read:
+/// the conversion says why).
+fn grey_colour(decision: &Decision, file: &Path, config: &ColourConfig) -> Option<String> {
+    let Decision::Colour {
+        space: Space::File, ..
+    } = decision
+    else {
+        return None;
+    };
+    // A UDIM pattern: its first tile speaks for the set.
+    let tile = match udim::expand(file) {
+        Ok(Some(tiles)) => tiles.into_iter().next()?.path,
+        Ok(None) => file.to_path_buf(),
+        Err(_) => return None,
+    };
+    let options = specconv_conversion::Options::default();
+    let described = specconv_conversion::describe(config, &tile, &options).ok()?;
+    match described.colour {
+        Ok(specconv_conversion::ReadAs::Data { rule, .. }) => {
+            rule.colour_after_all().map(str::to_string)
+        }
+        _ => None,
     }
 }
 

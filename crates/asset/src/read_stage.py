@@ -5,7 +5,8 @@ only reports what the stage says, and the library (crates/asset) decides.
     read STAGE INPUTS [DIR]    prints the textures bound materials read, as one JSON object;
                                INPUTS (a JSON list) are the material inputs a use ends at; with
                                DIR, textures inside a usdz package are copied there
-    layer                      reads a plan (JSON) on stdin and writes the layer of overrides
+    layer                      reads a plan (JSON) on stdin and prints the layer of overrides
+                               (usda text), which specconv writes
 
 Exit status 3: usd-core (the pxr module) is missing. Any other failure is a JSON object with
 "error" on stdout, exit status 2.
@@ -139,9 +140,17 @@ def extract(resolved, member, into, Ar):
     if asset is None:
         fail("package", "cannot read " + resolved + " from its usdz package")
     os.makedirs(os.path.dirname(target), exist_ok=True)
+    data = bytes(asset.GetBuffer())
+    # A copy already there with these bytes is kept: rewriting it would make every output
+    # converted from it look out of date to -u (and to a farm job's collect).
+    if os.path.isfile(target) and not os.path.islink(target) \
+            and os.path.getsize(target) == len(data):
+        with open(target, "rb") as have:
+            if have.read() == data:
+                return target
     tmp = target + ".specconv-tmp-%d" % os.getpid()
     with open(tmp, "wb") as out:
-        out.write(bytes(asset.GetBuffer()))
+        out.write(data)
     os.replace(tmp, target)
     return target
 
@@ -189,13 +198,11 @@ def read(stage_path, extract_dir, final_inputs):
 
 
 def layer():
+    """Prints the layer of overrides as usda text; specconv writes it (atomically, beside it)."""
     from pxr import Sdf, Tf
     plan = json.load(sys.stdin)
-    path = plan["layer"]
-    tmp = os.path.join(os.path.dirname(path),
-                       ".%s.specconv-tmp-%d.usda" % (os.path.basename(path), os.getpid()))
     try:
-        out = Sdf.Layer.CreateNew(tmp)
+        out = Sdf.Layer.CreateAnonymous(".usda")
         out.subLayerPaths.append(plan["sublayer"])
         out.customLayerData = {"specconv": {"stage": plan["stage"]}}
         for o in plan["overrides"]:
@@ -205,18 +212,19 @@ def layer():
             attr.default = Sdf.AssetPath(o["file"])
             # Read back as customData key paths `specconv:original`, `specconv:originalResolved`.
             attr.customData = {"specconv": {k: v for k, v in (
-                ("original", o["original"]), ("originalResolved", o["original_resolved"]))
-                if v is not None}}
+                ("original", o["original"]), ("originalResolved", o["original_resolved"]),
+                ("originalColorSpace", o.get("original_colorspace"))) if v is not None}}
+            if o.get("original_colorspace") is not None:
+                # MaterialX's colorspace would convert the spectra from that space: read them
+                # as written instead, as sourceColorSpace raw does for a UsdUVTexture.
+                attr.SetInfo("colorSpace", "raw")
             if o.get("raw"):
                 # The spectral file holds linear reflectance: nothing may sRGB-decode it.
                 scs = Sdf.AttributeSpec(prim, "inputs:sourceColorSpace",
                                         Sdf.ValueTypeNames.Token)
                 scs.default = "raw"
-        out.Save()
-        os.replace(tmp, path)
+        sys.stdout.write(out.ExportToString())
     except Tf.ErrorException as e:
-        if os.path.exists(tmp):
-            os.remove(tmp)
         fail("layer", str(e).strip())
 
 

@@ -80,10 +80,14 @@ impl Reader {
     }
 
     /// Writes the layer of overrides `plan` describes (a JSON object, see
-    /// [`crate::plan::LayerPlan`]).
+    /// [`crate::plan::LayerPlan`]): usd-core makes its text, and it is written as every output
+    /// is (`specconv_atomic_file`: a locked temporary beside it, renamed into place; the
+    /// temporaries a killed run left beside it are removed first).
     pub fn write_layer(&self, plan: &crate::plan::LayerPlan) -> Result<(), Error> {
         let json = serde_json::to_vec(plan).map_err(|e| Error::Reader(e.to_string()))?;
-        self.run(&[OsStr::new("layer")], Some(json)).map(|_| ())
+        let text = self.run(&[OsStr::new("layer")], Some(json))?;
+        specconv_atomic_file::write(&plan.layer, &text)
+            .map_err(|e| Error::Io(plan.layer.clone(), e))
     }
 
     /// Runs the script with `args`, `stdin` written to it; its standard output, or the error

@@ -76,15 +76,25 @@ impl Converters {
     /// The converters of `jobs`, each checked as `Converter::new` checks; with no job, one of
     /// `options` as they are (the batch needs one).
     pub fn new(options: &Options, jobs: &[Job]) -> Result<Converters, specconv_conversion::Error> {
+        Converters::of_spaces(options, jobs.iter().map(|j| j.colorspace.as_deref()))
+    }
+
+    /// The converters of inputs given these colour spaces in turn (a farm task's files, as the
+    /// manifest carries the asset's decisions): one per space, `options` with that space.
+    pub fn of_spaces<'a>(
+        options: &Options,
+        spaces: impl IntoIterator<Item = Option<&'a str>>,
+    ) -> Result<Converters, specconv_conversion::Error> {
         let mut list: Vec<(Option<String>, Converter)> = Vec::new();
-        let mut of_job = Vec::with_capacity(jobs.len());
-        for j in jobs {
-            let k = match list.iter().position(|(space, _)| *space == j.colorspace) {
+        let mut of_job = Vec::new();
+        for space in spaces {
+            let space = space.map(str::to_string);
+            let k = match list.iter().position(|(s, _)| *s == space) {
                 Some(k) => k,
                 None => {
                     let mut o = options.clone();
-                    o.colorspace = j.colorspace.clone();
-                    list.push((j.colorspace.clone(), Converter::new(o)?));
+                    o.colorspace = space.clone();
+                    list.push((space, Converter::new(o)?));
                     list.len() - 1
                 }
             };
@@ -159,6 +169,82 @@ impl Outcomes {
             && !s.is_empty()
             && s.iter().all(|s| matches!(*s, "ok" | "clipped" | "skipped"))
     }
+}
+
+/// Whether a fresh plan's `jobs` are exactly a farm job's `files` (input, output, colour space
+/// given), in any order: the stage still says what the job converted. `Err`: the first
+/// difference, in words.
+pub fn same_jobs(jobs: &[Job], files: &[(PathBuf, PathBuf, Option<String>)]) -> Result<(), String> {
+    let now: std::collections::BTreeSet<(&Path, &Path, Option<&str>)> = jobs
+        .iter()
+        .map(|j| {
+            (
+                j.input.as_path(),
+                j.output.as_path(),
+                j.colorspace.as_deref(),
+            )
+        })
+        .collect();
+    let then: std::collections::BTreeSet<(&Path, &Path, Option<&str>)> = files
+        .iter()
+        .map(|(i, o, c)| (i.as_path(), o.as_path(), c.as_deref()))
+        .collect();
+    let say = |(i, o, c): &(&Path, &Path, Option<&str>)| {
+        format!(
+            "{} → {} (colour space {})",
+            i.display(),
+            o.display(),
+            c.unwrap_or("from the file")
+        )
+    };
+    if let Some(gone) = then.difference(&now).next() {
+        return Err(format!(
+            "the job converts {}, which the stage no longer plans",
+            say(gone)
+        ));
+    }
+    if let Some(new) = now.difference(&then).next() {
+        return Err(format!(
+            "the stage now plans {}, which the job does not convert",
+            say(new)
+        ));
+    }
+    Ok(())
+}
+
+/// One file of a farm job of a stage, as its manifest and its logs say: input, output, the
+/// colour space its conversion was given, and whether it is done.
+pub type FarmFile = (PathBuf, PathBuf, Option<String>, bool);
+
+/// The layer of a farm job of `stage` into `dir` (`farm collect`): the stage read and planned
+/// again with `options`; written, over the colour textures whose files are all done, only when
+/// that plan is exactly the job's `files` ([`same_jobs`]). `Err`: why no layer was written.
+pub fn farm_layer(
+    reader: &Reader,
+    (stage, dir): (&Path, &Path),
+    options: &Options,
+    files: &[FarmFile],
+) -> Result<LayerPlan, String> {
+    let Prepared { asset, jobs } =
+        prepare(reader, (stage, dir), options, (false, true)).map_err(|e| e.to_string())?;
+    let planned: Vec<_> = files
+        .iter()
+        .map(|(i, o, c, _)| (i.clone(), o.clone(), c.clone()))
+        .collect();
+    same_jobs(&jobs, &planned).map_err(|why| {
+        format!("{why} (the stage changed since the job was submitted, or the manifest was edited)")
+    })?;
+    let done: std::collections::HashSet<&Path> = files
+        .iter()
+        .filter(|f| f.3)
+        .map(|f| f.0.as_path())
+        .collect();
+    let layer = asset.layer_plan(|k| {
+        let mut of = jobs.iter().filter(|j| j.texture == k).peekable();
+        of.peek().is_some() && of.all(|j| done.contains(j.input.as_path()))
+    });
+    reader.write_layer(&layer).map_err(|e| e.to_string())?;
+    Ok(layer)
 }
 
 /// Writes the layer: every colour texture that is done pointed at its spectral file.

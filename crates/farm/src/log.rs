@@ -34,8 +34,11 @@ pub struct Record {
 /// What became of one file, by the record's `status`.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Outcome {
-    /// Converted, or skipped because its output was up to date.
+    /// Converted (clipped or not), written through as data, or skipped because its output was
+    /// up to date.
     Done,
+    /// A data texture skipped (`--data skip`): nothing is written, and nothing is owed.
+    Data,
     /// Failed: the record's error message (its JSON text when it is not a string, "failed (no
     /// error given)" when it has none).
     Failed(String),
@@ -84,8 +87,12 @@ impl TaskLog {
                             Some(other) => other.to_string(),
                             None => "failed (no error given)".into(),
                         }),
-                        // A data texture skipped or written through is done, not failed.
-                        Some("ok" | "converted" | "skipped" | "data" | "copied") => Outcome::Done,
+                        // A data texture written through is done, not failed; one skipped is
+                        // done with no output to look for.
+                        Some("ok" | "clipped" | "converted" | "skipped" | "copied") => {
+                            Outcome::Done
+                        }
+                        Some("data") => Outcome::Data,
                         // A status this version does not know: not counted as done.
                         _ => continue,
                     };
@@ -117,6 +124,7 @@ mod tests {
             "{\"input\":\"/b.png\",\"status\":\"failed\",\"seconds\":0.1,\"pixels\":0,\"error\":\"cannot open\"}\n",
             "{\"input\":\"/c.png\",\"status\":\"skipped\",\"seconds\":0,\"pixels\":0}\n",
             "{\"input\":\"/n.png\",\"status\":\"data\",\"seconds\":0,\"pixels\":null}\n",
+            "{\"input\":\"/k.png\",\"status\":\"clipped\",\"seconds\":1,\"pixels\":4}\n",
             "{\"event\":\"end\",\"task\":1,\"unix\":103.0,\"exit\":1}\n",
             "{\"input\":\"/d.png\",\"sta",
         ));
@@ -124,13 +132,15 @@ mod tests {
             (log.start, log.end, log.exit),
             (Some(100.5), Some(103.0), Some(1))
         );
-        assert_eq!(log.records.len(), 4);
+        assert_eq!(log.records.len(), 5);
         assert_eq!(log.records[Path::new("/a.png")].pixels, 64);
         assert_eq!(
             log.records[Path::new("/b.png")].outcome,
             Outcome::Failed("cannot open".into())
         );
         assert_eq!(log.records[Path::new("/c.png")].outcome, Outcome::Done);
-        assert_eq!(log.records[Path::new("/n.png")].outcome, Outcome::Done);
+        assert_eq!(log.records[Path::new("/n.png")].outcome, Outcome::Data);
+        // A conversion with pixels above 1 is converted, not a status to ignore.
+        assert_eq!(log.records[Path::new("/k.png")].outcome, Outcome::Done);
     }
 }

@@ -45,6 +45,20 @@ pub struct Manifest {
     pub request: Request,
     /// The rounds, in order: the submission first, then each retry.
     pub rounds: Vec<Round>,
+    /// A stage submitted (`farm submit STAGE`): its textures are the files, each with the
+    /// colour space the asset's rule gave it ([`File::colorspace`]); absent for a job of files.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub asset: Option<AssetJob>,
+}
+
+/// What a job of a stage adds (docs/farm.md, docs/assets.md): the stage, and the layer `collect`
+/// writes over it once a fresh read of the stage plans exactly the job's files.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct AssetJob {
+    /// The stage, an absolute path.
+    pub stage: PathBuf,
+    /// The layer over it, `DIR/STEM_spectral.usda`, directly in the job's output directory.
+    pub layer: PathBuf,
 }
 
 /// Where a job's outputs go, as `submit` was told.
@@ -56,6 +70,9 @@ pub enum Outputs {
     /// `--output-template`, as given (relative to [`Manifest::workdir`] when relative): every
     /// output is what it gives for its input.
     Template(String),
+    /// A stage's `-o DIR` (absolute): every output anywhere below it, where the asset's plan
+    /// puts it (`DIR/tex/…`, `DIR/external/HASH/…`), never through `..`.
+    Tree(PathBuf),
 }
 
 /// One input and where its output goes.
@@ -71,6 +88,11 @@ pub struct File {
     pub data: Option<PathBuf>,
     /// Pixels over all levels when planned (0 when the input could not be read then).
     pub pixels: u64,
+    /// The colour space this file's conversion is given (the config's name), as the asset's
+    /// rule decided it at submit (a texture's material names it; a data texture's is the
+    /// config's data space); absent: the job's options and the file's own evidence decide.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub colorspace: Option<String>,
 }
 
 impl File {
@@ -153,11 +175,13 @@ impl Manifest {
                 return Err(untrusted(&p.display(), "not an absolute path".into()));
             }
         }
-        if let Outputs::Directory(dir) = &self.outputs {
+        if let Outputs::Directory(dir) | Outputs::Tree(dir) = &self.outputs {
             if !dir.is_absolute() {
                 return Err(untrusted(&dir.display(), "not an absolute path".into()));
             }
         }
+        self.check_asset()
+            .map_err(|(named, why)| untrusted(&named, why))?;
         for f in &self.files {
             if !f.input.is_absolute() {
                 return Err(untrusted(&f.input.display(), "not an absolute path".into()));
@@ -193,6 +217,37 @@ impl Manifest {
         Ok(())
     }
 
+    /// A stage's job: the stage absolute, the layer a `.usda` directly in its output tree, and
+    /// outputs of a tree only with a stage (`Err`: what is named, and why not).
+    fn check_asset(&self) -> Result<(), (String, String)> {
+        match (&self.asset, &self.outputs) {
+            (None, Outputs::Tree(dir)) => Err((
+                dir.display().to_string(),
+                "an output tree, which only a stage's job has".into(),
+            )),
+            (None, _) => Ok(()),
+            (Some(a), Outputs::Tree(dir)) => {
+                if !a.stage.is_absolute() {
+                    return Err((a.stage.display().to_string(), "not an absolute path".into()));
+                }
+                let named = a.layer.file_name().map(Path::new);
+                let usda = named.and_then(Path::extension) == Some("usda".as_ref());
+                if a.layer.parent() == Some(dir.as_path()) && usda {
+                    Ok(())
+                } else {
+                    Err((
+                        a.layer.display().to_string(),
+                        format!("not a .usda layer directly in {}", dir.display()),
+                    ))
+                }
+            }
+            (Some(a), _) => Err((
+                a.stage.display().to_string(),
+                "a stage, whose job must have an output tree".into(),
+            )),
+        }
+    }
+
     /// Writes the manifest atomically (temporary file, then rename).
     pub fn save(&self, job_dir: &Path) -> Result<(), Error> {
         let path = Manifest::path(job_dir);
@@ -202,8 +257,12 @@ impl Manifest {
             .map_err(|e| Error::Io(format!("cannot write {}", path.display()), e))
     }
 
-    /// The directories outputs go into, sorted, each once.
+    /// The directories outputs go into, sorted, each once (a stage's: its output directory,
+    /// which holds the folders below it).
     pub fn output_dirs(&self) -> Vec<PathBuf> {
+        if let Outputs::Tree(dir) = &self.outputs {
+            return vec![dir.clone()];
+        }
         let dirs: std::collections::BTreeSet<PathBuf> = self
             .files
             .iter()
@@ -250,6 +309,16 @@ impl Outputs {
                         "outside the job's output directory {}",
                         dir.display()
                     ))
+                }
+            }
+            Outputs::Tree(dir) => {
+                let below = output.strip_prefix(dir).ok().filter(|rest| {
+                    rest.components().next().is_some()
+                        && rest.components().all(|c| matches!(c, Component::Normal(_)))
+                });
+                match below {
+                    Some(_) => Ok(()),
+                    None => Err(format!("outside the job's output tree {}", dir.display())),
                 }
             }
             Outputs::Template(t) => {
@@ -458,6 +527,7 @@ pub(crate) fn example(
                 output,
                 data: None,
                 pixels: 1,
+                colorspace: None,
             })
             .collect(),
         request: Request {
@@ -468,6 +538,7 @@ pub(crate) fn example(
             limit: None,
         },
         rounds,
+        asset: None,
     }
 }
 
@@ -567,6 +638,78 @@ mod tests {
         assert!(m.check(&jobs).unwrap_err().to_string().contains("file 1"));
         m.rounds[0].tasks = vec![vec![0], vec![0]];
         assert!(m.check(&jobs).unwrap_err().to_string().contains("twice"));
+    }
+
+    /// A stage's job: outputs anywhere below DIR, never out of it; the layer directly in DIR;
+    /// a manifest of files (no `asset`, no `colorspace`) reads as before.
+    #[test]
+    fn a_stages_outputs_stay_in_its_tree_and_its_layer_in_dir() {
+        let tree = Outputs::Tree("/out".into());
+        let at = |o: &str| {
+            tree.check(
+                Path::new("/w"),
+                Path::new("/s/a.png"),
+                Path::new(o),
+                Spectral,
+            )
+        };
+        assert!(at("/out/tex/a_spectral.exr").is_ok());
+        assert!(at("/out/external/0a1b2c3d/a_spectral.exr").is_ok());
+        for outside in [
+            "/out/../etc/a.exr",
+            "/out",
+            "/outx/a.exr",
+            "/etc/a.exr",
+            "out/a.exr",
+        ] {
+            let e = at(outside).unwrap_err();
+            assert!(
+                e.contains("output tree") || e.contains("absolute"),
+                "{outside}: {e}"
+            );
+        }
+        let jobs = std::env::temp_dir().join(format!("farm-tree-{}", std::process::id()));
+        let mut m = manifest(tree, vec![("/s/tex/a.png", "/out/tex/a_spectral.exr")]);
+        let e = m.check(&jobs).unwrap_err().to_string();
+        assert!(e.contains("only a stage's job"), "{e}");
+        m.asset = Some(AssetJob {
+            stage: "/s/shot.usda".into(),
+            layer: "/out/shot_spectral.usda".into(),
+        });
+        assert!(m.check(&jobs).is_ok());
+        for layer in [
+            "/etc/shot_spectral.usda",
+            "/out/tex/shot_spectral.usda",
+            "/out/x.exr",
+        ] {
+            let mut bad = m.clone();
+            bad.asset.as_mut().unwrap().layer = layer.into();
+            let e = bad.check(&jobs).unwrap_err().to_string();
+            assert!(e.contains(layer) && e.contains("edited or damaged"), "{e}");
+        }
+        let mut files = m.clone();
+        files.outputs = Outputs::Directory("/out".into());
+        files.files[0].output = "/out/a_spectral.exr".into();
+        assert!(files
+            .check(&jobs)
+            .unwrap_err()
+            .to_string()
+            .contains("output tree"));
+        // What a submit of files wrote before stages were: read, with no stage and no spaces.
+        let mut old = serde_json::to_value(example(
+            Outputs::Directory("/out".into()),
+            vec![("/in/a.png".into(), "/out/a.exr".into())],
+            vec![],
+        ))
+        .unwrap();
+        old.as_object_mut().unwrap().remove("asset");
+        let text = old.to_string();
+        assert!(
+            !text.contains("colorspace") && !text.contains("asset"),
+            "{text}"
+        );
+        let read: Manifest = serde_json::from_str(&text).unwrap();
+        assert!(read.asset.is_none() && read.files[0].colorspace.is_none());
     }
 
     #[test]

@@ -100,6 +100,7 @@ fn file_state(outcome: Option<&Outcome>, file: &File, task: &TaskStatus) -> File
     match outcome {
         // A data texture written through is at its data name.
         Some(Outcome::Done) if file.outputs().any(Path::exists) => FileState::Done,
+        Some(Outcome::Data) => FileState::Done,
         Some(Outcome::Done) => FileState::Pending {
             why: "its output has gone missing".into(),
             waiting: false,

@@ -3,11 +3,12 @@
 //! inputs are measured, the convert options passed on, and the results reported.
 
 use crate::cmd::convert;
-use crate::{checks, exit, usage};
+use crate::{checks, exit, print_error, usage};
 use anyhow::{anyhow, bail, Context, Result};
+use specconv_asset::{Job, Prepared, Reader};
 use specconv_conversion::plan::{weights, Pair};
 use specconv_conversion::{Key, Options};
-use specconv_farm::manifest::Outputs;
+use specconv_farm::manifest::{AssetJob, Outputs};
 use specconv_farm::{slurm, FileState, Manifest, Request, Status};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -17,6 +18,7 @@ Examples:
   specconv farm submit textures/*.tx -o /shared/spectral --tasks 16 --cpus-per-task 4
   find textures -name '*.tx' | specconv farm submit - -o /shared/spectral --tasks 64 --wait
   specconv farm submit textures/*.tx -o spectral --tasks 4 --dry-run
+  specconv farm submit shot.usda -o /shared/spectral --tasks 8 --wait
   specconv farm status /shared/spectral/specconv-farm-1764601234
   specconv farm collect --json /shared/spectral/specconv-farm-1764601234
   specconv farm retry --wait /shared/spectral/specconv-farm-1764601234
@@ -58,7 +60,10 @@ enum Farm {
 ///
 /// Takes every option of `convert`; -j comes from --cpus-per-task, and tasks always skip
 /// outputs that are up to date (-u). The inputs are split into --tasks shards of nearly equal
-/// pixel count, the same plan as `convert --shard`.
+/// pixel count, the same plan as `convert --shard`. A USD stage (.usd, .usda, .usdc, .usdz,
+/// given alone) is submitted as `specconv asset` converts it: each texture decided here by its
+/// material and converted by the tasks in that colour space, outputs below DIR; `farm collect`
+/// writes the layer DIR/STEM_spectral.usda (docs/farm.md).
 #[derive(Debug, clap::Args)]
 struct Submit {
     #[command(flatten)]
@@ -198,20 +203,24 @@ fn task(t: &Task) -> Result<i32> {
             ..Pair::new(&f.input, &f.output)
         })
         .collect();
+    let spaces: Vec<Option<&str>> = (m.task_files(t.round, t.task).map_err(farm_error)?)
+        .into_iter()
+        .map(|f| f.colorspace.as_deref())
+        .collect();
     let options = task_options(&m, &job_dir).map_err(usage)?;
-    convert::run_task(options, &pairs)
+    convert::run_task(options, &pairs, &spaces)
+}
+
+/// What a submission converts: where outputs go, the files, the stage they come from, and how
+/// many of its textures cannot be converted (each said as an error already).
+struct Planned {
+    outputs: Outputs,
+    files: Vec<specconv_farm::manifest::File>,
+    asset: Option<AssetJob>,
+    unplanned: usize,
 }
 
 fn submit(s: Submit, ocio: Option<String>) -> Result<i32> {
-    let outputs = match (s.convert.output_dir(), s.convert.output_template()) {
-        (Some(dir), _) => Outputs::Directory(absolute(dir)?),
-        (None, Some(t)) => Outputs::Template(t.to_string()),
-        (None, None) => {
-            return Err(usage(anyhow!(
-                "farm submit writes many outputs: give -o DIR or --output-template"
-            )))
-        }
-    };
     if s.convert.sharded() {
         return Err(usage(anyhow!(
             "farm submit plans the shards itself: drop --shard"
@@ -223,17 +232,15 @@ fn submit(s: Submit, ocio: Option<String>) -> Result<i32> {
     use specconv_conversion::models;
     models::load(given.model.as_deref()).map_err(usage)?;
     given.model = Some(models::pinned(given.model.as_deref()));
-    let options = recorded_options(&given);
     // Settings that cannot work for any input fail here, not once in every task.
     let config = checks::config(ocio.as_deref())?;
     checks::input_colorspace(&config, s.convert.colorspace())?;
-    // Every task converts with -u.
-    let plan = convert::for_farm(&s.convert).map_err(usage)?;
-    if plan.is_empty() {
-        return Err(usage(anyhow!("no inputs to submit")));
-    }
-    let files = listed_files(plan.pairs())?;
-    let largest = files.iter().map(|f| f.pixels).max().unwrap_or(0);
+    let ocio = pinned(&config)?;
+    let planned = match stage_input(&s.convert)? {
+        Some(stage) => plan_stage(&s, stage, &given, &ocio)?,
+        None => plan_files(&s)?,
+    };
+    let largest = planned.files.iter().map(|f| f.pixels).max().unwrap_or(0);
     let mem_mib = match &s.mem {
         Some(m) => parse_mem(m)
             .ok_or_else(|| usage(anyhow!("--mem {m:?} is not a size such as 800M or 4G")))?,
@@ -247,14 +254,14 @@ fn submit(s: Submit, ocio: Option<String>) -> Result<i32> {
             job_dir.display()
         )));
     }
-    let mut manifest = Manifest {
+    let manifest = Manifest {
         format: specconv_farm::manifest::FORMAT,
         specconv: std::env::current_exe().context("cannot locate the specconv binary")?,
         workdir: std::env::current_dir().context("cannot read the current directory")?,
-        ocio: pinned(&config)?,
-        outputs,
-        options,
-        files,
+        ocio,
+        outputs: planned.outputs,
+        options: recorded_options(&given),
+        files: planned.files,
         request: Request {
             partition: s.partition.clone(),
             time: s.time.clone(),
@@ -263,12 +270,25 @@ fn submit(s: Submit, ocio: Option<String>) -> Result<i32> {
             limit: s.max_running.map(|k| k as usize),
         },
         rounds: Vec::new(),
+        asset: planned.asset,
     };
+    let code = submit_job(&s, manifest, &job_dir)?;
+    // A texture of the stage that cannot be converted was said; the job goes on without it.
+    Ok(if planned.unplanned > 0 && code == exit::OK {
+        exit::FAILED
+    } else {
+        code
+    })
+}
+
+/// Checks the manifest, then prints the plan (`--dry-run`) or claims the output directories,
+/// writes the job directory and submits round 0.
+fn submit_job(s: &Submit, mut manifest: Manifest, job_dir: &Path) -> Result<i32> {
     // What tasks and later commands will check, checked before anything is written.
-    manifest.check(&job_dir).map_err(farm_error)?;
+    manifest.check(job_dir).map_err(farm_error)?;
     let all: Vec<usize> = (0..manifest.files.len()).collect();
     let prepared =
-        specconv_farm::prepare(&job_dir, &manifest, &all, s.tasks as usize).map_err(farm_error)?;
+        specconv_farm::prepare(job_dir, &manifest, &all, s.tasks as usize).map_err(farm_error)?;
     if s.dry_run {
         print_plan(&manifest, &prepared)?;
         return Ok(exit::OK);
@@ -276,25 +296,173 @@ fn submit(s: Submit, ocio: Option<String>) -> Result<i32> {
     // Held until the job id is recorded: a second submit into these directories waits, then
     // sees this job live.
     let mut claim =
-        specconv_farm::claim::claim(&job_dir, &manifest.output_dirs()).map_err(farm_error)?;
-    std::fs::create_dir_all(&job_dir)
+        specconv_farm::claim::claim(job_dir, &manifest.output_dirs()).map_err(farm_error)?;
+    std::fs::create_dir_all(job_dir)
         .with_context(|| format!("cannot create the job directory {}", job_dir.display()))?;
-    claim.record(&job_dir)?;
+    claim.record(job_dir)?;
     let tasks = prepared.tasks.len();
-    let job_id = match specconv_farm::submit(&job_dir, &mut manifest, prepared) {
+    let job_id = match specconv_farm::submit(job_dir, &mut manifest, prepared) {
         Ok(id) => id,
         Err(e) => {
             // Nothing was submitted: leave no job directory behind.
-            let _ = std::fs::remove_dir_all(&job_dir);
+            let _ = std::fs::remove_dir_all(job_dir);
             return Err(farm_error(e));
         }
     };
     drop(claim);
-    announce(&s.convert, &job_id, &job_dir, tasks, manifest.files.len())?;
+    announce(&s.convert, &job_id, job_dir, tasks, manifest.files.len())?;
     if s.wait {
-        return wait_and_collect(&job_dir, &job_id, s.convert.json_wanted());
+        return wait_and_collect(job_dir, &job_id, s.convert.json_wanted());
     }
     Ok(exit::OK)
+}
+
+/// The inputs as files: `-o DIR` or `--output-template`, each planned as `convert` plans them.
+fn plan_files(s: &Submit) -> Result<Planned> {
+    let outputs = match (s.convert.output_dir(), s.convert.output_template()) {
+        (Some(dir), _) => Outputs::Directory(absolute(dir)?),
+        (None, Some(t)) => Outputs::Template(t.to_string()),
+        (None, None) => {
+            return Err(usage(anyhow!(
+                "farm submit writes many outputs: give -o DIR or --output-template"
+            )))
+        }
+    };
+    // Every task converts with -u.
+    let plan = convert::for_farm(&s.convert).map_err(usage)?;
+    if plan.is_empty() {
+        return Err(usage(anyhow!("no inputs to submit")));
+    }
+    Ok(Planned {
+        outputs,
+        files: listed_files(plan.pairs())?,
+        asset: None,
+        unplanned: 0,
+    })
+}
+
+/// The one input, when it is a USD stage (by its extension); a stage among other inputs is a
+/// usage error.
+fn stage_input(args: &convert::Args) -> Result<Option<&Path>> {
+    let inputs = args.inputs();
+    match inputs.iter().find(|p| specconv_asset::is_stage(p)) {
+        None => Ok(None),
+        Some(stage) if inputs.len() == 1 => Ok(Some(stage)),
+        Some(stage) => Err(usage(anyhow!(
+            "{} is a USD stage, which is submitted alone (`specconv farm submit STAGE -o DIR`): \
+             submit the other inputs in a job of their own",
+            stage.display()
+        ))),
+    }
+}
+
+/// A stage's textures, read and decided by the asset library once, here: each file with the
+/// colour space its material gave it (docs/assets.md), outputs under DIR as `asset` puts them.
+fn plan_stage(s: &Submit, stage: &Path, given: &Options, ocio: &str) -> Result<Planned> {
+    let Some(dir) = s.convert.output_dir() else {
+        return Err(usage(anyhow!(
+            "a stage's outputs are named by its plan (docs/assets.md): give -o DIR, not \
+             --output-template"
+        )));
+    };
+    if given.colorspace.is_some() {
+        return Err(usage(anyhow!(
+            "a stage takes no --colorspace: the material names each texture's colour space \
+             (docs/assets.md)"
+        )));
+    }
+    let mut options = given.clone();
+    options.ocio = Some(ocio.to_string());
+    let reader = Reader::from_env().map_err(asset_error)?;
+    let replace = s.convert.updating() || options.overwrite;
+    let Prepared { asset, jobs } =
+        specconv_asset::prepare(&reader, (stage, dir), &options, (s.dry_run, replace))
+            .map_err(asset_error)?;
+    let mut unplanned = 0;
+    for t in &asset.textures {
+        if let Some(why) = &t.error {
+            print_error(&format!("{}: {why}", t.texture.file.display()));
+            unplanned += 1;
+        }
+    }
+    if jobs.is_empty() {
+        return Err(usage(anyhow!(
+            "{}: no texture to submit ({} read by its bound materials, {unplanned} not \
+             convertible)",
+            asset.stage.display(),
+            asset.textures.len()
+        )));
+    }
+    if !s.dry_run {
+        // The folders below DIR, made once here on the shared file system, not by each task.
+        specconv_asset::make_folders(&jobs)?;
+    }
+    let pairs: Vec<Pair> = jobs.iter().map(Job::pair).collect();
+    let mut files = listed_files(&pairs)?;
+    for (f, j) in files.iter_mut().zip(&jobs) {
+        f.colorspace = j.colorspace.clone();
+    }
+    Ok(Planned {
+        outputs: Outputs::Tree(asset.dir.clone()),
+        files,
+        asset: Some(AssetJob {
+            stage: asset.stage,
+            layer: asset.layer,
+        }),
+        unplanned,
+    })
+}
+
+/// An asset error for the CLI: the caller's fault is a usage error (exit 2).
+fn asset_error(e: specconv_asset::Error) -> anyhow::Error {
+    if e.is_usage() {
+        usage(e)
+    } else {
+        e.into()
+    }
+}
+
+/// A stage's job: the layer over the stage ([`specconv_asset::farm_layer`]); false when none
+/// was written (a stage changed since submit, a manifest edited), said as an error.
+fn write_layer(m: &Manifest, job_dir: &Path, status: &Status) -> Result<bool> {
+    let (Some(job), Outputs::Tree(dir)) = (&m.asset, &m.outputs) else {
+        return Ok(true);
+    };
+    let options = task_options(m, job_dir).map_err(usage)?;
+    let reader = Reader::from_env().map_err(asset_error)?;
+    let files: Vec<specconv_asset::FarmFile> = status
+        .files
+        .iter()
+        .map(|f| {
+            let file = &m.files[f.index];
+            let done = f.state == FileState::Done;
+            (
+                file.input.clone(),
+                file.output.clone(),
+                file.colorspace.clone(),
+                done,
+            )
+        })
+        .collect();
+    match specconv_asset::farm_layer(&reader, (&job.stage, dir), &options, &files) {
+        Ok(layer) => {
+            errln!(
+                "specconv: layer {} over {}: {} texture node(s) pointed at spectral files",
+                layer.layer.display(),
+                job.stage.display(),
+                layer.overrides.len()
+            );
+            Ok(true)
+        }
+        Err(why) => {
+            print_error(&format!(
+                "the layer {} is not written: {why}; submit the stage again (-u keeps what is \
+                 up to date)",
+                job.layer.display()
+            ));
+            Ok(false)
+        }
+    }
 }
 
 /// The OCIO config a command checked, as every task must name it: a file by its absolute path
@@ -350,6 +518,7 @@ fn listed_files(pairs: &[Pair]) -> Result<Vec<specconv_farm::manifest::File>> {
             output: absolute(o)?,
             data: data.as_deref().map(absolute).transpose()?,
             pixels,
+            colorspace: None,
         });
     }
     Ok(files)
@@ -390,6 +559,14 @@ fn print_plan(manifest: &Manifest, prepared: &specconv_farm::Prepared) -> Result
     match &manifest.outputs {
         Outputs::Directory(d) => outln!("# outputs: directory {}", d.display())?,
         Outputs::Template(t) => outln!("# outputs: template {t}")?,
+        Outputs::Tree(d) => outln!("# outputs: below {}", d.display())?,
+    }
+    if let Some(a) = &manifest.asset {
+        outln!(
+            "# stage: {} (collect writes the layer {})",
+            a.stage.display(),
+            a.layer.display()
+        )?;
     }
     let options: Vec<String> = manifest
         .options
@@ -411,7 +588,11 @@ fn print_plan(manifest: &Manifest, prepared: &specconv_farm::Prepared) -> Result
         let mut lines = format!("# task {t}: {}, {px} pixels\n", count(shard.len(), "file"));
         for &i in shard {
             use std::fmt::Write;
-            let _ = writeln!(lines, "#   {}", manifest.files[i].input.display());
+            let f = &manifest.files[i];
+            let _ = match &f.colorspace {
+                Some(c) => writeln!(lines, "#   {} [colour space {c}]", f.input.display()),
+                None => writeln!(lines, "#   {}", f.input.display()),
+            };
         }
         out!("{lines}")?;
     }
@@ -541,11 +722,11 @@ fn status(r: &Report) -> Result<i32> {
 }
 
 fn collect(r: &Report) -> Result<i32> {
-    let (_, status) = load(&r.job_dir)?;
+    let (m, status) = load(&r.job_dir)?;
     let s = status.summary();
     if r.json {
         outln!("{}", serde_json::to_string(&s)?)?;
-        return Ok(all_done(&status));
+        return collected(&m, &r.job_dir, &status);
     }
     outln!(
         "{} files: {} done, {} failed, {} pending{}",
@@ -579,7 +760,18 @@ fn collect(r: &Report) -> Result<i32> {
             r.job_dir.display()
         )?;
     }
-    Ok(all_done(&status))
+    collected(&m, &r.job_dir, &status)
+}
+
+/// The end of `collect`: a stage's layer written (once no task is live), and the exit status.
+fn collected(m: &Manifest, job_dir: &Path, status: &Status) -> Result<i32> {
+    let running = status.summary().running;
+    let layer = running || write_layer(m, &std::path::absolute(job_dir)?, status)?;
+    Ok(if layer {
+        all_done(status)
+    } else {
+        exit::FAILED
+    })
 }
 
 fn retry(r: &Retry, ocio: Option<String>) -> Result<i32> {
@@ -735,6 +927,7 @@ mod tests {
                 limit: None,
             },
             rounds: Vec::new(),
+            asset: None,
         }
     }
 }

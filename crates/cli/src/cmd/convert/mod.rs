@@ -141,8 +141,9 @@ pub fn run(args: Args) -> Result<i32> {
 }
 
 /// A farm task's batch ([`crate::cmd::farm`]): `pairs` with `options`, reported as `convert
-/// --json -u --progress never` reports.
-pub(crate) fn run_task(options: Options, pairs: &[Pair]) -> Result<i32> {
+/// --json -u --progress never` reports; input k in colour space `spaces[k]` where the manifest
+/// carries one (a stage's textures, as `asset` converts them).
+pub(crate) fn run_task(options: Options, pairs: &[Pair], spaces: &[Option<&str>]) -> Result<i32> {
     let reporting = Reporting {
         json: true,
         update: true,
@@ -151,7 +152,13 @@ pub(crate) fn run_task(options: Options, pairs: &[Pair]) -> Result<i32> {
         verbose: false,
         annotate: None,
     };
-    run_pairs(&reporting, options, pairs)
+    if spaces.iter().all(Option::is_none) {
+        return run_pairs(&reporting, options, pairs);
+    }
+    let converters = specconv_asset::Converters::of_spaces(&options, spaces.iter().copied())
+        .map_err(|e| usage(anyhow::anyhow!(explain(&e))))?;
+    let each = converters.each();
+    run_batch(&reporting, (converters.first(), Some(&each)), pairs)
 }
 
 /// How a batch is reported and what it skips: `convert`'s own flags, or a farm task's.
@@ -351,6 +358,16 @@ impl Args {
 
     pub(crate) fn output_template(&self) -> Option<&str> {
         self.output_template.as_deref()
+    }
+
+    /// The inputs as given (`farm submit` looks for a stage among them).
+    pub(crate) fn inputs(&self) -> &[PathBuf] {
+        &self.paths
+    }
+
+    /// `-u`.
+    pub(crate) fn updating(&self) -> bool {
+        self.update
     }
 
     pub(crate) fn sharded(&self) -> bool {
