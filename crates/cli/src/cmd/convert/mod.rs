@@ -367,7 +367,7 @@ impl Args {
 
     /// `-u`.
     pub(crate) fn updating(&self) -> bool {
-        self.update
+        self.batch.update
     }
 
     pub(crate) fn sharded(&self) -> bool {
