@@ -305,7 +305,7 @@ impl<M: Method> Bounded<M> {
                 let (g00, g01, g11) = (dot(a, a), dot(a, b), dot(b, b));
                 let (da, db) = (r[free[0]] - r0[free[0]], r[free[1]] - r0[free[1]]);
                 let det = g00 * g11 - g01 * g01;
-                if !(det > 0.0) {
+                if det.is_nan() || det <= 0.0 {
                     return None;
                 }
                 let (s, t) = ((da * g11 - db * g01) / det, (db * g00 - da * g01) / det);
@@ -314,7 +314,7 @@ impl<M: Method> Bounded<M> {
             1 => {
                 let a = cols[free[0]];
                 let g = dot(a, a);
-                if !(g > 0.0) {
+                if g.is_nan() || g <= 0.0 {
                     return None;
                 }
                 let (d, e) = (dot(m, a) / g, (r[free[0]] - r0[free[0]]) / g);

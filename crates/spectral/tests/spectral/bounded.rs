@@ -446,7 +446,7 @@ fn outside_colours_on_a_face_or_an_edge_keep_the_searchs_own_colour() {
     let (a, bounded) = setup();
     let n = a.bands();
     let (mut r0, mut r, mut near) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
-    let mut state = 45_16;
+    let mut state = 4516;
     // Face or edge answers, and those that kept the search's colour.
     let (mut faces, mut kept) = (0usize, 0usize);
     let mut done = 0;
