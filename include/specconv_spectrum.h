@@ -1346,9 +1346,11 @@ static void scs_r0_leaves_(const scs_model *m, long i, double weight, const doub
     }
     t = m->maps + (size_t)m->nodes[i].k * 4 * n;
     cw[0] = c[0] * weight; cw[1] = c[1] * weight; cw[2] = c[2] * weight;
-    for (b = 0; b < n; b++) {
-        double v = t[3 * n + b] * weight + t[b] * cw[0] + t[n + b] * cw[1] + t[2 * n + b] * cw[2];
-        r[b] = *first ? v : r[b] + v;
+    for (b = 0; b < n; b++) { /* left to right, r[b] first (runtime.rs kernel_weighted) */
+        if (*first)
+            r[b] = t[3 * n + b] * weight + t[b] * cw[0] + t[n + b] * cw[1] + t[2 * n + b] * cw[2];
+        else
+            r[b] = r[b] + t[3 * n + b] * weight + t[b] * cw[0] + t[n + b] * cw[1] + t[2 * n + b] * cw[2];
     }
     *first = 0;
 }
