@@ -281,16 +281,16 @@ fn bound(v: f64, au: f64) -> f64 {
     2f64.powi(-23) * (au + 1.0) + 2.0 * 2f64.powi(-13) * v.abs().max(2f64.powi(-14))
 }
 
-/// The bounds of [`compare`]: every colour not outside the solid, and the C header's decoding,
-/// within the float32 bound; outside, at least 99.5 % of the texels too (99.63 % of 56,801
-/// measured; 99.2 % before the closed form on a face, issue 45), the others no farther from
-/// the input than the library's texel + 1 % + 0.01 ΔE76 (measured: + 1 % + 0.00006): the
-/// acceptance of a pull hangs on the dual's last bits (docs/compact.md).
+/// The bounds of [`compare`]: every texel within the float32 bound, outside the solid too, and
+/// the C header's decoding within it. The outside search decides a pull by the dual's last bits
+/// (docs/compact.md), so this holds only while the port computes r₀, the CIELAB search and
+/// the closed form on a face bit for bit as the library does (before issue 45, 453 of 56,801
+/// outside texels were not; the ΔE76 beyond the library's + 1 % of those, `outside_worst`,
+/// shows how far apart a failure is).
 fn holds(found: &Found) {
     assert!(found.worst_ratio <= 1.0, "{found:?}");
     assert!(found.decoder_ratio <= 1.0, "{found:?}");
-    assert!(found.outside_alike * 1000 >= found.outside * 995, "{found:?}");
-    assert!(found.outside_worst <= 0.01, "{found:?}");
+    assert_eq!(found.outside_alike, found.outside, "{found:?}");
 }
 
 /// 100,000 colours under the default conversion; 10,000 on another grid with the paper's hard
