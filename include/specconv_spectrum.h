@@ -1008,23 +1008,32 @@ static void scs_mid_(double a, double b, unsigned long long *M, int *e) {
 
 /* The cube root correctly rounded, as Rust's f64::cbrt (the library's CIELAB) computes it:
  * libm's cbrt is within a few ulps, and the candidate whose rounding interval holds x's cube root
- * is chosen by exact integer arithmetic, so that both searches see the same doubles. */
+ * is chosen by exact integer arithmetic, so that both searches see the same doubles. The
+ * intervals do not overlap (the cube of a midpoint, an odd 54-bit number, is no double), so
+ * one candidate holds the root: the walk starts at libm's and steps towards the root. */
 static double scs_cbrt_(double x) {
-    double y = cbrt(x), c;
-    int k;
+    double y = cbrt(x), c = y;
+    int k, off = 0;
     if (!(x > DBL_MIN) || !isfinite(x) || !(y > DBL_MIN)) return y; /* CIELAB takes x > 0.0088 */
-    for (k = 0; k < 4; k++) y = nextafter(y, 0);
-    /* glibc's cbrt was measured up to 2 ulps off: 9 candidates around it. */
-    for (k = 0, c = y; k < 9; k++, c = nextafter(c, INFINITY)) {
+    /* glibc's cbrt was measured up to 2 ulps off: the 9 candidates within 4 ulps of it. */
+    for (k = 0; k < 9 && off >= -4 && off <= 4; k++) {
         unsigned long long M;
         int e;
         scs_mid_(nextafter(c, 0), c, &M, &e);
-        if (scs_cube_cmp_(M, e, x) > 0) continue; /* c's interval is above the root */
+        if (scs_cube_cmp_(M, e, x) > 0) { /* c's interval is above the root */
+            c = nextafter(c, 0);
+            off--;
+            continue;
+        }
         scs_mid_(c, nextafter(c, INFINITY), &M, &e);
-        if (scs_cube_cmp_(M, e, x) < 0) continue; /* below it */
+        if (scs_cube_cmp_(M, e, x) < 0) { /* below it */
+            c = nextafter(c, INFINITY);
+            off++;
+            continue;
+        }
         return c;
     }
-    return cbrt(x);
+    return y;
 }
 
 /* CIE's f(t) and CIELAB with its Jacobian (colour::lab), for every XYZ. */
@@ -1135,12 +1144,9 @@ static int scs_keeps_in_f32_(const scs_solid_ *s, const double *r0, const double
     return 1;
 }
 
-/* At a vertex or an edge of the solid, the search's own spectrum r as w = t·n, n the outward
- * normal (Bounded::along_normal): 1 with w set, 0 where a band is left free. */
-static int scs_along_normal_(const scs_solid_ *s, const double c[3], const double near[3],
-                             const double *r0, const double *r, double w[3]) {
-    double lab[3], jac[3][3], target[3], nv[3], size;
-    long i;
+/* Jᵀ·(Lab(c) − Lab(near)) (Bounded::descent): an outward normal of the solid at near. */
+static void scs_descent_(const scs_solid_ *s, const double c[3], const double near[3], double nv[3]) {
+    double lab[3], jac[3][3], target[3];
     int k, row;
     scs_lab_(near, s->white, lab, jac);
     scs_lab_(c, s->white, target, NULL);
@@ -1148,6 +1154,115 @@ static int scs_along_normal_(const scs_solid_ *s, const double c[3], const doubl
         nv[k] = 0;
         for (row = 0; row < 3; row++) nv[k] += jac[row][k] * (target[row] - lab[row]);
     }
+}
+
+/* The λ ≥ 0 for which w_F + λ·n keeps every band of r at 0 or 1 there (Bounded::lambda_range):
+ * [lo, hi]; 0 where there is none. */
+static int scs_lambda_range_(const scs_solid_ *s, const double *r0, const double *r, const double nv[3],
+                             const double wf[3], double *lo_out, double *hi_out) {
+    double lo = 0, hi = INFINITY;
+    long i;
+    for (i = 0; i < s->a.n; i++) {
+        double a0 = scs_col_(&s->a, i, 0), a1 = scs_col_(&s->a, i, 1), a2 = scs_col_(&s->a, i, 2), v = r[i];
+        double z, g, need;
+        int held, outward;
+        if (v > 0 && v < 1) continue;
+        z = r0[i] + a0 * wf[0] + a1 * wf[1] + a2 * wf[2];
+        g = a0 * nv[0] + a1 * nv[1] + a2 * nv[2];
+        held = v == 1 ? z >= 1 : z <= 0;
+        need = v == 1 ? 1 - z : -z;
+        outward = v == 1 ? g > 0 : g < 0;
+        if (held) {
+            if (!outward && g != 0) hi = fmin(hi, need / g);
+        } else if (outward) {
+            lo = fmax(lo, need / g);
+        } else {
+            return 0;
+        }
+    }
+    *lo_out = lo;
+    *hi_out = hi;
+    return lo <= hi;
+}
+
+/* On a face or an edge of the solid (two or one bands free), the search's own spectrum r in
+ * closed form, w = w_F + λ·n (Bounded::on_the_face): r becomes clip(r0 + Aᵀw, 0, 1); 1 with w
+ * set, 0 (r unchanged) where no λ keeps the bounds or float32 w does not keep r. trial: n
+ * doubles. */
+static int scs_on_the_face_(const scs_solid_ *s, const double c[3], const double near[3],
+                            const double *r0, double *r, double *trial, double w[3]) {
+    double m[3], nv[3], wf[3], lo, hi, lambda, last = NAN, margin = 1.0 / 16384.0;
+    long i, free[2], count = 0;
+    int k, q;
+    scs_descent_(s, c, near, m);
+    for (i = 0; i < s->a.n; i++)
+        if (r[i] > 0 && r[i] < 1) {
+            if (count == 2) return 0;
+            free[count++] = i;
+        }
+    if (count == 2) {
+        double a[3], b[3], g00, g01, g11, da, db, det, sa, tb;
+        for (k = 0; k < 3; k++) {
+            a[k] = scs_col_(&s->a, free[0], k);
+            b[k] = scs_col_(&s->a, free[1], k);
+        }
+        nv[0] = a[1] * b[2] - a[2] * b[1];
+        nv[1] = a[2] * b[0] - a[0] * b[2];
+        nv[2] = a[0] * b[1] - a[1] * b[0];
+        if (scs_dot3_(nv, m) < 0)
+            for (k = 0; k < 3; k++) nv[k] = -nv[k];
+        g00 = scs_dot3_(a, a);
+        g01 = scs_dot3_(a, b);
+        g11 = scs_dot3_(b, b);
+        da = r[free[0]] - r0[free[0]];
+        db = r[free[1]] - r0[free[1]];
+        det = g00 * g11 - g01 * g01;
+        if (!(det > 0)) return 0;
+        sa = (da * g11 - db * g01) / det;
+        tb = (db * g00 - da * g01) / det;
+        for (k = 0; k < 3; k++) wf[k] = sa * a[k] + tb * b[k];
+    } else if (count == 1) {
+        double a[3], g, d, e;
+        for (k = 0; k < 3; k++) a[k] = scs_col_(&s->a, free[0], k);
+        g = scs_dot3_(a, a);
+        if (!(g > 0)) return 0;
+        d = scs_dot3_(m, a) / g;
+        e = (r[free[0]] - r0[free[0]]) / g;
+        for (k = 0; k < 3; k++) {
+            nv[k] = m[k] - d * a[k];
+            wf[k] = e * a[k];
+        }
+    } else {
+        return 0;
+    }
+    if (!scs_lambda_range_(s, r0, r, nv, wf, &lo, &hi)) return 0;
+    /* (1 + 4^k·2⁻¹⁴)·λ_least, k = 0…8, the first that holds (Bounded::on_the_face). */
+    for (q = 0; q < 9; q++) {
+        double f = 1.0 + margin;
+        margin *= 4.0;
+        lambda = f * lo > hi ? 0.5 * (lo + hi) : f * lo;
+        if (lambda == last) continue;
+        last = lambda;
+        for (k = 0; k < 3; k++) w[k] = wf[k] + lambda * nv[k];
+        for (i = 0; i < s->a.n; i++)
+            trial[i] = scs_clamp01_(r0[i] + scs_col_(&s->a, i, 0) * w[0] + scs_col_(&s->a, i, 1) * w[1] +
+                                    scs_col_(&s->a, i, 2) * w[2]);
+        if (scs_keeps_in_f32_(s, r0, w, trial)) {
+            memcpy(r, trial, sizeof(double) * (size_t)s->a.n);
+            return 1;
+        }
+    }
+    return 0;
+}
+
+/* At a vertex or an edge of the solid, the search's own spectrum r as w = t·n, n the outward
+ * normal (Bounded::along_normal): 1 with w set, 0 where a band is left free. */
+static int scs_along_normal_(const scs_solid_ *s, const double c[3], const double near[3],
+                             const double *r0, const double *r, double w[3]) {
+    double nv[3], size;
+    long i;
+    int k, row;
+    scs_descent_(s, c, near, nv);
     size = scs_maxabs3_(nv, 0);
     if (!(size > 0 && isfinite(size))) return 0;
     for (i = 0; i < s->a.n; i++)
@@ -1231,9 +1346,11 @@ static void scs_r0_leaves_(const scs_model *m, long i, double weight, const doub
     }
     t = m->maps + (size_t)m->nodes[i].k * 4 * n;
     cw[0] = c[0] * weight; cw[1] = c[1] * weight; cw[2] = c[2] * weight;
-    for (b = 0; b < n; b++) {
-        double v = t[3 * n + b] * weight + t[b] * cw[0] + t[n + b] * cw[1] + t[2 * n + b] * cw[2];
-        r[b] = *first ? v : r[b] + v;
+    for (b = 0; b < n; b++) { /* left to right, r[b] first (runtime.rs kernel_weighted) */
+        if (*first)
+            r[b] = t[3 * n + b] * weight + t[b] * cw[0] + t[n + b] * cw[1] + t[2 * n + b] * cw[2];
+        else
+            r[b] = r[b] + t[3 * n + b] * weight + t[b] * cw[0] + t[n + b] * cw[1] + t[2 * n + b] * cw[2];
     }
     *first = 0;
 }
@@ -1330,7 +1447,8 @@ int scs_encode_xyz(const scs_model *m, const float xyz[3], float texel[6], void 
     } else {
         double near[3];
         scs_nearest_(&s, c, r0, r, bm, trial, scratch, near);
-        if (!scs_along_normal_(&s, c, near, r0, r, w)) scs_onto_reached_(&s, near, r0, r, trial, scratch, w);
+        if (!scs_along_normal_(&s, c, near, r0, r, w) && !scs_on_the_face_(&s, c, near, r0, r, trial, w))
+            scs_onto_reached_(&s, near, r0, r, trial, scratch, w);
         outcome = SCS_OUTSIDE;
     }
     for (k = 0; k < 3; k++) texel[3 + k] = (float)scs_round_f32_(w[k]);

@@ -183,9 +183,8 @@ fn run_encoder(
 /// the texels' colours (bit for bit) and their spectra, each decoded by the library: within
 /// the float32 bound of [`bound`] for every colour not outside the object-colour solid; for
 /// those outside, within it or, where the search ended elsewhere, as near the input in CIELAB
-/// (ΔE76 ≤ the library's + 1 % + 2.5, the tolerance of the library's own warm and cold
-/// searches, crates/spectral/tests/spectral/bounded.rs). The C header's own decoding of its texel: within the
-/// bound of the library's decoding of it.
+/// (the ΔE76 beyond the library's + 1 % is `outside_worst`, bounded by [`holds`]). The C
+/// header's own decoding of its texel: within the bound of the library's decoding of it.
 fn compare(
     exe: &std::path::Path,
     compact: &Compact,
@@ -282,15 +281,16 @@ fn bound(v: f64, au: f64) -> f64 {
     2f64.powi(-23) * (au + 1.0) + 2.0 * 2f64.powi(-13) * v.abs().max(2f64.powi(-14))
 }
 
-/// The bounds of [`compare`]: every colour not outside the solid, and the C header's decoding,
-/// within the float32 bound; outside, at least 99 % of the texels too (99.2 % of 56,801
-/// measured), the others as near the input as the library's warm and cold searches are to each
-/// other: the acceptance of a pull hangs on the dual's last bits (docs/compact.md).
+/// The bounds of [`compare`]: every texel within the float32 bound, outside the solid too, and
+/// the C header's decoding within it. The outside search decides a pull by the dual's last bits
+/// (docs/compact.md), so this holds only while the port computes r₀, the CIELAB search and
+/// the closed form on a face bit for bit as the library does (before issue 45, 453 of 56,801
+/// outside texels were not; the ΔE76 beyond the library's + 1 % of those, `outside_worst`,
+/// shows how far apart a failure is).
 fn holds(found: &Found) {
     assert!(found.worst_ratio <= 1.0, "{found:?}");
     assert!(found.decoder_ratio <= 1.0, "{found:?}");
-    assert!(found.outside_alike * 100 >= found.outside * 99, "{found:?}");
-    assert!(found.outside_worst <= 2.5, "{found:?}");
+    assert_eq!(found.outside_alike, found.outside, "{found:?}");
 }
 
 /// 100,000 colours under the default conversion; 10,000 on another grid with the paper's hard

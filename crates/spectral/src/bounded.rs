@@ -20,6 +20,7 @@ pub use specconv_colour::solid::{nearest, Solid, Solve};
 
 use crate::method::Tally;
 use crate::{Error, Method};
+use specconv_colour::mat3::{cross, dot};
 use specconv_colour::{Colorimetry, Grid};
 
 /// What [`Bounded`] did with one colour.
@@ -183,14 +184,15 @@ impl<M: Method> Bounded<M> {
     }
 
     /// [`Bounded::bound`] as it was before issue 45, kept as the reference that the tests and
-    /// `--bench bounded` measure the warm-started search against: each trial projection of an
-    /// outside colour ([`Bounded::bound`]'s last step) starts from w = 0.
+    /// the `solid_cost` example measure the outside search against: no closed form on a face
+    /// ([`Bounded::on_the_face`]), and each trial projection of an outside colour
+    /// ([`Bounded::bound`]'s last step) starts from w = 0.
     pub fn bound_reference(&self, c: [f64; 3], r: &mut [f64]) -> Outcome {
         self.bound_dual_with(c, r, false).0
     }
 
-    /// [`Bounded::bound_dual`]; `warm`: each trial projection of an outside colour starts from
-    /// the last solved trial's w.
+    /// [`Bounded::bound_dual`]; `warm` (issue 45): the closed form on a face first, and each
+    /// trial projection of an outside colour starts from the last solved trial's w.
     fn bound_dual_with(&self, c: [f64; 3], r: &mut [f64], warm: bool) -> (Outcome, [f64; 3]) {
         if c.iter().any(|v| !v.is_finite()) {
             return (Outcome::NotFinite, [0.0; 3]);
@@ -212,9 +214,16 @@ impl<M: Method> Bounded<M> {
             (solve, _) => {
                 let near =
                     nearest::nearest_lab(&self.solid, self.colorimetry.white_xyz(), c, r0, r);
+                let mut trial = vec![0.0; r.len()];
                 let (reached, w) = match self.along_normal(c, near, r0, r) {
                     Some(w) => (near, w),
-                    None => self.onto_reached(near, r0, r, warm),
+                    None => match warm
+                        .then(|| self.on_the_face(c, near, r0, r, &mut trial))
+                        .flatten()
+                    {
+                        Some(w) => (self.solid.xyz(r), w),
+                        None => self.onto_reached(near, r0, r, warm),
+                    },
                 };
                 let certificate = match solve {
                     Solve::Outside(u) => Some(u),
@@ -237,12 +246,7 @@ impl<M: Method> Bounded<M> {
     /// from the reached colour `near` towards `c`), and w = t·n reproduces it for t large
     /// enough, float32 rounding included. `None` where a band is left free.
     fn along_normal(&self, c: [f64; 3], near: [f64; 3], r0: &[f64], r: &[f64]) -> Option<[f64; 3]> {
-        use specconv_colour::lab::{xyz_to_lab, xyz_to_lab_jacobian};
-        let white = self.colorimetry.white_xyz();
-        let (lab, j) = xyz_to_lab_jacobian(near, white);
-        let target = xyz_to_lab(c, white);
-        let n: [f64; 3] =
-            [0, 1, 2].map(|k| (0..3).map(|row| j[row][k] * (target[row] - lab[row])).sum());
+        let n = self.descent(c, near);
         let size = n.iter().fold(0.0f64, |m, v| m.max(v.abs()));
         if !(size > 0.0 && size.is_finite()) || r.iter().any(|&v| v != 0.0 && v != 1.0) {
             return None;
@@ -251,6 +255,133 @@ impl<M: Method> Bounded<M> {
         (0..48)
             .map(|k| n.map(|v| v / size * 2f64.powi(k)))
             .find(|&w| self.keeps_in_f32(r0, w, r))
+    }
+
+    /// Jᵀ·(Lab(c) − Lab(near)), J the Jacobian of CIELAB at `near`: the direction in XYZ in
+    /// which the distance to `c` falls fastest, an outward normal of the solid at the colour
+    /// the search reached.
+    fn descent(&self, c: [f64; 3], near: [f64; 3]) -> [f64; 3] {
+        use specconv_colour::lab::{xyz_to_lab, xyz_to_lab_jacobian};
+        let white = self.colorimetry.white_xyz();
+        let (lab, j) = xyz_to_lab_jacobian(near, white);
+        let target = xyz_to_lab(c, white);
+        [0, 1, 2].map(|k| (0..3).map(|row| j[row][k] * (target[row] - lab[row])).sum())
+    }
+
+    /// The search's own spectrum `r` in the texel form on a face or an edge of the solid (two
+    /// or one bands free, the others at 0 or 1), in closed form: w = w_F + λ·n, where w_F (in
+    /// the span of the free bands' columns) gives the free bands their values, n is normal to
+    /// those columns on the outward side ([`Bounded::descent`]), and λ a little above the
+    /// least that keeps every other band at its bound (within the largest that does). The colour is
+    /// the search's own, so nothing is given up to a pull (issue 45: one pass over the bands
+    /// instead of dozens of trial projections). `r` becomes clip(r₀ + Aᵀw, 0, 1) (`trial`:
+    /// scratch); `None`, `r` unchanged, where no λ keeps the bounds or float32 w does not keep
+    /// the spectrum ([`Bounded::keeps_in_f32`]): then the pull decides ([`Bounded::onto_reached`]).
+    fn on_the_face(
+        &self,
+        c: [f64; 3],
+        near: [f64; 3],
+        r0: &[f64],
+        r: &mut [f64],
+        trial: &mut [f64],
+    ) -> Option<[f64; 3]> {
+        let m = self.descent(c, near);
+        let cols = self.solid.columns();
+        let mut free = [0usize; 2];
+        let mut count = 0;
+        for (i, &v) in r.iter().enumerate() {
+            if v > 0.0 && v < 1.0 {
+                *free.get_mut(count)? = i;
+                count += 1;
+            }
+        }
+        let (n, wf) = match count {
+            2 => {
+                let (a, b) = (cols[free[0]], cols[free[1]]);
+                let mut n = cross(a, b);
+                if dot(n, m) < 0.0 {
+                    n = n.map(|v| -v);
+                }
+                let (g00, g01, g11) = (dot(a, a), dot(a, b), dot(b, b));
+                let (da, db) = (r[free[0]] - r0[free[0]], r[free[1]] - r0[free[1]]);
+                let det = g00 * g11 - g01 * g01;
+                if det.is_nan() || det <= 0.0 {
+                    return None;
+                }
+                let (s, t) = ((da * g11 - db * g01) / det, (db * g00 - da * g01) / det);
+                (n, [0, 1, 2].map(|k| s * a[k] + t * b[k]))
+            }
+            1 => {
+                let a = cols[free[0]];
+                let g = dot(a, a);
+                if g.is_nan() || g <= 0.0 {
+                    return None;
+                }
+                let (d, e) = (dot(m, a) / g, (r[free[0]] - r0[free[0]]) / g);
+                (
+                    [0, 1, 2].map(|k| m[k] - d * a[k]),
+                    [0, 1, 2].map(|k| e * a[k]),
+                )
+            }
+            _ => return None,
+        };
+        let (lo, hi) = Self::lambda_range(cols, r0, r, n, wf)?;
+        // Float32 w moves the free bands by |aᵢ|·|w|·2⁻²⁴, so λ is kept small, and the bands
+        // held at a bound by a margin: (1 + 4ᵏ·2⁻¹⁴)·λ_least, k = 0…8, the first that holds.
+        let (mut last, mut margin) = (f64::NAN, 1.0 / 16384.0);
+        for _ in 0..9 {
+            let f = 1.0 + margin;
+            margin *= 4.0;
+            let lambda = if f * lo > hi { 0.5 * (lo + hi) } else { f * lo };
+            if lambda == last {
+                continue;
+            }
+            last = lambda;
+            let w = [0, 1, 2].map(|k| wf[k] + lambda * n[k]);
+            for ((v, a), &p) in trial.iter_mut().zip(cols).zip(r0) {
+                *v = (p + a[0] * w[0] + a[1] * w[1] + a[2] * w[2]).clamp(0.0, 1.0);
+            }
+            if self.keeps_in_f32(r0, w, trial) {
+                r.copy_from_slice(trial);
+                return Some(w);
+            }
+        }
+        None
+    }
+
+    /// The λ ≥ 0 for which w_F + λ·n keeps every band of `r` at 0 or 1 there ([`Bounded::on_the_face`]):
+    /// band i at bound b stays there while λ·(aᵢ·n) is on b's side of b − (r₀ᵢ + aᵢ·w_F).
+    fn lambda_range(
+        cols: &[[f64; 3]],
+        r0: &[f64],
+        r: &[f64],
+        n: [f64; 3],
+        wf: [f64; 3],
+    ) -> Option<(f64, f64)> {
+        let (mut lo, mut hi) = (0.0f64, f64::INFINITY);
+        for ((a, &p), &v) in cols.iter().zip(r0).zip(r) {
+            if v > 0.0 && v < 1.0 {
+                continue;
+            }
+            let z = p + a[0] * wf[0] + a[1] * wf[1] + a[2] * wf[2];
+            let g = a[0] * n[0] + a[1] * n[1] + a[2] * n[2];
+            let (held, need) = if v == 1.0 {
+                (z >= 1.0, 1.0 - z)
+            } else {
+                (z <= 0.0, -z)
+            };
+            let outward = if v == 1.0 { g > 0.0 } else { g < 0.0 };
+            if held {
+                if !outward && g != 0.0 {
+                    hi = hi.min(need / g);
+                }
+            } else if outward {
+                lo = lo.max(need / g);
+            } else {
+                return None;
+            }
+        }
+        (lo <= hi).then_some((lo, hi))
     }
 
     /// The spectrum of an outside colour in the form of every other, clip(r₀ + Aᵀw, 0, 1): `r0`

@@ -165,8 +165,9 @@ fn outside_the_solid_the_nearest_colour_in_cielab_is_on_the_surface_and_beats_to
         let mut near = vec![0.0; a.bands()];
         let reached = nearest::nearest_lab(bounded.solid(), w, c, &r0, &mut near);
         let pull = delta_e76(a, pulled, reached);
-        // Measured over these 424 colours: at most 0.33 (0.75 before the pull's warm starts,
-        // issue 45), where the mean distance to the input is 7.8.
+        // Measured over these 424 colours: at most 0.18 (0.75 before the pull's warm starts,
+        // 0.33 before the closed form on a face, issue 45), where the mean distance to the
+        // input is 7.8.
         assert!(pull <= 1.0, "{c:?}: drawn in by ΔE76 {pull}");
         let (lab, j) = xyz_to_lab_jacobian(reached, w);
         let target = xyz_to_lab(c, w);
@@ -366,14 +367,15 @@ fn hostile(a: &Colorimetry, kind: usize, s: &mut u64) -> [f64; 3] {
     }
 }
 
-/// Issue 45, item 16: outside the solid the trial projections of the pull towards grey start
-/// from the last solved trial's dual (`Bounded::bound`) instead of from 0
-/// (`Bounded::bound_reference`, the method before, kept here as the reference). The cold scan's
+/// Issue 45, item 16: outside the solid a search that ends on a face or an edge keeps its
+/// colour in closed form, and the trial projections of the pull towards grey start from the
+/// last solved trial's dual (`Bounded::bound`), where the method before (`Bounded::bound_reference`,
+/// kept here as the reference) pulled every colour, each trial from 0. The cold scan's
 /// answer hangs on whether projections onto colours a hair inside the surface happen to settle
 /// within their steps, so the two differ; over 100,000 hostile outside colours they give the
 /// same kind of answer (an in-range spectrum of the texel form, with the same certificate),
 /// and the new one is never farther from the input than 2.5 ΔE76 + 1 % of the reference's
-/// distance, and by more than 0.05 ΔE76 in at most 0.1 % of colours.
+/// distance, and by more than 0.05 ΔE76 in at most 0.01 % of colours.
 #[test]
 fn warm_started_outside_search_matches_the_reference_within_tolerance() {
     let (a, bounded) = setup();
@@ -425,8 +427,56 @@ fn warm_started_outside_search_matches_the_reference_within_tolerance() {
     eprintln!("uniform, HDR, negative, huge, near black, just outside the surface: (colours, identical, max ΔE76 apart, farther, nearer) {per_kind:?}");
     assert!(per_kind.iter().all(|k| k.0 > 0), "{per_kind:?}");
     let farther: usize = per_kind.iter().map(|k| k.3).sum();
+    // Measured: 5 (2 HDR, 3 just outside the surface), and 635 nearer.
     assert!(
-        farther * 1000 <= total,
+        farther * 10_000 <= total,
         "{farther} farther by more than 0.05 ΔE76"
+    );
+}
+
+/// Issue 45, item 16: where the CIELAB search ends on a face or an edge of the solid (one or
+/// two bands free), the texel form clip(r₀ + Aᵀw, 0, 1) reaches that very colour with a finite
+/// w, in closed form (`Bounded::on_the_face`), instead of r₀ projected onto a colour pulled in
+/// towards grey. Over uniform, negative and just-outside colours: every answer is in the texel
+/// form with float32 w (the compact texel's u: each band within 2⁻¹³ of its value, at least
+/// 2⁻¹⁴), and most face or edge answers are the search's own colour (measured: 2,473 of 3,171;
+/// without the closed form, where only the pull's first trial keeps it, 1,556).
+#[test]
+fn outside_colours_on_a_face_or_an_edge_keep_the_searchs_own_colour() {
+    let (a, bounded) = setup();
+    let n = a.bands();
+    let (mut r0, mut r, mut near) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+    let mut state = 4516;
+    // Face or edge answers, and those that kept the search's colour.
+    let (mut faces, mut kept) = (0usize, 0usize);
+    let mut done = 0;
+    while done < 6_000 {
+        let c = hostile(a, [0, 2, 5][done % 3], &mut state);
+        bounded.inner().uplift_f64(&c, &mut r0);
+        r.copy_from_slice(&r0);
+        let (Outcome::Outside { reached, .. }, w) = bounded.bound_dual(c, &mut r) else {
+            continue;
+        };
+        done += 1;
+        let w32 = w.map(|v| f64::from(v as f32));
+        for (i, &v) in r.iter().enumerate() {
+            let z: f64 = r0[i] + (0..3).map(|k| a.weights[k][i] * w32[k]).sum::<f64>();
+            let err = (z.clamp(0.0, 1.0) - v).abs();
+            assert!(
+                err <= v.max(1.0 / 16384.0) / 8192.0,
+                "{c:?}: band {i} is {v}, float32 w gives {z}"
+            );
+        }
+        let x = nearest::nearest_lab(bounded.solid(), a.white_xyz(), c, &r0, &mut near);
+        let free = near.iter().filter(|&&v| v > 0.0 && v < 1.0).count();
+        if free == 1 || free == 2 {
+            faces += 1;
+            kept += usize::from(delta_e76(a, x, reached) <= 1e-6);
+        }
+    }
+    eprintln!("{faces} outside colours end on a face or an edge; {kept} keep the search's colour");
+    assert!(
+        faces >= 1_000 && kept * 10 >= faces * 6,
+        "{kept} of {faces}"
     );
 }
