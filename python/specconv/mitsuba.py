@@ -476,10 +476,12 @@ def compact_texels(
     """The decoding text and level-0 texels [h, w, 6] of an image Mitsuba reads, made in
     memory by the library (no file written): ``bitmap``'s reader decodes it, and the library
     makes the texels of its pixels in parallel with the GIL released, as a conversion with
-    these options makes them (``specconv._specconv.compact_texels``): the colour as the
-    reader declares it (sRGB-encoded or linear Rec.709, an OpenEXR's chromaticities adapted
-    to D65) unless ``colorspace`` names it, straight alpha multiplied once converted, one
-    channel refused as data, NaN refused."""
+    these options makes them (``specconv._specconv.compact_texels``): the colour space chosen
+    from the file's header by the rule ``convert`` uses (``colorspace``, the config's file
+    rules, ICC profiles, OpenEXR chromaticities and names, PNG chunks, the defaults), the
+    file's samples as stored (an OpenEXR whose chromaticities ``mi.Bitmap`` converts is read
+    by the library), straight alpha multiplied once converted, one channel refused as data
+    unless declared colour, NaN refused."""
     check_readable(path)  # a FIFO would hold Mitsuba's reader for ever
     try:
         bitmap = mi.Bitmap(path)
@@ -506,7 +508,6 @@ def compact_texels(
     text, texels, _ = _compact_texels(
         pixels,
         path,
-        srgb=bool(bitmap.srgb_gamma()),
         straight_alpha=not bitmap.premultiplied_alpha(),
         moved=True,
         **options,
