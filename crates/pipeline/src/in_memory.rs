@@ -108,6 +108,14 @@ pub fn compact_texels(
             out.len()
         )));
     }
+    let c = image.channels;
+    if !(1..=4).contains(&c) || image.samples.len() != pixels * c {
+        return Err(Error::InMemory(format!(
+            "{} samples of {c} channel(s) for {w}×{h} pixels: expected 1 to 4 channels (grey, \
+             grey and alpha, RGB, RGBA) and a sample per channel and pixel",
+            image.samples.len(),
+        )));
+    }
     let integer = !matches!(image.samples, Samples::F32(_));
     let header = Header::read(image.decoded.path, image.decoded.size, integer)?;
     let stored;
@@ -123,13 +131,6 @@ pub fn compact_texels(
         None => *image,
     };
     let c = image.channels;
-    if !(1..=4).contains(&c) || image.samples.len() != pixels * c {
-        return Err(Error::InMemory(format!(
-            "{} samples of {c} channel(s) for {w}×{h} pixels: expected 1 to 4 channels (grey, \
-             grey and alpha, RGB, RGBA) and a sample per channel and pixel",
-            image.samples.len(),
-        )));
-    }
     let colour = if c <= 2 { 1 } else { 3 };
     let space = colour::header_space(config, &header, colour, options.colorspace.as_deref())?;
     let policy = options.non_finite;
