@@ -171,7 +171,6 @@ def compact_texels(
     pixels: _Array,
     path: _Path,
     *,
-    srgb: bool,
     straight_alpha: bool = False,
     moved: bool = False,
     **options: Any,

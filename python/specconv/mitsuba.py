@@ -41,7 +41,7 @@ import numpy as np
 
 import specconv
 from specconv import compact
-from specconv._specconv import check_compact_header, check_readable
+from specconv._specconv import check_readable
 from specconv._specconv import compact_texels as _compact_texels
 
 SPECTRAL = "specconv_spectral"
@@ -476,10 +476,12 @@ def compact_texels(
     """The decoding text and level-0 texels [h, w, 6] of an image Mitsuba reads, made in
     memory by the library (no file written): ``bitmap``'s reader decodes it, and the library
     makes the texels of its pixels in parallel with the GIL released, as a conversion with
-    these options makes them (``specconv._specconv.compact_texels``): the colour as the
-    reader declares it (sRGB-encoded or linear Rec.709, an OpenEXR's chromaticities adapted
-    to D65) unless ``colorspace`` names it, straight alpha multiplied once converted, one
-    channel refused as data, NaN refused."""
+    these options makes them (``specconv._specconv.compact_texels``): the colour space chosen
+    from the file's header by the rule ``convert`` uses (``colorspace``, the config's file
+    rules, ICC profiles, OpenEXR chromaticities and names, PNG chunks, the defaults), the
+    file's samples as stored (an OpenEXR whose chromaticities ``mi.Bitmap`` converts is read
+    by the library), straight alpha multiplied once converted, one channel refused as data
+    unless declared colour, NaN refused."""
     check_readable(path)  # a FIFO would hold Mitsuba's reader for ever
     try:
         bitmap = mi.Bitmap(path)
@@ -506,7 +508,6 @@ def compact_texels(
     text, texels, _ = _compact_texels(
         pixels,
         path,
-        srgb=bool(bitmap.srgb_gamma()),
         straight_alpha=not bitmap.premultiplied_alpha(),
         moved=True,
         **options,
@@ -515,32 +516,13 @@ def compact_texels(
 
 
 def compact_file(path: str, level: int = 0) -> tuple[str, np.ndarray]:
-    """The decoding text and texels [h, w, 6] of level ``level`` of a compact file.
-
-    Level 0 of an all-float file (``-d float``) is read by Mitsuba's own OpenEXR reader
-    (``mi.Bitmap``), its text checked by the library's parser: a scene of such textures then
-    never loads OpenImageIO (≈ 120 MB of libraries). Files of half and float channels (the
-    default), which ``mi.Bitmap`` reads all as half, and smaller levels, which it does not
-    read, come through the library."""
-    if level != 0:
-        image = specconv.read_compact(path, level=level)
-        return image.text, image.texels
-    check_readable(path)  # a FIFO would hold Mitsuba's reader for ever
-    bitmap = mi.Bitmap(path)
-    if bitmap.component_format() != mi.Struct.Type.Float32:
-        # Mitsuba 3.9 reads a file of half and float channels (the default: R G B and U half,
-        # UF float) all as half, rounding the float u: such files come through the library.
-        image = specconv.read_compact(path, level=0)
-        return image.text, image.texels
-    meta = bitmap.metadata()
-    fields = bitmap.struct_()
-    names = [fields[i].name for i in range(len(fields))]
-    # Every text attribute: which ones make a compact file is the library's to say.
-    attributes = {k: meta[k] for k in meta.keys() if isinstance(meta[k], str)}
-    text, columns = check_compact_header(path, attributes, names)
-    pixels = np.array(bitmap, copy=False).reshape(bitmap.height(), bitmap.width(), len(names))
-    # The nine stored values (R … UF.2) as the rule's six, as every decoder makes them.
-    return text, compact.unstore(compact.parse(text), pixels[..., list(columns)])
+    """The decoding text and texels [h, w, 6] of level ``level`` of a compact file, read by
+    the library's own OpenEXR reader (``specconv.read_compact``: blocks decompressed in
+    parallel, no OpenImageIO in the process). Not ``mi.Bitmap``: it reads a file of half and
+    float channels (the default) all as half, rounding the float u, and reading the file with
+    it first to find out cost a second read of every default file."""
+    image = specconv.read_compact(path, level=level)
+    return image.text, image.texels
 
 
 def _to_uv(props, jit: bool):

@@ -12,20 +12,18 @@ use specconv_conversion::{Converter, Decoded, InMemory, Layout, Samples};
 /// The compact texels (h, w, 6 float32: X, Y, Z, u₀, u₁, u₂) of `pixels`, an image a reader
 /// decoded from `path`, as a conversion with `options` (`convert`'s keywords; the layout is
 /// compact) makes them: `(text, texels, colorspace)`, the decoding text (docs/compact.md),
-/// the texels, and the colour space they were read in. `pixels`: (h, w) or (h, w, c) with c
-/// from 1 to 4 (grey, grey and alpha, RGB, RGBA), uint8 or uint16 (scaled to [0, 1]) or
-/// floats. `srgb`: the values are sRGB-encoded (else linear Rec.709, unless `colorspace`
-/// names their space); `straight_alpha`: the reader's alpha is straight (PNG), so colour is
-/// multiplied by it once converted; `moved`: the reader moved the file's chromaticities to
-/// Rec.709 keeping XYZ (Mitsuba's `Bitmap` does), so their white is read from the file.
+/// the texels, and the colour space they were read in, chosen from the file's header by the
+/// rule `convert` uses. `pixels`: (h, w) or (h, w, c) with c from 1 to 4 (grey, grey and
+/// alpha, RGB, RGBA), the file's samples as stored: uint8 or uint16 (scaled to [0, 1]) or
+/// floats. `straight_alpha`: the reader's alpha is straight (PNG), so colour is multiplied
+/// by it once converted; `moved`: the reader converts an OpenEXR's chromaticities (Mitsuba's
+/// `Bitmap` does), so such a file's own samples are read instead.
 #[pyfunction]
-#[pyo3(signature = (pixels, path, *, srgb, straight_alpha=false, moved=false, **options))]
-#[allow(clippy::too_many_arguments)]
+#[pyo3(signature = (pixels, path, *, straight_alpha=false, moved=false, **options))]
 pub fn compact_texels<'py>(
     py: Python<'py>,
     pixels: &Bound<'py, PyAny>,
     path: FsPath,
-    srgb: bool,
     straight_alpha: bool,
     moved: bool,
     options: Option<&Bound<'py, PyDict>>,
@@ -52,9 +50,6 @@ pub fn compact_texels<'py>(
     let decoded = Decoded {
         path: &path.0,
         size: (size(w)?, size(h)?),
-        colour_channels: if c <= 2 { 1 } else { 3 },
-        srgb_encoded: srgb,
-        moved_white: None,
     };
     let held = Held::of(pixels)?;
     let out = zeros::<f32>(py, &[h, w], specconv_spectral::compact::TEXEL)?;
@@ -68,8 +63,9 @@ pub fn compact_texels<'py>(
                 channels: c,
                 decoded,
                 straight_alpha,
+                moves_chromaticities: moved,
             };
-            converter.compact_texels(&image, moved, texels)
+            converter.compact_texels(&image, texels)
         })
         .map_err(conversion)?
     };

@@ -19,6 +19,7 @@ one colour between its outer texel centres (3 texels wide), which a 32×32 rende
 from __future__ import annotations
 
 import os
+import pathlib
 
 import numpy as np
 import pytest
@@ -37,6 +38,7 @@ import specconv  # noqa: E402
 SPP = 256
 RES = 32
 TEXELS = 16
+ROOT = pathlib.Path(__file__).resolve().parents[2]
 PATCH = 4  # texels per patch side
 
 # Dr.Jit's LLVM backend aborts on Debian 12's LLVM 15 and 16 (`fminimum`) and works on its
@@ -501,9 +503,9 @@ def test_texels_made_in_memory_are_what_convert_stores(scalar, tmp_path):
 
 def test_texels_of_an_acescg_exr_are_converts(scalar, tmp_path):
     """Mitsuba's reader moves an OpenEXR's chromaticities to Rec.709 keeping XYZ (no
-    adaptation); the library adapts that XYZ from the file's white to D65 as a conversion
-    does: the texels are convert's within float32 roundings of two routes (OpenColorIO's
-    ACEScg matrix, ours), and their colour is not the unadapted one."""
+    adaptation); the library reads such a file's own samples and converts them by the rule
+    and route a conversion uses: the texels are convert's bit for bit, and their colour is
+    not the one Mitsuba's moved pixels would give."""
     rng = np.random.default_rng(3)
     rgb = (rng.random((6, 7, 3)) * 0.8 + 0.05).astype(np.float32)
     ap1 = (0.713, 0.293, 0.165, 0.830, 0.128, 0.044, 0.32168, 0.33767)
@@ -511,12 +513,145 @@ def test_texels_of_an_acescg_exr_are_converts(scalar, tmp_path):
     text, texels = specconv.mitsuba.compact_texels(path)
     want_text, want = _converted(path, tmp_path / "acescg.compact.exr")
     assert text == want_text
-    np.testing.assert_allclose(texels[..., :3], want[..., :3], rtol=2e-6, atol=1e-7)
-    np.testing.assert_allclose(texels[..., 3:], want[..., 3:], atol=1e-5)
+    np.testing.assert_array_equal(texels, want)
     # Read as the linear Rec.709 Mitsuba hands over, unadapted, the colour would be ≥ 1 % off.
     moved = np.array(mi.Bitmap(path), dtype=np.float32)
     unadapted = specconv.rgb_to_xyz(moved, "Linear Rec.709 (sRGB)")
     assert np.abs(unadapted - want[..., :3]).max() > 0.01
+
+
+def _chunk(kind: bytes, data: bytes) -> bytes:
+    import struct
+    import zlib
+
+    return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data))
+
+
+def _png_with_chunks(path, pixels, chunks):
+    """An 8- or 16-bit RGB PNG with `chunks` (type, data) before its image data, written by
+    the PNG specification (3rd ed.): for chunks OpenImageIO does not write (cHRM, gAMA)."""
+    import struct
+    import zlib
+
+    h, w, _ = pixels.shape
+    depth = 16 if pixels.dtype == np.uint16 else 8
+    rows = b"".join(b"\0" + pixels[y].astype(">u2" if depth == 16 else np.uint8).tobytes()
+                    for y in range(h))
+    data = b"\x89PNG\r\n\x1a\n" + _chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, depth, 2, 0, 0, 0))
+    data += b"".join(_chunk(k, v) for k, v in chunks)
+    data += _chunk(b"IDAT", zlib.compress(rows)) + _chunk(b"IEND", b"")
+    path.write_bytes(data)
+    return str(path)
+
+
+def _display_p3_profile() -> bytes:
+    """A Display P3 ICC profile (P3 primaries, D65, the sRGB curve: Apple's definition), made
+    by Little CMS as tests/colour_rule_images.py makes it."""
+    import ctypes
+    import ctypes.util
+
+    lcms = ctypes.CDLL(ctypes.util.find_library("lcms2"))
+    lcms.cmsBuildParametricToneCurve.restype = ctypes.c_void_p
+    lcms.cmsBuildParametricToneCurve.argtypes = [ctypes.c_void_p, ctypes.c_int32, ctypes.c_double * 5]
+    lcms.cmsCreateRGBProfile.restype = ctypes.c_void_p
+    lcms.cmsCreateRGBProfile.argtypes = [ctypes.c_void_p] * 3
+    lcms.cmsSaveProfileToMem.argtypes = [ctypes.c_void_p, ctypes.c_void_p, ctypes.POINTER(ctypes.c_uint32)]
+    curve = lcms.cmsBuildParametricToneCurve(
+        None, 4, (ctypes.c_double * 5)(2.4, 1 / 1.055, 0.055 / 1.055, 1 / 12.92, 0.04045)
+    )
+    white = (ctypes.c_double * 3)(0.3127, 0.3290, 1.0)
+    primaries = (ctypes.c_double * 9)(0.680, 0.320, 1.0, 0.265, 0.690, 1.0, 0.150, 0.060, 1.0)
+    profile = lcms.cmsCreateRGBProfile(white, primaries, (ctypes.c_void_p * 3)(curve, curve, curve))
+    size = ctypes.c_uint32(0)
+    lcms.cmsSaveProfileToMem(profile, None, ctypes.byref(size))
+    buf = ctypes.create_string_buffer(size.value)
+    lcms.cmsSaveProfileToMem(profile, buf, ctypes.byref(size))
+    return buf.raw[: size.value]
+
+
+def _evidence_files(tmp_path):
+    """Files whose colour evidence Mitsuba's reader does not see, each with the OCIO config
+    to read it under (None: the built-in one) and whether it is data. Written by OpenImageIO
+    (a real writer) where it writes the evidence, else by the PNG specification."""
+    import struct
+    import subprocess
+
+    rng = np.random.default_rng(470)
+    rgb8 = rng.integers(0, 256, (9, 13, 3), dtype=np.uint8)
+    rgb16 = rng.integers(0, 65536, (9, 13, 3), dtype=np.uint16)
+    linear = (rng.random((7, 9, 3)) * 0.9 + 0.02).astype(np.float32)
+    p3 = _display_p3_profile()
+    icc = [("ICCProfile", f"uint8[{len(p3)}]", np.frombuffer(p3, np.uint8))]
+    ap0 = (0.7347, 0.2653, 0.0, 1.0, 0.0001, -0.077, 0.32168, 0.33767)
+    gama = lambda g: (b"gAMA", struct.pack(">I", round(g * 100000)))  # noqa: E731
+    p3_chrm = (b"cHRM", struct.pack(">8I", 31270, 32900, 68000, 32000, 26500, 69000, 15000, 6000))
+    rules = str(ROOT / "testdata" / "ocio" / "studio_rules.ocio")
+    files = {
+        "srgb8.png": (_write(tmp_path / "srgb8.png", rgb8, "uint8"), None),
+        "icc_p3.png": (_write(tmp_path / "icc_p3.png", rgb8, "uint8", icc), None),
+        "icc_p3.jpg": (_write(tmp_path / "icc_p3.jpg", rgb8, "uint8", icc), None),
+        "chrm_gama.png": (_png_with_chunks(tmp_path / "chrm_gama.png", rgb8, [gama(1 / 2.2), p3_chrm]), None),
+        "gama_1.png": (_png_with_chunks(tmp_path / "gama_1.png", rgb8, [gama(1.0)]), None),
+        "gama_18_16bit.png": (_png_with_chunks(tmp_path / "gama_18_16bit.png", rgb16, [gama(1 / 1.8)]), None),
+        "rgb16.png": (_write(tmp_path / "rgb16.png", rgb16, "uint16"), None),
+        "ap0_aces.exr": (_write(tmp_path / "ap0_aces.exr", linear, "half", [
+            ("chromaticities", "float[8]", ap0), ("acesImageContainerFlag", "int", 1)]), None),
+        "aces_flag_only.exr": (_write(tmp_path / "aces_flag_only.exr", linear, "float", [
+            ("acesImageContainerFlag", "int", 1)]), None),
+        "interop_ap1.exr": (_write(tmp_path / "interop_ap1.exr", linear, "float", [
+            ("colorInteropID", "string", "lin_ap1_scene")]), None),
+        "named_acescg.exr": (_write(tmp_path / "named_acescg.exr", linear, "float", [
+            ("oiio:ColorSpace", "string", "ACEScg")]), None),
+        "rule_acescg.png": (_write(tmp_path / "plate_acescg.png", rgb8, "uint8"), rules),
+        "rule_acescg.exr": (_write(tmp_path / "wall_acescg.exr", linear, "float"), rules),
+    }
+    # oiiotool, the tool a studio writes textures with: an sRGB PNG and a P3 ICC one.
+    made = tmp_path / "oiiotool_p3.png"
+    subprocess.run(["oiiotool", files["srgb8.png"][0], "--iccread", _write_bytes(tmp_path / "p3.icc", p3),
+                    "-o", str(made)], check=True)
+    files["oiiotool_p3.png"] = (str(made), None)
+    return files
+
+
+def _write_bytes(path, data: bytes) -> str:
+    path.write_bytes(data)
+    return str(path)
+
+
+def test_rgb_route_decides_colour_by_converts_rule(scalar, tmp_path):
+    """The RGB route weighs the evidence Mitsuba's reader does not see (ICC profiles in PNG
+    and JPEG, PNG cHRM and gAMA, 16-bit PNG, OpenEXR chromaticities with the ACES flag, the
+    flag alone, colorInteropID, a name in oiio:ColorSpace, an OCIO file rule) by the library
+    function `convert` uses: its texels equal `convert --layout compact -d float`'s bit for
+    bit. Never a silent difference; and the evidence matters (the same samples read as the
+    reader's default would give other texels)."""
+    files = _evidence_files(tmp_path)
+    for name, (path, ocio) in files.items():
+        text, texels = specconv.mitsuba.compact_texels(path, ocio=ocio)
+        want_text, want = _converted(path, tmp_path / f"{name}.compact.exr", ocio=ocio)
+        assert text == want_text, name
+        np.testing.assert_array_equal(texels, want, err_msg=name)
+    for name in ("icc_p3.png", "chrm_gama.png", "gama_1.png", "interop_ap1.exr", "rule_acescg.png"):
+        path, ocio = files[name]
+        default = "Linear Rec.709 (sRGB)" if path.endswith(".exr") else "sRGB - Texture"
+        _, texels = specconv.mitsuba.compact_texels(path, ocio=ocio)
+        _, as_default = specconv.mitsuba.compact_texels(path, ocio=ocio, colorspace=default)
+        assert np.abs(texels[..., :3] - as_default[..., :3]).max() > 1e-3, name
+
+
+def test_rgb_route_refuses_what_it_cannot_read(scalar, tmp_path):
+    """A header whose evidence cannot be read (a PNG iCCP chunk that does not decompress) is
+    refused naming it, not read as sRGB; a data map by a file rule is refused as data, as
+    convert skips it."""
+    rng = np.random.default_rng(5)
+    rgb8 = rng.integers(0, 256, (4, 5, 3), dtype=np.uint8)
+    bad = _png_with_chunks(tmp_path / "bad_icc.png", rgb8, [(b"iCCP", b"P3\0\0not zlib at all")])
+    with pytest.raises(Exception, match=r"PNG iCCP.*cannot be read.*(zlib|decompress)"):
+        specconv.mitsuba.compact_texels(bad)
+    rules = str(ROOT / "testdata" / "ocio" / "studio_rules.ocio")
+    normal = _write(tmp_path / "rock_normal.png", rgb8, "uint8")
+    with pytest.raises(Exception, match=r"data texture.*file rule 'normals'"):
+        specconv.mitsuba.compact_texels(normal, ocio=rules)
 
 
 def test_no_file_is_written_to_make_texels(scalar, files, tmp_path, monkeypatch):
@@ -585,13 +720,17 @@ def test_texels_are_made_with_the_gil_released(scalar):
                 stalls.append((last, now))
             last = now
 
-    thread = threading.Thread(target=spin)
+    thread = threading.Thread(target=spin, daemon=True)
     thread.start()
     time.sleep(0.05)
+    # The file's header says what the pixels are (an 8-bit sRGB PNG's): the pixels are these.
+    png = str(ROOT / "testdata" / "images" / "srgb8.png")
     start = time.perf_counter()
-    _, texels, colorspace = compact_texels(pixels, "in-memory.png", srgb=True)
-    end = time.perf_counter()
-    stop.set()
+    try:
+        _, texels, colorspace = compact_texels(pixels, png)
+    finally:
+        end = time.perf_counter()
+        stop.set()
     thread.join()
     assert texels.shape == (2048, 2048, 6) and colorspace == "sRGB - Texture"
     call = end - start
@@ -637,7 +776,7 @@ def test_rgb_route_refuses_bad_input_clearly(scalar, files, tmp_path):
         ([[0.5, 0.5, 0.5]], "numpy array"),
     ):
         with pytest.raises(specconv.Error, match=message):
-            compact_texels(pixels, "x.png", srgb=True)
+            compact_texels(pixels, "x.png")
     # A grey image named colour is uplifted as grey, as convert does.
     grey = _write(tmp_path / "grey_colour.png", np.full((4, 4, 1), 90, np.uint8), "uint8")
     text, texels = specconv.mitsuba.compact_texels(grey, colorspace="sRGB - Texture")

@@ -242,9 +242,9 @@ def test_a_file_that_is_not_compact_is_refused(variant, files):
 
 
 def test_mitsubas_reader_and_the_librarys_read_the_same_texels(variant, tmp_path):
-    """Level 0 comes through Mitsuba's own OpenEXR reader, other levels through the library:
-    both give OpenImageIO's texels (test_compact.py) and the same text; a damaged text is
-    refused by the library's parser, with its line and reason."""
+    """The plugin's texels are the library's reader's (which gives OpenImageIO's texels,
+    test_compact.py) and the same text; a damaged text is refused by the library's parser,
+    with its line and reason."""
     import specconv.mitsuba as sm
 
     compact = tmp_path / "compact.exr"

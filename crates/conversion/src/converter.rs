@@ -188,37 +188,20 @@ impl Converter {
 
     /// The compact texels of pixels a renderer's reader decoded (six values a pixel, into
     /// `out`), made in memory as a conversion with these options makes them
-    /// ([`crate::pipeline::in_memory`]); with the colour space chosen. The options must ask for the compact layout. Where the reader moved the file's
-    /// chromaticities to Rec.709 (`moved`: Mitsuba's `Bitmap` does), their white is read
-    /// from the file's header (unless a colour space is named).
-    pub fn compact_texels(
-        &self,
-        image: &InMemory,
-        moved: bool,
-        out: &mut [f32],
-    ) -> Result<TexelsMade, Error> {
+    /// ([`crate::pipeline::in_memory`]: the colour space chosen from the file's header by the
+    /// rule a conversion uses); with the colour space chosen. The options must ask for the
+    /// compact layout.
+    pub fn compact_texels(&self, image: &InMemory, out: &mut [f32]) -> Result<TexelsMade, Error> {
         let Some(compact) = &self.storage.compact else {
             return Err(ConversionError::InMemory(
                 "texels in memory are compact texels: ask for layout 'compact'".into(),
             )
             .into());
         };
-        let mut image = *image;
-        // A colour space named settles the colour: the header is not needed.
-        if moved && self.options.colorspace.is_none() {
-            let white = specconv_exr::chromaticities_white(image.decoded.path).map_err(|e| {
-                ConversionError::InMemory(format!(
-                    "{}: its OpenEXR header, which says what its colour is, cannot be read \
-                     ({e}); name its colour space",
-                    image.decoded.path.display()
-                ))
-            })?;
-            image.decoded.moved_white = white.map(|w| w.map(f64::from));
-        }
         let mut run = || {
             crate::pipeline::in_memory::compact_texels(
                 &self.config,
-                &image,
+                image,
                 &self.options,
                 compact,
                 out,

@@ -288,3 +288,139 @@ fn header_of(path: &Path, h: &exr::meta::header::Header) -> Result<Header> {
         roles,
     })
 }
+
+/// One MIP level of an OpenEXR file's first part, any channels, read block by block with the
+/// blocks decompressed in parallel: for a reader that keeps only what it makes of each block
+/// (a compact texture's texels), not the file's channels.
+pub struct ChannelBlocks {
+    /// Width and height of the level.
+    pub size: (usize, usize),
+    /// MIP levels of the file (1 without).
+    pub levels: usize,
+    /// Channel names, in the file's (a block's planes') order.
+    pub channels: Vec<String>,
+    /// Text attributes of the header.
+    pub attributes: Vec<(String, String)>,
+    level: usize,
+    reader: exr::block::reader::Reader<std::io::BufReader<std::fs::File>>,
+}
+
+/// A block of [`ChannelBlocks`]: one plane (`width × height`, row-major) per channel.
+#[derive(Debug)]
+pub struct PlaneBlock {
+    /// Column and row of its top-left pixel in the level.
+    pub at: (usize, usize),
+    /// Its width and height.
+    pub size: (usize, usize),
+    /// One plane per channel of [`ChannelBlocks::channels`], widened to float32.
+    pub planes: Vec<Vec<f32>>,
+}
+
+impl ChannelBlocks {
+    /// Opens MIP level `level` of `path` and reads its header.
+    pub fn open(path: &Path, level: usize) -> Result<ChannelBlocks> {
+        let file = std::io::BufReader::new(specconv_atomic_file::open_file(path)?);
+        let reader = exr::block::read(file, false)?;
+        let first = reader
+            .headers()
+            .first()
+            .ok_or_else(|| Error::Invalid(format!("{} has no image part", path.display())))?;
+        let (levels, size) = levels_of(first, level);
+        if level >= levels {
+            return Err(Error::Invalid(format!(
+                "{}: MIP level {level} does not exist; the file has {levels} (0 to {})",
+                path.display(),
+                levels - 1
+            )));
+        }
+        if let Some(c) = first
+            .channels
+            .list
+            .iter()
+            .find(|c| c.sampling != exr::math::Vec2(1, 1))
+        {
+            return Err(Error::Invalid(format!(
+                "{}: channel {} is subsampled; a texture's channels are not",
+                path.display(),
+                c.name
+            )));
+        }
+        let attributes = first
+            .own_attributes
+            .other
+            .iter()
+            .filter_map(|(k, v)| match v {
+                AttributeValue::Text(t) => Some((crate::text_string(k), crate::text_string(t))),
+                _ => None,
+            })
+            .collect();
+        Ok(ChannelBlocks {
+            size,
+            levels,
+            channels: first
+                .channels
+                .list
+                .iter()
+                .map(|c| c.name.to_string())
+                .collect(),
+            attributes,
+            level,
+            reader,
+        })
+    }
+
+    /// Every block of the level, decompressed in parallel, handed to `each` in turn (in
+    /// whatever order they finish).
+    pub fn read(self, mut each: impl FnMut(PlaneBlock)) -> Result<()> {
+        let level = exr::math::Vec2(self.level, self.level);
+        let channels = self.reader.headers()[0].channels.clone();
+        let chunks = self.reader.filter_chunks(false, |_, _, block| {
+            block.layer == 0 && block.level == level
+        })?;
+        let mut failed = None;
+        chunks.decompress_parallel(false, |_, block| {
+            match planes(&channels, block) {
+                Ok(b) => each(b),
+                Err(e) => failed = Some(e),
+            }
+            Ok(())
+        })?;
+        failed.map_or(Ok(()), Err)
+    }
+}
+
+/// A decompressed block's lines as one plane per channel.
+fn planes(
+    channels: &exr::meta::attribute::ChannelList,
+    block: exr::block::UncompressedBlock,
+) -> Result<PlaneBlock> {
+    let (width, height) = (block.index.pixel_size.x(), block.index.pixel_size.y());
+    let (x0, y0) = (
+        block.index.pixel_position.x(),
+        block.index.pixel_position.y(),
+    );
+    let mut planes = vec![vec![0.0f32; width * height]; channels.list.len()];
+    for line in block.lines(channels) {
+        let (c, p) = (line.location.channel, line.location.position);
+        let start = (p.y() - y0) * width + p.x() - x0;
+        let row = &mut planes[c][start..start + line.location.sample_count];
+        match channels.list[c].sample_type {
+            SampleType::F32 => line.read_samples_into_slice(row)?,
+            SampleType::F16 => {
+                for (o, v) in row.iter_mut().zip(line.read_samples::<half::f16>()) {
+                    *o = v?.to_f32();
+                }
+            }
+            SampleType::U32 => {
+                for (o, v) in row.iter_mut().zip(line.read_samples::<u32>()) {
+                    *o = v? as f32;
+                }
+            }
+        }
+    }
+    Ok(PlaneBlock {
+        at: (x0, y0),
+        size: (width, height),
+        planes,
+    })
+}

@@ -1232,23 +1232,103 @@ pub fn read_level(path: &std::path::Path, level: usize) -> Result<SpectralImage>
     })
 }
 
-/// The white (x, y) of the `chromaticities` of an OpenEXR file's first header, without
-/// reading its pixels; `None` for a file without them, or one that is not OpenEXR (its first
-/// bytes are not OpenEXR's magic number).
-pub fn chromaticities_white(path: &std::path::Path) -> Result<Option<[f32; 2]>> {
+/// What an OpenEXR file's first header says of its colour, read without its pixels: the
+/// evidence a conversion weighs (docs/colour.md), as OpenImageIO reports it.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct ColourAttributes {
+    /// `chromaticities`: red, green, blue and white x, y.
+    pub chromaticities: Option<[f32; 8]>,
+    /// `acesImageContainerFlag`, where it is a number.
+    pub aces_container: Option<f64>,
+    /// `colorInteropID`.
+    pub interop_id: Option<String>,
+    /// `oiio:ColorSpace`, a name a tool wrote.
+    pub colour_space: Option<String>,
+}
+
+/// The first bytes of every OpenEXR file.
+const MAGIC: [u8; 4] = [0x76, 0x2f, 0x31, 0x01];
+
+/// The colour attributes of an OpenEXR file's first header, without reading its pixels;
+/// `None` for a file that is not OpenEXR (its first bytes are not OpenEXR's magic number).
+pub fn colour_attributes(path: &std::path::Path) -> Result<Option<ColourAttributes>> {
     use std::io::{Read, Seek};
     let mut file = std::io::BufReader::new(specconv_atomic_file::open_file(path)?);
     let mut magic = [0u8; 4];
-    if file.read_exact(&mut magic).is_err() || magic != [0x76, 0x2f, 0x31, 0x01] {
+    if file.read_exact(&mut magic).is_err() || magic != MAGIC {
         return Ok(None);
     }
     file.rewind().map_err(exr::error::Error::from)?;
     let meta = exr::meta::MetaData::read_from_buffered(file, false)?;
-    Ok(meta
-        .headers
-        .first()
-        .and_then(|h| h.shared_attributes.chromaticities)
-        .map(|c| [c.white.x(), c.white.y()]))
+    let Some(h) = meta.headers.first() else {
+        return Ok(Some(ColourAttributes::default()));
+    };
+    let c = h.shared_attributes.chromaticities;
+    let string = |name: &str| match h.own_attributes.other.get(&text(name)) {
+        Some(AttributeValue::Text(t)) => Some(text_string(t)),
+        _ => None,
+    };
+    let aces = match h.own_attributes.other.get(&text("acesImageContainerFlag")) {
+        Some(AttributeValue::I32(v)) => Some(f64::from(*v)),
+        Some(AttributeValue::F32(v)) => Some(f64::from(*v)),
+        Some(AttributeValue::F64(v)) => Some(*v),
+        _ => None,
+    };
+    Ok(Some(ColourAttributes {
+        chromaticities: c.map(|c| {
+            let xy = |v: Vec2<f32>| [v.x(), v.y()];
+            let [r, g, b, w] = [c.red, c.green, c.blue, c.white].map(xy);
+            [r[0], r[1], g[0], g[1], b[0], b[1], w[0], w[1]]
+        }),
+        aces_container: aces,
+        interop_id: string("colorInteropID"),
+        colour_space: string("oiio:ColorSpace"),
+    }))
+}
+
+/// An OpenEXR file's R, G, B (and A) samples as stored, widened to float32 (half widens
+/// exactly): no colour conversion, whatever its header declares.
+#[derive(Debug, Clone)]
+pub struct RgbaSamples {
+    /// Width and height.
+    pub size: (usize, usize),
+    /// 3 (R, G, B) or 4 (and A).
+    pub channels: usize,
+    /// Row-major, `channels` a pixel.
+    pub samples: Vec<f32>,
+}
+
+/// The R, G, B and A channels of the first layer of an OpenEXR file that has them, full
+/// resolution, as stored.
+pub fn read_rgba(path: &std::path::Path) -> Result<RgbaSamples> {
+    use exr::image::read::image::ReadLayers as _;
+    use exr::image::read::layers::ReadChannels as _;
+    let file = std::io::BufReader::new(specconv_atomic_file::open_file(path)?);
+    let image = exr::prelude::read()
+        .no_deep_data()
+        .largest_resolution_level()
+        .rgba_channels(
+            |size, channels: &exr::image::RgbaChannels| {
+                let c = if channels.3.is_some() { 4 } else { 3 };
+                RgbaSamples {
+                    size: (size.width(), size.height()),
+                    channels: c,
+                    samples: vec![0.0; size.area() * c],
+                }
+            },
+            |out: &mut RgbaSamples, at, (r, g, b, a): (f32, f32, f32, f32)| {
+                let c = out.channels;
+                let i = (at.y() * out.size.0 + at.x()) * c;
+                out.samples[i..i + 3].copy_from_slice(&[r, g, b]);
+                if c == 4 {
+                    out.samples[i + 3] = a;
+                }
+            },
+        )
+        .first_valid_layer()
+        .all_attributes()
+        .from_buffered(file)?;
+    Ok(image.layer_data.channel_data.pixels)
 }
 
 /// The text attributes of a file's first header, without reading its pixels.

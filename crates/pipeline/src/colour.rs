@@ -40,6 +40,7 @@
 
 use super::{input, interop, png, Error, Result};
 use crate::choices::Alpha;
+pub use crate::header::Header;
 use crate::report::says;
 pub use crate::report::{Rule, Strength, Warning};
 use crate::transfer::Decode;
@@ -186,13 +187,9 @@ enum Declared {
 type Declaration = (String, Strength, Declared);
 
 /// The file's declarations, strong ones first (most authoritative first within each).
-fn declarations(reader: &ImageReader) -> Result<Vec<Declaration>> {
-    let info = reader.info();
+fn declarations(h: &Header) -> Vec<Declaration> {
     let mut out = Vec::new();
-    if let Some(bytes) = reader
-        .bytes_attribute("ICCProfile")?
-        .filter(|b| !b.is_empty())
-    {
+    if let Some(bytes) = h.icc.clone().filter(|b| !b.is_empty()) {
         out.push((
             "ICC profile".to_owned(),
             Strength::Strong,
@@ -200,37 +197,29 @@ fn declarations(reader: &ImageReader) -> Result<Vec<Declaration>> {
         ));
     }
     // OpenImageIO 3's and OpenEXR's colour-space name; it supplants the chromaticities.
-    if let Some(id) = reader
-        .string_attribute("colorInteropID")?
-        .filter(|id| !id.trim().is_empty())
-    {
+    if let Some(id) = h.interop_id.clone().filter(|id| !id.trim().is_empty()) {
         out.push((
             format!("EXR colorInteropID '{id}'"),
             Strength::Strong,
             Declared::Named(id),
         ));
     }
-    if let Some(c) = reader.numeric_attribute("chromaticities")? {
-        if let [rx, ry, gx, gy, bx, by, wx, wy] = c[..] {
-            out.push((
-                "EXR chromaticities".into(),
-                Strength::Strong,
-                Declared::Space {
-                    space: RgbSpace {
-                        name: "chromaticities",
-                        primaries: [[rx, ry], [gx, gy], [bx, by]],
-                        white: [wx, wy],
-                    },
-                    decode: Decode::Linear,
-                    label: "chromaticities",
+    if let Some([rx, ry, gx, gy, bx, by, wx, wy]) = h.chromaticities {
+        out.push((
+            "EXR chromaticities".into(),
+            Strength::Strong,
+            Declared::Space {
+                space: RgbSpace {
+                    name: "chromaticities",
+                    primaries: [[rx, ry], [gx, gy], [bx, by]],
+                    white: [wx, wy],
                 },
-            ));
-        }
+                decode: Decode::Linear,
+                label: "chromaticities",
+            },
+        ));
     }
-    let aces = reader
-        .numeric_attribute("acesImageContainerFlag")?
-        .is_some_and(|v| v.first() == Some(&1.0));
-    if aces {
+    if h.aces_container == Some(1.0) {
         out.push((
             "EXR acesImageContainerFlag".into(),
             Strength::Strong,
@@ -241,26 +230,17 @@ fn declarations(reader: &ImageReader) -> Result<Vec<Declaration>> {
             },
         ));
     }
-    if let Some(name) = &info.declared_color_space {
-        // OpenImageIO's own labels, not declarations: "Linear" for every OpenEXR file,
-        // "sRGB" for integer files by default; PNG's chunks are read below.
-        let guess = name.eq_ignore_ascii_case("linear")
-            || name.eq_ignore_ascii_case("srgb")
-            || info.format_name == "png";
-        if !guess {
-            out.push((
-                format!("oiio:ColorSpace '{name}'"),
-                Strength::Strong,
-                Declared::Named(name.clone()),
-            ));
-        }
+    if let Some(name) = h.declared_name() {
+        out.push((
+            format!("oiio:ColorSpace '{name}'"),
+            Strength::Strong,
+            Declared::Named(name.to_owned()),
+        ));
     }
-    if info.format_name == "png" {
-        if let Some(p) = png::colour_chunks(&info.path) {
-            out.extend(png_declarations(&p));
-        }
+    if let Some(p) = &h.png {
+        out.extend(png_declarations(p));
     }
-    Ok(out)
+    out
 }
 
 /// A PNG's colour chunks as weak declarations: `sRGB`, then `cHRM`/`gAMA` unless they are
@@ -481,49 +461,67 @@ pub fn texture_space(
     selection: &input::Selection,
     flag: Option<&str>,
 ) -> Result<InputSpace> {
-    let with_selection = |mut d: DataTexture| {
-        d.selection = Some(selection.clone());
-        Error::Data(Box::new(d))
-    };
-    let space = match input_space(config, reader, flag) {
-        Err(Error::Data(d)) => return Err(with_selection(*d)),
-        other => other?,
-    };
-    if selection.channels.colour.len() == 1 && !space.rule.may_call_one_channel_colour() {
-        let info = reader.info();
+    let header = Header::of_reader(reader)?;
+    let colour = selection.channels.colour.len();
+    match header_space(config, &header, colour, flag) {
+        Err(Error::Data(mut d)) => {
+            d.selection = Some(selection.clone());
+            Err(Error::Data(d))
+        }
+        other => other,
+    }
+}
+
+/// The colour space of pixels of `colour_channels` (1: grey, 3: RGB) from the file `header`
+/// describes, by the precedence of colour evidence ([`space_of`]) and the data-map rule: a
+/// data space, or one channel that no row from 1 to 3 calls colour, is a [`DataTexture`].
+/// One rule for a conversion ([`texture_space`]) and for pixels a renderer's reader decoded
+/// ([`crate::in_memory`]).
+pub fn header_space(
+    config: &Config,
+    header: &Header,
+    colour_channels: usize,
+    flag: Option<&str>,
+) -> Result<InputSpace> {
+    let space = space_of(config, header, flag)?;
+    if colour_channels == 1 && !space.rule.may_call_one_channel_colour() {
         let overrides = match &space.rule {
             Rule::Default(_) => None,
             rule => rule.evidence(&space.name),
         };
-        return Err(with_selection(DataTexture {
-            path: info.path.clone(),
-            name: data_space_name(config),
-            rule: Rule::OneChannel {
+        return Err(data_texture(
+            &header.path,
+            header.size,
+            data_space_name(config),
+            Rule::OneChannel {
                 overrides,
                 colour: space.name,
             },
-            selection: None,
-            size: (info.width(), info.height()),
-        }));
+        ));
     }
     Ok(space)
 }
 
 /// Chooses the input colour space of the open file by the precedence of colour evidence
-/// (the module's table): the flag, the config's explicit file rule, strong declarations, weak
-/// ones (after a data space from the config's Default rule), the config's Default rule, the
-/// format's default.
+/// ([`space_of`], on what OpenImageIO reports of it).
 pub fn input_space(
     config: &Config,
     reader: &ImageReader,
     flag: Option<&str>,
 ) -> Result<InputSpace> {
-    let info = reader.info();
+    space_of(config, &Header::of_reader(reader)?, flag)
+}
+
+/// Chooses the input colour space of the file `header` describes by the precedence of colour
+/// evidence (the module's table): the flag, the config's explicit file rule, strong
+/// declarations, weak ones (after a data space from the config's Default rule), the config's
+/// Default rule, the format's default.
+pub fn space_of(config: &Config, info: &Header, flag: Option<&str>) -> Result<InputSpace> {
     let Evidence {
         strong,
         weak,
         mut warnings,
-    } = evidence(config, reader)?;
+    } = evidence(config, info)?;
     let rule = file_rule(config, info)?;
     if let Some(flag) = flag {
         let top = rule
@@ -587,7 +585,7 @@ pub fn input_space(
         };
         found.chosen(info, rule)?
     } else {
-        by_format_default(config, info.pixel_format().is_integer())?
+        by_format_default(config, info.integer)?
     };
     Ok(InputSpace { warnings, ..space })
 }
@@ -636,8 +634,8 @@ impl Found {
     }
 
     /// The input space it makes, chosen by `rule`; [`Error::Data`] for a data space.
-    fn chosen(self, info: &specconv_oiio::ImageInfo, rule: Rule) -> Result<InputSpace> {
-        self.chosen_at(&info.path, (info.width(), info.height()), rule)
+    fn chosen(self, info: &Header, rule: Rule) -> Result<InputSpace> {
+        self.chosen_at(&info.path, info.size, rule)
     }
 
     /// [`Found::chosen`] for the image at `path` of `size`.
@@ -665,13 +663,13 @@ struct Evidence {
 }
 
 /// Resolves every declaration of the open file in `config`.
-fn evidence(config: &Config, reader: &ImageReader) -> Result<Evidence> {
+fn evidence(config: &Config, header: &Header) -> Result<Evidence> {
     let mut found = Evidence {
         strong: Vec::new(),
         weak: Vec::new(),
         warnings: Vec::new(),
     };
-    for (what, strength, d) in declarations(reader)? {
+    for (what, strength, d) in declarations(header) {
         let resolved = match &d {
             Declared::Named(name) => match named(config, name, &what)? {
                 Some(Ok(found)) => found,
@@ -781,12 +779,7 @@ fn data_texture(path: &Path, size: (u32, u32), name: String, rule: Rule) -> Erro
 
 /// The space the caller named; `top`, the evidence that would have decided, is named when it
 /// converts otherwise. The declarations' warnings are not given: the flag settles them.
-fn by_flag(
-    config: &Config,
-    info: &specconv_oiio::ImageInfo,
-    flag: &str,
-    top: Option<&Found>,
-) -> Result<InputSpace> {
+fn by_flag(config: &Config, info: &Header, flag: &str, top: Option<&Found>) -> Result<InputSpace> {
     let asked = Found::in_config(config, flag, String::new(), |_| String::new())?;
     let overrides = top.filter(|t| t.differs(&asked)).map(|t| t.says.clone());
     asked.chosen(info, Rule::Flag { overrides })
@@ -796,7 +789,7 @@ fn by_flag(
 /// each that does not. `lower`, the first declaration of a lower row, is named when it
 /// converts otherwise.
 fn by_declarations(
-    info: &specconv_oiio::ImageInfo,
+    info: &Header,
     first: Found,
     rest: Vec<Found>,
     lower: Option<&Found>,
@@ -837,7 +830,7 @@ fn by_declarations(
 
 /// The config's explicit file rule that matches the file's path (not the Default rule), with
 /// its colour space, if one does.
-fn file_rule(config: &Config, info: &specconv_oiio::ImageInfo) -> Result<Option<(String, Found)>> {
+fn file_rule(config: &Config, info: &Header) -> Result<Option<(String, Found)>> {
     let Some((name, rule)) = config.file_rule(&info.path)? else {
         return Ok(None);
     };
@@ -852,10 +845,7 @@ fn file_rule(config: &Config, info: &specconv_oiio::ImageInfo) -> Result<Option<
 /// says). The built-in configs' Default rule is no one's policy for a file, nor is that of
 /// the Academy's official configs given as files ([`Config::builtin_twin`]): `--ocio aces`
 /// and `--ocio cg-config-….ocio` decide alike.
-fn config_default(
-    config: &Config,
-    info: &specconv_oiio::ImageInfo,
-) -> Result<Option<(String, Found)>> {
+fn config_default(config: &Config, info: &Header) -> Result<Option<(String, Found)>> {
     // The built-in configs, and the official files they follow, are no studio's policy.
     if config.builtin_twin()?.is_some() {
         return Ok(None);
@@ -869,7 +859,7 @@ fn config_default(
     };
     let naming = |cs: &str| says::default_rule(&rule.name, cs);
     let found = Found::in_config(config, &rule.color_space, rule.name.clone(), naming)?;
-    if found.route.is_some() && info.pixel_format().is_integer() {
+    if found.route.is_some() && info.integer {
         return Ok(None);
     }
     Ok(Some((rule.name, found)))
@@ -914,75 +904,13 @@ fn by_format_default(config: &Config, srgb_encoded: bool) -> Result<InputSpace> 
     })
 }
 
-/// Pixels that a renderer's reader has already decoded (Mitsuba's `Bitmap`): their colour is
-/// what that reader says of them, for it may have acted on the file's declarations.
+/// Pixels that a renderer's reader has already decoded (Mitsuba's `Bitmap`): the file they
+/// came from, whose header says what they are ([`Header::read`], weighed by
+/// [`header_space`]), and their size.
 #[derive(Debug, Clone, Copy)]
 pub struct Decoded<'a> {
     /// The file they were read from.
     pub path: &'a Path,
     /// Width and height.
     pub size: (u32, u32),
-    /// Colour channels: 1 (grey) or 3 (RGB).
-    pub colour_channels: usize,
-    /// sRGB-encoded, as integer pixels are; else linear.
-    pub srgb_encoded: bool,
-    /// The white (xy) of the chromaticities the file declared, where the reader moved its
-    /// colour to Rec.709 primaries keeping XYZ (OpenEXR's `RGBtoXYZ` then `XYZtoRGB`, no
-    /// adaptation, as Mitsuba's `Bitmap` does): their XYZ is relative to that white.
-    pub moved_white: Option<[f64; 2]>,
-}
-
-/// The colour space of decoded pixels by this module's precedence, as far as the reader kept
-/// the evidence: the flag (row 1); one channel is data (the data-map rule); the file's
-/// chromaticities, which the reader applied, adapted from their white to D65 as a conversion
-/// adapts them (row 3); else the format's default (row 6). The config's file rules and the
-/// file's other declarations (ICC profiles, PNG chunks, names) are the reader's to apply:
-/// Mitsuba's `Bitmap` reads them as sRGB or linear Rec.709, as its own `bitmap` texture does.
-pub fn decoded_space(config: &Config, d: &Decoded, flag: Option<&str>) -> Result<InputSpace> {
-    if let Some(flag) = flag {
-        let asked = Found::in_config(config, flag, String::new(), |_| String::new())?;
-        return asked.chosen_at(d.path, d.size, Rule::Flag { overrides: None });
-    }
-    let white = d
-        .moved_white
-        .filter(|w| (w[0] - 0.3127).abs() + (w[1] - 0.3290).abs() > 1e-4);
-    let space = match white {
-        Some(w) => {
-            let m = REC709.to_xyz_of_white(w, D65).ok_or_else(|| {
-                Error::DefaultColourSpace(format!(
-                    "the file's chromaticities have white {w:?}, which describes no colour"
-                ))
-            })?;
-            InputSpace {
-                name: describe_space(
-                    "chromaticities",
-                    &RgbSpace { white: w, ..REC709 },
-                    Decode::Linear,
-                ),
-                rule: Rule::Declared {
-                    what: vec!["EXR chromaticities".into()],
-                    strength: Strength::Strong,
-                    overrides: None,
-                },
-                to_xyz: ToXyz::Matrix {
-                    decode: Decode::Linear,
-                    m,
-                },
-                warnings: Vec::new(),
-            }
-        }
-        None => by_format_default(config, d.srgb_encoded)?,
-    };
-    if d.colour_channels == 1 && !space.rule.may_call_one_channel_colour() {
-        return Err(data_texture(
-            d.path,
-            d.size,
-            data_space_name(config),
-            Rule::OneChannel {
-                overrides: None,
-                colour: space.name,
-            },
-        ));
-    }
-    Ok(space)
 }

@@ -125,39 +125,63 @@ pub struct CompactTexels {
     pub alpha: Option<Vec<f32>>,
 }
 
-/// Reads MIP level `level` of the compact texture `input` a strip of rows at a time, into
-/// the texels alone (memory: the texels, and one strip of the file's channels).
+/// Reads MIP level `level` of the compact texture `input` into the texels alone (memory: the
+/// texels, and the blocks being decompressed), its blocks decompressed in parallel by the
+/// OpenEXR reader of `specconv_exr` (not OpenImageIO: a renderer's process need not load it).
 pub fn read_texels(input: &Path, level: usize) -> Result<CompactTexels> {
     specconv_atomic_file::readable_file(input)?;
-    let mut source = open(input)?;
-    let text = source.d.compact.to_text();
-    let info = source.reader.info().clone();
-    let top = source.reader.level_of(level)?;
-    let (width, height) = (top.width as usize, top.height as usize);
-    let mut texels = Vec::with_capacity(width * height * TEXEL);
-    let mut alpha = source.d.alpha.map(|_| Vec::with_capacity(width * height));
-    const ROWS: usize = 64;
-    for y in (0..height).step_by(ROWS) {
-        let rows = y as u32..(y + ROWS).min(height) as u32;
-        let px = source.reader.read_scanlines(level, rows.clone())?;
-        for row in 0..rows.len() as u32 {
-            for x in 0..width as u32 {
-                let p = px.pixel(x, row);
-                let stored = source.d.columns.map(|c| p[c]);
-                let mut texel = [0.0f32; TEXEL];
-                source.d.compact.unstore(&stored, &mut texel);
-                texels.extend(texel);
-                if let (Some(a), Some(c)) = (alpha.as_mut(), source.d.alpha) {
-                    a.push(p[c]);
+    specconv_exr::check::check_input(input)?;
+    let unreadable = |e: specconv_exr::Error| Error::NotCompact {
+        path: input.to_path_buf(),
+        why: format!("it cannot be read as OpenEXR ({e})"),
+    };
+    let blocks = specconv_exr::blocks::ChannelBlocks::open(input, level).map_err(unreadable)?;
+    let attribute = |name: &str| {
+        let found = blocks.attributes.iter().find(|(k, _)| k == name);
+        found.map(|(_, v)| v.as_str())
+    };
+    let names: Vec<&str> = blocks.channels.iter().map(String::as_str).collect();
+    let (compact, columns) = header(
+        input,
+        attribute(LAYOUT_ATTRIBUTE),
+        attribute(COMPACT_ATTRIBUTE),
+        &names,
+    )?;
+    let alpha_column = names.iter().position(|n| *n == "A");
+    let ((width, height), levels) = (blocks.size, blocks.levels);
+    let mut texels = vec![0.0f32; width * height * TEXEL];
+    let mut alpha = alpha_column.map(|_| vec![0.0f32; width * height]);
+    let mut outside = false;
+    blocks
+        .read(|b| {
+            let (bw, bh) = b.size;
+            if b.at.0 + bw > width || b.at.1 + bh > height {
+                outside = true; // a damaged file's block: refused below, never written past
+                return;
+            }
+            for y in 0..bh {
+                for x in 0..bw {
+                    let (i, at) = (y * bw + x, (b.at.1 + y) * width + b.at.0 + x);
+                    let stored = columns.map(|c| b.planes[c][i]);
+                    compact.unstore(&stored, &mut texels[at * TEXEL..(at + 1) * TEXEL]);
+                    if let (Some(a), Some(c)) = (alpha.as_mut(), alpha_column) {
+                        a[at] = b.planes[c][i];
+                    }
                 }
             }
-        }
+        })
+        .map_err(unreadable)?;
+    if outside {
+        return Err(Error::NotCompact {
+            path: input.to_path_buf(),
+            why: format!("a block lies outside its {width}×{height} level: the file is damaged"),
+        });
     }
     Ok(CompactTexels {
-        text,
+        text: compact.to_text(),
         width,
         height,
-        levels: info.levels.len(),
+        levels,
         texels,
         alpha,
     })

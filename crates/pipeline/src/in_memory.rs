@@ -1,12 +1,14 @@
 //! Compact texels of pixels a renderer's reader has decoded, made in memory (Mitsuba's
-//! `specconv_rgb`): no file is written or read back. A conversion's rules as far as the reader
-//! kept the evidence ([`colour::decoded_space`]), its alpha rule (straight colour multiplied
+//! `specconv_rgb`): no file is written or read back. A conversion's colour rule on the file's
+//! header read without OpenImageIO ([`Header::read`], [`colour::header_space`]: the same colour space and route
+//! as `convert` for the same file and config), the samples as stored (where the reader
+//! converted an OpenEXR's chromaticities, the file's own samples are read), its alpha rule (straight colour multiplied
 //! by alpha once converted, as OpenEXR stores colour) and its rule on NaN and infinities, then
 //! the compact layout's encoder ([`Compact::texels_of_xyz`], the one `convert --layout compact`
 //! calls), in parallel pieces; integer pixels once per distinct pixel.
 
 use crate::choices::{Alpha, NonFinite};
-use crate::colour::{self, Decoded, InputSpace};
+use crate::colour::{self, Decoded, Header, InputSpace};
 use crate::{Error, Options, Result};
 use rayon::prelude::*;
 use specconv_spectral::compact::{Compact, Precision, TEXEL};
@@ -69,10 +71,14 @@ pub struct Image<'a> {
     pub samples: Samples<'a>,
     /// Samples a pixel: 1 (grey), 2 (grey, alpha), 3 (RGB) or 4 (RGB, alpha).
     pub channels: usize,
-    /// What the reader says of the colour; its `colour_channels` follows from `channels`.
+    /// The file and its size.
     pub decoded: Decoded<'a>,
     /// The reader says its alpha is straight (PNG); else premultiplied (OpenEXR).
     pub straight_alpha: bool,
+    /// The reader converts an OpenEXR's `chromaticities` to other primaries (Mitsuba's
+    /// `Bitmap` moves them to Rec.709 keeping XYZ): the samples of such a file are not the
+    /// file's, and are read from it instead.
+    pub moves_chromaticities: bool,
 }
 
 /// What making the texels found.
@@ -94,23 +100,39 @@ pub fn compact_texels(
     compact: &Compact,
     out: &mut [f32],
 ) -> Result<Made> {
-    let c = image.channels;
     let (w, h) = image.decoded.size;
     let pixels = w as usize * h as usize;
-    if !(1..=4).contains(&c) || image.samples.len() != pixels * c || out.len() != pixels * TEXEL {
+    if out.len() != pixels * TEXEL {
         return Err(Error::InMemory(format!(
-            "{} samples of {c} channel(s) for {w}×{h} pixels and room for {} values: expected \
-             1 to 4 channels (grey, grey and alpha, RGB, RGBA), a sample per channel and \
-             pixel, and {TEXEL} values a pixel",
-            image.samples.len(),
+            "room for {} values for {w}×{h} pixels: expected {TEXEL} values a pixel",
             out.len()
         )));
     }
-    let decoded = Decoded {
-        colour_channels: if c <= 2 { 1 } else { 3 },
-        ..image.decoded
+    let c = image.channels;
+    if !(1..=4).contains(&c) || image.samples.len() != pixels * c {
+        return Err(Error::InMemory(format!(
+            "{} samples of {c} channel(s) for {w}×{h} pixels: expected 1 to 4 channels (grey, \
+             grey and alpha, RGB, RGBA) and a sample per channel and pixel",
+            image.samples.len(),
+        )));
+    }
+    let integer = !matches!(image.samples, Samples::F32(_));
+    let header = Header::read(image.decoded.path, image.decoded.size, integer)?;
+    let stored;
+    let image = &match stored_samples(image, &header)? {
+        Some(s) => {
+            stored = s;
+            Image {
+                samples: Samples::F32(&stored.samples),
+                channels: stored.channels,
+                ..*image
+            }
+        }
+        None => *image,
     };
-    let space = colour::decoded_space(config, &decoded, options.colorspace.as_deref())?;
+    let c = image.channels;
+    let colour = if c <= 2 { 1 } else { 3 };
+    let space = colour::header_space(config, &header, colour, options.colorspace.as_deref())?;
     let policy = options.non_finite;
     match policy {
         NonFinite::Refuse => refuse_non_finite(image)?,
@@ -154,6 +176,36 @@ pub fn compact_texels(
         None => making.make(&|p| p, out)?,
     }
     Ok(Made { space })
+}
+
+/// The file's own samples where the reader converted them (an OpenEXR whose
+/// `chromaticities` it moved to other primaries): read from the file as stored, so the
+/// colour space's route applies to what the file holds, as in a conversion.
+fn stored_samples(image: &Image, header: &Header) -> Result<Option<specconv_exr::RgbaSamples>> {
+    if !image.moves_chromaticities || header.chromaticities.is_none() || image.channels < 3 {
+        return Ok(None);
+    }
+    let path = image.decoded.path;
+    let stored = specconv_exr::read_rgba(path).map_err(|e| {
+        Error::InMemory(format!(
+            "{}: its reader converted its colour by its chromaticities, and its own R, G, B \
+             samples cannot be read ({e}); convert it with specconv convert --layout compact \
+             and use specconv_compact",
+            path.display()
+        ))
+    })?;
+    let (w, h) = image.decoded.size;
+    if stored.size != (w as usize, h as usize) {
+        return Err(Error::InMemory(format!(
+            "{}: its reader decoded {w}×{h} pixels and the file's first R, G, B layer has \
+             {}×{}; convert it with specconv convert --layout compact and use \
+             specconv_compact",
+            path.display(),
+            stored.size.0,
+            stored.size.1
+        )));
+    }
+    Ok(Some(stored))
 }
 
 /// What makes texels of an image's pixels.

@@ -82,6 +82,48 @@ pub fn colour_chunks(path: &Path) -> Option<PngColour> {
     }
 }
 
+/// A PNG's ICC profile (its `iCCP` chunk before the image data, PNG specification 3rd ed.,
+/// 11.3.3.3: a name, a compression method 0 and a zlib stream), decompressed; `None`
+/// without one. OpenImageIO reads it as `ICCProfile`; the RGB route reads it here.
+pub fn icc_profile(path: &Path) -> Result<Option<Vec<u8>>, String> {
+    let file = specconv_atomic_file::open_file(path).map_err(|e| e.to_string())?;
+    let mut f = std::io::BufReader::new(file);
+    let mut sig = [0u8; 8];
+    if f.read_exact(&mut sig).is_err() || sig != SIGNATURE {
+        return Ok(None);
+    }
+    loop {
+        let mut head = [0u8; 8];
+        f.read_exact(&mut head).map_err(|e| e.to_string())?;
+        let len = u32::from_be_bytes([head[0], head[1], head[2], head[3]]) as usize;
+        match &head[4..8] {
+            b"IDAT" | b"IEND" => return Ok(None),
+            b"iCCP" => {}
+            _ => {
+                f.seek_relative(len as i64 + 4).map_err(|e| e.to_string())?;
+                continue;
+            }
+        }
+        if len > crate::header::ICC_MAX {
+            return Err(format!("an iCCP chunk of {len} bytes"));
+        }
+        let mut data = vec![0u8; len];
+        f.read_exact(&mut data).map_err(|e| e.to_string())?;
+        let name_end = data
+            .iter()
+            .take(80)
+            .position(|&b| b == 0)
+            .ok_or("an iCCP chunk without its profile name")?;
+        let stream = data
+            .get(name_end + 2..)
+            .ok_or("an iCCP chunk without a profile")?;
+        let profile =
+            miniz_oxide::inflate::decompress_to_vec_zlib_with_limit(stream, crate::header::ICC_MAX)
+                .map_err(|e| format!("its zlib stream does not decompress: {e}"))?;
+        return Ok(Some(profile));
+    }
+}
+
 /// Refuses a PNG file whose chunks run past its end or that ends before its `IEND` chunk,
 /// from the chunk headers alone (seeking over their data): libpng, reading such a file,
 /// prints its own "libpng error" line to the terminal before OpenImageIO's error comes back.
