@@ -140,22 +140,6 @@ impl RgbSpace {
         m.iter().all(|v| v.is_finite()).then(|| rows(&m))
     }
 
-    /// The matrix to XYZ relative to `target` (Y = 1) of linear RGB in this space's primaries
-    /// whose XYZ is relative to `white` (xy), not to the space's own white: what a reader makes
-    /// of a file it moves from the file's primaries to these, keeping XYZ (OpenEXR's
-    /// `RGBtoXYZ` then `XYZtoRGB`, no adaptation, as Mitsuba's `Bitmap` does). The space's own
-    /// primary matrix, then linear Bradford from `white` to `target`; `None` for a white with
-    /// y ≤ 0 or values not finite.
-    pub fn to_xyz_of_white(&self, white: [f64; 2], target: [f64; 3]) -> Option<[[f64; 3]; 3]> {
-        if !(white[1] > 0.0 && white[0].is_finite() && target[1] > 0.0) {
-            return None;
-        }
-        let m = bradford_matrix(xyz_of(white), Vector3::from(target) / target[1])
-            * npm(&self.primaries, xyz_of(self.white))?
-            * target[1];
-        m.iter().all(|v| v.is_finite()).then(|| rows(&m))
-    }
-
     /// The inverse of [`RgbSpace::to_xyz`]: XYZ relative to `white` to linear RGB.
     pub fn from_xyz(&self, white: [f64; 3]) -> [[f64; 3]; 3] {
         let m = self.to_xyz(white);
@@ -302,31 +286,6 @@ mod tests {
             ..SRGB
         };
         assert!(flat.to_xyz_adapted(d65).is_none());
-    }
-
-    #[test]
-    fn colour_moved_to_rec709_keeping_xyz_reaches_the_declared_route() {
-        // A reader that moves ACEScg pixels to Rec.709 primaries keeping XYZ (OpenEXR's
-        // RGBtoXYZ then XYZtoRGB, each for its own white, as Mitsuba's Bitmap does), then
-        // this route: the declared ACEScg route (Bradford to D65) of the file's own pixels.
-        let d65 = SRGB.white_xyz();
-        let own = |s: &RgbSpace| s.to_xyz(s.white_xyz());
-        let rgb = [0.2, 0.7, 0.05];
-        let moved = apply(&mat3::inverse(&own(&SRGB)), apply(&own(&ACESCG), rgb));
-        let route = SRGB.to_xyz_of_white(ACESCG.white, d65).unwrap();
-        let got = apply(&route, moved);
-        let want = apply(&ACESCG.to_xyz_adapted(d65).unwrap(), rgb);
-        assert!(
-            (0..3).all(|k| (got[k] - want[k]).abs() < 1e-12),
-            "{got:?} {want:?}"
-        );
-        // Not adapted, the colour would be off by far more than any rounding.
-        let unadapted = apply(&own(&SRGB), moved);
-        assert!((0..3).any(|k| (unadapted[k] - want[k]).abs() > 1e-3));
-        // The space's own white needs no adaptation; a white with y = 0 describes nothing.
-        let same = SRGB.to_xyz_of_white(SRGB.white, d65).unwrap();
-        assert!((0..3).all(|r| (0..3).all(|c| (same[r][c] - own(&SRGB)[r][c]).abs() < 1e-12)));
-        assert!(SRGB.to_xyz_of_white([0.3, 0.0], d65).is_none());
     }
 
     #[test]
