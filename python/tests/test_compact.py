@@ -274,7 +274,7 @@ def test_decoded_texels_are_the_baked_spectra(tmp_path, cli, name, image, option
 
 def test_encode_is_what_convert_stores_and_decode_reads_it_back(tmp_path):
     """encode's texels of the colour a file stores are the file's but for u: where encode's u is
-    0 the file's is 0; elsewhere the file stores u with the fewest bits that keep every band
+    0 the file's is 0; elsewhere the file stores the u with the fewest bits that keep every band
     within a quarter of a half step of encode's spectrum, each value as half where it is one
     (U), else as float32 (UF), never in both sets."""
     compact = tmp_path / "compact.exr"
@@ -291,7 +291,8 @@ def test_encode_is_what_convert_stores_and_decode_reads_it_back(tmp_path):
     assert np.array_equal(half.astype(np.float16).astype(np.float32), half)
     assert ((half != 0).any(-1).sum() > 100) and (full != 0).any(), ((half != 0).sum(), (full != 0).sum())
     solved = (again[..., 3:] != 0).any(-1)
-    assert not t[~solved][:, 3:].any() and (t[solved][:, 3:] != 0).any(-1).all()
+    # (A u of 1e-8 may be stored as 0, its nearest half, where that is as close.)
+    assert not t[~solved][:, 3:].any()
     want = specconv.decode(text, again[solved])
     got = specconv.decode(text, t[solved])
     quarter = np.where(np.abs(want) < 2.0**-14, 2.0**-26,
