@@ -20,6 +20,17 @@
                     whose specconvCompact is the file TEXT's bytes and specconvSettings is
                     SETTINGS: hostile headers and NaN rules for `specconv expand`.
   nans FILE         JSON: per MIP level of FILE, how many samples are NaN or infinite.
+  inputs DIR        writes into DIR inputs whose every value is known exactly: codes.png (8-bit,
+                    256x3, every code in every channel); the same with Little CMS's own sRGB
+                    profile (codes_srgb_icc.png), with Debian's sRGB.icc, which is 4e-4 off
+                    sRGB near black and white (codes_debian_icc.png), and with a Display P3
+                    profile Little CMS makes (P3 primaries, D65, the sRGB curve:
+                    codes_p3_icc.png); and linear.exr (float, 256x256, random values in
+                    [-0.1, 1.5], linear Rec.709: no chromaticities).
+  halves C INPUT    JSON: the colour level 0 of compact file C stores against the nearest half
+                    of INPUT's own colour (an 8-bit file's codes through the sRGB curve in
+                    double; a float file's values): the channels that differ, and the largest
+                    difference in half steps.
 """
 import json
 import sys
@@ -82,6 +93,102 @@ def steps(a, b):
 
 
 STORED = ("R", "G", "B", "U.0", "U.1", "U.2", "UF.0", "UF.1", "UF.2")
+
+
+def write_image(path, pixels, kind, attrs=()):
+    spec = oiio.ImageSpec(pixels.shape[1], pixels.shape[0], pixels.shape[2], kind)
+    for name, t, v in attrs:
+        spec.attribute(name, t, v)
+    o = oiio.ImageOutput.create(path)
+    if not o.open(path, spec) or not o.write_image(pixels):
+        sys.exit(o.geterror())
+    o.close()
+
+
+def lcms_profile(primaries):
+    """An ICC profile Little CMS makes, D65 and the sRGB curve: its own sRGB (cmsCreate_sRGBProfile)
+    without primaries, else those primaries."""
+    import ctypes
+    import ctypes.util
+
+    lcms = ctypes.CDLL(ctypes.util.find_library("lcms2"))
+    lcms.cmsBuildParametricToneCurve.restype = ctypes.c_void_p
+    lcms.cmsCreateRGBProfile.restype = ctypes.c_void_p
+    lcms.cmsCreate_sRGBProfile.restype = ctypes.c_void_p
+    if primaries is None:
+        h = lcms.cmsCreate_sRGBProfile()
+    else:
+        xyy = ctypes.c_double * 3
+        curve = lcms.cmsBuildParametricToneCurve(
+            None, 4, (ctypes.c_double * 5)(2.4, 1 / 1.055, 0.055 / 1.055, 1 / 12.92, 0.04045))
+        white = xyy(0.3127, 0.3290, 1.0)
+        rgb = (xyy * 3)(*(xyy(x, y, 1.0) for x, y in primaries))
+        curves = (ctypes.c_void_p * 3)(curve, curve, curve)
+        h = lcms.cmsCreateRGBProfile(ctypes.byref(white), ctypes.byref(rgb), curves)
+    size = ctypes.c_uint32(0)
+    lcms.cmsSaveProfileToMem(ctypes.c_void_p(h), None, ctypes.byref(size))
+    buf = ctypes.create_string_buffer(size.value)
+    lcms.cmsSaveProfileToMem(ctypes.c_void_p(h), buf, ctypes.byref(size))
+    return buf.raw[: size.value]
+
+
+def inputs(out):
+    v = np.arange(256)
+    codes = np.stack([np.stack([v, 255 - v, (v * 37) % 256], -1),
+                      np.stack([(v * 101) % 256, v, 255 - v], -1),
+                      np.stack([255 - v, (v * 73) % 256, v], -1)]).astype(np.uint8)
+    write_image(f"{out}/codes.png", codes, "uint8")
+    icc = lambda b: [("ICCProfile", oiio.TypeDesc(f"uint8[{len(b)}]"), np.frombuffer(b, np.uint8))]  # noqa: E731
+    write_image(f"{out}/codes_srgb_icc.png", codes, "uint8", icc(lcms_profile(None)))
+    write_image(f"{out}/codes_debian_icc.png", codes, "uint8", icc(open("/usr/share/color/icc/sRGB.icc", "rb").read()))
+    p3 = ((0.680, 0.320), (0.265, 0.690), (0.150, 0.060))
+    write_image(f"{out}/codes_p3_icc.png", codes, "uint8", icc(lcms_profile(p3)))
+    rng = np.random.default_rng(47)
+    write_image(f"{out}/linear.exr", (rng.random((256, 256, 3)) * 1.6 - 0.1).astype(np.float32), "float")
+
+
+def halves(compact, source):
+    names, pixels = levels(compact)[0]
+    got = pixels[..., [names.index(c) for c in "RGB"]].astype(np.float64)
+    inp = oiio.ImageInput.open(source)
+    integer = inp.spec().format == oiio.UINT8
+    v = inp.read_image(0, 0, 0, 3, "uint8" if integer else "float").astype(np.float64)
+    inp.close()
+    if integer:
+        v = v / 255.0
+        v = np.where(v <= 0.04045, v / 12.92, ((v + 0.055) / 1.055) ** 2.4)
+    v32 = v.astype(np.float32)
+    want = v32.astype(np.float16).astype(np.float64)
+    spacing = 2.0 ** (np.floor(np.log2(np.maximum(np.abs(want), 2.0**-14))) - 10)
+    # The halves around each value, and the combination nearest its colour in CIEDE2000
+    # (colour-science), against the one stored.
+    import colour
+
+    text = levels_header(compact)
+    m = np.array([float(x) for x in next(li for li in text.splitlines() if li.startswith("rgb ")).split()[1:]]).reshape(3, 3)
+    near = v32.astype(np.float16)
+    beyond = np.where(near.astype(np.float32) == v32, near,
+                      np.nextafter(near, np.where(v32 > near.astype(np.float32), np.inf, -np.inf).astype(np.float16)))
+    white = m @ np.ones(3)
+    lab = lambda rgb: colour.XYZ_to_Lab((rgb.astype(np.float32).astype(np.float64) @ m.T).astype(np.float32)  # noqa: E731
+                                        .astype(np.float64) / white[1], colour.XYZ_to_xy(white))
+    target = colour.XYZ_to_Lab((v32.astype(np.float64) @ m.T) / white[1], colour.XYZ_to_xy(white))
+    best = np.full(v.shape[:-1], np.inf)
+    for pick in range(8):
+        c = np.stack([np.where(pick >> i & 1, beyond[..., i], near[..., i]) for i in range(3)], -1)
+        best = np.minimum(best, colour.delta_E(target, lab(c), method="CIE 2000"))
+    mine = colour.delta_E(target, lab(got), method="CIE 2000")
+    print(json.dumps({"differ": int((got != want).sum()), "channels": int(got.size),
+                      "max_steps": float(np.max(np.abs(got - want) / spacing)),
+                      "farther_than_nearest_colour": int((mine > best + 1e-9).sum()),
+                      "most_beyond_nearest_colour": float(np.max(mine - best))}))
+
+
+def levels_header(path):
+    inp = oiio.ImageInput.open(path)
+    text = inp.spec().get_string_attribute("specconvCompact")
+    inp.close()
+    return text
 
 
 def stored(compact, out):
@@ -147,4 +254,5 @@ def nans(path):
 
 
 if __name__ == "__main__":
-    {"chart": chart, "steps": steps, "stored": stored, "dump": dump, "make": make, "nans": nans}[sys.argv[1]](*sys.argv[2:])
+    {"chart": chart, "steps": steps, "stored": stored, "dump": dump, "make": make, "nans": nans,
+     "inputs": inputs, "halves": halves}[sys.argv[1]](*sys.argv[2:])

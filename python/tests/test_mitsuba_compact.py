@@ -107,7 +107,7 @@ def test_lookup_is_the_spectral_files_lookup_at_any_uv(variant, tmp_path):
     image = str(tc.IMAGES / "photo.jpg")
     baked, compact = tmp_path / "float.exr", tmp_path / "compact.exr"
     specconv.convert(image, baked, sample="float")
-    # Float texels: the colour the float file uplifted, to float32 rounding.
+    # Float texels: the colour the float file uplifted, to a few float32 ulps.
     specconv.convert(image, compact, layout="compact", sample="float")
     wl, _ = ref.read_reflectance(str(baked))
     rng = np.random.default_rng(8)
@@ -129,9 +129,12 @@ def test_lookup_is_the_spectral_files_lookup_at_any_uv(variant, tmp_path):
             # Both weigh the same texels alike (the spectral texture's `nearest` is its bilinear
             # lookup at the texel centre, whose float32 uv weighs a neighbour by a few 10⁻⁶);
             # the float file holds the spectra to float32, the decoder sums in float32
-            # (measured up to 6·10⁻⁷ from a double sum).
+            # (measured up to 6·10⁻⁷ from a double sum). The compact file's colour comes from
+            # the sRGB curve straight to the working space (docs/compact.md), the spectral
+            # file's through OpenColorIO's XYZ: a few float32 ulps apart, which move a texel
+            # near the solid's surface by up to 2.2·10⁻⁵ (measured).
             np.testing.assert_allclose(
-                ours, theirs, rtol=0, atol=5e-6, err_msg=f"{filter_type}, {wrap_mode}"
+                ours, theirs, rtol=0, atol=5e-5, err_msg=f"{filter_type}, {wrap_mode}"
             )
             outside = (probes < wl[0]) | (probes > wl[-1])
             assert (ours[:, outside] == 0).all()

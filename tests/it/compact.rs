@@ -130,13 +130,48 @@ fn expanded_compact_textures_are_what_convert_writes_within_one_half_step() {
         eprintln!("{name}: {:.4} % of samples identical", 100.0 * same);
         // Float samples differ in the last bits where u ≠ 0; rounding by colour picks the
         // other half where the colour's last bits differ (98.7 % and 97.2 % identical measured).
+        // u is stored with the fewest bits within a quarter of a half step, so bands where
+        // u ≠ 0 round to the other half more often: 98.9–99.3 % identical measured on the
+        // photographs, 97.7 % on the chart's saturated colours, 90.5 % rounding by colour.
         let least = match name {
             "float" | "lanczos3" => 0.8,
-            "unbounded" => 0.98,
-            "colour" => 0.95,
-            _ => 0.99,
+            "colour" => 0.85,
+            "chart" | "grid" | "open" => 0.95,
+            _ => 0.98,
         };
         assert!(same > least, "{name}: {same}");
+    }
+}
+
+/// Where the input is in the working space, a compact file stores the nearest half of the
+/// input's own colour, as maketx stores the nearest half of OpenImageIO's linear pixels
+/// (docs/compact.md, "The working space"): every code of an 8-bit sRGB PNG (OpenColorIO's sRGB
+/// texture; Little CMS's sRGB profile) and 196,608 random floats of a linear OpenEXR; a trip
+/// through XYZ moved 21 of the PNG's 2,304 channels (470 through the profile) and 96 of the
+/// floats to a neighbouring half. Profiles that are no sRGB keep their colour: Debian's sRGB.icc (4e-4 off near black)
+/// and Display P3 (the sRGB curve, other primaries).
+#[test]
+fn compact_colour_is_the_nearest_half_of_the_inputs_own_colour() {
+    let dir = Scratch::new("compact-halves");
+    script("compact_check.py", ["inputs", s(&dir.path(""))]);
+    for (name, own) in [
+        ("codes.png", true),
+        ("codes_srgb_icc.png", true),
+        ("codes_debian_icc.png", false),
+        ("codes_p3_icc.png", false),
+        ("linear.exr", true),
+    ] {
+        let input = dir.path(name);
+        let out = dir.path(&format!("{name}.compact.exr"));
+        Cmd::convert(&input, &out)
+            .args(["--layout", "compact"])
+            .ok();
+        let h = script_json("compact_check.py", ["halves", s(&out), s(&input)]);
+        if own {
+            assert_eq!(h["differ"], 0, "{name}: {h}");
+        } else {
+            assert!(h["max_steps"].as_f64().unwrap() > 100.0, "{name}: {h}");
+        }
     }
 }
 

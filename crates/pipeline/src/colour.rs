@@ -48,6 +48,7 @@ use specconv_colour::rgb::{self, RgbSpace};
 use specconv_icc::ToPcs;
 use specconv_ocio::{Config, Processor};
 use specconv_oiio::ImageReader;
+use specconv_spectral::compact::Compact;
 use std::fmt;
 use std::path::{Path, PathBuf};
 
@@ -117,6 +118,28 @@ impl ToXyz {
                 }
             }
         }
+        Ok(())
+    }
+
+    /// Converts interleaved RGB triples in place to `compact`'s working space (linear RGB of
+    /// matrix m to XYZ). Where this route converts as the sRGB curve or no curve followed by m
+    /// does (within [`same_conversion`]'s 1e-4: OpenColorIO's sRGB
+    /// texture, an sRGB ICC profile, a linear Rec.709 OpenEXR), the pixels are that space's
+    /// already, and they are decoded by the curve alone, in double: the half a compact file
+    /// stores is then the one nearest the input's own colour, not one moved to a neighbour by
+    /// the roundings of a trip through XYZ (Little CMS's fixed-point profile, OCIO's float
+    /// ops, the matrix back). Else through XYZ.
+    pub fn apply_to_working(&self, compact: &Compact, rgb: &mut [f32]) -> Result<()> {
+        let m = compact.rgb_to_xyz();
+        let straight = [Decode::Linear, Decode::Srgb]
+            .into_iter()
+            .find(|&decode| same_conversion(self, &ToXyz::Matrix { decode, m }));
+        if let Some(decode) = straight {
+            rgb.iter_mut().for_each(|v| *v = decode.apply(*v));
+            return Ok(());
+        }
+        self.apply_rgb(rgb)?;
+        compact.xyz_to_rgb(rgb);
         Ok(())
     }
 

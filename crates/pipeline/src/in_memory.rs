@@ -4,7 +4,7 @@
 //! as `convert` for the same file and config), the samples as stored (where the reader
 //! converted an OpenEXR's chromaticities, the file's own samples are read), its alpha rule (straight colour multiplied
 //! by alpha once converted, as OpenEXR stores colour) and its rule on NaN and infinities, then
-//! the compact layout's encoder ([`Compact::texels_of_xyz`], the one `convert --layout compact`
+//! the compact layout's encoder ([`Compact::texels_of_rgb`], the one `convert --layout compact`
 //! calls), in parallel pieces; integer pixels once per distinct pixel.
 
 use crate::choices::{Alpha, NonFinite};
@@ -221,7 +221,8 @@ struct Making<'a> {
 
 impl Making<'_> {
     /// The texels of the pixels `pixel(j)` into `out` (texel j at `out[6j..]`), in parallel
-    /// pieces: each piece's colours converted to XYZ, multiplied by alpha where straight, and
+    /// pieces: each piece's colours converted to the working space
+    /// ([`crate::colour::ToXyz::apply_to_working`]), multiplied by alpha where straight, and
     /// encoded.
     fn make(&self, pixel: &(dyn Fn(usize) -> usize + Sync), out: &mut [f32]) -> Result<()> {
         let (image, c) = (self.image, self.image.channels);
@@ -233,11 +234,11 @@ impl Making<'_> {
             .enumerate()
             .try_for_each(|(i, texels)| {
                 let count = texels.len() / TEXEL;
-                let mut xyz = Vec::with_capacity(count * 3);
+                let mut rgb = Vec::with_capacity(count * 3);
                 let mut a = Vec::with_capacity(count);
                 for j in i * PIECE..i * PIECE + count {
                     let at = pixel(j) * c;
-                    xyz.extend_from_slice(&match c {
+                    rgb.extend_from_slice(&match c {
                         1 | 2 => [sample(at); 3],
                         _ => [sample(at), sample(at + 1), sample(at + 2)],
                     });
@@ -245,12 +246,12 @@ impl Making<'_> {
                         a.push(sample(at + k));
                     }
                 }
-                self.space.to_xyz.apply_rgb(&mut xyz)?;
-                for (v, alpha) in xyz.chunks_exact_mut(3).zip(&a) {
+                // As a `-d float` file stores them: the unrounded colour in the working space.
+                self.space.to_xyz.apply_to_working(self.compact, &mut rgb)?;
+                for (v, alpha) in rgb.chunks_exact_mut(3).zip(&a) {
                     v.iter_mut().for_each(|v| *v *= alpha);
                 }
-                // As a `-d float` file stores them: the unrounded colour in the working space.
-                self.compact.texels_of_xyz(&xyz, Precision::Float, texels);
+                self.compact.texels_of_rgb(&rgb, Precision::Float, texels);
                 Ok(())
             })
     }

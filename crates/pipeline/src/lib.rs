@@ -844,23 +844,30 @@ fn uplift_block(
         .chunks_exact(3)
         .map(|c| c.iter().any(|&v| v > ABOVE_ONE))
         .collect();
-    reading.to_xyz.apply_rgb(&mut rgb)?;
+    // A compact file's colour goes to its working space (straight where it is the input's).
+    match &job.storage.compact {
+        Some(compact) => reading.to_xyz.apply_to_working(compact, &mut rgb)?,
+        None => reading.to_xyz.apply_rgb(&mut rgb)?,
+    }
     if let (true, Some(a)) = (reading.premultiply, &a) {
         for (c, alpha) in rgb.chunks_exact_mut(3).zip(a) {
             c.iter_mut().for_each(|v| *v *= alpha);
         }
     }
     for (c, above) in rgb.chunks_exact(3).zip(&channel_above) {
+        let y = match &job.storage.compact {
+            Some(compact) => compact.colour_of([c[0], c[1], c[2]])[1],
+            None => c[1],
+        };
         counts.non_finite += u64::from(!c.iter().all(|v| v.is_finite()));
-        counts.above_one += u64::from(*above || c[1] > ABOVE_ONE);
+        counts.above_one += u64::from(*above || y > ABOVE_ONE);
     }
     let n = job.values();
     let mut bands = vec![0.0f32; count * n];
     match &job.storage.compact {
         // The colour in the working space, unrounded: the smaller levels are filtered from
         // it (as maketx filters), and each level is stored at the end (`store_compact`).
-        Some(compact) => {
-            compact.xyz_to_rgb(&mut rgb);
+        Some(_) => {
             for (t, c) in bands.chunks_exact_mut(n).zip(rgb.chunks_exact(3)) {
                 t[..3].copy_from_slice(c);
             }
