@@ -200,18 +200,7 @@ fn header_of(path: &Path, h: &exr::meta::header::Header) -> Result<Header> {
         })
         .collect();
     let names: Vec<String> = h.channels.list.iter().map(|c| c.name.to_string()).collect();
-    if let Some(c) = h
-        .channels
-        .list
-        .iter()
-        .find(|c| c.sampling != exr::math::Vec2(1, 1))
-    {
-        return Err(Error::Invalid(format!(
-            "{}: channel {} is subsampled, which the spectral layout has no use for",
-            path.display(),
-            c.name
-        )));
-    }
+    full_resolution(path, &h.channels)?;
     let layout = Layout::of(names.iter().map(String::as_str));
     if !layout.is_spectral() {
         return Err(Error::Invalid(format!(
@@ -333,18 +322,7 @@ impl ChannelBlocks {
                 levels - 1
             )));
         }
-        if let Some(c) = first
-            .channels
-            .list
-            .iter()
-            .find(|c| c.sampling != exr::math::Vec2(1, 1))
-        {
-            return Err(Error::Invalid(format!(
-                "{}: channel {} is subsampled; a texture's channels are not",
-                path.display(),
-                c.name
-            )));
-        }
+        full_resolution(path, &first.channels)?;
         let attributes = first
             .own_attributes
             .other
@@ -423,4 +401,21 @@ fn planes(
         size: (width, height),
         planes,
     })
+}
+
+/// Refuses a part with a subsampled channel (4:2:0 chroma and the like): a texture's channels,
+/// spectral or compact, are all at full resolution.
+fn full_resolution(path: &Path, channels: &exr::meta::attribute::ChannelList) -> Result<()> {
+    match channels
+        .list
+        .iter()
+        .find(|c| c.sampling != exr::math::Vec2(1, 1))
+    {
+        Some(c) => Err(Error::Invalid(format!(
+            "{}: channel {} is subsampled; a texture's channels are all at full resolution",
+            path.display(),
+            c.name
+        ))),
+        None => Ok(()),
+    }
 }
