@@ -123,7 +123,7 @@ impl ToXyz {
 
     /// Converts interleaved RGB triples in place to `compact`'s working space (linear RGB of
     /// matrix m to XYZ). Where this route converts as the sRGB curve or no curve followed by m
-    /// does (within [`same_conversion`]'s 1e-4: OpenColorIO's sRGB
+    /// does (within `same_conversion`'s 1e-4: OpenColorIO's sRGB
     /// texture, an sRGB ICC profile, a linear Rec.709 OpenEXR), the pixels are that space's
     /// already, and they are decoded by the curve alone, in double: the half a compact file
     /// stores is then the one nearest the input's own colour, not one moved to a neighbour by

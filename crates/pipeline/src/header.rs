@@ -136,9 +136,6 @@ fn read_up_to(f: &mut impl Read, buf: &mut [u8]) -> std::io::Result<usize> {
     Ok(n)
 }
 
-/// The largest ICC profile read (a real one is a few KB to a few MB).
-pub(crate) const ICC_MAX: usize = 64 << 20;
-
 /// A JPEG's ICC profile: the `ICC_PROFILE` APP2 segments before the image data, joined in
 /// their sequence order (ICC.1:2010, B.4); `None` without one.
 fn jpeg_icc(path: &Path) -> std::result::Result<Option<Vec<u8>>, String> {
@@ -167,8 +164,8 @@ fn jpeg_icc(path: &Path) -> std::result::Result<Option<Vec<u8>>, String> {
         f.read_exact(&mut data).map_err(|e| e.to_string())?;
         if &data[..12] == b"ICC_PROFILE\0" {
             parts.push((data[12], data[14..].to_vec()));
-            if parts.iter().map(|p| p.1.len()).sum::<usize>() > ICC_MAX {
-                return Err(format!("an ICC profile over {ICC_MAX} bytes"));
+            if parts.iter().map(|p| p.1.len()).sum::<usize>() > png::ICC_MAX {
+                return Err(format!("an ICC profile over {} bytes", png::ICC_MAX));
             }
         }
     }

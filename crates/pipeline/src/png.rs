@@ -5,6 +5,10 @@
 use std::io::{Read, Seek, SeekFrom};
 use std::path::Path;
 
+/// The largest ICC profile read, from a PNG's iCCP or a JPEG's APP2 segments (a real one is a
+/// few KB to a few MB).
+pub(crate) const ICC_MAX: usize = 64 << 20;
+
 /// What a PNG says about its colour; chunk values as the PNG specification (3rd ed., 11.3.2)
 /// defines them.
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -104,7 +108,7 @@ pub fn icc_profile(path: &Path) -> Result<Option<Vec<u8>>, String> {
                 continue;
             }
         }
-        if len > crate::header::ICC_MAX {
+        if len > ICC_MAX {
             return Err(format!("an iCCP chunk of {len} bytes"));
         }
         let mut data = vec![0u8; len];
@@ -117,9 +121,8 @@ pub fn icc_profile(path: &Path) -> Result<Option<Vec<u8>>, String> {
         let stream = data
             .get(name_end + 2..)
             .ok_or("an iCCP chunk without a profile")?;
-        let profile =
-            miniz_oxide::inflate::decompress_to_vec_zlib_with_limit(stream, crate::header::ICC_MAX)
-                .map_err(|e| format!("its zlib stream does not decompress: {e}"))?;
+        let profile = miniz_oxide::inflate::decompress_to_vec_zlib_with_limit(stream, ICC_MAX)
+            .map_err(|e| format!("its zlib stream does not decompress: {e}"))?;
         return Ok(Some(profile));
     }
 }

@@ -185,7 +185,7 @@ impl<M: Method> Bounded<M> {
 
     /// [`Bounded::bound`] as it was before issue 45, kept as the reference that the tests and
     /// the `solid_cost` example measure the outside search against: no closed form on a face
-    /// ([`Bounded::on_the_face`]), and each trial projection of an outside colour
+    /// (`Bounded::on_the_face`), and each trial projection of an outside colour
     /// ([`Bounded::bound`]'s last step) starts from w = 0.
     pub fn bound_reference(&self, c: [f64; 3], r: &mut [f64]) -> Outcome {
         self.bound_dual_with(c, r, false).0
