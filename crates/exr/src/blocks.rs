@@ -190,15 +190,7 @@ fn levels_of(h: &exr::meta::header::Header, level: usize) -> (usize, (usize, usi
 /// The spectral header of the first part of `path`: which channels are bands (`T.`, else
 /// `S0.`), re-radiation and alpha.
 fn header_of(path: &Path, h: &exr::meta::header::Header) -> Result<Header> {
-    let attributes: Vec<(String, String)> = h
-        .own_attributes
-        .other
-        .iter()
-        .filter_map(|(k, v)| match v {
-            AttributeValue::Text(t) => Some((crate::text_string(k), crate::text_string(t))),
-            _ => None,
-        })
-        .collect();
+    let attributes = text_attributes(h);
     let names: Vec<String> = h.channels.list.iter().map(|c| c.name.to_string()).collect();
     full_resolution(path, &h.channels)?;
     let layout = Layout::of(names.iter().map(String::as_str));
@@ -323,15 +315,7 @@ impl ChannelBlocks {
             )));
         }
         full_resolution(path, &first.channels)?;
-        let attributes = first
-            .own_attributes
-            .other
-            .iter()
-            .filter_map(|(k, v)| match v {
-                AttributeValue::Text(t) => Some((crate::text_string(k), crate::text_string(t))),
-                _ => None,
-            })
-            .collect();
+        let attributes = text_attributes(first);
         Ok(ChannelBlocks {
             size,
             levels,
@@ -401,6 +385,18 @@ fn planes(
         size: (width, height),
         planes,
     })
+}
+
+/// A part's own text attributes, as (name, value).
+fn text_attributes(h: &exr::meta::header::Header) -> Vec<(String, String)> {
+    h.own_attributes
+        .other
+        .iter()
+        .filter_map(|(k, v)| match v {
+            AttributeValue::Text(t) => Some((crate::text_string(k), crate::text_string(t))),
+            _ => None,
+        })
+        .collect()
 }
 
 /// Refuses a part with a subsampled channel (4:2:0 chroma and the like): a texture's channels,
