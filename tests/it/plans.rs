@@ -369,6 +369,37 @@ fn a_list_of_inputs_is_checked_in_a_few_stat_calls_per_input() {
     );
 }
 
+/// A batch of missing inputs looks at each output name three times in all: the plan's check
+/// (kind and file), the command's check of existing outputs, and the batch's own check before
+/// it writes, which takes existence from its look at the name (it looked twice before: 9
+/// calls an input). Each input then fails on its own, in one more call; the rest (the model,
+/// the config) is a fixed few hundred.
+#[test]
+fn a_batch_of_missing_inputs_looks_at_each_output_name_three_times() {
+    let s = Scratch::new("plans-missing");
+    let n = 1000;
+    let list = s.write(
+        "list",
+        &(0..n)
+            .map(|k| format!("{}\n", s.path(&format!("gone/t{k}.png")).display()))
+            .collect::<String>(),
+    );
+    let out = s.path("out");
+    std::fs::create_dir_all(&out).unwrap();
+    let (calls, code) = stat_calls(&["-".as_ref(), "-o".as_ref(), out.as_os_str()], &list, &s);
+    eprintln!("{n} missing inputs: {calls} stat calls");
+    assert_eq!(code, 1, "every input fails on its own");
+    assert!(
+        calls <= 7 * n + n / 2,
+        "{calls} stat calls for {n} missing inputs: an output name is looked at more than thrice"
+    );
+    assert_eq!(
+        std::fs::read_dir(&out).unwrap().count(),
+        0,
+        "nothing written"
+    );
+}
+
 /// `farm submit - --dry-run` plans, weighs (reads each input's header) and prints 1,000 inputs
 /// of a list, half missing, in at most 8 `stat` calls per input (OpenImageIO itself makes 3 for
 /// each PNG it opens); before, millions.

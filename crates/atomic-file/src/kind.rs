@@ -51,6 +51,21 @@ impl Kind {
         }
     }
 
+    /// [`Kind::with_id`], and whether anything is at the name itself (a link that leads
+    /// nowhere is [`Kind::Missing`] but takes the name): one `lstat`, and a `stat` more only
+    /// through a link.
+    pub fn at_name(path: &Path) -> (Kind, Option<(u64, u64)>, bool) {
+        use std::os::unix::fs::MetadataExt;
+        match std::fs::symlink_metadata(path) {
+            Err(_) => (Kind::Missing, None, false),
+            Ok(m) if m.file_type().is_symlink() => {
+                let (kind, id) = Kind::with_id(path);
+                (kind, id, true)
+            }
+            Ok(m) => (Kind::of_type(m.file_type()), Some((m.dev(), m.ino())), true),
+        }
+    }
+
     /// The kind of a file type (`stat`'s or `fstat`'s; links followed unless `lstat`).
     fn of_type(t: std::fs::FileType) -> Kind {
         use std::os::unix::fs::FileTypeExt;

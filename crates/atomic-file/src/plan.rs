@@ -7,7 +7,7 @@
 //! directory is looked at once ([`Places`]). Each output is looked at once (its kind and the
 //! file there, [`Target`]); inputs are looked at only when some output exists, as only an
 //! existing output can be an input by being the same file. A job of 100,000 inputs into a
-//! fresh folder is checked in one `stat` per output.
+//! fresh folder is checked in one `lstat` per output.
 
 use crate::kind::Kind;
 use std::collections::HashMap;
@@ -175,12 +175,23 @@ fn file_id(path: &Path) -> Option<(u64, u64)> {
     Kind::with_id(path).1
 }
 
-/// An output as a plan sees it: its place, and the file already there (device and inode,
-/// through links), if any. Made by [`output_places`], from one `stat` of the output.
+/// An output as a plan sees it: its place, the file already there (device and inode,
+/// through links), if any, and whether anything is at its name (a link that leads nowhere
+/// included). Made by [`output_places`], from one `lstat` of the output (and a `stat` through
+/// a link).
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Target {
     place: Place,
     existing: Option<(u64, u64)>,
+    taken: bool,
+}
+
+impl Target {
+    /// Whether something is at the output's name, as `lstat` saw it when the plan was made:
+    /// what an output that may not be replaced is refused for.
+    pub fn is_taken(&self) -> bool {
+        self.taken
+    }
 }
 
 /// Checks a job that reads `inputs` and writes `outputs`; the first problem found, in the
@@ -205,7 +216,8 @@ pub fn check(inputs: &[&Path], outputs: &[&Path], replace: Replace) -> Result<()
     if replace == Replace::Never {
         let existing: Vec<&&Path> = outputs
             .iter()
-            .filter(|o| std::fs::symlink_metadata(o).is_ok())
+            .zip(&places)
+            .filter_map(|(o, t)| t.taken.then_some(o))
             .collect();
         if let Some(first) = existing.first() {
             return Err(PlanError::Exists {
@@ -265,8 +277,9 @@ pub fn shared_output(targets: &[Target]) -> Option<(usize, usize)> {
         .find_map(|(k, target)| seen.insert(&target.place, k).map(|first| (first, k)))
 }
 
-/// An output's [`Target`], once its name, directory and kind allow writing it: one `stat` of
-/// the output (its kind and file), and one of its directory the first time that is seen.
+/// An output's [`Target`], once its name, directory and kind allow writing it: one `lstat` of
+/// the output (its kind, its file and whether its name is taken; a `stat` more through a
+/// link), and one `stat` of its directory the first time that is seen.
 fn output_place(output: &Path, known: &mut Places) -> Result<Target, PlanError> {
     use std::os::unix::ffi::OsStrExt;
     let length = output.file_name().map_or(0, |n| n.as_bytes().len());
@@ -276,7 +289,7 @@ fn output_place(output: &Path, known: &mut Places) -> Result<Target, PlanError> 
             length,
         });
     }
-    let (kind, existing) = Kind::with_id(output);
+    let (kind, existing, taken) = Kind::at_name(output);
     match kind {
         Kind::File | Kind::Missing => {}
         kind => {
@@ -289,7 +302,11 @@ fn output_place(output: &Path, known: &mut Places) -> Result<Target, PlanError> 
     let place = known.of(output).ok_or_else(|| PlanError::NoDirectory {
         dir: crate::names::directory_of(output).to_path_buf(),
     })?;
-    Ok(Target { place, existing })
+    Ok(Target {
+        place,
+        existing,
+        taken,
+    })
 }
 
 #[cfg(test)]
@@ -357,6 +374,12 @@ mod tests {
             format!("{} exists (and 1 more output)", outs[0].display())
         );
         assert!(check(&[&x, &x], &[&outs[0], &outs[1]], Replace::Allowed).is_ok());
+        // A link that leads nowhere takes its name: refused as existing, replaced when allowed.
+        let dangling = d.join("dangling.exr");
+        std::os::unix::fs::symlink(d.join("nowhere.exr"), &dangling).unwrap();
+        let e = check(&[&x], &[&dangling], Replace::Never).unwrap_err();
+        assert!(matches!(e, PlanError::Exists { more: 0, .. }), "{e}");
+        assert!(check(&[&x], &[&dangling], Replace::Allowed).is_ok());
         let e = check(&[&x], &[Path::new("/dev/null")], Replace::Allowed).unwrap_err();
         assert_eq!(
             e.to_string(),

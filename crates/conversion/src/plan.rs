@@ -369,9 +369,11 @@ impl Plan {
 
     /// Refuses outputs that exist, on this plan's pairs alone: without `overwrite` or `update`,
     /// any; with `update`, files specconv did not make (its own out-of-date outputs are
-    /// replaced, up-to-date ones skipped); with `overwrite`, none.
+    /// replaced, up-to-date ones skipped); with `overwrite`, none. The outputs are looked at
+    /// now (one `lstat` each).
     pub fn check_existing(&self, overwrite: bool, update: bool) -> Result<(), Error> {
-        check_existing(&self.pairs, overwrite, update)
+        let taken = per_output(&self.pairs, |o| std::fs::symlink_metadata(o).is_ok());
+        check_existing(&self.pairs, &taken, overwrite, update)
     }
 
     /// The inputs and their outputs, in order.
@@ -452,14 +454,15 @@ pub fn check_plan(
     overwrite: bool,
     update: bool,
 ) -> Result<(), Error> {
-    check_files(pairs, read)?;
-    check_existing(pairs, overwrite, update)
+    let taken = check_files(pairs, read)?;
+    check_existing(pairs, &taken, overwrite, update)
 }
 
 /// Outputs' names, directories and kinds, then outputs that are inputs (or other files the
 /// command reads, `read`: a model, a config), then inputs that share an output: the checks of
-/// the whole plan.
-pub(crate) fn check_files(pairs: &[Pair], read: &[PathBuf]) -> Result<(), Error> {
+/// the whole plan. Answers, per pair, whether each output's name is taken (one `lstat` an
+/// output for all of it).
+pub(crate) fn check_files(pairs: &[Pair], read: &[PathBuf]) -> Result<Vec<[bool; 2]>, Error> {
     let inputs: Vec<&Path> = pairs
         .iter()
         .map(|p| p.input.as_path())
@@ -489,18 +492,42 @@ pub(crate) fn check_files(pairs: &[Pair], read: &[PathBuf]) -> Result<(), Error>
             second_output: outputs[b].to_path_buf(),
         });
     }
-    Ok(())
+    let mut places = places.iter();
+    Ok(per_output(pairs, |_| {
+        places.next().is_some_and(files::Target::is_taken)
+    }))
 }
 
-/// [`Plan::check_existing`] on pairs.
-fn check_existing(pairs: &[Pair], overwrite: bool, update: bool) -> Result<(), Error> {
+/// `f` of each pair's outputs, in [`Pair::outputs`]'s order (at most two a pair).
+fn per_output(pairs: &[Pair], mut f: impl FnMut(&Path) -> bool) -> Vec<[bool; 2]> {
+    pairs
+        .iter()
+        .map(|p| {
+            let mut each = [false; 2];
+            for (slot, o) in each.iter_mut().zip(p.outputs()) {
+                *slot = f(o);
+            }
+            each
+        })
+        .collect()
+}
+
+/// [`Plan::check_existing`] on pairs, whose outputs' names are `taken` (per pair, in
+/// [`Pair::outputs`]'s order): a plan's check ([`check_plan`]) takes that from the look
+/// [`check_files`] has just taken, so each output is looked at once.
+fn check_existing(
+    pairs: &[Pair],
+    taken: &[[bool; 2]],
+    overwrite: bool,
+    update: bool,
+) -> Result<(), Error> {
     if overwrite {
         return Ok(());
     }
     let existing: Vec<&Path> = pairs
         .iter()
-        .flat_map(Pair::outputs)
-        .filter(|o| std::fs::symlink_metadata(o).is_ok())
+        .zip(taken)
+        .flat_map(|(p, t)| p.outputs().zip(t).filter_map(|(o, &t)| t.then_some(o)))
         .collect();
     if !update {
         return match existing.first() {
@@ -572,6 +599,12 @@ mod tests {
             plan.check_existing(false, true),
             Err(Error::NotMadeBySpecconv { .. })
         ));
+        // A batch's own check sees the same, from its one look at each output.
+        assert!(matches!(
+            check_plan(plan.pairs(), &[], false, false),
+            Err(Error::Files(PlanError::Exists { more: 0, .. }))
+        ));
+        assert!(check_plan(plan.pairs(), &[], true, false).is_ok());
         let mut with_input = inputs.clone();
         with_input.extend(files(&d, &["t_data.exr"]));
         let e = Plan::new(with_input, &Outputs::Directory(d.clone())).unwrap_err();
