@@ -384,6 +384,18 @@ fn hostile_texture_paths_fail_cleanly_inside_dir() {
         .status()
         .unwrap();
     asset(&python, &stage_fifo, &out).fails(2, &["not a regular file"]);
+    // A folder below DIR that is a link elsewhere (left there, or planted): refused before
+    // anything is written through it.
+    let (linked, away) = (dir.path("linked"), dir.path("away"));
+    std::fs::create_dir_all(&linked).unwrap();
+    std::fs::create_dir_all(&away).unwrap();
+    std::os::unix::fs::symlink(&away, linked.join("tex")).unwrap();
+    asset(&python, &dir.path("hostile.usda"), &linked).fails(2, &["symbolic link", "tex"]);
+    assert_eq!(
+        std::fs::read_dir(&away).unwrap().count(),
+        0,
+        "nothing through the link"
+    );
 }
 
 fn json_lines_of(text: &str) -> Vec<Value> {

@@ -131,6 +131,18 @@ pub enum Error {
     /// A folder or path under DIR.
     #[error("{}: {}", .0.display(), .1)]
     Io(PathBuf, std::io::Error),
+    /// A folder below DIR that is a symbolic link, which would take outputs outside DIR.
+    #[error(
+        "{} is a symbolic link below the output folder {}: outputs are written only inside          it; remove the link or choose a fresh folder",
+        link.display(),
+        dir.display()
+    )]
+    LinkBelowDir {
+        /// The link.
+        link: PathBuf,
+        /// The output folder.
+        dir: PathBuf,
+    },
 }
 
 impl Error {
@@ -144,6 +156,7 @@ impl Error {
                 | Error::LayerExists { .. }
                 | Error::Config(_)
                 | Error::BadTimeout { .. }
+                | Error::LinkBelowDir { .. }
         )
     }
 }

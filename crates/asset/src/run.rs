@@ -117,9 +117,16 @@ impl Converters {
     }
 }
 
-/// Makes the folders under DIR the jobs' outputs go to.
-pub fn make_folders(jobs: &[Job]) -> Result<(), Error> {
+/// Makes the folders under `dir` (the asset's DIR) the jobs' outputs go to, once no folder
+/// on the way is a symbolic link: nothing is written outside DIR.
+pub fn make_folders(dir: &Path, jobs: &[Job]) -> Result<(), Error> {
     for j in jobs {
+        if let Some(link) = specconv_atomic_file::link_below(dir, &j.output) {
+            return Err(Error::LinkBelowDir {
+                link,
+                dir: dir.to_path_buf(),
+            });
+        }
         if let Some(parent) = j.output.parent() {
             std::fs::create_dir_all(parent).map_err(|e| Error::Io(parent.to_path_buf(), e))?;
         }

@@ -50,7 +50,8 @@ pub use kind::{
     create_own, open_file, open_own, read_bounded, read_bounded_own, readable_file, Kind, ReadError,
 };
 pub use plan::{
-    check as check_plan, check_extension, has_extension, Place, Places, PlanError, Replace, Target,
+    check as check_plan, check_extension, has_extension, link_below, Place, Places, PlanError,
+    Replace, Target,
 };
 
 use std::fs::File;

@@ -277,6 +277,28 @@ pub fn shared_output(targets: &[Target]) -> Option<(usize, usize)> {
         .find_map(|(k, target)| seen.insert(&target.place, k).map(|first| (first, k)))
 }
 
+/// The first folder between `dir` (itself not counted: where a user's folder lives is theirs
+/// to choose) and `output`'s own folder that is a symbolic link, as a path: a link there would
+/// take an output, and the folders made for it, out of the tree below `dir`. Folders not made
+/// yet are no links; `output` must lie lexically below `dir` (else it is its own first link:
+/// nothing below `dir` can be checked).
+pub fn link_below(dir: &Path, output: &Path) -> Option<PathBuf> {
+    let Ok(rest) = output.strip_prefix(dir) else {
+        return Some(output.to_path_buf());
+    };
+    let mut folder = dir.to_path_buf();
+    let parents = rest.parent().into_iter().flat_map(Path::components);
+    for part in parents {
+        folder.push(part);
+        match std::fs::symlink_metadata(&folder) {
+            Ok(m) if m.file_type().is_symlink() => return Some(folder),
+            Ok(_) => {}
+            Err(_) => return None,
+        }
+    }
+    None
+}
+
 /// An output's [`Target`], once its name, directory and kind allow writing it: one `lstat` of
 /// the output (its kind, its file and whether its name is taken; a `stat` more through a
 /// link), and one `stat` of its directory the first time that is seen.
@@ -356,6 +378,37 @@ mod tests {
             never
         )
         .is_ok());
+        std::fs::remove_dir_all(d).unwrap();
+    }
+
+    #[test]
+    fn a_link_below_an_output_folder_is_found_and_the_folder_itself_is_not_counted() {
+        let d = crate::tests::scratch("plan-links");
+        let out = d.join("out");
+        std::fs::create_dir_all(out.join("tex/deep")).unwrap();
+        std::fs::create_dir_all(d.join("elsewhere")).unwrap();
+        std::os::unix::fs::symlink(d.join("elsewhere"), out.join("tex/away")).unwrap();
+        std::os::unix::fs::symlink(&out, d.join("out-link")).unwrap();
+        assert_eq!(link_below(&out, &out.join("tex/deep/a.exr")), None);
+        assert_eq!(link_below(&out, &out.join("tex/new/more/a.exr")), None);
+        assert_eq!(
+            link_below(&out, &out.join("tex/away/a.exr")),
+            Some(out.join("tex/away"))
+        );
+        assert_eq!(
+            link_below(&out, &out.join("tex/away/not-yet/a.exr")),
+            Some(out.join("tex/away"))
+        );
+        // The output folder given through a link is the user's choice; an output that is
+        // itself a link is the plan's to judge ([`check`]), not a folder's.
+        let linked = d.join("out-link");
+        assert_eq!(link_below(&linked, &linked.join("tex/deep/a.exr")), None);
+        std::os::unix::fs::symlink(d.join("x"), out.join("tex/deep/l.exr")).unwrap();
+        assert_eq!(link_below(&out, &out.join("tex/deep/l.exr")), None);
+        assert_eq!(
+            link_below(&out, &d.join("other/a.exr")),
+            Some(d.join("other/a.exr"))
+        );
         std::fs::remove_dir_all(d).unwrap();
     }
 

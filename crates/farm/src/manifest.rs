@@ -316,9 +316,14 @@ impl Outputs {
                     rest.components().next().is_some()
                         && rest.components().all(|c| matches!(c, Component::Normal(_)))
                 });
-                match below {
-                    Some(_) => Ok(()),
-                    None => Err(format!("outside the job's output tree {}", dir.display())),
+                match (below, specconv_atomic_file::link_below(dir, output)) {
+                    (None, _) => Err(format!("outside the job's output tree {}", dir.display())),
+                    (Some(_), Some(link)) => Err(format!(
+                        "through the symbolic link {} below the job's output tree {}",
+                        link.display(),
+                        dir.display()
+                    )),
+                    (Some(_), None) => Ok(()),
                 }
             }
             Outputs::Template(t) => {
@@ -668,6 +673,23 @@ mod tests {
                 "{outside}: {e}"
             );
         }
+        // A folder below the tree that is a link (made after submit, say) is out of it.
+        let real = std::env::temp_dir().join(format!("farm-tree-link-{}", std::process::id()));
+        std::fs::create_dir_all(real.join("out/tex")).unwrap();
+        std::os::unix::fs::symlink("/tmp", real.join("out/away")).unwrap();
+        let linked = Outputs::Tree(real.join("out"));
+        let at = |o: &str| {
+            linked.check(
+                Path::new("/w"),
+                Path::new("/s/a.png"),
+                &real.join(o),
+                Spectral,
+            )
+        };
+        assert!(at("out/tex/a_spectral.exr").is_ok());
+        let e = at("out/away/a_spectral.exr").unwrap_err();
+        assert!(e.contains("symbolic link") && e.contains("away"), "{e}");
+        std::fs::remove_dir_all(&real).unwrap();
         let jobs = std::env::temp_dir().join(format!("farm-tree-{}", std::process::id()));
         let mut m = manifest(tree, vec![("/s/tex/a.png", "/out/tex/a_spectral.exr")]);
         let e = m.check(&jobs).unwrap_err().to_string();

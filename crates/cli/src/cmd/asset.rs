@@ -76,18 +76,14 @@ pub fn run(args: Args) -> Result<i32> {
              (docs/assets.md); convert the file with `specconv convert --colorspace`"
         )));
     }
-    let fault = |e: specconv_asset::Error| match e.is_usage() {
-        true => usage(e),
-        false => e.into(),
-    };
-    let reader = Reader::from_env().map_err(fault)?;
+    let reader = Reader::from_env().map_err(asset_error)?;
     let Prepared { asset, jobs } = prepare(
         &reader,
         (&args.stage, &args.output),
         &options,
         (args.dry_run, args.batch.update),
     )
-    .map_err(fault)?;
+    .map_err(asset_error)?;
     let reporting = args.batch.reporting(args.verbose);
     if asset.textures.is_empty() && !args.batch.quiet {
         errln!(
@@ -149,6 +145,15 @@ fn print_decisions(asset: &Asset, jobs: &[Job], json: bool) -> Result<()> {
     Ok(())
 }
 
+/// An asset error for the CLI: the caller's fault is a usage error (exit 2).
+pub(crate) fn asset_error(e: specconv_asset::Error) -> anyhow::Error {
+    if e.is_usage() {
+        usage(e)
+    } else {
+        e.into()
+    }
+}
+
 /// Converts the jobs (each in its colour space), reports the textures that are not converted
 /// as failures, and writes the layer.
 fn convert(
@@ -160,7 +165,7 @@ fn convert(
 ) -> Result<i32> {
     let converters =
         Converters::new(&options, jobs).map_err(|e| usage(anyhow::anyhow!(explain(&e))))?;
-    make_folders(jobs)?;
+    make_folders(&asset.dir, jobs).map_err(asset_error)?;
     let each = converters.each();
     let pairs: Vec<_> = jobs.iter().map(Job::pair).collect();
     let outcomes = Arc::new(Mutex::new(Outcomes::new(asset, jobs)));

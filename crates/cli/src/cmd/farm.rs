@@ -2,6 +2,7 @@
 //! plans, the job directory and the reading of logs and Slurm live in the farm crate; here the
 //! inputs are measured, the convert options passed on, and the results reported.
 
+use crate::cmd::asset::asset_error;
 use crate::cmd::convert;
 use crate::{checks, exit, print_error, usage};
 use anyhow::{anyhow, bail, Context, Result};
@@ -395,7 +396,7 @@ fn plan_stage(s: &Submit, stage: &Path, given: &Options, ocio: &str) -> Result<P
     }
     if !s.dry_run {
         // The folders below DIR, made once here on the shared file system, not by each task.
-        specconv_asset::make_folders(&jobs)?;
+        specconv_asset::make_folders(&asset.dir, &jobs).map_err(asset_error)?;
     }
     let pairs: Vec<Pair> = jobs.iter().map(Job::pair).collect();
     let mut files = listed_files(&pairs)?;
@@ -411,15 +412,6 @@ fn plan_stage(s: &Submit, stage: &Path, given: &Options, ocio: &str) -> Result<P
         }),
         unplanned,
     })
-}
-
-/// An asset error for the CLI: the caller's fault is a usage error (exit 2).
-fn asset_error(e: specconv_asset::Error) -> anyhow::Error {
-    if e.is_usage() {
-        usage(e)
-    } else {
-        e.into()
-    }
 }
 
 /// A stage's job: the layer over the stage ([`specconv_asset::farm_layer`]); false when none
