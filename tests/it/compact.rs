@@ -205,14 +205,23 @@ fn decode_check(dir: &Scratch) -> std::path::PathBuf {
 
 /// tests/c/`name`.c with include/specconv_spectrum.h, compiled by the `cc` on PATH into `dir`.
 pub(crate) fn compile_c(dir: &Scratch, name: &str) -> std::path::PathBuf {
+    compile_with(dir, &format!("tests/c/{name}.c"), &[])
+}
+
+/// The C file `source` (from the project's root) with include/specconv_spectrum.h, compiled
+/// by the `cc` on PATH into `dir` as the header's users compile it (C99, every warning an
+/// error), linked with `libs` and libm.
+pub(crate) fn compile_with(dir: &Scratch, source: &str, libs: &[&str]) -> std::path::PathBuf {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let exe = dir.path(name);
+    let name = Path::new(source).file_stem().unwrap();
+    let exe = dir.path(name.to_str().unwrap());
     let cc = std::process::Command::new("cc")
         .args(["-std=c99", "-Wall", "-Wextra", "-Werror", "-O2", "-I"])
         .arg(root.join("include"))
-        .arg(root.join(format!("tests/c/{name}.c")))
+        .arg(root.join(source))
         .arg("-o")
         .arg(&exe)
+        .args(libs)
         .arg("-lm")
         .output()
         .expect("cc on PATH");

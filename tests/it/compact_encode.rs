@@ -2,7 +2,7 @@
 //! through tests/c/encode_check.c) as the library makes them (`Compact::encode_f32`), for
 //! 100,000 random colours of every kind a texture holds or a careless caller passes.
 
-use crate::compact::compile_c;
+use crate::compact::{compile_c, compile_with};
 use specconv_colour::rgb::{ACESCG, SRGB};
 use specconv_spectral::compact::{Compact, TEXEL};
 use specconv_spectral::method::MethodName;
@@ -325,8 +325,6 @@ fn the_c_header_makes_the_librarys_texels_from_colours() {
 /// examples/c/texels_from_exr.c, compiled with OpenEXR's C API (pkg-config's OpenEXR, Debian's
 /// libopenexr-dev) as docs/compact.md shows.
 fn compile_example(dir: &Scratch) -> std::path::PathBuf {
-    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
-    let exe = dir.path("texels_from_exr");
     let flags = std::process::Command::new("pkg-config")
         .args(["--cflags", "--libs", "OpenEXR"])
         .output()
@@ -337,22 +335,8 @@ fn compile_example(dir: &Scratch) -> std::path::PathBuf {
         String::from_utf8_lossy(&flags.stderr)
     );
     let flags = String::from_utf8(flags.stdout).unwrap();
-    let cc = std::process::Command::new("cc")
-        .args(["-std=c99", "-Wall", "-Wextra", "-Werror", "-O2", "-I"])
-        .arg(root.join("include"))
-        .arg(root.join("examples/c/texels_from_exr.c"))
-        .arg("-o")
-        .arg(&exe)
-        .args(flags.split_whitespace())
-        .arg("-lm")
-        .output()
-        .expect("cc on PATH");
-    assert!(
-        cc.status.success(),
-        "cc: {}",
-        String::from_utf8_lossy(&cc.stderr)
-    );
-    exe
+    let flags: Vec<&str> = flags.split_whitespace().collect();
+    compile_with(dir, "examples/c/texels_from_exr.c", &flags)
 }
 
 /// The pixels of an RGB OpenEXR as the `exr` crate reads them (not OpenEXR's C API, which
