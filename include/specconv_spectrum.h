@@ -1046,11 +1046,10 @@ static void scs_lab_(const double xyz[3], const double white[3], double lab[3], 
     int k;
     for (k = 0; k < 3; k++) {
         double t = xyz[k] / white[k];
-        f[k] = scs_lab_f_(t);
-        if (jac) {
-            double q = t > 216.0 / 24389.0 ? scs_cbrt_(t) : 0;
-            dd[k] = (t > 216.0 / 24389.0 ? 1.0 / (3.0 * (q * q)) : 841.0 / 108.0) / white[k];
-        }
+        /* One cube root serves f and its derivative (the same values as scs_lab_f_'s). */
+        double q = t > 216.0 / 24389.0 ? scs_cbrt_(t) : 0;
+        f[k] = t > 216.0 / 24389.0 ? q : scs_lab_f_(t);
+        if (jac) dd[k] = (t > 216.0 / 24389.0 ? 1.0 / (3.0 * (q * q)) : 841.0 / 108.0) / white[k];
     }
     lab[0] = 116.0 * f[1] - 16.0;
     lab[1] = 500.0 * (f[0] - f[1]);
