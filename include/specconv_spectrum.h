@@ -767,21 +767,23 @@ static void scs_dual_at_(const scs_dual_ *d, const double w[3], double *r, scs_p
     int k;
     for (i = 0; i < d->b.n; i++) {
         double b0 = scs_col_(&d->b, i, 0), b1 = scs_col_(&d->b, i, 1), b2 = scs_col_(&d->b, i, 2);
-        double z = d->p[i] + b0 * w[0] + b1 * w[1] + b2 * w[2], v;
+        double z = d->p[i] + b0 * w[0] + b1 * w[1] + b2 * w[2];
+        /* A band at 0 adds nothing to A·r: skipping its +0 keeps every sum bit for bit (f starts
+         * at +0 and never becomes -0) and shortens the sums' chains of additions. */
         if (z <= 0) {
-            v = 0;
+            r[i] = 0;
         } else if (z < 1) {
             psi += 0.5 * z * z;
             h[0] += b0 * b0; h[1] += b0 * b1; h[2] += b0 * b2;
             h[3] += b1 * b1; h[4] += b1 * b2; h[5] += b2 * b2;
             free++;
-            v = z;
+            r[i] = z;
+            f[0] += b0 * z; f[1] += b1 * z; f[2] += b2 * z;
         } else {
             psi += z - 0.5;
-            v = 1;
+            r[i] = 1;
+            f[0] += b0; f[1] += b1; f[2] += b2;
         }
-        r[i] = v;
-        f[0] += b0 * v; f[1] += b1 * v; f[2] += b2 * v;
     }
     psi += 0.5 * d->mu * scs_dot3_(w, w) - scs_dot3_(d->s, w);
     for (k = 0; k < 3; k++) pt->grad[k] = f[k] - d->s[k] + d->mu * w[k];
@@ -1044,11 +1046,10 @@ static void scs_lab_(const double xyz[3], const double white[3], double lab[3], 
     int k;
     for (k = 0; k < 3; k++) {
         double t = xyz[k] / white[k];
-        f[k] = scs_lab_f_(t);
-        if (jac) {
-            double q = t > 216.0 / 24389.0 ? scs_cbrt_(t) : 0;
-            dd[k] = (t > 216.0 / 24389.0 ? 1.0 / (3.0 * (q * q)) : 841.0 / 108.0) / white[k];
-        }
+        /* One cube root serves f and its derivative (the same values as scs_lab_f_'s). */
+        double q = t > 216.0 / 24389.0 ? scs_cbrt_(t) : 0;
+        f[k] = t > 216.0 / 24389.0 ? q : scs_lab_f_(t);
+        if (jac) dd[k] = (t > 216.0 / 24389.0 ? 1.0 / (3.0 * (q * q)) : 841.0 / 108.0) / white[k];
     }
     lab[0] = 116.0 * f[1] - 16.0;
     lab[1] = 500.0 * (f[0] - f[1]);

@@ -2,28 +2,39 @@
 
 /// CIE 1976 L*a*b* of `xyz` relative to the reference white `white` (CIE 15:2018, Eq. 8.1–8.3).
 pub fn xyz_to_lab(xyz: [f64; 3], white: [f64; 3]) -> [f64; 3] {
-    let [fx, fy, fz] = [0, 1, 2].map(|k| f(xyz[k] / white[k]));
+    lab_of_f([0, 1, 2].map(|k| f(xyz[k] / white[k])))
+}
+
+/// L*, a*, b* from CIE's f of X/Xn, Y/Yn and Z/Zn.
+fn lab_of_f([fx, fy, fz]: [f64; 3]) -> [f64; 3] {
     [116.0 * fy - 16.0, 500.0 * (fx - fy), 200.0 * (fy - fz)]
 }
 
 /// CIELAB of `xyz` and its Jacobian ∂(L*, a*, b*)/∂(X, Y, Z) (rows L*, a*, b*). The formula
 /// is continuous with a continuous derivative for every XYZ, negative and above white too.
+/// One cube root a component serves f and its derivative (the outside search evaluates this
+/// at every step; the values are those of [`xyz_to_lab`] bit for bit).
 pub fn xyz_to_lab_jacobian(xyz: [f64; 3], white: [f64; 3]) -> ([f64; 3], [[f64; 3]; 3]) {
-    let t = [0, 1, 2].map(|k| xyz[k] / white[k]);
-    let [dx, dy, dz] = [0, 1, 2].map(|k| {
-        let d = if t[k] > 216.0 / 24389.0 {
-            1.0 / (3.0 * t[k].cbrt().powi(2))
+    let (mut fv, mut dv) = ([0.0; 3], [0.0; 3]);
+    for k in 0..3 {
+        let t = xyz[k] / white[k];
+        let d = if t > 216.0 / 24389.0 {
+            let q = t.cbrt();
+            fv[k] = q;
+            1.0 / (3.0 * q.powi(2))
         } else {
+            fv[k] = f(t);
             841.0 / 108.0
         };
-        d / white[k]
-    });
+        dv[k] = d / white[k];
+    }
+    let [dx, dy, dz] = dv;
     let j = [
         [0.0, 116.0 * dy, 0.0],
         [500.0 * dx, -500.0 * dy, 0.0],
         [0.0, 200.0 * dy, -200.0 * dz],
     ];
-    (xyz_to_lab(xyz, white), j)
+    (lab_of_f(fv), j)
 }
 
 /// CIE's f(t): the cube root above (6/29)³, and its linear segment below.

@@ -240,8 +240,10 @@ impl Dual<'_> {
         let mut free = 0;
         for ((b, &p), ri) in self.cols.iter().zip(self.p).zip(r.iter_mut()) {
             let z = p + b[0] * w[0] + b[1] * w[1] + b[2] * w[2];
-            let v = if z <= 0.0 {
-                0.0
+            // A band at 0 adds nothing to A·r: skipping its +0 keeps every sum bit for bit (f
+            // starts at +0 and never becomes −0) and shortens the sums' chains of additions.
+            if z <= 0.0 {
+                *ri = 0.0;
             } else if z < 1.0 {
                 psi += 0.5 * z * z;
                 h[0] += b[0] * b[0];
@@ -251,15 +253,17 @@ impl Dual<'_> {
                 h[4] += b[1] * b[2];
                 h[5] += b[2] * b[2];
                 free += 1;
-                z
+                *ri = z;
+                f[0] += b[0] * z;
+                f[1] += b[1] * z;
+                f[2] += b[2] * z;
             } else {
                 psi += z - 0.5;
-                1.0
-            };
-            *ri = v;
-            f[0] += b[0] * v;
-            f[1] += b[1] * v;
-            f[2] += b[2] * v;
+                *ri = 1.0;
+                f[0] += b[0];
+                f[1] += b[1];
+                f[2] += b[2];
+            }
         }
         let s = self.s;
         let mu = self.mu;
@@ -355,5 +359,65 @@ impl Dual<'_> {
             other.copy_from_slice(cur);
         }
         end
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Issue 45: the pass over the bands adds nothing for a band at 0 and b (not b·1) for one
+    /// at 1; its results must stay bit for bit those of adding clip(z, 0, 1)·b for every band,
+    /// which the C header, the reference texels and the tests' answers were made with.
+    #[test]
+    fn the_dual_pass_keeps_every_sum_bit_for_bit() {
+        let mut state = 45u64;
+        let mut next = || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        let cols: Vec<[f64; 3]> = (0..40).map(|_| [next(), next(), next()]).collect();
+        let p: Vec<f64> = (0..40).map(|_| 3.0 * next()).collect();
+        let dual = Dual {
+            cols: &cols,
+            p: &p,
+            s: [next(), next(), next()],
+            mu: 0.25,
+            eps: 0.0,
+        };
+        let mut r = vec![0.0; cols.len()];
+        let mut kinds = [0usize; 3];
+        for _ in 0..50 {
+            let w = [4.0 * next(), 4.0 * next(), 4.0 * next()];
+            let point = dual.at(&w, &mut r);
+            let (mut psi, mut f, mut h, mut free) = (0.0, [0.0; 3], [0.0; 6], 0);
+            for (i, (b, &q)) in cols.iter().zip(&p).enumerate() {
+                let z = q + b[0] * w[0] + b[1] * w[1] + b[2] * w[2];
+                let v = z.clamp(0.0, 1.0);
+                kinds[usize::from(v > 0.0) + usize::from(v == 1.0)] += 1;
+                if v > 0.0 && v < 1.0 {
+                    psi += 0.5 * z * z;
+                    let pairs = [(0, 0), (0, 1), (0, 2), (1, 1), (1, 2), (2, 2)];
+                    for (hk, (j, l)) in h.iter_mut().zip(pairs) {
+                        *hk += b[j] * b[l];
+                    }
+                    free += 1;
+                } else if v == 1.0 {
+                    psi += z - 0.5;
+                }
+                f.iter_mut().zip(b).for_each(|(fk, bk)| *fk += bk * v);
+                assert_eq!(r[i].to_bits(), v.to_bits(), "band {i}");
+            }
+            psi += 0.5 * dual.mu * dot(w, w) - dot(dual.s, w);
+            let grad = [0, 1, 2].map(|k| f[k] - dual.s[k] + dual.mu * w[k]);
+            assert_eq!(point.psi.to_bits(), psi.to_bits());
+            assert_eq!(point.grad.map(f64::to_bits), grad.map(f64::to_bits));
+            assert_eq!(point.hess.map(f64::to_bits), h.map(f64::to_bits));
+            assert_eq!(point.free, free);
+        }
+        // Every kind of band was met: at 0, free, at 1.
+        assert!(kinds.iter().all(|&k| k > 100), "{kinds:?}");
     }
 }
