@@ -25,13 +25,13 @@ pub mod run;
 pub mod stage;
 
 pub use decide::{Decision, Space, Texture};
-pub use plan::{Asset, Job, LayerPlan, Override, Planned};
+pub use plan::{Asset, DocumentPlan, Job, LayerPlan, Override, Planned, Retarget};
 pub use reader::{install_line, Reader, DEFAULT_TIMEOUT, PYTHON_VAR, TIMEOUT_VAR};
 pub use run::{
     farm_layer, finish, make_folders, member, prepare, same_jobs, with_member, Converters,
     FarmFile, Outcomes, Prepared,
 };
-pub use stage::{Node, Stage, Use};
+pub use stage::{MtlxReference, Node, Stage, Use};
 
 use std::ffi::OsString;
 use std::path::{Path, PathBuf};
@@ -76,15 +76,18 @@ pub enum Error {
         /// What it is instead.
         why: String,
     },
-    /// A MaterialX document given as the stage.
+    /// The interpreter has no MaterialX, and a MaterialX document is to be read.
     #[error(
-        "{}: a MaterialX document; usd-core (PyPI) has no MaterialX file format plugin, so \
-         specconv reads MaterialX nodes inside USD stages only (docs/assets.md)",
-        stage.display()
+        "the Python interpreter '{}' has no MaterialX, which reads the MaterialX document {}: \
+         install it with `{} -m pip install MaterialX`, or name an interpreter that has it \
+         with {PYTHON_VAR}",
+        python.to_string_lossy(), document.display(), python.to_string_lossy()
     )]
-    Mtlx {
+    NoMaterialX {
+        /// The interpreter.
+        python: OsString,
         /// The document.
-        stage: PathBuf,
+        document: PathBuf,
     },
     /// usd-core could not open it.
     #[error("usd-core cannot open the stage: {detail}")]
@@ -140,7 +143,6 @@ impl Error {
         matches!(
             self,
             Error::NotAStage { .. }
-                | Error::Mtlx { .. }
                 | Error::LayerExists { .. }
                 | Error::Config(_)
                 | Error::BadTimeout { .. }
@@ -158,8 +160,14 @@ pub fn is_stage(path: &Path) -> bool {
     )
 }
 
-/// Checks that `stage` can be given to usd-core: a regular file (a FIFO would block it) that
-/// is not a MaterialX document.
+/// Whether `path` names a MaterialX document (`.mtlx`), which is read by the MaterialX package
+/// and gets an override copy rather than a USD layer.
+pub fn is_document(path: &Path) -> bool {
+    path.extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("mtlx"))
+}
+
+/// Checks that `stage` can be given to the reader: a regular file (a FIFO would block it).
 pub fn check_stage(stage: &Path) -> Result<(), Error> {
     let not = |why: String| Error::NotAStage {
         stage: stage.to_path_buf(),
@@ -170,12 +178,6 @@ pub fn check_stage(stage: &Path) -> Result<(), Error> {
         return Err(not(
             "not a regular file (a FIFO, a device or a directory)".into()
         ));
-    }
-    let ext = stage.extension().map(|e| e.to_ascii_lowercase());
-    if ext.as_deref() == Some("mtlx".as_ref()) {
-        return Err(Error::Mtlx {
-            stage: stage.to_path_buf(),
-        });
     }
     Ok(())
 }
