@@ -427,3 +427,23 @@ fn without_materialx_the_error_says_what_to_install() {
     );
     assert!(!dir.path("out/d_spectral.mtlx").exists());
 }
+
+#[test]
+fn farm_submit_refuses_a_materialx_document_and_names_the_command() {
+    let dir = Scratch::new("mtlx-farm");
+    let doc = dir.write(
+        "d.mtlx",
+        "<?xml version=\"1.0\"?>\n<materialx version=\"1.39\"/>\n",
+    );
+    let out = dir.path("out");
+    Cmd::new([
+        "farm",
+        "submit",
+        doc.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ])
+    .args(["--tasks", "2"])
+    .fails(2, &["is a MaterialX document", "specconv asset"]);
+    assert!(!out.exists());
+}

@@ -549,4 +549,75 @@ mod tests {
             assert!(o.components().all(|c| c != Component::ParentDir));
         }
     }
+
+    fn node(path: &str, document: Option<&str>) -> Node {
+        Node {
+            node: path.into(),
+            node_id: Some("ND_image_color3".into()),
+            source_color_space: None,
+            colorspace: Some("srgb_texture".into()),
+            authored: Some("tex/a.png".into()),
+            resolved: Some("/s/tex/a.png".into()),
+            layer: None,
+            package: None,
+            uses: vec![],
+            document: document.map(PathBuf::from),
+        }
+    }
+
+    #[test]
+    fn materialx_nodes_go_to_their_documents_copies_and_one_stem_twice_is_told_apart() {
+        let reference = |doc: &str| MtlxReference {
+            prim: "/World/Looks/Brick".into(),
+            arc: "references".into(),
+            asset: "./brick.mtlx".into(),
+            resolved: doc.into(),
+            target: "/MaterialX/Materials/M".into(),
+            offset: 0.0,
+            scale: 1.0,
+        };
+        let texture = Texture {
+            file: "/s/tex/a.png".into(),
+            nodes: vec![
+                node("/World/Looks/Rock/Albedo", None),
+                node("NG/img", Some("/s/a/brick.mtlx")),
+                node("img", Some("/s/b/brick.mtlx")),
+            ],
+            decision: Decision::Colour {
+                space: Space::Named("srgb_texture".into()),
+                rule: "materialx-colorspace",
+                why: String::new(),
+            },
+        };
+        let mut asset = Asset {
+            stage: "/s/shot.usda".into(),
+            dir: "/out".into(),
+            layer: layer_path(Path::new("/s/shot.usda"), Path::new("/out")),
+            materials: 2,
+            bound_prims: 1,
+            textures: vec![Planned {
+                texture,
+                output: Some("/out/tex/a_spectral.exr".into()),
+                colorspace: None,
+                error: None,
+            }],
+            references: vec![reference("/s/a/brick.mtlx"), reference("/s/c/other.mtlx")],
+        };
+        let plan = asset.layer_plan(|_| true);
+        assert_eq!(plan.overrides.len(), 1);
+        let layers: Vec<&Path> = plan.documents.iter().map(|d| d.layer.as_path()).collect();
+        assert_eq!(layers[0], Path::new("/out/brick_spectral.mtlx"));
+        let second = layers[1].to_string_lossy();
+        assert!(second.starts_with("/out/brick_") && second.ends_with("_spectral.mtlx"));
+        assert_ne!(layers[0], layers[1]);
+        assert_eq!(plan.documents[1].overrides[0].file, "./tex/a_spectral.exr");
+        // Only a reference to a document with a copy is retargeted.
+        assert_eq!(plan.references.len(), 1);
+        assert_eq!(plan.references[0].file, "./brick_spectral.mtlx");
+        // A document given alone: its copy is the layer; nothing is done when nothing is.
+        asset.stage = "/s/brick.mtlx".into();
+        asset.layer = layer_path(&asset.stage, &asset.dir);
+        assert_eq!(asset.layer, Path::new("/out/brick_spectral.mtlx"));
+        assert!(asset.layer_plan(|_| false).documents.is_empty());
+    }
 }
