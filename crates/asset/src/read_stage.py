@@ -51,11 +51,14 @@ def bound_materials(stage, Usd, UsdShade):
         if not prim.HasAPI(UsdShade.MaterialBindingAPI):
             continue
         api = UsdShade.MaterialBindingAPI(prim)
+        named = set()
         for purpose in ("", "full", "preview"):
-            targets.update(str(t) for t in api.GetDirectBindingRel(purpose).GetTargets())
+            named.update(str(t) for t in api.GetDirectBindingRel(purpose).GetTargets())
+        targets.update(named)
         material, _ = api.ComputeBoundMaterial()
-        if material:
+        if material or named:
             bound += 1
+        if material:
             materials.setdefault(str(material.GetPath()), material)
     return materials, bound, targets
 
@@ -158,7 +161,7 @@ def mtlx_referenced(stage, Usd, targets, errors, final_inputs):
         sys.exit(EXIT_NO_MATERIALX)
     handled = ["@%s@" % a["resolved"] for a in arcs]
     errors = [e for e in errors if not any(h in e for h in handled)]
-    textures, used, paths = [], [], []
+    textures, used, paths, wanted = [], [], [], {}
     for arc in arcs:
         names = mtlx_materials(arc, targets)
         if not names:
@@ -169,13 +172,17 @@ def mtlx_referenced(stage, Usd, targets, errors, final_inputs):
             fail(e.args[0], "%s (referenced by %s)" % (e.args[1], arc["prim"]))
         found = materials_of(mx, doc)
         chosen = {n: (found[n][0], bound) for n, bound in names.items() if n in found}
-        for n in sorted(set(names) - set(chosen)):
-            errors.append("%s references %s, which has no material %s"
-                          % (arc["prim"], arc["resolved"], n))
+        # A prim may reference several documents: a material is missing only if none has it.
+        for n, bound in names.items():
+            wanted.setdefault(bound, []).append(n in found)
         paths += [bound for _, bound in chosen.values()]
         textures += mtlx_textures(mx, doc, os.path.dirname(arc["resolved"]), chosen,
                                   final_inputs, MAX_DEPTH, arc["resolved"])
         used.append(arc)
+    for bound, has in sorted(wanted.items()):
+        if not any(has):
+            errors.append("%s is bound, and no MaterialX document its prim references has the "
+                          "material" % bound)
     return textures, used, errors, paths
 
 

@@ -204,12 +204,27 @@ fn convert(
     let layer = finish(reader, asset, &outcomes)
         .with_context(|| format!("cannot write the layer {}", asset.layer.display()))?;
     if !reporting.quiet {
-        errln!(
-            "specconv: layer {} over {}: {} texture node(s) pointed at spectral files",
-            layer.layer.display(),
-            asset.stage.display(),
-            layer.overrides.len()
-        );
+        let copies = &layer.documents;
+        let in_copies: usize = copies.iter().map(|d| d.overrides.len()).sum();
+        if specconv_asset::is_document(&asset.stage) {
+            errln!(
+                "specconv: copy {} of {}: {in_copies} image node(s) pointed at spectral files",
+                layer.layer.display(),
+                asset.stage.display()
+            );
+        } else {
+            errln!(
+                "specconv: layer {} over {}: {} texture node(s) pointed at spectral files{}",
+                layer.layer.display(),
+                asset.stage.display(),
+                layer.overrides.len(),
+                match copies.len() {
+                    0 => String::new(),
+                    1 => format!(", and {in_copies} image node(s) in a MaterialX copy"),
+                    n => format!(", and {in_copies} image node(s) in {n} MaterialX copies"),
+                }
+            );
+        }
     }
     Ok(if unplanned > 0 { exit::FAILED } else { code })
 }
