@@ -194,8 +194,9 @@ def many(d, n=10000):
 
 
 def stage(d):
-    """shot.usda: a prim referencing brick.mtlx's material M_brick, and one a UsdPreviewSurface
-    material reading tex/rock_albedo.png; each bound to a mesh. brick(d) is built first."""
+    """shot.usda: a prim referencing brick.mtlx's material M_brick, one a UsdPreviewSurface
+    material reading tex/rock_albedo.png, and a scope referencing two documents, one of which
+    has the M_wood bound below it; each bound to a mesh. brick(d) is built first."""
     from pxr import Sdf, Usd, UsdGeom, UsdShade
     brick(d)
     s = Usd.Stage.CreateNew(os.path.join(d, "shot.usda"))
@@ -214,6 +215,20 @@ def stage(d):
     surf.CreateInput("diffuseColor", Sdf.ValueTypeNames.Color3f).ConnectToSource(out)
     rockmesh = UsdGeom.Mesh.Define(s, "/World/Rock")
     UsdShade.MaterialBindingAPI.Apply(rockmesh.GetPrim()).Bind(rock)
+    # A scope referencing two documents' /MaterialX (usdMtlx's root), a mesh bound to M_wood
+    # below it: brick.mtlx has it (through its XInclude), extra.mtlx has not.
+    extra = mx.createDocument()
+    img = image(extra, "extra_color", "tex/never.png", "color3", "srgb_texture")
+    sr = extra.addNode("standard_surface", "SR_extra", "surfaceshader")
+    connect(sr, "base_color", "color3", img)
+    material(extra, "M_extra", sr)
+    write(extra, os.path.join(d, "extra.mtlx"))
+    lib = s.DefinePrim("/World/Lib", "Scope")
+    lib.GetReferences().AddReference("./extra.mtlx", "/MaterialX")
+    lib.GetReferences().AddReference("./brick.mtlx", "/MaterialX")
+    floor = UsdGeom.Mesh.Define(s, "/World/Floor")
+    UsdShade.MaterialBindingAPI.Apply(floor.GetPrim()).GetDirectBindingRel().SetTargets(
+        [Sdf.Path("/World/Lib/Materials/M_wood")])
     s.Save()
 
 

@@ -230,9 +230,16 @@ fn a_stage_referencing_a_materialx_document_merges_its_decisions() {
         .arg("--json")
         .ok()
         .json_lines();
-    // The referenced material's four files (not the wood: no binding names M_wood), and the
-    // UsdPreviewSurface's albedo.
-    assert_eq!(records.len(), 5, "{records:#?}");
+    // The referenced material's four files, the UsdPreviewSurface's albedo, and the wood's
+    // two tiles (M_wood, bound through a scope that references two documents); not extra.mtlx's
+    // image (no binding names M_extra).
+    assert_eq!(records.len(), 7, "{records:#?}");
+    let wood = record(&records, "wood.<UDIM>.png");
+    assert_eq!(wood["asset"]["rule"], "materialx-colorspace");
+    assert_eq!(
+        wood["asset"]["uses"][0]["material"],
+        "/World/Lib/Materials/M_wood"
+    );
     let colour = record(&records, "brick_color.png");
     assert_eq!(colour["asset"]["rule"], "materialx-colorspace");
     assert_eq!(colour["asset"]["uses"][0]["material"], "/World/Looks/Brick");
@@ -261,10 +268,22 @@ fn a_stage_referencing_a_materialx_document_merges_its_decisions() {
         .iter()
         .map(|e| e.as_str().unwrap())
         .collect();
-    assert_eq!(errors.len(), 1, "{errors:?}");
-    assert!(
-        errors[0].contains(&format!("@{}@", out.join("brick_spectral.mtlx").display())),
+    // Three references: two to brick.mtlx's copy (the originals deleted), and extra.mtlx's,
+    // which has no copy (nothing of it is converted) and is left as it was.
+    let named = |e: &&str, p: &Path| e.contains(&format!("@{}@", p.display()));
+    let copy = out.join("brick_spectral.mtlx");
+    assert_eq!(errors.len(), 3, "{errors:?}");
+    assert_eq!(
+        errors.iter().filter(|e| named(e, &copy)).count(),
+        2,
         "{errors:?}"
+    );
+    assert_eq!(
+        errors
+            .iter()
+            .filter(|e| named(e, &dir.path("extra.mtlx")))
+            .count(),
+        1
     );
     let copy = copy_files(&python, &out.join("brick_spectral.mtlx"));
     assert_eq!(
