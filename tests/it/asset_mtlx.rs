@@ -351,7 +351,9 @@ fn hostile_materialx_documents_fail_cleanly_inside_dir() {
     );
     let bad = within("not_mtlx.mtlx");
     assert!(
-        bad.code == 1 && bad.stderr.contains("MaterialX cannot read"),
+        bad.code == 1
+            && bad.stderr.contains("MaterialX cannot read")
+            && bad.stderr.contains("XML parse error in /etc/hostname"),
         "{}",
         bad.stderr
     );

@@ -95,6 +95,12 @@ pub enum Error {
         /// usd-core's words.
         detail: String,
     },
+    /// MaterialX could not read a document (or one it includes).
+    #[error("{detail}")]
+    Document {
+        /// What MaterialX (or the check before it) said, naming the file.
+        detail: String,
+    },
     /// Composition failed somewhere: a texture may be missing from the list.
     #[error(
         "the stage {} does not compose: {first}{}; nothing is converted, since a texture \

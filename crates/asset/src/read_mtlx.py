@@ -41,9 +41,9 @@ def regular(path, what):
     try:
         mode = os.stat(path).st_mode
     except OSError as e:
-        raise MtlxError("open", "%s %s: %s" % (what, path, e.strerror))
+        raise MtlxError("mtlx", "%s %s: %s" % (what, path, e.strerror))
     if not stat.S_ISREG(mode):
-        raise MtlxError("open", "%s %s is not a regular file (a FIFO, a device or a directory)"
+        raise MtlxError("mtlx", "%s %s is not a regular file (a FIFO, a device or a directory)"
                         % (what, path))
 
 
@@ -59,7 +59,7 @@ def load(mx, path):
         name = found.asString()
         count[0] += 1
         if count[0] > MAX_INCLUDES:
-            raise MtlxError("open", "more than %d XIncludes" % MAX_INCLUDES)
+            raise MtlxError("mtlx", "more than %d XIncludes" % MAX_INCLUDES)
         regular(name, "the XInclude")
         mx.readFromXmlFile(doc, found, search_path, options)
 
@@ -71,7 +71,7 @@ def load(mx, path):
     except MtlxError:
         raise
     except Exception as e:  # MaterialX's ExceptionParseError, ExceptionFileMissing
-        raise MtlxError("open", "MaterialX cannot read %s: %s" % (path, e))
+        raise MtlxError("mtlx", "MaterialX cannot read %s: %s" % (path, e))
     return doc
 
 
@@ -309,7 +309,7 @@ def document_text(source, overrides):
         node = doc.getDescendant(o["node"])
         inp = file_input(node) if node is not None and node.isA(mx.Node) else None
         if inp is None:
-            raise MtlxError("layer", "%s has no node %s with a file input" % (source, o["node"]))
+            raise MtlxError("mtlx", "%s has no node %s with a file input" % (source, o["node"]))
         if inp.hasAttribute("interfacename"):
             inp.removeAttribute("interfacename")
         inp.setValueString(o["file"])

@@ -41,10 +41,10 @@ def is_texture(sid):
     return sid is not None and (sid in TEXTURE_IDS or sid.startswith(TEXTURE_PREFIXES))
 
 
-def bound_materials(stage, Usd, UsdShade):
-    """The materials some prim is bound to, how many prims are bound, and the paths bindings
-    name (a prim whose material is a MaterialX document this usd-core cannot open is no
-    Material, but its path is bound)."""
+def bound_materials(stage, Usd, UsdShade, want_targets):
+    """The materials some prim is bound to, how many prims are bound, and (`want_targets`) the
+    paths bindings name (a prim whose material is a MaterialX document this usd-core cannot
+    open is no Material, but its path is bound)."""
     materials, bound, targets = {}, 0, set()
     predicate = Usd.TraverseInstanceProxies(Usd.PrimDefaultPredicate)
     for prim in stage.Traverse(predicate):
@@ -52,7 +52,7 @@ def bound_materials(stage, Usd, UsdShade):
             continue
         api = UsdShade.MaterialBindingAPI(prim)
         named = set()
-        for purpose in ("", "full", "preview"):
+        for purpose in ("", "full", "preview") if want_targets else ():
             named.update(str(t) for t in api.GetDirectBindingRel(purpose).GetTargets())
         targets.update(named)
         material, _ = api.ComputeBoundMaterial()
@@ -252,9 +252,13 @@ def read(stage_path, extract_dir, final_inputs):
     # A reference cycle, a layer that cannot be read: composition went on without it, so a
     # texture may be missing from the list; the library refuses the stage.
     errors = [" ".join(str(e).split()) for e in stage.GetCompositionErrors()]
-    materials, bound, targets = bound_materials(stage, Usd, UsdShade)
+    # usd-core without its MaterialX file format fails to open every .mtlx it is referred to,
+    # so only then are the documents looked for (a walk over every prim's specs).
+    mtlx = Sdf.FileFormat.FindByExtension("mtlx") is None \
+        and any(".mtlx" in e.lower() for e in errors)
+    materials, bound, targets = bound_materials(stage, Usd, UsdShade, mtlx)
     textures, references, materials_read = [], [], 0
-    if Sdf.FileFormat.FindByExtension("mtlx") is None:
+    if mtlx:
         # usd-core without its MaterialX file format: the documents are read by MaterialX.
         textures, references, errors, read_paths = mtlx_referenced(stage, Usd, targets,
                                                                    errors, final_inputs)

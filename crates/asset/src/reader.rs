@@ -203,6 +203,7 @@ fn reported(out: &[u8], err: &[u8]) -> Error {
         Ok(r) if r.error == "open" => Error::Open {
             detail: clean(&r.detail),
         },
+        Ok(r) if r.error == "mtlx" => Error::Document { detail: r.detail },
         Ok(r) => Error::Reader(format!("{}: {}", r.error, clean(&r.detail))),
         Err(_) => {
             let text = String::from_utf8_lossy(err);
