@@ -1,12 +1,14 @@
-//! specconv on an asset (docs/assets.md): a USD stage's textures, each decided colour or data
-//! by the material inputs it feeds, converted as a batch, and a layer that points the stage at
-//! the spectral files.
+//! specconv on an asset (docs/assets.md): a USD stage's (or MaterialX document's) textures,
+//! each decided colour or data by the material inputs it feeds, converted as a batch, and a
+//! layer that points the stage at the spectral files (a copy of the document, for MaterialX).
 //!
 //! - [`Reader`]: Pixar's usd-core (`pip install usd-core`) composes the stage (references,
 //!   payloads, the selected variants, usdz packages) in a Python interpreter, running the
 //!   reader script kept in this crate; it reports what the stage says and decides nothing.
 //!   usd-core is the reference USD implementation; the Rust `openusd` crate has no MaterialX
 //!   file format and asset resolver of usd-core's (docs/assets.md has the evidence).
+//!   MaterialX documents, given or referenced where usd-core has no MaterialX file format,
+//!   are read by the MaterialX package (`pip install MaterialX`) in the same script.
 //! - [`decide`]: the one rule, from the inputs a texture's outputs feed: colour inputs,
 //!   data inputs, `sourceColorSpace`, MaterialX `colorspace`; conflicts are never converted.
 //! - [`Asset`]: every texture file once, its output under DIR, the colour space its

@@ -5,14 +5,15 @@ only reports what the stage says, and the library (crates/asset) decides.
     read STAGE INPUTS [DIR]    prints the textures bound materials read, as one JSON object;
                                INPUTS (a JSON list) are the material inputs a use ends at; with
                                DIR, textures inside a usdz package are copied there
-    layer                      reads a plan (JSON) on stdin and prints the layer of overrides
-                               (usda text), which specconv writes
+    layer                      reads a plan (JSON) on stdin and prints the files of overrides,
+                               {"files": [{"path", "text"}]}: the layer (usda text) and the
+                               MaterialX documents' copies, which specconv writes
 
 A MaterialX document (`.mtlx`), given or referenced where usd-core has no MaterialX file
 format, is read by the MaterialX package (read_mtlx.py, run before this).
 
-Exit status 3: usd-core (the pxr module) is missing; 4: MaterialX is. Any other failure is a JSON object with
-"error" on stdout, exit status 2.
+Exit status 3: usd-core (the pxr module) is missing; 4: MaterialX is. Any other failure is a
+JSON object with "error" on stdout, exit status 2.
 """
 import json
 import os

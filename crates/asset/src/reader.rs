@@ -1,6 +1,6 @@
 //! Running usd-core and MaterialX: the reader script (`read_mtlx.py` and `read_stage.py`, kept
-//! in this crate) under the Python
-//! interpreter that `$SPECCONV_USD_PYTHON` names (else `python3`), bounded in time and output.
+//! in this crate) under the Python interpreter that `$SPECCONV_USD_PYTHON` names (else
+//! `python3`), bounded in time and output.
 
 use crate::stage::Stage;
 use crate::Error;
