@@ -291,6 +291,21 @@ fn a_stage_referencing_a_materialx_document_merges_its_decisions() {
         "./tex/brick_color_spectral.exr"
     );
     assert_eq!(copy["files"]["NG_brick/color"]["exists"], true);
+    // A referenced document MaterialX cannot read: the error names it and the prim; the
+    // layer and the copy written before stay as they were.
+    let layer_before = std::fs::read(&layer).unwrap();
+    std::fs::write(dir.path("extra.mtlx"), "<materialx version=\"1.39\">").unwrap();
+    asset(&python, &dir.path("shot.usda"), &out)
+        .arg("-u")
+        .fails(
+            1,
+            &[
+                "MaterialX cannot read",
+                "extra.mtlx",
+                "referenced by /World/Lib",
+            ],
+        );
+    assert_eq!(std::fs::read(&layer).unwrap(), layer_before);
 }
 
 #[test]
