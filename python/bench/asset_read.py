@@ -1,12 +1,17 @@
 """What reading a stage costs `specconv asset`, against usd-core's own open and traversal.
 
     python python/bench/asset_read.py [--prims 10000] [--rounds 3]
+    python python/bench/asset_read.py --mtlx [--prims 10000] [--rounds 3]
 
 One run, one machine, with the interpreter that has usd-core: a stage of --prims meshes bound to
 one material that reads one texture (tests/asset_stages.py `many`), then the best of --rounds of
 (a) usd-core opening the stage and traversing it (the reference), and (b) the reader script of
 `specconv asset` (crates/asset/src/read_stage.py: open, bindings, material networks, uses), each
 in a process of its own. Prints both times and their ratio (b / a), never a bare timing.
+
+With --mtlx, a MaterialX document of --prims nodes (tests/asset_mtlx.py `many`: a quarter of
+them materials, each reading one image through a multiply), against MaterialX's own read of it
+and a walk over every element (the reference).
 """
 import argparse
 import json
@@ -18,8 +23,11 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
-READER = ROOT / "crates" / "asset" / "src" / "read_stage.py"
+SOURCES = ROOT / "crates" / "asset" / "src"
 STAGES = ROOT / "tests" / "asset_stages.py"
+DOCUMENTS = ROOT / "tests" / "asset_mtlx.py"
+MX_REFERENCE = ("import sys\nimport MaterialX as mx\nd = mx.createDocument()\n"
+                "mx.readFromXmlFile(d, sys.argv[1])\nprint(sum(1 for _ in d.traverseTree()))\n")
 REFERENCE = ("import sys\nfrom pxr import Usd\ns = Usd.Stage.Open(sys.argv[1])\n"
              "print(sum(1 for _ in s.Traverse()))\n")
 
@@ -37,17 +45,25 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--prims", type=int, default=10000)
     ap.add_argument("--rounds", type=int, default=3)
+    ap.add_argument("--mtlx", action="store_true")
     a = ap.parse_args()
     with tempfile.TemporaryDirectory() as d:
+        # The program runs the MaterialX half, then usd-core's, as one script.
+        reader = os.path.join(d, "reader.py")
+        with open(reader, "w") as f:
+            f.write((SOURCES / "read_mtlx.py").read_text() + (SOURCES / "read_stage.py").read_text())
+        builder, name, reference = ((DOCUMENTS, "many.mtlx", MX_REFERENCE) if a.mtlx
+                                    else (STAGES, "many.usda", REFERENCE))
         code = ("import sys; sys.argv = ['', 'many', sys.argv[1]]; import runpy; "
-                "g = runpy.run_path(%r); g['many'](sys.argv[2], %d)" % (str(STAGES), a.prims))
+                "g = runpy.run_path(%r); g['many'](sys.argv[2], %d)" % (str(builder), a.prims))
         subprocess.run([sys.executable, "-c", code, d, d], check=True)
-        stage = os.path.join(d, "many.usda")
-        inputs = json.dumps(["diffuseColor"])
-        ref = best([sys.executable, "-c", REFERENCE, stage], a.rounds)
-        ours = best([sys.executable, str(READER), "read", stage, inputs], a.rounds)
-    print(json.dumps(dict(prims=a.prims, usd_open_traverse_s=round(ref, 3),
-                          specconv_read_s=round(ours, 3), ratio=round(ours / ref, 2))))
+        stage = os.path.join(d, name)
+        inputs = json.dumps(["diffuseColor", "base_color"])
+        ref = best([sys.executable, "-c", reference, stage], a.rounds)
+        ours = best([sys.executable, reader, "read", stage, inputs], a.rounds)
+    print(json.dumps(dict(kind="mtlx" if a.mtlx else "usd", prims=a.prims,
+                          reference_s=round(ref, 3), specconv_read_s=round(ours, 3),
+                          ratio=round(ours / ref, 2))))
 
 
 if __name__ == "__main__":

@@ -15,10 +15,11 @@ use std::path::{Path, PathBuf};
 /// Converts the textures a USD stage's bound materials read, each as its material says
 /// (colour in the space it names, data skipped or copied as `data` says, a conflict or a
 /// missing file a failure), into `output`, and writes `output/STEM_spectral.usda`, a layer over
-/// the stage pointing each colour texture at its spectral file. Returns `convert`'s records,
-/// each with an `asset` member (the rule, why, the prims and inputs that read it); with
-/// `dry_run`, the `asset` members alone and nothing written. usd-core (`pip install usd-core`)
-/// is read in this interpreter. `errors`, `update`, `progress` and the options' keywords are
+/// the stage pointing each colour texture at its spectral file (a MaterialX document, `.mtlx`:
+/// its copy `output/STEM_spectral.mtlx`). Returns `convert`'s records, each with an `asset`
+/// member (the rule, why, the prims and inputs that read it); with `dry_run`, the `asset`
+/// members alone and nothing written. usd-core and MaterialX (`pip install usd-core MaterialX`)
+/// are read in this interpreter. `errors`, `update`, `progress` and the options' keywords are
 /// `convert`'s (`colorspace` is refused: the material names it).
 #[pyfunction]
 #[pyo3(signature = (stage, output, *, update=false, errors="raise", dry_run=false,

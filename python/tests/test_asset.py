@@ -75,3 +75,35 @@ def test_colorspace_is_refused(tmp_path):
     with pytest.raises(specconv.OptionError, match="colorspace"):
         specconv.convert_asset(tmp_path / "missing.usda", tmp_path / "out",
                                colorspace="ACEScg")
+
+
+HAS_MTLX = importlib.util.find_spec("MaterialX") is not None
+if not HAS_MTLX and os.environ.get("SPECCONV_REQUIRE_USD"):
+    raise RuntimeError("SPECCONV_REQUIRE_USD is set but this Python has no MaterialX")
+
+
+@pytest.mark.skipif(not HAS_MTLX, reason="MaterialX (pip install MaterialX) missing")
+def test_convert_asset_takes_a_materialx_document_and_writes_its_copy(tmp_path):
+    tex = tmp_path / "tex"
+    tex.mkdir()
+    for name in ("brick_color", "brick_arm", "brick_normal", "brick_height", "wood.1001",
+                 "wood.1002", "never"):
+        subprocess.run(["oiiotool", "--pattern", "checker", "8x8", "4", "-d", "uint8",
+                        "-o", str(tex / (name + ".png"))], check=True)
+    subprocess.run([sys.executable, str(STAGES.parent / "asset_mtlx.py"), "brick",
+                    str(tmp_path)], check=True)
+    out = tmp_path / "out"
+    records = specconv.convert_asset(tmp_path / "brick.mtlx", out)
+    by_name = {Path(r["input"]).name: r for r in records}
+    assert by_name["brick_color.png"]["status"] == "ok"
+    assert by_name["brick_color.png"]["asset"]["rule"] == "materialx-colorspace"
+    assert by_name["brick_color.png"]["colorspace"] == "sRGB - Texture"
+    assert by_name["brick_arm.png"]["status"] == "data"
+    assert by_name["wood.1002.png"]["colorspace"] == "ACEScg"
+    import MaterialX as mx
+    doc = mx.createDocument()
+    mx.readFromXmlFile(doc, str(out / "brick_spectral.mtlx"))
+    file = doc.getDescendant("NG_brick/color").getInput("file")
+    assert file.getValueString() == "./tex/brick_color_spectral.exr"
+    assert file.getAttribute("specconv_original") == "brick_color.png"
+    assert (out / "tex" / "brick_color_spectral.exr").is_file()

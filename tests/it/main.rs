@@ -1,6 +1,7 @@
 //! Integration tests of the `specconv` binary: one test crate, modules per command.
 
 mod asset;
+mod asset_mtlx;
 mod baselines;
 mod colour;
 mod compact;

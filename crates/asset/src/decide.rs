@@ -230,8 +230,14 @@ pub fn describe(node: &Node, u: &Use) -> String {
     } else {
         format!(" through {}", u.through.join(", "))
     };
+    // A MaterialX node's input is `SR_brick.base_color`; a USD prim's, `…/Surface.inputs:…`.
+    let port = if node.document.is_some() {
+        ""
+    } else {
+        "inputs:"
+    };
     format!(
-        "{}.inputs:{} reads {} of {}{through}",
+        "{}.{port}{} reads {} of {}{through}",
         u.shader, u.input, u.output, node.node
     )
 }
@@ -370,6 +376,7 @@ mod tests {
             resolved: Some("/t.png".into()),
             layer: None,
             package: None,
+            document: None,
             uses: uses
                 .iter()
                 .map(|(output, input)| Use {

@@ -1,12 +1,14 @@
-//! specconv on an asset (docs/assets.md): a USD stage's textures, each decided colour or data
-//! by the material inputs it feeds, converted as a batch, and a layer that points the stage at
-//! the spectral files.
+//! specconv on an asset (docs/assets.md): a USD stage's (or MaterialX document's) textures,
+//! each decided colour or data by the material inputs it feeds, converted as a batch, and a
+//! layer that points the stage at the spectral files (a copy of the document, for MaterialX).
 //!
 //! - [`Reader`]: Pixar's usd-core (`pip install usd-core`) composes the stage (references,
 //!   payloads, the selected variants, usdz packages) in a Python interpreter, running the
 //!   reader script kept in this crate; it reports what the stage says and decides nothing.
 //!   usd-core is the reference USD implementation; the Rust `openusd` crate has no MaterialX
 //!   file format and asset resolver of usd-core's (docs/assets.md has the evidence).
+//!   MaterialX documents, given or referenced where usd-core has no MaterialX file format,
+//!   are read by the MaterialX package (`pip install MaterialX`) in the same script.
 //! - [`decide`]: the one rule, from the inputs a texture's outputs feed: colour inputs,
 //!   data inputs, `sourceColorSpace`, MaterialX `colorspace`; conflicts are never converted.
 //! - [`Asset`]: every texture file once, its output under DIR, the colour space its
@@ -25,13 +27,13 @@ pub mod run;
 pub mod stage;
 
 pub use decide::{Decision, Space, Texture};
-pub use plan::{Asset, Job, LayerPlan, Override, Planned};
+pub use plan::{Asset, DocumentPlan, Job, LayerPlan, Override, Planned, Retarget};
 pub use reader::{install_line, Reader, DEFAULT_TIMEOUT, PYTHON_VAR, TIMEOUT_VAR};
 pub use run::{
     farm_layer, finish, make_folders, member, prepare, same_jobs, with_member, Converters,
     FarmFile, Outcomes, Prepared,
 };
-pub use stage::{Node, Stage, Use};
+pub use stage::{MtlxReference, Node, Stage, Use};
 
 use std::ffi::OsString;
 use std::path::{Path, PathBuf};
@@ -76,20 +78,29 @@ pub enum Error {
         /// What it is instead.
         why: String,
     },
-    /// A MaterialX document given as the stage.
+    /// The interpreter has no MaterialX, and a MaterialX document is to be read.
     #[error(
-        "{}: a MaterialX document; usd-core (PyPI) has no MaterialX file format plugin, so \
-         specconv reads MaterialX nodes inside USD stages only (docs/assets.md)",
-        stage.display()
+        "the Python interpreter '{}' has no MaterialX, which reads the MaterialX document {}: \
+         install it with `{} -m pip install MaterialX`, or name an interpreter that has it \
+         with {PYTHON_VAR}",
+        python.to_string_lossy(), document.display(), python.to_string_lossy()
     )]
-    Mtlx {
+    NoMaterialX {
+        /// The interpreter.
+        python: OsString,
         /// The document.
-        stage: PathBuf,
+        document: PathBuf,
     },
     /// usd-core could not open it.
     #[error("usd-core cannot open the stage: {detail}")]
     Open {
         /// usd-core's words.
+        detail: String,
+    },
+    /// MaterialX could not read a document (or one it includes).
+    #[error("{detail}")]
+    Document {
+        /// What MaterialX (or the check before it) said, naming the file.
         detail: String,
     },
     /// Composition failed somewhere: a texture may be missing from the list.
@@ -152,7 +163,6 @@ impl Error {
         matches!(
             self,
             Error::NotAStage { .. }
-                | Error::Mtlx { .. }
                 | Error::LayerExists { .. }
                 | Error::Config(_)
                 | Error::BadTimeout { .. }
@@ -171,8 +181,14 @@ pub fn is_stage(path: &Path) -> bool {
     )
 }
 
-/// Checks that `stage` can be given to usd-core: a regular file (a FIFO would block it) that
-/// is not a MaterialX document.
+/// Whether `path` names a MaterialX document (`.mtlx`), which is read by the MaterialX package
+/// and gets an override copy rather than a USD layer.
+pub fn is_document(path: &Path) -> bool {
+    path.extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("mtlx"))
+}
+
+/// Checks that `stage` can be given to the reader: a regular file (a FIFO would block it).
 pub fn check_stage(stage: &Path) -> Result<(), Error> {
     let not = |why: String| Error::NotAStage {
         stage: stage.to_path_buf(),
@@ -183,12 +199,6 @@ pub fn check_stage(stage: &Path) -> Result<(), Error> {
         return Err(not(
             "not a regular file (a FIFO, a device or a directory)".into()
         ));
-    }
-    let ext = stage.extension().map(|e| e.to_ascii_lowercase());
-    if ext.as_deref() == Some("mtlx".as_ref()) {
-        return Err(Error::Mtlx {
-            stage: stage.to_path_buf(),
-        });
     }
     Ok(())
 }

@@ -2,7 +2,7 @@
 //! colour space its conversion is given, and the layer that points the stage at the outputs.
 
 use crate::decide::{decide, materialx_space, Decision, Space, Texture};
-use crate::stage::{Node, Stage};
+use crate::stage::{MtlxReference, Node, Stage};
 use crate::Error;
 use serde::Serialize;
 use sha2::{Digest, Sha256};
@@ -42,6 +42,8 @@ pub struct Asset {
     pub bound_prims: usize,
     /// Every texture file once, in the order of its first node's path.
     pub textures: Vec<Planned>,
+    /// The stage's references to MaterialX documents that MaterialX read.
+    pub references: Vec<MtlxReference>,
 }
 
 /// One conversion: a file (or one UDIM tile) of texture `texture`.
@@ -74,8 +76,37 @@ pub struct LayerPlan {
     pub sublayer: PathBuf,
     /// The stage, recorded in the layer's customLayerData.
     pub stage: PathBuf,
-    /// One per texture node of a converted colour texture.
+    /// One per texture node (a USD prim) of a converted colour texture.
     pub overrides: Vec<Override>,
+    /// The override copies of MaterialX documents whose nodes read converted colour
+    /// textures (the document given, or those the stage references).
+    pub documents: Vec<DocumentPlan>,
+    /// The stage's references to those documents, pointed at their copies in the layer.
+    pub references: Vec<Retarget>,
+}
+
+/// A MaterialX document's override copy: the document with its XIncludes written in, its
+/// filenames absolute, and its nodes' file inputs pointed at spectral files
+/// (docs/assets.md).
+#[derive(Debug, Clone, Serialize)]
+pub struct DocumentPlan {
+    /// The original document.
+    pub source: PathBuf,
+    /// The copy: `DIR/STEM_spectral.mtlx`.
+    pub layer: PathBuf,
+    /// Its nodes' overrides (`node` is the element's name path).
+    pub overrides: Vec<Override>,
+}
+
+/// A reference to a MaterialX document, deleted in the layer and replaced by one to the
+/// document's copy.
+#[derive(Debug, Clone, Serialize)]
+pub struct Retarget {
+    /// The reference.
+    #[serde(flatten)]
+    pub reference: MtlxReference,
+    /// The copy, relative to the layer.
+    pub file: String,
 }
 
 /// `inputs:file` of one node, pointed at a spectral file.
@@ -104,10 +135,14 @@ pub fn extract_dir(stage: &Path, dir: &Path) -> PathBuf {
     dir.join(name)
 }
 
-/// The layer's path: `DIR/STEM_spectral.usda`.
+/// The layer's path: `DIR/STEM_spectral.usda`; for a MaterialX document, its override copy
+/// `DIR/STEM_spectral.mtlx`.
 pub fn layer_path(stage: &Path, dir: &Path) -> PathBuf {
     let mut name = stage.file_stem().unwrap_or_default().to_os_string();
-    name.push("_spectral.usda");
+    name.push(match crate::is_document(stage) {
+        true => "_spectral.mtlx",
+        false => "_spectral.usda",
+    });
     dir.join(name)
 }
 
@@ -136,6 +171,7 @@ impl Asset {
             materials: stage.materials,
             bound_prims: stage.bound_prims,
             textures,
+            references: stage.references,
         })
     }
 
@@ -182,9 +218,10 @@ impl Asset {
     }
 
     /// The layer pointing every node of each colour texture for which `done` holds at its
-    /// output.
+    /// output: USD prims in the layer, MaterialX nodes in their documents' copies.
     pub fn layer_plan(&self, done: impl Fn(usize) -> bool) -> LayerPlan {
         let mut overrides = Vec::new();
+        let mut documents: Vec<DocumentPlan> = Vec::new();
         for (k, t) in self.textures.iter().enumerate() {
             let colour = matches!(t.texture.decision, Decision::Colour { .. });
             let Some(output) = t.output.as_ref().filter(|_| colour && done(k)) else {
@@ -192,22 +229,73 @@ impl Asset {
             };
             let rel = output.strip_prefix(&self.dir).unwrap_or(output);
             for n in &t.texture.nodes {
-                overrides.push(Override {
+                let o = Override {
                     node: n.node.clone(),
                     file: format!("./{}", rel.to_string_lossy()),
                     original: n.authored.clone(),
                     original_resolved: n.resolved.clone(),
                     raw: n.node_id.as_deref() == Some("UsdUVTexture"),
                     original_colorspace: n.colorspace.clone(),
-                });
+                };
+                match &n.document {
+                    None => overrides.push(o),
+                    Some(doc) => self.document_of(&mut documents, doc).overrides.push(o),
+                }
             }
         }
+        let references = self
+            .references
+            .iter()
+            .filter_map(|r| {
+                let d = documents.iter().find(|d| d.source == r.resolved)?;
+                let name = d.layer.file_name()?.to_string_lossy();
+                Some(Retarget {
+                    reference: r.clone(),
+                    file: format!("./{name}"),
+                })
+            })
+            .collect();
         LayerPlan {
             layer: self.layer.clone(),
             sublayer: self.stage.clone(),
             stage: self.stage.clone(),
             overrides,
+            documents,
+            references,
         }
+    }
+
+    /// The copy of document `doc` in `documents`, added if missing: the layer itself for the
+    /// document given, else `DIR/STEM_spectral.mtlx` (`STEM_HASH_spectral.mtlx` where two
+    /// referenced documents share a stem).
+    fn document_of<'a>(
+        &self,
+        documents: &'a mut Vec<DocumentPlan>,
+        doc: &Path,
+    ) -> &'a mut DocumentPlan {
+        if let Some(k) = documents.iter().position(|d| d.source == doc) {
+            return &mut documents[k];
+        }
+        let layer = if doc == self.stage {
+            self.layer.clone()
+        } else {
+            let plain = layer_path(doc, &self.dir);
+            let taken = |p: &Path| p == self.layer || documents.iter().any(|d| d.layer == p);
+            if taken(&plain) {
+                let hash = Sha256::digest(doc.as_os_str().as_encoded_bytes());
+                let hex: String = hash[..4].iter().map(|b| format!("{b:02x}")).collect();
+                let stem = doc.file_stem().unwrap_or_default().to_string_lossy();
+                self.dir.join(format!("{stem}_{hex}_spectral.mtlx"))
+            } else {
+                plain
+            }
+        };
+        documents.push(DocumentPlan {
+            source: doc.to_path_buf(),
+            layer,
+            overrides: Vec::new(),
+        });
+        documents.last_mut().expect("just pushed")
     }
 }
 
@@ -460,5 +548,76 @@ mod tests {
             assert!(o.starts_with("/out/external/"), "{}", o.display());
             assert!(o.components().all(|c| c != Component::ParentDir));
         }
+    }
+
+    fn node(path: &str, document: Option<&str>) -> Node {
+        Node {
+            node: path.into(),
+            node_id: Some("ND_image_color3".into()),
+            source_color_space: None,
+            colorspace: Some("srgb_texture".into()),
+            authored: Some("tex/a.png".into()),
+            resolved: Some("/s/tex/a.png".into()),
+            layer: None,
+            package: None,
+            uses: vec![],
+            document: document.map(PathBuf::from),
+        }
+    }
+
+    #[test]
+    fn materialx_nodes_go_to_their_documents_copies_and_one_stem_twice_is_told_apart() {
+        let reference = |doc: &str| MtlxReference {
+            prim: "/World/Looks/Brick".into(),
+            arc: "references".into(),
+            asset: "./brick.mtlx".into(),
+            resolved: doc.into(),
+            target: "/MaterialX/Materials/M".into(),
+            offset: 0.0,
+            scale: 1.0,
+        };
+        let texture = Texture {
+            file: "/s/tex/a.png".into(),
+            nodes: vec![
+                node("/World/Looks/Rock/Albedo", None),
+                node("NG/img", Some("/s/a/brick.mtlx")),
+                node("img", Some("/s/b/brick.mtlx")),
+            ],
+            decision: Decision::Colour {
+                space: Space::Named("srgb_texture".into()),
+                rule: "materialx-colorspace",
+                why: String::new(),
+            },
+        };
+        let mut asset = Asset {
+            stage: "/s/shot.usda".into(),
+            dir: "/out".into(),
+            layer: layer_path(Path::new("/s/shot.usda"), Path::new("/out")),
+            materials: 2,
+            bound_prims: 1,
+            textures: vec![Planned {
+                texture,
+                output: Some("/out/tex/a_spectral.exr".into()),
+                colorspace: None,
+                error: None,
+            }],
+            references: vec![reference("/s/a/brick.mtlx"), reference("/s/c/other.mtlx")],
+        };
+        let plan = asset.layer_plan(|_| true);
+        assert_eq!(plan.overrides.len(), 1);
+        let layers: Vec<&Path> = plan.documents.iter().map(|d| d.layer.as_path()).collect();
+        assert_eq!(layers[0], Path::new("/out/brick_spectral.mtlx"));
+        let second = layers[1].to_string_lossy();
+        assert!(second.starts_with("/out/brick_") && second.ends_with("_spectral.mtlx"));
+        assert_ne!(layers[0], layers[1]);
+        assert_eq!(plan.documents[1].overrides[0].file, "./tex/a_spectral.exr");
+        // Only a reference to a document with a copy is retargeted.
+        assert_eq!(plan.references.len(), 1);
+        assert_eq!(plan.references[0].file, "./brick_spectral.mtlx");
+        // A document given alone: its copy is the layer; nothing is done when nothing is.
+        asset.stage = "/s/brick.mtlx".into();
+        asset.layer = layer_path(&asset.stage, &asset.dir);
+        assert_eq!(asset.layer, Path::new("/out/brick_spectral.mtlx"));
+        assert!(asset.layer_plan(|_| false).documents.is_empty());
     }
 }

@@ -5,11 +5,15 @@ only reports what the stage says, and the library (crates/asset) decides.
     read STAGE INPUTS [DIR]    prints the textures bound materials read, as one JSON object;
                                INPUTS (a JSON list) are the material inputs a use ends at; with
                                DIR, textures inside a usdz package are copied there
-    layer                      reads a plan (JSON) on stdin and prints the layer of overrides
-                               (usda text), which specconv writes
+    layer                      reads a plan (JSON) on stdin and prints the files of overrides,
+                               {"files": [{"path", "text"}]}: the layer (usda text) and the
+                               MaterialX documents' copies, which specconv writes
 
-Exit status 3: usd-core (the pxr module) is missing. Any other failure is a JSON object with
-"error" on stdout, exit status 2.
+A MaterialX document (`.mtlx`), given or referenced where usd-core has no MaterialX file
+format, is read by the MaterialX package (read_mtlx.py, run before this).
+
+Exit status 3: usd-core (the pxr module) is missing; 4: MaterialX is. Any other failure is a
+JSON object with "error" on stdout, exit status 2.
 """
 import json
 import os
@@ -38,18 +42,26 @@ def is_texture(sid):
     return sid is not None and (sid in TEXTURE_IDS or sid.startswith(TEXTURE_PREFIXES))
 
 
-def bound_materials(stage, Usd, UsdShade):
-    """The materials some prim is bound to, and how many prims are bound."""
-    materials, bound = {}, 0
+def bound_materials(stage, Usd, UsdShade, want_targets):
+    """The materials some prim is bound to, how many prims are bound, and (`want_targets`) the
+    paths bindings name (a prim whose material is a MaterialX document this usd-core cannot
+    open is no Material, but its path is bound)."""
+    materials, bound, targets = {}, 0, set()
     predicate = Usd.TraverseInstanceProxies(Usd.PrimDefaultPredicate)
     for prim in stage.Traverse(predicate):
         if not prim.HasAPI(UsdShade.MaterialBindingAPI):
             continue
-        material, _ = UsdShade.MaterialBindingAPI(prim).ComputeBoundMaterial()
-        if material:
+        api = UsdShade.MaterialBindingAPI(prim)
+        named = set()
+        for purpose in ("", "full", "preview") if want_targets else ():
+            named.update(str(t) for t in api.GetDirectBindingRel(purpose).GetTargets())
+        targets.update(named)
+        material, _ = api.ComputeBoundMaterial()
+        if material or named:
             bound += 1
+        if material:
             materials.setdefault(str(material.GetPath()), material)
-    return materials, bound
+    return materials, bound, targets
 
 
 def network(material, UsdShade):
@@ -98,6 +110,81 @@ def final_uses(edges, start, final_inputs, UsdShade):
             else:
                 todo.extend((p, through + [cpath]) for p in onward)
     return uses
+
+
+def mtlx_arcs(stage, Usd):
+    """The references and payloads of the stage's prims that name a MaterialX document."""
+    arcs, seen = [], set()
+    for prim in stage.Traverse(Usd.TraverseInstanceProxies(Usd.PrimAllPrimsPredicate)):
+        for spec in prim.GetPrimStack():
+            for arc, proxy in (("references", spec.referenceList), ("payload", spec.payloadList)):
+                items = list(proxy.explicitItems) + list(proxy.prependedItems) + \
+                    list(proxy.appendedItems)
+                for item in items:
+                    if not item.assetPath.lower().endswith(".mtlx"):
+                        continue
+                    resolved = os.path.normpath(spec.layer.ComputeAbsolutePath(item.assetPath))
+                    key = (str(prim.GetPath()), arc, resolved, str(item.primPath))
+                    if key in seen:
+                        continue
+                    seen.add(key)
+                    arcs.append(dict(prim=key[0], arc=arc, asset=item.assetPath,
+                                     resolved=resolved, target=key[3],
+                                     offset=item.layerOffset.offset,
+                                     scale=item.layerOffset.scale))
+    return arcs
+
+
+def mtlx_materials(arc, targets):
+    """The materials of a referenced document that bindings name (usdMtlx's paths: the
+    document's material M is /MaterialX/Materials/M), as {name: bound path}."""
+    root, target = arc["prim"], arc["target"] or "/MaterialX"
+    names = {}
+    for bound in sorted(targets):
+        if bound != root and not bound.startswith(root + "/"):
+            continue
+        inside = (target.rstrip("/") + bound[len(root):]).split("/")
+        if len(inside) == 4 and inside[1:3] == ["MaterialX", "Materials"]:
+            names[inside[3]] = bound
+    return names
+
+
+def mtlx_referenced(stage, Usd, targets, errors, final_inputs):
+    """The textures of the MaterialX documents the stage references, read by MaterialX, in
+    the USD reader's form; the arcs; the composition errors left (a document's own failure to
+    open is not one); the bound paths of the materials read."""
+    arcs = mtlx_arcs(stage, Usd)
+    if not arcs:
+        return [], [], errors, []
+    mx = mtlx_module()
+    if mx is None:
+        print(json.dumps(dict(error="no-materialx", detail=arcs[0]["resolved"])))
+        sys.exit(EXIT_NO_MATERIALX)
+    handled = ["@%s@" % a["resolved"] for a in arcs]
+    errors = [e for e in errors if not any(h in e for h in handled)]
+    textures, used, paths, wanted = [], [], [], {}
+    for arc in arcs:
+        names = mtlx_materials(arc, targets)
+        if not names:
+            continue
+        try:
+            doc = load(mx, arc["resolved"])
+        except MtlxError as e:
+            fail(e.args[0], "%s (referenced by %s)" % (e.args[1], arc["prim"]))
+        found = materials_of(mx, doc)
+        chosen = {n: (found[n][0], bound) for n, bound in names.items() if n in found}
+        # A prim may reference several documents: a material is missing only if none has it.
+        for n, bound in names.items():
+            wanted.setdefault(bound, []).append(n in found)
+        paths += [bound for _, bound in chosen.values()]
+        textures += mtlx_textures(mx, doc, os.path.dirname(arc["resolved"]), chosen,
+                                  final_inputs, MAX_DEPTH, arc["resolved"])
+        used.append(arc)
+    for bound, has in sorted(wanted.items()):
+        if not any(has):
+            errors.append("%s is bound, and no MaterialX document its prim references has the "
+                          "material" % bound)
+    return textures, used, errors, paths
 
 
 def file_of(prim, UsdShade, Sdf):
@@ -166,8 +253,17 @@ def read(stage_path, extract_dir, final_inputs):
     # A reference cycle, a layer that cannot be read: composition went on without it, so a
     # texture may be missing from the list; the library refuses the stage.
     errors = [" ".join(str(e).split()) for e in stage.GetCompositionErrors()]
-    materials, bound = bound_materials(stage, Usd, UsdShade)
-    textures = []
+    # usd-core without its MaterialX file format fails to open every .mtlx it is referred to,
+    # so only then are the documents looked for (a walk over every prim's specs).
+    mtlx = Sdf.FileFormat.FindByExtension("mtlx") is None \
+        and any(".mtlx" in e.lower() for e in errors)
+    materials, bound, targets = bound_materials(stage, Usd, UsdShade, mtlx)
+    textures, references, materials_read = [], [], 0
+    if mtlx:
+        # usd-core without its MaterialX file format: the documents are read by MaterialX.
+        textures, references, errors, read_paths = mtlx_referenced(stage, Usd, targets,
+                                                                   errors, final_inputs)
+        materials_read = len(set(read_paths) - set(materials))
     for mpath, material in sorted(materials.items()):
         edges, shaders = network(material, UsdShade)
         for path in sorted(shaders):
@@ -193,14 +289,14 @@ def read(stage_path, extract_dir, final_inputs):
                 if extract_dir is not None:
                     entry["resolved"] = extract(f["resolved"], pkg[1], extract_dir, Ar)
             textures.append(entry)
-    print(json.dumps(dict(stage=os.path.abspath(stage_path), materials=len(materials),
-                          bound_prims=bound, composition_errors=errors, textures=textures)))
+    print(json.dumps(dict(stage=os.path.abspath(stage_path), materials=len(materials) + materials_read,
+                          bound_prims=bound, composition_errors=errors, textures=textures,
+                          references=references)))
 
 
-def layer():
-    """Prints the layer of overrides as usda text; specconv writes it (atomically, beside it)."""
+def usd_layer(plan):
+    """The layer of overrides as usda text."""
     from pxr import Sdf, Tf
-    plan = json.load(sys.stdin)
     try:
         out = Sdf.Layer.CreateAnonymous(".usda")
         out.subLayerPaths.append(plan["sublayer"])
@@ -223,22 +319,79 @@ def layer():
                 scs = Sdf.AttributeSpec(prim, "inputs:sourceColorSpace",
                                         Sdf.ValueTypeNames.Token)
                 scs.default = "raw"
-        sys.stdout.write(out.ExportToString())
+        for r in plan.get("references", []):
+            retarget(out, r, Sdf)
+        return out.ExportToString()
     except Tf.ErrorException as e:
         fail("layer", str(e).strip())
 
 
-def main():
+def retarget(out, r, Sdf):
+    """A reference (or payload) to a MaterialX document deleted, by its anchored path as
+    composition compares them, and one to its override document prepended."""
+    prim = Sdf.CreatePrimInLayer(out, Sdf.Path(r["prim"]))
+    prim.specifier = Sdf.SpecifierOver
+    target = Sdf.Path(r["target"]) if r["target"] else Sdf.Path()
+    offset = Sdf.LayerOffset(r["offset"], r["scale"])
+    if r["arc"] == "payload":
+        op = Sdf.PayloadListOp()
+        old, new = (Sdf.Payload(p, target, offset) for p in (r["resolved"], r["file"]))
+    else:
+        op = Sdf.ReferenceListOp()
+        old, new = (Sdf.Reference(p, target, offset) for p in (r["resolved"], r["file"]))
+    op.deletedItems = [old]
+    op.prependedItems = [new]
+    prim.SetInfo(r["arc"] if r["arc"] == "references" else "payload", op)
+    prim.customData = {"specconv": {"originalReference": r["asset"]}}
+
+
+def layer():
+    """Reads a plan (JSON) on stdin and prints the files of overrides, {"files": [{path,
+    text}]}: the MaterialX override documents, then the USD layer (none for a document given
+    alone); specconv writes them."""
+    plan = json.load(sys.stdin)
+    files = []
+    for d in plan.get("documents", []):
+        need_materialx(d["source"])
+        try:
+            files.append(dict(path=d["layer"], text=document_text(d["source"], d["overrides"])))
+        except MtlxError as e:
+            fail(*e.args)
+    if not plan["stage"].lower().endswith(".mtlx"):
+        need_usd()
+        files.append(dict(path=plan["layer"], text=usd_layer(plan)))
+    print(json.dumps(dict(files=files)))
+
+
+def need_usd():
     try:
         import pxr  # noqa: F401
         from pxr import Usd  # noqa: F401
     except ImportError as e:
         print(json.dumps(dict(error="no-pxr", detail=str(e))))
-        return 3
-    if len(sys.argv) in (4, 5) and sys.argv[1] == "read":
-        final_inputs = set(json.loads(sys.argv[3]))
-        read(sys.argv[2], sys.argv[4] if len(sys.argv) == 5 else None, final_inputs)
-    elif len(sys.argv) == 2 and sys.argv[1] == "layer":
+        sys.exit(3)
+
+
+def need_materialx(document):
+    if mtlx_module() is None:
+        print(json.dumps(dict(error="no-materialx", detail=document)))
+        sys.exit(EXIT_NO_MATERIALX)
+
+
+def main():
+    args = sys.argv[1:]
+    if len(args) in (3, 4) and args[0] == "read":
+        final_inputs = set(json.loads(args[2]))
+        if args[1].lower().endswith(".mtlx"):
+            need_materialx(args[1])
+            try:
+                print(json.dumps(read_document(args[1], final_inputs, MAX_DEPTH)))
+            except MtlxError as e:
+                fail(*e.args)
+            return 0
+        need_usd()
+        read(args[1], args[3] if len(args) == 4 else None, final_inputs)
+    elif args == ["layer"]:
         layer()
     else:
         fail("usage", "read STAGE INPUTS [DIR] | layer")

@@ -1,5 +1,6 @@
-//! Running usd-core: the reader script (`read_stage.py`, kept in this crate) under the Python
-//! interpreter that `$SPECCONV_USD_PYTHON` names (else `python3`), bounded in time and output.
+//! Running usd-core and MaterialX: the reader script (`read_mtlx.py` and `read_stage.py`, kept
+//! in this crate) under the Python interpreter that `$SPECCONV_USD_PYTHON` names (else
+//! `python3`), bounded in time and output.
 
 use crate::stage::Stage;
 use crate::Error;
@@ -9,8 +10,8 @@ use std::path::Path;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-/// The reader script, run with `python -c`.
-pub const SCRIPT: &str = include_str!("read_stage.py");
+/// The reader script, run with `python -c`: the MaterialX half, then usd-core's.
+pub const SCRIPT: &str = concat!(include_str!("read_mtlx.py"), include_str!("read_stage.py"));
 
 /// The environment variable naming the interpreter that has usd-core.
 pub const PYTHON_VAR: &str = "SPECCONV_USD_PYTHON";
@@ -83,11 +84,35 @@ impl Reader {
     /// [`crate::plan::LayerPlan`]): usd-core makes its text, and it is written as every output
     /// is (`specconv_atomic_file`: a locked temporary beside it, renamed into place; the
     /// temporaries a killed run left beside it are removed first).
+    ///
+    /// The MaterialX override documents are written first, the USD layer (none for a
+    /// document given alone) last; each file must be one the plan names.
     pub fn write_layer(&self, plan: &crate::plan::LayerPlan) -> Result<(), Error> {
+        #[derive(serde::Deserialize)]
+        struct File {
+            path: std::path::PathBuf,
+            text: String,
+        }
+        #[derive(serde::Deserialize)]
+        struct Files {
+            files: Vec<File>,
+        }
         let json = serde_json::to_vec(plan).map_err(|e| Error::Reader(e.to_string()))?;
-        let text = self.run(&[OsStr::new("layer")], Some(json))?;
-        specconv_atomic_file::write(&plan.layer, &text)
-            .map_err(|e| Error::Io(plan.layer.clone(), e))
+        let out = self.run(&[OsStr::new("layer")], Some(json))?;
+        let files: Files =
+            serde_json::from_slice(&out).map_err(|e| Error::Reader(format!("its answer: {e}")))?;
+        let named = |p: &Path| p == plan.layer || plan.documents.iter().any(|d| d.layer == p);
+        if let Some(f) = files.files.iter().find(|f| !named(&f.path)) {
+            return Err(Error::Reader(format!(
+                "it wrote {}, which the plan does not name",
+                f.path.display()
+            )));
+        }
+        for f in files.files {
+            specconv_atomic_file::write(&f.path, f.text.as_bytes())
+                .map_err(|e| Error::Io(f.path.clone(), e))?;
+        }
+        Ok(())
     }
 
     /// Runs the script with `args`, `stdin` written to it; its standard output, or the error
@@ -147,6 +172,19 @@ impl Reader {
                 python: self.python.clone(),
             });
         }
+        if status.code() == Some(4) {
+            #[derive(serde::Deserialize)]
+            struct Missing {
+                detail: std::path::PathBuf,
+            }
+            let document = serde_json::from_slice::<Missing>(&out)
+                .map(|m| m.detail)
+                .unwrap_or_default();
+            return Err(Error::NoMaterialX {
+                python: self.python.clone(),
+                document,
+            });
+        }
         if !status.success() {
             return Err(reported(&out, &err));
         }
@@ -165,6 +203,7 @@ fn reported(out: &[u8], err: &[u8]) -> Error {
         Ok(r) if r.error == "open" => Error::Open {
             detail: clean(&r.detail),
         },
+        Ok(r) if r.error == "mtlx" => Error::Document { detail: r.detail },
         Ok(r) => Error::Reader(format!("{}: {}", r.error, clean(&r.detail))),
         Err(_) => {
             let text = String::from_utf8_lossy(err);

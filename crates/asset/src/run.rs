@@ -276,6 +276,7 @@ pub fn member(asset: &Asset, k: usize) -> serde_json::Value {
                     "shader": u.shader, "input": u.input, "output": u.output,
                     "through": u.through, "source_color_space": n.source_color_space,
                     "colorspace": n.colorspace, "authored": n.authored,
+                    "document": n.document,
                 })
             })
         })

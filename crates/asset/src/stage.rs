@@ -1,5 +1,5 @@
-//! What usd-core says of a stage: the texture nodes bound materials read, and their uses, as
-//! the reader script (`read_stage.py`) prints them.
+//! What usd-core (and MaterialX, for `.mtlx` documents) says of a stage: the texture nodes
+//! bound materials read, and their uses, as the reader script (`read_stage.py`) prints them.
 
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
@@ -17,6 +17,29 @@ pub struct Stage {
     pub composition_errors: Vec<String>,
     /// Every texture node the bound materials read, in path order.
     pub textures: Vec<Node>,
+    /// The references and payloads to MaterialX documents that were read by the MaterialX
+    /// package (usd-core without its MaterialX file format), each used by a binding.
+    #[serde(default)]
+    pub references: Vec<MtlxReference>,
+}
+
+/// A prim's reference (or payload) to a MaterialX document.
+#[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
+pub struct MtlxReference {
+    /// The referencing prim.
+    pub prim: String,
+    /// `references` or `payload`.
+    pub arc: String,
+    /// The document's path as written.
+    pub asset: String,
+    /// Anchored to the layer that wrote it (as composition compares references).
+    pub resolved: PathBuf,
+    /// The prim of the document it names (`/MaterialX/Materials/M`), empty for the default.
+    pub target: String,
+    /// Its layer offset.
+    pub offset: f64,
+    /// Its layer scale.
+    pub scale: f64,
 }
 
 /// A texture node (UsdUVTexture, a MaterialX image node) and what it reads.
@@ -41,6 +64,10 @@ pub struct Node {
     pub package: Option<Package>,
     /// Which of its outputs feeds which input.
     pub uses: Vec<Use>,
+    /// The MaterialX document it is a node of (its `node` is then the element's name path,
+    /// `NG_brick/image_color`); `None`: a USD prim.
+    #[serde(default)]
+    pub document: Option<PathBuf>,
 }
 
 /// A file inside a usdz package.

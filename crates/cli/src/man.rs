@@ -36,11 +36,11 @@ pub const ENVIRONMENT: [(&str, &str); 11] = [
     ),
     (
         "SPECCONV_USD_PYTHON",
-        "The Python interpreter `asset` reads USD stages with: it must have Pixar's usd-core (`python3 -m pip install usd-core`); default python3.",
+        "The Python interpreter `asset` reads USD stages and MaterialX documents with: it must have Pixar's usd-core and, for `.mtlx` documents, MaterialX (`python3 -m pip install usd-core MaterialX`); default python3.",
     ),
     (
         "SPECCONV_USD_TIMEOUT",
-        "Seconds `asset` lets usd-core take to read a stage or write its layer (default 300).",
+        "Seconds `asset` lets usd-core (or MaterialX) take to read a stage or write its layer (default 300).",
     ),
     (
         "SPECCONV_PROGRESS_SECONDS",

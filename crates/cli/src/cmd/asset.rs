@@ -20,13 +20,19 @@ Examples:
   specconv asset shot.usda -o spectral --dry-run
   specconv asset shot.usda -o spectral -u --json > asset.jsonl
   SPECCONV_USD_PYTHON=/opt/usd/bin/python specconv asset kitchen.usdz -o spectral --data copy
+  specconv asset brick.mtlx -o spectral
 ";
 
-/// Convert the textures a USD stage's materials read, each as its material says.
+/// Convert the textures a USD stage's (or MaterialX document's) materials read, each as its
+/// material says.
 ///
 /// Opens STAGE (.usda, .usdc, .usd, .usdz) with Pixar's usd-core, composed (references,
 /// payloads, the selected variants, usdz packages), and finds every texture a bound material
-/// reads (UsdUVTexture, MaterialX image nodes). The material decides what each file is: one
+/// reads (UsdUVTexture, MaterialX image nodes). A MaterialX document (.mtlx), given as STAGE or
+/// referenced from the stage, is read with the MaterialX package (XIncludes, node graphs,
+/// fileprefix, colorspace as MaterialX inherits it); every material of a document given alone
+/// is read, and its copy DIR/STEM_spectral.mtlx takes the layer's place. The material decides
+/// what each file is: one
 /// whose colour channels feed a colour input (diffuseColor, emissiveColor, base_color …) is
 /// colour, in the space its sourceColorSpace (sRGB; raw: linear) or MaterialX colorspace
 /// names, else the file's own evidence; one that feeds data inputs (roughness, metallic,
@@ -34,14 +40,15 @@ Examples:
 /// that feeds both is a conflict, named and not converted. Outputs go under DIR (the texture's
 /// folder below the stage's, or external/HASH for one outside it), with DIR/STEM_spectral.usda:
 /// a layer over the stage whose overrides point each colour texture's inputs:file at its
-/// spectral file. The stage and its textures are never written. usd-core runs in the Python
-/// interpreter $SPECCONV_USD_PYTHON names (else python3): `python3 -m pip install usd-core`.
+/// spectral file. The stage and its textures are never written. usd-core and MaterialX run in
+/// the Python interpreter $SPECCONV_USD_PYTHON names (else python3):
+/// `python3 -m pip install usd-core MaterialX`.
 /// With -u, up-to-date textures are skipped and the layer is written again; --json's records
 /// are `convert`'s with an `asset` member: the stage, the rule that decided, why, and each
 /// prim and input that reads the texture (docs/assets.md).
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// The USD stage.
+    /// The USD stage, or a MaterialX document.
     #[arg(value_name = "STAGE")]
     stage: PathBuf,
     /// The output directory (made if missing); nothing is written outside it.
@@ -85,7 +92,14 @@ pub fn run(args: Args) -> Result<i32> {
     )
     .map_err(asset_error)?;
     let reporting = args.batch.reporting(args.verbose);
-    if asset.textures.is_empty() && !args.batch.quiet {
+    if asset.textures.is_empty() && !args.batch.quiet && specconv_asset::is_document(&asset.stage) {
+        errln!(
+            "specconv: note: {}: no material of the document reads an image ({} material(s)); \
+             nothing to convert",
+            asset.stage.display(),
+            asset.materials
+        );
+    } else if asset.textures.is_empty() && !args.batch.quiet {
         errln!(
             "specconv: note: {}: no bound material reads a texture ({} material(s) bound to \
              {} prim(s)); nothing to convert",
@@ -195,12 +209,27 @@ fn convert(
     let layer = finish(reader, asset, &outcomes)
         .with_context(|| format!("cannot write the layer {}", asset.layer.display()))?;
     if !reporting.quiet {
-        errln!(
-            "specconv: layer {} over {}: {} texture node(s) pointed at spectral files",
-            layer.layer.display(),
-            asset.stage.display(),
-            layer.overrides.len()
-        );
+        let copies = &layer.documents;
+        let in_copies: usize = copies.iter().map(|d| d.overrides.len()).sum();
+        if specconv_asset::is_document(&asset.stage) {
+            errln!(
+                "specconv: copy {} of {}: {in_copies} image node(s) pointed at spectral files",
+                layer.layer.display(),
+                asset.stage.display()
+            );
+        } else {
+            errln!(
+                "specconv: layer {} over {}: {} texture node(s) pointed at spectral files{}",
+                layer.layer.display(),
+                asset.stage.display(),
+                layer.overrides.len(),
+                match copies.len() {
+                    0 => String::new(),
+                    1 => format!(", and {in_copies} image node(s) in a MaterialX copy"),
+                    n => format!(", and {in_copies} image node(s) in {n} MaterialX copies"),
+                }
+            );
+        }
     }
     Ok(if unplanned > 0 { exit::FAILED } else { code })
 }

@@ -346,6 +346,14 @@ fn plan_files(s: &Submit) -> Result<Planned> {
 /// usage error.
 fn stage_input(args: &convert::Args) -> Result<Option<&Path>> {
     let inputs = args.inputs();
+    if let Some(doc) = inputs.iter().find(|p| specconv_asset::is_document(p)) {
+        return Err(usage(anyhow!(
+            "{} is a MaterialX document, which a farm job does not take yet: convert it with \
+             `specconv asset {} -o DIR` (docs/assets.md)",
+            doc.display(),
+            doc.display()
+        )));
+    }
     match inputs.iter().find(|p| specconv_asset::is_stage(p)) {
         None => Ok(None),
         Some(stage) if inputs.len() == 1 => Ok(Some(stage)),
