@@ -794,4 +794,27 @@ fn a_grey_texture_the_material_calls_colour_is_uplifted_and_a_dead_runs_layer_te
         v["files"]["/Looks/G/Albedo"]["file"],
         "./tex/grey_albedo_spectral.exr"
     );
+    // Three channels of which `--channels R` reads one: the rule sees what the conversion
+    // reads (it looked at the whole file before, and the albedo came out as data).
+    for name in ["grey_albedo", "grey_rough"] {
+        let p = dir.path(&format!("tex/{name}.png"));
+        let p = p.to_str().unwrap();
+        tool(
+            "oiiotool",
+            &["--pattern", "noise", "8x8", "3", "-d", "uint8", "-o", p],
+        );
+    }
+    let one = dir.path("one");
+    let r = asset(&python, &dir.path("grey.usda"), &one)
+        .args(["--json", "--channels", "R"])
+        .ok()
+        .json_lines();
+    let albedo = record(&r, "grey_albedo.png");
+    assert_eq!(albedo["status"], "ok", "{albedo:#}");
+    assert_eq!(albedo["channels"], serde_json::json!(["R"]), "{albedo:#}");
+    assert!(albedo["asset"]["why"]
+        .as_str()
+        .unwrap()
+        .contains("uplifted as grey"));
+    assert_eq!(record(&r, "grey_rough.png")["status"], "data");
 }

@@ -8,7 +8,7 @@ use serde::Serialize;
 use sha2::{Digest, Sha256};
 use specconv_atomic_file::outputs::Holds;
 use specconv_atomic_file::udim;
-use specconv_conversion::ColourConfig;
+use specconv_conversion::{ColourConfig, Options};
 use std::collections::BTreeMap;
 use std::path::{Component, Path, PathBuf};
 
@@ -148,9 +148,14 @@ pub fn layer_path(stage: &Path, dir: &Path) -> PathBuf {
 
 impl Asset {
     /// The plan of `stage` (as [`crate::Reader::read`] gave it) into `dir`, the colour spaces
-    /// named in `config`. A stage that did not compose is refused whole: a texture may be
-    /// missing from it.
-    pub fn new(stage: Stage, dir: &Path, config: &ColourConfig) -> Result<Asset, Error> {
+    /// named in `config`, each file seen as a conversion with `options` reads it (its
+    /// subimage and channels). A stage that did not compose is refused whole: a texture may
+    /// be missing from it.
+    pub fn new(
+        stage: Stage,
+        dir: &Path,
+        (config, options): (&ColourConfig, &Options),
+    ) -> Result<Asset, Error> {
         if let Some(first) = stage.composition_errors.first() {
             return Err(Error::Composition {
                 stage: stage.stage.clone(),
@@ -161,7 +166,7 @@ impl Asset {
         let stage_dir = stage.stage.parent().unwrap_or(Path::new("/")).to_path_buf();
         let mut textures: Vec<Planned> = group(stage.textures)
             .into_iter()
-            .map(|(file, nodes)| planned(file, nodes, &stage_dir, dir, config))
+            .map(|(file, nodes)| planned(file, nodes, (&stage_dir, dir), (config, options)))
             .collect();
         disambiguate(&mut textures);
         Ok(Asset {
@@ -323,9 +328,8 @@ fn group(nodes: Vec<Node>) -> Vec<(Option<PathBuf>, Vec<Node>)> {
 fn planned(
     file: Option<PathBuf>,
     nodes: Vec<Node>,
-    stage_dir: &Path,
-    dir: &Path,
-    config: &ColourConfig,
+    (stage_dir, dir): (&Path, &Path),
+    (config, options): (&ColourConfig, &Options),
 ) -> Planned {
     let Some(file) = file else {
         let n = &nodes[0];
@@ -349,7 +353,7 @@ fn planned(
         return not_converted(texture, why);
     };
     let mut decision = decide(&nodes);
-    let grey = grey_colour(&decision, &file, config);
+    let grey = grey_colour(&decision, &file, (config, options));
     if let (Decision::Colour { why, .. }, Some(space)) = (&mut decision, &grey) {
         why.push_str(&format!(
             "; one channel, which the data-map rule alone would take as data: the material \
@@ -387,7 +391,11 @@ fn planned(
 /// is stronger evidence than that rule (it says colour), so the texture is uplifted as grey,
 /// in that space, named to the conversion. `None` otherwise (or when the file cannot be read:
 /// the conversion says why).
-fn grey_colour(decision: &Decision, file: &Path, config: &ColourConfig) -> Option<String> {
+fn grey_colour(
+    decision: &Decision,
+    file: &Path,
+    (config, options): (&ColourConfig, &Options),
+) -> Option<String> {
     let Decision::Colour {
         space: Space::File, ..
     } = decision
@@ -400,8 +408,7 @@ fn grey_colour(decision: &Decision, file: &Path, config: &ColourConfig) -> Optio
         Ok(None) => file.to_path_buf(),
         Err(_) => return None,
     };
-    let options = specconv_conversion::Options::default();
-    let described = specconv_conversion::describe(config, &tile, &options).ok()?;
+    let described = specconv_conversion::describe(config, &tile, options).ok()?;
     match described.colour {
         Ok(specconv_conversion::ReadAs::Data { rule, .. }) => {
             rule.colour_after_all().map(str::to_string)

@@ -41,7 +41,7 @@ pub fn prepare(
     let read = reader.read(&stage, extract.as_deref())?;
     let config =
         ColourConfig::resolve(options.ocio.as_deref()).map_err(|e| Error::Config(Box::new(e)))?;
-    let mut asset = Asset::new(read, &dir, &config)?;
+    let mut asset = Asset::new(read, &dir, (&config, options))?;
     let mut jobs = asset.jobs();
     if options.data == DataPolicy::Fail {
         jobs.retain(|j| !asset.fail_data(j.texture));
