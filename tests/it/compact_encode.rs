@@ -9,23 +9,7 @@ use specconv_spectral::method::MethodName;
 use specconv_spectral::stack::Description;
 use specconv_spectral::Model;
 use specconv_testkit::cmd::Scratch;
-
-/// SplitMix64: the same colours every run.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
-    }
-    /// Uniform in [a, b).
-    fn in_range(&mut self, a: f64, b: f64) -> f64 {
-        a + (b - a) * (self.next() >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
+use specconv_testkit::SplitMix;
 
 /// A record of the C program: a colour and its kind (0: XYZ, 1: RGB through the matrix).
 type Record = [f32; 4];
@@ -36,7 +20,7 @@ type Record = [f32; 4];
 /// float32 (the dark rule), and the special values: black, −0, NaN and ±∞ in one component,
 /// the largest float, negative sums.
 fn colours(count: usize, seed: u64) -> Vec<Record> {
-    let mut rng = Rng(seed);
+    let mut rng = SplitMix(seed);
     let acescg = ACESCG.to_xyz(SRGB.white_xyz());
     let special: [[f32; 3]; 12] = [
         [0.0, 0.0, 0.0],
@@ -54,7 +38,7 @@ fn colours(count: usize, seed: u64) -> Vec<Record> {
     ];
     (0..count)
         .map(|i| {
-            let r = |rng: &mut Rng, a, b| rng.in_range(a, b);
+            let r = |rng: &mut SplitMix, a, b| rng.in_range(a, b);
             match i % 8 {
                 0 => [
                     r(&mut rng, 0.0, 1.0),
@@ -93,14 +77,14 @@ fn colours(count: usize, seed: u64) -> Vec<Record> {
                     [x[0], x[1], x[2], 0.0]
                 }
                 6 => {
-                    let s = special[(rng.next() % special.len() as u64) as usize];
+                    let s = special[(rng.next_u64() % special.len() as u64) as usize];
                     [s[0], s[1], s[2], 0.0]
                 }
                 _ => {
                     // Saturated sRGB near the gamut's edges, scaled up a little.
                     let k = r(&mut rng, 0.5, 1.3);
                     let c = [0; 3]
-                        .map(|_| (k * (rng.next() % 2) as f64 * r(&mut rng, 0.9, 1.0)) as f32);
+                        .map(|_| (k * (rng.next_u64() % 2) as f64 * r(&mut rng, 0.9, 1.0)) as f32);
                     [c[0], c[1], c[2], 1.0]
                 }
             }

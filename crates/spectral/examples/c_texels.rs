@@ -13,22 +13,10 @@ use specconv_spectral::compact::{Compact, TEXEL};
 use specconv_spectral::method::MethodName;
 use specconv_spectral::stack::Description;
 use specconv_spectral::Model;
+use specconv_testkit::SplitMix;
 use std::path::Path;
 use std::process::Command;
 use std::time::Instant;
-
-/// splitmix64 as a draw in [0, 1).
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
 
 fn main() {
     let count: usize = std::env::args()
@@ -54,14 +42,14 @@ fn main() {
     let text = dir.join("model.txt");
     std::fs::write(&text, compact.to_text()).unwrap();
     let matrix = SRGB.to_xyz(SRGB.white_xyz());
-    let mut rng = Rng(47);
+    let mut rng = SplitMix(47);
     let texture: Vec<[f32; 3]> = (0..count)
-        .map(|_| [0; 3].map(|_| rng.next() as f32))
+        .map(|_| [0; 3].map(|_| rng.uniform() as f32))
         .collect();
     let saturated: Vec<[f32; 3]> = (0..count / 10)
         .map(|_| {
-            let k = 10f64.powf(2.0 * rng.next() - 0.5);
-            [0; 3].map(|_| (k * (rng.next() * rng.next()).powi(2)) as f32)
+            let k = 10f64.powf(2.0 * rng.uniform() - 0.5);
+            [0; 3].map(|_| (k * (rng.uniform() * rng.uniform()).powi(2)) as f32)
         })
         .collect();
     println!(

@@ -13,21 +13,9 @@
 
 use specconv_spectral::bounded::{nearest, Bounded, Outcome};
 use specconv_spectral::{Method, Model, Uplifter};
+use specconv_testkit::SplitMix;
 use std::hint::black_box;
 use std::time::Instant;
-
-/// splitmix64 as a draw in [0, 1).
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
 
 type Set = Vec<([f64; 3], Vec<f64>)>;
 
@@ -68,11 +56,15 @@ fn main() {
     let a = model.colorimetry().unwrap();
     let bounded = Bounded::new(Uplifter::new(model).unwrap(), a.clone()).unwrap();
     let n = a.bands();
-    let mut rng = Rng(4516);
+    let mut rng = SplitMix(4516);
     let mut r = vec![0.0; n];
     let mut kinds: [Set; 3] = Default::default();
     for _ in 0..count {
-        let c = [rng.next() * 1.2, rng.next() * 1.2, rng.next() * 1.2];
+        let c = [
+            rng.uniform() * 1.2,
+            rng.uniform() * 1.2,
+            rng.uniform() * 1.2,
+        ];
         bounded.inner().uplift_f64(&c, &mut r);
         let r0 = r.clone();
         let k = match bounded.bound(c, &mut r) {

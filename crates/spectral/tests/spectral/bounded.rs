@@ -9,6 +9,7 @@ use specconv_colour::rgb::{RgbSpace, ACESCG, REC2020, SRGB};
 use specconv_colour::Colorimetry;
 use specconv_spectral::bounded::{nearest, project, Bounded, Counts, Outcome, Solve};
 use specconv_spectral::{Method, Model, Uplifter};
+use specconv_testkit::SplitMix;
 
 fn setup() -> &'static (Colorimetry, Bounded<Uplifter>) {
     static U: std::sync::OnceLock<(Colorimetry, Bounded<Uplifter>)> = std::sync::OnceLock::new();
@@ -333,20 +334,11 @@ proptest! {
     }
 }
 
-/// splitmix64, as a uniform draw in [0, 1): the same colours every run.
-fn draw(state: &mut u64) -> f64 {
-    *state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
-    let mut z = *state;
-    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-    ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-}
-
 /// A hostile colour of kind `kind` (0–5): uniform XYZ, HDR, negative components, huge,
 /// near black, and just outside the surface (a vertex A·1[aᵢ·n > 0] of the solid pushed out
 /// along its own ray by 10⁻⁹…10⁻²).
-fn hostile(a: &Colorimetry, kind: usize, s: &mut u64) -> [f64; 3] {
-    let mut u = || draw(s);
+fn hostile(a: &Colorimetry, kind: usize, s: &mut SplitMix) -> [f64; 3] {
+    let mut u = || s.uniform();
     let uniform = [u() * 1.2, u() * 1.2, u() * 1.2];
     match kind {
         0 => uniform,
@@ -381,7 +373,7 @@ fn warm_started_outside_search_matches_the_reference_within_tolerance() {
     let (a, bounded) = setup();
     let n = a.bands();
     let (mut r0, mut new, mut old) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
-    let mut state = 4516;
+    let mut state = SplitMix(4516);
     let total = 100_000;
     // Per kind: colours, identical answers, largest ΔE76 between the colours reached, farther
     // by more than 0.05, nearer by more than 0.05.
@@ -446,7 +438,7 @@ fn outside_colours_on_a_face_or_an_edge_keep_the_searchs_own_colour() {
     let (a, bounded) = setup();
     let n = a.bands();
     let (mut r0, mut r, mut near) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
-    let mut state = 4516;
+    let mut state = SplitMix(4516);
     // Face or edge answers, and those that kept the search's colour.
     let (mut faces, mut kept) = (0usize, 0usize);
     let mut done = 0;
