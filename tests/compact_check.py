@@ -27,10 +27,13 @@
                     profile Little CMS makes (P3 primaries, D65, the sRGB curve:
                     codes_p3_icc.png); and linear.exr (float, 256x256, random values in
                     [-0.1, 1.5], linear Rec.709: no chromaticities).
-  halves C INPUT    JSON: the colour level 0 of compact file C stores against the nearest half
-                    of INPUT's own colour (an 8-bit file's codes through the sRGB curve in
-                    double; a float file's values): the channels that differ, and the largest
-                    difference in half steps.
+  halves C INPUT    JSON: the colour level 0 of compact file C stores against INPUT's own
+                    colour (an 8-bit file's codes through the sRGB curve in double, as float32;
+                    a float file's values): the channels that differ from its nearest half and
+                    by how many half steps at most, the values that are neither half around
+                    it, the texels stored farther in CIEDE2000 (colour-science, the working
+                    space's white) than the nearest of the eight combinations of halves around
+                    it, and those moved off the nearest halves with nothing gained.
 """
 import json
 import sys
@@ -178,10 +181,18 @@ def halves(compact, source):
         c = np.stack([np.where(pick >> i & 1, beyond[..., i], near[..., i]) for i in range(3)], -1)
         best = np.minimum(best, colour.delta_E(target, lab(c), method="CIE 2000"))
     mine = colour.delta_E(target, lab(got), method="CIE 2000")
+    nearest = colour.delta_E(target, lab(want), method="CIE 2000")
+    moved = (got != want).any(-1)
+    # Each stored value is one of the two halves around the input's.
+    bracket = (got == want) | (got == beyond.astype(np.float64))
     print(json.dumps({"differ": int((got != want).sum()), "channels": int(got.size),
+                      "texels_moved": int(moved.sum()), "texels": int(moved.size),
+                      "not_a_half_around": int((~bracket).sum()),
                       "max_steps": float(np.max(np.abs(got - want) / spacing)),
                       "farther_than_nearest_colour": int((mine > best + 1e-9).sum()),
-                      "most_beyond_nearest_colour": float(np.max(mine - best))}))
+                      "most_beyond_nearest_colour": float(np.max(mine - best)),
+                      "moved_without_gain": int((moved & (nearest <= best + 1e-9)).sum()),
+                      "most_gain": float(np.max(nearest - mine))}))
 
 
 def levels_header(path):

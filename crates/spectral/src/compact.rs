@@ -94,6 +94,30 @@ fn round_bits(v: f32, bits: u32) -> f32 {
     }
 }
 
+/// The half on the other side of `v` from `near`, its nearest half ([`round_half`]): None
+/// where `v` is that half (or not finite, or beyond the half range, stored as ±65504).
+fn other_half(v: f32, near: f32) -> Option<f32> {
+    let v = if v.is_finite() {
+        v.clamp(-HALF_MAX, HALF_MAX)
+    } else {
+        return None;
+    };
+    if v == near {
+        return None;
+    }
+    let bits = half::f16::from_f32(near).to_bits();
+    let (sign, magnitude) = (bits & 0x8000, bits & 0x7fff);
+    // Away from zero where v is beyond `near` (or `near` is ±0: towards v's sign).
+    let (sign, magnitude) = if magnitude == 0 {
+        (if v < 0.0 { 0x8000 } else { 0 }, 1)
+    } else if v.abs() > near.abs() {
+        (sign, magnitude + 1)
+    } else {
+        (sign, magnitude - 1)
+    };
+    Some(half::f16::from_bits(sign | magnitude).to_f32())
+}
+
 /// A quarter of half's spacing at `v`: the bound within which a half u must reproduce a band.
 fn quarter_half_step(v: f64) -> f64 {
     let a = v.abs();
@@ -311,7 +335,8 @@ impl Compact {
         let mut texel = [0.0f32; TEXEL];
         for t in values.chunks_exact_mut(STORED) {
             if precision == Precision::Half {
-                t[..3].iter_mut().for_each(|v| *v = round_half(*v));
+                let rgb = self.half_colour([t[0], t[1], t[2]]);
+                t[..3].copy_from_slice(&rgb);
             }
             let c = self.colour_of([t[0], t[1], t[2]]);
             let one = self.encode_f32(&c, &mut texel);
@@ -342,6 +367,52 @@ impl Compact {
             }
         }
         counts
+    }
+
+    /// The half colour a file stores for the working-space colour `rgb`: of the combinations of
+    /// each value's half below and above it (up to eight), the one nearest `rgb` in CIEDE2000
+    /// (CIELAB of the working space's white), and of equally near ones the nearest half of each
+    /// value. The nearest half of each value alone can turn a dark near-grey's hue (one value
+    /// rounds up, two down), farther from the input than maketx's texel, which is one of the
+    /// eight. Values already halves have no other; NaN and ±∞ are kept, finite values beyond
+    /// the half range stored as ±65504 ([`round_half`]).
+    fn half_colour(&self, rgb: [f32; 3]) -> [f32; 3] {
+        let near = rgb.map(round_half);
+        let other: [Option<f32>; 3] = [0, 1, 2].map(|i| other_half(rgb[i], near[i]));
+        if other.iter().all(Option::is_none) || !rgb.iter().all(|v| v.is_finite()) {
+            return near;
+        }
+        let white = self.rgb.map(|m| m[0] + m[1] + m[2]);
+        let lab = |xyz: [f64; 3]| specconv_colour::lab::xyz_to_lab(xyz, white);
+        let [r, g, b] = rgb.map(f64::from);
+        let target = lab(self.rgb.map(|m| m[0] * r + m[1] * g + m[2] * b));
+        // The colour as decoders read it back (`colour_of`, float32).
+        let distance = |c: [f32; 3]| {
+            let xyz = self.colour_of(c).map(f64::from);
+            specconv_colour::lab::ciede2000(target, lab(xyz))
+        };
+        let (mut best, mut least) = (near, distance(near));
+        for pick in 1..8 {
+            let mut c = near;
+            let mut distinct = true;
+            for (i, v) in c.iter_mut().enumerate() {
+                if pick >> i & 1 == 1 {
+                    match other[i] {
+                        Some(o) => *v = o,
+                        None => distinct = false,
+                    }
+                }
+            }
+            if !distinct {
+                continue;
+            }
+            let d = distance(c);
+            // Strictly nearer only: a tie keeps the nearest halves.
+            if d < least {
+                (best, least) = (c, d);
+            }
+        }
+        best
     }
 
     /// The u with the fewest significant bits whose spectrum of `c` is within a quarter of a
@@ -1053,6 +1124,84 @@ mod tests {
                 Precision::Float => assert!(halves == 0 && floats > 100, "{floats}"),
             }
         }
+    }
+
+    /// The stored half colour brackets the input in every value (its half below or above, or
+    /// the half it is), whatever the value: halves kept, ties, ±0, subnormals, negative, the
+    /// half range's ends and beyond, NaN and ±∞ kept. Dark near-greys of every 8-bit code step
+    /// take the other half of a value where that is nearer in CIEDE2000 (docs/compact.md, "The
+    /// working space"); tests/it/compact.rs holds the choice to colour-science's CIEDE2000.
+    #[test]
+    fn the_stored_half_colour_brackets_the_input_and_is_the_nearest_of_the_eight() {
+        use specconv_colour::lab::{ciede2000, xyz_to_lab};
+        let d = Description::convert_default(MethodName::Otsu2018);
+        let compact = Compact::new(Model::builtin(), "test", &d).unwrap();
+        let tiny = f32::from_bits(1); // below half's subnormals
+        let odd = [
+            [0.5, 0.25, 1.0],
+            [0.0, -0.0, tiny],
+            [-tiny, 3e-8, -3e-8],
+            [65504.0, 65520.0, 1e30],
+            [-65504.0, -7e4, f32::MAX],
+            [f32::NAN, 0.1, 0.2],
+            [f32::INFINITY, f32::NEG_INFINITY, 0.3],
+            [
+                1.0 + 2f32.powi(-11),
+                2.0 - 2f32.powi(-12),
+                -0.5 - 2f32.powi(-12),
+            ],
+        ];
+        for rgb in odd {
+            let got = compact.half_colour(rgb);
+            for ((&v, &h), n) in rgb.iter().zip(&got).zip(rgb.map(round_half)) {
+                if !rgb.iter().all(|v| v.is_finite()) {
+                    assert!(h.to_bits() == n.to_bits(), "{rgb:?}: {got:?}");
+                    continue;
+                }
+                assert_eq!(round_half(h), h, "{rgb:?}: {got:?}");
+                let v = v.clamp(-HALF_MAX, HALF_MAX);
+                let (lo, hi) = (v.min(n), v.max(n));
+                let other = other_half(v, n).unwrap_or(n);
+                assert!(h == n || h == other, "{rgb:?}: {got:?}");
+                // The other half is the next one on v's side: nothing between.
+                assert!(other <= lo || other >= hi, "{v} {n} {other}");
+                let between = half::f16::from_f32(0.5 * (n + other)).to_f32();
+                assert!(between == n || between == other, "{v} {n} {other}");
+            }
+        }
+        // Dark near-greys: where the nearest half of each value is not the nearest colour.
+        let white = compact.rgb.map(|m| m[0] + m[1] + m[2]);
+        let de = |a: [f32; 3], b: [f32; 3]| {
+            let lab = |c: [f32; 3]| {
+                let x = compact.colour_of(c).map(f64::from);
+                xyz_to_lab(x, white)
+            };
+            ciede2000(lab(a), lab(b))
+        };
+        let (mut moved, mut all) = (0, 0);
+        for r in 1..40u8 {
+            for (dg, db) in [(1i8, -1i8), (-1, 1), (1, 1), (2, -1), (0, 1)] {
+                let code = |c: i32| {
+                    let v = f64::from(c.clamp(0, 255) as u8) / 255.0;
+                    (if v <= 0.04045 {
+                        v / 12.92
+                    } else {
+                        ((v + 0.055) / 1.055).powf(2.4)
+                    }) as f32
+                };
+                let r = i32::from(r);
+                let rgb = [code(r), code(r + i32::from(dg)), code(r + i32::from(db))];
+                let near = rgb.map(round_half);
+                let got = compact.half_colour(rgb);
+                all += 1;
+                assert!(de(rgb, got) <= de(rgb, near), "{rgb:?}");
+                if got != near {
+                    moved += 1;
+                    assert!(de(rgb, got) < de(rgb, near), "{rgb:?}");
+                }
+            }
+        }
+        assert!(moved > 0 && moved < all, "{moved} of {all}");
     }
 
     /// Significant bits of a float32 (its mantissa to the last 1, the implicit bit counted).
