@@ -332,11 +332,11 @@ impl Compact {
 
     /// Texels as a file stores them, in place: `values` holds [`STORED`] values a texel whose
     /// first three are a colour in the working space; the colour is rounded as `precision`
-    /// stores it, then u solved for the colour stored ([`Compact::colour_of`] of it). At half
-    /// precision u is the coarsest (`Compact::coarsest_u`) that gives every band within a
-    /// quarter of a half step of the spectrum of the unrounded u, each value written as half
-    /// where it is one, else as float32; at float precision, u as solved. Returns the
-    /// projection's counts.
+    /// stores it (half: `Compact::half_colour`, the nearest half colour), then u solved for the
+    /// colour stored ([`Compact::colour_of`] of it). At half precision u is the coarsest
+    /// (`Compact::coarsest_u`) that gives every band within a quarter of a half step of the
+    /// spectrum of the unrounded u, each value written as half where it is one, else as
+    /// float32; at float precision, u as solved. Returns the projection's counts.
     pub fn store(&self, values: &mut [f32], precision: Precision) -> Counts {
         let mut counts = Counts::default();
         let n = self.grid().len();
