@@ -391,17 +391,21 @@ impl Compact {
         if other.iter().all(Option::is_none) || !rgb.iter().all(|v| v.is_finite()) {
             return near;
         }
+        use specconv_colour::lab::{ciede2000, ciede2000_lightness_bound, lightness, xyz_to_lab};
         let white = self.rgb.map(|m| m[0] + m[1] + m[2]);
-        let lab = |xyz: [f64; 3]| specconv_colour::lab::xyz_to_lab(xyz, white);
         let [r, g, b] = rgb.map(f64::from);
-        let target = lab(self.rgb.map(|m| m[0] * r + m[1] * g + m[2] * b));
+        let target = xyz_to_lab(self.rgb.map(|m| m[0] * r + m[1] * g + m[2] * b), white);
         // The colour as decoders read it back (`colour_of`, float32).
-        let distance = |c: [f32; 3]| {
-            let xyz = self.colour_of(c).map(f64::from);
-            specconv_colour::lab::ciede2000(target, lab(xyz))
-        };
-        let nearest = distance(near);
-        let (mut best, mut least) = (near, nearest);
+        let xyz = |c: [f32; 3]| self.colour_of(c).map(f64::from);
+        let nearest = ciede2000(target, xyz_to_lab(xyz(near), white));
+        // Another combination is stored only where it is nearer than the nearest halves by more
+        // than the tie; no colour is nearer than 0, so within the tie nothing is searched, and a
+        // combination whose lightness alone puts it beyond is not measured (the search without
+        // these tripled `convert --layout compact`'s time).
+        let (mut best, mut least) = (near, nearest - HALF_COLOUR_TIE);
+        if least <= 0.0 {
+            return near;
+        }
         for pick in 1..8 {
             let mut c = near;
             let mut distinct = true;
@@ -416,15 +420,14 @@ impl Compact {
             if !distinct {
                 continue;
             }
-            let d = distance(c);
+            let x = xyz(c);
+            if ciede2000_lightness_bound(target[0], lightness(x[1], white[1])) >= least {
+                continue;
+            }
+            let d = ciede2000(target, xyz_to_lab(x, white));
             if d < least {
                 (best, least) = (c, d);
             }
-        }
-        // Nearly a tie keeps the nearest halves: moving a smooth texture's values by a step for
-        // a gain no eye sees costs ZIP up to a sixth of the colour's bytes (docs/compact.md).
-        if nearest <= least + HALF_COLOUR_TIE {
-            return near;
         }
         best
     }
