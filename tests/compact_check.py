@@ -27,10 +27,15 @@
                     profile Little CMS makes (P3 primaries, D65, the sRGB curve:
                     codes_p3_icc.png); and linear.exr (float, 256x256, random values in
                     [-0.1, 1.5], linear Rec.709: no chromaticities).
-  halves C INPUT    JSON: the colour level 0 of compact file C stores against the nearest half
-                    of INPUT's own colour (an 8-bit file's codes through the sRGB curve in
-                    double; a float file's values): the channels that differ, and the largest
-                    difference in half steps.
+  halves C INPUT [TIE]
+                    JSON: the colour level 0 of compact file C stores against INPUT's own
+                    colour (an 8-bit file's codes through the sRGB curve in double, as float32;
+                    a float file's values): the channels that differ from its nearest half and
+                    by how many half steps at most, the values that are neither half around
+                    it, the texels stored farther in CIEDE2000 (colour-science, the working
+                    space's white) than the nearest of the eight combinations of halves around
+                    it and TIE, and those moved off the nearest halves where these were within
+                    TIE of the nearest.
 """
 import json
 import sys
@@ -147,7 +152,7 @@ def inputs(out):
     write_image(f"{out}/linear.exr", (rng.random((256, 256, 3)) * 1.6 - 0.1).astype(np.float32), "float")
 
 
-def halves(compact, source):
+def halves(compact, source, tie="0"):
     names, pixels = levels(compact)[0]
     got = pixels[..., [names.index(c) for c in "RGB"]].astype(np.float64)
     inp = oiio.ImageInput.open(source)
@@ -178,10 +183,18 @@ def halves(compact, source):
         c = np.stack([np.where(pick >> i & 1, beyond[..., i], near[..., i]) for i in range(3)], -1)
         best = np.minimum(best, colour.delta_E(target, lab(c), method="CIE 2000"))
     mine = colour.delta_E(target, lab(got), method="CIE 2000")
+    nearest = colour.delta_E(target, lab(want), method="CIE 2000")
+    moved = (got != want).any(-1)
+    # Each stored value is one of the two halves around the input's.
+    bracket = (got == want) | (got == beyond.astype(np.float64))
     print(json.dumps({"differ": int((got != want).sum()), "channels": int(got.size),
+                      "texels_moved": int(moved.sum()), "texels": int(moved.size),
+                      "not_a_half_around": int((~bracket).sum()),
                       "max_steps": float(np.max(np.abs(got - want) / spacing)),
-                      "farther_than_nearest_colour": int((mine > best + 1e-9).sum()),
-                      "most_beyond_nearest_colour": float(np.max(mine - best))}))
+                      "farther_than_nearest_colour": int((mine > best + float(tie) + 1e-9).sum()),
+                      "most_beyond_nearest_colour": float(np.max(mine - best)),
+                      "moved_without_gain": int((moved & (nearest <= best + float(tie) - 1e-9)).sum()),
+                      "most_gain": float(np.max(nearest - mine))}))
 
 
 def levels_header(path):

@@ -37,6 +37,24 @@ pub fn xyz_to_lab_jacobian(xyz: [f64; 3], white: [f64; 3]) -> ([f64; 3], [[f64; 
     (lab_of_f(fv), j)
 }
 
+/// CIE 1976 L* of a luminance `y` relative to the white's `white_y`: [`xyz_to_lab`]'s L* alone.
+pub fn lightness(y: f64, white_y: f64) -> f64 {
+    116.0 * f(y / white_y) - 16.0
+}
+
+/// A lower bound of [`ciede2000`] from the two colours' L* alone: |ΔL|/S_L. The chroma and hue
+/// terms, rotation included, add a square that is never negative (|R_T| ≤ 2), so a colour whose
+/// bound is no nearer than a distance found need not be measured.
+pub fn ciede2000_lightness_bound(l1: f64, l2: f64) -> f64 {
+    (l2 - l1).abs() / s_l(0.5 * (l1 + l2))
+}
+
+/// CIEDE2000's lightness weight S_L at the mean L*.
+fn s_l(lbar: f64) -> f64 {
+    let l50 = (lbar - 50.0).powi(2);
+    1.0 + 0.015 * l50 / (20.0 + l50).sqrt()
+}
+
 /// CIE's f(t): the cube root above (6/29)³, and its linear segment below.
 fn f(t: f64) -> f64 {
     if t > 216.0 / 24389.0 {
@@ -110,8 +128,7 @@ pub fn ciede2000(lab1: [f64; 3], lab2: [f64; 3]) -> f64 {
     let dtheta = 30.0 * deg * (-((hbarp / deg - 275.0) / 25.0).powi(2)).exp();
     let cbarp7 = cbarp.powi(7);
     let rc = 2.0 * (cbarp7 / (cbarp7 + 25f64.powi(7))).sqrt();
-    let l50 = (lbarp - 50.0).powi(2);
-    let sl = 1.0 + 0.015 * l50 / (20.0 + l50).sqrt();
+    let sl = s_l(lbarp);
     let sc = 1.0 + 0.045 * cbarp;
     let sh = 1.0 + 0.015 * cbarp * t;
     let rt = -(2.0 * dtheta).sin() * rc;
@@ -122,6 +139,38 @@ pub fn ciede2000(lab1: [f64; 3], lab2: [f64; 3]) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The lightness bound is never above ΔE₀₀ (pairs of every kind, near and far, greys,
+    /// saturated, rotated blues where R_T acts), is reached where only L* differs, and
+    /// `lightness` is `xyz_to_lab`'s L*.
+    #[test]
+    fn the_lightness_bound_is_below_ciede2000() {
+        let mut seed = 0x2545_f491_4f6c_dd1du64;
+        let mut next = || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for i in 0..200_000 {
+            let scale = [0.01, 1.0, 100.0][i % 3];
+            let a = [
+                100.0 * next(),
+                200.0 * next() - 100.0,
+                200.0 * next() - 100.0,
+            ];
+            let b = [0, 1, 2].map(|k| a[k] + scale * (2.0 * next() - 1.0));
+            let bound = ciede2000_lightness_bound(a[0], b[0]);
+            assert!(bound <= ciede2000(a, b) * (1.0 + 1e-12), "{a:?} {b:?}");
+        }
+        let (a, b) = ([40.0, 10.0, -30.0], [41.0, 10.0, -30.0]);
+        assert!((ciede2000_lightness_bound(a[0], b[0]) - ciede2000(a, b)).abs() < 1e-12);
+        let white = [0.95047, 1.0, 1.08883];
+        for y in [0.0, 0.001, 0.2, 1.0, 3.0] {
+            let l = xyz_to_lab([0.3, y, 0.2], white)[0];
+            assert_eq!(lightness(y, white[1]), l);
+        }
+    }
 
     /// Pairs from Sharma, Wu and Dalal 2005, Table 1 (pairs 1, 7, 13, 17, 25, 34), with their
     /// published ΔE₀₀ to four decimals.

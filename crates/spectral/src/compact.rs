@@ -58,6 +58,15 @@ pub const WORKING_SPACE: &str = "linear Rec.709 (sRGB primaries, D65)";
 /// The largest finite half: finite colours beyond it are stored as it.
 const HALF_MAX: f32 = 65504.0;
 
+/// CIEDE2000 within which the nearest half of each value counts as the nearest half colour
+/// ([`Compact::store`]); with [`U_COLOUR_DRIFT`], a stored texel's colour stays within 0.006 of
+/// the nearest combination of halves, so within 0.01 of maketx's texel, which is one of them.
+pub const HALF_COLOUR_TIE: f64 = 0.004;
+
+/// CIEDE2000 by which a stored u with fewer bits may move the colour of its spectrum from that
+/// of the unrounded u's (near white, a quarter of a half step a band moved it by 0.01).
+pub const U_COLOUR_DRIFT: f64 = 0.002;
+
 /// How a file stores its texels' values ([`Compact::store`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Precision {
@@ -92,6 +101,30 @@ fn round_bits(v: f32, bits: u32) -> f32 {
     } else {
         v
     }
+}
+
+/// The half on the other side of `v` from `near`, its nearest half ([`round_half`]): None
+/// where `v` is that half (or not finite, or beyond the half range, stored as ±65504).
+fn other_half(v: f32, near: f32) -> Option<f32> {
+    let v = if v.is_finite() {
+        v.clamp(-HALF_MAX, HALF_MAX)
+    } else {
+        return None;
+    };
+    if v == near {
+        return None;
+    }
+    let bits = half::f16::from_f32(near).to_bits();
+    let (sign, magnitude) = (bits & 0x8000, bits & 0x7fff);
+    // Away from zero where v is beyond `near` (or `near` is ±0: towards v's sign).
+    let (sign, magnitude) = if magnitude == 0 {
+        (if v < 0.0 { 0x8000 } else { 0 }, 1)
+    } else if v.abs() > near.abs() {
+        (sign, magnitude + 1)
+    } else {
+        (sign, magnitude - 1)
+    };
+    Some(half::f16::from_bits(sign | magnitude).to_f32())
 }
 
 /// A quarter of half's spacing at `v`: the bound within which a half u must reproduce a band.
@@ -299,11 +332,11 @@ impl Compact {
 
     /// Texels as a file stores them, in place: `values` holds [`STORED`] values a texel whose
     /// first three are a colour in the working space; the colour is rounded as `precision`
-    /// stores it, then u solved for the colour stored ([`Compact::colour_of`] of it). At half
-    /// precision u is the coarsest (`Compact::coarsest_u`) that gives every band within a
-    /// quarter of a half step of the spectrum of the unrounded u, each value written as half
-    /// where it is one, else as float32; at float precision, u as solved. Returns the
-    /// projection's counts.
+    /// stores it (half: `Compact::half_colour`, the nearest half colour), then u solved for the
+    /// colour stored ([`Compact::colour_of`] of it). At half precision u is the coarsest
+    /// (`Compact::coarsest_u`) that gives every band within a quarter of a half step of the
+    /// spectrum of the unrounded u, each value written as half where it is one, else as
+    /// float32; at float precision, u as solved. Returns the projection's counts.
     pub fn store(&self, values: &mut [f32], precision: Precision) -> Counts {
         let mut counts = Counts::default();
         let n = self.grid().len();
@@ -311,7 +344,8 @@ impl Compact {
         let mut texel = [0.0f32; TEXEL];
         for t in values.chunks_exact_mut(STORED) {
             if precision == Precision::Half {
-                t[..3].iter_mut().for_each(|v| *v = round_half(*v));
+                let rgb = self.half_colour([t[0], t[1], t[2]]);
+                t[..3].copy_from_slice(&rgb);
             }
             let c = self.colour_of([t[0], t[1], t[2]]);
             let one = self.encode_f32(&c, &mut texel);
@@ -344,19 +378,84 @@ impl Compact {
         counts
     }
 
+    /// The half colour a file stores for the working-space colour `rgb`: of the combinations of
+    /// each value's half below and above it (up to eight), the one nearest `rgb` in CIEDE2000
+    /// (CIELAB of the working space's white), unless the nearest half of each value is within
+    /// [`HALF_COLOUR_TIE`] of it: then that. The nearest half of each value alone can turn a dark near-grey's hue (one value
+    /// rounds up, two down), farther from the input than maketx's texel, which is one of the
+    /// eight. Values already halves have no other; NaN and ±∞ are kept, finite values beyond
+    /// the half range stored as ±65504 ([`round_half`]).
+    fn half_colour(&self, rgb: [f32; 3]) -> [f32; 3] {
+        let near = rgb.map(round_half);
+        let other: [Option<f32>; 3] = [0, 1, 2].map(|i| other_half(rgb[i], near[i]));
+        if other.iter().all(Option::is_none) || !rgb.iter().all(|v| v.is_finite()) {
+            return near;
+        }
+        use specconv_colour::lab::{ciede2000, ciede2000_lightness_bound, lightness, xyz_to_lab};
+        let white = self.rgb.map(|m| m[0] + m[1] + m[2]);
+        let [r, g, b] = rgb.map(f64::from);
+        let target = xyz_to_lab(self.rgb.map(|m| m[0] * r + m[1] * g + m[2] * b), white);
+        // The colour as decoders read it back (`colour_of`, float32).
+        let xyz = |c: [f32; 3]| self.colour_of(c).map(f64::from);
+        let nearest = ciede2000(target, xyz_to_lab(xyz(near), white));
+        // Another combination is stored only where it is nearer than the nearest halves by more
+        // than the tie; no colour is nearer than 0, so within the tie nothing is searched, and a
+        // combination whose lightness alone puts it beyond is not measured (the search without
+        // these tripled `convert --layout compact`'s time).
+        let (mut best, mut least) = (near, nearest - HALF_COLOUR_TIE);
+        if least <= 0.0 {
+            return near;
+        }
+        for pick in 1..8 {
+            let mut c = near;
+            let mut distinct = true;
+            for (i, v) in c.iter_mut().enumerate() {
+                if pick >> i & 1 == 1 {
+                    match other[i] {
+                        Some(o) => *v = o,
+                        None => distinct = false,
+                    }
+                }
+            }
+            if !distinct {
+                continue;
+            }
+            let x = xyz(c);
+            if ciede2000_lightness_bound(target[0], lightness(x[1], white[1])) >= least {
+                continue;
+            }
+            let d = ciede2000(target, xyz_to_lab(x, white));
+            if d < least {
+                (best, least) = (c, d);
+            }
+        }
+        best
+    }
+
     /// The u with the fewest significant bits whose spectrum of `c` is within a quarter of a
     /// half step of `exact` (the spectrum of `u`) at every band: ZIP stores the zero low bits of
     /// a coarse u in little space, and a saturated texture's u is most of its bytes. The bits
     /// are searched for the three together, then for each alone (the error is about linear in
     /// the rounding, so the search halves). Where a value is no half, the nearest half is
-    /// taken when it is close enough too.
+    /// taken when it is close enough too. Close enough also keeps the spectrum's colour within
+    /// [`U_COLOUR_DRIFT`] in CIEDE2000 of the exact one's.
     fn coarsest_u(&self, c: [f64; 3], u: [f32; 3], exact: &[f64], scratch: &mut [f64]) -> [f32; 3] {
+        let white = self.rgb.map(|m| m[0] + m[1] + m[2]);
+        let lab = |r: &[f64]| {
+            let xyz = self
+                .a
+                .each_ref()
+                .map(|a| a.iter().zip(r).map(|(a, r)| a * r).sum());
+            specconv_colour::lab::xyz_to_lab(xyz, white)
+        };
+        let want = lab(exact);
         let mut close = |v: [f32; 3]| {
             self.decode_f64(c, v.map(f64::from), scratch);
             exact
                 .iter()
                 .zip(scratch.iter())
                 .all(|(&e, &r)| (e - r).abs() <= quarter_half_step(e))
+                && specconv_colour::lab::ciede2000(want, lab(scratch)) <= U_COLOUR_DRIFT
         };
         let fewest = |close: &mut dyn FnMut(u32) -> bool| {
             // The fewest bits from 1 to 24 that are close; 24 is u itself.
@@ -1055,6 +1154,84 @@ mod tests {
         }
     }
 
+    /// The stored half colour brackets the input in every value (its half below or above, or
+    /// the half it is), whatever the value: halves kept, ties, ±0, subnormals, negative, the
+    /// half range's ends and beyond, NaN and ±∞ kept. Dark near-greys of every 8-bit code step
+    /// take the other half of a value where that is nearer in CIEDE2000 (docs/compact.md, "The
+    /// working space"); tests/it/compact.rs holds the choice to colour-science's CIEDE2000.
+    #[test]
+    fn the_stored_half_colour_brackets_the_input_and_is_the_nearest_of_the_eight() {
+        use specconv_colour::lab::{ciede2000, xyz_to_lab};
+        let d = Description::convert_default(MethodName::Otsu2018);
+        let compact = Compact::new(Model::builtin(), "test", &d).unwrap();
+        let tiny = f32::from_bits(1); // below half's subnormals
+        let odd = [
+            [0.5, 0.25, 1.0],
+            [0.0, -0.0, tiny],
+            [-tiny, 3e-8, -3e-8],
+            [65504.0, 65520.0, 1e30],
+            [-65504.0, -7e4, f32::MAX],
+            [f32::NAN, 0.1, 0.2],
+            [f32::INFINITY, f32::NEG_INFINITY, 0.3],
+            [
+                1.0 + 2f32.powi(-11),
+                2.0 - 2f32.powi(-12),
+                -0.5 - 2f32.powi(-12),
+            ],
+        ];
+        for rgb in odd {
+            let got = compact.half_colour(rgb);
+            for ((&v, &h), n) in rgb.iter().zip(&got).zip(rgb.map(round_half)) {
+                if !rgb.iter().all(|v| v.is_finite()) {
+                    assert!(h.to_bits() == n.to_bits(), "{rgb:?}: {got:?}");
+                    continue;
+                }
+                assert_eq!(round_half(h), h, "{rgb:?}: {got:?}");
+                let v = v.clamp(-HALF_MAX, HALF_MAX);
+                let (lo, hi) = (v.min(n), v.max(n));
+                let other = other_half(v, n).unwrap_or(n);
+                assert!(h == n || h == other, "{rgb:?}: {got:?}");
+                // The other half is the next one on v's side: nothing between.
+                assert!(other <= lo || other >= hi, "{v} {n} {other}");
+                let between = half::f16::from_f32(0.5 * (n + other)).to_f32();
+                assert!(between == n || between == other, "{v} {n} {other}");
+            }
+        }
+        // Dark near-greys: where the nearest half of each value is not the nearest colour.
+        let white = compact.rgb.map(|m| m[0] + m[1] + m[2]);
+        let de = |a: [f32; 3], b: [f32; 3]| {
+            let lab = |c: [f32; 3]| {
+                let x = compact.colour_of(c).map(f64::from);
+                xyz_to_lab(x, white)
+            };
+            ciede2000(lab(a), lab(b))
+        };
+        let (mut moved, mut all) = (0, 0);
+        for r in 1..40u8 {
+            for (dg, db) in [(1i8, -1i8), (-1, 1), (1, 1), (2, -1), (0, 1)] {
+                let code = |c: i32| {
+                    let v = f64::from(c.clamp(0, 255) as u8) / 255.0;
+                    (if v <= 0.04045 {
+                        v / 12.92
+                    } else {
+                        ((v + 0.055) / 1.055).powf(2.4)
+                    }) as f32
+                };
+                let r = i32::from(r);
+                let rgb = [code(r), code(r + i32::from(dg)), code(r + i32::from(db))];
+                let near = rgb.map(round_half);
+                let got = compact.half_colour(rgb);
+                all += 1;
+                assert!(de(rgb, got) <= de(rgb, near), "{rgb:?}");
+                if got != near {
+                    moved += 1;
+                    assert!(de(rgb, got) + HALF_COLOUR_TIE < de(rgb, near), "{rgb:?}");
+                }
+            }
+        }
+        assert!(moved > 0 && moved < all, "{moved} of {all}");
+    }
+
     /// Significant bits of a float32 (its mantissa to the last 1, the implicit bit counted).
     fn bits(v: f32) -> u32 {
         if v == 0.0 {
@@ -1095,6 +1272,7 @@ mod tests {
         compact.store(&mut stored, Precision::Half);
         let (mut exact, mut got) = (vec![0.0; n], vec![0.0; n]);
         let (mut kept, mut full, mut floats) = (0, 0, 0);
+        let mut most_drift = 0.0f64;
         let mut texel = [0.0f32; TEXEL];
         for s in stored.chunks_exact(STORED) {
             let colour = compact.colour_of([s[0], s[1], s[2]]);
@@ -1114,6 +1292,20 @@ mod tests {
                     "{colour:?} {u:?} {mine:?}"
                 );
             }
+            // And the spectrum's colour within the drift allowed (CIELAB of the working
+            // space's white), computed here from A's rows.
+            let white = compact.rgb.map(|m| m[0] + m[1] + m[2]);
+            let lab = |r: &[f64]| {
+                let w = compact.weights();
+                let xyz = [0, 1, 2].map(|k| (0..n).map(|b| w[k][b] * r[b]).sum::<f64>());
+                specconv_colour::lab::xyz_to_lab(xyz, white)
+            };
+            let drift = specconv_colour::lab::ciede2000(lab(&exact), lab(&got));
+            assert!(
+                drift <= U_COLOUR_DRIFT,
+                "{colour:?} {u:?} {mine:?}: {drift}"
+            );
+            most_drift = most_drift.max(drift);
             // The values no half holds: as solved, float32 u has all of float's bits.
             for i in (0..3).filter(|&i| s[6 + i] != 0.0) {
                 floats += 1;
@@ -1123,6 +1315,7 @@ mod tests {
         }
         // Measured: 5,083 float values, 91,854 of 113,189 bits (81 %; most of these colours
         // are outside the solid, where u needs most of its bits).
+        eprintln!("largest colour drift {most_drift}; {floats}: {kept} of {full}");
         assert!(
             floats > 1000 && 10 * kept < 9 * full,
             "{floats}: {kept} of {full}"
