@@ -15,7 +15,10 @@ band: bilinear in uv and linear in wavelength commute.
 
 ``specconv_compact`` holds a compact file's six values per texel (docs/compact.md) and decodes
 the model's spectra at each lookup in Dr.Jit: the four nearest texels' spectra at the path's
-wavelengths, weighted bilinearly as ``bitmap`` weighs its texels'. ``specconv_rgb`` makes those
+wavelengths, weighted bilinearly as ``bitmap`` weighs its texels'. Where the texels repeat (an
+8-bit photograph's), it holds instead each texel's number in a palette of the distinct texels'
+spectra at the bands, decoded once at load by the library, and a lookup reads two bands a
+texel and wavelength. ``specconv_rgb`` makes those
 texels at load, in memory: Mitsuba's reader decodes the image as ``bitmap``'s does, and the
 library makes the texels of its pixels (a conversion's colour, alpha, data-map and NaN rules)
 in parallel with the GIL released, so a scene ships the RGB file itself.
