@@ -14,10 +14,6 @@ use std::collections::HashMap;
 /// Distinct texels decoded per parallel piece.
 const PIECE: usize = 1024;
 
-/// Texels numbered per parallel piece before the pieces are merged: few pieces, so that the
-/// merge, which hashes each piece's distinct texels, stays short (4 for a 2048² texture).
-const NUMBERED: usize = 1 << 20;
-
 /// The most distinct texels of a palette: their numbers are exact as float32, the values a
 /// renderer's float texture holds (2²⁴).
 pub const MOST: usize = 1 << 24;
@@ -30,67 +26,12 @@ pub const MOST: usize = 1 << 24;
 /// texels or more, or a spectrum's numbers would pass `u32`: the texture then decodes per
 /// lookup. `numbers` holds one value per texel.
 pub fn palette(compact: &Compact, texels: &[f32], numbers: &mut [f32]) -> Option<Vec<f32>> {
-    palette_in(compact, texels, numbers, NUMBERED)
-}
-
-/// [`palette`] numbering pieces of `piece` texels in parallel.
-fn palette_in(
-    compact: &Compact,
-    texels: &[f32],
-    numbers: &mut [f32],
-    piece: usize,
-) -> Option<Vec<f32>> {
     let n = compact.grid().len().max(1);
     let count = texels.len() / TEXEL;
     assert_eq!(numbers.len(), count, "one number per texel");
     let most = (count * (TEXEL - 1) / n)
         .min(MOST - 1)
         .min(u32::MAX as usize / n - 1);
-    // Each piece numbers its own distinct texels, in parallel; the pieces' lists are then
-    // merged in order, so that the numbers are those of one pass in texel order (first
-    // appearance), and the merge hashes only each piece's distinct texels.
-    let pieces: Vec<Option<Vec<f32>>> = texels
-        .par_chunks(piece * TEXEL)
-        .zip(numbers.par_chunks_mut(piece))
-        .map(|(t, numbers)| number(t, numbers, most))
-        .collect();
-    let mut seen: HashMap<(u64, u64, u64), u32, KeyHash> = HashMap::with_hasher(KeyHash::default());
-    let mut distinct: Vec<f32> = Vec::new();
-    let mut renumber = Vec::with_capacity(pieces.len());
-    for own in pieces {
-        let own = own?;
-        let to: Vec<f32> = own
-            .chunks_exact(TEXEL)
-            .map(|t| {
-                let next = (distinct.len() / TEXEL) as u32;
-                let j = *seen.entry(key(t)).or_insert(next);
-                if j == next {
-                    distinct.extend_from_slice(t);
-                }
-                j as f32
-            })
-            .collect();
-        if distinct.len() / TEXEL > most {
-            return None;
-        }
-        renumber.push(to);
-    }
-    drop(seen);
-    numbers
-        .par_chunks_mut(piece)
-        .zip(&renumber)
-        .for_each(|(numbers, to)| numbers.iter_mut().for_each(|v| *v = to[*v as usize]));
-    let mut spectra = vec![0.0f32; distinct.len() / TEXEL * n];
-    spectra
-        .par_chunks_mut(PIECE * n)
-        .zip(distinct.par_chunks(PIECE * TEXEL))
-        .for_each(|(s, t)| compact.decode_f32(t, s));
-    Some(spectra)
-}
-
-/// One piece's texels numbered by their first appearance in it: their numbers into
-/// `numbers`, the distinct texels' values returned; `None` past `most` distinct.
-fn number(texels: &[f32], numbers: &mut [f32], most: usize) -> Option<Vec<f32>> {
     let mut seen: HashMap<(u64, u64, u64), u32, KeyHash> = HashMap::with_hasher(KeyHash::default());
     let mut distinct: Vec<f32> = Vec::new();
     let mut last: Option<(&[f32], f32)> = None;
@@ -112,7 +53,13 @@ fn number(texels: &[f32], numbers: &mut [f32], most: usize) -> Option<Vec<f32>> 
         *number = j as f32;
         last = Some((t, j as f32));
     }
-    Some(distinct)
+    drop(seen);
+    let mut spectra = vec![0.0f32; distinct.len() / TEXEL * n];
+    spectra
+        .par_chunks_mut(PIECE * n)
+        .zip(distinct.par_chunks(PIECE * TEXEL))
+        .for_each(|(s, t)| compact.decode_f32(t, s));
+    Some(spectra)
 }
 
 /// Bitwise equal: a texel's number names exactly its values (NaN payloads and signed zeros
@@ -174,14 +121,6 @@ mod tests {
         }
         let first: Vec<f32> = numbers[..10].to_vec();
         assert_eq!(first, [0.0, 0.0, 1.0, 2.0, 1.0, 3.0, 4.0, 5.0, 0.0, 2.0]);
-        // Numbered in pieces of 7 texels (across the repeats), merged: the same numbers.
-        let mut pieces = vec![-1.0; numbers.len()];
-        let again = palette_in(&c, &texels, &mut pieces, 7).unwrap();
-        assert_eq!(pieces, numbers);
-        assert!(again
-            .iter()
-            .zip(&spectra)
-            .all(|(a, b)| a.to_bits() == b.to_bits()));
     }
 
     #[test]
@@ -199,10 +138,8 @@ mod tests {
         };
         let count = 100 * n;
         let mut numbers = vec![0.0; count];
-        for piece in [7, 1000, NUMBERED] {
-            assert!(palette_in(&c, &texels(count, 500), &mut numbers, piece).is_some());
-            assert!(palette_in(&c, &texels(count, 501), &mut numbers, piece).is_none());
-        }
+        assert!(palette(&c, &texels(count, 500), &mut numbers).is_some());
+        assert!(palette(&c, &texels(count, 501), &mut numbers).is_none());
         assert!(palette(&c, &texels(count, count), &mut numbers).is_none());
         assert!(palette(&c, &[], &mut []).is_some_and(|s| s.is_empty()));
     }
