@@ -7,9 +7,10 @@
 One run, one machine: every figure is reported with its ratio to Mitsuba's own `bitmap` of the
 same RGB file in the same run (ratios, never absolute timings, are what the run shows), the
 best of each figure over the passes and, with --passes > 1, each pass's ratios to that pass's
-`bitmap`; issue 47's targets are marked met or missed. Each
+`bitmap`, and the ratio of each pass's render CPU time (all threads: on a shared machine the
+wall time also counts the waits for a core); issue 47's targets are marked met or missed. Each
 texture is measured in a process of its own, so that its peak memory (the process's maximum
-resident set, `ru_maxrss`) is its own: load (the scene with the texture, `mi.load_dict`), a
+resident set, Linux's VmHWM) is its own: load (the scene with the texture, `mi.load_dict`), a
 first render (compiling, in the LLVM variants), then the best of --rounds renders. The
 processes run one after the other, in --rounds interleaved passes when asked.
 
@@ -23,9 +24,10 @@ Textures compared (IMAGE is cropped and resized to --size², written as an 8-bit
   bitmap              Mitsuba's RGB texture of the PNG (Jakob-Hanika coefficients per texel)
   specconv_spectral   the file `specconv convert` bakes from the PNG (36 bands per texel)
   specconv_compact    the file `convert --layout compact` writes (6 values per texel),
-                      decoded per lookup
+                      decoded per lookup, or from a palette of its distinct texels' spectra
+                      where they repeat (docs/renderers.md)
   specconv_rgb        the PNG read by Mitsuba's reader, made compact texels in memory by the
-                      library at load, decoded per lookup
+                      library at load, then as specconv_compact
 """
 
 from __future__ import annotations
@@ -114,6 +116,11 @@ def main() -> int:
         for n in names:
             passes = [ratios(r, b) for r, b in zip(runs[n], runs["bitmap"])]
             print(f"  {n:20s} " + " | ".join("  ".join(f"{v:5.2f}" for v in p) for p in passes))
+        # The renders' CPU time (all threads): what a loaded machine's waiting leaves out.
+        print("\nper pass, render CPU time × that pass's bitmap's")
+        for n in names:
+            cpu = [r["cpu"] / b["cpu"] for r, b in zip(runs[n], runs["bitmap"])]
+            print(f"  {n:20s} " + "  ".join(f"{v:5.2f}" for v in cpu))
     if args.json:
         with open(args.json, "w") as f:
             json.dump({"runs": runs, "best": best}, f, indent=1)
@@ -178,13 +185,34 @@ def child(args) -> int:
     s = mi.load_dict((room if args.scene == "room" else scene)(mi, texture, args.res, args.spp))
     load = time.perf_counter() - t
     np.array(mi.render(s, seed=0))  # LLVM compiles here: the rounds below reuse the kernel
-    render = float("inf")
+    render = cpu = float("inf")
     for r in range(args.rounds):
-        t = time.perf_counter()
+        t, c = time.perf_counter(), _cpu_seconds()
         np.array(mi.render(s, seed=1 + r))
         render = min(render, time.perf_counter() - t)
-    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024  # Linux: KiB
-    print(json.dumps({"load": load, "render": render, "peak": peak}))
+        cpu = min(cpu, _cpu_seconds() - c)
+    print(json.dumps({"load": load, "render": render, "peak": _peak_bytes(), "cpu": cpu}))
+
+
+def _peak_bytes() -> int:
+    """This process's peak resident memory: Linux's VmHWM, which starts again at exec. Not
+    `ru_maxrss`: Linux carries it over an exec from the forked parent, so every child
+    reported at least the parent's peak (329 MB, once the parent had baked the files)."""
+    try:
+        with open("/proc/self/status") as f:
+            for line in f:
+                if line.startswith("VmHWM:"):
+                    return int(line.split()[1]) * 1024  # kB
+    except OSError:
+        pass
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024  # Linux: KiB
+
+
+def _cpu_seconds() -> float:
+    """The process's CPU time, all threads: on a machine shared with other work a render's
+    wall time waits for the cores, its CPU time much less."""
+    r = resource.getrusage(resource.RUSAGE_SELF)
+    return r.ru_utime + r.ru_stime
     return 0
 
 

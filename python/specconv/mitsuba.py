@@ -15,7 +15,10 @@ band: bilinear in uv and linear in wavelength commute.
 
 ``specconv_compact`` holds a compact file's six values per texel (docs/compact.md) and decodes
 the model's spectra at each lookup in Dr.Jit: the four nearest texels' spectra at the path's
-wavelengths, weighted bilinearly as ``bitmap`` weighs its texels'. ``specconv_rgb`` makes those
+wavelengths, weighted bilinearly as ``bitmap`` weighs its texels'. Where the texels repeat (an
+8-bit photograph's), it holds instead each texel's number in a palette of the distinct texels'
+spectra at the bands, decoded once at load by the library, and a lookup reads two bands a
+texel and wavelength. ``specconv_rgb`` makes those
 texels at load, in memory: Mitsuba's reader decodes the image as ``bitmap``'s does, and the
 library makes the texels of its pixels (a conversion's colour, alpha, data-map and NaN rules)
 in parallel with the GIL released, so a scene ships the RGB file itself.
@@ -43,6 +46,7 @@ import specconv
 from specconv import compact
 from specconv._specconv import check_readable
 from specconv._specconv import compact_texels as _compact_texels
+from specconv._specconv import palette as _palette
 
 SPECTRAL = "specconv_spectral"
 COMPACT = "specconv_compact"
@@ -181,16 +185,25 @@ def _define(variant: str):
     class _CompactTexture(_Lookup):
         """Compact texels [h, w, 6] (docs/compact.md), decoded at the path's wavelengths per
         lookup: the four nearest texels' spectra (one with ``nearest``) weighted bilinearly,
-        as ``bitmap`` weighs its texels' spectra."""
+        as ``bitmap`` weighs its texels' spectra. In the JIT variants, where the texels repeat
+        enough, the texture holds each texel's number in a palette of the distinct texels'
+        spectra at the bands (``_Palette``) instead of the texels: ``traverse``'s ``data`` is
+        then those numbers."""
 
         def _setup(self, props, text: str, texels, source: str) -> None:
-            texels = np.asarray(texels, dtype=np.float32)
+            texels = np.ascontiguousarray(texels, dtype=np.float32)
             h, w, _ = texels.shape
             header = compact.parse(text)
             self._common(props, (w, h), header.wavelengths, source)
             self._decoder = _Decoder(header, self._bands, jit)
+            # Where the texels repeat (an 8-bit photograph's), their distinct spectra decoded
+            # once and each texel's number: a lookup reads bands instead of summing leaves.
+            made = _palette(text, texels) if jit else None
+            self._palette = None if made is None else _Palette(made[1], self._decoder)
+            data = texels if made is None else made[0]
+            del texels, made
             self._tex = mi.Texture2f(
-                mi.TensorXf(texels),
+                mi.TensorXf(data),
                 use_accel=False,
                 filter_mode=dr.FilterMode.Nearest if self._nearest else dr.FilterMode.Linear,
                 wrap_mode=self._wrap,
@@ -208,9 +221,18 @@ def _define(variant: str):
                 texels = self._tex.eval_fetch(uv, active)  # (x0,y0) (x1,y0) (x0,y1) (x1,y1)
                 weights = [(1 - fx) * (1 - fy), fx * (1 - fy), (1 - fx) * fy, fx * fy]
             lams = [si.wavelengths[i] for i in range(len(si.wavelengths))]
+            if self._palette is not None:
+                numbers = [t[0] for t in texels]
+                return mi.UnpolarizedSpectrum(self._palette.weighted(numbers, weights, lams))
             return mi.UnpolarizedSpectrum(self._decoder.weighted(texels, weights, lams))
 
         def mean(self):
+            if self._mean is None and self._palette is not None:
+                numbers = np.array(self._tex.tensor(), dtype=np.float32).ravel()
+                spectra = np.array(self._palette.values, dtype=np.float64)
+                spectra = spectra.reshape(-1, self._palette.n)
+                counts = np.bincount(numbers.astype(np.int64), minlength=len(spectra))
+                self._mean = _mean_of(self._wl, counts @ spectra / max(len(numbers), 1))
             if self._mean is None:
                 texels = np.array(self._tex.tensor(), dtype=np.float32).reshape(-1, 6)
                 total = np.zeros(len(self._wl))
@@ -309,6 +331,33 @@ class _Bands:
             return mi.Float(j) + (lam - a) / (b - a)
         j = min(max(bisect.bisect_right(wl, lam) - 1, 0), n - 2)
         return j + (lam - wl[j]) / (wl[j + 1] - wl[j])
+
+
+class _Palette:
+    """The spectra of a texture's distinct texels at the bands, each decoded once at load by
+    the library's rule (``specconv._specconv.palette``): a lookup reads each texel's two bands
+    around each wavelength and interpolates them, as ``_Decoder`` does once it has summed
+    them, so the spectra are the rule's (in double where u ≠ 0, as ``expand`` writes them)."""
+
+    def __init__(self, spectra: np.ndarray, decoder: "_Decoder"):
+        self.n = spectra.shape[1]
+        self.values = mi.Float(np.ascontiguousarray(spectra, dtype=np.float32).ravel())
+        self.position = decoder._position
+
+    def weighted(self, numbers, weights, lams):
+        """Σ weight × spectrum of each texel, by its number, at each wavelength of ``lams``:
+        a NaN texel NaN even at weight 0, zero outside the bands, as ``_Decoder.weighted``."""
+        firsts = [mi.UInt32(number) * self.n for number in numbers]
+        out = []
+        for lam in lams:
+            j, f, inside = self.position(lam)
+            total = mi.Float(0.0)
+            for first, w in zip(firsts, weights):
+                r0 = dr.gather(mi.Float, self.values, first + j)
+                r1 = dr.gather(mi.Float, self.values, first + j + 1)
+                total = dr.fma(w, dr.fma(f, r1, (1 - f) * r0), total)
+            out.append(dr.select(inside, total, 0.0))
+        return out
 
 
 class _Decoder:

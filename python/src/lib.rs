@@ -40,6 +40,7 @@ fn _specconv(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(files::compact_limits, m)?)?;
     m.add_function(wrap_pyfunction!(files::check_readable, m)?)?;
     m.add_function(wrap_pyfunction!(texels::compact_texels, m)?)?;
+    m.add_function(wrap_pyfunction!(texels::palette, m)?)?;
     // A data copy interrupted by Ctrl-C returns at once; its writer, inside OpenImageIO, ends
     // later. The interpreter's exit waits for it: C++ destructors under it would crash.
     let settle = wrap_pyfunction!(_settle, m)?;

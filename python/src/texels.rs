@@ -72,6 +72,42 @@ pub fn compact_texels<'py>(
     Ok((made.text, out.into_any(), made.colorspace))
 }
 
+/// The palette of a compact texture's texels (h, w, 6 float32) for a renderer's lookup
+/// (Mitsuba's `specconv_compact` and `specconv_rgb`), decoded with the text `text`:
+/// `(numbers, spectra)`, each texel's number (h, w, 1 float32, whole numbers) and the distinct
+/// texels' spectra at the bands (d, n float32), each decoded once by the rule; `None` where
+/// those would take more memory than the texels (`specconv_conversion::palette`). The work
+/// runs with the GIL released: `texels` must not be changed meanwhile.
+#[pyfunction]
+pub fn palette<'py>(
+    py: Python<'py>,
+    text: &str,
+    texels: &Bound<'py, PyArrayDyn<f32>>,
+) -> PyResult<Option<(Bound<'py, PyAny>, Bound<'py, PyAny>)>> {
+    use specconv_spectral::compact::{Compact, TEXEL};
+    let compact = Compact::from_text(text).map_err(crate::errors::option)?;
+    let shape = texels.shape().to_vec();
+    let Some((&TEXEL, lead)) = shape.split_last() else {
+        return Err(Kind::Option.err(format!(
+            "texels have shape {shape:?}: the last axis must hold six values"
+        )));
+    };
+    let numbers = zeros::<f32>(py, lead, 1)?;
+    let spectra = {
+        let texels = texels.readonly();
+        let texels = texels.as_slice()?;
+        let mut numbers = numbers.readwrite();
+        let numbers = numbers.as_slice_mut()?;
+        py.detach(|| specconv_conversion::palette::palette(&compact, texels, numbers))
+    };
+    let Some(spectra) = spectra else {
+        return Ok(None);
+    };
+    let n = compact.grid().len();
+    let spectra = crate::arrays::array(py, &[spectra.len() / n.max(1)], n, spectra)?;
+    Ok(Some((numbers.into_any(), spectra.into_any())))
+}
+
 /// The samples, copied in C order while the GIL is held (Python code may change the array
 /// once it is released): integers as they are, other numbers as float32.
 enum Held {

@@ -59,6 +59,34 @@ def _steps(got, want, floor=FLOOR):
     return np.abs(got.astype(np.float16).astype(np.float64) - want) / spacing
 
 
+@pytest.fixture(params=["palette", "per lookup"])
+def decoding(request, variant, monkeypatch):
+    """Both ways a JIT texture decodes: from a palette of its distinct texels' spectra (forced
+    for texels that do not repeat enough: the texels tiled eight times, so that a palette
+    costs less than they do, and the first copy's numbers kept) and per lookup (no palette).
+    The scalar variants decode per lookup only."""
+    import specconv.mitsuba as sm
+
+    if request.param == "palette" and not dr.is_jit_v(mi.Float):
+        pytest.skip("the scalar variants call numpy's decoder per lookup")
+    if request.param == "per lookup":
+        monkeypatch.setattr(sm, "_palette", lambda text, texels: None)
+    else:
+
+        def forced(text, texels):
+            made = specconv._specconv.palette(text, np.concatenate([texels] * 8))
+            assert made is not None
+            return made[0][: texels.shape[0]], made[1]
+
+        monkeypatch.setattr(sm, "_palette", forced)
+    return request.param
+
+
+def _decodes(tex, decoding):
+    """The texture decodes the way `decoding` asked for."""
+    assert (getattr(tex, "_palette", None) is not None) == (decoding == "palette"), decoding
+
+
 @pytest.mark.parametrize("name,image,options", tc.CASES, ids=[c[0] for c in tc.CASES])
 def test_every_texel_is_the_baked_spectrum_at_the_bands_and_between(
     variant, tmp_path, cli, name, image, options
@@ -100,7 +128,7 @@ def test_every_texel_is_the_baked_spectrum_at_the_bands_and_between(
     assert np.max(np.abs(mine - theirs) / step) <= 2.0 + 1e-9, name
 
 
-def test_lookup_is_the_spectral_files_lookup_at_any_uv(variant, tmp_path):
+def test_lookup_is_the_spectral_files_lookup_at_any_uv(variant, decoding, tmp_path):
     """Between texels, in both filters and the three wrap modes, out of [0, 1], at bands,
     between them and outside them: the compact file's lookup is Mitsuba's lookup of the float
     spectral file of the same input (bilinear over texel spectra, v as `bitmap` reads it)."""
@@ -116,11 +144,9 @@ def test_lookup_is_the_spectral_files_lookup_at_any_uv(variant, tmp_path):
     for filter_type in ("bilinear", "nearest"):
         for wrap_mode in ("repeat", "clamp", "mirror"):
             common = {"filter_type": filter_type, "wrap_mode": wrap_mode}
-            ours = _eval(
-                _texture({"type": "specconv_compact", "filename": str(compact), **common}),
-                uvs,
-                probes,
-            )
+            tex = _texture({"type": "specconv_compact", "filename": str(compact), **common})
+            _decodes(tex, decoding)
+            ours = _eval(tex, uvs, probes)
             theirs = _eval(
                 _texture({"type": "specconv_spectral", "filename": str(baked), **common}),
                 uvs,
@@ -265,7 +291,7 @@ def test_mitsubas_reader_and_the_librarys_read_the_same_texels(variant, tmp_path
         _texture({"type": "specconv_compact", "filename": str(damaged)})
 
 
-def test_hostile_texels_decode_as_numpy_decodes_them(variant, tmp_path):
+def test_hostile_texels_decode_as_numpy_decodes_them(variant, decoding, tmp_path):
     """Texels no conversion writes (another writer's, or damaged): NaN and infinite u, huge and
     negative colours, X+Y+Z = 0 with u ≠ 0. Each lookup is numpy's decoding of that texel
     (NaN where it is NaN), never a crash."""
@@ -301,6 +327,7 @@ def test_hostile_texels_decode_as_numpy_decodes_them(variant, tmp_path):
     wl = specconv.compact.parse(image.text).wavelengths
     uvs = (np.stack([np.arange(len(hostile)), np.zeros(len(hostile))], -1) + 0.5) / [w, h]
     tex = _texture({"type": "specconv_compact", "filename": str(damaged), "filter_type": "nearest"})
+    _decodes(tex, decoding)
     got = _eval(tex, uvs, wl)
     want = specconv.decode(image.text, image.texels[0, : len(hostile)])
     assert np.array_equal(np.isnan(got), np.isnan(want))
@@ -319,7 +346,9 @@ def test_a_fifo_is_refused_by_kind_not_waited_on(variant, tmp_path):
 
 
 @pytest.mark.parametrize("bounded", [True, False], ids=["clip", "unbounded"])
-def test_lookups_decode_100000_random_texels_as_the_other_decoders(variant, tmp_path, bounded):
+def test_lookups_decode_100000_random_texels_as_the_other_decoders(
+    variant, decoding, tmp_path, bounded
+):
     """Dr.Jit's decoder (float32, per lookup) on test_compact.py's 100,000 random texels (one
     in 50 in the scalar variant, which runs in Python): at each texel's centre (nearest) and
     each band, numpy's decoding within the float32 bound the library and the C header are held
@@ -333,17 +362,18 @@ def test_lookups_decode_100000_random_texels_as_the_other_decoders(variant, tmp_
     rows = np.union1d(rows, np.arange(len(t) - len(tc.HUGE), len(t)))
     uvs = np.stack([rows % w + 0.5, rows // w + 0.5], -1) / [w, h]
     tex = _texture({"type": "specconv_compact", "filename": str(path), "filter_type": "nearest"})
+    _decodes(tex, decoding)
     got = _eval(tex, uvs, specconv.compact.parse(text).wavelengths)
     want, bound = want[rows], bound[rows]
     nan = np.isnan(want)
     assert np.array_equal(np.isnan(got), nan)
     err = np.abs(got[~nan] - want[~nan])
     worst = float(np.max(err / bound[~nan]))
-    print(f"{variant}, bounded {bounded}: the largest error is {worst:.3g} of the float32 bound")
+    print(f"{variant}, {decoding}, bounded {bounded}: the largest error is {worst:.3g} of the bound")
     assert np.all(err <= bound[~nan]), worst
 
 
-def test_drjit_meets_the_reference_texels(variant, tmp_path):
+def test_drjit_meets_the_reference_texels(variant, decoding, tmp_path):
     """Item 47.4: Dr.Jit's decoder (the scalar variant: numpy's, which it calls) on the
     library's reference texels, both clip headers and both precisions, read from a compact
     file by Mitsuba's reader: each band within the float32 bound numpy and the C header are
@@ -353,6 +383,7 @@ def test_drjit_meets_the_reference_texels(variant, tmp_path):
         n = len(stored)
         uvs = np.stack([np.arange(n) + 0.5, np.full(n, 0.5)], -1) / [n, 1]
         tex = _texture({"type": "specconv_compact", "filename": str(path), "filter_type": "nearest"})
+        _decodes(tex, decoding)
         got = _eval(tex, uvs, specconv.compact.parse(text).wavelengths)
         assert np.array_equal(np.isnan(got), np.isnan(want)), name
         ok = ~np.isnan(want)
@@ -360,3 +391,78 @@ def test_drjit_meets_the_reference_texels(variant, tmp_path):
         err = np.abs(got - want.astype(np.float64))
         print(f"{variant} {name}: the largest error is {float((err[ok] / bound[ok]).max()):.3g} of the bound")
         assert np.all(err[ok] <= bound[ok]), name
+
+
+def test_a_palette_numbers_each_texel_to_its_spectrum(variant, tiled_compact, tmp_path):
+    """The library's palette of the texels of a photograph tiled 4×4 (`specconv._specconv.
+    palette`): texels with the same values share a number and others do not, numbered in the
+    order of their first texel, the numbers whole and naming spectra within the float32 bound
+    of numpy's decoding of each texel; a texture of these texels holds a palette, and one of
+    100,000 random texels (too few repeats) none."""
+    image = specconv.read_compact(tiled_compact)
+    numbers, spectra = specconv._specconv.palette(image.text, image.texels)
+    h, w, _ = image.texels.shape
+    assert numbers.shape == (h, w, 1) and numbers.dtype == np.float32
+    k = numbers.ravel().astype(np.int64)
+    assert np.array_equal(k, numbers.ravel())
+    texels = image.texels.reshape(-1, 6)
+    distinct, first, back = np.unique(
+        texels.view(np.dtype((np.void, 24))).ravel(), return_index=True, return_inverse=True
+    )
+    assert len(spectra) == len(distinct) <= len(texels) / 16
+    # One number per distinct texel, in the order of their first texels.
+    assert np.array_equal(k[first[back.ravel()]], k)
+    assert np.array_equal(k[np.sort(first)], np.arange(len(distinct)))
+    want = specconv.decode(image.text, texels)
+    got = spectra[k].astype(np.float64)
+    assert np.array_equal(np.isnan(got), np.isnan(want))
+    assert np.all(np.abs(got - want) <= tc.float32_bound(image.text, texels))
+    if dr.is_jit_v(mi.Float):
+        assert _texture({"type": "specconv_compact", "filename": str(tiled_compact)})._palette is not None
+        path, _, _ = tc.random_compact_file(tmp_path)
+        assert _texture({"type": "specconv_compact", "filename": str(path)})._palette is None
+
+
+def test_a_palette_refuses_what_is_not_texels(variant, tiled_compact):
+    """A text that is not a compact header, texels without six values, and texels not in C
+    order: each refused with what is wrong, never read past."""
+    text = specconv.read_compact(tiled_compact).text
+    t = np.zeros((4, 4, 6), np.float32)
+    with pytest.raises(specconv.OptionError, match="compact"):
+        specconv._specconv.palette("specconv compact 2\n", t)
+    with pytest.raises(specconv.OptionError, match="six values"):
+        specconv._specconv.palette(text, np.zeros((4, 4, 5), np.float32))
+    with pytest.raises(Exception, match="contiguous"):
+        specconv._specconv.palette(text, np.zeros((4, 8, 6), np.float32)[:, ::2])
+    assert specconv._specconv.palette(text, np.zeros((0, 0, 6), np.float32))[1].shape[0] == 0
+
+
+def test_the_mean_is_the_same_from_a_palette(variant, tiled_compact, monkeypatch):
+    """`mean()` (Mitsuba's albedo estimate) of a texture holding a palette: the mean of its
+    texels' decoded spectra, as without one."""
+    import specconv.mitsuba as sm
+
+    if not dr.is_jit_v(mi.Float):
+        pytest.skip("the scalar variants hold no palette")
+    props = {"type": "specconv_compact", "filename": str(tiled_compact)}
+    with_palette = _texture(props)
+    assert with_palette._palette is not None
+    monkeypatch.setattr(sm, "_palette", lambda text, texels: None)
+    without = _texture(props)
+    assert without._palette is None
+    assert abs(with_palette.mean() - without.mean()) <= 1e-6 * without.mean()
+
+
+@pytest.fixture(scope="module")
+def tiled_compact(tmp_path_factory):
+    """testdata's photograph tiled 4×4 as an 8-bit PNG, made a compact file once: its texels
+    repeat (1/16 of them distinct), as a large photograph's do."""
+    folder = tmp_path_factory.mktemp("palette")
+    photo = oiio.ImageBuf(str(tc.IMAGES / "photo.jpg")).get_pixels(oiio.UINT8)
+    tiled = np.ascontiguousarray(np.tile(photo, (4, 4, 1)))
+    png, path = folder / "tiled.png", folder / "tiled_compact.exr"
+    out = oiio.ImageBuf(oiio.ImageSpec(tiled.shape[1], tiled.shape[0], tiled.shape[2], "uint8"))
+    assert out.set_pixels(out.roi, tiled)
+    assert out.write(str(png))
+    specconv.convert(str(png), path, layout="compact")
+    return path

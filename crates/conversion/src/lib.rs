@@ -71,6 +71,7 @@ pub use options::{
 pub use pipeline::colour::Decoded;
 pub use pipeline::expand::{CompactTexels, Expanded};
 pub use pipeline::interop;
+pub use pipeline::palette;
 pub use pipeline::DataTexture;
 pub use plan::{check_plan, Outputs, Plan};
 pub use provenance::Provenance;

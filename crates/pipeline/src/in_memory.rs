@@ -289,11 +289,11 @@ fn distinct(image: &Image) -> Option<(Vec<usize>, HashMap<u64, u32, KeyHash>)> {
 /// Hashes a pixel's key: one multiply (Fibonacci hashing) of keys that are already
 /// well spread in their low bits; std's SipHash guards against keys chosen to collide, which
 /// costs 3× here and buys nothing (a hostile image only slows its own load).
-type KeyHash = std::hash::BuildHasherDefault<KeyHasher>;
+pub(crate) type KeyHash = std::hash::BuildHasherDefault<KeyHasher>;
 
 /// [`KeyHash`]'s hasher.
 #[derive(Default)]
-struct KeyHasher(u64);
+pub(crate) struct KeyHasher(u64);
 
 impl std::hash::Hasher for KeyHasher {
     fn finish(&self) -> u64 {

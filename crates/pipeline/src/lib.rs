@@ -28,6 +28,7 @@ pub mod input;
 pub mod interop;
 pub mod memory;
 mod mip;
+pub mod palette;
 pub mod png;
 pub mod survey;
 pub mod texture;
