@@ -68,7 +68,7 @@ pub fn convert_asset<'py>(
     let converters = py
         .detach(|| Converters::new(&o, &jobs))
         .map_err(conversion)?;
-    make_folders(&jobs).map_err(asset_error)?;
+    make_folders(&asset.dir, &jobs).map_err(asset_error)?;
     let each = converters.each();
     let pairs: Vec<_> = jobs.iter().map(Job::pair).collect();
     let mut outcomes = Outcomes::new(&asset, &jobs);
