@@ -404,6 +404,24 @@ impl fmt::Debug for ImageReader {
     }
 }
 
+/// Ends the process with `code` once standard output and error are flushed (Rust's streams
+/// and every C stream), without running the C++ libraries' static destructors. Debian's
+/// OpenImageIO loads log4cplus (through DCMTK), whose destructor tears down a thread pool
+/// and can crash (SIGSEGV, status 139 for a refusal that was exit 1) when the process ends
+/// soon after loading it, as an early refusal does. A command's files are committed or
+/// removed before it returns its code, so nothing is left to those destructors.
+pub fn exit(code: i32) -> ! {
+    use std::io::Write;
+    let _ = std::io::stdout().flush();
+    let _ = std::io::stderr().flush();
+    // SAFETY: fflush(NULL) flushes every open C output stream; _exit then ends the process
+    // at once, which is what is wanted.
+    unsafe {
+        libc::fflush(std::ptr::null_mut());
+        libc::_exit(code)
+    }
+}
+
 /// The shim's message for the last failure on this thread.
 fn last_error(shim: &sys::SpecconvOiio) -> String {
     // SAFETY: the shim returns a NUL-terminated thread-local string, valid until the next
