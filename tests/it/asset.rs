@@ -83,7 +83,7 @@ fn tree(dir: &Path) -> Vec<(PathBuf, u64)> {
 }
 
 /// The record of the texture whose file name is `name` (the first of its tiles).
-fn record<'a>(records: &'a [Value], name: &str) -> &'a Value {
+pub(crate) fn record<'a>(records: &'a [Value], name: &str) -> &'a Value {
     records
         .iter()
         .find(|r| r["asset"]["texture"].as_str().unwrap().ends_with(name))

@@ -4,6 +4,7 @@
 //! usd-core and MaterialX in `$SPECCONV_PYTHON` these tests are skipped, loudly, unless
 //! `$SPECCONV_REQUIRE_USD` is set (CI sets it).
 
+use crate::asset::record;
 use crate::runner::*;
 use serde_json::Value;
 use std::path::{Path, PathBuf};
@@ -74,13 +75,6 @@ fn tree(dir: &Path) -> Vec<(PathBuf, Vec<u8>)> {
     }
     v.sort();
     v
-}
-
-fn record<'a>(records: &'a [Value], name: &str) -> &'a Value {
-    records
-        .iter()
-        .find(|r| r["asset"]["texture"].as_str().unwrap().ends_with(name))
-        .unwrap_or_else(|| panic!("no record of {name}: {records:#?}"))
 }
 
 /// What MaterialX makes of an override copy: each image node's file input (value, colour

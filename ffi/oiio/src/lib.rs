@@ -405,11 +405,11 @@ impl fmt::Debug for ImageReader {
 }
 
 /// Ends the process with `code` once standard output and error are flushed (Rust's streams
-/// and every C stream), without running the C++ libraries' static destructors. Debian's
-/// OpenImageIO loads log4cplus (through DCMTK), whose destructor tears down a thread pool
-/// and can crash (SIGSEGV, status 139 for a refusal that was exit 1) when the process ends
-/// soon after loading it, as an early refusal does. A command's files are committed or
-/// removed before it returns its code, so nothing is left to those destructors.
+/// and every C stream), without running the C++ libraries' exit-time destructors. Debian's
+/// OpenImageIO loads log4cplus (through DCMTK), whose thread cleanup at exit
+/// (`log4cplus::threadCleanup`) dereferenced null now and then: a refusal that was exit 1
+/// ended in SIGSEGV. A command's files are committed or removed before it returns its code,
+/// so nothing is left to those destructors.
 pub fn exit(code: i32) -> ! {
     use std::io::Write;
     let _ = std::io::stdout().flush();
