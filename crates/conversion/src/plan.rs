@@ -369,9 +369,13 @@ impl Plan {
 
     /// Refuses outputs that exist, on this plan's pairs alone: without `overwrite` or `update`,
     /// any; with `update`, files specconv did not make (its own out-of-date outputs are
-    /// replaced, up-to-date ones skipped); with `overwrite`, none. The outputs are looked at
-    /// now (one `lstat` each).
+    /// replaced, up-to-date ones skipped); with `overwrite`, none (and nothing is looked
+    /// at). The outputs are looked at now, one `lstat` each.
     pub fn check_existing(&self, overwrite: bool, update: bool) -> Result<(), Error> {
+        if overwrite {
+            // Nothing to refuse: no name need be looked at.
+            return Ok(());
+        }
         let taken = per_output(&self.pairs, |o| std::fs::symlink_metadata(o).is_ok());
         check_existing(&self.pairs, &taken, overwrite, update)
     }
