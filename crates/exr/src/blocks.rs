@@ -79,21 +79,9 @@ impl BlockReader {
 
     /// As [`BlockReader::open`], for MIP level `level` (0 is the largest).
     pub fn open_level(path: &Path, level: usize) -> Result<BlockReader> {
-        let file = std::io::BufReader::new(specconv_atomic_file::open_file(path)?);
-        let reader = exr::block::read(file, false)?;
-        let first = reader
-            .headers()
-            .first()
-            .ok_or_else(|| Error::Invalid(format!("{} has no image part", path.display())))?;
+        let (reader, levels, size) = open_first_part(path, level)?;
+        let first = &reader.headers()[0];
         let mut header = header_of(path, first)?;
-        let (levels, size) = levels_of(first, level);
-        if level >= levels {
-            return Err(Error::Invalid(format!(
-                "{} has {levels} MIP level{}: there is no level {level}",
-                path.display(),
-                if levels == 1 { "" } else { "s" }
-            )));
-        }
         (header.width, header.height) = size;
         header.levels = levels;
         let channels = first.channels.clone();
@@ -164,6 +152,29 @@ impl BlockReader {
         }
         Ok(out)
     }
+}
+
+/// A file's block reader, as the `exr` crate opens it.
+type FileReader = exr::block::reader::Reader<std::io::BufReader<std::fs::File>>;
+
+/// `path` opened for its blocks, once its first part is there and has MIP level `level`: the
+/// reader, the part's number of levels and the level's size. Both block readers start here.
+fn open_first_part(path: &Path, level: usize) -> Result<(FileReader, usize, (usize, usize))> {
+    let file = std::io::BufReader::new(specconv_atomic_file::open_file(path)?);
+    let reader = exr::block::read(file, false)?;
+    let first = reader
+        .headers()
+        .first()
+        .ok_or_else(|| Error::Invalid(format!("{} has no image part", path.display())))?;
+    let (levels, size) = levels_of(first, level);
+    if level >= levels {
+        return Err(Error::Invalid(format!(
+            "{}: MIP level {level} does not exist; the file has {levels} (0 to {})",
+            path.display(),
+            levels - 1
+        )));
+    }
+    Ok((reader, levels, size))
 }
 
 /// The number of MIP levels of a part (RIP maps: their levels along the diagonal) and the size
@@ -300,20 +311,8 @@ pub struct PlaneBlock {
 impl ChannelBlocks {
     /// Opens MIP level `level` of `path` and reads its header.
     pub fn open(path: &Path, level: usize) -> Result<ChannelBlocks> {
-        let file = std::io::BufReader::new(specconv_atomic_file::open_file(path)?);
-        let reader = exr::block::read(file, false)?;
-        let first = reader
-            .headers()
-            .first()
-            .ok_or_else(|| Error::Invalid(format!("{} has no image part", path.display())))?;
-        let (levels, size) = levels_of(first, level);
-        if level >= levels {
-            return Err(Error::Invalid(format!(
-                "{}: MIP level {level} does not exist; the file has {levels} (0 to {})",
-                path.display(),
-                levels - 1
-            )));
-        }
+        let (reader, levels, size) = open_first_part(path, level)?;
+        let first = &reader.headers()[0];
         full_resolution(path, &first.channels)?;
         let attributes = text_attributes(first);
         Ok(ChannelBlocks {
