@@ -10,17 +10,24 @@ use std::time::Duration;
 
 /// The interpreter with usd-core, or `None` (skip) when it has none.
 fn usd() -> Option<String> {
+    python_with("pxr.Usd", "usd-core")
+}
+
+/// `$SPECCONV_PYTHON` when it imports `modules` (comma-separated), or `None` (skip, said
+/// loudly); with `$SPECCONV_REQUIRE_USD` set, a missing module fails the test, naming the
+/// `packages` to install.
+pub(crate) fn python_with(modules: &str, packages: &str) -> Option<String> {
     let python = python();
     let has = std::process::Command::new(&python)
-        .args(["-c", "import pxr.Usd"])
+        .args(["-c", &format!("import {modules}")])
         .output()
         .is_ok_and(|o| o.status.success());
     if !has {
         assert!(
             std::env::var_os("SPECCONV_REQUIRE_USD").is_none(),
-            "SPECCONV_REQUIRE_USD is set but {python} has no usd-core (pip install usd-core)"
+            "SPECCONV_REQUIRE_USD is set but {python} lacks {packages} (pip install {packages})"
         );
-        eprintln!("SKIPPED: {python} has no usd-core (pip install usd-core)");
+        eprintln!("SKIPPED: {python} lacks {packages} (pip install {packages})");
     }
     has.then_some(python)
 }

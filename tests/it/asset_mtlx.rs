@@ -4,7 +4,7 @@
 //! usd-core and MaterialX in `$SPECCONV_PYTHON` these tests are skipped, loudly, unless
 //! `$SPECCONV_REQUIRE_USD` is set (CI sets it).
 
-use crate::asset::record;
+use crate::asset::{python_with, record};
 use crate::runner::*;
 use serde_json::Value;
 use std::path::{Path, PathBuf};
@@ -12,20 +12,7 @@ use std::time::Duration;
 
 /// The interpreter with usd-core and MaterialX, or `None` (skip) when it lacks one.
 fn mtlx() -> Option<String> {
-    let python = python();
-    let has = std::process::Command::new(&python)
-        .args(["-c", "import pxr.Usd, MaterialX"])
-        .output()
-        .is_ok_and(|o| o.status.success());
-    if !has {
-        assert!(
-            std::env::var_os("SPECCONV_REQUIRE_USD").is_none(),
-            "SPECCONV_REQUIRE_USD is set but {python} lacks usd-core or MaterialX \
-             (pip install usd-core MaterialX)"
-        );
-        eprintln!("SKIPPED: {python} lacks usd-core or MaterialX (pip install usd-core MaterialX)");
-    }
-    has.then_some(python)
+    python_with("pxr.Usd, MaterialX", "usd-core MaterialX")
 }
 
 /// The textures (oiiotool), then the documents of `kind` in `dir`.
