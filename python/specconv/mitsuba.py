@@ -191,14 +191,19 @@ def _define(variant: str):
         then those numbers."""
 
         def _setup(self, props, text: str, texels, source: str) -> None:
-            texels = np.ascontiguousarray(texels, dtype=np.float32)
-            h, w, _ = texels.shape
+            """``texels``: [h, w, 6], or a palette already made, ``(numbers, spectra)``."""
             header = compact.parse(text)
+            if isinstance(texels, tuple):
+                made = texels
+            else:
+                texels = np.ascontiguousarray(texels, dtype=np.float32)
+                # Where the texels repeat (an 8-bit photograph's), their distinct spectra
+                # decoded once and each texel's number: a lookup reads bands instead of
+                # summing leaves.
+                made = _palette(text, texels) if jit else None
+            h, w, _ = (texels if made is None else made[0]).shape
             self._common(props, (w, h), header.wavelengths, source)
             self._decoder = _Decoder(header, self._bands, jit)
-            # Where the texels repeat (an 8-bit photograph's), their distinct spectra decoded
-            # once and each texel's number: a lookup reads bands instead of summing leaves.
-            made = _palette(text, texels) if jit else None
             self._palette = None if made is None else _Palette(made[1], self._decoder)
             data = texels if made is None else made[0]
             del texels, made
@@ -273,17 +278,20 @@ def _define(variant: str):
 
     class RgbTexture(_CompactTexture):
         """``specconv_rgb``: an image (``filename``) made compact texels in memory at load
-        (``compact_texels``), then decoded per lookup."""
+        (``compact_texels``), then decoded per lookup. In the JIT variants, where the pixels
+        repeat enough, the route makes the palette straight from the distinct pixels it
+        finds: no texel per pixel is made or hashed again."""
 
         def __init__(self, props):
             mi.Texture.__init__(self, props)
             path = _resolve(props["filename"])
-            text, texels = compact_texels(
+            text, texels = _texels_of_image(
                 path,
                 colorspace=props.get("colorspace", "") or None,
                 ocio=props.get("config", "") or None,
                 model=_model_argument(props.get("model", "")),
                 bounded=bool(props.get("bounded", True)),
+                palette=jit,
             )
             self._setup(props, text, texels, path)
 
@@ -531,6 +539,14 @@ def compact_texels(
     file's samples as stored (an OpenEXR whose chromaticities ``mi.Bitmap`` converts is read
     by the library), straight alpha multiplied once converted, one channel refused as data
     unless declared colour, NaN refused."""
+    return _texels_of_image(
+        path, colorspace=colorspace, ocio=ocio, model=model, bounded=bounded, palette=False
+    )
+
+
+def _texels_of_image(path: str, *, colorspace, ocio, model, bounded: bool, palette: bool):
+    """``compact_texels``; with ``palette``, where the pixels repeat enough, the texels are a
+    palette, ``(numbers, spectra)`` (``specconv._specconv.palette``'s form)."""
     check_readable(path)  # a FIFO would hold Mitsuba's reader for ever
     try:
         bitmap = mi.Bitmap(path)
@@ -559,6 +575,7 @@ def compact_texels(
         path,
         straight_alpha=not bitmap.premultiplied_alpha(),
         moved=True,
+        palette=palette,
         **options,
     )
     return text, texels

@@ -2,12 +2,13 @@
 //! by the library (Mitsuba's `specconv_rgb`), in parallel with the GIL released.
 
 use crate::args::FsPath;
-use crate::arrays::{copied, zeros};
+use crate::arrays::{array, copied, zeros};
 use crate::errors::{conversion, Kind};
 use numpy::{PyArrayDyn, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use specconv_conversion::{Converter, Decoded, InMemory, Layout, Samples};
+use specconv_conversion::{Converter, Decoded, InMemory, Layout, Samples, Texels};
+use specconv_spectral::compact::{Compact, TEXEL};
 
 /// The compact texels (h, w, 6 float32: X, Y, Z, u₀, u₁, u₂) of `pixels`, an image a reader
 /// decoded from `path`, as a conversion with `options` (`convert`'s keywords; the layout is
@@ -17,15 +18,18 @@ use specconv_conversion::{Converter, Decoded, InMemory, Layout, Samples};
 /// alpha, RGB, RGBA), the file's samples as stored: uint8 or uint16 (scaled to [0, 1]) or
 /// floats. `straight_alpha`: the reader's alpha is straight (PNG), so colour is multiplied
 /// by it once converted; `moved`: the reader converts an OpenEXR's chromaticities (Mitsuba's
-/// `Bitmap` does), so such a file's own samples are read instead.
+/// `Bitmap` does), so such a file's own samples are read instead. With `palette`, where the
+/// pixels repeat enough, the texels are a renderer's palette instead, `(numbers, spectra)` as
+/// [`palette`] gives it, made from the distinct pixels the route finds.
 #[pyfunction]
-#[pyo3(signature = (pixels, path, *, straight_alpha=false, moved=false, **options))]
+#[pyo3(signature = (pixels, path, *, straight_alpha=false, moved=false, palette=false, **options))]
 pub fn compact_texels<'py>(
     py: Python<'py>,
     pixels: &Bound<'py, PyAny>,
     path: FsPath,
     straight_alpha: bool,
     moved: bool,
+    palette: bool,
     options: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<(String, Bound<'py, PyAny>, String)> {
     let mut o = crate::convert::conversion_options(options)?;
@@ -52,11 +56,8 @@ pub fn compact_texels<'py>(
         size: (size(w)?, size(h)?),
     };
     let held = Held::of(pixels)?;
-    let out = zeros::<f32>(py, &[h, w], specconv_spectral::compact::TEXEL)?;
-    let made = {
-        let mut texels = out.readwrite();
-        let texels = texels.as_slice_mut()?;
-        py.detach(|| {
+    let made = py
+        .detach(|| {
             let converter = Converter::new(o)?;
             let image = InMemory {
                 samples: held.samples(),
@@ -65,11 +66,20 @@ pub fn compact_texels<'py>(
                 straight_alpha,
                 moves_chromaticities: moved,
             };
-            converter.compact_texels(&image, texels)
+            converter.compact_texels(&image, palette)
         })
-        .map_err(conversion)?
+        .map_err(conversion)?;
+    drop(held);
+    let texels = match made.texels {
+        Texels::Every(texels) => array(py, &[h, w], TEXEL, texels)?.into_any(),
+        Texels::Palette { numbers, spectra } => {
+            let compact = Compact::from_text(&made.text).map_err(crate::errors::option)?;
+            let numbers = array(py, &[h, w], 1, numbers)?;
+            let spectra = spectra_array(py, &compact, spectra)?;
+            (numbers, spectra).into_pyobject(py)?.into_any()
+        }
     };
-    Ok((made.text, out.into_any(), made.colorspace))
+    Ok((made.text, texels, made.colorspace))
 }
 
 /// The palette of a compact texture's texels (h, w, 6 float32) for a renderer's lookup
@@ -84,7 +94,6 @@ pub fn palette<'py>(
     text: &str,
     texels: &Bound<'py, PyArrayDyn<f32>>,
 ) -> PyResult<Option<(Bound<'py, PyAny>, Bound<'py, PyAny>)>> {
-    use specconv_spectral::compact::{Compact, TEXEL};
     let compact = Compact::from_text(text).map_err(crate::errors::option)?;
     let shape = texels.shape().to_vec();
     let Some((&TEXEL, lead)) = shape.split_last() else {
@@ -103,9 +112,18 @@ pub fn palette<'py>(
     let Some(spectra) = spectra else {
         return Ok(None);
     };
+    let spectra = spectra_array(py, &compact, spectra)?;
+    Ok(Some((numbers.into_any(), spectra)))
+}
+
+/// A palette's spectra as an array (distinct texels, bands).
+fn spectra_array<'py>(
+    py: Python<'py>,
+    compact: &Compact,
+    spectra: Vec<f32>,
+) -> PyResult<Bound<'py, PyAny>> {
     let n = compact.grid().len();
-    let spectra = crate::arrays::array(py, &[spectra.len() / n.max(1)], n, spectra)?;
-    Ok(Some((numbers.into_any(), spectra.into_any())))
+    Ok(array(py, &[spectra.len() / n.max(1)], n, spectra)?.into_any())
 }
 
 /// The samples, copied in C order while the GIL is held (Python code may change the array

@@ -506,6 +506,38 @@ def test_texels_made_in_memory_are_what_convert_stores(scalar, tmp_path):
             np.testing.assert_array_equal(texels, own, err_msg=name)
 
 
+def test_the_routes_palette_is_the_palette_of_its_texels(variant, tmp_path):
+    """With a palette asked for (`specconv_rgb` in the JIT variants), the route makes it from
+    the distinct pixels it finds instead of texels: each pixel's spectrum in it is, bit for
+    bit, the spectrum of its texel in the library's palette of the texels the route makes
+    without one. Made where the pixels repeat enough (the palette's rule), else the texels
+    come back; a JIT texture of such an image holds the palette, the scalar one the texels."""
+    from specconv._specconv import palette
+    from specconv.mitsuba import _texels_of_image
+
+    made = set()
+    for name, (path, _) in _sources(tmp_path).items():
+        text, texels = specconv.mitsuba.compact_texels(path)
+        options = dict(colorspace=None, ocio=None, model=None, bounded=True)
+        route_text, route = _texels_of_image(path, palette=True, **options)
+        assert route_text == text, name
+        want = palette(text, texels)
+        if not isinstance(route, tuple):
+            np.testing.assert_array_equal(route, texels, err_msg=name)
+            continue
+        made.add(name)
+        numbers, spectra = route
+        assert numbers.shape == texels.shape[:2] + (1,) and spectra.dtype == np.float32, name
+        assert (numbers == np.round(numbers)).all() and numbers.max() < len(spectra), name
+        ours = spectra[numbers[..., 0].astype(np.int64)]
+        theirs = want[1][want[0][..., 0].astype(np.int64)]
+        np.testing.assert_array_equal(ours.view(np.uint32), theirs.view(np.uint32), err_msg=name)
+    # The images of few colours (8-bit with straight alpha, 16-bit) and no other.
+    assert made == {"few_rgba8.png", "few_rgb16.png"}, made
+    texture = _texture({"type": "specconv_rgb", "filename": _sources(tmp_path)["few_rgba8.png"][0]})
+    assert (texture._palette is not None) == dr.is_jit_v(mi.Float)
+
+
 def test_texels_of_an_acescg_exr_are_converts(scalar, tmp_path):
     """Mitsuba's reader moves an OpenEXR's chromaticities to Rec.709 keeping XYZ (no
     adaptation); the library reads such a file's own samples and converts them by the rule

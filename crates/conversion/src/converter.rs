@@ -22,7 +22,7 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
-pub use crate::pipeline::in_memory::{Image as InMemory, Samples};
+pub use crate::pipeline::in_memory::{Image as InMemory, Samples, Texels};
 pub use crate::pipeline::input::Selection;
 pub use crate::pipeline::{Rule, Warning};
 
@@ -190,21 +190,22 @@ impl Converter {
     /// `out`), made in memory as a conversion with these options makes them
     /// ([`crate::pipeline::in_memory`]: the colour space chosen from the file's header by the
     /// rule a conversion uses); with the colour space chosen. The options must ask for the
-    /// compact layout.
-    pub fn compact_texels(&self, image: &InMemory, out: &mut [f32]) -> Result<TexelsMade, Error> {
+    /// compact layout. With `palette`, a renderer's palette of them where the pixels repeat
+    /// enough ([`Texels::Palette`]).
+    pub fn compact_texels(&self, image: &InMemory, palette: bool) -> Result<TexelsMade, Error> {
         let Some(compact) = &self.storage.compact else {
             return Err(ConversionError::InMemory(
                 "texels in memory are compact texels: ask for layout 'compact'".into(),
             )
             .into());
         };
-        let mut run = || {
+        let run = || {
             crate::pipeline::in_memory::compact_texels(
                 &self.config,
                 image,
                 &self.options,
                 compact,
-                out,
+                palette,
             )
         };
         let made = match &self.pool {
@@ -215,6 +216,7 @@ impl Converter {
             text: compact.to_text(),
             colorspace: made.space.name,
             rule: made.space.rule,
+            texels: made.texels,
         })
     }
 
@@ -595,10 +597,12 @@ mod tests {
     }
 }
 
-/// What [`Converter::compact_texels`] made besides the texels.
+/// What [`Converter::compact_texels`] made.
 #[derive(Debug)]
 #[non_exhaustive]
 pub struct TexelsMade {
+    /// The texels, or their palette.
+    pub texels: Texels,
     /// The text that decodes them (docs/compact.md).
     pub text: String,
     /// The colour space the pixels were read in.

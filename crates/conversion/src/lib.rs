@@ -58,7 +58,9 @@ use specconv_pipeline::wrapped;
 pub use batch::{expansion_is_up_to_date, Batch, Event, Expansions, Summary};
 pub use colour_config::{is_builtin_config, ColourConfig, ColourSpace, ConfigOrigin, XyzTransform};
 pub use compact::{spectral_read_error, CompactFacts};
-pub use converter::{Advice, Converter, InMemory, Rule, Samples, Selection, TexelsMade, Warning};
+pub use converter::{
+    Advice, Converter, InMemory, Rule, Samples, Selection, Texels, TexelsMade, Warning,
+};
 pub use describe::{
     describe, Channel, ChannelChoice, ChannelReason, Description, ReadAs, SpectralFacts, Window,
 };

@@ -87,27 +87,41 @@ pub struct Image<'a> {
 pub struct Made {
     /// The colour space the pixels were read in, and the rule that chose it.
     pub space: InputSpace,
+    /// The texels.
+    pub texels: Texels,
 }
 
-/// Makes the compact texels of `image` (six values a pixel, row-major) into `out`, with
-/// `options`' colour space, alpha and NaN rules and `compact`'s encoder. A data texture (a
-/// data space named, or one channel: the data-map rule) is [`Error::Data`]; a NaN or
-/// infinite sample, unless `options` keep or blacken them, [`Error::NonFinite`].
+/// The texels made: each pixel's, or a palette of them.
+#[derive(Debug)]
+pub enum Texels {
+    /// Six values a pixel, row-major.
+    Every(Vec<f32>),
+    /// Each pixel's number (a whole float32) and the spectra at the bands of the distinct
+    /// pixels' texels, `compact.grid().len()` values each: a renderer's palette
+    /// ([`crate::palette`], whose rule on its size it follows).
+    Palette {
+        /// One a pixel.
+        numbers: Vec<f32>,
+        /// One a number.
+        spectra: Vec<f32>,
+    },
+}
+
+/// Makes the compact texels of `image` with `options`' colour space, alpha and NaN rules and
+/// `compact`'s encoder. With `palette`, where the distinct pixels are few enough for a
+/// renderer's palette ([`crate::palette`]'s rule), it is made from them directly: no texel is
+/// written per pixel and no texel hashed again. A data texture (a data space named, or one
+/// channel: the data-map rule) is [`Error::Data`]; a NaN or infinite sample, unless `options`
+/// keep or blacken them, [`Error::NonFinite`].
 pub fn compact_texels(
     config: &specconv_ocio::Config,
     image: &Image,
     options: &Options,
     compact: &Compact,
-    out: &mut [f32],
+    palette: bool,
 ) -> Result<Made> {
     let (w, h) = image.decoded.size;
     let pixels = w as usize * h as usize;
-    if out.len() != pixels * TEXEL {
-        return Err(Error::InMemory(format!(
-            "room for {} values for {w}×{h} pixels: expected {TEXEL} values a pixel",
-            out.len()
-        )));
-    }
     let c = image.channels;
     if !(1..=4).contains(&c) || image.samples.len() != pixels * c {
         return Err(Error::InMemory(format!(
@@ -159,23 +173,35 @@ pub fn compact_texels(
         black: policy == NonFinite::Black,
         premultiply: alpha.filter(|_| premultiply),
     };
-    match distinct(image) {
-        // Each distinct pixel made once, then copied to every pixel that has it.
-        Some((firsts, index)) => {
+    let texels = match distinct(image) {
+        // Each distinct pixel made once, then decoded once for a palette ...
+        Some((firsts, numbers)) => {
             let mut made = vec![0.0f32; firsts.len() * TEXEL];
             making.make(&|j| firsts[j], &mut made)?;
-            out.par_chunks_mut(PIECE * TEXEL)
-                .enumerate()
-                .for_each(|(i, texels)| {
-                    for (k, t) in texels.chunks_exact_mut(TEXEL).enumerate() {
-                        let j = index[&image.samples.key(i * PIECE + k, c)] as usize;
+            if palette && firsts.len() <= crate::palette::most(compact, pixels) {
+                Texels::Palette {
+                    numbers: numbers.par_iter().map(|&j| j as f32).collect(),
+                    spectra: crate::palette::spectra(compact, &made),
+                }
+            } else {
+                // ... or copied to every pixel that has it.
+                let mut out = vec![0.0f32; pixels * TEXEL];
+                out.par_chunks_mut(TEXEL)
+                    .zip(numbers.par_iter())
+                    .for_each(|(t, &j)| {
+                        let j = j as usize;
                         t.copy_from_slice(&made[j * TEXEL..(j + 1) * TEXEL]);
-                    }
-                });
+                    });
+                Texels::Every(out)
+            }
         }
-        None => making.make(&|p| p, out)?,
-    }
-    Ok(Made { space })
+        None => {
+            let mut out = vec![0.0f32; pixels * TEXEL];
+            making.make(&|p| p, &mut out)?;
+            Texels::Every(out)
+        }
+    };
+    Ok(Made { space, texels })
 }
 
 /// The file's own samples where the reader converted them (an OpenEXR whose
@@ -262,28 +288,36 @@ impl Making<'_> {
 /// samples alone. Beyond it (noise), the map is dropped and every pixel made.
 const DISTINCT_SHARE: usize = 4;
 
-/// The distinct pixels of an image of integer samples (the first pixel of each) and each
-/// one's number by its samples ([`Samples::key`]); `None` for float samples, or more than
-/// [`DISTINCT_SHARE`] of the pixels distinct.
-fn distinct(image: &Image) -> Option<(Vec<usize>, HashMap<u64, u32, KeyHash>)> {
+/// The distinct pixels of an image of integer samples (the first pixel of each, in order)
+/// and each pixel's number among them by its samples ([`Samples::key`]); `None` for float
+/// samples, or more than [`DISTINCT_SHARE`] of the pixels distinct.
+fn distinct(image: &Image) -> Option<(Vec<usize>, Vec<u32>)> {
     if matches!(image.samples, Samples::F32(_)) {
         return None;
     }
     let pixels = image.samples.len() / image.channels;
     let most = pixels / DISTINCT_SHARE;
-    let mut index = HashMap::with_hasher(KeyHash::default());
+    let mut index: HashMap<u64, u32, KeyHash> = HashMap::with_hasher(KeyHash::default());
     let mut firsts = Vec::new();
+    let mut numbers = Vec::with_capacity(pixels);
+    let mut last = None;
     for p in 0..pixels {
         let key = image.samples.key(p, image.channels);
-        if let std::collections::hash_map::Entry::Vacant(e) = index.entry(key) {
-            if firsts.len() >= most {
-                return None;
-            }
-            e.insert(firsts.len() as u32);
-            firsts.push(p);
+        // Neighbours repeat: the pixel before answers without a hash.
+        let j = match last {
+            Some((k, j)) if k == key => j,
+            _ => *index.entry(key).or_insert_with(|| {
+                firsts.push(p);
+                (firsts.len() - 1) as u32
+            }),
+        };
+        if firsts.len() > most {
+            return None;
         }
+        numbers.push(j);
+        last = Some((key, j));
     }
-    Some((firsts, index))
+    Some((firsts, numbers))
 }
 
 /// Hashes a pixel's key: one multiply (Fibonacci hashing) of keys that are already

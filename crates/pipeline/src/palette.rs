@@ -26,12 +26,9 @@ pub const MOST: usize = 1 << 24;
 /// texels or more, or a spectrum's numbers would pass `u32`: the texture then decodes per
 /// lookup. `numbers` holds one value per texel.
 pub fn palette(compact: &Compact, texels: &[f32], numbers: &mut [f32]) -> Option<Vec<f32>> {
-    let n = compact.grid().len().max(1);
     let count = texels.len() / TEXEL;
     assert_eq!(numbers.len(), count, "one number per texel");
-    let most = (count * (TEXEL - 1) / n)
-        .min(MOST - 1)
-        .min(u32::MAX as usize / n - 1);
+    let most = most(compact, count);
     let mut seen: HashMap<(u64, u64, u64), u32, KeyHash> = HashMap::with_hasher(KeyHash::default());
     let mut distinct: Vec<f32> = Vec::new();
     let mut last: Option<(&[f32], f32)> = None;
@@ -54,12 +51,29 @@ pub fn palette(compact: &Compact, texels: &[f32], numbers: &mut [f32]) -> Option
         last = Some((t, j as f32));
     }
     drop(seen);
+    Some(spectra(compact, &distinct))
+}
+
+/// The most distinct texels a palette of `count` texels may have: beyond it the spectra and
+/// numbers would take more memory than the texels (5/n of them, n the bands), or a number
+/// would not be exact as float32 ([`MOST`]), or a spectrum's numbers would pass `u32`.
+pub(crate) fn most(compact: &Compact, count: usize) -> usize {
+    let n = compact.grid().len().max(1);
+    (count * (TEXEL - 1) / n)
+        .min(MOST - 1)
+        .min(u32::MAX as usize / n - 1)
+}
+
+/// The spectra at the bands of `distinct` texels (six values each), decoded in parallel by
+/// the rule.
+pub(crate) fn spectra(compact: &Compact, distinct: &[f32]) -> Vec<f32> {
+    let n = compact.grid().len().max(1);
     let mut spectra = vec![0.0f32; distinct.len() / TEXEL * n];
     spectra
         .par_chunks_mut(PIECE * n)
         .zip(distinct.par_chunks(PIECE * TEXEL))
         .for_each(|(s, t)| compact.decode_f32(t, s));
-    Some(spectra)
+    spectra
 }
 
 /// Bitwise equal: a texel's number names exactly its values (NaN payloads and signed zeros
