@@ -465,7 +465,10 @@ def _sources(tmp_path):
     palette[1, :3], palette[1, 3] = palette[0, :3], palette[0, 3] // 2  # one colour, two alphas
     palette16 = rng.integers(0, 65536, (7, 3), dtype=np.uint16)
     few = rng.integers(0, 10, (32, 24))
+    # 150 distinct of 768: made once each, but too many for a renderer's palette (5/n).
+    some = rng.integers(0, 256, (150, 3), dtype=np.uint8)[np.arange(768) % 150].reshape(32, 24, 3)
     return {
+        "some_rgb8.png": (_write(tmp_path / "some_rgb8.png", some, "uint8"), None),
         "few_rgba8.png": (_write(tmp_path / "few_rgba8.png", palette[few], "uint8"), None),
         "few_rgb16.png": (_write(tmp_path / "few_rgb16.png", palette16[few % 7], "uint16"), None),
         # Scaled as OpenImageIO scales 8-bit values: × (1/255) in float32.
