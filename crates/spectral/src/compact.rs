@@ -195,6 +195,24 @@ impl Solved {
     }
 }
 
+/// The most texels [`Compact::store`] remembers in one call (about 3 MB).
+const STORE_CACHE_LIMIT: usize = 1 << 16;
+
+/// The texels [`Compact::store`] has made in one call, by the bits of the colour given.
+#[derive(Default)]
+struct StoreCache {
+    map: std::collections::HashMap<u128, ([f32; STORED], Solved)>,
+}
+
+impl StoreCache {
+    /// The key of a texel to store: its colour's bits.
+    fn key(t: &[f32]) -> u128 {
+        t[..3]
+            .iter()
+            .fold(0u128, |k, v| k << 32 | u128::from(v.to_bits()))
+    }
+}
+
 /// One spectrum's buffers for encoding, allocated once a call: the f32 uplift, r₀ in double,
 /// the projected spectrum (then the search's trials), the exact spectrum of a u and its
 /// bands' tolerances, and the u the search has measured (`Compact::coarsest_u`).
@@ -410,8 +428,25 @@ impl Compact {
     pub fn store(&self, values: &mut [f32], precision: Precision) -> Counts {
         let mut counts = Counts::default();
         let mut s = Scratch::new(self.grid().len());
+        // A texel is a function of its colour's bits alone: a colour met again in the block
+        // (8-bit textures repeat theirs) is copied, not searched again.
+        let mut seen = StoreCache::default();
         for t in values.chunks_exact_mut(STORED) {
-            self.store_one(t, precision, &mut s).count(&mut counts);
+            let key = StoreCache::key(t);
+            let solved = match seen.map.get(&key) {
+                Some((texel, solved)) => {
+                    t.copy_from_slice(texel);
+                    *solved
+                }
+                None => {
+                    let solved = self.store_one(t, precision, &mut s);
+                    if seen.map.len() < STORE_CACHE_LIMIT {
+                        seen.map.insert(key, (t.try_into().unwrap(), solved));
+                    }
+                    solved
+                }
+            };
+            solved.count(&mut counts);
         }
         counts
     }
