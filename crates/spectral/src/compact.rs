@@ -151,6 +151,9 @@ pub struct Compact {
     model: (String, String),
     /// The working space's matrix to XYZ (`rgb` line), rows of X, Y and Z.
     rgb: [[f64; 3]; 3],
+    /// Which compact form this is, for the texels [`Compact::store`] remembers (a clone, the
+    /// same form, shares it).
+    id: u64,
 }
 
 /// The matrix of [`WORKING_SPACE`] to XYZ (white Y = 1 at D65, as OCIO's CIE-XYZ-D65).
@@ -195,12 +198,15 @@ impl Solved {
     }
 }
 
-/// The most texels [`Compact::store`] remembers in one call (about 3 MB).
+/// The most texels [`Compact::store`] remembers on a thread (about 4 MB); beyond, it forgets
+/// them all and starts again.
 const STORE_CACHE_LIMIT: usize = 1 << 16;
 
-/// The texels [`Compact::store`] has made in one call, by the bits of the colour given.
+/// The texels [`Compact::store`] has made on this thread, by the bits of the colour given, for
+/// one compact form and precision (`owner`): the blocks of a conversion on a worker thread.
 #[derive(Default)]
 struct StoreCache {
+    owner: Option<(u64, Precision)>,
     map: std::collections::HashMap<u128, ([f32; STORED], Solved)>,
 }
 
@@ -211,6 +217,18 @@ impl StoreCache {
             .iter()
             .fold(0u128, |k, v| k << 32 | u128::from(v.to_bits()))
     }
+}
+
+thread_local! {
+    static STORED_BEFORE: std::cell::RefCell<StoreCache> = std::cell::RefCell::default();
+}
+
+/// The next [`Compact::id`].
+static NEXT_ID: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+
+/// A new [`Compact::id`].
+fn new_id() -> u64 {
+    NEXT_ID.fetch_add(1, std::sync::atomic::Ordering::Relaxed)
 }
 
 /// One spectrum's buffers for encoding, allocated once a call: the f32 uplift, r₀ in double,
@@ -274,6 +292,7 @@ impl Compact {
             bounded,
             model: (name.to_string(), hash(&model.to_json())),
             rgb: working_space(),
+            id: new_id(),
         })
     }
 
@@ -428,26 +447,32 @@ impl Compact {
     pub fn store(&self, values: &mut [f32], precision: Precision) -> Counts {
         let mut counts = Counts::default();
         let mut s = Scratch::new(self.grid().len());
-        // A texel is a function of its colour's bits alone: a colour met again in the block
-        // (8-bit textures repeat theirs) is copied, not searched again.
-        let mut seen = StoreCache::default();
-        for t in values.chunks_exact_mut(STORED) {
-            let key = StoreCache::key(t);
-            let solved = match seen.map.get(&key) {
-                Some((texel, solved)) => {
-                    t.copy_from_slice(texel);
-                    *solved
-                }
-                None => {
-                    let solved = self.store_one(t, precision, &mut s);
-                    if seen.map.len() < STORE_CACHE_LIMIT {
-                        seen.map.insert(key, (t.try_into().unwrap(), solved));
+        // A texel is a function of its colour's bits alone: a colour met again (8-bit
+        // textures repeat theirs, across blocks too) is copied, not searched again.
+        STORED_BEFORE.with_borrow_mut(|seen| {
+            if seen.owner != Some((self.id, precision)) {
+                seen.map.clear();
+                seen.owner = Some((self.id, precision));
+            }
+            for t in values.chunks_exact_mut(STORED) {
+                let key = StoreCache::key(t);
+                let solved = match seen.map.get(&key) {
+                    Some((texel, solved)) => {
+                        t.copy_from_slice(texel);
+                        *solved
                     }
-                    solved
-                }
-            };
-            solved.count(&mut counts);
-        }
+                    None => {
+                        let solved = self.store_one(t, precision, &mut s);
+                        if seen.map.len() == STORE_CACHE_LIMIT {
+                            seen.map.clear();
+                        }
+                        seen.map.insert(key, (t.try_into().unwrap(), solved));
+                        solved
+                    }
+                };
+                solved.count(&mut counts);
+            }
+        });
         counts
     }
 
@@ -1013,6 +1038,7 @@ impl Parts {
             bounded: None,
             model: self.model,
             rgb,
+            id: new_id(),
         })
     }
 }
