@@ -515,7 +515,9 @@ impl Compact {
         if other.iter().all(Option::is_none) || !rgb.iter().all(|v| v.is_finite()) {
             return near;
         }
-        use specconv_colour::lab::{ciede2000, ciede2000_lightness_bound, lightness, xyz_to_lab};
+        use specconv_colour::lab::{
+            ciede2000, ciede2000_lightness_bound, ciede2000_lower_bound, lightness, xyz_to_lab,
+        };
         let white = self.rgb.map(|m| m[0] + m[1] + m[2]);
         let [r, g, b] = rgb.map(f64::from);
         let target = xyz_to_lab(self.rgb.map(|m| m[0] * r + m[1] * g + m[2] * b), white);
@@ -548,7 +550,12 @@ impl Compact {
             if ciede2000_lightness_bound(target[0], lightness(x[1], white[1])) >= least {
                 continue;
             }
-            let d = ciede2000(target, xyz_to_lab(x, white));
+            let lab = xyz_to_lab(x, white);
+            // The bound is at most ciede2000 as computed: a colour it skips would not be taken.
+            if ciede2000_lower_bound(target, lab) >= least {
+                continue;
+            }
+            let d = ciede2000(target, lab);
             if d < least {
                 (best, least) = (c, d);
             }
