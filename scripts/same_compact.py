@@ -85,7 +85,7 @@ def main():
             for side, binary in (("old", old), ("new", new)):
                 out = f"{work}/{side}{k}.exr"
                 cmd = [binary, "convert", "--layout", "compact", "--progress", "never", path, out, *args]
-                subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
+                subprocess.run(cmd, check=True, capture_output=True)
                 outs.append(out)
             why = same(*outs)
             with open(outs[0], "rb") as f0, open(outs[1], "rb") as f1:
