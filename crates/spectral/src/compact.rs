@@ -591,12 +591,18 @@ impl Compact {
             if let Some(&(_, was)) = tried.iter().find(|(k, _)| *k == key) {
                 return was;
             }
-            self.decode_r0(r0, v.map(f64::from), scratch);
-            let is = exact
-                .iter()
-                .zip(scratch.iter())
-                .zip(tolerance.iter())
-                .all(|((&e, &r), &t)| (e - r).abs() <= t)
+            // `decode_r0` band by band, stopping at the first band too far (a u not finite
+            // decodes to NaN, never close).
+            let u = v.map(f64::from);
+            let bands = scratch.iter_mut().zip(r0.iter());
+            let is = u.iter().all(|x| x.is_finite())
+                && bands
+                    .zip(exact.iter().zip(tolerance.iter()))
+                    .enumerate()
+                    .all(|(b, ((r, &v), (&e, &t)))| {
+                        *r = self.band(v, b, u);
+                        (e - *r).abs() <= t
+                    })
                 && specconv_colour::lab::ciede2000(want, lab(scratch)) <= U_COLOUR_DRIFT;
             tried.push((key, is));
             is
