@@ -1585,7 +1585,13 @@ mod tests {
             "da0b824fe25e7fda",
             "f81309d4af0e360a",
         ];
-        assert_eq!(got, want, "{} colours", rgb.len() / 3);
+        assert_eq!(
+            got,
+            want,
+            "{} colours: a stored value moved; where the rule or the projection (outside colours \
+             among these) changed on purpose, record the hashes on the left",
+            rgb.len() / 3
+        );
         // The hashes cover the searches: colours moved off their nearest halves, and u
         // stored with fewer bits, as half and as float32.
         eprintln!("moved, half u, float u: {searched:?}");
