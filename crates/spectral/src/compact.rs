@@ -151,6 +151,9 @@ pub struct Compact {
     model: (String, String),
     /// The working space's matrix to XYZ (`rgb` line), rows of X, Y and Z.
     rgb: [[f64; 3]; 3],
+    /// Which compact form this is, for the texels [`Compact::store`] remembers (a clone, the
+    /// same form, shares it).
+    id: u64,
 }
 
 /// The matrix of [`WORKING_SPACE`] to XYZ (white Y = 1 at D65, as OCIO's CIE-XYZ-D65).
@@ -169,6 +172,80 @@ impl std::fmt::Debug for Compact {
             self.model.1,
             self.grid()
         )
+    }
+}
+
+/// What the projection did with one colour ([`Compact::solve`]), to be counted.
+#[derive(Clone, Copy)]
+enum Solved {
+    /// No projection (spectra not bounded): nothing counted.
+    None,
+    InRange,
+    Projected,
+    Outside,
+    NotFinite,
+}
+
+impl Solved {
+    fn count(self, counts: &mut Counts) {
+        match self {
+            Solved::None => {}
+            Solved::InRange => counts.in_range += 1,
+            Solved::Projected => counts.projected += 1,
+            Solved::Outside => counts.outside += 1,
+            Solved::NotFinite => counts.not_finite += 1,
+        }
+    }
+}
+
+/// The most texels [`Compact::store`] remembers on a thread: 7/8 of 2¹⁶, what std's hash table
+/// of 2¹⁶ slots holds, of 52 bytes and a control byte each (3.5 MB). Beyond, it forgets them
+/// all and starts again.
+const STORE_CACHE_LIMIT: usize = 57_344;
+const _: () = assert!(std::mem::size_of::<([u32; 3], ([f32; STORED], Solved))>() == 52);
+
+/// The texels [`Compact::store`] has made on this thread, by the bits of the colour given, for
+/// one compact form and precision (`owner`): the blocks of a conversion on a worker thread.
+#[derive(Default)]
+struct StoreCache {
+    owner: Option<(u64, Precision)>,
+    map: std::collections::HashMap<[u32; 3], ([f32; STORED], Solved)>,
+}
+
+thread_local! {
+    static STORED_BEFORE: std::cell::RefCell<StoreCache> = std::cell::RefCell::default();
+}
+
+/// The next [`Compact::id`].
+static NEXT_ID: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+
+/// A new [`Compact::id`].
+fn new_id() -> u64 {
+    NEXT_ID.fetch_add(1, std::sync::atomic::Ordering::Relaxed)
+}
+
+/// One spectrum's buffers for encoding, allocated once a call: the f32 uplift, r₀ in double,
+/// the projected spectrum (then the search's trials), the exact spectrum of a u and its
+/// bands' tolerances, and the u the search has measured (`Compact::coarsest_u`).
+struct Scratch {
+    r32: Vec<f32>,
+    r0: Vec<f64>,
+    r: Vec<f64>,
+    exact: Vec<f64>,
+    tolerance: Vec<f64>,
+    tried: Vec<([u32; 3], bool)>,
+}
+
+impl Scratch {
+    fn new(n: usize) -> Scratch {
+        Scratch {
+            r32: vec![0.0; n],
+            r0: vec![0.0; n],
+            r: vec![0.0; n],
+            exact: vec![0.0; n],
+            tolerance: vec![0.0; n],
+            tried: Vec::with_capacity(64),
+        }
     }
 }
 
@@ -208,6 +285,7 @@ impl Compact {
             bounded,
             model: (name.to_string(), hash(&model.to_json())),
             rgb: working_space(),
+            id: new_id(),
         })
     }
 
@@ -231,36 +309,41 @@ impl Compact {
     /// outcomes counted as [`Bounded`] counts them. A compact form read back from its text
     /// cannot encode (it has no colorimetry to project with): a panic, the caller's bug.
     pub fn encode_f32(&self, xyz: &[f32], texels: &mut [f32]) -> Counts {
-        let n = self.grid().len();
         assert_eq!(xyz.len() / 3 * TEXEL, texels.len(), "six values per colour");
         let mut counts = Counts::default();
-        let (mut r32, mut r) = (vec![0.0f32; n], vec![0.0f64; n]);
+        let mut s = Scratch::new(self.grid().len());
         for (c, t) in xyz.chunks_exact(3).zip(texels.chunks_exact_mut(TEXEL)) {
             t[..3].copy_from_slice(c);
-            t[3..].fill(0.0);
-            let Some(bounded) = &self.bounded else {
-                continue;
-            };
-            // As the bounded stack decides: the f32 spectrum in range is kept.
-            self.up.uplift_f32(c, &mut r32);
-            let c64 = [c[0], c[1], c[2]].map(f64::from);
-            if !c64.iter().all(|v| v.is_finite()) {
-                counts.not_finite += 1;
-            } else if r32.iter().all(|v| (0.0..=1.0).contains(v)) {
-                counts.in_range += 1;
-            } else {
-                self.up.uplift_f64(&c64, &mut r);
-                let (outcome, w) = bounded.bound_dual(c64, &mut r);
-                match outcome {
-                    Outcome::Outside { .. } => counts.outside += 1,
-                    _ => counts.projected += 1,
-                }
-                for (v, w) in t[3..].iter_mut().zip(w) {
-                    *v = w as f32;
-                }
-            }
+            let (u, outcome) = self.solve([c[0], c[1], c[2]], &mut s);
+            t[3..].copy_from_slice(&u);
+            outcome.count(&mut counts);
         }
         counts
+    }
+
+    /// The u of one colour `c` and how the projection went (no outcome without one), as
+    /// [`Compact::encode_f32`] makes them; where u is not 0, `s.r0` holds r₀(c) in double.
+    fn solve(&self, c: [f32; 3], s: &mut Scratch) -> ([f32; 3], Solved) {
+        let Some(bounded) = &self.bounded else {
+            return ([0.0; 3], Solved::None);
+        };
+        // As the bounded stack decides: the f32 spectrum in range is kept.
+        self.up.uplift_f32(&c, &mut s.r32);
+        let c64 = c.map(f64::from);
+        if !c64.iter().all(|v| v.is_finite()) {
+            return ([0.0; 3], Solved::NotFinite);
+        }
+        if s.r32.iter().all(|v| (0.0..=1.0).contains(v)) {
+            return ([0.0; 3], Solved::InRange);
+        }
+        self.up.uplift_f64(&c64, &mut s.r0);
+        s.r.copy_from_slice(&s.r0);
+        let (outcome, w) = bounded.bound_dual(c64, &mut s.r);
+        let solved = match outcome {
+            Outcome::Outside { .. } => Solved::Outside,
+            _ => Solved::Projected,
+        };
+        (w.map(|w| w as f32), solved)
     }
 
     /// Spectra of texels (six values each, [`Compact::encode_f32`]'s) into `out`, as the
@@ -299,14 +382,31 @@ impl Compact {
         }
         self.up.uplift_f64(&c, out);
         if self.clip {
-            let a = &self.a;
             for (b, v) in out.iter_mut().enumerate() {
-                // The order of the projection's own sum (`colour::solid`), so that the
-                // spectrum is the one it settled on.
-                let z = *v + a[0][b] * u[0] + a[1][b] * u[1] + a[2][b] * u[2];
-                *v = z.clamp(0.0, 1.0);
+                *v = self.band(*v, b, u);
             }
         }
+    }
+
+    /// [`Compact::decode_f64`] of a clipped texel whose r₀(c) is `r0` (the uplift once for
+    /// the many u the search tries): the same values, bit for bit.
+    fn decode_r0(&self, r0: &[f64], u: [f64; 3], out: &mut [f64]) {
+        if !u.iter().all(|v| v.is_finite()) {
+            out.fill(f64::NAN);
+            return;
+        }
+        for (b, (o, &v)) in out.iter_mut().zip(r0).enumerate() {
+            *o = self.band(v, b, u);
+        }
+    }
+
+    /// Band `b` of a clipped texel's spectrum, r₀ being `v` there.
+    fn band(&self, v: f64, b: usize, u: [f64; 3]) -> f64 {
+        let a = &self.a;
+        // The order of the projection's own sum (`colour::solid`), so that the spectrum is
+        // the one it settled on.
+        let z = v + a[0][b] * u[0] + a[1][b] * u[1] + a[2][b] * u[2];
+        z.clamp(0.0, 1.0)
     }
 
     /// The working space's matrix to XYZ (the text's `rgb` line).
@@ -339,43 +439,60 @@ impl Compact {
     /// float32; at float precision, u as solved. Returns the projection's counts.
     pub fn store(&self, values: &mut [f32], precision: Precision) -> Counts {
         let mut counts = Counts::default();
-        let n = self.grid().len();
-        let (mut exact, mut scratch) = (vec![0.0; n], vec![0.0; n]);
-        let mut texel = [0.0f32; TEXEL];
-        for t in values.chunks_exact_mut(STORED) {
-            if precision == Precision::Half {
-                let rgb = self.half_colour([t[0], t[1], t[2]]);
-                t[..3].copy_from_slice(&rgb);
+        let mut s = Scratch::new(self.grid().len());
+        // A texel is a function of its colour's bits alone: a colour met again (8-bit
+        // textures repeat theirs, across blocks too) is copied, not searched again.
+        STORED_BEFORE.with_borrow_mut(|seen| {
+            if seen.owner != Some((self.id, precision)) {
+                seen.map.clear();
+                seen.owner = Some((self.id, precision));
             }
-            let c = self.colour_of([t[0], t[1], t[2]]);
-            let one = self.encode_f32(&c, &mut texel);
-            counts.in_range += one.in_range;
-            counts.projected += one.projected;
-            counts.outside += one.outside;
-            counts.not_finite += one.not_finite;
-            let u = [texel[3], texel[4], texel[5]];
-            t[3..].fill(0.0);
-            if u == [0.0; 3] {
-                continue;
+            for t in values.chunks_exact_mut(STORED) {
+                let key = [t[0], t[1], t[2]].map(f32::to_bits);
+                let solved = match seen.map.get(&key) {
+                    Some((texel, solved)) => {
+                        t.copy_from_slice(texel);
+                        *solved
+                    }
+                    None => {
+                        let solved = self.store_one(t, precision, &mut s);
+                        if seen.map.len() == STORE_CACHE_LIMIT {
+                            seen.map.clear();
+                        }
+                        seen.map.insert(key, (t.try_into().unwrap(), solved));
+                        solved
+                    }
+                };
+                solved.count(&mut counts);
             }
-            if precision == Precision::Float {
-                t[6..].copy_from_slice(&u);
-                continue;
-            }
-            let c64 = c.map(f64::from);
-            self.decode_f64(c64, u.map(f64::from), &mut exact);
-            // Each value in the set that holds it exactly: a float u beside two halves leaves
-            // those in the half set, which ZIP stores in less.
-            for (i, v) in self
-                .coarsest_u(c64, u, &exact, &mut scratch)
-                .into_iter()
-                .enumerate()
-            {
-                let set = if round_half(v) == v { 3 } else { 6 };
-                t[set + i] = v;
-            }
-        }
+        });
         counts
+    }
+
+    /// [`Compact::store`] of one texel.
+    fn store_one(&self, t: &mut [f32], precision: Precision, s: &mut Scratch) -> Solved {
+        if precision == Precision::Half {
+            let rgb = self.half_colour([t[0], t[1], t[2]]);
+            t[..3].copy_from_slice(&rgb);
+        }
+        let c = self.colour_of([t[0], t[1], t[2]]);
+        let (u, solved) = self.solve(c, s);
+        t[3..].fill(0.0);
+        if u == [0.0; 3] {
+            return solved;
+        }
+        if precision == Precision::Float {
+            t[6..].copy_from_slice(&u);
+            return solved;
+        }
+        self.decode_r0(&s.r0, u.map(f64::from), &mut s.exact);
+        // Each value in the set that holds it exactly: a float u beside two halves leaves
+        // those in the half set, which ZIP stores in less.
+        for (i, v) in self.coarsest_u(u, s).into_iter().enumerate() {
+            let set = if round_half(v) == v { 3 } else { 6 };
+            t[set + i] = v;
+        }
+        solved
     }
 
     /// The half colour a file stores for the working-space colour `rgb`: of the combinations of
@@ -391,7 +508,9 @@ impl Compact {
         if other.iter().all(Option::is_none) || !rgb.iter().all(|v| v.is_finite()) {
             return near;
         }
-        use specconv_colour::lab::{ciede2000, ciede2000_lightness_bound, lightness, xyz_to_lab};
+        use specconv_colour::lab::{
+            ciede2000, ciede2000_lightness_bound, ciede2000_lower_bound, lightness, xyz_to_lab,
+        };
         let white = self.rgb.map(|m| m[0] + m[1] + m[2]);
         let [r, g, b] = rgb.map(f64::from);
         let target = xyz_to_lab(self.rgb.map(|m| m[0] * r + m[1] * g + m[2] * b), white);
@@ -424,7 +543,12 @@ impl Compact {
             if ciede2000_lightness_bound(target[0], lightness(x[1], white[1])) >= least {
                 continue;
             }
-            let d = ciede2000(target, xyz_to_lab(x, white));
+            let lab = xyz_to_lab(x, white);
+            // The bound is at most ciede2000 as computed: a colour it skips would not be taken.
+            if ciede2000_lower_bound(target, lab) >= least {
+                continue;
+            }
+            let d = ciede2000(target, lab);
             if d < least {
                 (best, least) = (c, d);
             }
@@ -432,14 +556,14 @@ impl Compact {
         best
     }
 
-    /// The u with the fewest significant bits whose spectrum of `c` is within a quarter of a
+    /// The u with the fewest significant bits whose spectrum (r₀ = `r0`) is within a quarter of a
     /// half step of `exact` (the spectrum of `u`) at every band: ZIP stores the zero low bits of
     /// a coarse u in little space, and a saturated texture's u is most of its bytes. The bits
     /// are searched for the three together, then for each alone (the error is about linear in
     /// the rounding, so the search halves). Where a value is no half, the nearest half is
     /// taken when it is close enough too. Close enough also keeps the spectrum's colour within
     /// [`U_COLOUR_DRIFT`] in CIEDE2000 of the exact one's.
-    fn coarsest_u(&self, c: [f64; 3], u: [f32; 3], exact: &[f64], scratch: &mut [f64]) -> [f32; 3] {
+    fn coarsest_u(&self, u: [f32; 3], s: &mut Scratch) -> [f32; 3] {
         let white = self.rgb.map(|m| m[0] + m[1] + m[2]);
         let lab = |r: &[f64]| {
             let xyz = self
@@ -448,14 +572,40 @@ impl Compact {
                 .map(|a| a.iter().zip(r).map(|(a, r)| a * r).sum());
             specconv_colour::lab::xyz_to_lab(xyz, white)
         };
+        let Scratch {
+            r0,
+            r: scratch,
+            exact,
+            tolerance,
+            tried,
+            ..
+        } = s;
         let want = lab(exact);
+        for (t, &e) in tolerance.iter_mut().zip(exact.iter()) {
+            *t = quarter_half_step(e);
+        }
+        tried.clear();
+        // The searches below try some u more than once: each is measured once.
         let mut close = |v: [f32; 3]| {
-            self.decode_f64(c, v.map(f64::from), scratch);
-            exact
-                .iter()
-                .zip(scratch.iter())
-                .all(|(&e, &r)| (e - r).abs() <= quarter_half_step(e))
-                && specconv_colour::lab::ciede2000(want, lab(scratch)) <= U_COLOUR_DRIFT
+            let key = v.map(f32::to_bits);
+            if let Some(&(_, was)) = tried.iter().find(|(k, _)| *k == key) {
+                return was;
+            }
+            // `decode_r0` band by band, stopping at the first band too far (a u not finite
+            // decodes to NaN, never close).
+            let u = v.map(f64::from);
+            let bands = scratch.iter_mut().zip(r0.iter());
+            let is = u.iter().all(|x| x.is_finite())
+                && bands
+                    .zip(exact.iter().zip(tolerance.iter()))
+                    .enumerate()
+                    .all(|(b, ((r, &v), (&e, &t)))| {
+                        *r = self.band(v, b, u);
+                        (e - *r).abs() <= t
+                    })
+                && specconv_colour::lab::ciede2000(want, lab(scratch)) <= U_COLOUR_DRIFT;
+            tried.push((key, is));
+            is
         };
         let fewest = |close: &mut dyn FnMut(u32) -> bool| {
             // The fewest bits from 1 to 24 that are close; 24 is u itself.
@@ -894,6 +1044,7 @@ impl Parts {
             bounded: None,
             model: self.model,
             rgb,
+            id: new_id(),
         })
     }
 }
@@ -1319,6 +1470,135 @@ mod tests {
         assert!(
             floats > 1000 && 10 * kept < 9 * full,
             "{floats}: {kept} of {full}"
+        );
+    }
+
+    /// Colours for [`stored_values_are_pinned`]: 8-bit codes through the sRGB curve (a grid of
+    /// them, and dark near-greys, where the nearest half colour is searched), each twice (a
+    /// repeated colour must be stored as the first), random floats of every scale, negative
+    /// and HDR, and the values no half holds (NaN, ±∞, beyond ±65504, below half's subnormals).
+    fn pinned_colours() -> Vec<f32> {
+        let code = |c: u32| {
+            let v = f64::from(c.min(255)) / 255.0;
+            (if v <= 0.04045 {
+                v / 12.92
+            } else {
+                ((v + 0.055) / 1.055).powf(2.4)
+            }) as f32
+        };
+        let mut v = Vec::new();
+        for r in (0..256).step_by(15) {
+            for g in (0..256).step_by(15) {
+                for b in (0..256).step_by(15) {
+                    v.extend([code(r), code(g), code(b)]);
+                }
+            }
+        }
+        for r in 0..60 {
+            for (dg, db) in [(1, 0), (0, 1), (1, 1), (2, 0), (0, 2), (2, 1)] {
+                v.extend([code(r), code(r + dg), code(r + db)]);
+            }
+        }
+        let twice = v.clone();
+        v.extend(twice);
+        let mut rng = specconv_testkit::SplitMix(47);
+        for i in 0..3000 {
+            let scale = [1e-4, 1e-2, 1.0, 1.0, 8.0, 300.0][i % 6];
+            let lo = if i % 5 == 0 { -0.3 } else { 0.0 };
+            v.extend([0; 3].map(|_| (rng.in_range(lo, 1.0) * scale) as f32));
+        }
+        let tiny = f32::from_bits(1);
+        v.extend([
+            f32::NAN,
+            0.2,
+            0.3,
+            f32::INFINITY,
+            0.1,
+            0.1,
+            0.5,
+            f32::NEG_INFINITY,
+            0.5,
+            7e4,
+            0.5,
+            0.2,
+            -1e30,
+            1.0,
+            1.0,
+            tiny,
+            -tiny,
+            3e-8,
+            0.0,
+            -0.0,
+            0.0,
+            1.0,
+            1.0,
+            1.0,
+            0.95,
+            1.0,
+            1.09,
+        ]);
+        v
+    }
+
+    /// Every value [`Compact::store`] writes, at both precisions, on the default grid and
+    /// on 400–700 nm by 5, with the counts, hashed: a change to how the stored values are
+    /// found (the speed of `half_colour`, `coarsest_u`) must leave every bit as it was. The
+    /// hashes were recorded before the search was made faster; a change of the rule itself
+    /// records them anew, on purpose.
+    #[test]
+    fn stored_values_are_pinned() {
+        let rgb = pinned_colours();
+        let mut d = Description::convert_default(MethodName::Otsu2018);
+        let (mut got, mut searched) = (Vec::new(), (0, 0, 0));
+        for grid in [None, Some(Grid::new(400.0, 700.0, 5.0).unwrap())] {
+            d.grid = grid;
+            let compact = Compact::new(Model::builtin(), "test", &d).unwrap();
+            for precision in [Precision::Half, Precision::Float] {
+                let mut stored: Vec<f32> = rgb
+                    .chunks_exact(3)
+                    .flat_map(|c| [c[0], c[1], c[2], 0.0, 0.0, 0.0, 0.0, 0.0, 0.0])
+                    .collect();
+                let k = compact.store(&mut stored, precision);
+                if precision == Precision::Half && grid.is_none() {
+                    for (t, c) in stored.chunks_exact(STORED).zip(rgb.chunks_exact(3)) {
+                        let near = [c[0], c[1], c[2]].map(round_half);
+                        let same = near.iter().zip(t).all(|(a, b)| a.to_bits() == b.to_bits());
+                        searched.0 += usize::from(!same);
+                        searched.1 += t[3..6].iter().filter(|&&v| v != 0.0).count();
+                        searched.2 += t[6..].iter().filter(|&&v| v != 0.0).count();
+                    }
+                }
+                // FNV-1a over the values' bits and the counts.
+                let mut h = 0xcbf2_9ce4_8422_2325u64;
+                let counts = [k.in_range, k.projected, k.outside, k.not_finite];
+                let words = stored.iter().map(|v| u64::from(v.to_bits()));
+                for w in words.chain(counts.iter().map(|&c| c as u64)) {
+                    h = (h ^ w).wrapping_mul(0x0100_0000_01b3);
+                }
+                got.push(format!("{h:016x}"));
+            }
+        }
+        // Recorded with the search as it was at 469d71f.
+        let want = [
+            "32554b148e5d1c61",
+            "d28a339934b684ed",
+            "da0b824fe25e7fda",
+            "f81309d4af0e360a",
+        ];
+        assert_eq!(
+            got,
+            want,
+            "{} colours: a stored value moved; where the rule or the projection (outside colours \
+             among these) changed on purpose, record the hashes on the left",
+            rgb.len() / 3
+        );
+        // The hashes cover the searches: colours moved off their nearest halves, and u
+        // stored with fewer bits, as half and as float32.
+        eprintln!("moved, half u, float u: {searched:?}");
+        let (moved, halves, floats) = searched;
+        assert!(
+            moved > 200 && halves > 1000 && floats > 1000,
+            "{searched:?}"
         );
     }
 
