@@ -173,8 +173,9 @@ def compact_texels(
     *,
     straight_alpha: bool = False,
     moved: bool = False,
+    palette: bool = False,
     **options: Any,
-) -> tuple[str, _Array, str]: ...
+) -> tuple[str, _Array | tuple[_Array, _Array], str]: ...
 def palette(text: str, texels: _Array) -> tuple[_Array, _Array] | None: ...
 def check_compact_header(
     path: _Path, attributes: dict[str, str], channels: list[str]
