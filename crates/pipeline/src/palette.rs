@@ -6,7 +6,7 @@
 //! (a 2048² one has 352,000 distinct of 4.2 million), so the palette costs less memory than
 //! the texels; where it would cost more (noise, float textures), there is none.
 
-use crate::in_memory::KeyHash;
+use crate::key_hash::KeyHash;
 use rayon::prelude::*;
 use specconv_spectral::compact::{Compact, TEXEL};
 use std::collections::HashMap;
