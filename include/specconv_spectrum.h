@@ -68,8 +68,9 @@ float scs_decode_at(const scs_model *m, const float texel[6], double wavelength_
  *
  * A renderer that keeps its RGB textures makes the texels at load, as pbrt-v4 and Mitsuba
  * make rgb2spec's coefficients: the colour as it is, and u, the dual unknowns of the bounded
- * projection (min ½‖r − r₀‖² s.t. A·r = c, 0 ≤ r ≤ 1; outside the object-colour solid, the
- * nearest colour of its surface in CIELAB and u for that one), as specconv's library makes
+ * projection (min ½‖r − r₀‖² s.t. A·r = c, 0 ≤ r ≤ 1; outside the object-colour solid, r₀
+ * projected onto the nearest colour of its surface in CIELAB with the colour a penalty, and u
+ * for that one), as specconv's library makes
  * them (specconv_spectral::compact::Compact::encode_f32). No allocation: the caller passes a
  * workspace of scs_encode_work_size(m) bytes (at most SCS_ENCODE_WORK_MAX, aligned for double),
  * one per thread; the model is only read. Every loop has a fixed bound (docs/compact.md). */
@@ -699,15 +700,14 @@ float scs_decode_at(const scs_model *m, const float texel[6], double wavelength_
  * within the bound that tests/it/compact.rs states. */
 
 /* The dual's Newton steps of a projection (MAX_DUAL_STEPS), the CIELAB search's proximal steps
- * and dual steps per subproblem (nearest.rs), and the pulls towards grey of an outside colour
- * (bounded.rs PULLS: 0, then 1e-8 doubled 27 times). */
+ * and dual steps per subproblem (nearest.rs), and the Newton steps and penalty weight of an
+ * outside colour's regularised projection (bounded.rs MAX_REGULARISED_STEPS, REGULARISATION). */
 #define SCS_DUAL_STEPS_ 60
 #define SCS_NEAREST_STEPS_ 80
 #define SCS_NEAREST_SUB_ 50
 #define SCS_NEAREST_TRIES_ 64
-#define SCS_PULLS_ 29
-/* float32 u must keep each band within 2⁻¹³ of its value (at least 2⁻¹⁴): DUAL_F32_TOLERANCE. */
-#define SCS_F32_TOL_ (1.0 / 8192.0)
+#define SCS_REGULARISED_STEPS_ 200
+#define SCS_REGULARISATION_ 1e-9
 
 /* Columns of a 3 × n matrix: entry (band i, row k) at cols[i·bs + k·ks]. */
 typedef struct {
@@ -1129,188 +1129,95 @@ static void scs_nearest_(const scs_solid_ *s, const double c[3], const double *r
     }
 }
 
-/* Whether clip(r0 + Aᵀw, 0, 1) with w rounded to float32 is r within SCS_F32_TOL_ of each
- * band's value (Bounded::keeps_in_f32). */
-static int scs_keeps_in_f32_(const scs_solid_ *s, const double *r0, const double w[3], const double *r) {
-    double w32[3];
+/* Full Newton steps from w while each lowers the largest residual component, the first of
+ * t = 1, ½, ¼, … (40 tries) that does, at most `iterations` (Dual::polish); r ends as r(w).
+ * scratch: n doubles. Returns the residual left. */
+static double scs_polish_(const scs_dual_ *d, double w[3], double *r, double *scratch, double tol,
+                          int iterations) {
+    scs_point_ point, next;
+    double res;
+    int it, k, q;
+    scs_dual_at_(d, w, r, &point);
+    res = scs_maxabs3_(point.grad, 0);
+    for (it = 0; it < iterations; it++) {
+        double j[3][3], neg[3], delta[3], trial[3], reg, t = 1, left = 0;
+        const double *h = point.hess;
+        int found = 0;
+        if (res <= tol) break;
+        reg = d->mu + (point.free < 3 ? d->eps : 0);
+        j[0][0] = h[0] + reg; j[0][1] = h[1]; j[0][2] = h[2];
+        j[1][0] = h[1]; j[1][1] = h[3] + reg; j[1][2] = h[4];
+        j[2][0] = h[2]; j[2][1] = h[4]; j[2][2] = h[5] + reg;
+        for (k = 0; k < 3; k++) neg[k] = -point.grad[k];
+        if (!scs_solve3_(j, neg, delta)) break;
+        for (q = 0; q < 40; q++) {
+            for (k = 0; k < 3; k++) trial[k] = w[k] + t * delta[k];
+            scs_dual_at_(d, trial, scratch, &next);
+            left = scs_maxabs3_(next.grad, 0);
+            if (left < res) { found = 1; break; }
+            t *= 0.5;
+        }
+        if (!found) break;
+        memcpy(w, trial, sizeof trial);
+        memcpy(r, scratch, sizeof(double) * (size_t)d->b.n);
+        point = next;
+        res = left;
+    }
+    return res;
+}
+
+/* One regularised solve at penalty weight mu·trace from w: Newton with backtracking, then the
+ * polish where that stops short. Returns the residual left. */
+static double scs_regularised_at_(const scs_solid_ *s, const double c[3], const double *r0, double mu,
+                                  double tol, double w[3], double *r, double *scratch) {
+    scs_dual_ d;
+    double residual;
+    d.b = s->a;
+    d.p = r0;
+    memcpy(d.s, c, sizeof d.s);
+    d.mu = mu * s->trace;
+    d.eps = 0;
+    if (scs_minimise_(&d, w, r, scratch, tol, SCS_REGULARISED_STEPS_, NULL, &residual) == SCS_END_CONVERGED_)
+        return 0;
+    return scs_polish_(&d, w, r, scratch, tol, SCS_REGULARISED_STEPS_);
+}
+
+/* min ½‖r − r0‖² + ‖A·r − c‖²/(2μ) over 0 ≤ r ≤ 1, μ = SCS_REGULARISATION_·trace, from w = 0,
+ * and from a penalty 10⁸ times as strong weakened tenfold a step where that stalls
+ * (Solid::project_regularised): w ends as the dual. */
+static int scs_project_regularised_(const scs_solid_ *s, const double c[3], const double *r0, double *r,
+                                    double *scratch, double w[3]) {
+    static const double stronger[8] = {1e8, 1e7, 1e6, 1e5, 1e4, 1e3, 1e2, 1e1};
+    double scale = scs_maxabs3_(c, 0), tol, residual;
+    int k;
+    scale = scale > DBL_MIN ? scale : DBL_MIN;
+    tol = 1e-13 * scale;
+    w[0] = w[1] = w[2] = 0;
+    residual = scs_regularised_at_(s, c, r0, SCS_REGULARISATION_, tol, w, r, scratch);
+    if (residual > 1e-9 * scale) {
+        w[0] = w[1] = w[2] = 0;
+        for (k = 0; k < 8; k++) scs_regularised_at_(s, c, r0, SCS_REGULARISATION_ * stronger[k], tol, w, r, scratch);
+        residual = scs_regularised_at_(s, c, r0, SCS_REGULARISATION_, tol, w, r, scratch);
+    }
+    return residual <= 1e-9 * scale ? SCS_SOLVED_ : SCS_UNRESOLVED_;
+}
+
+/* r0 projected onto the reached colour near with the colour a penalty, w rounded to float32 and
+ * r made from that w (Bounded::onto_reached): the texel is r to the bit. An unresolved
+ * projection keeps its last w. */
+static void scs_onto_reached_(const scs_solid_ *s, const double near[3], const double *r0, double *r,
+                              double *scratch, double w[3]) {
     long i;
     int k;
-    for (k = 0; k < 3; k++) w32[k] = scs_round_f32_(w[k]);
-    for (i = 0; i < s->a.n; i++) {
-        double z = r0[i] + scs_col_(&s->a, i, 0) * w32[0] + scs_col_(&s->a, i, 1) * w32[1] +
-                   scs_col_(&s->a, i, 2) * w32[2];
-        double v = r[i];
-        if (!(fabs(scs_clamp01_(z) - v) <= SCS_F32_TOL_ * (v > 1.0 / 16384.0 ? v : 1.0 / 16384.0))) return 0;
-    }
-    return 1;
-}
-
-/* Jᵀ·(Lab(c) − Lab(near)) (Bounded::descent): an outward normal of the solid at near. */
-static void scs_descent_(const scs_solid_ *s, const double c[3], const double near[3], double nv[3]) {
-    double lab[3], jac[3][3], target[3];
-    int k, row;
-    scs_lab_(near, s->white, lab, jac);
-    scs_lab_(c, s->white, target, NULL);
-    for (k = 0; k < 3; k++) {
-        nv[k] = 0;
-        for (row = 0; row < 3; row++) nv[k] += jac[row][k] * (target[row] - lab[row]);
-    }
-}
-
-/* The λ ≥ 0 for which w_F + λ·n keeps every band of r at 0 or 1 there (Bounded::lambda_range):
- * [lo, hi]; 0 where there is none. */
-static int scs_lambda_range_(const scs_solid_ *s, const double *r0, const double *r, const double nv[3],
-                             const double wf[3], double *lo_out, double *hi_out) {
-    double lo = 0, hi = INFINITY;
-    long i;
-    for (i = 0; i < s->a.n; i++) {
-        double a0 = scs_col_(&s->a, i, 0), a1 = scs_col_(&s->a, i, 1), a2 = scs_col_(&s->a, i, 2), v = r[i];
-        double z, g, need;
-        int held, outward;
-        if (v > 0 && v < 1) continue;
-        z = r0[i] + a0 * wf[0] + a1 * wf[1] + a2 * wf[2];
-        g = a0 * nv[0] + a1 * nv[1] + a2 * nv[2];
-        held = v == 1 ? z >= 1 : z <= 0;
-        need = v == 1 ? 1 - z : -z;
-        outward = v == 1 ? g > 0 : g < 0;
-        if (held) {
-            if (!outward && g != 0) hi = fmin(hi, need / g);
-        } else if (outward) {
-            lo = fmax(lo, need / g);
-        } else {
-            return 0;
-        }
-    }
-    *lo_out = lo;
-    *hi_out = hi;
-    return lo <= hi;
-}
-
-/* On a face or an edge of the solid (two or one bands free), the search's own spectrum r in
- * closed form, w = w_F + λ·n (Bounded::on_the_face): r becomes clip(r0 + Aᵀw, 0, 1); 1 with w
- * set, 0 (r unchanged) where no λ keeps the bounds or float32 w does not keep r. trial: n
- * doubles. */
-static int scs_on_the_face_(const scs_solid_ *s, const double c[3], const double near[3],
-                            const double *r0, double *r, double *trial, double w[3]) {
-    double m[3], nv[3], wf[3], lo, hi, lambda, last = NAN, margin = 1.0 / 16384.0;
-    long i, free[2], count = 0;
-    int k, q;
-    scs_descent_(s, c, near, m);
-    for (i = 0; i < s->a.n; i++)
-        if (r[i] > 0 && r[i] < 1) {
-            if (count == 2) return 0;
-            free[count++] = i;
-        }
-    if (count == 2) {
-        double a[3], b[3], g00, g01, g11, da, db, det, sa, tb;
-        for (k = 0; k < 3; k++) {
-            a[k] = scs_col_(&s->a, free[0], k);
-            b[k] = scs_col_(&s->a, free[1], k);
-        }
-        nv[0] = a[1] * b[2] - a[2] * b[1];
-        nv[1] = a[2] * b[0] - a[0] * b[2];
-        nv[2] = a[0] * b[1] - a[1] * b[0];
-        if (scs_dot3_(nv, m) < 0)
-            for (k = 0; k < 3; k++) nv[k] = -nv[k];
-        g00 = scs_dot3_(a, a);
-        g01 = scs_dot3_(a, b);
-        g11 = scs_dot3_(b, b);
-        da = r[free[0]] - r0[free[0]];
-        db = r[free[1]] - r0[free[1]];
-        det = g00 * g11 - g01 * g01;
-        if (!(det > 0)) return 0;
-        sa = (da * g11 - db * g01) / det;
-        tb = (db * g00 - da * g01) / det;
-        for (k = 0; k < 3; k++) wf[k] = sa * a[k] + tb * b[k];
-    } else if (count == 1) {
-        double a[3], g, d, e;
-        for (k = 0; k < 3; k++) a[k] = scs_col_(&s->a, free[0], k);
-        g = scs_dot3_(a, a);
-        if (!(g > 0)) return 0;
-        d = scs_dot3_(m, a) / g;
-        e = (r[free[0]] - r0[free[0]]) / g;
-        for (k = 0; k < 3; k++) {
-            nv[k] = m[k] - d * a[k];
-            wf[k] = e * a[k];
-        }
+    scs_project_regularised_(s, near, r0, r, scratch, w);
+    if (isfinite(w[0]) && isfinite(w[1]) && isfinite(w[2])) {
+        for (k = 0; k < 3; k++) w[k] = scs_round_f32_(w[k]);
     } else {
-        return 0;
+        w[0] = w[1] = w[2] = 0;
     }
-    if (!scs_lambda_range_(s, r0, r, nv, wf, &lo, &hi)) return 0;
-    /* (1 + 4^k·2⁻¹⁴)·λ_least, k = 0…8, the first that holds (Bounded::on_the_face). */
-    for (q = 0; q < 9; q++) {
-        double f = 1.0 + margin;
-        margin *= 4.0;
-        lambda = f * lo > hi ? 0.5 * (lo + hi) : f * lo;
-        if (lambda == last) continue;
-        last = lambda;
-        for (k = 0; k < 3; k++) w[k] = wf[k] + lambda * nv[k];
-        for (i = 0; i < s->a.n; i++)
-            trial[i] = scs_clamp01_(r0[i] + scs_col_(&s->a, i, 0) * w[0] + scs_col_(&s->a, i, 1) * w[1] +
-                                    scs_col_(&s->a, i, 2) * w[2]);
-        if (scs_keeps_in_f32_(s, r0, w, trial)) {
-            memcpy(r, trial, sizeof(double) * (size_t)s->a.n);
-            return 1;
-        }
-    }
-    return 0;
-}
-
-/* At a vertex or an edge of the solid, the search's own spectrum r as w = t·n, n the outward
- * normal (Bounded::along_normal): 1 with w set, 0 where a band is left free. */
-static int scs_along_normal_(const scs_solid_ *s, const double c[3], const double near[3],
-                             const double *r0, const double *r, double w[3]) {
-    double nv[3], size;
-    long i;
-    int k, row;
-    scs_descent_(s, c, near, nv);
-    size = scs_maxabs3_(nv, 0);
-    if (!(size > 0 && isfinite(size))) return 0;
     for (i = 0; i < s->a.n; i++)
-        if (r[i] != 0 && r[i] != 1) return 0;
-    for (k = 0; k < 48; k++) {
-        for (row = 0; row < 3; row++) w[row] = nv[row] / size * ldexp(1.0, k);
-        if (scs_keeps_in_f32_(s, r0, w, r)) return 1;
-    }
-    return 0;
-}
-
-/* r0 projected onto the reached colour near drawn towards the grey of its luminance by the
- * least pull for which float32 u still gives its spectrum (Bounded::onto_reached, warm). */
-static void scs_onto_reached_(const scs_solid_ *s, const double near[3], const double *r0, double *r,
-                              double *trial, double *scratch, double w_out[3]) {
-    double grey[3], start[3] = {0, 0, 0}, t = 0, lum = near[1] / s->white[1];
-    long i;
-    int p, k;
-    lum = lum < 0 ? 0 : lum > 1 ? 1 : lum;
-    for (k = 0; k < 3; k++) grey[k] = s->white[k] * lum;
-    for (p = 0; p < SCS_PULLS_; p++) {
-        double x[3], w[3];
-        int solve, ok;
-        t = p == 0 ? 0 : p == 1 ? 1e-8 : 2.0 * t;
-        for (k = 0; k < 3; k++) x[k] = near[k] + t * (grey[k] - near[k]);
-        memcpy(w, start, sizeof w);
-        solve = scs_project_(s, x, r0, trial, scratch, w);
-        ok = solve == SCS_SOLVED_ && scs_keeps_in_f32_(s, r0, w, trial);
-        if (!ok && (start[0] != 0 || start[1] != 0 || start[2] != 0)) {
-            long free = 0;
-            for (i = 0; i < s->a.n; i++) free += trial[i] > 0 && trial[i] < 1;
-            if (solve != SCS_SOLVED_ || free < 3) {
-                w[0] = w[1] = w[2] = 0;
-                solve = scs_project_(s, x, r0, trial, scratch, w);
-                ok = solve == SCS_SOLVED_ && scs_keeps_in_f32_(s, r0, w, trial);
-            }
-        }
-        if (ok) {
-            memcpy(r, trial, sizeof(double) * (size_t)s->a.n);
-            memcpy(w_out, w, sizeof w);
-            return;
-        }
-        if (solve == SCS_SOLVED_) memcpy(start, w, sizeof start);
-    }
-    /* No pull solves: the clipped spectrum keeps the texel form, u = 0. */
-    for (i = 0; i < s->a.n; i++) r[i] = scs_clamp01_(r0[i]);
-    w_out[0] = w_out[1] = w_out[2] = 0;
+        r[i] = scs_clamp01_(r0[i] + scs_col_(&s->a, i, 0) * w[0] + scs_col_(&s->a, i, 1) * w[1] +
+                            scs_col_(&s->a, i, 2) * w[2]);
 }
 
 /* The blend weight of split nd's upper side at coordinate u (Blend::above; the hard switch
@@ -1448,8 +1355,7 @@ int scs_encode_xyz(const scs_model *m, const float xyz[3], float texel[6], void 
     } else {
         double near[3];
         scs_nearest_(&s, c, r0, r, bm, trial, scratch, near);
-        if (!scs_along_normal_(&s, c, near, r0, r, w) && !scs_on_the_face_(&s, c, near, r0, r, trial, w))
-            scs_onto_reached_(&s, near, r0, r, trial, scratch, w);
+        scs_onto_reached_(&s, near, r0, r, scratch, w);
         outcome = SCS_OUTSIDE;
     }
     for (k = 0; k < 3; k++) texel[3 + k] = (float)scs_round_f32_(w[k]);

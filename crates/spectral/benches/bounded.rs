@@ -4,8 +4,7 @@
 //! object-colour solid, the whole cube's cost, and the extra cost per pixel of each kind (the
 //! cube's colours of that kind, bounded against plain). Outside the solid, the nearest colour
 //! in CIELAB against the previous policy (the bisection towards grey): ΔE76 and ΔE2000 to the
-//! input, and the cost of each, per colour; and against the search before issue 45 (cold trial
-//! projections, `Bounded::bound_reference`).
+//! input, and the cost of each, per colour.
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use specconv_colour::lab::{ciede2000, xyz_to_lab};
@@ -138,12 +137,6 @@ fn bounded(c: &mut Criterion) {
                     black_box(bounded.bound(*col, &mut r));
                 }
             });
-            let t_reference = median(&mut || {
-                for (col, r0) in outside.iter().zip(&r0s) {
-                    r.copy_from_slice(r0);
-                    black_box(bounded.bound_reference(*col, &mut r));
-                }
-            });
             let t_old = median(&mut || {
                 for (col, r0) in outside.iter().zip(&r0s) {
                     black_box(bounded.solid().project(*col, r0, &mut r));
@@ -159,14 +152,6 @@ fn bounded(c: &mut Criterion) {
                 "",
                 t_new / outside.len() as f64 * 1e9,
                 t_old / outside.len() as f64 * 1e9,
-            );
-            println!(
-                "{:9}   outside: {:7.1} ns/colour, the cold search before issue 45 \
-                 (`bound_reference`) {:7.1} ns/colour, ratio {:5.2}",
-                "",
-                t_new / outside.len() as f64 * 1e9,
-                t_reference / outside.len() as f64 * 1e9,
-                t_reference / t_new
             );
         }
         let mut g = c.benchmark_group(format!("uplift_f32_{}_cube", space.name));

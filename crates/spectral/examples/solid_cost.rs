@@ -2,11 +2,10 @@
 //! run (issue 45, item 16; docs/performance.md): N random XYZ colours, uniform in [0, 1.2)³
 //! (a seeded stream: the same colours every run), each uplifted in f64 once; then, per colour,
 //! the best of 5 timed passes of `Bounded::bound` over each kind (already in range, projected,
-//! outside the solid), and of `Bounded::bound_reference` (the method before) over the outside
-//! ones (the thread's CPU time where Linux reports it, so that a loaded machine's other work is
+//! outside the solid) (the thread's CPU time where Linux reports it, so that a loaded machine's other work is
 //! not counted; wall time elsewhere). Prints each kind's time, the ratios of outside to
 //! in-solid, and where an outside colour's time goes: the certificate (the projection that fails), the nearest colour in
-//! CIELAB, and the rest (the pull into the texel form).
+//! CIELAB, and the rest (the regularised projection onto it, into the texel form).
 //!
 //!     cargo run -j 1 -p specconv-spectral --example solid_cost [N]
 //!     cargo run -j 1 -p specconv-spectral --example solid_cost -- [N] outside   # for `perf`
@@ -85,16 +84,11 @@ fn main() {
     }
     let t = [0, 1, 2].map(|k| per_colour(&kinds[k], &mut bound));
     let mut s = vec![0.0; n];
-    let t_ref = per_colour(&kinds[2], |c, r0| {
-        s.copy_from_slice(r0);
-        black_box(bounded.bound_reference(c, &mut s));
-    });
     let inside = (t[0] * kinds[0].len() as f64 + t[1] * kinds[1].len() as f64)
         / (kinds[0].len() + kinds[1].len()).max(1) as f64;
     println!(
         "{count} uniform XYZ in [0, 1.2)³, {} ns per colour: in range {} ({:.0}), projected {} \
-         ({:.0}), in the solid on average {inside:.0}; outside {} ({:.0}, before {t_ref:.0}: \
-         {:.2}×)",
+         ({:.0}), in the solid on average {inside:.0}; outside {} ({:.0})",
         if std::path::Path::new("/proc/thread-self/schedstat").exists() {
             "CPU"
         } else {
@@ -106,14 +100,11 @@ fn main() {
         t[1],
         kinds[2].len(),
         t[2],
-        t_ref / t[2]
     );
     println!(
-        "outside / in the solid: {:.1} (before {:.1}); outside / projected: {:.1} (before {:.1})",
+        "outside / in the solid: {:.1}; outside / projected: {:.1}",
         t[2] / inside,
-        t_ref / inside,
         t[2] / t[1],
-        t_ref / t[1]
     );
     let (solid, white) = (bounded.solid(), a.white_xyz());
     let t_cert = per_colour(&kinds[2], |c, r0| {
@@ -124,8 +115,7 @@ fn main() {
     });
     println!(
         "an outside colour's time: certificate {t_cert:.0} ns, nearest in CIELAB {t_near:.0} ns, \
-         the pull into the texel form {:.0} ns (before {:.0} ns)",
+         the regularised projection into the texel form {:.0} ns",
         t[2] - t_cert - t_near,
-        t_ref - t_cert - t_near
     );
 }

@@ -1162,8 +1162,8 @@ mod tests {
                 d.blend = blend;
                 let (worst, outside) = check(&d, model);
                 assert!(outside > 10, "{name} {grid:?}: {outside} outside");
-                // The same spectra but for u rounded to float32: outside colours within a
-                // quarter of half's spacing (DUAL_F32_TOLERANCE), projected ones within
+                // The same spectra but for u rounded to float32: outside colours to rounding
+                // (their spectrum is made from float32 w), projected ones within
                 // |aᵢ|·|u|·2⁻²⁴ more (3e-5 at most here, a colour at the solid's surface).
                 assert!(worst < 5e-5, "{name} {grid:?} {blend}: {worst}");
                 d.bounded = false;
@@ -1578,12 +1578,13 @@ mod tests {
                 got.push(format!("{h:016x}"));
             }
         }
-        // Recorded with the search as it was at 469d71f.
+        // Recorded with the regularised projection of outside colours (2026-12-06; before it,
+        // at 469d71f: 32554b14…, d28a3399…, da0b824f…, f81309d4…).
         let want = [
-            "32554b148e5d1c61",
-            "d28a339934b684ed",
-            "da0b824fe25e7fda",
-            "f81309d4af0e360a",
+            "1a76c8418c6b5135",
+            "4359b8b53e952b51",
+            "42edea463026fd20",
+            "0387001723e79df7",
         ];
         assert_eq!(
             got,

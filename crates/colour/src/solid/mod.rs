@@ -123,6 +123,67 @@ impl Solid {
         self.project_dual(c, r0, r, iterations).0
     }
 
+    /// min ½‖r − r0‖² + ‖A·r − c‖²/(2μ) over 0 ≤ r ≤ 1, μ = `mu`·trace(A·Aᵀ), into `r`, with
+    /// its dual w = (c − A·r)/μ: the projection with the colour's constraint made a penalty.
+    /// Every c has a solution, unique and Lipschitz in c and r0 (the dual's Hessian is at
+    /// least μ), where the exact projection's w grows without bound as c nears the surface and
+    /// its spectrum with it (docs/hard-inputs.md, "Continuity near the surface of the solid").
+    pub fn project_regularised(
+        &self,
+        c: [f64; 3],
+        r0: &[f64],
+        r: &mut [f64],
+        mu: f64,
+        iterations: usize,
+    ) -> (Solve, [f64; 3]) {
+        let scale = c[0]
+            .abs()
+            .max(c[1].abs())
+            .max(c[2].abs())
+            .max(f64::MIN_POSITIVE);
+        let tol = 1e-13 * scale;
+        let solve = |mu: f64, w: &mut [f64; 3], r: &mut [f64]| {
+            let problem = Dual {
+                cols: &self.cols,
+                p: r0,
+                s: c,
+                mu: mu * self.trace,
+                eps: 0.0,
+            };
+            match problem.minimise(w, r, tol, iterations, |_, _, _, _| false) {
+                End::Converged => 0.0,
+                // Ψ's terms grow with w, and its rounding can stop the line search short of
+                // the tolerance: Newton steps that lower the residual then go on.
+                _ => problem.polish(w, r, tol, iterations),
+            }
+        };
+        let mut w = [0.0; 3];
+        let mut residual = solve(mu, &mut w, r);
+        // A large w (an HDR colour's r₀ is large) can stall far from the solution: then from
+        // a penalty 10⁸ times as strong, weakened tenfold a step, each from the last one's w.
+        if residual > 1e-9 * scale {
+            w = [0.0; 3];
+            for k in (1..=8).rev() {
+                solve(mu * 10f64.powi(k), &mut w, r);
+            }
+            residual = solve(mu, &mut w, r);
+        }
+        let solve = if residual <= 1e-9 * scale {
+            Solve::Solved
+        } else {
+            Solve::Unresolved
+        };
+        (solve, w)
+    }
+
+    /// clip(r0 + Aᵀw, 0, 1) into `r`, summed in the order of the dual's own pass (and of every
+    /// decoder of a compact texel), so that a w given is the spectrum's to the bit.
+    pub fn texel_form(&self, r0: &[f64], w: [f64; 3], r: &mut [f64]) {
+        for ((ri, &p), b) in r.iter_mut().zip(r0).zip(&self.cols) {
+            *ri = (p + b[0] * w[0] + b[1] * w[1] + b[2] * w[2]).clamp(0.0, 1.0);
+        }
+    }
+
     /// [`Solid::project_within`], with the dual unknowns w where it ended: when solved,
     /// r = clip(r0 + Aᵀw, 0, 1) (the compact texel's u, `specconv_spectral::compact`).
     pub fn project_dual(
@@ -275,6 +336,57 @@ impl Dual<'_> {
             hess: h,
             free,
         }
+    }
+
+    /// Full Newton steps from `w` while each lowers the largest residual component, at most
+    /// `iterations`; `r` ends as r(w). Returns the residual left.
+    pub fn polish(&self, w: &mut [f64; 3], r: &mut [f64], tol: f64, iterations: usize) -> f64 {
+        let mut stack = [0.0; STACK_BANDS];
+        let mut heap = Vec::new();
+        let trial_r: &mut [f64] = if r.len() <= STACK_BANDS {
+            &mut stack[..r.len()]
+        } else {
+            heap.resize(r.len(), 0.0);
+            &mut heap
+        };
+        let mut point = self.at(w, r);
+        let mut residual = point.grad.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        for _ in 0..iterations {
+            if residual <= tol {
+                break;
+            }
+            let h = point.hess;
+            let reg = self.mu + if point.free < 3 { self.eps } else { 0.0 };
+            let j = [
+                [h[0] + reg, h[1], h[2]],
+                [h[1], h[3] + reg, h[4]],
+                [h[2], h[4], h[5] + reg],
+            ];
+            let Some(delta) = mat3::solve(&j, point.grad.map(|v| -v)) else {
+                break;
+            };
+            // The first of t = 1, ½, ¼, … that lowers the residual (Ψ's own decrease is below
+            // its rounding here).
+            let mut step = None;
+            let mut t = 1.0;
+            for _ in 0..40 {
+                let trial = [0, 1, 2].map(|k| w[k] + t * delta[k]);
+                let next = self.at(&trial, trial_r);
+                let left = next.grad.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+                if left < residual {
+                    step = Some((trial, next, left));
+                    break;
+                }
+                t *= 0.5;
+            }
+            let Some((trial, next, left)) = step else {
+                break;
+            };
+            *w = trial;
+            r.copy_from_slice(trial_r);
+            (point, residual) = (next, left);
+        }
+        residual
     }
 
     /// Minimises Ψ from `w` by Newton steps with backtracking; `r` ends as r(w). `watch(w, δ,

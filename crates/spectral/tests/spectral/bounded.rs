@@ -204,11 +204,17 @@ fn outside_the_solid_the_nearest_colour_in_cielab_is_on_the_surface_and_beats_to
 fn brighter_than_white_and_negative_components() {
     let (a, _) = setup();
     let w = a.white_xyz();
-    // A grey above white: the nearest colour in CIELAB is the perfect white.
+    // A grey above white: the nearest colour in CIELAB is the perfect white. The penalty of
+    // the projection onto it leaves a band of least colour weight a hair below 1 where r₀ is
+    // below 1 there (1.5 × white: 0.99947 at 380 nm, 5e-8 of the colour), rather than a huge
+    // w for no visible colour.
     for k in [1.5, 100.0, 65504.0, 1e30] {
         let (r, outcome) = uplift(w.map(|v| v * k));
-        assert!(matches!(outcome, Outcome::Outside { .. }), "{k}");
-        assert!(r.iter().all(|v| (v - 1.0).abs() < 1e-9), "{k}: {r:?}");
+        let Outcome::Outside { reached, .. } = outcome else {
+            panic!("{k}: {outcome:?}");
+        };
+        assert!(r.iter().all(|v| (v - 1.0).abs() < 1e-3), "{k}: {r:?}");
+        assert!(delta_e76(a, reached, w) < 1e-4, "{k}: {reached:?}");
     }
     // HDR colours, negative luminance, negative components from wide gamuts: in range, finite,
     // with a colour that is A·r.
@@ -359,89 +365,82 @@ fn hostile(a: &Colorimetry, kind: usize, s: &mut SplitMix) -> [f64; 3] {
     }
 }
 
-/// Issue 45, item 16: outside the solid a search that ends on a face or an edge keeps its
-/// colour in closed form, and the trial projections of the pull towards grey start from the
-/// last solved trial's dual (`Bounded::bound`), where the method before (`Bounded::bound_reference`,
-/// kept here as the reference) pulled every colour, each trial from 0. The cold scan's
-/// answer hangs on whether projections onto colours a hair inside the surface happen to settle
-/// within their steps, so the two differ; over 100,000 hostile outside colours they give the
-/// same kind of answer (an in-range spectrum of the texel form, with the same certificate),
-/// and the new one is never farther from the input than 2.5 ΔE76 + 1 % of the reference's
-/// distance, and by more than 0.05 ΔE76 in at most 0.01 % of colours.
+/// Outside the solid, neighbouring colours get neighbouring spectra (docs/hard-inputs.md,
+/// "Continuity near the surface of the solid"). Each of 60,000 hostile outside colours is
+/// bounded again with X, Y and Z moved by 10⁻⁷ of their size (about a float32 ulp, what two
+/// routes to one colour differ by). Where the CIELAB search reaches the same colour both times
+/// (within 10⁻⁴ ΔE76), no band may move by more than 0.01 plus the move of the method's own
+/// spectrum r₀ (‖Δr₀‖₂: a projection moves no more than its start; an HDR colour's r₀ is
+/// large, and 10⁻⁷ of it is up to a few hundredths) plus float32 w's rounding at that band
+/// (|aᵢ|·|w|·2⁻²⁴ for each answer: the texel form of an HDR colour holds a large w). Before the regularised projection, a
+/// ladder of pulls towards grey chose the depth of the projection, and such neighbours were
+/// up to 1.0 apart (measured with this test: 3,406 of 54,474 colours). Where the search
+/// itself ends elsewhere (another local minimum: issue 45), the spectra may differ; those are
+/// counted, not checked.
 #[test]
-fn warm_started_outside_search_matches_the_reference_within_tolerance() {
+fn outside_colours_moved_by_rounding_keep_their_spectrum() {
     let (a, bounded) = setup();
     let n = a.bands();
-    let (mut r0, mut new, mut old) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+    let white = a.white_xyz();
+    let [mut r0, mut r, mut s0, mut moved, mut near] = [(); 5].map(|_| vec![0.0; n]);
     let mut state = SplitMix(4516);
-    let total = 100_000;
-    // Per kind: colours, identical answers, largest ΔE76 between the colours reached, farther
-    // by more than 0.05, nearer by more than 0.05.
-    let mut per_kind = [(0usize, 0usize, 0.0f64, 0usize, 0usize); 6];
-    let mut done = 0;
-    while done < total {
-        let kind = done % 6;
-        let c = hostile(a, kind, &mut state);
+    // Colours, those whose search reached the same colour, and those whose spectra moved.
+    let (mut done, mut same, mut apart, mut worst) = (0usize, 0usize, 0usize, 0.0f64);
+    while done < 60_000 {
+        let c = hostile(a, done % 6, &mut state);
         bounded.inner().uplift_f64(&c, &mut r0);
-        new.copy_from_slice(&r0);
-        let outcome = bounded.bound(c, &mut new);
-        let Outcome::Outside {
-            certificate,
-            reached,
-        } = outcome
-        else {
+        r.copy_from_slice(&r0);
+        let (Outcome::Outside { .. }, w) = bounded.bound_dual(c, &mut r) else {
             continue;
         };
         done += 1;
-        old.copy_from_slice(&r0);
-        let reference = bounded.bound_reference(c, &mut old);
-        let Outcome::Outside {
-            certificate: cert_old,
-            reached: reached_old,
-        } = reference
-        else {
-            panic!("{c:?}: {outcome:?} against {reference:?}");
+        let signs = [state.uniform(), state.uniform(), state.uniform()];
+        let d = [0, 1, 2].map(|k| c[k] * (1.0 + if signs[k] < 0.5 { 1e-7 } else { -1e-7 }));
+        bounded.inner().uplift_f64(&d, &mut s0);
+        moved.copy_from_slice(&s0);
+        let (Outcome::Outside { .. }, v) = bounded.bound_dual(d, &mut moved) else {
+            continue;
         };
-        assert_eq!(certificate, cert_old, "{c:?}");
-        assert!(in_range_with_xyz(a, reached, &new, 1e-9), "{c:?}: {new:?}");
-        let (de_new, de_old) = (delta_e76(a, c, reached), delta_e76(a, c, reached_old));
-        assert!(
-            de_new <= de_old + 2.5 + 0.01 * de_old,
-            "{c:?}: ΔE76 {de_new} from the input against the reference's {de_old}"
-        );
-        let k = &mut per_kind[kind];
-        k.0 += 1;
-        k.1 += usize::from(new == old);
-        k.2 = k.2.max(delta_e76(a, reached, reached_old));
-        k.3 += usize::from(de_new > de_old + 0.05);
-        k.4 += usize::from(de_new < de_old - 0.05);
+        let x = nearest::nearest_lab(bounded.solid(), white, c, &r0, &mut near);
+        let y = nearest::nearest_lab(bounded.solid(), white, d, &s0, &mut near);
+        if delta_e76(a, x, y) > 1e-4 {
+            continue;
+        }
+        same += 1;
+        let start: f64 = r0.iter().zip(&s0).map(|(p, q)| (p - q) * (p - q)).sum();
+        // Band i's share of float32 w's rounding, for each of the two: |aᵢ|·|w|·2⁻²⁴.
+        let rounding = |i: usize| {
+            (0..3)
+                .map(|k| a.weights[k][i].abs() * (w[k].abs() + v[k].abs()))
+                .sum::<f64>()
+                * 2f64.powi(-24)
+        };
+        let beyond = (0..n).fold(0.0f64, |m, i| {
+            m.max((r[i] - moved[i]).abs() - start.sqrt() - rounding(i))
+        });
+        worst = worst.max(beyond);
+        apart += usize::from(beyond > 0.01);
     }
-    eprintln!("uniform, HDR, negative, huge, near black, just outside the surface: (colours, identical, max ΔE76 apart, farther, nearer) {per_kind:?}");
-    assert!(per_kind.iter().all(|k| k.0 > 0), "{per_kind:?}");
-    let farther: usize = per_kind.iter().map(|k| k.3).sum();
-    // Measured: 5 (2 HDR, 3 just outside the surface), and 635 nearer.
-    assert!(
-        farther * 10_000 <= total,
-        "{farther} farther by more than 0.05 ΔE76"
+    eprintln!("{same} of {done} outside colours reach the same colour moved by 1e-7; {apart} of those moved a band by more than 0.01 beyond their r₀'s move and w's rounding (at most {worst:.2e})");
+    assert!(same * 10 >= done * 8, "{same} of {done}");
+    assert_eq!(
+        apart, 0,
+        "a band moved {worst} beyond r₀'s move and w's rounding"
     );
 }
 
-/// Issue 45, item 16: where the CIELAB search ends on a face or an edge of the solid (one or
-/// two bands free), the texel form clip(r₀ + Aᵀw, 0, 1) reaches that very colour with a finite
-/// w, in closed form (`Bounded::on_the_face`), instead of r₀ projected onto a colour pulled in
-/// towards grey. Over uniform, negative and just-outside colours: every answer is in the texel
-/// form with float32 w (the compact texel's u: each band within 2⁻¹³ of its value, at least
-/// 2⁻¹⁴), and most face or edge answers are the search's own colour (measured: 2,473 of 3,171;
-/// without the closed form, where only the pull's first trial keeps it, 1,556).
+/// Every outside answer is in the texel form, clip(r₀ + Aᵀw, 0, 1), of its float32 w to the
+/// bit, as a compact texel stores it (`bound_dual`'s w is that float32 w), and its colour is
+/// near the colour the CIELAB search reached: the penalty gives up a little of it. Over
+/// uniform, negative and just-outside colours (measured: at most 0.27 ΔE76, where the old pull
+/// towards grey gave up to 0.18 on the cubes of `outside_the_solid_…`).
 #[test]
-fn outside_colours_on_a_face_or_an_edge_keep_the_searchs_own_colour() {
+fn outside_answers_are_their_float32_texels_near_the_searchs_colour() {
     let (a, bounded) = setup();
     let n = a.bands();
     let (mut r0, mut r, mut near) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
     let mut state = SplitMix(4516);
-    // Face or edge answers, and those that kept the search's colour.
-    let (mut faces, mut kept) = (0usize, 0usize);
-    let mut done = 0;
+    let (mut done, mut worst) = (0, 0.0f64);
     while done < 6_000 {
         let c = hostile(a, [0, 2, 5][done % 3], &mut state);
         bounded.inner().uplift_f64(&c, &mut r0);
@@ -450,25 +449,15 @@ fn outside_colours_on_a_face_or_an_edge_keep_the_searchs_own_colour() {
             continue;
         };
         done += 1;
-        let w32 = w.map(|v| f64::from(v as f32));
+        assert_eq!(w, w.map(|v| f64::from(v as f32)), "{c:?}: w is no float32");
         for (i, &v) in r.iter().enumerate() {
-            let z: f64 = r0[i] + (0..3).map(|k| a.weights[k][i] * w32[k]).sum::<f64>();
-            let err = (z.clamp(0.0, 1.0) - v).abs();
-            assert!(
-                err <= v.max(1.0 / 16384.0) / 8192.0,
-                "{c:?}: band {i} is {v}, float32 w gives {z}"
-            );
+            let z =
+                r0[i] + a.weights[0][i] * w[0] + a.weights[1][i] * w[1] + a.weights[2][i] * w[2];
+            assert_eq!(v, z.clamp(0.0, 1.0), "{c:?}: band {i}");
         }
         let x = nearest::nearest_lab(bounded.solid(), a.white_xyz(), c, &r0, &mut near);
-        let free = near.iter().filter(|&&v| v > 0.0 && v < 1.0).count();
-        if free == 1 || free == 2 {
-            faces += 1;
-            kept += usize::from(delta_e76(a, x, reached) <= 1e-6);
-        }
+        worst = worst.max(delta_e76(a, x, reached));
     }
-    eprintln!("{faces} outside colours end on a face or an edge; {kept} keep the search's colour");
-    assert!(
-        faces >= 1_000 && kept * 10 >= faces * 6,
-        "{kept} of {faces}"
-    );
+    eprintln!("outside answers at most ΔE76 {worst:.2e} from the search's colour");
+    assert!(worst <= 0.3, "{worst}");
 }
