@@ -93,7 +93,8 @@ def steps(a, b):
         spacing = np.maximum(spacing, 2e-6)
         d = np.where(nan | (d == 0), 0, np.ceil(np.abs(fa - fb) / spacing - 1e-9)).astype(np.int64)
         beyond = int((d > 1).any(axis=-1).sum())
-        out.append({"level": level, "identical": float((pa.view(signed) == pb.view(signed)).mean()), "max_steps": int(d.max()), "samples": int(d.size), "pixels_beyond_one": beyond})
+        gap = np.where(nan, 0.0, np.abs(fa - fb))
+        out.append({"level": level, "identical": float((pa.view(signed) == pb.view(signed)).mean()), "max_steps": int(d.max()), "max_abs": float(np.nanmax(gap)) if gap.size else 0.0, "samples": int(d.size), "pixels_beyond_one": beyond})
     print(json.dumps(out))
 
 

@@ -42,22 +42,25 @@ fn expand_matches_convert(dir: &Scratch, input: &Path, name: &str, extra: &[&str
     assert!(!levels.is_empty());
     let (mut same, mut all) = (0.0, 0.0);
     // The chart's colours outside the object-colour solid (negative components, beyond the
-    // spectrum locus) take a spectrum found by a search that a float32 ulp of the colour can
-    // move: `convert` reaches the stored colour's XYZ through OpenColorIO, not by the header's
-    // matrix to the bit, so those (4 of the chart's 48) may differ; the chart's smaller levels
-    // (2×1 texels and less) average them in. The HDR image's colours brighter than white are
-    // all outside the solid: a fifth to a quarter of its texels differ (measured 568 and 738
-    // of 2,867 with `-d float` and with lanczos3), and are checked for no more.
+    // spectrum locus) and the HDR image's (brighter than white) take r₀'s regularised
+    // projection onto the nearest colour in CIELAB, which the search finds to its own
+    // tolerance: `convert` reaches the stored colour's XYZ through OpenColorIO, not by the
+    // header's matrix to the bit, so their bands may differ by a little, many half steps of a
+    // band near 0 (measured: 59 steps, 169 of 2,867 texels, at the HDR image's level 0) but
+    // never more than one half step of a value in [0.5, 1] (2⁻¹¹) at any level. Before the
+    // regularised projection, 1.0 (a band at 0 against 1).
     let chart = name.starts_with("chart") || name == "grid" || name == "open";
     let hdr = name == "float" || name == "lanczos3";
     for l in levels {
         let n = l["samples"].as_f64().unwrap();
         same += l["identical"].as_f64().unwrap() * n;
         all += n;
+        // (Unbounded bands run above 1, where a half step is larger.)
+        assert!(
+            name == "unbounded" || l["max_abs"].as_f64().unwrap() <= 2f64.powi(-11),
+            "{name}: {l}"
+        );
         if hdr {
-            let pixels = l["samples"].as_f64().unwrap() / 36.0;
-            let beyond = l["pixels_beyond_one"].as_f64().unwrap();
-            assert!(l["level"] != 0 || beyond <= 0.3 * pixels, "{name}: {l}");
             continue;
         }
         // Level 0 within one half step; the filtered levels carry level 0's float32
@@ -65,7 +68,8 @@ fn expand_matches_convert(dir: &Scratch, input: &Path, name: &str, extra: &[&str
         // filters with negative lobes add some: 3 steps at most measured.
         if chart {
             if l["level"] == 0 {
-                assert!(l["pixels_beyond_one"].as_u64().unwrap() <= 4, "{name}: {l}");
+                // Measured: 1 of 48 (4 before the regularised projection).
+                assert!(l["pixels_beyond_one"].as_u64().unwrap() <= 1, "{name}: {l}");
             }
         } else {
             // Rounding by colour picks, band by band, the half below or above: where the
