@@ -163,3 +163,34 @@ def test_colour_errors_say_what_is_wrong():
         specconv.rgb_to_xyz(np.zeros((1, 3)), "sRGB Texture")
     with pytest.raises(specconv.OptionError, match="data"):
         specconv.rgb_to_xyz(np.zeros((1, 3)), "Raw")
+
+
+def test_saturated_acescg_gradients_keep_their_spectra_continuous_under_other_light():
+    """A hue sweep of the most saturated ACEScg colours (20,000 steps, V = 0.5 and 1: most
+    outside the object-colour solid): where neighbouring colours' spectra are close under D65
+    (CIEDE2000 ≤ 0.05, colour-science's, CIE 1931 2°), they stay close under A and F11, where
+    a metamer would show: at most 0.5 (measured: 0.24 and 0.21). docs/hard-inputs.md,
+    "Continuity near the surface of the solid": the ladder of pulls the outside colours took
+    before gave steps of 4.1 under F11 on this ramp (python/bench/continuity.py)."""
+    import sys
+    from pathlib import Path
+
+    # CIELAB under a light, as the bench computes it (one definition).
+    sys.path.insert(0, str(Path(__file__).parents[1] / "bench"))
+    from continuity import lab_under
+
+    wl = specconv.Model.builtin().wavelengths
+    hue = np.linspace(0.0, 1.0, 20_000, endpoint=False)
+    for value in (0.5, 1.0):
+        hsv = np.stack([hue, np.ones_like(hue), np.full_like(hue, value)], axis=1)
+        xyz = specconv.rgb_to_xyz(colour.HSV_to_RGB(hsv).astype(np.float32), "ACEScg")
+        r = specconv.uplift(xyz.astype(np.float32)).astype(np.float64)
+        step = {
+            light: colour.delta_E(lab[1:], lab[:-1], method="CIE 2000")
+            for light, lab in ((lt, lab_under(r, wl, lt)) for lt in ("D65", "A", "F11"))
+        }
+        close = step["D65"] <= 0.05
+        assert close.sum() > 19_000, (value, close.sum())
+        for light in ("A", "F11"):
+            worst = step[light][close].max()
+            assert worst <= 0.5, (value, light, worst)
