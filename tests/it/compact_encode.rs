@@ -226,7 +226,7 @@ fn compare(
                 );
                 continue;
             }
-            let tol = bound(f64::from(l), u(&lib, b) + u(texel, b));
+            let tol = texel_bound(f64::from(l), u(&lib, b) + u(texel, b));
             ratio = ratio.max((f64::from(c) - f64::from(l)).abs() / tol);
             // The library decodes u = 0 texels in float32 (maps and sums), the header in double:
             // float32's rounding of terms up to 16 times the colour's size.
@@ -257,20 +257,27 @@ fn compare(
 }
 
 /// The float32 bound on a band of value `v` between two texels of one colour, `au` the sum of
-/// |a_b,k|·|u_k| of both texels' u: the projection's spectrum is unique, and each encoder rounds
-/// u to float32 once (|a|·|u|·2⁻²⁴ each), the decoder rounds the band once (2⁻²⁴·|v|), and an
-/// outside colour's u need only keep its search's spectrum within 2⁻¹³ of each band's value
-/// (at least 2⁻¹⁴: `DUAL_F32_TOLERANCE`), from each side.
+/// |a_b,k|·|u_k| of both texels' u: the projection's spectrum is unique, each encoder rounds u
+/// to float32 once (|a|·|u|·2⁻²⁴ each), and the decoder rounds the band once (2⁻²⁴·|v|). An
+/// outside colour's spectrum is made from its float32 u, so it needs nothing more (before the
+/// regularised projection, 2·2⁻¹³·max(|v|, 2⁻¹⁴) more: the tolerance of a pull).
+fn texel_bound(v: f64, au: f64) -> f64 {
+    2f64.powi(-23) * (au + 1.0 + v.abs())
+}
+
+/// [`texel_bound`] with a relative term for decodings that round more than once (2·2⁻¹³ of the
+/// value, at least of 2⁻¹⁴): the header's decoding against the library's float32 one, and the
+/// example program's interpolated values.
 fn bound(v: f64, au: f64) -> f64 {
     2f64.powi(-23) * (au + 1.0) + 2.0 * 2f64.powi(-13) * v.abs().max(2f64.powi(-14))
 }
 
 /// The bounds of [`compare`]: every texel within the float32 bound, outside the solid too, and
-/// the C header's decoding within it. The outside search decides a pull by the dual's last bits
-/// (docs/compact.md), so this holds only while the port computes r₀, the CIELAB search and
-/// the closed form on a face bit for bit as the library does (before issue 45, 453 of 56,801
-/// outside texels were not; the ΔE76 beyond the library's + 1 % of those, `outside_worst`,
-/// shows how far apart a failure is).
+/// the C header's decoding within it. An outside colour's u is the end of the CIELAB search and
+/// a projection, so this holds only while the port computes r₀, the search and the projection
+/// bit for bit as the library does (before issue 45, 453 of 56,801 outside texels were not;
+/// the ΔE76 beyond the library's + 1 % of those, `outside_worst`, shows how far apart a
+/// failure is).
 fn holds(found: &Found) {
     assert!(found.worst_ratio <= 1.0, "{found:?}");
     assert!(found.decoder_ratio <= 1.0, "{found:?}");
