@@ -1230,15 +1230,13 @@ static double scs_above_(const scs_model *m, const scs_node_ *nd, double u) {
     return t * t * (3.0 - 2.0 * t);
 }
 
-/* r0 of an ordinary colour (X+Y+Z ≥ dark) as the library's uplift computes it, bit for bit:
- * the leaves of xy in the order Blend::weights gives them (each blended split's lower side
- * first, by recursion no deeper than the tree), r = Σ w·o + T·(c·w), left to right. *first:
- * no leaf added yet. */
-static void scs_r0_leaves_(const scs_model *m, long i, double weight, const double xy[2], const double c[3],
-                           double *r, int *first) {
-    size_t n = (size_t)m->n, b;
-    const double *t;
-    double cw[3];
+/* Each leaf of xy with its blend weight, to f, in the order Blend::weights gives them (each
+ * blended split's lower side first, by recursion no deeper than the tree): the one descent of
+ * r0's sum and of the blended map. */
+typedef void (*scs_leaf_fn_)(const scs_model *m, long k, double weight, void *ctx);
+
+static void scs_leaves_(const scs_model *m, long i, double weight, const double xy[2], scs_leaf_fn_ f,
+                        void *ctx) {
     while (!m->nodes[i].leaf) {
         const scs_node_ *nd = &m->nodes[i];
         double s = scs_above_(m, nd, xy[nd->axis]);
@@ -1247,41 +1245,43 @@ static void scs_r0_leaves_(const scs_model *m, long i, double weight, const doub
         } else if (s == 0) {
             i = nd->below;
         } else {
-            scs_r0_leaves_(m, nd->below, weight * (1.0 - s), xy, c, r, first);
+            scs_leaves_(m, nd->below, weight * (1.0 - s), xy, f, ctx);
             weight *= s;
             i = nd->above;
         }
     }
-    t = m->maps + (size_t)m->nodes[i].k * 4 * n;
-    cw[0] = c[0] * weight; cw[1] = c[1] * weight; cw[2] = c[2] * weight;
-    for (b = 0; b < n; b++) { /* left to right, r[b] first (runtime.rs kernel_weighted) */
-        if (*first)
-            r[b] = t[3 * n + b] * weight + t[b] * cw[0] + t[n + b] * cw[1] + t[2 * n + b] * cw[2];
-        else
-            r[b] = r[b] + t[3 * n + b] * weight + t[b] * cw[0] + t[n + b] * cw[1] + t[2 * n + b] * cw[2];
-    }
-    *first = 0;
+    f(m, m->nodes[i].k, weight, ctx);
 }
 
-/* The blended map of xy (Uplifter::map_xy) added into t (4n), for colours that are not
- * ordinary. */
-static void scs_map_xy_(const scs_model *m, long i, double weight, const double xy[2], double *t) {
-    size_t n4 = 4 * (size_t)m->n, j;
-    const double *map;
-    while (!m->nodes[i].leaf) {
-        const scs_node_ *nd = &m->nodes[i];
-        double s = scs_above_(m, nd, xy[nd->axis]);
-        if (s == 1) {
-            i = nd->above;
-        } else if (s == 0) {
-            i = nd->below;
-        } else {
-            scs_map_xy_(m, nd->below, weight * (1.0 - s), xy, t);
-            weight *= s;
-            i = nd->above;
-        }
+/* r0 of an ordinary colour (X+Y+Z ≥ dark) as the library's uplift computes it, bit for bit:
+ * r = Σ w·o + T·(c·w) over the leaves, left to right (runtime.rs kernel_weighted). */
+typedef struct {
+    const double *c;
+    double *r;
+    int first; /* no leaf added yet */
+} scs_r0_sum_;
+
+static void scs_r0_leaf_(const scs_model *m, long k, double weight, void *ctx) {
+    scs_r0_sum_ *a = (scs_r0_sum_ *)ctx;
+    size_t n = (size_t)m->n, b;
+    const double *t = m->maps + (size_t)k * 4 * n;
+    double cw[3];
+    cw[0] = a->c[0] * weight; cw[1] = a->c[1] * weight; cw[2] = a->c[2] * weight;
+    for (b = 0; b < n; b++) { /* r[b] first */
+        if (a->first)
+            a->r[b] = t[3 * n + b] * weight + t[b] * cw[0] + t[n + b] * cw[1] + t[2 * n + b] * cw[2];
+        else
+            a->r[b] = a->r[b] + t[3 * n + b] * weight + t[b] * cw[0] + t[n + b] * cw[1] + t[2 * n + b] * cw[2];
     }
-    map = m->maps + (size_t)m->nodes[i].k * n4;
+    a->first = 0;
+}
+
+/* The blended map of xy (Uplifter::map_xy) added into t (4n, ctx), for colours that are not
+ * ordinary. */
+static void scs_map_leaf_(const scs_model *m, long k, double weight, void *ctx) {
+    double *t = (double *)ctx;
+    size_t n4 = 4 * (size_t)m->n, j;
+    const double *map = m->maps + (size_t)k * n4;
     for (j = 0; j < n4; j++) t[j] += weight * map[j];
 }
 
@@ -1291,11 +1291,15 @@ static void scs_map_xy_(const scs_model *m, long i, double weight, const double 
 static void scs_r0_(const scs_model *m, const double c[3], double *r, double *t) {
     size_t n = (size_t)m->n, b;
     double s = c[0] + c[1] + c[2], mx, u[3], su, xy[2], weight_o;
-    int first = 1, k;
+    int k;
     if (s >= m->dark) { /* ordinary; float colours are far below the overflow guard */
+        scs_r0_sum_ sum;
+        sum.c = c;
+        sum.r = r;
+        sum.first = 1;
         xy[0] = c[0] / s;
         xy[1] = c[1] / s;
-        scs_r0_leaves_(m, 0, 1.0, xy, c, r, &first);
+        scs_leaves_(m, 0, 1.0, xy, scs_r0_leaf_, &sum);
         return;
     }
     mx = fabs(c[0]);
@@ -1317,7 +1321,7 @@ static void scs_r0_(const scs_model *m, const double c[3], double *r, double *t)
         weight_o = 0;
     }
     memset(t, 0, sizeof(double) * 4 * n);
-    scs_map_xy_(m, 0, 1.0, xy, t);
+    scs_leaves_(m, 0, 1.0, xy, scs_map_leaf_, t);
     for (b = 0; b < n; b++) {
         double lin = t[b] * u[0] + t[n + b] * u[1] + t[2 * n + b] * u[2];
         double v = lin * mx + weight_o * t[3 * n + b];

@@ -9,10 +9,10 @@
 
 use crate::choices::{Alpha, NonFinite};
 use crate::colour::{self, Decoded, Header, InputSpace};
-use crate::key_hash::KeyHash;
 use crate::{Error, Options, Result};
 use rayon::prelude::*;
 use specconv_spectral::compact::{Compact, Precision, TEXEL};
+use specconv_spectral::key_hash::KeyHash;
 use std::collections::HashMap;
 
 /// Pixels per parallel piece: large enough that a piece outweighs its scheduling.

@@ -26,7 +26,6 @@ pub mod header;
 pub mod in_memory;
 pub mod input;
 pub mod interop;
-mod key_hash;
 pub mod memory;
 mod mip;
 pub mod palette;

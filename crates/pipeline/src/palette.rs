@@ -6,9 +6,9 @@
 //! (a 2048² one has 352,000 distinct of 4.2 million), so the palette costs less memory than
 //! the texels; where it would cost more (noise, float textures), there is none.
 
-use crate::key_hash::KeyHash;
 use rayon::prelude::*;
 use specconv_spectral::compact::{Compact, TEXEL};
+use specconv_spectral::key_hash::KeyHash;
 use std::collections::HashMap;
 
 /// Distinct texels decoded per parallel piece.

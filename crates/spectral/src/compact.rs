@@ -209,7 +209,7 @@ const _: () = assert!(std::mem::size_of::<([u32; 3], ([f32; STORED], Solved))>()
 #[derive(Default)]
 struct StoreCache {
     owner: Option<(u64, Precision)>,
-    map: std::collections::HashMap<[u32; 3], ([f32; STORED], Solved)>,
+    map: std::collections::HashMap<[u32; 3], ([f32; STORED], Solved), crate::key_hash::KeyHash>,
 }
 
 thread_local! {

@@ -24,6 +24,7 @@ pub mod baselines;
 pub mod bounded;
 pub mod compact;
 pub mod emission;
+pub mod key_hash;
 pub mod method;
 pub mod otsu2018;
 pub mod resample;

@@ -1,14 +1,15 @@
-//! The hasher of the keys that number pixels and texels ([`crate::in_memory`],
-//! [`crate::palette`]).
+//! The hasher of the keys that number pixels and texels: the compact encoder's remembered
+//! texels ([`crate::compact`]) and the pipeline's numbering of distinct pixels and texels
+//! (`specconv_pipeline::in_memory`, `specconv_pipeline::palette`).
 
 /// Hashes a pixel's or texel's key: one multiply (Fibonacci hashing) of keys that are already
 /// well spread in their low bits; std's SipHash guards against keys chosen to collide, which
 /// costs 3× here and buys nothing (a hostile image only slows its own load).
-pub(crate) type KeyHash = std::hash::BuildHasherDefault<KeyHasher>;
+pub type KeyHash = std::hash::BuildHasherDefault<KeyHasher>;
 
 /// [`KeyHash`]'s hasher.
 #[derive(Default)]
-pub(crate) struct KeyHasher(u64);
+pub struct KeyHasher(u64);
 
 impl std::hash::Hasher for KeyHasher {
     fn finish(&self) -> u64 {
@@ -19,6 +20,10 @@ impl std::hash::Hasher for KeyHasher {
         for b in bytes {
             self.write_u64(u64::from(*b));
         }
+    }
+
+    fn write_u32(&mut self, v: u32) {
+        self.write_u64(u64::from(v));
     }
 
     fn write_u64(&mut self, v: u64) {
