@@ -61,7 +61,7 @@ impl Counts {
 const BLOCK: usize = 64;
 
 /// The penalty weight of an outside colour's projection onto the colour reached
-/// ([`Bounded::onto_reached`]), as a fraction of trace(A·Aᵀ): small enough that the spectrum's
+/// (`Bounded::onto_reached`), as a fraction of trace(A·Aᵀ): small enough that the spectrum's
 /// colour stays within a few hundredths of ΔE00 of the colour reached, large enough that
 /// neighbouring colours get neighbouring spectra (docs/hard-inputs.md, "Continuity near the
 /// surface of the solid": 10⁻⁷ lets the step where the solid's surface is crossed jump, 10⁻¹⁰
