@@ -821,6 +821,19 @@ static int scs_certifies_(const scs_cols_ *a, const double c[3], const double u0
 
 enum { SCS_END_CONVERGED_, SCS_END_WATCHED_, SCS_END_STALLED_ };
 
+/* The Newton step at pt, −(H + reg·I)⁻¹·∇Ψ, reg = μ plus eps where fewer than three bands are
+ * free (Dual::newton): 0 where that matrix is singular. */
+static int scs_newton_(const scs_dual_ *d, const scs_point_ *pt, double delta[3]) {
+    double j[3][3], neg[3], reg = d->mu + (pt->free < 3 ? d->eps : 0);
+    const double *h = pt->hess;
+    int k;
+    j[0][0] = h[0] + reg; j[0][1] = h[1]; j[0][2] = h[2];
+    j[1][0] = h[1]; j[1][1] = h[3] + reg; j[1][2] = h[4];
+    j[2][0] = h[2]; j[2][1] = h[4]; j[2][2] = h[5] + reg;
+    for (k = 0; k < 3; k++) neg[k] = -pt->grad[k];
+    return scs_solve3_(j, neg, delta);
+}
+
 /* Newton steps with backtracking on Ψ from w (Dual::minimise); r ends as r(w); scratch: n
  * doubles. *residual: the largest gradient component left. At most `iterations` steps, each
  * with at most ~2,100 halvings (t·|δ| > 1e-15·|w| ends within the exponent range). */
@@ -832,18 +845,12 @@ static int scs_minimise_(const scs_dual_ *d, double w[3], double *r, double *scr
     double res = INFINITY;
     scs_dual_at_(d, w, cur, &point);
     for (step = 0; step < iterations; step++) {
-        double j[3][3], neg[3], delta[3], reg, slope, t = 1, size, reach;
-        const double *h = point.hess;
+        double delta[3], slope, t = 1, size, reach;
         int accepted = 0;
         res = scs_maxabs3_(point.grad, 0);
         if (res <= tol) { end = SCS_END_CONVERGED_; break; }
         end = SCS_END_STALLED_;
-        reg = d->mu + (point.free < 3 ? d->eps : 0);
-        j[0][0] = h[0] + reg; j[0][1] = h[1]; j[0][2] = h[2];
-        j[1][0] = h[1]; j[1][1] = h[3] + reg; j[1][2] = h[4];
-        j[2][0] = h[2]; j[2][1] = h[4]; j[2][2] = h[5] + reg;
-        for (k = 0; k < 3; k++) neg[k] = -point.grad[k];
-        if (!scs_solve3_(j, neg, delta)) break;
+        if (!scs_newton_(d, &point, delta)) break;
         if (watch && !(point.free >= 3 && step < 4)) {
             const double *us[2];
             int q;
@@ -1140,16 +1147,10 @@ static double scs_polish_(const scs_dual_ *d, double w[3], double *r, double *sc
     scs_dual_at_(d, w, r, &point);
     res = scs_maxabs3_(point.grad, 0);
     for (it = 0; it < iterations; it++) {
-        double j[3][3], neg[3], delta[3], trial[3], reg, t = 1, left = 0;
-        const double *h = point.hess;
+        double delta[3], trial[3], t = 1, left = 0;
         int found = 0;
         if (res <= tol) break;
-        reg = d->mu + (point.free < 3 ? d->eps : 0);
-        j[0][0] = h[0] + reg; j[0][1] = h[1]; j[0][2] = h[2];
-        j[1][0] = h[1]; j[1][1] = h[3] + reg; j[1][2] = h[4];
-        j[2][0] = h[2]; j[2][1] = h[4]; j[2][2] = h[5] + reg;
-        for (k = 0; k < 3; k++) neg[k] = -point.grad[k];
-        if (!scs_solve3_(j, neg, delta)) break;
+        if (!scs_newton_(d, &point, delta)) break;
         for (q = 0; q < 40; q++) {
             for (k = 0; k < 3; k++) trial[k] = w[k] + t * delta[k];
             scs_dual_at_(d, trial, scratch, &next);

@@ -338,6 +338,19 @@ impl Dual<'_> {
         }
     }
 
+    /// The Newton step at `point`: −(H + reg·I)⁻¹·∇Ψ, reg = μ, plus eps where fewer than three
+    /// bands are free; `None` where that matrix is singular.
+    fn newton(&self, point: &Point) -> Option<[f64; 3]> {
+        let reg = self.mu + if point.free < 3 { self.eps } else { 0.0 };
+        let h = point.hess;
+        let j = [
+            [h[0] + reg, h[1], h[2]],
+            [h[1], h[3] + reg, h[4]],
+            [h[2], h[4], h[5] + reg],
+        ];
+        mat3::solve(&j, point.grad.map(|v| -v))
+    }
+
     /// Full Newton steps from `w` while each lowers the largest residual component, at most
     /// `iterations`; `r` ends as r(w). Returns the residual left.
     pub fn polish(&self, w: &mut [f64; 3], r: &mut [f64], tol: f64, iterations: usize) -> f64 {
@@ -355,14 +368,7 @@ impl Dual<'_> {
             if residual <= tol {
                 break;
             }
-            let h = point.hess;
-            let reg = self.mu + if point.free < 3 { self.eps } else { 0.0 };
-            let j = [
-                [h[0] + reg, h[1], h[2]],
-                [h[1], h[3] + reg, h[4]],
-                [h[2], h[4], h[5] + reg],
-            ];
-            let Some(delta) = mat3::solve(&j, point.grad.map(|v| -v)) else {
+            let Some(delta) = self.newton(&point) else {
                 break;
             };
             // The first of t = 1, ½, ¼, … that lowers the residual (Ψ's own decrease is below
@@ -420,14 +426,7 @@ impl Dual<'_> {
                 break;
             }
             end = End::Stalled(residual);
-            let reg = self.mu + if point.free < 3 { self.eps } else { 0.0 };
-            let h = point.hess;
-            let j = [
-                [h[0] + reg, h[1], h[2]],
-                [h[1], h[3] + reg, h[4]],
-                [h[2], h[4], h[5] + reg],
-            ];
-            let Some(delta) = mat3::solve(&j, point.grad.map(|v| -v)) else {
+            let Some(delta) = self.newton(&point) else {
                 break;
             };
             if watch(w, &delta, point.free, step) {
