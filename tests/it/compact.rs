@@ -68,7 +68,7 @@ fn expand_matches_convert(dir: &Scratch, input: &Path, name: &str, extra: &[&str
         // filters with negative lobes add some: 3 steps at most measured.
         if chart {
             if l["level"] == 0 {
-                // Measured: 1 of 48 (4 before the regularised projection).
+                // Measured: 1 of 48 (the bound was 4 before the regularised projection).
                 assert!(l["pixels_beyond_one"].as_u64().unwrap() <= 1, "{name}: {l}");
             }
         } else {
