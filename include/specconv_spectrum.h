@@ -1208,7 +1208,8 @@ static int scs_project_regularised_(const scs_solid_ *s, const double c[3], cons
  * projection keeps its last w. */
 static void scs_onto_reached_(const scs_solid_ *s, const double near[3], const double *r0, double *r,
                               double *scratch, double w[3]) {
-    long i;
+    scs_dual_ pass;
+    scs_point_ point;
     int k;
     scs_project_regularised_(s, near, r0, r, scratch, w);
     if (isfinite(w[0]) && isfinite(w[1]) && isfinite(w[2])) {
@@ -1216,9 +1217,12 @@ static void scs_onto_reached_(const scs_solid_ *s, const double near[3], const d
     } else {
         w[0] = w[1] = w[2] = 0;
     }
-    for (i = 0; i < s->a.n; i++)
-        r[i] = scs_clamp01_(r0[i] + scs_col_(&s->a, i, 0) * w[0] + scs_col_(&s->a, i, 1) * w[1] +
-                            scs_col_(&s->a, i, 2) * w[2]);
+    /* r from that w by the dual's own pass (Solid::texel_form). */
+    pass.b = s->a;
+    pass.p = r0;
+    pass.s[0] = pass.s[1] = pass.s[2] = 0;
+    pass.mu = pass.eps = 0;
+    scs_dual_at_(&pass, w, r, &point);
 }
 
 /* The blend weight of split nd's upper side at coordinate u (Blend::above; the hard switch

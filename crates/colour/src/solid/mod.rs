@@ -176,12 +176,17 @@ impl Solid {
         (solve, w)
     }
 
-    /// clip(r0 + Aᵀw, 0, 1) into `r`, summed in the order of the dual's own pass (and of every
-    /// decoder of a compact texel), so that a w given is the spectrum's to the bit.
+    /// clip(r0 + Aᵀw, 0, 1) into `r` by the dual's own pass (whose sum every decoder of a
+    /// compact texel keeps), so that a w given is the spectrum's to the bit.
     pub fn texel_form(&self, r0: &[f64], w: [f64; 3], r: &mut [f64]) {
-        for ((ri, &p), b) in r.iter_mut().zip(r0).zip(&self.cols) {
-            *ri = (p + b[0] * w[0] + b[1] * w[1] + b[2] * w[2]).clamp(0.0, 1.0);
-        }
+        let pass = Dual {
+            cols: &self.cols,
+            p: r0,
+            s: [0.0; 3],
+            mu: 0.0,
+            eps: 0.0,
+        };
+        pass.at(&w, r);
     }
 
     /// [`Solid::project_within`], with the dual unknowns w where it ended: when solved,
