@@ -259,9 +259,9 @@ fn the_material_decides_and_the_layer_points_at_the_spectral_files() {
 fn dry_run_prints_decisions_and_writes_nothing() {
     let Some(python) = usd() else { return };
     let dir = Scratch::new("asset-dry");
-    stage(&dir.0, "basic");
+    let shot = basic_shot(&dir);
     let out = dir.path("out");
-    let run = asset(&python, &dir.path("shot.usda"), &out)
+    let run = asset(&python, &shot.join("shot.usda"), &out)
         .args(["--dry-run", "--json"])
         .ok();
     let decisions = run.json_lines();

@@ -310,12 +310,18 @@ pub fn json(text: &str) -> serde_json::Value {
 }
 
 /// A scratch directory removed when dropped.
+///
+/// It sits one level inside a folder of its own (`specconv-it-NAME-PID/work`), so a path a
+/// test's files name with `../` resolves inside that private folder, never to whatever an
+/// earlier run left in the shared temporary directory: a test that reads outside its scratch
+/// fails on every machine, not only on a fresh one.
 pub struct Scratch(pub PathBuf);
 
 impl Scratch {
     pub fn new(name: &str) -> Scratch {
-        let dir = std::env::temp_dir().join(format!("specconv-it-{name}-{}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&dir);
+        let own = std::env::temp_dir().join(format!("specconv-it-{name}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&own);
+        let dir = own.join("work");
         std::fs::create_dir_all(&dir).unwrap();
         Scratch(dir)
     }
@@ -343,7 +349,8 @@ impl Scratch {
 
 impl Drop for Scratch {
     fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
+        // The private parent too: what a test wrote beside its scratch goes with it.
+        let _ = std::fs::remove_dir_all(self.0.parent().unwrap_or(&self.0));
     }
 }
 
