@@ -708,6 +708,12 @@ float scs_decode_at(const scs_model *m, const float texel[6], double wavelength_
 #define SCS_NEAREST_TRIES_ 64
 #define SCS_REGULARISED_STEPS_ 200
 #define SCS_REGULARISATION_ 1e-9
+/* The perfect white (bounded.rs WHITE_ROUNDING, SAME_WHITE, and SRGB's white xy of
+ * crates/colour/src/rgb.rs, OpenColorIO's D65): a colour within the tolerance of A·1 is r ≡ 1. */
+#define SCS_WHITE_ROUNDING_ (16.0 * 1.1920928955078125e-07)
+#define SCS_SAME_WHITE_ 1e-3
+#define SCS_D65_X_ 0.3127
+#define SCS_D65_Y_ 0.3290
 
 /* Columns of a 3 × n matrix: entry (band i, row k) at cols[i·bs + k·ks]. */
 typedef struct {
@@ -919,6 +925,33 @@ static void scs_solid_init_(const scs_model *m, scs_solid_ *s) {
         s->white[k] = 0;
         for (i = 0; i < m->n; i++) s->white[k] += m->b[(size_t)k * (size_t)m->n + (size_t)i];
     }
+}
+
+/* Bounded::white_tolerance: the rounding, and twice the gap between the RGB spaces' D65 white
+ * and A·1 where that gap is below SCS_SAME_WHITE_. */
+static double scs_white_tolerance_(const double white[3]) {
+    double d65[3], gap = 0;
+    int k;
+    d65[0] = SCS_D65_X_ / SCS_D65_Y_;
+    d65[1] = 1.0;
+    d65[2] = (1.0 - SCS_D65_X_ - SCS_D65_Y_) / SCS_D65_Y_;
+    for (k = 0; k < 3; k++) {
+        double g = fabs(d65[k] / white[k] - 1.0);
+        gap = g > gap ? g : gap;
+    }
+    return SCS_WHITE_ROUNDING_ + (gap < SCS_SAME_WHITE_ ? 2.0 * gap : 0.0);
+}
+
+/* Bounded::is_white: q = c ⊘ A·1; the least q at least 1 − τ, their spread at most τ·(largest). */
+static int scs_is_white_(const double white[3], const double c[3]) {
+    double q[3], lo, hi, tau = scs_white_tolerance_(white);
+    int k;
+    for (k = 0; k < 3; k++) q[k] = c[k] / white[k];
+    lo = q[0] < q[1] ? q[0] : q[1];
+    lo = lo < q[2] ? lo : q[2];
+    hi = q[0] > q[1] ? q[0] : q[1];
+    hi = hi > q[2] ? hi : q[2];
+    return lo >= 1.0 - tau && hi - lo <= tau * hi;
 }
 
 static void scs_solid_xyz_(const scs_solid_ *s, const double *r, double x[3]) {
@@ -1341,7 +1374,7 @@ int scs_encode_xyz(const scs_model *m, const float xyz[3], float texel[6], void 
     double *r0, *scratch, *trial, *bm;
     size_t n = (size_t)m->n;
     scs_solid_ s;
-    int k, outcome;
+    int k, outcome, in_range, white;
     size_t i;
     for (k = 0; k < 3; k++) {
         texel[k] = xyz[k];
@@ -1352,13 +1385,54 @@ int scs_encode_xyz(const scs_model *m, const float xyz[3], float texel[6], void 
     if (!m->clip) return SCS_IN_RANGE; /* unbounded: u = 0, nothing to project */
     scs_r0_(m, c, r, r + 3 * n); /* scratch: the 4n of trial and bm, free until projected */
     for (i = 0; i < n && r[i] >= 0 && r[i] <= 1; i++) {}
+    in_range = i == n;
+    /* White first (Bounded::bound_dual): its spectrum may be in range and still not r ≡ 1. */
+    for (i = 0; i < n && r[i] == 1; i++) {}
     if (i == n) return SCS_IN_RANGE;
+    {
+        double a1[3] = {0, 0, 0};
+        for (k = 0; k < 3; k++)
+            for (i = 0; i < n; i++) a1[k] += m->b[(size_t)k * n + i];
+        white = scs_is_white_(a1, c);
+    }
+    if (in_range && !white) return SCS_IN_RANGE;
     r0 = r + n;
     scratch = r + 2 * n;
     trial = r + 3 * n;
     bm = r + 4 * n;
     memcpy(r0, r, sizeof(double) * n);
     scs_solid_init_(m, &s);
+    if (white) {
+        /* Bounded::white: w = (0, t, 0), t twice what lifts the band of least ȳ weight to 1. */
+        double t = 0;
+        int lifted = 1;
+        for (i = 0; i < n && lifted; i++) {
+            if (r0[i] < 1) {
+                double y = scs_col_(&s.a, (long)i, 1);
+                if (!(y > 0)) lifted = 0;
+                else if ((1 - r0[i]) / y > t) t = (1 - r0[i]) / y;
+            }
+        }
+        if (lifted) {
+            scs_dual_ pass;
+            scs_point_ point;
+            double wt[3];
+            wt[0] = 0;
+            wt[1] = scs_round_f32_(2.0 * t);
+            wt[2] = 0;
+            pass.b = s.a;
+            pass.p = r0;
+            pass.s[0] = pass.s[1] = pass.s[2] = 0;
+            pass.mu = pass.eps = 0;
+            scs_dual_at_(&pass, wt, r, &point);
+            for (i = 0; i < n && r[i] == 1; i++) {}
+            if (i == n) {
+                for (k = 0; k < 3; k++) texel[3 + k] = (float)wt[k];
+                return SCS_PROJECTED;
+            }
+        }
+    }
+    if (in_range) return SCS_IN_RANGE;
     if (scs_project_(&s, c, r0, r, scratch, w) == SCS_SOLVED_) {
         outcome = SCS_PROJECTED;
     } else {

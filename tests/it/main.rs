@@ -29,3 +29,4 @@ mod surface;
 mod texture;
 mod texture_prep;
 mod train_eval;
+mod white;

@@ -16,11 +16,20 @@
 //! outside. Then the result is r₀ projected onto the colour of the solid's surface nearest to
 //! c in CIELAB ([`nearest`]), with the colour a penalty of weight [`REGULARISATION`] rather
 //! than a constraint, so that the spectrum is continuous in c ([`Bounded::bound_dual`]).
+//!
+//! The perfect white is a vertex of the solid, and the only reflectance with its colour is
+//! r ≡ 1. A colour within [`Bounded::white_tolerance`] of it, or a grey brighter than it at
+//! that tolerance, is that vertex ([`Bounded::white`]): r ≡ 1 exactly, for a few compares,
+//! before any other test. The tolerance is the colour's own rounding: float32's, and the gap
+//! between the D65 white of the RGB spaces (xy 0.3127, 0.3290, OpenColorIO's) and the
+//! tabulated D65's (3.7·10⁻⁴ in Z on the default grid), by which sRGB (1, 1, 1) lands a hair
+//! outside the solid.
 
 pub use specconv_colour::solid::{nearest, Solid, Solve};
 
 use crate::method::Tally;
 use crate::{Error, Method};
+use specconv_colour::rgb::SRGB;
 use specconv_colour::{Colorimetry, Grid};
 
 /// What [`Bounded`] did with one colour.
@@ -75,12 +84,24 @@ const MAX_REGULARISED_STEPS: usize = 200;
 /// Dual Newton steps of a projection ([`Solid::project`]'s).
 const MAX_DUAL_STEPS: usize = 60;
 
+/// Relative rounding of a colour converted to XYZ in float32 (a few units in the last place of
+/// a 3×3 product), which [`Bounded::white_tolerance`] allows beside the gap between two D65s.
+pub const WHITE_ROUNDING: f64 = 16.0 * f32::EPSILON as f64;
+
+/// The largest relative gap between the RGB spaces' D65 white and the colorimetry's white that
+/// counts as two definitions of one white (3.7·10⁻⁴ on the default grid); a white farther off
+/// is another illuminant's, and no rounding of this one.
+pub const SAME_WHITE: f64 = 1e-3;
+
 /// A method whose spectra are kept in [0, 1] with their XYZ unchanged (see the module).
 #[derive(Clone)]
 pub struct Bounded<M> {
     inner: M,
     colorimetry: Colorimetry,
     solid: Solid,
+    /// A·1, the perfect white's colour, and the relative distance that is still it.
+    white: [f64; 3],
+    white_tolerance: f64,
     name: String,
 }
 
@@ -96,12 +117,55 @@ impl<M: Method> Bounded<M> {
             )));
         }
         let name = format!("{}+bounded", inner.name());
+        let white = colorimetry.white_xyz();
         Ok(Bounded {
             inner,
             solid: Solid::new(&colorimetry.weights),
+            white_tolerance: white_tolerance(white),
+            white,
             colorimetry,
             name,
         })
+    }
+
+    /// The relative distance from the perfect white within which a colour is that white:
+    /// [`WHITE_ROUNDING`] plus twice the gap between the RGB spaces' D65 white and A·1, where
+    /// that gap is below [`SAME_WHITE`].
+    pub fn white_tolerance(&self) -> f64 {
+        self.white_tolerance
+    }
+
+    /// Whether `c` is the perfect white (see the module): with q = c ⊘ A·1 per component, the
+    /// smallest q is at least 1 − τ and the spread of q at most τ times the largest, τ the
+    /// [`Bounded::white_tolerance`]. A grey brighter than white is white by this rule too,
+    /// which is the colour of the solid nearest to it.
+    pub fn is_white(&self, c: [f64; 3]) -> bool {
+        let q = [0, 1, 2].map(|k| c[k] / self.white[k]);
+        let (lo, hi) = (q[0].min(q[1]).min(q[2]), q[0].max(q[1]).max(q[2]));
+        lo >= 1.0 - self.white_tolerance && hi - lo <= self.white_tolerance * hi
+    }
+
+    /// The perfect white's spectrum in the texel form, r = clip(r₀ + Aᵀw, 0, 1) ≡ 1 into `r`,
+    /// when `c` [`Bounded::is_white`]: w = (0, t, 0), t twice what lifts the band of least ȳ
+    /// weight to 1, so that a decoder's r₀ of the stored colour reaches 1 too. Returns w, or
+    /// `None` where c is not white (or a band has no ȳ weight to lift it by, on a grid past
+    /// the observer's range; such a colour is bounded as any other).
+    pub fn white(&self, c: [f64; 3], r0: &[f64], r: &mut [f64]) -> Option<[f64; 3]> {
+        if !self.is_white(c) {
+            return None;
+        }
+        let mut t = 0.0f64;
+        for (col, &v) in self.solid.columns().iter().zip(r0) {
+            if v < 1.0 {
+                if col[1] <= 0.0 || col[1].is_nan() {
+                    return None;
+                }
+                t = t.max((1.0 - v) / col[1]);
+            }
+        }
+        let w = [0.0, f64::from((2.0 * t) as f32), 0.0];
+        self.solid.texel_form(r0, w, r);
+        r.iter().all(|&v| v == 1.0).then_some(w)
     }
 
     /// The wrapped method.
@@ -144,8 +208,16 @@ impl<M: Method> Bounded<M> {
         let n = r.len();
         for (c, o) in xyz.chunks_exact(3).zip(out.chunks_exact_mut(n)) {
             let finite = c.iter().all(|v| v.is_finite());
+            let c64 = [c[0], c[1], c[2]].map(f64::from);
             if !finite {
                 counts.not_finite += 1;
+            } else if self.is_white(c64) {
+                // White first: its spectrum may be in range and still not r ≡ 1.
+                self.inner.uplift_f64(&c64, r);
+                counts.add(&self.bound(c64, r));
+                for (o, v) in o.iter_mut().zip(r.iter()) {
+                    *o = *v as f32;
+                }
             } else if o.iter().fold(true, |ok, v| ok & (0.0..=1.0).contains(v)) {
                 // The fast path, most of a texture: one pass of compares without early exit
                 // (about 5 ns per pixel in the bench).
@@ -173,7 +245,9 @@ impl<M: Method> Bounded<M> {
         if c.iter().any(|v| !v.is_finite()) {
             return (Outcome::NotFinite, [0.0; 3]);
         }
-        if r.iter().all(|v| (0.0..=1.0).contains(v)) {
+        let in_range = r.iter().all(|v| (0.0..=1.0).contains(v));
+        let white = self.is_white(c) && !r.iter().all(|&v| v == 1.0);
+        if in_range && !white {
             return (Outcome::InRange, [0.0; 3]);
         }
         let mut stack = [0.0; 128];
@@ -185,6 +259,24 @@ impl<M: Method> Bounded<M> {
             &mut heap
         };
         r0.copy_from_slice(r);
+        if white {
+            if let Some(w) = self.white(c, r0, r) {
+                // Brighter than white beyond the tolerance: outside, and y certifies it.
+                let outcome = if c[1] > self.white[1] * (1.0 + self.white_tolerance) {
+                    Outcome::Outside {
+                        certificate: Some([0.0, 1.0, 0.0]),
+                        reached: self.white,
+                    }
+                } else {
+                    Outcome::Projected
+                };
+                return (outcome, w);
+            }
+            r.copy_from_slice(r0);
+            if in_range {
+                return (Outcome::InRange, [0.0; 3]);
+            }
+        }
         match self.solid.project_dual(c, r0, r, MAX_DUAL_STEPS) {
             (Solve::Solved, w) => (Outcome::Projected, w),
             (solve, _) => {
@@ -285,6 +377,13 @@ impl<M: Method> Method for Bounded<M> {
     fn cluster_of(&self, xyz: [f64; 3]) -> Option<usize> {
         self.inner.cluster_of(xyz)
     }
+}
+
+/// [`Bounded::white_tolerance`] for the perfect white `white` (A·1).
+fn white_tolerance(white: [f64; 3]) -> f64 {
+    let d65 = SRGB.white_xyz();
+    let gap = (0..3).fold(0.0f64, |m, k| m.max((d65[k] / white[k] - 1.0).abs()));
+    WHITE_ROUNDING + if gap < SAME_WHITE { 2.0 * gap } else { 0.0 }
 }
 
 /// Boxed methods, as the command line builds them by name, are methods too, so that any of

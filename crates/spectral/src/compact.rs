@@ -333,7 +333,7 @@ impl Compact {
         if !c64.iter().all(|v| v.is_finite()) {
             return ([0.0; 3], Solved::NotFinite);
         }
-        if s.r32.iter().all(|v| (0.0..=1.0).contains(v)) {
+        if s.r32.iter().all(|v| (0.0..=1.0).contains(v)) && !bounded.is_white(c64) {
             return ([0.0; 3], Solved::InRange);
         }
         self.up.uplift_f64(&c64, &mut s.r0);
@@ -341,6 +341,7 @@ impl Compact {
         let (outcome, w) = bounded.bound_dual(c64, &mut s.r);
         let solved = match outcome {
             Outcome::Outside { .. } => Solved::Outside,
+            Outcome::InRange => Solved::InRange,
             _ => Solved::Projected,
         };
         (w.map(|w| w as f32), solved)
@@ -1578,11 +1579,14 @@ mod tests {
                 got.push(format!("{h:016x}"));
             }
         }
-        // Recorded with the regularised projection of outside colours (2026-12-06; before it,
-        // at 469d71f: 32554b14…, d28a3399…, da0b824f…, f81309d4…).
+        // Recorded with the perfect white's rule (`Bounded::white`, 2026-12-07; before it, at
+        // b952cc1: 1a76c841…, 4359b8b5…; the 400–700 nm grid's white lies farther than
+        // SAME_WHITE from D65's xy, so only the float32 rounding applies there and its hashes
+        // stayed; before the regularised projection, at 469d71f: 32554b14…, d28a3399…,
+        // da0b824f…, f81309d4…).
         let want = [
-            "1a76c8418c6b5135",
-            "4359b8b53e952b51",
+            "eed7b9c6f1521827",
+            "f1b109b967dfbeac",
             "42edea463026fd20",
             "0387001723e79df7",
         ];

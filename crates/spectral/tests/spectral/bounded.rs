@@ -204,17 +204,20 @@ fn outside_the_solid_the_nearest_colour_in_cielab_is_on_the_surface_and_beats_to
 fn brighter_than_white_and_negative_components() {
     let (a, _) = setup();
     let w = a.white_xyz();
-    // A grey above white: the nearest colour in CIELAB is the perfect white. The penalty of
-    // the projection onto it leaves a band of least colour weight a hair below 1 where r₀ is
-    // below 1 there (1.5 × white: 0.99947 at 380 nm, 5e-8 of the colour), rather than a huge
-    // w for no visible colour.
+    // A grey above white: the nearest colour of the solid is the perfect white, a vertex,
+    // whose only reflectance is r ≡ 1 (issue 55): exactly 1 in every band, counted outside.
     for k in [1.5, 100.0, 65504.0, 1e30] {
         let (r, outcome) = uplift(w.map(|v| v * k));
-        let Outcome::Outside { reached, .. } = outcome else {
+        let Outcome::Outside {
+            reached,
+            certificate: Some(u),
+        } = outcome
+        else {
             panic!("{k}: {outcome:?}");
         };
-        assert!(r.iter().all(|v| (v - 1.0).abs() < 1e-3), "{k}: {r:?}");
-        assert!(delta_e76(a, reached, w) < 1e-4, "{k}: {reached:?}");
+        assert!(certifies(a, w.map(|v| v * k), u), "{k}");
+        assert!(r.iter().all(|&v| v == 1.0), "{k}: {r:?}");
+        assert!(delta_e76(a, reached, w) < 1e-12, "{k}: {reached:?}");
     }
     // HDR colours, negative luminance, negative components from wide gamuts: in range, finite,
     // with a colour that is A·r.
