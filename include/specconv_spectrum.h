@@ -70,7 +70,8 @@ float scs_decode_at(const scs_model *m, const float texel[6], double wavelength_
  * make rgb2spec's coefficients: the colour as it is, and u, the dual unknowns of the bounded
  * projection (min ½‖r − r₀‖² s.t. A·r = c, 0 ≤ r ≤ 1; outside the object-colour solid, r₀
  * projected onto the nearest colour of its surface in CIELAB with the colour a penalty, and u
- * for that one), as specconv's library makes
+ * for that one; the perfect white within its rounding, or a grey brighter, r ≡ 1 with
+ * u = (0, t, 0)), as specconv's library makes
  * them (specconv_spectral::compact::Compact::encode_f32). No allocation: the caller passes a
  * workspace of scs_encode_work_size(m) bytes (at most SCS_ENCODE_WORK_MAX, aligned for double),
  * one per thread; the model is only read. Every loop has a fixed bound (docs/compact.md). */
