@@ -122,6 +122,10 @@ fn hint(remedy: Option<Remedy>) -> String {
         Remedy::AlreadySpectral => {
             "; read it with specconv.read_spectral, or convert its colour source instead".into()
         }
+        Remedy::ExpandCompact => {
+            "; specconv.read_compact reads its texels, and `specconv expand` writes its spectra"
+                .into()
+        }
         Remedy::TileTemplate => ", or pass output_template= with {udim}".into(),
         // Looking at a spectral file under a light: not this package's.
         Remedy::DropIlluminant => String::new(),

@@ -109,6 +109,20 @@ def test_bad_input_raises_the_documented_exception_and_writes_nothing(tmp_path, 
     assert record["non_finite_repaired"] == 1
 
 
+def test_a_compact_input_is_refused_naming_what_reads_it(tmp_path, png):
+    """Issue 57, item 14: a compact texture holds spectra; converting it again is refused,
+    as a spectral EXR is, and nothing is written."""
+    path, _ = png
+    compact = tmp_path / "albedo_compact.exr"
+    specconv.convert(path, compact, layout="compact")
+    before = compact.read_bytes()
+    with pytest.raises(specconv.InputError, match="compact spectral texture.*read_compact"):
+        specconv.convert(compact, tmp_path / "again.exr")
+    assert not (tmp_path / "again.exr").exists()
+    assert compact.read_bytes() == before
+    assert leftovers(tmp_path) == []
+
+
 def test_errors_record_carries_on(tmp_path, png):
     path, _ = png
     records = specconv.convert([tmp_path / "missing.png", path],

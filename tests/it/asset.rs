@@ -273,6 +273,32 @@ fn dry_run_prints_decisions_and_writes_nothing() {
     assert!(rules.contains(&"data-input") && rules.contains(&"materialx-colorspace"));
 }
 
+/// Issue 57, item 13: modules in the directory `asset` runs in are not the reader's. A stray
+/// `json.py` and `pxr.py` there (each would leave a mark and break the reader) change nothing.
+#[test]
+fn modules_in_the_working_directory_are_never_imported() {
+    let Some(python) = usd() else { return };
+    let dir = Scratch::new("asset-stray");
+    let shot = basic_shot(&dir);
+    let marks = dir.path("imported");
+    for module in ["json", "pxr", "MaterialX"] {
+        dir.write(
+            &format!("{module}.py"),
+            &format!(
+                "open({:?}, 'a').write('{module}\\n')\nraise SystemExit(9)\n",
+                marks.to_str().unwrap()
+            ),
+        );
+    }
+    let out = dir.path("out");
+    let run = asset(&python, &shot.join("shot.usda"), &out)
+        .args(["--dry-run", "--json"])
+        .current_dir(&dir.0)
+        .ok();
+    assert!(!run.json_lines().is_empty());
+    assert!(!marks.exists(), "{:?}", std::fs::read_to_string(&marks));
+}
+
 #[test]
 fn a_conflict_names_both_uses_and_is_never_uplifted() {
     let Some(python) = usd() else { return };

@@ -636,6 +636,33 @@ fn a_spectral_input_is_refused_with_one_line_saying_what_to_do() {
     assert!(!dir.path("again.exr").exists());
 }
 
+/// Issue 57, item 14: a compact file is spectra too: `convert` refuses it as it refuses a
+/// spectral EXR, naming `expand`, and writes nothing; its colour is read when channels are named.
+#[test]
+fn a_compact_input_is_refused_naming_expand() {
+    let dir = Scratch::new("compact-input");
+    let png = dir.path("albedo.png");
+    constant(&png, 8, "0.6,0.4,0.2", &["-d", "uint8"]);
+    let compact = dir.path("albedo_compact.exr");
+    Cmd::convert(&png, &compact)
+        .args(["--layout", "compact"])
+        .ok();
+    let again = dir.path("again.exr");
+    Cmd::convert(&compact, &again).run().one_error_line(
+        1,
+        &[
+            "a compact spectral texture",
+            "specconv expand",
+            "--channels",
+        ],
+    );
+    assert!(!again.exists());
+    Cmd::convert(&compact, &again)
+        .args(["--channels", "R,G,B"])
+        .ok();
+    assert!(again.exists());
+}
+
 /// Issue 45, item 14: a data texture written through is named as data, not as a spectral file
 /// (`-o DIR`'s `STEM_data.exr`, a template's `{role}`), and `info` shows it as data; an
 /// output the user names is kept. Both names are planned, so neither may be a file specconv

@@ -11,7 +11,16 @@ use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
 /// The reader script, run with `python -c`: the MaterialX half, then usd-core's.
-pub const SCRIPT: &str = concat!(include_str!("read_mtlx.py"), include_str!("read_stage.py"));
+///
+/// It starts by taking the current directory off the import path, where `python -c` puts it
+/// first: a stray `json.py` or `pxr.py` in the directory `specconv asset` runs in would
+/// otherwise be imported and run (issue 57, item 13). Not `-I`, which would also drop
+/// `PYTHONPATH`, through which studios commonly reach their own USD build.
+pub const SCRIPT: &str = concat!(
+    "import sys\nif sys.path and sys.path[0] in ('', '.'):\n    del sys.path[0]\n",
+    include_str!("read_mtlx.py"),
+    include_str!("read_stage.py")
+);
 
 /// The environment variable naming the interpreter that has usd-core.
 pub const PYTHON_VAR: &str = "SPECCONV_USD_PYTHON";

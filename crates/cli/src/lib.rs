@@ -186,6 +186,11 @@ fn hint(cause: &(dyn std::error::Error + 'static)) -> Option<String> {
             f(Key::Bands),
             f(Key::Channels)
         ),
+        Remedy::ExpandCompact => format!(
+            "; `specconv expand` writes its spectra as a spectral OpenEXR ({} R,G,B reads its \
+             colour as an image instead)",
+            f(Key::Channels)
+        ),
         Remedy::DataTexture => format!(
             "; {0} skip leaves it out, {0} copy writes it through as a data texture, and {1} \
              NAME reads it as colour if it is one",

@@ -28,13 +28,6 @@ pub struct CompactFacts {
     pub specconv: BTreeMap<String, String>,
 }
 
-/// The rule: a file is compact when its layout attribute says so (`compact …`, any version),
-/// or when it has every channel of a compact texel.
-fn is_compact(layout: Option<&str>, channels: &[&str]) -> bool {
-    layout.is_some_and(|l| l.trim_start().starts_with("compact"))
-        || COMPACT_CHANNELS.iter().all(|c| channels.contains(c))
-}
-
 /// The compact facts of the image `reader` has open at `path`; `None` when it is not compact.
 pub(crate) fn facts(path: &Path, reader: &ImageReader) -> Result<Option<CompactFacts>, Error> {
     let channels: Vec<&str> = reader
@@ -44,7 +37,7 @@ pub(crate) fn facts(path: &Path, reader: &ImageReader) -> Result<Option<CompactF
         .map(|c| c.name.as_str())
         .collect();
     let layout = reader.string_attribute(LAYOUT_ATTRIBUTE).map_err(oiio)?;
-    if !is_compact(layout.as_deref(), &channels) {
+    if !crate::pipeline::expand::is_compact(layout.as_deref(), &channels) {
         return Ok(None);
     }
     let text = reader.string_attribute(COMPACT_ATTRIBUTE).map_err(oiio)?;

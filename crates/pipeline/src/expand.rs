@@ -72,6 +72,13 @@ pub struct Expanded {
     pub projected: u64,
 }
 
+/// The rule: a file is compact when its layout attribute says so (`compact …`, any version),
+/// or when it has every channel of a compact texel.
+pub fn is_compact(layout: Option<&str>, channels: &[&str]) -> bool {
+    layout.is_some_and(|l| l.trim_start().starts_with("compact"))
+        || COMPACT_CHANNELS.iter().all(|c| channels.contains(c))
+}
+
 /// What makes a file compact, from its header, however it was read: its layout attribute
 /// (`compact 2`), its decoding text (`specconvCompact`, checked line by line) and the texel's
 /// channels among `channels` (their columns, in the order of a texel's values).

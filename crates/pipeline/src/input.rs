@@ -45,13 +45,20 @@ pub fn selection(info: &ImageInfo, channels: Channels) -> Selection {
 }
 
 /// Opens `path` on the subimage asked for and chooses its channels. A spectral image (the
-/// Fichet 2021 layout: `T.` or `S0.` channels) is refused unless channels are asked for: it is
-/// already spectra, and uplifting a preview of it would throw them away.
+/// Fichet 2021 layout: `T.` or `S0.` channels) or a compact one is refused unless channels are
+/// asked for: it is already spectra, and uplifting its colour would throw them away.
 pub fn open(path: &Path, request: &Request) -> super::Result<(ImageReader, Selection)> {
     let reader = open_subimage(path, request.subimage.as_deref())?;
     let info = reader.info();
     if request.channels.is_none() {
         refuse_spectral(info)?;
+        let layout = reader.string_attribute(super::LAYOUT_ATTRIBUTE)?;
+        let names: Vec<&str> = info.channels.iter().map(|c| c.name.as_str()).collect();
+        if super::expand::is_compact(layout.as_deref(), &names) {
+            return Err(super::Error::Compact {
+                path: info.path.clone(),
+            });
+        }
     }
     let channels = choose_channels(info, request.channels.as_deref())?;
     let selection = selection(info, channels);

@@ -144,6 +144,17 @@ pub enum Error {
     /// Stopped through the job's cancel flag.
     #[error("cancelled")]
     Cancelled,
+    /// The input is a compact spectral texture (`input::open`): its texels are spectra, not
+    /// colours to uplift again.
+    #[error(
+        "{}: a compact spectral texture (specconv's compact layout): its spectra are not \
+         uplifted again from its colour",
+        path.display()
+    )]
+    Compact {
+        /// The input.
+        path: PathBuf,
+    },
     /// The input is a spectral image already (`input::open`): it is not uplifted again.
     #[error(
         "{}: already a spectral image ({} bands of {}, {}–{} nm, the Fichet 2021 layout): \

@@ -249,6 +249,7 @@ mod tests {
                 ConversionError::Io { .. } => ("Conversion::Io", false),
                 ConversionError::Cancelled => ("Conversion::Cancelled", false),
                 ConversionError::Spectral { .. } => ("Conversion::Spectral", true),
+                ConversionError::Compact { .. } => ("Conversion::Compact", true),
                 ConversionError::Data(_) => ("Conversion::Data", true),
                 // The caller's own gate: the warning says what is wrong.
                 ConversionError::Strict { .. } => ("Conversion::Strict", false),
@@ -433,6 +434,7 @@ mod tests {
                 source: std::io::Error::other("full"),
             },
             ConversionError::Cancelled,
+            ConversionError::Compact { path: p() },
             ConversionError::Spectral {
                 path: p(),
                 emissive: false,

@@ -64,6 +64,8 @@ pub enum Remedy {
     /// A spectral image as input: use it as it is, integrate it to colour, or convert its
     /// colour source on the grid wanted; channels of a colour preview can be named.
     AlreadySpectral,
+    /// A compact spectral texture as input: expand it; channels of its colour can be named.
+    ExpandCompact,
     /// A UDIM pattern into one output: name the outputs by a template with the tile instead.
     TileTemplate,
 }
@@ -90,6 +92,7 @@ impl Remedy {
             Remedy::DropIlluminant | Remedy::TileTemplate => &[],
             Remedy::DataTexture => &[Key::Data, Key::Colorspace],
             Remedy::AlreadySpectral => &[Key::Bands, Key::Channels],
+            Remedy::ExpandCompact => &[Key::Channels],
         }
     }
 }
@@ -139,6 +142,7 @@ impl Error {
                 ConversionError::DefaultColourSpace(_) => Some(Remedy::NameColourSpace),
                 ConversionError::Data(_) => Some(Remedy::DataTexture),
                 ConversionError::Spectral { .. } => Some(Remedy::AlreadySpectral),
+                ConversionError::Compact { .. } => Some(Remedy::ExpandCompact),
                 _ => None,
             },
             _ => None,
