@@ -93,9 +93,13 @@ pub fn convert_asset<'py>(
 
 /// An asset's error as this package's exception: the caller's (a setting) or the stage's.
 fn asset_error(e: specconv_asset::Error) -> PyErr {
+    use specconv_asset::Error as E;
     let kind = match &e {
+        // As convert says an existing output and an output that is the input.
+        E::NotWrittenByAsset { .. } | E::ChangedSinceWritten { .. } => Kind::Exists,
+        E::WritesItsInput { .. } => Kind::File,
         e if e.is_usage() => Kind::Option,
-        specconv_asset::Error::Io(..) => Kind::File,
+        E::Io(..) => Kind::File,
         _ => Kind::Input,
     };
     kind.err(e.to_string())

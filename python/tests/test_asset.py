@@ -107,3 +107,25 @@ def test_convert_asset_takes_a_materialx_document_and_writes_its_copy(tmp_path):
     assert file.getValueString() == "./tex/brick_color_spectral.exr"
     assert file.getAttribute("specconv_original") == "brick_color.png"
     assert (out / "tex" / "brick_color_spectral.exr").is_file()
+
+
+def test_convert_asset_never_replaces_a_file_it_did_not_write(tmp_path):
+    """Issue 57, item 1: a file where the override copy goes, not written by an asset run,
+    is kept, update or overwrite; the run converts nothing."""
+    tex = tmp_path / "tex"
+    tex.mkdir()
+    for name in ("brick_color", "brick_arm", "brick_normal", "brick_height", "wood.1001",
+                 "wood.1002", "never"):
+        subprocess.run(["oiiotool", "--pattern", "checker", "8x8", "4", "-d", "uint8",
+                        "-o", str(tex / (name + ".png"))], check=True)
+    subprocess.run([sys.executable, str(STAGES.parent / "asset_mtlx.py"), "brick",
+                    str(tmp_path)], check=True)
+    out = tmp_path / "out"
+    out.mkdir()
+    theirs = out / "brick_spectral.mtlx"
+    theirs.write_text("<!-- mine -->")
+    for flags in ({}, {"update": True}, {"overwrite": True}):
+        with pytest.raises(specconv.OutputExistsError, match="did not write it"):
+            specconv.convert_asset(tmp_path / "brick.mtlx", out, **flags)
+        assert theirs.read_text() == "<!-- mine -->"
+    assert sorted(p.name for p in out.iterdir()) == ["brick_spectral.mtlx"]

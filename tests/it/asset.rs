@@ -587,7 +587,8 @@ fn farm_stage(python: &str, path: &str, stage: &Path, (out, job): (&Path, &Path)
 fn contents(dir: &Path) -> Vec<(PathBuf, Vec<u8>)> {
     tree(dir)
         .into_iter()
-        .filter(|(p, _)| !p.ends_with(".specconv-farm"))
+        // The farm's folder, and the asset's record (it holds the files' times).
+        .filter(|(p, _)| !KEPT.iter().any(|k| p.ends_with(k)))
         .map(|(p, _)| {
             (
                 p.strip_prefix(dir).unwrap().to_path_buf(),

@@ -201,6 +201,61 @@ fn a_materialx_document_is_decided_by_its_graph_and_gets_an_override_copy() {
     asset(&python, &dir.path("brick.mtlx"), &out).fails(2, &["brick_spectral.mtlx exists"]);
 }
 
+/// Issue 57, items 1 and 2: `asset` never replaces a file it did not write, nor one the
+/// document reads, whatever -u and --force say; its own files it replaces as asked, unless
+/// someone changed them since (the record in DIR, `specconv_asset::record`).
+#[test]
+fn asset_never_replaces_what_it_did_not_write_or_what_it_reads() {
+    let Some(python) = mtlx() else { return };
+    let dir = Scratch::new("mtlx-own");
+    documents(&dir.0, "brick");
+    let doc = dir.path("brick.mtlx");
+    let out = dir.path("out");
+    std::fs::create_dir_all(&out).unwrap();
+    let theirs = out.join("brick_spectral.mtlx");
+    std::fs::write(&theirs, "<!-- mine -->").unwrap();
+    for flags in [&[][..], &["-u"], &["--force"]] {
+        asset(&python, &doc, &out)
+            .args(flags)
+            .fails(2, &["brick_spectral.mtlx", "did not write it"]);
+        assert_eq!(std::fs::read_to_string(&theirs).unwrap(), "<!-- mine -->");
+        assert!(!out.join("tex").exists(), "{flags:?}: converted");
+    }
+    // Moved away: written, and replaced by a later -u run as its own.
+    std::fs::remove_file(&theirs).unwrap();
+    asset(&python, &doc, &out).ok();
+    asset(&python, &doc, &out).arg("-u").ok();
+    asset(&python, &doc, &out)
+        .run()
+        .fails(2, &["brick_spectral.mtlx exists", "-u"]);
+    // Its own copy edited by hand since: kept, -u or --force.
+    std::fs::write(&theirs, "<!-- edited by hand -->").unwrap();
+    for flag in ["-u", "--force"] {
+        asset(&python, &doc, &out)
+            .arg(flag)
+            .fails(2, &["brick_spectral.mtlx", "changed since"]);
+        assert_eq!(
+            std::fs::read_to_string(&theirs).unwrap(),
+            "<!-- edited by hand -->"
+        );
+    }
+    // A document that XIncludes the name of its own override copy, converted into its own
+    // folder: the copy would be written over an input, with any flag.
+    let text = std::fs::read_to_string(&doc).unwrap();
+    assert!(text.contains("lib/wood.mtlx"), "{text}");
+    let own = dir.path("b.mtlx");
+    std::fs::write(&own, text.replace("lib/wood.mtlx", "b_spectral.mtlx")).unwrap();
+    let included = dir.path("b_spectral.mtlx");
+    std::fs::copy(dir.path("lib/wood.mtlx"), &included).unwrap();
+    let before = std::fs::read(&included).unwrap();
+    for flags in [&[][..], &["-u"], &["--force"]] {
+        asset(&python, &own, &dir.0)
+            .args(flags)
+            .fails(2, &["b_spectral.mtlx is a file the stage reads"]);
+        assert_eq!(std::fs::read(&included).unwrap(), before, "{flags:?}");
+    }
+}
+
 #[test]
 fn a_stage_referencing_a_materialx_document_merges_its_decisions() {
     let Some(python) = mtlx() else { return };

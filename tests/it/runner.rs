@@ -23,6 +23,10 @@ pub fn colorchecker() -> PathBuf {
     shared(&format!("spectra/{}", specconv_testkit::COLORCHECKER))
 }
 
+/// What specconv keeps in an output folder on purpose: a farm job's folder, and the record of
+/// what `asset` wrote (`specconv_asset::record::RECORD`).
+pub const KEPT: [&str; 2] = [".specconv-farm", ".specconv-asset.json"];
+
 /// No temporary file (`.NAME.specconv-….tmp`, or any `.tmp`) anywhere under `dir`.
 #[track_caller]
 pub fn no_temporaries(dir: &std::path::Path) {
@@ -33,7 +37,8 @@ pub fn no_temporaries(dir: &std::path::Path) {
         }
         let name = p.file_name().unwrap().to_string_lossy().into_owned();
         assert!(
-            !(name.ends_with(".tmp") || (name.contains(".specconv-") && name != ".specconv-farm")),
+            !(name.ends_with(".tmp")
+                || (name.contains(".specconv-") && !KEPT.contains(&name.as_str()))),
             "left behind: {}",
             p.display()
         );

@@ -23,6 +23,7 @@
 pub mod decide;
 pub mod plan;
 mod reader;
+pub mod record;
 pub mod run;
 pub mod stage;
 
@@ -136,6 +137,48 @@ pub enum Error {
         /// The layer.
         layer: PathBuf,
     },
+    /// An output would be a file the stage reads (issue 57): never, whatever the flags.
+    #[error(
+        "{} is a file the stage reads: specconv asset never writes over what it reads, -u and \
+         --force included; choose another -o DIR",
+        output.display()
+    )]
+    WritesItsInput {
+        /// The output.
+        output: PathBuf,
+    },
+    /// An output exists that no asset run wrote ([`record`]).
+    #[error(
+        "{} exists and specconv asset did not write it (it is not in the folder's {}): move it \
+         away or choose another -o DIR; -u and --force replace only files the asset wrote",
+        path.display(), record::RECORD
+    )]
+    NotWrittenByAsset {
+        /// The file.
+        path: PathBuf,
+    },
+    /// An output the asset wrote was changed since ([`record`]).
+    #[error(
+        "{} changed since specconv asset wrote it: move it away to keep it, or delete it to \
+         have it written again",
+        path.display()
+    )]
+    ChangedSinceWritten {
+        /// The file.
+        path: PathBuf,
+    },
+    /// The record of what the asset wrote cannot be read or written.
+    #[error(
+        "{}: the record of what specconv asset wrote in this folder cannot be used ({why}); \
+         without it no file here is replaced",
+        path.display()
+    )]
+    Record {
+        /// The record.
+        path: PathBuf,
+        /// Why.
+        why: String,
+    },
     /// The OCIO config cannot be used.
     #[error("{0}")]
     Config(Box<specconv_conversion::Error>),
@@ -158,12 +201,16 @@ pub enum Error {
 
 impl Error {
     /// The caller's fault, found before anything was converted (a usage error): the stage is
-    /// not a file, the layer exists, the config or a setting cannot be used.
+    /// not a file, the layer exists, an output is an input or a file the asset did not write,
+    /// the config or a setting cannot be used.
     pub fn is_usage(&self) -> bool {
         matches!(
             self,
             Error::NotAStage { .. }
                 | Error::LayerExists { .. }
+                | Error::WritesItsInput { .. }
+                | Error::NotWrittenByAsset { .. }
+                | Error::ChangedSinceWritten { .. }
                 | Error::Config(_)
                 | Error::BadTimeout { .. }
                 | Error::LinkBelowDir { .. }

@@ -44,6 +44,13 @@ pub struct Asset {
     pub textures: Vec<Planned>,
     /// The stage's references to MaterialX documents that MaterialX read.
     pub references: Vec<MtlxReference>,
+    /// Every file the stage composed or read but its textures ([`Stage::read_files`]).
+    #[serde(skip)]
+    pub read_files: Vec<PathBuf>,
+    /// Every file the run may write (the layer, document copies, the jobs' outputs), set by
+    /// [`crate::prepare`] and stamped in the record ([`crate::record`]) once written.
+    #[serde(skip)]
+    pub writes: Vec<PathBuf>,
 }
 
 /// One conversion: a file (or one UDIM tile) of texture `texture`.
@@ -177,6 +184,8 @@ impl Asset {
             bound_prims: stage.bound_prims,
             textures,
             references: stage.references,
+            read_files: stage.read_files,
+            writes: Vec::new(),
         })
     }
 
@@ -609,6 +618,8 @@ mod tests {
                 error: None,
             }],
             references: vec![reference("/s/a/brick.mtlx"), reference("/s/c/other.mtlx")],
+            read_files: Vec::new(),
+            writes: Vec::new(),
         };
         let plan = asset.layer_plan(|_| true);
         assert_eq!(plan.overrides.len(), 1);

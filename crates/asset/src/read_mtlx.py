@@ -21,6 +21,8 @@ SEPARATE = {"outr": "r", "outg": "g", "outb": "b", "outa": "a",
             "outx": "r", "outy": "g", "outz": "b", "outw": "a"}
 MAX_INCLUDES = 1000
 EXIT_NO_MATERIALX = 4
+# Every document and XInclude loaded: files the output may never be (`read_files`).
+LOADED = []
 
 
 class MtlxError(Exception):
@@ -52,11 +54,13 @@ def load(mx, path):
     checked to be a regular file first, and there are at most MAX_INCLUDES."""
     path = os.path.abspath(path)
     regular(path, "the MaterialX document")
+    LOADED.append(path)
     count = [0]
 
     def include(doc, filename, search_path, options):
         found = search_path.find(filename)
         name = found.asString()
+        LOADED.append(os.path.abspath(name))
         count[0] += 1
         if count[0] > MAX_INCLUDES:
             raise MtlxError("mtlx", "more than %d XIncludes" % MAX_INCLUDES)
@@ -277,7 +281,7 @@ def read_document(path, final_inputs, max_depth):
     textures = mtlx_textures(mx, doc, os.path.dirname(path), materials, final_inputs,
                              max_depth, path)
     return dict(stage=path, materials=len(materials), bound_prims=0, composition_errors=[],
-                textures=textures, references=[])
+                textures=textures, references=[], read_files=sorted(set(LOADED)))
 
 
 def flatten_files(mx, doc, root_dir):

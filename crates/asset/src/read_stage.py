@@ -289,9 +289,13 @@ def read(stage_path, extract_dir, final_inputs):
                 if extract_dir is not None:
                     entry["resolved"] = extract(f["resolved"], pkg[1], extract_dir, Ar)
             textures.append(entry)
+    # Every layer composed (a usdz member as its package) and MaterialX file loaded: what the
+    # library never lets an output be.
+    layers = [l.realPath.split("[", 1)[0] for l in stage.GetUsedLayers() if l.realPath]
+    read_files = sorted(set(os.path.abspath(p) for p in layers + LOADED))
     print(json.dumps(dict(stage=os.path.abspath(stage_path), materials=len(materials) + materials_read,
                           bound_prims=bound, composition_errors=errors, textures=textures,
-                          references=references)))
+                          references=references, read_files=read_files)))
 
 
 def usd_layer(plan):

@@ -2,8 +2,8 @@
 //! [`Converters`] (one per colour space), the batch (the front-end's, with
 //! [`specconv_conversion::Batch::each_input`]), [`Outcomes`], [`finish`] (the layer).
 
-use crate::plan::{extract_dir, layer_path, Asset, Job, LayerPlan};
-use crate::{check_stage, Error, Reader};
+use crate::plan::{extract_dir, Asset, Job, LayerPlan};
+use crate::{check_stage, record, Error, Reader};
 use specconv_conversion::{ColourConfig, Converter, DataPolicy, Options};
 use std::path::{Path, PathBuf};
 
@@ -18,8 +18,10 @@ pub struct Prepared {
 
 /// Reads `stage` and plans it into `dir` for a conversion with `options` (their config names
 /// the colour spaces; with `data` fail a data texture is a failure, not a job). Unless
-/// `dry_run`, `dir` is made and a usdz's textures are copied out into it; an existing layer
-/// is refused unless `update` or `overwrite`. Nothing else is written.
+/// `dry_run`, `dir` is made and a usdz's textures are copied out into it. The plan is refused
+/// when an output is a file the stage reads or one no asset run wrote ([`record::check`]),
+/// and when the layer exists, unless `update` or `overwrite`; then it is claimed in the
+/// record. Nothing else is written.
 pub fn prepare(
     reader: &Reader,
     (stage, dir): (&Path, &Path),
@@ -33,10 +35,6 @@ pub fn prepare(
         std::fs::create_dir_all(dir).map_err(|e| Error::Io(dir.to_path_buf(), e))?;
     }
     let dir = absolute(dir)?;
-    let layer = layer_path(&stage, &dir);
-    if !dry_run && !replace && std::fs::symlink_metadata(&layer).is_ok() {
-        return Err(Error::LayerExists { layer });
-    }
     let extract = (!dry_run).then(|| extract_dir(&stage, &dir));
     let read = reader.read(&stage, extract.as_deref())?;
     let config =
@@ -45,6 +43,26 @@ pub fn prepare(
     let mut jobs = asset.jobs();
     if options.data == DataPolicy::Fail {
         jobs.retain(|j| !asset.fail_data(j.texture));
+    }
+    // The whole plan is checked before the first write, and claimed (crate::record).
+    let documents = asset.layer_plan(|_| true).documents;
+    asset.writes = std::iter::once(asset.layer.clone())
+        .chain(documents.into_iter().map(|d| d.layer))
+        .chain(jobs.iter().map(|j| j.output.clone()))
+        .collect();
+    let reads: Vec<PathBuf> = std::iter::once(asset.stage.clone())
+        .chain(asset.read_files.iter().cloned())
+        .chain(asset.textures.iter().map(|t| t.texture.file.clone()))
+        .chain(jobs.iter().map(|j| j.input.clone()))
+        .collect();
+    record::check(&dir, &asset.writes, &reads)?;
+    if !dry_run && !replace && std::fs::symlink_metadata(&asset.layer).is_ok() {
+        return Err(Error::LayerExists {
+            layer: asset.layer.clone(),
+        });
+    }
+    if !dry_run {
+        record::claim(&dir, &asset.writes)?;
     }
     Ok(Prepared { asset, jobs })
 }
@@ -251,6 +269,7 @@ pub fn farm_layer(
         of.peek().is_some() && of.all(|j| done.contains(j.input.as_path()))
     });
     reader.write_layer(&layer).map_err(|e| e.to_string())?;
+    record::stamp(&asset.dir, &asset.writes).map_err(|e| e.to_string())?;
     Ok(layer)
 }
 
@@ -258,6 +277,7 @@ pub fn farm_layer(
 pub fn finish(reader: &Reader, asset: &Asset, outcomes: &Outcomes) -> Result<LayerPlan, Error> {
     let layer = asset.layer_plan(|k| outcomes.done(k));
     reader.write_layer(&layer)?;
+    record::stamp(&asset.dir, &asset.writes)?;
     Ok(layer)
 }
 

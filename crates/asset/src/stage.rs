@@ -21,6 +21,10 @@ pub struct Stage {
     /// package (usd-core without its MaterialX file format), each used by a binding.
     #[serde(default)]
     pub references: Vec<MtlxReference>,
+    /// Every layer the stage composed and every MaterialX document and XInclude read
+    /// (absolute): files no output may be.
+    #[serde(default)]
+    pub read_files: Vec<PathBuf>,
 }
 
 /// A prim's reference (or payload) to a MaterialX document.
