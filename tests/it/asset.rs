@@ -381,6 +381,41 @@ fn a_usdz_package_is_read_and_its_textures_copied_out_inside_dir() {
         .fails(1, &["usd-core cannot open the stage"]);
 }
 
+/// Issue 57, item 3: a usdz's copy-outs follow the output rules: a user's file of the same
+/// name under `DIR/STEM_usdz/` is kept (exit 2, -u or --force); the asset's own copy is
+/// replaced when the package's member changed.
+#[test]
+fn a_usdz_copy_out_never_replaces_a_file_the_asset_did_not_write() {
+    let Some(python) = usd() else { return };
+    let dir = Scratch::new("asset-usdz-own");
+    stage(&dir.0, "package");
+    // Where usd-core's packaging puts the member, as a first run copies it out.
+    let first = dir.path("first");
+    asset(&python, &dir.path("packed.usdz"), &first).ok();
+    let (copy, _) = tree(&first)
+        .into_iter()
+        .find(|(p, _)| p.ends_with("rock_albedo.png"))
+        .expect("a copy-out");
+    let out = dir.path("out");
+    let theirs = out.join(copy.strip_prefix(&first).unwrap());
+    std::fs::create_dir_all(theirs.parent().unwrap()).unwrap();
+    std::fs::write(&theirs, b"a user's picture").unwrap();
+    for flags in [&[][..], &["-u"], &["--force"]] {
+        asset(&python, &dir.path("packed.usdz"), &out)
+            .args(flags)
+            .fails(2, &["rock_albedo.png", "did not write it"]);
+        assert_eq!(std::fs::read(&theirs).unwrap(), b"a user's picture");
+    }
+    // Moved away: copied out, converted, and the next -u run keeps its own copy.
+    std::fs::remove_file(&theirs).unwrap();
+    asset(&python, &dir.path("packed.usdz"), &out).ok();
+    let copied = std::fs::read(&theirs).unwrap();
+    asset(&python, &dir.path("packed.usdz"), &out)
+        .arg("-u")
+        .ok();
+    assert_eq!(std::fs::read(&theirs).unwrap(), copied);
+}
+
 #[test]
 fn hostile_texture_paths_fail_cleanly_inside_dir() {
     let Some(python) = usd() else { return };

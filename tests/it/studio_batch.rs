@@ -716,6 +716,62 @@ fn carried_metadata_is_bounded_and_arrives_as_utf8_from_its_declared_encoding() 
     }
 }
 
+/// Issue 57, items 8 and 9: OpenImageIO writes UTF-8 into a PNG's `tEXt` (and reads it back
+/// as UTF-8): it arrives as that text, not as Latin-1 mojibake, while Latin-1 bytes stay
+/// Latin-1; `tEXt` keywords under OpenEXR's `name` and `compression` are dropped with the
+/// warning OpenEXR's other names get. Anchored on oiiotool's reading and exrheader's bytes.
+#[test]
+fn png_text_in_utf8_stays_utf8_and_dropped_keywords_are_said() {
+    let s = Scratch::new("png-text-utf8");
+    let text = "山田 太郎 — Café ☃";
+    let written = s.path("oiio.png");
+    tool(
+        "oiiotool",
+        &[
+            "--pattern",
+            "constant:color=0.5,0.4,0.3",
+            "8x8",
+            "3",
+            "--attrib",
+            "Copyright",
+            text,
+            "-d",
+            "uint8",
+            "-o",
+            written.to_str().unwrap(),
+        ],
+    );
+    let read = tool("oiiotool", &["--info", "-v", written.to_str().unwrap()]);
+    assert!(read.contains(&format!("Copyright: \"{text}\"")), "{read}");
+    let out = s.path("oiio_spectral.exr");
+    Cmd::convert(&written, &out).ok();
+    assert_eq!(exrheader_strings(&out)["Copyright"], text.as_bytes());
+    let input = s.path("keys.png");
+    png_with_text(
+        &input,
+        r#"[(b"tEXt", b"name", b"part one"),
+            (b"tEXt", b"compression", b"none, please"),
+            (b"tEXt", b"Comment", "Café".encode("latin-1"))]"#,
+    );
+    let out = s.path("keys_spectral.exr");
+    let run = Cmd::convert(&input, &out).ok();
+    let warning = run
+        .stderr
+        .lines()
+        .find(|l| l.starts_with("specconv: warning"))
+        .unwrap_or_else(|| panic!("no warning: {}", run.stderr));
+    assert!(
+        warning.contains("'name'") && warning.contains("'compression'"),
+        "{warning}"
+    );
+    let strings = exrheader_strings(&out);
+    assert_eq!(strings["Comment"], "Café".as_bytes());
+    assert_ne!(
+        strings.get("compression").map(Vec::as_slice),
+        Some(&b"none, please"[..])
+    );
+}
+
 /// Issue 45 item 6: an input attribute under any of OpenEXR's own names (the `exr` crate's
 /// list of required and standard attributes) or a name outside Latin-1 no longer fails the
 /// input: the names OpenEXR cannot take are dropped, named in one warning for the batch, and

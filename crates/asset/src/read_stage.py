@@ -2,9 +2,11 @@
 $SPECCONV_USD_PYTHON names (else python3). Pixar's usd-core composes the stage; this script
 only reports what the stage says, and the library (crates/asset) decides.
 
-    read STAGE INPUTS [DIR]    prints the textures bound materials read, as one JSON object;
+    read STAGE INPUTS [DIR [OWN]]
+                               prints the textures bound materials read, as one JSON object;
                                INPUTS (a JSON list) are the material inputs a use ends at; with
-                               DIR, textures inside a usdz package are copied there
+                               DIR, textures inside a usdz package are copied there, replacing
+                               only the files OWN (a JSON list) names: those an asset run wrote
     layer                      reads a plan (JSON) on stdin and prints the files of overrides,
                                {"files": [{"path", "text"}]}: the layer (usda text) and the
                                MaterialX documents' copies, which specconv writes
@@ -217,8 +219,10 @@ def packaged(resolved):
     return None
 
 
-def extract(resolved, member, into, Ar):
-    """Copies a packaged texture out of its usdz into `into` (specconv's output directory)."""
+def extract(resolved, member, into, Ar, replaceable):
+    """Copies a packaged texture out of its usdz into `into` (specconv's output directory).
+    A file already there is replaced only when an asset run wrote it (`replaceable`, from the
+    record the library keeps); one with the member's bytes is kept as it is."""
     safe = [p for p in member.replace("\\", "/").split("/") if p not in ("", ".", "..")]
     target = os.path.join(into, *safe) if safe else None
     if target is None:
@@ -235,6 +239,8 @@ def extract(resolved, member, into, Ar):
         with open(target, "rb") as have:
             if have.read() == data:
                 return target
+    if os.path.lexists(target) and os.path.abspath(target) not in replaceable:
+        fail("not-ours", os.path.abspath(target))
     tmp = target + ".specconv-tmp-%d" % os.getpid()
     with open(tmp, "wb") as out:
         out.write(data)
@@ -242,7 +248,7 @@ def extract(resolved, member, into, Ar):
     return target
 
 
-def read(stage_path, extract_dir, final_inputs):
+def read(stage_path, extract_dir, final_inputs, replaceable=()):
     from pxr import Usd, UsdShade, Sdf, Ar, Tf
     try:
         stage = Usd.Stage.Open(stage_path, Usd.Stage.LoadAll)
@@ -287,7 +293,8 @@ def read(stage_path, extract_dir, final_inputs):
             if pkg is not None:
                 entry["package"] = dict(file=pkg[0], member=pkg[1])
                 if extract_dir is not None:
-                    entry["resolved"] = extract(f["resolved"], pkg[1], extract_dir, Ar)
+                    entry["resolved"] = extract(f["resolved"], pkg[1], extract_dir, Ar,
+                                                replaceable)
             textures.append(entry)
     # Every layer composed (a usdz member as its package) and MaterialX file loaded: what the
     # library never lets an output be.
@@ -384,7 +391,7 @@ def need_materialx(document):
 
 def main():
     args = sys.argv[1:]
-    if len(args) in (3, 4) and args[0] == "read":
+    if len(args) in (3, 4, 5) and args[0] == "read":
         final_inputs = set(json.loads(args[2]))
         if args[1].lower().endswith(".mtlx"):
             need_materialx(args[1])
@@ -394,7 +401,8 @@ def main():
                 fail(*e.args)
             return 0
         need_usd()
-        read(args[1], args[3] if len(args) == 4 else None, final_inputs)
+        replaceable = set(json.loads(args[4])) if len(args) == 5 else set()
+        read(args[1], args[3] if len(args) >= 4 else None, final_inputs, replaceable)
     elif args == ["layer"]:
         layer()
     else:

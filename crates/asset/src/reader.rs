@@ -6,7 +6,7 @@ use crate::stage::Stage;
 use crate::Error;
 use std::ffi::{OsStr, OsString};
 use std::io::{Read, Write};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
@@ -76,14 +76,21 @@ impl Reader {
     }
 
     /// Opens `stage` with composition and lists the textures its bound materials read; with
-    /// `extract`, textures inside a usdz are copied out into it.
-    pub fn read(&self, stage: &Path, extract: Option<&Path>) -> Result<Stage, Error> {
+    /// `extract`, textures inside a usdz are copied out into its folder, replacing no file
+    /// there but those it names (the files an asset run wrote, [`crate::record`]).
+    pub fn read(&self, stage: &Path, extract: Option<(&Path, &[PathBuf])>) -> Result<Stage, Error> {
         let inputs = serde_json::to_string(&crate::decide::final_inputs())
             .map_err(|e| Error::Reader(e.to_string()))?;
+        let own = match extract {
+            Some((_, own)) => {
+                serde_json::to_string(own).map_err(|e| Error::Reader(e.to_string()))?
+            }
+            None => String::new(),
+        };
         let mut args: Vec<&OsStr> =
             vec![OsStr::new("read"), stage.as_os_str(), OsStr::new(&inputs)];
-        if let Some(dir) = extract {
-            args.push(dir.as_os_str());
+        if let Some((dir, _)) = extract {
+            args.extend([dir.as_os_str(), OsStr::new(&own)]);
         }
         let out = self.run(&args, None)?;
         serde_json::from_slice(&out).map_err(|e| Error::Reader(format!("its answer: {e}")))
@@ -213,6 +220,9 @@ fn reported(out: &[u8], err: &[u8]) -> Error {
             detail: clean(&r.detail),
         },
         Ok(r) if r.error == "mtlx" => Error::Document { detail: r.detail },
+        Ok(r) if r.error == "not-ours" => Error::NotWrittenByAsset {
+            path: r.detail.into(),
+        },
         Ok(r) => Error::Reader(format!("{}: {}", r.error, clean(&r.detail))),
         Err(_) => {
             let text = String::from_utf8_lossy(err);

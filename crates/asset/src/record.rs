@@ -110,6 +110,19 @@ pub fn check(dir: &Path, writes: &[PathBuf], reads: &[PathBuf]) -> Result<(), Er
     Ok(())
 }
 
+/// The files under `folder` (inside `dir`) that the record names and nobody changed since:
+/// what a usdz's copy-outs may replace.
+pub fn own_under(dir: &Path, folder: &Path) -> Result<Vec<PathBuf>, Error> {
+    let record = load(dir)?;
+    Ok(record
+        .files
+        .iter()
+        .map(|(k, stamp)| (dir.join(k), stamp))
+        .filter(|(p, stamp)| p.starts_with(folder) && stamp.is_none_or(|s| stamp_of(p) == Some(s)))
+        .map(|(p, _)| p)
+        .collect())
+}
+
 /// Records `writes` as planned by an asset run into `dir` (stamps already there are kept).
 pub fn claim(dir: &Path, writes: &[PathBuf]) -> Result<(), Error> {
     let mut record = load(dir)?;

@@ -36,7 +36,21 @@ pub fn prepare(
     }
     let dir = absolute(dir)?;
     let extract = (!dry_run).then(|| extract_dir(&stage, &dir));
-    let read = reader.read(&stage, extract.as_deref())?;
+    // A usdz's copy-outs replace only the asset's own files; once made, they are its own.
+    let own = match &extract {
+        Some(folder) => record::own_under(&dir, folder)?,
+        None => Vec::new(),
+    };
+    let read = reader.read(&stage, extract.as_deref().map(|d| (d, own.as_slice())))?;
+    let copied: Vec<PathBuf> = read
+        .textures
+        .iter()
+        .filter(|t| t.package.is_some())
+        .filter_map(|t| t.resolved.clone())
+        .collect();
+    if !copied.is_empty() {
+        record::stamp(&dir, &copied)?;
+    }
     let config =
         ColourConfig::resolve(options.ocio.as_deref()).map_err(|e| Error::Config(Box::new(e)))?;
     let mut asset = Asset::new(read, &dir, (&config, options))?;

@@ -107,16 +107,22 @@ pub const MAX_TOTAL_BYTES: usize = 256 * 1024;
 pub enum Encoding {
     /// UTF-8: a PNG's `iTXt`, and what OpenImageIO reports of other formats.
     Utf8,
-    /// ISO 8859-1: a PNG's `tEXt` and `zTXt` (PNG specification, 3rd ed., 11.3.3).
+    /// ISO 8859-1: a PNG's `tEXt` and `zTXt` (PNG specification, 3rd ed., 11.3.3), except
+    /// bytes that are valid UTF-8, which are read as UTF-8: OpenImageIO writes UTF-8 into
+    /// `tEXt` and reads it back as such (issue 57, item 9), and Latin-1 text with a byte above
+    /// 0x7F is almost never valid UTF-8.
     Latin1,
 }
 
 impl Encoding {
     /// `bytes` as text, or `None` when they are not text in this encoding (invalid UTF-8).
     pub fn decode(self, bytes: &[u8]) -> Option<String> {
+        let utf8 = std::str::from_utf8(bytes).ok().map(str::to_owned);
         match self {
-            Encoding::Utf8 => std::str::from_utf8(bytes).ok().map(str::to_owned),
-            Encoding::Latin1 => Some(bytes.iter().map(|&b| char::from(b)).collect()),
+            Encoding::Utf8 => utf8,
+            Encoding::Latin1 => {
+                utf8.or_else(|| Some(bytes.iter().map(|&b| char::from(b)).collect()))
+            }
         }
     }
 }

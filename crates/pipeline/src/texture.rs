@@ -11,7 +11,7 @@ pub fn metadata(
     reader: &specconv_oiio::ImageReader,
     path: &std::path::Path,
 ) -> specconv_oiio::Result<crate::metadata::Carry> {
-    use crate::metadata::{carried, Carry, Encoding, Why};
+    use crate::metadata::{carried, fits, Carry, Encoding, Why};
     let encodings = crate::png::text_encodings(path);
     let encoding = |raw: &[u8]| {
         encodings
@@ -28,6 +28,14 @@ pub fn metadata(
             }
             continue;
         };
+        // A PNG's own text under one of OpenEXR's names that the writer sets itself (`name`,
+        // `compression`): the file's words, so dropped with a warning as OpenEXR's other names
+        // are (issue 57, item 8); the reader's own attributes of those names go unsaid.
+        let in_text = encodings.iter().any(|(n, _)| *n == raw);
+        if !carried(&name) && in_text && fits(&name) == Err(Why::OpenExrName) {
+            carry.refuse(&name, Why::OpenExrName);
+            continue;
+        }
         let Some(len) = reader.string_attribute_len(&raw)? else {
             continue;
         };

@@ -336,6 +336,7 @@ mod tests {
         "Conversion::Io",
         "Conversion::Cancelled",
         "Conversion::Spectral",
+        "Conversion::Compact",
         "Conversion::Data",
         "Conversion::Strict",
         "Conversion::NotCompact",
