@@ -299,6 +299,24 @@ fn modules_in_the_working_directory_are_never_imported() {
     assert!(!marks.exists(), "{:?}", std::fs::read_to_string(&marks));
 }
 
+/// Issue 57, item 12: an interpreter that fails without a word is named, not "failed:".
+#[test]
+fn an_interpreter_that_says_nothing_is_named() {
+    if usd().is_none() {
+        return;
+    }
+    let dir = Scratch::new("asset-false");
+    let shot = basic_shot(&dir);
+    asset("/bin/false", &shot.join("shot.usda"), &dir.path("out")).fails(
+        1,
+        &[
+            "'/bin/false' exited with",
+            "said nothing",
+            "SPECCONV_USD_PYTHON",
+        ],
+    );
+}
+
 #[test]
 fn a_conflict_names_both_uses_and_is_never_uplifted() {
     let Some(python) = usd() else { return };

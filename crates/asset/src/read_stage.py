@@ -411,4 +411,13 @@ def main():
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    # Whatever usd-core, MaterialX or Python raise is said in one line, never a traceback.
+    try:
+        sys.exit(main())
+    except RecursionError:
+        fail("loop", "a chain of connections, interfacenames or includes that loops or is "
+                     "deeper than Python's limit")
+    except UnicodeError as e:
+        fail("encoding", "a path or a name that is not text in its encoding (%s)" % e.reason)
+    except Exception as e:
+        fail(type(e).__name__, " ".join(str(e).split()) or "no message")

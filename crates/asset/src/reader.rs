@@ -201,6 +201,13 @@ impl Reader {
                 document,
             });
         }
+        if !status.success() && out.is_empty() && err.iter().all(u8::is_ascii_whitespace) {
+            return Err(Error::Reader(format!(
+                "'{}' exited with {status} and said nothing: name a Python 3 that has usd-core \
+                 with {PYTHON_VAR}",
+                self.python.to_string_lossy()
+            )));
+        }
         if !status.success() {
             return Err(reported(&out, &err));
         }
