@@ -152,6 +152,28 @@ def package(d):
         os.chdir(cwd)
 
 
+def deep(d, n=70):
+    """Issue 57, item 5: a normal map (tex/rock_normal.png, no sourceColorSpace) reaching
+    inputs:normal through `n` pass-through nodes, more than the reader follows; and a colour
+    texture read directly beside it."""
+    s = Usd.Stage.CreateNew(os.path.join(d, "deep.usda"))
+    m = material(s, "/Looks/Deep", [
+        T("Albedo", "./tex/rock_albedo.png", {"rgb": "diffuseColor"}, "sRGB")])
+    tex = UsdShade.Shader.Define(s, "/Looks/Deep/Normal")
+    tex.CreateIdAttr("UsdUVTexture")
+    tex.CreateInput("file", Sdf.ValueTypeNames.Asset).Set("./tex/rock_normal.png")
+    out = tex.CreateOutput("rgb", Sdf.ValueTypeNames.Float3)
+    for k in range(n):
+        step = UsdShade.Shader.Define(s, "/Looks/Deep/Pass%03d" % k)
+        step.CreateIdAttr("ND_dot_vector3")
+        step.CreateInput("in", Sdf.ValueTypeNames.Float3).ConnectToSource(out)
+        out = step.CreateOutput("out", Sdf.ValueTypeNames.Float3)
+    surf = UsdShade.Shader(s.GetPrimAtPath("/Looks/Deep/Surface"))
+    surf.CreateInput("normal", Sdf.ValueTypeNames.Normal3f).ConnectToSource(out)
+    bind(s, "/Geo", m)
+    s.Save()
+
+
 def many(d, n=10000):
     s = Usd.Stage.CreateNew(os.path.join(d, "many.usda"))
     m = material(s, "/Looks/M", [T("Tex", "./tex/rock_albedo.png", {"rgb": "diffuseColor"}, "sRGB")])

@@ -317,6 +317,31 @@ fn an_interpreter_that_says_nothing_is_named() {
     );
 }
 
+/// Issue 57, item 5: a normal map reaching `normal` through more nodes than the reader
+/// follows is not taken for colour: the walk says it gave up, the texture is not converted
+/// (exit 1), and the layer leaves it alone; the colour texture beside it is converted.
+#[test]
+fn a_walk_that_gives_up_decides_nothing() {
+    let Some(python) = usd() else { return };
+    let dir = Scratch::new("asset-deep");
+    stage(&dir.0, "deep");
+    let out = dir.path("out");
+    let run = asset(&python, &dir.path("deep.usda"), &out)
+        .arg("--json")
+        .run();
+    assert_eq!(run.code, 1, "{}", run.stderr);
+    let records = json_lines_of(&run.stdout);
+    let normal = record(&records, "rock_normal.png");
+    assert_eq!(normal["asset"]["rule"], "undecided", "{normal:#}");
+    let why = normal["asset"]["why"].as_str().unwrap();
+    assert!(
+        why.contains("gave up") && why.contains("/Looks/Deep/Pass"),
+        "{why}"
+    );
+    assert!(!out.join("tex/rock_normal_spectral.exr").exists());
+    assert_eq!(record(&records, "rock_albedo.png")["status"], "ok");
+}
+
 #[test]
 fn a_conflict_names_both_uses_and_is_never_uplifted() {
     let Some(python) = usd() else { return };

@@ -154,16 +154,23 @@ pub enum Decision {
         /// Why, in words.
         why: String,
     },
+    /// The reader's walk from a node gave up before it reached what the node feeds (a chain
+    /// longer than it follows): never converted, and said (issue 57, item 5).
+    Undecided {
+        /// Why, in words.
+        why: String,
+    },
 }
 
 impl Decision {
     /// The rule's keyword (`colour-input`, `source-color-space`, `materialx-colorspace`,
-    /// `data-input`, `alpha-only`, `unknown-input`, `conflict`, `missing`).
+    /// `data-input`, `alpha-only`, `unknown-input`, `conflict`, `missing`, `undecided`).
     pub fn rule(&self) -> &'static str {
         match self {
             Decision::Colour { rule, .. } | Decision::Data { rule, .. } => rule,
             Decision::Conflict { .. } => "conflict",
             Decision::Missing { .. } => "missing",
+            Decision::Undecided { .. } => "undecided",
         }
     }
 
@@ -173,7 +180,8 @@ impl Decision {
             Decision::Colour { why, .. }
             | Decision::Data { why, .. }
             | Decision::Conflict { why }
-            | Decision::Missing { why } => why,
+            | Decision::Missing { why }
+            | Decision::Undecided { why } => why,
         }
     }
 }
@@ -246,6 +254,20 @@ pub fn describe(node: &Node, u: &Use) -> String {
 /// materials): colour where colour channels feed colour inputs, data where they feed data
 /// inputs, a conflict where they feed both or two declared spaces disagree.
 pub fn decide(nodes: &[Node]) -> Decision {
+    // A walk that gave up decides nothing: what lies past it may be any input.
+    for n in nodes {
+        if let Some(u) = n.uses.iter().find(|u| u.cut) {
+            return Decision::Undecided {
+                why: format!(
+                    "the walk from {} gave up at {} after {} nodes: what it feeds there is not \
+                     known, so it is not converted; shorten the chain of nodes",
+                    n.node,
+                    u.shader,
+                    u.through.len()
+                ),
+            };
+        }
+    }
     let mut colour: Vec<(&Node, &Use)> = Vec::new();
     let mut data: Vec<(&Node, &Use)> = Vec::new();
     let mut alpha: Vec<(&Node, &Use)> = Vec::new();
@@ -386,6 +408,7 @@ mod tests {
                     input: (*input).into(),
                     output: (*output).into(),
                     through: vec![],
+                    cut: false,
                 })
                 .collect(),
         }
@@ -458,5 +481,24 @@ mod tests {
         assert_eq!(materialx_space("ACEScg"), Some("lin_ap1_scene"));
         assert_eq!(materialx_space("srgb_texture"), Some("srgb_rec709_scene"));
         assert_eq!(materialx_space("studio:odd"), None);
+    }
+
+    #[test]
+    fn a_walk_that_gave_up_decides_nothing() {
+        let mut n = node("/M/Tex", None, &[("rgb", "diffuseColor")]);
+        n.uses.push(Use {
+            shader: "/M/Chain/N64".into(),
+            input: String::new(),
+            through: vec!["/M/Chain/N".into(); 65],
+            cut: true,
+            ..n.uses[0].clone()
+        });
+        let d = decide(&[n]);
+        assert_eq!(d.rule(), "undecided");
+        assert!(
+            d.why().contains("gave up at /M/Chain/N64 after 65 nodes"),
+            "{}",
+            d.why()
+        );
     }
 }

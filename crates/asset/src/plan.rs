@@ -379,8 +379,12 @@ fn planned(
         Decision::Colour { .. } if grey.is_some() => Ok(grey),
         Decision::Colour { space, .. } => colour_space(space, config),
         Decision::Data { .. } => named(config, "data"),
-        Decision::Conflict { why } | Decision::Missing { why } => {
+        Decision::Conflict { why } => {
             let why = format!("not converted: {why} (make the material say one thing)");
+            return not_converted(texture, why);
+        }
+        Decision::Missing { why } | Decision::Undecided { why } => {
+            let why = format!("not converted: {why}");
             return not_converted(texture, why);
         }
     };

@@ -207,7 +207,12 @@ def mtlx_final_uses(edges, ports, start, final_inputs, max_depth):
     uses, todo, seen = [], [(start, [], None)], set()
     while todo:
         port, through, channel = todo.pop()
-        if (port, channel) in seen or len(through) > max_depth:
+        if (port, channel) in seen:
+            continue
+        if len(through) > max_depth:
+            # The walk gives up here: said as a use of its own, so nothing is decided.
+            uses.append(dict(shader=port[0], shader_id=None, input="", through=through,
+                             channel=channel, cut=True))
             continue
         seen.add((port, channel))
         for consumer, name in edges.get(port, []):

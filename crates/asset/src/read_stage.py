@@ -99,7 +99,12 @@ def final_uses(edges, start, final_inputs, UsdShade):
     uses, todo, seen = [], [(start, [])], set()
     while todo:
         port, through = todo.pop()
-        if port in seen or len(through) > MAX_DEPTH:
+        if port in seen:
+            continue
+        if len(through) > MAX_DEPTH:
+            # The walk gives up here: said as a use of its own, so nothing is decided.
+            uses.append(dict(shader=port[0], shader_id=None, input="", through=through,
+                             cut=True))
             continue
         seen.add(port)
         for consumer, name in edges.get(port, []):

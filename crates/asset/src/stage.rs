@@ -98,4 +98,8 @@ pub struct Use {
     pub output: String,
     /// The nodes between (a normal-map node), in order.
     pub through: Vec<String>,
+    /// The reader's walk gave up at `shader` after this many nodes between (a chain past its
+    /// depth): what the texture feeds there is not known.
+    #[serde(default)]
+    pub cut: bool,
 }

@@ -139,6 +139,7 @@ fn print_decisions(asset: &Asset, jobs: &[Job], json: bool) -> Result<()> {
             ),
             Decision::Data { .. } => "data".into(),
             Decision::Conflict { .. } => "CONFLICT".into(),
+            Decision::Undecided { .. } => "UNDECIDED".into(),
             Decision::Missing { .. } => "MISSING".into(),
         };
         let tiles = files[k];
