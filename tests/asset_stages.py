@@ -152,6 +152,17 @@ def package(d):
         os.chdir(cwd)
 
 
+def udim_conflict(d):
+    """Issue 57, item 6: a UDIM pattern read as colour whose tile 1001 is read by its own
+    name as a normal map."""
+    s = Usd.Stage.CreateNew(os.path.join(d, "udim_conflict.usda"))
+    a = material(s, "/Looks/A", [T("Tex", "./tex/wood.<UDIM>.png", {"rgb": "diffuseColor"})])
+    b = material(s, "/Looks/B", [T("Tex", "./tex/wood.1001.png", {"rgb": "normal"}, "raw")])
+    bind(s, "/GeoA", a)
+    bind(s, "/GeoB", b)
+    s.Save()
+
+
 def deep(d, n=70):
     """Issue 57, item 5: a normal map (tex/rock_normal.png, no sourceColorSpace) reaching
     inputs:normal through `n` pass-through nodes, more than the reader follows; and a colour

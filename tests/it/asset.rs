@@ -342,6 +342,30 @@ fn a_walk_that_gives_up_decides_nothing() {
     assert_eq!(record(&records, "rock_albedo.png")["status"], "ok");
 }
 
+/// Issue 57, item 6: a UDIM pattern read as colour and one of its tiles read by name as a
+/// normal map: a conflict naming both, neither converted, exit 1, and no tile written.
+#[test]
+fn a_tile_read_as_data_and_as_a_colour_pattern_is_a_conflict() {
+    let Some(python) = usd() else { return };
+    let dir = Scratch::new("asset-udim-conflict");
+    stage(&dir.0, "udim_conflict");
+    let out = dir.path("out");
+    let run = asset(&python, &dir.path("udim_conflict.usda"), &out).run();
+    assert_eq!(run.code, 1, "{}", run.stderr);
+    assert!(
+        run.stderr.contains("wood.1001.png is read as")
+            && run.stderr.contains("wood.<UDIM>.png (colour-input)")
+            && run.stderr.contains("(data-input)"),
+        "{}",
+        run.stderr
+    );
+    let written: Vec<_> = tree(&out)
+        .into_iter()
+        .filter(|(p, _)| p.to_string_lossy().contains("wood"))
+        .collect();
+    assert!(written.is_empty(), "{written:?}");
+}
+
 #[test]
 fn a_conflict_names_both_uses_and_is_never_uplifted() {
     let Some(python) = usd() else { return };

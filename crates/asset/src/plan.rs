@@ -215,7 +215,57 @@ impl Asset {
                 Err(e) => t.error = Some(e.to_string()),
             }
         }
+        self.conflicting_reads(&mut jobs);
         jobs
+    }
+
+    /// One file read by two textures (a UDIM pattern's tile and the tile by its own name, or
+    /// two patterns) that are decided differently (colour and data, two colour spaces) is a
+    /// conflict, as two uses of one file are (issue 57, item 6): neither texture is converted,
+    /// and each says why.
+    fn conflicting_reads(&mut self, jobs: &mut Vec<Job>) {
+        let mut readers: std::collections::BTreeMap<&Path, Vec<usize>> = Default::default();
+        for j in jobs.iter() {
+            let ks = readers.entry(j.input.as_path()).or_default();
+            if !ks.contains(&j.texture) {
+                ks.push(j.texture);
+            }
+        }
+        let role = |k: usize| {
+            let t = &self.textures[k];
+            (t.texture.decision.rule(), t.colorspace.clone())
+        };
+        let mut errors: Vec<(usize, String)> = Vec::new();
+        for (file, ks) in &readers {
+            let Some(&first) = ks.first() else { continue };
+            if ks.iter().all(|&k| role(k) == role(first)) {
+                continue;
+            }
+            let each: Vec<String> = ks
+                .iter()
+                .map(|&k| {
+                    let t = &self.textures[k];
+                    format!(
+                        "{} ({})",
+                        t.texture.file.display(),
+                        t.texture.decision.rule()
+                    )
+                })
+                .collect();
+            let why = format!(
+                "not converted: {} is read as {} (make the material say one thing)",
+                file.display(),
+                each.join(" and as ")
+            );
+            errors.extend(ks.iter().map(|&k| (k, why.clone())));
+        }
+        for (k, why) in errors {
+            self.textures[k].error.get_or_insert(why);
+        }
+        let failed: Vec<usize> = (0..self.textures.len())
+            .filter(|&k| self.textures[k].error.is_some())
+            .collect();
+        jobs.retain(|j| !failed.contains(&j.texture));
     }
 
     /// With `--data fail`: texture `k`, when it is data, becomes a failure (its error says
