@@ -7,6 +7,7 @@ mod colour_science;
 mod emission;
 mod fuzz_readers;
 mod hard_inputs;
+mod header_constants;
 mod model;
 mod paper;
 mod reference_texels;
