@@ -83,7 +83,8 @@ if not HAS_MTLX and os.environ.get("SPECCONV_REQUIRE_USD"):
 
 
 @pytest.mark.skipif(not HAS_MTLX, reason="MaterialX (pip install MaterialX) missing")
-def test_convert_asset_takes_a_materialx_document_and_writes_its_copy(tmp_path):
+def build_brick(tmp_path):
+    """tests/asset_mtlx.py's brick.mtlx in `tmp_path`, with the textures it reads."""
     tex = tmp_path / "tex"
     tex.mkdir()
     for name in ("brick_color", "brick_arm", "brick_normal", "brick_height", "wood.1001",
@@ -92,6 +93,10 @@ def test_convert_asset_takes_a_materialx_document_and_writes_its_copy(tmp_path):
                         "-o", str(tex / (name + ".png"))], check=True)
     subprocess.run([sys.executable, str(STAGES.parent / "asset_mtlx.py"), "brick",
                     str(tmp_path)], check=True)
+
+
+def test_convert_asset_takes_a_materialx_document_and_writes_its_copy(tmp_path):
+    build_brick(tmp_path)
     out = tmp_path / "out"
     records = specconv.convert_asset(tmp_path / "brick.mtlx", out)
     by_name = {Path(r["input"]).name: r for r in records}
@@ -112,14 +117,7 @@ def test_convert_asset_takes_a_materialx_document_and_writes_its_copy(tmp_path):
 def test_convert_asset_never_replaces_a_file_it_did_not_write(tmp_path):
     """Issue 57, item 1: a file where the override copy goes, not written by an asset run,
     is kept, update or overwrite; the run converts nothing."""
-    tex = tmp_path / "tex"
-    tex.mkdir()
-    for name in ("brick_color", "brick_arm", "brick_normal", "brick_height", "wood.1001",
-                 "wood.1002", "never"):
-        subprocess.run(["oiiotool", "--pattern", "checker", "8x8", "4", "-d", "uint8",
-                        "-o", str(tex / (name + ".png"))], check=True)
-    subprocess.run([sys.executable, str(STAGES.parent / "asset_mtlx.py"), "brick",
-                    str(tmp_path)], check=True)
+    build_brick(tmp_path)
     out = tmp_path / "out"
     out.mkdir()
     theirs = out / "brick_spectral.mtlx"
