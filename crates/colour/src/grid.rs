@@ -37,6 +37,9 @@ impl Grid {
     /// The most bands a grid has.
     pub const MAX_BANDS: usize = 100_000;
 
+    /// How near END − START must be to a whole number of steps, relative to that number.
+    pub const WHOLE_STEPS: f64 = 1e-9;
+
     /// The paper's grid: 380–730 nm at 10 nm, 36 bands.
     pub const PAPER: Grid = Grid {
         start: 380.0,
@@ -59,7 +62,7 @@ impl Grid {
             return Err(bad("need 0 < START <= END"));
         }
         let intervals = (end - start) / step;
-        if (intervals - intervals.round()).abs() > 1e-9 * intervals.max(1.0) {
+        if (intervals - intervals.round()).abs() > Grid::WHOLE_STEPS * intervals.max(1.0) {
             return Err(bad("END - START must be a whole number of steps"));
         }
         if intervals.round() + 1.0 > Grid::MAX_BANDS as f64 {

@@ -25,7 +25,7 @@
 //! tabulated D65's (3.7·10⁻⁴ in Z on the default grid), by which sRGB (1, 1, 1) lands a hair
 //! outside the solid.
 
-pub use specconv_colour::solid::{nearest, Solid, Solve};
+pub use specconv_colour::solid::{nearest, Solid, Solve, DUAL_STEPS};
 
 use crate::method::Tally;
 use crate::{Error, Method};
@@ -79,10 +79,7 @@ const BLOCK: usize = 64;
 pub const REGULARISATION: f64 = 1e-9;
 
 /// Newton steps of an outside colour's regularised projection (it converges in far fewer).
-const MAX_REGULARISED_STEPS: usize = 200;
-
-/// Dual Newton steps of a projection ([`Solid::project`]'s).
-const MAX_DUAL_STEPS: usize = 60;
+pub const REGULARISED_STEPS: usize = 200;
 
 /// Relative rounding of a colour converted to XYZ in float32 (a few units in the last place of
 /// a 3×3 product), which [`Bounded::white_tolerance`] allows beside the gap between two D65s.
@@ -277,7 +274,7 @@ impl<M: Method> Bounded<M> {
                 return (Outcome::InRange, [0.0; 3]);
             }
         }
-        match self.solid.project_dual(c, r0, r, MAX_DUAL_STEPS) {
+        match self.solid.project_dual(c, r0, r, DUAL_STEPS) {
             (Solve::Solved, w) => (Outcome::Projected, w),
             (solve, _) => {
                 let near =
@@ -311,9 +308,9 @@ impl<M: Method> Bounded<M> {
     fn onto_reached(&self, near: [f64; 3], r0: &[f64], r: &mut [f64]) -> [f64; 3] {
         // Unresolved (a huge r₀, an HDR colour's, projected onto a vertex stalls on Ψ's
         // rounding): its last w is still in the texel form, and nearer than r₀ clipped.
-        let (_, w) =
-            self.solid
-                .project_regularised(near, r0, r, REGULARISATION, MAX_REGULARISED_STEPS);
+        let (_, w) = self
+            .solid
+            .project_regularised(near, r0, r, REGULARISATION, REGULARISED_STEPS);
         let w = if w.iter().all(|v| v.is_finite()) {
             w.map(|v| f64::from(v as f32))
         } else {

@@ -22,6 +22,7 @@
 
 pub mod baselines;
 pub mod bounded;
+pub mod c_header;
 pub mod compact;
 pub mod emission;
 pub mod key_hash;

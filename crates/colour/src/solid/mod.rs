@@ -45,7 +45,28 @@ pub enum Solve {
 }
 
 /// Dual iterations before a colour is declared unresolved (on the solid's surface).
-const MAX_ITERATIONS: usize = 60;
+pub const DUAL_STEPS: usize = 60;
+
+/// The dual solves' numbers, which the C header's encoder shares (it is generated from them,
+/// `specconv_spectral::c_header`): the residual that is converged, relative to the largest
+/// component of the target colour…
+pub const RESIDUAL: f64 = 1e-13;
+/// …and the residual a stalled solve may still end with and count as solved.
+pub const STALLED_RESIDUAL: f64 = 1e-9;
+/// The Hessian's regularisation, relative to trace(A·Aᵀ), of a projection's step where fewer
+/// than three bands are free.
+pub const HESSIAN_FLOOR: f64 = 1e-12;
+/// A line search halves while the step still moves w by more than this, relative to w.
+pub const STEP_FLOOR: f64 = 1e-15;
+/// The rounding allowed in Ψ's comparison, relative to |Ψ| (a sum of n terms).
+pub const PSI_ROUNDING: f64 = 1e-15;
+/// The sufficient decrease (Armijo) a step must make, of its slope.
+pub const ARMIJO: f64 = 1e-4;
+/// The halvings of a polishing step's length before it gives up.
+pub const POLISH_HALVINGS: usize = 40;
+/// The stronger penalties a stalled regularised solve restarts from: 10^k times as strong, k
+/// from this down to 1.
+pub const STRONGER_PENALTIES: i32 = 8;
 
 /// Bands up to which scratch spectra live on the stack.
 const STACK_BANDS: usize = 128;
@@ -109,7 +130,7 @@ impl Solid {
 
     /// min ½‖r − r0‖² subject to A·r = c and 0 ≤ r ≤ 1, into `r` (see the module).
     pub fn project(&self, c: [f64; 3], r0: &[f64], r: &mut [f64]) -> Solve {
-        self.project_within(c, r0, r, MAX_ITERATIONS)
+        self.project_within(c, r0, r, DUAL_STEPS)
     }
 
     /// [`Solid::project`] with at most `iterations` Newton steps.
@@ -141,7 +162,7 @@ impl Solid {
             .max(c[1].abs())
             .max(c[2].abs())
             .max(f64::MIN_POSITIVE);
-        let tol = 1e-13 * scale;
+        let tol = RESIDUAL * scale;
         let solve = |mu: f64, w: &mut [f64; 3], r: &mut [f64]| {
             let problem = Dual {
                 cols: &self.cols,
@@ -161,14 +182,14 @@ impl Solid {
         let mut residual = solve(mu, &mut w, r);
         // A large w (an HDR colour's r₀ is large) can stall far from the solution: then from
         // a penalty 10⁸ times as strong, weakened tenfold a step, each from the last one's w.
-        if residual > 1e-9 * scale {
+        if residual > STALLED_RESIDUAL * scale {
             w = [0.0; 3];
-            for k in (1..=8).rev() {
+            for k in (1..=STRONGER_PENALTIES).rev() {
                 solve(mu * 10f64.powi(k), &mut w, r);
             }
             residual = solve(mu, &mut w, r);
         }
-        let solve = if residual <= 1e-9 * scale {
+        let solve = if residual <= STALLED_RESIDUAL * scale {
             Solve::Solved
         } else {
             Solve::Unresolved
@@ -214,7 +235,7 @@ impl Solid {
         w0: [f64; 3],
     ) -> (Solve, [f64; 3]) {
         let scale = c[0].abs().max(c[1].abs()).max(c[2].abs());
-        let tol = 1e-13 * scale.max(f64::MIN_POSITIVE);
+        let tol = RESIDUAL * scale.max(f64::MIN_POSITIVE);
         // Each axis bounds the solid: c beyond one is outside, at the cost of six compares.
         for k in 0..3 {
             for (sign, support) in [
@@ -233,7 +254,7 @@ impl Solid {
             p: r0,
             s: c,
             mu: 0.0,
-            eps: 1e-12 * self.trace,
+            eps: HESSIAN_FLOOR * self.trace,
         };
         let mut w = if w0.iter().all(|v| v.is_finite()) {
             w0
@@ -258,7 +279,9 @@ impl Solid {
         let solve = match problem.minimise(&mut w, r, tol, iterations, watch) {
             End::Converged => Solve::Solved,
             End::Watched => Solve::Outside(certificate.expect("set by the watch")),
-            End::Stalled(residual) if residual <= 1e-9 * scale.max(f64::MIN_POSITIVE) => {
+            End::Stalled(residual)
+                if residual <= STALLED_RESIDUAL * scale.max(f64::MIN_POSITIVE) =>
+            {
                 Solve::Solved
             }
             End::Stalled(_) => Solve::Unresolved,
@@ -380,7 +403,7 @@ impl Dual<'_> {
             // its rounding here).
             let mut step = None;
             let mut t = 1.0;
-            for _ in 0..40 {
+            for _ in 0..POLISH_HALVINGS {
                 let trial = [0, 1, 2].map(|k| w[k] + t * delta[k]);
                 let next = self.at(&trial, trial_r);
                 let left = next.grad.iter().fold(0.0f64, |m, v| m.max(v.abs()));
@@ -444,12 +467,12 @@ impl Dual<'_> {
             let size = delta.iter().fold(0.0f64, |m, v| m.max(v.abs()));
             let reach = w.iter().fold(1.0f64, |m, v| m.max(v.abs()));
             // Halve while the step still moves w.
-            while t * size > 1e-15 * reach {
+            while t * size > STEP_FLOOR * reach {
                 let trial = [0, 1, 2].map(|k| w[k] + t * delta[k]);
                 let next = self.at(&trial, other);
                 // Slack for rounding in Ψ, a sum of n terms.
-                let slack = 1e-15 * (point.psi.abs() + next.psi.abs());
-                if next.psi <= point.psi + 1e-4 * t * slope + slack {
+                let slack = PSI_ROUNDING * (point.psi.abs() + next.psi.abs());
+                if next.psi <= point.psi + ARMIJO * t * slope + slack {
                     *w = trial;
                     point = next;
                     std::mem::swap(&mut cur, &mut other);

@@ -23,9 +23,29 @@ use crate::lab::{xyz_to_lab, xyz_to_lab_jacobian};
 use crate::mat3::dot;
 
 /// Proximal Gauss–Newton steps at most.
-const MAX_STEPS: usize = 80;
+pub const STEPS: usize = 80;
 /// Dual Newton steps per subproblem at most (each converges in a few).
-const SUB_ITERATIONS: usize = 50;
+pub const SUB_STEPS: usize = 50;
+/// Tries of one step, each with a stronger proximal term, at most: the weight passes
+/// [`MU_CAP`] within about 30 (the bound holds where a hostile A makes the weight NaN).
+pub const TRIES: usize = 64;
+/// The first proximal weight, relative to trace(B·Bᵀ)/n…
+pub const MU_START: f64 = 1e-3;
+/// …scaled by this after a step taken…
+pub const MU_SHRINK: f64 = 0.25;
+/// …never below this (relative, the same way), which keeps the subproblem well conditioned…
+pub const MU_FLOOR: f64 = 1e-9;
+/// …and by this after a try refused, until it passes this, relative to trace(B·Bᵀ).
+pub const MU_GROW: f64 = 8.0;
+/// See [`MU_GROW`].
+pub const MU_CAP: f64 = 1e12;
+/// A subproblem's tolerance, relative to its target's largest component (the outer iteration
+/// corrects what the inner one leaves).
+pub const SUB_TOLERANCE: f64 = 1e-10;
+/// Settled: a step changes φ by at most this, relative…
+pub const SETTLED_PHI: f64 = 1e-10;
+/// …or no band by more than this.
+pub const SETTLED_MOVE: f64 = 1e-12;
 
 /// The in-range spectrum nearest to `c` in CIELAB (reference white `white`), into `r`,
 /// starting from the method's spectrum `r0`; returns its colour A·r.
@@ -51,7 +71,7 @@ pub fn nearest_lab(
     let mut b = vec![[0.0; 3]; n];
     let mut trial = vec![0.0; n];
     let mut mu = f64::NAN;
-    for _ in 0..MAX_STEPS {
+    for _ in 0..STEPS {
         if phi == 0.0 {
             break;
         }
@@ -60,12 +80,15 @@ pub fn nearest_lab(
         }
         let trace: f64 = b.iter().map(|v| dot(*v, *v)).sum();
         if mu.is_nan() {
-            mu = 1e-3 * trace / n as f64;
+            mu = MU_START * trace / n as f64;
         }
         let jx = [0, 1, 2].map(|row| dot(jac[row], x));
         let s = [0, 1, 2].map(|k| jx[k] - (lab[k] - target[k]));
         let mut improved = false;
-        while !improved {
+        for _ in 0..TRIES {
+            if improved {
+                break;
+            }
             let sub = Dual {
                 cols: &b,
                 p: r,
@@ -73,10 +96,9 @@ pub fn nearest_lab(
                 mu,
                 eps: 0.0,
             };
-            // The outer iteration corrects what the inner one leaves.
-            let tol = 1e-10 * s.iter().fold(1.0f64, |m, v| m.max(v.abs()));
+            let tol = SUB_TOLERANCE * s.iter().fold(1.0f64, |m, v| m.max(v.abs()));
             let mut w = [0.0; 3];
-            let end = sub.minimise(&mut w, &mut trial, tol, SUB_ITERATIONS, |_, _, _, _| false);
+            let end = sub.minimise(&mut w, &mut trial, tol, SUB_STEPS, |_, _, _, _| false);
             let xt = solid.xyz(&trial);
             let (lab_t, jac_t) = xyz_to_lab_jacobian(xt, white);
             let phi_t = distance2(lab_t, target);
@@ -84,19 +106,18 @@ pub fn nearest_lab(
                 .iter()
                 .zip(&trial)
                 .fold(0.0f64, |m, (p, q)| m.max((p - q).abs()));
-            // Converged: the step no longer changes φ (relative 1e-10) or r.
-            let settled = (phi - phi_t).abs() <= 1e-10 * phi || moved <= 1e-12;
+            let settled = (phi - phi_t).abs() <= SETTLED_PHI * phi || moved <= SETTLED_MOVE;
             if end != End::Watched && phi_t < phi {
                 r.copy_from_slice(&trial);
                 (x, lab, jac, phi) = (xt, lab_t, jac_t, phi_t);
                 // The floor keeps the subproblem's Hessian well conditioned.
-                mu = (mu * 0.25).max(1e-9 * trace / n as f64);
+                mu = (mu * MU_SHRINK).max(MU_FLOOR * trace / n as f64);
                 improved = true;
             } else {
-                mu *= 8.0;
+                mu *= MU_GROW;
             }
             // A step that changes nothing, or no step of any length that lowers φ: stationary.
-            if settled || mu > 1e12 * trace.max(f64::MIN_POSITIVE) {
+            if settled || mu > MU_CAP * trace.max(f64::MIN_POSITIVE) {
                 return x;
             }
         }
