@@ -2,7 +2,7 @@
 //! gives the spectral file `convert` writes directly, sample for sample within one half step,
 //! every level; read by OpenImageIO (tests/compact_check.py), not by our reader.
 
-use specconv_testkit::cmd::{script, script_json, Cmd, Scratch};
+use specconv_testkit::cmd::{script, script_json, tool, Cmd, Scratch};
 use std::path::Path;
 
 fn s(p: &Path) -> &str {
@@ -516,6 +516,50 @@ fn expand_refuses_hostile_headers_and_applies_the_nan_rule() {
         .arg(dir.path("out.exr"))
         .ok();
     assert!(nans(&dir.path("out.exr")).iter().all(|&k| k > 0));
+}
+
+/// Issue 57, item 7: a NUL in a compact file's decoding text. OpenImageIO ends a string at a
+/// NUL, so the text's last newline made a NUL read as the same text without it, which the
+/// grammar accepts (`no-final-newline`), while the texel reader (and Python's `read_compact`)
+/// saw the NUL and refused. The attribute's bytes are patched in place (OpenImageIO cannot
+/// write a NUL into a string), and every reader in the library gets the grammar's verdict on
+/// the whole text: refused, a control character, nothing written.
+#[test]
+fn a_nul_in_a_compact_file_s_text_is_refused_by_every_reader() {
+    let dir = Scratch::new("compact-nul");
+    let good = dir.path("good.exr");
+    let png = Path::new(env!("CARGO_MANIFEST_DIR")).join("testdata/images/srgb8.png");
+    Cmd::convert(&png, &good).args(["--layout", "compact"]).ok();
+    let mut bytes = std::fs::read(&good).unwrap();
+    let key = b"specconvCompact\0string\0";
+    let at = bytes
+        .windows(key.len())
+        .position(|w| w == key)
+        .expect("the decoding text's attribute")
+        + key.len();
+    let size = u32::from_le_bytes(bytes[at..at + 4].try_into().unwrap()) as usize;
+    let last = at + 4 + size - 1;
+    assert_eq!(bytes[last], b'\n', "the text ends with a newline");
+    bytes[last] = 0;
+    let nul = dir.path("nul.exr");
+    std::fs::write(&nul, &bytes).unwrap();
+    // The file is otherwise whole: OpenImageIO reads its pixels.
+    tool("oiiotool", &["--info", s(&nul)]);
+    let why = "control character";
+    Cmd::new(["expand"])
+        .arg(&nul)
+        .arg(dir.path("out.exr"))
+        .refused(&dir, 1, &["not a compact texture", why]);
+    let info = Cmd::new(["info", "--json"]).arg(&nul).ok().stdout;
+    assert!(info.contains(why), "{info}");
+    let read = specconv_conversion::read_compact(&nul, 0).map(|_| ());
+    assert!(read.is_err_and(|e| e.to_string().contains(why)));
+    // The unpatched file: read by all.
+    Cmd::new(["expand"])
+        .arg(&good)
+        .arg(dir.path("out.exr"))
+        .ok();
+    specconv_conversion::read_compact(&good, 0).unwrap();
 }
 
 /// include/specconv_spectrum.h, the C99 decoder, compiled with the `cc` on PATH into the

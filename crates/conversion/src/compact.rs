@@ -40,14 +40,16 @@ pub(crate) fn facts(path: &Path, reader: &ImageReader) -> Result<Option<CompactF
     if !crate::pipeline::expand::is_compact(layout.as_deref(), &channels) {
         return Ok(None);
     }
-    let text = reader.string_attribute(COMPACT_ATTRIBUTE).map_err(oiio)?;
-    let bands_nm =
-        crate::pipeline::expand::header(path, layout.as_deref(), text.as_deref(), &channels)
-            .map(|(compact, _)| compact.grid().wavelengths())
-            .map_err(|e| match e {
-                crate::pipeline::Error::NotCompact { why, .. } => why,
-                e => e.to_string(),
-            });
+    // The text as its header holds it, not cut at a NUL (`expand::text_attributes`).
+    let bands_nm = crate::pipeline::expand::text_attributes(path)
+        .and_then(|(layout, text)| {
+            crate::pipeline::expand::header(path, layout.as_deref(), text.as_deref(), &channels)
+        })
+        .map(|(compact, _)| compact.grid().wavelengths())
+        .map_err(|e| match e {
+            crate::pipeline::Error::NotCompact { why, .. } => why,
+            e => e.to_string(),
+        });
     let (texel_channels, missing_channels): (Vec<String>, Vec<String>) = COMPACT_CHANNELS
         .iter()
         .map(|c| c.to_string())

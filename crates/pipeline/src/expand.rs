@@ -112,6 +112,29 @@ pub fn header(
     Ok((compact, columns))
 }
 
+/// The layout and decoding-text attributes of `input` as its header holds them, every byte,
+/// read by the OpenEXR reader of `specconv_exr` as [`read_texels`] reads them: OpenImageIO ends
+/// a string attribute at a NUL, and a text cut there can read as a shorter valid one (issue
+/// 57, item 7). Every reader of a compact file in this library takes the text from here.
+pub fn text_attributes(input: &Path) -> Result<(Option<String>, Option<String>)> {
+    let blocks =
+        specconv_exr::blocks::ChannelBlocks::open(input, 0).map_err(|e| Error::NotCompact {
+            path: input.to_path_buf(),
+            why: format!("it cannot be read as OpenEXR ({e})"),
+        })?;
+    let (layout, text) = layout_and_text(&blocks.attributes);
+    Ok((layout.map(str::to_string), text.map(str::to_string)))
+}
+
+/// The layout and decoding-text attributes among a header's text attributes.
+fn layout_and_text(attributes: &[(String, String)]) -> (Option<&str>, Option<&str>) {
+    let attribute = |name: &str| {
+        let found = attributes.iter().find(|(k, _)| k == name);
+        found.map(|(_, v)| v.as_str())
+    };
+    (attribute(LAYOUT_ATTRIBUTE), attribute(COMPACT_ATTRIBUTE))
+}
+
 /// One MIP level of a compact texture in memory: what a renderer holds to decode spectra at
 /// each lookup (docs/compact.md), six float32 values a texel instead of one a band.
 #[derive(Debug, Clone)]
@@ -143,17 +166,9 @@ pub fn read_texels(input: &Path, level: usize) -> Result<CompactTexels> {
         why: format!("it cannot be read as OpenEXR ({e})"),
     };
     let blocks = specconv_exr::blocks::ChannelBlocks::open(input, level).map_err(unreadable)?;
-    let attribute = |name: &str| {
-        let found = blocks.attributes.iter().find(|(k, _)| k == name);
-        found.map(|(_, v)| v.as_str())
-    };
     let names: Vec<&str> = blocks.channels.iter().map(String::as_str).collect();
-    let (compact, columns) = header(
-        input,
-        attribute(LAYOUT_ATTRIBUTE),
-        attribute(COMPACT_ATTRIBUTE),
-        &names,
-    )?;
+    let (layout, text) = layout_and_text(&blocks.attributes);
+    let (compact, columns) = header(input, layout, text, &names)?;
     let alpha_column = names.iter().position(|n| *n == "A");
     let ((width, height), levels) = (blocks.size, blocks.levels);
     let mut texels = vec![0.0f32; width * height * TEXEL];
@@ -225,12 +240,8 @@ fn open(input: &Path) -> Result<Source> {
         .iter()
         .map(|c| c.name.as_str())
         .collect();
-    let (compact, columns) = header(
-        input,
-        reader.string_attribute(LAYOUT_ATTRIBUTE)?.as_deref(),
-        reader.string_attribute(COMPACT_ATTRIBUTE)?.as_deref(),
-        &names,
-    )?;
+    let (layout, text) = text_attributes(input)?;
+    let (compact, columns) = header(input, layout.as_deref(), text.as_deref(), &names)?;
     let mut options = Options::default();
     let recorded = reader
         .string_attribute(EXPAND_ATTRIBUTE)?
