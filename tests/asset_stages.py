@@ -152,6 +152,22 @@ def package(d):
         os.chdir(cwd)
 
 
+def escape_package(d):
+    """Issue 57, item 4: a usdz holding two different pictures as `escape.png` and
+    `../escape.png` (tex/rock_albedo.png and tex/rock_normal.png; both must exist), each read
+    as colour by its own material."""
+    s = Usd.Stage.CreateNew(os.path.join(d, "escape.usdc"))
+    for path, file in (("/Looks/In", "./escape.png"), ("/Looks/Up", "../escape.png")):
+        m = material(s, path, [T("Albedo", file, {"rgb": "diffuseColor"}, "sRGB")])
+        bind(s, "/Geo" + path.rsplit("/", 1)[1], m)
+    s.Save()
+    w = Sdf.ZipFileWriter.CreateNew(os.path.join(d, "escape.usdz"))
+    w.AddFile(os.path.join(d, "escape.usdc"), "escape.usdc")
+    w.AddFile(os.path.join(d, "tex", "rock_albedo.png"), "escape.png")
+    w.AddFile(os.path.join(d, "tex", "rock_normal.png"), "../escape.png")
+    w.Save()
+
+
 def udim_conflict(d):
     """Issue 57, item 6: a UDIM pattern read as colour whose tile 1001 is read by its own
     name as a normal map."""

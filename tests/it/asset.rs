@@ -448,6 +448,49 @@ fn a_usdz_package_is_read_and_its_textures_copied_out_inside_dir() {
         .fails(1, &["usd-core cannot open the stage"]);
 }
 
+/// Issue 57, item 4: usdz members `escape.png` and `../escape.png` are two pictures; each is
+/// copied out to its own file inside DIR (`..` escaped, not dropped), each with its own bytes,
+/// converted to its own output, and each material's layer input names its own.
+#[test]
+fn two_usdz_members_that_differ_only_by_dots_stay_two_files() {
+    let Some(python) = usd() else { return };
+    let dir = Scratch::new("asset-usdz-escape");
+    stage(&dir.0, "escape_package");
+    let out = dir.path("out");
+    let records = asset(&python, &dir.path("escape.usdz"), &out)
+        .arg("--json")
+        .ok()
+        .json_lines();
+    assert_eq!(records.len(), 2, "{records:#?}");
+    let inputs: Vec<PathBuf> = records
+        .iter()
+        .map(|r| PathBuf::from(r["input"].as_str().unwrap()))
+        .collect();
+    assert_ne!(inputs[0], inputs[1]);
+    let copied = out.join("escape_usdz");
+    for input in &inputs {
+        assert!(input.starts_with(&copied), "{}", input.display());
+    }
+    // Each copy holds the bytes of the member it names: the two sources differ.
+    let bytes = |p: &Path| std::fs::read(p).unwrap();
+    let mine = |name: &str| bytes(&dir.path(&format!("tex/{name}.png")));
+    let copies: Vec<Vec<u8>> = inputs.iter().map(|p| bytes(p)).collect();
+    assert_ne!(mine("rock_albedo"), mine("rock_normal"));
+    let mut want = vec![mine("rock_albedo"), mine("rock_normal")];
+    let mut got = copies.clone();
+    want.sort();
+    got.sort();
+    assert_eq!(got, want);
+    let v = layer_files(&python, &out.join("escape_spectral.usda"));
+    let resolved = |p: &str| v["files"][p]["resolved"].as_str().unwrap().to_string();
+    let (a, b) = (resolved("/Looks/In/Albedo"), resolved("/Looks/Up/Albedo"));
+    assert_ne!(a, b);
+    for r in [&a, &b] {
+        assert!(Path::new(r).starts_with(&out), "{r}");
+        assert!(Path::new(r).is_file(), "{r}");
+    }
+}
+
 /// Issue 57, item 3: a usdz's copy-outs follow the output rules: a user's file of the same
 /// name under `DIR/STEM_usdz/` is kept (exit 2, -u or --force); the asset's own copy is
 /// replaced when the package's member changed.

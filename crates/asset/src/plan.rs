@@ -9,7 +9,7 @@ use sha2::{Digest, Sha256};
 use specconv_atomic_file::outputs::Holds;
 use specconv_atomic_file::udim;
 use specconv_conversion::{ColourConfig, Options};
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Component, Path, PathBuf};
 
 /// A texture with its plan.
@@ -175,7 +175,7 @@ impl Asset {
             .into_iter()
             .map(|(file, nodes)| planned(file, nodes, (&stage_dir, dir), (config, options)))
             .collect();
-        disambiguate(&mut textures);
+        disambiguate(&mut textures, &stage.read_files);
         Ok(Asset {
             layer: layer_path(&stage.stage, dir),
             stage: stage.stage,
@@ -546,21 +546,40 @@ pub fn output_for(stage_dir: &Path, dir: &Path, file: &Path, holds: Holds) -> Pa
         let hex: String = hash[..4].iter().map(|b| format!("{b:02x}")).collect();
         Path::new("external").join(hex)
     });
-    dir.join(sub).join(output_name(file, false, holds))
+    dir.join(sub).join(output_name(file, Distinct::Stem, holds))
 }
 
-/// `STEM_spectral.exr`, `STEM_spectral.<UDIM>.exr` for a pattern, `STEM_EXT_spectral…` with
-/// `ext` (two textures of one stem); `data` for `spectral` when it holds data.
-fn output_name(file: &Path, ext: bool, holds: Holds) -> String {
+/// How much of a texture's own path its output's name carries.
+#[derive(Clone, Copy, PartialEq)]
+enum Distinct {
+    /// The stem: `STEM_spectral.exr`.
+    Stem,
+    /// The extension too (two textures of one stem): `STEM_EXT_spectral.exr`.
+    Extension,
+    /// And a hash of the texture's path, where names still meet: `STEM_EXT_HASH_spectral.exr`.
+    Path,
+}
+
+/// `STEM_spectral.exr`, `STEM_spectral.<UDIM>.exr` for a pattern, with the extension and the
+/// path's hash as `distinct` says; `data` for `spectral` when it holds data.
+fn output_name(file: &Path, distinct: Distinct, holds: Holds) -> String {
     let word = holds.word();
     let name = file.file_name().unwrap_or_default().to_string_lossy();
     let (base, extension) = match name.rfind('.') {
         Some(i) if i > 0 => (&name[..i], &name[i + 1..]),
         _ => (&name[..], ""),
     };
-    let with_ext = |stem: &str| match ext && !extension.is_empty() {
-        true => format!("{stem}_{extension}"),
-        false => stem.to_owned(),
+    let with_ext = |stem: &str| {
+        let mut stem = stem.to_owned();
+        if distinct != Distinct::Stem && !extension.is_empty() {
+            stem = format!("{stem}_{extension}");
+        }
+        if distinct == Distinct::Path {
+            let hash = Sha256::digest(file.as_os_str().as_encoded_bytes());
+            let hex: String = hash[..4].iter().map(|b| format!("{b:02x}")).collect();
+            stem = format!("{stem}_{hex}");
+        }
+        stem
     };
     match base.to_ascii_lowercase().find("<udim>") {
         Some(i) => {
@@ -571,21 +590,33 @@ fn output_name(file: &Path, ext: bool, holds: Holds) -> String {
     }
 }
 
-/// Two textures of one folder and stem (`a.png`, `a.tx`) get their extensions in the name.
-fn disambiguate(textures: &mut [Planned]) {
-    let mut seen: BTreeMap<PathBuf, usize> = BTreeMap::new();
-    for t in textures.iter() {
-        if let Some(o) = &t.output {
-            *seen.entry(o.clone()).or_default() += 1;
+/// Makes every output name its own (issue 57, item 11): two textures of one folder and stem
+/// (`a.png`, `a.tx`) get their extensions in the name; where names still meet (`a.png` and
+/// `a_png.png`), or an output would be a file the asset reads (`tex/a.png` beside
+/// `tex/a_spectral.exr`), the texture's path's hash too. Names depend on the paths alone, so
+/// a run again gives the same ones, and the record (`record.rs`) holds them.
+fn disambiguate(textures: &mut [Planned], read: &[PathBuf]) {
+    for distinct in [Distinct::Extension, Distinct::Path] {
+        let mut seen: BTreeMap<PathBuf, usize> = BTreeMap::new();
+        for t in textures.iter() {
+            if let Some(o) = &t.output {
+                *seen.entry(o.clone()).or_default() += 1;
+            }
         }
-    }
-    for t in textures.iter_mut() {
-        if let Some(o) = t.output.as_mut().filter(|o| seen.get(*o) > Some(&1)) {
-            *o = o.with_file_name(output_name(
-                &t.texture.file,
-                true,
-                holds(&t.texture.decision),
-            ));
+        let inputs: BTreeSet<PathBuf> = textures
+            .iter()
+            .map(|t| t.texture.file.clone())
+            .chain(read.iter().cloned())
+            .collect();
+        for t in textures.iter_mut() {
+            let clash = |o: &PathBuf| seen.get(o) > Some(&1) || inputs.contains(o);
+            if let Some(o) = t.output.as_mut().filter(|o| clash(o)) {
+                *o = o.with_file_name(output_name(
+                    &t.texture.file,
+                    distinct,
+                    holds(&t.texture.decision),
+                ));
+            }
         }
     }
 }
@@ -617,6 +648,63 @@ mod tests {
             assert!(o.starts_with("/out/external/"), "{}", o.display());
             assert!(o.components().all(|c| c != Component::ParentDir));
         }
+    }
+
+    /// Issue 57, item 11: outputs that would meet after the extension is added, or land on a
+    /// file the asset reads, get the path's hash; every name is then its own, and the same on
+    /// a second plan.
+    #[test]
+    fn every_output_name_is_its_own_and_never_a_file_read() {
+        let plan = || {
+            let mut textures: Vec<Planned> = ["a.png", "a.tif", "a_png.png", "b.png", "c.png"]
+                .iter()
+                .map(|name| {
+                    let file = Path::new("/s/tex").join(name);
+                    Planned {
+                        output: Some(output_for(
+                            Path::new("/s"),
+                            Path::new("/s"),
+                            &file,
+                            Holds::Spectral,
+                        )),
+                        texture: Texture {
+                            file,
+                            nodes: vec![],
+                            decision: Decision::Colour {
+                                space: Space::File,
+                                rule: "test",
+                                why: String::new(),
+                            },
+                        },
+                        colorspace: None,
+                        error: None,
+                    }
+                })
+                .collect();
+            disambiguate(&mut textures, &["/s/tex/b_spectral.exr".into()]);
+            textures
+                .into_iter()
+                .map(|t| t.output.unwrap())
+                .collect::<Vec<PathBuf>>()
+        };
+        let outputs = plan();
+        let names: BTreeSet<&PathBuf> = outputs.iter().collect();
+        assert_eq!(names.len(), outputs.len(), "{outputs:?}");
+        assert!(!outputs.contains(&PathBuf::from("/s/tex/b_spectral.exr")));
+        assert_eq!(outputs[1], Path::new("/s/tex/a_tif_spectral.exr"));
+        assert_eq!(outputs[4], Path::new("/s/tex/c_spectral.exr"));
+        // a.png and a_png.png met at a_png_spectral.exr: each gets its path's hash.
+        for (o, stem) in [(&outputs[0], "a_png_"), (&outputs[2], "a_png_png_")] {
+            let name = o.file_name().unwrap().to_string_lossy();
+            let hash = name
+                .strip_prefix(stem)
+                .and_then(|n| n.strip_suffix("_spectral.exr"));
+            assert!(
+                hash.is_some_and(|h| h.len() == 8 && h.bytes().all(|b| b.is_ascii_hexdigit())),
+                "{name}"
+            );
+        }
+        assert_eq!(plan(), outputs);
     }
 
     fn node(path: &str, document: Option<&str>) -> Node {

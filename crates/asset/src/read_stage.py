@@ -224,14 +224,20 @@ def packaged(resolved):
     return None
 
 
+def member_path(member):
+    """The folders and name a usdz member is copied out to, one member one path (issue 57,
+    item 4): a `%` is written `%25` and a backslash `%5C`, and a part that is no name (empty,
+    `.`, `..`) is `%`, `%2E`, `%2E%2E`, so nothing leaves the folder, and `../a.png` is not
+    `a.png`. A plain name (`tex/a.png`) is kept as it is."""
+    parts = member.replace("%", "%25").replace("\\", "%5C").split("/")
+    return [{"": "%", ".": "%2E", "..": "%2E%2E"}.get(p, p) for p in parts]
+
+
 def extract(resolved, member, into, Ar, replaceable):
     """Copies a packaged texture out of its usdz into `into` (specconv's output directory).
     A file already there is replaced only when an asset run wrote it (`replaceable`, from the
     record the library keeps); one with the member's bytes is kept as it is."""
-    safe = [p for p in member.replace("\\", "/").split("/") if p not in ("", ".", "..")]
-    target = os.path.join(into, *safe) if safe else None
-    if target is None:
-        fail("package", "a usdz member with no usable name: " + member)
+    target = os.path.join(into, *member_path(member))
     asset = Ar.GetResolver().OpenAsset(Ar.ResolvedPath(resolved))
     if asset is None:
         fail("package", "cannot read " + resolved + " from its usdz package")
