@@ -168,6 +168,16 @@ def escape_package(d):
     w.Save()
 
 
+def stem_clash(d):
+    """Issue 57, item 11: tex/a.png, tex/a.tif and tex/a_png.png (made by the caller), each
+    read as colour: by stem and extension two outputs meet (a_png_spectral.exr)."""
+    s = Usd.Stage.CreateNew(os.path.join(d, "stem_clash.usda"))
+    for k, file in enumerate(("./tex/a.png", "./tex/a.tif", "./tex/a_png.png")):
+        m = material(s, "/Looks/M%d" % k, [T("Albedo", file, {"rgb": "diffuseColor"}, "sRGB")])
+        bind(s, "/Geo%d" % k, m)
+    s.Save()
+
+
 def udim_conflict(d):
     """Issue 57, item 6: a UDIM pattern read as colour whose tile 1001 is read by its own
     name as a normal map."""

@@ -448,6 +448,79 @@ fn a_usdz_package_is_read_and_its_textures_copied_out_inside_dir() {
         .fails(1, &["usd-core cannot open the stage"]);
 }
 
+/// Issue 57, item 11: `a.png`, `a.tif` and `a_png.png` in one folder, all colour: three
+/// outputs, three names (where stem and extension meet, the path's hash), the same on a second
+/// run (`-u` skips all three), each material's layer input its own file.
+#[test]
+fn outputs_whose_names_meet_are_told_apart_and_stay_so() {
+    let Some(python) = usd() else { return };
+    let dir = Scratch::new("asset-stem-clash");
+    std::fs::create_dir_all(dir.path("tex")).unwrap();
+    for (name, pattern) in [("a.png", "4"), ("a.tif", "2"), ("a_png.png", "3")] {
+        let p = dir.path(&format!("tex/{name}"));
+        tool(
+            "oiiotool",
+            &[
+                "--pattern",
+                "checker",
+                "8x8",
+                pattern,
+                "-d",
+                "uint8",
+                "-o",
+                p.to_str().unwrap(),
+            ],
+        );
+    }
+    script("asset_stages.py", ["stem_clash", dir.0.to_str().unwrap()]);
+    let out = dir.path("out");
+    let outputs = |extra: &str| -> Vec<(String, String)> {
+        let mut v: Vec<(String, String)> = asset(&python, &dir.path("stem_clash.usda"), &out)
+            .args(["--json", extra])
+            .ok()
+            .json_lines()
+            .iter()
+            .map(|r| {
+                (
+                    r["output"].as_str().unwrap().to_string(),
+                    r["status"].as_str().unwrap().to_string(),
+                )
+            })
+            .collect();
+        v.sort();
+        v
+    };
+    let first = outputs("--force");
+    assert_eq!(first.len(), 3, "{first:?}");
+    let names: std::collections::BTreeSet<&String> = first.iter().map(|(o, _)| o).collect();
+    assert_eq!(names.len(), 3, "{first:?}");
+    assert!(first
+        .iter()
+        .all(|(o, status)| status == "ok" && Path::new(o).is_file()));
+    let again = outputs("-u");
+    assert!(
+        again.iter().all(|(_, status)| status == "skipped"),
+        "{again:?}"
+    );
+    assert_eq!(
+        again.iter().map(|(o, _)| o).collect::<Vec<_>>(),
+        first.iter().map(|(o, _)| o).collect::<Vec<_>>()
+    );
+    let v = layer_files(&python, &out.join("stem_clash_spectral.usda"));
+    let mut resolved: Vec<&str> = (0..3)
+        .map(|k| {
+            v["files"][format!("/Looks/M{k}/Albedo")]["resolved"]
+                .as_str()
+                .unwrap()
+        })
+        .collect();
+    resolved.sort();
+    assert_eq!(
+        resolved,
+        first.iter().map(|(o, _)| o.as_str()).collect::<Vec<_>>()
+    );
+}
+
 /// Issue 57, item 4: usdz members `escape.png` and `../escape.png` are two pictures; each is
 /// copied out to its own file inside DIR (`..` escaped, not dropped), each with its own bytes,
 /// converted to its own output, and each material's layer input names its own.
