@@ -391,7 +391,9 @@ pub fn expand(
     let mut source = open(input)?;
     let file = SpectralFile::new(spec(&source)?)?;
     // One strip of the file's spectra at a time, refused with the figure when out of reach.
-    let decoded = super::memory::Source::DecodedStrips;
+    let decoded = super::memory::Source::DecodedStrips {
+        threads: rayon::current_num_threads(),
+    };
     super::memory::check(super::memory::needed(&file, file.level_size(0).0, decoded))?;
     // NaN and infinities in the texels: refused, repaired or kept by the conversion's rule
     // (`--fixnan`, recorded), as `convert` treats its input's pixels, before anything is written.

@@ -52,30 +52,59 @@ pub enum Source {
         /// Rows of the longest window.
         rows: usize,
     },
-    /// `expand`: a strip of spectra decoded whole, then each block's copied out of it.
-    DecodedStrips,
+    /// `expand`: a strip of spectra decoded whole, then each block's copied out of it, as
+    /// many blocks at once as there are `threads`.
+    DecodedStrips {
+        /// Worker threads: the blocks in flight at once.
+        threads: usize,
+    },
 }
 
-/// Bytes `file` holds at once while it is made from `source`'s rows `width` pixels wide,
-/// counted in windows of spectra as floats (a window of `expand`: one strip): the chunks of
-/// the window being made and of the one before (being written), at most a float a value each;
-/// with MIP levels, also each block's spectra kept for the filter (both windows), copied into
-/// rows, and the smaller levels' strips, gathered and emitted (two level-0 strips in all);
-/// for `expand`, the decoded strip and its blocks' copies. Measured peaks are 1.6 to 3.1
-/// times below it (docs/performance.md, "Memory").
+/// Bytes `file` holds at once while it is made from `source`'s rows `width` pixels wide.
+///
+/// `convert`, in windows of spectra as floats: the chunks of the window being made and of the
+/// one before (being written), at most a float a value each; with MIP levels, also each
+/// block's spectra kept for the filter (both windows), copied into rows, and the smaller
+/// levels' strips, gathered and emitted (two level-0 strips in all). Measured peaks are 1.6 to
+/// 2.4 times below it.
+///
+/// `expand`, in level-0 strips S of spectra as floats ([`expand_strips`]). Measured peaks are
+/// 1.07 to 1.36 times below it (docs/performance.md, "Memory").
 pub fn needed(file: &SpectralFile, width: usize, source: Source) -> u64 {
     let row = width as u64 * file.values_per_pixel() as u64 * 4;
     let strip = row * file.block_height() as u64;
-    let (window, decoded) = match source {
-        Source::Windows { rows } => (row * rows as u64, 0),
-        Source::DecodedStrips => (strip, 2 * strip),
+    let (per_window, window, cascade) = match source {
+        Source::Windows { rows } if file.levels() > 1 => (5, row * rows as u64, 2 * strip),
+        Source::Windows { rows } => (2, row * rows as u64, 0),
+        Source::DecodedStrips { threads } => {
+            return BASE + (expand_strips(file, threads) * strip as f64) as u64;
+        }
     };
-    let (per_window, cascade) = if file.levels() > 1 {
-        (5, 2 * strip)
-    } else {
-        (2, 0)
+    BASE + per_window * window + cascade
+}
+
+/// What `expand` holds at once, in level-0 strips S: the decoded strip (S) and its blocks'
+/// chunks, collected before they are written (S/2 as half, S as float); the blocks in flight,
+/// each copied out of the strip, encoded and compressed (two blocks' spectra each, as many as
+/// `threads`); with MIP levels, the smaller levels the cascade makes from the strip (S), and
+/// the rows it carries from one strip to the next (3S/4 more where there are several). The
+/// terms are the code's allocations; their weights are what the peaks measured on 64 to 1,024
+/// pixels wide, one to eight strips, 1 and 2 threads need to stay below (docs/performance.md).
+fn expand_strips(file: &SpectralFile, threads: usize) -> f64 {
+    let level0: Vec<_> = file.blocks().into_iter().filter(|b| b.level == 0).collect();
+    let per_strip = level0.iter().filter(|b| b.y == 0).count().max(1);
+    let strips = level0.len().div_ceil(per_strip);
+    let chunks = match file.spec().sample {
+        specconv_exr::Sample::Half => 0.5,
+        specconv_exr::Sample::Float => 1.0,
     };
-    BASE + per_window * window + cascade + decoded
+    let in_flight = 2.0 * threads.clamp(1, per_strip) as f64 / per_strip as f64;
+    let cascade = match (file.levels() > 1, strips > 1) {
+        (false, _) => 0.0,
+        (true, false) => 1.0,
+        (true, true) => 1.75,
+    };
+    1.0 + chunks + in_flight + cascade
 }
 
 /// Refuses a job that would hold `needed` bytes when this process cannot have them with the
