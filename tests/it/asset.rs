@@ -521,6 +521,92 @@ fn outputs_whose_names_meet_are_told_apart_and_stay_so() {
     );
 }
 
+/// Issue 57, item 12: what usd-core, MaterialX or Python raise on a hostile asset is one line
+/// that says what is wrong, exit 1, no traceback, nothing written in DIR: a Latin-1 byte in a
+/// texture's path (the stage's text is not UTF-8 there), a MaterialX graph input whose
+/// `interfacename` names itself on the walk from a texture to the shader, a usdz whose members
+/// are deflated (usdz stores them).
+#[test]
+fn a_reader_s_failure_is_one_line_that_says_what_is_wrong() {
+    let Some(python) = python_with("pxr.Usd, MaterialX", "usd-core MaterialX") else {
+        return;
+    };
+    let dir = Scratch::new("asset-reader-failures");
+    std::fs::create_dir_all(dir.path("tex")).unwrap();
+    let png = dir.path("tex/a.png");
+    tool(
+        "oiiotool",
+        &[
+            "--pattern",
+            "checker",
+            "8x8",
+            "3",
+            "-d",
+            "uint8",
+            "-o",
+            png.to_str().unwrap(),
+        ],
+    );
+    let mut latin = b"#usda 1.0\ndef Material \"M\"\n{\n    token outputs:surface.connect = </M/S.outputs:surface>\n    def Shader \"S\"\n    {\n        uniform token info:id = \"UsdPreviewSurface\"\n        color3f inputs:diffuseColor.connect = </M/T.outputs:rgb>\n        token outputs:surface\n    }\n    def Shader \"T\"\n    {\n        uniform token info:id = \"UsdUVTexture\"\n        asset inputs:file = @./tex/caf".to_vec();
+    latin.extend_from_slice(b"\xe9.png@\n        float3 outputs:rgb\n    }\n}\n");
+    std::fs::write(dir.path("latin.usda"), latin).unwrap();
+    let looped = r#"<?xml version="1.0"?>
+<materialx version="1.38">
+  <nodegraph name="NG">
+    <input name="base" type="color3" interfacename="base" />
+    <image name="img" type="color3">
+      <input name="file" type="filename" value="tex/a.png" />
+    </image>
+    <mix name="blend" type="color3">
+      <input name="fg" type="color3" nodename="img" />
+      <input name="bg" type="color3" interfacename="base" />
+    </mix>
+    <output name="out" type="color3" nodename="blend" />
+  </nodegraph>
+  <standard_surface name="SS" type="surfaceshader">
+    <input name="base_color" type="color3" nodegraph="NG" output="out" />
+  </standard_surface>
+  <surfacematerial name="M" type="material">
+    <input name="surfaceshader" type="surfaceshader" nodename="SS" />
+  </surfacematerial>
+</materialx>
+"#;
+    dir.write("looped.mtlx", looped);
+    let deflate = "import sys, zipfile\n\
+        from pxr import Usd\n\
+        Usd.Stage.CreateNew(sys.argv[1] + '/d.usdc').Save()\n\
+        with zipfile.ZipFile(sys.argv[1] + '/deflated.usdz', 'w', zipfile.ZIP_DEFLATED) as z:\n\
+        \x20   z.write(sys.argv[1] + '/d.usdc', 'd.usdc')\n\
+        \x20   z.write(sys.argv[1] + '/tex/a.png', 'tex/a.png')\n";
+    let made = std::process::Command::new(&python)
+        .args(["-c", deflate, dir.0.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert!(
+        made.status.success(),
+        "{}",
+        String::from_utf8_lossy(&made.stderr)
+    );
+    for (file, needles) in [
+        (
+            "latin.usda",
+            &[
+                "not text in its encoding",
+                r"\xe9.png@",
+                "</M/T.inputs:file>",
+            ][..],
+        ),
+        ("looped.mtlx", &["loops", "interfacenames"][..]),
+        ("deflated.usdz", &["compressed files are not supported"][..]),
+    ] {
+        let out = dir.path(&format!("out-{file}"));
+        let run = asset(&python, &dir.path(file), &out).run();
+        run.one_error_line(1, needles);
+        assert!(!run.stderr.contains("Traceback"), "{file}: {}", run.stderr);
+        assert!(tree(&out).is_empty(), "{file}: {:?}", tree(&out));
+    }
+}
+
 /// Issue 57, item 4: usdz members `escape.png` and `../escape.png` are two pictures; each is
 /// copied out to its own file inside DIR (`..` escaped, not dropped), each with its own bytes,
 /// converted to its own output, and each material's layer input names its own.

@@ -129,7 +129,7 @@ pub enum Error {
         seconds: u64,
     },
     /// The reader failed otherwise.
-    #[error("the USD reader failed: {0}")]
+    #[error("reading the asset failed: {0}")]
     Reader(String),
     /// The layer exists and may not be replaced.
     #[error("{} exists: update (-u) or force replaces it", layer.display())]

@@ -429,6 +429,11 @@ if __name__ == "__main__":
         fail("loop", "a chain of connections, interfacenames or includes that loops or is "
                      "deeper than Python's limit")
     except UnicodeError as e:
-        fail("encoding", "a path or a name that is not text in its encoding (%s)" % e.reason)
+        # The bytes around the one that is not text, so that the path can be found.
+        around, start = getattr(e, "object", None), getattr(e, "start", 0)
+        where = " in %r" % bytes(around[max(0, start - 40):start + 40]) \
+            if isinstance(around, (bytes, bytearray)) else ""
+        fail("encoding", "a path or a name that is not text in its encoding (%s%s)"
+             % (e.reason, where))
     except Exception as e:
         fail(type(e).__name__, " ".join(str(e).split()) or "no message")
