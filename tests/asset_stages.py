@@ -178,6 +178,21 @@ def stem_clash(d):
     s.Save()
 
 
+def self_sublayer(d):
+    """Issue 57, item 2: a stage that sublayers the layer `asset -o .` would write
+    (self_sublayer_spectral.usda, with an opinion of its own)."""
+    own = Sdf.Layer.CreateNew(os.path.join(d, "self_sublayer_spectral.usda"))
+    prim = Sdf.CreatePrimInLayer(own, "/Notes")
+    prim.specifier = Sdf.SpecifierDef
+    own.Save()
+    s = Usd.Stage.CreateNew(os.path.join(d, "self_sublayer.usda"))
+    m = material(s, "/Looks/A", [T("Albedo", "./tex/rock_albedo.png", {"rgb": "diffuseColor"},
+                                   "sRGB")])
+    bind(s, "/Geo", m)
+    s.GetRootLayer().subLayerPaths.append("./self_sublayer_spectral.usda")
+    s.Save()
+
+
 def udim_conflict(d):
     """Issue 57, item 6: a UDIM pattern read as colour whose tile 1001 is read by its own
     name as a normal map."""

@@ -607,6 +607,39 @@ fn a_reader_s_failure_is_one_line_that_says_what_is_wrong() {
     }
 }
 
+/// Issue 57, item 2: a stage that sublayers `STEM_spectral.usda`, converted into its own
+/// folder: the layer would be written over a file the stage reads; refused with every flag,
+/// the sublayer and the stage unchanged, nothing converted.
+#[test]
+fn a_layer_the_stage_sublayers_is_never_written_over() {
+    let Some(python) = usd() else { return };
+    let dir = Scratch::new("asset-self-sublayer");
+    stage(&dir.0, "self_sublayer");
+    let (stage_file, own) = (
+        dir.path("self_sublayer.usda"),
+        dir.path("self_sublayer_spectral.usda"),
+    );
+    let before = (
+        std::fs::read(&stage_file).unwrap(),
+        std::fs::read(&own).unwrap(),
+    );
+    for flags in [&[][..], &["-u"], &["--force"]] {
+        asset(&python, &stage_file, &dir.0).args(flags).fails(
+            2,
+            &["self_sublayer_spectral.usda is a file the stage reads"],
+        );
+        let after = (
+            std::fs::read(&stage_file).unwrap(),
+            std::fs::read(&own).unwrap(),
+        );
+        assert!(after == before, "{flags:?}: changed");
+        assert!(
+            !dir.path("tex/rock_albedo_spectral.exr").exists(),
+            "{flags:?}"
+        );
+    }
+}
+
 /// Issue 57, item 4: usdz members `escape.png` and `../escape.png` are two pictures; each is
 /// copied out to its own file inside DIR (`..` escaped, not dropped), each with its own bytes,
 /// converted to its own output, and each material's layer input names its own.

@@ -519,3 +519,53 @@ fn farm_submit_refuses_a_materialx_document_and_names_the_command() {
     .fails(2, &["is a MaterialX document", "specconv asset"]);
     assert!(!out.exists());
 }
+
+/// Issue 57, item 5 in a MaterialX document: a raw normal map reaching `normal` through a
+/// chain of 70 `dot` nodes (past what the reader follows) is not taken for colour: the walk
+/// says it gave up, the texture is not converted (exit 1), and the colour texture beside it is.
+#[test]
+fn a_materialx_walk_that_gives_up_decides_nothing() {
+    let Some(python) = mtlx() else { return };
+    let dir = Scratch::new("mtlx-deep");
+    documents(&dir.0, "brick");
+    let mut chain = String::new();
+    let mut previous = "normal_map".to_string();
+    for k in 0..70 {
+        chain += &format!(
+            "    <dot name=\"pass{k}\" type=\"vector3\">\n      \
+             <input name=\"in\" type=\"vector3\" nodename=\"{previous}\" />\n    </dot>\n"
+        );
+        previous = format!("pass{k}");
+    }
+    let text = format!(
+        "<?xml version=\"1.0\"?>\n<materialx version=\"1.38\">\n  \
+         <nodegraph name=\"NG\">\n    \
+         <image name=\"albedo\" type=\"color3\">\n      \
+         <input name=\"file\" type=\"filename\" value=\"tex/brick_color.png\" \
+         colorspace=\"srgb_texture\" />\n    </image>\n    \
+         <image name=\"normal_map\" type=\"vector3\">\n      \
+         <input name=\"file\" type=\"filename\" value=\"tex/brick_normal.png\" />\n    \
+         </image>\n{chain}    \
+         <output name=\"base\" type=\"color3\" nodename=\"albedo\" />\n    \
+         <output name=\"normal\" type=\"vector3\" nodename=\"{previous}\" />\n  \
+         </nodegraph>\n  <standard_surface name=\"SS\" type=\"surfaceshader\">\n    \
+         <input name=\"base_color\" type=\"color3\" nodegraph=\"NG\" output=\"base\" />\n    \
+         <input name=\"normal\" type=\"vector3\" nodegraph=\"NG\" output=\"normal\" />\n  \
+         </standard_surface>\n  <surfacematerial name=\"M\" type=\"material\">\n    \
+         <input name=\"surfaceshader\" type=\"surfaceshader\" nodename=\"SS\" />\n  \
+         </surfacematerial>\n</materialx>\n"
+    );
+    std::fs::write(dir.path("deep.mtlx"), text).unwrap();
+    let out = dir.path("out");
+    let run = asset(&python, &dir.path("deep.mtlx"), &out)
+        .arg("--json")
+        .run();
+    assert_eq!(run.code, 1, "{}", run.stderr);
+    let records = run.json_lines();
+    let normal = record(&records, "brick_normal.png");
+    assert_eq!(normal["asset"]["rule"], "undecided", "{normal:#}");
+    let why = normal["asset"]["why"].as_str().unwrap();
+    assert!(why.contains("gave up"), "{why}");
+    assert!(!out.join("tex/brick_normal_spectral.exr").exists());
+    assert_eq!(record(&records, "brick_color.png")["status"], "ok");
+}
