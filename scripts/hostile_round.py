@@ -6,7 +6,8 @@ valid UTF-8, ...), never by the wording of a message.
 
     /usr/bin/python3 scripts/hostile_round.py [--bin target/release/specconv] [--only CLASS]
 
-Prints one line per failed case and a table of cases and failures per class; exits 1 when any
+Class 15 (`asset`, issue 57) builds its stages with the interpreter of SPECCONV_USD_PYTHON
+(usd-core and MaterialX), as CI sets it. Prints one line per failed case and a table of cases and failures per class; exits 1 when any
 case failed. Needs ../shared/spectra, oiiotool and Debian's OpenImageIO Python bindings
 (/usr/bin/python3). Each command runs with a 4 GiB address-space limit, so a command that would
 take the machine's memory fails (as a signal) instead.
@@ -688,6 +689,197 @@ def data_copies_are_data(r):
                f"a data copy named as a spectral file: {named}" if named else None)
 
 
+# ---- issue 57: `specconv asset` on hostile or careless assets ------------------------------
+
+
+def usd_python():
+    """The interpreter with usd-core and MaterialX that `asset` runs (SPECCONV_USD_PYTHON, as
+    CI sets it), else None."""
+    python = os.environ.get("SPECCONV_USD_PYTHON") or os.environ.get("SPECCONV_PYTHON")
+    if not python:
+        return None
+    ok = subprocess.run([python, "-c", "import pxr.Usd, MaterialX"], capture_output=True)
+    return python if ok.returncode == 0 else None
+
+
+ASSET_TEXTURES = ["rock_albedo", "rock_arm", "rock_normal", "clean_albedo", "dirty_albedo",
+                  "never", "shared", "wood.1001", "wood.1002", "brick_color", "brick_arm",
+                  "brick_normal", "brick_height"]
+
+
+def asset_setup(python, d, builder, kind):
+    """The tests' textures (oiiotool checkers) and the stage or document `kind` of
+    tests/asset_stages.py or tests/asset_mtlx.py (`builder`) in `d`."""
+    (d / "tex").mkdir(exist_ok=True)
+    for k, name in enumerate(ASSET_TEXTURES):
+        subprocess.run(["oiiotool", "--pattern", "checker", "8x8", str(3 + k % 2), "-d",
+                        "uint8", "-o", str(d / "tex" / f"{name}.png")], check=True)
+    subprocess.run([python, str(ROOT / "tests" / builder), kind, str(d)], check=True,
+                   capture_output=True)
+
+
+def digests(folder):
+    """Every file under `folder` with its digest."""
+    return {str(f.relative_to(folder)): digest(f) for f in Path(folder).rglob("*")
+            if f.is_file()}
+
+
+def one_line(p):
+    """Why a failed run's error is not one line without a traceback, else None."""
+    errors = [l for l in p.stderr.decode("utf-8", "replace").splitlines()
+              if l.startswith("specconv: error")]
+    if "Traceback" in p.text:
+        return "a traceback: " + p.text[-200:]
+    if len(errors) != 1:
+        return f"{len(errors)} error lines: {p.text[-300:]}"
+    return None
+
+
+def assets_are_converted_safely(r):
+    python = usd_python()
+    if python is None:
+        r.case("15 asset", "setup", "no interpreter with usd-core and MaterialX "
+                                     "(SPECCONV_USD_PYTHON)")
+        return
+    os.environ.setdefault("SPECCONV_USD_PYTHON", python)  # for the `asset` runs
+    cls = "15 asset"
+
+    # Item 1: an override copy in DIR that no asset run wrote is never replaced.
+    d = r.fresh("asset-theirs")
+    asset_setup(python, d, "asset_mtlx.py", "brick")
+    (d / "out").mkdir()
+    (d / "out" / "brick_spectral.mtlx").write_text("<!-- mine -->")
+    for flags in [[], ["-u"], ["--force"]]:
+        before = digests(d)
+        p = r.run("asset", "brick.mtlx", "-o", "out", *flags, cwd=d)
+        failure = crashed(p)
+        if failure is None and digests(d) != before:
+            failure = "a file changed: " + ", ".join(
+                k for k in before if digests(d).get(k) != before[k])
+        r.case(cls, f"a copy it did not write {' '.join(flags) or '(no flag)'}", failure)
+
+    # Item 2: a stage that sublayers the layer `-o .` would write.
+    d = r.fresh("asset-sublayer")
+    asset_setup(python, d, "asset_stages.py", "self_sublayer")
+    for flags in [[], ["-u"], ["--force"]]:
+        before = digests(d)
+        p = r.run("asset", "self_sublayer.usda", "-o", ".", *flags, cwd=d)
+        failure = crashed(p)
+        if failure is None and p.returncode == 0:
+            failure = "accepted: it would write over a layer the stage reads"
+        if failure is None and digests(d) != before:
+            failure = "a file changed or was written"
+        r.case(cls, f"its own sublayer {' '.join(flags) or '(no flag)'}", failure)
+
+    # Item 3: a usdz's copy-out never replaces a user's file of the same name.
+    d = r.fresh("asset-usdz-user")
+    asset_setup(python, d, "asset_stages.py", "package")
+    mine = d / "out" / "packed_usdz" / "tex" / "rock_albedo.png"
+    mine.parent.mkdir(parents=True)
+    mine.write_bytes(b"mine")
+    for flags in [[], ["-u"], ["--force"]]:
+        p = r.run("asset", "packed.usdz", "-o", "out", *flags, cwd=d)
+        failure = crashed(p) or (None if mine.read_bytes() == b"mine" else "replaced")
+        r.case(cls, f"a user's file where a usdz member goes {' '.join(flags) or '(no flag)'}",
+               failure)
+
+    # Item 4: usdz members `escape.png` and `../escape.png` are two files.
+    d = r.fresh("asset-usdz-escape")
+    asset_setup(python, d, "asset_stages.py", "escape_package")
+    p = r.run("asset", "escape.usdz", "-o", "out", cwd=d)
+    failure = crashed(p) or (None if p.returncode == 0 else p.text[-200:])
+    copies = sorted(digest(f) for f in (d / "out").rglob("escape.png"))
+    want = sorted(digest(d / "tex" / f"{n}.png") for n in ("rock_albedo", "rock_normal"))
+    if failure is None and copies != want:
+        failure = f"{len(copies)} copies, not the two members' bytes"
+    inside = all(f.resolve().is_relative_to((d / "out").resolve())
+                 for f in (d / "out").rglob("*"))
+    r.case(cls, "two usdz members that differ by ..", failure or (
+        None if inside else "a file outside DIR"))
+
+    # Item 5: a normal map past the walk's limit is never uplifted as colour.
+    d = r.fresh("asset-deep")
+    asset_setup(python, d, "asset_stages.py", "deep")
+    p = r.run("asset", "deep.usda", "-o", "out", cwd=d)
+    failure = crashed(p)
+    if failure is None and (d / "out" / "tex" / "rock_normal_spectral.exr").exists():
+        failure = "the normal map was uplifted as colour"
+    if failure is None and p.returncode == 0:
+        failure = "exit 0 with a texture undecided"
+    r.case(cls, "a walk past its limit", failure)
+
+    # Item 6: a UDIM pattern read as colour and a tile of it as a normal map.
+    d = r.fresh("asset-udim")
+    asset_setup(python, d, "asset_stages.py", "udim_conflict")
+    p = r.run("asset", "udim_conflict.usda", "-o", "out", cwd=d)
+    failure = crashed(p)
+    tiles = list((d / "out").rglob("wood*.exr"))
+    if failure is None and (p.returncode == 0 or tiles):
+        failure = f"exit {p.returncode}, {len(tiles)} tile(s) written"
+    r.case(cls, "a tile read as colour and as data", failure)
+
+    # Item 11: outputs whose names meet are told apart, the same on a second run.
+    d = r.fresh("asset-stems")
+    (d / "tex").mkdir()
+    for name, pattern in [("a.png", "4"), ("a.tif", "2"), ("a_png.png", "3")]:
+        subprocess.run(["oiiotool", "--pattern", "checker", "8x8", pattern, "-d", "uint8",
+                        "-o", str(d / "tex" / name)], check=True)
+    subprocess.run([python, str(ROOT / "tests" / "asset_stages.py"), "stem_clash", str(d)],
+                   check=True, capture_output=True)
+    p = r.run("asset", "stem_clash.usda", "-o", "out", cwd=d)
+    failure = crashed(p) or (None if p.returncode == 0 else p.text[-200:])
+    made = sorted(f.name for f in (d / "out").rglob("*.exr"))
+    if failure is None and len(made) != 3:
+        failure = f"{len(made)} outputs for three textures: {made}"
+    again = r.run("asset", "stem_clash.usda", "-o", "out", "-u", cwd=d)
+    if failure is None and sorted(f.name for f in (d / "out").rglob("*.exr")) != made:
+        failure = "other names on a second run"
+    r.case(cls, "a.png, a.tif and a_png.png", failure or crashed(again))
+
+    # Item 12: what the readers raise is one line, never a traceback.
+    d = r.fresh("asset-raise")
+    (d / "tex").mkdir()
+    latin = (b'#usda 1.0\ndef Shader "T"\n{\n    uniform token info:id = "UsdUVTexture"\n'
+             b'    asset inputs:file = @./tex/caf\xe9.png@\n}\n')
+    (d / "latin.usda").write_bytes(latin)
+    p = r.run("asset", "latin.usda", "-o", "out", cwd=d)
+    r.case(cls, "a Latin-1 byte in a path", crashed(p) or (
+        "exit 0" if p.returncode == 0 else one_line(p)))
+    for bad in ["/bin/false", "/bin/true"]:
+        p = subprocess.run([r.bin, "asset", "latin.usda", "-o", "out2"], cwd=d,
+                           capture_output=True, env={**os.environ, "SPECCONV_USD_PYTHON": bad})
+        p.text = (p.stdout + p.stderr).decode("utf-8", "replace")
+        r.case(cls, f"SPECCONV_USD_PYTHON={bad}", crashed(p) or (
+            "exit 0" if p.returncode == 0 else one_line(p)))
+
+    # Item 13: modules in the working directory are never imported by the reader.
+    d = r.fresh("asset-stray")
+    asset_setup(python, d, "asset_stages.py", "mixed")
+    mark = d / "imported"
+    for module in ["json", "pxr", "MaterialX"]:
+        (d / f"{module}.py").write_text(f"open({str(mark)!r}, 'a').write('{module}')\n")
+    p = r.run("asset", "mixed.usda", "-o", "out", "--dry-run", cwd=d)
+    r.case(cls, "a stray pxr.py in the working directory", crashed(p) or (
+        f"imported: {mark.read_text()}" if mark.exists() else None))
+
+    # Item 7 and 14: a compact file's text with a NUL; a compact file given to convert.
+    d = r.fresh("asset-compact")
+    p = r.run("convert", "--layout", "compact", IMAGES / "srgb8.png", "c.exr", cwd=d)
+    data = bytearray((d / "c.exr").read_bytes())
+    key = b"specconvCompact\0string\0"
+    at = data.index(key) + len(key)
+    size = struct.unpack("<i", bytes(data[at:at + 4]))[0]
+    data[at + 4 + size - 1] = 0
+    (d / "nul.exr").write_bytes(bytes(data))
+    p = r.run("expand", "nul.exr", "x.exr", cwd=d)
+    failure = crashed(p) or ("accepted" if p.returncode == 0 else None)
+    r.case(cls, "a NUL in a compact text", failure or (
+        "wrote x.exr" if (d / "x.exr").exists() else None))
+    p = r.run("convert", "c.exr", "again.exr", cwd=d)
+    r.case(cls, "a compact file given to convert", crashed(p) or (
+        "uplifted again" if p.returncode == 0 else None))
+
+
 CLASSES = {
     "force": force_never_replaces_an_input,
     "sets": recorded_sets_are_verified,
@@ -702,6 +894,7 @@ CLASSES = {
     "td": a_td_is_told,
     "configs": built_in_and_file_configs_agree_or_say_so,
     "data": data_copies_are_data,
+    "asset": assets_are_converted_safely,
 }
 
 
