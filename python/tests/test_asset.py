@@ -127,3 +127,60 @@ def test_convert_asset_never_replaces_a_file_it_did_not_write(tmp_path):
             specconv.convert_asset(tmp_path / "brick.mtlx", out, **flags)
         assert theirs.read_text() == "<!-- mine -->"
     assert sorted(p.name for p in out.iterdir()) == ["brick_spectral.mtlx"]
+
+
+def test_a_layer_the_stage_sublayers_is_never_written_over(tmp_path):
+    """Issue 57, item 2: converted into its own folder, a stage that sublayers its own layer's
+    name would have that layer written over; refused, update or overwrite, nothing changed."""
+    build(tmp_path, "self_sublayer")
+    files = {p: p.read_bytes() for p in tmp_path.rglob("*") if p.is_file()}
+    for flags in ({}, {"update": True}, {"overwrite": True}):
+        with pytest.raises(specconv.Error, match="is a file the stage reads"):
+            specconv.convert_asset(tmp_path / "self_sublayer.usda", tmp_path, **flags)
+        assert {p: p.read_bytes() for p in tmp_path.rglob("*") if p.is_file()} == files
+
+
+def test_two_usdz_members_that_differ_by_dots_stay_two_files(tmp_path):
+    """Issue 57, item 4: `escape.png` and `../escape.png` in one usdz: two copies inside DIR,
+    each with its member's bytes, two outputs."""
+    build(tmp_path, "escape_package")
+    out = tmp_path / "out"
+    records = specconv.convert_asset(tmp_path / "escape.usdz", out)
+    inputs = {Path(r["input"]) for r in records}
+    assert len(inputs) == 2 and all(p.is_relative_to(out) for p in inputs)
+    want = {(tmp_path / "tex" / f"{n}.png").read_bytes() for n in ("rock_albedo", "rock_normal")}
+    assert {p.read_bytes() for p in inputs} == want
+    assert len({r["output"] for r in records}) == 2
+
+
+def test_a_walk_that_gives_up_decides_nothing(tmp_path):
+    """Issue 57, item 5: a normal map past the walk's limit is undecided, never colour."""
+    build(tmp_path, "deep")
+    records = specconv.convert_asset(tmp_path / "deep.usda", tmp_path / "out", errors="record")
+    normal = next(r for r in records if Path(r["input"]).name == "rock_normal.png")
+    assert normal["asset"]["rule"] == "undecided" and normal["status"] == "failed"
+    assert not (tmp_path / "out" / "tex" / "rock_normal_spectral.exr").exists()
+
+
+def test_outputs_whose_names_meet_are_told_apart(tmp_path):
+    """Issue 57, item 11: a.png, a.tif and a_png.png, all colour: three outputs."""
+    (tmp_path / "tex").mkdir()
+    for name, pattern in (("a.png", "4"), ("a.tif", "2"), ("a_png.png", "3")):
+        subprocess.run(["oiiotool", "--pattern", "checker", "8x8", pattern, "-d", "uint8",
+                        "-o", str(tmp_path / "tex" / name)], check=True)
+    subprocess.run([sys.executable, str(STAGES), "stem_clash", str(tmp_path)], check=True)
+    records = specconv.convert_asset(tmp_path / "stem_clash.usda", tmp_path / "out")
+    outputs = {r["output"] for r in records}
+    assert len(outputs) == 3 and all(Path(o).is_file() for o in outputs)
+
+
+def test_a_reader_failure_is_one_line(tmp_path):
+    """Issue 57, item 12: a Latin-1 byte in a texture path is said in one line naming where."""
+    (tmp_path / "latin.usda").write_bytes(
+        b'#usda 1.0\ndef Shader "T"\n{\n    uniform token info:id = "UsdUVTexture"\n'
+        b'    asset inputs:file = @./tex/caf\xe9.png@\n}\n')
+    with pytest.raises(specconv.Error) as e:
+        specconv.convert_asset(tmp_path / "latin.usda", tmp_path / "out")
+    message = str(e.value)
+    assert "not text in its encoding" in message and "</T.inputs:file>" in message
+    assert "\n" not in message.strip() and "Traceback" not in message
