@@ -94,7 +94,14 @@ def steps(a, b):
         d = np.where(nan | (d == 0), 0, np.ceil(np.abs(fa - fb) / spacing - 1e-9)).astype(np.int64)
         beyond = int((d > 1).any(axis=-1).sum())
         gap = np.where(nan, 0.0, np.abs(fa - fb))
-        out.append({"level": level, "identical": float((pa.view(signed) == pb.view(signed)).mean()), "max_steps": int(d.max()), "max_abs": float(np.nanmax(gap)) if gap.size else 0.0, "samples": int(d.size), "pixels_beyond_one": beyond})
+        # The same in half steps at the texel's scale (issue 55, decision 4): at the larger of
+        # the value and the pixel's largest band (alpha apart), in the reference `a`.
+        bands = [i for i, n in enumerate(na) if n != "A"]
+        peak = np.nanmax(np.abs(fa[..., bands]), axis=-1, keepdims=True, initial=0.0)
+        scaled = 2.0 ** (np.floor(np.log2(np.maximum(np.maximum(np.abs(fa), peak),
+                                                     2.0 ** -14))) - 10)
+        ds = np.where(nan | (d == 0), 0, np.ceil(np.abs(fa - fb) / scaled - 1e-9)).astype(np.int64)
+        out.append({"level": level, "identical": float((pa.view(signed) == pb.view(signed)).mean()), "max_steps": int(d.max()), "max_abs": float(np.nanmax(gap)) if gap.size else 0.0, "samples": int(d.size), "pixels_beyond_one": beyond, "max_steps_scaled": int(ds.max()), "pixels_beyond_one_scaled": int((ds > 1).any(axis=-1).sum())})
     print(json.dumps(out))
 
 

@@ -275,7 +275,8 @@ def test_decoded_texels_are_the_baked_spectra(tmp_path, cli, name, image, option
 def test_encode_is_what_convert_stores_and_decode_reads_it_back(tmp_path):
     """encode's texels of the colour a file stores are the file's but for u: where encode's u is
     0 the file's is 0; elsewhere the file stores the u with the fewest bits that keep every band
-    within a quarter of a half step of encode's spectrum, each value as half where it is one
+    within a quarter of a half step of encode's spectrum at the texel's scale (the larger of the
+    band and the texel's largest band: compact::u_tolerance), each value as half where it is one
     (U), else as float32 (UF), never in both sets."""
     compact = tmp_path / "compact.exr"
     specconv.convert(IMAGES / "photo.jpg", compact, layout="compact")
@@ -295,8 +296,9 @@ def test_encode_is_what_convert_stores_and_decode_reads_it_back(tmp_path):
     assert not t[~solved][:, 3:].any()
     want = specconv.decode(text, again[solved])
     got = specconv.decode(text, t[solved])
-    quarter = np.where(np.abs(want) < 2.0**-14, 2.0**-26,
-                       2.0 ** (np.floor(np.log2(np.maximum(np.abs(want), 2.0**-14))) - 12))
+    scale = np.maximum(np.abs(want), np.abs(want).max(axis=-1, keepdims=True))
+    quarter = np.where(scale < 2.0**-14, 2.0**-26,
+                       2.0 ** (np.floor(np.log2(np.maximum(scale, 2.0**-14))) - 12))
     assert (np.abs(got - want) <= quarter + 1e-12).all()
     # Fewer bits than as solved: the file's u is not encode's.
     assert (t[solved][:, 3:] != again[solved][:, 3:]).any(-1).mean() > 0.5

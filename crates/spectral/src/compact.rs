@@ -21,7 +21,8 @@
 //! A file stores a texel as a renderer's RGB texture stores its colour (version 2,
 //! [`Compact::store`]): the colour as half (or float) in a linear RGB working space whose
 //! matrix to XYZ the text names ([`WORKING_SPACE`]), and u solved for that stored colour, as
-//! half where half reproduces every band within a quarter of a half step, else as float32 in
+//! half where half reproduces every band within [`u_tolerance`] (a quarter of a half step at
+//! the larger of the band and the texel's largest band), else as float32 in
 //! a second set of channels ([`STORED`]). [`Compact::unstore`] turns a stored texel back into
 //! the six numbers; the reference of a file is the model applied to the colour it stores.
 //! The model's part is a text ([`Compact::to_text`], read back by [`Compact::from_text`],
@@ -127,7 +128,24 @@ fn other_half(v: f32, near: f32) -> Option<f32> {
     Some(half::f16::from_bits(sign | magnitude).to_f32())
 }
 
-/// A quarter of half's spacing at `v`: the bound within which a half u must reproduce a band.
+/// How near a stored u must reproduce band value `v` of a texel whose largest band is `peak`
+/// (issue 55, decision 4): a quarter of half's spacing at the larger of the two. The half
+/// the colour is stored as already gives the texel that precision (its relative step is
+/// half's at the texel's scale); a band far below the peak held to its own spacing cost
+/// saturated textures u's bits without a visible difference.
+pub fn u_tolerance(v: f64, peak: f64) -> f64 {
+    quarter_half_step(v.abs().max(peak))
+}
+
+/// The largest finite |band| of a spectrum (0 where none is finite): the texel's scale of
+/// [`u_tolerance`].
+pub fn peak(r: &[f64]) -> f64 {
+    r.iter()
+        .filter(|v| v.is_finite())
+        .fold(0.0f64, |m, v| m.max(v.abs()))
+}
+
+/// A quarter of half's spacing at `v`.
 fn quarter_half_step(v: f64) -> f64 {
     let a = v.abs();
     if a < f64::from(2.0f32.powi(-14)) {
@@ -435,7 +453,7 @@ impl Compact {
     /// first three are a colour in the working space; the colour is rounded as `precision`
     /// stores it (half: `Compact::half_colour`, the nearest half colour), then u solved for the
     /// colour stored ([`Compact::colour_of`] of it). At half precision u is the coarsest
-    /// (`Compact::coarsest_u`) that gives every band within a quarter of a half step of the
+    /// (`Compact::coarsest_u`) that gives every band within [`u_tolerance`] of the
     /// spectrum of the unrounded u, each value written as half where it is one, else as
     /// float32; at float precision, u as solved. Returns the projection's counts.
     pub fn store(&self, values: &mut [f32], precision: Precision) -> Counts {
@@ -557,8 +575,8 @@ impl Compact {
         best
     }
 
-    /// The u with the fewest significant bits whose spectrum (r₀ = `r0`) is within a quarter of a
-    /// half step of `exact` (the spectrum of `u`) at every band: ZIP stores the zero low bits of
+    /// The u with the fewest significant bits whose spectrum (r₀ = `r0`) is within
+    /// [`u_tolerance`] of `exact` (the spectrum of `u`) at every band: ZIP stores the zero low bits of
     /// a coarse u in little space, and a saturated texture's u is most of its bytes. The bits
     /// are searched for the three together, then for each alone (the error is about linear in
     /// the rounding, so the search halves). Where a value is no half, the nearest half is
@@ -582,8 +600,9 @@ impl Compact {
             ..
         } = s;
         let want = lab(exact);
+        let scale = peak(exact);
         for (t, &e) in tolerance.iter_mut().zip(exact.iter()) {
-            *t = quarter_half_step(e);
+            *t = u_tolerance(e, scale);
         }
         tried.clear();
         // The searches below try some u more than once: each is measured once.
@@ -1239,7 +1258,7 @@ mod tests {
     /// Item 47.1: a stored texel decodes to the model's spectrum of exactly the colour it
     /// stores (the stack's uplift of that colour; at half precision, where u ≠ 0, the
     /// spectrum of the unrounded u, which the float texels hold to the stack), every band
-    /// within a quarter of a half step; each value of u is half or float32, never both, and
+    /// within [`u_tolerance`]; each value of u is half or float32, never both, and
     /// both kinds occur on these colours.
     #[test]
     fn stored_texels_decode_to_the_spectrum_of_the_stored_colour() {
@@ -1287,12 +1306,13 @@ mod tests {
                     want = e.iter().map(|&v| v as f32).collect();
                     slack = 1e-6;
                 }
+                let scale = peak(&want.iter().map(|&v| f64::from(v)).collect::<Vec<_>>());
                 for (&w, &g) in want.iter().zip(&got[i * n..(i + 1) * n]) {
                     if w.is_nan() || g.is_nan() {
                         assert!(w.is_nan() && g.is_nan(), "{colour:?}");
                         continue;
                     }
-                    let bound = slack + quarter_half_step(f64::from(w));
+                    let bound = slack + u_tolerance(f64::from(w), scale);
                     assert!(
                         f64::from((w - g).abs()) <= bound,
                         "{precision:?} {colour:?}: {w} {g}"
@@ -1407,7 +1427,7 @@ mod tests {
     }
 
     /// Stored u is the coarsest that is close: ZIP then keeps a saturated texture at the size
-    /// of RGB (docs/compact.md, "Sizes"). Every stored u is within a quarter of a half step of
+    /// of RGB (docs/compact.md, "Sizes"). Every stored u is within [`u_tolerance`] of
     /// the unrounded u's spectrum at every band, and has far fewer bits than it.
     #[test]
     fn stored_u_has_the_bits_it_needs_and_no_more() {
@@ -1438,9 +1458,10 @@ mod tests {
             let c64 = colour.map(f64::from);
             compact.decode_f64(c64, u.map(f64::from), &mut exact);
             compact.decode_f64(c64, mine.map(f64::from), &mut got);
+            let scale = peak(&exact);
             for (&e, &g) in exact.iter().zip(&got) {
                 assert!(
-                    (e - g).abs() <= quarter_half_step(e),
+                    (e - g).abs() <= u_tolerance(e, scale),
                     "{colour:?} {u:?} {mine:?}"
                 );
             }
@@ -1579,15 +1600,17 @@ mod tests {
                 got.push(format!("{h:016x}"));
             }
         }
-        // Recorded with the perfect white's rule (`Bounded::white`, 2026-12-07; before it, at
+        // Recorded with u's tolerance at the texel's scale (`u_tolerance`, issue 55 decision
+        // 4, 2026-12-07; before it, at c727082: eed7b9c6…, 42edea46…; the float hashes keep
+        // u as solved). Before, with the perfect white's rule (`Bounded::white`; before it, at
         // b952cc1: 1a76c841…, 4359b8b5…; the 400–700 nm grid's white lies farther than
         // SAME_WHITE from D65's xy, so only the float32 rounding applies there and its hashes
         // stayed; before the regularised projection, at 469d71f: 32554b14…, d28a3399…,
         // da0b824f…, f81309d4…).
         let want = [
-            "eed7b9c6f1521827",
+            "601be742888e048d",
             "f1b109b967dfbeac",
-            "42edea463026fd20",
+            "a2a7e895214ed5c5",
             "0387001723e79df7",
         ];
         assert_eq!(
