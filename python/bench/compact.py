@@ -88,9 +88,10 @@ def rgb_texture(linear, out):
 
 
 def steps(a, b):
-    """Every level of two spectral files: (largest difference in half steps at the value,
-    share of samples identical)."""
-    worst, same, count = 0, 0, 0
+    """Every level of two spectral files: (largest difference in half steps at the value, the
+    same at the texel's scale (the larger of the value and its pixel's largest band, the
+    scale `compact::u_tolerance` stores u to), share of samples identical)."""
+    worst, scaled, same, count = 0, 0, 0, 0
     for (na, pa, _), (nb, pb, _) in zip(levels(a), levels(b)):
         assert na == nb and pa.shape == pb.shape
         fa, fb = pa.astype(np.float64), pb.astype(np.float64)
@@ -98,9 +99,14 @@ def steps(a, b):
         spacing = 2.0 ** (np.floor(np.log2(np.maximum(np.abs(fa), 2.0**-14))) - 10)
         d = np.where(nan, 0, np.abs(fa - fb) / spacing)
         worst = max(worst, float(np.nanmax(d)))
+        bands = [i for i, n in enumerate(na) if n != "A"]
+        peak = np.nanmax(np.abs(fa[..., bands]), axis=-1, keepdims=True, initial=0.0)
+        at = np.maximum(np.abs(fa), peak)
+        spacing = 2.0 ** (np.floor(np.log2(np.maximum(at, 2.0**-14))) - 10)
+        scaled = max(scaled, float(np.nanmax(np.where(nan, 0, np.abs(fa - fb) / spacing))))
         same += int(((pa == pb) | nan).sum())
         count += pa.size
-    return round(worst, 3), round(same / count, 6)
+    return round(worst, 3), round(scaled, 3), round(same / count, 6)
 
 
 def channel_sets(path, tmp):
@@ -194,8 +200,9 @@ def measure(binary, tx, full, tmp):
     reference, expanded = os.path.join(tmp, "reference.exr"), os.path.join(tmp, "expanded.exr")
     run(stored, reference)
     subprocess.run([binary, "expand", files["compact"], expanded, "-q", "--force"], check=True)
-    worst, same = steps(reference, expanded)
+    worst, scaled, same = steps(reference, expanded)
     print(json.dumps({"texture": name, "expand_vs_convert_of_stored_max_half_steps": worst,
+                      "at_the_texels_scale": scaled,
                       "identical": same}), flush=True)
 
     # A and F11: the compact file's decoded level 0 against the baked file (float) of the input.
