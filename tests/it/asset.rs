@@ -640,6 +640,89 @@ fn a_layer_the_stage_sublayers_is_never_written_over() {
     }
 }
 
+/// Issue 56, item 3: the layer has the stage's defaultPrim and names the stage relative to
+/// itself, so that it is referenced as the stage is and moves with it: the stage's folder
+/// (its output inside) moved elsewhere, the layer still composes, without errors, every
+/// spectral file found under the new folder. `-u` on an unchanged asset leaves the layer
+/// as it was, bytes and mtime.
+#[test]
+fn the_layer_is_packaged_to_be_referenced_and_moved() {
+    let Some(python) = usd() else { return };
+    let dir = Scratch::new("asset-packaging");
+    let shot = basic_shot(&dir);
+    let out = shot.join("out");
+    asset(&python, &shot.join("shot.usda"), &out).ok();
+    let layer = out.join("shot_spectral.usda");
+    let text = std::fs::read_to_string(&layer).unwrap();
+    assert!(text.contains("defaultPrim = \"World\""), "{text}");
+    assert!(
+        !text.contains(shot.to_str().unwrap().trim_end_matches('/')) || {
+            // Only the provenance of each override (customData) names absolute paths.
+            text.lines()
+                .filter(|l| l.contains(shot.to_str().unwrap()))
+                .all(|l| l.contains("originalResolved"))
+        },
+        "{text}"
+    );
+    let (mtime, bytes) = (
+        std::fs::metadata(&layer).unwrap().modified().unwrap(),
+        std::fs::read(&layer).unwrap(),
+    );
+    std::thread::sleep(Duration::from_millis(20));
+    asset(&python, &shot.join("shot.usda"), &out).arg("-u").ok();
+    assert_eq!(std::fs::read(&layer).unwrap(), bytes);
+    assert_eq!(
+        std::fs::metadata(&layer).unwrap().modified().unwrap(),
+        mtime
+    );
+    // Moved with its output: composes, and every spectral file is the moved one.
+    let moved = dir.path("moved");
+    std::fs::rename(&shot, &moved).unwrap();
+    let code = "import json, sys\n\
+        from pxr import Usd, Sdf\n\
+        s = Usd.Stage.Open(sys.argv[1])\n\
+        files = [p.GetAttribute('inputs:file').Get().resolvedPath\n\
+        \x20        or p.GetAttribute('inputs:file').Get().path for p in s.Traverse()\n\
+        \x20        if p.GetAttribute('inputs:file') and 'spectral' in p.GetAttribute('inputs:file').Get().path]\n\
+        ref = Usd.Stage.CreateInMemory()\n\
+        ref.DefinePrim('/Shot').GetReferences().AddReference(sys.argv[1])\n\
+        print(json.dumps(dict(errors=[str(e) for e in s.GetCompositionErrors()], files=files,\n\
+        \x20   referenced=ref.GetPrimAtPath('/Shot').GetChildren() != [])))\n";
+    let got = std::process::Command::new(&python)
+        .args([
+            "-c",
+            code,
+            moved.join("out/shot_spectral.usda").to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    assert!(
+        got.status.success(),
+        "{}",
+        String::from_utf8_lossy(&got.stderr)
+    );
+    let v = json(&String::from_utf8_lossy(&got.stdout));
+    assert_eq!(v["errors"].as_array().unwrap().len(), 0, "{v:#}");
+    assert_eq!(v["referenced"], true, "{v:#}");
+    let files = v["files"].as_array().unwrap();
+    assert!(!files.is_empty(), "{v:#}");
+    for f in files {
+        let f = f.as_str().unwrap();
+        // A UDIM pattern is not resolved by usd-core: its tile 1001, from the layer's folder.
+        let f = match f.strip_prefix("./") {
+            Some(rel) if f.contains("<UDIM>") => {
+                moved.join("out").join(rel.replace("<UDIM>", "1001"))
+            }
+            _ => PathBuf::from(f),
+        };
+        assert!(
+            f.starts_with(&moved) && f.is_file(),
+            "{}: {v:#}",
+            f.display()
+        );
+    }
+}
+
 /// Issue 57, item 4: usdz members `escape.png` and `../escape.png` are two pictures; each is
 /// copied out to its own file inside DIR (`..` escaped, not dropped), each with its own bytes,
 /// converted to its own output, and each material's layer input names its own.

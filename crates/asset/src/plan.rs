@@ -79,9 +79,10 @@ impl Job {
 pub struct LayerPlan {
     /// Where it is written.
     pub layer: PathBuf,
-    /// The stage it sublayers (absolute).
-    pub sublayer: PathBuf,
-    /// The stage, recorded in the layer's customLayerData.
+    /// The stage it sublayers, relative to the layer ([`anchored`]): the layer and the stage
+    /// move together.
+    pub sublayer: String,
+    /// The stage, as the run named it (absolute): what the layer is made of.
     pub stage: PathBuf,
     /// One per texture node (a USD prim) of a converted colour texture.
     pub overrides: Vec<Override>,
@@ -318,9 +319,10 @@ impl Asset {
                 })
             })
             .collect();
+        let layer_dir = self.layer.parent().unwrap_or(&self.dir);
         LayerPlan {
             layer: self.layer.clone(),
-            sublayer: self.stage.clone(),
+            sublayer: anchored(layer_dir, &self.stage),
             stage: self.stage.clone(),
             overrides,
             documents,
@@ -590,6 +592,26 @@ fn output_name(file: &Path, distinct: Distinct, holds: Holds) -> String {
     }
 }
 
+/// `path` as a path relative to folder `from` that USD anchors to the layer (`./s.usda`,
+/// `../shot/s.usda`): a relative path that starts with neither `./` nor `../` is a search
+/// path to USD's resolver. Both absolute; compared by their components, as written.
+pub fn anchored(from: &Path, path: &Path) -> String {
+    let (a, b): (Vec<_>, Vec<_>) = (from.components().collect(), path.components().collect());
+    let common = a.iter().zip(&b).take_while(|(x, y)| x == y).count();
+    let mut out = PathBuf::new();
+    for _ in common..a.len() {
+        out.push("..");
+    }
+    for c in &b[common..] {
+        out.push(c);
+    }
+    let text = out.to_string_lossy().into_owned();
+    match text.starts_with("../") {
+        true => text,
+        false => format!("./{text}"),
+    }
+}
+
 /// Makes every output name its own (issue 57, item 11): two textures of one folder and stem
 /// (`a.png`, `a.tx`) get their extensions in the name; where names still meet (`a.png` and
 /// `a_png.png`), or an output would be a file the asset reads (`tex/a.png` beside
@@ -705,6 +727,15 @@ mod tests {
             );
         }
         assert_eq!(plan(), outputs);
+    }
+
+    #[test]
+    fn a_path_relative_to_the_layer_is_anchored() {
+        let a = |from: &str, to: &str| anchored(Path::new(from), Path::new(to));
+        assert_eq!(a("/s/out", "/s/shot.usda"), "../shot.usda");
+        assert_eq!(a("/s", "/s/shot.usda"), "./shot.usda");
+        assert_eq!(a("/s/out", "/s/out/tex/a.exr"), "./tex/a.exr");
+        assert_eq!(a("/x/y", "/s/shot.usda"), "../../s/shot.usda");
     }
 
     fn node(path: &str, document: Option<&str>) -> Node {

@@ -322,7 +322,12 @@ def usd_layer(plan):
     try:
         out = Sdf.Layer.CreateAnonymous(".usda")
         out.subLayerPaths.append(plan["sublayer"])
-        out.customLayerData = {"specconv": {"stage": plan["stage"]}}
+        out.customLayerData = {"specconv": {"stage": plan["sublayer"]}}
+        # The stage's defaultPrim, so that the layer is referenced as the stage is, without a
+        # prim path.
+        stage = Sdf.Layer.FindOrOpen(plan["stage"])
+        if stage is not None and stage.defaultPrim:
+            out.defaultPrim = stage.defaultPrim
         for o in plan["overrides"]:
             prim = Sdf.CreatePrimInLayer(out, Sdf.Path(o["node"]))
             prim.specifier = Sdf.SpecifierOver

@@ -125,6 +125,11 @@ impl Reader {
             )));
         }
         for f in files.files {
+            // Unchanged (`-u` on an asset whose textures did not change): left as it is, bytes
+            // and mtime, so that what depends on it is not made out of date.
+            if std::fs::read(&f.path).is_ok_and(|have| have == f.text.as_bytes()) {
+                continue;
+            }
             specconv_atomic_file::write(&f.path, f.text.as_bytes())
                 .map_err(|e| Error::Io(f.path.clone(), e))?;
         }
