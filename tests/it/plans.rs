@@ -444,3 +444,52 @@ fn farm_submit_plans_a_list_in_a_few_stat_calls_per_input() {
         "nothing written"
     );
 }
+
+/// Issue 56, item 6: `convert -o DIR` and `expand -o DIR` make DIR (and the folders above it)
+/// as `asset -o` does; a plan refused after all (two inputs aimed at one output) leaves no
+/// folder behind; `-o` naming a file is refused, the file untouched.
+#[test]
+fn dash_o_makes_its_directory_as_asset_does() {
+    let s = Scratch::new("plans-make-dir");
+    let png = s.path("a.png");
+    std::fs::copy(testdata("srgb8.png"), &png).unwrap();
+    let made = s.path("new/deeper");
+    Cmd::new(["convert", "-q"])
+        .arg(&png)
+        .arg("-o")
+        .arg(&made)
+        .ok();
+    assert!(made.join("a_spectral.exr").is_file());
+    let compact = s.path("a_compact.exr");
+    Cmd::convert(&png, &compact)
+        .args(["--layout", "compact"])
+        .ok();
+    let expanded = s.path("expanded/here");
+    Cmd::new(["expand", "-q"])
+        .arg(&compact)
+        .arg("-o")
+        .arg(&expanded)
+        .ok();
+    assert!(expanded.join("a_compact_spectral.exr").is_file());
+    // Two inputs of one stem into one folder: refused, and the folder not left behind.
+    let other = s.path("b");
+    std::fs::create_dir_all(&other).unwrap();
+    std::fs::copy(testdata("srgb8.png"), other.join("a.png")).unwrap();
+    let refused = s.path("never/made");
+    let out = Cmd::new(["convert", "-q"])
+        .arg(&png)
+        .arg(other.join("a.png"))
+        .arg("-o")
+        .arg(&refused)
+        .run();
+    assert_eq!(out.code, 2, "{}", out.stderr);
+    assert!(!s.path("never").exists(), "{}", out.stderr);
+    // A file given as the directory.
+    let file = s.write("notes.txt", "mine");
+    Cmd::new(["convert", "-q"])
+        .arg(&png)
+        .arg("-o")
+        .arg(&file)
+        .fails(2, &["notes.txt", "not a directory"]);
+    assert_eq!(std::fs::read_to_string(&file).unwrap(), "mine");
+}
