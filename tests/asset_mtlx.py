@@ -232,5 +232,24 @@ def stage(d):
     s.Save()
 
 
+def packaged(d):
+    """Issue 56, item 4: packed.usdz holding a stage that references brick.mtlx, packaged
+    with it (and its textures)."""
+    from pxr import Sdf, Usd, UsdGeom, UsdShade
+    brick(d)
+    s = Usd.Stage.CreateNew(os.path.join(d, "inner.usdc"))
+    m = s.DefinePrim("/World/Looks/Brick", "Material")
+    m.GetReferences().AddReference("./brick.mtlx", "/MaterialX/Materials/M_brick")
+    mesh = UsdGeom.Mesh.Define(s, "/World/Wall")
+    UsdShade.MaterialBindingAPI.Apply(mesh.GetPrim()).Bind(UsdShade.Material(m))
+    s.Save()
+    w = Sdf.ZipFileWriter.CreateNew(os.path.join(d, "packed.usdz"))
+    w.AddFile(os.path.join(d, "inner.usdc"), "inner.usdc")
+    w.AddFile(os.path.join(d, "brick.mtlx"), "brick.mtlx")
+    for name in sorted(os.listdir(os.path.join(d, "tex"))):
+        w.AddFile(os.path.join(d, "tex", name), "tex/" + name)
+    w.Save()
+
+
 if __name__ == "__main__":
     globals()[sys.argv[1]](sys.argv[2])

@@ -569,3 +569,32 @@ fn a_materialx_walk_that_gives_up_decides_nothing() {
     assert!(!out.join("tex/brick_normal_spectral.exr").exists());
     assert_eq!(record(&records, "brick_color.png")["status"], "ok");
 }
+
+/// Issue 56, item 4: a `.mtlx` inside a usdz (once "No such file or directory") and textures
+/// named with `<UVTILE>`: refused, each with a message that names the construct, exit 1,
+/// nothing converted.
+#[test]
+fn constructs_it_does_not_read_are_named() {
+    let Some(python) = mtlx() else { return };
+    let dir = Scratch::new("mtlx-unread");
+    documents(&dir.0, "packaged");
+    let out = dir.path("out");
+    let run = asset(&python, &dir.path("packed.usdz"), &out).run();
+    run.one_error_line(1, &["brick.mtlx", "inside the usdz", "unpack"]);
+    assert!(!out.join("tex").exists());
+    // <UVTILE> in a MaterialX document's filename.
+    let doc = std::fs::read_to_string(dir.path("brick.mtlx")).unwrap();
+    assert!(doc.contains("brick_color.png"), "{doc}");
+    dir.write(
+        "uv.mtlx",
+        &doc.replace("brick_color.png", "brick_color.<UVTILE>.png"),
+    );
+    let run = asset(&python, &dir.path("uv.mtlx"), &dir.path("out2")).run();
+    assert_eq!(run.code, 1, "{}", run.stderr);
+    assert!(
+        run.stderr.contains("<UVTILE>") && run.stderr.contains("<UDIM>"),
+        "{}",
+        run.stderr
+    );
+    assert!(!dir.path("out2/tex/brick_color_spectral.exr").exists());
+}

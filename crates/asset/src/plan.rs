@@ -393,18 +393,34 @@ fn planned(
 ) -> Planned {
     let Some(file) = file else {
         let n = &nodes[0];
-        let why = format!(
-            "the texture '{}' that {} reads does not exist{}",
-            n.authored.as_deref().unwrap_or(""),
-            n.node,
-            n.layer
-                .as_ref()
-                .map(|l| format!(
-                    " (written in {}; fix the path or add the file)",
-                    l.display()
-                ))
-                .unwrap_or_default()
-        );
+        let authored = n.authored.as_deref().unwrap_or("");
+        let written = n
+            .layer
+            .as_ref()
+            .map(|l| format!(" (written in {})", l.display()))
+            .unwrap_or_default();
+        let why = if authored.to_ascii_lowercase().contains("<uvtile>") {
+            // Mudbox's tile names (u1_v1): not read; said by name (issue 56, item 4).
+            format!(
+                "the texture '{authored}' that {} reads{written} names its tiles with \
+                 <UVTILE> (u1_v1, u2_v1, …), which specconv asset does not read: name the \
+                 tiles by UDIM number and the file with <UDIM> (wood.1001.png, \
+                 wood.<UDIM>.png)",
+                n.node
+            )
+        } else {
+            format!(
+                "the texture '{authored}' that {} reads does not exist{}",
+                n.node,
+                n.layer
+                    .as_ref()
+                    .map(|l| format!(
+                        " (written in {}; fix the path or add the file)",
+                        l.display()
+                    ))
+                    .unwrap_or_default()
+            )
+        };
         let texture = Texture {
             file: PathBuf::from(n.authored.clone().unwrap_or_default()),
             decision: Decision::Missing { why: why.clone() },

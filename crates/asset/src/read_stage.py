@@ -174,6 +174,12 @@ def mtlx_referenced(stage, Usd, targets, errors, final_inputs):
         names = mtlx_materials(arc, targets)
         if not names:
             continue
+        inside = packaged(arc["resolved"])
+        if inside is not None:
+            # MaterialX reads files, and usd-core's resolver alone opens a package's members.
+            fail("package", "%s references the MaterialX document '%s' inside the usdz %s: "
+                 "specconv asset does not read a .mtlx inside a usdz; unpack the package "
+                 "(unzip it) and run on its stage" % (arc["prim"], inside[1], inside[0]))
         try:
             doc = load(mx, arc["resolved"])
         except MtlxError as e:
