@@ -193,6 +193,30 @@ def self_sublayer(d):
     s.Save()
 
 
+def foreign(d):
+    """Issue 56, item 2: an Arnold network (`arnold:image` feeding `arnold:standard_surface`
+    through the material's `outputs:arnold:surface`) and a RenderMan one (`PxrTexture` feeding
+    `PxrSurface` through `outputs:ri:surface`), each reading a file, bound to meshes."""
+    s = Usd.Stage.CreateNew(os.path.join(d, "foreign.usda"))
+    for path, context, surface, image, out_name, file in (
+            ("/Looks/Ai", "arnold", "arnold:standard_surface", "arnold:image", "rgba",
+             "./tex/rock_albedo.png"),
+            ("/Looks/Ri", "ri", "PxrSurface", "PxrTexture", "resultRGB",
+             "./tex/dirty_albedo.png")):
+        m = UsdShade.Material.Define(s, path)
+        surf = UsdShade.Shader.Define(s, path + "/Surface")
+        surf.CreateIdAttr(surface)
+        m.CreateSurfaceOutput(context).ConnectToSource(surf.ConnectableAPI(), "out")
+        tex = UsdShade.Shader.Define(s, path + "/Image")
+        tex.CreateIdAttr(image)
+        tex.CreateInput("filename", Sdf.ValueTypeNames.Asset).Set(file)
+        o = tex.CreateOutput(out_name, Sdf.ValueTypeNames.Color3f)
+        name = "base_color" if context == "arnold" else "diffuseColor"
+        surf.CreateInput(name, Sdf.ValueTypeNames.Color3f).ConnectToSource(o)
+        bind(s, "/Geo" + path.rsplit("/", 1)[1], m)
+    s.Save()
+
+
 def udim_conflict(d):
     """Issue 57, item 6: a UDIM pattern read as colour whose tile 1001 is read by its own
     name as a normal map."""

@@ -723,6 +723,41 @@ fn the_layer_is_packaged_to_be_referenced_and_moved() {
     }
 }
 
+/// Issue 56, item 2 in part: an Arnold network (`arnold:image` → `arnold:standard_surface`)
+/// and a RenderMan one (`PxrTexture` → `PxrSurface`) each read a file this reader does not
+/// decide: never "nothing to convert" in silence. Each is reported, naming the shader, its prim
+/// and the file, in text and in --json (status `unknown-shader`); `--strict` (a warning is a
+/// failure, as for `convert`) makes the run exit 1; nothing is converted either way.
+#[test]
+fn unknown_shaders_that_read_files_are_reported_and_fail_under_strict() {
+    let Some(python) = usd() else { return };
+    let dir = Scratch::new("asset-foreign");
+    stage(&dir.0, "foreign");
+    let run = asset(&python, &dir.path("foreign.usda"), &dir.path("out")).run();
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    for needle in [
+        "unknown shader arnold:image at /Looks/Ai/Image reads ./tex/rock_albedo.png",
+        "unknown shader PxrTexture at /Looks/Ri/Image reads ./tex/dirty_albedo.png",
+    ] {
+        assert!(run.stderr.contains(needle), "{needle}: {}", run.stderr);
+    }
+    assert!(!run.stderr.contains("nothing to convert"), "{}", run.stderr);
+    let run = asset(&python, &dir.path("foreign.usda"), &dir.path("strict"))
+        .args(["--strict", "--json"])
+        .run();
+    assert_eq!(run.code, 1, "{}", run.stderr);
+    let records = json_lines_of(&run.stdout);
+    let shaders: Vec<&str> = records
+        .iter()
+        .filter(|r| r["status"] == "unknown-shader")
+        .map(|r| r["asset"]["shader"].as_str().unwrap())
+        .collect();
+    assert_eq!(shaders, ["arnold:image", "PxrTexture"], "{records:#?}");
+    assert!(tree(&dir.path("strict"))
+        .iter()
+        .all(|(p, _)| !p.to_string_lossy().ends_with(".exr")));
+}
+
 /// Issue 57, item 4: usdz members `escape.png` and `../escape.png` are two pictures; each is
 /// copied out to its own file inside DIR (`..` escaped, not dropped), each with its own bytes,
 /// converted to its own output, and each material's layer input names its own.

@@ -47,6 +47,9 @@ pub struct Asset {
     /// Every file the stage composed or read but its textures ([`Stage::read_files`]).
     #[serde(skip)]
     pub read_files: Vec<PathBuf>,
+    /// Files read by shaders the reader does not know ([`crate::stage::UnknownRead`]).
+    #[serde(skip)]
+    pub unknown: Vec<crate::stage::UnknownRead>,
     /// Every file the run may write (the layer, document copies, the jobs' outputs), set by
     /// [`crate::prepare`] and stamped in the record ([`crate::record`]) once written.
     #[serde(skip)]
@@ -186,6 +189,7 @@ impl Asset {
             textures,
             references: stage.references,
             read_files: stage.read_files,
+            unknown: stage.unknown,
             writes: Vec::new(),
         })
     }
@@ -807,6 +811,7 @@ mod tests {
             }],
             references: vec![reference("/s/a/brick.mtlx"), reference("/s/c/other.mtlx")],
             read_files: Vec::new(),
+            unknown: Vec::new(),
             writes: Vec::new(),
         };
         let plan = asset.layer_plan(|_| true);

@@ -281,7 +281,7 @@ def read(stage_path, extract_dir, final_inputs, replaceable=()):
     mtlx = Sdf.FileFormat.FindByExtension("mtlx") is None \
         and any(".mtlx" in e.lower() for e in errors)
     materials, bound, targets = bound_materials(stage, Usd, UsdShade, mtlx)
-    textures, references, materials_read = [], [], 0
+    textures, references, materials_read, unknown = [], [], 0, []
     if mtlx:
         # usd-core without its MaterialX file format: the documents are read by MaterialX.
         textures, references, errors, read_paths = mtlx_referenced(stage, Usd, targets,
@@ -293,6 +293,7 @@ def read(stage_path, extract_dir, final_inputs, replaceable=()):
             prim = stage.GetPrimAtPath(path)
             sid = shader_id(prim, UsdShade)
             if not is_texture(sid):
+                unknown += unknown_reads(prim, sid, mpath, UsdShade, Sdf)
                 continue
             f = file_of(prim, UsdShade, Sdf)
             if f is None:
@@ -319,7 +320,21 @@ def read(stage_path, extract_dir, final_inputs, replaceable=()):
     read_files = sorted(set(os.path.abspath(p) for p in layers + LOADED))
     print(json.dumps(dict(stage=os.path.abspath(stage_path), materials=len(materials) + materials_read,
                           bound_prims=bound, composition_errors=errors, textures=textures,
-                          references=references, read_files=read_files)))
+                          references=references, read_files=read_files, unknown=unknown)))
+
+
+def unknown_reads(prim, sid, material, UsdShade, Sdf):
+    """The files a shader that is no known texture node reads (an `asset` input with a path:
+    Arnold's `image`, RenderMan's `PxrTexture`, …): reported, never converted or ignored in
+    silence (issue 56, item 2)."""
+    found = []
+    for inp in UsdShade.Shader(prim).GetInputs():
+        value = inp.Get()
+        if isinstance(value, Sdf.AssetPath) and value.path:
+            found.append(dict(node=str(prim.GetPath()), node_id=sid or prim.GetTypeName() or None,
+                              input=inp.GetBaseName(), file=value.path,
+                              resolved=value.resolvedPath or None, material=material))
+    return found
 
 
 def usd_layer(plan):

@@ -25,6 +25,27 @@ pub struct Stage {
     /// (absolute): files no output may be.
     #[serde(default)]
     pub read_files: Vec<PathBuf>,
+    /// Files read by shaders that are no texture node this reader knows (Arnold's `image`,
+    /// RenderMan's `PxrTexture`, …): reported, never converted (issue 56, item 2).
+    #[serde(default)]
+    pub unknown: Vec<UnknownRead>,
+}
+
+/// A file an unknown shader reads.
+#[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
+pub struct UnknownRead {
+    /// The shader's prim.
+    pub node: String,
+    /// Its `info:id` (or prim type).
+    pub node_id: Option<String>,
+    /// The input that names the file.
+    pub input: String,
+    /// The file as written.
+    pub file: String,
+    /// As usd-core resolved it.
+    pub resolved: Option<String>,
+    /// The bound material whose network it is in.
+    pub material: String,
 }
 
 /// A prim's reference (or payload) to a MaterialX document.

@@ -92,7 +92,16 @@ pub fn run(args: Args) -> Result<i32> {
     )
     .map_err(asset_error)?;
     let reporting = args.batch.reporting(args.verbose);
-    if asset.textures.is_empty() && !args.batch.quiet && specconv_asset::is_document(&asset.stage) {
+    // A shader it does not know reading a file is a warning, as `convert`'s are: `--strict`
+    // makes it a failure.
+    report_unknown(&asset, args.batch.json, options.strict)?;
+    let unknown_fails = options.strict && !asset.unknown.is_empty();
+    if asset.textures.is_empty() && !asset.unknown.is_empty() {
+        // Reported above: never "nothing to convert".
+    } else if asset.textures.is_empty()
+        && !args.batch.quiet
+        && specconv_asset::is_document(&asset.stage)
+    {
         errln!(
             "specconv: note: {}: no material of the document reads an image ({} material(s)); \
              nothing to convert",
@@ -112,10 +121,53 @@ pub fn run(args: Args) -> Result<i32> {
         print_decisions(&asset, &jobs, args.dry_run && args.batch.json)?;
         if args.dry_run {
             let unconverted = asset.textures.iter().any(|t| t.error.is_some());
-            return Ok(if unconverted { exit::FAILED } else { exit::OK });
+            return Ok(if unconverted || unknown_fails {
+                exit::FAILED
+            } else {
+                exit::OK
+            });
         }
     }
-    convert(&reporting, options, &asset, &jobs, &reader)
+    let code = convert(&reporting, options, &asset, &jobs, &reader)?;
+    Ok(if unknown_fails && code == exit::OK {
+        exit::FAILED
+    } else {
+        code
+    })
+}
+
+/// Each file a shader the reader does not know reads (issue 56, item 2): a warning line, or
+/// with --json an object of `convert`'s record form whose status is `unknown-shader`; an
+/// error line instead under --strict.
+fn report_unknown(asset: &Asset, json: bool, strict: bool) -> Result<()> {
+    for u in &asset.unknown {
+        let shader = u.node_id.as_deref().unwrap_or("(no info:id)");
+        if json {
+            let v = serde_json::json!({
+                "input": u.resolved.as_deref().unwrap_or(&u.file),
+                "output": "",
+                "status": "unknown-shader",
+                "asset": {
+                    "stage": asset.stage, "node": u.node, "shader": shader, "input": u.input,
+                    "file": u.file, "material": u.material,
+                    "why": "a shader specconv asset does not know reads it: not converted",
+                },
+            });
+            outln!("{v}")?;
+        }
+        let line = format!(
+            "unknown shader {shader} at {} reads {} (its input {}, material {}): not \
+             converted; specconv asset reads UsdPreviewSurface and MaterialX networks \
+             (docs/assets.md)",
+            u.node, u.file, u.input, u.material
+        );
+        if strict {
+            print_error(&line);
+        } else {
+            errln!("specconv: warning: {line}");
+        }
+    }
+    Ok(())
 }
 
 /// Each texture's decision: a line on standard error, or a JSON object on standard output.
