@@ -48,9 +48,18 @@ def test_convert_asset_gives_the_records_and_layer_of_the_command_line(tmp_path)
     assert by_name["rock_arm.png"]["status"] == "data"
     assert by_name["wood_acescg.exr"]["colorspace"] == "ACEScg"
     assert "clean_albedo.png" not in by_name
-    from pxr import Usd
+    from pxr import Usd, UsdShade
     stage = Usd.Stage.Open(str(out / "shot_spectral.usda"))
-    albedo = stage.GetPrimAtPath("/World/Rock/Looks/Rock/Albedo").GetAttribute("inputs:file")
+    # RGB renderers read the stage's own network; the render context `spectral` the copy
+    # that reads the spectral files (issue 56, item 1).
+    rock = UsdShade.Material(stage.GetPrimAtPath("/World/Rock/Looks/Rock"))
+    assert rock.ComputeSurfaceSource("")[0].GetPath() == "/World/Rock/Looks/Rock/Surface"
+    assert rock.ComputeSurfaceSource("spectral")[0].GetPath() == \
+        "/World/Rock/Looks/Rock/Surface_spectral"
+    original = stage.GetPrimAtPath("/World/Rock/Looks/Rock/Albedo").GetAttribute("inputs:file")
+    assert original.Get().path == "./tex/rock_albedo.png"
+    albedo = stage.GetPrimAtPath("/World/Rock/Looks/Rock/Albedo_spectral").GetAttribute(
+        "inputs:file")
     assert albedo.Get().path == "./tex/rock_albedo_spectral.exr"
     assert Path(albedo.Get().resolvedPath) == out / "tex" / "rock_albedo_spectral.exr"
     # The same decisions as the command line's dry run.

@@ -97,25 +97,15 @@ pub(crate) fn record<'a>(records: &'a [Value], name: &str) -> &'a Value {
         .unwrap_or_else(|| panic!("no record of {name}: {records:#?}"))
 }
 
-/// What usd-core makes of the layer: each texture node's composed `inputs:file` (as written)
-/// and its customData, opened as a stage.
+/// What usd-core makes of the layer (tests/asset_layer_view.py): each texture node's
+/// `inputs:file` as the spectral choice (render context `spectral`) reads it, with its
+/// customData; and, checked here for every test stage, that with no choice made every
+/// `inputs:file` and every material's surface is the stage's own (issue 56, item 1).
 fn layer_files(python: &str, layer: &Path) -> Value {
-    let code = "import json, sys\n\
-        from pxr import Usd, UsdShade\n\
-        s = Usd.Stage.Open(sys.argv[1])\n\
-        out = {}\n\
-        for p in s.Traverse():\n\
-        \x20   a = p.GetAttribute('inputs:file')\n\
-        \x20   if a:\n\
-        \x20       v = a.Get()\n\
-        \x20       out[str(p.GetPath())] = dict(file=v.path, resolved=v.resolvedPath,\n\
-        \x20           original=a.GetCustomDataByKey('specconv:original'),\n\
-        \x20           cs=a.GetColorSpace() or None,\n\
-        \x20           original_cs=a.GetCustomDataByKey('specconv:originalColorSpace'),\n\
-        \x20           scs=p.GetAttribute('inputs:sourceColorSpace').Get())\n\
-        print(json.dumps(dict(files=out, sublayers=list(s.GetRootLayer().subLayerPaths))))\n";
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/asset_layer_view.py");
     let out = std::process::Command::new(python)
-        .args(["-c", code, layer.to_str().unwrap()])
+        .arg(&script)
+        .arg(layer)
         .output()
         .unwrap();
     assert!(
@@ -123,7 +113,13 @@ fn layer_files(python: &str, layer: &Path) -> Value {
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
-    json(&String::from_utf8_lossy(&out.stdout))
+    let v = json(&String::from_utf8_lossy(&out.stdout));
+    assert_eq!(
+        v["rgb_changed"].as_array().map(Vec::len),
+        Some(0),
+        "what RGB renderers read changed: {v:#}"
+    );
+    v
 }
 
 /// The basic stage in `dir/shot`, with the texture it reads outside its folder
@@ -245,6 +241,16 @@ fn the_material_decides_and_the_layer_points_at_the_spectral_files() {
         (&json("\"raw\""), &json("\"acescg\""))
     );
     assert!(files["/World/Rock/Looks/Rock/Albedo"]["cs"].is_null());
+    // The switch (issue 56, item 1): the spectral render context's surface is the copy; with
+    // no choice (checked by layer_files for every input) the stage's own network.
+    assert_eq!(
+        v["contexts"]["/World/Rock/Looks/Rock"],
+        "/World/Rock/Looks/Rock/Surface_spectral"
+    );
+    assert_eq!(
+        node["copy"], "/World/Rock/Looks/Rock/Albedo_spectral",
+        "{v:#}"
+    );
     // A second run with -u converts nothing and rewrites the layer.
     let again = asset(&python, &shot.join("shot.usda"), &out)
         .args(["--json", "-u"])

@@ -285,19 +285,22 @@ fn a_stage_referencing_a_materialx_document_merges_its_decisions() {
         "colour-input"
     );
     // usd-core on the layer: the reference now names the copy (which this usd-core cannot
-    // open either), the original's is deleted, and the USD texture is overridden.
+    // open either), the original's is deleted, and the USD texture's node has a copy in the
+    // spectral render context (the original untouched, issue 56 item 1).
     let code = "import json, sys\n\
         from pxr import Usd\n\
         s = Usd.Stage.Open(sys.argv[1])\n\
-        a = s.GetPrimAtPath('/World/Looks/Rock/Albedo').GetAttribute('inputs:file').Get()\n\
-        print(json.dumps(dict(errors=[str(e) for e in s.GetCompositionErrors()], rock=a.path)))\n";
+        get = lambda p: s.GetPrimAtPath(p).GetAttribute('inputs:file').Get().path\n\
+        print(json.dumps(dict(errors=[str(e) for e in s.GetCompositionErrors()],\n\
+        \x20   rock=get('/World/Looks/Rock/Albedo_spectral'), rgb=get('/World/Looks/Rock/Albedo'))))\n";
     let layer = out.join("shot_spectral.usda");
     let got = std::process::Command::new(&python)
         .args(["-c", code, layer.to_str().unwrap()])
         .output()
         .unwrap();
     let v = json(&String::from_utf8_lossy(&got.stdout));
-    assert_eq!(v["rock"], "./tex/rock_albedo_spectral.exr");
+    assert_eq!(v["rock"], "./tex/rock_albedo_spectral.exr", "{v:#}");
+    assert_eq!(v["rgb"], "./tex/rock_albedo.png", "{v:#}");
     let errors: Vec<&str> = v["errors"]
         .as_array()
         .unwrap()

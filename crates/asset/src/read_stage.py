@@ -337,41 +337,170 @@ def unknown_reads(prim, sid, material, UsdShade, Sdf):
     return found
 
 
+RENDER_CONTEXT = "spectral"
+
+
 def usd_layer(plan):
-    """The layer of overrides as usda text."""
-    from pxr import Sdf, Tf
+    """The layer over the stage as usda text: the spectral files behind UsdShade's render
+    context `spectral` (docs/assets.md, "The switch")."""
+    from pxr import Sdf, Tf, Usd, UsdShade
     try:
         out = Sdf.Layer.CreateAnonymous(".usda")
         out.subLayerPaths.append(plan["sublayer"])
-        out.customLayerData = {"specconv": {"stage": plan["sublayer"]}}
+        out.customLayerData = {"specconv": {"stage": plan["sublayer"],
+                                            "renderContext": RENDER_CONTEXT}}
         # The stage's defaultPrim, so that the layer is referenced as the stage is, without a
         # prim path.
-        stage = Sdf.Layer.FindOrOpen(plan["stage"])
-        if stage is not None and stage.defaultPrim:
-            out.defaultPrim = stage.defaultPrim
-        for o in plan["overrides"]:
-            prim = Sdf.CreatePrimInLayer(out, Sdf.Path(o["node"]))
-            prim.specifier = Sdf.SpecifierOver
-            attr = Sdf.AttributeSpec(prim, "inputs:file", Sdf.ValueTypeNames.Asset)
-            attr.default = Sdf.AssetPath(o["file"])
-            # Read back as customData key paths `specconv:original`, `specconv:originalResolved`.
-            attr.customData = {"specconv": {k: v for k, v in (
-                ("original", o["original"]), ("originalResolved", o["original_resolved"]),
-                ("originalColorSpace", o.get("original_colorspace"))) if v is not None}}
-            if o.get("original_colorspace") is not None:
-                # MaterialX's colorspace would convert the spectra from that space: read them
-                # as written instead, as sourceColorSpace raw does for a UsdUVTexture.
-                attr.SetInfo("colorSpace", "raw")
-            if o.get("raw"):
-                # The spectral file holds linear reflectance: nothing may sRGB-decode it.
-                scs = Sdf.AttributeSpec(prim, "inputs:sourceColorSpace",
-                                        Sdf.ValueTypeNames.Token)
-                scs.default = "raw"
+        root = Sdf.Layer.FindOrOpen(plan["stage"])
+        if root is not None and root.defaultPrim:
+            out.defaultPrim = root.defaultPrim
+        if plan["overrides"]:
+            stage = Usd.Stage.Open(plan["stage"], Usd.Stage.LoadAll)
+            spectral_networks(out, stage, plan["overrides"], Sdf, Usd, UsdShade)
         for r in plan.get("references", []):
             retarget(out, r, Sdf)
         return out.ExportToString()
     except Tf.ErrorException as e:
         fail("layer", str(e).strip())
+
+
+def set_spectral_file(prim, o, Sdf):
+    """A texture node's copy reads the spectral file `o` names, as written (raw)."""
+    attr = Sdf.AttributeSpec(prim, "inputs:file", Sdf.ValueTypeNames.Asset) \
+        if "inputs:file" not in prim.attributes else prim.attributes["inputs:file"]
+    attr.default = Sdf.AssetPath(o["file"])
+    # Read back as customData key paths `specconv:original`, `specconv:originalResolved`.
+    attr.customData = {"specconv": {k: v for k, v in (
+        ("original", o["original"]), ("originalResolved", o["original_resolved"]),
+        ("originalColorSpace", o.get("original_colorspace"))) if v is not None}}
+    if o.get("original_colorspace") is not None:
+        # MaterialX's colorspace would convert the spectra from that space: read them as
+        # written instead, as sourceColorSpace raw does for a UsdUVTexture.
+        attr.SetInfo("colorSpace", "raw")
+    if o.get("raw"):
+        # The spectral file holds linear reflectance: nothing may sRGB-decode it.
+        scs = prim.attributes["inputs:sourceColorSpace"] \
+            if "inputs:sourceColorSpace" in prim.attributes else \
+            Sdf.AttributeSpec(prim, "inputs:sourceColorSpace", Sdf.ValueTypeNames.Token)
+        scs.default = "raw"
+
+
+def spectral_networks(out, stage, overrides, Sdf, Usd, UsdShade):
+    """For each material whose network reads a converted colour texture, a copy of the part of
+    that network the spectral files change (every child of the material from which a
+    connection leads to such a texture node: shaders, node graphs whole), beside the original
+    as `NAME_spectral`, its texture nodes reading the spectral files, and the material's
+    terminals for the render context `spectral` (`outputs:spectral:surface` …) connected to the
+    copies. The original network, which every RGB renderer reads, is not touched. A texture
+    node outside any material keeps the direct override (no render context can reach it)."""
+    by_node = {o["node"]: o for o in overrides}
+    groups = {}
+    for node, o in by_node.items():
+        prim = stage.GetPrimAtPath(node)
+        m = prim.GetParent() if prim else None
+        while m and not m.IsPseudoRoot() and not m.IsA(UsdShade.Material):
+            m = m.GetParent()
+        if not m or m.IsPseudoRoot():
+            spec = Sdf.CreatePrimInLayer(out, Sdf.Path(node))
+            spec.specifier = Sdf.SpecifierOver
+            set_spectral_file(spec, o, Sdf)
+            continue
+        groups.setdefault(m.GetPath(), []).append(node)
+    for mpath, nodes in sorted(groups.items()):
+        copy_network(out, stage.GetPrimAtPath(mpath), [by_node[n] for n in nodes], Sdf, Usd,
+                     UsdShade)
+
+
+def copy_network(out, material, overrides, Sdf, Usd, UsdShade):
+    mpath = material.GetPath()
+    depth = mpath.pathElementCount + 1
+
+    def unit(path):
+        """The material's child on `path` (None outside the material)."""
+        if not path.HasPrefix(mpath) or path.pathElementCount < depth:
+            return None
+        while path.pathElementCount > depth:
+            path = path.GetParentPath()
+        return path
+
+    # Which children lead, by connections, to a converted texture node.
+    edges = set()
+    for prim in Usd.PrimRange(material):
+        for attr in prim.GetAttributes():
+            for target in attr.GetConnections():
+                a, b = unit(prim.GetPath()), unit(target.GetPrimPath())
+                if a is not None and b is not None and a != b:
+                    edges.add((a, b))
+    tainted = {unit(Sdf.Path(o["node"])) for o in overrides}
+    grew = True
+    while grew:
+        grew = False
+        for a, b in edges:
+            if b in tainted and a not in tainted:
+                tainted.add(a)
+                grew = True
+    names = {c.GetName() for c in material.GetChildren()}
+    renamed = {}
+    for u in sorted(tainted):
+        name = u.name + "_spectral"
+        while name in names:
+            name += "_"
+        names.add(name)
+        renamed[u] = mpath.AppendChild(name)
+
+    def mapped(path):
+        """A path into a copied child, in its copy; any other path as it is."""
+        u = unit(path.GetPrimPath())
+        return path.ReplacePrefix(u, renamed[u]) if u in renamed else path
+
+    for u in sorted(tainted):
+        for prim in Usd.PrimRange(stage_prim(material, u)):
+            copy_prim(out, prim, mapped, Sdf)
+    for o in overrides:
+        spec = out.GetPrimAtPath(mapped(Sdf.Path(o["node"])))
+        set_spectral_file(spec, o, Sdf)
+    # The material's terminals for the spectral render context, where the copy feeds them.
+    over = Sdf.CreatePrimInLayer(out, mpath)
+    over.specifier = Sdf.SpecifierOver
+    for output in UsdShade.Material(material).GetOutputs():
+        base = output.GetBaseName()
+        if ":" in base:  # another render context's terminal
+            continue
+        sources = list(output.GetAttr().GetConnections())
+        copies = [mapped(t) for t in sources]
+        if copies == sources:  # the copy does not reach this terminal
+            continue
+        attr = Sdf.AttributeSpec(over, "outputs:%s:%s" % (RENDER_CONTEXT, base),
+                                 output.GetAttr().GetTypeName())
+        attr.connectionPathList.explicitItems = copies
+
+
+def stage_prim(material, path):
+    return material.GetStage().GetPrimAtPath(path)
+
+
+def copy_prim(out, prim, mapped, Sdf):
+    """The composed prim `prim` as a new prim at its mapped path: its type, applied schemas,
+    and every authored attribute's value and connections (mapped), a record of what it
+    copies."""
+    spec = Sdf.CreatePrimInLayer(out, mapped(prim.GetPath()))
+    spec.specifier = Sdf.SpecifierDef
+    spec.typeName = prim.GetTypeName()
+    schemas = prim.GetAppliedSchemas()
+    if schemas:
+        spec.SetInfo("apiSchemas", Sdf.TokenListOp.CreateExplicit(list(schemas)))
+    spec.customData = {"specconv": {"copyOf": str(prim.GetPath())}}
+    for attr in prim.GetAttributes():
+        connections = attr.GetConnections()
+        if not attr.IsAuthored():  # a schema's fallback: the copy has it too
+            continue
+        a = Sdf.AttributeSpec(spec, attr.GetName(), attr.GetTypeName(), attr.GetVariability())
+        if attr.HasAuthoredValue():
+            a.default = attr.Get()
+        if attr.HasColorSpace():
+            a.SetInfo("colorSpace", attr.GetColorSpace())
+        if connections:
+            a.connectionPathList.explicitItems = [mapped(t) for t in connections]
 
 
 def retarget(out, r, Sdf):

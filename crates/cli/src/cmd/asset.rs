@@ -39,8 +39,10 @@ Examples:
 /// normal, occlusion, opacity, displacement …) is data, skipped or copied as --data says; one
 /// that feeds both is a conflict, named and not converted. Outputs go under DIR (the texture's
 /// folder below the stage's, or external/HASH for one outside it), with DIR/STEM_spectral.usda:
-/// a layer over the stage whose overrides point each colour texture's inputs:file at its
-/// spectral file. The stage and its textures are never written. usd-core and MaterialX run in
+/// a layer over the stage that gives each material reading a colour texture a copy of its
+/// network reading the spectral files, behind UsdShade's render context `spectral`
+/// (outputs:spectral:surface), leaving what RGB renderers read as it was. The stage and its
+/// textures are never written. usd-core and MaterialX run in
 /// the Python interpreter $SPECCONV_USD_PYTHON names (else python3):
 /// `python3 -m pip install usd-core MaterialX`.
 /// With -u, up-to-date textures are skipped and the layer is written again; --json's records
@@ -272,7 +274,7 @@ fn convert(
             );
         } else {
             errln!(
-                "specconv: layer {} over {}: {} texture node(s) pointed at spectral files{}",
+                "specconv: layer {} over {}: {} texture node(s) given spectral files in the render context `spectral`{}",
                 layer.layer.display(),
                 asset.stage.display(),
                 layer.overrides.len(),
