@@ -764,6 +764,71 @@ fn unknown_shaders_that_read_files_are_reported_and_fail_under_strict() {
         .all(|(p, _)| !p.to_string_lossy().ends_with(".exr")));
 }
 
+/// Issue 56, item 5: `asset --layout compact` end to end: every colour texture a compact file
+/// (its `specconvLayout`, read by oiiotool), the layer's spectral context pointing at them,
+/// `-u` skipping them all and leaving the layer as it was; and a stage-level line of storage
+/// (the bytes read and written), which the compact layout keeps below the spectral one's.
+#[test]
+fn the_compact_layout_works_end_to_end_with_a_storage_summary() {
+    let Some(python) = usd() else { return };
+    let dir = Scratch::new("asset-compact");
+    let shot = basic_shot(&dir);
+    let storage = |run: &Output| -> (f64, f64) {
+        let line = run
+            .stderr
+            .lines()
+            .find(|l| l.starts_with("specconv: storage:"))
+            .unwrap_or_else(|| panic!("no storage line: {}", run.stderr));
+        // The exact figures: "(N bytes)".
+        let bytes: Vec<f64> = line
+            .split('(')
+            .filter_map(|w| w.split(" bytes)").next()?.parse::<f64>().ok())
+            .collect();
+        (bytes[0], bytes[1])
+    };
+    let out = dir.path("compact");
+    let run = asset(&python, &shot.join("shot.usda"), &out)
+        .args(["--layout", "compact", "--json"])
+        .ok();
+    let records = run.json_lines();
+    let written: Vec<&str> = records
+        .iter()
+        .filter(|r| r["status"] == "ok")
+        .map(|r| r["output"].as_str().unwrap())
+        .collect();
+    assert!(written.len() >= 5, "{records:#?}");
+    for o in &written {
+        let info = tool("oiiotool", &["--info", "-v", o]);
+        assert!(
+            info.contains("specconvLayout: \"compact 2\""),
+            "{o}: {info}"
+        );
+    }
+    let v = layer_files(&python, &out.join("shot_spectral.usda"));
+    let albedo = &v["files"]["/World/Rock/Looks/Rock/Albedo"];
+    assert!(
+        written.contains(&albedo["resolved"].as_str().unwrap()),
+        "{v:#}"
+    );
+    let (_, compact_out) = storage(&run);
+    let layer = std::fs::read(out.join("shot_spectral.usda")).unwrap();
+    let again = asset(&python, &shot.join("shot.usda"), &out)
+        .args(["--layout", "compact", "--json", "-u"])
+        .ok();
+    assert!(again
+        .json_lines()
+        .iter()
+        .all(|r| r["status"] == "skipped" || r["status"] == "data"));
+    assert_eq!(
+        std::fs::read(out.join("shot_spectral.usda")).unwrap(),
+        layer
+    );
+    let spectral = asset(&python, &shot.join("shot.usda"), &dir.path("spectral")).ok();
+    let (read, spectral_out) = storage(&spectral);
+    assert!(read > 0.0 && spectral_out > 0.0, "{}", spectral.stderr);
+    eprintln!("read {read} bytes: spectral {spectral_out}, compact {compact_out}");
+}
+
 /// Issue 57, item 4: usdz members `escape.png` and `../escape.png` are two pictures; each is
 /// copied out to its own file inside DIR (`..` escaped, not dropped), each with its own bytes,
 /// converted to its own output, and each material's layer input names its own.

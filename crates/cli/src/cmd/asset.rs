@@ -286,7 +286,31 @@ fn convert(
             );
         }
     }
+    if !reporting.quiet {
+        errln!("specconv: {}", storage(jobs));
+    }
     Ok(if unplanned > 0 { exit::FAILED } else { code })
+}
+
+/// The stage-level summary of storage (issue 56, item 5): the bytes of the textures read and
+/// of the files written for them (those on disk now: converted, or up to date).
+fn storage(jobs: &[Job]) -> String {
+    let size = |p: &Path| std::fs::metadata(p).map_or(0, |m| m.len());
+    let (inputs, outputs) = jobs.iter().fold((0u64, 0u64), |(i, o), j| {
+        (i + size(&j.input), o + size(&j.output))
+    });
+    let mb = |b: u64| b as f64 / 1e6;
+    let ratio = match inputs {
+        0 => String::new(),
+        _ => format!(" ({:.1}× the textures)", outputs as f64 / inputs as f64),
+    };
+    format!(
+        "storage: {} texture file(s), {:.2} MB read ({inputs} bytes), {:.2} MB written \
+         ({outputs} bytes){ratio}",
+        jobs.len(),
+        mb(inputs),
+        mb(outputs)
+    )
 }
 
 /// The textures that are not converted (a conflict, a missing file, a colour space the config
