@@ -153,8 +153,8 @@ int scs_encode_rgb(const scs_model *m, const double to_xyz[9], const float rgb[3
 #define SCS_REGULARISATION_        1e-9          /* bounded::REGULARISATION */
 #define SCS_WHITE_ROUNDING_        1.9073486328125e-6 /* bounded::WHITE_ROUNDING */
 #define SCS_SAME_WHITE_            0.001         /* bounded::SAME_WHITE */
-#define SCS_D65_X_                 0.3127        /* rgb::SRGB.white[0] */
-#define SCS_D65_Y_                 0.329         /* rgb::SRGB.white[1] */
+#define SCS_D65_X_                 0.3127        /* SRGB.white[0] */
+#define SCS_D65_Y_                 0.329         /* SRGB.white[1] */
 /* END GENERATED */
 
 typedef struct {

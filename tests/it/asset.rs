@@ -1168,7 +1168,7 @@ fn a_stage_on_the_farm_converts_every_texture_as_asset_does() {
     assert_eq!(c.code, 0, "{}\n{}", c.stdout, c.stderr);
     assert!(c.stdout.contains("8 files: 8 done"), "{}", c.stdout);
     assert!(
-        c.stderr.contains("5 texture node(s) pointed"),
+        c.stderr.contains("5 texture node(s) given spectral files"),
         "{}",
         c.stderr
     );

@@ -69,7 +69,7 @@ fn a_missing_output_directory_is_exit_2_everywhere() {
     for args in [
         vec![arg(&png), arg(&in_gone)],
         vec!["convert", arg(&png), arg(&in_gone)],
-        vec![arg(&png), "-o", arg(&gone)],
+        // (`-o DIR` makes DIR, as `asset -o` does: tests/it/plans.rs, issue 56 item 6.)
         vec![arg(&png), "--output-template", &template],
         vec!["to-rgb", arg(&png), arg(&in_gone)],
         vec!["train", "--spectra", arg(&cc), "-o", arg(&model)],

@@ -120,7 +120,8 @@ pub struct Retarget {
     pub file: String,
 }
 
-/// `inputs:file` of one node, pointed at a spectral file.
+/// `inputs:file` of one node, pointed at a spectral file (in the copy of its network that the
+/// layer makes for the render context `spectral`).
 #[derive(Debug, Clone, Serialize)]
 pub struct Override {
     /// The node's prim path.

@@ -287,7 +287,8 @@ pub fn farm_layer(
     Ok(layer)
 }
 
-/// Writes the layer: every colour texture that is done pointed at its spectral file.
+/// Writes the layer: every colour texture that is done given its spectral file in the render
+/// context `spectral` (a copy of its material network).
 pub fn finish(reader: &Reader, asset: &Asset, outcomes: &Outcomes) -> Result<LayerPlan, Error> {
     let layer = asset.layer_plan(|k| outcomes.done(k));
     reader.write_layer(&layer)?;

@@ -46,151 +46,58 @@ impl Number {
     }
 }
 
+/// One [`Shared`], the library's name written from its path.
+macro_rules! shared {
+    ($c:literal, count $($p:tt)+) => {
+        Shared {
+            c_name: $c,
+            library: stringify!($($p)+),
+            value: Number::Count($($p)+ as i64),
+        }
+    };
+    ($c:literal, real $($p:tt)+) => {
+        Shared {
+            c_name: $c,
+            library: stringify!($($p)+),
+            value: Number::Real($($p)+),
+        }
+    };
+}
+
 /// Every number the header shares, in the order it defines them.
 pub fn shared() -> Vec<Shared> {
-    let count = |v: usize| Number::Count(v as i64);
-    let real = Number::Real;
-    let s = |c_name, library, value| Shared {
-        c_name,
-        library,
-        value,
-    };
     vec![
-        s(
-            "SCS_MAX_DEPTH",
-            "compact::MAX_DEPTH",
-            count(compact::MAX_DEPTH),
-        ),
-        s(
-            "SCS_MAX_BANDS",
-            "compact::MAX_BANDS",
-            count(compact::MAX_BANDS),
-        ),
-        s(
-            "SCS_WHOLE_STEPS",
-            "Grid::WHOLE_STEPS",
-            real(Grid::WHOLE_STEPS),
-        ),
-        s("SCS_DARK", "compact::DARK", real(compact::DARK)),
-        s(
-            "SCS_MAX_WIDTH",
-            "compact::MAX_WIDTH",
-            real(compact::MAX_WIDTH),
-        ),
-        s(
-            "SCS_DUAL_STEPS_",
-            "solid::DUAL_STEPS",
-            count(solid::DUAL_STEPS),
-        ),
-        s("SCS_RESIDUAL_", "solid::RESIDUAL", real(solid::RESIDUAL)),
-        s(
-            "SCS_STALLED_RESIDUAL_",
-            "solid::STALLED_RESIDUAL",
-            real(solid::STALLED_RESIDUAL),
-        ),
-        s(
-            "SCS_HESSIAN_FLOOR_",
-            "solid::HESSIAN_FLOOR",
-            real(solid::HESSIAN_FLOOR),
-        ),
-        s(
-            "SCS_STEP_FLOOR_",
-            "solid::STEP_FLOOR",
-            real(solid::STEP_FLOOR),
-        ),
-        s(
-            "SCS_PSI_ROUNDING_",
-            "solid::PSI_ROUNDING",
-            real(solid::PSI_ROUNDING),
-        ),
-        s("SCS_ARMIJO_", "solid::ARMIJO", real(solid::ARMIJO)),
-        s(
-            "SCS_POLISH_HALVINGS_",
-            "solid::POLISH_HALVINGS",
-            count(solid::POLISH_HALVINGS),
-        ),
-        s(
-            "SCS_STRONGER_PENALTIES_",
-            "solid::STRONGER_PENALTIES",
-            Number::Count(i64::from(solid::STRONGER_PENALTIES)),
-        ),
-        s(
-            "SCS_NEAREST_STEPS_",
-            "nearest::STEPS",
-            count(nearest::STEPS),
-        ),
-        s(
-            "SCS_NEAREST_SUB_",
-            "nearest::SUB_STEPS",
-            count(nearest::SUB_STEPS),
-        ),
-        s(
-            "SCS_NEAREST_TRIES_",
-            "nearest::TRIES",
-            count(nearest::TRIES),
-        ),
-        s(
-            "SCS_NEAREST_MU_START_",
-            "nearest::MU_START",
-            real(nearest::MU_START),
-        ),
-        s(
-            "SCS_NEAREST_MU_SHRINK_",
-            "nearest::MU_SHRINK",
-            real(nearest::MU_SHRINK),
-        ),
-        s(
-            "SCS_NEAREST_MU_FLOOR_",
-            "nearest::MU_FLOOR",
-            real(nearest::MU_FLOOR),
-        ),
-        s(
-            "SCS_NEAREST_MU_GROW_",
-            "nearest::MU_GROW",
-            real(nearest::MU_GROW),
-        ),
-        s(
-            "SCS_NEAREST_MU_CAP_",
-            "nearest::MU_CAP",
-            real(nearest::MU_CAP),
-        ),
-        s(
-            "SCS_NEAREST_SUB_TOLERANCE_",
-            "nearest::SUB_TOLERANCE",
-            real(nearest::SUB_TOLERANCE),
-        ),
-        s(
-            "SCS_NEAREST_SETTLED_PHI_",
-            "nearest::SETTLED_PHI",
-            real(nearest::SETTLED_PHI),
-        ),
-        s(
-            "SCS_NEAREST_SETTLED_MOVE_",
-            "nearest::SETTLED_MOVE",
-            real(nearest::SETTLED_MOVE),
-        ),
-        s(
-            "SCS_REGULARISED_STEPS_",
-            "bounded::REGULARISED_STEPS",
-            count(bounded::REGULARISED_STEPS),
-        ),
-        s(
-            "SCS_REGULARISATION_",
-            "bounded::REGULARISATION",
-            real(bounded::REGULARISATION),
-        ),
-        s(
-            "SCS_WHITE_ROUNDING_",
-            "bounded::WHITE_ROUNDING",
-            real(bounded::WHITE_ROUNDING),
-        ),
-        s(
-            "SCS_SAME_WHITE_",
-            "bounded::SAME_WHITE",
-            real(bounded::SAME_WHITE),
-        ),
-        s("SCS_D65_X_", "rgb::SRGB.white[0]", real(SRGB.white[0])),
-        s("SCS_D65_Y_", "rgb::SRGB.white[1]", real(SRGB.white[1])),
+        shared!("SCS_MAX_DEPTH", count compact::MAX_DEPTH),
+        shared!("SCS_MAX_BANDS", count compact::MAX_BANDS),
+        shared!("SCS_WHOLE_STEPS", real Grid::WHOLE_STEPS),
+        shared!("SCS_DARK", real compact::DARK),
+        shared!("SCS_MAX_WIDTH", real compact::MAX_WIDTH),
+        shared!("SCS_DUAL_STEPS_", count solid::DUAL_STEPS),
+        shared!("SCS_RESIDUAL_", real solid::RESIDUAL),
+        shared!("SCS_STALLED_RESIDUAL_", real solid::STALLED_RESIDUAL),
+        shared!("SCS_HESSIAN_FLOOR_", real solid::HESSIAN_FLOOR),
+        shared!("SCS_STEP_FLOOR_", real solid::STEP_FLOOR),
+        shared!("SCS_PSI_ROUNDING_", real solid::PSI_ROUNDING),
+        shared!("SCS_ARMIJO_", real solid::ARMIJO),
+        shared!("SCS_POLISH_HALVINGS_", count solid::POLISH_HALVINGS),
+        shared!("SCS_STRONGER_PENALTIES_", count solid::STRONGER_PENALTIES),
+        shared!("SCS_NEAREST_STEPS_", count nearest::STEPS),
+        shared!("SCS_NEAREST_SUB_", count nearest::SUB_STEPS),
+        shared!("SCS_NEAREST_TRIES_", count nearest::TRIES),
+        shared!("SCS_NEAREST_MU_START_", real nearest::MU_START),
+        shared!("SCS_NEAREST_MU_SHRINK_", real nearest::MU_SHRINK),
+        shared!("SCS_NEAREST_MU_FLOOR_", real nearest::MU_FLOOR),
+        shared!("SCS_NEAREST_MU_GROW_", real nearest::MU_GROW),
+        shared!("SCS_NEAREST_MU_CAP_", real nearest::MU_CAP),
+        shared!("SCS_NEAREST_SUB_TOLERANCE_", real nearest::SUB_TOLERANCE),
+        shared!("SCS_NEAREST_SETTLED_PHI_", real nearest::SETTLED_PHI),
+        shared!("SCS_NEAREST_SETTLED_MOVE_", real nearest::SETTLED_MOVE),
+        shared!("SCS_REGULARISED_STEPS_", count bounded::REGULARISED_STEPS),
+        shared!("SCS_REGULARISATION_", real bounded::REGULARISATION),
+        shared!("SCS_WHITE_ROUNDING_", real bounded::WHITE_ROUNDING),
+        shared!("SCS_SAME_WHITE_", real bounded::SAME_WHITE),
+        shared!("SCS_D65_X_", real SRGB.white[0]),
+        shared!("SCS_D65_Y_", real SRGB.white[1]),
     ]
 }
 
