@@ -68,7 +68,7 @@ pub enum Source {
 /// levels' strips, gathered and emitted (two level-0 strips in all). Measured peaks are 1.6 to
 /// 2.4 times below it.
 ///
-/// `expand`, in level-0 strips S of spectra as floats ([`expand_strips`]). Measured peaks are
+/// `expand`, in level-0 strips S of spectra as floats (`expand_strips`). Measured peaks are
 /// 1.07 to 1.36 times below it (docs/performance.md, "Memory").
 pub fn needed(file: &SpectralFile, width: usize, source: Source) -> u64 {
     let row = width as u64 * file.values_per_pixel() as u64 * 4;
