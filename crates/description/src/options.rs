@@ -464,7 +464,14 @@ pub struct Resolved<'a> {
     pub config: &'a str,
 }
 
-/// `specconvSettings`: every option that changes what is written ([`About::changes_output`]),
+/// The version of the library's numerical rules, first in every settings tag as `rules=N`
+/// (DESIGN: "up to date means same bytes"): bumped by any change that moves a written sample,
+/// so that `-u` rebuilds what this version would write differently. 1: the perfect white's
+/// rule (r ≡ 1) and compact u stored to the texel's scale (issue 55, 2026-12-07); files
+/// written before have no `rules=` and are rebuilt.
+pub const RULES: u32 = 1;
+
+/// `specconvSettings`: [`RULES`], then every option that changes what is written ([`About::changes_output`]),
 /// for `-u`, as `NAME=VALUE` by the option's name in the order of [`Key::ALL`]: what the
 /// options leave to the model, the method stack and the config as they resolved, a value that
 /// makes no difference (the rounding of float samples, the filter of an output without
@@ -491,7 +498,10 @@ pub fn settings_tag(o: &Options, r: Resolved) -> String {
             false => format!("{}={value:?}", about.name),
         })
     });
-    words.collect::<Vec<_>>().join(" ")
+    std::iter::once(format!("rules={RULES}"))
+        .chain(words)
+        .collect::<Vec<_>>()
+        .join(" ")
 }
 
 /// The tag ([`settings_tag`]) of the conversion that wrote `tag` in the compact layout, had
@@ -550,7 +560,7 @@ mod tests {
         let mut o = Options::default();
         assert_eq!(
             settings_tag(&o, resolved()),
-            "ocio=aces alpha=auto method=otsu2018 model=\"open (built-in)\" blend=0.02 \
+            "rules=1 ocio=aces alpha=auto method=otsu2018 model=\"open (built-in)\" blend=0.02 \
              bounded=true layout=spectral sample=half rounding=nearest compression=zip \
              tile=64x64 mip=all filter=box resize=false non_finite=refuse \
              constant_detect=true opaque_detect=true data=skip strip_metadata=false"
