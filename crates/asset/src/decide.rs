@@ -207,8 +207,14 @@ enum Says {
     Unknown,
 }
 
+/// The outputs that are a texture node's alpha channel alone: UsdUVTexture's `a` (the
+/// UsdPreviewSurface specification) and MaterialX's `gltf_colorimage` `outa` (its nodedef,
+/// `ND_gltf_colorimage`, in the MaterialX standard library's glTF PBR definitions). Read
+/// beside a colour output, they leave the texture colour (issue 56, item 2).
+pub const ALPHA_OUTPUTS: [&str; 2] = ["a", "outa"];
+
 fn says(u: &Use) -> Says {
-    if u.output == "a" {
+    if ALPHA_OUTPUTS.contains(&u.output.as_str()) {
         Says::Alpha
     } else if COLOUR_INPUTS.contains(&u.input.as_str()) {
         Says::Colour
@@ -436,6 +442,19 @@ mod tests {
                 ..
             }
         ));
+        assert!(d.why().contains("with alpha"), "{}", d.why());
+    }
+
+    /// Issue 56, item 2: glTF's colour image with its `outa` feeding alpha is one colour
+    /// texture, as UsdUVTexture's `a` is, not a conflict.
+    #[test]
+    fn gltf_colorimage_outa_to_alpha_is_one_colour_texture() {
+        let d = decide(&[node(
+            "/M/Base",
+            None,
+            &[("outcolor", "base_color"), ("outa", "alpha")],
+        )]);
+        assert!(matches!(d, Decision::Colour { .. }), "{d:?}");
         assert!(d.why().contains("with alpha"), "{}", d.why());
     }
 
