@@ -7,7 +7,8 @@ use crate::errors::{conversion, Kind};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use specconv_asset::{
-    finish, make_folders, member, prepare, with_member, Converters, Job, Outcomes, Prepared, Reader,
+    finish, make_folders, member, prepare, unknown_line, unknown_record, with_member, Converters,
+    Job, Outcomes, Prepared, Reader,
 };
 use specconv_conversion::record::Record;
 use std::path::{Path, PathBuf};
@@ -57,6 +58,14 @@ pub fn convert_asset<'py>(
             .collect();
     }
     let mut records = Vec::new();
+    // A shader it does not know reading a file: a record of its own; with `strict` (a warning
+    // fails) an InputError where errors raise (issue 56, item 2).
+    for u in &asset.unknown {
+        if raise && o.strict {
+            return Err(Kind::Input.err(unknown_line(u)));
+        }
+        records.push(loads(unknown_record(&asset, u).to_string())?);
+    }
     for (k, t) in asset.textures.iter().enumerate() {
         let Some(why) = &t.error else { continue };
         if raise {

@@ -193,3 +193,14 @@ def test_a_reader_failure_is_one_line(tmp_path):
     message = str(e.value)
     assert "not text in its encoding" in message and "</T.inputs:file>" in message
     assert "\n" not in message.strip() and "Traceback" not in message
+
+
+def test_unknown_shaders_that_read_files_are_records_and_fail_under_strict(tmp_path):
+    """Issue 56, item 2: Arnold's and RenderMan's texture nodes are no silent success: each
+    file they read is a record with status `unknown-shader`; `strict` (a warning fails) raises."""
+    build(tmp_path, "foreign")
+    records = specconv.convert_asset(tmp_path / "foreign.usda", tmp_path / "out")
+    unknown = [r for r in records if r["status"] == "unknown-shader"]
+    assert [r["asset"]["shader"] for r in unknown] == ["arnold:image", "PxrTexture"]
+    with pytest.raises(specconv.InputError, match="unknown shader arnold:image"):
+        specconv.convert_asset(tmp_path / "foreign.usda", tmp_path / "strict", strict=True)

@@ -31,8 +31,8 @@ pub use decide::{Decision, Space, Texture};
 pub use plan::{Asset, DocumentPlan, Job, LayerPlan, Override, Planned, Retarget};
 pub use reader::{install_line, Reader, DEFAULT_TIMEOUT, PYTHON_VAR, TIMEOUT_VAR};
 pub use run::{
-    farm_layer, finish, make_folders, member, prepare, same_jobs, with_member, Converters,
-    FarmFile, Outcomes, Prepared,
+    farm_layer, finish, make_folders, member, prepare, same_jobs, unknown_line, unknown_record,
+    with_member, Converters, FarmFile, Outcomes, Prepared,
 };
 pub use stage::{MtlxReference, Node, Stage, Use};
 

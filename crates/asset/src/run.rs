@@ -324,6 +324,36 @@ pub fn member(asset: &Asset, k: usize) -> serde_json::Value {
     })
 }
 
+/// A file a shader this reader does not know reads, in words (issue 56, item 2): a warning,
+/// or under `--strict` (`strict`) an error.
+pub fn unknown_line(u: &crate::stage::UnknownRead) -> String {
+    format!(
+        "unknown shader {} at {} reads {} (its input {}, material {}): not converted; \
+         specconv asset reads UsdPreviewSurface and MaterialX networks (docs/assets.md)",
+        u.node_id.as_deref().unwrap_or("(no info:id)"),
+        u.node,
+        u.file,
+        u.input,
+        u.material
+    )
+}
+
+/// The same as a record of `convert --json`'s form: status `unknown-shader`, no output, the
+/// shader, prim, input, file and material in its `asset` member.
+pub fn unknown_record(asset: &Asset, u: &crate::stage::UnknownRead) -> serde_json::Value {
+    serde_json::json!({
+        "input": u.resolved.as_deref().unwrap_or(&u.file),
+        "output": "",
+        "status": "unknown-shader",
+        "asset": {
+            "stage": asset.stage, "node": u.node,
+            "shader": u.node_id.as_deref().unwrap_or("(no info:id)"), "input": u.input,
+            "file": u.file, "material": u.material,
+            "why": "a shader specconv asset does not know reads it: not converted",
+        },
+    })
+}
+
 /// A record (`convert --json`'s, one JSON object) with the `asset` member of texture `k`.
 pub fn with_member(record: &str, asset: &Asset, k: usize) -> String {
     let members = record.trim_end().strip_suffix('}').unwrap_or(record);

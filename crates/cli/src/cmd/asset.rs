@@ -6,8 +6,8 @@ use super::convert::{run_batch, Annotate, Reporting};
 use crate::{exit, explain, print_error, usage};
 use anyhow::{Context, Result};
 use specconv_asset::{
-    finish, make_folders, member, prepare, with_member, Asset, Converters, Decision, Job, Outcomes,
-    Prepared, Reader,
+    finish, make_folders, member, prepare, unknown_line, unknown_record, with_member, Asset,
+    Converters, Decision, Job, Outcomes, Prepared, Reader,
 };
 use specconv_conversion::record::Record;
 use specconv_conversion::Options;
@@ -143,30 +143,12 @@ pub fn run(args: Args) -> Result<i32> {
 /// error line instead under --strict.
 fn report_unknown(asset: &Asset, json: bool, strict: bool) -> Result<()> {
     for u in &asset.unknown {
-        let shader = u.node_id.as_deref().unwrap_or("(no info:id)");
         if json {
-            let v = serde_json::json!({
-                "input": u.resolved.as_deref().unwrap_or(&u.file),
-                "output": "",
-                "status": "unknown-shader",
-                "asset": {
-                    "stage": asset.stage, "node": u.node, "shader": shader, "input": u.input,
-                    "file": u.file, "material": u.material,
-                    "why": "a shader specconv asset does not know reads it: not converted",
-                },
-            });
-            outln!("{v}")?;
+            outln!("{}", unknown_record(asset, u))?;
         }
-        let line = format!(
-            "unknown shader {shader} at {} reads {} (its input {}, material {}): not \
-             converted; specconv asset reads UsdPreviewSurface and MaterialX networks \
-             (docs/assets.md)",
-            u.node, u.file, u.input, u.material
-        );
-        if strict {
-            print_error(&line);
-        } else {
-            errln!("specconv: warning: {line}");
+        match strict {
+            true => print_error(&unknown_line(u)),
+            false => errln!("specconv: warning: {}", unknown_line(u)),
         }
     }
     Ok(())
