@@ -217,6 +217,25 @@ def foreign(d):
     s.Save()
 
 
+def mtlx_context(d):
+    """Issue 56, item 1: a MaterialX-in-USD material with no universal terminal, only
+    `outputs:mtlx:surface` (ND_standard_surface_surfaceshader reading an ND_image_color3)."""
+    s = Usd.Stage.CreateNew(os.path.join(d, "mtlx_context.usda"))
+    m = UsdShade.Material.Define(s, "/Looks/M")
+    surf = UsdShade.Shader.Define(s, "/Looks/M/Surface")
+    surf.CreateIdAttr("ND_standard_surface_surfaceshader")
+    m.CreateSurfaceOutput("mtlx").ConnectToSource(surf.ConnectableAPI(), "out")
+    img = UsdShade.Shader.Define(s, "/Looks/M/Image")
+    img.CreateIdAttr("ND_image_color3")
+    f = img.CreateInput("file", Sdf.ValueTypeNames.Asset)
+    f.Set("./tex/rock_albedo.png")
+    f.GetAttr().SetColorSpace("srgb_texture")
+    o = img.CreateOutput("out", Sdf.ValueTypeNames.Color3f)
+    surf.CreateInput("base_color", Sdf.ValueTypeNames.Color3f).ConnectToSource(o)
+    bind(s, "/Geo", m)
+    s.Save()
+
+
 def udim_conflict(d):
     """Issue 57, item 6: a UDIM pattern read as colour whose tile 1001 is read by its own
     name as a normal map."""

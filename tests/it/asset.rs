@@ -829,6 +829,26 @@ fn the_compact_layout_works_end_to_end_with_a_storage_summary() {
     eprintln!("read {read} bytes: spectral {spectral_out}, compact {compact_out}");
 }
 
+/// Issue 56, item 1: a MaterialX-in-USD material whose only terminal is
+/// `outputs:mtlx:surface` gets its spectral terminal from that one: the render context
+/// `spectral` reads the copy, and what RGB renderers read is unchanged (layer_files).
+#[test]
+fn a_material_with_only_a_render_context_terminal_gets_the_switch() {
+    let Some(python) = usd() else { return };
+    let dir = Scratch::new("asset-mtlx-context");
+    stage(&dir.0, "mtlx_context");
+    let out = dir.path("out");
+    asset(&python, &dir.path("mtlx_context.usda"), &out).ok();
+    let v = layer_files(&python, &out.join("mtlx_context_spectral.usda"));
+    assert_eq!(
+        v["contexts"]["/Looks/M"], "/Looks/M/Surface_spectral",
+        "{v:#}"
+    );
+    let image = &v["files"]["/Looks/M/Image"];
+    assert_eq!(image["file"], "./tex/rock_albedo_spectral.exr", "{v:#}");
+    assert_eq!(image["cs"], "raw", "{v:#}");
+}
+
 /// Issue 57, item 4: usdz members `escape.png` and `../escape.png` are two pictures; each is
 /// copied out to its own file inside DIR (`..` escaped, not dropped), each with its own bytes,
 /// converted to its own output, and each material's layer input names its own.

@@ -459,19 +459,24 @@ def copy_network(out, material, overrides, Sdf, Usd, UsdShade):
     for o in overrides:
         spec = out.GetPrimAtPath(mapped(Sdf.Path(o["node"])))
         set_spectral_file(spec, o, Sdf)
-    # The material's terminals for the spectral render context, where the copy feeds them.
-    over = Sdf.CreatePrimInLayer(out, mpath)
-    over.specifier = Sdf.SpecifierOver
+    # The material's terminals for the spectral render context, where the copy feeds them:
+    # from the universal terminal (`outputs:surface`), else from a render context's
+    # (`outputs:mtlx:surface` first: a MaterialX-in-USD material may have no other).
+    terminals = {}
     for output in UsdShade.Material(material).GetOutputs():
-        base = output.GetBaseName()
-        if ":" in base:  # another render context's terminal
-            continue
+        context, _, terminal = output.GetBaseName().rpartition(":")
         sources = list(output.GetAttr().GetConnections())
         copies = [mapped(t) for t in sources]
-        if copies == sources:  # the copy does not reach this terminal
+        if context == RENDER_CONTEXT or copies == sources:  # ours, or not reached by the copy
             continue
-        attr = Sdf.AttributeSpec(over, "outputs:%s:%s" % (RENDER_CONTEXT, base),
-                                 output.GetAttr().GetTypeName())
+        rank = {"": 0, "mtlx": 1}.get(context, 2)
+        if terminal not in terminals or rank < terminals[terminal][0]:
+            terminals[terminal] = (rank, output.GetAttr().GetTypeName(), copies)
+    if terminals:
+        over = Sdf.CreatePrimInLayer(out, mpath)
+        over.specifier = Sdf.SpecifierOver
+    for terminal, (_, type_name, copies) in sorted(terminals.items()):
+        attr = Sdf.AttributeSpec(over, "outputs:%s:%s" % (RENDER_CONTEXT, terminal), type_name)
         attr.connectionPathList.explicitItems = copies
 
 
