@@ -454,7 +454,7 @@ def copy_network(out, material, overrides, Sdf, Usd, UsdShade):
         return path.ReplacePrefix(u, renamed[u]) if u in renamed else path
 
     for u in sorted(tainted):
-        for prim in Usd.PrimRange(stage_prim(material, u)):
+        for prim in Usd.PrimRange(material.GetStage().GetPrimAtPath(u)):
             copy_prim(out, prim, mapped, Sdf)
     for o in overrides:
         spec = out.GetPrimAtPath(mapped(Sdf.Path(o["node"])))
@@ -478,10 +478,6 @@ def copy_network(out, material, overrides, Sdf, Usd, UsdShade):
     for terminal, (_, type_name, copies) in sorted(terminals.items()):
         attr = Sdf.AttributeSpec(over, "outputs:%s:%s" % (RENDER_CONTEXT, terminal), type_name)
         attr.connectionPathList.explicitItems = copies
-
-
-def stage_prim(material, path):
-    return material.GetStage().GetPrimAtPath(path)
 
 
 def copy_prim(out, prim, mapped, Sdf):

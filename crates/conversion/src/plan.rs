@@ -164,6 +164,23 @@ pub enum Error {
         /// The directory.
         dir: PathBuf,
     },
+    /// An output directory that exists and is not a directory.
+    #[error(
+        "the output directory {} exists and is not a directory; give a directory",
+        dir.display()
+    )]
+    NotADirectory {
+        /// The path.
+        dir: PathBuf,
+    },
+    /// An output directory that could not be made.
+    #[error("cannot make the output directory {}: {source}", dir.display())]
+    MakeDirectory {
+        /// The directory.
+        dir: PathBuf,
+        /// Why.
+        source: std::io::Error,
+    },
     /// A template that cannot name an output.
     #[error(transparent)]
     Template(#[from] TemplateError),
@@ -270,6 +287,45 @@ pub struct Plan {
 }
 
 impl Plan {
+    /// [`Plan::new`], and where `outputs` is a directory that does not exist, that directory
+    /// made (with the folders above it that are missing), as `asset -o` makes its own (issue
+    /// 56, item 6): once the plan is accepted; a plan refused after all takes the folders it
+    /// made away again.
+    pub fn new_making_directory(inputs: Vec<PathBuf>, outputs: &Outputs) -> Result<Plan, Error> {
+        let dir = match outputs {
+            Outputs::Directory(dir) if !dir.is_dir() => dir,
+            _ => return Plan::new(inputs, outputs),
+        };
+        if dir.exists() {
+            return Err(Error::NotADirectory { dir: dir.clone() });
+        }
+        // Refused for what `new` finds before it looks at the directory (the count of
+        // outputs, a UDIM pattern): nothing is made.
+        match Plan::new(inputs.clone(), outputs) {
+            Err(Error::NoDirectory { dir: d }) if d == *dir => {}
+            other => return other,
+        }
+        let mut top = dir.clone();
+        while let Some(parent) = top
+            .parent()
+            .filter(|p| !p.as_os_str().is_empty() && !p.exists())
+        {
+            top = parent.to_path_buf();
+        }
+        std::fs::create_dir_all(dir).map_err(|source| Error::MakeDirectory {
+            dir: dir.clone(),
+            source,
+        })?;
+        Plan::new(inputs, outputs).inspect_err(|_| {
+            // Each folder made, from the deepest, only while empty.
+            for made in dir.ancestors().take_while(|a| a.starts_with(&top)) {
+                if std::fs::remove_dir(made).is_err() {
+                    break;
+                }
+            }
+        })
+    }
+
     /// The pairs of `inputs` (paths, or UDIM patterns standing for the tiles that exist, in
     /// tile order) and `outputs`, once the plan's files allow them: every output OpenEXR, none
     /// an input (as files), no two one file. Existing outputs are not looked at here

@@ -58,55 +58,8 @@ pub(crate) fn of_paths(
         (None, None, Some(t)) => t,
         (None, None, None) => unreachable!("single conversions have an explicit output"),
     };
-    match Plan::new(inputs.clone(), &outputs) {
-        Err(plan::Error::NoDirectory { dir }) if output == Some(dir.as_path()) => {
-            // `-o DIR` makes DIR, as `asset -o` does (issue 56, item 6); where the plan is
-            // refused after all, the folders made are taken away again.
-            let made = make_directory(&dir)?;
-            Plan::new(inputs, &outputs).map_err(|e| {
-                if let Some(top) = &made {
-                    let _ = remove_empty(&dir, top);
-                }
-                planned(e)
-            })
-        }
-        plan => plan.map_err(planned),
-    }
-}
-
-/// Makes `dir` and the folders above it that are missing; returns the topmost it made.
-fn make_directory(dir: &std::path::Path) -> Result<Option<PathBuf>> {
-    if dir.exists() {
-        bail!(
-            "-o {}: it exists and is not a directory; give a directory",
-            dir.display()
-        );
-    }
-    let mut top = dir.to_path_buf();
-    while let Some(parent) = top
-        .parent()
-        .filter(|p| !p.as_os_str().is_empty() && !p.exists())
-    {
-        top = parent.to_path_buf();
-    }
-    std::fs::create_dir_all(dir)
-        .with_context(|| format!("-o {}: cannot make the directory", dir.display()))?;
-    Ok(Some(top))
-}
-
-/// Removes `dir` and its parents up to `top`, each only while empty.
-fn remove_empty(dir: &std::path::Path, top: &std::path::Path) -> std::io::Result<()> {
-    let mut at = dir.to_path_buf();
-    loop {
-        std::fs::remove_dir(&at)?;
-        if at == top {
-            return Ok(());
-        }
-        match at.parent() {
-            Some(p) => at = p.to_path_buf(),
-            None => return Ok(()),
-        }
-    }
+    // `-o DIR` makes DIR, as `asset -o` does (the library's rule).
+    Plan::new_making_directory(inputs, &outputs).map_err(planned)
 }
 
 /// The pairs this run converts: the whole plan, or `--shard`'s part of it, once no output of
