@@ -1,6 +1,7 @@
 """Builds the test stages of tests/it/asset.rs with Pixar's usd-core (docs/assets.md):
 python3 tests/asset_stages.py KIND DIR. Textures are written by oiiotool beforehand (the test)
 or named here without files (the missing ones)."""
+import json
 import os
 import sys
 import zipfile
@@ -195,14 +196,18 @@ def self_sublayer(d):
 
 def foreign(d):
     """Issue 56, item 2: an Arnold network (`arnold:image` feeding `arnold:standard_surface`
-    through the material's `outputs:arnold:surface`) and a RenderMan one (`PxrTexture` feeding
-    `PxrSurface` through `outputs:ri:surface`), each reading a file, bound to meshes."""
+    through the material's `outputs:arnold:surface`), a RenderMan one (`PxrTexture` feeding
+    `PxrSurface` through `outputs:ri:surface`), and a studio's own shaders no definition
+    specconv knows has (`studio:projector` feeding `studio:surface`), each reading a file,
+    bound to meshes."""
     s = Usd.Stage.CreateNew(os.path.join(d, "foreign.usda"))
     for path, context, surface, image, out_name, file in (
             ("/Looks/Ai", "arnold", "arnold:standard_surface", "arnold:image", "rgba",
              "./tex/rock_albedo.png"),
             ("/Looks/Ri", "ri", "PxrSurface", "PxrTexture", "resultRGB",
-             "./tex/dirty_albedo.png")):
+             "./tex/dirty_albedo.png"),
+            ("/Looks/Studio", "", "studio:surface", "studio:projector", "rgb",
+             "./tex/clean_albedo.png")):
         m = UsdShade.Material.Define(s, path)
         surf = UsdShade.Shader.Define(s, path + "/Surface")
         surf.CreateIdAttr(surface)
@@ -211,7 +216,7 @@ def foreign(d):
         tex.CreateIdAttr(image)
         tex.CreateInput("filename", Sdf.ValueTypeNames.Asset).Set(file)
         o = tex.CreateOutput(out_name, Sdf.ValueTypeNames.Color3f)
-        name = "base_color" if context == "arnold" else "diffuseColor"
+        name = {"arnold": "base_color", "ri": "diffuseColor"}.get(context, "tint")
         surf.CreateInput(name, Sdf.ValueTypeNames.Color3f).ConnectToSource(o)
         bind(s, "/Geo" + path.rsplit("/", 1)[1], m)
     s.Save()
@@ -287,6 +292,158 @@ def hostile(d):
     ])
     bind(s, "/Geo", m)
     s.Save()
+
+
+# Issue 56, item 2: one material per shading model, each texture its own file, and the role
+# each should get. A role is checked here against the type the input has in the definition
+# (MaterialX's nodedef, usd-core's Sdr; for Arnold and RenderMan, whose definitions ship
+# only with the renderers, the USD type their own writers give the input: arnold-usd writes
+# RGB as color3f, VECTOR as vector3f, and hdPrman's stages type PxrSurface's colours
+# color3f). A colour type is colour but for the inputs that hold a quantity per channel
+# (PER_CHANNEL: a radius or mean free path, an index, an extinction, an opacity).
+PER_CHANNEL = {("ND_standard_surface_surfaceshader", "subsurface_radius"),
+               ("ND_standard_surface_surfaceshader", "opacity"),
+               ("ND_open_pbr_surface_surfaceshader", "subsurface_radius_scale"),
+               ("arnold:standard_surface", "subsurface_radius"),
+               ("PxrSurface", "subsurfaceDmfpColor")}
+# (material, surface id, terminal context, surface output, [(texture id, file input (and its
+# USD type), file, output (and its USD type), [nodes between: (id, in, out)], surface input,
+# its USD type, role)]). Roles: colour, data, alpha (the colour texture's own alpha).
+F3, C3, C4, FL, V3, N3 = "float3", "color3f", "color4f", "float", "vector3f", "normal3f"
+NETWORKS = [
+    ("Preview", "UsdPreviewSurface", "", "surface", [
+        ("UsdUVTexture", ("file", "asset"), "up_base", ("rgb", F3), [], "diffuseColor", C3,
+         "colour"),
+        ("UsdUVTexture", ("file", "asset"), "up_base", ("a", FL), [], "opacity", FL, "alpha"),
+        ("UsdUVTexture", ("file", "asset"), "up_rough", ("r", FL), [], "roughness", FL, "data"),
+        ("UsdUVTexture", ("file", "asset"), "up_normal", ("rgb", F3), [], "normal", N3, "data"),
+    ]),
+    ("Standard", "ND_standard_surface_surfaceshader", "mtlx", "out", [
+        ("ND_image_color3", ("file", "asset"), "ss_base", ("out", C3), [], "base_color", C3,
+         "colour"),
+        ("ND_image_color3", ("file", "asset"), "ss_sss", ("out", C3), [], "subsurface_color", C3,
+         "colour"),
+        ("ND_image_color3", ("file", "asset"), "ss_radius", ("out", C3), [], "subsurface_radius",
+         C3, "data"),
+        ("ND_image_color3", ("file", "asset"), "ss_opacity", ("out", C3), [], "opacity", C3,
+         "data"),
+        ("ND_image_vector3", ("file", "asset"), "ss_normal", ("out", V3),
+         [("ND_normalmap_float", "in", "out")], "normal", V3, "data"),
+        ("ND_image_float", ("file", "asset"), "ss_rough", ("out", FL), [], "specular_roughness",
+         FL, "data"),
+    ]),
+    ("OpenPbr", "ND_open_pbr_surface_surfaceshader", "mtlx", "out", [
+        ("ND_image_color3", ("file", "asset"), "op_base", ("out", C3), [], "base_color", C3,
+         "colour"),
+        ("ND_image_color3", ("file", "asset"), "op_scale", ("out", C3), [],
+         "subsurface_radius_scale", C3, "data"),
+        ("ND_image_float", ("file", "asset"), "op_weight", ("out", FL), [], "subsurface_weight",
+         FL, "data"),
+    ]),
+    ("Gltf", "ND_gltf_pbr_surfaceshader", "mtlx", "out", [
+        ("ND_gltf_colorimage", ("file", "asset"), "gl_base", ("outcolor", C3), [], "base_color",
+         C3, "colour"),
+        ("ND_gltf_colorimage", ("file", "asset"), "gl_base", ("outa", FL), [], "alpha", FL,
+         "alpha"),
+        ("ND_gltf_image_float_float_1_0", ("file", "asset"), "gl_rough", ("out", FL), [], "roughness", FL,
+         "data"),
+    ]),
+    ("Arnold", "arnold:standard_surface", "arnold", "out", [
+        ("arnold:image", ("filename", "asset"), "ai_base", ("out", C4), [], "base_color", C3,
+         "colour"),
+        ("arnold:image", ("filename", "asset"), "ai_base", ("a", FL), [], "opacity", C3, "alpha"),
+        ("arnold:image", ("filename", "string"), "ai_radius", ("out", C4), [],
+         "subsurface_radius", C3, "data"),
+        ("arnold:image", ("filename", "string"), "ai_rough", ("r", FL), [], "specular_roughness",
+         FL, "data"),
+        ("arnold:image", ("filename", "asset"), "ai_normal", ("out", C4),
+         [("arnold:normal_map", "input", "out")], "normal", V3, "data"),
+        ("arnold:image", ("filename", "asset"), "ai_bump", ("r", FL),
+         [("arnold:bump2d", "bump_map", "out")], "coat_normal", V3, "data"),
+    ]),
+    ("RenderMan", "PxrSurface", "ri", "out", [
+        ("PxrTexture", ("filename", "asset"), "ri_base", ("resultRGB", C3), [], "diffuseColor",
+         C3, "colour"),
+        ("PxrTexture", ("filename", "asset"), "ri_base", ("resultA", FL), [], "presence", FL,
+         "alpha"),
+        ("PxrTexture", ("filename", "token"), "ri_dmfp", ("resultRGB", C3), [],
+         "subsurfaceDmfpColor", C3, "data"),
+        ("PxrTexture", ("filename", "asset"), "ri_rough", ("resultR", FL), [],
+         "specularRoughness", FL, "data"),
+        ("PxrNormalMap", ("filename", "asset"), "ri_normal", ("resultN", N3), [], "bumpNormal",
+         N3, "data"),
+        ("PxrBump", ("filename", "asset"), "ri_bump", ("resultN", N3), [],
+         "specularBumpNormal", N3, "data"),
+        ("PxrMultiTexture", ("filename0", "asset"), "ri_multi0", ("resultRGB", C3), [],
+         "subsurfaceColor", C3, "colour"),
+        ("PxrMultiTexture", ("filename1", "asset"), "ri_multi1", ("resultRGB", C3), [],
+         "subsurfaceColor", C3, "colour"),
+    ]),
+]
+
+
+def definition_type(surface, name):
+    """The input's type in the definition the issue names, read here on its own: MaterialX's
+    nodedef, usd-core's Sdr; None for Arnold and RenderMan (no definition ships)."""
+    if surface.startswith("ND_"):
+        import MaterialX as mx
+        lib = mx.createDocument()
+        mx.loadLibraries(mx.getDefaultDataLibraryFolders(), mx.getDefaultDataSearchPath(), lib)
+        return lib.getNodeDef(surface).getActiveInput(name).getType()
+    if surface == "UsdPreviewSurface":
+        from pxr import Sdr
+        node = Sdr.Registry().GetShaderNodeByIdentifier(surface)
+        return str(node.GetShaderInput(name).GetTypeAsSdfType().GetSdfType())
+    return None
+
+
+def expected_role(surface, name, usd_type, role):
+    """The fixture's role, checked against the definition's type (else the USD type the
+    renderer's writer gives the input)."""
+    t = definition_type(surface, name) or usd_type
+    colour = t in ("color3", "color4", "color3f", "color4f") and \
+        (surface, name) not in PER_CHANNEL
+    assert role == "alpha" or (role == "colour") == colour, (surface, name, t, role)
+    return role
+
+
+def networks(d):
+    """Every shading model's network in one stage: colour, data, alpha, normal, bump and
+    subsurface textures (NETWORKS); writes networks.json, {file: role}, the roles checked
+    against the definitions, and the files for the caller to make."""
+    s = Usd.Stage.CreateNew(os.path.join(d, "networks.usda"))
+    roles = {}
+    for name, surface, context, out, textures in NETWORKS:
+        path = "/Looks/" + name
+        m = UsdShade.Material.Define(s, path)
+        surf = UsdShade.Shader.Define(s, path + "/Surface")
+        surf.CreateIdAttr(surface)
+        m.CreateSurfaceOutput(context).ConnectToSource(surf.ConnectableAPI(), out)
+        for k, (tid, (file_in, file_type), file, (o, o_type), between, inp, inp_type,
+                role) in enumerate(textures):
+            # One node for the files of a multi-file reader (ri_multi0, ri_multi1).
+            tex_path = "%s/T_%s" % (path, file.rstrip("0123456789"))
+            tex = UsdShade.Shader(s.GetPrimAtPath(tex_path)) if s.GetPrimAtPath(tex_path) \
+                else UsdShade.Shader.Define(s, tex_path)
+            tex.CreateIdAttr(tid)
+            value = "./tex/%s.png" % file
+            f = tex.CreateInput(file_in, Sdf.ValueTypeNames.Find(file_type))
+            f.Set(Sdf.AssetPath(value) if file_type == "asset" else value)
+            source = tex.CreateOutput(o, Sdf.ValueTypeNames.Find(o_type))
+            for j, (bid, b_in, b_out) in enumerate(between):
+                b = UsdShade.Shader.Define(s, "%s/Between%d_%d" % (path, k, j))
+                b.CreateIdAttr(bid)
+                b.CreateInput(b_in, Sdf.ValueTypeNames.Find(o_type)).ConnectToSource(source)
+                source = b.CreateOutput(b_out, Sdf.ValueTypeNames.Find(inp_type))
+            surf.CreateInput(inp, Sdf.ValueTypeNames.Find(inp_type)).ConnectToSource(source)
+            got = expected_role(surface, inp, inp_type, role)
+            if got != "alpha":
+                assert roles.get(file, got) == got, file
+                roles[file] = got
+        bind(s, "/Geo/" + name, m)
+    s.Save()
+    with open(os.path.join(d, "networks.json"), "w") as out_file:
+        json.dump(roles, out_file, indent=1, sort_keys=True)
 
 
 if __name__ == "__main__":

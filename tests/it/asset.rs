@@ -741,13 +741,23 @@ fn unknown_shaders_that_read_files_are_reported_and_fail_under_strict() {
     stage(&dir.0, "foreign");
     let run = asset(&python, &dir.path("foreign.usda"), &dir.path("out")).run();
     assert_eq!(run.code, 0, "{}", run.stderr);
-    for needle in [
-        "unknown shader arnold:image at /Looks/Ai/Image reads ./tex/rock_albedo.png",
-        "unknown shader PxrTexture at /Looks/Ri/Image reads ./tex/dirty_albedo.png",
-    ] {
-        assert!(run.stderr.contains(needle), "{needle}: {}", run.stderr);
+    let needle = "unknown shader studio:projector at /Looks/Studio/Image reads \
+                  ./tex/clean_albedo.png";
+    assert!(run.stderr.contains(needle), "{needle}: {}", run.stderr);
+    // Arnold's and RenderMan's readers are known (their definitions' tables): converted.
+    for known in ["rock_albedo_spectral.exr", "dirty_albedo_spectral.exr"] {
+        assert!(
+            dir.path("out/tex").join(known).is_file(),
+            "{known}: {}",
+            run.stderr
+        );
     }
-    assert!(!run.stderr.contains("nothing to convert"), "{}", run.stderr);
+    assert!(
+        !run.stderr.contains("unknown shader arnold"),
+        "{}",
+        run.stderr
+    );
+    assert!(!run.stderr.contains("unknown shader Pxr"), "{}", run.stderr);
     let run = asset(&python, &dir.path("foreign.usda"), &dir.path("strict"))
         .args(["--strict", "--json"])
         .run();
@@ -758,10 +768,100 @@ fn unknown_shaders_that_read_files_are_reported_and_fail_under_strict() {
         .filter(|r| r["status"] == "unknown-shader")
         .map(|r| r["asset"]["shader"].as_str().unwrap())
         .collect();
-    assert_eq!(shaders, ["arnold:image", "PxrTexture"], "{records:#?}");
-    assert!(tree(&dir.path("strict"))
+    assert_eq!(shaders, ["studio:projector"], "{records:#?}");
+    // The run fails, as a warning does under --strict; what it knows is converted.
+    let written: Vec<String> = tree(&dir.path("strict"))
         .iter()
-        .all(|(p, _)| !p.to_string_lossy().ends_with(".exr")));
+        .map(|(p, _)| p.file_name().unwrap().to_string_lossy().into_owned())
+        .filter(|n| n.ends_with(".exr"))
+        .collect();
+    assert_eq!(
+        written,
+        ["dirty_albedo_spectral.exr", "rock_albedo_spectral.exr"]
+    );
+}
+
+/// Issue 56, item 2: every shading model's network (UsdPreviewSurface, standard_surface,
+/// open_pbr_surface, gltf_pbr in USD; Arnold's standard_surface; RenderMan's PxrSurface) with
+/// colour, data, alpha, normal, bump and subsurface textures. Each texture's decision is the
+/// role tests/asset_stages.py checked against the definition's type of the input it reaches
+/// (MaterialX's nodedefs and usd-core's Sdr read there on their own; for Arnold and
+/// RenderMan the USD types their writers give), every use names its type and definition,
+/// and the layer (read by usd-core) gives RGB renderers every file input as it was and the
+/// spectral context exactly the colour textures' spectral files, each read raw.
+#[test]
+fn every_shading_model_s_textures_take_the_role_of_their_input_s_type() {
+    let Some(python) = python_with("pxr.Usd, MaterialX", "usd-core MaterialX") else {
+        return;
+    };
+    let dir = Scratch::new("asset-networks");
+    script("asset_stages.py", ["networks", dir.0.to_str().unwrap()]);
+    let roles: std::collections::BTreeMap<String, String> =
+        serde_json::from_str(&std::fs::read_to_string(dir.path("networks.json")).unwrap()).unwrap();
+    std::fs::create_dir_all(dir.path("tex")).unwrap();
+    for name in roles.keys() {
+        let p = dir.path(&format!("tex/{name}.png"));
+        tool(
+            "oiiotool",
+            &[
+                "--pattern",
+                "checker",
+                "8x8",
+                "4",
+                "-d",
+                "uint8",
+                "-o",
+                p.to_str().unwrap(),
+            ],
+        );
+    }
+    let stage_file = dir.path("networks.usda");
+    let run = asset(&python, &stage_file, &dir.path("out"))
+        .args(["--json"])
+        .run();
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    assert!(!run.stderr.contains("unknown shader"), "{}", run.stderr);
+    let records = json_lines_of(&run.stdout);
+    let mut decided = std::collections::BTreeMap::new();
+    for r in records.iter().filter(|r| r["asset"]["texture"].is_string()) {
+        let file = Path::new(r["asset"]["texture"].as_str().unwrap());
+        let stem = file.file_stem().unwrap().to_string_lossy().into_owned();
+        let kind = r["asset"]["decision"]["kind"].as_str().unwrap().to_owned();
+        for u in r["asset"]["uses"].as_array().unwrap() {
+            assert!(
+                u["input_type"].is_string() && u["defined_by"].is_string(),
+                "{stem}: {u}"
+            );
+        }
+        decided.insert(stem, kind);
+    }
+    assert_eq!(decided, roles, "{}", run.stderr);
+    let layer = dir.path("out/networks_spectral.usda");
+    // With no choice made, every file input is the stage's own (checked in layer_files).
+    let view = layer_files(&python, &layer);
+    let files = view["files"].as_object().unwrap();
+    assert_eq!(files.len(), 26, "{view:#}");
+    for (node, f) in files {
+        let file = f["file"].as_str().unwrap();
+        let stem = file.trim_start_matches("./tex/").trim_end_matches(".png");
+        let stem = stem.trim_end_matches("_spectral.exr");
+        match roles[stem].as_str() {
+            "colour" => {
+                assert_eq!(file, format!("./tex/{stem}_spectral.exr"), "{node}");
+                assert!(f["copy"].is_string(), "{node}: {f}");
+                // Read as written: the reader's own word for it, where it has one.
+                let raw = &f["raw"];
+                let id_raw = [("sourceColorSpace", "raw"), ("color_space", "Raw")];
+                assert!(
+                    raw.as_object().unwrap().is_empty()
+                        || id_raw.iter().any(|(k, v)| raw[*k] == *v)
+                        || raw["linearize"] == 0,
+                    "{node}: {f}"
+                );
+            }
+            _ => assert_eq!(file, format!("./tex/{stem}.png"), "{node}: {f}"),
+        }
+    }
 }
 
 /// Issue 56, item 5: `asset --layout compact` end to end: every colour texture a compact file

@@ -7,79 +7,60 @@ use crate::stage::{Node, Use};
 use serde::Serialize;
 use std::path::PathBuf;
 
-/// Inputs that take a colour (UsdPreviewSurface; MaterialX standard_surface, open_pbr_surface,
-/// gltf_pbr): a texture whose colour channels feed one is colour.
-pub const COLOUR_INPUTS: &[&str] = &[
-    "diffuseColor",
-    "emissiveColor",
-    "specularColor",
-    "base_color",
-    "specular_color",
-    "transmission_color",
-    "subsurface_color",
-    "sheen_color",
-    "coat_color",
-    "emission_color",
-    "fuzz_color",
-    "emissive",
-    "attenuation_color",
+/// The types shader definitions give colour, in each one's words: MaterialX's `color3` and
+/// `color4`, USD's `color3f`… (Sdf), RenderMan's `color`, Arnold's `RGB` and `RGBA`. A use
+/// whose input has one of these types takes colour; any other type (`float`, `vector3`,
+/// `normal3f`) takes data.
+pub const COLOUR_TYPES: [&str; 11] = [
+    "color3", "color4", "color3f", "color4f", "color3d", "color4d", "color3h", "color4h", "color",
+    "RGB", "RGBA",
 ];
 
-/// Inputs that take numbers, not colour: a texture feeding one is data.
-pub const DATA_INPUTS: &[&str] = &[
-    "roughness",
-    "metallic",
-    "normal",
-    "occlusion",
-    "opacity",
-    "opacityThreshold",
-    "displacement",
-    "clearcoat",
-    "clearcoatRoughness",
-    "ior",
-    "base",
-    "base_weight",
-    "diffuse_roughness",
-    "metalness",
-    "specular",
-    "specular_weight",
-    "specular_roughness",
-    "specular_IOR",
-    "specular_ior",
-    "specular_anisotropy",
-    "specular_rotation",
-    "specular_roughness_anisotropy",
-    "transmission",
-    "transmission_weight",
-    "transmission_depth",
-    "subsurface",
-    "subsurface_weight",
-    "subsurface_scale",
-    "sheen",
-    "sheen_roughness",
-    "coat",
-    "coat_weight",
-    "coat_roughness",
-    "coat_IOR",
-    "coat_ior",
-    "coat_normal",
-    "fuzz_weight",
-    "fuzz_roughness",
-    "thin_film_thickness",
-    "emission",
-    "emission_luminance",
-    "geometry_normal",
-    "geometry_coat_normal",
-    "geometry_opacity",
-    "tangent",
-    "alpha",
-    "alpha_cutoff",
+/// Words that make a colour-typed input a quantity per channel rather than a colour: a
+/// subsurface radius or mean free path is a distance, an index of refraction or extinction
+/// coefficient is no reflectance, an opacity is coverage. Uplifting one would bound it to a
+/// reflectance's 0 to 1 and smooth it as one; they stay data (docs/assets.md, "Roles from
+/// shader definitions", lists the inputs of the known definitions they make data).
+pub const PER_CHANNEL: [(&str, &str); 6] = [
+    ("radius", "a distance"),
+    ("dmfp", "a mean free path (a distance)"),
+    ("mfp", "a mean free path (a distance)"),
+    ("ior", "an index of refraction"),
+    ("extinction", "an extinction coefficient"),
+    ("opacity", "a coverage"),
 ];
 
-/// Every input a use ends at (the reader follows a texture's output through other nodes until
-/// it reaches one of these, or a node nothing reads on).
-pub fn final_inputs() -> Vec<&'static str> {
-    COLOUR_INPUTS.iter().chain(DATA_INPUTS).copied().collect()
+/// The words of an input's name (`subsurfaceDmfpColor`: subsurface, dmfp, color;
+/// `specular_IOR`: specular, ior), lower-case.
+fn words_of(name: &str) -> Vec<String> {
+    let mut words = vec![String::new()];
+    let mut previous_lower = false;
+    for c in name.chars() {
+        if c == '_' || c == ':' {
+            words.push(String::new());
+            previous_lower = false;
+            continue;
+        }
+        if c.is_uppercase() && previous_lower {
+            words.push(String::new());
+        }
+        previous_lower = c.is_lowercase() || c.is_ascii_digit();
+        words
+            .last_mut()
+            .unwrap_or(&mut String::new())
+            .extend(c.to_lowercase());
+    }
+    words.retain(|w| !w.is_empty());
+    words
+}
+
+/// What a colour-typed input holds if it is no colour (a [`PER_CHANNEL`] word is in its name).
+pub fn per_channel(input: &str) -> Option<&'static str> {
+    let words = words_of(input);
+    PER_CHANNEL
+        .iter()
+        .find(|(w, _)| words.iter().any(|x| x == w))
+        .map(|(_, what)| *what)
 }
 
 /// MaterialX's colour-space names (MaterialX specification, "Color Spaces") as Color Interop
@@ -210,18 +191,32 @@ enum Says {
 /// The outputs that are a texture node's alpha channel alone: UsdUVTexture's `a` (the
 /// UsdPreviewSurface specification) and MaterialX's `gltf_colorimage` `outa` (its nodedef,
 /// `ND_gltf_colorimage`, in the MaterialX standard library's glTF PBR definitions). Read
-/// beside a colour output, they leave the texture colour (issue 56, item 2).
-pub const ALPHA_OUTPUTS: [&str; 2] = ["a", "outa"];
+/// beside a colour output, they leave the texture colour (issue 56, item 2). Arnold's image
+/// `a` too (arnold-usd names a component output by its channel), and RenderMan's PxrTexture
+/// `resultA` (RenderMan documentation, "PxrTexture").
+pub const ALPHA_OUTPUTS: [&str; 3] = ["a", "outa", "resultA"];
 
+/// What a use says, by the type its input has in the definition of the node it reaches.
 fn says(u: &Use) -> Says {
     if ALPHA_OUTPUTS.contains(&u.output.as_str()) {
-        Says::Alpha
-    } else if COLOUR_INPUTS.contains(&u.input.as_str()) {
-        Says::Colour
-    } else if DATA_INPUTS.contains(&u.input.as_str()) {
-        Says::Data
-    } else {
-        Says::Unknown
+        return Says::Alpha;
+    }
+    match u.input_type.as_deref() {
+        None => Says::Unknown,
+        Some(t) if COLOUR_TYPES.contains(&t) && per_channel(&u.input).is_none() => Says::Colour,
+        Some(_) => Says::Data,
+    }
+}
+
+/// A use's type, in words: ` (color3 in MaterialX's ND_standard_surface_surfaceshader)`; a
+/// colour type that holds a quantity per channel says what it holds.
+fn typed(u: &Use) -> String {
+    let (Some(t), Some(by)) = (&u.input_type, &u.defined_by) else {
+        return String::new();
+    };
+    match per_channel(&u.input).filter(|_| COLOUR_TYPES.contains(&t.as_str())) {
+        Some(what) => format!(" ({t} in {by}, but {what} per channel, not a colour)"),
+        None => format!(" ({t} in {by})"),
     }
 }
 
@@ -291,9 +286,11 @@ pub fn decide(nodes: &[Node]) -> Decision {
     if let (Some(c), Some(d)) = (colour.first(), data.first()) {
         return Decision::Conflict {
             why: format!(
-                "colour in one use and data in another: {} (colour), {} (data)",
+                "colour in one use and data in another: {}{} (colour), {}{} (data)",
                 describe(c.0, c.1),
-                describe(d.0, d.1)
+                typed(c.1),
+                describe(d.0, d.1),
+                typed(d.1),
             ),
         };
     }
@@ -307,7 +304,7 @@ pub fn decide(nodes: &[Node]) -> Decision {
         };
         return Decision::Data {
             rule: "data-input",
-            why: format!("{} takes data{more}", describe(n, u)),
+            why: format!("{} takes data{}{more}", describe(n, u), typed(u)),
         };
     }
     if let Some(&(n, u)) = alpha.first() {
@@ -318,7 +315,8 @@ pub fn decide(nodes: &[Node]) -> Decision {
     }
     let why = match unknown.first() {
         Some(&(n, u)) => format!(
-            "{}: an input specconv does not know as colour or data; the file's evidence decides",
+            "{}: no shader definition specconv knows types this input; the file's evidence \
+             decides",
             describe(n, u)
         ),
         None => "no material input reads it; the file's evidence decides".to_owned(),
@@ -374,7 +372,11 @@ fn colour_decision(
         s => format!("; {}", words(s)),
     };
     Decision::Colour {
-        why: format!("{} takes colour{of_space}{with_alpha}", describe(first, u)),
+        why: format!(
+            "{} takes colour{}{of_space}{with_alpha}",
+            describe(first, u),
+            typed(u)
+        ),
         space,
         rule,
     }
@@ -386,7 +388,7 @@ pub fn words(s: &Space) -> String {
         Space::File => "nothing (the file's evidence)".to_owned(),
         Space::Srgb => "sourceColorSpace sRGB".to_owned(),
         Space::Linear => "sourceColorSpace raw (linear colour)".to_owned(),
-        Space::Named(n) => format!("MaterialX colorspace '{n}'"),
+        Space::Named(n) => format!("the material's colour space '{n}'"),
     }
 }
 
@@ -394,8 +396,20 @@ pub fn words(s: &Space) -> String {
 mod tests {
     use super::*;
 
+    /// The types UsdPreviewSurface's definition gives its inputs (usd-core's Sdr), for the
+    /// uses below.
+    fn preview_type(input: &str) -> &'static str {
+        match input {
+            "diffuseColor" | "emissiveColor" | "specularColor" => "color3f",
+            "normal" => "normal3f",
+            _ => "float",
+        }
+    }
+
     fn node(path: &str, scs: Option<&str>, uses: &[(&str, &str)]) -> Node {
         Node {
+            file_input: "file".into(),
+            raw_input: None,
             node: path.into(),
             node_id: Some("UsdUVTexture".into()),
             source_color_space: scs.map(Into::into),
@@ -412,6 +426,8 @@ mod tests {
                     shader: "/M/Surface".into(),
                     shader_id: Some("UsdPreviewSurface".into()),
                     input: (*input).into(),
+                    input_type: Some(preview_type(input).into()),
+                    defined_by: Some("usd-core's Sdr UsdPreviewSurface".into()),
                     output: (*output).into(),
                     through: vec![],
                     cut: false,
@@ -421,10 +437,64 @@ mod tests {
     }
 
     #[test]
-    fn every_input_is_in_one_list() {
-        for c in COLOUR_INPUTS {
-            assert!(!DATA_INPUTS.contains(c), "{c}");
+    fn the_words_of_a_name_split_at_underscores_and_case() {
+        assert_eq!(
+            words_of("subsurfaceDmfpColor"),
+            ["subsurface", "dmfp", "color"]
+        );
+        assert_eq!(words_of("specular_IOR"), ["specular", "ior"]);
+        assert_eq!(
+            words_of("subsurface_radius_scale"),
+            ["subsurface", "radius", "scale"]
+        );
+        assert_eq!(words_of("opacityThreshold"), ["opacity", "threshold"]);
+        // A word is whole: `priority` has no `ior`, `coloration` no `radius`.
+        assert_eq!(per_channel("priority"), None);
+        assert_eq!(per_channel("transmission_scatter"), None);
+        assert_eq!(per_channel("specularIor"), Some("an index of refraction"));
+    }
+
+    /// The role is the type's, whatever the name says: a colour-typed input named as data
+    /// is colour, a float-typed one named as colour is data, an untyped one is the file's.
+    #[test]
+    fn the_type_decides_not_the_name() {
+        let mut n = node("/M/T", None, &[("rgb", "diffuseColor")]);
+        n.uses[0].input = "roughness".into();
+        n.uses[0].input_type = Some("RGB".into());
+        assert!(matches!(decide(&[n.clone()]), Decision::Colour { .. }));
+        n.uses[0].input = "base_color".into();
+        n.uses[0].input_type = Some("float".into());
+        assert_eq!(decide(&[n.clone()]).rule(), "data-input");
+        n.uses[0].input_type = None;
+        assert_eq!(decide(&[n]).rule(), "unknown-input");
+    }
+
+    /// Issue 56, item 2: a base colour image that also feeds `subsurface_radius` (color3 in
+    /// standard_surface's nodedef, a distance) is a conflict naming the radius as data.
+    #[test]
+    fn a_colour_typed_radius_is_data() {
+        let mut n = node(
+            "/M/T",
+            None,
+            &[("out", "base_color"), ("out", "subsurface_radius")],
+        );
+        for u in &mut n.uses {
+            u.input_type = Some("color3".into());
+            u.defined_by = Some("MaterialX's ND_standard_surface_surfaceshader".into());
         }
+        let d = decide(&[n.clone()]);
+        assert_eq!(d.rule(), "conflict");
+        assert!(
+            d.why().contains(
+                "subsurface_radius reads out of /M/T (color3 in MaterialX's \
+                 ND_standard_surface_surfaceshader, but a distance per channel, not a colour) \
+                 (data)"
+            ),
+            "{}",
+            d.why()
+        );
+        n.uses.remove(0);
+        assert_eq!(decide(&[n]).rule(), "data-input");
     }
 
     #[test]
@@ -449,11 +519,13 @@ mod tests {
     /// texture, as UsdUVTexture's `a` is, not a conflict.
     #[test]
     fn gltf_colorimage_outa_to_alpha_is_one_colour_texture() {
-        let d = decide(&[node(
+        let mut n = node(
             "/M/Base",
             None,
             &[("outcolor", "base_color"), ("outa", "alpha")],
-        )]);
+        );
+        n.uses[0].input_type = Some("color3".into()); // ND_gltf_pbr_surfaceshader's
+        let d = decide(&[n]);
         assert!(matches!(d, Decision::Colour { .. }), "{d:?}");
         assert!(d.why().contains("with alpha"), "{}", d.why());
     }

@@ -132,8 +132,11 @@ pub struct Override {
     pub original: Option<String>,
     /// As it resolved.
     pub original_resolved: Option<PathBuf>,
-    /// A UsdUVTexture: `inputs:sourceColorSpace` becomes `raw` (the spectra are linear).
-    pub raw: bool,
+    /// The node's input that names the file (`file`, `filename`).
+    pub file_input: String,
+    /// How the copy reads the spectral file as written (`sourceColorSpace` `raw` for a
+    /// UsdUVTexture): the spectra are linear ([`crate::stage::Node::raw_input`]).
+    pub raw_input: Option<serde_json::Value>,
     /// The `colorSpace` the stage gave `inputs:file` (MaterialX's `colorspace`): the layer sets
     /// it to `raw` (the spectral file is read as written, like `sourceColorSpace` `raw`) and
     /// records this one.
@@ -303,7 +306,8 @@ impl Asset {
                     file: format!("./{}", rel.to_string_lossy()),
                     original: n.authored.clone(),
                     original_resolved: n.resolved.clone(),
-                    raw: n.node_id.as_deref() == Some("UsdUVTexture"),
+                    file_input: n.file_input.clone(),
+                    raw_input: n.raw_input.clone(),
                     original_colorspace: n.colorspace.clone(),
                 };
                 match &n.document {
@@ -534,7 +538,7 @@ fn colour_space(space: &Space, config: &ColourConfig) -> Result<Option<String>, 
             _ => match materialx_space(name) {
                 Some(id) => named(config, id),
                 None => Err(format!(
-                    "the MaterialX colorspace '{name}' is neither a colour space of the config \
+                    "the colour space '{name}' the material names is neither a colour space of the config \
                      nor a MaterialX name (docs/assets.md lists them)"
                 )),
             },
@@ -763,6 +767,8 @@ mod tests {
         Node {
             node: path.into(),
             node_id: Some("ND_image_color3".into()),
+            file_input: "file".into(),
+            raw_input: None,
             source_color_space: None,
             colorspace: Some("srgb_texture".into()),
             authored: Some("tex/a.png".into()),

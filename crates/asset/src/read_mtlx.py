@@ -12,8 +12,6 @@ graph, document); a node's input connects by `nodename` (and `output`), `nodegra
 import os
 import stat
 
-MX_TEXTURES = ("image", "tiledimage", "hextiledimage", "gltf_image", "gltf_colorimage",
-               "gltf_normalmap", "UsdUVTexture")
 # Nodes that take one channel out: the use is then that channel's (as a UsdUVTexture's r, g,
 # b, a outputs are), so alpha to opacity stays alpha.
 CHANNELS = "rgba"
@@ -142,7 +140,8 @@ def mtlx_file(mx, node, root_dir):
     holder = through_interface(mx, inp)
     authored = holder.getValueString()
     if not authored:
-        return dict(authored=None, resolved=None, colorspace=None, layer=None)
+        return dict(authored=None, resolved=None, colorspace=None, layer=None,
+                    file_input=inp.getName())
     full = holder.getActiveFilePrefix() + authored
     anchored = os.path.normpath(os.path.join(root_dir, full))
     if "<UDIM>" in anchored.upper():
@@ -155,7 +154,7 @@ def mtlx_file(mx, node, root_dir):
     # MaterialX manages the colour of colour images only: a float or vector image is read as
     # it is, whatever colour space it inherits.
     colour = node.getType() in ("color3", "color4", "multioutput")
-    return dict(authored=authored, resolved=resolved,
+    return dict(authored=authored, resolved=resolved, file_input=inp.getName(),
                 colorspace=(holder.getActiveColorSpace() or None) if colour else None,
                 layer=source)
 
@@ -201,9 +200,10 @@ def mtlx_network(mx, doc, material, wires):
     return edges, seen
 
 
-def mtlx_final_uses(edges, ports, start, final_inputs, max_depth):
-    """The inputs the texture's output `start` feeds in the end, each with the channel an
-    extraction on the way took."""
+def mtlx_final_uses(edges, ports, start, max_depth):
+    """The inputs the texture's output `start` feeds in the end (an input of a shading model,
+    or of a node nothing reads on), each with its type in the node's definition and the
+    channel an extraction on the way took."""
     uses, todo, seen = [], [(start, [], None)], set()
     while todo:
         port, through, channel = todo.pop()
@@ -217,10 +217,13 @@ def mtlx_final_uses(edges, ports, start, final_inputs, max_depth):
         seen.add((port, channel))
         for consumer, name in edges.get(port, []):
             cpath = consumer.getNamePath()
-            onward = ports.get(cpath, []) if name not in final_inputs else []
-            if name in final_inputs or not onward:
+            definition = DEFINITIONS.of_mx_node(consumer)
+            model = definition is not None and definition["model"]
+            onward = ports.get(cpath, []) if not model else []
+            if not onward:
                 uses.append(dict(shader=cpath, shader_id=consumer.getCategory(), input=name,
-                                 through=through, channel=channel))
+                                 through=through, channel=channel,
+                                 **typed(definition, name)))
                 continue
             for p in onward:
                 took = channel or channel_of(consumer, name, p[1])
@@ -236,7 +239,7 @@ def index_edges(edges):
     return by_node
 
 
-def mtlx_textures(mx, doc, root_dir, materials, final_inputs, max_depth, label):
+def mtlx_textures(mx, doc, root_dir, materials, max_depth, label):
     """Texture nodes (the form read_stage.py prints) that `materials` (name -> (node, the
     material's name in the uses)) read."""
     all_nodes = nodes_of(mx, doc)
@@ -253,14 +256,15 @@ def mtlx_textures(mx, doc, root_dir, materials, final_inputs, max_depth, label):
         ports = index_edges(edges)
         for path in sorted(network):
             node = by_path.get(path)
-            if node is None or node.getCategory() not in MX_TEXTURES:
+            definition = DEFINITIONS.of_mx_node(node) if node is not None else None
+            if definition is None or not definition["files"]:
                 continue
             f = mtlx_file(mx, node, root_dir)
             if f is None:
                 continue
             uses = []
             for port in ports.get(path, []):
-                for use in mtlx_final_uses(edges, ports, port, final_inputs, max_depth):
+                for use in mtlx_final_uses(edges, ports, port, max_depth):
                     channel = use.pop("channel")
                     uses.append(dict(use, material=mname, output=channel or port[1]))
             scs = node.getInput("sourceColorSpace")
@@ -277,14 +281,13 @@ def materials_of(mx, doc):
             if n.getType() == "material"}
 
 
-def read_document(path, final_inputs, max_depth):
+def read_document(path, max_depth):
     """`read` of a MaterialX document: every material node in it is read."""
     mx = mtlx_module()
     path = os.path.abspath(path)
     doc = load(mx, path)
     materials = materials_of(mx, doc)
-    textures = mtlx_textures(mx, doc, os.path.dirname(path), materials, final_inputs,
-                             max_depth, path)
+    textures = mtlx_textures(mx, doc, os.path.dirname(path), materials, max_depth, path)
     return dict(stage=path, materials=len(materials), bound_prims=0, composition_errors=[],
                 textures=textures, references=[], read_files=sorted(set(LOADED)))
 

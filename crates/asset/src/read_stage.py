@@ -2,11 +2,10 @@
 $SPECCONV_USD_PYTHON names (else python3). Pixar's usd-core composes the stage; this script
 only reports what the stage says, and the library (crates/asset) decides.
 
-    read STAGE INPUTS [DIR [OWN]]
-                               prints the textures bound materials read, as one JSON object;
-                               INPUTS (a JSON list) are the material inputs a use ends at; with
-                               DIR, textures inside a usdz package are copied there, replacing
-                               only the files OWN (a JSON list) names: those an asset run wrote
+    read STAGE [DIR [OWN]]     prints the textures bound materials read, as one JSON object;
+                               with DIR, textures inside a usdz package are copied there,
+                               replacing only the files OWN (a JSON list) names: those an asset
+                               run wrote
     layer                      reads a plan (JSON) on stdin and prints the files of overrides,
                                {"files": [{"path", "text"}]}: the layer (usda text) and the
                                MaterialX documents' copies, which specconv writes
@@ -21,10 +20,8 @@ import json
 import os
 import sys
 
-TEXTURE_IDS = ("UsdUVTexture",)
-TEXTURE_PREFIXES = ("ND_image_", "ND_tiledimage_", "ND_hextiledimage_", "ND_gltf_image_",
-                    "ND_gltf_colorimage")
-# A use is final at an input of these names (the decision's lists) or at a node nothing reads.
+# A use is final at an input of a shading model (shader_defs.py) or of a node nothing reads
+# on; a walk longer than this gives up.
 MAX_DEPTH = 64
 
 
@@ -38,10 +35,6 @@ def shader_id(prim, UsdShade):
     if not shader:
         return None
     return str(shader.GetShaderId() or "") or None
-
-
-def is_texture(sid):
-    return sid is not None and (sid in TEXTURE_IDS or sid.startswith(TEXTURE_PREFIXES))
 
 
 def bound_materials(stage, Usd, UsdShade, want_targets):
@@ -93,9 +86,10 @@ def network(material, UsdShade):
     return edges, seen
 
 
-def final_uses(edges, start, final_inputs, UsdShade):
-    """The inputs that the output `start` feeds in the end: followed through nodes whose input
-    is not a known one (a normal-map node's `in`), to the input of a node nothing reads on."""
+def final_uses(edges, start, UsdShade):
+    """The inputs that the output `start` feeds in the end, each with its type in the node's
+    definition: followed through nodes that are no shading model (a normal-map node's `in`)
+    to an input of a shading model or of a node nothing reads on."""
     uses, todo, seen = [], [(start, [])], set()
     while todo:
         port, through = todo.pop()
@@ -109,11 +103,13 @@ def final_uses(edges, start, final_inputs, UsdShade):
         seen.add(port)
         for consumer, name in edges.get(port, []):
             cpath = str(consumer.GetPath())
+            sid = shader_id(consumer, UsdShade)
+            definition = DEFINITIONS.of_id(sid)
             onward = [(cpath, o.GetBaseName()) for o in UsdShade.Shader(consumer).GetOutputs()]
             onward = [p for p in onward if p in edges]
-            if name in final_inputs or not onward:
-                uses.append(dict(shader=cpath, shader_id=shader_id(consumer, UsdShade),
-                                 input=name, through=through))
+            if not onward or (definition is not None and definition["model"]):
+                uses.append(dict(shader=cpath, shader_id=sid, input=name, through=through,
+                                 **typed(definition, name)))
             else:
                 todo.extend((p, through + [cpath]) for p in onward)
     return uses
@@ -156,7 +152,7 @@ def mtlx_materials(arc, targets):
     return names
 
 
-def mtlx_referenced(stage, Usd, targets, errors, final_inputs):
+def mtlx_referenced(stage, Usd, targets, errors):
     """The textures of the MaterialX documents the stage references, read by MaterialX, in
     the USD reader's form; the arcs; the composition errors left (a document's own failure to
     open is not one); the bound paths of the materials read."""
@@ -191,7 +187,7 @@ def mtlx_referenced(stage, Usd, targets, errors, final_inputs):
             wanted.setdefault(bound, []).append(n in found)
         paths += [bound for _, bound in chosen.values()]
         textures += mtlx_textures(mx, doc, os.path.dirname(arc["resolved"]), chosen,
-                                  final_inputs, MAX_DEPTH, arc["resolved"])
+                                  MAX_DEPTH, arc["resolved"])
         used.append(arc)
     for bound, has in sorted(wanted.items()):
         if not any(has):
@@ -200,26 +196,51 @@ def mtlx_referenced(stage, Usd, targets, errors, final_inputs):
     return textures, used, errors, paths
 
 
-def file_of(prim, UsdShade, Sdf):
-    """The texture's file: as authored, resolved, and where it came from."""
-    inp = UsdShade.Shader(prim).GetInput("file")
+def file_of(prim, name, UsdShade):
+    """The texture's file input `name`: as authored, resolved, and where it came from."""
+    inp = UsdShade.Shader(prim).GetInput(name)
     if not inp:
         return None
     attr = inp.GetAttr()
     value = attr.Get()
     if value is None:
-        return dict(authored=None, resolved=None, colorspace=None, layer=None)
-    authored = value.path
-    resolved = value.resolvedPath or None
+        return dict(authored=None, resolved=None, colorspace=None, layer=None, file_input=name)
     spec = next(iter(attr.GetPropertyStack()), None)
     layer = spec.layer if spec is not None else None
+    if isinstance(value, str):
+        # A file input typed string (as Arnold's and RenderMan's definitions type them): a
+        # path all the same, anchored to the layer that wrote it, as an asset path is.
+        authored = value
+        anchored = layer.ComputeAbsolutePath(value) if layer is not None and value else value
+        resolved = anchored if value and os.path.exists(anchored) else None
+    else:
+        authored = value.path
+        resolved = value.resolvedPath or None
     if resolved is None and "<UDIM>" in authored.upper() and layer is not None:
         # A UDIM pattern names no one file: anchored to its layer as the tiles are.
         anchored = layer.ComputeAbsolutePath(authored)
         resolved = anchored if os.path.isabs(anchored) else None
     return dict(authored=authored, resolved=resolved,
-                colorspace=attr.GetColorSpace() or None,
+                colorspace=attr.GetColorSpace() or None, file_input=name,
                 layer=layer.realPath if layer is not None else None)
+
+
+def declared_space(prim, sid, f):
+    """The colour space a texture node declares for its file, in the library's two words:
+    `source_color_space` (UsdUVTexture's `sourceColorSpace`; PxrTexture's `linearize` 1, the
+    reverse sRGB transform, is `sRGB`) and `colorspace` (the file input's `colorSpace`;
+    Arnold's image `color_space` other than `auto`)."""
+    def value(name):
+        attr = prim.GetAttribute("inputs:" + name)
+        return attr.Get() if attr and attr.HasAuthoredValue() else None
+
+    scs, cs = value("sourceColorSpace"), f.pop("colorspace")
+    if sid in ("PxrTexture", "PxrMultiTexture") and value("linearize") == 1:
+        scs = "sRGB"
+    if sid == "arnold:image":
+        named = value("color_space")
+        cs = named if named and named.lower() != "auto" else cs
+    return dict(source_color_space=scs or None, colorspace=cs or None)
 
 
 def packaged(resolved):
@@ -265,7 +286,7 @@ def extract(resolved, member, into, Ar, replaceable):
     return target
 
 
-def read(stage_path, extract_dir, final_inputs, replaceable=()):
+def read(stage_path, extract_dir, replaceable=()):
     from pxr import Usd, UsdShade, Sdf, Ar, Tf
     try:
         stage = Usd.Stage.Open(stage_path, Usd.Stage.LoadAll)
@@ -284,36 +305,37 @@ def read(stage_path, extract_dir, final_inputs, replaceable=()):
     textures, references, materials_read, unknown = [], [], 0, []
     if mtlx:
         # usd-core without its MaterialX file format: the documents are read by MaterialX.
-        textures, references, errors, read_paths = mtlx_referenced(stage, Usd, targets,
-                                                                   errors, final_inputs)
+        textures, references, errors, read_paths = mtlx_referenced(stage, Usd, targets, errors)
         materials_read = len(set(read_paths) - set(materials))
     for mpath, material in sorted(materials.items()):
         edges, shaders = network(material, UsdShade)
         for path in sorted(shaders):
             prim = stage.GetPrimAtPath(path)
             sid = shader_id(prim, UsdShade)
-            if not is_texture(sid):
+            definition = DEFINITIONS.of_id(sid)
+            if definition is None or not definition["files"]:
                 unknown += unknown_reads(prim, sid, mpath, UsdShade, Sdf)
                 continue
-            f = file_of(prim, UsdShade, Sdf)
-            if f is None:
+            files = [f for f in (file_of(prim, n, UsdShade) for n in definition["files"]) if f]
+            if len(definition["files"]) > 1:  # PxrMultiTexture: the files it is given
+                files = [f for f in files if f["authored"]]
+            if not files:
                 continue
             uses = []
             for output in UsdShade.Shader(prim).GetOutputs():
-                for use in final_uses(edges, (path, output.GetBaseName()), final_inputs,
-                                      UsdShade):
+                for use in final_uses(edges, (path, output.GetBaseName()), UsdShade):
                     uses.append(dict(use, material=mpath, output=output.GetBaseName()))
-            scs = UsdShade.Shader(prim).GetInput("sourceColorSpace")
-            scs = scs.Get() if scs else None
-            pkg = packaged(f["resolved"])
-            entry = dict(node=path, node_id=sid, source_color_space=scs or None,
-                         package=None, uses=uses, **f)
-            if pkg is not None:
-                entry["package"] = dict(file=pkg[0], member=pkg[1])
-                if extract_dir is not None:
-                    entry["resolved"] = extract(f["resolved"], pkg[1], extract_dir, Ar,
-                                                replaceable)
-            textures.append(entry)
+            for f in files:
+                entry = dict(node=path, node_id=sid, package=None, uses=uses,
+                             raw_input=RAW_INPUTS.get(sid), **declared_space(prim, sid, f),
+                             **f)
+                pkg = packaged(f["resolved"])
+                if pkg is not None:
+                    entry["package"] = dict(file=pkg[0], member=pkg[1])
+                    if extract_dir is not None:
+                        entry["resolved"] = extract(f["resolved"], pkg[1], extract_dir, Ar,
+                                                    replaceable)
+                textures.append(entry)
     # Every layer composed (a usdz member as its package) and MaterialX file loaded: what the
     # library never lets an output be.
     layers = [l.realPath.split("[", 1)[0] for l in stage.GetUsedLayers() if l.realPath]
@@ -366,9 +388,15 @@ def usd_layer(plan):
 
 def set_spectral_file(prim, o, Sdf):
     """A texture node's copy reads the spectral file `o` names, as written (raw)."""
-    attr = Sdf.AttributeSpec(prim, "inputs:file", Sdf.ValueTypeNames.Asset) \
-        if "inputs:file" not in prim.attributes else prim.attributes["inputs:file"]
-    attr.default = Sdf.AssetPath(o["file"])
+    name = "inputs:" + o["file_input"]
+    if name in prim.attributes and prim.attributes[name].typeName != Sdf.ValueTypeNames.Asset:
+        # A file input typed string or token (RenderMan's, Arnold's) keeps its type.
+        attr = prim.attributes[name]
+        attr.default = o["file"]
+    else:
+        attr = prim.attributes[name] if name in prim.attributes else \
+            Sdf.AttributeSpec(prim, name, Sdf.ValueTypeNames.Asset)
+        attr.default = Sdf.AssetPath(o["file"])
     # Read back as customData key paths `specconv:original`, `specconv:originalResolved`.
     attr.customData = {"specconv": {k: v for k, v in (
         ("original", o["original"]), ("originalResolved", o["original_resolved"]),
@@ -377,12 +405,14 @@ def set_spectral_file(prim, o, Sdf):
         # MaterialX's colorspace would convert the spectra from that space: read them as
         # written instead, as sourceColorSpace raw does for a UsdUVTexture.
         attr.SetInfo("colorSpace", "raw")
-    if o.get("raw"):
-        # The spectral file holds linear reflectance: nothing may sRGB-decode it.
-        scs = prim.attributes["inputs:sourceColorSpace"] \
-            if "inputs:sourceColorSpace" in prim.attributes else \
-            Sdf.AttributeSpec(prim, "inputs:sourceColorSpace", Sdf.ValueTypeNames.Token)
-        scs.default = "raw"
+    if o.get("raw_input"):
+        # The spectral file holds linear reflectance: nothing may decode it (shader_defs.py).
+        raw, type_name, value = o["raw_input"]
+        name = "inputs:" + raw
+        if name in prim.attributes:
+            prim.attributes[name].default = value
+        else:
+            Sdf.AttributeSpec(prim, name, Sdf.ValueTypeNames.Find(type_name)).default = value
 
 
 def spectral_networks(out, stage, overrides, Sdf, Usd, UsdShade):
@@ -393,9 +423,9 @@ def spectral_networks(out, stage, overrides, Sdf, Usd, UsdShade):
     terminals for the render context `spectral` (`outputs:spectral:surface` …) connected to the
     copies. The original network, which every RGB renderer reads, is not touched. A texture
     node outside any material keeps the direct override (no render context can reach it)."""
-    by_node = {o["node"]: o for o in overrides}
     groups = {}
-    for node, o in by_node.items():
+    for o in overrides:
+        node = o["node"]
         prim = stage.GetPrimAtPath(node)
         m = prim.GetParent() if prim else None
         while m and not m.IsPseudoRoot() and not m.IsA(UsdShade.Material):
@@ -403,12 +433,14 @@ def spectral_networks(out, stage, overrides, Sdf, Usd, UsdShade):
         if not m or m.IsPseudoRoot():
             spec = Sdf.CreatePrimInLayer(out, Sdf.Path(node))
             spec.specifier = Sdf.SpecifierOver
+            attr = prim.GetAttribute("inputs:" + o["file_input"]) if prim else None
+            if attr:  # the override keeps the file input's type
+                Sdf.AttributeSpec(spec, attr.GetName(), attr.GetTypeName())
             set_spectral_file(spec, o, Sdf)
             continue
-        groups.setdefault(m.GetPath(), []).append(node)
-    for mpath, nodes in sorted(groups.items()):
-        copy_network(out, stage.GetPrimAtPath(mpath), [by_node[n] for n in nodes], Sdf, Usd,
-                     UsdShade)
+        groups.setdefault(m.GetPath(), []).append(o)
+    for mpath, group in sorted(groups.items()):
+        copy_network(out, stage.GetPrimAtPath(mpath), group, Sdf, Usd, UsdShade)
 
 
 def copy_network(out, material, overrides, Sdf, Usd, UsdShade):
@@ -558,22 +590,21 @@ def need_materialx(document):
 
 def main():
     args = sys.argv[1:]
-    if len(args) in (3, 4, 5) and args[0] == "read":
-        final_inputs = set(json.loads(args[2]))
+    if len(args) in (2, 3, 4) and args[0] == "read":
         if args[1].lower().endswith(".mtlx"):
             need_materialx(args[1])
             try:
-                print(json.dumps(read_document(args[1], final_inputs, MAX_DEPTH)))
+                print(json.dumps(read_document(args[1], MAX_DEPTH)))
             except MtlxError as e:
                 fail(*e.args)
             return 0
         need_usd()
-        replaceable = set(json.loads(args[4])) if len(args) == 5 else set()
-        read(args[1], args[3] if len(args) >= 4 else None, final_inputs, replaceable)
+        replaceable = set(json.loads(args[3])) if len(args) == 4 else set()
+        read(args[1], args[2] if len(args) >= 3 else None, replaceable)
     elif args == ["layer"]:
         layer()
     else:
-        fail("usage", "read STAGE INPUTS [DIR] | layer")
+        fail("usage", "read STAGE [DIR [OWN]] | layer")
     return 0
 
 

@@ -1,5 +1,5 @@
-//! Running usd-core and MaterialX: the reader script (`read_mtlx.py` and `read_stage.py`, kept
-//! in this crate) under the Python interpreter that `$SPECCONV_USD_PYTHON` names (else
+//! Running usd-core and MaterialX: the reader script (`read_mtlx.py`, `shader_defs.py` and
+//! `read_stage.py`, kept in this crate) under the Python interpreter that `$SPECCONV_USD_PYTHON` names (else
 //! `python3`), bounded in time and output.
 
 use crate::stage::Stage;
@@ -10,7 +10,8 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-/// The reader script, run with `python -c`: the MaterialX half, then usd-core's.
+/// The reader script, run with `python -c`: the MaterialX half, the shader definitions, then
+/// usd-core's half.
 ///
 /// It starts by taking the current directory off the import path, where `python -c` puts it
 /// first: a stray `json.py` or `pxr.py` in the directory `specconv asset` runs in would
@@ -19,6 +20,7 @@ use std::time::{Duration, Instant};
 pub const SCRIPT: &str = concat!(
     "import sys\nif sys.path and sys.path[0] in ('', '.'):\n    del sys.path[0]\n",
     include_str!("read_mtlx.py"),
+    include_str!("shader_defs.py"),
     include_str!("read_stage.py")
 );
 
@@ -79,16 +81,13 @@ impl Reader {
     /// `extract`, textures inside a usdz are copied out into its folder, replacing no file
     /// there but those it names (the files an asset run wrote, [`crate::record`]).
     pub fn read(&self, stage: &Path, extract: Option<(&Path, &[PathBuf])>) -> Result<Stage, Error> {
-        let inputs = serde_json::to_string(&crate::decide::final_inputs())
-            .map_err(|e| Error::Reader(e.to_string()))?;
         let own = match extract {
             Some((_, own)) => {
                 serde_json::to_string(own).map_err(|e| Error::Reader(e.to_string()))?
             }
             None => String::new(),
         };
-        let mut args: Vec<&OsStr> =
-            vec![OsStr::new("read"), stage.as_os_str(), OsStr::new(&inputs)];
+        let mut args: Vec<&OsStr> = vec![OsStr::new("read"), stage.as_os_str()];
         if let Some((dir, _)) = extract {
             args.extend([dir.as_os_str(), OsStr::new(&own)]);
         }

@@ -309,6 +309,8 @@ pub fn member(asset: &Asset, k: usize) -> serde_json::Value {
                 serde_json::json!({
                     "prim": n.node, "node_id": n.node_id, "material": u.material,
                     "shader": u.shader, "input": u.input, "output": u.output,
+                    "input_type": u.input_type, "defined_by": u.defined_by,
+                    "file_input": n.file_input,
                     "through": u.through, "source_color_space": n.source_color_space,
                     "colorspace": n.colorspace, "authored": n.authored,
                     "document": n.document,
@@ -329,7 +331,8 @@ pub fn member(asset: &Asset, k: usize) -> serde_json::Value {
 pub fn unknown_line(u: &crate::stage::UnknownRead) -> String {
     format!(
         "unknown shader {} at {} reads {} (its input {}, material {}): not converted; \
-         specconv asset reads UsdPreviewSurface and MaterialX networks (docs/assets.md)",
+         no definition specconv knows has this shader (it reads USD's own, MaterialX's, \
+         Arnold's and RenderMan's: docs/assets.md, \"Roles from shader definitions\")",
         u.node_id.as_deref().unwrap_or("(no info:id)"),
         u.node,
         u.file,

@@ -78,6 +78,14 @@ pub struct Node {
     pub source_color_space: Option<String>,
     /// The `colorSpace` of its `inputs:file` (MaterialX's `colorspace`), if authored.
     pub colorspace: Option<String>,
+    /// The input that names the file (`file`; Arnold's and RenderMan's `filename`,
+    /// PxrMultiTexture's `filename0`…): a node with several gives one [`Node`] for each.
+    #[serde(default = "file_input")]
+    pub file_input: String,
+    /// How its copy is told to read the spectral file as written, `[input, type, value]`
+    /// (`["sourceColorSpace", "token", "raw"]`), from the reader's table of texture nodes.
+    #[serde(default)]
+    pub raw_input: Option<serde_json::Value>,
     /// `inputs:file` as written.
     pub authored: Option<String>,
     /// `inputs:file` resolved by usd-core's asset resolver (a UDIM pattern keeps `<UDIM>`);
@@ -115,6 +123,13 @@ pub struct Use {
     pub shader_id: Option<String>,
     /// The input (`diffuseColor`, `roughness`, `base_color`).
     pub input: String,
+    /// Its type in the definition of the node it is an input of (`color3`, `color3f`, `RGB`,
+    /// `float`, `normal3f`), which decides its role; `None`: no definition is known.
+    #[serde(default)]
+    pub input_type: Option<String>,
+    /// The definition: where it comes from, and its name.
+    #[serde(default)]
+    pub defined_by: Option<String>,
     /// The texture's output (`rgb`, `r`, `g`, `b`, `a`, MaterialX's `out`).
     pub output: String,
     /// The nodes between (a normal-map node), in order.
@@ -123,4 +138,9 @@ pub struct Use {
     /// depth): what the texture feeds there is not known.
     #[serde(default)]
     pub cut: bool,
+}
+
+/// The file input a reader that names none meant: `file` (UsdUVTexture's, MaterialX's).
+fn file_input() -> String {
+    "file".to_owned()
 }
