@@ -196,11 +196,17 @@ def test_a_reader_failure_is_one_line(tmp_path):
 
 
 def test_unknown_shaders_that_read_files_are_records_and_fail_under_strict(tmp_path):
-    """Issue 56, item 2: Arnold's and RenderMan's texture nodes are no silent success: each
-    file they read is a record with status `unknown-shader`; `strict` (a warning fails) raises."""
+    """Issue 56, item 2: a shader no definition specconv knows has is no silent success: each
+    file it reads is a record with status `unknown-shader`; `strict` (a warning fails) raises.
+    Arnold's and RenderMan's texture nodes are known (their tables): converted."""
     build(tmp_path, "foreign")
     records = specconv.convert_asset(tmp_path / "foreign.usda", tmp_path / "out")
     unknown = [r for r in records if r["status"] == "unknown-shader"]
-    assert [r["asset"]["shader"] for r in unknown] == ["arnold:image", "PxrTexture"]
-    with pytest.raises(specconv.InputError, match="unknown shader arnold:image"):
+    assert [r["asset"]["shader"] for r in unknown] == ["studio:projector"]
+    converted = sorted(os.path.basename(r["output"]) for r in records if r["status"] == "ok")
+    assert converted == ["dirty_albedo_spectral.exr", "rock_albedo_spectral.exr"]
+    uses = [u for r in records if r["status"] == "ok" for u in r["asset"]["uses"]]
+    assert sorted((u["input"], u["input_type"]) for u in uses) == \
+        [("base_color", "RGB"), ("diffuseColor", "color")]
+    with pytest.raises(specconv.InputError, match="unknown shader studio:projector"):
         specconv.convert_asset(tmp_path / "foreign.usda", tmp_path / "strict", strict=True)

@@ -781,6 +781,34 @@ fn unknown_shaders_that_read_files_are_reported_and_fail_under_strict() {
     );
 }
 
+/// A reader's file input authored as no path (`int inputs:filename = 3` on a PxrTexture) is one
+/// line naming the prim and input and how to author it, exit 1, nothing written.
+#[test]
+fn a_file_input_that_is_no_path_is_named() {
+    let Some(python) = usd() else { return };
+    let dir = Scratch::new("asset-file-type");
+    let stage_file = dir.write(
+        "odd.usda",
+        "#usda 1.0\ndef Material \"M\" {\n    token outputs:ri:surface.connect = \
+         </M/S.outputs:out>\n    def Shader \"S\" {\n        uniform token info:id = \
+         \"PxrSurface\"\n        color3f inputs:diffuseColor.connect = \
+         </M/T.outputs:resultRGB>\n        token outputs:out\n    }\n    def Shader \"T\" {\n \
+                uniform token info:id = \"PxrTexture\"\n        int inputs:filename = 3\n \
+                color3f outputs:resultRGB\n    }\n}\ndef Mesh \"G\" (prepend apiSchemas = \
+         [\"MaterialBindingAPI\"]) {\n    rel material:binding = </M>\n}\n",
+    );
+    let run = asset(&python, &stage_file, &dir.path("out")).run();
+    assert_eq!(run.code, 1, "{}", run.stderr);
+    assert!(
+        run.stderr
+            .contains("/M/T.inputs:filename is typed int, not a path"),
+        "{}",
+        run.stderr
+    );
+    assert_eq!(run.stderr.trim().lines().count(), 1, "{}", run.stderr);
+    assert!(!dir.path("out").join("odd_spectral.usda").exists());
+}
+
 /// Issue 56, item 2: every shading model's network (UsdPreviewSurface, standard_surface,
 /// open_pbr_surface, gltf_pbr in USD; Arnold's standard_surface; RenderMan's PxrSurface) with
 /// colour, data, alpha, normal, bump and subsurface textures. Each texture's decision is the

@@ -21,8 +21,9 @@ pub const COLOUR_TYPES: [&str; 11] = [
 /// coefficient is no reflectance, an opacity is coverage. Uplifting one would bound it to a
 /// reflectance's 0 to 1 and smooth it as one; they stay data (docs/assets.md, "Roles from
 /// shader definitions", lists the inputs of the known definitions they make data).
-pub const PER_CHANNEL: [(&str, &str); 6] = [
+pub const PER_CHANNEL: [(&str, &str); 7] = [
     ("radius", "a distance"),
+    ("distance", "a distance"),
     ("dmfp", "a mean free path (a distance)"),
     ("mfp", "a mean free path (a distance)"),
     ("ior", "an index of refraction"),
@@ -452,6 +453,7 @@ mod tests {
         assert_eq!(per_channel("priority"), None);
         assert_eq!(per_channel("transmission_scatter"), None);
         assert_eq!(per_channel("specularIor"), Some("an index of refraction"));
+        assert_eq!(per_channel("subsurfaceDistance"), Some("a distance"));
     }
 
     /// The role is the type's, whatever the name says: a colour-typed input named as data

@@ -196,7 +196,7 @@ def mtlx_referenced(stage, Usd, targets, errors):
     return textures, used, errors, paths
 
 
-def file_of(prim, name, UsdShade):
+def file_of(prim, name, UsdShade, Sdf):
     """The texture's file input `name`: as authored, resolved, and where it came from."""
     inp = UsdShade.Shader(prim).GetInput(name)
     if not inp:
@@ -207,6 +207,10 @@ def file_of(prim, name, UsdShade):
         return dict(authored=None, resolved=None, colorspace=None, layer=None, file_input=name)
     spec = next(iter(attr.GetPropertyStack()), None)
     layer = spec.layer if spec is not None else None
+    if not isinstance(value, (str, Sdf.AssetPath)):
+        fail("file", "%s.inputs:%s is typed %s, not a path: author the file as an asset path "
+             "(asset inputs:%s = @./tex/name.png@)"
+             % (prim.GetPath(), name, attr.GetTypeName(), name))
     if isinstance(value, str):
         # A file input typed string (as Arnold's and RenderMan's definitions type them): a
         # path all the same, anchored to the layer that wrote it, as an asset path is.
@@ -316,7 +320,8 @@ def read(stage_path, extract_dir, replaceable=()):
             if definition is None or not definition["files"]:
                 unknown += unknown_reads(prim, sid, mpath, UsdShade, Sdf)
                 continue
-            files = [f for f in (file_of(prim, n, UsdShade) for n in definition["files"]) if f]
+            files = [f for f in (file_of(prim, n, UsdShade, Sdf) for n in definition["files"])
+                     if f]
             if len(definition["files"]) > 1:  # PxrMultiTexture: the files it is given
                 files = [f for f in files if f["authored"]]
             if not files:
