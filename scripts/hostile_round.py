@@ -852,6 +852,46 @@ def assets_are_converted_safely(r):
         r.case(cls, f"SPECCONV_USD_PYTHON={bad}", crashed(p) or (
             "exit 0" if p.returncode == 0 else one_line(p)))
 
+    # Issue 56, item 2: Arnold's and RenderMan's readers, file inputs authored carelessly: a
+    # number, a string path out of the folder, a PxrMultiTexture naming one file twice.
+    d = r.fresh("asset-readers")
+    (d / "tex").mkdir()
+    subprocess.run(["oiiotool", "--pattern", "checker", "8x8", "4", "-d", "uint8", "-o",
+                    str(d / "tex" / "a.png")], check=True)
+
+    def reader_stage(name, reader, inputs, out):
+        lines = ["#usda 1.0", 'def Material "M" {',
+                 "    token outputs:ri:surface.connect = </M/S.outputs:out>",
+                 '    def Shader "S" {', '        uniform token info:id = "PxrSurface"',
+                 "        color3f inputs:diffuseColor.connect = </M/T.outputs:%s>" % out,
+                 "        token outputs:out", "    }", '    def Shader "T" {',
+                 '        uniform token info:id = "%s"' % reader]
+        lines += ["        " + i for i in inputs] + ["        color3f outputs:%s" % out,
+                                                    "    }", "}",
+                                                    'def Mesh "G" (prepend apiSchemas = '
+                                                    '["MaterialBindingAPI"]) {',
+                                                    "    rel material:binding = </M>", "}"]
+        (d / name).write_text("\n".join(lines) + "\n")
+
+    reader_stage("int.usda", "PxrTexture", ["int inputs:filename = 3"], "resultRGB")
+    p = r.run("asset", "int.usda", "-o", "out", cwd=d)
+    r.case(cls, "a PxrTexture filename that is a number", crashed(p) or (
+        "exit 0" if p.returncode == 0 else one_line(p)))
+    reader_stage("up.usda", "arnold:image",
+                 ['string inputs:filename = "../../../../../../../../../../etc/hostname"'], "out")
+    p = r.run("asset", "up.usda", "-o", "out", cwd=d)
+    outside = [f for f in d.rglob("*spectral*") if d / "out" not in f.parents] + \
+        [f for f in Path("/etc").glob("hostname*spectral*")]
+    r.case(cls, "an arnold:image string filename out of the folder", crashed(p) or (
+        "wrote outside DIR: %s" % outside if outside else None))
+    reader_stage("twice.usda", "PxrMultiTexture",
+                 ["asset inputs:filename0 = @./tex/a.png@", "asset inputs:filename1 = @./tex/a.png@"],
+                 "resultRGB")
+    p = r.run("asset", "twice.usda", "-o", "out", cwd=d)
+    r.case(cls, "a PxrMultiTexture naming one file twice", crashed(p) or (
+        None if p.returncode == 0 and (d / "out" / "tex" / "a_spectral.exr").is_file()
+        else "not converted once: " + p.text[-300:]))
+
     # Item 13: modules in the working directory are never imported by the reader.
     d = r.fresh("asset-stray")
     asset_setup(python, d, "asset_stages.py", "mixed")

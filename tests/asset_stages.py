@@ -382,6 +382,15 @@ NETWORKS = [
 ]
 
 
+# The space a reader's own input declares: PxrTexture's `linearize` 1 (the reverse sRGB
+# transform) and Arnold's image `color_space`, each the library's `source-color-space` or
+# `materialx-colorspace` rule (the rule the test expects, then the input).
+DECLARED = {
+    "ri_base": {"source-color-space": ("linearize", "int", 1)},
+    "ai_base": {"materialx-colorspace": ("color_space", "string", "sRGB - Texture")},
+}
+
+
 def definition_type(surface, name):
     """The input's type in the definition the issue names, read here on its own: MaterialX's
     nodedef, usd-core's Sdr; None for Arnold and RenderMan (no definition ships)."""
@@ -430,6 +439,8 @@ def networks(d):
             f = tex.CreateInput(file_in, Sdf.ValueTypeNames.Find(file_type))
             f.Set(Sdf.AssetPath(value) if file_type == "asset" else value)
             source = tex.CreateOutput(o, Sdf.ValueTypeNames.Find(o_type))
+            for declared, (input_name, type_name, v) in DECLARED.get(file, {}).items():
+                tex.CreateInput(input_name, Sdf.ValueTypeNames.Find(type_name)).Set(v)
             for j, (bid, b_in, b_out) in enumerate(between):
                 b = UsdShade.Shader.Define(s, "%s/Between%d_%d" % (path, k, j))
                 b.CreateIdAttr(bid)
@@ -444,6 +455,8 @@ def networks(d):
     s.Save()
     with open(os.path.join(d, "networks.json"), "w") as out_file:
         json.dump(roles, out_file, indent=1, sort_keys=True)
+    with open(os.path.join(d, "declared.json"), "w") as out_file:
+        json.dump({f: next(iter(r)) for f, r in DECLARED.items()}, out_file, sort_keys=True)
 
 
 if __name__ == "__main__":

@@ -861,9 +861,21 @@ fn every_shading_model_s_textures_take_the_role_of_their_input_s_type() {
                 "{stem}: {u}"
             );
         }
-        decided.insert(stem, kind);
+        let rule = r["asset"]["rule"].as_str().unwrap().to_owned();
+        decided.insert(stem, (kind, rule));
     }
-    assert_eq!(decided, roles, "{}", run.stderr);
+    let kinds: std::collections::BTreeMap<String, String> = decided
+        .iter()
+        .map(|(k, (kind, _))| (k.clone(), kind.clone()))
+        .collect();
+    assert_eq!(kinds, roles, "{}", run.stderr);
+    // The space a reader's own input declares (PxrTexture's linearize 1, Arnold's
+    // color_space) is the material's.
+    let declared: std::collections::BTreeMap<String, String> =
+        serde_json::from_str(&std::fs::read_to_string(dir.path("declared.json")).unwrap()).unwrap();
+    for (file, rule) in &declared {
+        assert_eq!(&decided[file].1, rule, "{file}: {}", run.stderr);
+    }
     let layer = dir.path("out/networks_spectral.usda");
     // With no choice made, every file input is the stage's own (checked in layer_files).
     let view = layer_files(&python, &layer);

@@ -284,15 +284,26 @@ fn a_stage_referencing_a_materialx_document_merges_its_decisions() {
         record(&records, "rock_albedo.png")["asset"]["rule"],
         "colour-input"
     );
-    // usd-core on the layer: the reference now names the copy (which this usd-core cannot
-    // open either), the original's is deleted, and the USD texture's node has a copy in the
-    // spectral render context (the original untouched, issue 56 item 1).
+    // usd-core on the layer (issue 56, item 1): with no choice made, the references are the
+    // stage's own (brick.mtlx twice, extra.mtlx: this usd-core cannot open them, so each is a
+    // composition error naming it) and the USD texture node is untouched; with the variant
+    // `spectralTextures = spectral` chosen on every prim that has it, each prim referencing
+    // brick.mtlx also references its copy (the copy's opinions the stronger), and the USD
+    // texture node has its copy in the spectral render context.
     let code = "import json, sys\n\
         from pxr import Usd\n\
         s = Usd.Stage.Open(sys.argv[1])\n\
         get = lambda p: s.GetPrimAtPath(p).GetAttribute('inputs:file').Get().path\n\
-        print(json.dumps(dict(errors=[str(e) for e in s.GetCompositionErrors()],\n\
-        \x20   rock=get('/World/Looks/Rock/Albedo_spectral'), rgb=get('/World/Looks/Rock/Albedo'))))\n";
+        before = [str(e) for e in s.GetCompositionErrors()]\n\
+        switched = []\n\
+        for p in list(s.TraverseAll()):\n\
+        \x20   v = p.GetVariantSets()\n\
+        \x20   if v.HasVariantSet('spectralTextures'):\n\
+        \x20       switched.append(str(p.GetPath()))\n\
+        \x20       v.GetVariantSet('spectralTextures').SetVariantSelection('spectral')\n\
+        print(json.dumps(dict(before=before, after=[str(e) for e in s.GetCompositionErrors()],\n\
+        \x20   switched=switched, rock=get('/World/Looks/Rock/Albedo_spectral'),\n\
+        \x20   rgb=get('/World/Looks/Rock/Albedo'))))\n";
     let layer = out.join("shot_spectral.usda");
     let got = std::process::Command::new(&python)
         .args(["-c", code, layer.to_str().unwrap()])
@@ -301,29 +312,31 @@ fn a_stage_referencing_a_materialx_document_merges_its_decisions() {
     let v = json(&String::from_utf8_lossy(&got.stdout));
     assert_eq!(v["rock"], "./tex/rock_albedo_spectral.exr", "{v:#}");
     assert_eq!(v["rgb"], "./tex/rock_albedo.png", "{v:#}");
-    let errors: Vec<&str> = v["errors"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|e| e.as_str().unwrap())
-        .collect();
-    // Three references: two to brick.mtlx's copy (the originals deleted), and extra.mtlx's,
-    // which has no copy (nothing of it is converted) and is left as it was.
-    let named = |e: &&str, p: &Path| e.contains(&format!("@{}@", p.display()));
-    let copy = out.join("brick_spectral.mtlx");
-    assert_eq!(errors.len(), 3, "{errors:?}");
-    assert_eq!(
-        errors.iter().filter(|e| named(e, &copy)).count(),
-        2,
-        "{errors:?}"
-    );
-    assert_eq!(
+    let errors = |key: &str| -> Vec<String> {
+        v[key]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|e| e.as_str().unwrap().to_owned())
+            .collect()
+    };
+    let named = |errors: &[String], p: &Path| {
         errors
             .iter()
-            .filter(|e| named(e, &dir.path("extra.mtlx")))
-            .count(),
-        1
-    );
+            .filter(|e| e.contains(&format!("@{}@", p.display())))
+            .count()
+    };
+    let copy = out.join("brick_spectral.mtlx");
+    let (before, after) = (errors("before"), errors("after"));
+    assert_eq!(before.len(), 3, "{before:?}");
+    assert_eq!(named(&before, &dir.path("brick.mtlx")), 2, "{before:?}");
+    assert_eq!(named(&before, &dir.path("extra.mtlx")), 1, "{before:?}");
+    assert_eq!(named(&before, &copy), 0, "{before:?}");
+    // extra.mtlx has no copy (nothing of it is converted): its prim's reference is as it was.
+    assert_eq!(v["switched"].as_array().unwrap().len(), 2, "{v:#}");
+    assert_eq!(after.len(), 5, "{after:?}");
+    assert_eq!(named(&after, &copy), 2, "{after:?}");
+    assert_eq!(named(&after, &dir.path("brick.mtlx")), 2, "{after:?}");
     let copy = copy_files(&python, &out.join("brick_spectral.mtlx"));
     assert_eq!(
         copy["files"]["NG_brick/color"]["file"],

@@ -541,23 +541,38 @@ def copy_prim(out, prim, mapped, Sdf):
             a.connectionPathList.explicitItems = [mapped(t) for t in connections]
 
 
+VARIANT_SET = "spectralTextures"
+
+
 def retarget(out, r, Sdf):
-    """A reference (or payload) to a MaterialX document deleted, by its anchored path as
-    composition compares them, and one to its override document prepended."""
-    prim = Sdf.CreatePrimInLayer(out, Sdf.Path(r["prim"]))
-    prim.specifier = Sdf.SpecifierOver
+    """A reference (or payload) to a MaterialX document, switched: a variant set
+    `spectralTextures` on its prim, `rgb` selected (nothing added: every renderer reads the
+    document as the stage does), and `spectral`, which adds one to the document's copy. The
+    copy's opinions, under a variant of the prim, are stronger than the original reference's
+    (USD's LIVRPS), so with `spectral` selected every prim of the document is the copy's. A
+    document's material has no network of its own to copy for a render context."""
+    prim = out.GetPrimAtPath(r["prim"])
+    if prim is None:
+        prim = Sdf.CreatePrimInLayer(out, Sdf.Path(r["prim"]))
+        prim.specifier = Sdf.SpecifierOver
+    if VARIANT_SET not in prim.variantSets:
+        vset = Sdf.VariantSetSpec(prim, VARIANT_SET)
+        for name in ("rgb", "spectral"):
+            Sdf.VariantSpec(vset, name)
+        prim.variantSetNameList.Prepend(VARIANT_SET)
+        prim.variantSelections[VARIANT_SET] = "rgb"
+    spectral = prim.variantSets[VARIANT_SET].variants["spectral"].primSpec
     target = Sdf.Path(r["target"]) if r["target"] else Sdf.Path()
     offset = Sdf.LayerOffset(r["offset"], r["scale"])
     if r["arc"] == "payload":
-        op = Sdf.PayloadListOp()
-        old, new = (Sdf.Payload(p, target, offset) for p in (r["resolved"], r["file"]))
+        spectral.payloadList.Append(Sdf.Payload(r["file"], target, offset))
     else:
-        op = Sdf.ReferenceListOp()
-        old, new = (Sdf.Reference(p, target, offset) for p in (r["resolved"], r["file"]))
-    op.deletedItems = [old]
-    op.prependedItems = [new]
-    prim.SetInfo(r["arc"] if r["arc"] == "references" else "payload", op)
-    prim.customData = {"specconv": {"originalReference": r["asset"]}}
+        spectral.referenceList.Append(Sdf.Reference(r["file"], target, offset))
+    from pxr import Vt
+    originals = dict(prim.customData.get("specconv", {}))
+    originals["originalReferences"] = Vt.StringArray(
+        list(originals.get("originalReferences", [])) + [r["asset"]])
+    prim.customData = {"specconv": originals}
 
 
 def layer():

@@ -262,8 +262,14 @@ fn convert(
                 layer.overrides.len(),
                 match copies.len() {
                     0 => String::new(),
-                    1 => format!(", and {in_copies} image node(s) in a MaterialX copy"),
-                    n => format!(", and {in_copies} image node(s) in {n} MaterialX copies"),
+                    1 => format!(
+                        ", and {in_copies} image node(s) in a MaterialX copy (variant \
+                         spectralTextures = spectral)"
+                    ),
+                    n => format!(
+                        ", and {in_copies} image node(s) in {n} MaterialX copies (variant \
+                         spectralTextures = spectral)"
+                    ),
                 }
             );
         }
