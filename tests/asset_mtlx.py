@@ -251,5 +251,64 @@ def packaged(d):
     w.Save()
 
 
+# Issue 56, item 2: a document with a material per MaterialX shading model; each image its own
+# file, with the role it should get: (material, shader category, [(file, image category and
+# type, output or None, [nodes between: (category, type, in)], shader input, role)]). The role
+# is checked against the shader's nodedef in MaterialX's standard library (a colour type is
+# colour but for PER_CHANNEL, colour-typed quantities held per channel).
+PER_CHANNEL = {("standard_surface", "subsurface_radius"),
+               ("open_pbr_surface", "subsurface_radius_scale")}
+MODELS = [
+    ("M_ss", "standard_surface", [
+        ("ss_base", ("image", "color3"), None, [], "base_color", "colour"),
+        ("ss_radius", ("image", "color3"), None, [], "subsurface_radius", "data"),
+        ("ss_bump", ("image", "float"), None, [("bump", "vector3", "height")], "normal", "data"),
+    ]),
+    ("M_op", "open_pbr_surface", [
+        ("op_base", ("image", "color3"), None, [], "base_color", "colour"),
+        ("op_scale", ("image", "color3"), None, [], "subsurface_radius_scale", "data"),
+    ]),
+    ("M_gl", "gltf_pbr", [
+        ("gl_base", ("gltf_colorimage", "multioutput"), "outcolor", [], "base_color", "colour"),
+        ("gl_base", ("gltf_colorimage", "multioutput"), "outa", [], "alpha", "alpha"),
+        ("gl_rough", ("image", "float"), None, [], "roughness", "data"),
+    ]),
+]
+
+
+def models(d):
+    """MODELS as models.mtlx, and models.json ({file: role}) for the test."""
+    import json
+    doc = mx.createDocument()
+    roles = {}
+    for name, category, images in MODELS:
+        shader = doc.addNode(category, "SR_" + name, "surfaceshader")
+        nodedef = LIBRARY.getMatchingNodeDefs(category)[0]
+        made = {}
+        for k, (file, (img_cat, img_type), output, between, inp, role) in enumerate(images):
+            if file not in made:
+                node = image(doc, "img_" + file, "tex/%s.png" % file, img_type, category=img_cat)
+                if img_type == "multioutput":
+                    node.addOutput("outcolor", "color3")
+                    node.addOutput("outa", "float")
+                made[file] = node
+            source, out_type = made[file], img_type if output is None else \
+                ("float" if output == "outa" else "color3")
+            for j, (b_cat, b_type, b_in) in enumerate(between):
+                b = doc.addNode(b_cat, "%s_%d_%d" % (name, k, j), b_type)
+                connect(b, b_in, out_type, source, output)
+                source, output, out_type = b, None, b_type
+            t = nodedef.getActiveInput(inp).getType()
+            colour = t in ("color3", "color4") and (category, inp) not in PER_CHANNEL
+            assert role == "alpha" or (role == "colour") == colour, (category, inp, t, role)
+            connect(shader, inp, t, source, output)
+            if role != "alpha":
+                roles[file] = role
+        material(doc, name, shader)
+    write(doc, os.path.join(d, "models.mtlx"))
+    with open(os.path.join(d, "models.json"), "w") as out:
+        json.dump(roles, out, sort_keys=True)
+
+
 if __name__ == "__main__":
     globals()[sys.argv[1]](sys.argv[2])

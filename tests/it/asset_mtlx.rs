@@ -64,7 +64,8 @@ fn tree(dir: &Path) -> Vec<(PathBuf, Vec<u8>)> {
     v
 }
 
-/// What MaterialX makes of an override copy: each image node's file input (value, colour
+/// What MaterialX makes of an override copy: each image node's file input (any node with a
+/// `file` input: `image`, `gltf_colorimage`…; value, colour
 /// space, the recorded originals, the file it finds from the copy's folder) and whether the
 /// document is valid against MaterialX's standard library.
 fn copy_files(python: &str, doc: &Path) -> Value {
@@ -77,7 +78,7 @@ fn copy_files(python: &str, doc: &Path) -> Value {
         d.setDataLibrary(lib)\n\
         out = {}\n\
         for e in d.traverseTree():\n\
-        \x20   if e.isA(mx.Node) and e.getCategory() == 'image':\n\
+        \x20   if e.isA(mx.Node) and e.getInput('file') is not None:\n\
         \x20       i = e.getInput('file')\n\
         \x20       v = i.getValueString()\n\
         \x20       found = os.path.join(os.path.dirname(sys.argv[1]), v)\n\
@@ -613,4 +614,65 @@ fn constructs_it_does_not_read_are_named() {
         run.stderr
     );
     assert!(!dir.path("out2/tex/brick_color_spectral.exr").exists());
+}
+
+/// Issue 56, item 2: a document with a material per MaterialX shading model (standard_surface,
+/// open_pbr_surface, gltf_pbr) and colour, data, alpha, bump and subsurface images. Each
+/// image's decision is the role tests/asset_mtlx.py checked against the shader's nodedef
+/// (MaterialX's standard library, read there on its own), and the copy points exactly the
+/// colour images at spectral files, the data images at their originals.
+#[test]
+fn every_materialx_model_s_images_take_the_role_of_their_input_s_type() {
+    let Some(python) = mtlx() else { return };
+    let dir = Scratch::new("mtlx-models");
+    script("asset_mtlx.py", ["models", dir.0.to_str().unwrap()]);
+    let roles: std::collections::BTreeMap<String, String> =
+        serde_json::from_str(&std::fs::read_to_string(dir.path("models.json")).unwrap()).unwrap();
+    std::fs::create_dir_all(dir.path("tex")).unwrap();
+    for name in roles.keys() {
+        let p = dir.path(&format!("tex/{name}.png"));
+        tool(
+            "oiiotool",
+            &[
+                "--pattern",
+                "checker",
+                "8x8",
+                "4",
+                "-d",
+                "uint8",
+                "-o",
+                p.to_str().unwrap(),
+            ],
+        );
+    }
+    let out = dir.path("out");
+    let records = asset(&python, &dir.path("models.mtlx"), &out)
+        .args(["--json"])
+        .ok()
+        .json_lines();
+    let decided: std::collections::BTreeMap<String, String> = records
+        .iter()
+        .map(|r| {
+            let file = Path::new(r["asset"]["texture"].as_str().unwrap());
+            let stem = file.file_stem().unwrap().to_string_lossy().into_owned();
+            (
+                stem,
+                r["asset"]["decision"]["kind"].as_str().unwrap().to_owned(),
+            )
+        })
+        .collect();
+    assert_eq!(decided, roles, "{records:#?}");
+    let copy = copy_files(&python, &out.join("models_spectral.mtlx"));
+    assert_eq!(copy["valid"], true, "{copy:#}");
+    let files = copy["files"].as_object().unwrap();
+    assert_eq!(files.len(), roles.len(), "{copy:#}");
+    for (node, f) in files {
+        let stem = node.trim_start_matches("img_");
+        let want = match roles[stem].as_str() {
+            "colour" => format!("./tex/{stem}_spectral.exr"),
+            _ => dir.path(&format!("tex/{stem}.png")).display().to_string(),
+        };
+        assert_eq!(f["file"], want.as_str(), "{node}: {f}");
+        assert_eq!(f["exists"], true, "{node}: {f}");
+    }
 }
