@@ -48,19 +48,20 @@ def main():
     ap.add_argument("--mtlx", action="store_true")
     a = ap.parse_args()
     with tempfile.TemporaryDirectory() as d:
-        # The program runs the MaterialX half, then usd-core's, as one script.
+        # The program runs the MaterialX half, the shader definitions, then usd-core's half,
+        # as one script (crates/asset/src/reader.rs, SCRIPT).
         reader = os.path.join(d, "reader.py")
         with open(reader, "w") as f:
-            f.write((SOURCES / "read_mtlx.py").read_text() + (SOURCES / "read_stage.py").read_text())
+            f.write("".join((SOURCES / part).read_text()
+                            for part in ("read_mtlx.py", "shader_defs.py", "read_stage.py")))
         builder, name, reference = ((DOCUMENTS, "many.mtlx", MX_REFERENCE) if a.mtlx
                                     else (STAGES, "many.usda", REFERENCE))
         code = ("import sys; sys.argv = ['', 'many', sys.argv[1]]; import runpy; "
                 "g = runpy.run_path(%r); g['many'](sys.argv[2], %d)" % (str(builder), a.prims))
         subprocess.run([sys.executable, "-c", code, d, d], check=True)
         stage = os.path.join(d, name)
-        inputs = json.dumps(["diffuseColor", "base_color"])
         ref = best([sys.executable, "-c", reference, stage], a.rounds)
-        ours = best([sys.executable, reader, "read", stage, inputs], a.rounds)
+        ours = best([sys.executable, reader, "read", stage], a.rounds)
     print(json.dumps(dict(kind="mtlx" if a.mtlx else "usd", prims=a.prims,
                           reference_s=round(ref, 3), specconv_read_s=round(ours, 3),
                           ratio=round(ours / ref, 2))))
