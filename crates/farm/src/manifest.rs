@@ -396,11 +396,6 @@ pub fn task_log(round_dir: &Path, task: usize) -> PathBuf {
     round_dir.join(format!("task-{task}.jsonl"))
 }
 
-/// `task-T.err`: the task's standard error.
-pub fn task_stderr(round_dir: &Path, task: usize) -> PathBuf {
-    round_dir.join(format!("task-{task}.err"))
-}
-
 /// A path as an sbatch filename pattern (`--output`, `--error`) that means the path itself:
 /// `%` doubled (sbatch expands `%j`, `%A`, `%a`…). sbatch drops backslashes and disables
 /// patterns where it sees one, and the script names the folder in a comment, so paths with a

@@ -660,15 +660,6 @@ impl Compact {
         best
     }
 
-    /// The texels a file stored at `precision` decodes to for the colours `xyz` (XYZ triples,
-    /// [`TEXEL`] values a texel into `texels`): each colour turned into the working space
-    /// ([`Compact::xyz_to_rgb`]), then [`Compact::texels_of_rgb`].
-    pub fn texels_of_xyz(&self, xyz: &[f32], precision: Precision, texels: &mut [f32]) -> Counts {
-        let mut rgb = xyz.to_vec();
-        self.xyz_to_rgb(&mut rgb);
-        self.texels_of_rgb(&rgb, precision, texels)
-    }
-
     /// The texels a file stored at `precision` decodes to for the colours `rgb` (triples in the
     /// working space): each stored ([`Compact::store`]) and read back ([`Compact::unstore`]),
     /// the steps `convert --layout compact` and every reader take.

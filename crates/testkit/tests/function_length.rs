@@ -12,8 +12,9 @@
 //!   without a body (ending in `;`) and a function on one line are not counted. A function
 //!   inside another counts on its own, and as lines of the one around it.
 //! - The item after a `#[cfg(test)]` line (the unit tests' module) is skipped to the `}` at its
-//!   indentation. A test module in a file of its own (`#[cfg(test)] mod tests;`) would be
-//!   scanned: the workspace has none.
+//!   indentation. A test module in a file of its own (`#[cfg(test)]` then `mod NAME;`) is not
+//!   production code either: its file (`NAME.rs` beside a `lib.rs`, `main.rs` or `mod.rs`,
+//!   else in the folder named after the declaring file) is left out whole.
 //!
 //! [`ALLOWED`] lists the functions left longer, each with why; an entry that is no longer over
 //! the limit fails the test too, so that the list only shrinks.
@@ -47,8 +48,10 @@ fn sources() -> Vec<String> {
     for dir in dirs.iter().filter(|d| d.is_dir()) {
         collect(dir, &mut files);
     }
+    let test_only: Vec<PathBuf> = files.iter().flat_map(|f| test_modules(f)).collect();
     let mut out: Vec<String> = files
         .iter()
+        .filter(|f| !test_only.contains(f))
         .map(|f| {
             f.strip_prefix(&root)
                 .unwrap()
@@ -58,6 +61,30 @@ fn sources() -> Vec<String> {
         .collect();
     out.sort();
     out
+}
+
+/// The files of the modules `file` declares only for tests (`#[cfg(test)]` then `mod NAME;`).
+fn test_modules(file: &Path) -> Vec<PathBuf> {
+    let text = std::fs::read_to_string(file).unwrap();
+    let lines: Vec<&str> = text.lines().collect();
+    let stem = file.file_stem().unwrap().to_string_lossy();
+    let dir = match stem.as_ref() {
+        "lib" | "main" | "mod" => file.parent().unwrap().to_path_buf(),
+        _ => file.with_extension(""),
+    };
+    lines
+        .windows(2)
+        .filter(|w| w[0].trim() == "#[cfg(test)]")
+        .filter_map(|w| {
+            let name = w[1].trim().strip_prefix("mod ")?.strip_suffix(';')?;
+            [
+                dir.join(format!("{name}.rs")),
+                dir.join(name).join("mod.rs"),
+            ]
+            .into_iter()
+            .find(|p| p.is_file())
+        })
+        .collect()
 }
 
 fn collect(dir: &Path, files: &mut Vec<PathBuf>) {
@@ -252,6 +279,19 @@ fn no_production_function_is_longer_than_the_limit() {
         "allowed to be long but no longer over {LIMIT} lines (or gone): take them off ALLOWED:\n{}",
         stale.join("\n")
     );
+}
+
+/// The CLI's generated-docs checks are modules of their own files, declared for tests only:
+/// not production code.
+#[test]
+fn a_test_module_in_a_file_of_its_own_is_left_out() {
+    let cli = root().join("crates/cli/src");
+    let mut found = test_modules(&cli.join("lib.rs"));
+    found.sort();
+    assert_eq!(found, [cli.join("doc_flags.rs"), cli.join("generated.rs")]);
+    let sources = sources();
+    assert!(!sources.contains(&"crates/cli/src/generated.rs".to_owned()));
+    assert!(sources.contains(&"crates/cli/src/lib.rs".to_owned()));
 }
 
 #[test]

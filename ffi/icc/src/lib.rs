@@ -76,11 +76,6 @@ impl Profile {
             .unwrap_or_else(|| "unnamed".into())
     }
 
-    /// Whether the profile describes one grey channel rather than RGB.
-    pub fn is_grey(&self) -> bool {
-        self.profile.color_space() == ColorSpaceSignature::GrayData
-    }
-
     /// A transform from the profile's RGB (or grey) to PCS XYZ (D50 white, Y = 1), relative
     /// colorimetric. It keeps the profile's Little CMS context alive, which it was made in.
     pub fn to_pcs(self) -> Result<ToPcs> {

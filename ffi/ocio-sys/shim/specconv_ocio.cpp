@@ -110,8 +110,6 @@ extern "C" {
 
 const char *specconv_ocio_last_error(void) { return last_error.c_str(); }
 
-const char *specconv_ocio_version(void) { return OCIO::GetVersion(); }
-
 const char *specconv_ocio_take_log(void) {
     try {
         route_log();

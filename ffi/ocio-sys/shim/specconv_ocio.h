@@ -49,9 +49,6 @@ typedef struct specconv_ocio_color_space {
 /* The message of the last failure on this thread ("" if none). Valid until the next call. */
 const char *specconv_ocio_last_error(void);
 
-/* The OpenColorIO version the program runs against, e.g. "2.1.2". */
-const char *specconv_ocio_version(void);
-
 /* OpenColorIO's log: from the first call into this shim on, its messages are kept here
  * instead of being printed on standard error. Returns the messages kept since the last call
  * ("" if none), each ending with a newline, and forgets them. Valid until the next call on

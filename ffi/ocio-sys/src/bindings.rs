@@ -65,9 +65,6 @@ unsafe extern "C" {
     pub fn specconv_ocio_last_error() -> *const ::std::os::raw::c_char;
 }
 unsafe extern "C" {
-    pub fn specconv_ocio_version() -> *const ::std::os::raw::c_char;
-}
-unsafe extern "C" {
     pub fn specconv_ocio_take_log() -> *const ::std::os::raw::c_char;
 }
 unsafe extern "C" {

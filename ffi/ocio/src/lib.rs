@@ -219,12 +219,6 @@ fn cstring(s: &str) -> Result<CString> {
     CString::new(s).map_err(|_| Error::Argument(format!("'{s}' contains a NUL byte")))
 }
 
-/// The runtime OpenColorIO version, e.g. "2.1.2".
-pub fn ocio_version() -> String {
-    // SAFETY: a static string from OCIO.
-    config_str(unsafe { sys::specconv_ocio_version() })
-}
-
 /// OpenColorIO's log since the last call, one message a line, without OCIO's
 /// `[OpenColorIO Warning]: ` prefixes. The shim keeps the log from its first call on, so that
 /// nothing of OCIO's reaches standard error unless the caller says it.

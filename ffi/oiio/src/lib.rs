@@ -882,10 +882,6 @@ impl ImageReader {
     }
 
     /// MIP level `level`'s size and layout, or why it does not exist.
-    pub fn level_of(&self, level: usize) -> Result<Level> {
-        self.level(level)
-    }
-
     fn level(&self, level: usize) -> Result<Level> {
         self.info
             .levels

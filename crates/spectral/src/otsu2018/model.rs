@@ -292,13 +292,6 @@ impl Model {
         Ok(())
     }
 
-    /// The leaf for a colour. Colours without a chromaticity (X+Y+Z ≤ 0, or not finite) go
-    /// to the leaf of the model's white point: the round trip still holds for them.
-    pub fn leaf_for(&self, xyz: [f64; 3], white: [f64; 2]) -> usize {
-        self.tree
-            .walk(specconv_colour::colorimetry::xy(xyz).unwrap_or(white))
-    }
-
     /// The built-in default model ([`BUILTIN`]'s first).
     pub fn builtin() -> &'static Model {
         Model::builtin_named(BUILTIN[0].name).expect("the default is built in")
