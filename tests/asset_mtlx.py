@@ -118,14 +118,17 @@ def brick(d):
 
 
 def conflict(d):
-    """One file read by two image nodes: as base_color in one material, as roughness in the
+    """One image whose colour feeds base_color in one material and, through an `extract`
+    (a node between: the copy cannot give that use the original file), roughness in the
     other; and a missing file, named by its node."""
     doc = mx.createDocument()
     a = image(doc, "shared_colour", "tex/shared.png", "color3", "srgb_texture")
     sa = doc.addNode("standard_surface", "SR_a", "surfaceshader")
     connect(sa, "base_color", "color3", a)
     material(doc, "M_a", sa)
-    b = image(doc, "shared_rough", "tex/shared.png", "float")
+    b = doc.addNode("extract", "shared_red", "float")
+    connect(b, "in", "color3", a)
+    b.setInputValue("index", 0)
     sb = doc.addNode("standard_surface", "SR_b", "surfaceshader")
     connect(sb, "specular_roughness", "float", b)
     gone = image(doc, "gone", "tex/no_such_file.png", "color3")
@@ -261,8 +264,12 @@ PER_CHANNEL = {("standard_surface", "subsurface_radius"),
 MODELS = [
     ("M_ss", "standard_surface", [
         ("ss_base", ("image", "color3"), None, [], "base_color", "colour"),
-        ("ss_radius", ("image", "color3"), None, [], "subsurface_radius", "data"),
+        # OpenChessSet's pieces: the base colour image feeds subsurface_radius too.
+        ("ss_base", ("image", "color3"), None, [], "subsurface_radius", "data"),
         ("ss_bump", ("image", "float"), None, [("bump", "vector3", "height")], "normal", "data"),
+    ]),
+    ("M_ss2", "standard_surface", [
+        ("ss_radius", ("image", "color3"), None, [], "subsurface_radius", "data"),
     ]),
     ("M_op", "open_pbr_surface", [
         ("op_base", ("image", "color3"), None, [], "base_color", "colour"),
@@ -303,7 +310,8 @@ def models(d):
             assert role == "alpha" or (role == "colour") == colour, (category, inp, t, role)
             connect(shader, inp, t, source, output)
             if role != "alpha":
-                roles[file] = role
+                # A file with a colour use is colour; its data uses keep the original.
+                roles[file] = "colour" if "colour" in (roles.get(file), role) else role
         material(doc, name, shader)
     write(doc, os.path.join(d, "models.mtlx"))
     with open(os.path.join(d, "models.json"), "w") as out:

@@ -89,7 +89,27 @@ def basic(d):
 
 
 def conflict(d):
+    """One texture node outside both materials (no render context reaches it) whose rgb feeds
+    /Looks/A's diffuseColor and /Looks/B's normal: the data use cannot keep the original file
+    beside the spectral one."""
     s = Usd.Stage.CreateNew(os.path.join(d, "conflict.usda"))
+    tex = UsdShade.Shader.Define(s, "/Textures/Tex")
+    tex.CreateIdAttr("UsdUVTexture")
+    tex.CreateInput("file", Sdf.ValueTypeNames.Asset).Set("./tex/shared.png")
+    rgb = tex.CreateOutput("rgb", Sdf.ValueTypeNames.Float3)
+    for name, inp, kind in (("A", "diffuseColor", Sdf.ValueTypeNames.Color3f),
+                            ("B", "normal", Sdf.ValueTypeNames.Normal3f)):
+        m = material(s, "/Looks/" + name, [])
+        surf = UsdShade.Shader(s.GetPrimAtPath("/Looks/%s/Surface" % name))
+        surf.CreateInput(inp, kind).ConnectToSource(rgb)
+        bind(s, "/Geo" + name, m)
+    s.Save()
+
+
+def shared(d):
+    """One file read by two texture nodes, each in its material: as /Looks/A's diffuseColor,
+    as /Looks/B's normal (the data use keeps the original file: /Looks/B is not touched)."""
+    s = Usd.Stage.CreateNew(os.path.join(d, "shared.usda"))
     a = material(s, "/Looks/A", [T("Tex", "./tex/shared.png", {"rgb": "diffuseColor"}, "sRGB")])
     b = material(s, "/Looks/B", [T("Tex", "./tex/shared.png", {"rgb": "normal"}, "raw")])
     bind(s, "/GeoA", a)
@@ -332,6 +352,13 @@ NETWORKS = [
         ("ND_image_float", ("file", "asset"), "ss_rough", ("out", FL), [], "specular_roughness",
          FL, "data"),
     ]),
+    # OpenChessSet's pieces: the base colour image feeds subsurface_radius too.
+    ("Chess", "ND_standard_surface_surfaceshader", "mtlx", "out", [
+        ("ND_image_color3", ("file", "asset"), "ch_base", ("out", C3), [], "base_color", C3,
+         "colour"),
+        ("ND_image_color3", ("file", "asset"), "ch_base", ("out", C3), [], "subsurface_radius",
+         C3, "data"),
+    ]),
     ("OpenPbr", "ND_open_pbr_surface_surfaceshader", "mtlx", "out", [
         ("ND_image_color3", ("file", "asset"), "op_base", ("out", C3), [], "base_color", C3,
          "colour"),
@@ -449,8 +476,8 @@ def networks(d):
             surf.CreateInput(inp, Sdf.ValueTypeNames.Find(inp_type)).ConnectToSource(source)
             got = expected_role(surface, inp, inp_type, role)
             if got != "alpha":
-                assert roles.get(file, got) == got, file
-                roles[file] = got
+                # A file with a colour use is colour; its data uses keep the original.
+                roles[file] = "colour" if "colour" in (roles.get(file), got) else got
         bind(s, "/Geo/" + name, m)
     s.Save()
     with open(os.path.join(d, "networks.json"), "w") as out_file:

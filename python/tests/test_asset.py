@@ -71,7 +71,7 @@ def test_convert_asset_gives_the_records_and_layer_of_the_command_line(tmp_path)
 
 def test_a_conflict_raises_naming_both_uses(tmp_path):
     build(tmp_path, "conflict")
-    with pytest.raises(specconv.InputError, match="/Looks/A/Tex.*/Looks/B/Tex"):
+    with pytest.raises(specconv.InputError, match="/Looks/A/Surface.*/Looks/B/Surface"):
         specconv.convert_asset(tmp_path / "conflict.usda", tmp_path / "out")
     records = specconv.convert_asset(tmp_path / "conflict.usda", tmp_path / "out2",
                                      errors="record")

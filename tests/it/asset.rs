@@ -381,15 +381,47 @@ fn a_conflict_names_both_uses_and_is_never_uplifted() {
     let run = asset(&python, &dir.path("conflict.usda"), &out).fails(
         1,
         &[
-            "/Looks/A/Tex",
-            "/Looks/B/Tex",
-            "diffuseColor",
-            "normal",
+            "/Looks/A/Surface.inputs:diffuseColor reads rgb of /Textures/Tex",
+            "/Looks/B/Surface.inputs:normal reads rgb of /Textures/Tex",
+            "outside its material",
             "not converted",
         ],
     );
     drop(run);
     assert!(!out.join("tex/shared_spectral.exr").exists());
+}
+
+/// One file as colour in one material and as data in another (each texture node in its
+/// material): converted; with the spectral choice /Looks/A reads the spectral file, and
+/// /Looks/B, which only reads data from it, has no spectral network and reads the original.
+#[test]
+fn one_file_as_colour_and_as_data_is_converted_and_the_data_keeps_the_original() {
+    let Some(python) = usd() else { return };
+    let dir = Scratch::new("asset-shared");
+    stage(&dir.0, "shared");
+    let out = dir.path("out");
+    let records = asset(&python, &dir.path("shared.usda"), &out)
+        .args(["--json"])
+        .ok()
+        .json_lines();
+    assert_eq!(records.len(), 1, "{records:#?}");
+    assert_eq!(records[0]["asset"]["rule"], "source-color-space");
+    assert!(
+        records[0]["asset"]["why"]
+            .as_str()
+            .unwrap()
+            .contains("its data uses keep the original file (/Looks/B/Surface.inputs:normal"),
+        "{records:#?}"
+    );
+    let view = layer_files(&python, &out.join("shared_spectral.usda"));
+    assert_eq!(
+        view["files"]["/Looks/A/Tex"]["file"],
+        "./tex/shared_spectral.exr"
+    );
+    assert_eq!(view["files"]["/Looks/B/Tex"]["file"], "./tex/shared.png");
+    assert_eq!(view["files"]["/Looks/B/Tex"]["copy"], Value::Null);
+    // No spectral network: the render context falls back to the universal one.
+    assert_eq!(view["contexts"]["/Looks/B"], "/Looks/B/Surface", "{view:#}");
 }
 
 #[test]
@@ -423,6 +455,15 @@ fn a_usdz_package_is_read_and_its_textures_copied_out_inside_dir() {
     let dir = Scratch::new("asset-usdz");
     stage(&dir.0, "package");
     let out = dir.path("out");
+    // A dry run on a package decides its textures and writes nothing: no DIR, no record
+    // (it once failed for want of DIR/.specconv-asset.json; found on usd-wg/assets).
+    let dry = asset(&python, &dir.path("packed.usdz"), &out)
+        .args(["--dry-run", "--json"])
+        .ok()
+        .json_lines();
+    assert_eq!(dry.len(), 1, "{dry:#?}");
+    assert_eq!(dry[0]["rule"], "source-color-space", "{dry:#?}");
+    assert!(!out.exists());
     let records = asset(&python, &dir.path("packed.usdz"), &out)
         .arg("--json")
         .ok()
@@ -880,7 +921,24 @@ fn every_shading_model_s_textures_take_the_role_of_their_input_s_type() {
     // With no choice made, every file input is the stage's own (checked in layer_files).
     let view = layer_files(&python, &layer);
     let files = view["files"].as_object().unwrap();
-    assert_eq!(files.len(), 26, "{view:#}");
+    assert_eq!(files.len(), 27, "{view:#}");
+    // ch_base also feeds subsurface_radius (data): in the spectral network that input stays
+    // connected to the original node, which reads the original file.
+    let code = "import sys\nfrom pxr import Usd\ns = Usd.Stage.Open(sys.argv[1])\n\
+                p = s.GetPrimAtPath('/Looks/Chess/Surface_spectral')\n\
+                for n in ('base_color', 'subsurface_radius'):\n\
+                \x20   print(n, p.GetAttribute('inputs:' + n).GetConnections()[0])\n";
+    let got = std::process::Command::new(&python)
+        .args(["-c", code, layer.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert_eq!(
+        String::from_utf8_lossy(&got.stdout),
+        "base_color /Looks/Chess/T_ch_base_spectral.outputs:out\n\
+         subsurface_radius /Looks/Chess/T_ch_base.outputs:out\n",
+        "{}",
+        String::from_utf8_lossy(&got.stderr)
+    );
     for (node, f) in files {
         let file = f["file"].as_str().unwrap();
         let stem = file.trim_start_matches("./tex/").trim_end_matches(".png");

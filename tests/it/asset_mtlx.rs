@@ -371,7 +371,7 @@ fn a_materialx_conflict_and_a_missing_image_name_their_nodes() {
         1,
         &[
             "shared_colour",
-            "shared_rough",
+            "it runs through shared_red",
             "base_color",
             "specular_roughness",
             "not converted",
@@ -665,14 +665,38 @@ fn every_materialx_model_s_images_take_the_role_of_their_input_s_type() {
     let copy = copy_files(&python, &out.join("models_spectral.mtlx"));
     assert_eq!(copy["valid"], true, "{copy:#}");
     let files = copy["files"].as_object().unwrap();
-    assert_eq!(files.len(), roles.len(), "{copy:#}");
+    // ss_base also feeds subsurface_radius (data): the copy adds img_ss_base_original, which
+    // keeps the original file, for that input.
+    assert_eq!(files.len(), roles.len() + 1, "{copy:#}");
     for (node, f) in files {
         let stem = node.trim_start_matches("img_");
+        let (stem, kept) = match stem.strip_suffix("_original") {
+            Some(s) => (s, true),
+            None => (stem, false),
+        };
         let want = match roles[stem].as_str() {
-            "colour" => format!("./tex/{stem}_spectral.exr"),
+            "colour" if !kept => format!("./tex/{stem}_spectral.exr"),
             _ => dir.path(&format!("tex/{stem}.png")).display().to_string(),
         };
         assert_eq!(f["file"], want.as_str(), "{node}: {f}");
         assert_eq!(f["exists"], true, "{node}: {f}");
     }
+    let code = "import sys\nimport MaterialX as mx\nd = mx.createDocument()\n\
+                mx.readFromXmlFile(d, sys.argv[1])\nsr = d.getNode('SR_M_ss')\n\
+                for n in ('base_color', 'subsurface_radius'):\n\
+                \x20   print(n, sr.getInput(n).getNodeName())\n";
+    let got = std::process::Command::new(&python)
+        .args([
+            "-c",
+            code,
+            out.join("models_spectral.mtlx").to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    assert_eq!(
+        String::from_utf8_lossy(&got.stdout),
+        "base_color img_ss_base\nsubsurface_radius img_ss_base_original\n",
+        "{}",
+        String::from_utf8_lossy(&got.stderr)
+    );
 }

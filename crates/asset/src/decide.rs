@@ -180,6 +180,9 @@ pub struct Texture {
     pub decision: Decision,
 }
 
+/// A use with the node it is a use of.
+type Said<'a> = (&'a Node, &'a Use);
+
 /// What one use says.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Says {
@@ -207,6 +210,16 @@ fn says(u: &Use) -> Says {
         Some(t) if COLOUR_TYPES.contains(&t) && per_channel(&u.input).is_none() => Says::Colour,
         Some(_) => Says::Data,
     }
+}
+
+/// Whether a use takes data by its type (its file keeps the original for it).
+pub fn takes_data(u: &Use) -> bool {
+    says(u) == Says::Data
+}
+
+/// Whether a use takes colour by its type.
+pub fn takes_colour(u: &Use) -> bool {
+    says(u) == Says::Colour
 }
 
 /// A use's type, in words: ` (color3 in MaterialX's ND_standard_surface_surfaceshader)`; a
@@ -284,19 +297,28 @@ pub fn decide(nodes: &[Node]) -> Decision {
             }
         }
     }
-    if let (Some(c), Some(d)) = (colour.first(), data.first()) {
+    // Colour wins where each data use can keep reading the original file in the spectral
+    // choice (docs/assets.md, "Colour and data from one file"); a data use of a node that
+    // also feeds colour and cannot is a conflict.
+    let same = |a: &Node, b: &Node| a.node == b.node && a.document == b.document;
+    let blocked = data
+        .iter()
+        .find(|(n, u)| u.inseparable.is_some() && colour.iter().any(|(c, _)| same(c, n)));
+    if let (Some(c), Some(&(n, d))) = (colour.first(), blocked) {
         return Decision::Conflict {
             why: format!(
-                "colour in one use and data in another: {}{} (colour), {}{} (data)",
+                "colour in one use and data in another, and the data use cannot keep the \
+                 original file beside the spectral one ({}): {}{} (colour), {}{} (data)",
+                d.inseparable.as_deref().unwrap_or_default(),
                 describe(c.0, c.1),
                 typed(c.1),
-                describe(d.0, d.1),
-                typed(d.1),
+                describe(n, d),
+                typed(d),
             ),
         };
     }
     if let Some(&(first, u)) = colour.first() {
-        return colour_decision(&colour, first, u, &alpha);
+        return colour_decision(&colour, first, u, (&alpha, &data));
     }
     if let Some(&(n, u)) = data.first() {
         let more = match data.len() {
@@ -334,7 +356,7 @@ fn colour_decision(
     colour: &[(&Node, &Use)],
     first: &Node,
     u: &Use,
-    alpha: &[(&Node, &Use)],
+    (alpha, data): (&[Said], &[Said]),
 ) -> Decision {
     let mut space = Space::File;
     let mut by: Option<&Node> = None;
@@ -359,10 +381,21 @@ fn colour_decision(
             }
         }
     }
-    let with_alpha = match alpha.first() {
+    let mut with_alpha = match alpha.first() {
         Some(&(n, a)) => format!(", with alpha ({})", describe(n, a)),
         None => String::new(),
     };
+    if let Some(&(n, d)) = data.first() {
+        let more = match data.len() {
+            1 => String::new(),
+            k => format!(" and {} more", k - 1),
+        };
+        with_alpha += &format!(
+            "; its data uses keep the original file ({}{}{more})",
+            describe(n, d),
+            typed(d)
+        );
+    }
     let rule = match &space {
         Space::File => "colour-input",
         Space::Srgb | Space::Linear => "source-color-space",
@@ -431,6 +464,7 @@ mod tests {
                     defined_by: Some("usd-core's Sdr UsdPreviewSurface".into()),
                     output: (*output).into(),
                     through: vec![],
+                    inseparable: None,
                     cut: false,
                 })
                 .collect(),
@@ -472,7 +506,8 @@ mod tests {
     }
 
     /// Issue 56, item 2: a base colour image that also feeds `subsurface_radius` (color3 in
-    /// standard_surface's nodedef, a distance) is a conflict naming the radius as data.
+    /// standard_surface's nodedef, a distance: OpenChessSet's pieces) is colour, the radius a
+    /// data use that keeps the original file; where it could not, a conflict naming it.
     #[test]
     fn a_colour_typed_radius_is_data() {
         let mut n = node(
@@ -485,13 +520,21 @@ mod tests {
             u.defined_by = Some("MaterialX's ND_standard_surface_surfaceshader".into());
         }
         let d = decide(&[n.clone()]);
-        assert_eq!(d.rule(), "conflict");
+        assert_eq!(d.rule(), "colour-input", "{d:?}");
         assert!(
             d.why().contains(
-                "subsurface_radius reads out of /M/T (color3 in MaterialX's \
-                 ND_standard_surface_surfaceshader, but a distance per channel, not a colour) \
-                 (data)"
+                "its data uses keep the original file (/M/Surface.inputs:subsurface_radius \
+                 reads out of /M/T (color3 in MaterialX's ND_standard_surface_surfaceshader, \
+                 but a distance per channel, not a colour))"
             ),
+            "{}",
+            d.why()
+        );
+        n.uses[1].inseparable = Some("it runs through /M/Between".into());
+        let d = decide(&[n.clone()]);
+        assert_eq!(d.rule(), "conflict");
+        assert!(
+            d.why().contains("(it runs through /M/Between)"),
             "{}",
             d.why()
         );
@@ -552,14 +595,25 @@ mod tests {
         assert_eq!(decide(&[alpha]).rule(), "alpha-only");
     }
 
+    /// One file as colour in one node and data in another: colour, the data node untouched.
+    /// One node feeding both where the data use cannot keep the file: a conflict naming both.
     #[test]
-    fn colour_and_data_uses_of_one_file_are_a_conflict_naming_both() {
+    fn colour_and_data_uses_of_one_file_are_a_conflict_only_where_data_cannot_keep_it() {
         let a = node("/A/Tex", Some("sRGB"), &[("rgb", "diffuseColor")]);
         let b = node("/B/Tex", Some("raw"), &[("rgb", "normal")]);
         let d = decide(&[a.clone(), b]);
+        assert_eq!(d.rule(), "source-color-space", "{d:?}");
+        assert!(d.why().contains("keep the original file"), "{}", d.why());
+        let mut both = node(
+            "/T/Tex",
+            None,
+            &[("rgb", "diffuseColor"), ("rgb", "normal")],
+        );
+        both.uses[1].inseparable = Some("the texture node /T/Tex is outside its material".into());
+        let d = decide(&[both]);
         assert_eq!(d.rule(), "conflict");
         assert!(
-            d.why().contains("/A/Tex") && d.why().contains("/B/Tex"),
+            d.why().contains("diffuseColor") && d.why().contains("outside its material"),
             "{}",
             d.why()
         );

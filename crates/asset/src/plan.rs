@@ -1,7 +1,7 @@
 //! An asset's plan: each texture file once, what it is, where its output goes under DIR, the
 //! colour space its conversion is given, and the layer that points the stage at the outputs.
 
-use crate::decide::{decide, materialx_space, Decision, Space, Texture};
+use crate::decide::{decide, materialx_space, takes_colour, takes_data, Decision, Space, Texture};
 use crate::stage::{MtlxReference, Node, Stage};
 use crate::Error;
 use serde::Serialize;
@@ -134,6 +134,10 @@ pub struct Override {
     pub original_resolved: Option<PathBuf>,
     /// The node's input that names the file (`file`, `filename`).
     pub file_input: String,
+    /// The node's data uses: in the spectral choice, each still reads the original file (the
+    /// USD copy's input connected to the original network; in a MaterialX copy, to a copy of
+    /// the image that keeps it).
+    pub keep: Vec<Kept>,
     /// How the copy reads the spectral file as written (`sourceColorSpace` `raw` for a
     /// UsdUVTexture): the spectra are linear ([`crate::stage::Node::raw_input`]).
     pub raw_input: Option<serde_json::Value>,
@@ -141,6 +145,16 @@ pub struct Override {
     /// it to `raw` (the spectral file is read as written, like `sourceColorSpace` `raw`) and
     /// records this one.
     pub original_colorspace: Option<String>,
+}
+
+/// A data use that keeps the original file: the input `input` of the shader `shader` (a prim
+/// path, or a MaterialX element's name path).
+#[derive(Debug, Clone, Serialize)]
+pub struct Kept {
+    /// The shader.
+    pub shader: String,
+    /// Its input.
+    pub input: String,
 }
 
 /// Where the packaged textures of `stage` are copied out to, under `dir`.
@@ -301,7 +315,21 @@ impl Asset {
             };
             let rel = output.strip_prefix(&self.dir).unwrap_or(output);
             for n in &t.texture.nodes {
+                // A node that only feeds data keeps its file: its material is not touched.
+                if !n.uses.iter().any(takes_colour) && n.uses.iter().any(takes_data) {
+                    continue;
+                }
+                let keep = n
+                    .uses
+                    .iter()
+                    .filter(|u| takes_data(u))
+                    .map(|u| Kept {
+                        shader: u.shader.clone(),
+                        input: u.input.clone(),
+                    })
+                    .collect();
                 let o = Override {
+                    keep,
                     node: n.node.clone(),
                     file: format!("./{}", rel.to_string_lossy()),
                     original: n.authored.clone(),

@@ -223,12 +223,25 @@ def mtlx_final_uses(edges, ports, start, max_depth):
             if not onward:
                 uses.append(dict(shader=cpath, shader_id=consumer.getCategory(), input=name,
                                  through=through, channel=channel,
+                                 inseparable=inseparable(consumer, name, through),
                                  **typed(definition, name)))
                 continue
             for p in onward:
                 took = channel or channel_of(consumer, name, p[1])
                 todo.append((p, through + [cpath], took))
     return uses
+
+
+def inseparable(consumer, name, through):
+    """Why the copy of the document could not point this use at a copy of its image that
+    keeps the original file (None: it can): only an input wired straight to the image, by
+    `nodename` or a node graph's output, is re-pointed."""
+    if through:
+        return "it runs through %s" % ", ".join(through)
+    inp = consumer.getInput(name)
+    if inp is None or not (inp.getAttribute("nodename") or inp.getAttribute("nodegraph")):
+        return "%s.%s reaches it through an interface input" % (consumer.getNamePath(), name)
+    return None
 
 
 def index_edges(edges):
@@ -307,6 +320,35 @@ def flatten_files(mx, doc, root_dir):
         doc.removeAttribute("fileprefix")
 
 
+def keep_original(mx, doc, node, keep):
+    """The data uses `keep` (shader, input) of the image `node`, which is about to read its
+    spectral file, pointed at a copy of it that keeps the original file: `NAME_original`
+    beside it, reached by `nodename` or by a new output `OUT_original` of its node graph (the
+    reader only lets a use through that is wired so, `inseparable`)."""
+    if not keep:
+        return
+    parent = node.getParent()
+    name = parent.createValidChildName(node.getName() + "_original")
+    copy = parent.addNode(node.getCategory(), name, node.getType())
+    copy.copyContentFrom(node)
+    for k in keep:
+        shader = doc.getDescendant(k["shader"])
+        inp = shader.getInput(k["input"]) if shader is not None else None
+        if inp is None:
+            raise MtlxError("mtlx", "no input %s.%s to keep" % (k["shader"], k["input"]))
+        if inp.getAttribute("nodename"):
+            inp.setNodeName(name)
+            continue
+        graph = doc.getNodeGraph(inp.getAttribute("nodegraph"))
+        outs = graph.getOutputs()
+        out = graph.getOutput(inp.getOutputString()) if inp.getOutputString() else outs[0]
+        kept = graph.getOutput(out.getName() + "_original") or \
+            graph.addOutput(graph.createValidChildName(out.getName() + "_original"),
+                            out.getType())
+        kept.setNodeName(name)
+        inp.setOutputString(kept.getName())
+
+
 def document_text(source, overrides):
     """The override document of `source`: a copy, XIncludes written in, every filename
     absolute, and each override's file input pointed at its spectral file (relative to the
@@ -322,6 +364,7 @@ def document_text(source, overrides):
         inp = file_input(node) if node is not None and node.isA(mx.Node) else None
         if inp is None:
             raise MtlxError("mtlx", "%s has no node %s with a file input" % (source, o["node"]))
+        keep_original(mx, doc, node, o.get("keep", []))
         if inp.hasAttribute("interfacename"):
             inp.removeAttribute("interfacename")
         inp.setValueString(o["file"])

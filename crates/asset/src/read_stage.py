@@ -326,10 +326,15 @@ def read(stage_path, extract_dir, replaceable=()):
                 files = [f for f in files if f["authored"]]
             if not files:
                 continue
+            # A node inside its material gets a copy in the spectral network, where a data use
+            # can keep reading the original node; one outside gets a direct override.
+            inseparable = None if path.startswith(mpath + "/") else \
+                "the texture node %s is outside its material %s" % (path, mpath)
             uses = []
             for output in UsdShade.Shader(prim).GetOutputs():
                 for use in final_uses(edges, (path, output.GetBaseName()), UsdShade):
-                    uses.append(dict(use, material=mpath, output=output.GetBaseName()))
+                    uses.append(dict(use, material=mpath, output=output.GetBaseName(),
+                                     inseparable=inseparable))
             for f in files:
                 entry = dict(node=path, node_id=sid, package=None, uses=uses,
                              raw_input=RAW_INPUTS.get(sid), **declared_space(prim, sid, f),
@@ -490,9 +495,12 @@ def copy_network(out, material, overrides, Sdf, Usd, UsdShade):
         u = unit(path.GetPrimPath())
         return path.ReplacePrefix(u, renamed[u]) if u in renamed else path
 
+    # A data use of a converted texture keeps its input connected to the original network,
+    # which reads the original file.
+    kept = {(k["shader"], "inputs:" + k["input"]) for o in overrides for k in o["keep"]}
     for u in sorted(tainted):
         for prim in Usd.PrimRange(material.GetStage().GetPrimAtPath(u)):
-            copy_prim(out, prim, mapped, Sdf)
+            copy_prim(out, prim, mapped, Sdf, kept)
     for o in overrides:
         spec = out.GetPrimAtPath(mapped(Sdf.Path(o["node"])))
         set_spectral_file(spec, o, Sdf)
@@ -517,10 +525,10 @@ def copy_network(out, material, overrides, Sdf, Usd, UsdShade):
         attr.connectionPathList.explicitItems = copies
 
 
-def copy_prim(out, prim, mapped, Sdf):
+def copy_prim(out, prim, mapped, Sdf, kept):
     """The composed prim `prim` as a new prim at its mapped path: its type, applied schemas,
-    and every authored attribute's value and connections (mapped), a record of what it
-    copies."""
+    and every authored attribute's value and connections (mapped, but those of the inputs
+    `kept` names, which stay on the original network), a record of what it copies."""
     spec = Sdf.CreatePrimInLayer(out, mapped(prim.GetPath()))
     spec.specifier = Sdf.SpecifierDef
     spec.typeName = prim.GetTypeName()
@@ -538,7 +546,8 @@ def copy_prim(out, prim, mapped, Sdf):
         if attr.HasColorSpace():
             a.SetInfo("colorSpace", attr.GetColorSpace())
         if connections:
-            a.connectionPathList.explicitItems = [mapped(t) for t in connections]
+            keep = (str(prim.GetPath()), attr.GetName()) in kept
+            a.connectionPathList.explicitItems = [t if keep else mapped(t) for t in connections]
 
 
 VARIANT_SET = "spectralTextures"

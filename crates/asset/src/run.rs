@@ -48,7 +48,8 @@ pub fn prepare(
         .filter(|t| t.package.is_some())
         .filter_map(|t| t.resolved.clone())
         .collect();
-    if !copied.is_empty() {
+    // A dry run copies nothing out, and writes no record.
+    if !dry_run && !copied.is_empty() {
         record::stamp(&dir, &copied)?;
     }
     let config =

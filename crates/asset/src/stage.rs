@@ -134,6 +134,11 @@ pub struct Use {
     pub output: String,
     /// The nodes between (a normal-map node), in order.
     pub through: Vec<String>,
+    /// Why this use could not keep reading the original file while the node's colour uses
+    /// read the spectral one (a USD texture node outside its material, which no render
+    /// context reaches; a MaterialX use through nodes between); `None`: it can.
+    #[serde(default)]
+    pub inseparable: Option<String>,
     /// The reader's walk gave up at `shader` after this many nodes between (a chain past its
     /// depth): what the texture feeds there is not known.
     #[serde(default)]
