@@ -429,8 +429,10 @@ fn a_missing_texture_names_the_prim_that_reads_it() {
     let Some(python) = usd() else { return };
     let dir = Scratch::new("asset-missing");
     stage(&dir.0, "missing");
+    // Where it was looked for too (the layer's folder).
+    let at = format!("(looked for at {})", dir.path("tex/gone.png").display());
     asset(&python, &dir.path("missing.usda"), &dir.path("out"))
-        .fails(1, &["/Looks/M/Gone", "gone.png", "does not exist"]);
+        .fails(1, &["/Looks/M/Gone", "gone.png", &at, "does not exist"]);
 }
 
 #[test]

@@ -380,7 +380,17 @@ fn a_materialx_conflict_and_a_missing_image_name_their_nodes() {
     assert!(!out.join("tex/shared_spectral.exr").exists());
     asset(&python, &dir.path("conflict.mtlx"), &dir.path("out2"))
         .args(["--dry-run"])
-        .fails(1, &["gone", "no_such_file.png", "does not exist"]);
+        .fails(
+            1,
+            &[
+                "gone",
+                &format!(
+                    "(looked for at {})",
+                    dir.path("tex/no_such_file.png").display()
+                ),
+                "does not exist",
+            ],
+        );
 }
 
 #[test]

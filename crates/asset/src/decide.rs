@@ -444,6 +444,7 @@ mod tests {
         Node {
             file_input: "file".into(),
             raw_input: None,
+            looked_for: None,
             node: path.into(),
             node_id: Some("UsdUVTexture".into()),
             source_color_space: scs.map(Into::into),

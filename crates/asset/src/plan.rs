@@ -446,8 +446,13 @@ fn planned(
                 n.node
             )
         } else {
+            let at = n
+                .looked_for
+                .as_ref()
+                .map(|p| format!(" (looked for at {})", p.display()))
+                .unwrap_or_default();
             format!(
-                "the texture '{authored}' that {} reads does not exist{}",
+                "the texture '{authored}'{at} that {} reads does not exist{}",
                 n.node,
                 n.layer
                     .as_ref()
@@ -797,6 +802,7 @@ mod tests {
             node_id: Some("ND_image_color3".into()),
             file_input: "file".into(),
             raw_input: None,
+            looked_for: None,
             source_color_space: None,
             colorspace: Some("srgb_texture".into()),
             authored: Some("tex/a.png".into()),

@@ -156,7 +156,7 @@ def mtlx_file(mx, node, root_dir):
     colour = node.getType() in ("color3", "color4", "multioutput")
     return dict(authored=authored, resolved=resolved, file_input=inp.getName(),
                 colorspace=(holder.getActiveColorSpace() or None) if colour else None,
-                layer=source)
+                layer=source, looked_for=anchored)
 
 
 def channel_of(consumer, via, output):

@@ -224,9 +224,11 @@ def file_of(prim, name, UsdShade, Sdf):
         # A UDIM pattern names no one file: anchored to its layer as the tiles are.
         anchored = layer.ComputeAbsolutePath(authored)
         resolved = anchored if os.path.isabs(anchored) else None
+    looked_for = layer.ComputeAbsolutePath(authored) if layer is not None and authored \
+        else None
     return dict(authored=authored, resolved=resolved,
                 colorspace=attr.GetColorSpace() or None, file_input=name,
-                layer=layer.realPath if layer is not None else None)
+                layer=layer.realPath if layer is not None else None, looked_for=looked_for)
 
 
 def declared_space(prim, sid, f):

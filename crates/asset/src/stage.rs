@@ -93,6 +93,10 @@ pub struct Node {
     pub resolved: Option<PathBuf>,
     /// The layer that wrote `inputs:file`.
     pub layer: Option<PathBuf>,
+    /// Where the file was looked for (anchored to its layer or document, with MaterialX's
+    /// `fileprefix`), said when it is missing.
+    #[serde(default)]
+    pub looked_for: Option<PathBuf>,
     /// The usdz package the file is in, if it is in one.
     pub package: Option<Package>,
     /// Which of its outputs feeds which input.
