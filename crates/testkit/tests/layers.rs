@@ -51,6 +51,30 @@ fn root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
 }
 
+/// docs/architecture.md draws the layers (`layer N: a, b — what`, top first, the crates
+/// without `specconv-`): the drawing is this list, so that the two cannot drift.
+#[test]
+fn the_architecture_s_layers_are_the_checked_ones() {
+    let doc = std::fs::read_to_string(root().join("docs/architecture.md")).unwrap();
+    let mut drawn: Vec<(usize, Vec<String>)> = doc
+        .lines()
+        .filter_map(|l| {
+            let (n, rest) = l.trim().strip_prefix("layer ")?.split_once(':')?;
+            let crates = rest.split(" — ").next()?;
+            let names = crates.split(',').map(|c| c.trim().to_owned()).collect();
+            Some((n.parse().ok()?, names))
+        })
+        .collect();
+    drawn.sort();
+    let short = |c: &str| c.strip_prefix("specconv-").unwrap_or(c).to_owned();
+    let listed: Vec<(usize, Vec<String>)> = LAYERS
+        .iter()
+        .enumerate()
+        .map(|(k, l)| (k, l.iter().map(|c| short(c)).collect()))
+        .collect();
+    assert_eq!(drawn, listed);
+}
+
 fn layer(name: &str) -> Option<usize> {
     LAYERS.iter().position(|l| l.contains(&name))
 }
