@@ -585,6 +585,27 @@ written for it and the exit status is 1, for farms that gate on warnings";
 mod tests {
     use super::*;
 
+    /// The help names the built-in models as they are listed, the first as the default
+    /// (issue 58: a help text once named a model that does not exist).
+    #[test]
+    fn the_model_help_names_every_built_in_model() {
+        use specconv_spectral::otsu2018::model::BUILTIN;
+        let help = definition(Key::Model).help;
+        for b in BUILTIN {
+            assert!(help.contains(b.name), "{}: {help}", b.name);
+        }
+        assert!(
+            help.contains(&format!("{}, the default", BUILTIN[0].name)),
+            "{help}"
+        );
+        // The models it says are partly non-commercial are those whose summary says so.
+        let (_, after) = help.split_once("open. ").expect("the default named");
+        for b in BUILTIN {
+            let restricted = b.summary.contains("non-commercial");
+            assert_eq!(after.contains(b.name), restricted, "{}: {help}", b.name);
+        }
+    }
+
     #[test]
     fn each_option_has_its_definition_in_order() {
         for (i, key) in Key::ALL.into_iter().enumerate() {

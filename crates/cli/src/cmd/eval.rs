@@ -3,6 +3,7 @@
 use crate::{files, methods};
 use anyhow::Result;
 use specconv_spectral::method::MethodName;
+use specconv_spectral::otsu2018::model::BUILTIN;
 use specconv_spectral::{Model, TrainOptions};
 use specconv_study::eval;
 use std::path::PathBuf;
@@ -44,9 +45,7 @@ pub struct Args {
     /// meng2015-bounded (values kept in [0, 1] where possible) or jakob2019.
     #[arg(long, value_name = "NAME", default_value = "otsu2018")]
     method: MethodName,
-    /// A built-in model by name (default, paper, open) or a model file from `specconv train`;
-    /// the built-in default when absent.
-    #[arg(long, value_name = "NAME|MODEL", conflicts_with = "train")]
+    #[arg(long, value_name = "NAME|MODEL", conflicts_with = "train", help = model_help())]
     model: Option<PathBuf>,
     /// Train the clustered model here on these spectra (CSV) instead of reading one.
     #[arg(long, value_name = "CSV")]
@@ -245,6 +244,19 @@ impl Args {
 
 /// The clustered methods' model: read (or built in), or trained here on --train; and how
 /// the report names it.
+/// `--model`'s help, the built-in models named from their list (issue 58: it once named a
+/// model that does not exist).
+fn model_help() -> String {
+    let names: Vec<&str> = BUILTIN.iter().map(|b| b.name).collect();
+    format!(
+        "A built-in model by name ({}: `specconv models` lists them) or a model file from \
+         `specconv train`; when absent, the site default ${}, else {}",
+        names.join(", "),
+        specconv_conversion::models::MODEL_ENV,
+        names[0]
+    )
+}
+
 fn model(args: &Args) -> Result<(Model, String)> {
     let base = files::load_model(args.model.as_deref())?;
     if args.train.is_empty() || !args.method.is_clustered() {
