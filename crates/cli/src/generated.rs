@@ -63,9 +63,11 @@ pub fn guide_table() -> String {
             .iter()
             .map(|f| format!("`{}`", spelt(key, f)))
             .collect();
-        let mut meaning = about.help.to_string();
+        // A flag's own help is a sentence of its own after the option's.
+        let mut meaning = about.help.trim_end_matches('.').to_string();
         for flag in about.flags.iter().filter(|f| f.help.is_some()) {
-            meaning += &format!(" `--{}`: {}", flag.long, flag.help.unwrap_or_default());
+            let help = flag.help.unwrap_or_default().trim_end_matches('.');
+            meaning += &format!(". `--{}`: {help}", flag.long);
         }
         let default = default_text(key);
         out += &format!(
@@ -88,8 +90,11 @@ pub fn guide_table() -> String {
             Some(s) => format!("-{s}/--{long}"),
             None => format!("--{long}"),
         };
-        for value in arg.get_value_names().unwrap_or_default() {
-            names += &format!(" {value}");
+        // A switch takes no value (clap still gives it a value name).
+        if arg.get_action().takes_values() {
+            for value in arg.get_value_names().unwrap_or_default() {
+                names += &format!(" {value}");
+            }
         }
         let default: Vec<String> = arg
             .get_default_values()
@@ -231,6 +236,53 @@ mod tests {
             replaced(&text, "new\n"),
             format!("a\n<!-- {BEGIN} -->\nnew\n<!-- {END} -->\nb\n")
         );
+    }
+
+    /// The guide as written, read back: every switch of `convert` (an argument that takes
+    /// no value) is shown without a value name (the guide once showed `-u/--update UPDATE`
+    /// and `--json JSON`), every argument that takes one with it.
+    #[test]
+    fn the_guide_shows_switches_without_values() {
+        let root = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."));
+        let guide = std::fs::read_to_string(root.join("docs/guide.md")).unwrap();
+        let cells: Vec<String> = guide
+            .lines()
+            .filter(|l| l.starts_with("| `-"))
+            .flat_map(|l| {
+                let first = l
+                    .split(" | ")
+                    .next()
+                    .unwrap_or_default()
+                    .trim_start_matches("| ");
+                first
+                    .split(", ")
+                    .map(|c| c.trim_matches('`').to_owned())
+                    .collect::<Vec<_>>()
+            })
+            .collect();
+        let mut checked = 0;
+        for arg in convert().get_arguments() {
+            let Some(long) = arg.get_long() else { continue };
+            if long == "help" || arg.is_hide_set() {
+                continue;
+            }
+            let name = format!("--{long}");
+            let Some(cell) = cells
+                .iter()
+                .find(|c| c.split([' ', '[']).next().unwrap().ends_with(&name))
+            else {
+                panic!("{name} is not in the guide's table");
+            };
+            let shows_value = cell.contains(' ') || cell.contains("[=");
+            assert_eq!(
+                shows_value,
+                arg.get_action().takes_values(),
+                "{cell}: {name} takes values: {}",
+                arg.get_action().takes_values()
+            );
+            checked += 1;
+        }
+        assert!(checked > 40, "{checked} arguments checked");
     }
 
     /// The defaults that depend on another option say so (the guide once said `nearest`).
