@@ -343,4 +343,36 @@ mod tests {
             specconv_spectral::stack::ExactUnder::BandSums
         );
     }
+
+    /// The colorimetry flags' defaults and the help's words for the built-in model's setting
+    /// are the built-in model's own (issue 58: they are written as literals for clap).
+    #[test]
+    fn the_colorimetry_defaults_are_the_built_in_model_s_setting() {
+        use clap::{CommandFactory, FromArgMatches, Parser};
+        #[derive(Parser)]
+        struct Fixed {
+            #[command(flatten)]
+            c: ColorimetryArgs,
+        }
+        #[derive(Parser)]
+        struct WithModel {
+            #[command(flatten)]
+            s: SettingArgs,
+        }
+        let m = Model::builtin();
+        let fixed = Fixed::from_arg_matches(&Fixed::command().get_matches_from(["x"])).unwrap();
+        assert_eq!(
+            (fixed.c.observer, fixed.c.illuminant, fixed.c.bands),
+            (m.observer, m.illuminant, m.grid)
+        );
+        let help = WithModel::command().render_long_help().to_string();
+        for (words, value) in [
+            ("cie1931 for the built-in one", m.observer.to_string()),
+            ("D65 for the built-in one", m.illuminant.to_string()),
+            ("380:730:10 for the built-in", m.grid.to_string()),
+        ] {
+            assert!(help.contains(words), "{words}: {help}");
+            assert!(words.starts_with(&value), "{words} is not {value}");
+        }
+    }
 }
