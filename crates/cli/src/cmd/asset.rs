@@ -28,21 +28,26 @@ Examples:
 ///
 /// Opens STAGE (.usda, .usdc, .usd, .usdz) with Pixar's usd-core, composed (references,
 /// payloads, the selected variants, usdz packages), and finds every texture a bound material
-/// reads (UsdUVTexture, MaterialX image nodes). A MaterialX document (.mtlx), given as STAGE or
-/// referenced from the stage, is read with the MaterialX package (XIncludes, node graphs,
-/// fileprefix, colorspace as MaterialX inherits it); every material of a document given alone
-/// is read, and its copy DIR/STEM_spectral.mtlx takes the layer's place. The material decides
-/// what each file is: one
-/// whose colour channels feed a colour input (diffuseColor, emissiveColor, base_color …) is
-/// colour, in the space its sourceColorSpace (sRGB; raw: linear) or MaterialX colorspace
-/// names, else the file's own evidence; one that feeds data inputs (roughness, metallic,
-/// normal, occlusion, opacity, displacement …) is data, skipped or copied as --data says; one
-/// that feeds both is a conflict, named and not converted. Outputs go under DIR (the texture's
+/// reads (a node whose definition has a file input: UsdUVTexture, MaterialX image nodes,
+/// Arnold's image, RenderMan's PxrTexture, PxrMultiTexture, PxrNormalMap, PxrBump). A
+/// MaterialX document (.mtlx), given as STAGE or referenced from the stage, is read with the
+/// MaterialX package (XIncludes, node graphs, fileprefix, colorspace as MaterialX inherits
+/// it); every material of a document given alone is read, and its copy DIR/STEM_spectral.mtlx
+/// takes the layer's place. The material decides what each file is, by the type each input it
+/// feeds has in its shader's definition (usd-core's Sdr, MaterialX's nodedefs, the Arnold and
+/// RenderMan tables): a colour type (diffuseColor, base_color …) makes it colour, in the space
+/// its node declares (sourceColorSpace, MaterialX colorspace, Arnold color_space, PxrTexture
+/// linearize), else the file's own evidence; any other type (roughness, normal …, and
+/// colour-typed quantities held per channel, such as subsurface_radius) data, skipped or
+/// copied as --data says; a file that feeds both is colour where each data use can keep the
+/// original file, else a conflict, named and not converted. A shader with no known definition
+/// that reads a file is reported (--strict: a failure). Outputs go under DIR (the texture's
 /// folder below the stage's, or external/HASH for one outside it), with DIR/STEM_spectral.usda:
 /// a layer over the stage that gives each material reading a colour texture a copy of its
 /// network reading the spectral files, behind UsdShade's render context `spectral`
-/// (outputs:spectral:surface), leaving what RGB renderers read as it was. The stage and its
-/// textures are never written. usd-core and MaterialX run in
+/// (outputs:spectral:surface), and each referenced MaterialX document a variant set
+/// spectralTextures (rgb selected; spectral adds its copy), leaving what RGB renderers read as
+/// it was. The stage and its textures are never written. usd-core and MaterialX run in
 /// the Python interpreter $SPECCONV_USD_PYTHON names (else python3):
 /// `python3 -m pip install usd-core MaterialX`.
 /// With -u, up-to-date textures are skipped and the layer is written again; --json's records
