@@ -46,10 +46,9 @@ fn words_of(name: &str) -> Vec<String> {
             words.push(String::new());
         }
         previous_lower = c.is_lowercase() || c.is_ascii_digit();
-        words
-            .last_mut()
-            .unwrap_or(&mut String::new())
-            .extend(c.to_lowercase());
+        if let Some(word) = words.last_mut() {
+            word.extend(c.to_lowercase());
+        }
     }
     words.retain(|w| !w.is_empty());
     words
