@@ -94,6 +94,49 @@ pub struct LayerPlan {
     pub documents: Vec<DocumentPlan>,
     /// The stage's references to those documents, pointed at their copies in the layer.
     pub references: Vec<Retarget>,
+    /// UsdShade's render context of the spectral networks ([`RENDER_CONTEXT`]).
+    pub render_context: &'static str,
+    /// The variant set that switches a referenced document to its copy ([`VARIANT_SET`]).
+    pub variant_set: &'static str,
+}
+
+/// UsdShade's render context behind which the layer gives spectral renderers the spectral
+/// files (`outputs:spectral:surface`): the one name the writer and the messages use.
+pub const RENDER_CONTEXT: &str = "spectral";
+
+/// The variant set on a prim referencing a MaterialX document, `rgb` selected, whose other
+/// choice, named as the render context ([`RENDER_CONTEXT`]), adds the document's copy.
+pub const VARIANT_SET: &str = "spectralTextures";
+
+impl LayerPlan {
+    /// What the layer (or a document's copy) gives spectral renderers, in a line.
+    pub fn summary(&self) -> String {
+        let in_copies: usize = self.documents.iter().map(|d| d.overrides.len()).sum();
+        if crate::is_document(&self.stage) {
+            return format!(
+                "copy {} of {}: {in_copies} image node(s) pointed at spectral files",
+                self.layer.display(),
+                self.stage.display()
+            );
+        }
+        let copies = match self.documents.len() {
+            0 => String::new(),
+            1 => format!(", and {in_copies} image node(s) in a MaterialX copy"),
+            n => format!(", and {in_copies} image node(s) in {n} MaterialX copies"),
+        };
+        let variant = match self.documents.is_empty() {
+            true => String::new(),
+            false => format!(" (variant {} = {})", self.variant_set, self.render_context),
+        };
+        format!(
+            "layer {} over {}: {} texture node(s) given spectral files in the render context \
+             `{}`{copies}{variant}",
+            self.layer.display(),
+            self.stage.display(),
+            self.overrides.len(),
+            self.render_context
+        )
+    }
 }
 
 /// A MaterialX document's override copy: the document with its XIncludes written in, its
@@ -364,6 +407,8 @@ impl Asset {
             overrides,
             documents,
             references,
+            render_context: RENDER_CONTEXT,
+            variant_set: VARIANT_SET,
         }
     }
 

@@ -371,9 +371,6 @@ def unknown_reads(prim, sid, material, UsdShade, Sdf):
     return found
 
 
-RENDER_CONTEXT = "spectral"
-
-
 def usd_layer(plan):
     """The layer over the stage as usda text: the spectral files behind UsdShade's render
     context `spectral` (docs/assets.md, "The switch")."""
@@ -381,8 +378,9 @@ def usd_layer(plan):
     try:
         out = Sdf.Layer.CreateAnonymous(".usda")
         out.subLayerPaths.append(plan["sublayer"])
+        context = plan["render_context"]
         out.customLayerData = {"specconv": {"stage": plan["sublayer"],
-                                            "renderContext": RENDER_CONTEXT}}
+                                            "renderContext": context}}
         # The stage's defaultPrim, so that the layer is referenced as the stage is, without a
         # prim path.
         root = Sdf.Layer.FindOrOpen(plan["stage"])
@@ -390,9 +388,9 @@ def usd_layer(plan):
             out.defaultPrim = root.defaultPrim
         if plan["overrides"]:
             stage = Usd.Stage.Open(plan["stage"], Usd.Stage.LoadAll)
-            spectral_networks(out, stage, plan["overrides"], Sdf, Usd, UsdShade)
+            spectral_networks(out, stage, plan["overrides"], context, Sdf, Usd, UsdShade)
         for r in plan.get("references", []):
-            retarget(out, r, Sdf)
+            retarget(out, r, plan["variant_set"], context, Sdf)
         return out.ExportToString()
     except Tf.ErrorException as e:
         fail("layer", str(e).strip())
@@ -427,7 +425,7 @@ def set_spectral_file(prim, o, Sdf):
             Sdf.AttributeSpec(prim, name, Sdf.ValueTypeNames.Find(type_name)).default = value
 
 
-def spectral_networks(out, stage, overrides, Sdf, Usd, UsdShade):
+def spectral_networks(out, stage, overrides, context, Sdf, Usd, UsdShade):
     """For each material whose network reads a converted colour texture, a copy of the part of
     that network the spectral files change (every child of the material from which a
     connection leads to such a texture node: shaders, node graphs whole), beside the original
@@ -452,10 +450,10 @@ def spectral_networks(out, stage, overrides, Sdf, Usd, UsdShade):
             continue
         groups.setdefault(m.GetPath(), []).append(o)
     for mpath, group in sorted(groups.items()):
-        copy_network(out, stage.GetPrimAtPath(mpath), group, Sdf, Usd, UsdShade)
+        copy_network(out, stage.GetPrimAtPath(mpath), group, context, Sdf, Usd, UsdShade)
 
 
-def copy_network(out, material, overrides, Sdf, Usd, UsdShade):
+def copy_network(out, material, overrides, render_context, Sdf, Usd, UsdShade):
     mpath = material.GetPath()
     depth = mpath.pathElementCount + 1
 
@@ -514,7 +512,7 @@ def copy_network(out, material, overrides, Sdf, Usd, UsdShade):
         context, _, terminal = output.GetBaseName().rpartition(":")
         sources = list(output.GetAttr().GetConnections())
         copies = [mapped(t) for t in sources]
-        if context == RENDER_CONTEXT or copies == sources:  # ours, or not reached by the copy
+        if context == render_context or copies == sources:  # ours, or not reached by the copy
             continue
         rank = {"": 0, "mtlx": 1}.get(context, 2)
         if terminal not in terminals or rank < terminals[terminal][0]:
@@ -523,7 +521,7 @@ def copy_network(out, material, overrides, Sdf, Usd, UsdShade):
         over = Sdf.CreatePrimInLayer(out, mpath)
         over.specifier = Sdf.SpecifierOver
     for terminal, (_, type_name, copies) in sorted(terminals.items()):
-        attr = Sdf.AttributeSpec(over, "outputs:%s:%s" % (RENDER_CONTEXT, terminal), type_name)
+        attr = Sdf.AttributeSpec(over, "outputs:%s:%s" % (render_context, terminal), type_name)
         attr.connectionPathList.explicitItems = copies
 
 
@@ -552,27 +550,25 @@ def copy_prim(out, prim, mapped, Sdf, kept):
             a.connectionPathList.explicitItems = [t if keep else mapped(t) for t in connections]
 
 
-VARIANT_SET = "spectralTextures"
-
-
-def retarget(out, r, Sdf):
-    """A reference (or payload) to a MaterialX document, switched: a variant set
-    `spectralTextures` on its prim, `rgb` selected (nothing added: every renderer reads the
-    document as the stage does), and `spectral`, which adds one to the document's copy. The
-    copy's opinions, under a variant of the prim, are stronger than the original reference's
-    (USD's LIVRPS), so with `spectral` selected every prim of the document is the copy's. A
-    document's material has no network of its own to copy for a render context."""
+def retarget(out, r, variant_set, choice, Sdf):
+    """A reference (or payload) to a MaterialX document, switched: the variant set
+    `variant_set` (spectralTextures) on its prim, `rgb` selected (nothing added: every renderer
+    reads the document as the stage does), and `choice` (the render context's name, spectral),
+    which adds one to the document's copy. The copy's opinions, under a variant of the prim,
+    are stronger than the original reference's (USD's LIVRPS), so with that choice every prim
+    of the document is the copy's. A document's material has no network of its own to copy
+    for a render context."""
     prim = out.GetPrimAtPath(r["prim"])
     if prim is None:
         prim = Sdf.CreatePrimInLayer(out, Sdf.Path(r["prim"]))
         prim.specifier = Sdf.SpecifierOver
-    if VARIANT_SET not in prim.variantSets:
-        vset = Sdf.VariantSetSpec(prim, VARIANT_SET)
-        for name in ("rgb", "spectral"):
+    if variant_set not in prim.variantSets:
+        vset = Sdf.VariantSetSpec(prim, variant_set)
+        for name in ("rgb", choice):
             Sdf.VariantSpec(vset, name)
-        prim.variantSetNameList.Prepend(VARIANT_SET)
-        prim.variantSelections[VARIANT_SET] = "rgb"
-    spectral = prim.variantSets[VARIANT_SET].variants["spectral"].primSpec
+        prim.variantSetNameList.Prepend(variant_set)
+        prim.variantSelections[variant_set] = "rgb"
+    spectral = prim.variantSets[variant_set].variants[choice].primSpec
     target = Sdf.Path(r["target"]) if r["target"] else Sdf.Path()
     offset = Sdf.LayerOffset(r["offset"], r["scale"])
     if r["arc"] == "payload":

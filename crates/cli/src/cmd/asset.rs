@@ -251,33 +251,7 @@ fn convert(
     let layer = finish(reader, asset, &outcomes)
         .with_context(|| format!("cannot write the layer {}", asset.layer.display()))?;
     if !reporting.quiet {
-        let copies = &layer.documents;
-        let in_copies: usize = copies.iter().map(|d| d.overrides.len()).sum();
-        if specconv_asset::is_document(&asset.stage) {
-            errln!(
-                "specconv: copy {} of {}: {in_copies} image node(s) pointed at spectral files",
-                layer.layer.display(),
-                asset.stage.display()
-            );
-        } else {
-            errln!(
-                "specconv: layer {} over {}: {} texture node(s) given spectral files in the render context `spectral`{}",
-                layer.layer.display(),
-                asset.stage.display(),
-                layer.overrides.len(),
-                match copies.len() {
-                    0 => String::new(),
-                    1 => format!(
-                        ", and {in_copies} image node(s) in a MaterialX copy (variant \
-                         spectralTextures = spectral)"
-                    ),
-                    n => format!(
-                        ", and {in_copies} image node(s) in {n} MaterialX copies (variant \
-                         spectralTextures = spectral)"
-                    ),
-                }
-            );
-        }
+        errln!("specconv: {}", layer.summary());
     }
     if !reporting.quiet {
         errln!("specconv: {}", storage(jobs));

@@ -446,12 +446,7 @@ fn write_layer(m: &Manifest, job_dir: &Path, status: &Status) -> Result<bool> {
         .collect();
     match specconv_asset::farm_layer(&reader, (&job.stage, dir), &options, &files) {
         Ok(layer) => {
-            errln!(
-                "specconv: layer {} over {}: {} texture node(s) given spectral files in the render context `spectral`",
-                layer.layer.display(),
-                job.stage.display(),
-                layer.overrides.len()
-            );
+            errln!("specconv: {}", layer.summary());
             Ok(true)
         }
         Err(why) => {
