@@ -867,25 +867,7 @@ fn every_shading_model_s_textures_take_the_role_of_their_input_s_type() {
     };
     let dir = Scratch::new("asset-networks");
     script("asset_stages.py", ["networks", dir.0.to_str().unwrap()]);
-    let roles: std::collections::BTreeMap<String, String> =
-        serde_json::from_str(&std::fs::read_to_string(dir.path("networks.json")).unwrap()).unwrap();
-    std::fs::create_dir_all(dir.path("tex")).unwrap();
-    for name in roles.keys() {
-        let p = dir.path(&format!("tex/{name}.png"));
-        tool(
-            "oiiotool",
-            &[
-                "--pattern",
-                "checker",
-                "8x8",
-                "4",
-                "-d",
-                "uint8",
-                "-o",
-                p.to_str().unwrap(),
-            ],
-        );
-    }
+    let roles = roles_with_textures(&dir, "networks.json");
     let stage_file = dir.path("networks.usda");
     let run = asset(&python, &stage_file, &dir.path("out"))
         .args(["--json"])
@@ -1175,6 +1157,34 @@ fn hostile_texture_paths_fail_cleanly_inside_dir() {
         0,
         "nothing through the link"
     );
+}
+
+/// The roles a fixture script wrote (`{file stem: role}`, in `dir`), each file made as
+/// `dir/tex/STEM.png` by oiiotool.
+pub(crate) fn roles_with_textures(
+    dir: &Scratch,
+    json_name: &str,
+) -> std::collections::BTreeMap<String, String> {
+    let roles: std::collections::BTreeMap<String, String> =
+        serde_json::from_str(&std::fs::read_to_string(dir.path(json_name)).unwrap()).unwrap();
+    std::fs::create_dir_all(dir.path("tex")).unwrap();
+    for name in roles.keys() {
+        let p = dir.path(&format!("tex/{name}.png"));
+        tool(
+            "oiiotool",
+            &[
+                "--pattern",
+                "checker",
+                "8x8",
+                "4",
+                "-d",
+                "uint8",
+                "-o",
+                p.to_str().unwrap(),
+            ],
+        );
+    }
+    roles
 }
 
 fn json_lines_of(text: &str) -> Vec<Value> {

@@ -4,7 +4,7 @@
 //! usd-core and MaterialX in `$SPECCONV_PYTHON` these tests are skipped, loudly, unless
 //! `$SPECCONV_REQUIRE_USD` is set (CI sets it).
 
-use crate::asset::{python_with, record};
+use crate::asset::{python_with, record, roles_with_textures};
 use crate::runner::*;
 use serde_json::Value;
 use std::path::{Path, PathBuf};
@@ -636,25 +636,7 @@ fn every_materialx_model_s_images_take_the_role_of_their_input_s_type() {
     let Some(python) = mtlx() else { return };
     let dir = Scratch::new("mtlx-models");
     script("asset_mtlx.py", ["models", dir.0.to_str().unwrap()]);
-    let roles: std::collections::BTreeMap<String, String> =
-        serde_json::from_str(&std::fs::read_to_string(dir.path("models.json")).unwrap()).unwrap();
-    std::fs::create_dir_all(dir.path("tex")).unwrap();
-    for name in roles.keys() {
-        let p = dir.path(&format!("tex/{name}.png"));
-        tool(
-            "oiiotool",
-            &[
-                "--pattern",
-                "checker",
-                "8x8",
-                "4",
-                "-d",
-                "uint8",
-                "-o",
-                p.to_str().unwrap(),
-            ],
-        );
-    }
+    let roles = roles_with_textures(&dir, "models.json");
     let out = dir.path("out");
     let records = asset(&python, &dir.path("models.mtlx"), &out)
         .args(["--json"])

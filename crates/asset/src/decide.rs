@@ -299,10 +299,14 @@ pub fn decide(nodes: &[Node]) -> Decision {
     // Colour wins where each data use can keep reading the original file in the spectral
     // choice (docs/assets.md, "Colour and data from one file"); a data use of a node that
     // also feeds colour and cannot is a conflict.
-    let same = |a: &Node, b: &Node| a.node == b.node && a.document == b.document;
-    let blocked = data
+    // Linear in the uses: the nodes with a colour use, once.
+    let coloured: std::collections::HashSet<(&str, Option<&PathBuf>)> = colour
         .iter()
-        .find(|(n, u)| u.inseparable.is_some() && colour.iter().any(|(c, _)| same(c, n)));
+        .map(|(n, _)| (n.node.as_str(), n.document.as_ref()))
+        .collect();
+    let blocked = data.iter().find(|(n, u)| {
+        u.inseparable.is_some() && coloured.contains(&(n.node.as_str(), n.document.as_ref()))
+    });
     if let (Some(c), Some(&(n, d))) = (colour.first(), blocked) {
         return Decision::Conflict {
             why: format!(
