@@ -1,7 +1,8 @@
 //! Man pages, one per command, generated from the clap definitions with clap_mangen: NAME,
 //! SYNOPSIS, DESCRIPTION and OPTIONS from clap; EXAMPLES from each command's `after_long_help`
 //! (which `--help` shows too); EXIT STATUS from [`crate::exit::TABLE`]; ENVIRONMENT from
-//! [`ENVIRONMENT`]; SEE ALSO naming the other pages. man/ holds them; a test checks for drift.
+//! [`ENVIRONMENT`]; SEE ALSO naming the other pages. `specconv-dev generate` writes them to man/
+//! (its `--check` in CI fails on drift).
 
 use crate::Cli;
 use clap::CommandFactory;

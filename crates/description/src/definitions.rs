@@ -1,8 +1,9 @@
 //! Every option of a conversion, defined once: its name (the Python keyword, the key of a farm
 //! manifest and of the `-u` tag), what its value is, what it means when unset, the command
 //! line's flags and the one help text of each. The command line's arguments, Python's keywords
-//! and stub, the guide's table and the man pages are made from these (`scripts/generate.sh`);
-//! a test fails when a generated file is stale.
+//! and stub, the guide's and README's tables and the man pages are made from these
+//! (`cargo run -p specconv-dev -- generate`; its `--check`, run by CI, fails when a generated
+//! file is stale).
 
 use crate::key::Key;
 

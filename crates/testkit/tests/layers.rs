@@ -30,7 +30,8 @@ const LAYERS: &[&[&str]] = &[
     &["specconv-asset"],
     // The front-ends: the command line and the Python package.
     &["specconv-cli", "specconv-python", "specconv-testkit"],
-    &["specconv"],
+    // The program, and the developers' own tools over everything (never shipped).
+    &["specconv", "specconv-dev"],
 ];
 
 /// The science knows nothing of images, files, threads or FFI.

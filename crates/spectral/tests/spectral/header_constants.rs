@@ -1,27 +1,12 @@
 //! Issue 55, decision 5: the numbers the C header shares with the library are generated from
 //! the library's constants ([`specconv_spectral::c_header`]) between two marker lines of
-//! include/specconv_spectrum.h. Stale: `scripts/generate.sh` (or
-//! `SPECCONV_UPDATE_GENERATED=1 cargo test -p specconv-spectral --test spectral header`).
+//! include/specconv_spectrum.h, written there by `cargo run -p specconv-dev -- generate`
+//! (whose `--check` fails when the header is stale).
 
-use specconv_spectral::c_header::{generated, replaced, shared};
+use specconv_spectral::c_header::shared;
 
 fn header_path() -> std::path::PathBuf {
     std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../include/specconv_spectrum.h")
-}
-
-#[test]
-fn the_c_header_s_shared_constants_are_generated_from_the_library() {
-    let path = header_path();
-    let header = std::fs::read_to_string(&path).unwrap();
-    let made =
-        replaced(&header, &generated()).expect("the header has the generated part's markers");
-    if made != header {
-        if std::env::var_os("SPECCONV_UPDATE_GENERATED").is_some() {
-            std::fs::write(&path, made).unwrap();
-        } else {
-            panic!("the header's shared constants are stale: run scripts/generate.sh");
-        }
-    }
 }
 
 /// Each generated name is defined once in the whole header and used by its code: no second
