@@ -2,7 +2,7 @@
 //! input fail here as usage errors (exit status 2), on one line, before anything is read or
 //! written, instead of once per input.
 
-use crate::usage;
+use crate::errors::usage;
 use anyhow::Result;
 use specconv_conversion::ColourConfig;
 
@@ -18,7 +18,7 @@ pub fn input_colorspace(config: &ColourConfig, name: Option<&str>) -> Result<()>
     if let Some(name) = name {
         config
             .check_input_colour_space(name)
-            .map_err(|e| usage(anyhow::anyhow!(crate::explain(&e))))?;
+            .map_err(|e| usage(anyhow::anyhow!(crate::errors::explain(&e))))?;
     }
     Ok(())
 }

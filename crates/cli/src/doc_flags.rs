@@ -4,7 +4,7 @@
 //! one of them. Other tools' flags (`maketx --nomipmap`, `oiiotool --diff`, `pip install -v`)
 //! are in spans that start with their name, and are not ours to check.
 
-use crate::Cli;
+use crate::command_line::Cli;
 use clap::CommandFactory;
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;

@@ -9,7 +9,7 @@ use specconv_conversion::{Key, Options, Takes, Value};
 
 /// `convert`'s arguments, as the command line builds them.
 fn convert() -> clap::Command {
-    let mut cli = crate::Cli::command();
+    let mut cli = crate::command_line::Cli::command();
     cli.build();
     cli.find_subcommand("convert").expect("convert").clone()
 }
@@ -186,7 +186,7 @@ pub fn readme_table() -> String {
 /// docs/commands.md: every command's flags as `--help` defines them, a section per command
 /// (and per command of a command, as `farm submit`); `convert`'s options are the guide's.
 pub fn commands_page() -> String {
-    let mut top = crate::Cli::command().disable_help_subcommand(true);
+    let mut top = crate::command_line::Cli::command().disable_help_subcommand(true);
     top.build();
     let mut out = String::from(
         "# Every command's flags\n\n<!-- Made by `cargo run -p specconv-dev -- generate` from the command \
@@ -375,7 +375,7 @@ mod tests {
     #[test]
     fn the_commands_page_has_every_command() {
         let page = commands_page();
-        let mut cli = crate::Cli::command();
+        let mut cli = crate::command_line::Cli::command();
         cli.build();
         let mut n = 0;
         for sub in cli.get_subcommands().filter(|s| !s.is_hide_set()) {

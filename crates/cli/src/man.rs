@@ -4,7 +4,7 @@
 //! [`ENVIRONMENT`]; SEE ALSO naming the other pages. `specconv-dev generate` writes them to man/
 //! (its `--check` in CI fails on drift).
 
-use crate::Cli;
+use crate::command_line::Cli;
 use clap::CommandFactory;
 
 /// Every environment variable the program reads, and what for.

@@ -34,7 +34,7 @@ impl ShiftArg {
     /// Where the colour shift is measured, for evaluations in `a`'s setting.
     pub fn viewing(&self, a: &Colorimetry) -> Result<specconv_study::eval::Viewing> {
         specconv_study::eval::Viewing::new(a, &self.shift_under).map_err(|e| {
-            crate::usage(anyhow::anyhow!(
+            crate::errors::usage(anyhow::anyhow!(
                 "--shift-under: {e}; choose bands inside that range, or name illuminants whose tables cover the grid with --shift-under"
             ))
         })
@@ -191,7 +191,7 @@ pub fn weighted_set(
     w: &WeightArgs,
 ) -> Result<specconv_spectral::TrainingSet> {
     let parts = weighted_parts(paths, grid, w)?;
-    specconv_spectral::TrainingSet::union(&parts, w.balance).map_err(crate::usage)
+    specconv_spectral::TrainingSet::union(&parts, w.balance).map_err(crate::errors::usage)
 }
 
 /// The --spectra files, one part each, with the weights and licences of `w` (before
@@ -208,7 +208,7 @@ pub fn weighted_parts(
         ("--commercial", w.commercial.len()),
     ] {
         if count != 0 && count != paths.len() {
-            return Err(crate::usage(anyhow::anyhow!(
+            return Err(crate::errors::usage(anyhow::anyhow!(
                 "{count} values of {flag} for {} --spectra files: give one per file, in their order",
                 paths.len()
             )));
@@ -220,7 +220,7 @@ pub fn weighted_parts(
         let set = specconv_spectral::TrainingSet::from_file(&table, &sha256, grid, w.hold_ends)?;
         let mut terms = match w.licences.get(k) {
             Some(licence) => Terms::stated(licence, Default::default())
-                .map_err(|e| crate::usage(anyhow::anyhow!("--licence: {e}")))?,
+                .map_err(|e| crate::errors::usage(anyhow::anyhow!("--licence: {e}")))?,
             None => {
                 warn_named_like_known(path, &set, &sha256);
                 set.sets[0].terms()
@@ -257,7 +257,7 @@ fn warn_named_like_known(path: &Path, set: &specconv_spectral::TrainingSet, sha2
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::{Cli, Command};
+    use crate::command_line::{Cli, Command};
     use clap::Parser;
     use specconv_spectral::otsu2018::blend::DEFAULT_WIDTH;
 

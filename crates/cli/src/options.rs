@@ -197,7 +197,7 @@ mod tests {
     ];
 
     fn convert() -> clap::Command {
-        let mut cli = crate::Cli::command();
+        let mut cli = crate::command_line::Cli::command();
         cli.build();
         cli.find_subcommand("convert").expect("convert").clone()
     }
@@ -291,8 +291,9 @@ mod tests {
     /// The command line with no option set gives the library's defaults, every one.
     #[test]
     fn no_flag_is_the_librarys_default() {
-        let m = crate::Cli::try_parse_from(["specconv", "convert", "a.png", "b.exr"]).unwrap();
-        let crate::Command::Convert(args) = m.command.expect("a command") else {
+        let m = crate::command_line::Cli::try_parse_from(["specconv", "convert", "a.png", "b.exr"])
+            .unwrap();
+        let crate::command_line::Command::Convert(args) = m.command.expect("a command") else {
             panic!("convert")
         };
         let (got, want) = (args.options(), Options::default());
@@ -309,8 +310,8 @@ mod tests {
             let words = ["specconv", "convert", "a.png", "b.exr"]
                 .iter()
                 .chain(extra);
-            let m = crate::Cli::try_parse_from(words).unwrap();
-            let Some(crate::Command::Convert(args)) = m.command else {
+            let m = crate::command_line::Cli::try_parse_from(words).unwrap();
+            let Some(crate::command_line::Command::Convert(args)) = m.command else {
                 panic!("convert")
             };
             args.options()
@@ -319,7 +320,7 @@ mod tests {
         assert_eq!(options(&["--emissive"]).emission, Some(units));
         let photometric = options(&["--emissive", "--emission-units", "photometric"]);
         assert_eq!(photometric.emission.map(Named::name), Some("photometric"));
-        assert!(crate::Cli::try_parse_from([
+        assert!(crate::command_line::Cli::try_parse_from([
             "specconv",
             "convert",
             "a",
@@ -351,7 +352,7 @@ mod tests {
             Some("box3")
         );
         assert!(!options(&["--constant-color-detect=false"]).constant_detect);
-        assert!(crate::Cli::try_parse_from([
+        assert!(crate::command_line::Cli::try_parse_from([
             "specconv",
             "convert",
             "a",
@@ -362,7 +363,7 @@ mod tests {
             "--scanline"
         ])
         .is_err());
-        assert!(crate::Cli::try_parse_from([
+        assert!(crate::command_line::Cli::try_parse_from([
             "specconv",
             "convert",
             "a",

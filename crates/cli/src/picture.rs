@@ -30,7 +30,7 @@ impl Format {
             .collect();
         match format {
             Some(f) if allowed.contains(&f) => Ok(f),
-            _ => Err(crate::usage(anyhow!(
+            _ => Err(crate::errors::usage(anyhow!(
                 "{option} {}: the format is chosen by the extension; name the file {}",
                 path.display(),
                 names.join(" or ")

@@ -72,7 +72,7 @@ pub(crate) fn install() {
             // Before writing, or again to a writer that has not stopped (a read that never
             // ends): at once; as after SIGKILL, a temporary file may stay.
             _ => {
-                crate::print_error(LINE);
+                crate::errors::print_error(LINE);
                 // Holding the lock: no write can start before the process is gone.
                 specconv_conversion::exit_now(crate::exit::INTERRUPTED)
             }
@@ -88,7 +88,7 @@ pub(crate) fn one_output<T>(
     let cancel = Arc::new(AtomicBool::new(false));
     match deferred(&cancel, || f(&cancel)) {
         Err(e) if e.is_cancelled() => Err(Interrupted.into()),
-        r => r.map_err(|e| anyhow::anyhow!(crate::explain(&e))),
+        r => r.map_err(|e| anyhow::anyhow!(crate::errors::explain(&e))),
     }
 }
 

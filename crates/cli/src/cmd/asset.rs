@@ -3,7 +3,8 @@
 //! batch, and a layer over the stage pointing it at the spectral files (docs/assets.md).
 
 use super::convert::{run_batch, Annotate, Reporting};
-use crate::{exit, explain, print_error, usage};
+use crate::errors::{explain, print_error, usage};
+use crate::exit;
 use anyhow::{Context, Result};
 use specconv_asset::{
     finish, make_folders, member, prepare, unknown_line, unknown_record, with_member, Asset,

@@ -22,7 +22,7 @@ pub fn run(args: Args) -> Result<()> {
     let mut script = Vec::new();
     clap_complete::generate(
         args.shell,
-        &mut crate::Cli::command(),
+        &mut crate::command_line::Cli::command(),
         "specconv",
         &mut script,
     );

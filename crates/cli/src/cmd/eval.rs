@@ -105,9 +105,9 @@ pub fn run(args: Args) -> Result<()> {
     let (model, described) = model(&args)?;
     let stack = methods::build(&args.description(), &model).map_err(|e| match args.method {
         // The one setting a user can fix here: a many-cluster model for pca.
-        MethodName::Pca => crate::usage(anyhow::anyhow!(
+        MethodName::Pca => crate::errors::usage(anyhow::anyhow!(
             "{}; or pass --train CSV to train one here",
-            crate::one_line(e.as_ref())
+            crate::errors::one_line(e.as_ref())
         )),
         _ => e,
     })?;
@@ -291,7 +291,7 @@ mod by_set {
 
     pub(super) fn run(args: &Args) -> Result<()> {
         if !args.method.is_clustered() {
-            return Err(crate::usage(anyhow!(
+            return Err(crate::errors::usage(anyhow!(
                 "--by-set measures trained models: use --method otsu2018 or pca ({} is not trained)",
                 args.method
             )));
@@ -332,7 +332,7 @@ mod by_set {
                 if (other.grid, other.observer, other.illuminant)
                     != (a.grid, a.observer, a.illuminant)
                 {
-                    return Err(crate::usage(anyhow!(
+                    return Err(crate::errors::usage(anyhow!(
                         "--against {} is trained in another setting than the model measured: compare models of one grid, observer and illuminant",
                         path.display()
                     )));
@@ -370,14 +370,14 @@ mod by_set {
     fn recorded(model: &Model, tests: &[TrainingSet], pca: bool) -> Result<Recipe> {
         let t = &model.training;
         if t.sets.is_empty() {
-            return Err(crate::usage(anyhow!(
+            return Err(crate::errors::usage(anyhow!(
                 "the model does not record its training sets: give them with --train"
             )));
         }
         let mut parts = Vec::with_capacity(t.sets.len());
         for record in &t.sets {
             let Some(set) = tests.iter().find(|s| s.sources == [record.source.clone()]) else {
-                return Err(crate::usage(anyhow!(
+                return Err(crate::errors::usage(anyhow!(
                     "the model was trained on {}, which is not among --spectra: give that file with --spectra",
                     record.source
                 )));

@@ -2,9 +2,10 @@
 //! `convert` runs one (the library's plan and [`specconv_conversion::Expansions`]).
 
 use super::convert::{ending, plan, printing};
+use crate::errors::{explain, print_error, usage};
 use crate::progress::{Progress, Summary};
 use crate::stdio::StdoutFailed;
-use crate::{explain, print_error, records, signals, usage};
+use crate::{records, signals};
 use anyhow::Result;
 use specconv_conversion::{Event, Expansions};
 use std::path::PathBuf;

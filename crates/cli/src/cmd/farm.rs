@@ -4,7 +4,8 @@
 
 use crate::cmd::asset::asset_error;
 use crate::cmd::convert;
-use crate::{checks, exit, print_error, usage};
+use crate::errors::{print_error, usage};
+use crate::{checks, exit};
 use anyhow::{anyhow, bail, Context, Result};
 use specconv_asset::{Job, Prepared, Reader};
 use specconv_conversion::plan::{weights, Pair};
@@ -845,7 +846,7 @@ mod tests {
     /// library's names, and nothing the farm sets itself.
     #[test]
     fn a_task_converts_with_the_options_given_to_submit_and_nothing_else() {
-        let cli = crate::Cli::try_parse_from([
+        let cli = crate::command_line::Cli::try_parse_from([
             "specconv",
             "farm",
             "submit",
@@ -870,7 +871,7 @@ mod tests {
             "box3",
         ])
         .unwrap();
-        let Some(crate::Command::Farm(Args {
+        let Some(crate::command_line::Command::Farm(Args {
             command: Farm::Submit(s),
         })) = cli.command
         else {

@@ -1,8 +1,9 @@
 //! `specconv info`: what the image reader sees in a file, and which colour space specconv
 //! would read it in.
 
+use crate::errors::{one_line, print_error};
 use crate::stdio::{serialize_path, StdoutFailed};
-use crate::{checks, exit, one_line, print_error};
+use crate::{checks, exit};
 use anyhow::Result;
 use serde::Serialize;
 use specconv_atomic_file::shown::escaped;
@@ -262,7 +263,7 @@ fn show(
     };
     let read_as = match &d.colour {
         Ok(r) => r,
-        Err(e) => return Err(anyhow::anyhow!(crate::explain(e))),
+        Err(e) => return Err(anyhow::anyhow!(crate::errors::explain(e))),
     };
     let (space_name, rule, warnings, to_xyz) = match read_as {
         ReadAs::Colour {

@@ -51,7 +51,7 @@ struct Listed {
 
 pub fn run(args: Args) -> Result<()> {
     let (_, origin) = models::in_force(None);
-    let in_force = models::load(None).map_err(crate::usage)?;
+    let in_force = models::load(None).map_err(crate::errors::usage)?;
     let name = shown(&models::pinned(None));
     let mut listed: Vec<Listed> = BUILTIN
         .iter()

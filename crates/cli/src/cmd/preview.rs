@@ -1,6 +1,6 @@
 //! `specconv preview`: a spectral texture as it looks after K interreflections with itself.
 
-use crate::explain;
+use crate::errors::explain;
 use crate::files;
 use crate::picture::Format;
 use anyhow::Result;

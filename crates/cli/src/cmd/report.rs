@@ -137,7 +137,7 @@ pub fn run(args: Args) -> Result<()> {
         files::check_writable(p, &inputs, Replace::Allowed)?;
     }
     if args.colours == 0 {
-        return Err(crate::usage(anyhow::anyhow!(
+        return Err(crate::errors::usage(anyhow::anyhow!(
             "--colours must be at least 1"
         )));
     }
@@ -326,7 +326,7 @@ fn by_set(
 ) -> Result<(Model, eval::Summary, Option<String>)> {
     use specconv_study::sets::{held_out_by_set, Holdout, Recipe};
     if args.spectra.len() < 2 {
-        return Err(crate::usage(anyhow::anyhow!(
+        return Err(crate::errors::usage(anyhow::anyhow!(
             "--by-set leaves one --spectra file out at a time: give at least two"
         )));
     }

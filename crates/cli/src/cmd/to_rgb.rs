@@ -1,6 +1,6 @@
 //! `specconv to-rgb`: integrate a spectral EXR back to a colour image, for checks and previews.
 
-use crate::{explain, usage};
+use crate::errors::{explain, usage};
 use anyhow::Result;
 use specconv_colour::Illuminant;
 use std::path::PathBuf;

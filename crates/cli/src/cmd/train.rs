@@ -94,7 +94,7 @@ pub fn run(args: Args) -> Result<()> {
             let a = base.colorimetry()?;
             let c = &args.colorimetry;
             if (c.bands, c.observer, c.illuminant) != (a.grid, a.observer, a.illuminant) {
-                return Err(crate::usage(anyhow::anyhow!(
+                return Err(crate::errors::usage(anyhow::anyhow!(
                     "--with trains in its model's setting ({}, {}, {} nm): drop --observer, --illuminant and --bands, or give them as the model has them",
                     a.observer,
                     a.illuminant,
@@ -108,7 +108,7 @@ pub fn run(args: Args) -> Result<()> {
             }
             let set =
                 specconv_spectral::TrainingSet::on_top(recorded.parts, own, args.weights.balance)
-                    .map_err(crate::usage)?;
+                    .map_err(crate::errors::usage)?;
             (a, set, models::recorded_options(&base))
         }
         _ => {
@@ -126,7 +126,7 @@ pub fn run(args: Args) -> Result<()> {
     let model = specconv_spectral::train(&set, &a, &opts)?;
     let seconds = start.elapsed().as_secs_f64();
     models::save(&model, &args.output, &inputs, replace)
-        .map_err(|e| anyhow::anyhow!(crate::explain(&e.into())))?;
+        .map_err(|e| anyhow::anyhow!(crate::errors::explain(&e.into())))?;
 
     errln!(
         "trained {} clusters on {} spectra in {seconds:.3} s; total error Σ‖s − r‖² = {:.6}",

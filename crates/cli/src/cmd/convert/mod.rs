@@ -6,9 +6,10 @@ pub(crate) mod printing;
 pub(crate) use plan::for_farm;
 use printing::converted;
 
+use crate::errors::{explain, print_error, usage};
 use crate::progress::{Progress, Summary};
 use crate::stdio::StdoutFailed;
-use crate::{exit, explain, print_error, records, signals, usage};
+use crate::{exit, records, signals};
 use anyhow::Result;
 use specconv_conversion::plan::Pair;
 use specconv_conversion::{Advice, Batch, Converter, Event, Key, Options};

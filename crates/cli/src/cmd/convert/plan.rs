@@ -86,7 +86,7 @@ pub(crate) fn for_farm(args: &Args) -> Result<Plan> {
 
 /// A plan's error as a library error, so that the command line's hint (`--force`) follows it.
 pub(crate) fn planned(e: plan::Error) -> anyhow::Error {
-    anyhow::anyhow!(crate::explain(&specconv_conversion::Error::from(e)))
+    anyhow::anyhow!(crate::errors::explain(&specconv_conversion::Error::from(e)))
 }
 
 /// The most a list of inputs on standard input may hold (a million paths of 64 bytes).

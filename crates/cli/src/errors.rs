@@ -1,0 +1,187 @@
+//! How every command's failure is said: one line, `specconv: error: WHAT: CAUSE: …`, each cause
+//! once, with the fix in this program's flags, and the exit status it ends with.
+
+use crate::{exit, signals, stdio};
+
+/// An error in how the command was asked for, which no input can fix: exit status 2.
+#[derive(Debug)]
+pub(crate) struct Usage(pub String);
+
+impl std::fmt::Display for Usage {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for Usage {}
+
+/// Turns any error into a usage error (exit status 2), keeping its one-line text.
+pub(crate) fn usage(e: impl Into<anyhow::Error>) -> anyhow::Error {
+    Usage(one_line(e.into().as_ref())).into()
+}
+
+/// An error and its causes on one line, `WHAT: CAUSE: …`, each said once: a cause whose text
+/// the line already holds is left out (wrappers that display their source would repeat it);
+/// a cause's leading `NAME: ` is left out when the line ends with NAME (`cannot read F` and
+/// `F: no such file` make `cannot read F: no such file`); and a cause that names what the
+/// line's last part ends with replaces that part (`cannot read F` and `F is not a spectral
+/// EXR` make `F is not a spectral EXR`).
+pub(crate) fn one_line(e: &(dyn std::error::Error + 'static)) -> String {
+    let hint = std::iter::successors(Some(e), |c| c.source()).find_map(hint);
+    specconv_conversion::message(e) + hint.as_deref().unwrap_or_default()
+}
+
+/// A library error as the command line says it: [`one_line`] (with the option that would fix
+/// it), or for the errors of one option, that option's own words.
+pub(crate) fn explain(e: &specconv_conversion::Error) -> String {
+    use specconv_conversion::Error;
+    match e {
+        Error::ZipLevelWithoutZip { compression } => format!(
+            "--zip-level sets the deflate level of zip and zips; --compression {compression} \
+             has none (drop --zip-level or use --compression zip)"
+        ),
+        Error::EmptyTile { width, height } => {
+            format!("--tile {width} {height}: tiles must be at least 1×1")
+        }
+        Error::NoThreads => "-j/--threads must be at least 1".into(),
+        _ => one_line(e),
+    }
+}
+
+/// What to pass to fix a cause, in this program's flags: the libraries say which setting
+/// ([`specconv_conversion::remedy_of`]: a [`specconv_conversion::Remedy`] and its options),
+/// the command line names each option by its flag ([`flag`]).
+pub(crate) fn hint(cause: &(dyn std::error::Error + 'static)) -> Option<String> {
+    use specconv_conversion::{Key, Remedy};
+    let remedy = specconv_conversion::remedy_of(cause)?;
+    let f = flag;
+    Some(match remedy {
+        Remedy::RepairNonFinite => format!(
+            "; repair them with {0} box3 (or black), or write them as they are with {0} {1}",
+            f(Key::NonFinite),
+            specconv_conversion::Named::name(specconv_conversion::NonFinite::Keep)
+        ),
+        Remedy::RepairBlack => format!("; repair them with {} black", f(Key::NonFinite)),
+        Remedy::ReplaceOrSkip => format!(
+            "; pass {} to replace it (or -u to skip outputs that are up to date)",
+            f(Key::Overwrite)
+        ),
+        Remedy::Replace => format!("; pass {} to replace it", f(Key::Overwrite)),
+        Remedy::NameColourSpace => format!("; pass {}", f(Key::Colorspace)),
+        Remedy::NameEncodingColourSpace => format!(
+            "; pass {} with the colour space the texture is encoded in",
+            f(Key::Colorspace)
+        ),
+        Remedy::NameChannelsOrLayer => format!(
+            "; choose with {0} LAYER or {0} NAME,NAME,NAME",
+            f(Key::Channels)
+        ),
+        Remedy::NameLayer => format!("; choose one with {} LAYER", f(Key::Channels)),
+        // to-rgb's and preview's option, not a conversion's.
+        Remedy::DropIlluminant => "; drop --illuminant".into(),
+        // Output naming, the command line's own.
+        Remedy::TileTemplate => ", or use --output-template with {udim}".into(),
+        Remedy::AlreadySpectral => format!(
+            "; use it as it is (`specconv info` shows its bands), `specconv to-rgb` gives its \
+             colour, and converting its colour source with {} START:END:STEP gives another grid \
+             ({} R,G,B reads a colour preview it holds instead)",
+            f(Key::Bands),
+            f(Key::Channels)
+        ),
+        Remedy::ExpandCompact => format!(
+            "; `specconv expand` writes its spectra as a spectral OpenEXR ({} R,G,B reads its \
+             colour as an image instead)",
+            f(Key::Channels)
+        ),
+        Remedy::DataTexture => format!(
+            "; {0} skip leaves it out, {0} copy writes it through as a data texture, and {1} \
+             NAME reads it as colour if it is one",
+            f(Key::Data),
+            f(Key::Colorspace)
+        ),
+        Remedy::FewerThreads => format!("; lower {}", f(Key::Threads)),
+        Remedy::SmallerBlocks | Remedy::LessMemory | Remedy::FewerBands => {
+            let flags: Vec<String> = remedy.keys().iter().map(|&k| f(k)).collect();
+            format!(" ({})", flags.join(", "))
+        }
+        Remedy::BandsInside { start, end, step } => format!(
+            "; choose bands inside that range (e.g. {} {start}:{end}:{step})",
+            f(Key::Bands)
+        ),
+        Remedy::ZipLevelInRange => format!("; give {} 0 to 9", f(Key::ZipLevel)),
+        // A training setting, not a conversion's.
+        Remedy::OneClusterModel => " (`specconv train --clusters 1`)".into(),
+        // [`explain`] words these errors whole, in the option's own terms.
+        Remedy::DropZipLevel | Remedy::NonEmptyTiles | Remedy::SomeThreads => return None,
+        _ => return None,
+    })
+}
+
+/// How the command line spells an option: its first flag as `convert` defines it, with its
+/// short form and the names of its values where it takes several (`-j/--threads`,
+/// `--tile W H`, `--fixnan`).
+pub(crate) fn flag(key: specconv_conversion::Key) -> String {
+    use specconv_conversion::Takes;
+    let Some(first) = key.about().flags.first() else {
+        return String::new();
+    };
+    let long = format!("--{}", first.long);
+    let named = match first.short {
+        Some(short) => format!("-{short}/{long}"),
+        None => long,
+    };
+    match first.takes {
+        Takes::Pair(a, b) => format!("{named} {a} {b}"),
+        _ => named,
+    }
+}
+
+/// Says why a command failed, once, and returns its exit status. A closed standard output
+/// says nothing: the reader has gone.
+pub(crate) fn failed(e: anyhow::Error) -> i32 {
+    if let Some(out) = stdio::StdoutFailed::in_chain(&e) {
+        if !out.closed() {
+            print_error(&out.to_string());
+        }
+        return out.status();
+    }
+    print_error(&one_line(e.as_ref()));
+    if e.chain().any(|c| c.is::<signals::Interrupted>()) {
+        exit::INTERRUPTED
+    } else if e.chain().any(|c| c.is::<Usage>()) {
+        exit::USAGE
+    } else {
+        exit::FAILED
+    }
+}
+
+/// A command-line error from clap as one line: its message, value lists and tips, without
+/// the usage block (`--help` shows it).
+pub(crate) fn clap_error_line(e: &clap::Error) -> String {
+    let text = e.render().to_string();
+    let mut parts = Vec::new();
+    let mut lines = text.lines().map(str::trim).filter(|l| !l.is_empty());
+    while let Some(line) = lines.next() {
+        if line.starts_with("Usage:") {
+            // The usage block runs to the next blank line, already dropped; skip its lines.
+            for next in lines.by_ref() {
+                if next.starts_with("For more information") {
+                    parts.push(next.to_string());
+                    break;
+                }
+            }
+            continue;
+        }
+        parts.push(line.strip_prefix("error: ").unwrap_or(line).to_string());
+    }
+    parts.join("; ")
+}
+
+/// The one error format of every command: `specconv: error: ` and one line.
+pub(crate) fn print_error(line: &str) {
+    // A file name in it cannot make it pass for other lines.
+    errln!(
+        "specconv: error: {}",
+        specconv_atomic_file::shown::escaped(line)
+    );
+}
