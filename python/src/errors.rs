@@ -4,7 +4,7 @@
 
 use pyo3::prelude::*;
 use pyo3::types::PyType;
-use specconv_conversion::{Cause, Error, Key, Remedy};
+use specconv_conversion::{Cause, Error, Key, Remedy, Spelling};
 
 /// The exception classes of `specconv.errors`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -61,63 +61,26 @@ fn kw(key: Key) -> &'static str {
     key.about().name
 }
 
-/// What to pass to fix it, in this package's keywords ([`Remedy::keys`] named by
-/// [`Key::about`]).
+/// What to pass to fix it, in this package's keywords: the library words it
+/// ([`Remedy::advice`], spelt by [`Keywords`]); the package words the remedies that are its own.
 fn hint(remedy: Option<Remedy>) -> String {
     let Some(remedy) = remedy else {
         return String::new();
     };
-    match remedy {
-        Remedy::ReplaceOrSkip => format!(
-            "; pass {}=True to replace it (or update=True to skip outputs that are up to date)",
-            kw(Key::Overwrite)
-        ),
-        Remedy::Replace => format!("; pass {}=True to replace it", kw(Key::Overwrite)),
-        Remedy::RepairNonFinite => format!(
-            "; repair them with {0}=\"box3\" (or \"black\"), or write them as they are with {0}=\"keep\"",
-            kw(Key::NonFinite)
-        ),
-        Remedy::RepairBlack => format!("; repair them with {}=\"black\"", kw(Key::NonFinite)),
-        Remedy::NameColourSpace => format!("; pass {}=NAME", kw(Key::Colorspace)),
-        Remedy::NameEncodingColourSpace => format!(
-            "; pass {}= the colour space the texture is encoded in",
-            kw(Key::Colorspace)
-        ),
-        Remedy::NameChannelsOrLayer => format!(
-            "; choose with {0}=\"LAYER\" or {0}=\"NAME,NAME,NAME\"",
-            kw(Key::Channels)
-        ),
-        Remedy::NameLayer => format!("; choose one with {}=\"LAYER\"", kw(Key::Channels)),
+    let own = match remedy {
         Remedy::DropZipLevel => format!(
             "; drop {} or use {}=\"zip\"",
             kw(Key::ZipLevel),
             kw(Key::Compression)
         ),
-        Remedy::ZipLevelInRange => format!("; pass {} from 0 to 9", kw(Key::ZipLevel)),
         Remedy::NonEmptyTiles => format!(
-            "; pass {}=(W, H) of at least 1×1, or {}=\"scanline\"",
-            kw(Key::Tile),
+            "; pass {0}=(W, H) of at least 1×1, or {0}=\"scanline\"",
             kw(Key::Tile)
         ),
         Remedy::SomeThreads => format!("; pass {}= at least 1", kw(Key::Threads)),
-        Remedy::FewerThreads => format!("; pass fewer {}=", kw(Key::Threads)),
-        Remedy::SmallerBlocks | Remedy::LessMemory | Remedy::FewerBands => {
-            let names: Vec<String> = remedy.keys().iter().map(|&k| format!("{}=", kw(k))).collect();
-            format!(" ({})", names.join(", "))
-        }
-        Remedy::BandsInside { start, end, step } => format!(
-            "; choose bands inside that range (e.g. {}=\"{start}:{end}:{step}\")",
-            kw(Key::Bands)
-        ),
         Remedy::OneClusterModel => format!(
             "; pass {}= a model of one cluster (specconv.Model.train(..., clusters=1))",
             kw(Key::Model)
-        ),
-        Remedy::DataTexture => format!(
-            "; {0}=\"skip\" leaves it out, {0}=\"copy\" writes it through as a data texture, and \
-             {1}=NAME reads it as colour if it is one",
-            kw(Key::Data),
-            kw(Key::Colorspace)
         ),
         Remedy::AlreadySpectral => {
             "; read it with specconv.read_spectral, or convert its colour source instead".into()
@@ -129,7 +92,29 @@ fn hint(remedy: Option<Remedy>) -> String {
         Remedy::TileTemplate => ", or pass output_template= with {udim}".into(),
         // Looking at a spectral file under a light: not this package's.
         Remedy::DropIlluminant => String::new(),
-        _ => String::new(),
+        _ => return remedy.advice(&Keywords).unwrap_or_default(),
+    };
+    own
+}
+
+/// This package's spelling of the options a remedy names: its keywords.
+struct Keywords;
+
+impl Spelling for Keywords {
+    fn option(&self, key: Key) -> String {
+        format!("{}=", kw(key))
+    }
+    fn given(&self, key: Key, value: &str) -> String {
+        format!("{}={}", kw(key), self.value(value))
+    }
+    fn value(&self, value: &str) -> String {
+        format!("\"{value}\"")
+    }
+    fn on(&self, key: Key) -> String {
+        format!("{}=True", kw(key))
+    }
+    fn update(&self) -> String {
+        "update=True".into()
     }
 }
 

@@ -49,72 +49,55 @@ pub(crate) fn explain(e: &specconv_conversion::Error) -> String {
 }
 
 /// What to pass to fix a cause, in this program's flags: the libraries say which setting
-/// ([`specconv_conversion::remedy_of`]: a [`specconv_conversion::Remedy`] and its options),
-/// the command line names each option by its flag ([`flag`]).
+/// ([`specconv_conversion::remedy_of`]) and word it ([`specconv_conversion::Remedy::advice`]),
+/// spelt by [`Flags`]; the command line words the remedies that are its own.
 pub(crate) fn hint(cause: &(dyn std::error::Error + 'static)) -> Option<String> {
     use specconv_conversion::{Key, Remedy};
     let remedy = specconv_conversion::remedy_of(cause)?;
-    let f = flag;
-    Some(match remedy {
-        Remedy::RepairNonFinite => format!(
-            "; repair them with {0} box3 (or black), or write them as they are with {0} {1}",
-            f(Key::NonFinite),
-            specconv_conversion::Named::name(specconv_conversion::NonFinite::Keep)
-        ),
-        Remedy::RepairBlack => format!("; repair them with {} black", f(Key::NonFinite)),
-        Remedy::ReplaceOrSkip => format!(
-            "; pass {} to replace it (or -u to skip outputs that are up to date)",
-            f(Key::Overwrite)
-        ),
-        Remedy::Replace => format!("; pass {} to replace it", f(Key::Overwrite)),
-        Remedy::NameColourSpace => format!("; pass {}", f(Key::Colorspace)),
-        Remedy::NameEncodingColourSpace => format!(
-            "; pass {} with the colour space the texture is encoded in",
-            f(Key::Colorspace)
-        ),
-        Remedy::NameChannelsOrLayer => format!(
-            "; choose with {0} LAYER or {0} NAME,NAME,NAME",
-            f(Key::Channels)
-        ),
-        Remedy::NameLayer => format!("; choose one with {} LAYER", f(Key::Channels)),
+    match remedy {
         // to-rgb's and preview's option, not a conversion's.
-        Remedy::DropIlluminant => "; drop --illuminant".into(),
+        Remedy::DropIlluminant => Some("; drop --illuminant".into()),
         // Output naming, the command line's own.
-        Remedy::TileTemplate => ", or use --output-template with {udim}".into(),
-        Remedy::AlreadySpectral => format!(
+        Remedy::TileTemplate => Some(", or use --output-template with {udim}".into()),
+        Remedy::AlreadySpectral => Some(format!(
             "; use it as it is (`specconv info` shows its bands), `specconv to-rgb` gives its \
              colour, and converting its colour source with {} START:END:STEP gives another grid \
              ({} R,G,B reads a colour preview it holds instead)",
-            f(Key::Bands),
-            f(Key::Channels)
-        ),
-        Remedy::ExpandCompact => format!(
+            flag(Key::Bands),
+            flag(Key::Channels)
+        )),
+        Remedy::ExpandCompact => Some(format!(
             "; `specconv expand` writes its spectra as a spectral OpenEXR ({} R,G,B reads its \
              colour as an image instead)",
-            f(Key::Channels)
-        ),
-        Remedy::DataTexture => format!(
-            "; {0} skip leaves it out, {0} copy writes it through as a data texture, and {1} \
-             NAME reads it as colour if it is one",
-            f(Key::Data),
-            f(Key::Colorspace)
-        ),
-        Remedy::FewerThreads => format!("; lower {}", f(Key::Threads)),
-        Remedy::SmallerBlocks | Remedy::LessMemory | Remedy::FewerBands => {
-            let flags: Vec<String> = remedy.keys().iter().map(|&k| f(k)).collect();
-            format!(" ({})", flags.join(", "))
-        }
-        Remedy::BandsInside { start, end, step } => format!(
-            "; choose bands inside that range (e.g. {} {start}:{end}:{step})",
-            f(Key::Bands)
-        ),
-        Remedy::ZipLevelInRange => format!("; give {} 0 to 9", f(Key::ZipLevel)),
+            flag(Key::Channels)
+        )),
         // A training setting, not a conversion's.
-        Remedy::OneClusterModel => " (`specconv train --clusters 1`)".into(),
+        Remedy::OneClusterModel => Some(" (`specconv train --clusters 1`)".into()),
         // [`explain`] words these errors whole, in the option's own terms.
-        Remedy::DropZipLevel | Remedy::NonEmptyTiles | Remedy::SomeThreads => return None,
-        _ => return None,
-    })
+        Remedy::DropZipLevel | Remedy::NonEmptyTiles | Remedy::SomeThreads => None,
+        _ => remedy.advice(&Flags),
+    }
+}
+
+/// The command line's spelling of the options a remedy names: its flags.
+struct Flags;
+
+impl specconv_conversion::Spelling for Flags {
+    fn option(&self, key: specconv_conversion::Key) -> String {
+        flag(key)
+    }
+    fn given(&self, key: specconv_conversion::Key, value: &str) -> String {
+        format!("{} {value}", flag(key))
+    }
+    fn value(&self, value: &str) -> String {
+        value.to_string()
+    }
+    fn on(&self, key: specconv_conversion::Key) -> String {
+        flag(key)
+    }
+    fn update(&self) -> String {
+        "-u".into()
+    }
 }
 
 /// How the command line spells an option: its first flag as `convert` defines it, with its

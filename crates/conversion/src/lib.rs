@@ -64,7 +64,7 @@ pub use converter::{
 pub use describe::{
     describe, Channel, ChannelChoice, ChannelReason, Description, ReadAs, SpectralFacts, Window,
 };
-pub use error::{message, remedy_of, Cause, ConversionError, Error, Remedy};
+pub use error::{message, remedy_of, Cause, ConversionError, Error, Remedy, Spelling};
 pub use named::{Named, UnknownName};
 pub use options::{
     About, Alpha, BadValue, Blocks, Compression, DataPolicy, Filter, Key, Layout, Mip, NonFinite,

@@ -15,7 +15,7 @@ mod remedy;
 
 pub use cause::Cause;
 pub use message::message;
-pub use remedy::{remedy_of, Remedy};
+pub use remedy::{remedy_of, Remedy, Spelling};
 
 /// Why a [`crate::Converter`] could not be built, or one conversion failed.
 #[derive(Debug, thiserror::Error)]
@@ -590,7 +590,35 @@ mod tests {
                     !r.keys().is_empty() || r == Remedy::DropIlluminant,
                     "{name}: {r:?} names no option"
                 );
+                // The library's words name every option the remedy changes, in the
+                // front-end's spelling.
+                if let Some(advice) = r.advice(&Angled) {
+                    for k in r.keys() {
+                        assert!(advice.contains(&format!("<{}", k.about().name)), "{advice}");
+                    }
+                }
             }
+        }
+    }
+
+    /// A spelling that shows where each option is named: `<name>`, `<name value>`.
+    struct Angled;
+
+    impl crate::Spelling for Angled {
+        fn option(&self, key: crate::Key) -> String {
+            format!("<{}>", key.about().name)
+        }
+        fn given(&self, key: crate::Key, value: &str) -> String {
+            format!("<{} {value}>", key.about().name)
+        }
+        fn value(&self, value: &str) -> String {
+            value.into()
+        }
+        fn on(&self, key: crate::Key) -> String {
+            self.option(key)
+        }
+        fn update(&self) -> String {
+            "<update>".into()
         }
     }
 

@@ -97,6 +97,86 @@ impl Remedy {
     }
 }
 
+/// How a front-end spells the options a remedy names: the command line's flags, the Python
+/// package's keywords. [`Remedy::advice`] words each remedy once with it.
+pub trait Spelling {
+    /// The option itself: `--colorspace`, `-j/--threads`; `colorspace=`.
+    fn option(&self, key: Key) -> String;
+    /// The option given a value: `--fixnan box3`; `non_finite="box3"`.
+    fn given(&self, key: Key, value: &str) -> String;
+    /// A value alone, as [`Spelling::given`] writes it: `black`; `"black"`.
+    fn value(&self, value: &str) -> String;
+    /// A switch turned on: `--force`; `overwrite=True`.
+    fn on(&self, key: Key) -> String;
+    /// What skips outputs that are up to date (a batch's, not a conversion's option): `-u`;
+    /// `update=True`.
+    fn update(&self) -> String;
+}
+
+impl Remedy {
+    /// What to do, in a front-end's spelling, appended to the error's message (`; pass
+    /// --force to replace it`); `None` for the remedies a front-end words itself: its own
+    /// commands and outputs (a spectral or compact input, a UDIM template, an illuminant, a
+    /// model's training) and the rules of one option that it may say whole (a deflate level
+    /// without zip, empty tiles, no threads).
+    pub fn advice(&self, s: &dyn Spelling) -> Option<String> {
+        let non_finite = crate::Named::name(crate::NonFinite::Keep);
+        Some(match *self {
+            Remedy::ReplaceOrSkip => format!(
+                "; pass {} to replace it (or {} to skip outputs that are up to date)",
+                s.on(Key::Overwrite),
+                s.update()
+            ),
+            Remedy::Replace => format!("; pass {} to replace it", s.on(Key::Overwrite)),
+            Remedy::RepairNonFinite => format!(
+                "; repair them with {} (or {}), or write them as they are with {}",
+                s.given(Key::NonFinite, "box3"),
+                s.value("black"),
+                s.given(Key::NonFinite, non_finite)
+            ),
+            Remedy::RepairBlack => {
+                format!("; repair them with {}", s.given(Key::NonFinite, "black"))
+            }
+            Remedy::NameColourSpace => format!("; pass {}", s.option(Key::Colorspace)),
+            Remedy::NameEncodingColourSpace => format!(
+                "; pass {} with the colour space the texture is encoded in",
+                s.option(Key::Colorspace)
+            ),
+            Remedy::NameChannelsOrLayer => format!(
+                "; choose with {} or {}",
+                s.given(Key::Channels, "LAYER"),
+                s.given(Key::Channels, "NAME,NAME,NAME")
+            ),
+            Remedy::NameLayer => format!("; choose one with {}", s.given(Key::Channels, "LAYER")),
+            Remedy::DataTexture => format!(
+                "; {} leaves it out, {} writes it through as a data texture, and {} reads it as \
+                 colour if it is one",
+                s.given(Key::Data, "skip"),
+                s.given(Key::Data, "copy"),
+                s.given(Key::Colorspace, "NAME")
+            ),
+            Remedy::ZipLevelInRange => format!("; give {} 0 to 9", s.option(Key::ZipLevel)),
+            Remedy::FewerThreads => format!("; lower {}", s.option(Key::Threads)),
+            Remedy::SmallerBlocks | Remedy::LessMemory | Remedy::FewerBands => {
+                let options: Vec<String> = self.keys().iter().map(|&k| s.option(k)).collect();
+                format!(" ({})", options.join(", "))
+            }
+            Remedy::BandsInside { start, end, step } => format!(
+                "; choose bands inside that range (e.g. {})",
+                s.given(Key::Bands, &format!("{start}:{end}:{step}"))
+            ),
+            Remedy::DropZipLevel
+            | Remedy::NonEmptyTiles
+            | Remedy::SomeThreads
+            | Remedy::OneClusterModel
+            | Remedy::DropIlluminant
+            | Remedy::TileTemplate
+            | Remedy::AlreadySpectral
+            | Remedy::ExpandCompact => return None,
+        })
+    }
+}
+
 impl Error {
     /// The setting that would fix it, when one would (every rule of every front-end: a
     /// test below lists the errors a setting fixes).
