@@ -6,14 +6,59 @@
 use clap::builder::{PossibleValue, TypedValueParser};
 use specconv_conversion::{Flag, Key, Options, Takes, Value};
 
-/// The options of a conversion as arguments, made from the library's definitions
+/// Options of the library's definitions as a command's arguments
 /// ([`specconv_conversion::definition`]): each flag, its value names, help and conflicts come
 /// from there; a value is read by the library ([`Options::set_os`]), so a flag accepts exactly
-/// what the library does.
+/// what the library does. Which options a command takes is its [`Taken`].
 #[derive(Debug, Clone)]
-pub(crate) struct ConversionArgs {
+pub(crate) struct OptionArgs<T: Taken> {
     /// The options given (the global `--ocio` is set apart, before the subcommand).
     pub options: Options,
+    /// The options given on the command line, by any of their flags.
+    pub given: Vec<Key>,
+    taken: std::marker::PhantomData<T>,
+}
+
+/// The options of the definitions a command takes as its own arguments.
+pub(crate) trait Taken: std::fmt::Debug + Clone + Send + Sync + 'static {
+    /// The options, each with all its flags.
+    fn keys() -> Vec<Key>;
+    /// The help of an option whose default is the command's own, not a conversion's (the
+    /// library's default is then neither shown nor set).
+    fn own_help(_key: Key) -> Option<&'static str> {
+        None
+    }
+}
+
+/// `convert`'s (and `asset`'s, `farm submit`'s): every option of a conversion but the global
+/// `--ocio`.
+#[derive(Debug, Clone)]
+pub(crate) struct Conversion;
+
+impl Taken for Conversion {
+    fn keys() -> Vec<Key> {
+        own_keys().collect()
+    }
+}
+
+/// The options of a conversion as arguments.
+pub(crate) type ConversionArgs = OptionArgs<Conversion>;
+
+impl<T: Taken> OptionArgs<T> {
+    /// Whether `key` was given on the command line.
+    pub fn was_given(&self, key: Key) -> bool {
+        self.given.contains(&key)
+    }
+}
+
+/// The flags of `key` a command takes: all, but only the first where the command's default
+/// is its own (the others, such as `--checknan`, say a conversion's).
+fn shown_flags<T: Taken>(key: Key) -> &'static [Flag] {
+    let flags = key.about().flags;
+    match T::own_help(key) {
+        Some(_) => &flags[..flags.len().min(1)],
+        None => flags,
+    }
 }
 
 /// The options `convert` takes as its own arguments: all but the global `--ocio`.
@@ -21,14 +66,19 @@ fn own_keys() -> impl Iterator<Item = Key> {
     Key::ALL.into_iter().filter(|k| *k != Key::Ocio)
 }
 
-/// The clap argument of `flag`, one of `key`'s.
-fn argument(key: Key, flag: &Flag, first: &Flag) -> clap::Arg {
+/// The clap argument of `flag`, one of `key`'s; `own_help` replaces the option's help and
+/// default (a command whose default is its own).
+fn argument(key: Key, flag: &Flag, first: &Flag, own_help: Option<&'static str>) -> clap::Arg {
     use clap::{Arg, ArgAction};
     let about = key.about();
+    let help = match (flag == first, own_help) {
+        (true, Some(help)) => help,
+        _ => flag.help.unwrap_or(about.help),
+    };
     let mut arg = Arg::new(flag.long)
         .long(flag.long)
         .visible_aliases(flag.aliases.iter().copied())
-        .help(flag.help.unwrap_or(about.help));
+        .help(help);
     if let Some(short) = flag.short {
         arg = arg.short(short);
     }
@@ -40,7 +90,7 @@ fn argument(key: Key, flag: &Flag, first: &Flag) -> clap::Arg {
             (None, _) => arg.conflicts_with(first.long),
         };
     }
-    let default = Options::default().text(key);
+    let default = Options::default().text(key).filter(|_| own_help.is_none());
     match flag.takes {
         Takes::Value(name) => {
             arg = arg.value_name(name).action(ArgAction::Set);
@@ -70,13 +120,13 @@ fn argument(key: Key, flag: &Flag, first: &Flag) -> clap::Arg {
     }
 }
 
-impl clap::Args for ConversionArgs {
+impl<T: Taken> clap::Args for OptionArgs<T> {
     fn augment_args(mut cmd: clap::Command) -> clap::Command {
-        for key in own_keys() {
+        for key in T::keys() {
             let flags = key.about().flags;
             let Some(first) = flags.first() else { continue };
-            for flag in flags {
-                cmd = cmd.arg(argument(key, flag, first));
+            for flag in shown_flags::<T>(key) {
+                cmd = cmd.arg(argument(key, flag, first, T::own_help(key)));
             }
         }
         cmd
@@ -87,10 +137,12 @@ impl clap::Args for ConversionArgs {
     }
 }
 
-impl clap::FromArgMatches for ConversionArgs {
+impl<T: Taken> clap::FromArgMatches for OptionArgs<T> {
     fn from_arg_matches(matches: &clap::ArgMatches) -> Result<Self, clap::Error> {
-        let mut args = ConversionArgs {
+        let mut args = OptionArgs {
             options: Options::default(),
+            given: Vec::new(),
+            taken: std::marker::PhantomData,
         };
         args.update_from_arg_matches(matches)?;
         Ok(args)
@@ -100,8 +152,8 @@ impl clap::FromArgMatches for ConversionArgs {
     /// (`--emissive`, then `--emission-units`); defaults are the library's already.
     fn update_from_arg_matches(&mut self, matches: &clap::ArgMatches) -> Result<(), clap::Error> {
         use clap::parser::ValueSource;
-        for key in own_keys() {
-            for flag in key.about().flags {
+        for key in T::keys() {
+            for flag in shown_flags::<T>(key) {
                 let id = flag.long;
                 if matches.value_source(id) != Some(ValueSource::CommandLine) {
                     continue;
@@ -118,6 +170,9 @@ impl clap::FromArgMatches for ConversionArgs {
                         .cloned()
                         .unwrap_or_default(),
                 };
+                if !self.given.contains(&key) {
+                    self.given.push(key);
+                }
                 self.options.set_os(key, &text).map_err(|e| {
                     clap::Error::raw(
                         clap::error::ErrorKind::ValueValidation,

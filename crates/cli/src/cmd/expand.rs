@@ -3,11 +3,12 @@
 
 use super::convert::{ending, plan, printing};
 use crate::errors::{explain, print_error, usage};
+use crate::options::{OptionArgs, Taken};
 use crate::progress::{Progress, Summary};
 use crate::stdio::StdoutFailed;
 use crate::{records, signals};
 use anyhow::Result;
-use specconv_conversion::{Event, Expansions};
+use specconv_conversion::{Event, Expansions, Key};
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
@@ -43,19 +44,29 @@ pub struct Args {
     /// {name}, {ext}).
     #[arg(long, value_name = "TEMPLATE")]
     output_template: Option<String>,
-    /// Worker threads (default: one per core).
-    #[arg(short = 'j', long, value_name = "N")]
-    threads: Option<usize>,
     /// -u, --json, --progress, -q, as `convert` takes them.
     #[command(flatten)]
     batch: super::convert::BatchArgs,
-    /// Replace existing outputs.
-    #[arg(long)]
-    force: bool,
-    /// NaN and infinite texels: refuse, black, box3 or none (keep), as `convert --fixnan`
-    /// treats its input's pixels; by default the rule the compact file's conversion recorded.
-    #[arg(long, value_name = "HOW")]
-    fixnan: Option<specconv_conversion::NonFinite>,
+    /// -j, --force, --fixnan, as the library defines them.
+    #[command(flatten)]
+    options: OptionArgs<Expanding>,
+}
+
+/// The options of a conversion that `expand` takes: threads, replacing outputs, and NaN
+/// texels (by default the rule the compact file's conversion recorded, not `convert`'s).
+#[derive(Debug, Clone)]
+struct Expanding;
+
+impl Taken for Expanding {
+    fn keys() -> Vec<Key> {
+        vec![Key::Threads, Key::Overwrite, Key::NonFinite]
+    }
+    fn own_help(key: Key) -> Option<&'static str> {
+        (key == Key::NonFinite).then_some(
+            "NaN and infinite texels: refuse, black, box3 or keep, as `convert --fixnan` treats \
+             its input's pixels; by default the rule the compact file's conversion recorded",
+        )
+    }
 }
 
 /// Expands every input; returns the exit status, as `convert`'s.
@@ -67,7 +78,7 @@ pub fn run(args: Args) -> Result<i32> {
     )
     .map_err(usage)?;
     whole
-        .check_existing(args.force, args.batch.update)
+        .check_existing(args.options.options.overwrite, args.batch.update)
         .map_err(|e| usage(plan::planned(e)))?;
     let pairs = whole.into_pairs();
     let reporting = args.batch.reporting(false);
@@ -87,10 +98,14 @@ pub fn run(args: Args) -> Result<i32> {
     };
     let batch_start = std::time::Instant::now();
     let mut started = batch_start;
-    let expansions = Expansions::new(args.force)
-        .fixnan(args.fixnan)
+    let options = &args.options;
+    let fixnan = options
+        .was_given(Key::NonFinite)
+        .then_some(options.options.non_finite);
+    let expansions = Expansions::new(options.options.overwrite)
+        .fixnan(fixnan)
         .update(args.batch.update)
-        .threads(args.threads)
+        .threads(options.options.threads)
         .cancel_on(&cancel);
     let ended = signals::deferred(&cancel, || {
         expansions.run(&pairs, &mut |event| match event {
