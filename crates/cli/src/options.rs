@@ -44,6 +44,26 @@ impl Taken for Conversion {
 /// The options of a conversion as arguments.
 pub(crate) type ConversionArgs = OptionArgs<Conversion>;
 
+/// `--force` alone, for the commands that write one file of their own (a model, a picture).
+#[derive(Debug, Clone)]
+pub(crate) struct Replacing;
+
+impl Taken for Replacing {
+    fn keys() -> Vec<Key> {
+        vec![Key::Overwrite]
+    }
+}
+
+/// `--force`, as the library defines it.
+pub(crate) type ForceArg = OptionArgs<Replacing>;
+
+impl ForceArg {
+    /// Whether existing outputs are replaced.
+    pub fn on(&self) -> bool {
+        self.options.overwrite
+    }
+}
+
 impl<T: Taken> OptionArgs<T> {
     /// Whether `key` was given on the command line.
     pub fn was_given(&self, key: Key) -> bool {
@@ -235,6 +255,91 @@ mod tests {
     use clap::{CommandFactory, Parser};
     use specconv_conversion::Named;
     use std::collections::BTreeSet;
+
+    /// Flags of other commands spelt as an option of the definitions but declared by hand:
+    /// (command, flag, why it is not the option). A new one fails the test below, and so
+    /// does an entry that is the definitions' now, so that the list only shrinks.
+    const DECLARED_BY_HAND: &[(&str, &str, &str)] = &[
+        (
+            "train",
+            "bands",
+            "the grid a model is trained on, not an output's",
+        ),
+        (
+            "eval",
+            "bands",
+            "the grid measured on: by default the model's",
+        ),
+        (
+            "eval",
+            "bounded",
+            "off by default: the method as named is measured",
+        ),
+        ("eval", "method", "a method measured, not written"),
+        ("eval", "model", "conflicts with --train"),
+        ("report", "bands", "the grid measured on"),
+        ("report", "threads", "the threads of one cost measurement"),
+        (
+            "info",
+            "colorspace",
+            "only shown, not read as: no rule is reported",
+        ),
+        (
+            "to-rgb",
+            "colorspace",
+            "the output's colour space, not the input's",
+        ),
+        ("simulate", "method", "repeated: several methods compared"),
+        ("simulate", "force", "replaces the --image picture only"),
+        (
+            "expand",
+            "fixnan",
+            "its default is the rule the compact file recorded",
+        ),
+    ];
+
+    /// Every command's flag that is spelt as an option of the definitions is that option
+    /// (its help is the definitions'), or listed in [`DECLARED_BY_HAND`] with why not.
+    #[test]
+    fn a_flag_spelt_as_an_option_is_the_option() {
+        fn walk(cmd: &clap::Command, name: &str, out: &mut Vec<(String, String, String)>) {
+            for arg in cmd.get_arguments() {
+                let (Some(long), Some(help)) = (arg.get_long(), arg.get_help()) else {
+                    continue;
+                };
+                out.push((name.to_string(), long.to_string(), help.to_string()));
+            }
+            for sub in cmd.get_subcommands() {
+                let inner = match name {
+                    "" => sub.get_name().to_string(),
+                    _ => format!("{name} {}", sub.get_name()),
+                };
+                walk(sub, &inner, out);
+            }
+        }
+        let mut cli = crate::command_line::Cli::command();
+        cli.build();
+        let mut args = Vec::new();
+        walk(&cli, "", &mut args);
+        let mut by_hand = Vec::new();
+        for (command, long, help) in &args {
+            for key in Key::ALL {
+                let about = key.about();
+                let Some(flag) = about.flags.iter().find(|f| f.long == long) else {
+                    continue;
+                };
+                if *help != flag.help.unwrap_or(about.help) {
+                    by_hand.push((command.as_str(), long.as_str()));
+                }
+            }
+        }
+        by_hand.sort();
+        by_hand.dedup();
+        let mut listed: Vec<(&str, &str)> =
+            DECLARED_BY_HAND.iter().map(|(c, f, _)| (*c, *f)).collect();
+        listed.sort();
+        assert_eq!(by_hand, listed, "flags declared by hand (command, flag)");
+    }
 
     /// `convert`'s arguments that are not options of a conversion: what to convert, where to,
     /// and how the command reports.

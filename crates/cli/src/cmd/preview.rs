@@ -58,9 +58,9 @@ pub struct Args {
     /// Print a JSON summary (sizes, light, and ΔE max and mean with --diff-rgb) on stdout.
     #[arg(long)]
     json: bool,
-    /// Replace an existing output.
-    #[arg(long)]
-    force: bool,
+    /// --force, as the library defines it.
+    #[command(flatten)]
+    force: crate::options::ForceArg,
 }
 
 #[derive(Serialize)]
@@ -84,7 +84,7 @@ struct Summary {
 pub fn run(args: Args) -> Result<()> {
     use specconv_conversion::preview::{shade, PreviewOptions};
     Format::of(&args.output, "-o", &[Format::Png])?;
-    let replace = specconv_atomic_file::Replace::when(args.force);
+    let replace = specconv_atomic_file::Replace::when(args.force.on());
     files::check_writable(&args.output, &[args.input.as_path()], replace)?;
     let mut options = PreviewOptions::default();
     options.illuminant = args.illuminant;

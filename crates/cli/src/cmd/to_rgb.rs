@@ -43,9 +43,9 @@ pub struct Args {
     /// The global --ocio (see `specconv --help`).
     #[arg(skip)]
     pub(crate) ocio: Option<String>,
-    /// Replace an existing output.
-    #[arg(long)]
-    force: bool,
+    /// --force, as the library defines it.
+    #[command(flatten)]
+    force: crate::options::ForceArg,
 }
 
 pub fn run(args: Args) -> Result<()> {
@@ -53,14 +53,14 @@ pub fn run(args: Args) -> Result<()> {
     crate::files::check_exr_output(
         &args.output,
         &args.input,
-        args.force,
+        args.force.on(),
         "to-rgb writes OpenEXR",
     )?;
     let mut options = ToRgbOptions::default();
     options.ocio = args.ocio.clone();
     options.colorspace = args.colorspace.clone();
     options.illuminant = args.illuminant;
-    options.overwrite = args.force;
+    options.overwrite = args.force.on();
     let to_rgb = ToRgb::new(options).map_err(|e| usage(anyhow::anyhow!(explain(&e))))?;
     // A signal stops the integration between blocks, or the write before it is published.
     let r = crate::signals::one_output(|cancel| {

@@ -59,9 +59,9 @@ pub struct Args {
     /// Where to write the model (JSON).
     #[arg(short, long, value_name = "MODEL")]
     output: PathBuf,
-    /// Replace an existing output.
-    #[arg(long)]
-    force: bool,
+    /// --force, as the library defines it.
+    #[command(flatten)]
+    force: crate::options::ForceArg,
 }
 
 fn min_cluster_size(s: &str) -> Result<usize, String> {
@@ -87,7 +87,7 @@ pub fn run(args: Args) -> Result<()> {
         read.extend(models::recorded_files(with, base, dir)?);
     }
     let inputs: Vec<&Path> = read.iter().map(PathBuf::as_path).collect();
-    let replace = Replace::when(args.force);
+    let replace = Replace::when(args.force.on());
     files::check_writable(&args.output, &inputs, replace)?;
     let (a, set, base) = match (&args.with, base, &args.with_data) {
         (Some(with), Some(base), Some(dir)) => {
