@@ -2,7 +2,10 @@
 //! that a reader of a 16K texture holds one block of bands at a time. [`crate::read`] is this
 //! reader with every block gathered into planes.
 
-use crate::{parse_channel, Channel, Error, Kind, Layout, Result};
+use crate::attributes::text_string;
+use crate::channels::{parse_channel, Channel, Layout};
+use crate::error::{Error, Result};
+use crate::spec::Kind;
 use exr::block::reader::ChunksReader;
 use exr::meta::attribute::{AttributeValue, SampleType};
 use std::path::Path;
@@ -392,7 +395,7 @@ fn text_attributes(h: &exr::meta::header::Header) -> Vec<(String, String)> {
         .other
         .iter()
         .filter_map(|(k, v)| match v {
-            AttributeValue::Text(t) => Some((crate::text_string(k), crate::text_string(t))),
+            AttributeValue::Text(t) => Some((text_string(k), text_string(t))),
             _ => None,
         })
         .collect()
