@@ -171,14 +171,17 @@ pub fn colour_attributes(path: &std::path::Path) -> Result<Option<ColourAttribut
 pub fn read_attributes(path: &std::path::Path) -> Result<Vec<(String, String)>> {
     let file = std::io::BufReader::new(specconv_atomic_file::open_file(path)?);
     let meta = exr::meta::MetaData::read_from_buffered(file, false)?;
-    Ok(meta.headers.first().map_or_else(Vec::new, |h| {
-        h.own_attributes
-            .other
-            .iter()
-            .filter_map(|(k, v)| match v {
-                AttributeValue::Text(t) => Some((text_string(k), text_string(t))),
-                _ => None,
-            })
-            .collect()
-    }))
+    Ok(meta.headers.first().map_or_else(Vec::new, text_attributes))
+}
+
+/// A part's own text attributes, as (name, value).
+pub(crate) fn text_attributes(h: &Header) -> Vec<(String, String)> {
+    h.own_attributes
+        .other
+        .iter()
+        .filter_map(|(k, v)| match v {
+            AttributeValue::Text(t) => Some((text_string(k), text_string(t))),
+            _ => None,
+        })
+        .collect()
 }
