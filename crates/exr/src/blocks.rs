@@ -2,9 +2,12 @@
 //! that a reader of a 16K texture holds one block of bands at a time. [`crate::read`] is this
 //! reader with every block gathered into planes.
 
-use crate::{parse_channel, Channel, Error, Kind, Layout, Result};
+use crate::attributes::text_attributes;
+use crate::channels::{parse_channel, Channel, Layout};
+use crate::error::{Error, Result};
+use crate::spec::Kind;
 use exr::block::reader::ChunksReader;
-use exr::meta::attribute::{AttributeValue, SampleType};
+use exr::meta::attribute::SampleType;
 use std::path::Path;
 
 /// What a spectral EXR holds, from its header: everything but the pixels.
@@ -384,18 +387,6 @@ fn planes(
         size: (width, height),
         planes,
     })
-}
-
-/// A part's own text attributes, as (name, value).
-fn text_attributes(h: &exr::meta::header::Header) -> Vec<(String, String)> {
-    h.own_attributes
-        .other
-        .iter()
-        .filter_map(|(k, v)| match v {
-            AttributeValue::Text(t) => Some((crate::text_string(k), crate::text_string(t))),
-            _ => None,
-        })
-        .collect()
 }
 
 /// Refuses a part with a subsampled channel (4:2:0 chroma and the like): a texture's channels,

@@ -1,7 +1,8 @@
 //! A plain RGB(A) OpenEXR, float samples, for what is integrated back to colour (`to-rgb`): no
 //! channel the source did not have (A only with alpha).
 
-use crate::Result;
+use crate::attributes::{standard_attribute, text, MAX_NAME_BYTES};
+use crate::error::Result;
 use exr::prelude::{Image, SpecificChannels, Vec2, WritableImage};
 use std::io::{Seek, Write};
 
@@ -58,13 +59,10 @@ pub fn write_rgb_declared(
         // Names OpenEXR cannot take as free text are left out (the callers' metadata rule
         // keeps them out before).
         for (name, value) in &declared.text {
-            if !name.is_empty()
-                && name.len() <= crate::MAX_NAME_BYTES
-                && !crate::standard_attribute(name)
-            {
+            if !name.is_empty() && name.len() <= MAX_NAME_BYTES && !standard_attribute(name) {
                 attributes
                     .other
-                    .insert(crate::text(name), AttributeValue::Text(crate::text(value)));
+                    .insert(text(name), AttributeValue::Text(text(value)));
             }
         }
         if let Some(name) = declared.colorspace_name.as_deref() {

@@ -38,19 +38,21 @@
 //! after the declared transfer function; or, for an ICC profile, Little CMS to its D50 PCS
 //! (relative colorimetric) then Bradford to D65.
 
-use super::{input, interop, png, Error, Result};
 use crate::choices::Alpha;
+pub use crate::data_texture::{DataTexture, ONE_CHANNEL};
+use crate::error::{Error, Result};
 pub use crate::header::Header;
 use crate::report::says;
 pub use crate::report::{Rule, Strength, Warning};
 use crate::transfer::Decode;
+use crate::{input, interop, png};
 use specconv_colour::rgb::{self, RgbSpace};
 use specconv_icc::ToPcs;
 use specconv_ocio::{Config, Processor};
 use specconv_oiio::ImageReader;
 use specconv_spectral::compact::Compact;
 use std::fmt;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 /// D65 as OCIO's CIE-XYZ-D65 has it: the chromaticity (0.3127, 0.3290) of ITU-R BT.709, Y = 1.
 const D65: [f64; 3] = [0.3127 / 0.3290, 1.0, (1.0 - 0.3127 - 0.3290) / 0.3290];
@@ -418,52 +420,6 @@ fn describe_space(label: &str, s: &RgbSpace, decode: Decode) -> String {
         xy(s.primaries[2]),
         xy(s.white)
     )
-}
-
-/// A texture that holds data, not colour: never uplifted (the module's rules).
-#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
-#[error("{}: a data texture ({}): it holds numbers, not colour, and is never uplifted to a spectrum", path.display(), self.why())]
-pub struct DataTexture {
-    /// The input.
-    pub path: PathBuf,
-    /// The data colour space (the config's name, `Raw` in most configs).
-    pub name: String,
-    /// The rule that chose it; [`Rule::OneChannel`] for one channel no row from 1 to 3
-    /// calls colour.
-    pub rule: Rule,
-    /// The subimage and channels it would be read as; `None` where not chosen yet.
-    pub selection: Option<input::Selection>,
-    /// Width and height of its full-resolution level.
-    pub size: (u32, u32),
-}
-
-/// Why one channel is data: the data-map rule [`texture_space`] applies.
-pub const ONE_CHANNEL: &str = "one channel (with or without alpha), and neither the caller, \
-     the config's explicit file rules nor a strong declaration in the file call it colour";
-
-impl DataTexture {
-    /// Why it is data, in words.
-    pub fn why(&self) -> String {
-        let over = self
-            .rule
-            .overrides()
-            .map(|o| format!(", over {o}"))
-            .unwrap_or_default();
-        match &self.rule {
-            Rule::Flag { .. } => format!("colour space '{}', as asked{over}", self.name),
-            Rule::Declared { what, .. } => format!(
-                "colour space '{}', declared by its {}{over}",
-                self.name,
-                what.join(", ")
-            ),
-            Rule::FileRule { rule, .. } | Rule::ConfigDefault { rule, .. } => format!(
-                "colour space '{}', by the OCIO config's file rule '{rule}'{over}",
-                self.name
-            ),
-            Rule::OneChannel { .. } => format!("{ONE_CHANNEL}{over}"),
-            Rule::Default(why) => (*why).to_owned(),
-        }
-    }
 }
 
 /// The config's data colour space, for a texture that is data by no colour space's say.

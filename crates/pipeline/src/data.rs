@@ -14,7 +14,7 @@
 //! - an abandoned writer that ends later removes what it made; one that never ends (the
 //!   full disk) holds only an emptied, unnamed file until the process ends.
 
-use super::{Error, Result};
+use crate::error::{Error, Result};
 use specconv_atomic_file::{Pending, Replace};
 use specconv_oiio::TextureSpec;
 use std::path::{Path, PathBuf};

@@ -14,12 +14,14 @@
 //! The file is read a strip of blocks at a time; memory is bounded by a strip.
 
 use super::survey::{self, Repair};
-use super::write::strips;
-use super::{
-    average_attributes, clamp_made, finish, level_sums, mip, refuse_overwrites, Error, Result,
-    AVERAGE, COMPACT_ATTRIBUTE, COMPACT_CHANNELS, CONSTANT, EXPAND_ATTRIBUTE, LAYOUT_ATTRIBUTE,
-};
+use crate::attributes::{average_attributes, average_text, windows_of, AVERAGE, CONSTANT};
+use crate::blocks::{clamp_made, finish, level_sums};
+use crate::error::{Error, Result};
+use crate::job::refuse_overwrites;
+use crate::mip;
 use crate::options::{Key, Options};
+use crate::storage::{COMPACT_ATTRIBUTE, COMPACT_CHANNELS, EXPAND_ATTRIBUTE, LAYOUT_ATTRIBUTE};
+use crate::strips::{strips, Strip};
 use crate::Rounding;
 use rayon::prelude::*;
 use specconv_atomic_file::{Pending, Replace};
@@ -320,7 +322,7 @@ fn spec(source: &Source) -> Result<Spec> {
     Ok(Spec {
         width: top.width as usize,
         height: top.height as usize,
-        windows: Some(super::windows_of(&top)),
+        windows: Some(windows_of(&top)),
         wavelengths: source.d.compact.grid().wavelengths(),
         kind: Kind::Reflective,
         alpha: source.d.alpha.is_some(),
@@ -345,7 +347,7 @@ fn spec(source: &Source) -> Result<Spec> {
 /// texture's, the input's metadata) but the compact layout's, the tag without
 /// `layout=compact`, and the average (and constant) colours' places, `values` long.
 fn attributes(reader: &ImageReader, values: usize) -> Result<Vec<(String, String)>> {
-    let placeholder = super::average_text(&vec![0.0; values]);
+    let placeholder = average_text(&vec![0.0; values]);
     let mut out = vec![(AVERAGE.to_string(), placeholder.clone())];
     // The input's metadata by a conversion's rule and bounds, each length before its value.
     let mut metadata = crate::metadata::Carry::default();
@@ -522,7 +524,7 @@ fn decode(
 /// The file's blocks by strip, and what makes the smaller levels.
 struct Strips<'f> {
     file: &'f SpectralFile,
-    level0: Vec<super::Strip>,
+    level0: Vec<Strip>,
     smaller: HashMap<(usize, usize), Vec<Block>>,
     cascade: Option<mip::Cascade>,
     filter: crate::Filter,
@@ -557,7 +559,7 @@ impl<'f> Strips<'f> {
     fn level0_blocks(
         &self,
         source: &Decoding,
-        strip: &super::Strip,
+        strip: &Strip,
         values: &[f32],
     ) -> Result<Vec<(usize, Chunk, Vec<f64>)>> {
         let width = self.file.level_size(0).0;

@@ -5,7 +5,8 @@
 //! both decide by the same rule on the same evidence. What the second reads is what
 //! OpenImageIO 2.4 reports of PNG, JPEG and OpenEXR files (tests compare the two).
 
-use super::{png, Error, Result};
+use crate::error::{Error, Result};
+use crate::png;
 use specconv_oiio::ImageReader;
 use std::io::{Read, Seek, SeekFrom};
 use std::path::{Path, PathBuf};

@@ -9,7 +9,8 @@
 
 use crate::choices::{Alpha, NonFinite};
 use crate::colour::{self, Decoded, Header, InputSpace};
-use crate::{Error, Options, Result};
+use crate::error::{Error, Result};
+use crate::Options;
 use rayon::prelude::*;
 use specconv_spectral::compact::{Compact, Precision, TEXEL};
 use specconv_spectral::key_hash::KeyHash;

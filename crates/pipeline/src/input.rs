@@ -7,6 +7,7 @@
 //! every image format names them; else, when exactly one layer holds `.R`, `.G` and `.B`, that
 //! layer (and its `.A`). Any other layered file is refused with the list of its layers.
 
+pub use crate::error::Choose;
 pub use crate::report::{ChannelReason, Channels, Selection};
 use specconv_oiio::{ImageInfo, ImageReader};
 use std::path::Path;
@@ -47,15 +48,15 @@ pub fn selection(info: &ImageInfo, channels: Channels) -> Selection {
 /// Opens `path` on the subimage asked for and chooses its channels. A spectral image (the
 /// Fichet 2021 layout: `T.` or `S0.` channels) or a compact one is refused unless channels are
 /// asked for: it is already spectra, and uplifting its colour would throw them away.
-pub fn open(path: &Path, request: &Request) -> super::Result<(ImageReader, Selection)> {
+pub fn open(path: &Path, request: &Request) -> crate::error::Result<(ImageReader, Selection)> {
     let reader = open_subimage(path, request.subimage.as_deref())?;
     let info = reader.info();
     if request.channels.is_none() {
         refuse_spectral(info)?;
-        let layout = reader.string_attribute(super::LAYOUT_ATTRIBUTE)?;
+        let layout = reader.string_attribute(crate::storage::LAYOUT_ATTRIBUTE)?;
         let names: Vec<&str> = info.channels.iter().map(|c| c.name.as_str()).collect();
-        if super::expand::is_compact(layout.as_deref(), &names) {
-            return Err(super::Error::Compact {
+        if crate::expand::is_compact(layout.as_deref(), &names) {
+            return Err(crate::error::Error::Compact {
                 path: info.path.clone(),
             });
         }
@@ -65,8 +66,8 @@ pub fn open(path: &Path, request: &Request) -> super::Result<(ImageReader, Selec
     Ok((reader, selection))
 }
 
-/// [`super::Error::Spectral`] for an image in the spectral layout.
-fn refuse_spectral(info: &ImageInfo) -> super::Result<()> {
+/// [`crate::error::Error::Spectral`] for an image in the spectral layout.
+fn refuse_spectral(info: &ImageInfo) -> crate::error::Result<()> {
     let layout = specconv_exr::Layout::of(info.channels.iter().map(|c| c.name.as_str()));
     if !layout.is_spectral() {
         return Ok(());
@@ -76,7 +77,7 @@ fn refuse_spectral(info: &ImageInfo) -> super::Result<()> {
     } else {
         (false, &layout.reflective)
     };
-    Err(super::Error::Spectral {
+    Err(crate::error::Error::Spectral {
         path: info.path.clone(),
         emissive,
         bands: bands.len(),
@@ -85,22 +86,13 @@ fn refuse_spectral(info: &ImageInfo) -> super::Result<()> {
 }
 
 /// Opens `path` on subimage `which` (`N` or a name; the first when `None`).
-pub fn open_subimage(path: &Path, which: Option<&str>) -> super::Result<ImageReader> {
+pub fn open_subimage(path: &Path, which: Option<&str>) -> crate::error::Result<ImageReader> {
     let mut reader = ImageReader::open(path)?;
     if let Some(which) = which {
         let index = reader.info().find_subimage(which)?;
         reader.select_subimage(index)?;
     }
     Ok(reader)
-}
-
-/// What a caller could name to settle which channels carry the colour.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Choose {
-    /// The channels, or a layer.
-    ChannelsOrLayer,
-    /// One of several layers.
-    OneLayer,
 }
 
 /// The first three channels that are not alpha (fewer when the image has fewer).
@@ -112,7 +104,7 @@ pub fn colour_channels(channels: usize, alpha: Option<usize>) -> Vec<usize> {
 }
 
 /// The colour and alpha channels of `info` (see the module's rules), or `request`'s.
-pub fn choose_channels(info: &ImageInfo, request: Option<&str>) -> super::Result<Channels> {
+pub fn choose_channels(info: &ImageInfo, request: Option<&str>) -> crate::error::Result<Channels> {
     let names = Names {
         info,
         names: info.channels.iter().map(|c| c.name.as_str()).collect(),
@@ -151,9 +143,9 @@ impl Names<'_> {
         }
     }
 
-    /// [`super::Error::Channels`]: `what` is wrong, and what naming would settle it.
-    fn refuse_as(&self, what: String, choose: Option<Choose>) -> super::Error {
-        super::Error::Channels {
+    /// [`crate::error::Error::Channels`]: `what` is wrong, and what naming would settle it.
+    fn refuse_as(&self, what: String, choose: Option<Choose>) -> crate::error::Error {
+        crate::error::Error::Channels {
             path: self.info.path.clone(),
             what,
             channels: format!("{}{}", self.names.join(", "), describe_layers(&self.names)),
@@ -161,7 +153,7 @@ impl Names<'_> {
         }
     }
 
-    fn refuse(&self, what: String) -> super::Error {
+    fn refuse(&self, what: String) -> crate::error::Error {
         self.refuse_as(what, None)
     }
 
@@ -177,7 +169,7 @@ impl Names<'_> {
     }
 
     /// The channels `request` names: a list, a layer, or one grey channel.
-    fn requested(&self, request: &str) -> super::Result<Channels> {
+    fn requested(&self, request: &str) -> crate::error::Result<Channels> {
         if request.contains(',') {
             return self.listed(request);
         }
@@ -193,7 +185,7 @@ impl Names<'_> {
     }
 
     /// The channels of a list of names: one grey, grey and alpha, RGB, or RGBA.
-    fn listed(&self, request: &str) -> super::Result<Channels> {
+    fn listed(&self, request: &str) -> crate::error::Result<Channels> {
         let mut picked = Vec::new();
         for name in request.split(',').map(str::trim) {
             picked.push(
@@ -215,7 +207,7 @@ impl Names<'_> {
 
     /// The channels the module's rules choose: R, G, B; the first channels of an image
     /// without layers; the only layer with R, G and B.
-    fn by_rule(&self) -> super::Result<Channels> {
+    fn by_rule(&self) -> crate::error::Result<Channels> {
         if let (Some(r), Some(g), Some(b)) = (self.find("R"), self.find("G"), self.find("B")) {
             return Ok(self.channels(vec![r, g, b], self.find("A"), ChannelReason::Named));
         }
@@ -249,7 +241,7 @@ impl Names<'_> {
     }
 
     /// The first three channels that are not alpha, or the first as grey.
-    fn in_order(&self) -> super::Result<Channels> {
+    fn in_order(&self) -> crate::error::Result<Channels> {
         let alpha = self.info.alpha_channel;
         let colour = colour_channels(self.names.len(), alpha);
         if colour.is_empty() {

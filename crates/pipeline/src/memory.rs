@@ -8,7 +8,6 @@
 //! fine grid (30,001 bands) on a wide image needs gigabytes for one strip; that is the floor of
 //! the work, and what the estimate counts.
 
-use super::{Error, Result};
 use specconv_exr::SpectralFile;
 
 /// What the refusal says: the bytes the command would hold, and what this process may use.
@@ -109,15 +108,13 @@ fn expand_strips(file: &SpectralFile, threads: usize) -> f64 {
 
 /// Refuses a job that would hold `needed` bytes when this process cannot have them with the
 /// margin ([`MARGIN_PERCENT`]); where nothing is known of the machine, it runs.
-pub fn check(needed: u64) -> Result<()> {
+pub fn check(needed: u64) -> Result<(), Shortfall> {
     match available() {
-        Some((available, bound)) if needed > available / 100 * MARGIN_PERCENT => {
-            Err(Error::TooMuchMemory(Shortfall {
-                needed,
-                available,
-                bound,
-            }))
-        }
+        Some((available, bound)) if needed > available / 100 * MARGIN_PERCENT => Err(Shortfall {
+            needed,
+            available,
+            bound,
+        }),
         _ => Ok(()),
     }
 }

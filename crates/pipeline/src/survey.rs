@@ -8,8 +8,9 @@
 //! - A hash of the source pixels as read, which `-u` compares: a source replaced by another
 //!   image is rebuilt whatever its modification time.
 
-use super::{Error, Job, Result};
 use crate::choices::NonFinite;
+use crate::error::{Error, Result};
+use crate::job::Job;
 use specconv_oiio::{ImageReader, Pixels};
 use std::collections::HashMap;
 use std::path::Path;

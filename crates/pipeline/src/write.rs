@@ -6,10 +6,13 @@
 //! Errors are the pipeline's own all the way: the writer hands back what the producer returns
 //! ([`SpectralFile::write_then`]), so a cancellation is [`Error::Cancelled`] where it is seen.
 
-use super::{
-    average_attributes, encode_block, encode_made_block, mip, Counts, Error, Job, Made, Reading,
-    Result, Strip,
-};
+use crate::attributes::average_attributes;
+use crate::blocks::{encode_made_block, Counts, Made};
+use crate::error::{Error, Result};
+use crate::job::Job;
+use crate::mip;
+use crate::strips::{strips, Strip};
+use crate::uplift::{encode_block, Reading};
 use rayon::prelude::*;
 use specconv_atomic_file::{Pending, PlanError, Replace};
 use specconv_exr::{Block, Blocks, Chunk, SpectralFile};
@@ -507,21 +510,4 @@ fn strip_rows(width: usize, strip: &Strip, blocks: &[Made], values: usize) -> Ve
         }
     }
     rows
-}
-
-/// Groups the file's blocks into rows (they come level by level, row by row).
-pub(super) fn strips(file: &SpectralFile) -> Vec<Strip> {
-    let mut out: Vec<Strip> = Vec::new();
-    for b in file.blocks() {
-        match out.last_mut() {
-            Some(s) if s.level == b.level && s.y == b.y => s.blocks.push(b),
-            _ => out.push(Strip {
-                level: b.level,
-                y: b.y,
-                height: b.height,
-                blocks: vec![b],
-            }),
-        }
-    }
-    out
 }

@@ -4,6 +4,7 @@
 //! benches' timing ([`median_seconds`]). Dev-only: no library depends on it.
 
 pub mod cmd;
+pub mod sources;
 pub mod untrainable;
 
 /// The workspace's one seeded generator and its random colours, from `specconv_study::cost`
