@@ -2,7 +2,7 @@
 //! parsed and dispatched to each command's `run`.
 
 use crate::cmd;
-use crate::errors::{clap_error_line, failed, print_error};
+use crate::errors::{clap_error_line, one_line, print_error, Usage};
 use crate::{exit, signals, stdio};
 use clap::{CommandFactory, Parser, Subcommand};
 
@@ -175,5 +175,24 @@ fn run(cli: Cli) -> anyhow::Result<i32> {
         Some(Command::Preview(args)) => done(cmd::preview::run(args)),
         Some(Command::Farm(args)) => cmd::farm::run(args, ocio),
         Some(Command::Asset(args)) => cmd::asset::run(with_ocio!(args)),
+    }
+}
+
+/// Says why a command failed, once, and returns its exit status. A closed standard output
+/// says nothing: the reader has gone.
+fn failed(e: anyhow::Error) -> i32 {
+    if let Some(out) = stdio::StdoutFailed::in_chain(&e) {
+        if !out.closed() {
+            print_error(&out.to_string());
+        }
+        return out.status();
+    }
+    print_error(&one_line(e.as_ref()));
+    if e.chain().any(|c| c.is::<signals::Interrupted>()) {
+        exit::INTERRUPTED
+    } else if e.chain().any(|c| c.is::<Usage>()) {
+        exit::USAGE
+    } else {
+        exit::FAILED
     }
 }

@@ -1,7 +1,5 @@
 //! How every command's failure is said: one line, `specconv: error: WHAT: CAUSE: …`, each cause
-//! once, with the fix in this program's flags, and the exit status it ends with.
-
-use crate::{exit, signals, stdio};
+//! once, with the fix in this program's flags.
 
 /// An error in how the command was asked for, which no input can fix: exit status 2.
 #[derive(Debug)]
@@ -116,25 +114,6 @@ pub(crate) fn flag(key: specconv_conversion::Key) -> String {
     match first.takes {
         Takes::Pair(a, b) => format!("{named} {a} {b}"),
         _ => named,
-    }
-}
-
-/// Says why a command failed, once, and returns its exit status. A closed standard output
-/// says nothing: the reader has gone.
-pub(crate) fn failed(e: anyhow::Error) -> i32 {
-    if let Some(out) = stdio::StdoutFailed::in_chain(&e) {
-        if !out.closed() {
-            print_error(&out.to_string());
-        }
-        return out.status();
-    }
-    print_error(&one_line(e.as_ref()));
-    if e.chain().any(|c| c.is::<signals::Interrupted>()) {
-        exit::INTERRUPTED
-    } else if e.chain().any(|c| c.is::<Usage>()) {
-        exit::USAGE
-    } else {
-        exit::FAILED
     }
 }
 
