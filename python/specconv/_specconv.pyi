@@ -186,10 +186,11 @@ def write_spectral(
     values: _Array,
     *,
     alpha: Optional[_Array] = None,
-    emission_units: Optional[Literal["reference", "normalised", "photometric"]] = None,
+    emission: Optional[Literal["reference", "normalised", "photometric"]] = None,
     sample: Literal["half", "float"] = "half",
     compression: str = "zip",
     tile: Optional[tuple[int, int]] = (64, 64),
     attributes: Optional[dict[str, str]] = None,
     overwrite: bool = False,
+    emission_units: Optional[Literal["reference", "normalised", "photometric"]] = None,
 ) -> None: ...

@@ -221,15 +221,16 @@ pub fn check_compact_header(
 
 /// Writes `values` (shape (height, width, bands), rows from the top) at `wavelengths` (nm,
 /// finite, positive and increasing) as a spectral EXR with one level: reflectance (`T.`
-/// channels), or with `emission_units` (`"reference"`, `"normalised"` or `"photometric"`,
-/// as `convert`'s `emission`) emission (`S0.` channels, the layout's `emissiveUnits` and the
+/// channels), or with `emission` (`"reference"`, `"normalised"` or `"photometric"`, the
+/// keyword of `convert`) emission (`S0.` channels, the layout's `emissiveUnits` and the
 /// convention recorded as `convert` records it); `alpha` (height, width) as `A`. `path` must
 /// end in `.exr`; written beside it and renamed into place; an existing `path` only with
-/// `overwrite`, and never a FIFO, device or directory.
+/// `overwrite`, and never a FIFO, device or directory. `emission_units`, its old name, still
+/// works with a `DeprecationWarning`.
 #[pyfunction]
-#[pyo3(signature = (path, wavelengths, values, *, alpha=None, emission_units=None,
+#[pyo3(signature = (path, wavelengths, values, *, alpha=None, emission=None,
                     sample="half", compression="zip", tile=Some((64, 64)), attributes=None,
-                    overwrite=false))]
+                    overwrite=false, emission_units=None))]
 #[allow(clippy::too_many_arguments)]
 pub fn write_spectral(
     py: Python<'_>,
@@ -237,13 +238,15 @@ pub fn write_spectral(
     wavelengths: &Bound<'_, PyAny>,
     values: &Bound<'_, PyAny>,
     alpha: Option<&Bound<'_, PyAny>>,
-    emission_units: Option<&str>,
+    emission: Option<&str>,
     sample: &str,
     compression: &str,
     tile: Option<(i128, i128)>,
     attributes: Option<std::collections::BTreeMap<String, String>>,
     overwrite: bool,
+    emission_units: Option<&str>,
 ) -> PyResult<()> {
+    let emission = renamed(py, emission, emission_units)?;
     let path = path.0;
     specconv_atomic_file::check_extension(
         &path,
@@ -257,8 +260,8 @@ pub fn write_spectral(
     };
     specconv_exr::check_wavelengths(&wavelengths)
         .map_err(|e| Kind::Option.err(format!("wavelengths: {e}")))?;
-    let emission: Option<specconv_colour::EmissionUnits> = emission_units
-        .map(|u| crate::convert::pick("emission_units", u))
+    let emission: Option<specconv_colour::EmissionUnits> = emission
+        .map(|u| crate::convert::pick("emission", u))
         .transpose()?;
     let tile = match tile {
         Some((w, h)) => Some((whole("tile", w, usize::MAX)?, whole("tile", h, usize::MAX)?)),
@@ -305,6 +308,31 @@ pub fn write_spectral(
         let bytes = encoded(&file, &bands, alpha.as_deref())?;
         publish(&path, &bytes, overwrite)
     })
+}
+
+/// `emission`, or `emission_units` (its name before it took `convert`'s) with a
+/// `DeprecationWarning`; both given is an `OptionError`.
+fn renamed<'a>(
+    py: Python<'_>,
+    emission: Option<&'a str>,
+    emission_units: Option<&'a str>,
+) -> PyResult<Option<&'a str>> {
+    match (emission, emission_units) {
+        (Some(_), Some(_)) => Err(Kind::Option.err(
+            "emission and emission_units are one keyword: give emission (emission_units is its old name)",
+        )),
+        (None, Some(old)) => {
+            let warning = py.get_type::<pyo3::exceptions::PyDeprecationWarning>();
+            PyErr::warn(
+                py,
+                &warning,
+                c"write_spectral's emission_units is now emission, as convert's keyword",
+                1,
+            )?;
+            Ok(Some(old))
+        }
+        (given, None) => Ok(given),
+    }
 }
 
 /// The attributes that record what a file's values mean, as a conversion records them: the

@@ -75,7 +75,7 @@ def test_oiio_reads_what_write_spectral_wrote(tmp_path):
 def test_emission_is_written_with_its_units(tmp_path):
     path = tmp_path / "light.exr"
     specconv.write_spectral(path, [500.0, 600.0], np.ones((2, 2, 2)),
-                            emission_units="normalised", tile=None)
+                            emission="normalised", tile=None)
     names, _ = read_oiio(path)
     assert names == ["S0.500,000000nm", "S0.600,000000nm"]
     spec = oiio.ImageInput.open(str(path)).spec()

@@ -101,17 +101,29 @@ def test_wavelengths_that_name_no_band_are_refused(tmp_path, wavelengths, says):
     assert list(tmp_path.iterdir()) == []
 
 
-def test_emission_units_are_the_library_s_and_recorded(tmp_path):
-    with pytest.raises(specconv.OptionError, match="emission_units.*reference.*photometric"):
+def test_emission_is_the_library_s_and_recorded(tmp_path):
+    with pytest.raises(specconv.OptionError, match="emission.*reference.*photometric"):
         specconv.write_spectral(tmp_path / "bogus.exr", [500.0, 600.0], np.ones((2, 2, 2)),
-                                emission_units="bogus")
+                                emission="bogus")
     assert list(tmp_path.iterdir()) == []
     path = tmp_path / "light.exr"
-    specconv.write_spectral(path, [500.0, 600.0], np.ones((2, 2, 2)),
-                            emission_units="photometric")
+    specconv.write_spectral(path, [500.0, 600.0], np.ones((2, 2, 2)), emission="photometric")
     image = specconv.read_spectral(path)
     assert image.kind == "emission" and image.units == "W.m^-2.sr^-1"
     assert image.attributes["specconvEmissionUnits"] == "photometric"
+
+
+def test_the_old_name_emission_units_still_works_and_warns(tmp_path):
+    """write_spectral's keyword is convert's `emission`; the old `emission_units` warns."""
+    path = tmp_path / "old.exr"
+    with pytest.warns(DeprecationWarning, match="emission_units is now emission"):
+        specconv.write_spectral(path, [500.0, 600.0], np.ones((2, 2, 2)),
+                                emission_units="photometric")
+    assert specconv.read_spectral(path).attributes["specconvEmissionUnits"] == "photometric"
+    with pytest.raises(specconv.OptionError, match="one keyword"):
+        specconv.write_spectral(tmp_path / "both.exr", [500.0, 600.0], np.ones((2, 2, 2)),
+                                emission="reference", emission_units="reference")
+    assert not (tmp_path / "both.exr").exists()
 
 
 # Python writes follow the command line's rules: extension, kind, no replacing.
