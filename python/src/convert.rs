@@ -122,7 +122,7 @@ pub fn convert<'py>(
 ) -> PyResult<Vec<Bound<'py, PyAny>>> {
     let raise = raises(errors)?;
     let o = conversion_options(options)?;
-    let pairs = crate::plan::pairs(py, inputs.list(), outputs.map(Paths::list), output_template)?;
+    let pairs = crate::paths::pairs(py, inputs.list(), outputs.map(Paths::list), output_template)?;
     let converter = py.detach(|| Converter::new(o)).map_err(conversion)?;
     run(
         py,

@@ -13,7 +13,7 @@ mod errors;
 mod evaluate;
 mod files;
 mod model;
-mod plan;
+mod paths;
 mod texels;
 
 use pyo3::prelude::*;

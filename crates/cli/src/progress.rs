@@ -201,13 +201,13 @@ pub fn duration(seconds: f64) -> String {
     }
 }
 
-/// How a batch went, said at its end.
+/// How a batch went: what its closing line says.
 #[derive(Default)]
-pub struct Summary {
+pub struct Closing {
     pub converted: usize,
     pub skipped: usize,
     /// What became of each data texture.
-    pub data: Vec<DataSummary>,
+    pub data: Vec<DataTextureLine>,
     /// Each failed input with its error.
     pub failed: Vec<(PathBuf, String)>,
     /// Inputs converted with pixels clipped.
@@ -218,7 +218,7 @@ pub struct Summary {
     pub done: Option<&'static str>,
 }
 
-impl Summary {
+impl Closing {
     /// `specconv: 10 converted, 1 skipped, 2 failed in 3 min 05 s`, then each failure again.
     pub fn text(&self, seconds: f64) -> String {
         use specconv_conversion::DataOutcome;
@@ -265,7 +265,7 @@ impl Summary {
 }
 
 /// A data texture of the batch: what became of it, and, skipped, why and how to have it.
-pub struct DataSummary {
+pub struct DataTextureLine {
     /// The input.
     pub input: PathBuf,
     /// What was done with it.
@@ -274,10 +274,10 @@ pub struct DataSummary {
     pub why: String,
 }
 
-impl DataSummary {
+impl DataTextureLine {
     /// The summary of `input`'s data texture `report`.
-    pub fn of(input: &Path, report: &specconv_conversion::Report) -> DataSummary {
-        DataSummary {
+    pub fn of(input: &Path, report: &specconv_conversion::Report) -> DataTextureLine {
+        DataTextureLine {
             input: input.to_path_buf(),
             outcome: report.data,
             why: format!(
@@ -304,7 +304,7 @@ mod tests {
 
     #[test]
     fn the_summary_lists_the_failures_again() {
-        let s = Summary {
+        let s = Closing {
             converted: 10,
             skipped: 1,
             data: Vec::new(),

@@ -305,7 +305,7 @@ fn read_as(
 /// The spectral facts of a file whose channels follow the layout; `None` for other images.
 fn spectral_facts(path: &Path, reader: &ImageReader) -> Result<Option<SpectralFacts>, Error> {
     let info = reader.info();
-    let layout = specconv_exr::Layout::of(info.channels.iter().map(|c| c.name.as_str()));
+    let layout = specconv_exr::ChannelKinds::of(info.channels.iter().map(|c| c.name.as_str()));
     if !layout.is_spectral() {
         return Ok(None);
     }

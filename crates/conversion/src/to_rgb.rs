@@ -124,7 +124,7 @@ impl ToRgb {
         processor.apply_rgb(&mut rgb)?;
         let image = ((h.width, h.height), rgb.as_slice(), alpha.as_deref());
         self.write(output, image, &declared, &cancelled)?;
-        let layout = &h.layout;
+        let kinds = &h.channel_kinds;
         Ok(RgbReport {
             width: h.width,
             height: h.height,
@@ -132,9 +132,9 @@ impl ToRgb {
             light,
             observer,
             colorspace,
-            polarised: layout.polarised(),
-            emission_left_out: !emissive && !layout.stokes[0].is_empty(),
-            unused_channels: layout.other.clone(),
+            polarised: kinds.polarised(),
+            emission_left_out: !emissive && !kinds.stokes[0].is_empty(),
+            unused_channels: kinds.other.clone(),
         })
     }
 

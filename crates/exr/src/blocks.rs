@@ -3,7 +3,7 @@
 //! reader with every block gathered into planes.
 
 use crate::attributes::text_attributes;
-use crate::channels::{parse_channel, Channel, Layout};
+use crate::channels::{parse_channel, Channel, ChannelKinds};
 use crate::error::{Error, Result};
 use crate::spec::Kind;
 use exr::block::reader::ChunksReader;
@@ -29,8 +29,8 @@ pub struct Header {
     pub reradiation: Vec<(usize, usize)>,
     /// Whether the file has an `A` channel.
     pub alpha: bool,
-    /// Every channel by kind, as [`Layout::of`] sees the names (also what is not read).
-    pub layout: Layout,
+    /// Every channel by kind, as [`ChannelKinds::of`] sees the names (also what is not read).
+    pub channel_kinds: ChannelKinds,
     /// Text attributes of the header.
     pub attributes: Vec<(String, String)>,
     /// What each of the file's channels (in the file's order) is read as.
@@ -207,14 +207,14 @@ fn header_of(path: &Path, h: &exr::meta::header::Header) -> Result<Header> {
     let attributes = text_attributes(h);
     let names: Vec<String> = h.channels.list.iter().map(|c| c.name.to_string()).collect();
     full_resolution(path, &h.channels)?;
-    let layout = Layout::of(names.iter().map(String::as_str));
-    if !layout.is_spectral() {
+    let channel_kinds = ChannelKinds::of(names.iter().map(String::as_str));
+    if !channel_kinds.is_spectral() {
         return Err(Error::Invalid(format!(
             "{} is not a spectral EXR: it has no T.<wavelength>nm or S0.<wavelength>nm channels",
             path.display()
         )));
     }
-    let reflective = !layout.reflective.is_empty();
+    let reflective = !channel_kinds.reflective.is_empty();
     // (wavelength, channel index) of the bands; (from, to, channel) of re-radiation.
     let mut bands: Vec<(f64, usize)> = Vec::new();
     let mut rerad: Vec<(f64, f64, usize)> = Vec::new();
@@ -278,7 +278,7 @@ fn header_of(path: &Path, h: &exr::meta::header::Header) -> Result<Header> {
         kind,
         reradiation,
         alpha: roles.iter().any(|r| matches!(r, Role::Alpha)),
-        layout,
+        channel_kinds,
         attributes,
         roles,
     })

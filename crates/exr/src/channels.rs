@@ -1,5 +1,5 @@
 //! The layout's channel names: a band's name written ([`channel_name`]), a name read back
-//! ([`parse_channel`]), and a list of names sorted by what they hold ([`Layout`]).
+//! ([`parse_channel`]), and a list of names sorted by what they hold ([`ChannelKinds`]).
 
 use crate::spec::Kind;
 
@@ -132,7 +132,7 @@ pub fn parse_channel_name(name: &str) -> Option<(bool, f64)> {
 /// The spectral content of a list of channel names: what [`read`](crate::read) reads, and what
 /// `info` reports without reading pixels.
 #[derive(Debug, Clone, Default, PartialEq)]
-pub struct Layout {
+pub struct ChannelKinds {
     /// Wavelengths (nm, increasing) of `T.` channels.
     pub reflective: Vec<f64>,
     /// Wavelengths of S0, S1, S2, S3 channels.
@@ -146,27 +146,27 @@ pub struct Layout {
     pub alpha: bool,
 }
 
-impl Layout {
+impl ChannelKinds {
     /// Sorts channel names into the layout by [`parse_channel`]: wavelengths in nm, each list
     /// increasing, whatever the order or the units of the names.
     ///
     /// ```
-    /// use specconv_exr::{channel_name, parse_channel_name, Kind, Layout};
+    /// use specconv_exr::{channel_name, parse_channel_name, Kind, ChannelKinds};
     ///
     /// // OpenEXR lists channels by name, so 1000 nm comes before 380 nm.
     /// let names = ["A", "RGB.R", "T.1000,000000nm", "T.380,000000nm", "T.0,55um"];
-    /// let layout = Layout::of(names);
-    /// assert_eq!(layout.reflective, [380.0, 550.0, 1000.0]);
-    /// assert!(layout.alpha && layout.is_spectral() && !layout.polarised());
-    /// assert_eq!(layout.other, ["RGB.R"]);
+    /// let kinds = ChannelKinds::of(names);
+    /// assert_eq!(kinds.reflective, [380.0, 550.0, 1000.0]);
+    /// assert!(kinds.alpha && kinds.is_spectral() && !kinds.polarised());
+    /// assert_eq!(kinds.other, ["RGB.R"]);
     ///
     /// // The writer's names, and back.
     /// let name = channel_name(&Kind::Reflective, 380.0);
     /// assert_eq!(name, "T.380,000000nm");
     /// assert_eq!(parse_channel_name(&name), Some((false, 380.0)));
     /// ```
-    pub fn of<'a>(names: impl IntoIterator<Item = &'a str>) -> Layout {
-        let mut l = Layout::default();
+    pub fn of<'a>(names: impl IntoIterator<Item = &'a str>) -> ChannelKinds {
+        let mut l = ChannelKinds::default();
         for name in names {
             match parse_channel(name) {
                 Some(Channel::Reflective { nm }) => l.reflective.push(nm),
@@ -243,7 +243,7 @@ mod tests {
                 to_nm: 450.5
             })
         );
-        let l = Layout::of(["R", "G", "B", "A", "S0.500nm", "S1.500nm", "T.400nm.500nm"]);
+        let l = ChannelKinds::of(["R", "G", "B", "A", "S0.500nm", "S1.500nm", "T.400nm.500nm"]);
         assert_eq!(l.other, ["R", "G", "B"]);
         assert!(l.alpha && l.polarised());
         assert_eq!(l.reradiation, [(400.0, 500.0)]);

@@ -31,7 +31,7 @@ pub use attributes::{
     colour_attributes, read_attributes, standard_attribute, text, text_string, ColourAttributes,
     MAX_NAME_BYTES,
 };
-pub use channels::{channel_name, parse_channel, parse_channel_name, Channel, Layout};
+pub use channels::{channel_name, parse_channel, parse_channel_name, Channel, ChannelKinds};
 pub use error::{Error, Result};
 pub use exr::block::chunk::Chunk;
 pub use exr::compression::Compression;

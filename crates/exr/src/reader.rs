@@ -2,7 +2,7 @@
 //! ([`read_rgba`]).
 
 use crate::blocks;
-use crate::channels::Layout;
+use crate::channels::ChannelKinds;
 use crate::error::{Error, Result};
 use crate::spec::Kind;
 
@@ -25,8 +25,8 @@ pub struct SpectralImage {
     pub reradiation: Vec<(usize, usize, Vec<f32>)>,
     /// The `A` plane, row-major like the bands; `None` when the file has no `A` channel.
     pub alpha: Option<Vec<f32>>,
-    /// Every channel by kind, as [`Layout::of`] sees the names (also what was not read).
-    pub layout: Layout,
+    /// Every channel by kind, as [`ChannelKinds::of`] sees the names (also what was not read).
+    pub channel_kinds: ChannelKinds,
     /// Text attributes of the header.
     pub attributes: Vec<(String, String)>,
     /// Number of MIP levels in the file (1 when it has none).
@@ -35,7 +35,7 @@ pub struct SpectralImage {
 
 /// Reads the largest level of a spectral EXR: its `T.` bands (with re-radiation, if any), else
 /// its `S0.` bands. Polarisation (S1–S3), emission beside reflectance and channels outside
-/// the layout are listed in [`SpectralImage::layout`], not read.
+/// the layout are listed in [`SpectralImage::channel_kinds`], not read.
 pub fn read(path: &std::path::Path) -> Result<SpectralImage> {
     read_level(path, 0)
 }
@@ -92,7 +92,7 @@ pub fn read_level(path: &std::path::Path, level: usize) -> Result<SpectralImage>
             .map(|((from, to), p)| (from, to, p))
             .collect(),
         alpha,
-        layout: header.layout,
+        channel_kinds: header.channel_kinds,
         attributes: header.attributes,
         levels: header.levels,
     })

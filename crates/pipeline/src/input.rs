@@ -68,7 +68,7 @@ pub fn open(path: &Path, request: &Request) -> crate::error::Result<(ImageReader
 
 /// [`crate::error::Error::Spectral`] for an image in the spectral layout.
 fn refuse_spectral(info: &ImageInfo) -> crate::error::Result<()> {
-    let layout = specconv_exr::Layout::of(info.channels.iter().map(|c| c.name.as_str()));
+    let layout = specconv_exr::ChannelKinds::of(info.channels.iter().map(|c| c.name.as_str()));
     if !layout.is_spectral() {
         return Ok(());
     }

@@ -1,10 +1,10 @@
 //! `specconv expand`: compact textures written out in the spectral layout, a batch as
 //! `convert` runs one (the library's plan and [`specconv_conversion::Expansions`]).
 
-use super::convert::{ending, plan, printing};
+use super::convert::{ending, paths, printing};
 use crate::errors::{explain, print_error, usage};
 use crate::options::{OptionArgs, Taken};
-use crate::progress::{Progress, Summary};
+use crate::progress::{Closing, Progress};
 use crate::stdio::StdoutFailed;
 use crate::{records, signals};
 use anyhow::Result;
@@ -71,7 +71,7 @@ impl Taken for Expanding {
 
 /// Expands every input; returns the exit status, as `convert`'s.
 pub fn run(args: Args) -> Result<i32> {
-    let whole = plan::of_paths(
+    let whole = paths::of_paths(
         &args.paths,
         args.output.as_deref(),
         args.output_template.as_deref(),
@@ -79,15 +79,15 @@ pub fn run(args: Args) -> Result<i32> {
     .map_err(usage)?;
     whole
         .check_existing(args.options.options.overwrite, args.batch.update)
-        .map_err(|e| usage(plan::planned(e)))?;
+        .map_err(|e| usage(paths::planned(e)))?;
     let pairs = whole.into_pairs();
     let reporting = args.batch.reporting(false);
     let cancel = Arc::new(AtomicBool::new(false));
     let inputs: Vec<PathBuf> = pairs.iter().map(|p| p.input.clone()).collect();
     let mut progress = Progress::new(args.batch.progress, args.batch.quiet, &inputs);
-    let mut summary = Summary {
+    let mut summary = Closing {
         done: Some("expanded"),
-        ..Summary::default()
+        ..Closing::default()
     };
     let mut stdout: Option<StdoutFailed> = None;
     let mut said = |written: Result<(), StdoutFailed>| {

@@ -64,7 +64,7 @@ pub struct Args {
 }
 
 #[derive(Serialize)]
-struct Summary {
+struct PreviewRecord {
     #[serde(serialize_with = "crate::stdio::serialize_path")]
     input: PathBuf,
     #[serde(serialize_with = "crate::stdio::serialize_path")]
@@ -115,7 +115,7 @@ pub fn run(args: Args) -> Result<()> {
     };
     files::write_atomically(&args.output, &png, &[args.input.as_path()], replace)?;
 
-    let summary = Summary {
+    let summary = PreviewRecord {
         input: args.input.clone(),
         output: args.output.clone(),
         width: w,

@@ -1,13 +1,13 @@
 //! `specconv [convert] INPUT… OUTPUT`: the main job.
 
-pub(crate) mod plan;
+pub(crate) mod paths;
 pub(crate) mod printing;
 
-pub(crate) use plan::for_farm;
+pub(crate) use paths::for_farm;
 use printing::converted;
 
 use crate::errors::{explain, print_error, usage};
-use crate::progress::{Progress, Summary};
+use crate::progress::{Closing, Progress};
 use crate::stdio::StdoutFailed;
 use crate::{exit, records, signals};
 use anyhow::Result;
@@ -137,7 +137,7 @@ pub fn run(args: Args) -> Result<i32> {
     if let Some(shard) = args.shard {
         crate::shard::index(shard).map_err(usage)?;
     }
-    let pairs = plan::this_run(&args).map_err(usage)?;
+    let pairs = paths::this_run(&args).map_err(usage)?;
     run_pairs(&args.reporting(), args.options(), &pairs)
 }
 
@@ -235,7 +235,7 @@ pub(crate) fn run_batch(
     let cancel = Arc::new(AtomicBool::new(false));
     let inputs: Vec<PathBuf> = pairs.iter().map(|p| p.input.clone()).collect();
     let mut progress = Progress::new(args.progress, args.quiet, &inputs);
-    let mut summary = Summary::default();
+    let mut summary = Closing::default();
     let mut stdout: Option<StdoutFailed> = None;
     // The first failed write stops the batch; later records are not attempted.
     let mut said = |written: Result<(), StdoutFailed>| {
@@ -275,7 +275,7 @@ pub(crate) fn run_batch(
                 progress.finish();
                 summary
                     .data
-                    .push(crate::progress::DataSummary::of(input, report));
+                    .push(crate::progress::DataTextureLine::of(input, report));
                 said(printing::data(args, (input, output), report));
             }
             Event::Failed {
@@ -312,7 +312,7 @@ pub(crate) fn run_batch(
 pub(crate) fn ending(
     args: &Reporting,
     ended: Result<specconv_conversion::Summary, specconv_conversion::Error>,
-    mut summary: Summary,
+    mut summary: Closing,
     stdout: Option<StdoutFailed>,
     cancel: &AtomicBool,
     (inputs, seconds): (usize, f64),
