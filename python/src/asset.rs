@@ -1,17 +1,21 @@
 //! `specconv.convert_asset`: `specconv asset`'s conversion of a USD stage (docs/assets.md), by
 //! the same library steps (`specconv_asset`): read and plan, one converter per colour space,
-//! the batch of `convert`, the layer. usd-core is read in this interpreter.
+//! the batch of `convert`, the layer. usd-core is read in this interpreter: the reader
+//! (`specconv._asset_reader`) is imported and asked in the protocol the command line's child
+//! speaks, its answers read by the same parser (no second interpreter, no time limit: a run
+//! of the caller's own).
 
 use crate::convert::{conversion_options, run};
 use crate::errors::{conversion, Kind};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use specconv_asset::{
-    finish, make_folders, member, prepare, unknown_line, unknown_record, with_member, Converters,
-    Job, Outcomes, Prepared, Reader,
+    finish, make_folders, member, prepare, unknown_line, unknown_record, with_member, Call,
+    Converters, Job, Outcomes, Prepared, Reader,
 };
 use specconv_conversion::record::Record;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 /// Converts the textures a USD stage's bound materials read, each as its material says
 /// (colour in the space it names, data skipped or copied as `data` says, a conflict or a
@@ -43,10 +47,7 @@ pub fn convert_asset<'py>(
             "convert_asset takes no colorspace: the material names each texture's (docs/assets.md)",
         ));
     }
-    let python: PathBuf = py.import("sys")?.getattr("executable")?.extract()?;
-    let reader = Reader::from_env()
-        .map_err(asset_error)?
-        .with_python(python.into_os_string());
+    let reader = in_process(py)?;
     let Prepared { asset, jobs } = py
         .detach(|| prepare(&reader, (&stage, &output), &o, (dry_run, update)))
         .map_err(asset_error)?;
@@ -98,6 +99,21 @@ pub fn convert_asset<'py>(
     py.detach(|| finish(&reader, &asset, &outcomes))
         .map_err(asset_error)?;
     Ok(records)
+}
+
+/// The reader in this interpreter: `specconv._asset_reader.answer`, called with the lock on
+/// the interpreter taken again (the library runs the reader from `py.detach`).
+fn in_process(py: Python<'_>) -> PyResult<Reader> {
+    let python: PathBuf = py.import("sys")?.getattr("executable")?.extract()?;
+    let module = py.import("specconv._asset_reader")?.unbind();
+    let call: Call = Arc::new(move |request: &str| {
+        Python::attach(|py| {
+            let answer = module.bind(py).call_method1("answer", (request,))?;
+            answer.extract::<(i32, String)>()
+        })
+        .map_err(|e| e.to_string())
+    });
+    Ok(Reader::in_process(python.into_os_string(), call))
 }
 
 /// An asset's error as this package's exception: the caller's (a setting) or the stage's.

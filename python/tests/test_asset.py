@@ -2,6 +2,7 @@
 built with usd-core (tests/asset_stages.py); without usd-core these tests are skipped unless
 SPECCONV_REQUIRE_USD is set (CI sets it)."""
 import importlib.util
+import json
 import os
 import subprocess
 import sys
@@ -210,3 +211,114 @@ def test_unknown_shaders_that_read_files_are_records_and_fail_under_strict(tmp_p
         [("base_color", "RGB"), ("diffuseColor", "color")]
     with pytest.raises(specconv.InputError, match="unknown shader studio:projector"):
         specconv.convert_asset(tmp_path / "foreign.usda", tmp_path / "strict", strict=True)
+
+
+# The reader (python/specconv/_asset_reader, docs/assets.md "The reader"): one protocol, run
+# alone, and carried both ways (issue 58, item 5).
+READER_DIR = Path(specconv.__file__).resolve().parent
+BOOTSTRAP = (READER_DIR / "_asset_reader" / "bootstrap.py").read_text()
+MODULES = ("__init__", "protocol", "shader_defs", "mtlx", "stage")
+
+
+def request(stage, **more):
+    from specconv._asset_reader import PROTOCOL
+    return json.dumps(dict(protocol=PROTOCOL, command="read", stage=str(stage), extract=None,
+                           **more))
+
+
+def alone(req, cwd):
+    """The reader run alone, in a child `python -I` that imports it from its folder as the
+    top-level package `_asset_reader`: never the compiled module (it checks), nor specconv."""
+    code = ("import sys\nsys.path.insert(0, sys.argv[1])\nimport _asset_reader\n"
+            "status, out = _asset_reader.answer(sys.stdin.read())\n"
+            "assert not [m for m in sys.modules if m.startswith('specconv')]\n"
+            "print(out)\nsys.exit(status)\n")
+    p = subprocess.run([sys.executable, "-I", "-c", code, str(READER_DIR)], input=req,
+                       capture_output=True, text=True, cwd=cwd)
+    return p.returncode, p.stdout, p.stderr
+
+
+def as_the_program_carries_it(req, cwd, isolated=True):
+    """The reader as `specconv asset` runs it: `python -I -c BOOTSTRAP NAME SOURCE …`."""
+    args = [a for n in MODULES for a in (n, (READER_DIR / "_asset_reader" / (n + ".py"))
+                                           .read_text())]
+    p = subprocess.run([sys.executable, *(["-I"] if isolated else []), "-c", BOOTSTRAP, *args],
+                       input=req, capture_output=True, text=True, cwd=cwd)
+    return p.returncode, p.stdout, p.stderr
+
+
+def stage_and_document(tmp_path):
+    """tests/asset_stages.py's basic stage and tests/asset_mtlx.py's brick document."""
+    shot, brick = tmp_path / "shot", tmp_path / "brick"
+    shot.mkdir()
+    brick.mkdir()
+    build(shot, "basic")
+    build_brick(brick)
+    return shot / "shot.usda", brick / "brick.mtlx"
+
+
+def test_the_reader_runs_alone_and_answers_in_its_protocol(tmp_path):
+    shot = tmp_path / "shot"
+    shot.mkdir()
+    build(shot, "basic")
+    status, out, err = alone(request(shot / "shot.usda"), tmp_path)
+    assert status == 0, err
+    answer = json.loads(out)
+    assert answer["protocol"] == 1
+    assert answer["stage"] == str(shot / "shot.usda") and answer["composition_errors"] == []
+    assert {"materials", "bound_prims", "textures", "references", "read_files",
+            "unknown"} <= set(answer)
+    albedo = next(t for t in answer["textures"] if t["authored"] == "./tex/rock_albedo.png")
+    assert albedo["node_id"] == "UsdUVTexture" and albedo["resolved"] == \
+        str(shot / "tex" / "rock_albedo.png")
+    assert {u["input"] for u in albedo["uses"]} == {"diffuseColor", "opacity"}
+    # Another protocol, or a request that is none, is refused in the protocol's words.
+    status, out, _ = alone(request(shot / "shot.usda").replace('"protocol": 1', '"protocol": 2'),
+                           tmp_path)
+    assert status == 2 and json.loads(out)["error"] == "protocol"
+    assert "protocol 2" in json.loads(out)["detail"]
+
+
+def test_both_carriers_give_the_same_answer(tmp_path):
+    """In this interpreter (the package's carrier) and in a child `python -I` given the
+    sources (the program's), the same stage's answer is the same, and a second read in one
+    interpreter does not carry the first's files over."""
+    from specconv._asset_reader import answer
+    for stage in stage_and_document(tmp_path):
+        status, out, err = as_the_program_carries_it(request(stage), tmp_path)
+        assert status == 0, err
+        assert answer(request(stage)) == (0, out.strip())
+        assert answer(request(stage)) == (0, out.strip())
+
+
+def test_the_program_and_the_package_plan_a_stage_alike(tmp_path, cli, monkeypatch):
+    """`specconv asset --dry-run --json` (the child carrier) and `convert_asset(dry_run=True)`
+    (in process): the same decisions, member for member."""
+    monkeypatch.setenv("SPECCONV_USD_PYTHON", sys.executable)
+    for stage in stage_and_document(tmp_path):
+        out = tmp_path / "out"
+        p = cli("asset", stage, "-o", out, "--dry-run", "--json")
+        lines = [json.loads(line) for line in p.stdout.decode().splitlines()]
+        assert lines and lines == specconv.convert_asset(stage, out, dry_run=True)
+
+
+def test_modules_in_the_working_directory_are_never_imported_by_the_child(tmp_path):
+    """A `json.py` and a `pxr.py` where the reader runs (each would leave a mark and break
+    it) are not imported by the child the program runs (-I; in process, the import path is the
+    caller's own). The test's own check: a child that keeps the working directory on its path
+    imports them."""
+    shot = tmp_path / "shot"
+    shot.mkdir()
+    build(shot, "basic")
+    cwd = tmp_path / "stray"
+    cwd.mkdir()
+    mark = tmp_path / "imported"
+    for module in ("json", "pxr", "MaterialX"):
+        (cwd / (module + ".py")).write_text(
+            "open(%r, 'a').write(%r)\nraise SystemExit(9)\n" % (str(mark), module + "\n"))
+    status, out, err = as_the_program_carries_it(request(shot / "shot.usda"), cwd)
+    assert status == 0 and json.loads(out)["protocol"] == 1, err
+    assert not mark.exists(), mark.read_text()
+    # Without -I, `python -c` puts the working directory first: the stray modules are run.
+    status, _, _ = as_the_program_carries_it(request(shot / "shot.usda"), cwd, isolated=False)
+    assert status == 9 and mark.read_text() == "json\n"

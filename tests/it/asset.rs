@@ -279,15 +279,19 @@ fn dry_run_prints_decisions_and_writes_nothing() {
     assert!(rules.contains(&"data-input") && rules.contains(&"materialx-colorspace"));
 }
 
-/// Issue 57, item 13: modules in the directory `asset` runs in are not the reader's. A stray
-/// `json.py` and `pxr.py` there (each would leave a mark and break the reader) change nothing.
+/// Issue 57, item 13, and issue 58, item 5: modules in the directory `asset` runs in are not
+/// the reader's. A stray `json.py` and `pxr.py` there (each would leave a mark and break the
+/// reader) change nothing: the reader runs in `python -I`, and of `$PYTHONPATH` only absolute
+/// folders are put back, so an empty entry, `.` or a relative folder (`sub`, holding another
+/// `json.py`) does not bring the working directory back.
 #[test]
 fn modules_in_the_working_directory_are_never_imported() {
     let Some(python) = usd() else { return };
     let dir = Scratch::new("asset-stray");
     let shot = basic_shot(&dir);
     let marks = dir.path("imported");
-    for module in ["json", "pxr", "MaterialX"] {
+    std::fs::create_dir_all(dir.path("sub")).unwrap();
+    for module in ["json", "pxr", "MaterialX", "sub/json"] {
         dir.write(
             &format!("{module}.py"),
             &format!(
@@ -299,10 +303,19 @@ fn modules_in_the_working_directory_are_never_imported() {
     let out = dir.path("out");
     let run = asset(&python, &shot.join("shot.usda"), &out)
         .args(["--dry-run", "--json"])
+        .env("PYTHONPATH", ":.:sub")
         .current_dir(&dir.0)
         .ok();
     assert!(!run.json_lines().is_empty());
     assert!(!marks.exists(), "{:?}", std::fs::read_to_string(&marks));
+    // The check of the check: the same interpreter without -I, in that folder, runs them.
+    let plain = std::process::Command::new(&python)
+        .args(["-c", "import json"])
+        .current_dir(&dir.0)
+        .status()
+        .unwrap();
+    assert_eq!(plain.code(), Some(9));
+    assert_eq!(std::fs::read_to_string(&marks).unwrap(), "json\n");
 }
 
 /// Issue 57, item 12: an interpreter that fails without a word is named, not "failed:".

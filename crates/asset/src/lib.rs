@@ -4,11 +4,13 @@
 //!
 //! - [`Reader`]: Pixar's usd-core (`pip install usd-core`) composes the stage (references,
 //!   payloads, the selected variants, usdz packages) in a Python interpreter, running the
-//!   reader script kept in this crate; it reports what the stage says and decides nothing.
+//!   reader, the Python package's `specconv._asset_reader` (built into this crate for the
+//!   command line, which runs it in a child `python -I`; imported by the Python package); it
+//!   reports what the stage says and decides nothing.
 //!   usd-core is the reference USD implementation; the Rust `openusd` crate has no MaterialX
 //!   file format and asset resolver of usd-core's (docs/assets.md has the evidence).
 //!   MaterialX documents, given or referenced where usd-core has no MaterialX file format,
-//!   are read by the MaterialX package (`pip install MaterialX`) in the same script.
+//!   are read by the MaterialX package (`pip install MaterialX`) in the same reader.
 //! - [`decide`]: the one rule, from the inputs a texture's outputs feed: colour inputs,
 //!   data inputs, `sourceColorSpace`, MaterialX `colorspace`; conflicts are never converted.
 //! - [`Asset`]: every texture file once, its output under DIR, the colour space its
@@ -29,7 +31,7 @@ pub mod stage;
 
 pub use decide::{Decision, Space, Texture};
 pub use plan::{Asset, DocumentPlan, Job, LayerPlan, Override, Planned, Retarget};
-pub use reader::{install_line, Reader, DEFAULT_TIMEOUT, PYTHON_VAR, TIMEOUT_VAR};
+pub use reader::{install_line, Call, Reader, DEFAULT_TIMEOUT, PROTOCOL, PYTHON_VAR, TIMEOUT_VAR};
 pub use run::{
     farm_layer, finish, make_folders, member, prepare, same_jobs, unknown_line, unknown_record,
     with_member, Converters, FarmFile, Outcomes, Prepared,
@@ -127,6 +129,22 @@ pub enum Error {
     Timeout {
         /// The limit.
         seconds: u64,
+    },
+    /// The reader answered in another protocol than this program's (or in none).
+    #[error(
+        "the asset reader run by '{}' answered {}, and this specconv reads protocol \
+         {PROTOCOL}: it is not the reader this specconv carries (a wrapper named by {PYTHON_VAR} \
+         that runs another, or a specconv Python package whose compiled module and Python \
+         files come from different versions); name a plain Python 3 with {PYTHON_VAR}, or \
+         reinstall specconv",
+        python.to_string_lossy(),
+        match found { Some(v) => format!("in protocol {v}"), None => "with no protocol version".into() }
+    )]
+    Protocol {
+        /// The interpreter.
+        python: OsString,
+        /// The version it answered in (its JSON text), if any.
+        found: Option<String>,
     },
     /// The reader failed otherwise.
     #[error("reading the asset failed: {0}")]

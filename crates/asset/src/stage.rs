@@ -1,5 +1,5 @@
 //! What usd-core (and MaterialX, for `.mtlx` documents) says of a stage: the texture nodes
-//! bound materials read, and their uses, as the reader script (`read_stage.py`) prints them.
+//! bound materials read, and their uses, as the reader (`specconv._asset_reader.stage`) gives them.
 
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;

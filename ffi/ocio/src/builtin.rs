@@ -3,7 +3,7 @@
 //! OpenColorIO 2.2 and later compile in the Academy's ACES CG and Studio configs and serve
 //! them under `ocio://` names; `ocio://default` is the CG config there. Debian's OCIO 2.1
 //! has none, so specconv embeds configs of its own (`config/cg.ocio`, `config/studio.ocio`,
-//! written by `config/make_configs.py` from published primaries and curves) with the same
+//! written by `scripts/make_configs.py` from published primaries and curves) with the same
 //! colour spaces, aliases, roles, displays, views, looks and file rules, and answers the
 //! same names with them. `aces` stays the short name of the CG config.
 

@@ -39,7 +39,7 @@ fn builtin_configs_pass_ociocheck() {
 
 #[test]
 fn builtin_configs_are_what_the_script_generates() {
-    let script = config_dir().join("make_configs.py");
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scripts/make_configs.py");
     for (kind, embedded) in [
         ("cg", specconv_ocio::CG_CONFIG_YAML),
         ("studio", specconv_ocio::STUDIO_CONFIG_YAML),
@@ -57,7 +57,8 @@ fn builtin_configs_are_what_the_script_generates() {
         assert_eq!(
             String::from_utf8(out.stdout).unwrap(),
             embedded,
-            "config/{kind}.ocio is stale: python3 config/make_configs.py {kind} > config/{kind}.ocio"
+            "ffi/ocio/config/{kind}.ocio is stale: \
+             python3 scripts/make_configs.py {kind} > ffi/ocio/config/{kind}.ocio"
         );
     }
 }

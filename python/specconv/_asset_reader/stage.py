@@ -1,33 +1,27 @@
-"""specconv's USD reader (docs/assets.md), run by `specconv asset` with the interpreter that
-$SPECCONV_USD_PYTHON names (else python3). Pixar's usd-core composes the stage; this script
-only reports what the stage says, and the library (crates/asset) decides.
+"""The USD half of specconv's asset reader (docs/assets.md). Pixar's usd-core composes the stage;
+this module only reports what the stage says, and the library (crates/asset) decides.
 
-    read STAGE [DIR [OWN]]     prints the textures bound materials read, as one JSON object;
-                               with DIR, textures inside a usdz package are copied there,
-                               replacing only the files OWN (a JSON list) names: those an asset
-                               run wrote
-    layer                      reads a plan (JSON) on stdin and prints the files of overrides,
-                               {"files": [{"path", "text"}]}: the layer (usda text) and the
-                               MaterialX documents' copies, which specconv writes
+    read(stage, extract_dir, replaceable)   the textures bound materials read; with a folder,
+                                            textures inside a usdz package are copied there,
+                                            replacing only the files `replaceable` names: those
+                                            an asset run wrote
+    layer(plan)                             the files of overrides, {"files": [{"path", "text"}]}:
+                                            the layer (usda text) and the MaterialX documents'
+                                            copies, which specconv writes
 
 A MaterialX document (`.mtlx`), given or referenced where usd-core has no MaterialX file
-format, is read by the MaterialX package (read_mtlx.py, run before this).
-
-Exit status 3: usd-core (the pxr module) is missing; 4: MaterialX is. Any other failure is a
-JSON object with "error" on stdout, exit status 2.
+format, is read by the MaterialX package (mtlx.py).
 """
-import json
 import os
-import sys
+
+from .mtlx import (LOADED, MtlxError, document_text, load, materials_of, mtlx_textures,
+                   read_document)
+from .protocol import NO_MATERIALX, NO_USD, Failure, fail
+from .shader_defs import DEFINITIONS, RAW_INPUTS, mtlx_module, typed
 
 # A use is final at an input of a shading model (shader_defs.py) or of a node nothing reads
 # on; a walk longer than this gives up.
 MAX_DEPTH = 64
-
-
-def fail(kind, detail, **more):
-    print(json.dumps(dict(error=kind, detail=detail, **more)))
-    sys.exit(2)
 
 
 def shader_id(prim, UsdShade):
@@ -161,8 +155,7 @@ def mtlx_referenced(stage, Usd, targets, errors):
         return [], [], errors, []
     mx = mtlx_module()
     if mx is None:
-        print(json.dumps(dict(error="no-materialx", detail=arcs[0]["resolved"])))
-        sys.exit(EXIT_NO_MATERIALX)
+        fail("no-materialx", arcs[0]["resolved"], status=NO_MATERIALX)
     handled = ["@%s@" % a["resolved"] for a in arcs]
     errors = [e for e in errors if not any(h in e for h in handled)]
     textures, used, paths, wanted = [], [], [], {}
@@ -352,9 +345,9 @@ def read(stage_path, extract_dir, replaceable=()):
     # library never lets an output be.
     layers = [l.realPath.split("[", 1)[0] for l in stage.GetUsedLayers() if l.realPath]
     read_files = sorted(set(os.path.abspath(p) for p in layers + LOADED))
-    print(json.dumps(dict(stage=os.path.abspath(stage_path), materials=len(materials) + materials_read,
-                          bound_prims=bound, composition_errors=errors, textures=textures,
-                          references=references, read_files=read_files, unknown=unknown)))
+    return dict(stage=os.path.abspath(stage_path), materials=len(materials) + materials_read,
+                bound_prims=bound, composition_errors=errors, textures=textures,
+                references=references, read_files=read_files, unknown=unknown)
 
 
 def unknown_reads(prim, sid, material, UsdShade, Sdf):
@@ -582,11 +575,21 @@ def retarget(out, r, variant_set, choice, Sdf):
     prim.customData = {"specconv": originals}
 
 
-def layer():
-    """Reads a plan (JSON) on stdin and prints the files of overrides, {"files": [{path,
-    text}]}: the MaterialX override documents, then the USD layer (none for a document given
-    alone); specconv writes them."""
-    plan = json.load(sys.stdin)
+def read_any(stage_path, extract_dir, replaceable):
+    """`read` of a stage, or of a MaterialX document given alone."""
+    if stage_path.lower().endswith(".mtlx"):
+        need_materialx(stage_path)
+        try:
+            return read_document(stage_path, MAX_DEPTH)
+        except MtlxError as e:
+            fail(*e.args)
+    need_usd()
+    return read(stage_path, extract_dir, set(replaceable))
+
+
+def layer(plan):
+    """The files of overrides of `plan`, {"files": [{path, text}]}: the MaterialX override
+    documents, then the USD layer (none for a document given alone); specconv writes them."""
     files = []
     for d in plan.get("documents", []):
         need_materialx(d["source"])
@@ -597,7 +600,7 @@ def layer():
     if not plan["stage"].lower().endswith(".mtlx"):
         need_usd()
         files.append(dict(path=plan["layer"], text=usd_layer(plan)))
-    print(json.dumps(dict(files=files)))
+    return dict(files=files)
 
 
 def need_usd():
@@ -605,49 +608,9 @@ def need_usd():
         import pxr  # noqa: F401
         from pxr import Usd  # noqa: F401
     except ImportError as e:
-        print(json.dumps(dict(error="no-pxr", detail=str(e))))
-        sys.exit(3)
+        raise Failure(NO_USD, dict(error="no-pxr", detail=str(e)))
 
 
 def need_materialx(document):
     if mtlx_module() is None:
-        print(json.dumps(dict(error="no-materialx", detail=document)))
-        sys.exit(EXIT_NO_MATERIALX)
-
-
-def main():
-    args = sys.argv[1:]
-    if len(args) in (2, 3, 4) and args[0] == "read":
-        if args[1].lower().endswith(".mtlx"):
-            need_materialx(args[1])
-            try:
-                print(json.dumps(read_document(args[1], MAX_DEPTH)))
-            except MtlxError as e:
-                fail(*e.args)
-            return 0
-        need_usd()
-        replaceable = set(json.loads(args[3])) if len(args) == 4 else set()
-        read(args[1], args[2] if len(args) >= 3 else None, replaceable)
-    elif args == ["layer"]:
-        layer()
-    else:
-        fail("usage", "read STAGE [DIR [OWN]] | layer")
-    return 0
-
-
-if __name__ == "__main__":
-    # Whatever usd-core, MaterialX or Python raise is said in one line, never a traceback.
-    try:
-        sys.exit(main())
-    except RecursionError:
-        fail("loop", "a chain of connections, interfacenames or includes that loops or is "
-                     "deeper than Python's limit")
-    except UnicodeError as e:
-        # The bytes around the one that is not text, so that the path can be found.
-        around, start = getattr(e, "object", None), getattr(e, "start", 0)
-        where = " in %r" % bytes(around[max(0, start - 40):start + 40]) \
-            if isinstance(around, (bytes, bytearray)) else ""
-        fail("encoding", "a path or a name that is not text in its encoding (%s%s)"
-             % (e.reason, where))
-    except Exception as e:
-        fail(type(e).__name__, " ".join(str(e).split()) or "no message")
+        fail("no-materialx", document, status=NO_MATERIALX)

@@ -1,5 +1,5 @@
-"""Shader definitions (docs/assets.md, "Roles from shader definitions"), the first part of the
-script `specconv asset` runs. A texture's role is decided by the library from the TYPE that
+"""Shader definitions (docs/assets.md, "Roles from shader definitions"), for the asset reader's
+two halves (mtlx.py, stage.py). A texture's role is decided by the library from the TYPE that
 the definition of the shader it reaches gives the input (`color3` is colour, `float` data),
 never from the input's name. Definitions come from where each renderer publishes them:
 
@@ -15,6 +15,16 @@ A definition says whether the node is a shading model (where the walk from a tex
 each input's type in the renderer's own words, and which inputs name files (a node with one
 is a texture node).
 """
+
+
+def mtlx_module():
+    """The MaterialX package, else None (the reader says so only where a document is read)."""
+    try:
+        import MaterialX as mx
+    except ImportError:
+        return None
+    return mx
+
 
 # MaterialX types of a shading model's output (MaterialX specification, "Shader Nodes").
 MX_MODEL_TYPES = ("surfaceshader", "displacementshader", "volumeshader", "lightshader",

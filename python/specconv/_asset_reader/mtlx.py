@@ -1,7 +1,7 @@
-"""specconv's MaterialX reader (docs/assets.md), the first half of the script `specconv asset`
-runs (read_stage.py follows it). The MaterialX package (PyPI `MaterialX`) reads the document
-and its XIncludes; this half reports, in the form the USD half prints, which image node feeds
-which input of which material through the graph, and decides nothing.
+"""The MaterialX half of specconv's asset reader (docs/assets.md). The MaterialX package (PyPI
+`MaterialX`) reads the document and its XIncludes; this module reports, in the form the USD half
+(stage.py) gives, which image node feeds which input of which material through the graph, and
+decides nothing.
 
 Rules of MaterialX followed here: a filename is the element's active `fileprefix` followed by
 its value, a relative result is found from the folder of the document given (MaterialX's
@@ -12,27 +12,21 @@ graph, document); a node's input connects by `nodename` (and `output`), `nodegra
 import os
 import stat
 
+from .shader_defs import DEFINITIONS, mtlx_module, typed
+
 # Nodes that take one channel out: the use is then that channel's (as a UsdUVTexture's r, g,
 # b, a outputs are), so alpha to opacity stays alpha.
 CHANNELS = "rgba"
 SEPARATE = {"outr": "r", "outg": "g", "outb": "b", "outa": "a",
             "outx": "r", "outy": "g", "outz": "b", "outw": "a"}
 MAX_INCLUDES = 1000
-EXIT_NO_MATERIALX = 4
-# Every document and XInclude loaded: files the output may never be (`read_files`).
+# Every document and XInclude loaded by the request being answered: files the output may never
+# be (`read_files`); emptied at each request (the package answers many in one interpreter).
 LOADED = []
 
 
 class MtlxError(Exception):
     """A document that cannot be read: (kind, detail)."""
-
-
-def mtlx_module():
-    try:
-        import MaterialX as mx
-    except ImportError:
-        return None
-    return mx
 
 
 def regular(path, what):
@@ -253,7 +247,7 @@ def index_edges(edges):
 
 
 def mtlx_textures(mx, doc, root_dir, materials, max_depth, label):
-    """Texture nodes (the form read_stage.py prints) that `materials` (name -> (node, the
+    """Texture nodes (the form stage.py gives) that `materials` (name -> (node, the
     material's name in the uses)) read."""
     all_nodes = nodes_of(mx, doc)
     wires = {}
