@@ -21,6 +21,9 @@
 #![warn(missing_docs)]
 
 pub mod decide;
+mod error;
+mod interpreter;
+mod paths;
 pub mod plan;
 mod reader;
 pub mod record;
@@ -28,224 +31,13 @@ pub mod run;
 pub mod stage;
 
 pub use decide::{Decision, Space, Texture};
+pub use error::Error;
+pub use interpreter::{install_line, DEFAULT_TIMEOUT, PYTHON_VAR, TIMEOUT_VAR};
+pub use paths::{is_document, is_stage};
 pub use plan::{Asset, DocumentPlan, Job, LayerPlan, Override, Planned, Retarget};
-pub use reader::{install_line, Reader, DEFAULT_TIMEOUT, PYTHON_VAR, TIMEOUT_VAR};
+pub use reader::{check_stage, Reader};
 pub use run::{
     farm_layer, finish, make_folders, member, prepare, same_jobs, unknown_line, unknown_record,
     with_member, Converters, FarmFile, Outcomes, Prepared,
 };
 pub use stage::{MtlxReference, Node, Stage, Use};
-
-use std::ffi::OsString;
-use std::path::{Path, PathBuf};
-
-/// Why an asset cannot be read or planned. Nothing has been converted.
-#[derive(Debug, thiserror::Error)]
-#[non_exhaustive]
-pub enum Error {
-    /// The interpreter cannot be started.
-    #[error(
-        "cannot run the Python interpreter '{}' ({source}): the USD reader is Pixar's usd-core \
-         in Python 3; install it ({}) or name an interpreter that has it with {PYTHON_VAR}",
-        python.to_string_lossy(), install_line(python)
-    )]
-    NoPython {
-        /// The interpreter.
-        python: OsString,
-        /// Why it did not start.
-        source: std::io::Error,
-    },
-    /// The interpreter has no usd-core.
-    #[error(
-        "the Python interpreter '{}' has no usd-core (the pxr module), which reads USD stages: \
-         install it with `{}`, or name an interpreter that has it with {PYTHON_VAR}",
-        python.to_string_lossy(), install_line(python)
-    )]
-    NoUsd {
-        /// The interpreter.
-        python: OsString,
-    },
-    /// `$SPECCONV_USD_TIMEOUT` is not a number of seconds.
-    #[error("{TIMEOUT_VAR}={value:?} is not a positive number of seconds")]
-    BadTimeout {
-        /// Its value.
-        value: String,
-    },
-    /// The stage is not a regular file (a FIFO, a device, a directory) or does not exist.
-    #[error("the stage {}: {why}", stage.display())]
-    NotAStage {
-        /// The path given.
-        stage: PathBuf,
-        /// What it is instead.
-        why: String,
-    },
-    /// The interpreter has no MaterialX, and a MaterialX document is to be read.
-    #[error(
-        "the Python interpreter '{}' has no MaterialX, which reads the MaterialX document {}: \
-         install it with `{} -m pip install MaterialX`, or name an interpreter that has it \
-         with {PYTHON_VAR}",
-        python.to_string_lossy(), document.display(), python.to_string_lossy()
-    )]
-    NoMaterialX {
-        /// The interpreter.
-        python: OsString,
-        /// The document.
-        document: PathBuf,
-    },
-    /// usd-core could not open it.
-    #[error("usd-core cannot open the stage: {detail}")]
-    Open {
-        /// usd-core's words.
-        detail: String,
-    },
-    /// MaterialX could not read a document (or one it includes).
-    #[error("{detail}")]
-    Document {
-        /// What MaterialX (or the check before it) said, naming the file.
-        detail: String,
-    },
-    /// Composition failed somewhere: a texture may be missing from the list.
-    #[error(
-        "the stage {} does not compose: {first}{}; nothing is converted, since a texture \
-         may be missing from what composed",
-        stage.display(),
-        if *more > 0 { format!(" (and {more} more)") } else { String::new() }
-    )]
-    Composition {
-        /// The stage.
-        stage: PathBuf,
-        /// The first error, in usd-core's words.
-        first: String,
-        /// How many more.
-        more: usize,
-    },
-    /// usd-core did not answer in time.
-    #[error(
-        "usd-core did not finish reading within {seconds} s (a layer that is a FIFO or a \
-         device, or a very large stage; {TIMEOUT_VAR} sets the limit)"
-    )]
-    Timeout {
-        /// The limit.
-        seconds: u64,
-    },
-    /// The reader failed otherwise.
-    #[error("reading the asset failed: {0}")]
-    Reader(String),
-    /// The layer exists and may not be replaced.
-    #[error("{} exists: update (-u) or force replaces it", layer.display())]
-    LayerExists {
-        /// The layer.
-        layer: PathBuf,
-    },
-    /// An output would be a file the stage reads (issue 57): never, whatever the flags.
-    #[error(
-        "{} is a file the stage reads: specconv asset never writes over what it reads, -u and \
-         --force included; choose another -o DIR",
-        output.display()
-    )]
-    WritesItsInput {
-        /// The output.
-        output: PathBuf,
-    },
-    /// An output exists that no asset run wrote ([`record`]).
-    #[error(
-        "{} exists and specconv asset did not write it (it is not in the folder's {}): move it \
-         away or choose another -o DIR; -u and --force replace only files the asset wrote",
-        path.display(), record::RECORD
-    )]
-    NotWrittenByAsset {
-        /// The file.
-        path: PathBuf,
-    },
-    /// An output the asset wrote was changed since ([`record`]).
-    #[error(
-        "{} changed since specconv asset wrote it: move it away to keep it, or delete it to \
-         have it written again",
-        path.display()
-    )]
-    ChangedSinceWritten {
-        /// The file.
-        path: PathBuf,
-    },
-    /// The record of what the asset wrote cannot be read or written.
-    #[error(
-        "{}: the record of what specconv asset wrote in this folder cannot be used ({why}); \
-         without it no file here is replaced",
-        path.display()
-    )]
-    Record {
-        /// The record.
-        path: PathBuf,
-        /// Why.
-        why: String,
-    },
-    /// The OCIO config cannot be used.
-    #[error("{0}")]
-    Config(Box<specconv_conversion::Error>),
-    /// A folder or path under DIR.
-    #[error("{}: {}", .0.display(), .1)]
-    Io(PathBuf, std::io::Error),
-    /// A folder below DIR that is a symbolic link, which would take outputs outside DIR.
-    #[error(
-        "{} is a symbolic link below the output folder {}: outputs are written only inside          it; remove the link or choose a fresh folder",
-        link.display(),
-        dir.display()
-    )]
-    LinkBelowDir {
-        /// The link.
-        link: PathBuf,
-        /// The output folder.
-        dir: PathBuf,
-    },
-}
-
-impl Error {
-    /// The caller's fault, found before anything was converted (a usage error): the stage is
-    /// not a file, the layer exists, an output is an input or a file the asset did not write,
-    /// the config or a setting cannot be used.
-    pub fn is_usage(&self) -> bool {
-        matches!(
-            self,
-            Error::NotAStage { .. }
-                | Error::LayerExists { .. }
-                | Error::WritesItsInput { .. }
-                | Error::NotWrittenByAsset { .. }
-                | Error::ChangedSinceWritten { .. }
-                | Error::Config(_)
-                | Error::BadTimeout { .. }
-                | Error::LinkBelowDir { .. }
-        )
-    }
-}
-
-/// Whether `path` names a USD stage by its extension (`.usd`, `.usda`, `.usdc`, `.usdz`): what
-/// `farm submit` plans as an asset rather than as a texture.
-pub fn is_stage(path: &Path) -> bool {
-    let ext = path.extension().map(|e| e.to_ascii_lowercase());
-    matches!(
-        ext.as_ref().and_then(|e| e.to_str()),
-        Some("usd" | "usda" | "usdc" | "usdz")
-    )
-}
-
-/// Whether `path` names a MaterialX document (`.mtlx`), which is read by the MaterialX package
-/// and gets an override copy rather than a USD layer.
-pub fn is_document(path: &Path) -> bool {
-    path.extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("mtlx"))
-}
-
-/// Checks that `stage` can be given to the reader: a regular file (a FIFO would block it).
-pub fn check_stage(stage: &Path) -> Result<(), Error> {
-    let not = |why: String| Error::NotAStage {
-        stage: stage.to_path_buf(),
-        why,
-    };
-    let meta = std::fs::metadata(stage).map_err(|e| not(e.to_string()))?;
-    if !meta.is_file() {
-        return Err(not(
-            "not a regular file (a FIFO, a device or a directory)".into()
-        ));
-    }
-    Ok(())
-}

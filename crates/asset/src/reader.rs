@@ -2,8 +2,9 @@
 //! `read_stage.py`, kept in this crate) under the Python interpreter that `$SPECCONV_USD_PYTHON` names (else
 //! `python3`), bounded in time and output.
 
+use crate::error::Error;
+use crate::interpreter::{DEFAULT_TIMEOUT, PYTHON_VAR, TIMEOUT_VAR};
 use crate::stage::Stage;
-use crate::Error;
 use std::ffi::{OsStr, OsString};
 use std::io::{Read, Write};
 use std::path::{Path, PathBuf};
@@ -24,19 +25,8 @@ pub const SCRIPT: &str = concat!(
     include_str!("read_stage.py")
 );
 
-/// The environment variable naming the interpreter that has usd-core.
-pub const PYTHON_VAR: &str = "SPECCONV_USD_PYTHON";
-/// The environment variable bounding each run of usd-core, in seconds.
-pub const TIMEOUT_VAR: &str = "SPECCONV_USD_TIMEOUT";
-/// Seconds a run of usd-core may take when `$SPECCONV_USD_TIMEOUT` is not set.
-pub const DEFAULT_TIMEOUT: u64 = 300;
 /// The most a reader may print: a stage's texture list is far smaller.
 const MAX_OUTPUT: u64 = 256 << 20;
-
-/// The command that installs usd-core for `python`.
-pub fn install_line(python: &OsStr) -> String {
-    format!("{} -m pip install usd-core", python.to_string_lossy())
-}
 
 /// usd-core, through one Python interpreter.
 #[derive(Debug, Clone)]
@@ -256,4 +246,19 @@ fn clean(detail: &str) -> String {
         })
         .collect::<Vec<_>>()
         .join("; ")
+}
+
+/// Checks that `stage` can be given to the reader: a regular file (a FIFO would block it).
+pub fn check_stage(stage: &Path) -> Result<(), Error> {
+    let not = |why: String| Error::NotAStage {
+        stage: stage.to_path_buf(),
+        why,
+    };
+    let meta = std::fs::metadata(stage).map_err(|e| not(e.to_string()))?;
+    if !meta.is_file() {
+        return Err(not(
+            "not a regular file (a FIFO, a device or a directory)".into()
+        ));
+    }
+    Ok(())
 }
