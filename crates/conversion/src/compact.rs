@@ -102,7 +102,8 @@ pub fn read_compact(input: &std::path::Path, level: usize) -> Result<CompactTexe
 /// read, from its header: `attribute` gives a header attribute's text by name (this library
 /// names the ones it needs), `channels` the channel names. Returns the decoding text as this
 /// library writes it and the columns of the texel's stored channels (`R` … `UF.2`) among `channels`; otherwise
-/// [`ConversionError::NotCompact`], saying what is missing or wrong (a text's line and reason).
+/// [`ConversionError::NotCompact`](crate::ConversionError::NotCompact), saying what is missing or
+/// wrong (a text's line and reason).
 pub fn check_compact_header(
     path: &std::path::Path,
     attribute: &dyn Fn(&str) -> Option<String>,
