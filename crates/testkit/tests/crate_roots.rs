@@ -26,10 +26,6 @@ const ROOT_LIMIT: usize = 300;
 /// Crate roots that still hold work: (root, why).
 const ALLOWED: &[(&str, &str)] = &[
     (
-        "ffi/ocio/src/lib.rs",
-        "the OpenColorIO wrapper (Config, Processor, Error: 479 lines) in the root; builtin and contents import it back",
-    ),
-    (
         "ffi/oiio/src/lib.rs",
         "the OpenImageIO wrapper (ImageReader and its kin: 815 lines) in the root",
     ),
