@@ -2,8 +2,8 @@
 //! colour space its conversion is given, and the layer that points the stage at the outputs.
 
 use crate::decide::{decide, materialx_space, takes_colour, takes_data, Decision, Space, Texture};
+use crate::error::Error;
 use crate::stage::{MtlxReference, Node, Stage};
-use crate::Error;
 use serde::Serialize;
 use sha2::{Digest, Sha256};
 use specconv_atomic_file::outputs::Holds;
@@ -112,7 +112,7 @@ impl LayerPlan {
     /// What the layer (or a document's copy) gives spectral renderers, in a line.
     pub fn summary(&self) -> String {
         let in_copies: usize = self.documents.iter().map(|d| d.overrides.len()).sum();
-        if crate::is_document(&self.stage) {
+        if crate::paths::is_document(&self.stage) {
             return format!(
                 "copy {} of {}: {in_copies} image node(s) pointed at spectral files",
                 self.layer.display(),
@@ -211,7 +211,7 @@ pub fn extract_dir(stage: &Path, dir: &Path) -> PathBuf {
 /// `DIR/STEM_spectral.mtlx`.
 pub fn layer_path(stage: &Path, dir: &Path) -> PathBuf {
     let mut name = stage.file_stem().unwrap_or_default().to_os_string();
-    name.push(match crate::is_document(stage) {
+    name.push(match crate::paths::is_document(stage) {
         true => "_spectral.mtlx",
         false => "_spectral.usda",
     });

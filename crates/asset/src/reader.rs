@@ -5,8 +5,9 @@
 //! bounded in time and output (the command line), or a call into the interpreter the Python
 //! package runs in ([`Reader::in_process`]). One parser reads the answers of both.
 
+use crate::error::Error;
+use crate::interpreter::{DEFAULT_TIMEOUT, PROTOCOL, PYTHON_VAR, TIMEOUT_VAR};
 use crate::stage::Stage;
-use crate::Error;
 use serde_json::{json, Value};
 use std::ffi::{OsStr, OsString};
 use std::io::{Read, Write};
@@ -14,10 +15,6 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
-
-/// The version of the reader's protocol, which its `protocol.py` says too (a test checks):
-/// raised whenever a request or an answer changes shape.
-pub const PROTOCOL: u64 = 1;
 
 /// The reader's modules, built into the program (one copy, the package's own), imported by
 /// [`BOOTSTRAP`] from these strings.
@@ -52,19 +49,8 @@ const MODULES: [(&str, &str); 5] = [
 /// reach their own USD build (docs/assets.md, "How it runs").
 const BOOTSTRAP: &str = include_str!("../../../python/specconv/_asset_reader/bootstrap.py");
 
-/// The environment variable naming the interpreter that has usd-core.
-pub const PYTHON_VAR: &str = "SPECCONV_USD_PYTHON";
-/// The environment variable bounding each run of usd-core, in seconds.
-pub const TIMEOUT_VAR: &str = "SPECCONV_USD_TIMEOUT";
-/// Seconds a run of usd-core may take when `$SPECCONV_USD_TIMEOUT` is not set.
-pub const DEFAULT_TIMEOUT: u64 = 300;
 /// The most a reader may print: a stage's texture list is far smaller.
 const MAX_OUTPUT: u64 = 256 << 20;
-
-/// The command that installs usd-core for `python`.
-pub fn install_line(python: &OsStr) -> String {
-    format!("{} -m pip install usd-core", python.to_string_lossy())
-}
 
 /// A call into an interpreter that has imported the reader: its `answer(request)`, the
 /// status and the answer's text; `Err`, what Python raised.
@@ -333,6 +319,21 @@ fn clean(detail: &str) -> String {
         })
         .collect::<Vec<_>>()
         .join("; ")
+}
+
+/// Checks that `stage` can be given to the reader: a regular file (a FIFO would block it).
+pub fn check_stage(stage: &Path) -> Result<(), Error> {
+    let not = |why: String| Error::NotAStage {
+        stage: stage.to_path_buf(),
+        why,
+    };
+    let meta = std::fs::metadata(stage).map_err(|e| not(e.to_string()))?;
+    if !meta.is_file() {
+        return Err(not(
+            "not a regular file (a FIFO, a device or a directory)".into()
+        ));
+    }
+    Ok(())
 }
 
 #[cfg(test)]

@@ -9,14 +9,14 @@
 //! is then claimed ([`claim`]) and, once written, stamped ([`stamp`]). A claimed file that a
 //! killed run left unstamped is still the asset's: it was checked free before the claim.
 
-use crate::Error;
+use crate::error::Error;
 use serde::{Deserialize, Serialize};
 use std::collections::{BTreeMap, HashSet};
 use std::path::{Path, PathBuf};
 use std::time::UNIX_EPOCH;
 
-/// The record's name in the output folder.
-pub const RECORD: &str = ".specconv-asset.json";
+// Kept in paths, below error, whose messages name it.
+pub use crate::paths::RECORD;
 
 /// The largest record read (a million files' entries fit well within it).
 const MAX_RECORD: u64 = 256 << 20;

@@ -2,8 +2,10 @@
 //! [`Converters`] (one per colour space), the batch (the front-end's, with
 //! [`specconv_conversion::Batch::each_input`]), [`Outcomes`], [`finish`] (the layer).
 
+use crate::error::Error;
 use crate::plan::{extract_dir, Asset, Job, LayerPlan};
-use crate::{check_stage, record, Error, Reader};
+use crate::reader::check_stage;
+use crate::{record, Reader};
 use specconv_conversion::{ColourConfig, Converter, DataPolicy, Options};
 use std::path::{Path, PathBuf};
 

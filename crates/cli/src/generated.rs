@@ -172,7 +172,7 @@ const README_OPTIONS: &[&str] = &[
     "json",
 ];
 
-/// README.md's option table: the rows of the guide's table for [`README_OPTIONS`].
+/// README.md's option table: the rows of the guide's table for `README_OPTIONS`.
 pub fn readme_table() -> String {
     let mut out = TABLE_HEAD.to_string();
     for (longs, row) in convert_rows() {

@@ -1,6 +1,8 @@
 //! XYZ of reflectances: the linear map A from an n-band spectrum to a tristimulus colour.
 
-use crate::{Error, Grid, Illuminant, Observer};
+use crate::error::Error;
+
+use crate::{Grid, Illuminant, Observer};
 
 /// The setting in which reflectances become colours: grid, observer and illuminant.
 ///

@@ -16,7 +16,9 @@
 //! Both are linear in the band values, so [`Integration`] holds them as per-band weights: a
 //! file's XYZ costs three dot products per pixel, whatever its grid.
 
-use crate::{Colorimetry, Error, Grid, Illuminant, Observer};
+use crate::error::Error;
+
+use crate::{Colorimetry, Grid, Illuminant, Observer};
 
 /// The observer's tabulated grid: CIE tables are 360–830 nm at 1 nm; the analytic Wyman 2013
 /// fit is sampled on the same grid.

@@ -1,6 +1,8 @@
 //! Standard observers (colour-matching functions) and illuminants.
 
-use crate::{Error, Grid, SpectralTable};
+use crate::error::Error;
+
+use crate::{Grid, SpectralTable};
 use serde::{Deserialize, Serialize};
 use std::sync::OnceLock;
 

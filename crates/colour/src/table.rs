@@ -1,7 +1,9 @@
 //! Tabulated spectra in the CSV layout of `../shared/spectra` and `../shared/cie`: a header row,
 //! a wavelength column first, then one column per named sample.
 
-use crate::{Error, Grid};
+use crate::error::Error;
+
+use crate::Grid;
 use std::borrow::Cow;
 
 /// A table of spectra sampled at common wavelengths.

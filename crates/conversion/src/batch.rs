@@ -355,7 +355,9 @@ impl<'c> Expansions<'c> {
             (self.update && expansion_is_up_to_date(&p.input, &p.output)).then_some(Holds::Spectral)
         };
         let run = |_, p: &Pair, _: &mut (dyn FnMut(Event) + Send)| {
-            pool.install(|| crate::expand(&p.input, &p.output, overwrite, self.fixnan, cancel))
+            pool.install(|| {
+                crate::compact::expand(&p.input, &p.output, overwrite, self.fixnan, cancel)
+            })
         };
         let done = |p: &Pair,
                     expanded: Expanded,

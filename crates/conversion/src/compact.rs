@@ -1,9 +1,14 @@
 //! Compact textures (`--layout compact`, docs/compact.md) told apart from spectral files, by one
 //! rule that every reader of spectral files follows: `describe` shows what a compact file
 //! holds, and `to-rgb`, `preview` and Python's `read_spectral` refuse it naming `expand`,
-//! instead of calling it a file with no bands.
+//! instead of calling it a file with no bands. And a compact texture used: [`expand`] writes
+//! it out in bands, [`read_compact`] reads its texels, [`check_compact_header`] checks the
+//! header another reader read.
 
 use crate::error::Error;
+use crate::options::NonFinite;
+use crate::pipeline;
+use crate::pipeline::expand::{CompactTexels, Expanded};
 use crate::pipeline::{COMPACT_ATTRIBUTE, COMPACT_CHANNELS, LAYOUT_ATTRIBUTE};
 use specconv_oiio::ImageReader;
 use std::collections::BTreeMap;
@@ -69,6 +74,46 @@ pub(crate) fn facts(path: &Path, reader: &ImageReader) -> Result<Option<CompactF
         bands_nm,
         specconv,
     }))
+}
+
+/// Writes the compact texture `input` (`--layout compact`) out in the spectral layout at
+/// `output`, as a conversion with the same settings writes it (docs/compact.md): NaN and
+/// infinite texels by `fixnan`, else by the rule the conversion recorded; `cancel` stops
+/// it, leaving nothing.
+pub fn expand(
+    input: &std::path::Path,
+    output: &std::path::Path,
+    overwrite: bool,
+    fixnan: Option<NonFinite>,
+    cancel: &std::sync::atomic::AtomicBool,
+) -> Result<Expanded, Error> {
+    Ok(pipeline::expand::expand(
+        input, output, overwrite, fixnan, cancel,
+    )?)
+}
+
+/// Reads MIP level `level` of the compact texture `input` (`--layout compact`) into memory:
+/// its texels and decoding text, for a renderer that decodes spectra per lookup.
+pub fn read_compact(input: &std::path::Path, level: usize) -> Result<CompactTexels, Error> {
+    Ok(pipeline::expand::read_texels(input, level)?)
+}
+
+/// Whether a file another reader read (Mitsuba's) is a compact texture [`read_compact`] would
+/// read, from its header: `attribute` gives a header attribute's text by name (this library
+/// names the ones it needs), `channels` the channel names. Returns the decoding text as this
+/// library writes it and the columns of the texel's stored channels (`R` … `UF.2`) among `channels`; otherwise
+/// [`ConversionError::NotCompact`](crate::ConversionError::NotCompact), saying what is missing or
+/// wrong (a text's line and reason).
+pub fn check_compact_header(
+    path: &std::path::Path,
+    attribute: &dyn Fn(&str) -> Option<String>,
+    channels: &[&str],
+) -> Result<(String, [usize; specconv_spectral::compact::STORED]), Error> {
+    use pipeline::{COMPACT_ATTRIBUTE, LAYOUT_ATTRIBUTE};
+    let (layout, text) = (attribute(LAYOUT_ATTRIBUTE), attribute(COMPACT_ATTRIBUTE));
+    let (compact, columns) =
+        pipeline::expand::header(path, layout.as_deref(), text.as_deref(), channels)?;
+    Ok((compact.to_text(), columns))
 }
 
 /// The error of a reader of spectral files that could not read `path` (`source`): when the

@@ -44,12 +44,14 @@ pub mod images;
 pub mod models;
 pub mod plan;
 pub mod preview;
+mod process;
 pub mod provenance;
 pub mod record;
 pub mod tables;
 pub mod to_rgb;
 
 // The description of a conversion and the job, under their names in this crate.
+pub use process::{exit_now, ignore_file_size_signal, settle_copies};
 pub use specconv_description::{definition, layout, metadata, Definition, Flag, Takes, Value};
 use specconv_description::{named, options, report};
 use specconv_pipeline as pipeline;
@@ -57,7 +59,7 @@ use specconv_pipeline::wrapped;
 
 pub use batch::{expansion_is_up_to_date, Batch, Event, Expansions, Summary};
 pub use colour_config::{is_builtin_config, ColourConfig, ColourSpace, ConfigOrigin, XyzTransform};
-pub use compact::{spectral_read_error, CompactFacts};
+pub use compact::{check_compact_header, expand, read_compact, spectral_read_error, CompactFacts};
 pub use converter::{
     Advice, Converter, InMemory, Rule, Samples, Selection, Texels, TexelsMade, Warning,
 };
@@ -81,66 +83,3 @@ pub use report::{
     DataOutcome, Notice, NoticeCount, NoticeKind, Report, Role, Strength, DATA_MAP_RULE, PRECEDENCE,
 };
 pub use wrapped::{ColourError, ImageError};
-
-/// Writes the compact texture `input` (`--layout compact`) out in the spectral layout at
-/// `output`, as a conversion with the same settings writes it (docs/compact.md): NaN and
-/// infinite texels by `fixnan`, else by the rule the conversion recorded; `cancel` stops
-/// it, leaving nothing.
-pub fn expand(
-    input: &std::path::Path,
-    output: &std::path::Path,
-    overwrite: bool,
-    fixnan: Option<NonFinite>,
-    cancel: &std::sync::atomic::AtomicBool,
-) -> Result<Expanded, Error> {
-    Ok(pipeline::expand::expand(
-        input, output, overwrite, fixnan, cancel,
-    )?)
-}
-
-/// Reads MIP level `level` of the compact texture `input` (`--layout compact`) into memory:
-/// its texels and decoding text, for a renderer that decodes spectra per lookup.
-pub fn read_compact(input: &std::path::Path, level: usize) -> Result<CompactTexels, Error> {
-    Ok(pipeline::expand::read_texels(input, level)?)
-}
-
-/// Whether a file another reader read (Mitsuba's) is a compact texture [`read_compact`] would
-/// read, from its header: `attribute` gives a header attribute's text by name (this library
-/// names the ones it needs), `channels` the channel names. Returns the decoding text as this
-/// library writes it and the columns of the texel's stored channels (`R` … `UF.2`) among `channels`; otherwise
-/// [`ConversionError::NotCompact`], saying what is missing or wrong (a text's line and reason).
-pub fn check_compact_header(
-    path: &std::path::Path,
-    attribute: &dyn Fn(&str) -> Option<String>,
-    channels: &[&str],
-) -> Result<(String, [usize; specconv_spectral::compact::STORED]), Error> {
-    use pipeline::{COMPACT_ATTRIBUTE, LAYOUT_ATTRIBUTE};
-    let (layout, text) = (attribute(LAYOUT_ATTRIBUTE), attribute(COMPACT_ATTRIBUTE));
-    let (compact, columns) =
-        pipeline::expand::header(path, layout.as_deref(), text.as_deref(), channels)?;
-    Ok((compact.to_text(), columns))
-}
-
-/// Makes writes past the file size limit (`ulimit -f`) fail with an error the writer reports,
-/// its temporary file removed, instead of SIGXFSZ killing the process: for a program's first
-/// step (Python ignores SIGXFSZ already).
-pub fn ignore_file_size_signal() {
-    specconv_oiio::ignore_file_size_signal()
-}
-
-/// Ends the process at once with `code`, without exit handlers or C++ static destructors: for
-/// a signal handler's thread while OpenImageIO or OpenColorIO may be in use on another
-/// (`std::process::exit` would run their destructors under it: a crash or a hang instead of
-/// the exit status).
-pub fn exit_now(code: i32) -> ! {
-    specconv_oiio::exit_now(code)
-}
-
-/// Waits, at most `timeout`, for what cancelled data copies left running inside OpenImageIO
-/// (a copy returns within 20 ms of its cancel flag; its writer cannot be stopped midway and
-/// removes its files when it ends); whether nothing runs now. A front-end that ends the
-/// process with `exit` rather than [`exit_now`] (Python) calls it first: the libraries' static
-/// destructors must not run under a writer.
-pub fn settle_copies(timeout: std::time::Duration) -> bool {
-    pipeline::data::settle(timeout)
-}

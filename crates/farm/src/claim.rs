@@ -6,7 +6,9 @@
 //! recorded. A finished, cancelled or never-submitted job's marker does not block, and a
 //! marker naming a job directory that is gone or damaged is simply replaced.
 
-use crate::{slurm, Error, Manifest};
+use crate::error::Error;
+
+use crate::{slurm, Manifest};
 use std::fs::File;
 use std::io::{Read, Seek, Write};
 use std::path::{Path, PathBuf};

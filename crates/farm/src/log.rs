@@ -59,7 +59,7 @@ struct Line {
 impl TaskLog {
     /// Reads a log; a missing file is an empty log (the task has not started). One that is not
     /// a regular file, or is larger than [`crate::manifest::MAX_FILE_BYTES`], is refused.
-    pub fn read(path: &Path) -> Result<TaskLog, crate::Error> {
+    pub fn read(path: &Path) -> Result<TaskLog, crate::error::Error> {
         if std::fs::symlink_metadata(path).is_err() {
             return Ok(TaskLog::default());
         }

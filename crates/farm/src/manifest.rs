@@ -6,7 +6,7 @@
 //! manifest names is one the job owns (outputs inside its output directory, rounds planning
 //! only listed files) and refuses files over [`MAX_FILE_BYTES`] before reading them.
 
-use crate::Error;
+use crate::error::Error;
 use serde::{Deserialize, Serialize};
 use specconv_atomic_file::outputs;
 use std::path::{Component, Path, PathBuf};

@@ -3,7 +3,7 @@
 //! itself is `specconv_atomic_file::shards`, below this crate and the conversion library, so
 //! that `farm submit` and `convert --shard` split alike.
 
-use crate::Error;
+use crate::error::Error;
 use std::str::FromStr;
 
 /// Splits items of the given weights (pixels) into `n` shards of nearly equal total weight:

@@ -2,7 +2,7 @@
 //! exit code of every array task (with `sacct` as fallback where accounting keeps jobs that the
 //! controller has forgotten). Nothing else runs: no daemon, no scheduler of our own.
 
-use crate::Error;
+use crate::error::Error;
 use std::path::Path;
 use std::process::Command;
 

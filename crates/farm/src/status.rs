@@ -143,7 +143,7 @@ impl Status {
         job_dir: &Path,
         m: &Manifest,
         slurm: &mut dyn FnMut(&str) -> crate::slurm::Tasks,
-    ) -> Result<Status, crate::Error> {
+    ) -> Result<Status, crate::error::Error> {
         let (tasks, logs) = Status::tasks(job_dir, m, slurm)?;
         let mut files = Vec::new();
         for (i, f) in m.files.iter().enumerate() {
@@ -181,7 +181,7 @@ impl Status {
         job_dir: &Path,
         m: &Manifest,
         slurm: &mut dyn FnMut(&str) -> crate::slurm::Tasks,
-    ) -> Result<(Vec<TaskStatus>, Vec<Vec<TaskLog>>), crate::Error> {
+    ) -> Result<(Vec<TaskStatus>, Vec<Vec<TaskLog>>), crate::error::Error> {
         let mut tasks = Vec::new();
         let mut logs = Vec::new();
         for (r, round) in m.rounds.iter().enumerate() {
@@ -380,7 +380,7 @@ mod tests {
             },
         ]);
         let nowhere = Path::new("/nonexistent/job");
-        let mut unreachable = |_: &str| Err(crate::Error::Slurm("no controller".into()));
+        let mut unreachable = |_: &str| Err(crate::error::Error::Slurm("no controller".into()));
         let s = Status::read(nowhere, &m, &mut unreachable).unwrap();
         assert_eq!(s.tasks[0].state, UNREACHABLE);
         assert_eq!(s.tasks[1].state, NOT_SUBMITTED);

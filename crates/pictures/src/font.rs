@@ -2,7 +2,7 @@
 //! with fonts registered at run time, and the repository ships none: the system's DejaVu Sans
 //! (Debian: fonts-dejavu-core), or the TrueType file named by `SPECCONV_FONT`.
 
-use crate::{Error, Result};
+use crate::error::{Error, Result};
 use plotters::style::FontStyle;
 use std::path::PathBuf;
 use std::sync::OnceLock;

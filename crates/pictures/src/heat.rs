@@ -1,8 +1,8 @@
 //! Heat maps: values from black through red and yellow to white, with a colour bar.
 
+use crate::error::Result;
 use crate::font::FAMILY;
 use crate::picture;
-use crate::Result;
 use plotters::prelude::*;
 
 /// Black → red → yellow → white as ΔE goes from 0 to 1 (of the scale): readable in grey too.

@@ -1,7 +1,7 @@
 //! Pictures: plotters drawings rendered to 8-bit RGB and PNG encoding, in memory, so that the
 //! caller writes the file atomically (no partial PNG on any error).
 
-use crate::{Error, Result};
+use crate::error::{Error, Result};
 use image::ImageEncoder;
 use plotters::coord::Shift;
 use plotters::prelude::*;

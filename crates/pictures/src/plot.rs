@@ -1,8 +1,8 @@
 //! The report's plot: accuracy against time per colour, one labelled point per method and
 //! setting, both axes logarithmic.
 
+use crate::error::Result;
 use crate::picture::{drawing_failed, DrawResult};
-use crate::Result;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 

@@ -27,8 +27,9 @@
 
 pub use specconv_colour::solid::{nearest, Solid, Solve, DUAL_STEPS};
 
+use crate::error::Error;
 use crate::method::Tally;
-use crate::{Error, Method};
+use crate::Method;
 use specconv_colour::rgb::SRGB;
 use specconv_colour::{Colorimetry, Grid};
 

@@ -32,10 +32,11 @@
 //! uplifts searched per colour, and the baselines are not affine in c.
 
 use crate::bounded::{Bounded, Counts, Outcome};
+use crate::error::Error;
 use crate::method::MethodName;
 use crate::otsu2018::tree::{Axis, Node, Tree};
 use crate::stack::Description;
-use crate::{Error, Method, Model, Uplifter};
+use crate::{Method, Model, Uplifter};
 use specconv_colour::{Colorimetry, Grid};
 
 /// The first line of the text, and the value of the file's `specconvLayout`.

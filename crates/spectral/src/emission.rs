@@ -36,8 +36,9 @@
 //! | no k reproduces it (xy outside the spectral locus, negative luminance) | L of the last k, counted as *unmatched*: its colour is the one the method reached (bounded: non-negative, the colour nearest in CIELAB that a reflectance can have, see [`crate::bounded`]); unbounded methods always match, with negative bands |
 //! | components up to the largest finite value | u from c/m cannot overflow; L saturates at ± the output type's largest finite value |
 
+use crate::error::Error;
 use crate::method::Tally;
-use crate::{Error, Method};
+use crate::Method;
 use specconv_colour::{Colorimetry, EmissionUnits, Grid, Illuminant, Integration};
 
 /// Most halvings of a colour the method misses: down to 2⁻⁹ of the white's box (the bounded

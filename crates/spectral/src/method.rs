@@ -1,6 +1,6 @@
 //! The [`Method`] trait that every uplift method and adapter implements, and the methods' names.
 
-use crate::Error;
+use crate::error::Error;
 use specconv_colour::Grid;
 
 /// One way of turning XYZ colours into spectra: the clustered PCA and the baselines alike, so

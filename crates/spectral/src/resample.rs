@@ -6,8 +6,9 @@
 //! (c − A·L·r₀), with A the new grid's XYZ rows. Bands beyond the method's grid hold its end
 //! values, so widening a grid extrapolates flat.
 
+use crate::error::Error;
 use crate::method::Tally;
-use crate::{Error, Method};
+use crate::Method;
 use nalgebra::Matrix3;
 use specconv_colour::{Colorimetry, Grid};
 

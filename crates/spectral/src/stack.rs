@@ -13,9 +13,10 @@ use crate::baselines::jakob_cache::TableCache;
 use crate::baselines::{Jakob2019, Meng2015, Smits1999};
 use crate::bounded::Bounded;
 use crate::emission::{EmissionSetting, Emissive};
+use crate::error::Error;
 use crate::method::MethodName;
 use crate::resample::Resampled;
-use crate::{Error, Method, Model, Uplifter};
+use crate::{Method, Model, Uplifter};
 use specconv_colour::{Colorimetry, EmissionUnits, Grid, Illuminant, Integration, Observer};
 
 /// What to uplift with: everything a command's options select about the method.

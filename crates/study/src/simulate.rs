@@ -18,7 +18,7 @@
 //! light's spectrum is the light), and CIELAB takes as white what a perfectly white scene gives at
 //! the same patch and bounce count: a white wall reads L* = 100 in the light of the scene.
 
-use crate::Error;
+use crate::error::Error;
 use nalgebra::{DMatrix, DVector};
 use specconv_colour::Colorimetry;
 use specconv_colour::{lab::ciede2000, lab::xyz_to_lab};

@@ -7,11 +7,10 @@
 //! colour spaces, aliases, roles, displays, views, looks and file rules, and answers the
 //! same names with them. `aces` stays the short name of the CG config.
 
-use std::ffi::OsString;
 use std::fmt;
 use std::path::PathBuf;
 
-use crate::{Config, Error, Result};
+use crate::error::{Error, Result};
 
 /// The YAML of the built-in CG config.
 pub const CG_CONFIG_YAML: &str = include_str!("../config/cg.ocio");
@@ -77,7 +76,7 @@ pub const BUILTIN_NAMES: [(&str, BuiltinConfig); 6] = [
 ];
 
 /// The `ocio://` scheme of OCIO's built-in config names.
-const SCHEME: &str = "ocio://";
+pub(crate) const SCHEME: &str = "ocio://";
 
 /// Whether `--ocio` names a built-in config (`aces` or any `ocio://` name, known or not)
 /// rather than a file.
@@ -135,93 +134,5 @@ impl fmt::Display for ConfigSource {
                 write!(f, "'{name}' ({env}built in: {config})")
             }
         }
-    }
-}
-
-impl Config {
-    /// Picks and loads the config: `--ocio` (a file, `aces` or an `ocio://` name), else
-    /// `$OCIO` (the same), else the built-in CG config.
-    pub fn resolve(ocio_arg: Option<&str>) -> Result<Config> {
-        Self::resolve_with_env(ocio_arg, std::env::var_os("OCIO"))
-    }
-
-    /// [`Config::resolve`] with the value of `$OCIO` passed in (tests must not set
-    /// process-wide variables).
-    pub fn resolve_with_env(ocio_arg: Option<&str>, env: Option<OsString>) -> Result<Config> {
-        if let Some(arg) = ocio_arg {
-            return Self::by_name(arg, false);
-        }
-        match env.filter(|v| !v.is_empty()) {
-            Some(value) => match value.to_str() {
-                Some(name) => Self::by_name(name, true),
-                None => {
-                    let path = PathBuf::from(value);
-                    Self::load_file(&path, ConfigSource::Env(path.clone()))
-                }
-            },
-            None => Self::by_name(ACES_CONFIG_NAME, false),
-        }
-    }
-
-    /// A built-in config by any of its names, else a config file.
-    fn by_name(name: &str, from_env: bool) -> Result<Config> {
-        if let Some(config) = lookup(name) {
-            return Self::builtin_named(config?, name, from_env);
-        }
-        let path = PathBuf::from(name);
-        let source = if from_env {
-            ConfigSource::Env(path.clone())
-        } else {
-            ConfigSource::File(path.clone())
-        };
-        Self::load_file(&path, source)
-    }
-
-    /// A built-in config.
-    pub fn builtin(config: BuiltinConfig) -> Result<Config> {
-        let name = BUILTIN_NAMES
-            .iter()
-            .find(|&&(n, c)| c == config && n.starts_with(SCHEME) && n.ends_with("ocio-v2.1"))
-            .map_or(ACES_CONFIG_NAME, |(n, _)| n);
-        Self::builtin_named(config, name, false)
-    }
-
-    /// The built-in CG config (`--ocio aces`).
-    pub fn builtin_aces() -> Result<Config> {
-        Self::builtin_named(BuiltinConfig::Cg, ACES_CONFIG_NAME, false)
-    }
-
-    /// The built-in config this config is: itself for a built-in one; for a file (the
-    /// Academy's official config, as `../shared/ocio` holds it) the built-in config with the
-    /// same colour spaces, roles and file rules, so that both decide a file's colour space
-    /// alike; `None` for any other (a studio's config, an edited copy). Asked once per config.
-    pub fn builtin_twin(&self) -> Result<Option<BuiltinConfig>> {
-        if let ConfigSource::Builtin { config, .. } = self.source() {
-            return Ok(Some(*config));
-        }
-        if let Some(twin) = self.twin.get() {
-            return Ok(*twin);
-        }
-        let mut twin = None;
-        for kind in [BuiltinConfig::Cg, BuiltinConfig::Studio] {
-            let ours = Config::builtin(kind)?;
-            if self.all_color_space_names()? == ours.all_color_space_names()?
-                && self.roles()? == ours.roles()?
-                && self.file_rules()? == ours.file_rules()?
-            {
-                twin = Some(kind);
-                break;
-            }
-        }
-        Ok(*self.twin.get_or_init(|| twin))
-    }
-
-    fn builtin_named(config: BuiltinConfig, name: &str, from_env: bool) -> Result<Config> {
-        let source = ConfigSource::Builtin {
-            name: name.to_owned(),
-            config,
-            from_env,
-        };
-        Self::from_yaml(config.yaml(), None, source)
     }
 }

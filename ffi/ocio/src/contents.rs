@@ -6,7 +6,10 @@ use ocio_sys as sys;
 
 use std::ptr::NonNull;
 
-use crate::{config_str, cstring, last_error, Config, Error, Processor, Result, XyzRoute};
+use crate::config::Config;
+use crate::error::{Error, Result};
+use crate::processor::{Processor, XyzRoute};
+use crate::shim::{config_str, cstring, last_error};
 
 /// One view of a display.
 #[derive(Debug, Clone, PartialEq, Eq)]

@@ -18,7 +18,9 @@
 // Band and coefficient loops index several arrays in step.
 #![allow(clippy::needless_range_loop)]
 
-use crate::{Error, Method};
+use crate::error::Error;
+
+use crate::Method;
 use specconv_colour::{lab::xyz_to_lab, lab::xyz_to_lab_jacobian};
 use specconv_colour::{Colorimetry, Grid};
 

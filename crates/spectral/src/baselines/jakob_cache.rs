@@ -6,7 +6,7 @@
 //! table is a pure function of its key, so keeping it changes no result.
 
 use super::jakob::{self, solve_in_turn, Fitter, Fnv, Table};
-use crate::Error;
+use crate::error::Error;
 use specconv_colour::Colorimetry;
 use std::path::{Path, PathBuf};
 use std::time::Instant;

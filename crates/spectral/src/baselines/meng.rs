@@ -19,7 +19,9 @@
 // Band loops index several arrays in step.
 #![allow(clippy::needless_range_loop)]
 
-use crate::{Error, Method};
+use crate::error::Error;
+
+use crate::Method;
 use nalgebra::DMatrix;
 use specconv_colour::{Colorimetry, Grid};
 

@@ -6,7 +6,9 @@
 //! are tabulated at ten wavelengths over 380–720 nm; between them they are interpolated linearly
 //! and outside they are held constant, as colour-science does with them.
 
-use crate::{Error, Method};
+use crate::error::Error;
+
+use crate::Method;
 use specconv_colour::{Colorimetry, Grid, SpectralTable};
 
 /// Smits 1999 on a colorimetry's grid, in the Rec. 709 working space with its white.

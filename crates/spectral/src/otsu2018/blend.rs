@@ -23,7 +23,7 @@
 
 use super::gamut::{self, Gamut};
 use super::tree::Tree;
-use crate::Error;
+use crate::error::Error;
 
 /// The default width in xy (`width_scan` in `tests/spectral/blend.rs`): with the per-split widening,
 /// every boundary of the built-in and the paper's models stays below 1e-3 at any width, and

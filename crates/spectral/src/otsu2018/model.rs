@@ -8,7 +8,7 @@
 
 use super::terms::{Commercial, Terms};
 use super::tree::Tree;
-use crate::Error;
+use crate::error::Error;
 use serde::{Deserialize, Serialize};
 use specconv_colour::{Colorimetry, Grid, Illuminant, Observer};
 

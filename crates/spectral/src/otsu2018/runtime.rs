@@ -3,7 +3,8 @@
 use super::blend::Blend;
 use super::gamut::Gamut;
 use super::tree::{Axis, Tree};
-use crate::{Error, Method, Model};
+use crate::error::Error;
+use crate::{Method, Model};
 use specconv_colour::{Colorimetry, Grid};
 
 /// A model prepared for uplifting: per leaf, T = B·M⁻¹ (n×3) and o = μ − T·c_μ, in f64 and f32.

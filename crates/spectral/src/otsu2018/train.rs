@@ -40,7 +40,8 @@ use super::pca::{
 };
 use super::terms::Terms;
 use super::tree::{Axis, Tree};
-use crate::{Error, Model};
+use crate::error::Error;
+use crate::Model;
 use specconv_colour::Colorimetry;
 
 /// The smallest cluster that has three principal components.
