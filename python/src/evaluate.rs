@@ -27,7 +27,7 @@ pub fn evaluate<'py>(
         None => Model::default_model()?,
     };
     // As `eval` measures: exact under the model's own band sums (the round trip of Eq. 9).
-    let description = specconv_spectral::stack::Description::measured(
+    let description = specconv_spectral::stack::Recipe::measured(
         specconv_spectral::method::MethodName::Otsu2018,
         blend,
         Default::default(),

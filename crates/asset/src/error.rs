@@ -1,7 +1,7 @@
 //! Why an asset cannot be read or planned: this crate's error.
 
+use crate::file_names::RECORD;
 use crate::interpreter::{install_line, PROTOCOL, PYTHON_VAR, TIMEOUT_VAR};
-use crate::paths::RECORD;
 use std::ffi::OsString;
 use std::path::PathBuf;
 

@@ -24,8 +24,8 @@
 
 pub mod decide;
 mod error;
+mod file_names;
 mod interpreter;
-mod paths;
 pub mod plan;
 mod reader;
 pub mod record;
@@ -34,8 +34,8 @@ pub mod stage;
 
 pub use decide::{Decision, Space, Texture};
 pub use error::Error;
+pub use file_names::{is_document, is_stage};
 pub use interpreter::{install_line, DEFAULT_TIMEOUT, PROTOCOL, PYTHON_VAR, TIMEOUT_VAR};
-pub use paths::{is_document, is_stage};
 pub use plan::{Asset, DocumentPlan, Job, LayerPlan, Override, Planned, Retarget};
 pub use reader::{check_stage, Call, Reader};
 pub use run::{

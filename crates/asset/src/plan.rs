@@ -110,9 +110,9 @@ pub const VARIANT_SET: &str = "spectralTextures";
 
 impl LayerPlan {
     /// What the layer (or a document's copy) gives spectral renderers, in a line.
-    pub fn summary(&self) -> String {
+    pub fn line(&self) -> String {
         let in_copies: usize = self.documents.iter().map(|d| d.overrides.len()).sum();
-        if crate::paths::is_document(&self.stage) {
+        if crate::file_names::is_document(&self.stage) {
             return format!(
                 "copy {} of {}: {in_copies} image node(s) pointed at spectral files",
                 self.layer.display(),
@@ -211,7 +211,7 @@ pub fn extract_dir(stage: &Path, dir: &Path) -> PathBuf {
 /// `DIR/STEM_spectral.mtlx`.
 pub fn layer_path(stage: &Path, dir: &Path) -> PathBuf {
     let mut name = stage.file_stem().unwrap_or_default().to_os_string();
-    name.push(match crate::paths::is_document(stage) {
+    name.push(match crate::file_names::is_document(stage) {
         true => "_spectral.mtlx",
         false => "_spectral.usda",
     });

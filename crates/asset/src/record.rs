@@ -16,7 +16,7 @@ use std::path::{Path, PathBuf};
 use std::time::UNIX_EPOCH;
 
 // Kept in paths, below error, whose messages name it.
-pub use crate::paths::RECORD;
+pub use crate::file_names::RECORD;
 
 /// The largest record read (a million files' entries fit well within it).
 const MAX_RECORD: u64 = 256 << 20;

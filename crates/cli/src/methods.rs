@@ -1,4 +1,4 @@
-//! The method options of the commands, turned into the one [`Description`] that
+//! The method options of the commands, turned into the one [`Recipe`] that
 //! `specconv_spectral::stack` builds: `simulate` takes [`StackArgs`] (the conversion's options, with the
 //! library's help and defaults), `eval` and `report` their setting flags. The
 //! Jakob 2019 tables are kept where the library keeps them ([`specconv_conversion::tables`]).
@@ -8,7 +8,7 @@ use specconv_colour::Colorimetry;
 use specconv_conversion::Key;
 use specconv_spectral::baselines::jakob;
 use specconv_spectral::method::MethodName;
-use specconv_spectral::stack::{Description, Setting, Stack};
+use specconv_spectral::stack::{Recipe, Setting, Stack};
 use specconv_spectral::Model;
 use std::path::{Path, PathBuf};
 
@@ -59,18 +59,18 @@ pub struct StackArgs {
 
 impl StackArgs {
     /// `method` with these options, reflectances as every reader of the output integrates them.
-    pub fn describe(&self, method: MethodName) -> Description {
-        Description {
+    pub fn describe(&self, method: MethodName) -> Recipe {
+        Recipe {
             blend: self.blend.width,
             grid: self.bands,
             bounded: !self.unbounded,
-            ..Description::convert_default(method)
+            ..Recipe::convert_default(method)
         }
     }
 }
 
 /// Builds `d` with `model` and the cached tables.
-pub fn build(d: &Description, model: &Model) -> Result<Stack> {
+pub fn build(d: &Recipe, model: &Model) -> Result<Stack> {
     let tables = specconv_conversion::tables::in_dir(None, specconv_conversion::tables::print_note);
     Ok(Stack::build(d, model, &tables)?)
 }
@@ -105,13 +105,13 @@ impl SettingArgs {
     }
 
     /// `method` as `eval` measures it, in this setting.
-    pub fn describe(&self, method: MethodName, blend: f64, bounded: bool) -> Description {
+    pub fn describe(&self, method: MethodName, blend: f64, bounded: bool) -> Recipe {
         let setting = Setting {
             grid: self.bands,
             observer: self.observer,
             illuminant: self.illuminant,
         };
-        Description::measured(method, blend, setting, self.jakob_resolution, bounded)
+        Recipe::measured(method, blend, setting, self.jakob_resolution, bounded)
     }
 }
 
@@ -295,11 +295,7 @@ mod tests {
                 else {
                     panic!("simulate")
                 };
-                assert_eq!(
-                    c.options().description(),
-                    s.description(method),
-                    "{method} {opts:?}"
-                );
+                assert_eq!(c.options().recipe(), s.recipe(method), "{method} {opts:?}");
                 assert_eq!(c.options().model, s.stack.model);
             }
         }
@@ -307,10 +303,10 @@ mod tests {
             panic!("convert")
         };
         assert_eq!(
-            c.options().description(),
-            Description::convert_default(MethodName::Otsu2018)
+            c.options().recipe(),
+            Recipe::convert_default(MethodName::Otsu2018)
         );
-        assert_eq!(c.options().description().blend, DEFAULT_WIDTH);
+        assert_eq!(c.options().recipe().blend, DEFAULT_WIDTH);
     }
 
     /// `eval` describes what `report` measures: the method on its own band sums, bounded only
@@ -336,8 +332,8 @@ mod tests {
             observer: Some(specconv_colour::Observer::Cie1964),
             illuminant: None,
         };
-        let want = Description::measured(MethodName::Smits1999, DEFAULT_WIDTH, setting, 64, true);
-        assert_eq!(e.description(), want);
+        let want = Recipe::measured(MethodName::Smits1999, DEFAULT_WIDTH, setting, 64, true);
+        assert_eq!(e.recipe(), want);
         assert_eq!(
             want.exact_under,
             specconv_spectral::stack::ExactUnder::BandSums

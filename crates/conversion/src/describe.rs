@@ -20,7 +20,7 @@ pub use crate::pipeline::input::ChannelReason;
 /// An image as a conversion would read it ([`describe`]).
 #[derive(Debug)]
 #[non_exhaustive]
-pub struct Description {
+pub struct Inspection {
     /// The image.
     pub path: PathBuf,
     /// The reader's name of its format (`openexr`, `tiff`, `png`, …).
@@ -192,12 +192,12 @@ pub struct SpectralFacts {
 /// place of `ocio`) and the rules that choose them when the options do not.
 ///
 /// Fails when the image cannot be opened, or a spectral EXR's attributes cannot be read;
-/// a colour that cannot be converted is described ([`Description::colour`]).
+/// a colour that cannot be converted is described ([`Inspection::colour`]).
 pub fn describe(
     config: &ColourConfig,
     path: &Path,
     options: &Options,
-) -> Result<Description, Error> {
+) -> Result<Inspection, Error> {
     let reader = open_subimage(path, options.subimage.as_deref())?;
     let spectral = spectral_facts(path, &reader)?;
     let compact = crate::compact::facts(path, &reader)?;
@@ -213,7 +213,7 @@ pub fn describe(
         chosen.as_ref().ok(),
         options.colorspace.as_deref(),
     );
-    Ok(Description {
+    Ok(Inspection {
         path: path.to_path_buf(),
         format: info.format_name.clone(),
         width: info.width(),
@@ -251,7 +251,7 @@ pub fn describe(
     })
 }
 
-impl Description {
+impl Inspection {
     /// `0 'beauty', 1 'albedo'`: every subimage, by index and name.
     pub fn describe_subimages(&self) -> String {
         specconv_oiio::describe_subimages(self.subimages, &self.subimage_names)

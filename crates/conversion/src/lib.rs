@@ -64,7 +64,7 @@ pub use converter::{
     Advice, Converter, InMemory, Rule, Samples, Selection, Texels, TexelsMade, Warning,
 };
 pub use describe::{
-    describe, Channel, ChannelChoice, ChannelReason, Description, ReadAs, SpectralFacts, Window,
+    describe, Channel, ChannelChoice, ChannelReason, Inspection, ReadAs, SpectralFacts, Window,
 };
 pub use error::{message, remedy_of, Cause, ConversionError, Error, Remedy, Spelling};
 pub use named::{Named, UnknownName};

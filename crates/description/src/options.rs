@@ -405,13 +405,13 @@ impl Options {
 
 impl Options {
     /// The method stack these options describe.
-    pub fn description(&self) -> specconv_spectral::stack::Description {
-        specconv_spectral::stack::Description {
+    pub fn recipe(&self) -> specconv_spectral::stack::Recipe {
+        specconv_spectral::stack::Recipe {
             blend: self.blend,
             grid: self.bands,
             bounded: self.bounded,
             emissive: self.emission,
-            ..specconv_spectral::stack::Description::convert_default(self.method)
+            ..specconv_spectral::stack::Recipe::convert_default(self.method)
         }
     }
 

@@ -52,7 +52,7 @@ pub enum Error {
         /// What it is.
         kind: specconv_atomic_file::Kind,
     },
-    /// A task the manifest does not plan (a script run with another job's numbers).
+    /// A task the manifest does not list (a script run with another job's numbers).
     #[error("the job has no task {task} in round {round}")]
     NoSuchTask {
         /// The round asked for.

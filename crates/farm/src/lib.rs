@@ -1,7 +1,7 @@
 //! specconv on a farm: a texture library split across the tasks of one Slurm job array.
 //!
-//! `specconv farm submit` plans the shards ([`mod@plan`]: balanced by pixel count, deterministic),
-//! writes a job directory ([`manifest`]: inputs, outputs, settings, each round's plan, the
+//! `specconv farm submit` assigns the inputs to tasks ([`tasks`]: balanced by pixel count,
+//! deterministic), writes a job directory ([`manifest`]: inputs, outputs, settings, each round's tasks, the
 //! batch script, the task logs) and submits one array with `sbatch`. Each task runs
 //! `specconv convert --json -u` on its list, so its log holds one JSON line per file and a
 //! file is done exactly when its output was renamed into place. `status`, `collect` and
@@ -24,16 +24,16 @@ pub mod claim;
 mod error;
 pub mod log;
 pub mod manifest;
-pub mod plan;
 mod round;
 pub mod slurm;
 pub mod status;
+pub mod tasks;
 
 pub use error::Error;
 pub use manifest::{Manifest, Request, Round};
-pub use plan::{plan, Shard};
 pub use round::{
     memory_mib, prepare, remove_leftovers, submit, wait, Prepared, MEMORY_BASE_MIB,
     MEMORY_BYTES_PER_PIXEL,
 };
-pub use status::{FileState, Status, Summary};
+pub use status::{Collected, FileState, Status};
+pub use tasks::{assign, Shard};

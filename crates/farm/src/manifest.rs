@@ -1,4 +1,4 @@
-//! The job directory: `manifest.json` (inputs, outputs, settings, the plan of every round) and
+//! The job directory: `manifest.json` (inputs, outputs, settings, the tasks of every round) and
 //! one folder per round (`round-0` for the submission, then one per retry) holding the sbatch
 //! script, each task's input list, its log of JSON lines and its standard error.
 //!

@@ -1,11 +1,11 @@
-//! A round of a job: the memory its tasks ask for, its plan, its folder and its submission,
+//! A round of a job: the memory its tasks ask for, its tasks' files, its folder and its submission,
 //! waiting for it and removing what its killed tasks left.
 
 use crate::error::Error;
 use crate::manifest::{self, Manifest, Round};
-use crate::plan::plan;
 use crate::slurm;
 use crate::status::Status;
+use crate::tasks::assign;
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
@@ -22,7 +22,7 @@ pub fn memory_mib(largest_pixels: u64) -> u64 {
     (peak * 1.5).ceil() as u64
 }
 
-/// A round ready to submit: its folder, the script, the sbatch options and the plan.
+/// A round ready to submit: its folder, the script, the sbatch options and the tasks' files.
 #[derive(Debug, Clone)]
 pub struct Prepared {
     /// The round's number: its index in [`Manifest::rounds`] once submitted (0 the submission,
@@ -49,7 +49,7 @@ pub fn prepare(
 ) -> Result<Prepared, Error> {
     let weights: Vec<u64> = files.iter().map(|&i| m.files[i].pixels).collect();
     let n = tasks.clamp(1, files.len().max(1));
-    let shards: Vec<Vec<usize>> = plan(&weights, n)
+    let shards: Vec<Vec<usize>> = assign(&weights, n)
         .into_iter()
         .map(|s| s.into_iter().map(|k| files[k]).collect())
         .collect();

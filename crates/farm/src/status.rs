@@ -254,7 +254,7 @@ impl Status {
     }
 
     /// Counts, failures, pending files and throughput, for `farm collect`.
-    pub fn summary(&self) -> Summary {
+    pub fn collected(&self) -> Collected {
         let count = |p: fn(&FileState) -> bool| self.files.iter().filter(|f| p(&f.state)).count();
         // Wall time of each round: first task start to last task end.
         let mut seconds = 0.0;
@@ -267,7 +267,7 @@ impl Status {
             }
         }
         let pixels: u64 = self.files.iter().map(|f| f.pixels).sum();
-        Summary {
+        Collected {
             files: self.files.len(),
             done: count(|s| matches!(s, FileState::Done)),
             failed: count(|s| matches!(s, FileState::Failed { .. })),
@@ -308,7 +308,7 @@ impl Status {
 
 /// `farm collect`: counts, each failure with its error, time and throughput over the array.
 #[derive(Debug, Clone, Serialize)]
-pub struct Summary {
+pub struct Collected {
     /// Files some round planned: `done + failed + pending`.
     pub files: usize,
     /// Files converted whose output exists.
@@ -331,7 +331,7 @@ pub struct Summary {
     pub pending_files: Vec<Pending>,
 }
 
-/// A failed file, in the [`Summary`].
+/// A failed file, in the [`Collected`].
 #[derive(Debug, Clone, Serialize)]
 pub struct Failure {
     /// The input that failed.
@@ -340,7 +340,7 @@ pub struct Failure {
     pub error: String,
 }
 
-/// A pending file, in the [`Summary`].
+/// A pending file, in the [`Collected`].
 #[derive(Debug, Clone, Serialize)]
 pub struct Pending {
     /// The input not converted yet.

@@ -252,7 +252,7 @@ fn convert(
     let layer = finish(reader, asset, &outcomes)
         .with_context(|| format!("cannot write the layer {}", asset.layer.display()))?;
     if !reporting.quiet {
-        errln!("specconv: {}", layer.summary());
+        errln!("specconv: {}", layer.line());
     }
     if !reporting.quiet {
         errln!("specconv: {}", storage(jobs));

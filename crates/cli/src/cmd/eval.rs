@@ -103,7 +103,7 @@ pub fn run(args: Args) -> Result<()> {
         return by_set::run(&args);
     }
     let (model, described) = model(&args)?;
-    let stack = methods::build(&args.description(), &model).map_err(|e| match args.method {
+    let stack = methods::build(&args.recipe(), &model).map_err(|e| match args.method {
         // The one setting a user can fix here: a many-cluster model for pca.
         MethodName::Pca => crate::errors::usage(anyhow::anyhow!(
             "{}; or pass --train CSV to train one here",
@@ -236,7 +236,7 @@ fn print_text(
 
 impl Args {
     /// The method stack these options describe.
-    pub(crate) fn description(&self) -> specconv_spectral::stack::Description {
+    pub(crate) fn recipe(&self) -> specconv_spectral::stack::Recipe {
         self.setting
             .describe(self.method, self.blend.width, self.bounded)
     }
@@ -308,7 +308,7 @@ mod by_set {
             )?);
         }
         let recipe = recipe(args, &base, &tests, &a.grid)?;
-        let d = args.description();
+        let d = args.recipe();
         let viewing = args.shift.viewing(&a)?;
         let holdout = args
             .folds

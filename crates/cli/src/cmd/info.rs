@@ -8,7 +8,7 @@ use anyhow::Result;
 use serde::Serialize;
 use specconv_atomic_file::shown::escaped;
 use specconv_conversion::{
-    ChannelReason, ColourConfig, CompactFacts, Description, ReadAs, SpectralFacts,
+    ChannelReason, ColourConfig, CompactFacts, Inspection, ReadAs, SpectralFacts,
 };
 use std::path::{Path, PathBuf};
 
@@ -353,7 +353,7 @@ macro_rules! row {
 }
 
 /// The text form of `info` for an image that is not spectral.
-fn print_text(r: &Report, d: &Description) -> Result<(), StdoutFailed> {
+fn print_text(r: &Report, d: &Inspection) -> Result<(), StdoutFailed> {
     row!("file:         {}", r.file.display())?;
     row!("format:       {}", r.format)?;
     row!("size:         {} x {}", r.width, r.height)?;
@@ -429,7 +429,7 @@ fn print_text(r: &Report, d: &Description) -> Result<(), StdoutFailed> {
     Ok(())
 }
 
-fn spectral_report(file: &Path, d: &Description, s: Spectral) -> Result<()> {
+fn spectral_report(file: &Path, d: &Inspection, s: Spectral) -> Result<()> {
     let r = SpectralReport {
         file: file.display().to_string(),
         format: &d.format,
@@ -524,7 +524,7 @@ fn spectral_rows<'a>(r: &'a SpectralReport) -> Vec<(&'a str, String)> {
 }
 
 /// The lines `info` prints for a compact texture: what it holds and how to get its bands.
-fn compact_rows<'a>(file: &Path, d: &Description, c: &'a CompactFacts) -> Vec<(&'a str, String)> {
+fn compact_rows<'a>(file: &Path, d: &Inspection, c: &'a CompactFacts) -> Vec<(&'a str, String)> {
     let bands = match &c.bands_nm {
         Ok(wl) if wl.len() > 1 => format!(
             "{}, {} to {} nm, every {} nm, decoded from the model in its header",

@@ -9,7 +9,7 @@ use specconv_atomic_file::Replace;
 use specconv_colour::{Colorimetry, Grid};
 use specconv_pictures::plot;
 use specconv_spectral::method::MethodName;
-use specconv_spectral::stack::{Description, Setting, Stack};
+use specconv_spectral::stack::{Recipe, Setting, Stack};
 use specconv_spectral::{Method, Model, TrainOptions};
 use specconv_study::{cost, eval};
 use std::path::PathBuf;
@@ -174,7 +174,7 @@ fn baseline_rows(args: &Args, pool: &rayon::ThreadPool) -> Result<Vec<Row>> {
         MethodName::Meng2015Bounded,
         MethodName::Jakob2019,
     ] {
-        let d = Description::measured(
+        let d = Recipe::measured(
             name,
             args.blend.width,
             args.colorimetry.setting(),
@@ -264,7 +264,7 @@ fn read(paths: &[PathBuf], grid: &Grid) -> Result<Vec<Vec<f64>>> {
 
 /// The clustered uplift of `model` with the --blend width, bounded or not.
 fn uplifter(args: &Args, model: &Model, bounded: bool) -> Result<Stack> {
-    let d = Description::measured(
+    let d = Recipe::measured(
         MethodName::Otsu2018,
         args.blend.width,
         Setting::default(),

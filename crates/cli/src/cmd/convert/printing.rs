@@ -50,7 +50,7 @@ pub(super) fn converted(
     (input, output): (&Path, &Path),
     r: &Report,
 ) -> Result<(), StdoutFailed> {
-    let line = summary_line(r)
+    let line = converted_line(r)
         + &r.bounded.map_or(String::new(), |c| {
             format!(
                 ", {} pixels projected into [0, 1], {} outside the object-colour solid \
@@ -111,7 +111,7 @@ pub(super) fn data(
 }
 
 /// `W×H, L levels, N bands, colour space …, …, S s` of a converted input.
-fn summary_line(r: &Report) -> String {
+fn converted_line(r: &Report) -> String {
     let plural = if r.levels == 1 { "" } else { "s" };
     let mut line = format!(
         "{}×{}, {} level{plural}, {} bands, colour space {} ({}), {}",

@@ -37,7 +37,7 @@ pub(super) fn write_layer(m: &Manifest, job_dir: &Path, status: &Status) -> Resu
         .collect();
     match specconv_asset::farm_layer(&reader, (&job.stage, dir), &options, &files) {
         Ok(layer) => {
-            errln!("specconv: {}", layer.summary());
+            errln!("specconv: {}", layer.line());
             Ok(true)
         }
         Err(why) => {
@@ -100,7 +100,7 @@ pub(super) fn status(r: &Report) -> Result<i32> {
             )?;
         }
     }
-    let s = status.summary();
+    let s = status.collected();
     outln!(
         "files: {} done, {} failed, {} pending",
         s.done,
@@ -119,7 +119,7 @@ pub(super) fn status(r: &Report) -> Result<i32> {
 
 pub(super) fn collect(r: &Report) -> Result<i32> {
     let (m, status) = load(&r.job_dir)?;
-    let s = status.summary();
+    let s = status.collected();
     if r.json {
         outln!("{}", serde_json::to_string(&s)?)?;
         return collected(&m, &r.job_dir, &status);
@@ -161,7 +161,7 @@ pub(super) fn collect(r: &Report) -> Result<i32> {
 
 /// The end of `collect`: a stage's layer written (once no task is live), and the exit status.
 pub(super) fn collected(m: &Manifest, job_dir: &Path, status: &Status) -> Result<i32> {
-    let running = status.summary().running;
+    let running = status.collected().running;
     let layer = running || write_layer(m, &std::path::absolute(job_dir)?, status)?;
     Ok(if layer {
         all_done(status)

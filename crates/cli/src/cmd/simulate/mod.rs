@@ -123,7 +123,7 @@ pub fn run(args: Args) -> Result<()> {
     };
     let model = files::load_model(model_path.as_deref())?;
     // Every method's output shares the grid, observer and illuminant of the model.
-    let (a, _) = args.description(MethodName::Otsu2018).output(&model)?;
+    let (a, _) = args.recipe(MethodName::Otsu2018).output(&model)?;
     let mut resources = resources::Resources::new(file.ocio.as_deref(), dir);
     let (scene, preset) = scene::build(&file, dir, &a, &mut resources).with_context(|| {
         format!(
@@ -174,7 +174,7 @@ pub fn run(args: Args) -> Result<()> {
 
 impl Args {
     /// The method stack of `method` with these options.
-    pub(crate) fn description(&self, method: MethodName) -> specconv_spectral::stack::Description {
+    pub(crate) fn recipe(&self, method: MethodName) -> specconv_spectral::stack::Recipe {
         self.stack.describe(method)
     }
 }
@@ -200,7 +200,7 @@ fn stacks(args: &Args, file: &SceneFile, model: &Model) -> Result<Vec<(MethodNam
     names
         .into_iter()
         .map(|m| {
-            let stack = methods::build(&args.description(m), model)
+            let stack = methods::build(&args.recipe(m), model)
                 .with_context(|| format!("cannot build {m}"))?;
             Ok((m, stack))
         })

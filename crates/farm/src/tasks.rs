@@ -1,5 +1,5 @@
-//! The shard plan: which inputs each of N tasks converts. Deterministic (the same weights give
-//! the same plan on every machine and in every task) and balanced by pixel count; the split
+//! Which inputs each of N tasks converts. Deterministic (the same weights give the same
+//! assignment on every machine and in every task) and balanced by pixel count; the split
 //! itself is `specconv_atomic_file::shards`, below this crate and the conversion library, so
 //! that `farm submit` and `convert --shard` split alike.
 
@@ -7,14 +7,14 @@ use crate::error::Error;
 use std::str::FromStr;
 
 /// Splits items of the given weights (pixels) into `n` shards of nearly equal total weight:
-/// [`specconv_atomic_file::shards::split`], the one split `convert --shard` plans by too.
+/// [`specconv_atomic_file::shards::split`], the one split `convert --shard` converts by too.
 ///
 /// ```
-/// use specconv_farm::{plan, Shard};
+/// use specconv_farm::{assign, Shard};
 ///
 /// // Five inputs by pixel count over two tasks: 6 M pixels each.
 /// let pixels = [4_000_000, 1_000_000, 3_000_000, 2_000_000, 2_000_000];
-/// assert_eq!(plan(&pixels, 2), [vec![0, 4], vec![1, 2, 3]]);
+/// assert_eq!(assign(&pixels, 2), [vec![0, 4], vec![1, 2, 3]]);
 ///
 /// // `convert --shard auto/2` in array task 1 converts the second shard.
 /// let shard: Shard = "auto/2".parse()?;
@@ -22,8 +22,8 @@ use std::str::FromStr;
 /// assert!("2/2".parse::<Shard>().is_err()); // I counts from 0
 /// # Ok::<(), specconv_farm::Error>(())
 /// ```
-pub fn plan(weights: &[u64], n: usize) -> Vec<Vec<usize>> {
-    assert!(n > 0, "a plan needs at least one shard");
+pub fn assign(weights: &[u64], n: usize) -> Vec<Vec<usize>> {
+    assert!(n > 0, "an assignment needs at least one task");
     specconv_atomic_file::shards::split(weights, n)
 }
 
