@@ -86,8 +86,9 @@ pub fn encode<'py>(
         None => Model::default_model()?,
     };
     let name = specconv_conversion::models::describe(model.origin().as_deref(), &model.inner);
-    let compact = specconv_spectral::compact::Compact::new(&model.inner, &name, &options.recipe())
-        .map_err(option)?;
+    let compact =
+        specconv_spectral::compact::Compact::new(&model.inner, &name, &options.stack_spec())
+            .map_err(option)?;
     let Values::F32(lead, v) = values(xyz, Some(3), "xyz")? else {
         return Err(
             crate::errors::Kind::Option.err("encode takes float32 colours, as textures hold them")

@@ -4,7 +4,7 @@
 use crate::model::Model;
 use pyo3::prelude::*;
 use specconv_colour::Illuminant;
-use specconv_study::eval;
+use specconv_evaluation::eval;
 
 /// The spectral error Δe and the colour shift under other lights of the uplift of each row of
 /// `spectra` (sampled at `wavelengths` nm, resampled onto the model's grid) from its own colour;
@@ -27,7 +27,7 @@ pub fn evaluate<'py>(
         None => Model::default_model()?,
     };
     // As `eval` measures: exact under the model's own band sums (the round trip of Eq. 9).
-    let description = specconv_spectral::stack::Recipe::measured(
+    let description = specconv_spectral::stack::StackSpec::measured(
         specconv_spectral::method::MethodName::Otsu2018,
         blend,
         Default::default(),

@@ -39,11 +39,14 @@ impl Model {
 
     /// The stack `options` describe on this model, built once.
     pub fn stack(&self, options: &specconv_conversion::Options) -> PyResult<Arc<Stack>> {
-        self.stack_of(&options.recipe())
+        self.stack_of(&options.stack_spec())
     }
 
     /// The stack `description` describes on this model, built once.
-    pub fn stack_of(&self, description: &specconv_spectral::stack::Recipe) -> PyResult<Arc<Stack>> {
+    pub fn stack_of(
+        &self,
+        description: &specconv_spectral::stack::StackSpec,
+    ) -> PyResult<Arc<Stack>> {
         let key = format!("{description:?}");
         if let Some(s) = self.stacks.lock().ok().and_then(|m| m.get(&key).cloned()) {
             return Ok(s);

@@ -6,7 +6,7 @@ use crate::compact::{compile_c, compile_with};
 use specconv_colour::rgb::{ACESCG, SRGB};
 use specconv_spectral::compact::{Compact, TEXEL};
 use specconv_spectral::method::MethodName;
-use specconv_spectral::stack::Recipe;
+use specconv_spectral::stack::StackSpec;
 use specconv_spectral::Model;
 use specconv_testkit::cmd::Scratch;
 use specconv_testkit::SplitMix;
@@ -291,7 +291,7 @@ fn the_c_header_makes_the_librarys_texels_from_colours() {
     let dir = Scratch::new("compact-encode");
     let exe = compile_c(&dir, "encode_check");
     let srgb = SRGB.to_xyz(SRGB.white_xyz());
-    let mut d = Recipe::convert_default(MethodName::Otsu2018);
+    let mut d = StackSpec::convert_default(MethodName::Otsu2018);
     let compact = Compact::new(Model::builtin(), "test", &d).unwrap();
     let found = compare(&exe, &compact, srgb, &colours(100_000, 47), &dir);
     eprintln!("default: {found:?}");
@@ -305,7 +305,7 @@ fn the_c_header_makes_the_librarys_texels_from_colours() {
     eprintln!("paper 400:700:5 blend 0: {found:?}");
     holds(&found);
 
-    let mut unbounded = Recipe::convert_default(MethodName::Otsu2018);
+    let mut unbounded = StackSpec::convert_default(MethodName::Otsu2018);
     unbounded.bounded = false;
     let compact = Compact::new(Model::builtin(), "test", &unbounded).unwrap();
     let found = compare(&exe, &compact, srgb, &colours(10_000, 49), &dir);
@@ -441,7 +441,7 @@ fn the_c_example_makes_the_librarys_texels_of_an_exr() {
         String::from_utf8_lossy(&oiio.stderr)
     );
 
-    let d = Recipe::convert_default(MethodName::Otsu2018);
+    let d = StackSpec::convert_default(MethodName::Otsu2018);
     let compact = Compact::new(Model::builtin(), "test", &d).unwrap();
     let text = dir.write("model.txt", &compact.to_text());
     let matrix = SRGB.to_xyz(SRGB.white_xyz());

@@ -1,4 +1,4 @@
-//! The method options of the commands, turned into the one [`Recipe`] that
+//! The method options of the commands, turned into the one [`StackSpec`] that
 //! `specconv_spectral::stack` builds: `simulate` takes [`StackArgs`] (the conversion's options, with the
 //! library's help and defaults), `eval` and `report` their setting flags. The
 //! Jakob 2019 tables are kept where the library keeps them ([`specconv_conversion::tables`]).
@@ -8,7 +8,7 @@ use specconv_colour::Colorimetry;
 use specconv_conversion::Key;
 use specconv_spectral::baselines::jakob;
 use specconv_spectral::method::MethodName;
-use specconv_spectral::stack::{Recipe, Setting, Stack};
+use specconv_spectral::stack::{Setting, Stack, StackSpec};
 use specconv_spectral::Model;
 use std::path::{Path, PathBuf};
 
@@ -26,14 +26,14 @@ pub struct ShiftArg {
     /// Measure the colour shift a viewer sees under these illuminants: CIEDE2000 between each
     /// measured spectrum and its uplift, lit by the illuminant (CIE A, D65, D50, FL2, FL11, E or
     /// blackbody:KELVIN), through the model's observer, white = the perfect reflector under it.
-    #[arg(long, value_name = "ILLUMINANT,…", value_delimiter = ',', default_values_t = specconv_study::eval::SHIFT_ILLUMINANTS)]
+    #[arg(long, value_name = "ILLUMINANT,…", value_delimiter = ',', default_values_t = specconv_evaluation::eval::SHIFT_ILLUMINANTS)]
     pub shift_under: Vec<specconv_colour::Illuminant>,
 }
 
 impl ShiftArg {
     /// Where the colour shift is measured, for evaluations in `a`'s setting.
-    pub fn viewing(&self, a: &Colorimetry) -> Result<specconv_study::eval::Viewing> {
-        specconv_study::eval::Viewing::new(a, &self.shift_under).map_err(|e| {
+    pub fn viewing(&self, a: &Colorimetry) -> Result<specconv_evaluation::eval::Viewing> {
+        specconv_evaluation::eval::Viewing::new(a, &self.shift_under).map_err(|e| {
             crate::errors::usage(anyhow::anyhow!(
                 "--shift-under: {e}; choose bands inside that range, or name illuminants whose tables cover the grid with --shift-under"
             ))
@@ -59,18 +59,18 @@ pub struct StackArgs {
 
 impl StackArgs {
     /// `method` with these options, reflectances as every reader of the output integrates them.
-    pub fn describe(&self, method: MethodName) -> Recipe {
-        Recipe {
+    pub fn describe(&self, method: MethodName) -> StackSpec {
+        StackSpec {
             blend: self.blend.width,
             grid: self.bands,
             bounded: !self.unbounded,
-            ..Recipe::convert_default(method)
+            ..StackSpec::convert_default(method)
         }
     }
 }
 
 /// Builds `d` with `model` and the cached tables.
-pub fn build(d: &Recipe, model: &Model) -> Result<Stack> {
+pub fn build(d: &StackSpec, model: &Model) -> Result<Stack> {
     let tables = specconv_conversion::tables::in_dir(None, specconv_conversion::tables::print_note);
     Ok(Stack::build(d, model, &tables)?)
 }
@@ -105,13 +105,13 @@ impl SettingArgs {
     }
 
     /// `method` as `eval` measures it, in this setting.
-    pub fn describe(&self, method: MethodName, blend: f64, bounded: bool) -> Recipe {
+    pub fn describe(&self, method: MethodName, blend: f64, bounded: bool) -> StackSpec {
         let setting = Setting {
             grid: self.bands,
             observer: self.observer,
             illuminant: self.illuminant,
         };
-        Recipe::measured(method, blend, setting, self.jakob_resolution, bounded)
+        StackSpec::measured(method, blend, setting, self.jakob_resolution, bounded)
     }
 }
 
@@ -295,7 +295,11 @@ mod tests {
                 else {
                     panic!("simulate")
                 };
-                assert_eq!(c.options().recipe(), s.recipe(method), "{method} {opts:?}");
+                assert_eq!(
+                    c.options().stack_spec(),
+                    s.stack_spec(method),
+                    "{method} {opts:?}"
+                );
                 assert_eq!(c.options().model, s.stack.model);
             }
         }
@@ -303,10 +307,10 @@ mod tests {
             panic!("convert")
         };
         assert_eq!(
-            c.options().recipe(),
-            Recipe::convert_default(MethodName::Otsu2018)
+            c.options().stack_spec(),
+            StackSpec::convert_default(MethodName::Otsu2018)
         );
-        assert_eq!(c.options().recipe().blend, DEFAULT_WIDTH);
+        assert_eq!(c.options().stack_spec().blend, DEFAULT_WIDTH);
     }
 
     /// `eval` describes what `report` measures: the method on its own band sums, bounded only
@@ -332,8 +336,8 @@ mod tests {
             observer: Some(specconv_colour::Observer::Cie1964),
             illuminant: None,
         };
-        let want = Recipe::measured(MethodName::Smits1999, DEFAULT_WIDTH, setting, 64, true);
-        assert_eq!(e.recipe(), want);
+        let want = StackSpec::measured(MethodName::Smits1999, DEFAULT_WIDTH, setting, 64, true);
+        assert_eq!(e.stack_spec(), want);
         assert_eq!(
             want.exact_under,
             specconv_spectral::stack::ExactUnder::BandSums

@@ -21,7 +21,7 @@ use specconv_conversion::{Converter, Mip, Options};
 use specconv_exr::{Block, Blocks, Chunk, Compression, Kind, Sample, Spec, SpectralFile};
 use specconv_spectral::baselines::jakob_cache::TableCache;
 use specconv_spectral::method::MethodName;
-use specconv_spectral::stack::{Recipe, Stack};
+use specconv_spectral::stack::{Stack, StackSpec};
 use specconv_spectral::Model;
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -90,7 +90,7 @@ fn main() {
     let model = Model::builtin();
     // The CLI's default stack, built as convert builds it (blended, corrected onto the
     // readers' integration, bounded).
-    let default = Recipe::convert_default(MethodName::Otsu2018);
+    let default = StackSpec::convert_default(MethodName::Otsu2018);
     let stack = Stack::build(&default, model, &TableCache::none()).unwrap();
     let method = stack.method();
     // The conversion as every front-end runs it, on the pool the caller installs.

@@ -97,8 +97,8 @@ impl Converter {
         }
         let model = crate::models::load(options.model.as_deref())?;
         let tables = crate::tables::in_dir(options.table_dir.clone(), crate::tables::print_note);
-        let recipe = options.recipe();
-        let build = || Stack::build(&recipe, &model, &tables);
+        let spec = options.stack_spec();
+        let build = || Stack::build(&spec, &model, &tables);
         let stack = match &pool {
             Some(pool) => pool.install(build),
             None => build(),
@@ -523,7 +523,7 @@ fn compact(options: &Options, model: &Model, name: &str) -> Result<Option<Compac
             why: "a resized level 0 is filtered from the spectra, which texels cannot hold; resize the input first".into(),
         });
     }
-    Ok(Some(Compact::new(model, name, &options.recipe())?))
+    Ok(Some(Compact::new(model, name, &options.stack_spec())?))
 }
 
 /// The attributes a data copy writes of the input's metadata, and the metadata it drops.

@@ -1,9 +1,9 @@
 //! What uplifting costs, on threads: the timing of `report` (the science's
-//! [`specconv_study::cost`] times one thread; threads are the library's).
+//! [`specconv_evaluation::cost`] times one thread; threads are the library's).
 
 use rayon::prelude::*;
+use specconv_evaluation::cost;
 use specconv_spectral::Method;
-use specconv_study::cost;
 use std::time::Instant;
 
 /// Seconds to uplift `xyz` (three values a colour) tile by tile on one thread, and on `pool`'s

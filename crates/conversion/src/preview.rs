@@ -11,9 +11,9 @@ use specconv_colour::lab::{ciede2000, xyz_to_lab};
 use specconv_colour::mat3::mul_vec as apply;
 use specconv_colour::rgb::{srgb_encode, SRGB};
 use specconv_colour::{Colorimetry, Illuminant};
+use specconv_evaluation::simulate::SelfBounce;
 use specconv_exr::blocks::BlockReader;
 use specconv_exr::Kind;
-use specconv_study::simulate::SelfBounce;
 use std::path::Path;
 
 /// What to shade.

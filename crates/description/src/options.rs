@@ -405,13 +405,13 @@ impl Options {
 
 impl Options {
     /// The method stack these options describe.
-    pub fn recipe(&self) -> specconv_spectral::stack::Recipe {
-        specconv_spectral::stack::Recipe {
+    pub fn stack_spec(&self) -> specconv_spectral::stack::StackSpec {
+        specconv_spectral::stack::StackSpec {
             blend: self.blend,
             grid: self.bands,
             bounded: self.bounded,
             emissive: self.emission,
-            ..specconv_spectral::stack::Recipe::convert_default(self.method)
+            ..specconv_spectral::stack::StackSpec::convert_default(self.method)
         }
     }
 

@@ -92,11 +92,11 @@ fn key(t: &[f32]) -> (u64, u64, u64) {
 mod tests {
     use super::*;
     use specconv_spectral::method::MethodName;
-    use specconv_spectral::stack::Recipe;
+    use specconv_spectral::stack::StackSpec;
     use specconv_spectral::Model;
 
     fn compact() -> Compact {
-        let d = Recipe::convert_default(MethodName::Otsu2018);
+        let d = StackSpec::convert_default(MethodName::Otsu2018);
         Compact::new(Model::builtin(), "test", &d).unwrap()
     }
 

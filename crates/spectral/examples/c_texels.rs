@@ -11,7 +11,7 @@
 use specconv_colour::rgb::SRGB;
 use specconv_spectral::compact::{Compact, TEXEL};
 use specconv_spectral::method::MethodName;
-use specconv_spectral::stack::Recipe;
+use specconv_spectral::stack::StackSpec;
 use specconv_spectral::Model;
 use specconv_testkit::SplitMix;
 use std::path::Path;
@@ -37,7 +37,7 @@ fn main() {
         .expect("cc on PATH");
     assert!(cc.success(), "cc failed");
 
-    let d = Recipe::convert_default(MethodName::Otsu2018);
+    let d = StackSpec::convert_default(MethodName::Otsu2018);
     let compact = Compact::new(Model::builtin(), "bench", &d).unwrap();
     let text = dir.join("model.txt");
     std::fs::write(&text, compact.to_text()).unwrap();

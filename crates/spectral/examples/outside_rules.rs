@@ -30,7 +30,7 @@ use specconv_colour::{Colorimetry, Grid, Illuminant};
 use specconv_spectral::baselines::jakob_cache::TableCache;
 use specconv_spectral::bounded::Bounded;
 use specconv_spectral::method::MethodName;
-use specconv_spectral::stack::{Recipe, Stack};
+use specconv_spectral::stack::{Stack, StackSpec};
 use specconv_spectral::{Method, Model};
 use std::time::Instant;
 
@@ -161,7 +161,7 @@ fn main() {
     let mu: f64 = args.get(2).map_or(1e-9, |s| s.parse().expect("MU"));
     let steps: usize = args.get(3).map_or(20_000, |s| s.parse().expect("STEPS"));
     let f32_w = args.get(4).map(String::as_str) != Some("f64-w");
-    let mut d = Recipe::convert_default(MethodName::Otsu2018);
+    let mut d = StackSpec::convert_default(MethodName::Otsu2018);
     d.bounded = false;
     let stack = Stack::build(&d, Model::builtin(), &TableCache::none()).unwrap();
     let a = stack.colorimetry().clone();

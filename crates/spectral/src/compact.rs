@@ -35,7 +35,7 @@ use crate::bounded::{Bounded, Counts, Outcome};
 use crate::error::Error;
 use crate::method::MethodName;
 use crate::otsu2018::tree::{Axis, Node, Tree};
-use crate::stack::Recipe;
+use crate::stack::StackSpec;
 use crate::{Method, Model, Uplifter};
 use specconv_colour::{Colorimetry, Grid};
 
@@ -271,7 +271,7 @@ impl Scratch {
 impl Compact {
     /// The compact form of what `d` uplifts with `model` (called `name` in the text): the
     /// clustered methods, reflectance only.
-    pub fn new(model: &Model, name: &str, d: &Recipe) -> Result<Compact, Error> {
+    pub fn new(model: &Model, name: &str, d: &StackSpec) -> Result<Compact, Error> {
         if !d.method.is_clustered() {
             return Err(Error::Unknown(format!(
                 "compact form of {}: only the clustered methods ({}, {}) have one, being affine in the colour",
@@ -1085,8 +1085,8 @@ pub fn hash(text: &str) -> String {
     format!("{h:016x}")
 }
 
-/// The colorimetry a recipe's compact form is exact under (its output's).
-pub fn colorimetry(model: &Model, d: &Recipe) -> Result<Colorimetry, Error> {
+/// The colorimetry a stack spec's compact form is exact under (its output's).
+pub fn colorimetry(model: &Model, d: &StackSpec) -> Result<Colorimetry, Error> {
     Ok(d.output(model)?.0)
 }
 
@@ -1129,7 +1129,7 @@ mod tests {
         v
     }
 
-    fn check(d: &Recipe, model: &Model) -> (f64, usize) {
+    fn check(d: &StackSpec, model: &Model) -> (f64, usize) {
         let stack = Stack::build(d, model, &TableCache::none()).unwrap();
         let compact = Compact::new(model, "test", d).unwrap();
         let again = Compact::from_text(&compact.to_text()).unwrap();
@@ -1169,7 +1169,7 @@ mod tests {
                 (Some("400:700:5"), 0.0),
                 (Some("380:780:20"), 0.05),
             ] {
-                let mut d = Recipe::convert_default(MethodName::Otsu2018);
+                let mut d = StackSpec::convert_default(MethodName::Otsu2018);
                 d.grid = grid.map(|g| g.parse().unwrap());
                 d.blend = blend;
                 let (worst, outside) = check(&d, model);
@@ -1191,7 +1191,7 @@ mod tests {
     #[test]
     fn a_texel_with_a_u_that_is_not_finite_is_nan_in_every_band() {
         let model = Model::builtin();
-        let d = Recipe::convert_default(MethodName::Otsu2018);
+        let d = StackSpec::convert_default(MethodName::Otsu2018);
         let compact = Compact::new(model, "test", &d).unwrap();
         let n = compact.grid().len();
         for u in [
@@ -1215,7 +1215,7 @@ mod tests {
     #[test]
     fn emission_and_the_baselines_have_no_compact_form() {
         let model = Model::builtin();
-        let mut d = Recipe::convert_default(MethodName::Smits1999);
+        let mut d = StackSpec::convert_default(MethodName::Smits1999);
         assert!(Compact::new(model, "x", &d).is_err());
         d.method = MethodName::Otsu2018;
         d.emissive = Some(specconv_colour::EmissionUnits::Reference);
@@ -1228,7 +1228,7 @@ mod tests {
     /// is and what to do; a text without the working space's matrix is refused.
     #[test]
     fn a_text_of_another_version_is_refused_by_its_version() {
-        let d = Recipe::convert_default(MethodName::Otsu2018);
+        let d = StackSpec::convert_default(MethodName::Otsu2018);
         let text = Compact::new(Model::builtin(), "x", &d).unwrap().to_text();
         for v in ["1", "3", "2.0"] {
             let old = text.replacen("specconv compact 2", &format!("specconv compact {v}"), 1);
@@ -1255,7 +1255,7 @@ mod tests {
     #[test]
     fn stored_texels_decode_to_the_spectrum_of_the_stored_colour() {
         let model = Model::builtin();
-        let d = Recipe::convert_default(MethodName::Otsu2018);
+        let d = StackSpec::convert_default(MethodName::Otsu2018);
         let stack = Stack::build(&d, model, &TableCache::none()).unwrap();
         let compact = Compact::new(model, "test", &d).unwrap();
         let n = compact.grid().len();
@@ -1326,7 +1326,7 @@ mod tests {
     #[test]
     fn the_stored_half_colour_brackets_the_input_and_is_the_nearest_of_the_eight() {
         use specconv_colour::lab::{ciede2000, xyz_to_lab};
-        let d = Recipe::convert_default(MethodName::Otsu2018);
+        let d = StackSpec::convert_default(MethodName::Otsu2018);
         let compact = Compact::new(Model::builtin(), "test", &d).unwrap();
         let tiny = f32::from_bits(1); // below half's subnormals
         let odd = [
@@ -1423,7 +1423,7 @@ mod tests {
     /// the unrounded u's spectrum at every band, and has far fewer bits than it.
     #[test]
     fn stored_u_has_the_bits_it_needs_and_no_more() {
-        let d = Recipe::convert_default(MethodName::Otsu2018);
+        let d = StackSpec::convert_default(MethodName::Otsu2018);
         let compact = Compact::new(Model::builtin(), "test", &d).unwrap();
         let n = compact.grid().len();
         let c = colours();
@@ -1562,7 +1562,7 @@ mod tests {
     #[test]
     fn stored_values_are_pinned() {
         let rgb = pinned_colours();
-        let mut d = Recipe::convert_default(MethodName::Otsu2018);
+        let mut d = StackSpec::convert_default(MethodName::Otsu2018);
         let (mut got, mut searched) = (Vec::new(), (0, 0, 0));
         for grid in [None, Some(Grid::new(400.0, 700.0, 5.0).unwrap())] {
             d.grid = grid;
@@ -1624,7 +1624,7 @@ mod tests {
 
     #[test]
     fn a_text_is_read_one_way_or_refused() {
-        let d = Recipe::convert_default(MethodName::Otsu2018);
+        let d = StackSpec::convert_default(MethodName::Otsu2018);
         let text = Compact::new(Model::builtin(), "x", &d).unwrap().to_text();
         let refused = |t: String, why: &str| {
             let e = Compact::from_text(&t)

@@ -12,7 +12,7 @@
 //! - Adapters: [`resample`] (another grid), [`bounded`] (reflectances in [0, 1]),
 //!   [`emission`] (emission spectra of any brightness).
 //! - [`compact`]: the texel form of the clustered method's spectra, six numbers per texel.
-//! - [`stack`]: the one builder of what a command uplifts with, from a recipe of its
+//! - [`stack`]: the one builder of what a command uplifts with, from a spec of its
 //!   options (method, model, blend, grid, bounded, emissive) to the method and its counters.
 //!
 //! This crate knows nothing of images, threads or FFI. It touches files in one place, the Jakob

@@ -1,4 +1,4 @@
-//! The one way to build the method a command uplifts with: a [`Recipe`] (what the
+//! The one way to build the method a command uplifts with: a [`StackSpec`] (what the
 //! options select) becomes a [`Stack`],
 //!
 //!   clustered or baseline → resampled onto the output grid → bounded (counted) → emissive
@@ -21,7 +21,7 @@ use specconv_colour::{Colorimetry, EmissionUnits, Grid, Illuminant, Integration,
 
 /// What to uplift with: everything a command's options select about the method.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Recipe {
+pub struct StackSpec {
     /// The method to build (`pca` needs a model of one cluster).
     pub method: MethodName,
     /// Blend width of the clustered methods in xy ([`crate::otsu2018::blend`]); 0 is the
@@ -65,7 +65,7 @@ pub enum ExactUnder {
     Readers,
 }
 
-impl Recipe {
+impl StackSpec {
     /// `method` as `eval`, `report` and the study measure it, as the paper does: exact under
     /// its own band sums (the round trip of Eq. 9), on its own grid, not emissive.
     pub fn measured(
@@ -74,8 +74,8 @@ impl Recipe {
         baseline: Setting,
         jakob_resolution: usize,
         bounded: bool,
-    ) -> Recipe {
-        Recipe {
+    ) -> StackSpec {
+        StackSpec {
             method,
             blend,
             baseline,
@@ -89,8 +89,8 @@ impl Recipe {
 
     /// The method with every option at `convert`'s default: the built-in model, blended at
     /// [`crate::otsu2018::blend::DEFAULT_WIDTH`], bounded, reflectance as readers see it.
-    pub fn convert_default(method: MethodName) -> Recipe {
-        Recipe {
+    pub fn convert_default(method: MethodName) -> StackSpec {
+        StackSpec {
             method,
             blend: crate::otsu2018::blend::DEFAULT_WIDTH,
             baseline: Setting::default(),
@@ -103,7 +103,7 @@ impl Recipe {
     }
 
     /// The setting the method is built in: its model's for the clustered methods, else
-    /// [`Recipe::baseline`] completed by the model's.
+    /// [`StackSpec::baseline`] completed by the model's.
     fn setting(&self, model: &Model) -> Result<Colorimetry, Error> {
         if self.method.is_clustered() {
             return model.colorimetry();
@@ -171,7 +171,7 @@ pub struct Stack {
 impl Stack {
     /// Builds `d`; `model` is the clustered methods' model (and the baselines' setting where
     /// `d.baseline` leaves it open), `tables` gives the Jakob 2019 table.
-    pub fn build(d: &Recipe, model: &Model, tables: &TableCache) -> Result<Stack, Error> {
+    pub fn build(d: &StackSpec, model: &Model, tables: &TableCache) -> Result<Stack, Error> {
         let (colorimetry, emission) = d.output(model)?;
         let (mut m, corrected) = method(d, model, tables, &colorimetry)?;
         // The readers' integration differs from the method's band sums by ≈0.1 %, which
@@ -246,7 +246,11 @@ impl Stack {
 /// corrected there ([`Uplifter::onto`]): the spectra [`Resampled`] would make, with the
 /// correction folded into the maps. The stack and the compact texel
 /// ([`crate::compact`]) both take it from here, so they decode to the same spectra.
-pub fn clustered(d: &Recipe, model: &Model, colorimetry: &Colorimetry) -> Result<Uplifter, Error> {
+pub fn clustered(
+    d: &StackSpec,
+    model: &Model,
+    colorimetry: &Colorimetry,
+) -> Result<Uplifter, Error> {
     let up = Uplifter::new(model)?.with_blend(d.blend)?;
     if d.exact_under == ExactUnder::Readers || colorimetry.grid != model.grid {
         return up.onto(colorimetry);
@@ -259,7 +263,7 @@ pub fn clustered(d: &Recipe, model: &Model, colorimetry: &Colorimetry) -> Result
 /// output is on the model's grid (the same spectra as [`Resampled`], whose per-pixel
 /// correction was a quarter of an unbounded uplift's time in issue 22's profile).
 fn method(
-    d: &Recipe,
+    d: &StackSpec,
     model: &Model,
     tables: &TableCache,
     colorimetry: &Colorimetry,
@@ -299,14 +303,14 @@ mod tests {
         let model = Model::builtin();
         let tables = TableCache::none();
         let s = Stack::build(
-            &Recipe::convert_default(MethodName::Otsu2018),
+            &StackSpec::convert_default(MethodName::Otsu2018),
             model,
             &tables,
         )
         .unwrap();
         assert_eq!(s.method().name(), "otsu2018+bounded");
         assert_eq!(s.blend(), crate::otsu2018::blend::DEFAULT_WIDTH);
-        let mut d = Recipe::convert_default(MethodName::Smits1999);
+        let mut d = StackSpec::convert_default(MethodName::Smits1999);
         d.grid = Some(Grid::new(400.0, 700.0, 5.0).unwrap());
         d.emissive = Some(EmissionUnits::Reference);
         let s = Stack::build(&d, model, &tables).unwrap();
@@ -317,7 +321,7 @@ mod tests {
         assert_eq!(s.colorimetry().grid, d.grid.unwrap());
         assert_eq!(s.blend(), 0.0);
         assert!(s.emissive().is_some() && s.emission().is_some() && !s.counts_bounded());
-        let mut d = Recipe::convert_default(MethodName::Meng2015);
+        let mut d = StackSpec::convert_default(MethodName::Meng2015);
         d.baseline.observer = Some(Observer::Cie1964);
         d.baseline.illuminant = Some(Illuminant::A);
         d.exact_under = ExactUnder::BandSums;
@@ -334,7 +338,7 @@ mod tests {
         let tables = TableCache::none();
         let colours = [[0.2, 0.18, 0.1], [0.5, 0.5, 0.55], [0.05, 0.1, 0.3]];
         for exact_under in [ExactUnder::BandSums, ExactUnder::Readers] {
-            let mut d = Recipe::convert_default(MethodName::Otsu2018);
+            let mut d = StackSpec::convert_default(MethodName::Otsu2018);
             d.exact_under = exact_under;
             let s = Stack::build(&d, model, &tables).unwrap();
             let n = s.method().grid().len();
@@ -370,7 +374,7 @@ mod tests {
         // Both must give the same spectra for every kind of input: blended, hard-switched,
         // dark (scaled offset), negative, HDR, past the overflow guard, black, NaN.
         let model = Model::builtin();
-        let mut d = Recipe::convert_default(MethodName::Otsu2018);
+        let mut d = StackSpec::convert_default(MethodName::Otsu2018);
         d.bounded = false;
         let folded = Stack::build(&d, model, &TableCache::none()).unwrap();
         let (readers, _) = d.output(model).unwrap();
@@ -427,13 +431,13 @@ mod tests {
     #[test]
     fn what_cannot_be_built_says_why() {
         let model = Model::builtin();
-        let d = Recipe::convert_default(MethodName::Pca);
+        let d = StackSpec::convert_default(MethodName::Pca);
         let e = Stack::build(&d, model, &TableCache::none()).err().unwrap();
         assert!(e.to_string().contains("one-cluster model"), "{e}");
-        let mut d = Recipe::convert_default(MethodName::Otsu2018);
+        let mut d = StackSpec::convert_default(MethodName::Otsu2018);
         d.blend = -1.0;
         assert!(Stack::build(&d, model, &TableCache::none()).is_err());
-        let mut d = Recipe::convert_default(MethodName::Jakob2019);
+        let mut d = StackSpec::convert_default(MethodName::Jakob2019);
         d.jakob_resolution = 1;
         let e = Stack::build(&d, model, &TableCache::none()).err().unwrap();
         assert!(e.to_string().contains("resolution"), "{e}");

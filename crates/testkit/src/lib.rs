@@ -7,9 +7,9 @@ pub mod cmd;
 pub mod sources;
 pub mod untrainable;
 
-/// The workspace's one seeded generator and its random colours, from `specconv_study::cost`
+/// The workspace's one seeded generator and its random colours, from `specconv_evaluation::cost`
 /// (whose timings need them too).
-pub use specconv_study::cost::{random_colours, Lcg};
+pub use specconv_evaluation::cost::{random_colours, Lcg};
 
 /// SplitMix64 (Steele, Lea and Flood, 2014): the seeded stream the object-colour solid's tests
 /// and benches and the C encoder's test draw their colours from, the same every run (their

@@ -14,7 +14,7 @@ const LAYERS: &[&[&str]] = &[
         "specconv-exr",
         "oiio-sys",
         "ocio-sys",
-        "specconv-pictures",
+        "specconv-figures",
     ],
     &[
         "specconv-spectral",
@@ -22,7 +22,11 @@ const LAYERS: &[&[&str]] = &[
         "specconv-ocio",
         "specconv-icc",
     ],
-    &["specconv-study", "specconv-farm", "specconv-description"],
+    &[
+        "specconv-evaluation",
+        "specconv-farm",
+        "specconv-description",
+    ],
     // The job, under the description of what it does.
     &["specconv-pipeline"],
     &["specconv-conversion"],
@@ -35,7 +39,11 @@ const LAYERS: &[&[&str]] = &[
 ];
 
 /// The science knows nothing of images, files, threads or FFI.
-const SCIENCE: &[&str] = &["specconv-colour", "specconv-spectral", "specconv-study"];
+const SCIENCE: &[&str] = &[
+    "specconv-colour",
+    "specconv-spectral",
+    "specconv-evaluation",
+];
 const NOT_FOR_SCIENCE: &[&str] = &[
     "specconv-exr",
     "specconv-conversion",

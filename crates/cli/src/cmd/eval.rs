@@ -2,10 +2,10 @@
 
 use crate::{files, methods};
 use anyhow::Result;
+use specconv_evaluation::eval;
 use specconv_spectral::method::MethodName;
 use specconv_spectral::otsu2018::model::BUILTIN;
 use specconv_spectral::{Model, TrainOptions};
-use specconv_study::eval;
 use std::path::PathBuf;
 
 /// Shown after `--help` and as the man page's EXAMPLES.
@@ -103,7 +103,7 @@ pub fn run(args: Args) -> Result<()> {
         return by_set::run(&args);
     }
     let (model, described) = model(&args)?;
-    let stack = methods::build(&args.recipe(), &model).map_err(|e| match args.method {
+    let stack = methods::build(&args.stack_spec(), &model).map_err(|e| match args.method {
         // The one setting a user can fix here: a many-cluster model for pca.
         MethodName::Pca => crate::errors::usage(anyhow::anyhow!(
             "{}; or pass --train CSV to train one here",
@@ -164,7 +164,7 @@ fn print_text(
     args: &Args,
     name: &str,
     described: &str,
-    summary: &eval::Summary,
+    summary: &eval::Statistics,
     rows: &[Row],
 ) -> Result<(), crate::stdio::StdoutFailed> {
     if args.per_spectrum {
@@ -236,7 +236,7 @@ fn print_text(
 
 impl Args {
     /// The method stack these options describe.
-    pub(crate) fn recipe(&self) -> specconv_spectral::stack::Recipe {
+    pub(crate) fn stack_spec(&self) -> specconv_spectral::stack::StackSpec {
         self.setting
             .describe(self.method, self.blend.width, self.bounded)
     }
@@ -284,10 +284,10 @@ mod by_set {
     use super::Args;
     use crate::methods;
     use anyhow::{anyhow, Result};
+    use specconv_evaluation::eval;
+    use specconv_evaluation::sets::{held_out_by_set, Holdout, Recipe, Scores};
     use specconv_spectral::method::MethodName;
     use specconv_spectral::{Model, Part, TrainOptions, TrainingSet};
-    use specconv_study::eval;
-    use specconv_study::sets::{held_out_by_set, Holdout, Recipe, Scores};
 
     pub(super) fn run(args: &Args) -> Result<()> {
         if !args.method.is_clustered() {
@@ -308,7 +308,7 @@ mod by_set {
             )?);
         }
         let recipe = recipe(args, &base, &tests, &a.grid)?;
-        let d = args.recipe();
+        let d = args.stack_spec();
         let viewing = args.shift.viewing(&a)?;
         let holdout = args
             .folds

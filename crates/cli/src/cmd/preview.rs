@@ -6,7 +6,7 @@ use crate::picture::Format;
 use anyhow::Result;
 use serde::Serialize;
 use specconv_colour::Illuminant;
-use specconv_pictures::picture;
+use specconv_figures::picture;
 use std::path::PathBuf;
 
 /// The most bounces asked for: r^(K+1) of any reflectance below 1 is black long before.
@@ -103,7 +103,7 @@ pub fn run(args: Args) -> Result<()> {
     let mean = finite.iter().sum::<f64>() / finite.len().max(1) as f64;
 
     let png = if args.diff_rgb {
-        specconv_pictures::heat::heat_map(
+        specconv_figures::heat::heat_map(
             (w, h),
             &shaded.delta_e,
             max.max(1.0),

@@ -7,11 +7,11 @@ use anyhow::{bail, Context, Result};
 use serde::Serialize;
 use specconv_atomic_file::Replace;
 use specconv_colour::{Colorimetry, Grid};
-use specconv_pictures::plot;
+use specconv_evaluation::{cost, eval};
+use specconv_figures::plot;
 use specconv_spectral::method::MethodName;
-use specconv_spectral::stack::{Recipe, Setting, Stack};
+use specconv_spectral::stack::{Setting, Stack, StackSpec};
 use specconv_spectral::{Method, Model, TrainOptions};
-use specconv_study::{cost, eval};
 use std::path::PathBuf;
 
 /// Shown after `--help` and as the man page's EXAMPLES.
@@ -174,7 +174,7 @@ fn baseline_rows(args: &Args, pool: &rayon::ThreadPool) -> Result<Vec<Row>> {
         MethodName::Meng2015Bounded,
         MethodName::Jakob2019,
     ] {
-        let d = Recipe::measured(
+        let d = StackSpec::measured(
             name,
             args.blend.width,
             args.colorimetry.setting(),
@@ -264,7 +264,7 @@ fn read(paths: &[PathBuf], grid: &Grid) -> Result<Vec<Vec<f64>>> {
 
 /// The clustered uplift of `model` with the --blend width, bounded or not.
 fn uplifter(args: &Args, model: &Model, bounded: bool) -> Result<Stack> {
-    let d = Recipe::measured(
+    let d = StackSpec::measured(
         MethodName::Otsu2018,
         args.blend.width,
         Setting::default(),
@@ -281,7 +281,7 @@ fn clustered(
     a: &Colorimetry,
     k: usize,
     bounded: bool,
-) -> Result<(Model, eval::Summary, Option<String>)> {
+) -> Result<(Model, eval::Statistics, Option<String>)> {
     let opts = TrainOptions {
         clusters: k,
         min_cluster_size: args.min_cluster_size,
@@ -323,8 +323,8 @@ fn by_set(
     a: &Colorimetry,
     options: TrainOptions,
     evaluate: impl Fn(&Model, &[Vec<f64>]) -> Result<Vec<eval::Outcome>>,
-) -> Result<(Model, eval::Summary, Option<String>)> {
-    use specconv_study::sets::{held_out_by_set, Holdout, Recipe};
+) -> Result<(Model, eval::Statistics, Option<String>)> {
+    use specconv_evaluation::sets::{held_out_by_set, Holdout, Recipe};
     if args.spectra.len() < 2 {
         return Err(crate::errors::usage(anyhow::anyhow!(
             "--by-set leaves one --spectra file out at a time: give at least two"
@@ -371,7 +371,7 @@ fn row(
     m: &dyn Method,
     name: &str,
     setting: String,
-    s: &eval::Summary,
+    s: &eval::Statistics,
 ) -> Row {
     let xyz = cost::timing_colours(a, args.colours);
     let (t1, tn) = specconv_conversion::cost::time(m, &xyz, pool);

@@ -167,7 +167,7 @@ pub enum Error {
     },
     /// A measurement cannot be set up.
     #[error(transparent)]
-    Study(#[from] specconv_study::Error),
+    Evaluation(#[from] specconv_evaluation::Error),
     /// Colorimetry on a file's bands cannot be set up (an observer or illuminant that does not
     /// cover them).
     #[error(transparent)]
@@ -281,9 +281,13 @@ mod tests {
             Error::NotReflectance { .. } => ("NotReflectance", false),
             Error::Bispectral { .. } => ("Bispectral", false),
             Error::CompactNotSpectral { .. } => ("CompactNotSpectral", false),
-            Error::Study(specconv_study::Error::Colour(e)) => ("Study", colour_fixable(e)),
-            Error::Study(specconv_study::Error::Spectral(e)) => ("Study", spectral_fixable(e)),
-            Error::Study(_) => ("Study", false),
+            Error::Evaluation(specconv_evaluation::Error::Colour(e)) => {
+                ("Evaluation", colour_fixable(e))
+            }
+            Error::Evaluation(specconv_evaluation::Error::Spectral(e)) => {
+                ("Evaluation", spectral_fixable(e))
+            }
+            Error::Evaluation(_) => ("Evaluation", false),
             Error::Colorimetry(e) => ("Colorimetry", colour_fixable(e)),
             Error::Attributes(_) => ("Attributes", false),
             Error::Provenance(_) => ("Provenance", false),
@@ -353,7 +357,7 @@ mod tests {
         "NotReflectance",
         "Bispectral",
         "CompactNotSpectral",
-        "Study",
+        "Evaluation",
         "Colorimetry",
         "Attributes",
         "Provenance",
@@ -550,9 +554,9 @@ mod tests {
                 path: p(),
                 layout: "compact 2".into(),
             },
-            Error::Study(specconv_study::Error::Colour(not_covered())),
-            Error::Study(specconv_study::Error::Spectral(one_cluster())),
-            Error::Study(specconv_study::Error::Scene("no light".into())),
+            Error::Evaluation(specconv_evaluation::Error::Colour(not_covered())),
+            Error::Evaluation(specconv_evaluation::Error::Spectral(one_cluster())),
+            Error::Evaluation(specconv_evaluation::Error::Scene("no light".into())),
             Error::Colorimetry(not_covered()),
             Error::Colorimetry(specconv_colour::Error::Grid("1:0:1".into())),
             Error::Attributes(specconv_exr::Error::Invalid("no bands".into())),
@@ -639,7 +643,7 @@ mod tests {
             Some(Remedy::OneClusterModel)
         );
         assert_eq!(
-            remedy_of(&specconv_study::Error::Colour(not_covered())),
+            remedy_of(&specconv_evaluation::Error::Colour(not_covered())),
             grid
         );
         assert_eq!(remedy_of(&std::io::Error::other("x")), None);

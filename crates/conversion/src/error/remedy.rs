@@ -206,8 +206,8 @@ impl Error {
             } => Some(Remedy::NameColourSpace),
             Error::Colour(e) => colour_remedy(e),
             Error::Method(e) | Error::Model(ModelError::Invalid(e)) => spectral_remedy(e),
-            Error::Study(specconv_study::Error::Spectral(e)) => spectral_remedy(e),
-            Error::Colorimetry(e) | Error::Study(specconv_study::Error::Colour(e)) => {
+            Error::Evaluation(specconv_evaluation::Error::Spectral(e)) => spectral_remedy(e),
+            Error::Colorimetry(e) | Error::Evaluation(specconv_evaluation::Error::Colour(e)) => {
                 colorimetry_remedy(e)
             }
             Error::Conversion(e) => match e {
@@ -270,10 +270,10 @@ pub fn remedy_of(cause: &(dyn std::error::Error + 'static)) -> Option<Remedy> {
     if let Some(e) = cause.downcast_ref::<specconv_spectral::Error>() {
         return spectral_remedy(e);
     }
-    if let Some(e) = cause.downcast_ref::<specconv_study::Error>() {
+    if let Some(e) = cause.downcast_ref::<specconv_evaluation::Error>() {
         return match e {
-            specconv_study::Error::Spectral(e) => spectral_remedy(e),
-            specconv_study::Error::Colour(e) => colorimetry_remedy(e),
+            specconv_evaluation::Error::Spectral(e) => spectral_remedy(e),
+            specconv_evaluation::Error::Colour(e) => colorimetry_remedy(e),
             _ => None,
         };
     }

@@ -1,11 +1,11 @@
 //! The baselines on the paper's dataset I (Table 1), and their round trips.
 
+use specconv_evaluation::eval;
 use specconv_spectral::baselines::{Meng2015, Smits1999};
 use specconv_spectral::Method;
-use specconv_study::eval;
 use specconv_testkit::*;
 
-fn table1(m: &dyn Method) -> eval::Summary {
+fn table1(m: &dyn Method) -> eval::Statistics {
     let a = paper();
     let s = set(MUNSELL, &a.grid);
     let sum = eval::summarise(&eval::evaluate(&a, m, &s.spectra, &eval::Viewing::none()));

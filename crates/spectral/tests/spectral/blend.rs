@@ -6,11 +6,11 @@
 
 use proptest::prelude::*;
 use specconv_colour::Colorimetry;
+use specconv_evaluation::eval;
 use specconv_spectral::otsu2018::blend::DEFAULT_WIDTH;
 use specconv_spectral::otsu2018::gamut::{xyz, Gamut};
 use specconv_spectral::otsu2018::tree::{Axis, Split};
 use specconv_spectral::{train, Method, Model, Uplifter};
-use specconv_study::eval;
 use specconv_testkit::*;
 
 /// Two colours this far apart in xy straddle each boundary.
@@ -118,7 +118,7 @@ fn blended(model: &Model, width: f64) -> Uplifter {
     Uplifter::new(model).unwrap().with_blend(width).unwrap()
 }
 
-fn summary(a: &Colorimetry, up: &Uplifter, file: &str) -> eval::Summary {
+fn summary(a: &Colorimetry, up: &Uplifter, file: &str) -> eval::Statistics {
     eval::summarise(&eval::evaluate(
         a,
         up,

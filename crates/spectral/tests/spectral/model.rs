@@ -2,10 +2,10 @@
 
 use proptest::prelude::*;
 use specconv_colour::{Colorimetry, Grid, Illuminant, Observer};
+use specconv_evaluation::eval;
 use specconv_spectral::otsu2018::tree::{Node, Split, Tree};
 use specconv_spectral::Method;
 use specconv_spectral::{train, Model, TrainOptions, Uplifter};
-use specconv_study::eval;
 use specconv_testkit::*;
 
 fn default_setting() -> Colorimetry {

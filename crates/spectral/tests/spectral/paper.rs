@@ -1,10 +1,10 @@
 //! The paper's Table 1 (dataset I, Munsell matte), reproduced from ../shared.
 
+use specconv_evaluation::eval;
 use specconv_spectral::{train, Uplifter};
-use specconv_study::eval;
 use specconv_testkit::*;
 
-fn table1(clusters: usize) -> eval::Summary {
+fn table1(clusters: usize) -> eval::Statistics {
     let a = paper();
     let set = set(MUNSELL, &a.grid);
     let model = train(&set, &a, &paper_options(clusters)).unwrap();

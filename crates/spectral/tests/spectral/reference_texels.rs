@@ -11,7 +11,7 @@
 
 use specconv_spectral::compact::{Compact, Precision, STORED, TEXEL};
 use specconv_spectral::method::MethodName;
-use specconv_spectral::stack::Recipe;
+use specconv_spectral::stack::StackSpec;
 use specconv_spectral::Model;
 use std::fmt::Write;
 use std::path::PathBuf;
@@ -78,7 +78,7 @@ fn by_hand() -> Vec<[f32; STORED]> {
 }
 
 fn compact(bounded: bool) -> Compact {
-    let mut d = Recipe::convert_default(MethodName::Otsu2018);
+    let mut d = StackSpec::convert_default(MethodName::Otsu2018);
     d.bounded = bounded;
     Compact::new(Model::builtin(), "builtin", &d).unwrap()
 }

@@ -3,8 +3,8 @@
 
 use specconv_colour::rgb::SRGB;
 use specconv_colour::{Colorimetry, Grid, Illuminant, Observer};
+use specconv_evaluation::extrapolation::rgb_cube;
 use specconv_spectral::{train, Method, TrainOptions, TrainingSet, Uplifter};
-use specconv_study::extrapolation::rgb_cube;
 use specconv_testkit::untrainable::{cases, metameric_black, mixture_weights, smooth};
 use specconv_testkit::*;
 

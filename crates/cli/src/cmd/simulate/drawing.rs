@@ -6,8 +6,8 @@ use crate::picture::Format;
 use anyhow::{bail, Result};
 use serde::Serialize;
 use specconv_atomic_file::Replace;
-use specconv_pictures::picture;
-use specconv_pictures::swatches::{self, Block, Cell, Row};
+use specconv_figures::picture;
+use specconv_figures::swatches::{self, Block, Cell, Row};
 use std::path::{Path, PathBuf};
 
 /// More blocks than this make a picture nobody reads; --patch chooses.
@@ -45,7 +45,7 @@ pub fn check(path: &Path, (inputs, replace): (&[&Path], Replace), patches: usize
              {MAX_PATCHES} with --patch NAME (repeatable)"
         );
     }
-    Ok(specconv_pictures::font::ensure()?)
+    Ok(specconv_figures::font::ensure()?)
 }
 
 /// Draws the report's patches and writes the PNG atomically.

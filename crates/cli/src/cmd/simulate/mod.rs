@@ -5,12 +5,12 @@ use crate::{files, methods};
 use anyhow::{anyhow, Context, Result};
 use serde::Serialize;
 use specconv_colour::Colorimetry;
+use specconv_evaluation::scene::{self, SceneFile};
+use specconv_evaluation::simulate;
+use specconv_evaluation::simulate::{Outcome, Scene};
 use specconv_spectral::method::MethodName;
 use specconv_spectral::stack::Stack;
 use specconv_spectral::{Method, Model};
-use specconv_study::scene::{self, SceneFile};
-use specconv_study::simulate;
-use specconv_study::simulate::{Outcome, Scene};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
@@ -123,7 +123,7 @@ pub fn run(args: Args) -> Result<()> {
     };
     let model = files::load_model(model_path.as_deref())?;
     // Every method's output shares the grid, observer and illuminant of the model.
-    let (a, _) = args.recipe(MethodName::Otsu2018).output(&model)?;
+    let (a, _) = args.stack_spec(MethodName::Otsu2018).output(&model)?;
     let mut resources = resources::Resources::new(file.ocio.as_deref(), dir);
     let (scene, preset) = scene::build(&file, dir, &a, &mut resources).with_context(|| {
         format!(
@@ -174,7 +174,7 @@ pub fn run(args: Args) -> Result<()> {
 
 impl Args {
     /// The method stack of `method` with these options.
-    pub(crate) fn recipe(&self, method: MethodName) -> specconv_spectral::stack::Recipe {
+    pub(crate) fn stack_spec(&self, method: MethodName) -> specconv_spectral::stack::StackSpec {
         self.stack.describe(method)
     }
 }
@@ -200,7 +200,7 @@ fn stacks(args: &Args, file: &SceneFile, model: &Model) -> Result<Vec<(MethodNam
     names
         .into_iter()
         .map(|m| {
-            let stack = methods::build(&args.recipe(m), model)
+            let stack = methods::build(&args.stack_spec(m), model)
                 .with_context(|| format!("cannot build {m}"))?;
             Ok((m, stack))
         })

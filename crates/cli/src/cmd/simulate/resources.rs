@@ -10,7 +10,7 @@ use crate::files;
 use anyhow::{anyhow, Result};
 use specconv_colour::SpectralTable;
 use specconv_conversion::ColourConfig;
-use specconv_study::scene::{self, Cause};
+use specconv_evaluation::scene::{self, Cause};
 use std::path::{Path, PathBuf};
 
 /// The resolver of one scene: its folder and OCIO config (loaded when first needed), and the

@@ -4,9 +4,9 @@
 //! these chips (the default `open` never saw them: docs/simulate.md has its figures).
 
 use specconv_colour::Illuminant;
+use specconv_evaluation::simulate::{furnace, simulate, Effect, Light, Material, Scene};
 use specconv_spectral::baselines::{Meng2015, Smits1999};
 use specconv_spectral::{Model, Uplifter};
-use specconv_study::simulate::{furnace, simulate, Effect, Light, Material, Scene};
 
 #[test]
 fn munsell_furnace_at_5500k_drifts_for_smooth_methods_and_least_for_otsu2018() {

@@ -10,8 +10,8 @@
 
 use specconv_colour::rgb::{REC2020, SRGB};
 use specconv_colour::{Grid, Illuminant, Observer, SpectralTable};
+use specconv_evaluation::extrapolation::{rgb_cube, training_gains, uplift_gains, worst, Gain};
 use specconv_spectral::{Model, TrainOptions, TrainingSet};
-use specconv_study::extrapolation::{rgb_cube, training_gains, uplift_gains, worst, Gain};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();

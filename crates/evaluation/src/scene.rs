@@ -208,7 +208,7 @@ pub enum SceneError {
 /// Reads a scene file's text.
 ///
 /// ```
-/// use specconv_study::scene::{parse, FormFactors, SceneError, SpdFile};
+/// use specconv_evaluation::scene::{parse, FormFactors, SceneError, SpdFile};
 ///
 /// let file = parse(
 ///     r#"

@@ -144,7 +144,7 @@ pub fn perpendicular(w: f64, h: f64, l: f64) -> f64 {
 /// `[patch][band]`.
 ///
 /// ```
-/// use specconv_study::simulate::{furnace, radiosity, Effect};
+/// use specconv_evaluation::simulate::{furnace, radiosity, Effect};
 ///
 /// // One grey patch (ρ = 0.5, one band) in a furnace, emitting 1: B_K = Σ_{k≤K} 0.5^k.
 /// let (rho, e, f) = (vec![vec![0.5]], vec![vec![1.0]], furnace(1));
@@ -152,7 +152,7 @@ pub fn perpendicular(w: f64, h: f64, l: f64) -> f64 {
 /// assert_eq!(b, [[[1.0]], [[1.5]], [[1.75]]]);
 /// let b = radiosity(&rho, &e, &f, Effect::Converged)?;
 /// assert!((b[0][0][0] - 2.0).abs() < 1e-12);
-/// # Ok::<(), specconv_study::Error>(())
+/// # Ok::<(), specconv_evaluation::Error>(())
 /// ```
 pub fn radiosity(
     rho: &[Vec<f64>],

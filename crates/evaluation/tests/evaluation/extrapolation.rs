@@ -1,9 +1,9 @@
 //! The built-in model's spectra stay bounded on whole gamuts, far from its training colours.
 
 use specconv_colour::rgb::{REC2020, SRGB};
+use specconv_evaluation::extrapolation::{rgb_cube, training_gains, uplift_gains, worst};
 use specconv_spectral::otsu2018::hard_inputs::DARK;
 use specconv_spectral::{Model, Uplifter};
-use specconv_study::extrapolation::{rgb_cube, training_gains, uplift_gains, worst};
 use specconv_testkit::*;
 
 /// Per leaf, a bound on gain∞ = ‖r‖∞ / (X+Y+Z) for every colour with X, Y, Z ≥ 0 (s = X+Y+Z):

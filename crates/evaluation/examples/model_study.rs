@@ -1,10 +1,10 @@
 //! The study behind the built-in models (docs/methods.md, "Choosing the built-in models"):
 //! training recipes scored set by set on spectra they were not trained on
-//! (`specconv_study::sets`, leave one set out), every set of ../shared/spectra, in the built-in
+//! (`specconv_evaluation::sets`, leave one set out), every set of ../shared/spectra, in the built-in
 //! models' setting (CIE 1931 2°, D65, 380–730 nm at 10 nm), uplifted as `eval` does (blend
 //! 0.02 unless the row says otherwise, not bounded).
 //!
-//!     cargo run --release -p specconv-study --example model_study [--bounded] [--folds K] [SWEEP…|ROW…]
+//!     cargo run --release -p specconv-evaluation --example model_study [--bounded] [--folds K] [SWEEP…|ROW…]
 //!
 //! SWEEP: today, all, open, k, balance, min, condition, blend, sets, open-weights, chosen
 //! (default: every one). Prints one Markdown table per sweep: each set's mean Δe and mean
@@ -13,11 +13,11 @@
 //! Recipes are ranked by their colour shift: the mean over sets under A and under F11, averaged.
 
 use specconv_colour::{Colorimetry, Grid, Illuminant, Observer, SpectralTable};
+use specconv_evaluation::eval;
+use specconv_evaluation::sets::{held_out_by_set, Holdout, Recipe, Scores};
 use specconv_spectral::bounded::Bounded;
 use specconv_spectral::otsu2018::blend::DEFAULT_WIDTH;
 use specconv_spectral::{Part, TrainOptions, TrainingSet, Uplifter};
-use specconv_study::eval;
-use specconv_study::sets::{held_out_by_set, Holdout, Recipe, Scores};
 
 const SETS: [(&str, &str); 11] = [
     ("munsell", "munsell1269_matte_380-800_1nm.csv"),
@@ -192,7 +192,7 @@ impl Study {
                     .iter()
                     .map(|x| {
                         let mark = match x.how {
-                            specconv_study::sets::How::Folds(_) => "†",
+                            specconv_evaluation::sets::How::Folds(_) => "†",
                             _ => "",
                         };
                         let shift = &x.summary.colour_shift;

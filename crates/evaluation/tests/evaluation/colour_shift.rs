@@ -4,8 +4,8 @@
 //! (CIE 2000), on the ColorChecker's 24 spectra and their uplifts by the built-in model.
 
 use specconv_colour::{Colorimetry, Illuminant};
+use specconv_evaluation::eval::{self, Viewing};
 use specconv_spectral::{Method, Model, Uplifter};
-use specconv_study::eval::{self, Viewing};
 
 const SCRIPT: &str = r#"
 import json, sys, warnings

@@ -112,7 +112,7 @@ pub struct Stats {
 
 /// The outcomes of one evaluation in a few numbers ([`summarise`]).
 #[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct Summary {
+pub struct Statistics {
     /// Spectra evaluated.
     pub count: usize,
     /// Statistics of [`Outcome::delta_e`], the squared spectral error.
@@ -168,7 +168,7 @@ pub fn evaluate(
 
 /// Mean, median and maximum of Δe, the worst round trips and the in-range fraction of
 /// `outcomes` (NaN statistics and fraction when there are none).
-pub fn summarise(outcomes: &[Outcome]) -> Summary {
+pub fn summarise(outcomes: &[Outcome]) -> Statistics {
     let de = sorted(outcomes.iter().map(|o| o.delta_e));
     let count = de.len();
     let illuminants = outcomes.first().map_or(&[][..], |o| &o.colour_shift[..]);
@@ -185,7 +185,7 @@ pub fn summarise(outcomes: &[Outcome]) -> Summary {
             }
         })
         .collect();
-    Summary {
+    Statistics {
         count,
         delta_e: Stats {
             mean: mean(&de),

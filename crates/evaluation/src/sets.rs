@@ -11,7 +11,7 @@
 //! A recipe is judged by its worst set as much as by its mean ([`Scores`]): a model that wins
 //! on average by losing badly on one kind of material is not the better default.
 
-use crate::eval::{self, Outcome, Summary};
+use crate::eval::{self, Outcome, Statistics};
 use serde::Serialize;
 use specconv_colour::Colorimetry;
 use specconv_colour::Illuminant;
@@ -62,7 +62,7 @@ pub struct SetScore {
     /// How its figure was obtained.
     pub how: How,
     /// Its summary over its spectra.
-    pub summary: Summary,
+    pub summary: Statistics,
 }
 
 /// Every set's score, and the figures a recipe is judged by.
