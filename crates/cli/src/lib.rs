@@ -266,6 +266,8 @@ mod tests {
             "OUT_DIR",
             // The measured spectra's folder, read by unit tests beside their module.
             "SPECCONV_SHARED",
+            // The tests' Python (the reader's unit tests in crates/asset run it as a child).
+            "SPECCONV_PYTHON",
         ];
         let mut read = std::collections::BTreeSet::new();
         let mut dirs = vec![root.join("crates"), root.join("ffi"), root.join("src")];
