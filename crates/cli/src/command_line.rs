@@ -170,7 +170,7 @@ fn run(cli: Cli) -> anyhow::Result<i32> {
         Some(Command::ToRgb(args)) => done(cmd::to_rgb::run(with_ocio!(args))),
         Some(Command::Expand(args)) => cmd::expand::run(args),
         Some(Command::Models(args)) => done(cmd::models::run(args)),
-        Some(Command::Completions(args)) => done(cmd::completions::run(args)),
+        Some(Command::Completions(args)) => done(cmd::completions::run(args, Cli::command())),
         Some(Command::Simulate(args)) => done(cmd::simulate::run(args)),
         Some(Command::Preview(args)) => done(cmd::preview::run(args)),
         Some(Command::Farm(args)) => cmd::farm::run(args, ocio),

@@ -1,7 +1,6 @@
 //! `specconv completions SHELL`: shell completion scripts, generated from the clap definitions.
 
 use anyhow::Result;
-use clap::CommandFactory;
 
 /// Shown after `--help` and as the man page's EXAMPLES.
 pub const EXAMPLES: &str = "\
@@ -17,14 +16,11 @@ pub struct Args {
     shell: clap_complete::Shell,
 }
 
-pub fn run(args: Args) -> Result<()> {
+/// Prints the script completing `cli` (the command line's definition, handed down by the
+/// dispatch that holds it).
+pub fn run(args: Args, mut cli: clap::Command) -> Result<()> {
     // Made in memory: clap_complete panics when its writer fails.
     let mut script = Vec::new();
-    clap_complete::generate(
-        args.shell,
-        &mut crate::command_line::Cli::command(),
-        "specconv",
-        &mut script,
-    );
+    clap_complete::generate(args.shell, &mut cli, "specconv", &mut script);
     Ok(crate::stdio::out_bytes(&script)?)
 }
