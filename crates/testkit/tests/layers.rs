@@ -366,9 +366,35 @@ fn named_paths(module: &str, code: &str) -> Vec<String> {
     };
     let mut out = Vec::new();
     // Resolve `super::`/`self::`/`crate::` prefixes in every path of the text; `use` groups
-    // `a::{b, c::d}` are flattened first.
+    // `a::{b, c::d}` are flattened first. A name a `use crate::…::m;` brought in stands for
+    // its path where it starts another (`m::f()` names `…::m::f`).
     let flat = flatten_groups(code);
-    for word in flat.split(|c: char| !(c.is_alphanumeric() || c == '_' || c == ':')) {
+    let mut aliases: BTreeMap<String, String> = BTreeMap::new();
+    for line in flat.split(';') {
+        let Some(tree) = line
+            .trim()
+            .strip_prefix("use ")
+            .or(line.trim().strip_prefix("pub(crate) use "))
+        else {
+            continue;
+        };
+        for path in tree.split_whitespace() {
+            if path.starts_with("crate::") || path.starts_with("super::") {
+                let name = path.rsplit("::").next().unwrap_or_default();
+                aliases.insert(name.to_string(), path.to_string());
+            }
+        }
+    }
+    let words = flat.split(|c: char| !(c.is_alphanumeric() || c == '_' || c == ':'));
+    for word in words {
+        let resolved;
+        let word = match word.split_once("::") {
+            Some((first, rest)) if aliases.contains_key(first) => {
+                resolved = format!("{}::{rest}", aliases[first]);
+                resolved.as_str()
+            }
+            _ => word,
+        };
         let parts: Vec<&str> = word.split("::").filter(|p| !p.is_empty()).collect();
         let Some(&first) = parts.first() else {
             continue;
@@ -584,6 +610,12 @@ fn the_checker_finds_a_circle_and_flattens_groups() {
     assert_eq!(
         named_paths("x::y", "super::z::f(); crate::w::V; self::k"),
         ["x::z::f", "w::V", "x::y::k"]
+    );
+    // A module brought in by `use` names its children through its own name (the circle
+    // cmd::completions ↔ command_line hid this way).
+    assert!(
+        named_paths("x", "use crate::cmd;\nfn f() { cmd::completions::run(); }")
+            .contains(&"cmd::completions::run".to_string())
     );
     let g: BTreeMap<String, BTreeSet<String>> = [
         ("a", vec!["b"]),
