@@ -89,9 +89,16 @@ pub struct SettingArgs {
     /// Wavelength grid START:END:STEP in nm (default: the model's, 380:730:10 for the built-in).
     #[arg(long, value_name = "START:END:STEP")]
     pub bands: Option<specconv_colour::Grid>,
+    #[command(flatten)]
+    pub jakob: JakobArg,
+}
+
+/// `--jakob-resolution N` of the commands that measure jakob2019 (`eval`, `report`).
+#[derive(Debug, Clone, Copy, clap::Args)]
+pub struct JakobArg {
     /// Resolution of the jakob2019 coefficient table (cells per axis; the paper's 64).
-    #[arg(long, value_name = "N", default_value_t = jakob::DEFAULT_RESOLUTION)]
-    pub jakob_resolution: usize,
+    #[arg(long = "jakob-resolution", value_name = "N", default_value_t = jakob::DEFAULT_RESOLUTION)]
+    pub resolution: usize,
 }
 
 impl SettingArgs {
@@ -111,7 +118,7 @@ impl SettingArgs {
             observer: self.observer,
             illuminant: self.illuminant,
         };
-        StackSpec::measured(method, blend, setting, self.jakob_resolution, bounded)
+        StackSpec::measured(method, blend, setting, self.jakob.resolution, bounded)
     }
 }
 

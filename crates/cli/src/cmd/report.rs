@@ -75,9 +75,8 @@ pub struct Args {
     blend: methods::BlendArg,
     #[command(flatten)]
     shift: methods::ShiftArg,
-    /// Resolution of the jakob2019 coefficient table.
-    #[arg(long, value_name = "N", default_value_t = specconv_spectral::baselines::jakob::DEFAULT_RESOLUTION)]
-    jakob_resolution: usize,
+    #[command(flatten)]
+    jakob: methods::JakobArg,
     /// Colours uplifted to measure the cost of each method.
     #[arg(long, value_name = "N", default_value_t = 1 << 20)]
     colours: usize,
@@ -178,7 +177,7 @@ fn baseline_rows(args: &Args, pool: &rayon::ThreadPool) -> Result<Vec<Row>> {
             name,
             args.blend.width,
             args.colorimetry.setting(),
-            args.jakob_resolution,
+            args.jakob.resolution,
             false,
         );
         let stack = methods::build(&d, Model::builtin())?;
@@ -186,7 +185,7 @@ fn baseline_rows(args: &Args, pool: &rayon::ThreadPool) -> Result<Vec<Row>> {
         let spectra = read(&args.spectra, &a.grid)?;
         let summary = eval::summarise(&eval::evaluate(a, m, &spectra, &args.shift.viewing(a)?));
         let setting = match name {
-            MethodName::Jakob2019 => format!("{}³ table", args.jakob_resolution),
+            MethodName::Jakob2019 => format!("{}³ table", args.jakob.resolution),
             _ => String::new(),
         };
         rows.push(row(args, pool, a, m, name.as_str(), setting, &summary));
@@ -268,7 +267,7 @@ fn uplifter(args: &Args, model: &Model, bounded: bool) -> Result<Stack> {
         MethodName::Otsu2018,
         args.blend.width,
         Setting::default(),
-        args.jakob_resolution,
+        args.jakob.resolution,
         bounded,
     );
     methods::build(&d, model)
