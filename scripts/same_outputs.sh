@@ -69,5 +69,16 @@ for c in "${cases[@]}"; do
   # Single outputs are re-made per case; batches keep theirs for the next (-u) case.
   rm -f "$work"/old/a.exr "$work"/new/a.exr
   echo "compared $name (exit $(cat "$work/new/$name.rc"))"
+  # Two binaries that both fail alike (one without libspecconv_oiio.so beside it, say) would
+  # compare as the same: the first case must convert on both sides.
+  if [ "$name" = default ]; then
+    for side in old new; do
+      if [ "$(cat "$work/$side/default.rc")" != 0 ]; then
+        echo "the $side binary did not convert the first case:" >&2
+        cat "$work/$side/default.err" >&2
+        exit 2
+      fi
+    done
+  fi
 done
 exit $status
