@@ -254,7 +254,7 @@ mod tests {
     use super::*;
     use clap::{CommandFactory, Parser};
     use specconv_conversion::Named;
-    use std::collections::BTreeSet;
+    use std::collections::{BTreeMap, BTreeSet};
 
     /// Flags of other commands spelt as an option of the definitions but declared by hand:
     /// (command, flag, why it is not the option). A new one fails the test below, and so
@@ -297,6 +297,72 @@ mod tests {
             "its default is the rule the compact file recorded",
         ),
     ];
+
+    /// Long names that several commands declare by hand, each with a help of its own: (flag,
+    /// why the commands' flags are not one). A new one fails the test below, and so does an
+    /// entry whose commands now share one definition, so that the list only shrinks.
+    const ONE_NAME_SEVERAL_FLAGS: &[(&str, &str)] = &[
+        ("bands", "the grid trained on (train, report) or measured on (eval), not an output's"),
+        ("by-set", "eval scores one method held out by set; report scores every row"),
+        ("clusters", "a model's clusters (train), the one trained in place (eval), a row per count (report)"),
+        ("colorspace", "the input's (info) or the output's (to-rgb) colour space, not a conversion's"),
+        ("dry-run", "asset prints decisions; farm submit prints the plan and the script"),
+        ("illuminant", "training's light (train, report), the baselines' (eval), the one looked under (to-rgb, preview)"),
+        ("json", "each command prints its own record"),
+        ("method", "the method measured (eval) or the methods compared, repeated (simulate)"),
+        ("min-cluster-size", "a model's (train), the one trained in place (eval), every row's (report)"),
+        ("observer", "training's (train, report) or the baselines' (eval, by default the model's)"),
+        ("output", "a model file, a picture, a folder: what each command writes"),
+        ("output-template", "expand names expanded files, convert and farm submit converted ones"),
+        ("spectra", "spectra trained on (train) or measured (eval, report)"),
+        ("tasks", "farm submit's count; retry's, by default the last submission's"),
+        ("train", "eval trains one model in place, report every row's"),
+        ("verbose", "asset says each decision; convert and farm submit the colour space chosen"),
+    ];
+
+    /// Every long name that several commands declare by hand with helps of their own is listed
+    /// in [`ONE_NAME_SEVERAL_FLAGS`] with why (the definitions' options are the other test's).
+    #[test]
+    fn a_name_several_commands_declare_is_listed() {
+        fn walk(cmd: &clap::Command, out: &mut BTreeMap<String, BTreeSet<String>>) {
+            for arg in cmd.get_arguments().filter(|a| !a.is_global_set()) {
+                if let (Some(long), Some(help)) = (arg.get_long(), arg.get_help()) {
+                    out.entry(long.to_string())
+                        .or_default()
+                        .insert(help.to_string());
+                }
+            }
+            for sub in cmd.get_subcommands() {
+                walk(sub, out);
+            }
+        }
+        let mut cli = crate::command_line::Cli::command();
+        cli.build();
+        let mut helps = BTreeMap::new();
+        walk(&cli, &mut helps);
+        let definitions: BTreeSet<String> = Key::ALL
+            .iter()
+            .flat_map(|k| {
+                let about = k.about();
+                about
+                    .flags
+                    .iter()
+                    .map(move |f| f.help.unwrap_or(about.help).to_string())
+            })
+            .collect();
+        let mut several: Vec<&str> = helps
+            .iter()
+            .filter(|(long, _)| !matches!(long.as_str(), "help" | "version"))
+            .filter(|(_, h)| h.iter().filter(|h| !definitions.contains(*h)).count() > 1)
+            .map(|(long, _)| long.as_str())
+            .collect();
+        several.sort();
+        let listed: Vec<&str> = ONE_NAME_SEVERAL_FLAGS.iter().map(|(f, _)| *f).collect();
+        assert_eq!(
+            several, listed,
+            "long names several commands declare by hand"
+        );
+    }
 
     /// Every command's flag that is spelt as an option of the definitions is that option
     /// (its help is the definitions'), or listed in [`DECLARED_BY_HAND`] with why not.
