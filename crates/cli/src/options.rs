@@ -298,6 +298,32 @@ mod tests {
         ),
     ];
 
+    /// Every flag with a long name of every command and command of a command, as the command
+    /// line builds them: (the command's path, `train` or `farm submit`; the long name; its
+    /// help; whether it is global).
+    fn long_flags() -> Vec<(String, String, String, bool)> {
+        fn walk(cmd: &clap::Command, name: &str, out: &mut Vec<(String, String, String, bool)>) {
+            for arg in cmd.get_arguments() {
+                if let (Some(long), Some(help)) = (arg.get_long(), arg.get_help()) {
+                    let global = arg.is_global_set();
+                    out.push((name.into(), long.into(), help.to_string(), global));
+                }
+            }
+            for sub in cmd.get_subcommands() {
+                let inner = match name {
+                    "" => sub.get_name().to_string(),
+                    _ => format!("{name} {}", sub.get_name()),
+                };
+                walk(sub, &inner, out);
+            }
+        }
+        let mut cli = crate::command_line::Cli::command();
+        cli.build();
+        let mut out = Vec::new();
+        walk(&cli, "", &mut out);
+        out
+    }
+
     /// Long names that several commands declare by hand, each with a help of its own: (flag,
     /// why the commands' flags are not one). A new one fails the test below, and so does an
     /// entry whose commands now share one definition, so that the list only shrinks.
@@ -324,22 +350,12 @@ mod tests {
     /// in [`ONE_NAME_SEVERAL_FLAGS`] with why (the definitions' options are the other test's).
     #[test]
     fn a_name_several_commands_declare_is_listed() {
-        fn walk(cmd: &clap::Command, out: &mut BTreeMap<String, BTreeSet<String>>) {
-            for arg in cmd.get_arguments().filter(|a| !a.is_global_set()) {
-                if let (Some(long), Some(help)) = (arg.get_long(), arg.get_help()) {
-                    out.entry(long.to_string())
-                        .or_default()
-                        .insert(help.to_string());
-                }
-            }
-            for sub in cmd.get_subcommands() {
-                walk(sub, out);
+        let mut helps: BTreeMap<String, BTreeSet<String>> = BTreeMap::new();
+        for (_, long, help, global) in long_flags() {
+            if !global {
+                helps.entry(long).or_default().insert(help);
             }
         }
-        let mut cli = crate::command_line::Cli::command();
-        cli.build();
-        let mut helps = BTreeMap::new();
-        walk(&cli, &mut helps);
         let definitions: BTreeSet<String> = Key::ALL
             .iter()
             .flat_map(|k| {
@@ -368,27 +384,9 @@ mod tests {
     /// (its help is the definitions'), or listed in [`DECLARED_BY_HAND`] with why not.
     #[test]
     fn a_flag_spelt_as_an_option_is_the_option() {
-        fn walk(cmd: &clap::Command, name: &str, out: &mut Vec<(String, String, String)>) {
-            for arg in cmd.get_arguments() {
-                let (Some(long), Some(help)) = (arg.get_long(), arg.get_help()) else {
-                    continue;
-                };
-                out.push((name.to_string(), long.to_string(), help.to_string()));
-            }
-            for sub in cmd.get_subcommands() {
-                let inner = match name {
-                    "" => sub.get_name().to_string(),
-                    _ => format!("{name} {}", sub.get_name()),
-                };
-                walk(sub, &inner, out);
-            }
-        }
-        let mut cli = crate::command_line::Cli::command();
-        cli.build();
-        let mut args = Vec::new();
-        walk(&cli, "", &mut args);
+        let args = long_flags();
         let mut by_hand = Vec::new();
-        for (command, long, help) in &args {
+        for (command, long, help, _) in &args {
             for key in Key::ALL {
                 let about = key.about();
                 let Some(flag) = about.flags.iter().find(|f| f.long == long) else {
