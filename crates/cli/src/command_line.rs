@@ -34,19 +34,8 @@ fn version() -> &'static str {
     TEXT.get_or_init(cmd::models::version_line)
 }
 
-/// Options every command takes, before or after the subcommand's name.
-#[derive(Debug, clap::Args)]
-struct Global {
-    // Its help is the library's; global: before or after the subcommand.
-    #[arg(
-        long,
-        global = true,
-        value_name = "CONFIG",
-        visible_aliases = specconv_conversion::Key::Ocio.about().flags[0].aliases.iter().copied(),
-        help = specconv_conversion::Key::Ocio.about().help
-    )]
-    ocio: Option<String>,
-}
+/// Options every command takes, before or after the subcommand's name: the library's --ocio.
+type Global = specconv_flags::OptionArgs<specconv_flags::Configuring>;
 
 /// Examples of `specconv --help` and of man/specconv.1.
 const EXAMPLES: &str = "\
@@ -149,7 +138,7 @@ pub(crate) fn parse(
 /// Dispatches to the command; `Ok` holds the exit status of commands that decide it
 /// themselves (a batch where some inputs failed).
 fn run(cli: Cli) -> anyhow::Result<i32> {
-    let ocio = cli.global.ocio;
+    let ocio = cli.global.options.ocio;
     let done = |r: anyhow::Result<()>| r.map(|()| exit::OK);
     // --ocio is global; the commands that use it hold it as a field clap skips.
     macro_rules! with_ocio {

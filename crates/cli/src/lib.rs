@@ -14,10 +14,11 @@ mod doc_flags;
 mod errors;
 pub mod exit;
 mod files;
+#[cfg(test)]
+mod flag_tests;
 pub mod generated;
 mod man;
 mod methods;
-mod options;
 mod picture;
 mod progress;
 mod records;

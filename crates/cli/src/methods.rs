@@ -5,29 +5,21 @@
 
 use anyhow::Result;
 use specconv_colour::Colorimetry;
-use specconv_conversion::Key;
-use specconv_spectral::baselines::jakob;
+use specconv_flags::defs;
 use specconv_spectral::method::MethodName;
 use specconv_spectral::stack::{Setting, Stack, StackSpec};
 use specconv_spectral::Model;
 use std::path::{Path, PathBuf};
 
-/// `--blend WIDTH` of the commands that uplift with a clustered model.
-#[derive(Debug, Clone, Copy, clap::Args)]
-pub struct BlendArg {
-    #[arg(long = "blend", value_name = "WIDTH", help = Key::Blend.about().help,
-          default_value_t = specconv_conversion::Options::default().blend)]
-    pub width: f64,
-}
+/// `--blend WIDTH` of the commands that uplift with a clustered model, as the library defines it.
+pub type BlendArg = specconv_flags::OptionArgs<specconv_flags::Blending>;
 
-/// The lights colour shift is measured under (`eval`, `report`).
-#[derive(Debug, Clone, clap::Args)]
-pub struct ShiftArg {
-    /// Measure the colour shift a viewer sees under these illuminants: CIEDE2000 between each
-    /// measured spectrum and its uplift, lit by the illuminant (CIE A, D65, D50, FL2, FL11, E or
-    /// blackbody:KELVIN), through the model's observer, white = the perfect reflector under it.
-    #[arg(long, value_name = "ILLUMINANT,…", value_delimiter = ',', default_values_t = specconv_evaluation::eval::SHIFT_ILLUMINANTS)]
-    pub shift_under: Vec<specconv_colour::Illuminant>,
+specconv_flags::args! {
+    /// The lights colour shift is measured under (`eval`, `report`).
+    #[derive(Debug, Clone)]
+    pub struct ShiftArg {
+        pub shift_under: Vec<specconv_colour::Illuminant> = (defs::SHIFT_UNDER),
+    }
 }
 
 impl ShiftArg {
@@ -43,29 +35,16 @@ impl ShiftArg {
 
 /// The options of the method stack that `simulate` shares with a conversion, with the
 /// library's help and defaults.
-#[derive(Debug, Clone, clap::Args)]
-pub struct StackArgs {
-    #[arg(long, value_name = "NAME|MODEL", help = Key::Model.about().help)]
-    pub model: Option<PathBuf>,
-    #[command(flatten)]
-    pub blend: BlendArg,
-    #[arg(long, overrides_with = "unbounded", help = Key::Bounded.about().help)]
-    pub bounded: bool,
-    #[arg(long, overrides_with = "bounded", help = Key::Bounded.about().flags[1].help)]
-    pub unbounded: bool,
-    #[arg(long, value_name = "START:END:STEP", help = Key::Bands.about().help)]
-    pub bands: Option<specconv_colour::Grid>,
-}
+pub type StackArgs = specconv_flags::OptionArgs<specconv_flags::Stacking>;
 
-impl StackArgs {
-    /// `method` with these options, reflectances as every reader of the output integrates them.
-    pub fn describe(&self, method: MethodName) -> StackSpec {
-        StackSpec {
-            blend: self.blend.width,
-            grid: self.bands,
-            bounded: !self.unbounded,
-            ..StackSpec::convert_default(method)
-        }
+/// `method` with the stack's options, reflectances as every reader of the output integrates them.
+pub fn describe(args: &StackArgs, method: MethodName) -> StackSpec {
+    let o = &args.options;
+    StackSpec {
+        blend: o.blend,
+        grid: o.bands,
+        bounded: o.bounded,
+        ..StackSpec::convert_default(method)
     }
 }
 
@@ -75,30 +54,23 @@ pub fn build(d: &StackSpec, model: &Model) -> Result<Stack> {
     Ok(Stack::build(d, model, &tables)?)
 }
 
-/// Colorimetry flags shared by `eval` and `report`.
-#[derive(Debug, Clone, clap::Args)]
-pub struct SettingArgs {
-    /// Colour-matching functions for baselines and in-place training: cie1931, cie1964 or
-    /// wyman2013 (default: the model's, cie1931 for the built-in one).
-    #[arg(long)]
-    pub observer: Option<specconv_colour::Observer>,
-    /// Illuminant for baselines and in-place training: D65, E, A, D50, FL2, FL11 or
-    /// blackbody:KELVIN (default: the model's, D65 for the built-in one).
-    #[arg(long)]
-    pub illuminant: Option<specconv_colour::Illuminant>,
-    /// Wavelength grid START:END:STEP in nm (default: the model's, 380:730:10 for the built-in).
-    #[arg(long, value_name = "START:END:STEP")]
-    pub bands: Option<specconv_colour::Grid>,
-    #[command(flatten)]
-    pub jakob: JakobArg,
+specconv_flags::args! {
+    /// Colorimetry flags shared by `eval` and `report`.
+    #[derive(Debug, Clone)]
+    pub struct SettingArgs {
+        pub observer: Option<specconv_colour::Observer> = (defs::EVAL_OBSERVER),
+        pub illuminant: Option<specconv_colour::Illuminant> = (defs::EVAL_ILLUMINANT),
+        pub bands: Option<specconv_colour::Grid> = (defs::EVAL_BANDS),
+        pub jakob: JakobArg = flatten,
+    }
 }
 
-/// `--jakob-resolution N` of the commands that measure jakob2019 (`eval`, `report`).
-#[derive(Debug, Clone, Copy, clap::Args)]
-pub struct JakobArg {
-    /// Resolution of the jakob2019 coefficient table (cells per axis; the paper's 64).
-    #[arg(long = "jakob-resolution", value_name = "N", default_value_t = jakob::DEFAULT_RESOLUTION)]
-    pub resolution: usize,
+specconv_flags::args! {
+    /// `--jakob-resolution N` of the commands that measure jakob2019 (`eval`, `report`).
+    #[derive(Debug, Clone, Copy)]
+    pub struct JakobArg {
+        pub resolution: usize = (defs::JAKOB_RESOLUTION),
+    }
 }
 
 impl SettingArgs {
@@ -122,19 +94,14 @@ impl SettingArgs {
     }
 }
 
-/// The colorimetry flags of `train` and `report`, with the built-in model's setting as default.
-#[derive(Debug, Clone, clap::Args)]
-pub struct ColorimetryArgs {
-    /// Colour-matching functions: cie1931, cie1964 or wyman2013 (the paper's).
-    #[arg(long, default_value = "cie1931")]
-    pub observer: specconv_colour::Observer,
-    /// Illuminant under which reflectances become colours: D65, E, A, D50, FL2, FL11 or
-    /// blackbody:KELVIN. E reproduces the paper's setting.
-    #[arg(long, default_value = "D65")]
-    pub illuminant: specconv_colour::Illuminant,
-    /// Wavelength grid START:END:STEP in nm, both ends included.
-    #[arg(long, value_name = "START:END:STEP", default_value = "380:730:10")]
-    pub bands: specconv_colour::Grid,
+specconv_flags::args! {
+    /// The colorimetry flags of `train` and `report`, with the built-in model's setting as default.
+    #[derive(Debug, Clone)]
+    pub struct ColorimetryArgs {
+        pub observer: specconv_colour::Observer = (defs::TRAINING_OBSERVER),
+        pub illuminant: specconv_colour::Illuminant = (defs::TRAINING_ILLUMINANT),
+        pub bands: specconv_colour::Grid = (defs::TRAINING_BANDS),
+    }
 }
 
 impl ColorimetryArgs {
@@ -161,34 +128,16 @@ pub fn training_set(
     weighted_set(paths, grid, &WeightArgs::default())
 }
 
-/// How `train` weighs its --spectra files and what it records of their terms of use.
-#[derive(Debug, Clone, Default, clap::Args)]
-pub struct WeightArgs {
-    /// Weight of each --spectra file's spectra, in their order (default 1 each): a file of
-    /// weight 2 counts as if each of its spectra were there twice. Recorded in the model.
-    #[arg(long, value_name = "W,…", value_delimiter = ',')]
-    pub weights: Vec<f64>,
-    /// How far set sizes are evened out, 0 to 1: 0 lets every spectrum count the same (the
-    /// largest file decides most), 1 lets every file count the same in total, 0.5 between
-    /// (weights ∝ size^−balance, times --weights, averaging 1).
-    #[arg(long, value_name = "B", default_value_t = 0.0)]
-    pub balance: f64,
-    /// The terms of use of each --spectra file's data, in their order, recorded in the model
-    /// (default: the licence ../shared/spectra/README.md states for the file name, else
-    /// "unknown").
-    #[arg(long = "licence", value_name = "TEXT")]
-    pub licences: Vec<String>,
-    /// Whether each --spectra file's data may be used commercially (yes, no, unstated), in
-    /// their order, recorded in the model: a model may be used commercially only when all its
-    /// sets may. Default: what ../shared/spectra/README.md states for the file name, else
-    /// unstated; for your own measurements pass yes.
-    #[arg(long = "commercial", value_name = "yes|no|unstated")]
-    pub commercial: Vec<specconv_spectral::otsu2018::terms::Commercial>,
-    /// Hold a --spectra file that stops short of the grid at its first and last measured
-    /// values (CIE 015's practice for missing data; recorded in the model) instead of
-    /// refusing it: for a set measured on 400–700 nm, say.
-    #[arg(long)]
-    pub hold_ends: bool,
+specconv_flags::args! {
+    /// How `train` weighs its --spectra files and what it records of their terms of use.
+    #[derive(Debug, Clone, Default)]
+    pub struct WeightArgs {
+        pub weights: Vec<f64> = (defs::WEIGHTS),
+        pub balance: f64 = (defs::BALANCE),
+        pub licences: Vec<String> = (defs::LICENCES),
+        pub commercial: Vec<specconv_spectral::otsu2018::terms::Commercial> = (defs::COMMERCIAL),
+        pub hold_ends: bool = (defs::HOLD_ENDS),
+    }
 }
 
 /// The --spectra files as one training set, weighted and with their licences.
@@ -307,7 +256,7 @@ mod tests {
                     s.stack_spec(method),
                     "{method} {opts:?}"
                 );
-                assert_eq!(c.options().model, s.stack.model);
+                assert_eq!(c.options().model, s.stack.options.model);
             }
         }
         let Command::Convert(c) = parse(&["convert", "a.png", "b.exr"]) else {

@@ -20,6 +20,8 @@ pub enum When {
     Never,
 }
 
+specconv_flags::value_by_type!(When);
+
 /// Seconds between plain progress lines, unless $SPECCONV_PROGRESS_SECONDS says otherwise.
 const PLAIN_EVERY: f64 = 5.0;
 

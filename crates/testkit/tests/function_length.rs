@@ -172,15 +172,17 @@ fn no_production_function_is_longer_than_the_limit() {
     );
 }
 
-/// The CLI's check of the flags the docs name is a module of its own file, declared for tests
-/// only: not production code (what makes the generated docs is: specconv-dev calls it).
+/// The CLI's checks of the flags the docs name and of the flags against the definitions are
+/// modules of their own files, declared for tests only: not production code (what makes the
+/// generated docs is: specconv-dev calls it).
 #[test]
 fn a_test_module_in_a_file_of_its_own_is_left_out() {
     let cli = root().join("crates/cli/src");
     let found = test_modules(&cli.join("lib.rs"));
-    assert_eq!(found, [cli.join("doc_flags.rs")]);
+    assert_eq!(found, [cli.join("doc_flags.rs"), cli.join("flag_tests.rs")]);
     let sources = sources();
     assert!(!sources.contains(&"crates/cli/src/doc_flags.rs".to_owned()));
+    assert!(!sources.contains(&"crates/cli/src/flag_tests.rs".to_owned()));
     assert!(sources.contains(&"crates/cli/src/generated.rs".to_owned()));
     assert!(sources.contains(&"crates/cli/src/lib.rs".to_owned()));
 }

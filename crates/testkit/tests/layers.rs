@@ -30,8 +30,9 @@ const LAYERS: &[&[&str]] = &[
     // The job, under the description of what it does.
     &["specconv-pipeline"],
     &["specconv-conversion"],
-    // An asset (a USD stage) over the conversion: its textures decided by their materials.
-    &["specconv-asset"],
+    // An asset (a USD stage) over the conversion: its textures decided by their materials; the
+    // command line's flags, from the conversion's definitions and one table of the commands'.
+    &["specconv-asset", "specconv-flags"],
     // The front-ends: the command line and the Python package.
     &["specconv-cli", "specconv-python", "specconv-testkit"],
     // The program, and the developers' own tools over everything (never shipped).

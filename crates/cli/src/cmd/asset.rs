@@ -12,6 +12,7 @@ use specconv_asset::{
 };
 use specconv_conversion::record::Record;
 use specconv_conversion::Options;
+use specconv_flags::defs;
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex};
 
@@ -24,60 +25,51 @@ Examples:
   specconv asset brick.mtlx -o spectral
 ";
 
-/// Convert the textures a USD stage's (or MaterialX document's) materials read, each as its
-/// material says.
-///
-/// Opens STAGE (.usda, .usdc, .usd, .usdz) with Pixar's usd-core, composed (references,
-/// payloads, the selected variants, usdz packages), and finds every texture a bound material
-/// reads (a node whose definition has a file input: UsdUVTexture, MaterialX image nodes,
-/// Arnold's image, RenderMan's PxrTexture, PxrMultiTexture, PxrNormalMap, PxrBump). A
-/// MaterialX document (.mtlx), given as STAGE or referenced from the stage, is read with the
-/// MaterialX package (XIncludes, node graphs, fileprefix, colorspace as MaterialX inherits
-/// it); every material of a document given alone is read, and its copy DIR/STEM_spectral.mtlx
-/// takes the layer's place. The material decides what each file is, by the type each input it
-/// feeds has in its shader's definition (usd-core's Sdr, MaterialX's nodedefs, the Arnold and
-/// RenderMan tables): a colour type (diffuseColor, base_color …) makes it colour, in the space
-/// its node declares (sourceColorSpace, MaterialX colorspace, Arnold color_space, PxrTexture
-/// linearize), else the file's own evidence; any other type (roughness, normal …, and
-/// colour-typed quantities held per channel, such as subsurface_radius) data, skipped or
-/// copied as --data says; a file that feeds both is colour where each data use can keep the
-/// original file, else a conflict, named and not converted. A shader with no known definition
-/// that reads a file is reported (--strict: a failure). Outputs go under DIR (the texture's
-/// folder below the stage's, or external/HASH for one outside it), with DIR/STEM_spectral.usda:
-/// a layer over the stage that gives each material reading a colour texture a copy of its
-/// network reading the spectral files, behind UsdShade's render context `spectral`
-/// (outputs:spectral:surface), and each referenced MaterialX document a variant set
-/// spectralTextures (rgb selected; spectral adds its copy), leaving what RGB renderers read as
-/// it was. The stage and its textures are never written. usd-core and MaterialX run in
-/// the Python interpreter $SPECCONV_USD_PYTHON names (else python3):
-/// `python3 -m pip install usd-core MaterialX`.
-/// With -u, up-to-date textures are skipped and the layer is written again; --json's records
-/// are `convert`'s with an `asset` member: the stage, the rule that decided, why, and each
-/// prim and input that reads the texture (docs/assets.md).
-#[derive(Debug, clap::Args)]
-pub struct Args {
-    /// The USD stage, or a MaterialX document.
-    #[arg(value_name = "STAGE")]
-    stage: PathBuf,
-    /// The output directory (made if missing); nothing is written outside it.
-    #[arg(short, long, value_name = "DIR", required = true)]
-    output: PathBuf,
-    /// Print each texture's decision (and its output) without converting or writing anything.
-    #[arg(long)]
-    dry_run: bool,
-    /// The global --ocio (see `specconv --help`).
-    #[arg(skip)]
-    pub(crate) ocio: Option<String>,
-    /// The options of the conversion, made from the library's definitions (--colorspace is
-    /// refused: the material names each texture's).
-    #[command(flatten)]
-    pub(crate) conversion: crate::options::ConversionArgs,
-    /// -u, --json, --progress, -q, as `convert` takes them.
-    #[command(flatten)]
-    batch: super::convert::BatchArgs,
-    /// Say more: each texture's decision before converting.
-    #[arg(short, long)]
-    verbose: bool,
+specconv_flags::args! {
+    /// Convert the textures a USD stage's (or MaterialX document's) materials read, each as its
+    /// material says.
+    ///
+    /// Opens STAGE (.usda, .usdc, .usd, .usdz) with Pixar's usd-core, composed (references,
+    /// payloads, the selected variants, usdz packages), and finds every texture a bound material
+    /// reads (a node whose definition has a file input: UsdUVTexture, MaterialX image nodes,
+    /// Arnold's image, RenderMan's PxrTexture, PxrMultiTexture, PxrNormalMap, PxrBump). A
+    /// MaterialX document (.mtlx), given as STAGE or referenced from the stage, is read with the
+    /// MaterialX package (XIncludes, node graphs, fileprefix, colorspace as MaterialX inherits
+    /// it); every material of a document given alone is read, and its copy DIR/STEM_spectral.mtlx
+    /// takes the layer's place. The material decides what each file is, by the type each input it
+    /// feeds has in its shader's definition (usd-core's Sdr, MaterialX's nodedefs, the Arnold and
+    /// RenderMan tables): a colour type (diffuseColor, base_color …) makes it colour, in the space
+    /// its node declares (sourceColorSpace, MaterialX colorspace, Arnold color_space, PxrTexture
+    /// linearize), else the file's own evidence; any other type (roughness, normal …, and
+    /// colour-typed quantities held per channel, such as subsurface_radius) data, skipped or
+    /// copied as --data says; a file that feeds both is colour where each data use can keep the
+    /// original file, else a conflict, named and not converted. A shader with no known definition
+    /// that reads a file is reported (--strict: a failure). Outputs go under DIR (the texture's
+    /// folder below the stage's, or external/HASH for one outside it), with DIR/STEM_spectral.usda:
+    /// a layer over the stage that gives each material reading a colour texture a copy of its
+    /// network reading the spectral files, behind UsdShade's render context `spectral`
+    /// (outputs:spectral:surface), and each referenced MaterialX document a variant set
+    /// spectralTextures (rgb selected; spectral adds its copy), leaving what RGB renderers read as
+    /// it was. The stage and its textures are never written. usd-core and MaterialX run in
+    /// the Python interpreter $SPECCONV_USD_PYTHON names (else python3):
+    /// `python3 -m pip install usd-core MaterialX`.
+    /// With -u, up-to-date textures are skipped and the layer is written again; --json's records
+    /// are `convert`'s with an `asset` member: the stage, the rule that decided, why, and each
+    /// prim and input that reads the texture (docs/assets.md).
+    #[derive(Debug)]
+    pub struct Args {
+        stage: PathBuf = (defs::ASSET_STAGE),
+        output: PathBuf = (defs::ASSET_OUTPUT),
+        dry_run: bool = (defs::ASSET_DRY_RUN),
+        /// The global --ocio (see `specconv --help`).
+        pub(crate) ocio: Option<String> = skip,
+        /// The options of the conversion, made from the library's definitions (--colorspace is
+        /// refused: the material names each texture's).
+        pub(crate) conversion: specconv_flags::ConversionArgs = flatten,
+        /// -u, --json, --progress, -q, as `convert` takes them.
+        batch: super::convert::BatchArgs = flatten,
+        verbose: bool = (defs::ASSET_VERBOSE),
+    }
 }
 
 /// Reads, plans, converts and writes the layer; returns the exit status (1 when a texture

@@ -2,6 +2,7 @@
 
 use anyhow::Result;
 use serde::Serialize;
+use specconv_flags::defs;
 
 /// Shown after `--help` and as the man page's EXAMPLES.
 pub const EXAMPLES: &str = "\
@@ -10,19 +11,18 @@ Examples:
   specconv --ocio /show/config.ocio colorspaces --json
 ";
 
-/// List the colour spaces of an OCIO config, with their aliases and the roles specconv
-/// uses.
-///
-/// Any name or alias listed can be given to --colorspace. Data spaces (such as Raw) are
-/// listed but cannot be uplifted.
-#[derive(Debug, clap::Args)]
-pub struct Args {
-    /// The global --ocio (see `specconv --help`).
-    #[arg(skip)]
-    pub(crate) ocio: Option<String>,
-    /// Print one JSON object instead of text.
-    #[arg(long)]
-    json: bool,
+specconv_flags::args! {
+    /// List the colour spaces of an OCIO config, with their aliases and the roles specconv
+    /// uses.
+    ///
+    /// Any name or alias listed can be given to --colorspace. Data spaces (such as Raw) are
+    /// listed but cannot be uplifted.
+    #[derive(Debug)]
+    pub struct Args {
+        /// The global --ocio (see `specconv --help`).
+        pub(crate) ocio: Option<String> = skip,
+        json: bool = (defs::JSON_INSTEAD_OF_TEXT),
+    }
 }
 
 /// Roles that decide how specconv reads and converts colours.

@@ -1,6 +1,7 @@
 //! `specconv completions SHELL`: shell completion scripts, generated from the clap definitions.
 
 use anyhow::Result;
+use specconv_flags::defs;
 
 /// Shown after `--help` and as the man page's EXAMPLES.
 pub const EXAMPLES: &str = "\
@@ -9,11 +10,12 @@ Examples:
   specconv completions zsh > ~/.zfunc/_specconv
 ";
 
-/// Print a shell completion script, e.g. `specconv completions bash > /etc/bash_completion.d/specconv`.
-#[derive(Debug, clap::Args)]
-pub struct Args {
-    /// The shell to complete for.
-    shell: clap_complete::Shell,
+specconv_flags::args! {
+    /// Print a shell completion script, e.g. `specconv completions bash > /etc/bash_completion.d/specconv`.
+    #[derive(Debug)]
+    pub struct Args {
+        shell: clap_complete::Shell = (defs::COMPLETIONS_SHELL),
+    }
 }
 
 /// Prints the script completing `cli` (the command line's definition, handed down by the

@@ -3,8 +3,8 @@
 use crate::{files, methods};
 use anyhow::Result;
 use specconv_evaluation::eval;
+use specconv_flags::defs;
 use specconv_spectral::method::MethodName;
-use specconv_spectral::otsu2018::model::BUILTIN;
 use specconv_spectral::{Model, TrainOptions};
 use std::path::PathBuf;
 
@@ -18,76 +18,44 @@ Examples:
   specconv eval --by-set --train a.csv --train b.csv --balance 1 --spectra a.csv --spectra b.csv --spectra c.csv
 ";
 
-/// Measure a method on measured spectra: uplift each from its own XYZ and compare.
-///
-/// Prints Δe = ‖s − r‖² mean / median / max (as the paper's Table 1), the colour shift under
-/// other lights (CIEDE2000 between measured and uplifted spectra under each --shift-under
-/// illuminant: mean, 95th percentile, max), the largest relative round-trip error
-/// |XYZ(r) − XYZ(s)| / Y(s) and CIEDE2000, and the fraction of reconstructions inside [0, 1]. The clustered methods (otsu2018, pca) use --model, a model
-/// trained here on --train, or the built-in model; their grid, observer and illuminant are the
-/// model's. The baselines use --observer, --illuminant and --bands, by default those of the
-/// model.
-///
-/// With --by-set, each --spectra file is scored on spectra the model was not trained on, and
-/// the report gives every file's figures, their mean and the worst file: a file that is not
-/// in the training recipe is uplifted by the recipe's model; one that is, by the model trained
-/// on the recipe's other files (leave one set out; --folds K: on the other files and the
-/// file's other K − 1 folds; a recipe of that one file alone: 10-fold within it). The recipe
-/// is --train with --weights, --balance, --clusters and --min-cluster-size, or else the
-/// model's own: its recorded sets, weights and options (each recorded set's file among
-/// --spectra).
-#[derive(Debug, clap::Args)]
-pub struct Args {
-    /// Measured spectra (CSV, as for train). Repeat for several files.
-    #[arg(long, value_name = "CSV", required = true)]
-    spectra: Vec<PathBuf>,
-    /// Uplift method: otsu2018 (clustered PCA), pca (one cluster), smits1999, meng2015,
-    /// meng2015-bounded (values kept in [0, 1] where possible) or jakob2019.
-    #[arg(long, value_name = "NAME", default_value = "otsu2018")]
-    method: MethodName,
-    #[arg(long, value_name = "NAME|MODEL", conflicts_with = "train", help = model_help())]
-    model: Option<PathBuf>,
-    /// Train the clustered model here on these spectra (CSV) instead of reading one.
-    #[arg(long, value_name = "CSV")]
-    train: Vec<PathBuf>,
-    /// Clusters of the model trained with --train (pca: always 1).
-    #[arg(long, value_name = "K", default_value_t = 8)]
-    clusters: usize,
-    /// Smallest cluster of the model trained with --train.
-    #[arg(long, value_name = "N", default_value_t = TrainOptions::default().min_cluster_size)]
-    min_cluster_size: usize,
-    #[command(flatten)]
-    weights: methods::WeightArgs,
-    /// Score each --spectra file held out of the training (leave one set out); see above.
-    #[arg(long)]
-    by_set: bool,
-    /// With --by-set: hold out K folds of each file in the recipe, training on the others'
-    /// spectra and the file's other folds.
-    #[arg(long, value_name = "K", requires = "by_set", value_parser = clap::value_parser!(u32).range(2..))]
-    folds: Option<u32>,
-    /// With --by-set: also score this model's recorded recipe (a built-in name or a model
-    /// file) on the same files held out the same way, and show each file's Δe against it:
-    /// what a model trained on a studio's own sets gains on them and costs elsewhere.
-    #[arg(long, value_name = "NAME|MODEL", requires = "by_set")]
-    against: Option<PathBuf>,
-    #[command(flatten)]
-    setting: methods::SettingArgs,
-    #[command(flatten)]
-    blend: methods::BlendArg,
-    #[command(flatten)]
-    shift: methods::ShiftArg,
-    /// Evaluate the method bounded, as `convert` writes it by default: spectra kept in [0, 1]
-    /// with their XYZ (reported as METHOD-bounded). Without it, the method as named.
-    #[arg(long)]
-    bounded: bool,
-    /// Print one JSON object: method, model, count, delta_e.{mean,median,max},
-    /// colour_shift[].{illuminant,mean,p95,max}, roundtrip_max, roundtrip_de2000_max,
-    /// in_unit_range (with --by-set: sets[], mean_of_sets, worst, worst_set, colour_shift[]).
-    #[arg(long)]
-    json: bool,
-    /// Also list every spectrum's error (with --json, under "spectra").
-    #[arg(long)]
-    per_spectrum: bool,
+specconv_flags::args! {
+    /// Measure a method on measured spectra: uplift each from its own XYZ and compare.
+    ///
+    /// Prints Δe = ‖s − r‖² mean / median / max (as the paper's Table 1), the colour shift under
+    /// other lights (CIEDE2000 between measured and uplifted spectra under each --shift-under
+    /// illuminant: mean, 95th percentile, max), the largest relative round-trip error
+    /// |XYZ(r) − XYZ(s)| / Y(s) and CIEDE2000, and the fraction of reconstructions inside [0, 1]. The clustered methods (otsu2018, pca) use --model, a model
+    /// trained here on --train, or the built-in model; their grid, observer and illuminant are the
+    /// model's. The baselines use --observer, --illuminant and --bands, by default those of the
+    /// model.
+    ///
+    /// With --by-set, each --spectra file is scored on spectra the model was not trained on, and
+    /// the report gives every file's figures, their mean and the worst file: a file that is not
+    /// in the training recipe is uplifted by the recipe's model; one that is, by the model trained
+    /// on the recipe's other files (leave one set out; --folds K: on the other files and the
+    /// file's other K − 1 folds; a recipe of that one file alone: 10-fold within it). The recipe
+    /// is --train with --weights, --balance, --clusters and --min-cluster-size, or else the
+    /// model's own: its recorded sets, weights and options (each recorded set's file among
+    /// --spectra).
+    #[derive(Debug)]
+    pub struct Args {
+        spectra: Vec<PathBuf> = (defs::EVAL_SPECTRA),
+        method: MethodName = (defs::EVAL_METHOD),
+        model: Option<PathBuf> = (defs::EVAL_MODEL),
+        train: Vec<PathBuf> = (defs::EVAL_TRAIN),
+        clusters: usize = (defs::EVAL_CLUSTERS),
+        min_cluster_size: usize = (defs::EVAL_MIN_CLUSTER_SIZE),
+        weights: methods::WeightArgs = flatten,
+        by_set: bool = (defs::EVAL_BY_SET),
+        folds: Option<u32> = (defs::EVAL_FOLDS),
+        against: Option<PathBuf> = (defs::EVAL_AGAINST),
+        setting: methods::SettingArgs = flatten,
+        blend: methods::BlendArg = flatten,
+        shift: methods::ShiftArg = flatten,
+        bounded: bool = (defs::EVAL_BOUNDED),
+        json: bool = (defs::EVAL_JSON),
+        per_spectrum: bool = (defs::EVAL_PER_SPECTRUM),
+    }
 }
 
 #[derive(serde::Serialize)]
@@ -238,23 +206,8 @@ impl Args {
     /// The method stack these options describe.
     pub(crate) fn stack_spec(&self) -> specconv_spectral::stack::StackSpec {
         self.setting
-            .describe(self.method, self.blend.width, self.bounded)
+            .describe(self.method, self.blend.options.blend, self.bounded)
     }
-}
-
-/// The clustered methods' model: read (or built in), or trained here on --train; and how
-/// the report names it.
-/// `--model`'s help, the built-in models named from their list (issue 58: it once named a
-/// model that does not exist).
-fn model_help() -> String {
-    let names: Vec<&str> = BUILTIN.iter().map(|b| b.name).collect();
-    format!(
-        "A built-in model by name ({}: `specconv models` lists them) or a model file from \
-         `specconv train`; when absent, the site default ${}, else {}",
-        names.join(", "),
-        specconv_conversion::models::MODEL_ENV,
-        names[0]
-    )
 }
 
 fn model(args: &Args) -> Result<(Model, String)> {

@@ -3,12 +3,13 @@
 
 use super::convert::{ending, paths, printing};
 use crate::errors::{explain, print_error, usage};
-use crate::options::{OptionArgs, Taken};
 use crate::progress::{Closing, Progress};
 use crate::stdio::StdoutFailed;
 use crate::{records, signals};
 use anyhow::Result;
 use specconv_conversion::{Event, Expansions, Key};
+use specconv_flags::defs;
+use specconv_flags::{OptionArgs, Taken};
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
@@ -21,35 +22,27 @@ Examples:
   specconv expand compact/*.exr -o spectral -u --json > expand.jsonl
 ";
 
-/// Write compact textures (`convert --layout compact`) out in the spectral layout.
-///
-/// Each texel of a compact file holds its colour and the three dual unknowns of the bounded
-/// projection; the header holds the model's maps on the output grid and the decoding rule
-/// (docs/compact.md). Level 0 is decoded by that rule and the smaller levels are filtered from
-/// its spectra, as `convert` filters its own; samples are rounded, compressed and tiled as
-/// `convert` with the compact file's settings would have, and the header keeps its provenance.
-/// The values are `convert`'s, within one half step (the dual unknowns are stored as float32).
-/// Several inputs are expanded in turn, as `convert` converts them: the whole plan is checked
-/// before the first write, and a failed input does not stop the others.
-#[derive(Debug, clap::Args)]
-pub struct Args {
-    /// Compact textures (`specconvLayout` = "compact 2"), then the output file when expanding
-    /// one; `-` reads input paths from standard input, one per line.
-    #[arg(value_name = "INPUT… [OUTPUT]", required = true)]
-    paths: Vec<PathBuf>,
-    /// Write every output into this directory, as STEM_spectral.exr.
-    #[arg(short, long, value_name = "DIR", conflicts_with = "output_template")]
-    output: Option<PathBuf>,
-    /// Output path for each input, as `convert --output-template` names them ({dir}, {stem},
-    /// {name}, {ext}).
-    #[arg(long, value_name = "TEMPLATE")]
-    output_template: Option<String>,
-    /// -u, --json, --progress, -q, as `convert` takes them.
-    #[command(flatten)]
-    batch: super::convert::BatchArgs,
-    /// -j, --force, --fixnan, as the library defines them.
-    #[command(flatten)]
-    options: OptionArgs<Expanding>,
+specconv_flags::args! {
+    /// Write compact textures (`convert --layout compact`) out in the spectral layout.
+    ///
+    /// Each texel of a compact file holds its colour and the three dual unknowns of the bounded
+    /// projection; the header holds the model's maps on the output grid and the decoding rule
+    /// (docs/compact.md). Level 0 is decoded by that rule and the smaller levels are filtered from
+    /// its spectra, as `convert` filters its own; samples are rounded, compressed and tiled as
+    /// `convert` with the compact file's settings would have, and the header keeps its provenance.
+    /// The values are `convert`'s, within one half step (the dual unknowns are stored as float32).
+    /// Several inputs are expanded in turn, as `convert` converts them: the whole plan is checked
+    /// before the first write, and a failed input does not stop the others.
+    #[derive(Debug)]
+    pub struct Args {
+        paths: Vec<PathBuf> = (defs::EXPAND_PATHS),
+        output: Option<PathBuf> = (defs::EXPAND_OUTPUT),
+        output_template: Option<String> = (defs::EXPAND_OUTPUT_TEMPLATE),
+        /// -u, --json, --progress, -q, as `convert` takes them.
+        batch: super::convert::BatchArgs = flatten,
+        /// -j, --force, --fixnan, as the library defines them.
+        options: OptionArgs<Expanding> = flatten,
+    }
 }
 
 /// The options of a conversion that `expand` takes: threads, replacing outputs, and NaN

@@ -10,6 +10,7 @@ use specconv_atomic_file::shown::escaped;
 use specconv_conversion::{
     ChannelReason, ColourConfig, CompactFacts, Inspection, ReadAs, SpectralFacts,
 };
+use specconv_flags::defs;
 use std::path::{Path, PathBuf};
 
 /// Shown after `--help` and as the man page's EXAMPLES.
@@ -20,35 +21,28 @@ Examples:
   specconv --ocio studio.ocio info --colorspace ACEScg plate.exr
 ";
 
-/// Show images as specconv reads them: size, channels, pixel format, tiles, MIP levels,
-/// the colour space the file declares and the one specconv would use, and for spectral
-/// EXRs the wavelength bands.
-///
-/// The input colour space follows the precedence of colour evidence (docs/colour.md), and
-/// `info` shows which row decided: 1 --colorspace; 2 the OCIO config's explicit file rules;
-/// 3 strong declarations in the file (ICC profile, EXR chromaticities and
-/// acesImageContainerFlag, a colour-space name a tool wrote); 4 weak ones (PNG sRGB, gAMA,
-/// cHRM); 5 the Default rule of a config given by --ocio or $OCIO; 6 linear Rec.709 (D65)
-/// for float pixels and sRGB texture for integer pixels. One channel is data unless rows 1
-/// to 3 call it colour. The route to CIE XYZ is checked too, so `info` fails, saying why,
-/// where a conversion would (a config without an interchange role).
-#[derive(Debug, clap::Args)]
-pub struct Args {
-    /// Image files, in any format OpenImageIO reads (EXR, TIFF/.tx, PNG, JPEG, HDR, ...). A
-    /// file that cannot be read is reported and the others are still shown (exit status 1).
-    #[arg(required = true)]
-    files: Vec<PathBuf>,
-    /// The global --ocio (see `specconv --help`).
-    #[arg(skip)]
-    pub(crate) ocio: Option<String>,
-    /// Colour space to read the file in, overriding its declaration.
-    #[arg(long, visible_alias = "iscolorspace", value_name = "NAME")]
-    colorspace: Option<String>,
-    #[command(flatten)]
-    read: super::convert::ReadArgs,
-    /// Print one JSON object per file, one per line, instead of text (docs/json.md).
-    #[arg(long)]
-    json: bool,
+specconv_flags::args! {
+    /// Show images as specconv reads them: size, channels, pixel format, tiles, MIP levels,
+    /// the colour space the file declares and the one specconv would use, and for spectral
+    /// EXRs the wavelength bands.
+    ///
+    /// The input colour space follows the precedence of colour evidence (docs/colour.md), and
+    /// `info` shows which row decided: 1 --colorspace; 2 the OCIO config's explicit file rules;
+    /// 3 strong declarations in the file (ICC profile, EXR chromaticities and
+    /// acesImageContainerFlag, a colour-space name a tool wrote); 4 weak ones (PNG sRGB, gAMA,
+    /// cHRM); 5 the Default rule of a config given by --ocio or $OCIO; 6 linear Rec.709 (D65)
+    /// for float pixels and sRGB texture for integer pixels. One channel is data unless rows 1
+    /// to 3 call it colour. The route to CIE XYZ is checked too, so `info` fails, saying why,
+    /// where a conversion would (a config without an interchange role).
+    #[derive(Debug)]
+    pub struct Args {
+        files: Vec<PathBuf> = (defs::INFO_FILES),
+        /// The global --ocio (see `specconv --help`).
+        pub(crate) ocio: Option<String> = skip,
+        colorspace: Option<String> = (defs::INFO_COLORSPACE),
+        read: specconv_flags::OptionArgs<specconv_flags::Reading> = flatten,
+        json: bool = (defs::INFO_JSON),
+    }
 }
 
 #[derive(Serialize)]
@@ -210,8 +204,8 @@ pub fn run(args: Args) -> Result<i32> {
     checks::input_colorspace(&config, args.colorspace.as_deref())?;
     let mut options = specconv_conversion::Options::default();
     options.colorspace.clone_from(&args.colorspace);
-    options.subimage.clone_from(&args.read.subimage);
-    options.channels.clone_from(&args.read.channels);
+    options.subimage.clone_from(&args.read.options.subimage);
+    options.channels.clone_from(&args.read.options.channels);
     let mut status = exit::OK;
     for (i, file) in args.files.iter().enumerate() {
         if !args.json && i > 0 {

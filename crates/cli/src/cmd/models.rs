@@ -3,6 +3,7 @@
 
 use anyhow::Result;
 use specconv_conversion::models;
+use specconv_flags::defs;
 use specconv_spectral::otsu2018::model::BUILTIN;
 use specconv_spectral::otsu2018::terms::Notice;
 use specconv_spectral::Model;
@@ -17,24 +18,20 @@ Examples:
   specconv models --json | jq '.models[] | {name, commercial}'
 ";
 
-/// List the built-in models (and model files named here) with the data each was trained on,
-/// its terms, the credits it asks for and the notices that must ship with it; and say which
-/// model a conversion uses when none is named, and why.
-///
-/// When no --model is given, every command, the Python package, farm tasks and the Mitsuba
-/// plugins use the site's default model, $SPECCONV_MODEL (a built-in name or a model file), or
-/// else the built-in default (the first listed). A model may be used commercially only when
-/// every set it was trained on may; each output records the answer (`specconvCommercialUse`).
-#[derive(Debug, clap::Args)]
-pub struct Args {
-    /// Also describe these models: built-in names or model files from `specconv train`.
-    #[arg(value_name = "NAME|MODEL")]
-    models: Vec<PathBuf>,
-    /// Print one JSON object: in_force {model, origin, commercial}, models[] {name, builtin,
-    /// default, summary, commercial, clusters, sets[] {source, count, weight, licence,
-    /// commercial, attribution}, notices[]}, notices[] {title, text}.
-    #[arg(long)]
-    json: bool,
+specconv_flags::args! {
+    /// List the built-in models (and model files named here) with the data each was trained on,
+    /// its terms, the credits it asks for and the notices that must ship with it; and say which
+    /// model a conversion uses when none is named, and why.
+    ///
+    /// When no --model is given, every command, the Python package, farm tasks and the Mitsuba
+    /// plugins use the site's default model, $SPECCONV_MODEL (a built-in name or a model file), or
+    /// else the built-in default (the first listed). A model may be used commercially only when
+    /// every set it was trained on may; each output records the answer (`specconvCommercialUse`).
+    #[derive(Debug)]
+    pub struct Args {
+        models: Vec<PathBuf> = (defs::MODELS_NAMES),
+        json: bool = (defs::MODELS_JSON),
+    }
 }
 
 #[derive(serde::Serialize)]

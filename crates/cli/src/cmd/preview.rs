@@ -7,10 +7,8 @@ use anyhow::Result;
 use serde::Serialize;
 use specconv_colour::Illuminant;
 use specconv_figures::picture;
+use specconv_flags::defs;
 use std::path::PathBuf;
-
-/// The most bounces asked for: r^(K+1) of any reflectance below 1 is black long before.
-const MAX_BOUNCES: u32 = 100;
 
 /// Shown after `--help` and as the man page's EXAMPLES.
 pub const EXAMPLES: &str = "\
@@ -19,48 +17,35 @@ Examples:
   specconv preview albedo_spectral.exr -o diff.png --bounces 3 --diff-rgb --illuminant A
 ";
 
-/// Preview a spectral texture after K interreflections with itself, as an 8-bit sRGB PNG.
-///
-/// Each pixel's reflectance r becomes the light that has met it K + 1 times, r^(K+1), under
-/// the light: XYZ = Σ r^(K+1)·I·x̄ / Σ I·ȳ, so a white stays white (Y = 1) at every K and
-/// K = 0 is the texture's own colour (as `to-rgb`). XYZ is shown as display sRGB for a D65
-/// white, without adaptation to the light, clipped to [0, 1]. An emission file (`S0.`
-/// channels) has no reflectance to bounce: at K = 0 it is shown as its own colour, as `to-rgb`
-/// integrates it in the units it records.
-///
-/// --diff-rgb writes instead a heat map of the CIEDE2000 between that and plain RGB
-/// multiplication, the answer of an RGB renderer: per linear Rec.709 channel, the light's
-/// colour times the pixel's albedo to the power K + 1, where the albedo is the pixel's colour
-/// (r under the file's illuminant, Rec.709 primaries with the file's white as 1, 1, 1) and the
-/// light's colour is that of a white reflector under --illuminant. Under the file's own
-/// illuminant the light is (1, 1, 1) and the reference is the K = 0 colour raised to K + 1 per
-/// channel. CIELAB's white is the white reflector under the light. The colour bar on the right
-/// runs from 0 to the largest ΔE (at least 1); max and mean are printed.
-#[derive(Debug, clap::Args)]
-pub struct Args {
-    /// A spectral OpenEXR of reflectances (Fichet et al. 2021 layout), e.g. from convert; or of
-    /// emission, with no bounces.
-    input: PathBuf,
-    /// The picture to write (.png).
-    #[arg(short, long, value_name = "OUT.png")]
-    output: PathBuf,
-    /// The light: D65, E, A, D50, FL2, FL11 or blackbody:KELVIN. Default: the file's
-    /// illuminant (its specconvIlluminant attribute, else D65).
-    #[arg(long)]
-    illuminant: Option<Illuminant>,
-    /// Interreflections K: the reflectance is met K + 1 times (0: the texture as it is).
-    #[arg(long, value_name = "K", default_value_t = 0,
-          value_parser = clap::value_parser!(u32).range(..=i64::from(MAX_BOUNCES)))]
-    bounces: u32,
-    /// Write the CIEDE2000 heat map against plain RGB multiplication instead.
-    #[arg(long)]
-    diff_rgb: bool,
-    /// Print a JSON summary (sizes, light, and ΔE max and mean with --diff-rgb) on stdout.
-    #[arg(long)]
-    json: bool,
-    /// --force, as the library defines it.
-    #[command(flatten)]
-    force: crate::options::ForceArg,
+specconv_flags::args! {
+    /// Preview a spectral texture after K interreflections with itself, as an 8-bit sRGB PNG.
+    ///
+    /// Each pixel's reflectance r becomes the light that has met it K + 1 times, r^(K+1), under
+    /// the light: XYZ = Σ r^(K+1)·I·x̄ / Σ I·ȳ, so a white stays white (Y = 1) at every K and
+    /// K = 0 is the texture's own colour (as `to-rgb`). XYZ is shown as display sRGB for a D65
+    /// white, without adaptation to the light, clipped to [0, 1]. An emission file (`S0.`
+    /// channels) has no reflectance to bounce: at K = 0 it is shown as its own colour, as `to-rgb`
+    /// integrates it in the units it records.
+    ///
+    /// --diff-rgb writes instead a heat map of the CIEDE2000 between that and plain RGB
+    /// multiplication, the answer of an RGB renderer: per linear Rec.709 channel, the light's
+    /// colour times the pixel's albedo to the power K + 1, where the albedo is the pixel's colour
+    /// (r under the file's illuminant, Rec.709 primaries with the file's white as 1, 1, 1) and the
+    /// light's colour is that of a white reflector under --illuminant. Under the file's own
+    /// illuminant the light is (1, 1, 1) and the reference is the K = 0 colour raised to K + 1 per
+    /// channel. CIELAB's white is the white reflector under the light. The colour bar on the right
+    /// runs from 0 to the largest ΔE (at least 1); max and mean are printed.
+    #[derive(Debug)]
+    pub struct Args {
+        input: PathBuf = (defs::PREVIEW_INPUT),
+        output: PathBuf = (defs::PREVIEW_OUTPUT),
+        illuminant: Option<Illuminant> = (defs::PREVIEW_ILLUMINANT),
+        bounces: u32 = (defs::PREVIEW_BOUNCES),
+        diff_rgb: bool = (defs::PREVIEW_DIFF_RGB),
+        json: bool = (defs::PREVIEW_JSON),
+        /// --force, as the library defines it.
+        force: specconv_flags::ForceArg = flatten,
+    }
 }
 
 #[derive(Serialize)]

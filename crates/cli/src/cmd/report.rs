@@ -9,6 +9,7 @@ use specconv_atomic_file::Replace;
 use specconv_colour::{Colorimetry, Grid};
 use specconv_evaluation::{cost, eval};
 use specconv_figures::plot;
+use specconv_flags::defs;
 use specconv_spectral::method::MethodName;
 use specconv_spectral::stack::{Setting, Stack, StackSpec};
 use specconv_spectral::{Method, Model, TrainOptions};
@@ -22,78 +23,43 @@ Examples:
   specconv report --by-set --spectra munsell.csv --spectra usgs_soils.csv --spectra leaves.csv
 ";
 
-/// Measure every uplift method on the same measured spectra: accuracy against cost.
-///
-/// Rows: smits1999, meng2015, meng2015-bounded, jakob2019, pca, otsu2018 at each --clusters
-/// count (with 8, also otsu2018-bounded: its spectra kept in [0, 1] with their XYZ, as
-/// `convert` writes them by default), and otsu2018 with 8 clusters at each --steps band
-/// width. Columns: Δe = ‖s − r‖² mean,
-/// median and max; the colour shift under each --shift-under illuminant (CIEDE2000 between
-/// measured and uplifted spectra lit by it: mean, 95th percentile, max); the round trip (max |XYZ(r) − XYZ(s)| / Y(s) and max CIEDE2000); the
-/// fraction of spectra inside [0, 1]; the model's size in bytes (the data the f32 uplift
-/// reads); and the cost of the f32 uplift alone, in nanoseconds per colour and Mpixel/s, on one
-/// thread and on all, measured in this run over --colours random linear sRGB colours, 4096 per
-/// tile. The clustered models are trained on --train (default: --spectra itself, the paper's
-/// Table 1 setting) or, with --holdout K, K-fold on --spectra: trained on K−1 parts, evaluated
-/// on the held-out one; or, with --by-set, leave one set out: each --spectra file evaluated by
-/// the model trained on the other files (weighted by --weights and --balance), the row's
-/// figures over all files, and its note the mean over files and the worst file.
-#[derive(Debug, clap::Args)]
-pub struct Args {
-    /// Measured spectra to evaluate on (CSV). Repeat for several files.
-    #[arg(long, value_name = "CSV", required = true)]
-    spectra: Vec<PathBuf>,
-    /// Spectra to train the clustered models on (default: --spectra).
-    #[arg(long, value_name = "CSV", conflicts_with_all = ["holdout", "by_set"])]
-    train: Vec<PathBuf>,
-    /// Leave one set out: each --spectra file scored by the models trained on the others.
-    #[arg(long, conflicts_with = "holdout")]
-    by_set: bool,
-    #[command(flatten)]
-    weights: methods::WeightArgs,
-    /// K-fold cross-validation of the clustered models on --spectra (K ≥ 2).
-    #[arg(long, value_name = "K", value_parser = clap::value_parser!(u32).range(2..))]
-    holdout: Option<u32>,
-    /// Cluster counts of the otsu2018 rows (1 is the pca row).
-    #[arg(long, value_name = "K,…", value_delimiter = ',')]
-    #[arg(default_value = "1,2,4,8,16,32")]
-    clusters: Vec<usize>,
-    /// Band widths in nm of the extra otsu2018 rows (8 clusters, same range).
-    #[arg(
-        long,
-        value_name = "NM,…",
-        value_delimiter = ',',
-        default_value = "5,1"
-    )]
-    steps: Vec<f64>,
-    /// Smallest cluster of the trained models (the paper's Table 1 used 4).
-    #[arg(long, value_name = "N", default_value_t = TrainOptions::default().min_cluster_size)]
-    min_cluster_size: usize,
-    #[command(flatten)]
-    colorimetry: methods::ColorimetryArgs,
-    #[command(flatten)]
-    blend: methods::BlendArg,
-    #[command(flatten)]
-    shift: methods::ShiftArg,
-    #[command(flatten)]
-    jakob: methods::JakobArg,
-    /// Colours uplifted to measure the cost of each method.
-    #[arg(long, value_name = "N", default_value_t = 1 << 20)]
-    colours: usize,
-    /// Threads of the "all threads" measurement (default: one per core).
-    #[arg(short = 'j', long, value_name = "N")]
-    threads: Option<usize>,
-    /// Print the table as JSON.
-    #[arg(long, conflicts_with = "csv")]
-    json: bool,
-    /// Print the table as CSV.
-    #[arg(long)]
-    csv: bool,
-    /// Also draw accuracy (Δe mean) against time per colour into FILE: SVG or PNG, by the
-    /// extension (.svg, .png). Text needs a TrueType font: DejaVu Sans (Debian package
-    /// fonts-dejavu-core) or the file named by $SPECCONV_FONT.
-    #[arg(long, value_name = "FILE.svg|FILE.png")]
-    plot: Option<PathBuf>,
+specconv_flags::args! {
+    /// Measure every uplift method on the same measured spectra: accuracy against cost.
+    ///
+    /// Rows: smits1999, meng2015, meng2015-bounded, jakob2019, pca, otsu2018 at each --clusters
+    /// count (with 8, also otsu2018-bounded: its spectra kept in [0, 1] with their XYZ, as
+    /// `convert` writes them by default), and otsu2018 with 8 clusters at each --steps band
+    /// width. Columns: Δe = ‖s − r‖² mean,
+    /// median and max; the colour shift under each --shift-under illuminant (CIEDE2000 between
+    /// measured and uplifted spectra lit by it: mean, 95th percentile, max); the round trip (max |XYZ(r) − XYZ(s)| / Y(s) and max CIEDE2000); the
+    /// fraction of spectra inside [0, 1]; the model's size in bytes (the data the f32 uplift
+    /// reads); and the cost of the f32 uplift alone, in nanoseconds per colour and Mpixel/s, on one
+    /// thread and on all, measured in this run over --colours random linear sRGB colours, 4096 per
+    /// tile. The clustered models are trained on --train (default: --spectra itself, the paper's
+    /// Table 1 setting) or, with --holdout K, K-fold on --spectra: trained on K−1 parts, evaluated
+    /// on the held-out one; or, with --by-set, leave one set out: each --spectra file evaluated by
+    /// the model trained on the other files (weighted by --weights and --balance), the row's
+    /// figures over all files, and its note the mean over files and the worst file.
+    #[derive(Debug)]
+    pub struct Args {
+        spectra: Vec<PathBuf> = (defs::REPORT_SPECTRA),
+        train: Vec<PathBuf> = (defs::REPORT_TRAIN),
+        by_set: bool = (defs::REPORT_BY_SET),
+        weights: methods::WeightArgs = flatten,
+        holdout: Option<u32> = (defs::REPORT_HOLDOUT),
+        clusters: Vec<usize> = (defs::REPORT_CLUSTERS),
+        steps: Vec<f64> = (defs::REPORT_STEPS),
+        min_cluster_size: usize = (defs::REPORT_MIN_CLUSTER_SIZE),
+        colorimetry: methods::ColorimetryArgs = flatten,
+        blend: methods::BlendArg = flatten,
+        shift: methods::ShiftArg = flatten,
+        jakob: methods::JakobArg = flatten,
+        colours: usize = (defs::REPORT_COLOURS),
+        threads: Option<usize> = (defs::REPORT_THREADS),
+        json: bool = (defs::REPORT_JSON),
+        csv: bool = (defs::REPORT_CSV),
+        plot: Option<PathBuf> = (defs::REPORT_PLOT),
+    }
 }
 
 #[derive(Debug, Serialize)]
@@ -175,7 +141,7 @@ fn baseline_rows(args: &Args, pool: &rayon::ThreadPool) -> Result<Vec<Row>> {
     ] {
         let d = StackSpec::measured(
             name,
-            args.blend.width,
+            args.blend.options.blend,
             args.colorimetry.setting(),
             args.jakob.resolution,
             false,
@@ -225,8 +191,8 @@ fn clustered_rows(args: &Args, pool: &rayon::ThreadPool) -> Result<Vec<Row>> {
         } else {
             format!("{} clusters", model.leaves.len())
         };
-        if args.blend.width > 0.0 && model.leaves.len() > 1 {
-            setting = format!("{setting}, blend {}", args.blend.width);
+        if args.blend.options.blend > 0.0 && model.leaves.len() > 1 {
+            setting = format!("{setting}, blend {}", args.blend.options.blend);
         }
         if grid != bands {
             setting = format!("{setting}, {} nm", grid.step);
@@ -265,7 +231,7 @@ fn read(paths: &[PathBuf], grid: &Grid) -> Result<Vec<Vec<f64>>> {
 fn uplifter(args: &Args, model: &Model, bounded: bool) -> Result<Stack> {
     let d = StackSpec::measured(
         MethodName::Otsu2018,
-        args.blend.width,
+        args.blend.options.blend,
         Setting::default(),
         args.jakob.resolution,
         bounded,

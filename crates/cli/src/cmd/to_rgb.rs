@@ -3,6 +3,7 @@
 use crate::errors::{explain, usage};
 use anyhow::Result;
 use specconv_colour::Illuminant;
+use specconv_flags::defs;
 use std::path::PathBuf;
 
 /// Shown after `--help` and as the man page's EXAMPLES.
@@ -12,40 +13,33 @@ Examples:
   specconv to-rgb albedo_spectral.exr under_a.exr --illuminant A --colorspace ACEScg
 ";
 
-/// Integrate a spectral OpenEXR back to colour: XYZ, then a colour space.
-///
-/// Spectra are integrated as the layout's reference implementation does, at any wavelengths
-/// (uneven, any unit, Hz): interpolated linearly onto the observer's 1 nm table where the
-/// bands, the table and the illuminant overlap, and summed there. Reflectances r give
-/// XYZ = Σ r·I·x̄ / Σ I·ȳ under the file's illuminant and observer (its `specconvIlluminant`
-/// and `specconvObserver` attributes, else D65 and CIE 1931); bispectral files add the
-/// re-radiated light, Σ over incident bands of T(λi→λo)·I(λi). Emission (`S0.` channels) is
-/// read in the convention the file records (`specconvEmissionUnits`; older specconv files:
-/// normalised; other writers: the layout's reference, XYZ = Σ S0·x̄). Polarised files use S0;
-/// channels outside the layout (an RGB preview beside the spectra) are listed, not used.
-/// XYZ is converted through OpenColorIO from CIE-XYZ-D65 to --colorspace and written as a
-/// float RGB OpenEXR (RGBA when the input has alpha) that declares that space: its
-/// chromaticities (and acesImageContainerFlag for ACES2065-1) and its name, so that other
-/// readers take the values as that colour.
-#[derive(Debug, clap::Args)]
-pub struct Args {
-    /// A spectral OpenEXR (Fichet et al. 2021 layout), e.g. written by specconv.
-    input: PathBuf,
-    /// The colour image to write (.exr).
-    output: PathBuf,
-    /// Colour space of the output; default: the config's scene_linear role.
-    #[arg(long, value_name = "NAME")]
-    colorspace: Option<String>,
-    /// Light the reflectances under this illuminant instead of the file's (reflectance files
-    /// only: emission is its own light).
-    #[arg(long)]
-    illuminant: Option<Illuminant>,
-    /// The global --ocio (see `specconv --help`).
-    #[arg(skip)]
-    pub(crate) ocio: Option<String>,
-    /// --force, as the library defines it.
-    #[command(flatten)]
-    force: crate::options::ForceArg,
+specconv_flags::args! {
+    /// Integrate a spectral OpenEXR back to colour: XYZ, then a colour space.
+    ///
+    /// Spectra are integrated as the layout's reference implementation does, at any wavelengths
+    /// (uneven, any unit, Hz): interpolated linearly onto the observer's 1 nm table where the
+    /// bands, the table and the illuminant overlap, and summed there. Reflectances r give
+    /// XYZ = Σ r·I·x̄ / Σ I·ȳ under the file's illuminant and observer (its `specconvIlluminant`
+    /// and `specconvObserver` attributes, else D65 and CIE 1931); bispectral files add the
+    /// re-radiated light, Σ over incident bands of T(λi→λo)·I(λi). Emission (`S0.` channels) is
+    /// read in the convention the file records (`specconvEmissionUnits`; older specconv files:
+    /// normalised; other writers: the layout's reference, XYZ = Σ S0·x̄). Polarised files use S0;
+    /// channels outside the layout (an RGB preview beside the spectra) are listed, not used.
+    /// XYZ is converted through OpenColorIO from CIE-XYZ-D65 to --colorspace and written as a
+    /// float RGB OpenEXR (RGBA when the input has alpha) that declares that space: its
+    /// chromaticities (and acesImageContainerFlag for ACES2065-1) and its name, so that other
+    /// readers take the values as that colour.
+    #[derive(Debug)]
+    pub struct Args {
+        input: PathBuf = (defs::TO_RGB_INPUT),
+        output: PathBuf = (defs::TO_RGB_OUTPUT),
+        colorspace: Option<String> = (defs::TO_RGB_COLORSPACE),
+        illuminant: Option<Illuminant> = (defs::TO_RGB_ILLUMINANT),
+        /// The global --ocio (see `specconv --help`).
+        pub(crate) ocio: Option<String> = skip,
+        /// --force, as the library defines it.
+        force: specconv_flags::ForceArg = flatten,
+    }
 }
 
 pub fn run(args: Args) -> Result<()> {

@@ -3,7 +3,7 @@
 use crate::files;
 use anyhow::Result;
 use specconv_atomic_file::Replace;
-use specconv_spectral::otsu2018::train::SMALLEST_CLUSTER;
+use specconv_flags::defs;
 use specconv_spectral::TrainOptions;
 use std::path::{Path, PathBuf};
 
@@ -17,57 +17,25 @@ Examples:
       --with open --with-data ../shared/spectra -o studio.json
 ";
 
-/// Train a clustered-PCA model on measured reflectance spectra.
-///
-/// Builds the kd-tree on CIE xy of the paper (Eq. 10–13): every split is placed where the summed
-/// reconstruction error ‖s − r‖² of both sides is least, and the leaf whose split gains most is
-/// split next, until --clusters leaves exist or no split helps. Same data, same model, bit for bit.
-#[derive(Debug, clap::Args)]
-pub struct Args {
-    /// Measured spectra: CSV with a wavelength column, then one column per named sample.
-    /// Repeat to train on several files (none with --with: the model's own data alone, which
-    /// gives the model back bit for bit).
-    #[arg(long, value_name = "CSV", required_unless_present = "with")]
-    spectra: Vec<PathBuf>,
-    /// Number of clusters (leaves of the tree) [default: 8, or the --with model's].
-    #[arg(long, value_name = "K")]
-    clusters: Option<usize>,
-    /// Smallest number of spectra in a cluster. Small clusters fit their training spectra
-    /// closely but generalise badly; the paper's Table 1 used 4 [default: 20, or the --with
-    /// model's].
-    #[arg(long, value_name = "N", value_parser = min_cluster_size)]
-    min_cluster_size: Option<usize>,
-    /// Largest condition number of a cluster's 3×3 matrix M that a split may create. Near-singular
-    /// M turn colours the cluster was not trained on into wild spectra [default: 100, or the
-    /// --with model's].
-    #[arg(long, value_name = "BOUND")]
-    max_condition: Option<f64>,
-    /// Train on top of a model's own data: a built-in model (NAME) or a model file, whose
-    /// recorded sets (read from --with-data) join the --spectra files with their recorded
-    /// weights and terms, in its grid, observer and illuminant, its options the defaults of
-    /// the three above. The way to a model a studio owns: its swatches on top of `open`.
-    #[arg(long, value_name = "NAME|MODEL", requires = "with_data")]
-    with: Option<PathBuf>,
-    /// The folder holding the --with model's sets, by the file names it records
-    /// (../shared/spectra for the built-in models).
-    #[arg(long, value_name = "DIR", requires = "with")]
-    with_data: Option<PathBuf>,
-    #[command(flatten)]
-    weights: crate::methods::WeightArgs,
-    #[command(flatten)]
-    colorimetry: crate::methods::ColorimetryArgs,
-    /// Where to write the model (JSON).
-    #[arg(short, long, value_name = "MODEL")]
-    output: PathBuf,
-    /// --force, as the library defines it.
-    #[command(flatten)]
-    force: crate::options::ForceArg,
-}
-
-fn min_cluster_size(s: &str) -> Result<usize, String> {
-    match s.parse::<usize>() {
-        Ok(n) if n >= SMALLEST_CLUSTER => Ok(n),
-        _ => Err(format!("must be a whole number ≥ {SMALLEST_CLUSTER}: three principal components need four spectra")),
+specconv_flags::args! {
+    /// Train a clustered-PCA model on measured reflectance spectra.
+    ///
+    /// Builds the kd-tree on CIE xy of the paper (Eq. 10–13): every split is placed where the summed
+    /// reconstruction error ‖s − r‖² of both sides is least, and the leaf whose split gains most is
+    /// split next, until --clusters leaves exist or no split helps. Same data, same model, bit for bit.
+    #[derive(Debug)]
+    pub struct Args {
+        spectra: Vec<PathBuf> = (defs::TRAIN_SPECTRA),
+        clusters: Option<usize> = (defs::TRAIN_CLUSTERS),
+        min_cluster_size: Option<usize> = (defs::TRAIN_MIN_CLUSTER_SIZE),
+        max_condition: Option<f64> = (defs::TRAIN_MAX_CONDITION),
+        with: Option<PathBuf> = (defs::TRAIN_WITH),
+        with_data: Option<PathBuf> = (defs::TRAIN_WITH_DATA),
+        weights: crate::methods::WeightArgs = flatten,
+        colorimetry: crate::methods::ColorimetryArgs = flatten,
+        output: PathBuf = (defs::TRAIN_OUTPUT),
+        /// --force, as the library defines it.
+        force: specconv_flags::ForceArg = flatten,
     }
 }
 

@@ -12,7 +12,8 @@ use crate::stdio::StdoutFailed;
 use crate::{exit, records, signals};
 use anyhow::Result;
 use specconv_conversion::plan::Pair;
-use specconv_conversion::{Advice, Batch, Converter, Event, Key, Options};
+use specconv_conversion::{Advice, Batch, Converter, Event, Options};
+use specconv_flags::defs;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
@@ -28,90 +29,46 @@ Examples:
   find textures -name '*.tx' | specconv convert - -o spectral --progress always 2> convert.log
 ";
 
-/// Convert textures to spectral OpenEXR images (the default command).
-///
-/// Reads each INPUT through OpenImageIO (any format it reads; of a MIP-mapped input only the
-/// full-resolution level 0, as maketx does), converts it to CIE XYZ (D65) through OpenColorIO,
-/// uplifts every pixel to a reflectance spectrum with the model, makes the smaller MIP levels
-/// by filtering its spectra, and writes a spectral OpenEXR in the layout of Fichet et al. 2021 (`T.380,000000nm`
-/// … channels, alpha as `A`). Outputs are written to a temporary file and renamed into place,
-/// so a failed or interrupted run leaves no partial file; inputs are never overwritten.
-///
-/// Reflectances stop at 1: a colour with Y > 1 is brighter than white, which no reflectance
-/// is. Bounded methods move it to the closest colour a reflectance can have (brightness clipped
-/// at white); unbounded ones give it a spectrum above 1. The summary counts pixels above 1 and
-/// suggests --emissive when they look like an emission or HDR texture.
-#[derive(Debug, clap::Args)]
-pub struct Args {
-    /// Input textures, then the output file when converting one; `-` reads input paths from
-    /// standard input, one per line. A UDIM pattern (`wood.<UDIM>.png`, `<udim>` or
-    /// `%(UDIM)d` in the file name) stands for the tiles that exist, in tile order; converting
-    /// one pattern, name the output with the token too (`wood_spectral.<UDIM>.exr`).
-    #[arg(value_name = "INPUT… [OUTPUT]", required = true)]
-    paths: Vec<PathBuf>,
-    /// Write every output into this directory, as STEM_spectral.exr (a data texture written
-    /// through by --data copy as STEM_data.exr).
-    #[arg(short, long, value_name = "DIR", conflicts_with = "output_template")]
-    output: Option<PathBuf>,
-    /// Output path for each input; {dir}, {stem}, {name} and {ext} are the input's directory,
-    /// name without extension, file name and extension, {udim} its UDIM tile number (1001…),
-    /// {tile} the same tile as u1_v1 ('{dir}/{stem}_{ext}_spectral.exr' keeps brick.png
-    /// and brick.tx apart) and {role} 'spectral', or 'data' for a data texture written through
-    /// (without {role} both are one name). With {udim} or {tile}, {stem} leaves the tile
-    /// number out: '{dir}/{stem}_spectral.{udim}.exr' makes wood_spectral.1001.exr of
-    /// wood.1001.png. Any other {field} is refused before anything is written.
-    #[arg(long, value_name = "TEMPLATE")]
-    output_template: Option<String>,
-    /// The global --ocio (see `specconv --help`).
-    #[arg(skip)]
-    pub(crate) ocio: Option<String>,
-    /// The options of the conversion, made from the library's definitions.
-    #[command(flatten)]
-    pub(crate) conversion: crate::options::ConversionArgs,
-    /// -u, --json, --progress, -q.
-    #[command(flatten)]
-    pub(crate) batch: BatchArgs,
-    /// Convert only shard I of N (`I/N`, I from 0), or `auto/N` with I from
-    /// $SLURM_ARRAY_TASK_ID: inputs split by pixel count, the same plan on every run and as
-    /// `farm submit`, so N runs given the same inputs convert each exactly once.
-    #[arg(long, value_name = "I/N")]
-    shard: Option<specconv_farm::Shard>,
-    /// Say more: the colour space chosen and why, the config, the model.
-    #[arg(short, long)]
-    verbose: bool,
+specconv_flags::args! {
+    /// Convert textures to spectral OpenEXR images (the default command).
+    ///
+    /// Reads each INPUT through OpenImageIO (any format it reads; of a MIP-mapped input only the
+    /// full-resolution level 0, as maketx does), converts it to CIE XYZ (D65) through OpenColorIO,
+    /// uplifts every pixel to a reflectance spectrum with the model, makes the smaller MIP levels
+    /// by filtering its spectra, and writes a spectral OpenEXR in the layout of Fichet et al. 2021 (`T.380,000000nm`
+    /// … channels, alpha as `A`). Outputs are written to a temporary file and renamed into place,
+    /// so a failed or interrupted run leaves no partial file; inputs are never overwritten.
+    ///
+    /// Reflectances stop at 1: a colour with Y > 1 is brighter than white, which no reflectance
+    /// is. Bounded methods move it to the closest colour a reflectance can have (brightness clipped
+    /// at white); unbounded ones give it a spectrum above 1. The summary counts pixels above 1 and
+    /// suggests --emissive when they look like an emission or HDR texture.
+    #[derive(Debug)]
+    pub struct Args {
+        paths: Vec<PathBuf> = (defs::CONVERT_PATHS),
+        output: Option<PathBuf> = (defs::CONVERT_OUTPUT),
+        output_template: Option<String> = (defs::CONVERT_OUTPUT_TEMPLATE),
+        /// The global --ocio (see `specconv --help`).
+        pub(crate) ocio: Option<String> = skip,
+        /// The options of the conversion, made from the library's definitions.
+        pub(crate) conversion: specconv_flags::ConversionArgs = flatten,
+        /// -u, --json, --progress, -q.
+        pub(crate) batch: BatchArgs = flatten,
+        shard: Option<specconv_farm::Shard> = (defs::CONVERT_SHARD),
+        verbose: bool = (defs::CONVERT_VERBOSE),
+    }
 }
 
-/// `--subimage` and `--channels` of `info`, as the library defines them.
-#[derive(Debug, Clone, clap::Args)]
-pub struct ReadArgs {
-    #[arg(long, value_name = "N|NAME", help = Key::Subimage.about().help)]
-    pub subimage: Option<String>,
-    #[arg(long, value_name = "LIST|LAYER", help = Key::Channels.about().help)]
-    pub channels: Option<String>,
-}
-
-/// The flags every batch command (`convert`, `expand`, `asset`) takes, written once: what a
-/// batch skips and how it reports.
-#[derive(Debug, Clone, clap::Args)]
-pub struct BatchArgs {
-    /// Skip inputs whose output is newer than the input and was made with the same settings.
-    #[arg(short, long)]
-    pub update: bool,
-    /// Print one JSON object per input on standard output, every key on every record (null
-    /// where it does not apply): input, output, status (ok, skipped, failed), skip_reason,
-    /// error, seconds, pixels, width, height, levels, bands, colorspace, colorspace_rule,
-    /// subimage, channels, role, bounded, non_finite, above_one, saturated, warnings; status
-    /// `clipped` is a conversion with pixels above 1 in reflectance. See docs/json.md.
-    #[arg(long)]
-    pub json: bool,
-    /// Progress on standard error: `auto` shows a live line on a terminal (file i of n, the
-    /// batch's ETA) and a plain line every few seconds when standard error is a file; `always`
-    /// also into a pipe; `never` shows none.
-    #[arg(long, value_name = "WHEN", default_value = "auto")]
-    pub progress: crate::progress::When,
-    /// Print nothing but errors (no progress, no summary).
-    #[arg(short, long)]
-    pub quiet: bool,
+specconv_flags::args! {
+    /// The flags every batch command (`convert`, `expand`, `asset`) takes, written once: what a
+    /// batch skips and how it reports.
+    #[derive(Debug, Clone)]
+    pub struct BatchArgs {
+        pub update: bool = (defs::BATCH_UPDATE),
+        pub json: bool = (defs::BATCH_JSON),
+        pub progress: crate::progress::When = (defs::BATCH_PROGRESS),
+        pub quiet: bool = (defs::BATCH_QUIET),
+    }
 }
 
 impl BatchArgs {

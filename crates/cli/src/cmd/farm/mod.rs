@@ -6,6 +6,7 @@ use crate::cmd::convert;
 use crate::errors::usage;
 use anyhow::{anyhow, Context, Result};
 use specconv_conversion::{Key, Options};
+use specconv_flags::defs;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
@@ -60,85 +61,56 @@ enum Farm {
     Task(Task),
 }
 
-/// Submit a job array converting INPUT… (or `-`: paths on standard input) into -o DIR.
-///
-/// Takes every option of `convert`; -j comes from --cpus-per-task, and tasks always skip
-/// outputs that are up to date (-u). The inputs are split into --tasks shards of nearly equal
-/// pixel count, the same plan as `convert --shard`. A USD stage (.usd, .usda, .usdc, .usdz,
-/// given alone) is submitted as `specconv asset` converts it: each texture decided here by its
-/// material and converted by the tasks in that colour space, outputs below DIR; `farm collect`
-/// writes the layer DIR/STEM_spectral.usda (docs/farm.md).
-#[derive(Debug, clap::Args)]
-struct Submit {
-    #[command(flatten)]
-    convert: convert::Args,
-    /// Number of array tasks (shards).
-    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..))]
-    tasks: u32,
-    /// At most K tasks at once (`--array=0-(N-1)%K`).
-    #[arg(long, value_name = "K", value_parser = clap::value_parser!(u32).range(1..))]
-    max_running: Option<u32>,
-    /// Job directory, on a file system the nodes share (default: a new specconv-farm-TIME
-    /// folder in the -o directory).
-    #[arg(long, value_name = "JOBDIR")]
-    job_dir: Option<PathBuf>,
-    /// Slurm partition.
-    #[arg(long, value_name = "P")]
-    partition: Option<String>,
-    /// Time limit per task, as sbatch reads it (`30`, `2:00:00`, `1-0`).
-    #[arg(long, value_name = "T")]
-    time: Option<String>,
-    /// CPUs per task; each task converts with that many threads.
-    #[arg(long, value_name = "C", default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..))]
-    cpus_per_task: u32,
-    /// Memory per task (`4G`, `800M`; default: the measured peak for the largest input, plus
-    /// half).
-    #[arg(long, value_name = "M")]
-    mem: Option<String>,
-    /// Return when the array ends; exit 0 only if every file converted.
-    #[arg(long)]
-    wait: bool,
-    /// Print the plan, the sbatch command and the script; write and submit nothing.
-    #[arg(long)]
-    dry_run: bool,
+specconv_flags::args! {
+    /// Submit a job array converting INPUT… (or `-`: paths on standard input) into -o DIR.
+    ///
+    /// Takes every option of `convert`; -j comes from --cpus-per-task, and tasks always skip
+    /// outputs that are up to date (-u). The inputs are split into --tasks shards of nearly equal
+    /// pixel count, the same plan as `convert --shard`. A USD stage (.usd, .usda, .usdc, .usdz,
+    /// given alone) is submitted as `specconv asset` converts it: each texture decided here by its
+    /// material and converted by the tasks in that colour space, outputs below DIR; `farm collect`
+    /// writes the layer DIR/STEM_spectral.usda (docs/farm.md).
+    #[derive(Debug)]
+    struct Submit {
+        convert: convert::Args = flatten,
+        tasks: u32 = (defs::FARM_SUBMIT_TASKS),
+        max_running: Option<u32> = (defs::FARM_SUBMIT_MAX_RUNNING),
+        job_dir: Option<PathBuf> = (defs::FARM_SUBMIT_JOB_DIR),
+        partition: Option<String> = (defs::FARM_SUBMIT_PARTITION),
+        time: Option<String> = (defs::FARM_SUBMIT_TIME),
+        cpus_per_task: u32 = (defs::FARM_SUBMIT_CPUS_PER_TASK),
+        mem: Option<String> = (defs::FARM_SUBMIT_MEM),
+        wait: bool = (defs::FARM_WAIT),
+        dry_run: bool = (defs::FARM_SUBMIT_DRY_RUN),
+    }
 }
 
-#[derive(Debug, clap::Args)]
-struct Report {
-    /// The job directory `submit` printed.
-    #[arg(value_name = "JOBDIR")]
-    job_dir: PathBuf,
-    /// One JSON object on standard output.
-    #[arg(long)]
-    json: bool,
+specconv_flags::args! {
+    #[derive(Debug)]
+    struct Report {
+        job_dir: PathBuf = (defs::FARM_JOB_DIR),
+        json: bool = (defs::FARM_JSON),
+    }
 }
 
-#[derive(Debug, clap::Args)]
-struct Retry {
-    /// The job directory `submit` printed.
-    #[arg(value_name = "JOBDIR")]
-    job_dir: PathBuf,
-    /// Number of array tasks (default: as many as the last submission, at most one per file).
-    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..))]
-    tasks: Option<u32>,
-    /// Return when the array ends; exit 0 only if every file converted.
-    #[arg(long)]
-    wait: bool,
+specconv_flags::args! {
+    #[derive(Debug)]
+    struct Retry {
+        job_dir: PathBuf = (defs::FARM_JOB_DIR),
+        tasks: Option<u32> = (defs::FARM_RETRY_TASKS),
+        wait: bool = (defs::FARM_WAIT),
+    }
 }
 
-/// `farm task JOBDIR --round R --task T`, the command line `specconv_farm::manifest::task_command`
-/// makes for the job's script.
-#[derive(Debug, clap::Args)]
-struct Task {
-    /// The job directory.
-    #[arg(value_name = "JOBDIR")]
-    job_dir: PathBuf,
-    /// The round (0: the submission, then one per retry).
-    #[arg(long, value_name = "R")]
-    round: usize,
-    /// The array task ($SLURM_ARRAY_TASK_ID).
-    #[arg(long, value_name = "T")]
-    task: usize,
+specconv_flags::args! {
+    /// `farm task JOBDIR --round R --task T`, the command line
+    /// `specconv_farm::manifest::task_command` makes for the job's script.
+    #[derive(Debug)]
+    struct Task {
+        job_dir: PathBuf = (defs::FARM_TASK_JOB_DIR),
+        round: usize = (defs::FARM_TASK_ROUND),
+        task: usize = (defs::FARM_TASK_TASK),
+    }
 }
 
 /// Options the farm sets itself: the config is the manifest's, threads are the task's CPUs,

@@ -8,6 +8,7 @@ use specconv_colour::Colorimetry;
 use specconv_evaluation::scene::{self, SceneFile};
 use specconv_evaluation::simulate;
 use specconv_evaluation::simulate::{Outcome, Scene};
+use specconv_flags::defs;
 use specconv_spectral::method::MethodName;
 use specconv_spectral::stack::Stack;
 use specconv_spectral::{Method, Model};
@@ -53,51 +54,32 @@ Examples:
   specconv simulate --scene scenes/furnace_5500k.toml --image furnace.png --patch \"5R 4/14\"
 ";
 
-/// Simulate light bouncing between patches, once per uplift method and once with the measured
-/// spectra, and report how far each method's colour drifts from the measured one.
-///
-/// The scene (TOML) names lights, patches and their form factors, and the effect wanted. Each
-/// patch's material is stored as a texture would store it: a colour in a colour space of the
-/// scene's OCIO config (converted as `convert` converts pixels), the colour of a measured
-/// spectrum from a CSV file, or a pixel of a texture.
-/// Every method uplifts that colour; the simulator solves the spectral radiosity
-/// B = E + ρ·F·B per wavelength, truncated after K bounces or converged, and converts each
-/// patch's radiance to XYZ, CIELAB (white: the same scene with white patches) and display sRGB.
-/// The report gives the CIEDE2000 difference of each method from the measured reference (when
-/// every patch is measured) and from plain RGB multiplication (`rgb`, an RGB renderer's
-/// answer). The scene below (`--help`) runs as it is; scenes/ in the repository has more.
-#[derive(Debug, clap::Args)]
-pub struct Args {
-    /// The scene (TOML); relative paths in it are relative to its directory.
-    #[arg(long, value_name = "SCENE.toml")]
-    scene: PathBuf,
-    /// Print one JSON object instead of text.
-    #[arg(long)]
-    json: bool,
-    /// Report every patch, not only the means (the default for scenes of up to 16 patches).
-    #[arg(long)]
-    per_patch: bool,
-    /// Report (and draw) only this patch; repeat for several. Means stay over all patches.
-    #[arg(long, value_name = "NAME")]
-    patch: Vec<String>,
-    /// Also draw the report as a PNG: one block per patch (at most 16: choose with --patch),
-    /// one row per rendering (the measured reference, each method, `rgb` multiplication), one
-    /// column per bounce count; each swatch in display sRGB (the white scene's Y as 1) with its
-    /// CIEDE2000 from the measured reference under it (from `rgb` where the scene has no
-    /// measured spectra). Text needs DejaVu Sans (fonts-dejavu-core) or $SPECCONV_FONT.
-    #[arg(long, value_name = "OUT.png")]
-    image: Option<PathBuf>,
-    /// Replace an existing --image file.
-    #[arg(long, requires = "image")]
-    force: bool,
-    /// Uplift method to compare, instead of the scene's `methods`; repeat for several:
-    /// otsu2018, pca, smits1999, meng2015, meng2015-bounded or jakob2019. Each is built as
-    /// `convert` builds it, with the options below and their defaults.
-    #[arg(long = "method", value_name = "NAME")]
-    methods: Vec<MethodName>,
-    /// The method options of `convert`, with its defaults; --model replaces the scene's `model`.
-    #[command(flatten)]
-    pub(crate) stack: methods::StackArgs,
+specconv_flags::args! {
+    /// Simulate light bouncing between patches, once per uplift method and once with the measured
+    /// spectra, and report how far each method's colour drifts from the measured one.
+    ///
+    /// The scene (TOML) names lights, patches and their form factors, and the effect wanted. Each
+    /// patch's material is stored as a texture would store it: a colour in a colour space of the
+    /// scene's OCIO config (converted as `convert` converts pixels), the colour of a measured
+    /// spectrum from a CSV file, or a pixel of a texture.
+    /// Every method uplifts that colour; the simulator solves the spectral radiosity
+    /// B = E + ρ·F·B per wavelength, truncated after K bounces or converged, and converts each
+    /// patch's radiance to XYZ, CIELAB (white: the same scene with white patches) and display sRGB.
+    /// The report gives the CIEDE2000 difference of each method from the measured reference (when
+    /// every patch is measured) and from plain RGB multiplication (`rgb`, an RGB renderer's
+    /// answer). The scene below (`--help`) runs as it is; scenes/ in the repository has more.
+    #[derive(Debug)]
+    pub struct Args {
+        scene: PathBuf = (defs::SIMULATE_SCENE),
+        json: bool = (defs::JSON_INSTEAD_OF_TEXT),
+        per_patch: bool = (defs::SIMULATE_PER_PATCH),
+        patch: Vec<String> = (defs::SIMULATE_PATCH),
+        image: Option<PathBuf> = (defs::SIMULATE_IMAGE),
+        force: bool = (defs::SIMULATE_FORCE),
+        methods: Vec<MethodName> = (defs::SIMULATE_METHODS),
+        /// The method options of `convert`, with its defaults; --model replaces the scene's `model`.
+        pub(crate) stack: methods::StackArgs = flatten,
+    }
 }
 
 /// The largest scene file read (a scene is a few hundred lines of TOML).
@@ -110,7 +92,7 @@ pub fn run(args: Args) -> Result<()> {
     let file = scene::parse(&text)
         .with_context(|| format!("{} is not a valid scene", args.scene.display()))?;
     let dir = args.scene.parent().unwrap_or(Path::new("."));
-    let model_path = match &args.stack.model {
+    let model_path = match &args.stack.options.model {
         Some(p) => Some(p.clone()),
         // A built-in model by name, unless a file of that name sits beside the scene.
         None => file.model.as_ref().map(|p| {
@@ -175,7 +157,7 @@ pub fn run(args: Args) -> Result<()> {
 impl Args {
     /// The method stack of `method` with these options.
     pub(crate) fn stack_spec(&self, method: MethodName) -> specconv_spectral::stack::StackSpec {
-        self.stack.describe(method)
+        methods::describe(&self.stack, method)
     }
 }
 

@@ -1,0 +1,221 @@
+//! A command's arguments as a struct whose fields are [`Flag`]s of [`crate::defs`]
+//! ([`crate::args!`]): the field's Rust type decides what clap's derive would (a switch, one
+//! value, an optional value, a list), the definition all the rest.
+
+use crate::Flag;
+use clap::builder::ValueParser;
+use clap::{ArgAction, ArgMatches};
+
+/// A type a flag's value can have, read by its own parser (clap's for the type).
+pub trait Value: Clone + Send + Sync + 'static {
+    /// clap's parser of a value of this type.
+    fn parser() -> ValueParser;
+}
+
+/// Implements [`Value`] with clap's parser of each type.
+#[macro_export]
+macro_rules! value_by_type {
+    ($($ty:ty),* $(,)?) => {
+        $(impl $crate::Value for $ty {
+            fn parser() -> clap::builder::ValueParser {
+                clap::value_parser!($ty).into()
+            }
+        })*
+    };
+}
+
+value_by_type!(
+    u32,
+    usize,
+    f64,
+    String,
+    std::path::PathBuf,
+    specconv_colour::Observer,
+    specconv_colour::Illuminant,
+    specconv_colour::Grid,
+    specconv_spectral::method::MethodName,
+    specconv_spectral::otsu2018::terms::Commercial,
+    specconv_farm::Shard,
+    clap_complete::Shell,
+);
+
+/// A field of a command's arguments: how its type takes the flag's values and reads them back.
+pub trait Field: Sized {
+    /// The flag's clap argument for a field of this type.
+    fn arg(flag: &Flag) -> clap::Arg;
+    /// The field's value from what was parsed.
+    fn read(matches: &ArgMatches, flag: &Flag) -> Result<Self, clap::Error>;
+}
+
+/// The parser of `flag`'s values: its own, else its type's.
+fn parser<T: Value>(flag: &Flag) -> ValueParser {
+    flag.parser.map_or_else(T::parser, |made| made())
+}
+
+/// A switch.
+impl Field for bool {
+    fn arg(flag: &Flag) -> clap::Arg {
+        flag.arg().action(ArgAction::SetTrue)
+    }
+
+    fn read(matches: &ArgMatches, flag: &Flag) -> Result<bool, clap::Error> {
+        Ok(matches.get_flag(flag.id))
+    }
+}
+
+/// One value: required unless it has a default.
+impl<T: Value> Field for T {
+    fn arg(flag: &Flag) -> clap::Arg {
+        let arg = flag
+            .arg()
+            .action(ArgAction::Set)
+            .value_parser(parser::<T>(flag));
+        match flag.has_default() || flag.required_unless.is_some() {
+            true => arg,
+            false => arg.required(true),
+        }
+    }
+
+    fn read(matches: &ArgMatches, flag: &Flag) -> Result<T, clap::Error> {
+        matches.get_one::<T>(flag.id).cloned().ok_or_else(|| {
+            clap::Error::raw(
+                clap::error::ErrorKind::MissingRequiredArgument,
+                format!(
+                    "the following required argument was not provided: {}",
+                    flag.id
+                ),
+            )
+        })
+    }
+}
+
+/// One value, or none.
+impl<T: Value> Field for Option<T> {
+    fn arg(flag: &Flag) -> clap::Arg {
+        flag.arg()
+            .action(ArgAction::Set)
+            .value_parser(parser::<T>(flag))
+    }
+
+    fn read(matches: &ArgMatches, flag: &Flag) -> Result<Option<T>, clap::Error> {
+        Ok(matches.get_one::<T>(flag.id).cloned())
+    }
+}
+
+/// Any number of values: the flag repeated, or split at its delimiter.
+impl<T: Value> Field for Vec<T> {
+    fn arg(flag: &Flag) -> clap::Arg {
+        let arg = flag
+            .arg()
+            .action(ArgAction::Append)
+            .value_parser(parser::<T>(flag));
+        // As clap's derive: given by place, one occurrence takes them all.
+        match flag.long {
+            None => arg.num_args(1..),
+            Some(_) => arg,
+        }
+    }
+
+    fn read(matches: &ArgMatches, flag: &Flag) -> Result<Vec<T>, clap::Error> {
+        Ok(matches
+            .get_many::<T>(flag.id)
+            .map(|values| values.cloned().collect())
+            .unwrap_or_default())
+    }
+}
+
+/// A struct of a command's arguments, each field a flag of [`crate::defs`], the arguments of
+/// another such struct (`= flatten`) or set by the command itself (`= skip`):
+///
+/// ```ignore
+/// specconv_flags::args! {
+///     /// Shown as the command's help, as clap's derive shows it.
+///     #[derive(Debug)]
+///     pub struct Args {
+///         pub tasks: u32 = (defs::TASKS),
+///         pub read: ReadArgs = flatten,
+///         pub ocio: Option<String> = skip,
+///     }
+/// }
+/// ```
+///
+/// The struct's documentation is the command's about, made by clap's derive of an empty
+/// struct so that it reads exactly as before; the fields' flags come in their order.
+#[macro_export]
+macro_rules! args {
+    (
+        $(#[$meta:meta])*
+        $vis:vis struct $name:ident {
+            $( $(#[doc = $doc:literal])* $fvis:vis $field:ident : $ty:ty = $source:tt ),* $(,)?
+        }
+    ) => {
+        $(#[$meta])*
+        $vis struct $name {
+            $( $(#[doc = $doc])* $fvis $field: $ty, )*
+        }
+
+        const _: () = {
+            #[derive(clap::Args)]
+            #[group(skip)]
+            $(#[$meta])*
+            struct About {}
+
+            impl clap::Args for $name {
+                fn augment_args(cmd: clap::Command) -> clap::Command {
+                    $( let cmd = $crate::__augment!(cmd, $ty, $source); )*
+                    <About as clap::Args>::augment_args(cmd)
+                }
+
+                fn augment_args_for_update(cmd: clap::Command) -> clap::Command {
+                    <Self as clap::Args>::augment_args(cmd)
+                }
+            }
+
+            impl clap::FromArgMatches for $name {
+                fn from_arg_matches(matches: &clap::ArgMatches) -> Result<Self, clap::Error> {
+                    Ok($name {
+                        $( $field: $crate::__read!(matches, $ty, $source), )*
+                    })
+                }
+
+                fn update_from_arg_matches(
+                    &mut self,
+                    matches: &clap::ArgMatches,
+                ) -> Result<(), clap::Error> {
+                    *self = <Self as clap::FromArgMatches>::from_arg_matches(matches)?;
+                    Ok(())
+                }
+            }
+        };
+    };
+}
+
+/// [`args!`]'s arguments of one field.
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __augment {
+    ($cmd:ident, $ty:ty, flatten) => {
+        <$ty as clap::Args>::augment_args($cmd)
+    };
+    ($cmd:ident, $ty:ty, skip) => {
+        $cmd
+    };
+    ($cmd:ident, $ty:ty, $flag:tt) => {
+        $cmd.arg(<$ty as $crate::Field>::arg(&$flag))
+    };
+}
+
+/// [`args!`]'s reading of one field.
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __read {
+    ($matches:ident, $ty:ty, flatten) => {
+        <$ty as clap::FromArgMatches>::from_arg_matches($matches)?
+    };
+    ($matches:ident, $ty:ty, skip) => {
+        <$ty as ::std::default::Default>::default()
+    };
+    ($matches:ident, $ty:ty, $flag:tt) => {
+        <$ty as $crate::Field>::read($matches, &$flag)?
+    };
+}
