@@ -1,15 +1,17 @@
-//! The command line against the definitions: every flag spelt as an option of the library is
-//! that option, a long name several commands declare is listed with why, and `convert` takes
-//! exactly the library's options and defaults.
+//! The command line against the definitions (crates/flags): every argument of every command
+//! is an option of the library or an entry of the commands' table, and nothing else makes
+//! one; every entry is taken; an entry spelt as an option, or a long name several entries
+//! share, is listed with why; `convert` takes exactly the library's options and defaults.
 
 use clap::{CommandFactory, Parser};
 use specconv_conversion::{Key, Named, Options};
+use specconv_flags::defs;
 use std::collections::{BTreeMap, BTreeSet};
 
-/// Flags of other commands spelt as an option of the definitions but declared by hand:
-/// (command, flag, why it is not the option). A new one fails the test below, and so
-/// does an entry that is the definitions' now, so that the list only shrinks.
-const DECLARED_BY_HAND: &[(&str, &str, &str)] = &[
+/// Entries of the commands' table spelt as an option of the definitions: (command, flag, why
+/// it is not the option). A new one fails the test below, and so does an entry that is the
+/// option now, so that the list only shrinks.
+const SPELT_AS_AN_OPTION: &[(&str, &str, &str)] = &[
     (
         "train",
         "bands",
@@ -74,8 +76,8 @@ fn long_flags() -> Vec<(String, String, String, bool)> {
     out
 }
 
-/// Long names that several commands declare by hand, each with a help of its own: (flag,
-/// why the commands' flags are not one). A new one fails the test below, and so does an
+/// Long names that several entries of the commands' table share, each with a help of its own:
+/// (flag, why the commands' flags are not one). A new one fails the test below, and so does an
 /// entry whose commands now share one definition, so that the list only shrinks.
 const ONE_NAME_SEVERAL_FLAGS: &[(&str, &str)] = &[
         ("bands", "the grid trained on (train, report) or measured on (eval), not an output's"),
@@ -96,10 +98,11 @@ const ONE_NAME_SEVERAL_FLAGS: &[(&str, &str)] = &[
         ("verbose", "asset says each decision; convert and farm submit the colour space chosen"),
     ];
 
-/// Every long name that several commands declare by hand with helps of their own is listed
-/// in [`ONE_NAME_SEVERAL_FLAGS`] with why (the definitions' options are the other test's).
+/// Every long name that several commands take from different entries, with helps of their
+/// own, is listed in [`ONE_NAME_SEVERAL_FLAGS`] with why (the definitions' options are the
+/// other test's).
 #[test]
-fn a_name_several_commands_declare_is_listed() {
+fn a_name_several_entries_share_is_listed() {
     let mut helps: BTreeMap<String, BTreeSet<String>> = BTreeMap::new();
     for (_, long, help, global) in long_flags() {
         if !global {
@@ -126,12 +129,12 @@ fn a_name_several_commands_declare_is_listed() {
     let listed: Vec<&str> = ONE_NAME_SEVERAL_FLAGS.iter().map(|(f, _)| *f).collect();
     assert_eq!(
         several, listed,
-        "long names several commands declare by hand"
+        "long names several entries of the table share"
     );
 }
 
 /// Every command's flag that is spelt as an option of the definitions is that option
-/// (its help is the definitions'), or listed in [`DECLARED_BY_HAND`] with why not.
+/// (its help is the definitions'), or listed in [`SPELT_AS_AN_OPTION`] with why not.
 #[test]
 fn a_flag_spelt_as_an_option_is_the_option() {
     let args = long_flags();
@@ -149,9 +152,15 @@ fn a_flag_spelt_as_an_option_is_the_option() {
     }
     by_hand.sort();
     by_hand.dedup();
-    let mut listed: Vec<(&str, &str)> = DECLARED_BY_HAND.iter().map(|(c, f, _)| (*c, *f)).collect();
+    let mut listed: Vec<(&str, &str)> = SPELT_AS_AN_OPTION
+        .iter()
+        .map(|(c, f, _)| (*c, *f))
+        .collect();
     listed.sort();
-    assert_eq!(by_hand, listed, "flags declared by hand (command, flag)");
+    assert_eq!(
+        by_hand, listed,
+        "entries of the table spelt as an option (command, flag)"
+    );
 }
 
 /// `convert`'s arguments that are not options of a conversion: what to convert, where to,
@@ -346,4 +355,124 @@ fn flags_set_what_the_definitions_say() {
         "--checknan"
     ])
     .is_err());
+}
+
+/// Every argument of every command and command of a command, as the command line builds them:
+/// (the command's path, `train` or `farm submit`; the argument).
+fn arguments() -> Vec<(String, clap::Arg)> {
+    fn walk(cmd: &clap::Command, name: &str, out: &mut Vec<(String, clap::Arg)>) {
+        out.extend(cmd.get_arguments().map(|a| (name.to_string(), a.clone())));
+        for sub in cmd.get_subcommands() {
+            walk(sub, format!("{name} {}", sub.get_name()).trim(), out);
+        }
+    }
+    let mut cli = crate::command_line::Cli::command();
+    cli.build();
+    let mut out = Vec::new();
+    walk(&cli, "", &mut out);
+    out
+}
+
+/// Whether `arg` is `flag`, an entry of the commands' table: its id, long name and help.
+fn is_entry(arg: &clap::Arg, flag: &specconv_flags::Flag) -> bool {
+    arg.get_id() == flag.id
+        && arg.get_long() == flag.long
+        && arg.get_help().map(ToString::to_string) == Some(flag.help())
+}
+
+/// Whether `arg` is a flag of an option of the library's definitions (`OptionArgs` names each
+/// by its long name).
+fn is_option(arg: &clap::Arg) -> bool {
+    Key::ALL.iter().any(|k| {
+        k.about()
+            .flags
+            .iter()
+            .any(|f| arg.get_id() == f.long && arg.get_long() == Some(f.long))
+    })
+}
+
+/// Every argument of every command is an option's flag or an entry of the commands' table.
+#[test]
+fn every_argument_is_an_option_or_an_entry_of_the_table() {
+    let mut checked = 0;
+    for (command, arg) in arguments() {
+        if matches!(arg.get_id().as_str(), "help" | "version") {
+            continue;
+        }
+        assert!(
+            is_option(&arg) || defs::ALL.iter().any(|f| is_entry(&arg, f)),
+            "`{command}` takes {}, which is neither an option of the definitions nor an entry \
+             of crates/flags/src/defs.rs",
+            arg.get_id()
+        );
+        checked += 1;
+    }
+    // 14 commands, 5 farm commands, convert's options at the top, in convert, asset and submit.
+    assert!(checked > 200, "{checked} arguments");
+}
+
+/// Every entry of the commands' table is taken by a command, and is defined once.
+#[test]
+fn every_entry_of_the_table_is_taken_and_defined_once() {
+    let args = arguments();
+    for (i, flag) in defs::ALL.iter().enumerate() {
+        assert!(
+            args.iter().any(|(_, a)| is_entry(a, flag)),
+            "no command takes the entry {} ({})",
+            flag.id,
+            flag.long.map_or("by place".into(), |l| format!("--{l}"))
+        );
+        let twin = defs::ALL[..i]
+            .iter()
+            .find(|g| g.id == flag.id && g.long == flag.long && g.help() == flag.help());
+        assert!(twin.is_none(), "{} is defined twice", flag.id);
+    }
+}
+
+/// The lines of `text`'s production code that make a clap argument by hand.
+fn hand_made(file: &str, text: &str) -> Vec<String> {
+    specconv_testkit::sources::production(text)
+        .into_iter()
+        .filter(|l| {
+            let code = l.trim_start();
+            !code.starts_with("//")
+                && (code.starts_with("#[arg")
+                    || code.starts_with("#[clap(")
+                    || code.contains("Arg::new("))
+        })
+        .map(|l| format!("{file}: {}", l.trim()))
+        .collect()
+}
+
+/// Programs of the workspace that are not this command line, with flags of their own.
+const OTHER_PROGRAMS: [(&str, &str); 1] = [(
+    "crates/dev/",
+    "the developers' own tool (`generate --check --root`), never shipped",
+)];
+
+/// No production code outside crates/flags makes a clap argument (`#[arg]`, `Arg::new`): every
+/// flag is defined there once.
+#[test]
+fn no_argument_is_made_outside_the_flags_crate() {
+    let planted = "    /// Help.\n    #[arg(long)]\n    x: bool,\n    // Arg::new(\"y\")\n";
+    assert_eq!(hand_made("a.rs", planted), ["a.rs: #[arg(long)]"]);
+    assert_eq!(
+        hand_made("b.rs", "let a = clap::Arg::new(\"z\");\n").len(),
+        1
+    );
+    let root = specconv_testkit::sources::root();
+    let files = specconv_testkit::sources::sources();
+    assert!(files.iter().any(|f| f.starts_with("crates/cli/src/cmd/")));
+    let found: Vec<String> = files
+        .iter()
+        .filter(|f| !f.starts_with("crates/flags/"))
+        .filter(|f| !OTHER_PROGRAMS.iter().any(|(dir, _)| f.starts_with(dir)))
+        .flat_map(|f| hand_made(f, &std::fs::read_to_string(root.join(f)).unwrap()))
+        .collect();
+    assert!(
+        found.is_empty(),
+        "flags made outside crates/flags; define them in crates/flags/src/defs.rs and name them \
+         in the command's args! struct:\n{}",
+        found.join("\n")
+    );
 }

@@ -219,3 +219,148 @@ macro_rules! __read {
         <$ty as $crate::Field>::read($matches, &$flag)?
     };
 }
+
+#[cfg(test)]
+mod tests {
+    use crate::Flag;
+    use clap::{Args, FromArgMatches};
+    use std::path::PathBuf;
+
+    const PATH: Flag = Flag::place("path", "PATH", "A path");
+    const COUNT: Flag = Flag::long("count", "count", "A count")
+        .value("N")
+        .default("3");
+    const ON: Flag = Flag::long("on", "on", "A switch").short('o');
+    const NAME: Flag = Flag::long("name", "name", "A name").value("NAME");
+    const LIST: Flag = Flag::long("list", "list", "Some numbers")
+        .value("K,…")
+        .split(',');
+    const TASKS: Flag = Flag::long("tasks", "tasks", "At least one")
+        .value("N")
+        .parser(|| clap::value_parser!(u32).range(1..).into())
+        .requires("name");
+
+    crate::args! {
+        #[derive(Debug)]
+        struct Inner {
+            on: bool = (ON),
+        }
+    }
+
+    crate::args! {
+        /// Do a thing.
+        ///
+        /// More about the thing, on
+        /// two lines.
+        #[derive(Debug)]
+        struct Outer {
+            path: PathBuf = (PATH),
+            count: u32 = (COUNT),
+            inner: Inner = flatten,
+            name: Option<String> = (NAME),
+            list: Vec<usize> = (LIST),
+            kept: Option<String> = skip,
+            tasks: Option<u32> = (TASKS),
+        }
+    }
+
+    /// The same arguments as clap's derive makes them: what the macro must give.
+    #[derive(Debug, clap::Args)]
+    struct DerivedInner {
+        /// A switch.
+        #[arg(short, long)]
+        on: bool,
+    }
+
+    /// Do a thing.
+    ///
+    /// More about the thing, on
+    /// two lines.
+    #[derive(Debug, clap::Args)]
+    #[group(skip)]
+    struct Derived {
+        /// A path.
+        path: PathBuf,
+        /// A count.
+        #[arg(long, value_name = "N", default_value_t = 3)]
+        count: u32,
+        #[command(flatten)]
+        inner: DerivedInner,
+        /// A name.
+        #[arg(long, value_name = "NAME")]
+        name: Option<String>,
+        /// Some numbers.
+        #[arg(long, value_name = "K,…", value_delimiter = ',')]
+        list: Vec<usize>,
+        /// At least one.
+        #[arg(long, value_name = "N", requires = "name", value_parser = clap::value_parser!(u32).range(1..))]
+        tasks: Option<u32>,
+    }
+
+    fn command<A: Args>() -> clap::Command {
+        A::augment_args(clap::Command::new("t"))
+    }
+
+    fn parse(words: &[&str]) -> Result<Outer, clap::Error> {
+        let matches = command::<Outer>().try_get_matches_from(words)?;
+        Outer::from_arg_matches(&matches)
+    }
+
+    #[test]
+    fn help_and_errors_are_those_of_clap_s_derive() {
+        let mut ours = command::<Outer>();
+        let mut derived = command::<Derived>();
+        assert_eq!(
+            ours.render_long_help().to_string(),
+            derived.render_long_help().to_string()
+        );
+        assert_eq!(
+            ours.render_help().to_string(),
+            derived.render_help().to_string()
+        );
+        assert!(ours
+            .render_long_help()
+            .to_string()
+            .contains("More about the thing, on two lines."));
+        for words in [
+            &["t"][..],
+            &["t", "p", "--tasks", "0", "--name", "x"],
+            &["t", "p", "--tasks", "2"],
+            &["t", "p", "--count", "x"],
+            &["t", "p", "--list", "1,x"],
+        ] {
+            let ours = command::<Outer>().try_get_matches_from(words).unwrap_err();
+            let derived = command::<Derived>()
+                .try_get_matches_from(words)
+                .unwrap_err();
+            assert_eq!(ours.kind(), derived.kind(), "{words:?}");
+            assert_eq!(ours.to_string(), derived.to_string(), "{words:?}");
+        }
+    }
+
+    #[test]
+    fn each_field_reads_its_flag_as_its_type_says() {
+        let o = parse(&["t", "p"]).unwrap();
+        assert_eq!(o.path, PathBuf::from("p"));
+        assert_eq!((o.count, o.inner.on), (3, false));
+        assert_eq!(
+            (o.name, o.list, o.kept, o.tasks),
+            (None, vec![], None, None)
+        );
+        let words = [
+            "t", "p", "-o", "--name", "x", "--list", "1,2", "--list", "3", "--count", "5",
+            "--tasks", "2",
+        ];
+        let o = parse(&words).unwrap();
+        assert_eq!(
+            (o.count, o.inner.on, o.name.as_deref()),
+            (5, true, Some("x"))
+        );
+        assert_eq!((o.list, o.tasks), (vec![1, 2, 3], Some(2)));
+        let ids: Vec<String> = command::<Outer>()
+            .get_arguments()
+            .map(|a| a.get_id().to_string())
+            .collect();
+        assert_eq!(ids, ["path", "count", "on", "name", "list", "tasks"]);
+    }
+}
