@@ -227,15 +227,11 @@ mod tests {
     use std::path::PathBuf;
 
     const PATH: Flag = Flag::place("path", "PATH", "A path");
-    const COUNT: Flag = Flag::long("count", "count", "A count")
-        .value("N")
-        .default("3");
-    const ON: Flag = Flag::long("on", "on", "A switch").short('o');
-    const NAME: Flag = Flag::long("name", "name", "A name").value("NAME");
-    const LIST: Flag = Flag::long("list", "list", "Some numbers")
-        .value("K,…")
-        .split(',');
-    const TASKS: Flag = Flag::long("tasks", "tasks", "At least one")
+    const COUNT: Flag = Flag::long("count", "A count").value("N").default("3");
+    const ON: Flag = Flag::long("on", "A switch").short('o');
+    const NAME: Flag = Flag::long("name", "A name").value("NAME");
+    const LIST: Flag = Flag::long("list", "Some numbers").value("K,…").split(',');
+    const TASKS: Flag = Flag::long("tasks", "At least one")
         .value("N")
         .parser(|| clap::value_parser!(u32).range(1..).into())
         .requires("name");

@@ -18,7 +18,8 @@ pub enum DefaultValue {
 /// A command's flag (or argument, without a long name), defined once in [`crate::defs`].
 #[derive(Debug, Clone, Copy)]
 pub struct Flag {
-    /// Its id: the name the command's other flags relate to it by.
+    /// Its id, which the command's other flags name it by: its long name, or for an argument
+    /// given by its place a name of its own.
     pub id: &'static str,
     /// Its long name, without `--`; `None` for an argument given by its place.
     pub long: Option<&'static str>,
@@ -51,10 +52,10 @@ pub struct Flag {
 }
 
 impl Flag {
-    /// `--long`, its id the long name with `_` for `-`; nothing else set.
-    pub const fn long(id: &'static str, long: &'static str, help: &'static str) -> Flag {
+    /// `--long`, a switch until given a value name; nothing else set.
+    pub const fn long(long: &'static str, help: &'static str) -> Flag {
         Flag {
-            id,
+            id: long,
             long: Some(long),
             short: None,
             value_name: None,
@@ -75,9 +76,10 @@ impl Flag {
     /// An argument given by its place, its value named `value_name` in help.
     pub const fn place(id: &'static str, value_name: &'static str, help: &'static str) -> Flag {
         Flag {
+            id,
             long: None,
             value_name: Some(value_name),
-            ..Flag::long(id, "", help)
+            ..Flag::long("", help)
         }
     }
 
