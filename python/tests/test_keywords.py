@@ -1,19 +1,34 @@
 """The package's keywords held to the library's definitions (issue 58, item 1).
 
 `convert`'s keywords and their stub are made from the definitions (`specconv.options()`);
-the other functions' are written by hand in their Rust signatures and in the stub. These
-tests hold them together: every function of the stub has the runtime's parameters, and a
-keyword named as an option of the definitions takes that option's default, or is listed in
-DIFFERENT with why it is another thing.
+the other functions' are written by hand in their Rust signatures (pyo3 takes a signature
+only as written) and in the stub. These tests hold them together: every function of the
+stub has the runtime's parameters; a keyword named as an option of the definitions takes
+that option's default, or is listed in DIFFERENT with why it is another thing; and a
+keyword of a function that does a command's job takes the default of that command's flag of
+the same name (docs/commands.md, made from the command line's definitions), or is listed in
+FRONT_ENDS_DIFFER with why.
 """
 
 import ast
 import inspect
+import re
 from pathlib import Path
 
 import specconv
 
 STUB = Path(specconv.__file__).with_name("_specconv.pyi")
+# Every command's flags with their defaults, made from the command line's definitions.
+COMMANDS = Path(__file__).resolve().parents[2] / "docs" / "commands.md"
+
+# The functions that do what a command does: function -> command.
+SAME_JOB = {"train": "train", "evaluate": "eval", "convert_asset": "asset"}
+
+# (function, keyword): why its default is not its command's flag's.
+FRONT_ENDS_DIFFER = {
+    ("evaluate", "bounded"): "eval measures the method as named (the paper's Table 1) unless "
+    "--bounded; evaluate() measures what convert writes (the option's default): the team's call",
+}
 
 # (function, keyword): why it is not the option of that name.
 DIFFERENT = {
@@ -108,3 +123,40 @@ def test_a_keyword_named_as_an_option_takes_its_default():
             checked += 1
     assert seen == set(DIFFERENT), set(DIFFERENT) - seen
     assert checked >= 10, checked
+
+
+def command_defaults(command):
+    """{keyword: default} of a command's flags, from docs/commands.md (made from the
+    definitions): the long name with `_` for `-`, flags without a default left out."""
+    section = re.search(rf"^##+ `specconv {command}`\n(.*?)(?=^##|\Z)", COMMANDS.read_text(),
+                        re.S | re.M)
+    assert section, command
+    out = {}
+    for row in re.findall(r"^\| `([^`]*)` \| ([^|]*) \|", section.group(1), re.M):
+        flag, default = row[0].split(" ")[0], row[1].strip()
+        if flag.split("/")[-1].startswith("--") and default:
+            out[flag.split("/")[-1][2:].replace("-", "_")] = as_python(None, default)
+    return out
+
+
+def test_a_keyword_named_as_its_command_s_flag_takes_its_default():
+    checked = 0
+    seen = set()
+    functions = dict(stub_functions())
+    for function, command in SAME_JOB.items():
+        flags = command_defaults(command)
+        assert flags, command
+        for keyword, default in stub_keywords(functions[function]).items():
+            if keyword not in flags or default in (Ellipsis, None):
+                continue
+            if (function, keyword) in FRONT_ENDS_DIFFER:
+                seen.add((function, keyword))
+                assert default != flags[keyword], f"{function}({keyword}=) is the flag's now"
+                continue
+            assert default == flags[keyword], (
+                f"{function}({keyword}={default!r}): `specconv {command}` defaults to "
+                f"{flags[keyword]!r}"
+            )
+            checked += 1
+    assert seen == set(FRONT_ENDS_DIFFER), set(FRONT_ENDS_DIFFER) - seen
+    assert checked >= 5, checked
