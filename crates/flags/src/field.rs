@@ -49,7 +49,17 @@ pub trait Field: Sized {
 
 /// The parser of `flag`'s values: its own, else its type's.
 fn parser<T: Value>(flag: &Flag) -> ValueParser {
-    flag.parser.map_or_else(T::parser, |made| made())
+    let Some(made) = flag.parser else {
+        return T::parser();
+    };
+    let parser = made();
+    // clap would panic only when the flag is given and read: say so when the command is built.
+    debug_assert!(
+        parser.type_id() == std::any::TypeId::of::<T>(),
+        "{}: its parser reads another type than its field holds",
+        flag.id
+    );
+    parser
 }
 
 /// A switch.
@@ -127,16 +137,23 @@ impl<T: Value> Field for Vec<T> {
 /// A struct of a command's arguments, each field a flag of [`crate::defs`], the arguments of
 /// another such struct (`= flatten`) or set by the command itself (`= skip`):
 ///
-/// ```ignore
+/// ```
+/// use specconv_flags::defs;
+///
 /// specconv_flags::args! {
 ///     /// Shown as the command's help, as clap's derive shows it.
 ///     #[derive(Debug)]
 ///     pub struct Args {
-///         pub tasks: u32 = (defs::TASKS),
-///         pub read: ReadArgs = flatten,
+///         pub tasks: u32 = (defs::FARM_SUBMIT_TASKS),
+///         pub read: specconv_flags::OptionArgs<specconv_flags::Reading> = flatten,
 ///         pub ocio: Option<String> = skip,
 ///     }
 /// }
+///
+/// use clap::{Args as _, FromArgMatches as _};
+/// let cmd = Args::augment_args(clap::Command::new("x"));
+/// let args = Args::from_arg_matches(&cmd.get_matches_from(["x", "--tasks", "4"])).unwrap();
+/// assert_eq!((args.tasks, args.ocio), (4, None));
 /// ```
 ///
 /// The struct's documentation is the command's about, made by clap's derive of an empty
@@ -332,6 +349,18 @@ mod tests {
             assert_eq!(ours.kind(), derived.kind(), "{words:?}");
             assert_eq!(ours.to_string(), derived.to_string(), "{words:?}");
         }
+    }
+
+    #[test]
+    #[should_panic(expected = "tasks: its parser reads another type than its field holds")]
+    fn a_parser_of_another_type_than_the_field_is_refused_when_built() {
+        crate::args! {
+            #[allow(dead_code)]
+            struct Wrong {
+                tasks: Option<usize> = (TASKS),
+            }
+        }
+        command::<Wrong>();
     }
 
     #[test]
