@@ -7,6 +7,7 @@
 use crate::Flag;
 use clap::builder::ValueParser;
 use clap::value_parser;
+use specconv_colour::{Grid, Illuminant, Observer};
 use specconv_evaluation::eval::SHIFT_ILLUMINANTS;
 use specconv_spectral::baselines::jakob;
 use specconv_spectral::otsu2018::model::BUILTIN;
@@ -172,7 +173,7 @@ defs! {
         "Clusters of the model trained with --train (pca: always 1)",
     )
     .value("K")
-    .default("8");
+    .made(|| vec![TrainOptions::default().clusters.to_string()]);
 
     EVAL_MIN_CLUSTER_SIZE: Flag::long(
         "min-cluster-size",
@@ -506,28 +507,37 @@ defs! {
     .value("CSV")
     .required_unless("with");
 
-    TRAIN_CLUSTERS: Flag::long(
-        "clusters",
-        "Number of clusters (leaves of the tree) [default: 8, or the --with model's]",
-    )
-    .value("K");
+    TRAIN_CLUSTERS: Flag::long("clusters", "")
+        .help_made(|| {
+            format!(
+                "Number of clusters (leaves of the tree) [default: {}, or the --with model's]",
+                TrainOptions::default().clusters
+            )
+        })
+        .value("K");
 
-    TRAIN_MIN_CLUSTER_SIZE: Flag::long(
-        "min-cluster-size",
-        "Smallest number of spectra in a cluster. Small clusters fit their training spectra \
-         closely but generalise badly; the paper's Table 1 used 4 [default: 20, or the --with \
-         model's]",
-    )
-    .value("N")
+    TRAIN_MIN_CLUSTER_SIZE: Flag::long("min-cluster-size", "")
+        .help_made(|| {
+            format!(
+                "Smallest number of spectra in a cluster. Small clusters fit their training \
+                 spectra closely but generalise badly; the paper's Table 1 used 4 [default: {}, \
+                 or the --with model's]",
+                TrainOptions::default().min_cluster_size
+            )
+        })
+        .value("N")
     .parser(|| ValueParser::new(min_cluster_size));
 
-    TRAIN_MAX_CONDITION: Flag::long(
-        "max-condition",
-        "Largest condition number of a cluster's 3×3 matrix M that a split may create. \
-         Near-singular M turn colours the cluster was not trained on into wild spectra [default: \
-         100, or the --with model's]",
-    )
-    .value("BOUND");
+    TRAIN_MAX_CONDITION: Flag::long("max-condition", "")
+        .help_made(|| {
+            format!(
+                "Largest condition number of a cluster's 3×3 matrix M that a split may create. \
+                 Near-singular M turn colours the cluster was not trained on into wild spectra \
+                 [default: {}, or the --with model's]",
+                TrainOptions::default().max_condition
+            )
+        })
+        .value("BOUND");
 
     TRAIN_WITH: Flag::long(
         "with",
@@ -591,7 +601,7 @@ defs! {
         "Colour-matching functions: cie1931, cie1964 or wyman2013 (the paper's)",
     )
     .value("OBSERVER")
-    .default("cie1931");
+    .made(|| vec![Observer::Cie1931.name().to_string()]);
 
     TRAINING_ILLUMINANT: Flag::long(
         "illuminant",
@@ -599,11 +609,11 @@ defs! {
          blackbody:KELVIN. E reproduces the paper's setting",
     )
     .value("ILLUMINANT")
-    .default("D65");
+    .made(|| vec![Illuminant::D65.to_string()]);
 
     TRAINING_BANDS: Flag::long("bands", "Wavelength grid START:END:STEP in nm, both ends included")
     .value("START:END:STEP")
-    .default("380:730:10");
+    .made(|| vec![Grid::PAPER.to_string()]);
 
     WEIGHTS: Flag::long(
         "weights",
