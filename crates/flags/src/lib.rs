@@ -12,6 +12,6 @@ mod options;
 pub use field::{Field, Value};
 pub use flag::{DefaultValue, Flag};
 pub use options::{
-    Blending, Configuring, Conversion, ConversionArgs, ForceArg, OptionArgs, OptionParser, Reading,
-    Replacing, Stacking, Taken,
+    Blending, Configuring, Conversion, ConversionArgs, ForceArg, OptionArgs, Reading, Replacing,
+    Stacking, Taken,
 };

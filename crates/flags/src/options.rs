@@ -261,7 +261,7 @@ impl<T: Taken> clap::FromArgMatches for OptionArgs<T> {
 /// refuses is a usage error with its message, or for a choice with its names (help lists them;
 /// its other spellings are accepted unlisted).
 #[derive(Clone, Copy)]
-pub struct OptionParser(Key);
+pub(crate) struct OptionParser(Key);
 
 impl TypedValueParser for OptionParser {
     type Value = std::ffi::OsString;
