@@ -54,26 +54,13 @@ const SPELT_AS_AN_OPTION: &[(&str, &str, &str)] = &[
 /// line builds them: (the command's path, `train` or `farm submit`; the long name; its
 /// help; whether it is global).
 fn long_flags() -> Vec<(String, String, String, bool)> {
-    fn walk(cmd: &clap::Command, name: &str, out: &mut Vec<(String, String, String, bool)>) {
-        for arg in cmd.get_arguments() {
-            if let (Some(long), Some(help)) = (arg.get_long(), arg.get_help()) {
-                let global = arg.is_global_set();
-                out.push((name.into(), long.into(), help.to_string(), global));
-            }
-        }
-        for sub in cmd.get_subcommands() {
-            let inner = match name {
-                "" => sub.get_name().to_string(),
-                _ => format!("{name} {}", sub.get_name()),
-            };
-            walk(sub, &inner, out);
-        }
-    }
-    let mut cli = crate::command_line::Cli::command();
-    cli.build();
-    let mut out = Vec::new();
-    walk(&cli, "", &mut out);
-    out
+    arguments()
+        .into_iter()
+        .filter_map(|(command, arg)| {
+            let (long, help) = (arg.get_long()?, arg.get_help()?);
+            Some((command, long.into(), help.to_string(), arg.is_global_set()))
+        })
+        .collect()
 }
 
 /// Long names that several entries of the commands' table share, each with a help of its own:
