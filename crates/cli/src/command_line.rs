@@ -2,9 +2,10 @@
 //! parsed and dispatched to each command's `run`.
 
 use crate::cmd;
-use crate::errors::{clap_error_line, one_line, print_error, Usage};
-use crate::{exit, signals, stdio};
 use clap::{CommandFactory, Parser, Subcommand};
+use specconv_convert_cmd::errors::{clap_error_line, one_line, print_error, Usage};
+use specconv_convert_cmd::{convert, exit, signals, stdio};
+use specconv_farm_cmd as farm;
 
 /// Turn textures in any colour space into spectral reflectance images, with the clustered-PCA
 /// uplift of Otsu, Yamamoto and Hachisuka 2018.
@@ -25,7 +26,7 @@ pub struct Cli {
     #[command(flatten)]
     global: Global,
     #[command(flatten)]
-    pub(crate) convert: cmd::convert::Args,
+    pub(crate) convert: convert::Args,
 }
 
 /// `--version` (and `-V`): one line ([`cmd::models::version_line`]).
@@ -50,8 +51,8 @@ Examples:
 // Each command's examples end its `--help` and make its man page's EXAMPLES.
 #[derive(Debug, Subcommand)]
 pub(crate) enum Command {
-    #[command(after_long_help = cmd::convert::EXAMPLES)]
-    Convert(cmd::convert::Args),
+    #[command(after_long_help = convert::EXAMPLES)]
+    Convert(convert::Args),
     #[command(after_long_help = cmd::train::EXAMPLES)]
     Train(cmd::train::Args),
     #[command(after_long_help = cmd::eval::EXAMPLES)]
@@ -74,8 +75,8 @@ pub(crate) enum Command {
     Simulate(cmd::simulate::Args),
     #[command(after_long_help = cmd::preview::EXAMPLES)]
     Preview(cmd::preview::Args),
-    #[command(after_long_help = cmd::farm::EXAMPLES, disable_help_subcommand = true)]
-    Farm(cmd::farm::Args),
+    #[command(after_long_help = farm::EXAMPLES, disable_help_subcommand = true)]
+    Farm(farm::Args),
     #[command(after_long_help = cmd::asset::EXAMPLES)]
     Asset(cmd::asset::Args),
 }
@@ -149,8 +150,8 @@ fn run(cli: Cli) -> anyhow::Result<i32> {
         }};
     }
     match cli.command {
-        None => cmd::convert::run(with_ocio!(cli.convert)),
-        Some(Command::Convert(args)) => cmd::convert::run(with_ocio!(args)),
+        None => convert::run(with_ocio!(cli.convert)),
+        Some(Command::Convert(args)) => convert::run(with_ocio!(args)),
         Some(Command::Train(args)) => done(cmd::train::run(args)),
         Some(Command::Eval(args)) => done(cmd::eval::run(args)),
         Some(Command::Report(args)) => done(cmd::report::run(args)),
@@ -162,7 +163,7 @@ fn run(cli: Cli) -> anyhow::Result<i32> {
         Some(Command::Completions(args)) => done(cmd::completions::run(args, Cli::command())),
         Some(Command::Simulate(args)) => done(cmd::simulate::run(args)),
         Some(Command::Preview(args)) => done(cmd::preview::run(args)),
-        Some(Command::Farm(args)) => cmd::farm::run(args, ocio),
+        Some(Command::Farm(args)) => farm::run(args, ocio),
         Some(Command::Asset(args)) => cmd::asset::run(with_ocio!(args)),
     }
 }

@@ -4,6 +4,7 @@
 use anyhow::Result;
 use specconv_atomic_file::Replace;
 use specconv_colour::SpectralTable;
+use specconv_convert_cmd::errors::{explain, usage};
 use std::path::Path;
 
 /// Reads a spectra CSV file (the library's reader).
@@ -21,7 +22,7 @@ pub fn check_output(
     what: &'static str,
 ) -> Result<()> {
     specconv_atomic_file::check_extension(path, extensions, what)
-        .map_err(|e| crate::errors::usage(anyhow::Error::new(e)))
+        .map_err(|e| usage(anyhow::Error::new(e)))
 }
 
 /// Refuses, before any work, an output that may not be written by a command reading `inputs`
@@ -29,7 +30,7 @@ pub fn check_output(
 /// with `replace`): a usage error.
 pub fn check_writable(output: &Path, inputs: &[&Path], replace: Replace) -> Result<()> {
     specconv_atomic_file::check_plan(inputs, &[output], replace)
-        .map_err(|e| crate::errors::usage(anyhow::anyhow!(crate::errors::explain(&e.into()))))
+        .map_err(|e| usage(anyhow::anyhow!(explain(&e.into()))))
 }
 
 /// The OpenEXR a command makes of one input (`what`: why it must end in .exr): its name, and
@@ -53,7 +54,7 @@ pub fn write_atomically(
 ) -> Result<()> {
     use specconv_atomic_file::WriteError;
     specconv_atomic_file::write_checked(path, bytes, inputs, replace).map_err(|e| match e {
-        WriteError::Plan(p) => anyhow::anyhow!(crate::errors::explain(&p.into())),
+        WriteError::Plan(p) => anyhow::anyhow!(explain(&p.into())),
         io => anyhow::Error::new(io),
     })
 }
@@ -61,7 +62,7 @@ pub fn write_atomically(
 /// The model from `--model FILE`, or the built-in one. A model that cannot be read is a
 /// usage error: nothing can be done with it.
 pub fn load_model(path: Option<&Path>) -> Result<specconv_spectral::Model> {
-    specconv_conversion::models::load(path).map_err(crate::errors::usage)
+    specconv_conversion::models::load(path).map_err(usage)
 }
 
 /// Why a trained model has fewer clusters than were asked for; `None` when it has them all.

@@ -5,14 +5,12 @@
 #![forbid(unsafe_code)]
 
 #[macro_use]
-mod stdio;
-mod checks;
+extern crate specconv_convert_cmd;
+
 mod cmd;
 mod command_line;
 #[cfg(test)]
 mod doc_flags;
-mod errors;
-pub mod exit;
 mod files;
 #[cfg(test)]
 mod flag_tests;
@@ -20,12 +18,10 @@ pub mod generated;
 mod man;
 mod methods;
 mod picture;
-mod progress;
-mod records;
-mod shard;
-mod signals;
 
 pub use command_line::main;
+/// The exit statuses, for the program's tests and its man pages.
+pub use specconv_convert_cmd::exit;
 
 /// The man pages, one per command: (file name in man/, roff).
 pub fn man_pages() -> Vec<(String, Vec<u8>)> {
@@ -36,119 +32,11 @@ pub fn man_pages() -> Vec<(String, Vec<u8>)> {
 mod tests {
     use super::*;
     use crate::command_line::Cli;
-    use crate::errors::{explain, flag, one_line, usage, Usage};
     use clap::CommandFactory;
-
-    #[test]
-    fn a_message_of_several_lines_is_one() {
-        let e = std::io::Error::other("TOML parse error at line 1, column 5\n  |\n1 | a = \n  |     ^\nstring values must be quoted\n");
-        assert_eq!(
-            one_line(&e),
-            "TOML parse error at line 1, column 5; string values must be quoted"
-        );
-    }
-
-    #[test]
-    fn options_are_spelt_by_their_flags() {
-        use specconv_conversion::Key;
-        assert_eq!(flag(Key::Threads), "-j/--threads");
-        assert_eq!(flag(Key::Tile), "--tile W H");
-        assert_eq!(flag(Key::Overwrite), "--force");
-        assert_eq!(flag(Key::NonFinite), "--fixnan");
-        // Every option the command line has a flag for is spelt by one it accepts.
-        for key in Key::ALL {
-            let Some(long) = key.about().flags.first() else {
-                continue;
-            };
-            assert!(flag(key).contains(&format!("--{}", long.long)), "{key:?}");
-        }
-    }
-
-    #[test]
-    fn the_remedies_of_the_library_are_said_in_flags() {
-        use specconv_conversion::Error;
-        let said = |e: &(dyn std::error::Error + 'static)| one_line(e);
-        let threads = Error::TooManyThreads {
-            threads: 9,
-            limit: 8,
-            cores: 2,
-        };
-        assert!(
-            said(&threads).ends_with("; lower -j/--threads"),
-            "{}",
-            said(&threads)
-        );
-        let memory = Error::TooMuchMemory {
-            needed: 1 << 40,
-            have: 1 << 30,
-        };
-        assert!(said(&memory).ends_with(" (--bands, --tile W H, -j/--threads)"));
-        let grid = specconv_colour::Error::NotCovered {
-            what: "the cie1931 observer".into(),
-            first: 360.0,
-            last: 830.0,
-            grid: "300:700:10".parse().unwrap(),
-        };
-        assert!(
-            said(&grid).ends_with("; choose bands inside that range (e.g. --bands 360:700:10)"),
-            "{}",
-            said(&grid)
-        );
-        let pca = specconv_spectral::Error::NeedsOneCluster { clusters: 8 };
-        assert!(said(&pca).ends_with(" (`specconv train --clusters 1`)"));
-        // Errors whose whole message the command line words itself take no hint.
-        assert_eq!(said(&Error::NoThreads), Error::NoThreads.to_string());
-        assert_eq!(
-            explain(&Error::NoThreads),
-            "-j/--threads must be at least 1"
-        );
-    }
 
     #[test]
     fn cli_definition_is_consistent() {
         Cli::command().debug_assert();
-    }
-
-    #[test]
-    fn errors_read_as_one_line_with_each_cause_once() {
-        let e = anyhow::anyhow!("/t/a.exr: no such file").context("cannot read /t/a.exr");
-        assert_eq!(one_line(e.as_ref()), "cannot read /t/a.exr: no such file");
-        let e = anyhow::anyhow!("/t/a.exr is not a spectral EXR").context("cannot read /t/a.exr");
-        assert_eq!(one_line(e.as_ref()), "/t/a.exr is not a spectral EXR");
-        let e = anyhow::anyhow!("OpenEXR: truncated")
-            .context("cannot read /t/a.exr")
-            .context("patch 2");
-        assert_eq!(
-            one_line(e.as_ref()),
-            "patch 2: cannot read /t/a.exr: OpenEXR: truncated"
-        );
-        // A word is not a file name: `patch tex` and `cannot read the texture…` both stay.
-        let e = anyhow::anyhow!("/t/a.png: no such file")
-            .context("cannot read the texture /t/a.png")
-            .context("patch tex");
-        assert_eq!(
-            one_line(e.as_ref()),
-            "patch tex: cannot read the texture /t/a.png: no such file"
-        );
-        // A wrapper that displays its source (thiserror's `#[error("{0}")]` with `#[from]`).
-        #[derive(Debug)]
-        struct Wrap(std::io::Error);
-        impl std::fmt::Display for Wrap {
-            fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-                self.0.fmt(f)
-            }
-        }
-        impl std::error::Error for Wrap {
-            fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
-                Some(&self.0)
-            }
-        }
-        let e =
-            anyhow::Error::new(Wrap(std::io::Error::other("disk full"))).context("cannot write x");
-        assert_eq!(one_line(e.as_ref()), "cannot write x: disk full");
-        let u = usage(e);
-        assert!(u.is::<Usage>());
-        assert_eq!(u.to_string(), "cannot write x: disk full");
     }
 
     /// Every example of every page parses as a command line of this program (after a pipe,
@@ -173,7 +61,12 @@ mod tests {
                 let command = command.split(" > ").next().unwrap();
                 let words = shell_words(command);
                 crate::command_line::parse(words.iter().map(std::ffi::OsString::from))
-                    .unwrap_or_else(|e| panic!("{line}: {}", crate::errors::clap_error_line(&e)));
+                    .unwrap_or_else(|e| {
+                        panic!(
+                            "{line}: {}",
+                            specconv_convert_cmd::errors::clap_error_line(&e)
+                        )
+                    });
                 n += 1;
             }
         }

@@ -1,6 +1,6 @@
 //! Man pages, one per command, generated from the clap definitions with clap_mangen: NAME,
 //! SYNOPSIS, DESCRIPTION and OPTIONS from clap; EXAMPLES from each command's `after_long_help`
-//! (which `--help` shows too); EXIT STATUS from [`crate::exit::TABLE`]; ENVIRONMENT from
+//! (which `--help` shows too); EXIT STATUS from [`specconv_convert_cmd::exit::TABLE`]; ENVIRONMENT from
 //! [`ENVIRONMENT`]; SEE ALSO naming the other pages. `specconv-dev generate` writes them to man/
 //! (its `--check` in CI fails on drift).
 
@@ -113,7 +113,7 @@ fn page(cmd: &clap::Command, name: &str, see_also: &[String]) -> Vec<u8> {
         roff += ".fi\n";
     }
     roff += ".SH \"EXIT STATUS\"\n";
-    for (code, meaning) in crate::exit::TABLE {
+    for (code, meaning) in specconv_convert_cmd::exit::TABLE {
         roff += &format!(".TP\n\\fB{code}\\fR\n{}\n", escape(meaning));
     }
     roff += ".SH ENVIRONMENT\n";

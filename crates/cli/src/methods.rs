@@ -5,6 +5,7 @@
 
 use anyhow::Result;
 use specconv_colour::Colorimetry;
+use specconv_convert_cmd::errors::usage;
 use specconv_flags::defs;
 use specconv_spectral::method::MethodName;
 use specconv_spectral::stack::{Setting, Stack, StackSpec};
@@ -26,7 +27,7 @@ impl ShiftArg {
     /// Where the colour shift is measured, for evaluations in `a`'s setting.
     pub fn viewing(&self, a: &Colorimetry) -> Result<specconv_evaluation::eval::Viewing> {
         specconv_evaluation::eval::Viewing::new(a, &self.shift_under).map_err(|e| {
-            crate::errors::usage(anyhow::anyhow!(
+            usage(anyhow::anyhow!(
                 "--shift-under: {e}; choose bands inside that range, or name illuminants whose tables cover the grid with --shift-under"
             ))
         })
@@ -147,7 +148,7 @@ pub fn weighted_set(
     w: &WeightArgs,
 ) -> Result<specconv_spectral::TrainingSet> {
     let parts = weighted_parts(paths, grid, w)?;
-    specconv_spectral::TrainingSet::union(&parts, w.balance).map_err(crate::errors::usage)
+    specconv_spectral::TrainingSet::union(&parts, w.balance).map_err(usage)
 }
 
 /// The --spectra files, one part each, with the weights and licences of `w` (before
@@ -164,7 +165,7 @@ pub fn weighted_parts(
         ("--commercial", w.commercial.len()),
     ] {
         if count != 0 && count != paths.len() {
-            return Err(crate::errors::usage(anyhow::anyhow!(
+            return Err(usage(anyhow::anyhow!(
                 "{count} values of {flag} for {} --spectra files: give one per file, in their order",
                 paths.len()
             )));
@@ -176,7 +177,7 @@ pub fn weighted_parts(
         let set = specconv_spectral::TrainingSet::from_file(&table, &sha256, grid, w.hold_ends)?;
         let mut terms = match w.licences.get(k) {
             Some(licence) => Terms::stated(licence, Default::default())
-                .map_err(|e| crate::errors::usage(anyhow::anyhow!("--licence: {e}")))?,
+                .map_err(|e| usage(anyhow::anyhow!("--licence: {e}")))?,
             None => {
                 warn_named_like_known(path, &set, &sha256);
                 set.sets[0].terms()

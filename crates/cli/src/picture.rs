@@ -1,6 +1,7 @@
 //! The output format of a picture, by the extension of the path a flag names.
 
 use anyhow::{anyhow, Result};
+use specconv_convert_cmd::errors::usage;
 
 /// The output kind of a picture path, by its extension.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -30,7 +31,7 @@ impl Format {
             .collect();
         match format {
             Some(f) if allowed.contains(&f) => Ok(f),
-            _ => Err(crate::errors::usage(anyhow!(
+            _ => Err(usage(anyhow!(
                 "{option} {}: the format is chosen by the extension; name the file {}",
                 path.display(),
                 names.join(" or ")

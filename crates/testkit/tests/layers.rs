@@ -33,8 +33,17 @@ const LAYERS: &[&[&str]] = &[
     // An asset (a USD stage) over the conversion: its textures decided by their materials; the
     // command line's flags, from the conversion's definitions and one table of the commands'.
     &["specconv-asset", "specconv-flags"],
-    // The front-ends: the command line and the Python package.
-    &["specconv-cli", "specconv-python", "specconv-testkit"],
+    // The convert command and the ground of every command (printing, errors, exit statuses);
+    // the Python package, the other front-end.
+    &[
+        "specconv-convert-cmd",
+        "specconv-python",
+        "specconv-testkit",
+    ],
+    // The farm command, over the convert command its tasks run.
+    &["specconv-farm-cmd"],
+    // The command line: dispatch and the other commands.
+    &["specconv-cli"],
     // The program, and the developers' own tools over everything (never shipped).
     &["specconv", "specconv-dev"],
 ];
@@ -136,9 +145,20 @@ const FFI: &[&str] = &[
     "specconv-shim-build",
 ];
 
-/// The front-ends, by manifest and sources.
+/// The front-ends, by manifest and sources: the command line's three crates and the Python
+/// package.
 const FRONT_ENDS: &[(&str, &str, &str)] = &[
     ("specconv-cli", "crates/cli/Cargo.toml", "crates/cli/src"),
+    (
+        "specconv-convert-cmd",
+        "crates/convert-cmd/Cargo.toml",
+        "crates/convert-cmd/src",
+    ),
+    (
+        "specconv-farm-cmd",
+        "crates/farm-cmd/Cargo.toml",
+        "crates/farm-cmd/src",
+    ),
     ("specconv-python", "python/Cargo.toml", "python/src"),
 ];
 
@@ -174,12 +194,17 @@ fn sources(dir: &Path) -> Vec<PathBuf> {
 /// the Python package reads and writes spectral files itself, with the same crate.
 #[test]
 fn the_command_line_reaches_file_formats_through_the_library() {
-    let (_, deps) = dependencies(&root().join("crates/cli/Cargo.toml"));
-    for format in ["specconv-exr", "exr", "image"] {
-        assert!(
-            !deps.iter().any(|d| d == format),
-            "the CLI depends on {format}: reach it through specconv-conversion"
-        );
+    let command_line = FRONT_ENDS
+        .iter()
+        .filter(|(package, ..)| *package != "specconv-python");
+    for &(package, manifest, _) in command_line {
+        let (_, deps) = dependencies(&root().join(manifest));
+        for format in ["specconv-exr", "exr", "image"] {
+            assert!(
+                !deps.iter().any(|d| d == format),
+                "{package} depends on {format}: reach it through specconv-conversion"
+            );
+        }
     }
 }
 

@@ -2,9 +2,6 @@
 //! material that reads it (the library's rule, crates/asset), converted as `convert` converts a
 //! batch, and a layer over the stage pointing it at the spectral files (docs/assets.md).
 
-use super::convert::{run_batch, Annotate, Reporting};
-use crate::errors::{explain, print_error, usage};
-use crate::exit;
 use anyhow::{Context, Result};
 use specconv_asset::{
     finish, make_folders, member, prepare, unknown_line, unknown_record, with_member, Asset,
@@ -12,6 +9,9 @@ use specconv_asset::{
 };
 use specconv_conversion::record::Record;
 use specconv_conversion::Options;
+use specconv_convert_cmd::convert::{run_batch, Annotate, BatchArgs, Reporting};
+use specconv_convert_cmd::errors::{asset_error, explain, print_error, usage};
+use specconv_convert_cmd::exit;
 use specconv_flags::defs;
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex};
@@ -67,7 +67,7 @@ specconv_flags::args! {
         /// refused: the material names each texture's).
         pub(crate) conversion: specconv_flags::ConversionArgs = flatten,
         /// -u, --json, --progress, -q, as `convert` takes them.
-        batch: super::convert::BatchArgs = flatten,
+        batch: BatchArgs = flatten,
         verbose: bool = (defs::ASSET_VERBOSE),
     }
 }
@@ -192,15 +192,6 @@ fn print_decisions(asset: &Asset, jobs: &[Job], json: bool) -> Result<()> {
         );
     }
     Ok(())
-}
-
-/// An asset error for the CLI: the caller's fault is a usage error (exit 2).
-pub(crate) fn asset_error(e: specconv_asset::Error) -> anyhow::Error {
-    if e.is_usage() {
-        usage(e)
-    } else {
-        e.into()
-    }
 }
 
 /// Converts the jobs (each in its colour space), reports the textures that are not converted

@@ -2,6 +2,7 @@
 
 use anyhow::Result;
 use serde::Serialize;
+use specconv_convert_cmd::checks::config;
 use specconv_flags::defs;
 
 /// Shown after `--help` and as the man page's EXAMPLES.
@@ -58,7 +59,7 @@ struct Space {
 }
 
 pub fn run(args: Args) -> Result<()> {
-    let config = crate::checks::config(args.ocio.as_deref())?;
+    let config = config(args.ocio.as_deref())?;
     let mut roles = Vec::new();
     for role in ROLES {
         roles.push(Role {

@@ -1,6 +1,7 @@
 //! `specconv completions SHELL`: shell completion scripts, generated from the clap definitions.
 
 use anyhow::Result;
+use specconv_convert_cmd::stdio::out_bytes;
 use specconv_flags::defs;
 
 /// Shown after `--help` and as the man page's EXAMPLES.
@@ -24,5 +25,5 @@ pub fn run(args: Args, mut cli: clap::Command) -> Result<()> {
     // Made in memory: clap_complete panics when its writer fails.
     let mut script = Vec::new();
     clap_complete::generate(args.shell, &mut cli, "specconv", &mut script);
-    Ok(crate::stdio::out_bytes(&script)?)
+    Ok(out_bytes(&script)?)
 }

@@ -2,6 +2,7 @@
 
 use crate::{files, methods};
 use anyhow::Result;
+use specconv_convert_cmd::errors::{one_line, usage};
 use specconv_evaluation::eval;
 use specconv_flags::defs;
 use specconv_spectral::method::MethodName;
@@ -73,9 +74,9 @@ pub fn run(args: Args) -> Result<()> {
     let (model, described) = model(&args)?;
     let stack = methods::build(&args.stack_spec(), &model).map_err(|e| match args.method {
         // The one setting a user can fix here: a many-cluster model for pca.
-        MethodName::Pca => crate::errors::usage(anyhow::anyhow!(
+        MethodName::Pca => usage(anyhow::anyhow!(
             "{}; or pass --train CSV to train one here",
-            crate::errors::one_line(e.as_ref())
+            one_line(e.as_ref())
         )),
         _ => e,
     })?;
@@ -134,7 +135,7 @@ fn print_text(
     described: &str,
     summary: &eval::Statistics,
     rows: &[Row],
-) -> Result<(), crate::stdio::StdoutFailed> {
+) -> Result<(), specconv_convert_cmd::stdio::StdoutFailed> {
     if args.per_spectrum {
         let lights: String = summary
             .colour_shift
@@ -237,6 +238,7 @@ mod by_set {
     use super::Args;
     use crate::methods;
     use anyhow::{anyhow, Result};
+    use specconv_convert_cmd::errors::usage;
     use specconv_evaluation::eval;
     use specconv_evaluation::sets::{held_out_by_set, Holdout, Recipe, Scores};
     use specconv_spectral::method::MethodName;
@@ -244,7 +246,7 @@ mod by_set {
 
     pub(super) fn run(args: &Args) -> Result<()> {
         if !args.method.is_clustered() {
-            return Err(crate::errors::usage(anyhow!(
+            return Err(usage(anyhow!(
                 "--by-set measures trained models: use --method otsu2018 or pca ({} is not trained)",
                 args.method
             )));
@@ -285,7 +287,7 @@ mod by_set {
                 if (other.grid, other.observer, other.illuminant)
                     != (a.grid, a.observer, a.illuminant)
                 {
-                    return Err(crate::errors::usage(anyhow!(
+                    return Err(usage(anyhow!(
                         "--against {} is trained in another setting than the model measured: compare models of one grid, observer and illuminant",
                         path.display()
                     )));
@@ -323,14 +325,14 @@ mod by_set {
     fn recorded(model: &Model, tests: &[TrainingSet], pca: bool) -> Result<Recipe> {
         let t = &model.training;
         if t.sets.is_empty() {
-            return Err(crate::errors::usage(anyhow!(
+            return Err(usage(anyhow!(
                 "the model does not record its training sets: give them with --train"
             )));
         }
         let mut parts = Vec::with_capacity(t.sets.len());
         for record in &t.sets {
             let Some(set) = tests.iter().find(|s| s.sources == [record.source.clone()]) else {
-                return Err(crate::errors::usage(anyhow!(
+                return Err(usage(anyhow!(
                     "the model was trained on {}, which is not among --spectra: give that file with --spectra",
                     record.source
                 )));

@@ -1,13 +1,13 @@
 //! `specconv expand`: compact textures written out in the spectral layout, a batch as
 //! `convert` runs one (the library's plan and [`specconv_conversion::Expansions`]).
 
-use super::convert::{ending, paths, printing};
-use crate::errors::{explain, print_error, usage};
-use crate::progress::{Closing, Progress};
-use crate::stdio::StdoutFailed;
-use crate::{records, signals};
 use anyhow::Result;
 use specconv_conversion::{Event, Expansions, Key};
+use specconv_convert_cmd::convert::{ending, paths, printing, BatchArgs};
+use specconv_convert_cmd::errors::{explain, print_error, usage};
+use specconv_convert_cmd::progress::{Closing, Progress};
+use specconv_convert_cmd::stdio::StdoutFailed;
+use specconv_convert_cmd::{records, signals};
 use specconv_flags::defs;
 use specconv_flags::{OptionArgs, Taken};
 use std::path::PathBuf;
@@ -39,7 +39,7 @@ specconv_flags::args! {
         output: Option<PathBuf> = (defs::EXPAND_OUTPUT),
         output_template: Option<String> = (defs::EXPAND_OUTPUT_TEMPLATE),
         /// -u, --json, --progress, -q, as `convert` takes them.
-        batch: super::convert::BatchArgs = flatten,
+        batch: BatchArgs = flatten,
         /// -j, --force, --fixnan, as the library defines them.
         options: OptionArgs<Expanding> = flatten,
     }

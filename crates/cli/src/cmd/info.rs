@@ -1,15 +1,15 @@
 //! `specconv info`: what the image reader sees in a file, and which colour space specconv
 //! would read it in.
 
-use crate::errors::{one_line, print_error};
-use crate::stdio::{serialize_path, StdoutFailed};
-use crate::{checks, exit};
 use anyhow::Result;
 use serde::Serialize;
 use specconv_atomic_file::shown::escaped;
 use specconv_conversion::{
     ChannelReason, ColourConfig, CompactFacts, Inspection, ReadAs, SpectralFacts,
 };
+use specconv_convert_cmd::errors::{explain, one_line, print_error};
+use specconv_convert_cmd::stdio::{serialize_path, StdoutFailed};
+use specconv_convert_cmd::{checks, exit, records};
 use specconv_flags::defs;
 use std::path::{Path, PathBuf};
 
@@ -217,7 +217,7 @@ pub fn run(args: Args) -> Result<i32> {
                 return Err(e);
             }
             // Every error names its file, once, first.
-            let line = crate::records::without_input(&one_line(e.as_ref()), file);
+            let line = records::without_input(&one_line(e.as_ref()), file);
             print_error(&format!("{}: {line}", file.display()));
             status = exit::FAILED;
         }
@@ -257,7 +257,7 @@ fn show(
     };
     let read_as = match &d.colour {
         Ok(r) => r,
-        Err(e) => return Err(anyhow::anyhow!(crate::errors::explain(e))),
+        Err(e) => return Err(anyhow::anyhow!(explain(e))),
     };
     let (space_name, rule, warnings, to_xyz) = match read_as {
         ReadAs::Colour {
@@ -273,7 +273,7 @@ fn show(
             &[][..],
             format!(
                 "none: a data texture ({why}), never uplifted (convert: {})",
-                crate::records::data_remedy(rule)
+                records::data_remedy(rule)
             ),
         ),
     };
@@ -304,12 +304,12 @@ fn show(
         channels_problem,
         declared_color_space: d.declared_colour_space.as_deref(),
         colorspace: space_name,
-        colorspace_rule: crate::records::colorspace_rule(rule),
-        colorspace_reason: crate::records::colorspace_reason(rule),
+        colorspace_rule: records::colorspace_rule(rule),
+        colorspace_reason: records::colorspace_reason(rule),
         colorspace_row: rule.row(),
         colorspace_row_text: rule.row_text(),
         colorspace_overrides: rule.overrides(),
-        colorspace_warnings: warnings.iter().map(crate::records::warning).collect(),
+        colorspace_warnings: warnings.iter().map(records::warning).collect(),
         straight_alpha: d.straight_alpha,
         to_xyz,
         role: read_as.role().name(),

@@ -3,10 +3,8 @@
 pub mod asset;
 pub mod colorspaces;
 pub mod completions;
-pub mod convert;
 pub mod eval;
 pub mod expand;
-pub mod farm;
 pub mod info;
 pub mod models;
 pub mod preview;

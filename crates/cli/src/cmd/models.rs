@@ -3,6 +3,7 @@
 
 use anyhow::Result;
 use specconv_conversion::models;
+use specconv_convert_cmd::errors::usage;
 use specconv_flags::defs;
 use specconv_spectral::otsu2018::model::BUILTIN;
 use specconv_spectral::otsu2018::terms::Notice;
@@ -48,7 +49,7 @@ struct Listed {
 
 pub fn run(args: Args) -> Result<()> {
     let (_, origin) = models::in_force(None);
-    let in_force = models::load(None).map_err(crate::errors::usage)?;
+    let in_force = models::load(None).map_err(usage)?;
     let name = shown(&models::pinned(None));
     let mut listed: Vec<Listed> = BUILTIN
         .iter()

@@ -1,11 +1,12 @@
 //! `specconv preview`: a spectral texture as it looks after K interreflections with itself.
 
-use crate::errors::explain;
 use crate::files;
 use crate::picture::Format;
 use anyhow::Result;
 use serde::Serialize;
 use specconv_colour::Illuminant;
+use specconv_convert_cmd::errors::explain;
+use specconv_convert_cmd::stdio::serialize_path;
 use specconv_figures::picture;
 use specconv_flags::defs;
 use std::path::PathBuf;
@@ -50,9 +51,9 @@ specconv_flags::args! {
 
 #[derive(Serialize)]
 struct PreviewRecord {
-    #[serde(serialize_with = "crate::stdio::serialize_path")]
+    #[serde(serialize_with = "serialize_path")]
     input: PathBuf,
-    #[serde(serialize_with = "crate::stdio::serialize_path")]
+    #[serde(serialize_with = "serialize_path")]
     output: PathBuf,
     width: usize,
     height: usize,

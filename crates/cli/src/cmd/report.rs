@@ -1,12 +1,13 @@
 //! `specconv report`: every method on the same spectra, accuracy and cost in one table.
 
 use crate::picture::Format;
-use crate::stdio::StdoutFailed;
 use crate::{files, methods};
 use anyhow::{bail, Context, Result};
 use serde::Serialize;
 use specconv_atomic_file::Replace;
 use specconv_colour::{Colorimetry, Grid};
+use specconv_convert_cmd::errors::usage;
+use specconv_convert_cmd::stdio::StdoutFailed;
 use specconv_evaluation::{cost, eval};
 use specconv_figures::plot;
 use specconv_flags::defs;
@@ -102,9 +103,7 @@ pub fn run(args: Args) -> Result<()> {
         files::check_writable(p, &inputs, Replace::Allowed)?;
     }
     if args.colours == 0 {
-        return Err(crate::errors::usage(anyhow::anyhow!(
-            "--colours must be at least 1"
-        )));
+        return Err(usage(anyhow::anyhow!("--colours must be at least 1")));
     }
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(args.threads.unwrap_or(0))
@@ -291,7 +290,7 @@ fn by_set(
 ) -> Result<(Model, eval::Statistics, Option<String>)> {
     use specconv_evaluation::sets::{held_out_by_set, Holdout, Recipe};
     if args.spectra.len() < 2 {
-        return Err(crate::errors::usage(anyhow::anyhow!(
+        return Err(usage(anyhow::anyhow!(
             "--by-set leaves one --spectra file out at a time: give at least two"
         )));
     }

@@ -1,8 +1,8 @@
 //! `specconv to-rgb`: integrate a spectral EXR back to a colour image, for checks and previews.
 
-use crate::errors::{explain, usage};
 use anyhow::Result;
 use specconv_colour::Illuminant;
+use specconv_convert_cmd::errors::{explain, usage};
 use specconv_flags::defs;
 use std::path::PathBuf;
 
@@ -57,7 +57,7 @@ pub fn run(args: Args) -> Result<()> {
     options.overwrite = args.force.on();
     let to_rgb = ToRgb::new(options).map_err(|e| usage(anyhow::anyhow!(explain(&e))))?;
     // A signal stops the integration between blocks, or the write before it is published.
-    let r = crate::signals::one_output(|cancel| {
+    let r = specconv_convert_cmd::signals::one_output(|cancel| {
         to_rgb.convert_cancellable(&args.input, &args.output, cancel)
     })?;
     let light = match r.light {

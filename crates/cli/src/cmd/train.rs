@@ -3,6 +3,7 @@
 use crate::files;
 use anyhow::Result;
 use specconv_atomic_file::Replace;
+use specconv_convert_cmd::errors::{explain, usage};
 use specconv_flags::defs;
 use specconv_spectral::TrainOptions;
 use std::path::{Path, PathBuf};
@@ -62,7 +63,7 @@ pub fn run(args: Args) -> Result<()> {
             let a = base.colorimetry()?;
             let c = &args.colorimetry;
             if (c.bands, c.observer, c.illuminant) != (a.grid, a.observer, a.illuminant) {
-                return Err(crate::errors::usage(anyhow::anyhow!(
+                return Err(usage(anyhow::anyhow!(
                     "--with trains in its model's setting ({}, {}, {} nm): drop --observer, --illuminant and --bands, or give them as the model has them",
                     a.observer,
                     a.illuminant,
@@ -76,7 +77,7 @@ pub fn run(args: Args) -> Result<()> {
             }
             let set =
                 specconv_spectral::TrainingSet::on_top(recorded.parts, own, args.weights.balance)
-                    .map_err(crate::errors::usage)?;
+                    .map_err(usage)?;
             (a, set, models::recorded_options(&base))
         }
         _ => {
@@ -94,7 +95,7 @@ pub fn run(args: Args) -> Result<()> {
     let model = specconv_spectral::train(&set, &a, &opts)?;
     let seconds = start.elapsed().as_secs_f64();
     models::save(&model, &args.output, &inputs, replace)
-        .map_err(|e| anyhow::anyhow!(crate::errors::explain(&e.into())))?;
+        .map_err(|e| anyhow::anyhow!(explain(&e.into())))?;
 
     errln!(
         "trained {} clusters on {} spectra in {seconds:.3} s; total error Σ‖s − r‖² = {:.6}",

@@ -6,6 +6,7 @@ use crate::picture::Format;
 use anyhow::{bail, Result};
 use serde::Serialize;
 use specconv_atomic_file::Replace;
+use specconv_convert_cmd::stdio::serialize_path;
 use specconv_figures::picture;
 use specconv_figures::swatches::{self, Block, Cell, Row};
 use std::path::{Path, PathBuf};
@@ -16,7 +17,7 @@ pub const MAX_PATCHES: usize = 16;
 /// What `--image` wrote, for --json: the file and each swatch's rectangle in it.
 #[derive(Serialize)]
 pub struct Written {
-    #[serde(serialize_with = "crate::stdio::serialize_path")]
+    #[serde(serialize_with = "serialize_path")]
     path: PathBuf,
     width: u32,
     height: u32,

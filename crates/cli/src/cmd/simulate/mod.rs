@@ -1,10 +1,10 @@
 //! `specconv simulate`: the colour shift of interreflection in a small declarative scene.
 
-use crate::stdio::StdoutFailed;
 use crate::{files, methods};
 use anyhow::{anyhow, Context, Result};
 use serde::Serialize;
 use specconv_colour::Colorimetry;
+use specconv_convert_cmd::stdio::StdoutFailed;
 use specconv_evaluation::scene::{self, SceneFile};
 use specconv_evaluation::simulate;
 use specconv_evaluation::simulate::{Outcome, Scene};

@@ -1,21 +1,21 @@
 //! `farm status`, `collect` and `retry`: a job read back from its directory and Slurm, reported,
 //! a stage's layer written, and what failed resubmitted.
 
-use super::task::task_options;
-use super::{count, farm_error, pinned, Report, Retry};
-use crate::cmd::asset::asset_error;
-use crate::errors::{print_error, usage};
-use crate::{checks, exit};
+use crate::args::{Report, Retry};
+use crate::job::{count, farm_error, pinned};
+use crate::task::task_options;
 use anyhow::Result;
 use specconv_asset::Reader;
 use specconv_conversion::plan::weights;
+use specconv_convert_cmd::errors::{asset_error, print_error, usage};
+use specconv_convert_cmd::{checks, exit};
 use specconv_farm::manifest::Outputs;
 use specconv_farm::{slurm, FileState, Manifest, Status};
 use std::path::Path;
 
 /// A stage's job: the layer over the stage ([`specconv_asset::farm_layer`]); false when none
 /// was written (a stage changed since submit, a manifest edited), said as an error.
-pub(super) fn write_layer(m: &Manifest, job_dir: &Path, status: &Status) -> Result<bool> {
+pub(crate) fn write_layer(m: &Manifest, job_dir: &Path, status: &Status) -> Result<bool> {
     let (Some(job), Outputs::Tree(dir)) = (&m.asset, &m.outputs) else {
         return Ok(true);
     };
@@ -51,7 +51,7 @@ pub(super) fn write_layer(m: &Manifest, job_dir: &Path, status: &Status) -> Resu
     }
 }
 
-pub(super) fn load(job_dir: &Path) -> Result<(Manifest, Status)> {
+pub(crate) fn load(job_dir: &Path) -> Result<(Manifest, Status)> {
     let manifest = Manifest::load(job_dir).map_err(farm_error)?;
     let mut warned = false;
     let status = Status::read(job_dir, &manifest, &mut |id| {
@@ -67,7 +67,7 @@ pub(super) fn load(job_dir: &Path) -> Result<(Manifest, Status)> {
 }
 
 /// Exit status of a report: OK when every file is done, else FAILED.
-pub(super) fn all_done(status: &Status) -> i32 {
+pub(crate) fn all_done(status: &Status) -> i32 {
     if status.files.iter().all(|f| f.state == FileState::Done) {
         exit::OK
     } else {
@@ -75,7 +75,7 @@ pub(super) fn all_done(status: &Status) -> i32 {
     }
 }
 
-pub(super) fn status(r: &Report) -> Result<i32> {
+pub(crate) fn status(r: &Report) -> Result<i32> {
     let (m, status) = load(&r.job_dir)?;
     if r.json {
         outln!("{}", serde_json::to_string(&status)?)?;
@@ -117,7 +117,7 @@ pub(super) fn status(r: &Report) -> Result<i32> {
     Ok(all_done(&status))
 }
 
-pub(super) fn collect(r: &Report) -> Result<i32> {
+pub(crate) fn collect(r: &Report) -> Result<i32> {
     let (m, status) = load(&r.job_dir)?;
     let s = status.collected();
     if r.json {
@@ -160,7 +160,7 @@ pub(super) fn collect(r: &Report) -> Result<i32> {
 }
 
 /// The end of `collect`: a stage's layer written (once no task is live), and the exit status.
-pub(super) fn collected(m: &Manifest, job_dir: &Path, status: &Status) -> Result<i32> {
+pub(crate) fn collected(m: &Manifest, job_dir: &Path, status: &Status) -> Result<i32> {
     let running = status.collected().running;
     let layer = running || write_layer(m, &std::path::absolute(job_dir)?, status)?;
     Ok(if layer {
@@ -170,7 +170,7 @@ pub(super) fn collected(m: &Manifest, job_dir: &Path, status: &Status) -> Result
     })
 }
 
-pub(super) fn retry(r: &Retry, ocio: Option<String>) -> Result<i32> {
+pub(crate) fn retry(r: &Retry, ocio: Option<String>) -> Result<i32> {
     let job_dir = std::path::absolute(&r.job_dir)?;
     // Locked before the job's state is read: a second retry of this job waits, then finds this
     // one's round live instead of submitting the same files again.
@@ -223,7 +223,7 @@ pub(super) fn retry(r: &Retry, ocio: Option<String>) -> Result<i32> {
 }
 
 /// `--wait`: waits for the job to end, then collects it as `farm collect` does.
-pub(super) fn wait_and_collect(job_dir: &Path, job_id: &str, json: bool) -> Result<i32> {
+pub(crate) fn wait_and_collect(job_dir: &Path, job_id: &str, json: bool) -> Result<i32> {
     specconv_farm::wait(job_id)?;
     collect(&Report {
         job_dir: job_dir.to_path_buf(),

@@ -1,9 +1,9 @@
 //! `specconv [convert] INPUT… OUTPUT`: the main job.
 
-pub(crate) mod paths;
-pub(crate) mod printing;
+pub mod paths;
+pub mod printing;
 
-pub(crate) use paths::for_farm;
+pub use paths::for_farm;
 use printing::converted;
 
 use crate::errors::{explain, print_error, usage};
@@ -49,11 +49,11 @@ specconv_flags::args! {
         output: Option<PathBuf> = (defs::CONVERT_OUTPUT),
         output_template: Option<String> = (defs::CONVERT_OUTPUT_TEMPLATE),
         /// The global --ocio (see `specconv --help`).
-        pub(crate) ocio: Option<String> = skip,
+        pub ocio: Option<String> = skip,
         /// The options of the conversion, made from the library's definitions.
-        pub(crate) conversion: specconv_flags::ConversionArgs = flatten,
+        pub conversion: specconv_flags::ConversionArgs = flatten,
         /// -u, --json, --progress, -q.
-        pub(crate) batch: BatchArgs = flatten,
+        pub batch: BatchArgs = flatten,
         shard: Option<specconv_farm::Shard> = (defs::CONVERT_SHARD),
         verbose: bool = (defs::CONVERT_VERBOSE),
     }
@@ -73,7 +73,7 @@ specconv_flags::args! {
 
 impl BatchArgs {
     /// How a batch run with these flags reports; `verbose`: the command's `-v`.
-    pub(crate) fn reporting(&self, verbose: bool) -> Reporting {
+    pub fn reporting(&self, verbose: bool) -> Reporting {
         Reporting {
             json: self.json,
             update: self.update,
@@ -98,10 +98,10 @@ pub fn run(args: Args) -> Result<i32> {
     run_pairs(&args.reporting(), args.options(), &pairs)
 }
 
-/// A farm task's batch ([`crate::cmd::farm`]): `pairs` with `options`, reported as `convert
-/// --json -u --progress never` reports; input k in colour space `spaces[k]` where the manifest
-/// carries one (a stage's textures, as `asset` converts them).
-pub(crate) fn run_task(options: Options, pairs: &[Pair], spaces: &[Option<&str>]) -> Result<i32> {
+/// A farm task's batch (`specconv farm task`, in specconv-farm-cmd): `pairs` with `options`,
+/// reported as `convert --json -u --progress never` reports; input k in colour space
+/// `spaces[k]` where the manifest carries one (a stage's textures, as `asset` converts them).
+pub fn run_task(options: Options, pairs: &[Pair], spaces: &[Option<&str>]) -> Result<i32> {
     let reporting = Reporting {
         json: true,
         update: true,
@@ -121,7 +121,7 @@ pub(crate) fn run_task(options: Options, pairs: &[Pair], spaces: &[Option<&str>]
 
 /// How a batch is reported and what it skips: `convert`'s own flags, or a farm task's.
 #[derive(Clone)]
-pub(crate) struct Reporting {
+pub struct Reporting {
     /// `--json`: a record per input on standard output.
     pub json: bool,
     /// `-u`: skip outputs that are up to date.
@@ -138,7 +138,7 @@ pub(crate) struct Reporting {
 }
 
 /// What `asset` adds to a record: a JSON object's members (`"asset": {…}`), or none.
-pub(crate) type Annotate =
+pub type Annotate =
     std::sync::Arc<dyn Fn(&specconv_conversion::record::Record) -> Option<String> + Send + Sync>;
 
 /// Converts `pairs` with `options`, reported as `args` asks.
@@ -173,7 +173,7 @@ impl Args {
     }
 
     /// The conversion these options describe.
-    pub(crate) fn options(&self) -> Options {
+    pub fn options(&self) -> Options {
         let mut o = self.conversion.options.clone();
         o.ocio = self.ocio.clone();
         o
@@ -184,7 +184,7 @@ impl Args {
 /// SIGTERM stop the input being converted (its temporary file removed) and the batch; so does
 /// a failed write to standard output, after the record of an input that is done.
 /// `each_input`, when given, converts input k with its converter k ([`Batch::each_input`]).
-pub(crate) fn run_batch(
+pub fn run_batch(
     args: &Reporting,
     (converter, each_input): (&Converter, Option<&[&Converter]>),
     pairs: &[Pair],
@@ -266,7 +266,7 @@ pub(crate) fn run_batch(
 /// How a batch ended, said as every batch command says it (the warnings, the summary line,
 /// the interrupt, the failed output), and its exit status; `batch` is the inputs and the
 /// seconds it took.
-pub(crate) fn ending(
+pub fn ending(
     args: &Reporting,
     ended: Result<specconv_conversion::Summary, specconv_conversion::Error>,
     mut summary: Closing,
@@ -310,33 +310,33 @@ pub(crate) fn ending(
 
 impl Args {
     /// `-o DIR`, for `farm submit`.
-    pub(crate) fn output_dir(&self) -> Option<&Path> {
+    pub fn output_dir(&self) -> Option<&Path> {
         self.output.as_deref()
     }
 
-    pub(crate) fn output_template(&self) -> Option<&str> {
+    pub fn output_template(&self) -> Option<&str> {
         self.output_template.as_deref()
     }
 
     /// The inputs as given (`farm submit` looks for a stage among them).
-    pub(crate) fn inputs(&self) -> &[PathBuf] {
+    pub fn inputs(&self) -> &[PathBuf] {
         &self.paths
     }
 
     /// `-u`.
-    pub(crate) fn updating(&self) -> bool {
+    pub fn updating(&self) -> bool {
         self.batch.update
     }
 
-    pub(crate) fn sharded(&self) -> bool {
+    pub fn sharded(&self) -> bool {
         self.shard.is_some()
     }
 
-    pub(crate) fn json_wanted(&self) -> bool {
+    pub fn json_wanted(&self) -> bool {
         self.batch.json
     }
 
-    pub(crate) fn colorspace(&self) -> Option<&str> {
+    pub fn colorspace(&self) -> Option<&str> {
         self.conversion.options.colorspace.as_deref()
     }
 }

@@ -20,7 +20,7 @@ fn whole(args: &Args) -> Result<Plan> {
 /// The plan of a batch command's positional `paths` (inputs, then the output of one input;
 /// `-` reads a list on standard input) into the explicit output, the directory `output` or
 /// the `template`: `convert`'s, and `expand`'s.
-pub(crate) fn of_paths(
+pub fn of_paths(
     paths: &[PathBuf],
     output: Option<&std::path::Path>,
     template: Option<&str>,
@@ -65,7 +65,7 @@ pub(crate) fn of_paths(
 /// The pairs this run converts: the whole plan, or `--shard`'s part of it, once no output of
 /// theirs exists that may not be replaced (`--force`, `-u`). Outputs of other shards are never
 /// looked at, so shards run side by side in any order.
-pub(crate) fn this_run(args: &Args) -> Result<Vec<Pair>> {
+pub fn this_run(args: &Args) -> Result<Vec<Pair>> {
     let mut plan = whole(args)?;
     if let Some(shard) = args.shard {
         let index = crate::shard::index(shard)?;
@@ -77,7 +77,7 @@ pub(crate) fn this_run(args: &Args) -> Result<Vec<Pair>> {
 }
 
 /// The whole plan for `farm submit`, whose tasks all convert with `-u`: every output checked.
-pub(crate) fn for_farm(args: &Args) -> Result<Plan> {
+pub fn for_farm(args: &Args) -> Result<Plan> {
     let plan = whole(args)?;
     plan.check_existing(args.conversion.options.overwrite, true)
         .map_err(planned)?;
@@ -85,7 +85,7 @@ pub(crate) fn for_farm(args: &Args) -> Result<Plan> {
 }
 
 /// A plan's error as a library error, so that the command line's hint (`--force`) follows it.
-pub(crate) fn planned(e: plan::Error) -> anyhow::Error {
+pub fn planned(e: plan::Error) -> anyhow::Error {
     anyhow::anyhow!(crate::errors::explain(&specconv_conversion::Error::from(e)))
 }
 

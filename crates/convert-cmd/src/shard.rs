@@ -5,6 +5,6 @@ use anyhow::Result;
 use specconv_farm::Shard;
 
 /// This run's shard: I of `I/N`, or `auto/N`'s from $SLURM_ARRAY_TASK_ID.
-pub(crate) fn index(shard: Shard) -> Result<usize> {
+pub fn index(shard: Shard) -> Result<usize> {
     Ok(shard.index(std::env::var("SLURM_ARRAY_TASK_ID").ok().as_deref())?)
 }

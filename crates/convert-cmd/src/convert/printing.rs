@@ -8,12 +8,12 @@ use specconv_conversion::{Converter, Report};
 use std::path::Path;
 
 /// Reports an input skipped because its output is up to date.
-pub(crate) fn skipped(args: &Args, input: &Path, output: &Path) -> Result<(), StdoutFailed> {
+pub fn skipped(args: &Args, input: &Path, output: &Path) -> Result<(), StdoutFailed> {
     emit(args, Record::skipped(input, output), "")
 }
 
 /// Reports a failed input (its error line is printed by the caller unless `--json`).
-pub(crate) fn failed(
+pub fn failed(
     args: &Args,
     (input, output): (&Path, &Path),
     error: String,
@@ -23,7 +23,7 @@ pub(crate) fn failed(
 }
 
 /// Reports an expanded compact texture (`expand`): its record or line.
-pub(crate) fn expanded(
+pub fn expanded(
     args: &Args,
     (input, output): (&Path, &Path),
     e: &specconv_conversion::Expanded,

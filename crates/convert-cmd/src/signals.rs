@@ -37,11 +37,11 @@ struct Writer {
 const PATIENCE: Duration = Duration::from_secs(2);
 
 /// The line every interrupted command ends with.
-pub(crate) const LINE: &str = "interrupted; no partial output was left";
+pub const LINE: &str = "interrupted; no partial output was left";
 
 /// A signal came while an output was written; the command ends with status 130.
 #[derive(Debug)]
-pub(crate) struct Interrupted;
+pub struct Interrupted;
 
 impl std::fmt::Display for Interrupted {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
@@ -57,7 +57,7 @@ fn writer() -> MutexGuard<'static, Option<Writer>> {
 
 /// Installs the handler; the first thing `main` does. SIGXFSZ (a write past `ulimit -f`) is
 /// ignored, so that the write fails, is reported and its temporary removed.
-pub(crate) fn install() {
+pub fn install() {
     specconv_conversion::ignore_file_size_signal();
     // Without a handler (no thread could be made) the default action still ends the process
     // and leaves at most a temporary file, as SIGKILL would.
@@ -82,7 +82,7 @@ pub(crate) fn install() {
 
 /// [`deferred`] with a cancel flag of its own for one library call that writes one output:
 /// a cancelled call is [`Interrupted`], any other error explained.
-pub(crate) fn one_output<T>(
+pub fn one_output<T>(
     f: impl FnOnce(&AtomicBool) -> Result<T, specconv_conversion::Error>,
 ) -> anyhow::Result<T> {
     let cancel = Arc::new(AtomicBool::new(false));
@@ -97,7 +97,7 @@ pub(crate) fn one_output<T>(
 /// is complete, and a signal that comes while the command reports it must not end the process
 /// with "no partial output was left" and status 130 beside a published output (the command
 /// ends with the status of what it did).
-pub(crate) fn deferred<T>(cancel: &Arc<AtomicBool>, f: impl FnOnce() -> T) -> T {
+pub fn deferred<T>(cancel: &Arc<AtomicBool>, f: impl FnOnce() -> T) -> T {
     *writer() = Some(Writer {
         cancel: cancel.clone(),
         signalled: None,

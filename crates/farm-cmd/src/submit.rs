@@ -1,30 +1,30 @@
 //! `farm submit`: the inputs (files, or a USD stage decided by the asset library) planned and
 //! measured, the job directory written and the array submitted (or the plan printed).
 
-use super::reports::wait_and_collect;
-use super::{absolute, count, farm_error, pinned, recorded_options, Submit};
-use crate::cmd::asset::asset_error;
-use crate::cmd::convert;
-use crate::errors::{print_error, usage};
-use crate::{checks, exit};
+use crate::args::Submit;
+use crate::job::{absolute, count, farm_error, pinned, recorded_options};
+use crate::reports::wait_and_collect;
 use anyhow::{anyhow, bail, Context, Result};
 use specconv_asset::{Job, Prepared, Reader};
 use specconv_conversion::plan::{weights, Pair};
 use specconv_conversion::Options;
+use specconv_convert_cmd::convert;
+use specconv_convert_cmd::errors::{asset_error, print_error, usage};
+use specconv_convert_cmd::{checks, exit};
 use specconv_farm::manifest::{AssetJob, Outputs};
 use specconv_farm::{Manifest, Request};
 use std::path::{Path, PathBuf};
 
 /// What a submission converts: where outputs go, the files, the stage they come from, and how
 /// many of its textures cannot be converted (each said as an error already).
-pub(super) struct Planned {
+pub(crate) struct Planned {
     outputs: Outputs,
     files: Vec<specconv_farm::manifest::File>,
     asset: Option<AssetJob>,
     unplanned: usize,
 }
 
-pub(super) fn submit(s: Submit, ocio: Option<String>) -> Result<i32> {
+pub(crate) fn submit(s: Submit, ocio: Option<String>) -> Result<i32> {
     if s.convert.sharded() {
         return Err(usage(anyhow!(
             "farm submit plans the shards itself: drop --shard"
@@ -87,7 +87,7 @@ pub(super) fn submit(s: Submit, ocio: Option<String>) -> Result<i32> {
 
 /// Checks the manifest, then prints the plan (`--dry-run`) or claims the output directories,
 /// writes the job directory and submits round 0.
-pub(super) fn submit_job(s: &Submit, mut manifest: Manifest, job_dir: &Path) -> Result<i32> {
+pub(crate) fn submit_job(s: &Submit, mut manifest: Manifest, job_dir: &Path) -> Result<i32> {
     // What tasks and later commands will check, checked before anything is written.
     manifest.check(job_dir).map_err(farm_error)?;
     let all: Vec<usize> = (0..manifest.files.len()).collect();
@@ -122,7 +122,7 @@ pub(super) fn submit_job(s: &Submit, mut manifest: Manifest, job_dir: &Path) -> 
 }
 
 /// The inputs as files: `-o DIR` or `--output-template`, each planned as `convert` plans them.
-pub(super) fn plan_files(s: &Submit) -> Result<Planned> {
+pub(crate) fn plan_files(s: &Submit) -> Result<Planned> {
     let outputs = match (s.convert.output_dir(), s.convert.output_template()) {
         (Some(dir), _) => Outputs::Directory(absolute(dir)?),
         (None, Some(t)) => Outputs::Template(t.to_string()),
@@ -147,7 +147,7 @@ pub(super) fn plan_files(s: &Submit) -> Result<Planned> {
 
 /// The one input, when it is a USD stage (by its extension); a stage among other inputs is a
 /// usage error.
-pub(super) fn stage_input(args: &convert::Args) -> Result<Option<&Path>> {
+pub(crate) fn stage_input(args: &convert::Args) -> Result<Option<&Path>> {
     let inputs = args.inputs();
     if let Some(doc) = inputs.iter().find(|p| specconv_asset::is_document(p)) {
         return Err(usage(anyhow!(
@@ -170,7 +170,7 @@ pub(super) fn stage_input(args: &convert::Args) -> Result<Option<&Path>> {
 
 /// A stage's textures, read and decided by the asset library once, here: each file with the
 /// colour space its material gave it (docs/assets.md), outputs under DIR as `asset` puts them.
-pub(super) fn plan_stage(s: &Submit, stage: &Path, given: &Options, ocio: &str) -> Result<Planned> {
+pub(crate) fn plan_stage(s: &Submit, stage: &Path, given: &Options, ocio: &str) -> Result<Planned> {
     let Some(dir) = s.convert.output_dir() else {
         return Err(usage(anyhow!(
             "a stage's outputs are named by its plan (docs/assets.md): give -o DIR, not \
@@ -226,7 +226,7 @@ pub(super) fn plan_stage(s: &Submit, stage: &Path, given: &Options, ocio: &str) 
 }
 
 /// The manifest's files: absolute paths (tasks may start elsewhere) and pixel counts.
-pub(super) fn listed_files(pairs: &[Pair]) -> Result<Vec<specconv_farm::manifest::File>> {
+pub(crate) fn listed_files(pairs: &[Pair]) -> Result<Vec<specconv_farm::manifest::File>> {
     let inputs: Vec<&Path> = pairs.iter().map(|p| p.input.as_path()).collect();
     let mut files = Vec::new();
     for (
@@ -256,7 +256,7 @@ pub(super) fn listed_files(pairs: &[Pair]) -> Result<Vec<specconv_farm::manifest
 }
 
 /// --job-dir, else a new specconv-farm-SECONDS folder in the output directory.
-pub(super) fn job_dir_for(s: &Submit) -> Result<PathBuf> {
+pub(crate) fn job_dir_for(s: &Submit) -> Result<PathBuf> {
     Ok(match (&s.job_dir, s.convert.output_dir()) {
         (Some(d), _) => absolute(d)?,
         (None, Some(dir)) => {
@@ -280,7 +280,7 @@ pub(super) fn job_dir_for(s: &Submit) -> Result<PathBuf> {
 }
 
 /// `--dry-run`: the plan, the sbatch command and the script, as comments and text.
-pub(super) fn print_plan(manifest: &Manifest, prepared: &specconv_farm::Prepared) -> Result<()> {
+pub(crate) fn print_plan(manifest: &Manifest, prepared: &specconv_farm::Prepared) -> Result<()> {
     outln!(
         "# plan: {} in {}",
         count(manifest.files.len(), "file"),
@@ -336,7 +336,7 @@ pub(super) fn print_plan(manifest: &Manifest, prepared: &specconv_farm::Prepared
     Ok(())
 }
 
-pub(super) fn announce(
+pub(crate) fn announce(
     convert: &convert::Args,
     job_id: &str,
     job_dir: &Path,
@@ -360,7 +360,7 @@ pub(super) fn announce(
 }
 
 /// `800M`, `4G`, `4000` (MiB, as sbatch reads it) → MiB.
-pub(super) fn parse_mem(s: &str) -> Option<u64> {
+pub(crate) fn parse_mem(s: &str) -> Option<u64> {
     let s = s.trim();
     let (num, mult) = match s.char_indices().last()? {
         (i, 'K' | 'k') => (&s[..i], 0),
@@ -376,4 +376,19 @@ pub(super) fn parse_mem(s: &str) -> Option<u64> {
         n * mult
     })
     .filter(|&v| v > 0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::parse_mem;
+
+    #[test]
+    fn memory_sizes_read_as_sbatch_reads_them() {
+        assert_eq!(parse_mem("800M"), Some(800));
+        assert_eq!(parse_mem("4G"), Some(4096));
+        assert_eq!(parse_mem("1500"), Some(1500));
+        assert_eq!(parse_mem("2048k"), Some(2));
+        assert_eq!(parse_mem("lots"), None);
+        assert_eq!(parse_mem("0"), None);
+    }
 }

@@ -1,5 +1,5 @@
 //! Everything the program prints goes through here, never through `println!` or `eprintln!`,
-//! which panic when the stream is closed or full (clippy.toml forbids them in this crate).
+//! which panic when the stream is closed or full (clippy.toml forbids them in the crates that print: this one, the farm command's and the cli).
 //!
 //! Standard output is what scripts read, so a write that fails there stops the command: its
 //! error, [`StdoutFailed`], travels up with `?` (a batch sets its cancel flag and stops after
@@ -13,7 +13,7 @@ use std::io::{ErrorKind, Write};
 
 /// A write to standard output failed; the command stops.
 #[derive(Debug)]
-pub(crate) struct StdoutFailed(std::io::Error);
+pub struct StdoutFailed(std::io::Error);
 
 impl fmt::Display for StdoutFailed {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
@@ -25,13 +25,13 @@ impl std::error::Error for StdoutFailed {}
 
 impl StdoutFailed {
     /// The failure of a write to standard output made elsewhere (clap's help).
-    pub(crate) fn new(e: std::io::Error) -> StdoutFailed {
+    pub fn new(e: std::io::Error) -> StdoutFailed {
         StdoutFailed(e)
     }
 
     /// The exit status: [`crate::exit::PIPE`] when the reader went away, else
     /// [`crate::exit::FAILED`].
-    pub(crate) fn status(&self) -> i32 {
+    pub fn status(&self) -> i32 {
         if self.closed() {
             crate::exit::PIPE
         } else {
@@ -41,18 +41,18 @@ impl StdoutFailed {
 
     /// The reader closed the pipe (EPIPE): the command ends without a word, as it would
     /// have by SIGPIPE.
-    pub(crate) fn closed(&self) -> bool {
+    pub fn closed(&self) -> bool {
         self.0.kind() == ErrorKind::BrokenPipe
     }
 
     /// The failure anywhere in `e`'s chain of causes.
-    pub(crate) fn in_chain(e: &anyhow::Error) -> Option<&StdoutFailed> {
+    pub fn in_chain(e: &anyhow::Error) -> Option<&StdoutFailed> {
         e.chain().find_map(|c| c.downcast_ref::<StdoutFailed>())
     }
 }
 
 /// Writes `args` to standard output and flushes, so that a failure shows here, not at exit.
-pub(crate) fn out(args: fmt::Arguments) -> Result<(), StdoutFailed> {
+pub fn out(args: fmt::Arguments) -> Result<(), StdoutFailed> {
     let mut stdout = std::io::stdout().lock();
     stdout
         .write_fmt(args)
@@ -61,7 +61,7 @@ pub(crate) fn out(args: fmt::Arguments) -> Result<(), StdoutFailed> {
 }
 
 /// Writes `bytes` to standard output (a generated script, completions).
-pub(crate) fn out_bytes(bytes: &[u8]) -> Result<(), StdoutFailed> {
+pub fn out_bytes(bytes: &[u8]) -> Result<(), StdoutFailed> {
     let mut stdout = std::io::stdout().lock();
     stdout
         .write_all(bytes)
@@ -70,11 +70,12 @@ pub(crate) fn out_bytes(bytes: &[u8]) -> Result<(), StdoutFailed> {
 }
 
 /// Writes `args` to standard error; a failure is ignored.
-pub(crate) fn err(args: fmt::Arguments) {
+pub fn err(args: fmt::Arguments) {
     let _ = std::io::stderr().lock().write_fmt(args);
 }
 
 /// `println!` that returns [`StdoutFailed`] instead of panicking.
+#[macro_export]
 macro_rules! outln {
     () => {
         $crate::stdio::out(format_args!("\n"))
@@ -85,6 +86,7 @@ macro_rules! outln {
 }
 
 /// `print!` that returns [`StdoutFailed`] instead of panicking.
+#[macro_export]
 macro_rules! out {
     ($($arg:tt)*) => {
         $crate::stdio::out(format_args!($($arg)*))
@@ -92,6 +94,7 @@ macro_rules! out {
 }
 
 /// `eprintln!` that never panics.
+#[macro_export]
 macro_rules! errln {
     ($($arg:tt)*) => {
         $crate::stdio::err(format_args!("{}\n", format_args!($($arg)*)))
@@ -99,6 +102,7 @@ macro_rules! errln {
 }
 
 /// `eprint!` that never panics.
+#[macro_export]
 macro_rules! err {
     ($($arg:tt)*) => {
         $crate::stdio::err(format_args!($($arg)*))
@@ -106,7 +110,7 @@ macro_rules! err {
 }
 
 /// Paths in JSON records, written losslessly (the conversion library's rule, docs/json.md).
-pub(crate) use specconv_conversion::record::serialize_path;
+pub use specconv_conversion::record::serialize_path;
 
 #[cfg(test)]
 mod tests {
