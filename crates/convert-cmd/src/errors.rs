@@ -49,7 +49,7 @@ pub fn explain(e: &specconv_conversion::Error) -> String {
 /// What to pass to fix a cause, in this program's flags: the libraries say which setting
 /// ([`specconv_conversion::remedy_of`]) and word it ([`specconv_conversion::Remedy::advice`]),
 /// spelt by [`Flags`]; the command line words the remedies that are its own.
-pub fn hint(cause: &(dyn std::error::Error + 'static)) -> Option<String> {
+fn hint(cause: &(dyn std::error::Error + 'static)) -> Option<String> {
     use specconv_conversion::{Key, Remedy};
     let remedy = specconv_conversion::remedy_of(cause)?;
     match remedy {

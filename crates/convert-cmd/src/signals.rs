@@ -37,7 +37,7 @@ struct Writer {
 const PATIENCE: Duration = Duration::from_secs(2);
 
 /// The line every interrupted command ends with.
-pub const LINE: &str = "interrupted; no partial output was left";
+pub(crate) const LINE: &str = "interrupted; no partial output was left";
 
 /// A signal came while an output was written; the command ends with status 130.
 #[derive(Debug)]

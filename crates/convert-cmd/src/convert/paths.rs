@@ -65,7 +65,7 @@ pub fn of_paths(
 /// The pairs this run converts: the whole plan, or `--shard`'s part of it, once no output of
 /// theirs exists that may not be replaced (`--force`, `-u`). Outputs of other shards are never
 /// looked at, so shards run side by side in any order.
-pub fn this_run(args: &Args) -> Result<Vec<Pair>> {
+pub(crate) fn this_run(args: &Args) -> Result<Vec<Pair>> {
     let mut plan = whole(args)?;
     if let Some(shard) = args.shard {
         let index = crate::shard::index(shard)?;
