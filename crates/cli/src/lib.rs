@@ -1,6 +1,7 @@
-//! The specconv command line. It parses and dispatches (`command_line`), runs each command
-//! (`cmd`) and reports; the work happens in the library crates. Every error of every command
-//! is printed as one line, `specconv: error: WHAT: CAUSE: …`, each cause once (`errors`), and
+//! The specconv command line. It parses and dispatches (`command_line`) and runs each command
+//! (`cmd`); `convert` is specconv-convert-cmd's and `farm` specconv-farm-cmd's, and the work
+//! happens in the library crates. Every error of every command is printed as one line,
+//! `specconv: error: WHAT: CAUSE: …`, each cause once (specconv-convert-cmd's `errors`), and
 //! the exit status is one of [`exit`]'s.
 #![forbid(unsafe_code)]
 
