@@ -1,5 +1,6 @@
 //! One module per subcommand: its clap arguments (whose doc comments are the help text and man
-//! page) and its `run`.
+//! page) and its `run`; `convert` and `farm` are crates of their own (specconv-convert-cmd,
+//! specconv-farm-cmd).
 pub mod asset;
 pub mod colorspaces;
 pub mod completions;
