@@ -139,6 +139,12 @@ fn a_full_standard_output_is_one_error_line_and_status_1() {
     let out = dir.path("out");
     std::fs::create_dir(&out).unwrap();
     let a = inputs.paths()[0].to_path_buf();
+    // `expand` writes its records through the same rule as `convert`.
+    let compact = dir.path("a_compact.exr");
+    Cmd::convert(&a, &compact)
+        .args(["--layout", "compact"])
+        .ok();
+    let expanded = dir.path("a_expanded.exr");
     for cmd in [
         Cmd::new(["info".as_ref(), a.as_os_str()]),
         Cmd::new([
@@ -146,6 +152,12 @@ fn a_full_standard_output_is_one_error_line_and_status_1() {
             "-o".as_ref(),
             out.as_os_str(),
             "--json".as_ref(),
+        ]),
+        Cmd::new([
+            "expand".as_ref(),
+            "--json".as_ref(),
+            compact.as_os_str(),
+            expanded.as_os_str(),
         ]),
     ] {
         let full = std::fs::OpenOptions::new()
@@ -167,8 +179,9 @@ fn a_full_standard_output_is_one_error_line_and_status_1() {
             "{stderr}"
         );
     }
-    // The conversion whose record could not be written is complete.
+    // The conversion and the expansion whose records could not be written are complete.
     specconv_exr::read(&out.join("a_spectral.exr")).unwrap();
+    specconv_exr::read(&expanded).unwrap();
     inputs.unchanged();
     no_temporaries(&dir.0);
 }

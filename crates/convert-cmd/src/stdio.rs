@@ -10,6 +10,7 @@
 
 use std::fmt;
 use std::io::{ErrorKind, Write};
+use std::sync::atomic::{AtomicBool, Ordering};
 
 /// A write to standard output failed; the command stops.
 #[derive(Debug)]
@@ -48,6 +49,37 @@ impl StdoutFailed {
     /// The failure anywhere in `e`'s chain of causes.
     pub fn in_chain(e: &anyhow::Error) -> Option<&StdoutFailed> {
         e.chain().find_map(|c| c.downcast_ref::<StdoutFailed>())
+    }
+}
+
+/// A batch's records on standard output: the first write that fails cancels the batch (the
+/// input being converted ends as usual; no later input starts) and is kept for the batch's
+/// ending to report.
+pub struct BatchOutput<'a> {
+    cancel: &'a AtomicBool,
+    failed: Option<StdoutFailed>,
+}
+
+impl<'a> BatchOutput<'a> {
+    /// Records for the batch that `cancel` stops.
+    pub fn new(cancel: &'a AtomicBool) -> BatchOutput<'a> {
+        BatchOutput {
+            cancel,
+            failed: None,
+        }
+    }
+
+    /// Takes the outcome of one record's write.
+    pub fn said(&mut self, written: Result<(), StdoutFailed>) {
+        if let Err(e) = written {
+            self.cancel.store(true, Ordering::SeqCst);
+            self.failed.get_or_insert(e);
+        }
+    }
+
+    /// The first failed write, if any.
+    pub fn failed(self) -> Option<StdoutFailed> {
+        self.failed
     }
 }
 

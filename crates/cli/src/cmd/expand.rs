@@ -6,12 +6,12 @@ use specconv_conversion::{Event, Expansions, Key};
 use specconv_convert_cmd::convert::{ending, paths, printing, BatchArgs};
 use specconv_convert_cmd::errors::{explain, print_error, usage};
 use specconv_convert_cmd::progress::{Closing, Progress};
-use specconv_convert_cmd::stdio::StdoutFailed;
+use specconv_convert_cmd::stdio::BatchOutput;
 use specconv_convert_cmd::{records, signals};
 use specconv_flags::defs;
 use specconv_flags::{OptionArgs, Taken};
 use std::path::PathBuf;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 
 /// Shown after `--help` and as the man page's EXAMPLES.
@@ -82,13 +82,7 @@ pub fn run(args: Args) -> Result<i32> {
         done: Some("expanded"),
         ..Closing::default()
     };
-    let mut stdout: Option<StdoutFailed> = None;
-    let mut said = |written: Result<(), StdoutFailed>| {
-        if let Err(e) = written {
-            cancel.store(true, Ordering::SeqCst);
-            stdout.get_or_insert(e);
-        }
-    };
+    let mut stdout = BatchOutput::new(&cancel);
     let batch_start = std::time::Instant::now();
     let mut started = batch_start;
     let options = &args.options;
@@ -109,7 +103,7 @@ pub fn run(args: Args) -> Result<i32> {
             Event::Skipped { input, output } => {
                 progress.skip();
                 summary.skipped += 1;
-                said(printing::skipped(&reporting, input, output));
+                stdout.said(printing::skipped(&reporting, input, output));
             }
             Event::Expanded {
                 input,
@@ -119,7 +113,7 @@ pub fn run(args: Args) -> Result<i32> {
                 progress.finish();
                 summary.converted += 1;
                 let seconds = started.elapsed().as_secs_f64();
-                said(printing::expanded(
+                stdout.said(printing::expanded(
                     &reporting,
                     (input, output),
                     expanded,
@@ -138,7 +132,7 @@ pub fn run(args: Args) -> Result<i32> {
                     print_error(&format!("{}: {error}", input.display()));
                 }
                 summary.failed.push((input.to_path_buf(), error.clone()));
-                said(printing::failed(
+                stdout.said(printing::failed(
                     &reporting,
                     (input, output),
                     error,
@@ -153,7 +147,7 @@ pub fn run(args: Args) -> Result<i32> {
         &reporting,
         ended,
         summary,
-        stdout,
+        stdout.failed(),
         &cancel,
         (pairs.len(), seconds),
     )

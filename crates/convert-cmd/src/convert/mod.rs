@@ -8,7 +8,7 @@ use printing::converted;
 
 use crate::errors::{explain, print_error, usage};
 use crate::progress::{Closing, Progress};
-use crate::stdio::StdoutFailed;
+use crate::stdio::{BatchOutput, StdoutFailed};
 use crate::{exit, records, signals};
 use anyhow::Result;
 use specconv_conversion::plan::Pair;
@@ -193,14 +193,7 @@ pub fn run_batch(
     let inputs: Vec<PathBuf> = pairs.iter().map(|p| p.input.clone()).collect();
     let mut progress = Progress::new(args.progress, args.quiet, &inputs);
     let mut summary = Closing::default();
-    let mut stdout: Option<StdoutFailed> = None;
-    // The first failed write stops the batch; later records are not attempted.
-    let mut said = |written: Result<(), StdoutFailed>| {
-        if let Err(e) = written {
-            cancel.store(true, Ordering::SeqCst);
-            stdout.get_or_insert(e);
-        }
-    };
+    let mut stdout = BatchOutput::new(&cancel);
     let batch_start = std::time::Instant::now();
     let mut batch = Batch::new(converter).update(args.update).cancel_on(&cancel);
     if let Some(each) = each_input {
@@ -213,7 +206,7 @@ pub fn run_batch(
             Event::Skipped { input, output } => {
                 progress.skip();
                 summary.skipped += 1;
-                said(printing::skipped(args, input, output));
+                stdout.said(printing::skipped(args, input, output));
             }
             Event::Converted {
                 input,
@@ -222,7 +215,7 @@ pub fn run_batch(
             } => {
                 progress.finish();
                 summary.converted += 1;
-                said(converted(args, converter, (input, output), report));
+                stdout.said(converted(args, converter, (input, output), report));
             }
             Event::Data {
                 input,
@@ -233,7 +226,7 @@ pub fn run_batch(
                 summary
                     .data
                     .push(crate::progress::DataTextureLine::of(input, report));
-                said(printing::data(args, (input, output), report));
+                stdout.said(printing::data(args, (input, output), report));
             }
             Event::Failed {
                 input,
@@ -247,7 +240,7 @@ pub fn run_batch(
                     print_error(&format!("{}: {error}", input.display()));
                 }
                 summary.failed.push((input.to_path_buf(), error.clone()));
-                said(printing::failed(args, (input, output), error, seconds));
+                stdout.said(printing::failed(args, (input, output), error, seconds));
             }
             _ => {}
         })
@@ -257,7 +250,7 @@ pub fn run_batch(
         args,
         ended,
         summary,
-        stdout,
+        stdout.failed(),
         &cancel,
         (pairs.len(), seconds),
     )
